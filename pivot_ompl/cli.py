@@ -1,0 +1,99 @@
+"""The ``pivot-ompl`` command line: ``pivot-ompl <verb> ...``.
+
+Exit codes for every verb: 0 success, 1 no solution (or a check that fails), 2 bad input
+(the message names the field and the value).
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import logging
+import math
+import sys
+from collections.abc import Callable, Sequence
+
+from .errors import InputError, PivotError
+
+log = logging.getLogger(__name__)
+
+EXIT_OK, EXIT_NO_SOLUTION, EXIT_BAD_INPUT = 0, 1, 2
+
+#: Modules defining further verbs: each has ``register(subparsers)``; a missing optional
+#: dependency only hides that verb.
+VERB_MODULES = ("pivot_ompl.cli_steer", "pivot_ompl.cli_plan", "pivot_ompl.cli_check",
+                "pivot_ompl.viz.cli", "pivot_ompl.wholebody.cli", "pivot_ompl.bench.cli")
+
+
+class _Parser(argparse.ArgumentParser):
+    """Argument parser whose usage errors exit with code 2 and name the argument."""
+
+    def error(self, message: str) -> None:  # noqa: D102
+        self.print_usage(sys.stderr)
+        print(f"{self.prog}: error: {message}", file=sys.stderr)
+        raise SystemExit(EXIT_BAD_INPUT)
+
+
+def finite(name: str) -> Callable[[str], float]:
+    """An argparse type for a finite float; the error names the option."""
+
+    def conv(text: str) -> float:
+        try:
+            v = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} = {text!r}: not a number") from None
+        if not math.isfinite(v):
+            raise argparse.ArgumentTypeError(f"{name} = {text!r}: must be finite")
+        return v
+
+    return conv
+
+
+def positive(name: str) -> Callable[[str], float]:
+    """An argparse type for a finite float > 0; the error names the option."""
+    base = finite(name)
+
+    def conv(text: str) -> float:
+        v = base(text)
+        if v <= 0:
+            raise argparse.ArgumentTypeError(f"{name} = {text!r}: must be > 0")
+        return v
+
+    return conv
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The top-level parser with every available verb."""
+    parser = _Parser(prog="pivot-ompl", description=__doc__.splitlines()[0])
+    parser.add_argument("--log-level", default="INFO",
+                        choices=["DEBUG", "INFO", "WARNING", "ERROR"], help="logging level")
+    sub = parser.add_subparsers(dest="verb", required=True, parser_class=_Parser)
+    for name in VERB_MODULES:
+        try:
+            mod = importlib.import_module(name)
+        except ModuleNotFoundError as e:
+            if e.name and (e.name == name or name.startswith(e.name + ".")):
+                continue  # that verb is not part of this build
+            raise
+        mod.register(sub)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the CLI; return the exit code."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    logging.basicConfig(level=getattr(logging, args.log_level),
+                        format="%(levelname)s %(name)s: %(message)s")
+    try:
+        return int(args.func(args))
+    except InputError as e:
+        print(f"pivot-ompl {args.verb}: error: {e}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except PivotError as e:
+        print(f"pivot-ompl {args.verb}: {e}", file=sys.stderr)
+        return EXIT_NO_SOLUTION
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,104 @@
+"""The one exception family of pivot_ompl.
+
+Every error raised on purpose by the library is a :class:`PivotError`. Subclasses carry the
+offending data as attributes so that callers (the CLI, a notebook, a benchmark) can report it
+without parsing messages.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+
+class PivotError(Exception):
+    """Base class of every error raised by pivot_ompl."""
+
+
+class InputError(PivotError, ValueError):
+    """Bad input: a field has a wrong value or type.
+
+    Attributes:
+        field: dotted name of the offending field (``"object.size[1]"``).
+        value: the offending value as given.
+        source: where the input came from (a file path, ``"--start"``, ...), or ``""``.
+    """
+
+    def __init__(self, field: str, value: Any, reason: str, *, source: str = "") -> None:
+        self.field = field
+        self.value = value
+        self.reason = reason
+        self.source = source
+        where = f"{source}: " if source else ""
+        super().__init__(f"{where}{field} = {value!r}: {reason}")
+
+
+class SceneError(InputError):
+    """A scene file is invalid (unknown key, missing field, wrong type, bad value)."""
+
+
+class PlanFileError(InputError):
+    """A ``pivot-plan/1`` file is malformed (not a validity verdict: see ``PlanCheckReport``)."""
+
+
+class UnreachableError(PivotError):
+    """Two poses cannot be joined by three bounded pivot rotations.
+
+    Attributes:
+        start: car pose (x, y, heading) the rotations start from.
+        goal: car pose to reach.
+        alpha_max: bound on each rotation (rad).
+    """
+
+    def __init__(self, start: tuple[float, float, float], goal: tuple[float, float, float],
+                 alpha_max: float) -> None:
+        self.start = start
+        self.goal = goal
+        self.alpha_max = alpha_max
+        super().__init__(
+            f"goal {goal} not reachable from {start} by three rotations of at most "
+            f"{alpha_max:.6g} rad")
+
+
+class SteeringError(PivotError):
+    """The Reeds-Shepp-to-pivot conversion did not converge (a piece shorter than the minimum).
+
+    Attributes:
+        start, goal: the car poses of the path being converted.
+        reason: what failed.
+    """
+
+    def __init__(self, start: Any, goal: Any, reason: str) -> None:
+        self.start = start
+        self.goal = goal
+        self.reason = reason
+        super().__init__(f"steering {start} -> {goal}: {reason}")
+
+
+class PlanningError(PivotError):
+    """Planning could not start (invalid start or goal, bad planner parameters).
+
+    Attributes:
+        status: the OMPL status name (``"INVALID_START"``, ``"INVALID_GOAL"``, ...).
+        reason: a human-readable explanation.
+    """
+
+    def __init__(self, status: str, reason: str) -> None:
+        self.status = status
+        self.reason = reason
+        super().__init__(f"{status}: {reason}")
+
+
+class WholeBodyError(PivotError):
+    """Whole-body motion generation failed at a given plan step.
+
+    Attributes:
+        phase: index of the plan phase.
+        step: index of the step inside the phase (-1 for the whole phase).
+        reason: what failed (infeasible QP, unreachable grip...).
+    """
+
+    def __init__(self, phase: int, step: int, reason: str) -> None:
+        self.phase = phase
+        self.step = step
+        self.reason = reason
+        super().__init__(f"phase {phase}, step {step}: {reason}")

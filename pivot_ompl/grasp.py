@@ -1,0 +1,134 @@
+"""Box, robot and grasp conventions (the contract every other module and outside tool uses).
+
+Object pose
+    ``(x, y, yaw)``: the centre of the box's footprint on the floor and the yaw of the box's
+    local x axis, which runs along ``size[0]``.
+
+Grasp ``k`` in {0, 1, 2, 3}
+    The robot faces the local direction ``yaw + k*pi/2`` of the box and stands on the opposite
+    side: its centre lies at distance ``half_k + standoff + depth/2`` from the box centre,
+    against that direction, with its heading pointing at the box centre. ``half_k`` is
+    ``size[0]/2`` for even ``k`` and ``size[1]/2`` for odd ``k``.
+
+Supporting edge
+    We pivot on the footprint edge **nearest to the robot** (under the held face). Reasons: the
+    box is inclined towards the robot, so its weight leans into the hands and the robot can
+    never push it over away from itself; the pivot corners lie right in front of the feet, where
+    the arms have the most reach to hold the box down on them; and the robot, rigidly attached,
+    rotates about points close to its own body, so its swept area per rotation is smallest.
+    Its length is ``2l``: ``l = size[1]/2`` for even ``k`` (the edge runs along local y) and
+    ``l = size[0]/2`` for odd ``k``. Its two ends are the only pivots while the grasp holds:
+    ``A`` is the left end and ``B`` the right end as seen by the robot.
+
+Reeds-Shepp car of a grasp
+    The car is the supporting edge's centre, heading along the edge's normal pointing away
+    from the robot (the robot's facing direction):
+    ``car = (x - half_k cos h, y - half_k sin h, h)`` with ``h = yaw + k*pi/2``.
+    Driving the car forward moves the box away from the robot; reverse pulls it back.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .errors import InputError
+from .se2 import Pose, rectangle_corners, wrap_angle
+
+GRASPS: tuple[int, ...] = (0, 1, 2, 3)
+
+
+@dataclass(frozen=True)
+class BoxGraspModel:
+    """Geometry of the box and of the robot's bounding box at each grasp.
+
+    Attributes:
+        object_size: box size ``(w, d, h)`` in m, ``w`` along the box's local x axis.
+        robot_footprint: robot bounding box on the floor ``(depth, width)`` in m; depth is
+            along the robot's heading.
+        standoff: gap between the held face and the robot's front (m).
+        robot_height: height of the robot's bounding volume (m).
+    """
+
+    object_size: tuple[float, float, float]
+    robot_footprint: tuple[float, float] = (0.40, 0.70)
+    standoff: float = 0.25
+    robot_height: float = 1.54
+
+    def __post_init__(self) -> None:
+        """Validate sizes (all strictly positive, standoff non-negative)."""
+        for i, v in enumerate(self.object_size):
+            if not (v > 0 and math.isfinite(v)):
+                raise InputError(f"object_size[{i}]", v, "must be a positive length in m")
+        for i, v in enumerate(self.robot_footprint):
+            if not (v > 0 and math.isfinite(v)):
+                raise InputError(f"robot_footprint[{i}]", v, "must be a positive length in m")
+        if not (self.standoff >= 0 and math.isfinite(self.standoff)):
+            raise InputError("standoff", self.standoff, "must be a non-negative length in m")
+
+    # -- grasp geometry -------------------------------------------------------------------
+    def half_extent(self, grasp: int) -> float:
+        """Half of the box's extent along the robot's facing direction at ``grasp`` (m)."""
+        return 0.5 * self.object_size[grasp % 2]
+
+    def edge_half_length(self, grasp: int) -> float:
+        """Half-length ``l`` of the supporting edge at ``grasp`` (m)."""
+        return 0.5 * self.object_size[(grasp + 1) % 2]
+
+    def robot_offset(self, grasp: int) -> float:
+        """Distance from the box centre to the robot centre at ``grasp`` (m)."""
+        return self.half_extent(grasp) + self.standoff + 0.5 * self.robot_footprint[0]
+
+    def heading(self, obj: Pose, grasp: int) -> float:
+        """The robot's (and the car's) heading at ``grasp`` for object pose ``obj`` (rad)."""
+        return obj[2] + grasp * (0.5 * math.pi)
+
+    def robot_pose(self, obj: Pose, grasp: int) -> Pose:
+        """``T_world_robot``: the robot's centre and heading for object pose ``obj``."""
+        h = self.heading(obj, grasp)
+        r = self.robot_offset(grasp)
+        return (obj[0] - r * math.cos(h), obj[1] - r * math.sin(h), h)
+
+    def car_pose(self, obj: Pose, grasp: int) -> Pose:
+        """The Reeds-Shepp car (supporting-edge centre, robot heading) for ``obj``."""
+        h = self.heading(obj, grasp)
+        r = self.half_extent(grasp)
+        return (obj[0] - r * math.cos(h), obj[1] - r * math.sin(h), h)
+
+    def object_from_car(self, car: Pose, grasp: int) -> Pose:
+        """Inverse of :meth:`car_pose`: the object pose whose car at ``grasp`` is ``car``."""
+        r = self.half_extent(grasp)
+        h = car[2]
+        return (car[0] + r * math.cos(h), car[1] + r * math.sin(h),
+                wrap_angle(h - grasp * (0.5 * math.pi)))
+
+    def robot_from_car(self, car: Pose, grasp: int) -> Pose:
+        """The robot pose attached to ``car`` at ``grasp``."""
+        r = self.standoff + 0.5 * self.robot_footprint[0]
+        return (car[0] - r * math.cos(car[2]), car[1] - r * math.sin(car[2]), car[2])
+
+    def pivots(self, car: Pose, grasp: int) -> tuple[tuple[float, float], tuple[float, float]]:
+        """World positions of the pivot corners ``(A, B)`` (left, right seen by the robot)."""
+        ell = self.edge_half_length(grasp)
+        nx, ny = -math.sin(car[2]), math.cos(car[2])
+        return ((car[0] + ell * nx, car[1] + ell * ny), (car[0] - ell * nx, car[1] - ell * ny))
+
+    # -- footprints ----------------------------------------------------------------------
+    def object_corners(self, obj: Pose) -> list[tuple[float, float]]:
+        """The box footprint's four corners for object pose ``obj``."""
+        return rectangle_corners(obj, self.object_size[0], self.object_size[1])
+
+    def robot_corners(self, robot: Pose) -> list[tuple[float, float]]:
+        """The robot bounding box's four corners on the floor for robot pose ``robot``."""
+        return rectangle_corners(robot, self.robot_footprint[0], self.robot_footprint[1])
+
+    def robot_radius(self) -> float:
+        """Radius of the disk the robot's footprint sweeps when turning in place (m)."""
+        return 0.5 * math.hypot(*self.robot_footprint)
+
+
+def check_grasp(grasp: int, *, field: str = "grasp") -> int:
+    """Return ``grasp`` if it is one of :data:`GRASPS`, else raise :class:`InputError`."""
+    if isinstance(grasp, bool) or not isinstance(grasp, int) or grasp not in GRASPS:
+        raise InputError(field, grasp, "must be a grasp index 0, 1, 2 or 3")
+    return grasp

@@ -1,0 +1,187 @@
+"""Pivot kinematics of the supporting edge (controllability paper, Sections III-IV).
+
+The supporting edge is a segment of length ``2l``. Its configuration is the *car pose*
+``(x, y, h)`` of :mod:`pivot_ompl.grasp`: the segment's centre and the heading ``h`` normal to
+it, so the segment's own direction is ``phi = h - pi/2`` and its ends are
+
+* ``A = centre + l (-sin h, cos h)`` (left end seen from the robot),
+* ``B = centre - l (-sin h, cos h)`` (right end).
+
+A rotation by ``alpha`` (rad, counter-clockwise) about an end keeps that end fixed. Three
+rotations alternating ends (``A, B, A`` or ``B, A, B``) reach any small displacement: a planar
+3R arm whose inverse kinematics is solved here in closed form with ``atan2`` and every candidate
+verified with the forward map (the printed formula of the paper leaves ``phi`` undefined).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from .errors import UnreachableError
+from .se2 import Pose, rotate_about, wrap_angle
+
+#: Tolerance on the forward-map verification of an inverse-kinematics candidate (m and rad).
+IK_VERIFY_TOL = 1e-9
+
+#: Rotations smaller than this (rad) are dropped from solutions.
+ZERO_ANGLE = 1e-12
+
+LEFT, RIGHT = 0, 1  # indices of the pivot ends A and B
+
+
+class Rotation(NamedTuple):
+    """One pivot rotation (a named tuple: it is created in the steering's inner loop).
+
+    Attributes:
+        end: ``0`` for end ``A`` (left), ``1`` for end ``B`` (right).
+        pivot: world position of the pivot corner (m).
+        angle: signed rotation angle (rad, counter-clockwise positive).
+        car: car pose after the rotation.
+    """
+
+    end: int
+    pivot: tuple[float, float]
+    angle: float
+    car: Pose
+
+
+@dataclass(frozen=True)
+class ThreeRotationResult:
+    """Result of the three-rotation local steering.
+
+    Attributes:
+        reachable: whether the goal is reachable with every ``|alpha_i| <= alpha_max``.
+        rotations: the (at most three) non-zero rotations, in order; empty if unreachable or
+            if start and goal coincide.
+        total_angle: sum of ``|alpha_i|`` (rad); ``inf`` if unreachable.
+    """
+
+    reachable: bool
+    rotations: tuple[Rotation, ...]
+    total_angle: float
+
+    def raise_if_unreachable(self, start: Pose, goal: Pose, alpha_max: float) -> None:
+        """Raise :class:`UnreachableError` if the goal was not reachable."""
+        if not self.reachable:
+            raise UnreachableError(start, goal, alpha_max)
+
+
+def end_point(car: Pose, half_length: float, end: int) -> tuple[float, float]:
+    """World position of end ``A`` (``end=0``) or ``B`` (``end=1``) of the edge at ``car``."""
+    sign = 1.0 if end == LEFT else -1.0
+    return (car[0] - sign * half_length * math.sin(car[2]),
+            car[1] + sign * half_length * math.cos(car[2]))
+
+
+def forward(car: Pose, half_length: float, first_end: int,
+            angles: tuple[float, float, float]) -> Pose:
+    """Forward map: the car pose after rotating about ``first_end``, the other end, then ``first_end``."""
+    x, y, h = car
+    sign = 1.0 if first_end == LEFT else -1.0
+    for a in angles:
+        px, py = x - sign * half_length * math.sin(h), y + sign * half_length * math.cos(h)
+        c, s = math.cos(a), math.sin(a)
+        dx, dy = x - px, y - py
+        x, y, h = px + c * dx - s * dy, py + s * dx + c * dy, h + a
+        sign = -sign
+    return (x, y, h)
+
+
+def _best_angles(start: Pose, goal: Pose, ell: float,
+                 alpha_max: float) -> tuple[int, float, float, float, float]:
+    """Closed-form 3R inverse kinematics over both sequences; the best verified candidate.
+
+    Let ``P0`` be the first pivot and ``u(a)`` the unit vector of angle ``a``. With ``psi`` the
+    direction from ``P0`` to the other end, after the first two rotations the first end sits at
+    ``P0 + 2l (u(psi+a1) - u(psi+a1+a2))``, which must equal the goal's first end. Its distance
+    ``d`` to ``P0`` gives ``|a2| = 2 asin(d / 4l)``; ``atan2`` of the difference gives ``a1``;
+    ``a3`` closes the heading. Candidates are checked with the forward map, best first.
+
+    Returns ``(first_end, a1, a2, a3, total)``; ``first_end`` is ``-1`` if unreachable.
+    """
+    sh, ch = math.sin(start[2]), math.cos(start[2])
+    sg, cg = math.sin(goal[2]), math.cos(goal[2])
+    found: list[tuple[float, int, float, float, float]] = []
+    limit = 4.0 * ell * math.sin(0.5 * alpha_max) + 1e-12
+    for first in (LEFT, RIGHT):
+        sign = 1.0 if first == LEFT else -1.0
+        p0x, p0y = start[0] - sign * ell * sh, start[1] + sign * ell * ch
+        p2x, p2y = goal[0] - sign * ell * sg, goal[1] + sign * ell * cg
+        dx, dy = p2x - p0x, p2y - p0y
+        d = math.hypot(dx, dy)
+        if d > limit:
+            continue
+        # direction from the first end to the other end: h - pi/2 for A, h + pi/2 for B
+        psi0 = start[2] - sign * 0.5 * math.pi
+        dpsi = goal[2] - start[2]
+        if d < 1e-15:
+            cands = ((wrap_angle(dpsi), 0.0, 0.0),)
+        else:
+            half = math.asin(min(1.0, d / (4.0 * ell)))
+            bearing = math.atan2(dy, dx)
+            cands = []
+            for a2 in (2.0 * half, -2.0 * half):
+                a = bearing - 0.5 * a2 + (0.5 * math.pi if a2 > 0 else -0.5 * math.pi)
+                a1 = wrap_angle(a - psi0)
+                a3 = wrap_angle(dpsi - a1 - a2)
+                cands.append((a1, a2, a3))
+        for a1, a2, a3 in cands:
+            if abs(a1) <= alpha_max and abs(a2) <= alpha_max and abs(a3) <= alpha_max:
+                found.append((abs(a1) + abs(a2) + abs(a3), first, a1, a2, a3))
+    found.sort()
+    for total, first, a1, a2, a3 in found:
+        r = forward(start, ell, first, (a1, a2, a3))
+        if (abs(r[0] - goal[0]) <= IK_VERIFY_TOL and abs(r[1] - goal[1]) <= IK_VERIFY_TOL
+                and abs(wrap_angle(r[2] - goal[2])) <= IK_VERIFY_TOL):
+            return (first, a1, a2, a3, total)
+    return (-1, 0.0, 0.0, 0.0, math.inf)
+
+
+def solve_three_rotations(start: Pose, goal: Pose, *, half_length: float,
+                          alpha_max: float) -> ThreeRotationResult:
+    """Join two car poses by three alternating pivot rotations, each ``|alpha| <= alpha_max``.
+
+    Both sequences (``A, B, A`` and ``B, A, B``) and both elbow branches are tried; every
+    candidate within the bound is verified with :func:`forward`, smallest total ``|alpha|``
+    first, and the first one that reaches the goal is returned. Rotations of zero angle are dropped.
+
+    Args:
+        start: car pose (m, m, rad) of the supporting edge before the rotations.
+        goal: car pose to reach.
+        half_length: half-length ``l`` of the supporting edge (m).
+        alpha_max: bound on each rotation (rad).
+    """
+    first, a1, a2, a3, total = _best_angles(start, goal, half_length, alpha_max)
+    if first < 0:
+        return ThreeRotationResult(False, (), math.inf)
+    return ThreeRotationResult(True, rotations_of(start, half_length, first, (a1, a2, a3)), total)
+
+
+def rotations_of(car: Pose, half_length: float, first_end: int,
+                 angles: tuple[float, ...]) -> tuple[Rotation, ...]:
+    """The :class:`Rotation` records of alternating rotations from ``car`` (zero angles dropped)."""
+    out = []
+    end = first_end
+    for a in angles:
+        if abs(a) > ZERO_ANGLE:
+            pivot = end_point(car, half_length, end)
+            car = rotate_about(car, pivot, a)
+            out.append(Rotation(end, pivot, a, car))
+        end = 1 - end
+    return tuple(out)
+
+
+def vector_fields(car: Pose, half_length: float) -> tuple[np.ndarray, np.ndarray]:
+    """Vector fields of rotation about ``A`` and ``B`` at ``car`` in (x, y, h) coordinates.
+
+    Returns ``(L, R)`` where ``L = d/de rotate_about(car, A, e)`` at ``e = 0`` (and ``R`` for
+    ``B``): ``L = (l cos h, l sin h, 1)`` and ``R = (-l cos h, -l sin h, 1)``, the paper's
+    ``(-l sin th, l cos th, 1)`` and ``(l sin th, -l cos th, 1)`` with ``th = h - pi/2``.
+    """
+    c, s = math.cos(car[2]), math.sin(car[2])
+    ell = half_length
+    return np.array([ell * c, ell * s, 1.0]), np.array([-ell * c, -ell * s, 1.0])

@@ -1,0 +1,297 @@
+"""The ``pivot-plan/1`` JSON plan file: dataclasses, writer and reader.
+
+Format (a contract read by outside tools)::
+
+    {"format": "pivot-plan/1", "scene": <name>, "status": "exact" | "approximate" | "none",
+     "object_size": [w, d, h], "robot_footprint": [depth, width], "standoff": s,
+     "alpha_max": a,
+     "phases": [
+       {"type": "transfer", "grasp": k, "robot_start": [x, y, yaw],
+        "steps": [{"pivot": [px, py], "angle": a, "object": [x, y, yaw],
+                   "robot": [x, y, yaw]}, ...]},
+       {"type": "transit", "from_grasp": k, "to_grasp": j,
+        "robot_path": [[x, y, yaw], ...]}]}
+
+A step's ``object``/``robot`` are the poses *after* the rotation; ``angle`` is signed (rad,
+counter-clockwise positive) about the vertical through the world point ``pivot``. Lengths in
+metres, angles in radians, numbers at full double precision. Consecutive ``robot_path`` poses
+are joined by straight-line motion of the robot's centre with the yaw interpolated linearly
+along the shorter way round. Extra fields are kept in :attr:`Plan.extra`.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from .errors import PlanFileError
+from .se2 import Pose
+
+FORMAT = "pivot-plan/1"
+STATUSES = ("exact", "approximate", "none")
+
+
+@dataclass(frozen=True)
+class TransferStep:
+    """One pivot rotation of a transfer phase (poses after the rotation)."""
+
+    pivot: tuple[float, float]
+    angle: float
+    object: Pose
+    robot: Pose
+
+
+@dataclass(frozen=True)
+class TransferPhase:
+    """The robot holds the box at ``grasp`` and pivots it through ``steps``.
+
+    Attributes:
+        grasp: grasp index (0..3).
+        robot_start: robot pose at the phase start.
+        steps: the rotations.
+        object_start: object pose at the phase start (not written: the previous phase's end).
+        rs_path: optional car poses along the Reeds-Shepp path(s), for plotting.
+    """
+
+    grasp: int
+    robot_start: Pose
+    steps: tuple[TransferStep, ...]
+    object_start: Pose
+    rs_path: tuple[Pose, ...] = ()
+
+    type = "transfer"
+
+    @property
+    def object_end(self) -> Pose:
+        """Object pose at the end of the phase."""
+        return self.steps[-1].object if self.steps else self.object_start
+
+    @property
+    def robot_end(self) -> Pose:
+        """Robot pose at the end of the phase."""
+        return self.steps[-1].robot if self.steps else self.robot_start
+
+
+@dataclass(frozen=True)
+class TransitPhase:
+    """The robot walks alone from grasp ``from_grasp`` to ``to_grasp`` of the resting box."""
+
+    from_grasp: int
+    to_grasp: int
+    robot_path: tuple[Pose, ...]
+    object_pose: Pose
+
+    type = "transit"
+
+    @property
+    def length(self) -> float:
+        """Walking distance of the robot's centre (m)."""
+        p = self.robot_path
+        return sum(math.hypot(b[0] - a[0], b[1] - a[1]) for a, b in zip(p, p[1:], strict=False))
+
+
+Phase = TransferPhase | TransitPhase
+
+
+@dataclass
+class Plan:
+    """A plan in memory; :meth:`to_json` writes ``pivot-plan/1``.
+
+    Attributes:
+        scene: scene name.
+        status: ``"exact"`` (reaches the goal), ``"approximate"`` or ``"none"``.
+        object_size, robot_footprint, standoff, alpha_max: geometry the plan was made with.
+        start: the object's start pose.
+        phases: transfer and transit phases in order.
+        extra: further top-level fields (planner, seed, timings...).
+    """
+
+    scene: str
+    status: str
+    object_size: tuple[float, float, float]
+    robot_footprint: tuple[float, float]
+    standoff: float
+    alpha_max: float
+    start: Pose
+    phases: list[Phase] = field(default_factory=list)
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def pivots(self) -> int:
+        """Number of pivot rotations."""
+        return sum(len(p.steps) for p in self.phases if isinstance(p, TransferPhase))
+
+    @property
+    def regrasps(self) -> int:
+        """Number of grasp changes (transit phases)."""
+        return sum(1 for p in self.phases if isinstance(p, TransitPhase))
+
+    @property
+    def object_end(self) -> Pose:
+        """Object pose at the end of the plan."""
+        pose = self.start
+        for p in self.phases:
+            if isinstance(p, TransferPhase):
+                pose = p.object_end
+        return pose
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``pivot-plan/1`` document as a JSON-ready dict."""
+        phases: list[dict[str, Any]] = []
+        for p in self.phases:
+            if isinstance(p, TransferPhase):
+                d: dict[str, Any] = {
+                    "type": "transfer", "grasp": p.grasp, "robot_start": list(p.robot_start),
+                    "steps": [{"pivot": list(s.pivot), "angle": s.angle,
+                               "object": list(s.object), "robot": list(s.robot)}
+                              for s in p.steps]}
+                if p.rs_path:
+                    d["rs_path"] = [list(q) for q in p.rs_path]
+                phases.append(d)
+            else:
+                phases.append({"type": "transit", "from_grasp": p.from_grasp,
+                               "to_grasp": p.to_grasp,
+                               "robot_path": [list(q) for q in p.robot_path]})
+        doc: dict[str, Any] = {
+            "format": FORMAT, "scene": self.scene, "status": self.status,
+            "object_size": list(self.object_size), "robot_footprint": list(self.robot_footprint),
+            "standoff": self.standoff, "alpha_max": self.alpha_max,
+            "start": list(self.start), "phases": phases}
+        for k, v in self.extra.items():
+            doc.setdefault(k, v)
+        return doc
+
+    def to_json(self, path: str | Path) -> Path:
+        """Write the plan to ``path`` (full double precision); return the path."""
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(json.dumps(self.to_dict(), indent=1, allow_nan=False) + "\n")
+        return path
+
+
+# -- reading -----------------------------------------------------------------------------
+
+def _num(v: Any, fld: str, src: str) -> float:
+    if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
+        raise PlanFileError(fld, v, "must be a finite number", source=src)
+    return float(v)
+
+
+def _vec(v: Any, n: int, fld: str, src: str) -> tuple[float, ...]:
+    if not isinstance(v, list) or len(v) != n:
+        raise PlanFileError(fld, v, f"must be a list of {n} numbers", source=src)
+    return tuple(_num(x, f"{fld}[{i}]", src) for i, x in enumerate(v))
+
+
+def _grasp(v: Any, fld: str, src: str) -> int:
+    if isinstance(v, bool) or not isinstance(v, int) or not 0 <= v <= 3:
+        raise PlanFileError(fld, v, "must be a grasp index 0..3", source=src)
+    return v
+
+
+def plan_from_dict(doc: Any, *, source: str = "") -> Plan:
+    """Parse a ``pivot-plan/1`` document.
+
+    The object's start pose is the ``start`` field if present, else it is recovered from the
+    first transfer phase's ``robot_start`` and grasp (the plan's geometry fixes the offset).
+
+    Raises:
+        PlanFileError: naming the field and value that are wrong.
+    """
+    from .grasp import BoxGraspModel  # local: grasp imports nothing from here
+
+    src = source
+    if not isinstance(doc, dict):
+        raise PlanFileError("<document>", type(doc).__name__, "must be a JSON object", source=src)
+    if doc.get("format") != FORMAT:
+        raise PlanFileError("format", doc.get("format"), f"must be {FORMAT!r}", source=src)
+    status = doc.get("status")
+    if status not in STATUSES:
+        raise PlanFileError("status", status, f"must be one of {STATUSES}", source=src)
+    for key in ("object_size", "robot_footprint", "standoff", "alpha_max", "phases"):
+        if key not in doc:
+            raise PlanFileError(key, None, "is required", source=src)
+    size = _vec(doc["object_size"], 3, "object_size", src)
+    foot = _vec(doc["robot_footprint"], 2, "robot_footprint", src)
+    standoff = _num(doc["standoff"], "standoff", src)
+    alpha_max = _num(doc["alpha_max"], "alpha_max", src)
+    model = BoxGraspModel(size, foot, standoff)  # type: ignore[arg-type]
+    raw = doc["phases"]
+    if not isinstance(raw, list):
+        raise PlanFileError("phases", raw, "must be a list", source=src)
+    start: Pose | None = None
+    if "start" in doc:
+        start = _vec(doc["start"], 3, "start", src)  # type: ignore[assignment]
+    phases: list[Phase] = []
+    obj: Pose | None = start
+    for i, ph in enumerate(raw):
+        f = f"phases[{i}]"
+        if not isinstance(ph, dict):
+            raise PlanFileError(f, ph, "must be an object", source=src)
+        kind = ph.get("type")
+        if kind == "transfer":
+            g = _grasp(ph.get("grasp"), f"{f}.grasp", src)
+            rs = _vec(ph.get("robot_start"), 3, f"{f}.robot_start", src)
+            if obj is None:  # recover the object's start from the robot's
+                h = rs[2]
+                r = model.robot_offset(g)
+                obj = (rs[0] + r * math.cos(h), rs[1] + r * math.sin(h),
+                       h - g * 0.5 * math.pi)
+                start = obj
+            steps_raw = ph.get("steps")
+            if not isinstance(steps_raw, list):
+                raise PlanFileError(f"{f}.steps", steps_raw, "must be a list", source=src)
+            steps = []
+            for j, st in enumerate(steps_raw):
+                fs = f"{f}.steps[{j}]"
+                if not isinstance(st, dict):
+                    raise PlanFileError(fs, st, "must be an object", source=src)
+                steps.append(TransferStep(
+                    _vec(st.get("pivot"), 2, f"{fs}.pivot", src),  # type: ignore[arg-type]
+                    _num(st.get("angle"), f"{fs}.angle", src),
+                    _vec(st.get("object"), 3, f"{fs}.object", src),  # type: ignore[arg-type]
+                    _vec(st.get("robot"), 3, f"{fs}.robot", src)))  # type: ignore[arg-type]
+            rsp = tuple(_vec(q, 3, f"{f}.rs_path", src) for q in ph.get("rs_path", []))
+            phase = TransferPhase(g, rs, tuple(steps), obj, rsp)  # type: ignore[arg-type]
+            phases.append(phase)
+            obj = phase.object_end
+        elif kind == "transit":
+            a = _grasp(ph.get("from_grasp"), f"{f}.from_grasp", src)
+            b = _grasp(ph.get("to_grasp"), f"{f}.to_grasp", src)
+            path_raw = ph.get("robot_path")
+            if not isinstance(path_raw, list) or not path_raw:
+                raise PlanFileError(f"{f}.robot_path", path_raw, "must be a non-empty list",
+                                    source=src)
+            path = tuple(_vec(q, 3, f"{f}.robot_path[{j}]", src) for j, q in enumerate(path_raw))
+            if obj is None:
+                raise PlanFileError(f"{f}", kind, "a plan without 'start' must begin with a "
+                                    "transfer phase", source=src)
+            phases.append(TransitPhase(a, b, path, obj))  # type: ignore[arg-type]
+        else:
+            raise PlanFileError(f"{f}.type", kind, "must be 'transfer' or 'transit'", source=src)
+    if start is None:
+        raise PlanFileError("start", None, "is required when the plan has no phase", source=src)
+    known = {"format", "scene", "status", "object_size", "robot_footprint", "standoff",
+             "alpha_max", "start", "phases"}
+    extra = {k: v for k, v in doc.items() if k not in known}
+    return Plan(str(doc.get("scene", "")), status, size, foot, standoff,  # type: ignore[arg-type]
+                alpha_max, start, phases, extra)
+
+
+def load_plan(path: str | Path) -> Plan:
+    """Read a ``pivot-plan/1`` file.
+
+    Raises:
+        PlanFileError: unreadable file, invalid JSON or a malformed field.
+    """
+    path = Path(path)
+    try:
+        doc = json.loads(path.read_text())
+    except OSError as e:
+        raise PlanFileError("path", str(path), f"cannot be read ({e.strerror})") from e
+    except json.JSONDecodeError as e:
+        raise PlanFileError("<document>", str(path), f"is not valid JSON ({e})") from e
+    return plan_from_dict(doc, source=str(path))

@@ -1,0 +1,255 @@
+"""Scene files (``scenes/*.yaml``): the floor area, the box, the robot, obstacles, start, goal.
+
+Format (a contract for users and outside tools)::
+
+    name: two-rooms
+    bounds: [xmin, ymin, xmax, ymax]          # floor area every footprint stays in (m)
+    object: {size: [w, d, h]}                  # box, w along its local x
+    robot: {model: hrp2, footprint: [depth, width], standoff: s}
+    pivot: {alpha_max: 0.39269908169872414, turning_radius: 2.0}   # optional
+    obstacles:                                 # static vertical prisms standing on the floor
+      - {type: box, center: [x, y], size: [sx, sy], yaw: 0.0, height: 1.0}
+      - {type: cylinder, center: [x, y], radius: r, height: 1.0}
+      - {type: polygon, points: [[x, y], ...], height: 1.0}
+    start: [x, y, yaw]                         # object poses
+    goal: [x, y, yaw]
+
+Lengths in metres, angles in radians. Every error names the file, the field and the value.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from . import defaults
+from .errors import SceneError
+from .grasp import BoxGraspModel
+from .se2 import Pose
+
+
+@dataclass(frozen=True)
+class BoxObstacle:
+    """A box prism: centre (m), size (m) along its local axes, yaw (rad), height (m)."""
+
+    center: tuple[float, float]
+    size: tuple[float, float]
+    yaw: float
+    height: float
+    type = "box"
+
+
+@dataclass(frozen=True)
+class CylinderObstacle:
+    """A vertical cylinder: centre (m), radius (m), height (m)."""
+
+    center: tuple[float, float]
+    radius: float
+    height: float
+    type = "cylinder"
+
+
+@dataclass(frozen=True)
+class PolygonObstacle:
+    """A prism over a simple polygon (possibly non-convex), vertices in order (m)."""
+
+    points: tuple[tuple[float, float], ...]
+    height: float
+    type = "polygon"
+
+
+Obstacle = BoxObstacle | CylinderObstacle | PolygonObstacle
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A planning problem.
+
+    Attributes:
+        name: scene name.
+        bounds: ``(xmin, ymin, xmax, ymax)`` of the floor area (m).
+        model: box and robot geometry (:class:`~pivot_ompl.grasp.BoxGraspModel`).
+        robot_model: robot model name (``"hrp2"``).
+        alpha_max: bound on each pivot rotation (rad).
+        turning_radius: Reeds-Shepp turning radius (m).
+        obstacles: static prisms.
+        start, goal: object poses.
+        source: the file it was read from, or ``""``.
+    """
+
+    name: str
+    bounds: tuple[float, float, float, float]
+    model: BoxGraspModel
+    start: Pose
+    goal: Pose
+    obstacles: tuple[Obstacle, ...] = ()
+    alpha_max: float = defaults.ALPHA_MAX
+    turning_radius: float = defaults.TURNING_RADIUS
+    robot_model: str = "hrp2"
+    source: str = field(default="", compare=False)
+
+
+ROBOT_MODELS = {"hrp2": {"footprint": defaults.ROBOT_FOOTPRINT, "standoff": defaults.STANDOFF,
+                         "height": defaults.ROBOT_HEIGHT}}
+
+
+class _Reader:
+    """Typed field access that raises :class:`SceneError` naming file, field and value."""
+
+    def __init__(self, source: str) -> None:
+        self.source = source
+
+    def fail(self, fld: str, value: Any, reason: str) -> SceneError:
+        return SceneError(fld, value, reason, source=self.source)
+
+    def mapping(self, d: Any, fld: str, required: set[str], optional: set[str]) -> dict:
+        if not isinstance(d, dict):
+            raise self.fail(fld, d, "must be a mapping")
+        for k in d:
+            if k not in required | optional:
+                name = f"{fld}.{k}" if fld else str(k)
+                raise self.fail(name, d[k], f"unknown key (allowed: {sorted(required | optional)})")
+        for k in sorted(required):
+            if k not in d:
+                raise self.fail(f"{fld}.{k}" if fld else k, None, "is required")
+        return d
+
+    def number(self, v: Any, fld: str, *, positive: bool = False,
+               nonneg: bool = False) -> float:
+        if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
+            raise self.fail(fld, v, "must be a finite number")
+        if positive and v <= 0:
+            raise self.fail(fld, v, "must be > 0")
+        if nonneg and v < 0:
+            raise self.fail(fld, v, "must be >= 0")
+        return float(v)
+
+    def vector(self, v: Any, n: int, fld: str, *, positive: bool = False) -> tuple[float, ...]:
+        if not isinstance(v, list | tuple) or len(v) != n:
+            raise self.fail(fld, v, f"must be a list of {n} numbers")
+        return tuple(self.number(x, f"{fld}[{i}]", positive=positive) for i, x in enumerate(v))
+
+
+def scene_from_dict(doc: Any, *, source: str = "") -> Scene:
+    """Build a :class:`Scene` from a parsed YAML document (see the module docstring)."""
+    r = _Reader(source)
+    top = r.mapping(doc, "", {"name", "bounds", "object", "start", "goal"},
+                    {"robot", "pivot", "obstacles"})
+    name = top["name"]
+    if not isinstance(name, str) or not name:
+        raise r.fail("name", name, "must be a non-empty string")
+    b = r.vector(top["bounds"], 4, "bounds")
+    if not (b[0] < b[2] and b[1] < b[3]):
+        raise r.fail("bounds", list(b), "must satisfy xmin < xmax and ymin < ymax")
+    obj = r.mapping(top["object"], "object", {"size"}, set())
+    size = r.vector(obj["size"], 3, "object.size", positive=True)
+    robot = r.mapping(top.get("robot", {}), "robot", set(), {"model", "footprint", "standoff"})
+    model_name = robot.get("model", "hrp2")
+    if model_name not in ROBOT_MODELS:
+        raise r.fail("robot.model", model_name, f"unknown robot model (known: {sorted(ROBOT_MODELS)})")
+    rm = _robot_defaults(model_name)
+    foot = (r.vector(robot["footprint"], 2, "robot.footprint", positive=True)
+            if "footprint" in robot else rm["footprint"])
+    standoff = (r.number(robot["standoff"], "robot.standoff", nonneg=True)
+                if "standoff" in robot else rm["standoff"])
+    piv = r.mapping(top.get("pivot", {}), "pivot", set(), {"alpha_max", "turning_radius"})
+    alpha_max = r.number(piv.get("alpha_max", defaults.ALPHA_MAX), "pivot.alpha_max",
+                         positive=True)
+    if alpha_max > 0.5 * math.pi:
+        raise r.fail("pivot.alpha_max", alpha_max, "must be <= pi/2 rad")
+    turning = r.number(piv.get("turning_radius", defaults.TURNING_RADIUS),
+                       "pivot.turning_radius", positive=True)
+    obstacles = []
+    raw_obs = top.get("obstacles", [])
+    if raw_obs is None:
+        raw_obs = []
+    if not isinstance(raw_obs, list):
+        raise r.fail("obstacles", raw_obs, "must be a list")
+    for i, o in enumerate(raw_obs):
+        obstacles.append(_obstacle(r, o, f"obstacles[{i}]"))
+    model = BoxGraspModel(size, foot, standoff, rm["height"])  # type: ignore[arg-type]
+    start = r.vector(top["start"], 3, "start")
+    goal = r.vector(top["goal"], 3, "goal")
+    for fld, pose in (("start", start), ("goal", goal)):
+        for x, y in model.object_corners(pose):  # type: ignore[arg-type]
+            if not (b[0] <= x <= b[2] and b[1] <= y <= b[3]):
+                raise r.fail(fld, list(pose), f"the box footprint leaves bounds {list(b)}")
+    return Scene(name, b, model, start, goal, tuple(obstacles), alpha_max,  # type: ignore[arg-type]
+                 turning, model_name, source)
+
+
+def _robot_defaults(name: str) -> dict[str, Any]:
+    """Footprint, standoff and height of a robot model (HRP-2's derive from robots/hrp2)."""
+    base = dict(ROBOT_MODELS[name])
+    if name == "hrp2":
+        try:
+            from .robot_model import hrp2_floor_geometry
+        except ImportError:
+            return base
+        base.update(hrp2_floor_geometry())
+    return base
+
+
+def _obstacle(r: _Reader, o: Any, f: str) -> Obstacle:
+    if not isinstance(o, dict):
+        raise r.fail(f, o, "must be a mapping")
+    kind = o.get("type")
+    if kind == "box":
+        d = r.mapping(o, f, {"type", "center", "size", "height"}, {"yaw"})
+        return BoxObstacle(r.vector(d["center"], 2, f"{f}.center"),  # type: ignore[arg-type]
+                           r.vector(d["size"], 2, f"{f}.size", positive=True),  # type: ignore[arg-type]
+                           r.number(d.get("yaw", 0.0), f"{f}.yaw"),
+                           r.number(d["height"], f"{f}.height", positive=True))
+    if kind == "cylinder":
+        d = r.mapping(o, f, {"type", "center", "radius", "height"}, set())
+        return CylinderObstacle(r.vector(d["center"], 2, f"{f}.center"),  # type: ignore[arg-type]
+                                r.number(d["radius"], f"{f}.radius", positive=True),
+                                r.number(d["height"], f"{f}.height", positive=True))
+    if kind == "polygon":
+        d = r.mapping(o, f, {"type", "points", "height"}, set())
+        pts = d["points"]
+        if not isinstance(pts, list) or len(pts) < 3:
+            raise r.fail(f"{f}.points", pts, "must be a list of at least 3 [x, y] points")
+        points = tuple(r.vector(p, 2, f"{f}.points[{j}]") for j, p in enumerate(pts))
+        area2 = sum(points[i][0] * points[(i + 1) % len(points)][1]
+                    - points[(i + 1) % len(points)][0] * points[i][1] for i in range(len(points)))
+        if abs(area2) < 1e-12:
+            raise r.fail(f"{f}.points", pts, "polygon has zero area")
+        return PolygonObstacle(points, r.number(d["height"], f"{f}.height",  # type: ignore[arg-type]
+                                                positive=True))
+    raise r.fail(f"{f}.type", kind, "must be 'box', 'cylinder' or 'polygon'")
+
+
+def load_scene(path: str | Path) -> Scene:
+    """Read and validate a scene file.
+
+    Raises:
+        SceneError: unreadable file, invalid YAML, unknown key, missing field, wrong type or
+            bad value, naming the file, the field and the value.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as e:
+        raise SceneError("path", str(path), f"cannot be read ({e.strerror})") from e
+    try:
+        doc = yaml.safe_load(text)
+    except yaml.YAMLError as e:
+        raise SceneError("<document>", str(path), f"is not valid YAML ({e})",
+                         source=str(path)) from e
+    return scene_from_dict(doc, source=str(path))
+
+
+def default_scene(*, start: Pose = (0.0, 0.0, 0.0), goal: Pose = (0.0, 0.0, 0.0),
+                  margin: float = 5.0) -> Scene:
+    """The paper's obstacle-free set-up around ``start`` and ``goal`` (bounds with a margin)."""
+    xs = (start[0], goal[0])
+    ys = (start[1], goal[1])
+    model = BoxGraspModel(defaults.OBJECT_SIZE, defaults.ROBOT_FOOTPRINT, defaults.STANDOFF,
+                          defaults.ROBOT_HEIGHT)
+    return Scene("free", (min(xs) - margin, min(ys) - margin, max(xs) + margin,
+                          max(ys) + margin), model, start, goal)
