@@ -1,0 +1,136 @@
+"""The Python API: ``pivot_ompl.plan(scene, planner="regrasp", time_limit=30.0, seed=0)``."""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ompl import util as ou
+
+from .errors import InputError, PlanningError
+from .pathconv import path_to_plan
+from .planfile import Plan
+from .planners import OMPL_PLANNERS, make_planner
+from .scene import Scene, load_scene
+from .space import make_setup, read_state
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class PlanResult:
+    """The outcome of :func:`plan`.
+
+    Attributes:
+        status: OMPL's status name (``"EXACT_SOLUTION"``, ``"TIMEOUT"``, ...).
+        plan: the plan (``status "none"`` and no phases when nothing was found).
+        planner: planner name.
+        seed: seed used.
+        time_limit: time limit (s).
+        timings: seconds spent in ``setup``, ``solve`` and ``convert``.
+        roadmap: planner figures (roadmap sizes, critical configurations...), if any.
+        motion_checks: counts of valid and invalid motions and cache hits.
+    """
+
+    status: str
+    plan: Plan
+    planner: str
+    seed: int
+    time_limit: float
+    timings: dict[str, float] = field(default_factory=dict)
+    roadmap: dict[str, Any] = field(default_factory=dict)
+    motion_checks: dict[str, int] = field(default_factory=dict)
+
+    @property
+    def solved(self) -> bool:
+        """Whether an exact solution was found."""
+        return self.status == "EXACT_SOLUTION"
+
+    @property
+    def pivots(self) -> int:
+        """Number of pivot rotations in the plan."""
+        return self.plan.pivots
+
+    @property
+    def regrasps(self) -> int:
+        """Number of regrasps (transit phases) in the plan."""
+        return self.plan.regrasps
+
+    def to_json(self, path: str | Path) -> Path:
+        """Write the plan as ``pivot-plan/1`` (with planner, seed, timings as extra fields)."""
+        return self.plan.to_json(path)
+
+
+def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: float = 30.0,
+         seed: int = 0, simplify: bool = False) -> PlanResult:
+    """Plan a pivoting path (with regrasps where needed) for ``scene``.
+
+    Args:
+        scene: a :class:`Scene` or the path of a scene file.
+        planner: ``"regrasp"``, ``"visprm"`` or an OMPL planner (``"rrtconnect"``, ``"prm"``...).
+        time_limit: wall-clock limit of the solve (s).
+        seed: seed of our planners' generator (and of OMPL's RNG for OMPL planners).
+        simplify: run OMPL's ``PathSimplifier`` on OMPL planners' paths.
+
+    Raises:
+        PlanningError: ``INVALID_START``/``INVALID_GOAL`` (no grasp valid there).
+        InputError: bad parameters.
+    """
+    if not isinstance(scene, Scene):
+        scene = load_scene(scene)
+    if not (time_limit > 0):
+        raise InputError("time_limit", time_limit, "must be > 0 s")
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise InputError("seed", seed, "must be a non-negative integer")
+    t0 = time.perf_counter()
+    if planner in OMPL_PLANNERS:
+        ou.RNG.setSeed(seed + 1)  # OMPL's seed must be > 0
+    ss = make_setup(scene, seed=seed)
+    problem = ss._pivot_problem
+    p = make_planner(planner, ss.getSpaceInformation(), seed=seed)
+    ss.setPlanner(p)
+    ss.setup()
+    t1 = time.perf_counter()
+    status = ss.solve(time_limit)
+    name = _status_name(status)
+    t2 = time.perf_counter()
+    if name == "INVALID_START":
+        raise PlanningError(name, problem.checker.explain(scene.start))
+    if name == "INVALID_GOAL":
+        raise PlanningError(name, problem.checker.explain(scene.goal))
+    extra = {"planner": planner, "seed": seed, "time_limit": time_limit}
+    if name == "EXACT_SOLUTION" and ss.haveExactSolutionPath():
+        if simplify and planner in OMPL_PLANNERS:
+            ss.simplifySolution()
+        path = ss.getSolutionPath()
+        states = [read_state(path.getState(i)) for i in range(path.getStateCount())]
+        result_plan = path_to_plan(scene, problem.checker, states, extra=extra)
+    else:
+        result_plan = Plan(scene.name, "none", scene.model.object_size,
+                           scene.model.robot_footprint, scene.model.standoff,
+                           scene.alpha_max, scene.start, [], extra)
+    t3 = time.perf_counter()
+    timings = {"setup": t1 - t0, "solve": t2 - t1, "convert": t3 - t2}
+    result_plan.extra["timings"] = timings
+    stats = dict(getattr(p, "stats", {}) or {})
+    result_plan.extra["roadmap"] = stats
+    c = problem.checker.counters
+    log.info("%s on %s: %s in %.2f s (%d pivots, %d regrasps)", planner, scene.name, name,
+             t2 - t1, result_plan.pivots, result_plan.regrasps)
+    res = PlanResult(name, result_plan, planner, seed, time_limit, timings, stats,
+                     {"valid": c.valid, "invalid": c.invalid, "cache_hits": c.cache_hits})
+    res._search = getattr(p, "last_search", None)  # for plotting roadmaps
+    return res
+
+
+def _status_name(status: Any) -> str:
+    s = str(status)
+    names = {"Exact solution": "EXACT_SOLUTION", "Approximate solution": "APPROXIMATE_SOLUTION",
+             "Timeout": "TIMEOUT", "Invalid start": "INVALID_START",
+             "Invalid goal": "INVALID_GOAL", "Crash": "CRASH", "Abort": "ABORT",
+             "Infeasible": "INFEASIBLE", "Unknown status": "UNKNOWN",
+             "Unrecognized goal type": "UNRECOGNIZED_GOAL_TYPE"}
+    return names.get(s, s.upper().replace(" ", "_"))

@@ -1,0 +1,389 @@
+"""Roadmap multiplexing (the regrasp paper, Section IV) as a pure-Python search.
+
+One manipulation roadmap per grasp (box and robot move together) plus the regrasping
+roadmap (the robot walks alone between grasps of the resting box) are multiplexed into one
+graph whose nodes are ``(object pose, grasp)``. Nodes come from the object roadmap (the
+Visibility PRM on the box alone, with its critical configurations) through
+``PlanWithObjectConfig``, then from a diffusion process (random sample, nearest object node,
+extend by ``epsilon``). Edges are candidates until a shortest path uses them: only then are
+they validated (pivot sequences and walks are the expensive part), so the search is lazy.
+"""
+
+from __future__ import annotations
+
+import heapq
+import logging
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..checker import PivotChecker
+from ..se2 import Pose
+from .roadmap import Roadmap
+from .visibility import VisibilityRoadmapBuilder
+
+log = logging.getLogger(__name__)
+
+Node = tuple[int, int]  # (object roadmap index, grasp)
+
+
+@dataclass(frozen=True)
+class RegraspParams:
+    """Parameters of the regrasp planner (typed, with units).
+
+    Attributes:
+        epsilon: diffusion extension step (m, in the pose metric).
+        guard_failures: consecutive discarded samples that end the Visibility PRM.
+        grasps: the grasps the robot may use.
+        regrasp_cost: cost of one regrasp on top of the walking distance (m).
+        neighbours: candidate edges per new manipulation node.
+        connect_radius: candidate edges are not longer than this (m, pose metric).
+        critical_bias: probability that a diffusion sample is drawn near a critical
+            configuration.
+        goal_bias: probability that a diffusion sample is the goal pose.
+        optimise: run the path optimiser (shortcuts and useless-regrasp removal).
+    """
+
+    epsilon: float = 1.0
+    guard_failures: int = 25
+    grasps: tuple[int, ...] = (0, 1, 2, 3)
+    regrasp_cost: float = 2.0
+    neighbours: int = 10
+    connect_radius: float = 3.5
+    critical_bias: float = 0.25
+    goal_bias: float = 0.05
+    optimise: bool = True
+
+
+@dataclass
+class RegraspStats:
+    """Figures of one run (roadmap sizes and counts)."""
+
+    object_nodes: int = 0
+    guards: int = 0
+    connectors: int = 0
+    critical: int = 0
+    diffusion_nodes: int = 0
+    manipulation_nodes: dict[int, int] = field(default_factory=dict)
+    regrasp_edges: int = 0
+    searches: int = 0
+    edges_checked: int = 0
+    edges_invalid: int = 0
+    time_visibility: float = 0.0
+    time_search: float = 0.0
+    time_optimise: float = 0.0
+
+
+@dataclass
+class MultiplexedSearch:
+    """The regrasp planner's data and algorithm (see the module docstring).
+
+    Args:
+        checker: validity of states, pivot edges and walks.
+        start, goal: object poses.
+        params: planner parameters.
+        rng: random generator (the only source of randomness).
+    """
+
+    checker: PivotChecker
+    start: Pose
+    goal: Pose
+    params: RegraspParams
+    rng: np.random.Generator
+    stats: RegraspStats = field(default_factory=RegraspStats)
+
+    def __post_init__(self) -> None:
+        """Create the object roadmap and the multiplexed graph."""
+        self.obj = Roadmap()
+        self.adj: dict[Node, dict[Node, float]] = {}
+        self.by_grasp: dict[int, list[int]] = {g: [] for g in self.params.grasps}
+        self.verified: dict[tuple[Node, Node], bool] = {}
+        self.critical: list[int] = []
+        b = self.checker.world.bounds
+        self._lo = (b[0], b[1])
+        self._hi = (b[2], b[3])
+        self.start_nodes: list[Node] = []
+        self.goal_nodes: set[Node] = set()
+
+    # -- object roadmap --------------------------------------------------------------------
+    def _random_pose(self) -> Pose:
+        return (float(self.rng.uniform(self._lo[0], self._hi[0])),
+                float(self.rng.uniform(self._lo[1], self._hi[1])),
+                float(self.rng.uniform(-math.pi, math.pi)))
+
+    def _sample_box_valid(self) -> Pose:
+        for _ in range(1000):
+            q = self._random_pose()
+            if self.checker.box_valid(q):
+                return q
+        return self._random_pose()
+
+    def _visible(self, a: Pose, b: Pose) -> bool:
+        """Object-roadmap visibility: the box alone can pivot along the edge; critical
+        configurations (where the robot's bounding volume starts or stops colliding along
+        the edge) are recorded."""
+        edge = self.checker.transfer(a, b, 0, with_robot=False)
+        if not edge.valid:
+            return False
+        self._record_critical(edge.sequence)
+        return True
+
+    def _record_critical(self, seq) -> None:
+        ck, m = self.checker, self.checker.model
+        poses = [m.object_from_car(r.car, 0) for r in seq.rotations]
+        if len(poses) < 2:
+            return
+        for g in self.params.grasps:
+            free = [ck.robot_valid(p, g) for p in poses]
+            for i in range(1, len(poses)):
+                if free[i] != free[i - 1]:
+                    q = poses[i - 1] if free[i - 1] else poses[i]
+                    idx = self.obj.add(q, "critical")
+                    self.critical.append(idx)
+
+    # -- multiplexed graph ------------------------------------------------------------------
+    def _add_node(self, node: Node) -> None:
+        self.adj.setdefault(node, {})
+
+    def _link(self, a: Node, b: Node, cost: float) -> None:
+        if (a, b) in self.verified and not self.verified[(a, b)]:
+            return
+        self.adj[a][b] = cost
+        self.adj[b][a] = cost
+
+    def plan_with_object_config(self, i: int) -> int:
+        """Add object node ``i`` to every manipulation roadmap where it is valid.
+
+        Returns the number of manipulation nodes added.
+        """
+        q = self.obj.poses[i]
+        ck, p = self.checker, self.params
+        rs = ck.steering.rs
+        m = ck.model
+        added: list[int] = []
+        for g in p.grasps:
+            if not ck.state_valid(q, g):
+                continue
+            node = (i, g)
+            self._add_node(node)
+            car = m.car_pose(q, g)
+            for j in self.obj.nearest(q, 3 * p.neighbours, among=self.by_grasp[g]):
+                qj = self.obj.poses[j]
+                d = rs.distance(car, m.car_pose(qj, g))
+                if d <= p.connect_radius:
+                    self._link(node, (j, g), d)
+            self.by_grasp[g].append(i)
+            added.append(g)
+        # regrasping roadmap: the robot walks between the valid grasps at this pose
+        for a_i, a in enumerate(added):
+            for b in added[a_i + 1:]:
+                walk_est = m.robot_offset(a) * 0.5 * math.pi * min((b - a) % 4, (a - b) % 4)
+                self._link((i, a), (i, b), p.regrasp_cost + walk_est)
+                self.stats.regrasp_edges += 1
+        return len(added)
+
+    def _edge_valid(self, a: Node, b: Node) -> bool:
+        key = (a, b) if a <= b else (b, a)
+        v = self.verified.get(key)
+        if v is not None:
+            return v
+        pa, pb = self.obj.poses[a[0]], self.obj.poses[b[0]]
+        if a[1] == b[1]:
+            v = self.checker.transfer(pa, pb, a[1]).valid
+        else:
+            v = self.checker.transit(pa, a[1], b[1]).valid
+        self.verified[key] = v
+        self.stats.edges_checked += 1
+        if not v:
+            self.stats.edges_invalid += 1
+        return v
+
+    def search(self, ptc: Callable[[], bool]) -> list[Node]:
+        """Lazy shortest path from a start node to a goal node; ``[]`` if none yet."""
+        t0 = time.perf_counter()
+        try:
+            while not ptc():
+                self.stats.searches += 1
+                path = self._dijkstra()
+                if not path:
+                    return []
+                # validate edges, cheap transfers first, walks last
+                pairs = list(zip(path, path[1:], strict=False))
+                pairs.sort(key=lambda e: e[0][1] != e[1][1])
+                ok = True
+                for a, b in pairs:
+                    if ptc():
+                        return []
+                    if not self._edge_valid(a, b):
+                        self.adj[a].pop(b, None)
+                        self.adj[b].pop(a, None)
+                        ok = False
+                        break
+                if ok:
+                    return path
+            return []
+        finally:
+            self.stats.time_search += time.perf_counter() - t0
+
+    def _dijkstra(self) -> list[Node]:
+        dist: dict[Node, float] = {}
+        parent: dict[Node, Node] = {}
+        heap: list[tuple[float, Node]] = []
+        for s in self.start_nodes:
+            dist[s] = 0.0
+            heap.append((0.0, s))
+        heapq.heapify(heap)
+        done: set[Node] = set()
+        while heap:
+            d, u = heapq.heappop(heap)
+            if u in done:
+                continue
+            done.add(u)
+            if u in self.goal_nodes:
+                path = [u]
+                while path[-1] in parent:
+                    path.append(parent[path[-1]])
+                return path[::-1]
+            for v, c in self.adj[u].items():
+                nd = d + c
+                if nd < dist.get(v, math.inf):
+                    dist[v] = nd
+                    parent[v] = u
+                    heapq.heappush(heap, (nd, v))
+        return []
+
+    # -- the algorithm (Fig. 7 of the paper) -------------------------------------------------
+    def run(self, ptc: Callable[[], bool]) -> list[tuple[Pose, int]]:
+        """Plan; return the path as ``(object pose, grasp)`` states, ``[]`` on time-out."""
+        p, ck = self.params, self.checker
+        s_i = self.obj.add(self.start, "start")
+        g_i = self.obj.add(self.goal, "goal")
+        t0 = time.perf_counter()
+        vis = VisibilityRoadmapBuilder(self._sample_box_valid, self._visible,
+                                       max_failures=p.guard_failures, roadmap=self.obj)
+        vis.guards.extend([s_i, g_i])
+        for i in (s_i, g_i):
+            self.plan_with_object_config(i)
+        self.start_nodes = [n for n in self.adj if n[0] == s_i]
+        self.goal_nodes = {n for n in self.adj if n[0] == g_i}
+        m = ck.model
+        for (_, g) in self.start_nodes:  # always try the direct edge first
+            if (g_i, g) in self.goal_nodes:
+                d = ck.steering.rs.distance(m.car_pose(self.start, g), m.car_pose(self.goal, g))
+                self._link((s_i, g), (g_i, g), d)
+        path = self.search(ptc)
+        if not path:
+            done = 2
+            while not ptc() and vis.failures < p.guard_failures:
+                vis.step()
+                for i in range(done, len(self.obj)):
+                    self.plan_with_object_config(i)
+                done = len(self.obj)
+            self.stats.time_visibility = time.perf_counter() - t0
+            path = self.search(ptc)
+            # diffusion: grow the object roadmap towards random samples
+            while not path and not ptc():
+                q = self._diffusion_target()
+                near = self.obj.nearest(q, 1)[0]
+                qn = self._extend(self.obj.poses[near], q)
+                if qn == self.obj.poses[near]:
+                    continue
+                i = self.obj.add(qn, "diffusion")
+                self.stats.diffusion_nodes += 1
+                if self.plan_with_object_config(i):
+                    path = self.search(ptc)
+        self._fill_stats()
+        if not path:
+            return []
+        states = [(self.obj.poses[i], g) for i, g in path]
+        if p.optimise:
+            t1 = time.perf_counter()
+            states = optimise_path(ck, states, regrasp_cost=p.regrasp_cost, ptc=ptc)
+            self.stats.time_optimise = time.perf_counter() - t1
+        return states
+
+    def _diffusion_target(self) -> Pose:
+        u = self.rng.uniform()
+        if u < self.params.goal_bias:
+            return self.goal
+        if u < self.params.goal_bias + self.params.critical_bias and self.critical:
+            c = self.obj.poses[self.critical[int(self.rng.integers(len(self.critical)))]]
+            return (c[0] + float(self.rng.normal(0, 0.3)), c[1] + float(self.rng.normal(0, 0.3)),
+                    c[2] + float(self.rng.normal(0, 0.5)))
+        return self._random_pose()
+
+    def _extend(self, near: Pose, target: Pose) -> Pose:
+        """Move from ``near`` towards ``target`` along the object's Reeds-Shepp path by at most
+        ``epsilon``, stopping at the last box-valid pose (sampled every 5 cm): the diffusion
+        creeps into narrow passages instead of jumping over them."""
+        rs = self.checker.steering.rs
+        d = rs.distance(near, target)
+        if d == 0.0:
+            return near
+        reach = min(1.0, self.params.epsilon / d)
+        n = max(1, int(reach * d / 0.05))
+        last = near
+        for q in rs.sample(near, target, [reach * (k + 1) / n for k in range(n)]):
+            if not self.checker.box_valid(q):
+                break
+            last = q
+        return last
+
+    def _fill_stats(self) -> None:
+        s = self.stats
+        kinds = self.obj.kinds
+        s.object_nodes = len(self.obj)
+        s.guards = kinds.count("guard") + 2
+        s.connectors = kinds.count("connector")
+        s.critical = kinds.count("critical")
+        s.manipulation_nodes = {g: len(v) for g, v in self.by_grasp.items()}
+
+
+def path_cost(checker: PivotChecker, states: list[tuple[Pose, int]], regrasp_cost: float) -> float:
+    """Cost of a path: Reeds-Shepp length of transfers + walking length and cost of regrasps."""
+    total = 0.0
+    for (pa, ga), (pb, gb) in zip(states, states[1:], strict=False):
+        if ga == gb:
+            total += checker.transfer(pa, pb, ga).length
+        else:
+            total += regrasp_cost + checker.transit(pa, ga, gb).length
+    return total
+
+
+def optimise_path(checker: PivotChecker, states: list[tuple[Pose, int]], *,
+                  regrasp_cost: float, ptc: Callable[[], bool]) -> list[tuple[Pose, int]]:
+    """Path optimiser: merge consecutive regrasps, then shortcut within one grasp.
+
+    A shortcut joins states ``i`` and ``j > i + 1`` of the same grasp by one pivot edge when
+    it is valid and cheaper; regrasps that become useless (a grasp left and taken back) vanish
+    with the states they joined. Every accepted change keeps the path valid.
+    """
+    s = list(states)
+    # 1) chains of grasp changes at one pose: keep the first and the last grasp
+    i = 0
+    while i < len(s) - 2:
+        if s[i][0] == s[i + 1][0] == s[i + 2][0]:
+            a, c = s[i][1], s[i + 2][1]
+            if a == c:
+                del s[i + 1:i + 3]
+                continue
+            if checker.transit(s[i][0], a, c).valid:
+                del s[i + 1]
+                continue
+        i += 1
+    # 2) greedy shortcuts, farthest first
+    i = 0
+    while i < len(s) - 2 and not ptc():
+        for j in range(len(s) - 1, i + 1, -1):
+            if s[j][1] != s[i][1] or s[j][0] == s[i][0]:
+                continue
+            old = path_cost(checker, s[i:j + 1], regrasp_cost)
+            edge = checker.transfer(s[i][0], s[j][0], s[i][1])
+            if edge.valid and edge.length < old:
+                s = s[:i + 1] + s[j:]
+                break
+        i += 1
+    return s

@@ -1,0 +1,84 @@
+"""``RegraspPlanner``: the roadmap-multiplexing regrasp planner as an ``ompl.base.Planner``."""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import asdict
+from typing import Any
+
+import numpy as np
+from ompl import base as ob
+
+from ..space import read_state
+from .multiplex import MultiplexedSearch, RegraspParams
+from .search import states_to_path
+
+log = logging.getLogger(__name__)
+
+
+class RegraspPlanner(ob.Planner):
+    """Visibility PRM on the box, manipulation and regrasping roadmaps multiplexed, diffusion.
+
+    The start is the problem's start state (its pose; every valid grasp is a start); the goal
+    must be a ``GoalState``/``GoalStates`` (their pose; every valid grasp is a goal). The
+    planner needs the space information built by :func:`pivot_ompl.make_setup` (it reads the
+    shared :class:`~pivot_ompl.checker.PivotChecker` from the motion validator).
+
+    Args:
+        si: the space information.
+        seed: seed of the planner's generator (runs are deterministic for a seed).
+        params: planner parameters (:class:`RegraspParams`), or keyword overrides.
+    """
+
+    def __init__(self, si: ob.SpaceInformation, *, seed: int = 0,
+                 params: RegraspParams | None = None, **overrides: Any) -> None:
+        """Create the planner."""
+        super().__init__(si, "RegraspPlanner")
+        p = params or RegraspParams()
+        if overrides:
+            p = RegraspParams(**{**asdict(p), **overrides})
+        self.params = p
+        self.seed = seed
+        self.last_search: MultiplexedSearch | None = None
+        self.stats: dict[str, Any] = {}
+
+    def clear(self) -> None:  # noqa: D102
+        super().clear()
+        self.last_search = None
+
+    def solve(self, ptc: Any) -> ob.PlannerStatus:  # noqa: D102
+        try:
+            return self._solve(ptc)
+        except Exception:  # an exception escaping aborts OMPL's Benchmark: report a crash
+            log.exception("RegraspPlanner crashed")
+            return ob.PlannerStatus(ob.PlannerStatus.CRASH)
+
+    def _solve(self, ptc: Any) -> ob.PlannerStatus:
+        si = self.getSpaceInformation()
+        checker = si.getMotionValidator().checker
+        pis = self.getPlannerInputStates()
+        start = pis.nextStart()
+        if start is None:
+            return ob.PlannerStatus(ob.PlannerStatus.INVALID_START)
+        goal = pis.nextGoal(ptc)
+        if goal is None:
+            return ob.PlannerStatus(ob.PlannerStatus.INVALID_GOAL)
+        s_pose, _ = read_state(start)
+        g_pose, _ = read_state(goal)
+        grasps = self.params.grasps
+        if not any(checker.state_valid(s_pose, g) for g in grasps):
+            return ob.PlannerStatus(ob.PlannerStatus.INVALID_START)
+        if not any(checker.state_valid(g_pose, g) for g in grasps):
+            return ob.PlannerStatus(ob.PlannerStatus.INVALID_GOAL)
+        t0 = time.perf_counter()
+        search = MultiplexedSearch(checker, s_pose, g_pose, self.params,
+                                   np.random.default_rng(self.seed))
+        self.last_search = search
+        states = search.run(lambda: bool(ptc()))
+        self.stats = asdict(search.stats)
+        self.stats["time"] = time.perf_counter() - t0
+        if not states:
+            return ob.PlannerStatus(ob.PlannerStatus.TIMEOUT)
+        states_to_path(self, states)
+        return ob.PlannerStatus(ob.PlannerStatus.EXACT_SOLUTION)

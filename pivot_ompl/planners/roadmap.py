@@ -1,0 +1,75 @@
+"""A small undirected roadmap with nearest-neighbour queries on object poses."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..se2 import Pose
+
+#: Weight of yaw in the nearest-neighbour metric (m per rad).
+YAW_WEIGHT = 0.5
+
+
+def pose_metric(a: np.ndarray, b: Pose) -> np.ndarray:
+    """Cheap metric between an array of poses ``a`` (N x 3) and pose ``b`` (m)."""
+    dyaw = np.abs((a[:, 2] - b[2] + math.pi) % (2 * math.pi) - math.pi)
+    return np.hypot(a[:, 0] - b[0], a[:, 1] - b[1]) + YAW_WEIGHT * dyaw
+
+
+@dataclass
+class Roadmap:
+    """Nodes (object poses with a label), edges and connected components (union-find)."""
+
+    poses: list[Pose] = field(default_factory=list)
+    kinds: list[str] = field(default_factory=list)
+    edges: list[tuple[int, int]] = field(default_factory=list)
+    _arr: np.ndarray = field(default_factory=lambda: np.zeros((64, 3)))
+    _parent: list[int] = field(default_factory=list)
+
+    def __len__(self) -> int:
+        """Number of nodes."""
+        return len(self.poses)
+
+    def add(self, pose: Pose, kind: str) -> int:
+        """Add a node; return its index."""
+        i = len(self.poses)
+        if i >= len(self._arr):
+            self._arr = np.concatenate([self._arr, np.zeros_like(self._arr)])
+        self._arr[i] = pose
+        self.poses.append(pose)
+        self.kinds.append(kind)
+        self._parent.append(i)
+        return i
+
+    def connect(self, i: int, j: int) -> None:
+        """Add edge ``i - j`` and merge their components."""
+        self.edges.append((i, j))
+        ri, rj = self.component(i), self.component(j)
+        if ri != rj:
+            self._parent[ri] = rj
+
+    def component(self, i: int) -> int:
+        """Representative of ``i``'s connected component."""
+        p = self._parent
+        while p[i] != i:
+            p[i] = p[p[i]]
+            i = p[i]
+        return i
+
+    def nearest(self, pose: Pose, k: int, *, among: list[int] | None = None) -> list[int]:
+        """Indices of the ``k`` nodes nearest to ``pose`` (optionally among a subset)."""
+        n = len(self.poses)
+        if n == 0:
+            return []
+        if among is None:
+            d = pose_metric(self._arr[:n], pose)
+            order = np.argsort(d)[:k]
+            return [int(i) for i in order]
+        if not among:
+            return []
+        idx = np.asarray(among)
+        d = pose_metric(self._arr[idx], pose)
+        return [int(idx[i]) for i in np.argsort(d)[:k]]
