@@ -25,6 +25,9 @@ log = logging.getLogger(__name__)
 
 #: A colliding edge is converted again with the rotation bound halved up to this many times.
 MIN_ALPHA_HALVINGS = 3
+#: Only edges up to this Reeds-Shepp length (m) are subdivided on collision: subdivision
+#: matters in tight spots, where planners try short edges.
+SUBDIVIDE_MAX_LENGTH = 2.0
 
 
 @dataclass(frozen=True)
@@ -143,7 +146,8 @@ class PivotChecker:
         ca, cb = m.car_pose(obj_a, grasp), m.car_pose(obj_b, grasp)
         res = self._check_sequence(ca, self.steering.convert(
             ca, cb, half_length=m.edge_half_length(grasp)), grasp, with_robot)
-        if res.valid or "collides during" not in res.reason:
+        if res.valid or "collides during" not in res.reason or \
+                res.length > SUBDIVIDE_MAX_LENGTH:
             return res
         for k in range(1, MIN_ALPHA_HALVINGS + 1):
             fine = self._fine_steering(k)
@@ -163,43 +167,55 @@ class PivotChecker:
 
     def _check_sequence(self, ca: Pose, seq: PivotSequence, grasp: int,
                         with_robot: bool) -> EdgeResult:
+        """Bounds and certified sweeps rotation by rotation, stopping at the first failure."""
         m, w = self.model, self.world
         r_box, r_rob = self._reach[grasp]
-        # 1) bounds: corners at every rotation end inside bounds shrunk by the arc's bulge
+        obstacles = w.has_obstacles
+
+        def box_d(car: Pose) -> float:
+            return w.box_distance(m.object_from_car(car, grasp))
+
+        def rob_d(car: Pose) -> float:
+            return w.robot_distance(m.robot_from_car(car, grasp))
+
+        def in_bounds(car: Pose, bulge_b: float, bulge_r: float) -> bool:
+            if w.bounds_margin(m.object_corners(m.object_from_car(car, grasp))) < bulge_b:
+                return False
+            return not with_robot or \
+                w.bounds_margin(m.robot_corners(m.robot_from_car(car, grasp))) >= bulge_r
+
         prev = ca
-        for rot in seq.rotations:
-            bulge_b = r_box * (1.0 - math.cos(0.5 * rot.angle))
-            bulge_r = r_rob * (1.0 - math.cos(0.5 * rot.angle)) if with_robot else -math.inf
-            for car in (prev, rot.car):
-                if (w.bounds_margin(m.object_corners(m.object_from_car(car, grasp))) < bulge_b
-                        or w.bounds_margin(m.robot_corners(m.robot_from_car(car, grasp)))
-                        < bulge_r):
-                    return EdgeResult(False, seq, seq.rs_length, "leaves the bounds")
-            prev = rot.car
-        if not w.has_obstacles:
-            return EdgeResult(True, seq, seq.rs_length)
-        # 2) obstacles: certified sweeps of each rotation, box then robot
-        bodies = (("box", r_box), ("robot", r_rob)) if with_robot else (("box", r_box),)
-        for body, reach in bodies:
-            if body == "box":
-                def dist(car: Pose) -> float:
-                    return w.box_distance(m.object_from_car(car, grasp))
-            else:
-                def dist(car: Pose) -> float:
-                    return w.robot_distance(m.robot_from_car(car, grasp))
-            prev, d_prev = ca, dist(ca)
-            if d_prev <= 0:
-                return EdgeResult(False, seq, seq.rs_length, f"{body} collides at the start")
-            for i, rot in enumerate(seq.rotations):
+        if obstacles:
+            db = box_d(ca)
+            dr = rob_d(ca) if with_robot else math.inf
+            if db <= 0 or dr <= 0:
+                return EdgeResult(False, seq, seq.rs_length, "collides at the start")
+        for i, rot in enumerate(seq.rotations):
+            bulge = 1.0 - math.cos(0.5 * rot.angle)
+            if not (in_bounds(prev, r_box * bulge, r_rob * bulge)
+                    and in_bounds(rot.car, r_box * bulge, r_rob * bulge)):
+                return EdgeResult(False, seq, seq.rs_length, f"leaves the bounds at rotation {i}")
+            if obstacles:
                 base, piv, ang = prev, rot.pivot, rot.angle
-                d_end = dist(rot.car)
-                res = certify(lambda s, base=base, piv=piv, ang=ang:
-                              dist(rotate_about(base, piv, s * ang)),
-                              reach * abs(ang), tolerance=self.tolerance, d0=d_prev, d1=d_end)
-                if not res.valid:
+                db_end = box_d(rot.car)
+                ok = certify(lambda s, base=base, piv=piv, ang=ang:
+                             box_d(rotate_about(base, piv, s * ang)),
+                             r_box * abs(ang), tolerance=self.tolerance, d0=db, d1=db_end).valid
+                if not ok:
                     return EdgeResult(False, seq, seq.rs_length,
-                                      f"{body} collides during rotation {i}")
-                prev, d_prev = rot.car, d_end
+                                      f"box collides during rotation {i}")
+                db = db_end
+                if with_robot:
+                    dr_end = rob_d(rot.car)
+                    ok = certify(lambda s, base=base, piv=piv, ang=ang:
+                                 rob_d(rotate_about(base, piv, s * ang)),
+                                 r_rob * abs(ang), tolerance=self.tolerance, d0=dr,
+                                 d1=dr_end).valid
+                    if not ok:
+                        return EdgeResult(False, seq, seq.rs_length,
+                                          f"robot collides during rotation {i}")
+                    dr = dr_end
+            prev = rot.car
         return EdgeResult(True, seq, seq.rs_length)
 
     # -- transit -------------------------------------------------------------------------

@@ -7,9 +7,11 @@ Exit codes for every verb: 0 success, 1 no solution (or a check that fails), 2 b
 from __future__ import annotations
 
 import argparse
+import atexit
 import importlib
 import logging
 import math
+import os
 import sys
 from collections.abc import Callable, Sequence
 
@@ -79,12 +81,31 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _quiet_exit() -> None:
+    """At exit, send fd 2 to /dev/null: nanobind lists 'leaked instances' of OMPL objects
+    that Python keeps until the very end (harmless; tracebacks and exit codes are kept)."""
+    sys.stderr.flush()
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, 2)
+
+
+def _ompl_log_level(level: str) -> None:
+    from ompl import util as ou
+
+    ou.setLogLevel({"DEBUG": ou.LogLevel.LOG_DEBUG, "INFO": ou.LogLevel.LOG_WARN,
+                    "WARNING": ou.LogLevel.LOG_WARN, "ERROR": ou.LogLevel.LOG_ERROR}[level])
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the CLI; return the exit code."""
     parser = build_parser()
     args = parser.parse_args(argv)
     logging.basicConfig(level=getattr(logging, args.log_level),
                         format="%(levelname)s %(name)s: %(message)s")
+    logging.getLogger("matplotlib").setLevel(logging.WARNING)
+    _ompl_log_level(args.log_level)
+    if argv is None:  # a real process, not a test calling main()
+        atexit.register(_quiet_exit)
     try:
         return int(args.func(args))
     except InputError as e:
