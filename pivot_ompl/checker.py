@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .collision import CollisionWorld
-from .pivoting import LEFT
+from .pivoting import LEFT, Rotation
 from .scene import Scene
 from .se2 import Pose, rotate_about
 from .steering import PivotSequence, PivotSteering
@@ -81,7 +81,7 @@ class PivotChecker:
         self.model = s.model
         self.world = CollisionWorld.from_scene(s)
         self.steering = PivotSteering(turning_radius=s.turning_radius, alpha_max=s.alpha_max)
-        self.walker = WalkPlanner(s.model, self.world, np.random.default_rng(self.seed))
+        self.walker = WalkPlanner(s.model, self.world)
         self._edges: dict[tuple, EdgeResult] = {}
         self._walks: dict[tuple, WalkResult] = {}
         self._fine: dict[int, PivotSteering] = {}
@@ -141,18 +141,16 @@ class PivotChecker:
     def _transfer(self, obj_a: Pose, obj_b: Pose, grasp: int, with_robot: bool) -> EdgeResult:
         """Check the edge; where a rotation collides, convert again with rotations bounded by
         half the bound (they hug the Reeds-Shepp path closer: the topological property), down
-        to ``alpha_max / 2**MIN_ALPHA_HALVINGS``, before declaring the motion invalid."""
+        to ``alpha_max / 2**MIN_ALPHA_HALVINGS``, before declaring the motion invalid.
+        Rotations are produced and checked one by one, so a colliding edge stops early."""
         m = self.model
         ca, cb = m.car_pose(obj_a, grasp), m.car_pose(obj_b, grasp)
-        res = self._check_sequence(ca, self.steering.convert(
-            ca, cb, half_length=m.edge_half_length(grasp)), grasp, with_robot)
+        res = self._check(self.steering, ca, cb, grasp, with_robot)
         if res.valid or "collides during" not in res.reason or \
                 res.length > SUBDIVIDE_MAX_LENGTH:
             return res
         for k in range(1, MIN_ALPHA_HALVINGS + 1):
-            fine = self._fine_steering(k)
-            again = self._check_sequence(ca, fine.convert(
-                ca, cb, half_length=m.edge_half_length(grasp)), grasp, with_robot)
+            again = self._check(self._fine_steering(k), ca, cb, grasp, with_robot)
             if again.valid:
                 return again
         return res
@@ -165,12 +163,14 @@ class PivotChecker:
             self._fine[halvings] = st
         return st
 
-    def _check_sequence(self, ca: Pose, seq: PivotSequence, grasp: int,
-                        with_robot: bool) -> EdgeResult:
+    def _check(self, steering: PivotSteering, ca: Pose, cb: Pose, grasp: int,
+               with_robot: bool) -> EdgeResult:
         """Bounds and certified sweeps rotation by rotation, stopping at the first failure."""
         m, w = self.model, self.world
         r_box, r_rob = self._reach[grasp]
         obstacles = w.has_obstacles
+        ell = m.edge_half_length(grasp)
+        length = steering.rs.distance(ca, cb)
 
         def box_d(car: Pose) -> float:
             return w.box_distance(m.object_from_car(car, grasp))
@@ -184,17 +184,23 @@ class PivotChecker:
             return not with_robot or \
                 w.bounds_margin(m.robot_corners(m.robot_from_car(car, grasp))) >= bulge_r
 
+        def fail(reason: str) -> EdgeResult:
+            return EdgeResult(False, PivotSequence(ca, cb, (), length, 0), length, reason)
+
         prev = ca
         if obstacles:
             db = box_d(ca)
             dr = rob_d(ca) if with_robot else math.inf
             if db <= 0 or dr <= 0:
-                return EdgeResult(False, seq, seq.rs_length, "collides at the start")
-        for i, rot in enumerate(seq.rotations):
+                return fail("collides at the start")
+        checked: list[Rotation] = []
+        for i, (rot, _) in enumerate(steering.iter_rotations(ca, cb, half_length=ell)):
+            if rot is None:
+                continue
             bulge = 1.0 - math.cos(0.5 * rot.angle)
             if not (in_bounds(prev, r_box * bulge, r_rob * bulge)
                     and in_bounds(rot.car, r_box * bulge, r_rob * bulge)):
-                return EdgeResult(False, seq, seq.rs_length, f"leaves the bounds at rotation {i}")
+                return fail(f"leaves the bounds at rotation {i}")
             if obstacles:
                 base, piv, ang = prev, rot.pivot, rot.angle
                 db_end = box_d(rot.car)
@@ -202,8 +208,7 @@ class PivotChecker:
                              box_d(rotate_about(base, piv, s * ang)),
                              r_box * abs(ang), tolerance=self.tolerance, d0=db, d1=db_end).valid
                 if not ok:
-                    return EdgeResult(False, seq, seq.rs_length,
-                                      f"box collides during rotation {i}")
+                    return fail(f"box collides during rotation {i}")
                 db = db_end
                 if with_robot:
                     dr_end = rob_d(rot.car)
@@ -212,11 +217,17 @@ class PivotChecker:
                                  r_rob * abs(ang), tolerance=self.tolerance, d0=dr,
                                  d1=dr_end).valid
                     if not ok:
-                        return EdgeResult(False, seq, seq.rs_length,
-                                          f"robot collides during rotation {i}")
+                        return fail(f"robot collides during rotation {i}")
                     dr = dr_end
+            checked.append(rot)
             prev = rot.car
-        return EdgeResult(True, seq, seq.rs_length)
+        # merge rotations about one corner exactly as PivotSteering.convert does: the merged
+        # rotation sweeps the union of the two checked sweeps
+        merged: list[Rotation] = []
+        for r in checked:
+            steering._append(merged, r)
+        seq = PivotSequence(ca, cb, tuple(merged), length, 0)
+        return EdgeResult(True, seq, length)
 
     # -- transit -------------------------------------------------------------------------
     def transit(self, obj: Pose, from_grasp: int, to_grasp: int) -> WalkResult:

@@ -57,7 +57,7 @@ def load_pinocchio_model():  # noqa: ANN201 - pinocchio types are untyped
     return pin.buildModelFromUrdf(str(URDF_PATH), pin.JointModelFreeFlyer())
 
 
-def half_sitting_configuration(model) -> "object":  # noqa: ANN001
+def half_sitting_configuration(model) -> object:  # noqa: ANN001
     """Pinocchio configuration in half-sitting with the soles on the floor at the origin."""
     import numpy as np
     import pinocchio as pin
@@ -77,10 +77,11 @@ def derived_floor_geometry() -> dict[str, object]:
     """Measure the model's floor bounding box, height and reach in half-sitting.
 
     Returns a dict with ``depth``/``width`` of the collision primitives' floor projection
-    (half-sitting, arms alongside the body, relative to the midpoint of the sole centres), ``front``/``back`` (m ahead
-    of / behind that midpoint), ``height`` (zero pose, sole to top of head) and ``reach``
-    (horizontal distance from the sole midpoint to a grip point with the arm straight forward),
-    ``zero_pose_depth``/``zero_pose_width`` (all joints zero, standing straight).
+    (half-sitting, arms alongside the body, relative to the midpoint of the sole centres),
+    ``front``/``back`` (m ahead of / behind that midpoint), ``height`` (zero pose, sole to
+    top of head), ``reach`` (horizontal distance from the sole midpoint to a grip point with
+    the arms straight forward) and ``zero_pose_depth``/``zero_pose_width`` (all joints
+    zero, standing straight).
     """
     import numpy as np
     import pinocchio as pin
@@ -130,15 +131,17 @@ def derived_floor_geometry() -> dict[str, object]:
 
 
 def hrp2_floor_geometry() -> dict[str, object]:
-    """Robot floor geometry for scenes: ``{"footprint": (depth, width), "standoff": s, "height": h}``.
+    """Robot floor geometry for scenes.
+
+    Returns ``{"footprint": (depth, width), "standoff": s, "height": h}`` (m).
 
     The footprint is a conservative box around the measured half-sitting floor projection
     (see :func:`derived_floor_geometry`: 0.355 x 0.62 m in the zero pose, matching the published
     0.355 x 0.621 m; 0.44 x 0.61 m in half-sitting, where the bounding-box primitives of the
-    bent knees overstate the depth by a few cm) with room for the arm swing and the feet's lateral steps:
-    0.40 x 0.70 m. The standoff (0.25 m, held face to the front of that box) puts the grip
-    points where the arms hold the inclined box with bent elbows. ``height`` is the measured
-    zero-pose standing height.
+    bent knees overstate the depth by a few cm) with room for the arm swing and the feet's
+    lateral steps: 0.40 x 0.70 m. The standoff (0.25 m, held face to the front of that box)
+    puts the grip points where the arms hold the inclined box with bent elbows. ``height``
+    is the measured zero-pose standing height.
     """
     d = derived_floor_geometry()
     depth, width = DEFAULT_FOOTPRINT

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 
 from .errors import InputError, SteeringError
@@ -88,14 +89,26 @@ class PivotSteering:
         Raises:
             SteeringError: the dichotomy did not converge (pieces shorter than 2**-40 of the path).
         """
+        rotations: list[Rotation] = []
+        pieces = 0
+        for r, last_of_piece in self.iter_rotations(start, goal, half_length=half_length):
+            if r is not None:
+                self._append(rotations, r)
+            pieces += last_of_piece
+        return PivotSequence(start, goal, tuple(rotations), self.rs.distance(start, goal), pieces)
+
+    def iter_rotations(self, start: Pose, goal: Pose, *,
+                       half_length: float) -> Iterator[tuple[Rotation | None, bool]]:
+        """The dichotomy as a generator, so that a checker can stop at the first collision.
+
+        Yields ``(rotation, ends_piece)`` pairs; a piece solved with no rotation (start and
+        target equal) yields ``(None, True)``. Rotations are *not* merged here.
+        """
         if not (half_length > 0):
             raise InputError("half_length", half_length, "must be > 0 m")
         rs = self.rs
         amax = self.alpha_max
-        length = rs.distance(start, goal)
-        rotations: list[Rotation] = []
         current = start
-        pieces = 0
         # a rotation moves the edge centre by at most l*|alpha|: a cheap necessary condition
         reach = 3.0 * half_length * amax + 1e-9
         # stack of pieces (t0, t1, pose at t1, depth) of the original path, last popped first
@@ -105,17 +118,19 @@ class PivotSteering:
             if math.hypot(target[0] - current[0], target[1] - current[1]) <= reach:
                 first, a1, a2, a3, _ = _best_angles(current, target, half_length, amax)
                 if first >= 0:
-                    pieces += 1
-                    for r in rotations_of(current, half_length, first, (a1, a2, a3)):
-                        self._append(rotations, r)
-                    current = rotations[-1].car if rotations else current
+                    rots = rotations_of(current, half_length, first, (a1, a2, a3))
+                    if not rots:
+                        yield None, True
+                    for k, r in enumerate(rots):
+                        yield r, k == len(rots) - 1
+                    if rots:
+                        current = rots[-1].car
                     continue
             if depth >= MAX_DEPTH:
                 raise SteeringError(start, goal, f"no convergence at t={t0:.6g}..{t1:.6g}")
             mid = 0.5 * (t0 + t1)
             stack.append((mid, t1, target, depth + 1))
             stack.append((t0, mid, rs.interpolate(start, goal, mid), depth + 1))
-        return PivotSequence(start, goal, tuple(rotations), length, pieces)
 
     def _append(self, rotations: list[Rotation], r: Rotation) -> None:
         """Append ``r``, merged into the previous rotation when both turn about one corner."""

@@ -1,16 +1,17 @@
 """The robot walking alone round the resting box (transit, the regrasping roadmap).
 
-Local steering (the regrasp paper, Section IV): forward walking plus short straight steps.
-A walk between two robot poses is: a short straight backward step away from the held face,
-turns in place at roadmap nodes and straight forward walks between them, and a short forward
-step onto the new grasp pose. Nodes are floor positions where the robot can turn in place
-(the disk it sweeps is clear); edges are straight forward walks.
+Local steering (the regrasp paper, Section IV): forward walking plus short straight steps. A
+walk is a short straight backward step off the held face, turns in place and straight forward
+walks, and a short forward step onto the new grasp pose.
 
-The roadmap has two parts: a scene-wide part (random turn-in-place positions, built once and
-shared by every query, edges validated lazily against the static obstacles and cached) and
-per-query nodes round the resting box (the two grasp poses, their back-off points and a ring
-of stations). The box itself is an obstacle of the query: edges near it are rechecked.
-The search is a lazy shortest path (A*): edges are validated only when on the best path.
+The regrasping roadmap is a grid of floor positions (spacing ``resolution``) where the robot
+can turn in place: the disk its footprint sweeps, inflated by ``margin``, is clear. It is built
+once per scene against the static obstacles; the resting box of a query blocks the positions
+near it. Between two neighbouring clear positions (up to ``2.3 * resolution`` apart) the walk
+is valid with no further check: the capsule swept by the turning disk along the step leaves
+the two end disks by less than the margin. The grid path found by A* is then shortened by
+straight forward walks, each certified collision-free (:mod:`pivot_ompl.sweep`), so the walk
+has few turns.
 """
 
 from __future__ import annotations
@@ -28,6 +29,12 @@ from .se2 import Pose, wrap_angle
 from .sweep import SWEEP_TOLERANCE, certify
 
 log = logging.getLogger(__name__)
+
+#: Grid moves (in cells): 8 neighbours and the 8 knight moves.
+_MOVES = [(dx, dy) for dx in (-2, -1, 0, 1, 2) for dy in (-2, -1, 0, 1, 2)
+          if (dx, dy) != (0, 0) and abs(dx) + abs(dy) <= 3 and max(abs(dx), abs(dy)) <= 2
+          and not (abs(dx) == 2 and dy == 0) and not (abs(dy) == 2 and dx == 0)
+          and not (abs(dx) == 2 and abs(dy) == 2)]
 
 
 @dataclass(frozen=True)
@@ -47,6 +54,9 @@ class WalkResult:
     cost: float
 
 
+INVALID_WALK = WalkResult(False, (), math.inf, math.inf)
+
+
 @dataclass
 class WalkPlanner:
     """Plans the robot's walk between two grasps of a resting box.
@@ -54,29 +64,40 @@ class WalkPlanner:
     Args:
         model: box and robot geometry.
         world: the static obstacles.
-        rng: random generator for the scene-wide roadmap nodes.
-        n_nodes: scene-wide roadmap size (turn-in-place positions).
-        neighbours: nearest neighbours tried per node.
-        back_off: length of the straight backward step off a grasp pose (m).
+        resolution: grid spacing of the turn-in-place positions (m).
+        back_off: length of the straight backward steps tried off a grasp pose (m).
         turn_cost: cost of turning in place (m per rad).
-        margin: clearance kept round the turning disk at roadmap nodes (m).
-        tolerance: swept-check tolerance (m).
+        margin: clearance kept round the turning disk (m); must exceed the capsule sliver
+            ``r - sqrt(r^2 - (1.15 resolution)^2)``.
+        tolerance: swept-check tolerance of straight walks (m).
     """
 
     model: BoxGraspModel
     world: CollisionWorld
-    rng: np.random.Generator
-    n_nodes: int = 250
-    neighbours: int = 10
-    back_off: float = 0.30
+    resolution: float = 0.1
+    back_off: float = 0.3
     turn_cost: float = 0.15
     margin: float = 0.02
     tolerance: float = SWEEP_TOLERANCE
-    _nodes: list[tuple[float, float]] = field(default_factory=list, init=False)
-    _static_edge: dict[tuple[int, int], bool] = field(default_factory=dict, init=False)
-    _built: bool = field(default=False, init=False)
+    _free: np.ndarray | None = field(default=None, init=False, repr=False)
 
-    # -- scene-wide roadmap --------------------------------------------------------------
+    def __post_init__(self) -> None:
+        """Check that the margin covers the capsule sliver of the longest grid move."""
+        r = self.model.robot_radius()
+        step = math.hypot(2, 1) * self.resolution / 2
+        sliver = r - math.sqrt(max(0.0, r * r - step * step))
+        if self.margin <= sliver:
+            from .errors import InputError
+            raise InputError("margin", self.margin, f"must exceed the grid sliver {sliver:.4f} m")
+        b = self.world.bounds
+        self._nx = int(math.floor((b[2] - b[0]) / self.resolution)) + 1
+        self._ny = int(math.floor((b[3] - b[1]) / self.resolution)) + 1
+
+    # -- grid ------------------------------------------------------------------------------
+    def _xy(self, ix: int, iy: int) -> tuple[float, float]:
+        b = self.world.bounds
+        return (b[0] + ix * self.resolution, b[1] + iy * self.resolution)
+
     def _disk_clear(self, x: float, y: float, obj: Pose | None) -> bool:
         r = self.model.robot_radius() + self.margin
         b = self.world.bounds
@@ -84,22 +105,19 @@ class WalkPlanner:
             return False
         return self.world.turning_disk_distance(x, y, obj) > self.margin
 
-    def build(self) -> None:
-        """Sample the scene-wide turn-in-place positions (once)."""
-        if self._built:
-            return
-        b = self.world.bounds
-        tries = 0
-        while len(self._nodes) < self.n_nodes and tries < 20 * self.n_nodes:
-            tries += 1
-            x, y = self.rng.uniform(b[0], b[2]), self.rng.uniform(b[1], b[3])
-            if self._disk_clear(x, y, None):
-                self._nodes.append((x, y))
-        self._built = True
-        log.debug("walk roadmap: %d nodes after %d samples", len(self._nodes), tries)
+    def build(self) -> np.ndarray:
+        """The grid of turn-in-place positions clear of the static obstacles (built once)."""
+        if self._free is None:
+            free = np.zeros((self._nx, self._ny), dtype=bool)
+            for ix in range(self._nx):
+                for iy in range(self._ny):
+                    free[ix, iy] = self._disk_clear(*self._xy(ix, iy), None)
+            self._free = free
+            log.debug("walk grid %dx%d: %d free", self._nx, self._ny, int(free.sum()))
+        return self._free
 
     # -- local steering ----------------------------------------------------------------
-    def _segment_clearance(self, a: Pose, b: Pose, obj: Pose | None) -> bool:
+    def segment_valid(self, a: Pose, b: Pose, obj: Pose | None) -> bool:
         """Straight motion a -> b with linearly interpolated yaw, certified collision-free."""
         dyaw = wrap_angle(b[2] - a[2])
         lip = math.hypot(b[0] - a[0], b[1] - a[1]) + self.model.robot_radius() * abs(dyaw)
@@ -117,175 +135,154 @@ class WalkPlanner:
 
         return certify(clearance, lip, tolerance=self.tolerance).valid
 
-    def _walk_edge(self, p: tuple[float, float], q: tuple[float, float], obj: Pose) -> bool:
+    def _walk_valid(self, p: tuple[float, float], q: tuple[float, float], obj: Pose) -> bool:
         yaw = math.atan2(q[1] - p[1], q[0] - p[0])
-        return self._segment_clearance((p[0], p[1], yaw), (q[0], q[1], yaw), obj)
+        return self.segment_valid((p[0], p[1], yaw), (q[0], q[1], yaw), obj)
+
+    def _exits(self, grasp_pose: Pose, obj: Pose) -> list[tuple[tuple[float, float], list[Pose]]]:
+        """Ways off a grasp pose to a turn-in-place spot: where it stands, or after a step back."""
+        out = []
+        c, s = math.cos(grasp_pose[2]), math.sin(grasp_pose[2])
+        for k in range(4):
+            back = k * self.back_off
+            p = (grasp_pose[0] - back * c, grasp_pose[1] - back * s, grasp_pose[2])
+            if back > 0 and not self.segment_valid(grasp_pose, p, obj):
+                break
+            if self._disk_clear(p[0], p[1], obj):
+                out.append(((p[0], p[1]), [grasp_pose] if back == 0 else [grasp_pose, p]))
+        return out
 
     # -- query -------------------------------------------------------------------------
     def plan(self, obj: Pose, from_grasp: int, to_grasp: int) -> WalkResult:
         """Walk from grasp ``from_grasp`` to grasp ``to_grasp`` of the box resting at ``obj``."""
         m = self.model
         start, goal = m.robot_pose(obj, from_grasp), m.robot_pose(obj, to_grasp)
-        # exits: (turn-node position, key poses from the grasp pose to it)
-        exits_s = self._exits(start, obj)
-        exits_g = self._exits(goal, obj)
+        exits_s, exits_g = self._exits(start, obj), self._exits(goal, obj)
         if not exits_s or not exits_g:
-            return WalkResult(False, (), math.inf, math.inf)
-        self.build()
-        # query nodes: ring stations round the box
-        ring: list[tuple[float, float]] = []
-        r0 = 0.5 * math.hypot(m.object_size[0], m.object_size[1]) + m.robot_radius() + 0.05
-        for rr in (r0, r0 + 0.3):
-            for i in range(8):
-                a = obj[2] + i * math.pi / 4
-                x, y = obj[0] + rr * math.cos(a), obj[1] + rr * math.sin(a)
-                if self._disk_clear(x, y, obj):
-                    ring.append((x, y))
-        n_static = len(self._nodes)
-        pos: list[tuple[float, float]] = list(self._nodes) + ring
-        s_ids, g_ids = [], []
-        for node, _ in exits_s:
-            s_ids.append(len(pos))
-            pos.append(node)
-        for node, _ in exits_g:
-            g_ids.append(len(pos))
-            pos.append(node)
-        pts = np.array(pos)
-        box_r = 0.5 * math.hypot(m.object_size[0], m.object_size[1]) + m.robot_radius() + 0.05
-        near_box = np.hypot(pts[:, 0] - obj[0], pts[:, 1] - obj[1])
+            return INVALID_WALK
+        free = self.build().copy()
+        # the resting box blocks the positions near it
+        b = self.world.bounds
+        res = self.resolution
+        reach = 0.5 * math.hypot(m.object_size[0], m.object_size[1]) + m.robot_radius() \
+            + self.margin
+        x0 = max(0, int((obj[0] - reach - b[0]) / res))
+        x1 = min(self._nx - 1, int((obj[0] + reach - b[0]) / res) + 1)
+        y0 = max(0, int((obj[1] - reach - b[1]) / res))
+        y1 = min(self._ny - 1, int((obj[1] + reach - b[1]) / res) + 1)
+        for ix in range(x0, x1 + 1):
+            for iy in range(y0, y1 + 1):
+                if free[ix, iy]:
+                    free[ix, iy] = self._disk_clear(*self._xy(ix, iy), obj)
+        # attach the exits to clear grid positions within one knight move
+        attach = math.hypot(2, 1) * res / 2 * 2
 
-        def edge_ok(i: int, j: int) -> bool:
-            key = (min(i, j), max(i, j))
-            static = i < n_static and j < n_static
-            p, q = pos[i], pos[j]
-            # does the swept corridor come near the box?
-            close = _segment_point_distance(p, q, (obj[0], obj[1])) < box_r + 0.5
-            if static and not close:
-                if key not in self._static_edge:
-                    self._static_edge[key] = self._walk_edge(p, q, None)  # type: ignore[arg-type]
-                return self._static_edge[key]
-            if static and key in self._static_edge and not self._static_edge[key]:
-                return False
-            return self._walk_edge(p, q, obj)
-
-        goal_xy = (goal[0], goal[1])
-        k = self.neighbours
-        conn_r = max(2.5, 3.0 * math.sqrt((self.world.bounds[2] - self.world.bounds[0])
-                                          * (self.world.bounds[3] - self.world.bounds[1])
-                                          / max(1, len(pos))))
-
-        def neighbours(i: int) -> list[int]:
-            d = np.hypot(pts[:, 0] - pts[i, 0], pts[:, 1] - pts[i, 1])
-            order = np.argsort(d)[1:k + 1 + len(g_ids)]
-            out = [int(j) for j in order if d[j] <= conn_r]
-            for g in g_ids:
-                if g not in out and g != i and d[g] <= 2 * conn_r:
-                    out.append(g)
+        def attached(p: tuple[float, float]) -> list[tuple[int, int]]:
+            cx, cy = int(round((p[0] - b[0]) / res)), int(round((p[1] - b[1]) / res))
+            out = []
+            for ix in range(cx - 2, cx + 3):
+                for iy in range(cy - 2, cy + 3):
+                    if 0 <= ix < self._nx and 0 <= iy < self._ny and free[ix, iy]:
+                        q = self._xy(ix, iy)
+                        if math.hypot(q[0] - p[0], q[1] - p[1]) <= attach:
+                            out.append((ix, iy))
             return out
 
-        # lazy A* over positions; heuristic = straight distance to the goal grasp pose
-        bad: set[tuple[int, int]] = set()
-        checked: set[tuple[int, int]] = set()
-        del near_box
-        for _ in range(200):
-            path = _astar(s_ids, set(g_ids), pos, neighbours, goal_xy, bad)
-            if not path:
-                return WalkResult(False, (), math.inf, math.inf)
-            ok = True
-            for i, j in zip(path, path[1:], strict=False):
-                key = (min(i, j), max(i, j))
-                if key in checked:
-                    continue
-                if edge_ok(i, j):
-                    checked.add(key)
-                else:
-                    bad.add(key)
-                    ok = False
-                    break
-            if ok:
-                return self._assemble(path, pos, exits_s, exits_g, s_ids, g_ids, start, goal)
-        return WalkResult(False, (), math.inf, math.inf)
+        starts: dict[tuple[int, int], int] = {}
+        for e, (pos, _) in enumerate(exits_s):
+            for c in attached(pos):
+                starts.setdefault(c, e)
+        goals: dict[tuple[int, int], int] = {}
+        for e, (pos, _) in enumerate(exits_g):
+            for c in attached(pos):
+                goals.setdefault(c, e)
+        if not starts or not goals:
+            return INVALID_WALK
+        cells = _astar(free, list(starts), goals, res)
+        if not cells:
+            return INVALID_WALK
+        e_s, e_g = starts[cells[0]], goals[cells[-1]]
+        pts = [exits_s[e_s][0]] + [self._xy(*c) for c in cells] + [exits_g[e_g][0]]
+        pts = self._shorten(pts, obj)
+        return self._assemble(pts, exits_s[e_s][1], exits_g[e_g][1], goal)
 
-    def _exits(self, grasp_pose: Pose, obj: Pose) -> list[tuple[tuple[float, float], list[Pose]]]:
-        """Ways off a grasp pose to a turn-in-place node: turn where it stands, or back off first."""
-        out = []
-        c, s = math.cos(grasp_pose[2]), math.sin(grasp_pose[2])
-        for back in (0.0, self.back_off, 2 * self.back_off):
-            p = (grasp_pose[0] - back * c, grasp_pose[1] - back * s, grasp_pose[2])
-            if back > 0 and not self._segment_clearance(grasp_pose, p, obj):
-                break
-            if self._disk_clear(p[0], p[1], obj):
-                keys = [grasp_pose] if back == 0 else [grasp_pose, p]
-                out.append(((p[0], p[1]), keys))
+    def _shorten(self, pts: list[tuple[float, float]], obj: Pose) -> list[tuple[float, float]]:
+        """Greedy shortcuts by certified straight forward walks (farthest reachable first)."""
+        out = [pts[0]]
+        i = 0
+        while i < len(pts) - 1:
+            j = len(pts) - 1
+            lo = i + 1
+            # binary-search-like descent: try far points first, then closer ones
+            while j > lo and not self._walk_valid(pts[i], pts[j], obj):
+                j = lo + (j - lo) // 2 if j - lo > 8 else j - 1
+            out.append(pts[j])
+            i = j
         return out
 
-    def _assemble(self, path: list[int], pos: list[tuple[float, float]], exits_s: list,
-                  exits_g: list, s_ids: list[int], g_ids: list[int], start: Pose,
+    def _assemble(self, pts: list[tuple[float, float]], head: list[Pose], tail: list[Pose],
                   goal: Pose) -> WalkResult:
-        keys = list(exits_s[s_ids.index(path[0])][1])
+        keys = list(head)
         last = keys[-1]
-        for j in path[1:]:
-            q = pos[j]
+        for q in pts[1:]:
+            if math.hypot(q[0] - last[0], q[1] - last[1]) < 1e-12:
+                continue
             yaw = math.atan2(q[1] - last[1], q[0] - last[0])
             yaw = last[2] + wrap_angle(yaw - last[2])
             keys.append((last[0], last[1], yaw))  # turn in place
             keys.append((q[0], q[1], yaw))        # walk straight
             last = keys[-1]
-        tail = list(reversed(exits_g[g_ids.index(path[-1])][1]))  # node ... grasp pose
-        for p in tail:
+        for p in reversed(tail):  # turn-in-place spot ... grasp pose
             yaw = last[2] + wrap_angle(p[2] - last[2])
-            if p[0] != last[0] or p[1] != last[1]:
-                keys.append((last[0], last[1], yaw))  # turn to the final heading
+            keys.append((last[0], last[1], yaw))
             keys.append((p[0], p[1], yaw))
             last = keys[-1]
         keys[-1] = goal
-        # drop repeated poses
         clean = [keys[0]]
         for p in keys[1:]:
             q = clean[-1]
             if abs(p[0] - q[0]) + abs(p[1] - q[1]) + abs(wrap_angle(p[2] - q[2])) > 1e-12:
                 clean.append(p)
-        length = sum(math.hypot(b[0] - a[0], b[1] - a[1]) for a, b in zip(clean, clean[1:],
-                                                                          strict=False))
+        length = sum(math.hypot(b[0] - a[0], b[1] - a[1])
+                     for a, b in zip(clean, clean[1:], strict=False))
         turn = sum(abs(wrap_angle(b[2] - a[2])) for a, b in zip(clean, clean[1:], strict=False))
         return WalkResult(True, tuple(clean), length, length + self.turn_cost * turn)
 
 
-def _segment_point_distance(p: tuple[float, float], q: tuple[float, float],
-                            c: tuple[float, float]) -> float:
-    dx, dy = q[0] - p[0], q[1] - p[1]
-    n2 = dx * dx + dy * dy
-    t = 0.0 if n2 == 0 else max(0.0, min(1.0, ((c[0] - p[0]) * dx + (c[1] - p[1]) * dy) / n2))
-    return math.hypot(p[0] + t * dx - c[0], p[1] + t * dy - c[1])
+def _astar(free: np.ndarray, starts: list[tuple[int, int]], goals: dict[tuple[int, int], int],
+           res: float) -> list[tuple[int, int]]:
+    """A* over the free grid cells (8 neighbours and knight moves), Euclidean costs."""
+    gx = np.mean([g[0] for g in goals])
+    gy = np.mean([g[1] for g in goals])
+    nx, ny = free.shape
 
+    def h(c: tuple[int, int]) -> float:
+        return max(0.0, math.hypot(c[0] - gx, c[1] - gy) - 2.0)
 
-def _astar(starts: list[int], goals: set[int], pos: list[tuple[float, float]], neighbours,
-           goal_xy: tuple[float, float], bad: set[tuple[int, int]]) -> list[int]:
-    """Shortest path by Euclidean length from any start to any goal, avoiding ``bad`` edges."""
-    def h(i: int) -> float:
-        return math.hypot(pos[i][0] - goal_xy[0], pos[i][1] - goal_xy[1])
-
-    g = {s: 0.0 for s in starts}
-    parent: dict[int, int] = {}
+    dist = {s: 0.0 for s in starts}
+    parent: dict[tuple[int, int], tuple[int, int]] = {}
     heap = [(h(s), s) for s in starts]
     heapq.heapify(heap)
-    done: set[int] = set()
+    done: set[tuple[int, int]] = set()
+    moves = [(dx, dy, math.hypot(dx, dy)) for dx, dy in _MOVES]
     while heap:
-        _, i = heapq.heappop(heap)
-        if i in done:
+        _, c = heapq.heappop(heap)
+        if c in done:
             continue
-        done.add(i)
-        if i in goals:
-            path = [i]
+        done.add(c)
+        if c in goals:
+            path = [c]
             while path[-1] in parent:
                 path.append(parent[path[-1]])
             return path[::-1]
-        for j in neighbours(i):
-            if (min(i, j), max(i, j)) in bad:
-                continue
-            c = g[i] + math.hypot(pos[j][0] - pos[i][0], pos[j][1] - pos[i][1]) + 0.05
-            if c < g.get(j, math.inf):
-                g[j] = c
-                parent[j] = i
-                heapq.heappush(heap, (c + h(j), j))
+        dc = dist[c]
+        for dx, dy, w in moves:
+            x, y = c[0] + dx, c[1] + dy
+            if 0 <= x < nx and 0 <= y < ny and free[x, y]:
+                n = (x, y)
+                nd = dc + w
+                if nd < dist.get(n, math.inf):
+                    dist[n] = nd
+                    parent[n] = c
+                    heapq.heappush(heap, (nd + h(n), n))
     return []

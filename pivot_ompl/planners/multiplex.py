@@ -22,7 +22,7 @@ import numpy as np
 
 from ..checker import PivotChecker
 from ..se2 import Pose
-from .roadmap import Roadmap
+from .roadmap import Roadmap, pose_metric
 from .visibility import VisibilityRoadmapBuilder
 
 log = logging.getLogger(__name__)
@@ -45,6 +45,15 @@ class RegraspParams:
             configuration.
         goal_bias: probability that a diffusion sample is the goal pose.
         optimise: run the path optimiser (shortcuts and useless-regrasp removal).
+        critical_spacing: a critical configuration closer than this (m, pose metric) to a
+            recorded one is not recorded again.
+        max_visibility_samples: samples of the Visibility PRM phase at most, before the
+            diffusion phase.
+        bridge_bias: probability that a diffusion iteration is a bridge test instead.
+        bridge_sigma: standard deviation (m) of the bridge test's second sample.
+        bridge_rounds: rounds of (up to 100) bridge tests before the diffusion.
+        search_every: the diffusion searches after this many new manipulation nodes.
+        passage_steps: distances (m) of the straight extensions from a passage node.
     """
 
     epsilon: float = 1.0
@@ -56,6 +65,13 @@ class RegraspParams:
     critical_bias: float = 0.25
     goal_bias: float = 0.05
     optimise: bool = True
+    critical_spacing: float = 0.4
+    bridge_bias: float = 0.3
+    bridge_rounds: int = 30
+    search_every: int = 8
+    bridge_sigma: float = 0.5
+    passage_steps: tuple[float, ...] = (0.5, 1.0, 1.5, 2.0)
+    max_visibility_samples: int = 60
 
 
 @dataclass
@@ -67,6 +83,7 @@ class RegraspStats:
     connectors: int = 0
     critical: int = 0
     diffusion_nodes: int = 0
+    passage_nodes: int = 0
     manipulation_nodes: dict[int, int] = field(default_factory=dict)
     regrasp_edges: int = 0
     searches: int = 0
@@ -141,6 +158,10 @@ class MultiplexedSearch:
             for i in range(1, len(poses)):
                 if free[i] != free[i - 1]:
                     q = poses[i - 1] if free[i - 1] else poses[i]
+                    near = self.obj.nearest(q, 1, among=self.critical)
+                    if near and pose_metric(np.array([self.obj.poses[near[0]]]), q)[0] < \
+                            self.params.critical_spacing:
+                        continue
                     idx = self.obj.add(q, "critical")
                     self.critical.append(idx)
 
@@ -170,10 +191,11 @@ class MultiplexedSearch:
             node = (i, g)
             self._add_node(node)
             car = m.car_pose(q, g)
-            for j in self.obj.nearest(q, 3 * p.neighbours, among=self.by_grasp[g]):
+            for j in self.obj.nearest(q, p.neighbours, among=self.by_grasp[g]):
                 qj = self.obj.poses[j]
-                d = rs.distance(car, m.car_pose(qj, g))
-                if d <= p.connect_radius:
+                carj = m.car_pose(qj, g)
+                d = rs.distance(car, carj)
+                if d <= p.connect_radius and self._plausible(car, carj, g):
                     self._link(node, (j, g), d)
             self.by_grasp[g].append(i)
             added.append(g)
@@ -185,6 +207,15 @@ class MultiplexedSearch:
                 self.stats.regrasp_edges += 1
         return len(added)
 
+    def _plausible(self, car_a: Pose, car_b: Pose, grasp: int) -> bool:
+        """Cheap necessary test of a candidate edge: the box and robot are free at a few
+        poses along its Reeds-Shepp path (the full pivot check is left to the lazy search)."""
+        ck, m = self.checker, self.checker.model
+        for c in ck.steering.rs.sample(car_a, car_b, [0.25, 0.5, 0.75]):
+            if not ck.state_valid(m.object_from_car(c, grasp), grasp):
+                return False
+        return True
+
     def _edge_valid(self, a: Node, b: Node) -> bool:
         key = (a, b) if a <= b else (b, a)
         v = self.verified.get(key)
@@ -194,7 +225,11 @@ class MultiplexedSearch:
         if a[1] == b[1]:
             v = self.checker.transfer(pa, pb, a[1]).valid
         else:
-            v = self.checker.transit(pa, a[1], b[1]).valid
+            walk = self.checker.transit(pa, a[1], b[1])
+            v = walk.valid
+            if v:  # the real walking cost replaces the estimate
+                cost = self.params.regrasp_cost + walk.cost
+                self.adj[a][b] = self.adj[b][a] = cost
         self.verified[key] = v
         self.stats.edges_checked += 1
         if not v:
@@ -229,19 +264,30 @@ class MultiplexedSearch:
             self.stats.time_search += time.perf_counter() - t0
 
     def _dijkstra(self) -> list[Node]:
+        """A* over the multiplexed graph; heuristic: straight distance of the box to the goal
+        less the largest car offset (a transfer edge is at least that long)."""
         dist: dict[Node, float] = {}
         parent: dict[Node, Node] = {}
         heap: list[tuple[float, Node]] = []
+        poses = self.obj.poses
+        gx, gy = self.goal[0], self.goal[1]
+        slack = max(self.checker.model.object_size[:2])
+
+        def h(n: Node) -> float:
+            q = poses[n[0]]
+            return max(0.0, math.hypot(q[0] - gx, q[1] - gy) - slack)
+
         for s in self.start_nodes:
             dist[s] = 0.0
-            heap.append((0.0, s))
+            heap.append((h(s), s))
         heapq.heapify(heap)
         done: set[Node] = set()
         while heap:
-            d, u = heapq.heappop(heap)
+            _, u = heapq.heappop(heap)
             if u in done:
                 continue
             done.add(u)
+            d = dist[u]
             if u in self.goal_nodes:
                 path = [u]
                 while path[-1] in parent:
@@ -252,7 +298,7 @@ class MultiplexedSearch:
                 if nd < dist.get(v, math.inf):
                     dist[v] = nd
                     parent[v] = u
-                    heapq.heappush(heap, (nd, v))
+                    heapq.heappush(heap, (nd + h(v), v))
         return []
 
     # -- the algorithm (Fig. 7 of the paper) -------------------------------------------------
@@ -277,7 +323,10 @@ class MultiplexedSearch:
         path = self.search(ptc)
         if not path:
             done = 2
-            while not ptc() and vis.failures < p.guard_failures:
+            n = 0
+            while not ptc() and vis.failures < p.guard_failures and \
+                    n < p.max_visibility_samples:
+                n += 1
                 vis.step()
                 for i in range(done, len(self.obj)):
                     self.plan_with_object_config(i)
@@ -285,7 +334,16 @@ class MultiplexedSearch:
             self.stats.time_visibility = time.perf_counter() - t0
             path = self.search(ptc)
             # diffusion: grow the object roadmap towards random samples
+            # passage phase: cheap bridge tests before the diffusion
+            for _ in range(p.bridge_rounds):
+                if path or ptc():
+                    break
+                path = self._bridge_step(ptc)
+            since = 0
             while not path and not ptc():
+                if self.rng.uniform() < p.bridge_bias:
+                    path = self._bridge_step(ptc)
+                    continue
                 q = self._diffusion_target()
                 near = self.obj.nearest(q, 1)[0]
                 qn = self._extend(self.obj.poses[near], q)
@@ -293,7 +351,9 @@ class MultiplexedSearch:
                     continue
                 i = self.obj.add(qn, "diffusion")
                 self.stats.diffusion_nodes += 1
-                if self.plan_with_object_config(i):
+                since += self.plan_with_object_config(i) > 0
+                if since >= p.search_every:
+                    since = 0
                     path = self.search(ptc)
         self._fill_stats()
         if not path:
@@ -304,6 +364,40 @@ class MultiplexedSearch:
             states = optimise_path(ck, states, regrasp_cost=p.regrasp_cost, ptc=ptc)
             self.stats.time_optimise = time.perf_counter() - t1
         return states
+
+    def _bridge_step(self, ptc: Callable[[], bool], attempts: int = 100) -> list[Node]:
+        """Bridge tests for narrow passages: two box poses (same yaw) in collision whose
+        midpoint is free give a passage node; straight extensions along the box's axes from it
+        (the directions in which each grasp's car drives straight) give aligned approach
+        nodes. Runs up to ``attempts`` cheap tests, adds the first passage found."""
+        ck, p = self.checker, self.params
+        w = ck.world
+        for _ in range(attempts):
+            q1 = self._random_pose()
+            if not w.box_in_bounds(q1) or w.box_distance(q1) > 0:
+                continue
+            q2 = (q1[0] + float(self.rng.normal(0, p.bridge_sigma)),
+                  q1[1] + float(self.rng.normal(0, p.bridge_sigma)), q1[2])
+            if not w.box_in_bounds(q2) or w.box_distance(q2) > 0:
+                continue
+            mid = (0.5 * (q1[0] + q2[0]), 0.5 * (q1[1] + q2[1]), q1[2])
+            if ck.box_valid(mid):
+                break
+        else:
+            return []
+        self.stats.passage_nodes += 1
+        new = [self.obj.add(mid, "passage")]
+        for k in range(4):
+            a = mid[2] + k * 0.5 * math.pi
+            for d in p.passage_steps:
+                q = (mid[0] + d * math.cos(a), mid[1] + d * math.sin(a), mid[2])
+                if not ck.box_valid(q):
+                    break
+                new.append(self.obj.add(q, "passage"))
+        added = 0
+        for i in new:
+            added += self.plan_with_object_config(i)
+        return self.search(ptc) if added else []
 
     def _diffusion_target(self) -> Pose:
         u = self.rng.uniform()

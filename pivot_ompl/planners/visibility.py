@@ -21,7 +21,7 @@ from ompl import base as ob
 
 from ..se2 import Pose
 from ..space import read_state, write_state
-from .roadmap import Roadmap
+from .roadmap import Roadmap, pose_metric
 
 log = logging.getLogger(__name__)
 
@@ -41,7 +41,7 @@ class VisibilityRoadmapBuilder:
     sample: Callable[[], Pose]
     visible: Callable[[Pose, Pose], bool]
     max_failures: int = 40
-    guard_radius: float = 6.0
+    guard_radius: float = 3.0
     roadmap: Roadmap = field(default_factory=Roadmap)
     guards: list[int] = field(default_factory=list)
     failures: int = 0
@@ -57,7 +57,11 @@ class VisibilityRoadmapBuilder:
         q = self.sample()
         rm = self.roadmap
         seen: dict[int, int] = {}  # component -> guard seen
-        for g in rm.nearest(q, len(self.guards), among=self.guards):
+        near = rm.nearest(q, len(self.guards), among=self.guards)
+        dist = pose_metric(np.array([rm.poses[g] for g in near]), q) if near else []
+        for g, d in zip(near, dist, strict=False):
+            if d > self.guard_radius:
+                break
             comp = rm.component(g)
             if comp in seen:
                 continue
