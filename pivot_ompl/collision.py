@@ -108,6 +108,8 @@ class CollisionWorld:
         self._robot_shape = coal.Box(depth, width, self.model.robot_height)
         self._box = coal.CollisionObject(self._box_shape)
         self._robot = coal.CollisionObject(self._robot_shape)
+        self._box_radius = 0.5 * math.hypot(w, d)
+        self._robot_radius = self.model.robot_radius()
         self._disk_shape = coal.Cylinder(self.model.robot_radius(), self.model.robot_height)
         self._disk = coal.CollisionObject(self._disk_shape)
         self._objects: list[coal.CollisionObject] = []
@@ -197,10 +199,20 @@ class CollisionWorld:
         x0, y0, x1, y1 = self.bounds
         return min(min(x - x0, x1 - x, y - y0, y1 - y) for x, y in corners)
 
+    def _inside(self, pose: Pose, half_diagonal: float) -> bool:
+        """Quick accept: the circumscribed disk of a footprint lies inside the bounds."""
+        x0, y0, x1, y1 = self.bounds
+        return (x0 + half_diagonal <= pose[0] <= x1 - half_diagonal
+                and y0 + half_diagonal <= pose[1] <= y1 - half_diagonal)
+
     def box_in_bounds(self, obj: Pose) -> bool:
         """Whether the box footprint at ``obj`` lies inside the bounds."""
+        if self._inside(obj, self._box_radius):
+            return True
         return self.bounds_margin(self.model.object_corners(obj)) >= 0.0
 
     def robot_in_bounds(self, robot: Pose) -> bool:
         """Whether the robot footprint at ``robot`` lies inside the bounds."""
+        if self._inside(robot, self._robot_radius):
+            return True
         return self.bounds_margin(self.model.robot_corners(robot)) >= 0.0

@@ -27,6 +27,9 @@ from .se2 import Pose, rotate_about, wrap_angle
 #: Tolerance on the forward-map verification of an inverse-kinematics candidate (m and rad).
 IK_VERIFY_TOL = 1e-9
 
+#: Round-off allowed on the rotation bound (rad): a rotation of exactly alpha_max must pass.
+ANGLE_TOL = 1e-12
+
 #: Rotations smaller than this (rad) are dropped from solutions.
 ZERO_ANGLE = 1e-12
 
@@ -118,8 +121,9 @@ def _best_angles(start: Pose, goal: Pose, ell: float,
         # direction from the first end to the other end: h - pi/2 for A, h + pi/2 for B
         psi0 = start[2] - sign * 0.5 * math.pi
         dpsi = goal[2] - start[2]
-        if d < 1e-15:
-            cands = ((wrap_angle(dpsi), 0.0, 0.0),)
+        if d < 1e-12:  # (nearly) a pure rotation about the first end: one or two halves
+            cands = [(wrap_angle(dpsi), 0.0, 0.0), (0.5 * wrap_angle(dpsi), 0.0,
+                                                    0.5 * wrap_angle(dpsi))]
         else:
             half = math.asin(min(1.0, d / (4.0 * ell)))
             bearing = math.atan2(dy, dx)
@@ -129,8 +133,9 @@ def _best_angles(start: Pose, goal: Pose, ell: float,
                 a1 = wrap_angle(a - psi0)
                 a3 = wrap_angle(dpsi - a1 - a2)
                 cands.append((a1, a2, a3))
+        bound = alpha_max + ANGLE_TOL  # round-off of asin/atan2 at the bound itself
         for a1, a2, a3 in cands:
-            if abs(a1) <= alpha_max and abs(a2) <= alpha_max and abs(a3) <= alpha_max:
+            if abs(a1) <= bound and abs(a2) <= bound and abs(a3) <= bound:
                 found.append((abs(a1) + abs(a2) + abs(a3), first, a1, a2, a3))
     found.sort()
     for total, first, a1, a2, a3 in found:

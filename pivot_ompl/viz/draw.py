@@ -1,0 +1,157 @@
+"""Static scene objects sent to a ``meshcat.Visualizer``: floor, obstacles, box, markers.
+
+Node names (under the visualizer's path) are a contract used by the tests and notebooks:
+``floor``, ``obstacles/<i>``, ``box``, ``robot``, ``rs_path``, ``pivots/<i>``,
+``footsteps/<i>``, ``roadmap/<name>``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Sequence
+
+import meshcat
+import meshcat.geometry as g
+import numpy as np
+
+from ..grasp import BoxGraspModel
+from ..scene import BoxObstacle, CylinderObstacle, Obstacle, PolygonObstacle, Scene
+from ..se2 import Pose
+from .shapes import axis_angle, planar, prism_mesh, translation
+
+FLOOR_COLOR = 0xd8d8d0
+OBSTACLE_COLOR = 0x8a6f5a
+BOX_COLOR = 0xc8a060
+ROBOT_COLOR = 0x4f7fbf
+PATH_COLOR = 0x20a040
+PIVOT_COLOR = 0xd03030
+FOOTSTEP_COLOR = 0x3050a0
+FLOOR_THICKNESS = 0.01  # m, top face at z = 0
+
+
+def _lambert(color: int, *, opacity: float = 1.0) -> g.MeshLambertMaterial:
+    return g.MeshLambertMaterial(color=color, opacity=opacity)
+
+
+#: Nodes a replay owns; cleared before a new replay is drawn into the same visualizer.
+REPLAY_NODES = ("floor", "obstacles", "box", "robot", "rs_path", "walks", "pivots",
+                "footsteps", "zmp")
+
+
+def clear(vis: meshcat.Visualizer, names: Sequence[str] = REPLAY_NODES) -> None:
+    """Delete the named child nodes of ``vis`` (re-running a notebook cell starts afresh)."""
+    for name in names:
+        vis[name].delete()
+
+
+def draw_floor(vis: meshcat.Visualizer, bounds: tuple[float, float, float, float]) -> None:
+    """A thin slab covering ``bounds = (xmin, ymin, xmax, ymax)`` (m), top face at z = 0."""
+    x0, y0, x1, y1 = bounds
+    vis["floor"].set_object(g.Box([x1 - x0, y1 - y0, FLOOR_THICKNESS]), _lambert(FLOOR_COLOR))
+    vis["floor"].set_transform(translation(0.5 * (x0 + x1), 0.5 * (y0 + y1),
+                                           -0.5 * FLOOR_THICKNESS - 1e-3))
+
+
+def draw_obstacle(vis: meshcat.Visualizer, obstacle: Obstacle) -> None:
+    """One obstacle prism standing on the floor with its real height."""
+    mat = _lambert(OBSTACLE_COLOR)
+    if isinstance(obstacle, BoxObstacle):
+        vis.set_object(g.Box([obstacle.size[0], obstacle.size[1], obstacle.height]), mat)
+        vis.set_transform(planar((*obstacle.center, obstacle.yaw), 0.5 * obstacle.height))
+    elif isinstance(obstacle, CylinderObstacle):
+        # three.js cylinders run along their local y axis: turn it up.
+        vis.set_object(g.Cylinder(obstacle.height, obstacle.radius), mat)
+        vis.set_transform(translation(*obstacle.center, 0.5 * obstacle.height)
+                          @ axis_angle((1.0, 0.0, 0.0), 0.5 * math.pi))
+    elif isinstance(obstacle, PolygonObstacle):
+        verts, faces = prism_mesh(obstacle.points, obstacle.height)
+        vis.set_object(g.TriangularMeshGeometry(verts, faces), mat)
+        vis.set_transform(np.eye(4))
+    else:  # pragma: no cover - the scene reader only makes the three kinds
+        raise TypeError(f"unknown obstacle {obstacle!r}")
+
+
+def draw_scene(vis: meshcat.Visualizer, scene: Scene | None, *,
+               bounds: tuple[float, float, float, float] | None = None) -> None:
+    """Floor (scene bounds, else ``bounds``) and every obstacle of ``scene``."""
+    if scene is not None:
+        bounds = scene.bounds
+    if bounds is not None:
+        draw_floor(vis, bounds)
+    if scene is not None:
+        for i, obs in enumerate(scene.obstacles):
+            draw_obstacle(vis[f"obstacles/{i}"], obs)
+
+
+def draw_box(vis: meshcat.Visualizer, size: Sequence[float]) -> None:
+    """The manipulated box ``(w, d, h)`` centred on its node's origin."""
+    vis.set_object(g.Box(list(size)), _lambert(BOX_COLOR))
+
+
+def draw_robot_volume(vis: meshcat.Visualizer, model: BoxGraspModel) -> None:
+    """The robot's bounding volume (translucent) and its footprint plate, for plan replays.
+
+    The node's origin is the robot's footprint centre on the floor, x along its heading.
+    """
+    depth, width = model.robot_footprint
+    vis["footprint"].set_object(g.Box([depth, width, 0.02]), _lambert(ROBOT_COLOR))
+    vis["footprint"].set_transform(translation(0.0, 0.0, 0.01))
+    vis["body"].set_object(g.Box([depth, width, model.robot_height]),
+                           _lambert(ROBOT_COLOR, opacity=0.35))
+    vis["body"].set_transform(translation(0.0, 0.0, 0.5 * model.robot_height))
+    vis["nose"].set_object(g.Box([0.08, 0.08, 0.08]), _lambert(0xffffff))
+    vis["nose"].set_transform(translation(0.5 * depth - 0.04, 0.0, model.robot_height))
+
+
+def draw_polyline(vis: meshcat.Visualizer, points: Sequence[Sequence[float]], *,
+                  color: int = PATH_COLOR, z: float = 0.02) -> None:
+    """A line through planar ``points`` (x, y[, ...]) drawn just above the floor."""
+    p = np.asarray([[q[0], q[1], z] for q in points], dtype=np.float32)
+    vis.set_object(g.Line(g.PointsGeometry(p.T), g.LineBasicMaterial(color=color)))
+
+
+def draw_segments(vis: meshcat.Visualizer, segments: Iterable[tuple[Sequence[float],
+                                                                     Sequence[float]]], *,
+                  color: int = 0x808080, z: float = 0.015) -> None:
+    """Independent line segments between planar points (one meshcat object)."""
+    pts = [[a[0], a[1], z] for ab in segments for a in ab]
+    if not pts:
+        return
+    p = np.asarray(pts, dtype=np.float32)
+    vis.set_object(g.LineSegments(g.PointsGeometry(p.T), g.LineBasicMaterial(color=color)))
+
+
+def draw_points(vis: meshcat.Visualizer, points: Iterable[Sequence[float]], *,
+                color: int = PIVOT_COLOR, radius: float = 0.03, z: float = 0.0) -> int:
+    """Small spheres at planar points, children ``0, 1, ...`` of ``vis``; returns the count."""
+    n = 0
+    for n, p in enumerate(points, start=1):  # noqa: B007
+        node = vis[str(n - 1)]
+        node.set_object(g.Sphere(radius), _lambert(color))
+        node.set_transform(translation(p[0], p[1], z + radius))
+    return n
+
+
+def draw_footsteps(vis: meshcat.Visualizer, poses: Iterable[Pose], size: Sequence[float], *,
+                   color: int = FOOTSTEP_COLOR, opacity: float = 0.45,
+                   thickness: float = 0.006) -> int:
+    """Flat boxes ``size = (length, width)`` at planar ``poses``; returns the count."""
+    n = 0
+    for n, pose in enumerate(poses, start=1):  # noqa: B007
+        node = vis[str(n - 1)]
+        node.set_object(g.Box([size[0], size[1], thickness]), _lambert(color, opacity=opacity))
+        node.set_transform(planar(pose, 0.5 * thickness + 0.002))
+    return n
+
+
+def set_camera(vis: meshcat.Visualizer, target: Sequence[float], extent: float) -> None:
+    """Look at ``target`` (x, y, z) from a diagonal viewpoint ``extent`` metres away.
+
+    Uses meshcat's root camera nodes, so ``vis`` must be a root visualizer
+    (``meshcat.Visualizer()`` or the recorder's).
+    """
+    root = meshcat.Visualizer.view_into(vis.window, vis.path.append("/Cameras/default"))
+    root.set_transform(translation(*target))
+    d = max(extent, 2.0)
+    # The camera's "rotated" frame is y-up: world (dx, dy, dz) is (dx, dz, -dy) there.
+    root["rotated/<object>"].set_property("position", [0.55 * d, 0.6 * d, 0.75 * d])

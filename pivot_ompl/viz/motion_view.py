@@ -1,0 +1,196 @@
+"""Whole-body motion view: the URDF robot, the box as moved (inclined), footsteps and ZMP.
+
+The motion is resampled at ``fps`` keys per second (nearest samples, first and last kept);
+the root link gets position and rotation tracks, every 1-dof joint only the track that its
+joint moves (rotation for revolute, position for prismatic). Footsteps are the resting
+placements of the foot links (``left_foot``/``right_foot``, else links named ``*foot*`` or
+``*sole*``): runs of samples where the foot is near its lowest height and still.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from pathlib import Path
+
+import meshcat
+import numpy as np
+
+from ..planfile import Plan
+from ..scene import Scene
+from . import draw
+from .animation import AnimationBuilder
+from .motion import Motion
+from .plan_view import ReplayInfo, draw_plan_markers, show_scene
+from .robot_model import RobotModel, draw_robot, load_robot
+from .shapes import quat_xyzw_to_matrix
+
+log = logging.getLogger(__name__)
+
+REPO_ROOT = Path(__file__).resolve().parents[2]
+FOOTSTEP_RATE = 50.0  # Hz, samples used to find resting feet
+SOLE_SIZE = (0.241, 0.138)  # m, HRP-2 sole, for footstep marks when the motion has none
+
+
+def resample_indices(t: np.ndarray, fps: float) -> np.ndarray:
+    """Indices of the samples nearest to a ``fps`` grid over ``t`` (first and last kept)."""
+    if len(t) <= 2 or fps <= 0:
+        return np.arange(len(t))
+    grid = np.arange(t[0], t[-1], 1.0 / fps)
+    idx = np.clip(np.searchsorted(t, grid), 0, len(t) - 1)
+    return np.unique(np.r_[0, idx, len(t) - 1])
+
+
+def pose7_to_matrix(p: np.ndarray) -> np.ndarray:
+    """``(K, 4, 4)`` transforms from ``(K, 7)`` xyz + quaternion xyzw."""
+    m = np.repeat(np.eye(4)[None], len(p), axis=0)
+    m[:, :3, :3] = quat_xyzw_to_matrix(p[:, 3:7])
+    m[:, :3, 3] = p[:, :3]
+    return m
+
+
+def foot_links(model: RobotModel) -> list[str]:
+    """The links whose resting placements are footsteps."""
+    names = model.links
+    exact = [n for n in ("left_foot", "right_foot") if n in names]
+    if exact:
+        return exact
+    return [n for n in names if "foot" in n.lower() or "sole" in n.lower()][:2]
+
+
+def footsteps(tf: np.ndarray, t: np.ndarray, *, height_tol: float = 0.01,
+              speed_tol: float = 0.05, min_time: float = 0.05,
+              merge: float = 0.02) -> list[tuple[float, float, float]]:
+    """Resting placements ``(x, y, yaw)`` of a foot from its world transforms ``(K, 4, 4)``."""
+    if len(t) < 2:
+        return [(float(tf[0, 0, 3]), float(tf[0, 1, 3]),
+                 math.atan2(tf[0, 1, 0], tf[0, 0, 0]))] if len(t) else []
+    p = tf[:, :3, 3]
+    dt = np.maximum(np.diff(t), 1e-9)
+    speed = np.r_[np.linalg.norm(np.diff(p, axis=0), axis=1) / dt, 0.0]
+    rest = (p[:, 2] <= p[:, 2].min() + height_tol) & (speed <= speed_tol)
+    out: list[tuple[float, float, float]] = []
+    i, n = 0, len(t)
+    while i < n:
+        if not rest[i]:
+            i += 1
+            continue
+        j = i
+        while j + 1 < n and rest[j + 1]:
+            j += 1
+        if t[j] - t[i] >= min_time or (i == 0 or j == n - 1):
+            k = (i + j) // 2
+            pose = (float(p[k, 0]), float(p[k, 1]), math.atan2(tf[k, 1, 0], tf[k, 0, 0]))
+            if not out or math.hypot(pose[0] - out[-1][0], pose[1] - out[-1][1]) > merge:
+                out.append(pose)
+        i = j + 1
+    return out
+
+
+def resolve_urdf(motion: Motion, urdf: str | Path | None = None) -> Path:
+    """The URDF to draw.
+
+    ``urdf`` if given, else the motion's path (relative to the repository root, the motion
+    file's folder or the working directory).
+    """
+    if urdf is not None:
+        return Path(urdf)
+    p = Path(motion.urdf)
+    if p.is_absolute():
+        return p
+    for base in (REPO_ROOT, Path(motion.source).parent if motion.source else None, Path.cwd()):
+        if base is not None and (base / p).is_file():
+            return base / p
+    return REPO_ROOT / p
+
+
+def show_motion(vis: meshcat.Visualizer, motion: Motion, *, scene: Scene | None = None,
+                object_size: tuple[float, float, float] | None = None,
+                urdf: str | Path | None = None, fps: float = 25.0,
+                tolerance: float = 1e-3, plan: Plan | None = None, play: bool = True,
+                camera: bool = True) -> ReplayInfo:
+    """Draw ``scene`` and animate the whole-body ``motion`` (robot links, box, footsteps).
+
+    Args:
+        vis: the visualizer to draw into.
+        motion: the motion (:func:`~pivot_ompl.viz.motion.load_motion`).
+        scene: floor and obstacles to draw, or ``None`` (a floor around the motion).
+        object_size: box size (w, d, h) in m; default the motion's, then the scene's, then
+            the paper's box.
+        urdf: robot model file; default the motion's ``urdf`` (relative to the repo root).
+        fps: animation keys per second (fewer keys, smaller HTML).
+        tolerance: keys that linear interpolation reproduces within this (m, and rad/2 for
+            rotations) are dropped; 0 keeps every key.
+        plan: the plan the motion executes: its Reeds-Shepp paths and pivot points are drawn.
+        play: start playing once loaded.
+        camera: aim the default camera at the floor.
+    """
+    from ..defaults import OBJECT_SIZE
+
+    model = load_robot(resolve_urdf(motion, urdf))
+    size = object_size or motion.object_size or (
+        scene.model.object_size if scene is not None else None)
+    if size is None:
+        log.warning("no box size in the motion or a scene: drawing the paper's box %s",
+                    OBJECT_SIZE)
+        size = OBJECT_SIZE
+    idx = resample_indices(motion.t, fps)
+    t = motion.t[idx] - motion.t[0]
+    q = motion.q[idx]
+    root_tf = pose7_to_matrix(q[:, :7])
+    values = model.joint_values(q[:, 7:], motion.joint_names)
+    box_tf = pose7_to_matrix(motion.box[idx])
+
+    bounds = None
+    if scene is None:
+        xy = np.r_[q[:, :2], motion.box[idx, :2]]
+        bounds = (float(xy[:, 0].min()) - 1.5, float(xy[:, 1].min()) - 1.5,
+                  float(xy[:, 0].max()) + 1.5, float(xy[:, 1].max()) + 1.5)
+    draw.clear(vis)
+    show_scene(vis, scene, bounds=bounds, camera=camera)
+
+    robot = vis["robot"]
+    n_vis = draw_robot(robot, model)
+    draw.draw_box(vis["box"], size)
+    vis["box"].set_transform(box_tf[0])
+    robot[model.root].set_transform(root_tf[0])
+
+    anim = AnimationBuilder(vis)
+    tol = {"position_tol": tolerance, "rotation_tol": 0.5 * tolerance}
+    anim.add_transforms("box", t, box_tf, **tol)
+    anim.add_transforms(f"robot/{model.root}", t, root_tf, **tol)
+    for link in model.links:
+        j = model.joints.get(link)
+        if j is None or j.type in ("fixed", "floating", "planar"):
+            continue
+        local = model.local_transforms(link, values[j.name])
+        if j.type == "prismatic":
+            anim.add_transforms(f"robot/{model.node_path(link)}", t, local,
+                                rotation=False, **tol)
+        else:
+            anim.add_transforms(f"robot/{model.node_path(link)}", t, local,
+                                position=False, **tol)
+
+    feet = foot_links(model)
+    n_steps = 0
+    if feet:
+        fine = resample_indices(motion.t, FOOTSTEP_RATE)
+        full = motion.q[fine]
+        wt = model.world_transforms(pose7_to_matrix(full[:, :7]),
+                                    model.joint_values(full[:, 7:], motion.joint_names), feet)
+        poses = [p for f in feet for p in footsteps(wt[f], motion.t[fine])]
+        n_steps = draw.draw_footsteps(vis["footsteps"], poses, motion.sole_size or SOLE_SIZE,
+                                       opacity=0.6)
+    else:
+        log.warning("no foot link in %s: no footsteps drawn", model.path)
+    n_piv = 0
+    if plan is not None:
+        n_piv, _ = draw_plan_markers(vis, plan)
+    if motion.zmp is not None and len(motion.zmp) > 1:
+        draw.draw_polyline(vis["zmp"], motion.zmp[idx], color=draw.PIVOT_COLOR, z=0.01)
+    if len(t) > 1:
+        anim.send(play=play)
+    log.info("motion replay: %d visuals, %d samples, %d track keys, %.1f s, %d footsteps",
+             n_vis, len(t), anim.keys, float(t[-1]), n_steps)
+    nodes = ("floor", "box", "robot") + (("footsteps",) if n_steps else ())
+    return ReplayInfo(float(t[-1]), len(t), nodes, n_steps, n_piv)

@@ -1,0 +1,429 @@
+"""Whole-body pivoting motion of HRP-2 from a ``pivot-plan/1`` plan (PlaCo).
+
+Timeline of a **transfer phase** (grasp ``k``), each part a segment of solver ticks:
+
+1. *reach* (:attr:`Timing.reach`): the hands move from their rest frames to the grip points
+   on the resting box (``holding`` is false until the end of the reach);
+2. *tilt* (:attr:`Timing.tilt`): the box is inclined towards the robot about the supporting
+   edge to :attr:`BoxHold.tilt` (5 deg by default), the hands riding on it;
+3. one *pivot* segment per plan step: the robot walks (LIPM/ZMP pattern generator, naive
+   footstep planner: forward, sideways and backward steps) from its attached pose before the
+   step to the step's ``robot`` pose while the inclined box turns about the vertical through
+   the step's ``pivot`` corner by the step's ``angle``, smoothly over the segment; the box
+   pose at the end is exactly the plan's;
+4. *untilt* then *release*: the box is set down flat and the hands return to rest.
+
+A **transit phase** walks through the phase's ``robot_path`` (consecutive poses closer than
+:attr:`Timing.path_spacing` merged) with the box resting; long walks are planned in pieces of
+:attr:`Timing.max_steps` steps, each coming to rest (the LIPM QP grows with its horizon).
+Grip points and the tilt are defined in :mod:`pivot_ompl.wholebody.box`; tasks and the
+lift-off delay that keeps the ZMP inside real support polygons in
+:mod:`pivot_ompl.wholebody.walker`.
+
+Failures raise :class:`~pivot_ompl.errors.WholeBodyError` naming the phase and step: a QP
+that fails (infeasible hard tasks under the limits) or a hand further than
+:attr:`Timing.max_hand_error` from its grip point while holding ("unreachable grip").
+The box's weight is not modelled (kinematic generation; the CoM is the robot's own).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError, WholeBodyError
+from ..planfile import Plan, TransferPhase, TransitPhase
+from ..robot_model import SOLE_SIZE, URDF_RELPATH
+from ..se2 import Pose, wrap_angle
+from .box import DEFAULT_TILT, BoxHold, quat_xyzw, rotation_about_vertical, transform
+from .motion import Motion
+from .walker import PlacoWalker, SolverFailure, WalkSettings
+
+log = logging.getLogger(__name__)
+
+#: progress(fraction done in [0, 1], label)
+Progress = Callable[[float, str], None]
+
+
+@dataclass(frozen=True)
+class Timing:
+    """Durations of the non-walking segments (s) and tolerances.
+
+    Attributes:
+        reach: hands from rest to the grip points.
+        tilt: inclining (and, at the end, setting down) the box.
+        release: hands from the grip points back to rest.
+        settle: standing still before the motion starts.
+        rotate_margin: the rotation of a pivot step starts this long after its segment start
+            and ends this long before its end.
+        min_rotate: duration of a pivot step that needs no footstep.
+        path_spacing: transit path poses closer than this (m) to the last kept one are merged
+            (yaw change under 0.3 rad).
+        max_hand_error: a hand further than this from its grip point while holding fails (m).
+        max_steps: a transit walk is planned (and comes to rest) every this many steps.
+    """
+
+    reach: float = 1.5
+    tilt: float = 1.0
+    release: float = 1.5
+    settle: float = 0.3
+    rotate_margin: float = 0.3
+    min_rotate: float = 1.2
+    path_spacing: float = 0.3
+    max_hand_error: float = 0.01
+    max_steps: int = 10
+
+
+@dataclass
+class GenerationStats:
+    """What a generation cost.
+
+    Attributes:
+        duration: seconds of motion produced.
+        compute: wall-clock seconds spent.
+        ticks: solver ticks.
+        max_hand_error: largest hand-to-grip distance while holding (m).
+        max_hand_angle: largest angle between a hand's approach axis and its grip frame's
+            while holding (rad; the hand orientation is a low-weight task).
+    """
+
+    duration: float = 0.0
+    compute: float = 0.0
+    ticks: int = 0
+    max_hand_error: float = 0.0
+    max_hand_angle: float = 0.0
+
+    @property
+    def real_time_factor(self) -> float:
+        """Seconds of motion per second of compute."""
+        return self.duration / self.compute if self.compute > 0 else math.inf
+
+
+def min_jerk(s: float) -> float:
+    """Minimum-jerk profile on [0, 1] (clipped)."""
+    s = min(1.0, max(0.0, s))
+    return s * s * s * (10.0 - 15.0 * s + 6.0 * s * s)
+
+
+def interpolate_frame(T0: np.ndarray, T1: np.ndarray, s: float) -> np.ndarray:
+    """Frame between ``T0`` (s=0) and ``T1`` (s=1): linear position, geodesic rotation."""
+    import pinocchio as pin
+
+    R = T0[:3, :3] @ pin.exp3(s * pin.log3(T0[:3, :3].T @ T1[:3, :3]))
+    return transform(R, (1 - s) * T0[:3, 3] + s * T1[:3, 3])
+
+
+@dataclass
+class _Recorder:
+    t: list[float] = field(default_factory=list)
+    q: list[np.ndarray] = field(default_factory=list)
+    box: list[np.ndarray] = field(default_factory=list)
+    com: list[np.ndarray] = field(default_factory=list)
+    zmp: list[np.ndarray] = field(default_factory=list)
+    support: list[int] = field(default_factory=list)
+    phase: list[int] = field(default_factory=list)
+    step: list[int] = field(default_factory=list)
+    holding: list[bool] = field(default_factory=list)
+    grasp: list[int] = field(default_factory=list)
+    tilt: list[float] = field(default_factory=list)
+
+
+class WholeBodyGenerator:
+    """Turns a plan into a :class:`Motion` (see the module docstring).
+
+    Args:
+        plan: the pivoting plan.
+        settings: walking and solver parameters.
+        timing: segment durations and tolerances.
+        tilt: inclination of the held box about its supporting edge (rad).
+        progress: optional callback ``progress(fraction, label)``.
+    """
+
+    def __init__(self, plan: Plan, *, settings: WalkSettings | None = None,
+                 timing: Timing | None = None, tilt: float = DEFAULT_TILT,
+                 progress: Progress | None = None) -> None:
+        if not plan.phases:
+            raise InputError("phases", [], "the plan has no phase to animate")
+        if not 0.0 <= tilt < math.radians(20):
+            raise InputError("tilt", tilt, "must be in [0, 20 deg)")
+        self.plan = plan
+        self.settings = settings or WalkSettings()
+        self.timing = timing or Timing()
+        self.hold = BoxHold(tuple(plan.object_size), tilt=tilt)  # type: ignore[arg-type]
+        self.progress = progress
+        self.stats = GenerationStats()
+        self._rec = _Recorder()
+        self._t = 0.0
+        self._phase = 0
+        self._step = -1
+
+    # -- public -------------------------------------------------------------------------
+    def run(self) -> Motion:
+        """Generate the whole motion.
+
+        Raises:
+            WholeBodyError: the solver failed or a grip became unreachable.
+            InputError: the plan is inconsistent (a step that is not a pivot rotation).
+        """
+        t_wall = time.perf_counter()
+        plan = self.plan
+        first = plan.phases[0]
+        start = first.robot_start if isinstance(first, TransferPhase) else first.robot_path[0]
+        self._phase, self._step = 0, -1
+        try:
+            self.walker = PlacoWalker(self.settings, start)
+        except Exception as e:  # pragma: no cover - model/setup failure
+            raise WholeBodyError(0, -1, f"cannot set up the PlaCo robot ({e})") from e
+        self._box_T = self.hold.T_world_box(self.hold.T_world_G(plan.start, 0), 0, 0.0)
+        self._hands_world: tuple[np.ndarray, np.ndarray] | None = None
+        units = sum(len(p.steps) + 2 if isinstance(p, TransferPhase) else 1
+                    for p in plan.phases)
+        self._units_total, self._units_done = max(units, 1), 0
+        self._stand(self.timing.settle, lambda s: None)
+        obj = plan.start
+        for i, phase in enumerate(plan.phases):
+            self._phase, self._step = i, -1
+            if isinstance(phase, TransferPhase):
+                obj = self._transfer(i, phase)
+            else:
+                self._transit(i, phase, obj)
+        self.stats.compute = time.perf_counter() - t_wall
+        self.stats.ticks = len(self._rec.t)
+        self.stats.duration = self._rec.t[-1] - self._rec.t[0] if self._rec.t else 0.0
+        self._report(1.0, "done")
+        return self._motion()
+
+    # -- bookkeeping --------------------------------------------------------------------
+    def _report(self, fraction: float, label: str) -> None:
+        if self.progress is not None:
+            self.progress(min(1.0, fraction), label)
+
+    def _unit_done(self, label: str) -> None:
+        self._units_done += 1
+        self._report(self._units_done / self._units_total, label)
+
+    def _fail(self, reason: str) -> WholeBodyError:
+        return WholeBodyError(self._phase, self._step, reason)
+
+    # -- hands --------------------------------------------------------------------------
+    def _rest_hands(self) -> tuple[np.ndarray, np.ndarray]:
+        T = self.walker.trunk_frame()
+        return T @ self.walker.rest_hands[0], T @ self.walker.rest_hands[1]
+
+    def _grip_hands(self, T_world_G: np.ndarray, grasp: int, tilt: float
+                    ) -> tuple[np.ndarray, np.ndarray]:
+        Tt = T_world_G @ transform(self._rot_tilt(tilt), (0.0, 0.0, 0.0))
+        left, right = self.hold.T_G_hands(grasp)
+        return Tt @ left, Tt @ right
+
+    @staticmethod
+    def _rot_tilt(tilt: float) -> np.ndarray:
+        from .box import rot_y
+
+        return rot_y(-tilt)
+
+    # -- one tick -----------------------------------------------------------------------
+    def _tick(self, traj, hands: tuple[np.ndarray, np.ndarray], *,  # noqa: ANN001
+              holding: bool, grasp: int, tilt: float) -> None:
+        try:
+            support, zmp = self.walker.tick(self._t, traj, hands[0], hands[1])
+        except SolverFailure as e:
+            raise self._fail(f"infeasible QP at t = {self._t:.3f} s ({e})") from e
+        if holding:
+            lh, rh = self.walker.hand_frames()
+            err = max(np.linalg.norm(lh[:3, 3] - hands[0][:3, 3]),
+                      np.linalg.norm(rh[:3, 3] - hands[1][:3, 3]))
+            self.stats.max_hand_error = max(self.stats.max_hand_error, float(err))
+            for T, target in zip((lh, rh), hands, strict=True):  # approach axes (hand -z)
+                c = float(np.clip(T[:3, 2] @ target[:3, 2], -1.0, 1.0))
+                self.stats.max_hand_angle = max(self.stats.max_hand_angle, math.acos(c))
+            if err > self.timing.max_hand_error:
+                raise self._fail(f"unreachable grip: a hand is {100 * err:.1f} cm from its "
+                                 f"grip point at t = {self._t:.3f} s")
+        r = self._rec
+        r.t.append(self._t)
+        r.q.append(self.walker.q())
+        T = self._box_T
+        r.box.append(np.concatenate([T[:3, 3], quat_xyzw(T[:3, :3])]))
+        r.com.append(self.walker.com())
+        r.zmp.append(zmp)
+        r.support.append(support)
+        r.phase.append(self._phase)
+        r.step.append(self._step if holding else -1)
+        r.holding.append(holding)
+        r.grasp.append(grasp if holding else -1)
+        r.tilt.append(tilt)
+        self._t += self.settings.dt
+
+    def _ticks(self, duration: float) -> int:
+        return max(1, int(round(duration / self.settings.dt)))
+
+    def _stand(self, duration: float, each: Callable[[float], None], *, holding: bool = False,
+               grasp: int = -1, tilt_of: Callable[[float], float] | None = None,
+               hands_of: Callable[[float], tuple[np.ndarray, np.ndarray]] | None = None
+               ) -> None:
+        """Stand still for ``duration``; ``each(s)`` updates the box for progress s in [0, 1]."""
+        self.walker.stand()
+        n = self._ticks(duration)
+        for i in range(n):
+            s = (i + 1) / n
+            each(s)
+            hands = hands_of(s) if hands_of is not None else self._rest_hands()
+            self._tick(None, hands, holding=holding, grasp=grasp,
+                       tilt=tilt_of(s) if tilt_of is not None else 0.0)
+
+    # -- phases -------------------------------------------------------------------------
+    def _walk_to(self, targets: list[Pose], *, holding: bool = False, grasp: int = -1,
+                 tilt: float = 0.0,
+                 each: Callable[[float], None] | None = None,
+                 hands_of: Callable[[], tuple[np.ndarray, np.ndarray]] | None = None,
+                 ) -> None:
+        """Walk through ``targets``; ``each(s)`` (s in [0, 1] over the segment) moves the box."""
+        footsteps = self.walker.plan_footsteps(targets)
+        if not footsteps:
+            if each is not None:
+                self._stand(self.timing.min_rotate, each, holding=holding, grasp=grasp,
+                            tilt_of=lambda s: tilt,
+                            hands_of=(lambda s: hands_of()) if hands_of else None)
+            return
+        # a walk moving the box is planned in one piece (its rotation spans it); a transit is
+        # cut into walks of at most max_steps steps (the LIPM QP grows with the horizon)
+        size = len(footsteps) if each is not None else self.timing.max_steps
+        for chunk in self.walker.chunks(footsteps, size):
+            traj = self.walker.plan_walk(chunk, self._t)
+            t0, t1 = traj.t_start, traj.t_end
+            m = self.timing.rotate_margin
+            n = self._ticks(t1 - t0)
+            for _ in range(n):
+                if each is not None:
+                    each(((self._t - t0) - m) / max(t1 - t0 - 2 * m, 1e-6))
+                hands = hands_of() if hands_of is not None else self._rest_hands()
+                self._tick(traj, hands, holding=holding, grasp=grasp, tilt=tilt)
+            self.walker.stand()
+
+    def _transfer(self, i: int, phase: TransferPhase) -> Pose:
+        hold, tm = self.hold, self.timing
+        k = phase.grasp
+        obj = phase.object_start
+        pose = self.walker.robot_pose()
+        d = math.hypot(pose[0] - phase.robot_start[0], pose[1] - phase.robot_start[1])
+        if d > 0.01 or abs(wrap_angle(pose[2] - phase.robot_start[2])) > 0.01:
+            log.info("phase %d: walking %.3f m to the transfer start", i, d)
+            self._walk_to([phase.robot_start])
+        G = hold.T_world_G(obj, k)
+        theta = hold.tilt
+        state = {"G": G, "tilt": 0.0}
+
+        def set_box() -> None:
+            self._box_T = hold.T_world_box(state["G"], k, state["tilt"])
+
+        set_box()
+        # reach
+        start_hands = self._rest_hands()  # the current targets: no jump in the tasks
+        goal = self._grip_hands(G, k, 0.0)
+        self._stand(tm.reach, lambda s: None, hands_of=lambda s: (
+            interpolate_frame(start_hands[0], goal[0], min_jerk(s)),
+            interpolate_frame(start_hands[1], goal[1], min_jerk(s))))
+        self._unit_done(f"phase {i}: reach")
+
+        # tilt
+        def tilt_each(s: float) -> None:
+            state["tilt"] = theta * min_jerk(s)
+            set_box()
+
+        self._stand(tm.tilt, tilt_each, holding=True, grasp=k, tilt_of=lambda s: theta *
+                    min_jerk(s), hands_of=lambda s: self._grip_hands(state["G"], k,
+                                                                       state["tilt"]))
+        # pivot steps
+        for j, step in enumerate(phase.steps):
+            self._step = j
+            corners = hold.pivot_corners(obj, k)
+            piv = np.array([step.pivot[0], step.pivot[1], 0.0])
+            if min(np.linalg.norm(c - piv) for c in corners) > 1e-4:
+                raise InputError(f"phases[{i}].steps[{j}].pivot", step.pivot,
+                                 "is not an end corner of the supporting edge")
+            G_before = state["G"]
+            G_after = hold.T_world_G(step.object, k)
+            R = rotation_about_vertical(step.pivot, step.angle)
+            if np.abs(R @ G_before - G_after).max() > 1e-4:
+                raise InputError(f"phases[{i}].steps[{j}].object", step.object,
+                                 "is not the previous pose rotated about the pivot")
+
+            def rot_each(s: float, G0=G_before, st=step) -> None:  # noqa: ANN001
+                a = st.angle * min_jerk(s)
+                state["G"] = rotation_about_vertical(st.pivot, a) @ G0
+                set_box()
+
+            self._walk_to([step.robot], holding=True, grasp=k, tilt=theta, each=rot_each,
+                          hands_of=lambda: self._grip_hands(state["G"], k, theta))
+            state["G"] = G_after
+            set_box()
+            obj = step.object
+            self._unit_done(f"phase {i}: pivot {j + 1}/{len(phase.steps)}")
+        self._step = -1
+
+        # set down, release
+        def untilt_each(s: float) -> None:
+            state["tilt"] = theta * (1.0 - min_jerk(s))
+            set_box()
+
+        self._stand(tm.tilt, untilt_each, holding=True, grasp=k,
+                    tilt_of=lambda s: theta * (1.0 - min_jerk(s)),
+                    hands_of=lambda s: self._grip_hands(state["G"], k, state["tilt"]))
+        grip = self._grip_hands(state["G"], k, 0.0)
+        self._stand(tm.release, lambda s: None, hands_of=lambda s: (
+            interpolate_frame(grip[0], self._rest_hands()[0], min_jerk(s)),
+            interpolate_frame(grip[1], self._rest_hands()[1], min_jerk(s))))
+        self._unit_done(f"phase {i}: release")
+        return obj
+
+    def _transit(self, i: int, phase: TransitPhase, obj: Pose) -> None:
+        self._box_T = self.hold.T_world_box(self.hold.T_world_G(obj, 0), 0, 0.0)
+        kept: list[Pose] = []
+        last = self.walker.robot_pose()
+        path = list(phase.robot_path)
+        for j, p in enumerate(path):
+            end = j == len(path) - 1
+            if end or (math.hypot(p[0] - last[0], p[1] - last[1]) >= self.timing.path_spacing
+                       or abs(wrap_angle(p[2] - last[2])) >= 0.3):
+                kept.append(p)
+                last = p
+        self._walk_to(kept)
+        self._unit_done(f"phase {i}: transit")
+
+    # -- output -------------------------------------------------------------------------
+    def _motion(self) -> Motion:
+        r = self._rec
+        names = [str(n) for n in self.walker.robot.model.names[2:]]
+        grip = np.zeros((4, 2, 3))
+        for k in range(4):
+            left, right = self.hold.T_box_hands(k)
+            grip[k, 0], grip[k, 1] = left[:3, 3], right[:3, 3]
+        return Motion(
+            t=np.array(r.t), q=np.array(r.q), joint_names=names, urdf=URDF_RELPATH,
+            box=np.array(r.box), com=np.array(r.com), zmp=np.array(r.zmp),
+            support=np.array(r.support, dtype=int), phase=np.array(r.phase, dtype=int),
+            step=np.array(r.step, dtype=int), holding=np.array(r.holding, dtype=bool),
+            grasp=np.array(r.grasp, dtype=int), tilt=np.array(r.tilt),
+            box_size=np.array(self.plan.object_size, dtype=float), grip_box=grip,
+            sole_size=np.array(SOLE_SIZE))
+
+
+def generate_motion(plan: Plan, *, settings: WalkSettings | None = None,
+                    timing: Timing | None = None, tilt: float = DEFAULT_TILT,
+                    progress: Progress | None = None) -> tuple[Motion, GenerationStats]:
+    """Generate the whole-body motion of ``plan``; return it with its generation statistics.
+
+    Raises:
+        WholeBodyError: the solver failed or a grip became unreachable (names phase and step).
+        InputError: the plan is inconsistent.
+    """
+    gen = WholeBodyGenerator(plan, settings=settings, timing=timing, tilt=tilt,
+                             progress=progress)
+    motion = gen.run()
+    return motion, gen.stats

@@ -1,0 +1,409 @@
+"""PlaCo whole-body controller for HRP-2: walk pattern generator, kinematics solver and tasks.
+
+Tasks (PlaCo ``KinematicsSolver``, one QP per tick of :attr:`WalkSettings.dt`):
+
+* feet and CoM -- **hard** (``WalkTasks`` with ``scaled = False``), tracking the LIPM/ZMP walk
+  pattern generator's trajectory, or fixed targets while standing;
+* trunk orientation -- soft, from the walk trajectory (yaw between the feet);
+* both hands -- soft frame tasks (position weight 1, low orientation weight) tracking targets
+  given every tick, plus a soft hand-to-hand relative frame task;
+* posture -- a weak joints task towards half-sitting with bent elbows; a small regularisation;
+* joint position and velocity limits -- solver constraints.
+
+Robot pose convention: the plan's robot pose (centre of the floor bounding box, heading) is the
+midpoint of the two sole centres, shifted :attr:`WalkSettings.foot_offset` along the heading.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..robot_model import HALF_SITTING, SOLE_SIZE, URDF_PATH
+from ..se2 import Pose, wrap_angle
+from .box import rot_z, transform
+
+log = logging.getLogger(__name__)
+
+GRAVITY = 9.81
+
+
+@dataclass(frozen=True)
+class WalkSettings:
+    """Walking and solver parameters (SI units).
+
+    Attributes:
+        dt: solver tick and motion sampling period (s).
+        single_support_duration: duration of a step's single support (s).
+        single_support_timesteps: LIPM samples per single support.
+        double_support_ratio: double support duration / single support duration.
+        startend_double_support_ratio: same, for the first and last double supports.
+        com_height: CoM height while walking (m).
+        foot_height: swing foot apex (m).
+        feet_spacing: lateral distance between the sole centres (m).
+        max_dx_forward, max_dx_backward, max_dy: step length bounds (m).
+        max_dtheta: step yaw bound (rad).
+        zmp_margin: ZMP margin inside the sole kept by the pattern generator (m).
+        foot_offset: sole midpoint ahead of the robot pose centre (m).
+        hand_position_weight, hand_orientation_weight: hand frame task weights.
+        relative_weight: hand-to-hand relative task position weight.
+        relative_orientation_weight: hand-to-hand relative task orientation weight.
+        posture_weight: posture (joints) task weight.
+    """
+
+    dt: float = 0.005
+    single_support_duration: float = 0.7
+    single_support_timesteps: int = 14
+    double_support_ratio: float = 0.4
+    startend_double_support_ratio: float = 1.5
+    com_height: float = 0.79
+    foot_height: float = 0.04
+    feet_spacing: float = 0.20
+    max_dx_forward: float = 0.15
+    max_dx_backward: float = 0.08
+    max_dy: float = 0.06
+    max_dtheta: float = 0.25
+    zmp_margin: float = 0.03
+    foot_offset: float = 0.0
+    hand_position_weight: float = 1000.0
+    hand_orientation_weight: float = 0.01
+    relative_weight: float = 0.1
+    relative_orientation_weight: float = 0.0
+    posture_weight: float = 1e-3
+
+    @property
+    def omega(self) -> float:
+        """LIPM natural frequency sqrt(g / com_height) (1/s)."""
+        return math.sqrt(GRAVITY / self.com_height)
+
+
+def pose_matrix(x: float, y: float, yaw: float, z: float = 0.0) -> np.ndarray:
+    """4x4 transform of a planar pose."""
+    return transform(rot_z(yaw), (x, y, z))
+
+
+def planar(T: np.ndarray) -> Pose:
+    """Planar pose (x, y, yaw) of a 4x4 transform."""
+    return (float(T[0, 3]), float(T[1, 3]), math.atan2(T[1, 0], T[0, 0]))
+
+
+#: Posture targets of the upper body (elbows bent, arms alongside the body).
+UPPER_POSTURE = {k: v for k, v in HALF_SITTING.items() if not k.startswith(("RLEG", "LLEG"))}
+UPPER_POSTURE.update({"RARM_JOINT1": 0.0, "LARM_JOINT1": 0.0})
+
+
+class SolverFailure(RuntimeError):
+    """The QP of one tick failed (infeasible or numerical failure)."""
+
+
+class PlacoWalker:
+    """HRP-2 in PlaCo, stepping one solver tick at a time (see the module docstring).
+
+    Args:
+        settings: walking and solver parameters.
+        start: robot pose (x, y, heading) to stand at in half-sitting.
+    """
+
+    def __init__(self, settings: WalkSettings, start: Pose) -> None:
+        import placo
+
+        self._placo = placo
+        self.settings = s = settings
+        robot = placo.HumanoidRobot(str(URDF_PATH), placo.Flags.ignore_collisions)
+        self.robot = robot
+        P = placo.HumanoidParameters()
+        P.single_support_duration = s.single_support_duration
+        P.single_support_timesteps = s.single_support_timesteps
+        P.double_support_ratio = s.double_support_ratio
+        P.startend_double_support_ratio = s.startend_double_support_ratio
+        P.planned_timesteps = 10_000
+        P.walk_com_height = s.com_height
+        P.walk_foot_height = s.foot_height
+        P.walk_trunk_pitch = 0.0
+        P.walk_foot_rise_ratio = 0.2
+        P.foot_length = SOLE_SIZE[0]
+        P.foot_width = SOLE_SIZE[1]
+        P.feet_spacing = s.feet_spacing
+        P.zmp_margin = s.zmp_margin
+        P.foot_zmp_target_x = 0.0
+        P.foot_zmp_target_y = 0.0
+        P.walk_max_dtheta = s.max_dtheta
+        P.walk_max_dy = s.max_dy
+        P.walk_max_dx_forward = s.max_dx_forward
+        P.walk_max_dx_backward = s.max_dx_backward
+        self.params = P
+
+        solver = placo.KinematicsSolver(robot)
+        solver.dt = s.dt
+        self.solver = solver
+        tasks = placo.WalkTasks()
+        tasks.scaled = False
+        tasks.initialize_tasks(solver, robot)
+        self.tasks = tasks
+
+        for name, value in HALF_SITTING.items():
+            robot.set_joint(name, value)
+        for name, value in UPPER_POSTURE.items():
+            robot.set_joint(name, value)
+        robot.update_kinematics()
+        tasks.reach_initial_pose(np.eye(4), s.feet_spacing, s.com_height, 0.0)
+        for name, task in (("left_foot", tasks.left_foot_task),
+                           ("right_foot", tasks.right_foot_task)):
+            task.configure(name, "hard", 1.0, 1.0)
+        tasks.com_task.configure("com", "hard", 1.0)
+        solver.enable_velocity_limits(True)
+        solver.enable_joint_limits(True)
+
+        posture = solver.add_joints_task()
+        posture.set_joints(dict(UPPER_POSTURE))
+        posture.configure("posture", "soft", s.posture_weight)
+        legs = {k: v for k, v in HALF_SITTING.items() if k.startswith(("RLEG", "LLEG"))}
+        leg_posture = solver.add_joints_task()
+        leg_posture.set_joints(legs)
+        leg_posture.configure("leg_posture", "soft", 1e-5)
+        solver.add_regularization_task(1e-6)
+
+        self._place(start)
+        T_l = robot.get_T_world_frame("left_hand")
+        T_r = robot.get_T_world_frame("right_hand")
+        self.left_hand = solver.add_frame_task("left_hand", T_l)
+        self.left_hand.configure("left_hand", "soft", s.hand_position_weight,
+                                 s.hand_orientation_weight)
+        self.right_hand = solver.add_frame_task("right_hand", T_r)
+        self.right_hand.configure("right_hand", "soft", s.hand_position_weight,
+                                  s.hand_orientation_weight)
+        self.hands = solver.add_relative_frame_task("left_hand", "right_hand",
+                                                    np.linalg.inv(T_l) @ T_r)
+        self.hands.configure("hands", "soft", s.relative_weight, s.relative_orientation_weight)
+        # settle: the limits and posture tasks move the initial posture a little; let that
+        # happen before anything is recorded, then settle again with the rest hand targets
+        # that the generator uses (trunk-relative), so the first recorded tick is at rest
+        self.stand()
+        n = int(round(self.PRESETTLE / s.dt))
+        for _ in range(n):
+            self.tick(0.0, None, T_l, T_r)
+        T_trunk_inv = np.linalg.inv(self.trunk_frame())
+        T_l, T_r = self.hand_frames()
+        #: Rest hand frames relative to the (yaw-only) trunk frame.
+        self.rest_hands = (T_trunk_inv @ T_l, T_trunk_inv @ T_r)
+        for _ in range(n):
+            T = self.trunk_frame()
+            self.tick(0.0, None, T @ self.rest_hands[0], T @ self.rest_hands[1])
+        self.stand()
+
+    #: Unrecorded standing time after set-up (s).
+    PRESETTLE = 0.5
+
+    # -- placement ----------------------------------------------------------------------
+    def feet_frames(self, pose: Pose) -> tuple[np.ndarray, np.ndarray]:
+        """Sole frames (left, right) on the floor for the robot pose ``pose``."""
+        s = self.settings
+        c, sn = math.cos(pose[2]), math.sin(pose[2])
+        mx, my = pose[0] + s.foot_offset * c, pose[1] + s.foot_offset * sn
+        half = 0.5 * s.feet_spacing
+        return (pose_matrix(mx - half * sn, my + half * c, pose[2]),
+                pose_matrix(mx + half * sn, my - half * c, pose[2]))
+
+    def _place(self, pose: Pose) -> None:
+        robot = self.robot
+        robot.update_kinematics()
+        T_l, T_r = robot.get_T_world_left(), robot.get_T_world_right()
+        mid = pose_matrix(*planar(0.5 * (T_l + T_r)))
+        mid[:3, :3] = pose_matrix(0, 0, planar(T_l)[2])[:3, :3]
+        want_l, want_r = self.feet_frames(pose)
+        want = 0.5 * (want_l + want_r)
+        want[:3, :3] = want_l[:3, :3]
+        robot.set_T_world_fbase(want @ np.linalg.inv(mid) @ robot.get_T_world_fbase())
+        robot.update_kinematics()
+        # the support frame used by ensure_on_floor() must follow the relocation
+        side = str(robot.get_support_side())
+        robot.set_T_world_support(want_l if side == "left" else want_r)
+        self.T_left, self.T_right = want_l, want_r
+
+    def robot_pose(self) -> Pose:
+        """Commanded robot pose: from the commanded sole frames."""
+        mid = 0.5 * (self.T_left + self.T_right)
+        yaw = planar(self.T_left)[2]
+        yaw2 = planar(self.T_right)[2]
+        yaw = yaw + 0.5 * wrap_angle(yaw2 - yaw)
+        off = self.settings.foot_offset
+        return (mid[0, 3] - off * math.cos(yaw), mid[1, 3] - off * math.sin(yaw), yaw)
+
+    def trunk_frame(self) -> np.ndarray:
+        """Current trunk frame reduced to its position and yaw."""
+        T = self.robot.get_T_world_frame("trunk")
+        x, y, yaw = planar(T)
+        return pose_matrix(x, y, yaw, T[2, 3])
+
+    def com(self) -> np.ndarray:
+        """Current centre of mass (world)."""
+        return np.array(self.robot.com_world())
+
+    def q(self) -> np.ndarray:
+        """Current pinocchio configuration."""
+        return np.array(self.robot.state.q)
+
+    def hand_frames(self) -> tuple[np.ndarray, np.ndarray]:
+        """Current hand frames (left, right)."""
+        return (np.array(self.robot.get_T_world_frame("left_hand")),
+                np.array(self.robot.get_T_world_frame("right_hand")))
+
+    # -- modes --------------------------------------------------------------------------
+    def stand(self) -> np.ndarray:
+        """Hold the feet at the commanded sole frames and the CoM where it is; return the CoM."""
+        t = self.tasks
+        t.left_foot_task.T_world_frame = self.T_left
+        t.right_foot_task.T_world_frame = self.T_right
+        com = self.com()
+        mid = 0.5 * (self.T_left[:3, 3] + self.T_right[:3, 3])
+        target = np.array([mid[0], mid[1], self.settings.com_height])
+        if np.linalg.norm(com[:2] - target[:2]) > 0.01:
+            target[:2] = com[:2]
+        t.com_task.target_world = target
+        yaw = planar(self.T_left)[2]
+        yaw += 0.5 * wrap_angle(planar(self.T_right)[2] - yaw)
+        t.trunk_orientation_task.R_world_frame = rot_z(yaw)
+        self._stand_com = target
+        return target
+
+    def plan_footsteps(self, targets: list[Pose]) -> list:
+        """Footsteps (PlaCo naive planner) from the commanded feet through robot poses ``targets``.
+
+        The list starts with the two current feet (flying foot first), as PlaCo's
+        ``make_supports`` expects; it is empty when no step is needed.
+        """
+        placo = self._placo
+        planner = placo.FootstepsPlannerNaive(self.params)
+        T_l, T_r = self.T_left, self.T_right
+        footsteps: list = []
+        last_side = None
+        for pose in targets:
+            want_l, want_r = self.feet_frames(pose)
+            if (np.allclose(want_l, T_l, atol=1e-4) and np.allclose(want_r, T_r, atol=1e-4)):
+                continue
+            if last_side is None:
+                cur = self._inv_pose(0.5 * (T_l + T_r), planar(T_l)[2])
+                local = cur @ np.array([pose[0], pose[1], 0.0, 1.0])
+                dyaw = wrap_angle(pose[2] - planar(T_l)[2])
+                left_first = local[1] > 1e-3 or (abs(local[1]) <= 1e-3 and dyaw >= 0)
+                side = placo.HumanoidRobot_Side.left if left_first else \
+                    placo.HumanoidRobot_Side.right
+            else:
+                side = (placo.HumanoidRobot_Side.right if last_side == "left"
+                        else placo.HumanoidRobot_Side.left)
+            planner.configure(want_l, want_r)
+            fs = list(planner.plan(side, T_l, T_r))
+            if len(fs) <= 2:
+                continue
+            footsteps.extend(fs if not footsteps else fs[2:])
+            for f in fs[2:]:
+                if str(f.side) == "left":
+                    T_l = np.array(f.frame)
+                else:
+                    T_r = np.array(f.frame)
+            last_side = str(fs[-1].side)
+        return footsteps if len(footsteps) > 2 else []
+
+    @staticmethod
+    def chunks(footsteps: list, max_steps: int) -> list[list]:
+        """Split footsteps into walks of at most ``max_steps`` steps.
+
+        Each walk is led by its two current feet and starts and ends at rest.
+        """
+        moves = len(footsteps) - 2
+        out = []
+        for a in range(0, moves, max_steps):
+            b = min(moves, a + max_steps)
+            out.append(footsteps[a:b + 2])
+        return out
+
+    def plan_walk(self, footsteps: list, t0: float):  # noqa: ANN201 - placo type
+        """LIPM/ZMP trajectory of a walk (footsteps led by the two current feet) from ``t0``.
+
+        The commanded feet become the walk's final feet.
+        """
+        placo = self._placo
+        supports = placo.FootstepsPlanner.make_supports(footsteps, t0, True,
+                                                        self.params.has_double_support(), True)
+        wpg = placo.WalkPatternGenerator(self.robot, self.params)
+        traj = wpg.plan(supports, self.com(), t0)
+        for f in footsteps[-2:]:
+            if str(f.side) == "left":
+                self.T_left = np.array(f.frame)
+            else:
+                self.T_right = np.array(f.frame)
+        return traj
+
+    @staticmethod
+    def _inv_pose(T: np.ndarray, yaw: float) -> np.ndarray:
+        M = pose_matrix(T[0, 3], T[1, 3], yaw)
+        return np.linalg.inv(M)
+
+    # -- one tick -----------------------------------------------------------------------
+    def tick(self, t: float, traj, T_left_hand: np.ndarray,  # noqa: ANN001
+             T_right_hand: np.ndarray) -> tuple[int, np.ndarray]:
+        """Solve one tick at time ``t``; return (support code, planned ZMP xy).
+
+        Raises:
+            SolverFailure: the QP failed.
+        """
+        self.left_hand.T_world_frame = T_left_hand
+        self.right_hand.T_world_frame = T_right_hand
+        self.hands.T_a_b = np.linalg.inv(T_left_hand) @ T_right_hand
+        held = False
+        if traj is not None:
+            self.tasks.update_tasks_from_trajectory(traj, t)
+            held = self._delay_lift_off(traj, t)
+        self.robot.update_kinematics()
+        try:
+            self.solver.solve(True)
+        except Exception as e:  # placo raises QPError / RuntimeError from C++
+            raise SolverFailure(str(e) or type(e).__name__) from e
+        if traj is None:
+            self.robot.update_kinematics()
+            return 0, self._stand_com[:2].copy()
+        zmp = np.array(traj.get_p_world_ZMP(t, self.settings.omega))[:2]
+        if traj.support_is_both(t):
+            self.robot.update_kinematics()
+            return 0, zmp
+        side = str(traj.support_side(t))
+        self.robot.update_support_side(side)
+        self.robot.ensure_on_floor()
+        self.robot.update_kinematics()
+        if held:
+            return 0, zmp
+        return (1 if side == "left" else 2), zmp
+
+    def _delay_lift_off(self, traj, t: float) -> bool:  # noqa: ANN001
+        """Hold the swing foot down for :attr:`lift_off_delay` after a single support starts.
+
+        The swing trajectory is then played time-compressed into the rest of the support.
+        The pattern generator constrains the ZMP only at its LIPM samples: it reaches the new
+        support foot one sample after the double support ends. Holding the swing foot down
+        meanwhile keeps that ZMP transfer inside a real double support polygon.
+        Returns whether the swing foot is held (both feet in contact).
+        """
+        if traj.support_is_both(t):
+            return False
+        t0, t1 = traj.get_part_t_start(t), traj.get_part_t_end(t)
+        delay = self.lift_off_delay
+        if t1 - t0 <= 2 * delay:
+            return False
+        swing = "right" if str(traj.support_side(t)) == "left" else "left"
+        if t - t0 < delay:
+            tau, held = t0, True
+        else:
+            tau, held = t0 + (t - t0 - delay) * (t1 - t0) / (t1 - t0 - delay), False
+        T = traj.get_T_world_right(tau) if swing == "right" else traj.get_T_world_left(tau)
+        task = self.tasks.right_foot_task if swing == "right" else self.tasks.left_foot_task
+        task.T_world_frame = T
+        return held
+
+    @property
+    def lift_off_delay(self) -> float:
+        """Time the swing foot stays down after a single support starts (s)."""
+        s = self.settings
+        return s.single_support_duration / s.single_support_timesteps + 2.5 * s.dt
