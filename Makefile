@@ -17,15 +17,24 @@ venv: $(BIN)/pivot-ompl
 
 demo: venv
 	mkdir -p $(OUT)
-	$(BIN)/pivot-ompl plan scenes/fig10.yaml --planner regrasp --time 30 --seed 0 \
+	$(BIN)/pivot-ompl plan scenes/fig10.yaml --planner regrasp --time 60 --seed 0 \
 	    --out $(OUT)/fig10_plan.json --plot $(OUT)/fig10_plan.png
 	$(BIN)/pivot-ompl check scenes/fig10.yaml $(OUT)/fig10_plan.json
+	$(BIN)/pivot-ompl animate $(OUT)/fig10_plan.json --out $(OUT)/fig10_motion.npz
+	$(BIN)/pivot-ompl replay $(OUT)/fig10_motion.npz --plan $(OUT)/fig10_plan.json \
+	    --scene scenes/fig10.yaml --html $(OUT)/fig10_replay.html
+	@echo "replay: $(abspath $(OUT)/fig10_replay.html)"
 
 test: venv
-	$(BIN)/python -m pytest -q tests
+	$(BIN)/python -m pytest -q $(PYTEST_ARGS) tests
 
 lint: venv
 	$(BIN)/ruff check pivot_ompl tests benchmarks
+
+bench: venv
+	$(BIN)/python benchmarks/steering.py --out results/steering.json
+	$(BIN)/python benchmarks/validation.py --out results/validation.json
+	$(BIN)/python benchmarks/regrasp.py --runs 100 --time 30 --out results/regrasp.json
 
 clean:
 	rm -rf $(VENV) $(OUT)

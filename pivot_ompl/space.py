@@ -28,6 +28,28 @@ from .checker import PivotChecker
 from .scene import Scene
 from .se2 import Pose
 
+#: OMPL's ``StateSpace::SanityChecks`` bits (not exported by the nanobind module).
+STATESPACE_DISTANCE_DIFFERENT_STATES = 1 << 1
+STATESPACE_DISTANCE_SYMMETRIC = 1 << 2
+STATESPACE_INTERPOLATION = 1 << 3
+STATESPACE_TRIANGLE_INEQUALITY = 1 << 4
+STATESPACE_DISTANCE_BOUND = 1 << 5
+STATESPACE_RESPECT_BOUNDS = 1 << 6
+STATESPACE_ENFORCE_BOUNDS_NO_OP = 1 << 7
+STATESPACE_SERIALIZATION = 1 << 8
+#: The checks OMPL runs for Reeds-Shepp spaces: all but interpolation (relaxed as OMPL's own
+#: ``ReedsSheppStateSpace::sanityChecks`` does), with ``eps = 0.1``.
+SANITY_FLAGS = (STATESPACE_DISTANCE_DIFFERENT_STATES | STATESPACE_DISTANCE_SYMMETRIC
+                | STATESPACE_TRIANGLE_INEQUALITY | STATESPACE_DISTANCE_BOUND
+                | STATESPACE_RESPECT_BOUNDS | STATESPACE_ENFORCE_BOUNDS_NO_OP
+                | STATESPACE_SERIALIZATION)
+
+
+def sanity_checks(space: ob.StateSpace) -> None:
+    """Run OMPL's ``sanityChecks`` on ``space`` with the Reeds-Shepp relaxation (raises)."""
+    space.sanityChecks(2.220446049250313e-16, 0.1, SANITY_FLAGS)
+
+
 #: Default weight of the grasp component in OMPL's distance (m per grasp index step).
 GRASP_WEIGHT = 1.0
 
@@ -81,12 +103,28 @@ class PivotProblem:
     checker: PivotChecker
     validity: Any
     motion: Any
+    projection: Any = None
 
     def alloc(self, pose: Pose, grasp: int) -> Any:
         """A new state of ``si`` set to ``(pose, grasp)`` (freed with the space information)."""
         s = self.si.allocState()
         write_state(s, pose, grasp)
         return s
+
+
+def ensure_projection(space: Any) -> Any:
+    """Give the compound space a default projection if it has none (KPIECE1 & co. need one).
+
+    The projection is OMPL's ``SubspaceProjectionEvaluator`` on the Reeds-Shepp component's
+    default projection (x, y cells). Returns it (keep it alive) or ``None``.
+    """
+    if space.hasDefaultProjection():
+        return None
+    proj = ob.SubspaceProjectionEvaluator(space, 0,
+                                          space.getSubspace(0).getDefaultProjection())
+    proj.setup()  # the space was set up before: set the projection up (or printing it crashes)
+    space.registerDefaultProjection(proj)
+    return proj
 
 
 def make_problem(scene: Scene, *, seed: int = 0, grasp_weight: float = GRASP_WEIGHT,
@@ -103,7 +141,9 @@ def make_problem(scene: Scene, *, seed: int = 0, grasp_weight: float = GRASP_WEI
     si.setStateValidityChecker(validity)
     si.setMotionValidator(motion)
     si.setup()
-    return PivotProblem(scene, space, si, checker, validity, motion)
+    problem = PivotProblem(scene, space, si, checker, validity, motion)
+    problem.projection = ensure_projection(space)
+    return problem
 
 
 def make_space_information(scene: Scene, *, seed: int = 0,

@@ -187,6 +187,35 @@ def test_support_labels_match_the_feet(generated):
         assert max(heights[s]) > 0.03
 
 
+def test_robot_follows_plan_poses(report):
+    r = report["robot_plan"]  # step ends within 1 cm, transit within 3 cm of the path
+    assert r.passed and r.value < 1.0
+
+
+def test_path_footsteps_follow_a_sideways_path():
+    from pivot_ompl.wholebody.walker import PlacoWalker, WalkSettings, _relative
+
+    settings = WalkSettings()
+    walker = PlacoWalker(settings, (0.0, 0.0, 0.0))
+    path = [(0.0, 0.0, 0.0), (0.0, -0.5, 0.0), (0.3, -0.5, 0.6)]
+    steps = walker.path_footsteps(path)
+    sides = [str(f.side) for f in steps]
+    assert all(a != b for a, b in zip(sides, sides[1:], strict=False))  # alternate
+    assert sides[0] == "right"  # moving right: the right foot flies first
+    frames = [np.array(f.frame) for f in steps]
+    last_l = [T for T, sd in zip(frames, sides, strict=True) if sd == "left"][-1]
+    last_r = [T for T, sd in zip(frames, sides, strict=True) if sd == "right"][-1]
+    want_l, want_r = walker.feet_frames(path[-1])
+    assert np.allclose(last_l, want_l, atol=1e-9) and np.allclose(last_r, want_r, atol=1e-9)
+    for a, b in zip(frames[1:], frames[2:], strict=False):  # consecutive feet: bounded steps
+        pa = (a[0, 3], a[1, 3], math.atan2(a[1, 0], a[0, 0]))
+        pb = (b[0, 3], b[1, 3], math.atan2(b[1, 0], b[0, 0]))
+        dx, dy, dth = _relative(pa, pb)
+        assert abs(dth) <= settings.max_dtheta + 1e-9
+        assert -settings.max_dx_backward - 1e-9 <= dx <= settings.max_dx_forward + 1e-9
+        assert 0.20 - 0.02 - 1e-9 <= abs(dy) <= 0.20 + settings.max_dy + 0.03  # feet apart
+
+
 def load_motion_copy(motion):
     import copy
 
@@ -204,6 +233,8 @@ def test_motion_file_round_trip_and_cli(generated, plan, tmp_path, capsys):
     assert cli_main(["check-motion", str(path), "--plan", str(plan_path)]) == 0
     assert "zmp" in capsys.readouterr().out
     assert cli_main(["check-motion", str(tmp_path / "missing.npz")]) == 2
+    other = short_plan(transit=False).to_json(tmp_path / "other.json")  # not this motion's plan
+    assert cli_main(["check-motion", str(path), "--plan", str(other)]) == 2
 
 
 def test_unreachable_grip_fails_naming_the_step(tmp_path, capsys):

@@ -36,6 +36,6 @@ def build_database(db: str | Path, logs: Sequence[str | Path], *, append: bool =
 
 
 def run_columns(db: str | Path) -> list[str]:
-    """Column names of the ``runs`` table."""
+    """Return the column names of the ``runs`` table."""
     with contextlib.closing(sqlite3.connect(db)) as conn:
         return [row[1] for row in conn.execute("PRAGMA table_info(runs)")]

@@ -30,7 +30,7 @@ class Executor(Protocol):
 
 
 def default_workers() -> int:
-    """Number of cores this process may use."""
+    """Return the number of cores this process may use."""
     try:
         return max(1, len(os.sched_getaffinity(0)))
     except AttributeError:  # pragma: no cover - not Linux
@@ -113,7 +113,7 @@ class DaskExecutor:
 
 def make_executor(kind: str = "local", *, scheduler: str | None = None,
                   workers: int | None = None) -> Executor:
-    """An executor by name (``"local"`` or ``"dask"``).
+    """Return an executor by name (``"local"`` or ``"dask"``).
 
     Raises:
         InputError: unknown kind, bad worker count, or ``distributed`` missing for ``"dask"``.

@@ -1,4 +1,4 @@
-"""One benchmark job: a (scene, planner, seed) run under ``ompl.tools.Benchmark`` in a fresh process.
+"""One benchmark job: a (scene, planner, seed) run under ``ompl.tools.Benchmark``, own process.
 
 :func:`execute` runs the job in the calling process: OMPL's own ``Benchmark`` with one planner
 and one run, so every standard run property (``time``, ``solved``, ``status``, ``memory``,
@@ -12,6 +12,7 @@ plain, JSON-able :class:`JobResult` dict, so results do not depend on the execut
 
 from __future__ import annotations
 
+from ..space import ensure_projection  # noqa: F401 - re-exported for the recipe
 import importlib
 import json
 import os
@@ -68,7 +69,7 @@ class Job:
         return self.planner.rsplit(":", 1)[-1]
 
     def to_dict(self) -> dict[str, Any]:
-        """The job as a JSON-able dict."""
+        """Return the job as a JSON-able dict."""
         return asdict(self)
 
 
@@ -81,7 +82,7 @@ JobResult = dict[str, Any]
 
 
 def allocator(planner: str) -> Callable[[Any, int], Any]:
-    """The ``(si, seed) -> planner`` allocator of a planner spec.
+    """Return the ``(si, seed) -> planner`` allocator of a planner spec.
 
     Raises:
         InputError: unknown planner name or unimportable ``module:factory``.
@@ -101,10 +102,14 @@ def allocator(planner: str) -> Callable[[Any, int], Any]:
         raise InputError("planner", planner, f"cannot import the factory ({e})") from None
 
 
+#: Clearer column names for some planner figures.
+_ALIASES = {"critical": "critical configurations"}
+
+
 def _flatten(prefix: str, stats: dict[str, Any]) -> dict[str, Any]:
     out: dict[str, Any] = {}
     for key, v in stats.items():
-        name = f"{prefix}{str(key).replace('_', ' ')}"
+        name = f"{prefix}{_ALIASES.get(str(key), str(key)).replace('_', ' ')}"
         if isinstance(v, dict):
             if all(isinstance(x, int | float) and not isinstance(x, bool) for x in v.values()):
                 out[name] = sum(v.values())
@@ -118,7 +123,8 @@ def run_extras(scene: Any, ss: Any, planner: Any, seed: int | None = None) -> di
 
     ``seed INTEGER``; with a solution ``pivots INTEGER``, ``regrasps INTEGER``,
     ``plan valid BOOLEAN`` (the path converts to a pivot plan); the planner's ``stats``
-    (roadmap sizes, critical configurations...) as ``planner <key>`` columns; the checker's
+    (roadmap sizes, ``planner critical configurations``...) as ``planner <key>`` columns
+    (dicts of numbers summed, e.g. ``planner manipulation nodes``); the checker's
     motion counters as ``checker <key>``.
     """
     from ..errors import PivotError
@@ -144,23 +150,8 @@ def run_extras(scene: Any, ss: Any, planner: Any, seed: int | None = None) -> di
     return {f"{k} {prop_type(v)}": fmt_value(v) for k, v in vals.items()}
 
 
-def ensure_projection(space: Any) -> Any:
-    """Give the compound space a default projection if it has none (KPIECE1 and its family
-    need one): OMPL's ``SubspaceProjectionEvaluator`` on the Reeds-Shepp component's default
-    projection (x, y cells). Returns the projection (keep it alive) or ``None``."""
-    from ompl import base as ob
-
-    if space.hasDefaultProjection():
-        return None
-    proj = ob.SubspaceProjectionEvaluator(space, 0,
-                                          space.getSubspace(0).getDefaultProjection())
-    proj.setup()  # the space was set up before: set the projection up (or printing it crashes)
-    space.registerDefaultProjection(proj)
-    return proj
-
-
 def crash_run(elapsed: float, seed: int) -> dict[str, str]:
-    """Run properties of a run that crashed (no OMPL record of it)."""
+    """Return the run properties of a run that crashed (no OMPL record of it)."""
     return {"time REAL": fmt_value(float(elapsed)), "solved BOOLEAN": "0",
             "status ENUM": str(STATUS["CRASH"]), "seed INTEGER": str(seed)}
 
@@ -183,6 +174,7 @@ def execute(job: Job) -> JobResult:
     from ompl import tools as ot
     from ompl import util as ou
 
+    from ..errors import PlanningError
     from ..scene import scene_from_dict
     from ..space import make_setup
 
@@ -190,9 +182,16 @@ def execute(job: Job) -> JobResult:
     ou.RNG.setSeed(job.seed + 1)  # OMPL's seed must be > 0
     res = _base_result(job)
     scene = scene_from_dict(yaml.safe_load(job.scene_text), source=job.source or job.scene_name)
-    ss = make_setup(scene, seed=job.seed)
+    try:
+        ss = make_setup(scene, seed=job.seed)
+    except PlanningError as e:  # no valid grasp at the start or goal: as OMPL would record it
+        res["run"] = {"time REAL": "0", "solved BOOLEAN": "0", "seed INTEGER": str(job.seed),
+                      "status ENUM": str(STATUS.get(e.status, STATUS["UNKNOWN"]))}
+        res["error"] = str(e)
+        res["wall"] = time.perf_counter() - t_start
+        return res
     si = ss.getSpaceInformation()
-    proj = ensure_projection(si.getStateSpace())
+    ss._pivot_projection = ensure_projection(si.getStateSpace())  # kept alive with ss
     planner = allocator(job.planner)(si, job.seed)
     bench = ot.Benchmark(ss, job.scene_name)
     bench.addPlanner(planner)
@@ -206,7 +205,8 @@ def execute(job: Job) -> JobResult:
             errors.append(f"post-run event: {type(e).__name__}: {e}")
 
     bench.setPostRunEvent(post)
-    req = ot.Request(float(job.time_limit), float(job.memory_limit), 1, 0.05, False, True,
+    # saveConsoleOutput off: it writes an ompl_<host>_<date>.console file into the cwd
+    req = ot.Request(float(job.time_limit), float(job.memory_limit), 1, 0.05, False, False,
                      bool(job.simplify))
     t0 = time.perf_counter()
     try:
@@ -231,8 +231,8 @@ def execute(job: Job) -> JobResult:
         res["error"] = errors[0]
     res["run"] = run
     res["wall"] = time.perf_counter() - t_start
-    # keep ss, planner and bench alive until here (Benchmark holds raw references)
-    del bench, planner, ss, proj
+    # ss (with the projection) and the planner outlive the Benchmark (it holds raw pointers)
+    bench = None
     return res
 
 
@@ -243,7 +243,7 @@ def run_job(job: Job, *, python: str | None = None, timeout: float | None = None
     Args:
         job: the job.
         python: interpreter (default: this one).
-        timeout: seconds before the process is killed (default: time limit + ``KILL_MARGIN``).
+        timeout: seconds before the process is killed (default: :func:`kill_timeout`).
         env: environment of the process (default: this one).
     """
     timeout = kill_timeout(job.time_limit) if timeout is None else timeout

@@ -27,7 +27,7 @@ The format is the one ``ompl::tools::Benchmark::saveResultsToStream`` writes and
     <c> common properties
     <name> = <value>                         (c lines)
     <p> properties for each run
-    <name> <TYPE>                            (p lines, sorted; TYPE REAL INTEGER BOOLEAN ENUM STRING)
+    <name> <TYPE>                            (p lines, sorted; REAL INTEGER BOOLEAN ENUM STRING)
     <r> runs
     v1; v2; ...; vp;                         (a missing value is empty: "; ;")
     .
@@ -58,7 +58,7 @@ TYPES = ("REAL", "INTEGER", "BOOLEAN", "ENUM", "STRING")
 
 
 def fmt_value(v: Any) -> str:
-    """A property value as OMPL writes it (``bool`` as 0/1, floats with 6 significant digits)."""
+    """Format a property value as OMPL does (``bool`` as 0/1, floats to 6 significant digits)."""
     if isinstance(v, bool):
         return "1" if v else "0"
     if isinstance(v, int):
@@ -69,7 +69,7 @@ def fmt_value(v: Any) -> str:
 
 
 def prop_type(v: Any) -> str:
-    """The OMPL property type of a Python value."""
+    """Return the OMPL property type of a Python value."""
     if isinstance(v, bool):
         return "BOOLEAN"
     if isinstance(v, int):
@@ -98,7 +98,7 @@ class PlannerResults:
     progress: list[list[list[str]]] = field(default_factory=list)
 
     def properties(self) -> list[str]:
-        """Every run property name (with type), sorted as ``std::map`` orders them."""
+        """Return every run property name (with type), sorted as ``std::map`` orders them."""
         return sorted({k for run in self.runs for k in run})
 
 
@@ -123,7 +123,7 @@ class ExperimentLog:
     planners: list[PlannerResults] = field(default_factory=list)
 
     def format(self) -> str:
-        """The log text (what ``Benchmark::saveResultsToStream`` writes)."""
+        """Return the log text (what ``Benchmark::saveResultsToStream`` writes)."""
         out = io.StringIO()
         w = out.write
         w(f"{self.library} version {self.version}\n")

@@ -50,7 +50,7 @@ def plot_times(results: Sequence[JobResult], scene: str, time_limit: float,
     ax.axhline(time_limit, ls="--", color="grey", lw=1, label=f"time limit {time_limit:g} s")
     ax.set_ylabel("solve time (s)")
     ax.set_title(f"{scene}: solve time (o solved, x not solved)")
-    ax.legend(loc="upper left", fontsize=8)
+    ax.legend(loc="best", fontsize=8)
     fig.tight_layout()
     path = Path(path)
     fig.savefig(path, dpi=110)

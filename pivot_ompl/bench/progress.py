@@ -40,7 +40,7 @@ class Progress:
         self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
 
     def line(self, note: str = "") -> str:
-        """The current progress line."""
+        """Return the current progress line."""
         frac = self.done / self.total
         fill = int(round(frac * self.width))
         elapsed = time.monotonic() - self.t0

@@ -42,7 +42,7 @@ class Row:
 
     @property
     def success(self) -> float:
-        """Fraction of runs with an exact solution."""
+        """Return the fraction of runs with an exact solution."""
         return self.solved / self.runs if self.runs else 0.0
 
 
@@ -55,7 +55,7 @@ def _num(run: dict[str, str], name: str) -> float:
 
 
 def exact(run: dict[str, str]) -> bool:
-    """Whether a run found an exact solution."""
+    """Tell whether a run found an exact solution."""
     return run.get("status ENUM") == str(STATUS["EXACT_SOLUTION"])
 
 
@@ -65,7 +65,7 @@ def _median(xs: list[float]) -> float:
 
 
 def summarize(results: Iterable[JobResult]) -> list[Row]:
-    """One row per (scene, planner), in first-seen order."""
+    """Return one row per (scene, planner), in first-seen order."""
     groups: dict[tuple[str, str], list[dict[str, str]]] = {}
     for r in results:
         groups.setdefault((r["scene"], r["planner"]), []).append(r["run"])
@@ -88,7 +88,7 @@ def _f(x: float, fmt: str) -> str:
 
 
 def format_table(rows: Iterable[Row]) -> str:
-    """A plain-text table (one line per row)."""
+    """Format the rows as a plain-text table."""
     head = ("scene", "planner", "runs", "success", "crash", "t median", "t p95", "t mean",
             "pivots", "regrasps", "length")
     lines = [head]
@@ -109,7 +109,7 @@ def format_table(rows: Iterable[Row]) -> str:
 
 
 def format_markdown(rows: Iterable[Row]) -> str:
-    """The same table in Markdown."""
+    """Format the rows as a Markdown table."""
     out = ["| scene | planner | runs | success | crash | median time (s) | p95 time (s) "
            "| mean time (s) | pivots | regrasps | length |",
            "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]

@@ -56,14 +56,14 @@ class SweepResult:
 
     @property
     def crashed(self) -> int:
-        """Number of runs recorded as ``Crash``."""
+        """Return the number of runs recorded as ``Crash``."""
         return sum(r.crashed for r in self.rows)
 
 
 def make_jobs(scenes: Sequence[str | Path], planners: Sequence[str], *, runs: int,
               time_limit: float, seed0: int = 0, memory_limit: float = 4096.0,
               simplify: bool = False) -> list[Job]:
-    """The jobs of a sweep, seed-major (early results cover every scene and planner).
+    """Return the jobs of a sweep, seed-major (early results cover every scene and planner).
 
     Raises:
         InputError: a scene that does not load, a duplicate scene name, an unknown planner,
@@ -84,7 +84,10 @@ def make_jobs(scenes: Sequence[str | Path], planners: Sequence[str], *, runs: in
     if len(set(planners)) != len(planners):
         raise InputError("--planners", ",".join(planners), "lists a planner twice")
     for p in planners:
-        allocator(p)
+        try:
+            allocator(p)
+        except InputError as e:
+            raise InputError("--planners", p, e.reason) from None
     loaded = []
     names: dict[str, str] = {}
     for s in scenes:
@@ -101,7 +104,7 @@ def make_jobs(scenes: Sequence[str | Path], planners: Sequence[str], *, runs: in
 def experiment_log(scene: str, results: Sequence[JobResult], planners: Sequence[str], *,
                    time_limit: float, runs: int, seed0: int, memory_limit: float = 4096.0,
                    start: str = "", host: str = "", source: str = "") -> ExperimentLog:
-    """The OMPL log of one scene from its job results (planners in the given order)."""
+    """Build the OMPL log of one scene from its job results (planners in the given order)."""
     mine = [r for r in results if r["scene"] == scene]
     real = [r for r in mine if r["setup"]]
     first = real[0] if real else None

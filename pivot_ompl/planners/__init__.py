@@ -20,13 +20,15 @@ def _ompl(cls: Any) -> Callable[[ob.SpaceInformation, int], Any]:
     return make
 
 
-#: Planner name -> allocator ``(si, seed) -> planner``.
+#: Planner name -> allocator ``(si, seed) -> planner``. OMPL's PRM is not listed: in the
+#: ompl 2.0.1 wheel ``PRM::solve`` grows its roadmap on a C++ thread that calls our Python
+#: validators while the calling thread holds the GIL, so it deadlocks (seen in bench runs).
 PLANNERS: dict[str, Callable[[ob.SpaceInformation, int], Any]] = {
     "regrasp": lambda si, seed: RegraspPlanner(si, seed=seed),
     "visprm": lambda si, seed: VisibilityPRM(si, seed=seed),
     "rrtconnect": _ompl(og.RRTConnect),
     "rrt": _ompl(og.RRT),
-    "prm": _ompl(og.PRM),
+    "rrtstar": _ompl(og.RRTstar),
     "kpiece1": _ompl(og.KPIECE1),
     "bkpiece1": _ompl(og.BKPIECE1),
 }

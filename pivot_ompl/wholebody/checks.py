@@ -23,6 +23,9 @@ Every check recomputes what it needs with pinocchio from ``q`` and the URDF name
   penetrate the box (checked on about 2000 evenly spread samples).
 * ``box_floor`` -- no box corner below the floor (> -1 mm).
 * ``com_file`` -- the ``com`` array agrees with the CoM of ``q`` (< 1 mm).
+* ``robot_plan`` (with a plan) -- the robot (sole midpoint) stands at each pivot step's
+  ``robot`` pose at the step's end (< 1 cm, 0.02 rad) and keeps within 3 cm of a transit's
+  ``robot_path``.
 * ``box_plan`` (with a plan) -- the box pose equals the plan's object pose (with the recorded
   tilt) at the end of every pivot step and during transits (< 1 mm, < 1e-3 rad).
 """
@@ -222,13 +225,25 @@ def check_motion(motion: Motion, plan: Plan | None = None, *, zmp_tolerance: flo
     Args:
         motion: the motion.
         plan: the plan it was generated from (enables ``pivot_corner`` at the plan's pivots
-            and ``box_plan``).
+            ``box_plan`` and ``robot_plan``).
         zmp_tolerance: smallest accepted ZMP margin (m; 0 = on the polygon boundary).
         foot_tolerance: feet slide/sink limit (m).
         hand_tolerance: hand-to-grip limit (m).
         corner_tolerance: pivot corner / box pose limit (m).
         accel_limit: limit of the 99th percentile of the largest joint acceleration (rad/s^2).
+
+    Raises:
+        InputError: the motion file is inconsistent with its URDF, or ``plan`` is not the
+            plan of this motion (phase count, box size).
     """
+    if plan is not None:
+        n_phases = int(motion.phase.max()) + 1
+        if len(plan.phases) != n_phases:
+            raise InputError("plan.phases", len(plan.phases),
+                             f"the motion has {n_phases} phases: not the plan it was made from")
+        if not np.allclose(plan.object_size, motion.box_size, atol=1e-9):
+            raise InputError("plan.object_size", plan.object_size,
+                             f"the motion's box is {tuple(motion.box_size)}")
     kin = _kinematics(motion)
     rep = MotionReport()
     t = motion.t
@@ -354,7 +369,56 @@ def check_motion(motion: Motion, plan: Plan | None = None, *, zmp_tolerance: flo
     rep.results.append(_box_clearance(motion))
     if plan is not None:
         rep.results.append(_box_plan(motion, plan, hold, corner_tolerance))
+        rep.results.append(_robot_plan(motion, plan, kin))
     return rep
+
+
+def _point_polyline(p: np.ndarray, poly: np.ndarray) -> float:
+    """Distance from 2-D point ``p`` to the polyline ``poly`` (M x 2)."""
+    if len(poly) == 1:
+        return float(np.linalg.norm(p - poly[0]))
+    a, b = poly[:-1], poly[1:]
+    e = b - a
+    L2 = np.maximum((e * e).sum(axis=1), 1e-18)
+    u = np.clip(((p - a) * e).sum(axis=1) / L2, 0.0, 1.0)
+    return float(np.linalg.norm(a + u[:, None] * e - p, axis=1).min())
+
+
+def _robot_plan(motion: Motion, plan: Plan, kin: _Kinematics, *, step_tol: float = 0.01,
+                path_tol: float = 0.03) -> CheckResult:
+    """The robot (sole midpoint, double-support samples) against the plan's robot poses.
+
+    At the end of every pivot step it stands at the step's ``robot`` pose (< 1 cm and
+    0.02 rad); during a transit it stays within 3 cm of the ``robot_path`` polyline.
+    The value is the worst of (step error / 1 cm, path deviation / 3 cm): pass below 1.
+    """
+    mid = 0.5 * (kin.feet["left_foot"][:, :2, 3] + kin.feet["right_foot"][:, :2, 3])
+    xl, xr = kin.feet["left_foot"][:, :2, 0], kin.feet["right_foot"][:, :2, 0]
+    yaw = np.arctan2(xl[:, 1] + xr[:, 1], xl[:, 0] + xr[:, 0])
+    worst, where, wi = 0.0, "", -1
+    for p, ph in enumerate(plan.phases):
+        idx = np.nonzero((motion.phase == p) & (motion.support == SUPPORT_DOUBLE))[0]
+        if len(idx) == 0:
+            continue
+        if isinstance(ph, TransitPhase):
+            poly = np.array([q[:2] for q in ph.robot_path])
+            for i in idx[:: max(1, len(idx) // 400)]:
+                v = _point_polyline(mid[i], poly) / path_tol
+                if v > worst:
+                    worst, where, wi = v, f"transit phase {p} t = {motion.t[i]:.3f} s", int(i)
+            continue
+        for j, st in enumerate(ph.steps):
+            sel = idx[motion.step[idx] == j]
+            if len(sel) == 0:
+                continue
+            i = int(sel[-1])
+            d = float(np.linalg.norm(mid[i] - np.array(st.robot[:2])))
+            da = abs(math.remainder(float(yaw[i]) - st.robot[2], 2 * math.pi))
+            v = max(d / step_tol, da / 0.02)
+            if v > worst:
+                worst, where, wi = v, f"phase {p} step {j}: {1000 * d:.1f} mm, {da:.3f} rad", i
+    return CheckResult("robot_plan", worst < 1.0, worst, 1.0, "x",
+                       f"step pose / 1 cm, transit deviation / 3 cm; worst {where}", wi)
 
 
 #: Links allowed to touch the box: the hands and fingers.

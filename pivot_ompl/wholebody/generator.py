@@ -6,15 +6,16 @@ Timeline of a **transfer phase** (grasp ``k``), each part a segment of solver ti
    on the resting box (``holding`` is false until the end of the reach);
 2. *tilt* (:attr:`Timing.tilt`): the box is inclined towards the robot about the supporting
    edge to :attr:`BoxHold.tilt` (5 deg by default), the hands riding on it;
-3. one *pivot* segment per plan step: the robot walks (LIPM/ZMP pattern generator, naive
-   footstep planner: forward, sideways and backward steps) from its attached pose before the
-   step to the step's ``robot`` pose while the inclined box turns about the vertical through
-   the step's ``pivot`` corner by the step's ``angle``, smoothly over the segment; the box
-   pose at the end is exactly the plan's;
+3. one *pivot* segment per plan step: the robot walks (LIPM/ZMP pattern generator;
+   forward, sideways and backward steps) along the arc its attached pose describes about the
+   pivot, from its pose before the step to the step's ``robot`` pose, while the inclined box
+   turns about the vertical through the step's ``pivot`` corner by the step's ``angle``,
+   smoothly over the segment; the box pose at the end is exactly the plan's;
 4. *untilt* then *release*: the box is set down flat and the hands return to rest.
 
-A **transit phase** walks through the phase's ``robot_path`` (consecutive poses closer than
-:attr:`Timing.path_spacing` merged) with the box resting; long walks are planned in pieces of
+A **transit phase** walks along the phase's ``robot_path`` (footsteps placed along its
+straight segments, see :meth:`PlacoWalker.path_footsteps`) with the box resting; long walks
+are planned in pieces of
 :attr:`Timing.max_steps` steps, each coming to rest (the LIPM QP grows with its horizon).
 Grip points and the tilt are defined in :mod:`pivot_ompl.wholebody.box`; tasks and the
 lift-off delay that keeps the ZMP inside real support polygons in
@@ -39,7 +40,7 @@ import numpy as np
 from ..errors import InputError, WholeBodyError
 from ..planfile import Plan, TransferPhase, TransitPhase
 from ..robot_model import SOLE_SIZE, URDF_RELPATH
-from ..se2 import Pose, wrap_angle
+from ..se2 import Pose, rotate_about, wrap_angle
 from .box import DEFAULT_TILT, BoxHold, quat_xyzw, rotation_about_vertical, transform
 from .motion import Motion
 from .walker import PlacoWalker, SolverFailure, WalkSettings
@@ -62,8 +63,6 @@ class Timing:
         rotate_margin: the rotation of a pivot step starts this long after its segment start
             and ends this long before its end.
         min_rotate: duration of a pivot step that needs no footstep.
-        path_spacing: transit path poses closer than this (m) to the last kept one are merged
-            (yaw change under 0.3 rad).
         max_hand_error: a hand further than this from its grip point while holding fails (m).
         max_steps: a transit walk is planned (and comes to rest) every this many steps.
     """
@@ -74,7 +73,6 @@ class Timing:
     settle: float = 0.3
     rotate_margin: float = 0.3
     min_rotate: float = 1.2
-    path_spacing: float = 0.3
     max_hand_error: float = 0.01
     max_steps: int = 10
 
@@ -282,9 +280,17 @@ class WholeBodyGenerator:
                  tilt: float = 0.0,
                  each: Callable[[float], None] | None = None,
                  hands_of: Callable[[], tuple[np.ndarray, np.ndarray]] | None = None,
-                 ) -> None:
-        """Walk through ``targets``; ``each(s)`` (s in [0, 1] over the segment) moves the box."""
-        footsteps = self.walker.plan_footsteps(targets)
+                 follow_path: bool = False) -> None:
+        """Walk through ``targets``; ``each(s)`` (s in [0, 1] over the segment) moves the box.
+
+        With ``follow_path`` the footsteps follow the straight lines between the targets
+        (transits: the plan's path is what was checked against the obstacles); otherwise
+        PlaCo's naive planner walks to each target.
+        """
+        if follow_path:
+            footsteps = self.walker.path_footsteps(targets)
+        else:
+            footsteps = self.walker.plan_footsteps(targets)
         if not footsteps:
             if each is not None:
                 self._stand(self.timing.min_rotate, each, holding=holding, grasp=grasp,
@@ -317,6 +323,7 @@ class WholeBodyGenerator:
             self._walk_to([phase.robot_start])
         G = hold.T_world_G(obj, k)
         theta = hold.tilt
+        robot_before = phase.robot_start
         state = {"G": G, "tilt": 0.0}
 
         def set_box() -> None:
@@ -359,8 +366,13 @@ class WholeBodyGenerator:
                 state["G"] = rotation_about_vertical(st.pivot, a) @ G0
                 set_box()
 
-            self._walk_to([step.robot], holding=True, grasp=k, tilt=theta, each=rot_each,
-                          hands_of=lambda: self._grip_hands(state["G"], k, theta))
+            # the robot's attached pose turns about the pivot with the box: step along that arc
+            arc = [rotate_about(robot_before, step.pivot, step.angle * u)
+                   for u in (0.25, 0.5, 0.75)] + [step.robot]
+            self._walk_to(arc, holding=True, grasp=k, tilt=theta, each=rot_each,
+                          hands_of=lambda: self._grip_hands(state["G"], k, theta),
+                          follow_path=True)
+            robot_before = step.robot
             state["G"] = G_after
             set_box()
             obj = step.object
@@ -384,16 +396,7 @@ class WholeBodyGenerator:
 
     def _transit(self, i: int, phase: TransitPhase, obj: Pose) -> None:
         self._box_T = self.hold.T_world_box(self.hold.T_world_G(obj, 0), 0, 0.0)
-        kept: list[Pose] = []
-        last = self.walker.robot_pose()
-        path = list(phase.robot_path)
-        for j, p in enumerate(path):
-            end = j == len(path) - 1
-            if end or (math.hypot(p[0] - last[0], p[1] - last[1]) >= self.timing.path_spacing
-                       or abs(wrap_angle(p[2] - last[2])) >= 0.3):
-                kept.append(p)
-                last = p
-        self._walk_to(kept)
+        self._walk_to(list(phase.robot_path), follow_path=True)
         self._unit_done(f"phase {i}: transit")
 
     # -- output -------------------------------------------------------------------------

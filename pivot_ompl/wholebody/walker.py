@@ -90,9 +90,12 @@ def planar(T: np.ndarray) -> Pose:
     return (float(T[0, 3]), float(T[1, 3]), math.atan2(T[1, 0], T[0, 0]))
 
 
-#: Posture targets of the upper body (elbows bent, arms alongside the body).
+#: Posture targets of the upper body: chest and head upright, upper arms slightly inward
+#: (shoulder roll 0.15 rad) and elbows bent 0.9 rad, so that the arms stay inside the 0.70 m
+#: wide floor box while the trunk sways over the feet.
 UPPER_POSTURE = {k: v for k, v in HALF_SITTING.items() if not k.startswith(("RLEG", "LLEG"))}
-UPPER_POSTURE.update({"RARM_JOINT1": 0.0, "LARM_JOINT1": 0.0})
+UPPER_POSTURE.update({"RARM_JOINT0": 0.0, "LARM_JOINT0": 0.0, "RARM_JOINT1": 0.15,
+                      "LARM_JOINT1": -0.15, "RARM_JOINT3": -0.9, "LARM_JOINT3": -0.9})
 
 
 class SolverFailure(RuntimeError):
@@ -307,6 +310,70 @@ class PlacoWalker:
             last_side = str(fs[-1].side)
         return footsteps if len(footsteps) > 2 else []
 
+    def path_footsteps(self, path: list[Pose], *, resolution: float = 0.01,
+                       inner_dy: float = 0.02) -> list:
+        """Footsteps that follow ``path`` (robot poses joined by straight lines, linear yaw).
+
+        Each step moves the robot frame (sole midpoint) to the furthest pose along the path
+        whose displacement from the current one, in the current frame, lies in the ellipsoid
+        of :attr:`WalkSettings.max_dx_forward` / ``max_dx_backward``, ``max_dy`` and
+        ``max_dtheta``; a lateral step towards the support foot is limited to ``inner_dy`` (m)
+        so the feet never come closer than the nominal gap minus that. The flying foot lands
+        beside the new robot pose; a last step brings the feet together at the path's end.
+        The list starts with the two current feet, as PlaCo's ``make_supports`` expects; it
+        is empty when no step is needed.
+        """
+        placo = self._placo
+        s = self.settings
+        dense = _densify([self.robot_pose(), *path], resolution)
+        cur = dense[0]
+        T_l, T_r = self.T_left, self.T_right
+        # first flying foot: the side the path leaves towards (or turns towards)
+        fly_left = True
+        for pose in dense[1:]:
+            dx, dy, dth = _relative(cur, pose)
+            if abs(dy) > 0.02 or abs(dth) > 0.05:
+                fly_left = dy > 0 if abs(dy) > 0.02 else dth > 0
+                break
+            if abs(dx) > 0.05:
+                break
+
+        def footstep(left: bool, T: np.ndarray):  # noqa: ANN202
+            f = placo.Footstep(self.params.foot_width, self.params.foot_length)
+            f.side = placo.HumanoidRobot_Side.left if left else placo.HumanoidRobot_Side.right
+            f.frame = T
+            return f
+
+        steps = [footstep(fly_left, T_l if fly_left else T_r),
+                 footstep(not fly_left, T_r if fly_left else T_l)]
+        i = 0
+        while i < len(dense) - 1:
+            j = i
+            while j + 1 < len(dense):
+                dx, dy, dth = _relative(cur, dense[j + 1])
+                dy_max = s.max_dy if (dy >= 0) == fly_left else inner_dy
+                dx_max = s.max_dx_forward if dx >= 0 else s.max_dx_backward
+                if (dx / dx_max) ** 2 + (dy / dy_max) ** 2 + (dth / s.max_dtheta) ** 2 > 1.0:
+                    break
+                j += 1
+            if j == i:  # resolution too coarse for the limits: force progress
+                j = i + 1
+            cur, i = dense[j], j
+            want_l, want_r = self.feet_frames(cur)
+            steps.append(footstep(fly_left, want_l if fly_left else want_r))
+            fly_left = not fly_left
+        if len(steps) == 2:
+            return []
+        want_l, want_r = self.feet_frames(cur)
+        last = want_l if fly_left else want_r
+        prev = T_l if fly_left else T_r
+        for f in steps[2:]:
+            if (str(f.side) == "left") == fly_left:
+                prev = np.array(f.frame)
+        if not np.allclose(prev, last, atol=1e-4):
+            steps.append(footstep(fly_left, last))
+        return steps
+
     @staticmethod
     def chunks(footsteps: list, max_steps: int) -> list[list]:
         """Split footsteps into walks of at most ``max_steps`` steps.
@@ -407,3 +474,26 @@ class PlacoWalker:
         """Time the swing foot stays down after a single support starts (s)."""
         s = self.settings
         return s.single_support_duration / s.single_support_timesteps + 2.5 * s.dt
+
+
+def _relative(a: Pose, b: Pose) -> tuple[float, float, float]:
+    """Pose ``b`` in the frame of pose ``a`` (dx, dy, dyaw)."""
+    c, sn = math.cos(a[2]), math.sin(a[2])
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    return (c * dx + sn * dy, -sn * dx + c * dy, wrap_angle(b[2] - a[2]))
+
+
+def _densify(path: list[Pose], resolution: float) -> list[Pose]:
+    """Poses along ``path`` (straight lines, yaw linear the shorter way).
+
+    Consecutive poses are at most ``resolution`` m (or ``2 * resolution`` rad) apart.
+    """
+    out = [path[0]]
+    for a, b in zip(path[:-1], path[1:], strict=True):
+        dth = wrap_angle(b[2] - a[2])
+        n = max(1, math.ceil(max(math.hypot(b[0] - a[0], b[1] - a[1]),
+                                 0.5 * abs(dth)) / resolution))
+        for k in range(1, n + 1):
+            u = k / n
+            out.append((a[0] + u * (b[0] - a[0]), a[1] + u * (b[1] - a[1]), a[2] + u * dth))
+    return out
