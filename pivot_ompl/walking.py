@@ -16,7 +16,6 @@ has few turns.
 
 from __future__ import annotations
 
-import heapq
 import logging
 import math
 from dataclasses import dataclass, field
@@ -24,6 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .collision import CollisionWorld
+from .graph import astar
 from .grasp import BoxGraspModel
 from .se2 import Pose, wrap_angle
 from .sweep import SWEEP_TOLERANCE, certify
@@ -252,37 +252,19 @@ class WalkPlanner:
 def _astar(free: np.ndarray, starts: list[tuple[int, int]], goals: dict[tuple[int, int], int],
            res: float) -> list[tuple[int, int]]:
     """A* over the free grid cells (8 neighbours and knight moves), Euclidean costs."""
-    gx = np.mean([g[0] for g in goals])
-    gy = np.mean([g[1] for g in goals])
+    gx = float(np.mean([g[0] for g in goals]))
+    gy = float(np.mean([g[1] for g in goals]))
+    spread = max(math.hypot(g[0] - gx, g[1] - gy) for g in goals)
     nx, ny = free.shape
-
-    def h(c: tuple[int, int]) -> float:
-        return max(0.0, math.hypot(c[0] - gx, c[1] - gy) - 2.0)
-
-    dist = {s: 0.0 for s in starts}
-    parent: dict[tuple[int, int], tuple[int, int]] = {}
-    heap = [(h(s), s) for s in starts]
-    heapq.heapify(heap)
-    done: set[tuple[int, int]] = set()
     moves = [(dx, dy, math.hypot(dx, dy)) for dx, dy in _MOVES]
-    while heap:
-        _, c = heapq.heappop(heap)
-        if c in done:
-            continue
-        done.add(c)
-        if c in goals:
-            path = [c]
-            while path[-1] in parent:
-                path.append(parent[path[-1]])
-            return path[::-1]
-        dc = dist[c]
+
+    def neighbours(c: tuple[int, int]):
         for dx, dy, w in moves:
             x, y = c[0] + dx, c[1] + dy
             if 0 <= x < nx and 0 <= y < ny and free[x, y]:
-                n = (x, y)
-                nd = dc + w
-                if nd < dist.get(n, math.inf):
-                    dist[n] = nd
-                    parent[n] = c
-                    heapq.heappush(heap, (nd + h(n), n))
-    return []
+                yield (x, y), w
+
+    def h(c: tuple[int, int]) -> float:
+        return max(0.0, math.hypot(c[0] - gx, c[1] - gy) - spread)
+
+    return astar(starts, goals, neighbours, h)

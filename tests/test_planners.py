@@ -100,3 +100,20 @@ def test_cli_statuses(tmp_path):
                                                           "size: [1, 1], height: 1}"))
     r = run_cli("plan", str(bad), "--time", "2")
     assert r.returncode == 2 and "INVALID_START" in r.stderr
+
+
+def test_repeated_solves_in_one_process():
+    """Regression: PathGeometric.append keeps the state pointer (a freed scratch state made a
+    later solve crash), and freed scratch states came back with stale wrapper types."""
+    from pivot_ompl.planners import make_planner
+    from pivot_ompl.space import make_setup
+
+    scene = shipped("open_fig7")
+    for name in ("visprm", "regrasp", "visprm", "rrtconnect"):
+        ss = make_setup(scene)
+        ss.setPlanner(make_planner(name, ss.getSpaceInformation(), seed=1))
+        assert str(ss.solve(10.0)) == "Exact solution"
+        path = ss.getSolutionPath()
+        assert path.getStateCount() >= 2
+        first = path.getState(0)
+        assert (first[0].getX(), first[0].getY()) == (0.0, 0.0) and first[1].value in range(4)

@@ -11,7 +11,6 @@ they validated (pivot sequences and walks are the expensive part), so the search
 
 from __future__ import annotations
 
-import heapq
 import logging
 import math
 import time
@@ -21,6 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..checker import PivotChecker
+from ..graph import astar
 from ..se2 import Pose
 from .roadmap import Roadmap, pose_metric
 from .visibility import VisibilityRoadmapBuilder
@@ -67,11 +67,11 @@ class RegraspParams:
     optimise: bool = True
     critical_spacing: float = 0.4
     bridge_bias: float = 0.3
-    bridge_rounds: int = 30
+    bridge_rounds: int = 60
     search_every: int = 8
     bridge_sigma: float = 0.5
     passage_steps: tuple[float, ...] = (0.5, 1.0, 1.5, 2.0)
-    max_visibility_samples: int = 60
+    max_visibility_samples: int = 30
 
 
 @dataclass
@@ -116,6 +116,7 @@ class MultiplexedSearch:
         """Create the object roadmap and the multiplexed graph."""
         self.obj = Roadmap()
         self.adj: dict[Node, dict[Node, float]] = {}
+        self._uf: dict[Node, Node] = {}  # union-find over candidate edges (never split)
         self.by_grasp: dict[int, list[int]] = {g: [] for g in self.params.grasps}
         self.verified: dict[tuple[Node, Node], bool] = {}
         self.critical: list[int] = []
@@ -167,13 +168,31 @@ class MultiplexedSearch:
 
     # -- multiplexed graph ------------------------------------------------------------------
     def _add_node(self, node: Node) -> None:
-        self.adj.setdefault(node, {})
+        if node not in self.adj:
+            self.adj[node] = {}
+            self._uf[node] = node
+
+    def _find(self, n: Node) -> Node:
+        uf = self._uf
+        while uf[n] != n:
+            uf[n] = uf[uf[n]]
+            n = uf[n]
+        return n
 
     def _link(self, a: Node, b: Node, cost: float) -> None:
         if (a, b) in self.verified and not self.verified[(a, b)]:
             return
         self.adj[a][b] = cost
         self.adj[b][a] = cost
+        ra, rb = self._find(a), self._find(b)
+        if ra != rb:
+            self._uf[ra] = rb
+
+    def _maybe_connected(self) -> bool:
+        """Whether start and goal share a component of the candidate graph. Edges are only
+        removed later, so this is a sound filter: no component, no path."""
+        goals = {self._find(g) for g in self.goal_nodes}
+        return any(self._find(s) in goals for s in self.start_nodes)
 
     def plan_with_object_config(self, i: int) -> int:
         """Add object node ``i`` to every manipulation roadmap where it is valid.
@@ -238,6 +257,8 @@ class MultiplexedSearch:
 
     def search(self, ptc: Callable[[], bool]) -> list[Node]:
         """Lazy shortest path from a start node to a goal node; ``[]`` if none yet."""
+        if not self._maybe_connected():
+            return []
         t0 = time.perf_counter()
         try:
             while not ptc():
@@ -266,9 +287,6 @@ class MultiplexedSearch:
     def _dijkstra(self) -> list[Node]:
         """A* over the multiplexed graph; heuristic: straight distance of the box to the goal
         less the largest car offset (a transfer edge is at least that long)."""
-        dist: dict[Node, float] = {}
-        parent: dict[Node, Node] = {}
-        heap: list[tuple[float, Node]] = []
         poses = self.obj.poses
         gx, gy = self.goal[0], self.goal[1]
         slack = max(self.checker.model.object_size[:2])
@@ -277,29 +295,7 @@ class MultiplexedSearch:
             q = poses[n[0]]
             return max(0.0, math.hypot(q[0] - gx, q[1] - gy) - slack)
 
-        for s in self.start_nodes:
-            dist[s] = 0.0
-            heap.append((h(s), s))
-        heapq.heapify(heap)
-        done: set[Node] = set()
-        while heap:
-            _, u = heapq.heappop(heap)
-            if u in done:
-                continue
-            done.add(u)
-            d = dist[u]
-            if u in self.goal_nodes:
-                path = [u]
-                while path[-1] in parent:
-                    path.append(parent[path[-1]])
-                return path[::-1]
-            for v, c in self.adj[u].items():
-                nd = d + c
-                if nd < dist.get(v, math.inf):
-                    dist[v] = nd
-                    parent[v] = u
-                    heapq.heappush(heap, (nd + h(v), v))
-        return []
+        return astar(self.start_nodes, self.goal_nodes, lambda u: self.adj[u].items(), h)
 
     # -- the algorithm (Fig. 7 of the paper) -------------------------------------------------
     def run(self, ptc: Callable[[], bool]) -> list[tuple[Pose, int]]:

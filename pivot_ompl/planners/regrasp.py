@@ -12,12 +12,12 @@ from ompl import base as ob
 
 from ..space import read_state
 from .multiplex import MultiplexedSearch, RegraspParams
-from .search import states_to_path
+from .search import GuardedPlanner, states_to_path
 
 log = logging.getLogger(__name__)
 
 
-class RegraspPlanner(ob.Planner):
+class RegraspPlanner(GuardedPlanner):
     """Visibility PRM on the box, manipulation and regrasping roadmaps multiplexed, diffusion.
 
     The start is the problem's start state (its pose; every valid grasp is a start); the goal
@@ -46,13 +46,6 @@ class RegraspPlanner(ob.Planner):
     def clear(self) -> None:  # noqa: D102
         super().clear()
         self.last_search = None
-
-    def solve(self, ptc: Any) -> ob.PlannerStatus:  # noqa: D102
-        try:
-            return self._solve(ptc)
-        except Exception:  # an exception escaping aborts OMPL's Benchmark: report a crash
-            log.exception("RegraspPlanner crashed")
-            return ob.PlannerStatus(ob.PlannerStatus.CRASH)
 
     def _solve(self, ptc: Any) -> ob.PlannerStatus:
         si = self.getSpaceInformation()

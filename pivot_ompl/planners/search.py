@@ -1,10 +1,35 @@
-"""Helpers shared by our OMPL planners: writing a solution path into the problem definition."""
+"""What our OMPL planners share: the crash guard and writing a solution path."""
 
 from __future__ import annotations
 
+import logging
 from typing import Any
 
+from ompl import base as ob
 from ompl import geometric as og
+
+log = logging.getLogger(__name__)
+
+
+class GuardedPlanner(ob.Planner):
+    """An ``ob.Planner`` whose ``solve`` never lets an exception escape.
+
+    An exception escaping a Python ``solve`` aborts a whole ``ompl.tools.Benchmark`` run: it
+    is logged and reported as ``CRASH`` instead. Subclasses implement ``_solve(ptc)``.
+    """
+
+    def clear(self) -> None:  # noqa: D102
+        super().clear()
+
+    def solve(self, ptc: Any) -> ob.PlannerStatus:  # noqa: D102
+        try:
+            return self._solve(ptc)
+        except Exception:
+            log.exception("%s crashed", self.getName())
+            return ob.PlannerStatus(ob.PlannerStatus.CRASH)
+
+    def _solve(self, ptc: Any) -> ob.PlannerStatus:
+        raise NotImplementedError
 
 from ..se2 import Pose
 from ..space import write_state

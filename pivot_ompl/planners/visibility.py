@@ -22,6 +22,7 @@ from ompl import base as ob
 from ..se2 import Pose
 from ..space import read_state, write_state
 from .roadmap import Roadmap, pose_metric
+from .search import GuardedPlanner, states_to_path
 
 log = logging.getLogger(__name__)
 
@@ -86,7 +87,7 @@ class VisibilityRoadmapBuilder:
             self.step()
 
 
-class VisibilityPRM(ob.Planner):
+class VisibilityPRM(GuardedPlanner):
     """Visibility PRM on the compound (object pose x grasp) space.
 
     Samples are uniform compound states; visibility is ``si.checkMotion``. A grasp change
@@ -108,19 +109,7 @@ class VisibilityPRM(ob.Planner):
         self.max_failures = max_failures
         self.stats: dict[str, Any] = {}
 
-    def clear(self) -> None:  # noqa: D102
-        super().clear()
-
-    def solve(self, ptc: Any) -> ob.PlannerStatus:  # noqa: D102
-        try:
-            return self._solve(ptc)
-        except Exception:  # an exception escaping aborts OMPL's Benchmark: report a crash
-            log.exception("VisibilityPRM crashed")
-            return ob.PlannerStatus(ob.PlannerStatus.CRASH)
-
     def _solve(self, ptc: Any) -> ob.PlannerStatus:
-        from .search import states_to_path
-
         si = self.getSpaceInformation()
         pis = self.getPlannerInputStates()
         start = pis.nextStart()
