@@ -24,7 +24,7 @@ from .steering import PivotSequence, PivotSteering
 
 __all__ = [
     "BoxGraspModel", "InputError", "PivotError", "PivotSequence", "PivotSteering", "Plan",
-    "PlanFileError", "PlanningError", "SceneError", "SteeringError", "TransferPhase",
+    "PlanFileError", "PlanningError", "Scene", "SceneError", "SteeringError", "TransferPhase",
     "TransferStep", "TransitPhase", "UnreachableError", "WholeBodyError", "load_plan",
     "load_scene",
 ]

@@ -11,8 +11,6 @@ import logging
 import math
 from dataclasses import dataclass, field
 
-import numpy as np
-
 from .collision import CollisionWorld
 from .pivoting import LEFT, Rotation
 from .scene import Scene

@@ -176,22 +176,20 @@ class CollisionWorld:
                              _transform(obj[0], obj[1], obj[2], 0.5 * self.model.object_size[2]),
                              self._req, self._res)
 
-    def turning_disk_distance(self, x: float, y: float, obj: Pose | None = None) -> float:
-        """Clearance (m) of the disk the robot sweeps turning in place at ``(x, y)``.
+    def turning_disk_distance(self, x: float, y: float) -> float:
+        """Clearance (m) to the obstacles of the disk the robot sweeps turning in place at
+        ``(x, y)``."""
+        self._disk.setTransform(_transform(x, y, 0.0, 0.5 * self.model.robot_height))
+        return self._distance(self._disk)
 
-        Obstacles and, if ``obj`` is given, the box resting at object pose ``obj``.
-        """
-        z = 0.5 * self.model.robot_height
-        self._disk.setTransform(_transform(x, y, 0.0, z))
-        d = self._distance(self._disk)
-        if obj is not None:
-            self.queries += 1
-            self._res.clear()
-            d = min(d, coal.distance(self._disk_shape, _transform(x, y, 0.0, z), self._box_shape,
-                                     _transform(obj[0], obj[1], obj[2],
-                                                0.5 * self.model.object_size[2]),
-                                     self._req, self._res))
-        return d
+    def turning_disk_box_distance(self, x: float, y: float, obj: Pose) -> float:
+        """Clearance (m) between that disk and the box resting at object pose ``obj``."""
+        self.queries += 1
+        self._res.clear()
+        return coal.distance(self._disk_shape, _transform(x, y, 0.0, 0.5 * self.model.robot_height),
+                             self._box_shape,
+                             _transform(obj[0], obj[1], obj[2], 0.5 * self.model.object_size[2]),
+                             self._req, self._res)
 
     # -- bounds ------------------------------------------------------------------------
     def bounds_margin(self, corners: list[tuple[float, float]]) -> float:

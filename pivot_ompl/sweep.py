@@ -24,7 +24,8 @@ class SweepResult:
 
     Attributes:
         valid: the whole motion is collision-free (to the tolerance).
-        first_collision: smallest sampled parameter found in collision (1.0 if valid).
+        first_collision: a sampled parameter found in collision, searching left first
+            (1.0 if valid).
         queries: number of clearance queries made.
     """
 
@@ -42,7 +43,8 @@ def certify(clearance: Callable[[float], float], lipschitz: float, *,
         clearance: distance (m) from the moving body at parameter ``s`` to the obstacles.
         lipschitz: bound ``M`` (m) on any point's displacement over the whole motion.
         tolerance: accepted unchecked displacement (m).
-        d0, d1: clearances at ``s = 0`` and ``s = 1`` if already known.
+        d0: clearance at ``s = 0`` if already known.
+        d1: clearance at ``s = 1`` if already known.
     """
     queries = 0
     if d0 is None:

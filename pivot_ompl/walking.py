@@ -69,6 +69,9 @@ class WalkPlanner:
         turn_cost: cost of turning in place (m per rad).
         margin: clearance kept round the turning disk (m); must exceed the capsule sliver
             ``r - sqrt(r^2 - (1.15 resolution)^2)``.
+        box_margin: extra clearance kept from the resting box while walking (m): the robot's
+            bounding box does not cover its arms' sway while it walks (about 7 cm measured
+            on HRP-2 by the whole-body generator), and the box is what it walks closest to.
         tolerance: swept-check tolerance of straight walks (m).
     """
 
@@ -78,6 +81,7 @@ class WalkPlanner:
     back_off: float = 0.3
     turn_cost: float = 0.15
     margin: float = 0.02
+    box_margin: float = 0.08
     tolerance: float = SWEEP_TOLERANCE
     _free: np.ndarray | None = field(default=None, init=False, repr=False)
 
@@ -103,7 +107,10 @@ class WalkPlanner:
         b = self.world.bounds
         if not (b[0] + r <= x <= b[2] - r and b[1] + r <= y <= b[3] - r):
             return False
-        return self.world.turning_disk_distance(x, y, obj) > self.margin
+        if self.world.turning_disk_distance(x, y) <= self.margin:
+            return False
+        return obj is None or \
+            self.world.turning_disk_box_distance(x, y, obj) > self.margin + self.box_margin
 
     def build(self) -> np.ndarray:
         """The grid of turn-in-place positions clear of the static obstacles (built once)."""
@@ -130,7 +137,7 @@ class WalkPlanner:
                 return -1.0
             d = self.world.robot_distance(p)
             if obj is not None:
-                d = min(d, self.world.robot_box_distance(p, obj))
+                d = min(d, self.world.robot_box_distance(p, obj) - self.box_margin)
             return d
 
         return certify(clearance, lip, tolerance=self.tolerance).valid

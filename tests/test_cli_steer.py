@@ -8,8 +8,8 @@ import subprocess
 import sys
 
 import pytest
-
 from conftest import scene_file
+
 from pivot_ompl.check import check_plan
 from pivot_ompl.errors import PlanFileError
 from pivot_ompl.planfile import load_plan, plan_from_dict

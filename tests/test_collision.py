@@ -6,8 +6,8 @@ import math
 
 import numpy as np
 import pytest
-
 from conftest import make_scene
+
 from pivot_ompl.collision import CollisionWorld, triangulate
 from pivot_ompl.sweep import certify
 

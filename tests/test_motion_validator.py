@@ -4,10 +4,9 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 import pytest
-
 from conftest import make_scene, shipped
+
 from pivot_ompl.check import check_plan
 from pivot_ompl.pathconv import path_to_plan
 from pivot_ompl.space import make_problem, make_setup, read_state, write_state
@@ -62,7 +61,6 @@ def test_pivot_clipping_a_corner_is_rejected_though_ends_are_free():
     m = scene.model
     from pivot_ompl.se2 import rotate_about
     # find a point swept by the box during rotation k but inside no step-end footprint
-    rng = np.random.default_rng(0)
     target = None
     for k, rot in enumerate(seq.rotations):
         before = seq.rotations[k - 1].car if k else m.car_pose(a, 0)
@@ -131,6 +129,7 @@ def test_walk_blocked_when_box_cannot_be_rounded():
 @pytest.mark.parametrize("planner", ["rrtconnect", "kpiece1", "visprm"])
 def test_ompl_baselines_on_open_scene(planner):
     from ompl import geometric as og
+
     from pivot_ompl.planners import make_planner
 
     scene = shipped("cluttered_room")

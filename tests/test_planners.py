@@ -7,8 +7,8 @@ import sys
 import time
 
 import pytest
-
 from conftest import make_scene, scene_file, shipped
+
 from pivot_ompl.api import plan
 from pivot_ompl.check import check_plan
 from pivot_ompl.errors import InputError, PlanningError

@@ -8,8 +8,8 @@ import sys
 
 import pytest
 import yaml
-
 from conftest import SCENES, make_scene
+
 from pivot_ompl.errors import SceneError
 from pivot_ompl.scene import PolygonObstacle, load_scene
 

@@ -12,7 +12,6 @@ plain, JSON-able :class:`JobResult` dict, so results do not depend on the execut
 
 from __future__ import annotations
 
-from ..space import ensure_projection  # noqa: F401 - re-exported for the recipe
 import importlib
 import json
 import os
@@ -26,6 +25,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
+from ..space import ensure_projection  # noqa: F401 - re-exported for the recipe
 from .ompl_log import STATUS, fmt_value, parse_log, prop_type
 
 #: A job process is killed (and its run recorded as ``Crash``) after

@@ -8,6 +8,9 @@ from typing import Any
 from ompl import base as ob
 from ompl import geometric as og
 
+from ..se2 import Pose
+from ..space import write_state
+
 log = logging.getLogger(__name__)
 
 
@@ -30,9 +33,6 @@ class GuardedPlanner(ob.Planner):
 
     def _solve(self, ptc: Any) -> ob.PlannerStatus:
         raise NotImplementedError
-
-from ..se2 import Pose
-from ..space import write_state
 
 
 def states_to_path(planner: Any, states: list[tuple[Pose, int]], *,
