@@ -94,18 +94,9 @@ def forward(car: Pose, half_length: float, first_end: int,
     return (x, y, h)
 
 
-def _best_angles(start: Pose, goal: Pose, ell: float,
-                 alpha_max: float) -> tuple[int, float, float, float, float]:
-    """Closed-form 3R inverse kinematics over both sequences; the best verified candidate.
-
-    Let ``P0`` be the first pivot and ``u(a)`` the unit vector of angle ``a``. With ``psi`` the
-    direction from ``P0`` to the other end, after the first two rotations the first end sits at
-    ``P0 + 2l (u(psi+a1) - u(psi+a1+a2))``, which must equal the goal's first end. Its distance
-    ``d`` to ``P0`` gives ``|a2| = 2 asin(d / 4l)``; ``atan2`` of the difference gives ``a1``;
-    ``a3`` closes the heading. Candidates are checked with the forward map, best first.
-
-    Returns ``(first_end, a1, a2, a3, total)``; ``first_end`` is ``-1`` if unreachable.
-    """
+def _candidates_within(start: Pose, goal: Pose, ell: float,
+                       alpha_max: float) -> list[tuple[float, int, float, float, float]]:
+    """Closed-form candidates ``(total, first_end, a1, a2, a3)`` within the bound, best first."""
     sh, ch = math.sin(start[2]), math.cos(start[2])
     sg, cg = math.sin(goal[2]), math.cos(goal[2])
     found: list[tuple[float, int, float, float, float]] = []
@@ -138,12 +129,58 @@ def _best_angles(start: Pose, goal: Pose, ell: float,
             if abs(a1) <= bound and abs(a2) <= bound and abs(a3) <= bound:
                 found.append((abs(a1) + abs(a2) + abs(a3), first, a1, a2, a3))
     found.sort()
+    return found
+
+
+def _best_angles(start: Pose, goal: Pose, ell: float,
+                 alpha_max: float) -> tuple[int, float, float, float, float]:
+    """Closed-form 3R inverse kinematics over both sequences; the best verified candidate.
+
+    Let ``P0`` be the first pivot and ``u(a)`` the unit vector of angle ``a``. With ``psi`` the
+    direction from ``P0`` to the other end, after the first two rotations the first end sits at
+    ``P0 + 2l (u(psi+a1) - u(psi+a1+a2))``, which must equal the goal's first end. Its distance
+    ``d`` to ``P0`` gives ``|a2| = 2 asin(d / 4l)``; ``atan2`` of the difference gives ``a1``;
+    ``a3`` closes the heading. Candidates are checked with the forward map, best first.
+
+    Returns ``(first_end, a1, a2, a3, total)``; ``first_end`` is ``-1`` if unreachable.
+    """
+    found = _candidates_within(start, goal, ell, alpha_max)
     for total, first, a1, a2, a3 in found:
         r = forward(start, ell, first, (a1, a2, a3))
         if (abs(r[0] - goal[0]) <= IK_VERIFY_TOL and abs(r[1] - goal[1]) <= IK_VERIFY_TOL
                 and abs(wrap_angle(r[2] - goal[2])) <= IK_VERIFY_TOL):
             return (first, a1, a2, a3, total)
     return (-1, 0.0, 0.0, 0.0, math.inf)
+
+
+def solve_piece(start: Pose, goal: Pose, ell: float,
+                alpha_max: float) -> tuple[bool, tuple[Rotation, ...]]:
+    """Inner loop of the steering: ``(reachable, rotations)`` of the best verified candidate.
+
+    Same candidates and choice as :func:`solve_three_rotations`, but the rotation records are
+    built while verifying the candidate with the forward map (one pass instead of two).
+    """
+    if abs(wrap_angle(goal[2] - start[2])) > 3.0 * alpha_max + ANGLE_TOL:
+        return False, ()
+    found = _candidates_within(start, goal, ell, alpha_max)
+    for _total, first, a1, a2, a3 in found:
+        x, y, h = start
+        sign = 1.0 if first == LEFT else -1.0
+        end = first
+        rots = []
+        for a in (a1, a2, a3):
+            if abs(a) > ZERO_ANGLE:
+                px, py = x - sign * ell * math.sin(h), y + sign * ell * math.cos(h)
+                c, s_ = math.cos(a), math.sin(a)
+                dx, dy = x - px, y - py
+                x, y, h = px + c * dx - s_ * dy, py + s_ * dx + c * dy, h + a
+                rots.append(Rotation(end, (px, py), a, (x, y, h)))
+            sign = -sign
+            end = 1 - end
+        if (abs(x - goal[0]) <= IK_VERIFY_TOL and abs(y - goal[1]) <= IK_VERIFY_TOL
+                and abs(wrap_angle(h - goal[2])) <= IK_VERIFY_TOL):
+            return True, tuple(rots)
+    return False, ()
 
 
 def solve_three_rotations(start: Pose, goal: Pose, *, half_length: float,

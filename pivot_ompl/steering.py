@@ -16,7 +16,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 
 from .errors import InputError, SteeringError
-from .pivoting import Rotation, _best_angles, rotations_of
+from .pivoting import Rotation, solve_piece
 from .reeds_shepp import ReedsShepp
 from .se2 import Pose
 
@@ -116,9 +116,8 @@ class PivotSteering:
         while stack:
             t0, t1, target, depth = stack.pop()
             if math.hypot(target[0] - current[0], target[1] - current[1]) <= reach:
-                first, a1, a2, a3, _ = _best_angles(current, target, half_length, amax)
-                if first >= 0:
-                    rots = rotations_of(current, half_length, first, (a1, a2, a3))
+                ok, rots = solve_piece(current, target, half_length, amax)
+                if ok:
                     if not rots:
                         yield None, True
                     for k, r in enumerate(rots):

@@ -50,13 +50,7 @@ class RegraspPlanner(GuardedPlanner):
     def _solve(self, ptc: Any) -> ob.PlannerStatus:
         si = self.getSpaceInformation()
         checker = si.getMotionValidator().checker
-        pis = self.getPlannerInputStates()
-        start = pis.nextStart()
-        if start is None:
-            return ob.PlannerStatus(ob.PlannerStatus.INVALID_START)
-        goal = pis.nextGoal(ptc)
-        if goal is None:
-            return ob.PlannerStatus(ob.PlannerStatus.INVALID_GOAL)
+        start, goal = self._endpoints(ptc)
         s_pose, _ = read_state(start)
         g_pose, _ = read_state(goal)
         grasps = self.params.grasps

@@ -27,12 +27,31 @@ class GuardedPlanner(ob.Planner):
     def solve(self, ptc: Any) -> ob.PlannerStatus:  # noqa: D102
         try:
             return self._solve(ptc)
+        except _NoQuery as e:
+            return ob.PlannerStatus(e.status)
         except Exception:
             log.exception("%s crashed", self.getName())
             return ob.PlannerStatus(ob.PlannerStatus.CRASH)
 
     def _solve(self, ptc: Any) -> ob.PlannerStatus:
         raise NotImplementedError
+
+    def _endpoints(self, ptc: Any) -> tuple[Any, Any]:
+        """The query's start and goal states, read the safe way (``PlannerInputStates``; never
+        ``pdef.getStartState``, which hands the state's ownership to Python)."""
+        pis = self.getPlannerInputStates()
+        start = pis.nextStart()
+        if start is None:
+            raise _NoQuery(ob.PlannerStatus.INVALID_START)
+        goal = pis.nextGoal(ptc)
+        if goal is None:
+            raise _NoQuery(ob.PlannerStatus.INVALID_GOAL)
+        return start, goal
+
+
+class _NoQuery(Exception):  # noqa: N818 - internal control flow, never escapes solve()
+    def __init__(self, status: Any) -> None:
+        self.status = status
 
 
 def states_to_path(planner: Any, states: list[tuple[Pose, int]], *,

@@ -111,13 +111,7 @@ class VisibilityPRM(GuardedPlanner):
 
     def _solve(self, ptc: Any) -> ob.PlannerStatus:
         si = self.getSpaceInformation()
-        pis = self.getPlannerInputStates()
-        start = pis.nextStart()
-        if start is None:
-            return ob.PlannerStatus(ob.PlannerStatus.INVALID_START)
-        goal_state = pis.nextGoal(ptc)
-        if goal_state is None:
-            return ob.PlannerStatus(ob.PlannerStatus.INVALID_GOAL)
+        start, goal_state = self._endpoints(ptc)
         rng = np.random.default_rng(self.seed)
         space = si.getStateSpace()
         rs = space.getSubspace(0)
