@@ -266,17 +266,23 @@ class MultiplexedSearch:
                 path = self._dijkstra()
                 if not path:
                     return []
-                # validate edges, cheap transfers first, walks last
+                # validate every transfer edge of the path (so one search removes all its bad
+                # transfers), then the walks, which cost more, only if the transfers hold
                 pairs = list(zip(path, path[1:], strict=False))
-                pairs.sort(key=lambda e: e[0][1] != e[1][1])
                 ok = True
-                for a, b in pairs:
-                    if ptc():
-                        return []
-                    if not self._edge_valid(a, b):
-                        self.adj[a].pop(b, None)
-                        self.adj[b].pop(a, None)
-                        ok = False
+                for walks in (False, True):
+                    for a, b in pairs:
+                        if (a[1] != b[1]) != walks:
+                            continue
+                        if ptc():
+                            return []
+                        if not self._edge_valid(a, b):
+                            self.adj[a].pop(b, None)
+                            self.adj[b].pop(a, None)
+                            ok = False
+                            if walks:
+                                break
+                    if not ok:
                         break
                 if ok:
                     return path
