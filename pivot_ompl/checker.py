@@ -9,7 +9,9 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 from .collision import CollisionWorld
 from .pivoting import LEFT, Rotation
@@ -123,13 +125,17 @@ class PivotChecker:
         With ``with_robot=False`` only the box is checked (the object roadmap of the
         Visibility PRM, where the robot is considered separately).
         """
-        key = (obj_a, obj_b, grasp, with_robot)
-        hit = self._edges.get(key)
+        return self._cached(self._edges, (obj_a, obj_b, grasp, with_robot),
+                            lambda: self._transfer(obj_a, obj_b, grasp, with_robot))
+
+    def _cached(self, cache: dict, key: tuple, compute: Callable[[], Any]) -> Any:
+        """A motion result from ``cache``, or computed, stored and counted."""
+        hit = cache.get(key)
         if hit is not None:
             self.counters.cache_hits += 1
             return hit
-        res = self._transfer(obj_a, obj_b, grasp, with_robot)
-        self._edges[key] = res
+        res = compute()
+        cache[key] = res
         if res.valid:
             self.counters.valid += 1
         else:
@@ -230,18 +236,8 @@ class PivotChecker:
     # -- transit -------------------------------------------------------------------------
     def transit(self, obj: Pose, from_grasp: int, to_grasp: int) -> WalkResult:
         """The robot's walk between two grasps of the box resting at ``obj`` (cached)."""
-        key = (obj, from_grasp, to_grasp)
-        hit = self._walks.get(key)
-        if hit is not None:
-            self.counters.cache_hits += 1
-            return hit
-        res = self.walker.plan(obj, from_grasp, to_grasp)
-        self._walks[key] = res
-        if res.valid:
-            self.counters.valid += 1
-        else:
-            self.counters.invalid += 1
-        return res
+        return self._cached(self._walks, (obj, from_grasp, to_grasp),
+                            lambda: self.walker.plan(obj, from_grasp, to_grasp))
 
     def explain(self, obj: Pose) -> str:
         """Why each grasp is invalid at object pose ``obj`` (for error messages)."""
