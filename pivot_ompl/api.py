@@ -33,6 +33,7 @@ class PlanResult:
         timings: seconds spent in ``setup``, ``solve`` and ``convert``.
         roadmap: planner figures (roadmap sizes, critical configurations...), if any.
         motion_checks: counts of valid and invalid motions and cache hits.
+        search: the regrasp planner's roadmaps (for plotting), ``None`` for other planners.
     """
 
     status: str
@@ -43,6 +44,7 @@ class PlanResult:
     timings: dict[str, float] = field(default_factory=dict)
     roadmap: dict[str, Any] = field(default_factory=dict)
     motion_checks: dict[str, int] = field(default_factory=dict)
+    search: Any = field(default=None, repr=False)
 
     @property
     def solved(self) -> bool:
@@ -120,10 +122,9 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     c = problem.checker.counters
     log.info("%s on %s: %s in %.2f s (%d pivots, %d regrasps)", planner, scene.name, name,
              t2 - t1, result_plan.pivots, result_plan.regrasps)
-    res = PlanResult(name, result_plan, planner, seed, time_limit, timings, stats,
-                     {"valid": c.valid, "invalid": c.invalid, "cache_hits": c.cache_hits})
-    res._search = getattr(p, "last_search", None)  # for plotting roadmaps
-    return res
+    return PlanResult(name, result_plan, planner, seed, time_limit, timings, stats,
+                      {"valid": c.valid, "invalid": c.invalid, "cache_hits": c.cache_hits},
+                      getattr(p, "last_search", None))
 
 
 def _status_name(status: Any) -> str:

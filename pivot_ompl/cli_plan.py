@@ -32,9 +32,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 def _progress(stop: threading.Event, limit: float) -> None:
     t0 = time.monotonic()
     while not stop.wait(1.0):
-        if sys.stderr.isatty() or True:
-            print(f"\rplanning... {time.monotonic() - t0:5.1f} s / {limit:.0f} s", end="",
-                  file=sys.stderr, flush=True)
+        print(f"\rplanning... {time.monotonic() - t0:5.1f} s / {limit:.0f} s", end="",
+              file=sys.stderr, flush=True)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -63,6 +62,6 @@ def run(args: argparse.Namespace) -> int:
         print(f"plan written to {args.out}")
     if args.plot:
         from .plotting import plot_plan
-        plot_plan(res.plan, args.plot, scene=scene, search=getattr(res, "_search", None))
+        plot_plan(res.plan, args.plot, scene=scene, search=res.search)
         print(f"figure written to {args.plot}")
     return 0 if res.solved else 1

@@ -22,7 +22,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .errors import UnreachableError
-from .se2 import Pose, rotate_about, wrap_angle
+from .se2 import Pose, wrap_angle
 
 #: Tolerance on the forward-map verification of an inverse-kinematics candidate (m and rad).
 IK_VERIFY_TOL = 1e-9
@@ -96,7 +96,14 @@ def forward(car: Pose, half_length: float, first_end: int,
 
 def _candidates_within(start: Pose, goal: Pose, ell: float,
                        alpha_max: float) -> list[tuple[float, int, float, float, float]]:
-    """Closed-form candidates ``(total, first_end, a1, a2, a3)`` within the bound, best first."""
+    """Closed-form candidates ``(total, first_end, a1, a2, a3)`` within the bound, best first.
+
+    Let ``P0`` be the first pivot and ``u(a)`` the unit vector of angle ``a``. With ``psi`` the
+    direction from ``P0`` to the other end, after the first two rotations the first end sits at
+    ``P0 + 2l (u(psi+a1) - u(psi+a1+a2))``, which must equal the goal's first end. Its distance
+    ``d`` to ``P0`` gives ``|a2| = 2 asin(d / 4l)``; ``atan2`` of the difference gives ``a1``;
+    ``a3`` closes the heading. Callers verify candidates with the forward map.
+    """
     sh, ch = math.sin(start[2]), math.cos(start[2])
     sg, cg = math.sin(goal[2]), math.cos(goal[2])
     found: list[tuple[float, int, float, float, float]] = []
@@ -132,33 +139,13 @@ def _candidates_within(start: Pose, goal: Pose, ell: float,
     return found
 
 
-def _best_angles(start: Pose, goal: Pose, ell: float,
-                 alpha_max: float) -> tuple[int, float, float, float, float]:
-    """Closed-form 3R inverse kinematics over both sequences; the best verified candidate.
-
-    Let ``P0`` be the first pivot and ``u(a)`` the unit vector of angle ``a``. With ``psi`` the
-    direction from ``P0`` to the other end, after the first two rotations the first end sits at
-    ``P0 + 2l (u(psi+a1) - u(psi+a1+a2))``, which must equal the goal's first end. Its distance
-    ``d`` to ``P0`` gives ``|a2| = 2 asin(d / 4l)``; ``atan2`` of the difference gives ``a1``;
-    ``a3`` closes the heading. Candidates are checked with the forward map, best first.
-
-    Returns ``(first_end, a1, a2, a3, total)``; ``first_end`` is ``-1`` if unreachable.
-    """
-    found = _candidates_within(start, goal, ell, alpha_max)
-    for total, first, a1, a2, a3 in found:
-        r = forward(start, ell, first, (a1, a2, a3))
-        if (abs(r[0] - goal[0]) <= IK_VERIFY_TOL and abs(r[1] - goal[1]) <= IK_VERIFY_TOL
-                and abs(wrap_angle(r[2] - goal[2])) <= IK_VERIFY_TOL):
-            return (first, a1, a2, a3, total)
-    return (-1, 0.0, 0.0, 0.0, math.inf)
-
-
 def solve_piece(start: Pose, goal: Pose, ell: float,
                 alpha_max: float) -> tuple[bool, tuple[Rotation, ...]]:
     """Inner loop of the steering: ``(reachable, rotations)`` of the best verified candidate.
 
-    Same candidates and choice as :func:`solve_three_rotations`, but the rotation records are
-    built while verifying the candidate with the forward map (one pass instead of two).
+    The closed-form candidates (:func:`_candidates_within`), best first; the rotation records
+    are built while verifying each candidate with the forward map, and the first candidate
+    that reaches the goal is returned.
     """
     if abs(wrap_angle(goal[2] - start[2])) > 3.0 * alpha_max + ANGLE_TOL:
         return False, ()
@@ -197,24 +184,10 @@ def solve_three_rotations(start: Pose, goal: Pose, *, half_length: float,
         half_length: half-length ``l`` of the supporting edge (m).
         alpha_max: bound on each rotation (rad).
     """
-    first, a1, a2, a3, total = _best_angles(start, goal, half_length, alpha_max)
-    if first < 0:
+    ok, rotations = solve_piece(start, goal, half_length, alpha_max)
+    if not ok:
         return ThreeRotationResult(False, (), math.inf)
-    return ThreeRotationResult(True, rotations_of(start, half_length, first, (a1, a2, a3)), total)
-
-
-def rotations_of(car: Pose, half_length: float, first_end: int,
-                 angles: tuple[float, ...]) -> tuple[Rotation, ...]:
-    """The :class:`Rotation` records of alternating rotations from ``car`` (zero angles dropped)."""
-    out = []
-    end = first_end
-    for a in angles:
-        if abs(a) > ZERO_ANGLE:
-            pivot = end_point(car, half_length, end)
-            car = rotate_about(car, pivot, a)
-            out.append(Rotation(end, pivot, a, car))
-        end = 1 - end
-    return tuple(out)
+    return ThreeRotationResult(True, rotations, sum(abs(r.angle) for r in rotations))
 
 
 def vector_fields(car: Pose, half_length: float) -> tuple[np.ndarray, np.ndarray]:
