@@ -30,6 +30,8 @@ test: venv
 
 lint: venv
 	$(BIN)/ruff check pivot_ompl tests benchmarks
+	$(BIN)/mypy
+	$(BIN)/lint-imports
 
 bench: venv
 	$(BIN)/python benchmarks/steering.py --out results/steering.json

@@ -36,11 +36,10 @@ from pathlib import Path
 from ompl import tools as ot
 from ompl import util as ou
 
+from pivot_ompl.base.problem import make_setup
 from pivot_ompl.bench import build_database, run_extras
-from pivot_ompl.bench.job import ensure_projection
 from pivot_ompl.planners import make_planner
 from pivot_ompl.scene import load_scene
-from pivot_ompl.space import make_setup
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -58,10 +57,9 @@ def main(argv: list[str] | None = None) -> int:
     ou.RNG.setSeed(max(args.seed, 1))  # before anything draws a random number
     ou.setLogLevel(ou.LogLevel.LOG_WARN)
     scene = load_scene(args.scene)
-    ss = make_setup(scene, seed=args.seed)
-    si = ss.getSpaceInformation()
-    ss._pivot_projection = ensure_projection(si.getStateSpace())  # KPIECE1 & co.; kept by ss
-    planners = [make_planner(n.strip(), si, seed=args.seed)
+    problem = make_setup(scene, seed=args.seed)  # owns ss, validators and the projection
+    ss = problem.setup
+    planners = [make_planner(n.strip(), problem, seed=args.seed)
                 for n in args.planners.split(",") if n.strip()]
 
     bench = ot.Benchmark(ss, scene.name)
@@ -79,7 +77,7 @@ def main(argv: list[str] | None = None) -> int:
         mine = extras.setdefault(planner.getName(), [])
         seed = args.seed + len(mine)
         try:
-            mine.append(run_extras(scene, ss, planner, seed))
+            mine.append(run_extras(scene, problem, planner, seed))
         except Exception as e:  # noqa: BLE001 - an exception here would abort the benchmark
             print(f"post-run event: {e}", file=sys.stderr)
             mine.append({"seed INTEGER": str(seed)})
@@ -105,7 +103,7 @@ def main(argv: list[str] | None = None) -> int:
     bench.saveResultsToFile(str(log_path))
     db = build_database(out / f"{scene.name}.db", [log_path])  # = ompl_benchmark_statistics
     print(f"log: {log_path}\ndatabase: {db}")
-    bench = None  # the Benchmark goes first; ss (with the projection) and planners after it
+    bench = None  # the Benchmark goes first; the problem and planners after it
     return 0
 
 

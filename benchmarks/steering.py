@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from pivot_ompl.grasp import BoxGraspModel
-from pivot_ompl.steering import PivotSteering
+from pivot_ompl.pivoting.steering import PivotSteering
 
 
 def main() -> None:

@@ -17,9 +17,9 @@ from pathlib import Path
 import numpy as np
 from ompl import util as ou
 
-from pivot_ompl.checker import PivotChecker
-from pivot_ompl.collision import CollisionWorld
 from pivot_ompl.scene import load_scene
+from pivot_ompl.validity.collision import CollisionWorld
+from pivot_ompl.validity.pivot_checker import PivotChecker
 
 ROOT = Path(__file__).resolve().parents[1]
 

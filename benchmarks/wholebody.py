@@ -27,7 +27,7 @@ from pathlib import Path
 
 from pivot_ompl.planfile import load_plan
 from pivot_ompl.wholebody import generate_motion
-from pivot_ompl.wholebody.checks import check_motion
+from pivot_ompl.wholebody.motion_checks import check_motion
 
 TARGET_RTF = 5.0
 
@@ -35,9 +35,9 @@ TARGET_RTF = 5.0
 def synthetic_plan():
     """A fig10-box stand-in plan: push with a turn, transit to grasp 1, pull back."""
     from pivot_ompl.grasp import BoxGraspModel
+    from pivot_ompl.pivoting.steering import PivotSteering
+    from pivot_ompl.pivoting.transfer import transfer_phase
     from pivot_ompl.planfile import Plan, TransitPhase
-    from pivot_ompl.steering import PivotSteering
-    from pivot_ompl.transfer import transfer_phase
 
     size = (0.8, 0.4, 1.0)
     model = BoxGraspModel(size)

@@ -1,13 +1,18 @@
 """pivot_ompl: pivoting manipulation and regrasp planning for a humanoid robot on OMPL.
 
-Public API (see README): :func:`load_scene`, :func:`plan`, :func:`make_space_information`,
-:func:`make_setup`, :class:`PivotSteering`, the plan file dataclasses and the
-:class:`PivotError` exception family.
+The public API (see the README): :func:`load_scene` and :func:`load_plan` (the file
+contracts), :func:`plan` (plan a scene, :class:`PlanResult`), :func:`make_setup` (the OMPL
+problem object, :class:`PivotProblem`), :class:`PivotSteering` (Reeds-Shepp paths to pivot
+rotations), :class:`BoxGraspModel` (the grasp conventions), the plan dataclasses and the
+:class:`PivotError` exception family. OMPL is imported on first use of :func:`plan`,
+:func:`make_setup` or :class:`PivotSteering`.
 """
 
 from __future__ import annotations
 
-from .errors import (
+from typing import TYPE_CHECKING, Any
+
+from pivot_ompl.errors import (
     InputError,
     PivotError,
     PlanFileError,
@@ -17,15 +22,35 @@ from .errors import (
     UnreachableError,
     WholeBodyError,
 )
-from .grasp import BoxGraspModel
-from .planfile import Plan, TransferPhase, TransferStep, TransitPhase, load_plan
-from .scene import Scene, load_scene
-from .steering import PivotSequence, PivotSteering
+from pivot_ompl.grasp import BoxGraspModel
+from pivot_ompl.planfile import Plan, TransferPhase, TransferStep, TransitPhase, load_plan
+from pivot_ompl.scene import Scene, load_scene
+
+if TYPE_CHECKING:
+    from pivot_ompl.api import PlanResult, plan
+    from pivot_ompl.base.problem import PivotProblem, make_setup
+    from pivot_ompl.pivoting.steering import PivotSequence, PivotSteering
+
+#: Name -> module of the names imported on first use (they need OMPL).
+_LAZY = {"plan": "pivot_ompl.api", "PlanResult": "pivot_ompl.api",
+         "make_setup": "pivot_ompl.base.problem", "PivotProblem": "pivot_ompl.base.problem",
+         "PivotSteering": "pivot_ompl.pivoting.steering",
+         "PivotSequence": "pivot_ompl.pivoting.steering"}
+
+
+def __getattr__(name: str) -> Any:
+    """Import the OMPL-backed names on first use."""
+    if name in _LAZY:
+        import importlib
+
+        return getattr(importlib.import_module(_LAZY[name]), name)
+    raise AttributeError(f"module 'pivot_ompl' has no attribute {name!r}")
+
 
 __all__ = [
-    "BoxGraspModel", "InputError", "PivotError", "PivotSequence", "PivotSteering", "Plan",
-    "PlanFileError", "PlanningError", "Scene", "SceneError", "SteeringError", "TransferPhase",
-    "TransferStep", "TransitPhase", "UnreachableError", "WholeBodyError", "load_plan",
-    "load_scene",
+    "BoxGraspModel", "InputError", "PivotError", "PivotProblem", "PivotSequence",
+    "PivotSteering", "Plan", "PlanFileError", "PlanResult", "PlanningError", "Scene",
+    "SceneError", "SteeringError", "TransferPhase", "TransferStep", "TransitPhase",
+    "UnreachableError", "WholeBodyError", "load_plan", "load_scene", "make_setup", "plan",
 ]
 __version__ = "0.1.0"

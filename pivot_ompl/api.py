@@ -1,4 +1,4 @@
-"""The Python API: ``pivot_ompl.plan(scene, planner="regrasp", time_limit=30.0, seed=0)``."""
+"""The Python API: ``pivot_ompl.api.plan(scene, planner="regrasp", time_limit=30.0, seed=0)``."""
 
 from __future__ import annotations
 
@@ -10,12 +10,13 @@ from typing import Any
 
 from ompl import util as ou
 
-from .errors import InputError, PlanningError
-from .pathconv import path_to_plan
-from .planfile import Plan
-from .planners import OMPL_PLANNERS, make_planner
-from .scene import Scene, load_scene
-from .space import make_setup, read_state
+from pivot_ompl.base.path_conversion import path_to_plan
+from pivot_ompl.base.problem import make_setup
+from pivot_ompl.base.state import read_state
+from pivot_ompl.errors import InputError, PlanningError
+from pivot_ompl.planfile import Plan
+from pivot_ompl.planners import OMPL_PLANNERS, make_planner
+from pivot_ompl.scene import Scene, load_scene
 
 log = logging.getLogger(__name__)
 
@@ -90,9 +91,9 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     t0 = time.perf_counter()
     if planner in OMPL_PLANNERS:
         ou.RNG.setSeed(seed + 1)  # OMPL's seed must be > 0
-    ss = make_setup(scene, seed=seed)
-    problem = ss._pivot_problem
-    p = make_planner(planner, ss.getSpaceInformation(), seed=seed)
+    problem = make_setup(scene, seed=seed)
+    ss = problem.setup
+    p = make_planner(planner, problem, seed=seed)
     ss.setPlanner(p)
     ss.setup()
     t1 = time.perf_counter()

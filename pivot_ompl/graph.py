@@ -1,11 +1,11 @@
-"""A* shortest path on an implicit graph (used by the regrasp search and the walk planner)."""
+"""Graph algorithms: A* on an implicit graph, and union-find (connected components)."""
 
 from __future__ import annotations
 
 import heapq
 import math
 from collections.abc import Callable, Collection, Hashable, Iterable
-from typing import TypeVar
+from typing import Generic, TypeVar
 
 N = TypeVar("N", bound=Hashable)
 
@@ -50,3 +50,37 @@ def astar(starts: Iterable[N], goals: Collection[N],
                 tie += 1
                 heapq.heappush(heap, (nd + heuristic(v), tie, v))
     return []
+
+
+class UnionFind(Generic[N]):
+    """Disjoint sets of hashable items (path halving, union by pointing at the second root)."""
+
+    def __init__(self) -> None:
+        """An empty structure."""
+        self._parent: dict[N, N] = {}
+
+    def add(self, x: N) -> None:
+        """Make ``x`` a singleton set (no-op if known)."""
+        self._parent.setdefault(x, x)
+
+    def __contains__(self, x: object) -> bool:
+        """Whether ``x`` was added."""
+        return x in self._parent
+
+    def find(self, x: N) -> N:
+        """Representative of ``x``'s set."""
+        p = self._parent
+        while p[x] != x:
+            p[x] = p[p[x]]
+            x = p[x]
+        return x
+
+    def union(self, a: N, b: N) -> None:
+        """Merge the sets of ``a`` and ``b``."""
+        ra, rb = self.find(a), self.find(b)
+        if ra != rb:
+            self._parent[ra] = rb
+
+    def connected(self, a: N, b: N) -> bool:
+        """Whether ``a`` and ``b`` are in one set."""
+        return self.find(a) == self.find(b)

@@ -32,8 +32,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .errors import InputError
-from .se2 import Pose, rectangle_corners, wrap_angle
+from pivot_ompl import hrp2
+from pivot_ompl.errors import InputError
+from pivot_ompl.se2 import Pose, rectangle_corners, wrap_angle
 
 GRASPS: tuple[int, ...] = (0, 1, 2, 3)
 
@@ -51,9 +52,9 @@ class BoxGraspModel:
     """
 
     object_size: tuple[float, float, float]
-    robot_footprint: tuple[float, float] = (0.40, 0.70)
-    standoff: float = 0.25
-    robot_height: float = 1.54
+    robot_footprint: tuple[float, float] = hrp2.FOOTPRINT
+    standoff: float = hrp2.STANDOFF
+    robot_height: float = hrp2.HEIGHT
 
     def __post_init__(self) -> None:
         """Validate sizes (all strictly positive, standoff non-negative)."""

@@ -27,8 +27,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .errors import PlanFileError
-from .se2 import Pose
+from pivot_ompl.errors import PlanFileError
+from pivot_ompl.se2 import Pose
 
 FORMAT = "pivot-plan/1"
 STATUSES = ("exact", "approximate", "none")
@@ -201,7 +201,7 @@ def plan_from_dict(doc: Any, *, source: str = "") -> Plan:
     Raises:
         PlanFileError: naming the field and value that are wrong.
     """
-    from .grasp import BoxGraspModel  # local: grasp imports nothing from here
+    from pivot_ompl.grasp import BoxGraspModel  # local: grasp imports nothing from here
 
     src = source
     if not isinstance(doc, dict):

@@ -26,10 +26,18 @@ from typing import Any
 
 import yaml
 
-from . import defaults
-from .errors import SceneError
-from .grasp import BoxGraspModel
-from .se2 import Pose
+from pivot_ompl import hrp2
+from pivot_ompl.errors import SceneError
+from pivot_ompl.grasp import BoxGraspModel
+from pivot_ompl.resources import shipped_scenes
+from pivot_ompl.se2 import Pose
+
+#: The controllability paper's set-up (Section V): box width (local x), depth, height (m).
+DEFAULT_OBJECT_SIZE = (0.8, 0.6, 1.3)
+#: Reeds-Shepp turning radius (m).
+DEFAULT_TURNING_RADIUS = 2.0
+#: Bound on each pivot rotation (rad): pi/8 = 22.5 deg.
+DEFAULT_ALPHA_MAX = math.pi / 8
 
 
 @dataclass(frozen=True)
@@ -87,14 +95,14 @@ class Scene:
     start: Pose
     goal: Pose
     obstacles: tuple[Obstacle, ...] = ()
-    alpha_max: float = defaults.ALPHA_MAX
-    turning_radius: float = defaults.TURNING_RADIUS
+    alpha_max: float = DEFAULT_ALPHA_MAX
+    turning_radius: float = DEFAULT_TURNING_RADIUS
     robot_model: str = "hrp2"
     source: str = field(default="", compare=False)
 
 
-ROBOT_MODELS = {"hrp2": {"footprint": defaults.ROBOT_FOOTPRINT, "standoff": defaults.STANDOFF,
-                         "height": defaults.ROBOT_HEIGHT}}
+ROBOT_MODELS = {"hrp2": {"footprint": hrp2.FOOTPRINT, "standoff": hrp2.STANDOFF,
+                         "height": hrp2.HEIGHT}}
 
 
 class _Reader:
@@ -157,11 +165,11 @@ def scene_from_dict(doc: Any, *, source: str = "") -> Scene:
     standoff = (r.number(robot["standoff"], "robot.standoff", nonneg=True)
                 if "standoff" in robot else rm["standoff"])
     piv = r.mapping(top.get("pivot", {}), "pivot", set(), {"alpha_max", "turning_radius"})
-    alpha_max = r.number(piv.get("alpha_max", defaults.ALPHA_MAX), "pivot.alpha_max",
+    alpha_max = r.number(piv.get("alpha_max", DEFAULT_ALPHA_MAX), "pivot.alpha_max",
                          positive=True)
     if alpha_max > 0.5 * math.pi:
         raise r.fail("pivot.alpha_max", alpha_max, "must be <= pi/2 rad")
-    turning = r.number(piv.get("turning_radius", defaults.TURNING_RADIUS),
+    turning = r.number(piv.get("turning_radius", DEFAULT_TURNING_RADIUS),
                        "pivot.turning_radius", positive=True)
     obstacles = []
     raw_obs = top.get("obstacles", [])
@@ -187,10 +195,9 @@ def _robot_defaults(name: str) -> dict[str, Any]:
     base = dict(ROBOT_MODELS[name])
     if name == "hrp2":
         try:
-            from .robot_model import hrp2_floor_geometry
-        except ImportError:
+            base.update(hrp2.hrp2_floor_geometry())
+        except ImportError:  # no pinocchio: the preset constants
             return base
-        base.update(hrp2_floor_geometry())
     return base
 
 
@@ -225,13 +232,15 @@ def _obstacle(r: _Reader, o: Any, f: str) -> Obstacle:
 
 
 def load_scene(path: str | Path) -> Scene:
-    """Read and validate a scene file.
+    """Read and validate a scene file, or the shipped scene of that name (``"fig10"``).
 
     Raises:
         SceneError: unreadable file, invalid YAML, unknown key, missing field, wrong type or
             bad value, naming the file, the field and the value.
     """
     path = Path(path)
+    if not path.exists() and str(path) in shipped_scenes():
+        path = shipped_scenes()[str(path)]
     try:
         text = path.read_text()
     except OSError as e:
@@ -249,7 +258,6 @@ def default_scene(*, start: Pose = (0.0, 0.0, 0.0), goal: Pose = (0.0, 0.0, 0.0)
     """The paper's obstacle-free set-up around ``start`` and ``goal`` (bounds with a margin)."""
     xs = (start[0], goal[0])
     ys = (start[1], goal[1])
-    model = BoxGraspModel(defaults.OBJECT_SIZE, defaults.ROBOT_FOOTPRINT, defaults.STANDOFF,
-                          defaults.ROBOT_HEIGHT)
+    model = BoxGraspModel(DEFAULT_OBJECT_SIZE)
     return Scene("free", (min(xs) - margin, min(ys) - margin, max(xs) + margin,
                           max(ys) + margin), model, start, goal)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 Pose = tuple[float, float, float]
 
@@ -40,3 +41,41 @@ def rectangle_corners(pose: Pose, length: float, width: float) -> list[tuple[flo
     for lx, ly in ((hx, hy), (-hx, hy), (-hx, -hy), (hx, -hy)):
         out.append((pose[0] + c * lx - s * ly, pose[1] + s * lx + c * ly))
     return out
+
+
+def triangulate(points: Sequence[tuple[float, float]]) -> list[tuple[int, int, int]]:
+    """Ear-clipping triangulation of a simple polygon (either orientation); CCW vertex indices.
+
+    A degenerate remainder (collinear points, no area) is dropped.
+    """
+    pts = [(float(p[0]), float(p[1])) for p in points]
+    n = len(pts)
+    area2 = sum(pts[i][0] * pts[(i + 1) % n][1] - pts[(i + 1) % n][0] * pts[i][1]
+                for i in range(n))
+    idx = list(range(n)) if area2 > 0 else list(range(n - 1, -1, -1))
+
+    def cross(o: int, a: int, b: int) -> float:
+        return ((pts[a][0] - pts[o][0]) * (pts[b][1] - pts[o][1])
+                - (pts[a][1] - pts[o][1]) * (pts[b][0] - pts[o][0]))
+
+    def inside(p: int, a: int, b: int, c: int) -> bool:
+        return cross(a, b, p) >= 0 and cross(b, c, p) >= 0 and cross(c, a, p) >= 0
+
+    tris: list[tuple[int, int, int]] = []
+    guard = 0
+    while len(idx) > 3 and guard < 10 * n * n:
+        guard += 1
+        for k in range(len(idx)):
+            a, b, c = idx[k - 1], idx[k], idx[(k + 1) % len(idx)]
+            if cross(a, b, c) <= 1e-15:
+                continue
+            if any(inside(p, a, b, c) for p in idx if p not in (a, b, c)):
+                continue
+            tris.append((a, b, c))
+            idx.pop(k)
+            break
+        else:
+            break  # degenerate remainder (collinear points): drop it
+    if len(idx) == 3:
+        tris.append((idx[0], idx[1], idx[2]))
+    return tris

@@ -8,7 +8,7 @@ import sys
 
 import pytest
 import yaml
-from conftest import SCENES, make_scene
+from factories import SCENES, make_scene
 
 from pivot_ompl.errors import SceneError
 from pivot_ompl.scene import PolygonObstacle, load_scene
@@ -84,7 +84,7 @@ def test_cli_bad_scene_exits_2(tmp_path):
     p.write_text(yaml.safe_dump({"name": "x", "bounds": [0, 0, 5, 5],
                                  "object": {"size": [1, -1, 1]}, "start": [2, 2, 0],
                                  "goal": [3, 3, 0]}))
-    r = subprocess.run([sys.executable, "-m", "pivot_ompl.cli", "plan", str(p)],
+    r = subprocess.run([sys.executable, "-m", "pivot_ompl.cli.main", "plan", str(p)],
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 2
     assert "object.size[1]" in r.stderr and "Traceback" not in r.stderr

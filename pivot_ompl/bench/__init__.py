@@ -10,12 +10,12 @@
 
 from __future__ import annotations
 
-from .database import build_database, run_columns
-from .executors import DaskExecutor, LocalExecutor, make_executor
-from .job import Job, JobResult, execute, run_extras, run_job
-from .ompl_log import STATUS, STATUS_NAMES, ExperimentLog, PlannerResults, parse_log
-from .summary import Row, format_table, summarize
-from .sweep import SweepResult, make_jobs, run_sweep
+from pivot_ompl.bench.database import build_database, run_columns
+from pivot_ompl.bench.executors import DaskExecutor, LocalExecutor, make_executor
+from pivot_ompl.bench.job import Job, JobResult, execute, run_extras, run_job
+from pivot_ompl.bench.ompl_log import STATUS, STATUS_NAMES, ExperimentLog, PlannerResults, parse_log
+from pivot_ompl.bench.summary import Row, format_table, summarize
+from pivot_ompl.bench.sweep import SweepResult, make_jobs, run_sweep
 
 __all__ = [
     "STATUS", "STATUS_NAMES", "DaskExecutor", "ExperimentLog", "Job", "JobResult",

@@ -17,8 +17,8 @@ from collections.abc import Iterable, Iterator
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from typing import Any, Protocol
 
-from ..errors import InputError
-from .job import Job, JobResult, run_job
+from pivot_ompl.bench.job import Job, JobResult, run_job
+from pivot_ompl.errors import InputError
 
 
 class Executor(Protocol):

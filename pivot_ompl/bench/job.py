@@ -25,8 +25,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
-from ..space import ensure_projection  # noqa: F401 - re-exported for the recipe
-from .ompl_log import STATUS, fmt_value, parse_log, prop_type
+from pivot_ompl.bench.ompl_log import STATUS, fmt_value, parse_log, prop_type
 
 #: A job process is killed (and its run recorded as ``Crash``) after
 #: ``time_limit * (1 + KILL_FACTOR) + KILL_MARGIN`` seconds (process start, setup, conversion).
@@ -82,13 +81,15 @@ JobResult = dict[str, Any]
 
 
 def allocator(planner: str) -> Callable[[Any, int], Any]:
-    """Return the ``(si, seed) -> planner`` allocator of a planner spec.
+    """Return the ``(problem, seed) -> planner`` allocator of a planner spec.
+
+    A ``module:factory`` spec names a user factory ``(si, seed) -> planner``.
 
     Raises:
         InputError: unknown planner name or unimportable ``module:factory``.
     """
-    from ..errors import InputError
-    from ..planners import PLANNERS
+    from pivot_ompl.errors import InputError
+    from pivot_ompl.planners import PLANNERS
 
     if ":" not in planner:
         if planner not in PLANNERS:
@@ -97,9 +98,10 @@ def allocator(planner: str) -> Callable[[Any, int], Any]:
         return PLANNERS[planner]
     mod, _, attr = planner.partition(":")
     try:
-        return getattr(importlib.import_module(mod), attr)
+        factory = getattr(importlib.import_module(mod), attr)
     except (ImportError, AttributeError) as e:
         raise InputError("planner", planner, f"cannot import the factory ({e})") from None
+    return lambda problem, seed: factory(problem.si, seed)
 
 
 #: Clearer column names for some planner figures.
@@ -118,7 +120,7 @@ def _flatten(prefix: str, stats: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
-def run_extras(scene: Any, ss: Any, planner: Any, seed: int | None = None) -> dict[str, str]:
+def run_extras(scene: Any, problem: Any, planner: Any, seed: int | None = None) -> dict[str, str]:
     """Our run properties for the run that just ended (call it from a post-run event).
 
     ``seed INTEGER``; with a solution ``pivots INTEGER``, ``regrasps INTEGER``,
@@ -127,14 +129,14 @@ def run_extras(scene: Any, ss: Any, planner: Any, seed: int | None = None) -> di
     (dicts of numbers summed, e.g. ``planner manipulation nodes``); the checker's
     motion counters as ``checker <key>``.
     """
-    from ..errors import PivotError
-    from ..pathconv import path_to_plan
-    from ..space import read_state
+    from pivot_ompl.base.path_conversion import path_to_plan
+    from pivot_ompl.base.state import read_state
+    from pivot_ompl.errors import PivotError
 
     vals: dict[str, Any] = {}
     if seed is not None:
         vals["seed"] = int(seed)
-    problem = ss._pivot_problem
+    ss = problem.setup
     if ss.haveExactSolutionPath():
         path = ss.getSolutionPath()
         states = [read_state(path.getState(i)) for i in range(path.getStateCount())]
@@ -174,25 +176,24 @@ def execute(job: Job) -> JobResult:
     from ompl import tools as ot
     from ompl import util as ou
 
-    from ..errors import PlanningError
-    from ..scene import scene_from_dict
-    from ..space import make_setup
+    from pivot_ompl.base.problem import make_setup
+    from pivot_ompl.errors import PlanningError
+    from pivot_ompl.scene import scene_from_dict
 
     t_start = time.perf_counter()
     ou.RNG.setSeed(job.seed + 1)  # OMPL's seed must be > 0
     res = _base_result(job)
     scene = scene_from_dict(yaml.safe_load(job.scene_text), source=job.source or job.scene_name)
     try:
-        ss = make_setup(scene, seed=job.seed)
+        problem = make_setup(scene, seed=job.seed)
     except PlanningError as e:  # no valid grasp at the start or goal: as OMPL would record it
         res["run"] = {"time REAL": "0", "solved BOOLEAN": "0", "seed INTEGER": str(job.seed),
                       "status ENUM": str(STATUS.get(e.status, STATUS["UNKNOWN"]))}
         res["error"] = str(e)
         res["wall"] = time.perf_counter() - t_start
         return res
-    si = ss.getSpaceInformation()
-    ss._pivot_projection = ensure_projection(si.getStateSpace())  # kept alive with ss
-    planner = allocator(job.planner)(si, job.seed)
+    ss = problem.setup
+    planner = allocator(job.planner)(problem, job.seed)
     bench = ot.Benchmark(ss, job.scene_name)
     bench.addPlanner(planner)
     extras: dict[str, str] = {}
@@ -200,7 +201,7 @@ def execute(job: Job) -> JobResult:
 
     def post(p: Any, run: Any) -> None:
         try:
-            extras.update(run_extras(scene, ss, p, job.seed))
+            extras.update(run_extras(scene, problem, p, job.seed))
         except Exception as e:  # noqa: BLE001 - an exception here would abort the benchmark
             errors.append(f"post-run event: {type(e).__name__}: {e}")
 
@@ -231,7 +232,8 @@ def execute(job: Job) -> JobResult:
         res["error"] = errors[0]
     res["run"] = run
     res["wall"] = time.perf_counter() - t_start
-    # ss (with the projection) and the planner outlive the Benchmark (it holds raw pointers)
+    # the problem (setup, validators, projection) and the planner outlive the Benchmark
+    # (it holds raw pointers)
     bench = None
     return res
 

@@ -7,8 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .job import JobResult
-from .summary import exact
+from pivot_ompl.bench.job import JobResult
+from pivot_ompl.bench.summary import exact
 
 
 def _by_planner(results: Iterable[JobResult], scene: str) -> dict[str, list[dict[str, str]]]:

@@ -8,8 +8,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .job import JobResult
-from .ompl_log import STATUS
+from pivot_ompl.bench.job import JobResult
+from pivot_ompl.bench.ompl_log import STATUS
 
 
 @dataclass(frozen=True)

@@ -17,15 +17,15 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import InputError
-from ..scene import load_scene
-from .database import build_database
-from .executors import Executor, LocalExecutor
-from .job import Job, JobResult, allocator
-from .ompl_log import STATUS_ENUM, ExperimentLog, PlannerResults, fmt_value
-from .plots import plot_success, plot_times
-from .progress import Progress
-from .summary import Row, format_markdown, format_table, summarize
+from pivot_ompl.bench.database import build_database
+from pivot_ompl.bench.executors import Executor, LocalExecutor
+from pivot_ompl.bench.job import Job, JobResult, allocator
+from pivot_ompl.bench.ompl_log import STATUS_ENUM, ExperimentLog, PlannerResults, fmt_value
+from pivot_ompl.bench.plots import plot_success, plot_times
+from pivot_ompl.bench.progress import Progress
+from pivot_ompl.bench.summary import Row, format_markdown, format_table, summarize
+from pivot_ompl.errors import InputError
+from pivot_ompl.scene import load_scene
 
 log = logging.getLogger(__name__)
 

@@ -27,7 +27,7 @@ def main(argv: list[str] | None = None) -> int:
         return 3
     from ompl import util as ou
 
-    from .job import Job, execute
+    from pivot_ompl.bench.job import Job, execute
 
     ou.setLogLevel(ou.LogLevel.LOG_ERROR)
     atexit.register(_quiet_exit)

@@ -19,11 +19,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..checker import PivotChecker
-from ..graph import astar
-from ..se2 import Pose
-from .roadmap import Roadmap, pose_metric
-from .visibility import VisibilityRoadmapBuilder
+from pivot_ompl.graph import UnionFind, astar
+from pivot_ompl.planners.roadmap import Roadmap, pose_metric
+from pivot_ompl.planners.visibility import VisibilityRoadmapBuilder
+from pivot_ompl.se2 import Pose
+from pivot_ompl.validity.pivot_checker import PivotChecker
 
 log = logging.getLogger(__name__)
 
@@ -116,7 +116,7 @@ class MultiplexedSearch:
         """Create the object roadmap and the multiplexed graph."""
         self.obj = Roadmap()
         self.adj: dict[Node, dict[Node, float]] = {}
-        self._uf: dict[Node, Node] = {}  # union-find over candidate edges (never split)
+        self._uf: UnionFind[Node] = UnionFind()  # over candidate edges (never split)
         self.by_grasp: dict[int, list[int]] = {g: [] for g in self.params.grasps}
         self.verified: dict[tuple[Node, Node], bool] = {}
         self.critical: list[int] = []
@@ -142,7 +142,8 @@ class MultiplexedSearch:
     def _visible(self, a: Pose, b: Pose) -> bool:
         """Object-roadmap visibility: the box alone can pivot along the edge; critical
         configurations (where the robot's bounding volume starts or stops colliding along
-        the edge) are recorded."""
+        the edge) are recorded.
+        """
         edge = self.checker.transfer(a, b, 0, with_robot=False)
         if not edge.valid:
             return False
@@ -170,29 +171,21 @@ class MultiplexedSearch:
     def _add_node(self, node: Node) -> None:
         if node not in self.adj:
             self.adj[node] = {}
-            self._uf[node] = node
-
-    def _find(self, n: Node) -> Node:
-        uf = self._uf
-        while uf[n] != n:
-            uf[n] = uf[uf[n]]
-            n = uf[n]
-        return n
+            self._uf.add(node)
 
     def _link(self, a: Node, b: Node, cost: float) -> None:
         if (a, b) in self.verified and not self.verified[(a, b)]:
             return
         self.adj[a][b] = cost
         self.adj[b][a] = cost
-        ra, rb = self._find(a), self._find(b)
-        if ra != rb:
-            self._uf[ra] = rb
+        self._uf.union(a, b)
 
     def _maybe_connected(self) -> bool:
         """Whether start and goal share a component of the candidate graph. Edges are only
-        removed later, so this is a sound filter: no component, no path."""
-        goals = {self._find(g) for g in self.goal_nodes}
-        return any(self._find(s) in goals for s in self.start_nodes)
+        removed later, so this is a sound filter: no component, no path.
+        """
+        goals = {self._uf.find(g) for g in self.goal_nodes}
+        return any(self._uf.find(s) in goals for s in self.start_nodes)
 
     def plan_with_object_config(self, i: int) -> int:
         """Add object node ``i`` to every manipulation roadmap where it is valid.
@@ -228,7 +221,8 @@ class MultiplexedSearch:
 
     def _plausible(self, car_a: Pose, car_b: Pose, grasp: int) -> bool:
         """Cheap necessary test of a candidate edge: the box and robot are free at a few
-        poses along its Reeds-Shepp path (the full pivot check is left to the lazy search)."""
+        poses along its Reeds-Shepp path (the full pivot check is left to the lazy search).
+        """
         ck, m = self.checker, self.checker.model
         for c in ck.steering.rs.sample(car_a, car_b, [0.25, 0.5, 0.75]):
             if not ck.state_valid(m.object_from_car(c, grasp), grasp):
@@ -263,7 +257,7 @@ class MultiplexedSearch:
         try:
             while not ptc():
                 self.stats.searches += 1
-                path = self._dijkstra()
+                path = self._shortest_path()
                 if not path:
                     return []
                 # validate every transfer edge of the path (so one search removes all its bad
@@ -290,9 +284,10 @@ class MultiplexedSearch:
         finally:
             self.stats.time_search += time.perf_counter() - t0
 
-    def _dijkstra(self) -> list[Node]:
+    def _shortest_path(self) -> list[Node]:
         """A* over the multiplexed graph; heuristic: straight distance of the box to the goal
-        less the largest car offset (a transfer edge is at least that long)."""
+        less the largest car offset (a transfer edge is at least that long).
+        """
         poses = self.obj.poses
         gx, gy = self.goal[0], self.goal[1]
         slack = max(self.checker.model.object_size[:2])
@@ -371,7 +366,8 @@ class MultiplexedSearch:
         """Bridge tests for narrow passages: two box poses (same yaw) in collision whose
         midpoint is free give a passage node; straight extensions along the box's axes from it
         (the directions in which each grasp's car drives straight) give aligned approach
-        nodes. Runs up to ``attempts`` cheap tests, adds the first passage found."""
+        nodes. Runs up to ``attempts`` cheap tests, adds the first passage found.
+        """
         ck, p = self.checker, self.params
         w = ck.world
         for _ in range(attempts):
@@ -414,7 +410,8 @@ class MultiplexedSearch:
     def _extend(self, near: Pose, target: Pose) -> Pose:
         """Move from ``near`` towards ``target`` along the object's Reeds-Shepp path by at most
         ``epsilon``, stopping at the last box-valid pose (sampled every 5 cm): the diffusion
-        creeps into narrow passages instead of jumping over them."""
+        creeps into narrow passages instead of jumping over them.
+        """
         rs = self.checker.steering.rs
         d = rs.distance(near, target)
         if d == 0.0:

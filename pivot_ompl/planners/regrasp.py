@@ -10,9 +10,10 @@ from typing import Any
 import numpy as np
 from ompl import base as ob
 
-from ..space import read_state
-from .multiplex import MultiplexedSearch, RegraspParams
-from .search import GuardedPlanner, states_to_path
+from pivot_ompl.base.state import read_state
+from pivot_ompl.planners.guarded import GuardedPlanner, states_to_path
+from pivot_ompl.planners.multiplex import MultiplexedSearch, RegraspParams
+from pivot_ompl.validity.pivot_checker import PivotChecker
 
 log = logging.getLogger(__name__)
 
@@ -21,17 +22,17 @@ class RegraspPlanner(GuardedPlanner):
     """Visibility PRM on the box, manipulation and regrasping roadmaps multiplexed, diffusion.
 
     The start is the problem's start state (its pose; every valid grasp is a start); the goal
-    must be a ``GoalState``/``GoalStates`` (their pose; every valid grasp is a goal). The
-    planner needs the space information built by :func:`pivot_ompl.make_setup` (it reads the
-    shared :class:`~pivot_ompl.checker.PivotChecker` from the motion validator).
+    must be a ``GoalState``/``GoalStates`` (their pose; every valid grasp is a goal).
 
     Args:
         si: the space information.
+        checker: the validity core behind ``si``'s validators (``problem.checker`` of
+            :func:`pivot_ompl.base.problem.make_setup`): the planner validates through it.
         seed: seed of the planner's generator (runs are deterministic for a seed).
         params: planner parameters (:class:`RegraspParams`), or keyword overrides.
     """
 
-    def __init__(self, si: ob.SpaceInformation, *, seed: int = 0,
+    def __init__(self, si: ob.SpaceInformation, checker: PivotChecker, *, seed: int = 0,
                  params: RegraspParams | None = None, **overrides: Any) -> None:
         """Create the planner."""
         super().__init__(si, "RegraspPlanner")
@@ -39,6 +40,7 @@ class RegraspPlanner(GuardedPlanner):
         if overrides:
             p = RegraspParams(**{**asdict(p), **overrides})
         self.params = p
+        self.checker = checker
         self.seed = seed
         self.last_search: MultiplexedSearch | None = None
         self.stats: dict[str, Any] = {}
@@ -48,8 +50,7 @@ class RegraspPlanner(GuardedPlanner):
         self.last_search = None
 
     def _solve(self, ptc: Any) -> ob.PlannerStatus:
-        si = self.getSpaceInformation()
-        checker = si.getMotionValidator().checker
+        checker = self.checker
         start, goal = self._endpoints(ptc)
         s_pose, _ = read_state(start)
         g_pose, _ = read_state(goal)

@@ -7,7 +7,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..se2 import Pose
+from pivot_ompl.graph import UnionFind
+from pivot_ompl.se2 import Pose
 
 #: Weight of yaw in the nearest-neighbour metric (m per rad).
 YAW_WEIGHT = 0.5
@@ -27,7 +28,7 @@ class Roadmap:
     kinds: list[str] = field(default_factory=list)
     edges: list[tuple[int, int]] = field(default_factory=list)
     _arr: np.ndarray = field(default_factory=lambda: np.zeros((64, 3)))
-    _parent: list[int] = field(default_factory=list)
+    _components: UnionFind[int] = field(default_factory=UnionFind)
 
     def __len__(self) -> int:
         """Number of nodes."""
@@ -41,23 +42,17 @@ class Roadmap:
         self._arr[i] = pose
         self.poses.append(pose)
         self.kinds.append(kind)
-        self._parent.append(i)
+        self._components.add(i)
         return i
 
     def connect(self, i: int, j: int) -> None:
         """Add edge ``i - j`` and merge their components."""
         self.edges.append((i, j))
-        ri, rj = self.component(i), self.component(j)
-        if ri != rj:
-            self._parent[ri] = rj
+        self._components.union(i, j)
 
     def component(self, i: int) -> int:
         """Representative of ``i``'s connected component."""
-        p = self._parent
-        while p[i] != i:
-            p[i] = p[p[i]]
-            i = p[i]
-        return i
+        return self._components.find(i)
 
     def nearest(self, pose: Pose, k: int, *, among: list[int] | None = None) -> list[int]:
         """Indices of the ``k`` nodes nearest to ``pose`` (optionally among a subset)."""

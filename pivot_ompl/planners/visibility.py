@@ -19,10 +19,11 @@ from typing import Any
 import numpy as np
 from ompl import base as ob
 
-from ..se2 import Pose
-from ..space import read_state, write_state
-from .roadmap import Roadmap, pose_metric
-from .search import GuardedPlanner, states_to_path
+from pivot_ompl.base.state import read_state, write_state
+from pivot_ompl.graph import UnionFind
+from pivot_ompl.planners.guarded import GuardedPlanner, states_to_path
+from pivot_ompl.planners.roadmap import Roadmap, pose_metric
+from pivot_ompl.se2 import Pose
 
 log = logging.getLogger(__name__)
 
@@ -133,28 +134,21 @@ class VisibilityPRM(GuardedPlanner):
             return si.checkMotion(a, b)
 
         nodes: list[tuple[Pose, int]] = []
-        comp: list[int] = []
+        comp: UnionFind[int] = UnionFind()
         edges: dict[int, list[int]] = {}
-
-        def find(i: int) -> int:
-            while comp[i] != i:
-                comp[i] = comp[comp[i]]
-                i = comp[i]
-            return i
+        find = comp.find
 
         def add(node: tuple[Pose, int]) -> int:
             i = len(nodes)
             nodes.append(node)
-            comp.append(i)
+            comp.add(i)
             edges[i] = []
             return i
 
         def link(i: int, j: int) -> None:
             edges[i].append(j)
             edges[j].append(i)
-            ri, rj = find(i), find(j)
-            if ri != rj:
-                comp[ri] = rj
+            comp.union(i, j)
 
         guards: list[int] = []
         s_i = add(read_state(start))

@@ -16,13 +16,13 @@ self-contained offline HTML file. :func:`serve` runs a live viewer until Ctrl-C.
 
 from __future__ import annotations
 
-from .html import HtmlExport, write_html
-from .motion import Motion, load_motion
-from .motion_view import show_motion
-from .plan_view import ReplayInfo, show_plan, show_roadmap, show_scene
-from .recorder import RecordingWindow, recording_visualizer
-from .serve import LiveViewer, serve
-from .timeline import ReplayTiming
+from pivot_ompl.motionfile import Motion, load_motion
+from pivot_ompl.viz.html import HtmlExport, write_html
+from pivot_ompl.viz.motion_view import show_motion
+from pivot_ompl.viz.plan_view import ReplayInfo, show_plan, show_roadmap, show_scene
+from pivot_ompl.viz.recorder import RecordingWindow, recording_visualizer
+from pivot_ompl.viz.serve import LiveViewer, serve
+from pivot_ompl.viz.timeline import ReplayTiming
 
 __all__ = [
     "HtmlExport", "LiveViewer", "Motion", "RecordingWindow", "ReplayInfo", "ReplayTiming",

@@ -300,7 +300,7 @@ class AnimationBuilder:
         Recording and zmq (live server) windows get the fast-packed command; any other
         window gets ``vis.set_animation``.
         """
-        from .recorder import RecordingWindow
+        from pivot_ompl.viz.recorder import RecordingWindow
 
         anim = self.build()
         log.debug("animation: %d clips, %d keys, %.1f s", len(anim.clips), self.keys,

@@ -14,10 +14,10 @@ import meshcat
 import meshcat.geometry as g
 import numpy as np
 
-from ..grasp import BoxGraspModel
-from ..scene import BoxObstacle, CylinderObstacle, Obstacle, PolygonObstacle, Scene
-from ..se2 import Pose
-from .shapes import axis_angle, planar, prism_mesh, translation
+from pivot_ompl.grasp import BoxGraspModel
+from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Obstacle, PolygonObstacle, Scene
+from pivot_ompl.se2 import Pose
+from pivot_ompl.viz.shapes import axis_angle, planar, prism_mesh, translation
 
 FLOOR_COLOR = 0xd8d8d0
 OBSTACLE_COLOR = 0x8a6f5a

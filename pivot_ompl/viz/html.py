@@ -21,8 +21,8 @@ from pathlib import Path
 
 import meshcat
 
-from ..errors import InputError
-from .recorder import RecordingWindow
+from pivot_ompl.errors import InputError
+from pivot_ompl.viz.recorder import RecordingWindow
 
 log = logging.getLogger(__name__)
 

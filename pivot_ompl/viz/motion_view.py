@@ -16,18 +16,18 @@ from pathlib import Path
 import meshcat
 import numpy as np
 
-from ..planfile import Plan
-from ..scene import Scene
-from . import draw
-from .animation import AnimationBuilder
-from .motion import Motion
-from .plan_view import ReplayInfo, draw_plan_markers, show_scene
-from .robot_model import RobotModel, draw_robot, load_robot
-from .shapes import quat_xyzw_to_matrix
+from pivot_ompl.motionfile import Motion
+from pivot_ompl.planfile import Plan
+from pivot_ompl.resources import data_path
+from pivot_ompl.scene import DEFAULT_OBJECT_SIZE, Scene
+from pivot_ompl.viz import draw
+from pivot_ompl.viz.animation import AnimationBuilder
+from pivot_ompl.viz.plan_view import ReplayInfo, draw_plan_markers, show_scene
+from pivot_ompl.viz.shapes import quat_xyzw_to_matrix
+from pivot_ompl.viz.urdf_visuals import RobotModel, draw_robot, load_robot
 
 log = logging.getLogger(__name__)
 
-REPO_ROOT = Path(__file__).resolve().parents[2]
 FOOTSTEP_RATE = 50.0  # Hz, samples used to find resting feet
 SOLE_SIZE = (0.241, 0.138)  # m, HRP-2 sole, for footstep marks when the motion has none
 
@@ -90,18 +90,14 @@ def footsteps(tf: np.ndarray, t: np.ndarray, *, height_tol: float = 0.01,
 def resolve_urdf(motion: Motion, urdf: str | Path | None = None) -> Path:
     """The URDF to draw.
 
-    ``urdf`` if given, else the motion's path (relative to the repository root, the motion
-    file's folder or the working directory).
+    ``urdf`` if given, else the shipped model the motion names (``robots/hrp2/hrp2.urdf``).
+
+    Raises:
+        InputError: the motion's ``urdf`` is not a shipped file.
     """
     if urdf is not None:
         return Path(urdf)
-    p = Path(motion.urdf)
-    if p.is_absolute():
-        return p
-    for base in (REPO_ROOT, Path(motion.source).parent if motion.source else None, Path.cwd()):
-        if base is not None and (base / p).is_file():
-            return base / p
-    return REPO_ROOT / p
+    return data_path(motion.urdf, field="motion.urdf")
 
 
 def show_motion(vis: meshcat.Visualizer, motion: Motion, *, scene: Scene | None = None,
@@ -125,15 +121,13 @@ def show_motion(vis: meshcat.Visualizer, motion: Motion, *, scene: Scene | None 
         play: start playing once loaded.
         camera: aim the default camera at the floor.
     """
-    from ..defaults import OBJECT_SIZE
-
     model = load_robot(resolve_urdf(motion, urdf))
     size = object_size or motion.object_size or (
         scene.model.object_size if scene is not None else None)
     if size is None:
         log.warning("no box size in the motion or a scene: drawing the paper's box %s",
-                    OBJECT_SIZE)
-        size = OBJECT_SIZE
+                    DEFAULT_OBJECT_SIZE)
+        size = DEFAULT_OBJECT_SIZE
     idx = resample_indices(motion.t, fps)
     t = motion.t[idx] - motion.t[0]
     q = motion.q[idx]

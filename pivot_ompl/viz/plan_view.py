@@ -10,13 +10,14 @@ from dataclasses import dataclass
 import meshcat
 import numpy as np
 
-from ..grasp import BoxGraspModel
-from ..planfile import Plan, TransferPhase, TransitPhase
-from ..scene import Scene
-from ..se2 import Pose
-from . import draw
-from .animation import AnimationBuilder
-from .timeline import ReplayTiming, plan_keyframes
+from pivot_ompl import hrp2
+from pivot_ompl.grasp import BoxGraspModel
+from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
+from pivot_ompl.scene import Scene
+from pivot_ompl.se2 import Pose
+from pivot_ompl.viz import draw
+from pivot_ompl.viz.animation import AnimationBuilder
+from pivot_ompl.viz.timeline import ReplayTiming, plan_keyframes
 
 log = logging.getLogger(__name__)
 
@@ -121,7 +122,7 @@ def show_plan(vis: meshcat.Visualizer, scene: Scene | None, plan: Plan, *,
     the robot while pivoting) and ``robot`` (footprint plate and translucent volume).
     """
     model = BoxGraspModel(plan.object_size, plan.robot_footprint, plan.standoff,
-                          scene.model.robot_height if scene is not None else 1.54)
+                          scene.model.robot_height if scene is not None else hrp2.HEIGHT)
     bounds = None if scene is not None else plan_bounds(plan)
     draw.clear(vis)
     show_scene(vis, scene, bounds=bounds, camera=camera)

@@ -13,6 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
+from pivot_ompl.resources import URDF_RELPATH, urdf_path
+
 TINY_URDF = """<?xml version="1.0"?>
 <robot name="tiny">
   <material name="blue"><color rgba="0.3 0.4 0.8 1"/></material>
@@ -76,10 +78,10 @@ def tiny_urdf() -> str:
 
 def sample_plan():
     """A short plan: transfer at grasp 0, a walk to grasp 1, transfer at grasp 1."""
-    from ..grasp import BoxGraspModel
-    from ..planfile import Plan, TransitPhase
-    from ..steering import PivotSteering
-    from ..transfer import transfer_phase
+    from pivot_ompl.grasp import BoxGraspModel
+    from pivot_ompl.pivoting.steering import PivotSteering
+    from pivot_ompl.pivoting.transfer import transfer_phase
+    from pivot_ompl.planfile import Plan, TransitPhase
 
     model = BoxGraspModel((0.8, 0.6, 1.3))
     steering = PivotSteering(turning_radius=2.0, alpha_max=math.pi / 8)
@@ -144,8 +146,10 @@ def write_urdf_motion(folder: str | Path, urdf: str | Path, *, duration: float =
                       dt: float = 0.005) -> Path:
     """A synthetic motion ``.npz`` of any URDF robot, in pinocchio's joint order.
 
-    The robot (free-flyer root 0.6 m up) moves 0.2 m/s along +x while every joint swings by
-    0.2 rad; the box stays 0.8 m ahead of it. Needs pinocchio.
+    The motion names the shipped model as ``robots/hrp2/hrp2.urdf``; another ``urdf`` by its
+    path (give it to the replay explicitly). The robot (free-flyer root 0.6 m up) moves
+    0.2 m/s along +x while every joint swings by 0.2 rad; the box stays 0.8 m ahead of it.
+    Needs pinocchio.
     """
     import pinocchio as pin
 
@@ -161,6 +165,8 @@ def write_urdf_motion(folder: str | Path, urdf: str | Path, *, duration: float =
     box = np.zeros((len(t), 7))
     box[:, 0], box[:, 2], box[:, 6] = q[:, 0] + 0.8, 0.65, 1.0
     path = folder / f"{Path(urdf).stem}_motion.npz"
-    np.savez(path, t=t, q=q, joint_names=np.array(names), urdf=np.array(str(urdf)), box=box,
+    shipped = Path(urdf).resolve() == urdf_path().resolve()
+    name = URDF_RELPATH if shipped else str(urdf)  # a foreign model is passed to the replay
+    np.savez(path, t=t, q=q, joint_names=np.array(names), urdf=np.array(name), box=box,
              box_size=np.array([0.8, 0.6, 1.3]))
     return path

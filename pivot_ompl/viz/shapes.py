@@ -10,8 +10,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..grasp import BoxGraspModel
-from ..se2 import Pose
+from pivot_ompl.grasp import BoxGraspModel
+from pivot_ompl.se2 import Pose, triangulate
 
 
 def planar(pose: Pose, z: float = 0.0) -> np.ndarray:
@@ -74,42 +74,6 @@ def box_transform(model: BoxGraspModel, obj: Pose, *, grasp: int | None = None,
     edge = -half * u + np.array([0.0, 0.0, -0.5 * model.object_size[2]])  # in the box frame
     axis = np.cross(u, [0.0, 0.0, 1.0])  # top moves towards -u (the robot) for tilt > 0
     return t @ translation(*edge) @ axis_angle(axis, tilt) @ translation(*(-edge))
-
-
-def triangulate(points: Sequence[tuple[float, float]]) -> list[tuple[int, int, int]]:
-    """Ear-clipping triangulation of a simple polygon (either orientation); CCW triangles."""
-    pts = [tuple(map(float, p)) for p in points]
-    n = len(pts)
-    area2 = sum(pts[i][0] * pts[(i + 1) % n][1] - pts[(i + 1) % n][0] * pts[i][1]
-                for i in range(n))
-    idx = list(range(n)) if area2 > 0 else list(range(n))[::-1]
-
-    def cross(o: int, a: int, b: int) -> float:
-        return ((pts[a][0] - pts[o][0]) * (pts[b][1] - pts[o][1])
-                - (pts[a][1] - pts[o][1]) * (pts[b][0] - pts[o][0]))
-
-    def inside(p: int, a: int, b: int, c: int) -> bool:
-        return cross(a, b, p) >= 0 and cross(b, c, p) >= 0 and cross(c, a, p) >= 0
-
-    tris: list[tuple[int, int, int]] = []
-    guard = 0
-    while len(idx) > 3 and guard < 10 * n * n:
-        guard += 1
-        m = len(idx)
-        for i in range(m):
-            a, b, c = idx[i - 1], idx[i], idx[(i + 1) % m]
-            if cross(a, b, c) <= 1e-15:
-                continue
-            if any(inside(p, a, b, c) for p in idx if p not in (a, b, c)):
-                continue
-            tris.append((a, b, c))
-            del idx[i]
-            break
-        else:  # degenerate polygon: fan the rest
-            break
-    for i in range(1, len(idx) - 1):
-        tris.append((idx[0], idx[i], idx[i + 1]))
-    return tris
 
 
 def prism_mesh(points: Sequence[tuple[float, float]],

@@ -15,10 +15,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..grasp import BoxGraspModel
-from ..planfile import Plan, TransferPhase, TransitPhase
-from ..se2 import Pose, rotate_about, wrap_angle
-from .shapes import box_transform, planar
+from pivot_ompl.grasp import BoxGraspModel
+from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
+from pivot_ompl.se2 import Pose, rotate_about, wrap_angle
+from pivot_ompl.viz.shapes import box_transform, planar
 
 
 @dataclass(frozen=True)

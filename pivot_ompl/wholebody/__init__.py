@@ -8,11 +8,16 @@
 * :mod:`.cli` -- ``pivot-ompl animate`` and ``pivot-ompl check-motion``.
 """
 
-from .box import DEFAULT_TILT, BoxHold
-from .checks import CheckResult, MotionReport, check_motion
-from .generator import GenerationStats, Timing, WholeBodyGenerator, generate_motion
-from .motion import Motion, load_motion
-from .walker import WalkSettings
+from pivot_ompl.motionfile import Motion, load_motion
+from pivot_ompl.wholebody.box import DEFAULT_TILT, BoxHold
+from pivot_ompl.wholebody.generator import (
+           GenerationStats,
+           Timing,
+           WholeBodyGenerator,
+           generate_motion,
+)
+from pivot_ompl.wholebody.motion_checks import CheckResult, MotionReport, check_motion
+from pivot_ompl.wholebody.walker import WalkSettings
 
 __all__ = ["DEFAULT_TILT", "BoxHold", "CheckResult", "GenerationStats", "Motion",
            "MotionReport", "Timing", "WalkSettings", "WholeBodyGenerator", "check_motion",

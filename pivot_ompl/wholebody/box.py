@@ -31,7 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..se2 import Pose
+from pivot_ompl.se2 import Pose
 
 DEFAULT_TILT = math.radians(5.0)
 

@@ -37,13 +37,19 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError, WholeBodyError
-from ..planfile import Plan, TransferPhase, TransitPhase
-from ..robot_model import SOLE_SIZE, URDF_RELPATH
-from ..se2 import Pose, rotate_about, wrap_angle
-from .box import DEFAULT_TILT, BoxHold, quat_xyzw, rotation_about_vertical, transform
-from .motion import Motion
-from .walker import PlacoWalker, SolverFailure, WalkSettings
+from pivot_ompl.errors import InputError, WholeBodyError
+from pivot_ompl.hrp2 import SOLE_SIZE, URDF_RELPATH
+from pivot_ompl.motionfile import Motion
+from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
+from pivot_ompl.se2 import Pose, rotate_about, wrap_angle
+from pivot_ompl.wholebody.box import (
+    DEFAULT_TILT,
+    BoxHold,
+    quat_xyzw,
+    rotation_about_vertical,
+    transform,
+)
+from pivot_ompl.wholebody.walker import PlacoWalker, SolverFailure, WalkSettings
 
 log = logging.getLogger(__name__)
 
@@ -221,7 +227,7 @@ class WholeBodyGenerator:
 
     @staticmethod
     def _rot_tilt(tilt: float) -> np.ndarray:
-        from .box import rot_y
+        from pivot_ompl.wholebody.box import rot_y
 
         return rot_y(-tilt)
 
@@ -413,8 +419,8 @@ class WholeBodyGenerator:
             support=np.array(r.support, dtype=int), phase=np.array(r.phase, dtype=int),
             step=np.array(r.step, dtype=int), holding=np.array(r.holding, dtype=bool),
             grasp=np.array(r.grasp, dtype=int), tilt=np.array(r.tilt),
-            box_size=np.array(self.plan.object_size, dtype=float), grip_box=grip,
-            sole_size=np.array(SOLE_SIZE))
+            box_size=tuple(float(x) for x in self.plan.object_size),  # type: ignore[arg-type]
+            grip_box=grip, sole_size=SOLE_SIZE, scene=self.plan.scene)
 
 
 def generate_motion(plan: Plan, *, settings: WalkSettings | None = None,

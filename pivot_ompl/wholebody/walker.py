@@ -22,9 +22,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..robot_model import HALF_SITTING, SOLE_SIZE, URDF_PATH
-from ..se2 import Pose, wrap_angle
-from .box import rot_z, transform
+from pivot_ompl.hrp2 import HALF_SITTING, SOLE_SIZE, urdf_path
+from pivot_ompl.se2 import Pose, wrap_angle
+from pivot_ompl.wholebody.box import rot_z, transform
 
 log = logging.getLogger(__name__)
 
@@ -115,7 +115,7 @@ class PlacoWalker:
 
         self._placo = placo
         self.settings = s = settings
-        robot = placo.HumanoidRobot(str(URDF_PATH), placo.Flags.ignore_collisions)
+        robot = placo.HumanoidRobot(str(urdf_path()), placo.Flags.ignore_collisions)
         self.robot = robot
         P = placo.HumanoidParameters()
         P.single_support_duration = s.single_support_duration

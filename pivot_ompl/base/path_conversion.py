@@ -1,0 +1,50 @@
+"""Turning a path of (object pose, grasp) states into a ``pivot-plan/1`` plan."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from pivot_ompl.errors import PlanningError
+from pivot_ompl.pivoting.transfer import rs_samples, steps_of
+from pivot_ompl.planfile import Phase, Plan, TransferPhase, TransitPhase
+from pivot_ompl.scene import Scene
+from pivot_ompl.se2 import Pose
+from pivot_ompl.validity.pivot_checker import PivotChecker
+
+
+def path_to_plan(scene: Scene, checker: PivotChecker, states: list[tuple[Pose, int]], *,
+                 status: str = "exact", extra: dict[str, Any] | None = None) -> Plan:
+    """Phases of a path: runs of one grasp become transfer phases, grasp changes transits.
+
+    Every edge is taken from the checker's cache (so exactly the validated rotations and
+    walks are written); an edge that is not valid raises :class:`PlanningError`.
+    """
+    m = scene.model
+    phases: list[Phase] = []
+    i = 0
+    while i < len(states) - 1:
+        pose, g = states[i]
+        if states[i + 1][1] != g:
+            walk = checker.transit(pose, g, states[i + 1][1])
+            if not walk.valid:
+                raise PlanningError("INVALID_PATH", f"no walk from grasp {g} at {pose}")
+            phases.append(TransitPhase(g, states[i + 1][1], walk.robot_path, pose))
+            i += 1
+            continue
+        steps, rs = [], []
+        j = i
+        while j < len(states) - 1 and states[j + 1][1] == g:
+            edge = checker.transfer(states[j][0], states[j + 1][0], g)
+            if not edge.valid:
+                raise PlanningError("INVALID_PATH", f"edge {j} invalid: {edge.reason}")
+            steps.extend(steps_of(m, edge.sequence, g))
+            rs.extend(rs_samples(checker.steering, edge.sequence))
+            j += 1
+        if steps:
+            phases.append(TransferPhase(g, m.robot_pose(pose, g), tuple(steps), pose, tuple(rs)))
+        i = j
+    if not phases:  # start == goal: an empty transfer at the start grasp
+        pose, g = states[0]
+        phases.append(TransferPhase(g, m.robot_pose(pose, g), (), pose))
+    return Plan(scene.name, status, m.object_size, m.robot_footprint, m.standoff,
+                scene.alpha_max, scene.start, phases, dict(extra or {}))

@@ -1,0 +1,92 @@
+"""The ``pivot-ompl`` command line: ``pivot-ompl <verb> ...``.
+
+Exit codes for every verb: 0 success, 1 no solution (or a check that fails), 2 bad input
+(the message names the field and the value).
+"""
+
+from __future__ import annotations
+
+import argparse
+import atexit
+import importlib
+import logging
+import os
+import sys
+from collections.abc import Sequence
+
+from pivot_ompl.errors import InputError, PivotError
+
+log = logging.getLogger(__name__)
+
+EXIT_OK, EXIT_NO_SOLUTION, EXIT_BAD_INPUT = 0, 1, 2
+
+#: Modules defining further verbs: each has ``register(subparsers)``; a missing optional
+#: dependency only hides that verb.
+VERB_MODULES = ("pivot_ompl.cli.steer", "pivot_ompl.cli.plan", "pivot_ompl.cli.check",
+                "pivot_ompl.cli.replay", "pivot_ompl.cli.animate", "pivot_ompl.cli.bench")
+
+
+class _Parser(argparse.ArgumentParser):
+    """Argument parser whose usage errors exit with code 2 and name the argument."""
+
+    def error(self, message: str) -> None:  # noqa: D102
+        self.print_usage(sys.stderr)
+        print(f"{self.prog}: error: {message}", file=sys.stderr)
+        raise SystemExit(EXIT_BAD_INPUT)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The top-level parser with every available verb."""
+    parser = _Parser(prog="pivot-ompl", description=__doc__.splitlines()[0])
+    parser.add_argument("--log-level", default="INFO",
+                        choices=["DEBUG", "INFO", "WARNING", "ERROR"], help="logging level")
+    sub = parser.add_subparsers(dest="verb", required=True, parser_class=_Parser)
+    for name in VERB_MODULES:
+        try:
+            mod = importlib.import_module(name)
+        except ModuleNotFoundError as e:
+            if e.name and (e.name == name or name.startswith(e.name + ".")):
+                continue  # that verb is not part of this build
+            raise
+        mod.register(sub)
+    return parser
+
+
+def _quiet_exit() -> None:
+    """At exit, send fd 2 to /dev/null: nanobind lists 'leaked instances' of OMPL objects
+    that Python keeps until the very end (harmless; tracebacks and exit codes are kept).
+    """
+    sys.stderr.flush()
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, 2)
+
+
+def _ompl_log_level(level: str) -> None:
+    from ompl import util as ou
+
+    ou.setLogLevel({"DEBUG": ou.LogLevel.LOG_DEBUG, "INFO": ou.LogLevel.LOG_WARN,
+                    "WARNING": ou.LogLevel.LOG_WARN, "ERROR": ou.LogLevel.LOG_ERROR}[level])
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the CLI; return the exit code."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    logging.basicConfig(level=getattr(logging, args.log_level),
+                        format="%(levelname)s %(name)s: %(message)s")
+    logging.getLogger("matplotlib").setLevel(logging.WARNING)
+    _ompl_log_level(args.log_level)
+    if argv is None:  # a real process, not a test calling main()
+        atexit.register(_quiet_exit)
+    try:
+        return int(args.func(args))
+    except InputError as e:
+        print(f"pivot-ompl {args.verb}: error: {e}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except PivotError as e:
+        print(f"pivot-ompl {args.verb}: {e}", file=sys.stderr)
+        return EXIT_NO_SOLUTION
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,67 @@
+"""``pivot-ompl plan SCENE``: plan with our planners or OMPL's (exit 0 found, 1 none, 2 bad input)."""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import sys
+import threading
+import time
+
+from pivot_ompl.api import plan
+from pivot_ompl.cli.args import positive
+from pivot_ompl.errors import PlanningError
+from pivot_ompl.planners import PLANNERS
+from pivot_ompl.scene import load_scene
+
+log = logging.getLogger(__name__)
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``plan`` verb."""
+    p = sub.add_parser("plan", help="plan a pivoting path with regrasps for a scene")
+    p.add_argument("scene", help="scene YAML file")
+    p.add_argument("--planner", default="regrasp", choices=sorted(PLANNERS))
+    p.add_argument("--time", type=positive("--time"), default=30.0, help="time limit (s)")
+    p.add_argument("--seed", type=int, default=0, help="seed (>= 0)")
+    p.add_argument("--out", help="write the pivot-plan/1 JSON here")
+    p.add_argument("--plot", help="write the figure (PNG) here")
+    p.set_defaults(func=run)
+
+
+def _progress(stop: threading.Event, limit: float) -> None:
+    t0 = time.monotonic()
+    while not stop.wait(1.0):
+        print(f"\rplanning... {time.monotonic() - t0:5.1f} s / {limit:.0f} s", end="",
+              file=sys.stderr, flush=True)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Plan, write the plan and the figure."""
+    scene = load_scene(args.scene)
+    if args.seed < 0:
+        from pivot_ompl.errors import InputError
+        raise InputError("--seed", args.seed, "must be >= 0")
+    stop = threading.Event()
+    th = threading.Thread(target=_progress, args=(stop, args.time), daemon=True)
+    th.start()
+    try:
+        res = plan(scene, planner=args.planner, time_limit=args.time, seed=args.seed)
+    except PlanningError as e:
+        stop.set()
+        print(f"\npivot-ompl plan: {e}", file=sys.stderr)
+        return 2
+    finally:
+        stop.set()
+        th.join()
+        print(file=sys.stderr)
+    print(f"{res.status}: {res.pivots} pivots, {res.regrasps} regrasps, "
+          f"solve {res.timings['solve']:.2f} s")
+    if args.out:
+        res.to_json(args.out)
+        print(f"plan written to {args.out}")
+    if args.plot:
+        from pivot_ompl.viz.plan_figure import plot_plan
+        plot_plan(res.plan, args.plot, scene=scene, search=res.search)
+        print(f"figure written to {args.plot}")
+    return 0 if res.solved else 1

@@ -1,0 +1,124 @@
+"""The ``replay`` verb: meshcat replay of a plan or a whole-body motion.
+
+``pivot-ompl replay PLAN.json|MOTION.npz [--scene S] [--plan P] [--html F] [--serve]
+[--open]``.
+Without ``--html`` or ``--serve`` the replay is written next to the input
+(``<input>.html``). The scene comes from ``--scene`` or from the plan's/motion's scene name
+(``scenes/<name>.yaml`` under the repository root); without one no obstacle is drawn (a
+warning says so).
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import webbrowser
+from pathlib import Path
+
+import meshcat
+
+from pivot_ompl.errors import InputError
+from pivot_ompl.planfile import load_plan
+from pivot_ompl.resources import shipped_scenes
+from pivot_ompl.scene import Scene, load_scene
+
+log = logging.getLogger(__name__)
+
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add the ``replay`` verb."""
+    p = subparsers.add_parser(
+        "replay", help="meshcat replay of a plan or a whole-body motion (HTML or live)",
+        description=__doc__.splitlines()[0])
+    p.add_argument("input", help="a pivot-plan/1 JSON file or a motion .npz")
+    p.add_argument("--scene", help="scene YAML (default: scenes/<plan's scene>.yaml)")
+    p.add_argument("--plan", help="with a motion: the plan it executes (draws its Reeds-Shepp "
+                   "paths and pivot points; its scene name is used)")
+    p.add_argument("--html", help="write one self-contained offline HTML file here")
+    p.add_argument("--serve", action="store_true",
+                   help="start a live meshcat viewer, print its URL, stop on Ctrl-C")
+    p.add_argument("--open", action="store_true", help="open the result in a web browser")
+    p.add_argument("--urdf", default=None,
+                   help="robot model of a motion made for another robot (default: the shipped "
+                        "model the motion names)")
+    p.add_argument("--fps", type=float, default=25.0,
+                   help="animation keys per second of a motion replay (default 25)")
+    p.set_defaults(func=run)
+
+
+def find_scene(name: str, explicit: str | None) -> Scene | None:
+    """The scene to draw: ``explicit`` (file or shipped name), else the shipped scene ``name``."""
+    if explicit:
+        return load_scene(explicit)
+    if name:
+        path = shipped_scenes().get(name)
+        if path is not None:
+            log.info("scene %r from %s", name, path)
+            return load_scene(path)
+        log.warning("scene %r is not shipped; showing no obstacles (give --scene)", name)
+    else:
+        log.warning("no scene name and no --scene: showing no obstacles")
+    return None
+
+
+def _builder(args: argparse.Namespace):
+    """Load the input and return ``(build(vis), title)``."""
+    src = Path(args.input)
+    if not src.is_file():
+        raise InputError("input", str(src), "file not found")
+    if args.fps <= 0:
+        raise InputError("--fps", args.fps, "must be > 0")
+    if src.suffix.lower() == ".npz":
+        from pivot_ompl.motionfile import load_motion
+        from pivot_ompl.viz.motion_view import show_motion
+
+        motion = load_motion(src)
+        plan = load_plan(args.plan) if args.plan else None
+        scene = find_scene(motion.scene or (plan.scene if plan else ""), args.scene)
+
+        def build(vis: meshcat.Visualizer) -> object:
+            return show_motion(vis, motion, scene=scene, fps=args.fps, plan=plan,
+                               urdf=args.urdf)
+    else:
+        for opt, value in (("--plan", args.plan), ("--urdf", args.urdf)):
+            if value:
+                raise InputError(opt, value, "only goes with a motion (.npz) input")
+        from pivot_ompl.viz.plan_view import show_plan
+
+        plan = load_plan(src)
+        scene = find_scene(plan.scene, args.scene)
+
+        def build(vis: meshcat.Visualizer) -> object:
+            return show_plan(vis, scene, plan)
+    return build, f"pivot-ompl replay: {src.name}"
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``replay``; returns the exit code (0 ok, 1 failure; bad input raises)."""
+    build, title = _builder(args)
+    if args.serve:
+        from pivot_ompl.viz.serve import serve
+
+        def ready(url: str) -> None:
+            print(f"meshcat viewer: {url}  (Ctrl-C to stop)", flush=True)
+
+        if args.html:
+            _write(build, args.html, title, open_it=False)
+        return serve(build, open_browser=args.open, on_ready=ready)
+    out = Path(args.html) if args.html else Path(args.input).with_suffix(".html")
+    return _write(build, out, title, open_it=args.open)
+
+
+def _write(build, out: str | Path, title: str, *, open_it: bool) -> int:
+    from pivot_ompl.viz.html import write_html
+    from pivot_ompl.viz.recorder import recording_visualizer
+
+    vis = recording_visualizer()
+    build(vis)
+    res = write_html(vis, out, title=title)
+    print(f"replay: {res.path} ({res.size_bytes / 1e6:.2f} MB, {res.seconds:.2f} s)",
+          flush=True)
+    if open_it:
+        webbrowser.open(res.path.resolve().as_uri(), new=2)
+    return 0

@@ -1,0 +1,151 @@
+"""HRP-2: the preset constants every layer uses, and the model shipped in ``robots/hrp2/``.
+
+One source for the robot's planning geometry (footprint, standoff, height), its sole size and
+half-sitting posture; ``tests/test_hrp2.py`` checks the constants against the URDF.
+
+``robots/hrp2/hrp2.urdf`` is our own primitive-geometry model written from the published
+kinematic and inertial facts (see ``robots/hrp2/README.md``). Its frames ``left_foot`` /
+``right_foot`` (sole centres), ``trunk`` (waist) and ``left_hand`` / ``right_hand`` (grip
+points) are fixed links, so pinocchio and PlaCo both find them.
+"""
+
+from __future__ import annotations
+
+import functools
+import logging
+import math
+
+from pivot_ompl.resources import URDF_RELPATH, urdf_path
+
+log = logging.getLogger(__name__)
+
+__all__ = ["FOOTPRINT", "FRAMES", "HALF_SITTING", "HEIGHT", "SOLE_SIZE", "STANDOFF",
+           "URDF_RELPATH", "derived_floor_geometry", "half_sitting_configuration",
+           "hrp2_floor_geometry", "load_pinocchio_model", "urdf_path"]
+
+#: Conservative robot floor bounding box (depth along heading, width) used by the planners (m).
+FOOTPRINT = (0.40, 0.70)
+#: Gap between the held face of the box and the front of the robot's bounding box (m).
+STANDOFF = 0.25
+#: Height of the robot's bounding volume (m): the URDF's zero-pose standing height, sole to
+#: top of head (the published 1.539 m; our primitive head box stands 2 cm higher).
+HEIGHT = 1.56
+
+#: Frame names every consumer relies on.
+FRAMES = ("left_foot", "right_foot", "trunk", "left_hand", "right_hand")
+
+#: Sole rectangle (length along the foot's x, width) in m, centred on the sole frame.
+SOLE_SIZE = (0.241, 0.138)
+
+#: HRP-2 half-sitting posture (rad), the nominal reference posture.
+HALF_SITTING: dict[str, float] = {
+    **{f"{s}LEG_JOINT{i}": v for s in "RL"
+       for i, v in enumerate((0.0, 0.0, -0.453786, 0.872665, -0.418879, 0.0))},
+    "CHEST_JOINT0": 0.0, "CHEST_JOINT1": 0.0, "HEAD_JOINT0": 0.0, "HEAD_JOINT1": 0.0,
+    **{f"RARM_JOINT{i}": v for i, v in
+       enumerate((0.261799, -0.174533, 0.0, -0.523599, 0.0, 0.0, 0.174533))},
+    **{f"LARM_JOINT{i}": v for i, v in
+       enumerate((0.261799, 0.174533, 0.0, -0.523599, 0.0, 0.0, 0.174533))},
+}
+
+
+def load_pinocchio_model():  # noqa: ANN201 - pinocchio types are untyped
+    """The pinocchio model of HRP-2 with a free-flyer root (nq = 37, nv = 36)."""
+    import pinocchio as pin
+
+    return pin.buildModelFromUrdf(str(urdf_path()), pin.JointModelFreeFlyer())
+
+
+def half_sitting_configuration(model) -> object:  # noqa: ANN001
+    """Pinocchio configuration in half-sitting with the soles on the floor at the origin."""
+    import numpy as np
+    import pinocchio as pin
+
+    q = pin.neutral(model)
+    for name, value in HALF_SITTING.items():
+        q[model.joints[model.getJointId(name)].idx_q] = value
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, q)
+    sole_z = data.oMf[model.getFrameId("left_foot")].translation[2]
+    q[2] -= sole_z
+    return np.asarray(q)
+
+
+@functools.lru_cache(maxsize=1)
+def derived_floor_geometry() -> dict[str, object]:
+    """Measure the model's floor bounding box, height and reach in half-sitting.
+
+    Returns a dict with ``depth``/``width`` of the collision primitives' floor projection
+    (half-sitting, arms alongside the body, relative to the midpoint of the sole centres),
+    ``front``/``back`` (m ahead of / behind that midpoint), ``height`` (zero pose, sole to
+    top of head), ``reach`` (horizontal distance from the sole midpoint to a grip point with
+    the arms straight forward) and ``zero_pose_depth``/``zero_pose_width`` (all joints
+    zero, standing straight).
+    """
+    import numpy as np
+    import pinocchio as pin
+
+    model = load_pinocchio_model()
+    geom = pin.buildGeomFromUrdf(model, str(urdf_path()), pin.GeometryType.COLLISION)
+    data, gdata = model.createData(), geom.createData()
+
+    def corners(q: np.ndarray) -> np.ndarray:
+        pin.updateGeometryPlacements(model, data, geom, gdata, q)
+        pts = []
+        for obj, placement in zip(geom.geometryObjects, gdata.oMg, strict=True):
+            g = obj.geometry
+            if hasattr(g, "halfSide"):
+                h = np.asarray(g.halfSide)
+            else:  # cylinder along local z
+                h = np.array([g.radius, g.radius, g.halfLength])
+            for sx in (-1, 1):
+                for sy in (-1, 1):
+                    for sz in (-1, 1):
+                        pts.append(placement.act(h * np.array([sx, sy, sz])))
+        return np.array(pts)
+
+    q = half_sitting_configuration(model)
+    for side in "RL":  # arms alongside the body (the walking rest posture)
+        q[model.joints[model.getJointId(f"{side}ARM_JOINT1")].idx_q] = 0.0
+    pin.framesForwardKinematics(model, data, q)
+    mid = 0.5 * (data.oMf[model.getFrameId("left_foot")].translation
+                 + data.oMf[model.getFrameId("right_foot")].translation)
+    pts = corners(q) - mid
+    q0 = pin.neutral(model)
+    pin.framesForwardKinematics(model, data, q0)
+    sole0 = data.oMf[model.getFrameId("left_foot")].translation[2]
+    pts0 = corners(q0)
+    top = pts0[:, 2].max() - sole0
+    qf = q.copy()
+    for side in "RL":
+        qf[model.joints[model.getJointId(f"{side}ARM_JOINT0")].idx_q] = -0.5 * math.pi
+        qf[model.joints[model.getJointId(f"{side}ARM_JOINT3")].idx_q] = 0.0
+    pin.framesForwardKinematics(model, data, qf)
+    reach = data.oMf[model.getFrameId("right_hand")].translation[0] - mid[0]
+    return {"depth": float(np.ptp(pts[:, 0])), "width": float(np.ptp(pts[:, 1])),
+            "front": float(pts[:, 0].max()), "back": float(-pts[:, 0].min()),
+            "height": float(top), "reach": float(reach),
+            "zero_pose_depth": float(np.ptp(pts0[:, 0])),
+            "zero_pose_width": float(np.ptp(pts0[:, 1]))}
+
+
+def hrp2_floor_geometry() -> dict[str, object]:
+    """Robot floor geometry for scenes.
+
+    Returns ``{"footprint": (depth, width), "standoff": s, "height": h}`` (m).
+
+    The footprint is a conservative box around the measured half-sitting floor projection
+    (see :func:`derived_floor_geometry`: 0.355 x 0.62 m in the zero pose, matching the published
+    0.355 x 0.621 m; 0.44 x 0.61 m in half-sitting, where the bounding-box primitives of the
+    bent knees overstate the depth by a few cm) with room for the arm swing and the feet's
+    lateral steps: 0.40 x 0.70 m. The standoff (0.25 m, held face to the front of that box)
+    puts the grip points where the arms hold the inclined box with bent elbows. ``height``
+    is the measured zero-pose standing height.
+    """
+    d = derived_floor_geometry()
+    depth, width = FOOTPRINT
+    if d["zero_pose_depth"] > depth or d["width"] > width:  # pragma: no cover - sanity
+        log.warning("measured robot floor box %.3f x %.3f exceeds the footprint %s",
+                    d["zero_pose_depth"], d["width"], FOOTPRINT)
+    return {"footprint": FOOTPRINT, "standoff": STANDOFF,
+            "height": round(float(d["height"]), 3)}

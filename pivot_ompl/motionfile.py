@@ -1,0 +1,211 @@
+"""The whole-body motion file (``.npz``, a contract read by outside tools): one reader, one writer.
+
+Required arrays (N samples)::
+
+    t            (N,)      time (s), finite and non-decreasing
+    q            (N, nq)   pinocchio configuration of the URDF with a free-flyer root
+                           ([x, y, z, qx, qy, qz, qw, joints...])
+    joint_names  (nq - 7,) names of the joint entries of q, in order
+    urdf         ()        the shipped URDF, relative to the data folder (robots/hrp2/hrp2.urdf)
+    box          (N, 7)    box centre xyz + quaternion xyzw (T_world_box)
+
+Written by the generator and required by ``check-motion`` (optional for a replay)::
+
+    com (N, 3) centre of mass; zmp (N, 2) planned ZMP; support (N,) 0 double support,
+    1 left foot, 2 right foot; phase (N,) index into the plan's phases
+
+Optional: ``format`` = ``"pivot-motion/1"``; ``step`` (N, index of the pivot step being rotated
+in its phase, -1 otherwise); ``holding`` (N bool, both hands on the grip points); ``grasp``
+(N, -1 when not holding); ``tilt`` (N, rad); ``box_size`` (or ``object_size``) (3,) box size
+(w, d, h); ``grip_box`` (4 x 2 x 3: grip points in the box frame per grasp, left then right);
+``sole_size`` (2,) sole length and width (m); ``scene`` () scene name. Other keys are ignored.
+"""
+
+from __future__ import annotations
+
+import zipfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from pivot_ompl.errors import InputError
+
+FORMAT = "pivot-motion/1"
+REQUIRED = ("t", "q", "joint_names", "urdf", "box")
+#: Arrays the motion checks need beyond :data:`REQUIRED`.
+DYNAMICS = ("com", "zmp", "support", "phase")
+SUPPORT_DOUBLE, SUPPORT_LEFT, SUPPORT_RIGHT = 0, 1, 2
+_ROOT_NAMES = ("universe", "root_joint")
+
+
+@dataclass
+class Motion:
+    """A whole-body motion in memory (see the module docstring for each array).
+
+    ``com``, ``zmp``, ``support`` and ``phase`` are ``None`` when the file has none; the other
+    optional arrays hold their defaults (``step``/``grasp`` -1, ``holding`` False, ``tilt`` 0).
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    joint_names: tuple[str, ...]
+    urdf: str
+    box: np.ndarray
+    com: np.ndarray | None = None
+    zmp: np.ndarray | None = None
+    support: np.ndarray | None = None
+    phase: np.ndarray | None = None
+    step: np.ndarray | None = None
+    holding: np.ndarray | None = None
+    grasp: np.ndarray | None = None
+    tilt: np.ndarray | None = None
+    box_size: tuple[float, float, float] | None = None
+    grip_box: np.ndarray = field(default_factory=lambda: np.zeros((4, 2, 3)))
+    sole_size: tuple[float, float] | None = None
+    scene: str = ""
+    source: str = field(default="", compare=False)
+
+    def __post_init__(self) -> None:
+        """Fill the per-sample defaults (``step``, ``holding``, ``grasp``, ``tilt``)."""
+        n = len(self.t)
+        self.joint_names = tuple(str(s) for s in self.joint_names)
+        if self.step is None:
+            self.step = np.full(n, -1, dtype=int)
+        if self.holding is None:
+            self.holding = np.zeros(n, dtype=bool)
+        if self.grasp is None:
+            self.grasp = np.full(n, -1, dtype=int)
+        if self.tilt is None:
+            self.tilt = np.zeros(n)
+
+    @property
+    def object_size(self) -> tuple[float, float, float] | None:
+        """The box size (w, d, h) in m, or ``None`` when the file does not give it."""
+        return self.box_size
+
+    @property
+    def duration(self) -> float:
+        """Length of the motion (s)."""
+        return float(self.t[-1] - self.t[0]) if len(self.t) else 0.0
+
+    @property
+    def dt(self) -> float:
+        """Sampling period (s)."""
+        return float(self.t[1] - self.t[0]) if len(self.t) > 1 else 0.0
+
+    def require(self, *keys: str) -> None:
+        """Raise :class:`InputError` naming the first of ``keys`` the motion lacks."""
+        for key in keys:
+            if getattr(self, key) is None:
+                raise InputError(f"motion.{key}", None, "is required", source=self.source)
+
+    def save(self, path: str | Path) -> Path:
+        """Write the motion as a compressed ``.npz``; return the path."""
+        self.require(*DYNAMICS)
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        assert self.support is not None and self.phase is not None  # noqa: S101 - for mypy
+        assert self.step is not None and self.holding is not None and self.grasp is not None
+        arrays: dict[str, Any] = dict(
+            format=np.array(FORMAT), t=self.t, q=self.q,
+            joint_names=np.array(self.joint_names), urdf=np.array(self.urdf),
+            box=self.box, com=self.com, zmp=self.zmp,
+            support=self.support.astype(np.int8), phase=self.phase.astype(np.int32),
+            step=self.step.astype(np.int32), holding=self.holding.astype(bool),
+            grasp=self.grasp.astype(np.int8), tilt=self.tilt,
+            box_size=np.array(self.box_size or (0.0, 0.0, 0.0)), grip_box=self.grip_box)
+        if self.sole_size is not None:
+            arrays["sole_size"] = np.array(self.sole_size)
+        if self.scene:
+            arrays["scene"] = np.array(self.scene)
+        with path.open("wb") as fh:
+            np.savez_compressed(fh, **arrays)
+        return path
+
+
+def _str(v: np.ndarray) -> str:
+    return str(v.item() if hasattr(v, "item") and np.ndim(v) == 0 else v)
+
+
+def load_motion(path: str | Path) -> Motion:
+    """Read and check a motion ``.npz`` file (each array read once).
+
+    Raises:
+        InputError: unreadable file, missing key or inconsistent shapes (naming the key).
+    """
+    path = Path(path)
+    src = str(path)
+    try:
+        data = np.load(path, allow_pickle=False)
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as e:
+        raise InputError("motion", src, f"is not a readable .npz motion file ({e})") from e
+    try:
+        with data:
+            for key in REQUIRED:
+                if key not in data.files:
+                    raise InputError(f"motion.{key}", None, "is required", source=src)
+            arrays = {k: data[k] for k in data.files}
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as e:
+        raise InputError("motion", src, f"is not a readable .npz motion file ({e})") from e
+    t = np.asarray(arrays["t"], dtype=float).reshape(-1)
+    q = np.asarray(arrays["q"], dtype=float)
+    box = np.asarray(arrays["box"], dtype=float)
+    names = [str(n) for n in np.asarray(arrays["joint_names"]).reshape(-1)]
+    names = [n for n in names if n not in _ROOT_NAMES]
+    n = len(t)
+    if n == 0:
+        raise InputError("motion.t", [], "must hold at least one sample", source=src)
+    if not np.all(np.isfinite(t)) or np.any(np.diff(t) < 0):
+        raise InputError("motion.t", "...", "must be finite and non-decreasing", source=src)
+    if q.ndim != 2 or q.shape[0] != n or q.shape[1] < 7:
+        raise InputError("motion.q", list(q.shape), f"must have shape ({n}, 7 + joints)",
+                         source=src)
+    if q.shape[1] - 7 != len(names):
+        raise InputError("motion.joint_names", len(names),
+                         f"must name the {q.shape[1] - 7} joint values of q", source=src)
+    if box.shape != (n, 7):
+        raise InputError("motion.box", list(box.shape), f"must have shape ({n}, 7)", source=src)
+    extra: dict[str, Any] = {}
+    for key, shape in (("com", (n, 3)), ("zmp", (n, 2))):
+        if key in arrays:
+            a = np.asarray(arrays[key], dtype=float)
+            if a.shape != shape:
+                raise InputError(f"motion.{key}", list(a.shape), f"must have shape {shape}",
+                                 source=src)
+            extra[key] = a
+    for key in ("support", "phase", "step", "holding", "grasp", "tilt"):
+        if key in arrays:
+            a = np.asarray(arrays[key]).reshape(-1)
+            if a.shape != (n,):
+                raise InputError(f"motion.{key}", list(a.shape), f"must have shape ({n},)",
+                                 source=src)
+            extra[key] = a.astype(bool if key == "holding" else float if key == "tilt" else int)
+    if "grip_box" in arrays:
+        g = np.asarray(arrays["grip_box"], dtype=float)
+        if g.shape != (4, 2, 3):
+            raise InputError("motion.grip_box", list(g.shape), "must have shape (4, 2, 3)",
+                             source=src)
+        extra["grip_box"] = g
+    size = _lengths(arrays, ("box_size", "object_size"), 3, src)
+    sole = _lengths(arrays, ("sole_size",), 2, src)
+    scene = _str(arrays["scene"]) if "scene" in arrays else ""
+    return Motion(t, q, tuple(names), _str(arrays["urdf"]), box,
+                  box_size=size, sole_size=sole, scene=scene,  # type: ignore[arg-type]
+                  source=src, **extra)
+
+
+def _lengths(arrays: dict[str, np.ndarray], keys: tuple[str, ...], n: int,
+             src: str) -> tuple[float, ...] | None:
+    """The first of ``keys`` present as ``n`` lengths; all-zero means "not given"."""
+    for key in keys:
+        if key in arrays:
+            s = np.asarray(arrays[key], dtype=float).reshape(-1)
+            if s.shape == (n,) and np.all(s == 0):
+                continue
+            if s.shape != (n,) or not np.all(s > 0) or not np.all(np.isfinite(s)):
+                raise InputError(f"motion.{key}", s.tolist(), f"must be {n} positive lengths (m)",
+                                 source=src)
+            return tuple(float(x) for x in s)
+    return None

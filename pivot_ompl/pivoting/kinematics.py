@@ -1,0 +1,202 @@
+"""Pivot kinematics of the supporting edge (controllability paper, Sections III-IV).
+
+The supporting edge is a segment of length ``2l``. Its configuration is the *car pose*
+``(x, y, h)`` of :mod:`pivot_ompl.grasp`: the segment's centre and the heading ``h`` normal to
+it, so the segment's own direction is ``phi = h - pi/2`` and its ends are
+
+* ``A = centre + l (-sin h, cos h)`` (left end seen from the robot),
+* ``B = centre - l (-sin h, cos h)`` (right end).
+
+A rotation by ``alpha`` (rad, counter-clockwise) about an end keeps that end fixed. Three
+rotations alternating ends (``A, B, A`` or ``B, A, B``) reach any small displacement: a planar
+3R arm whose inverse kinematics is solved here in closed form with ``atan2`` and every candidate
+verified with the forward map (the printed formula of the paper leaves ``phi`` undefined).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from pivot_ompl.errors import UnreachableError
+from pivot_ompl.se2 import Pose, wrap_angle
+
+#: Tolerance on the forward-map verification of an inverse-kinematics candidate (m and rad).
+IK_VERIFY_TOL = 1e-9
+
+#: Round-off allowed on the rotation bound (rad): a rotation of exactly alpha_max must pass.
+ANGLE_TOL = 1e-12
+
+#: Rotations smaller than this (rad) are dropped from solutions.
+ZERO_ANGLE = 1e-12
+
+LEFT, RIGHT = 0, 1  # indices of the pivot ends A and B
+
+
+class Rotation(NamedTuple):
+    """One pivot rotation (a named tuple: it is created in the steering's inner loop).
+
+    Attributes:
+        end: ``0`` for end ``A`` (left), ``1`` for end ``B`` (right).
+        pivot: world position of the pivot corner (m).
+        angle: signed rotation angle (rad, counter-clockwise positive).
+        car: car pose after the rotation.
+    """
+
+    end: int
+    pivot: tuple[float, float]
+    angle: float
+    car: Pose
+
+
+@dataclass(frozen=True)
+class ThreeRotationResult:
+    """Result of the three-rotation local steering.
+
+    Attributes:
+        reachable: whether the goal is reachable with every ``|alpha_i| <= alpha_max``.
+        rotations: the (at most three) non-zero rotations, in order; empty if unreachable or
+            if start and goal coincide.
+        total_angle: sum of ``|alpha_i|`` (rad); ``inf`` if unreachable.
+    """
+
+    reachable: bool
+    rotations: tuple[Rotation, ...]
+    total_angle: float
+
+    def raise_if_unreachable(self, start: Pose, goal: Pose, alpha_max: float) -> None:
+        """Raise :class:`UnreachableError` if the goal was not reachable."""
+        if not self.reachable:
+            raise UnreachableError(start, goal, alpha_max)
+
+
+def end_point(car: Pose, half_length: float, end: int) -> tuple[float, float]:
+    """World position of end ``A`` (``end=0``) or ``B`` (``end=1``) of the edge at ``car``."""
+    sign = 1.0 if end == LEFT else -1.0
+    return (car[0] - sign * half_length * math.sin(car[2]),
+            car[1] + sign * half_length * math.cos(car[2]))
+
+
+def forward(car: Pose, half_length: float, first_end: int,
+            angles: tuple[float, float, float]) -> Pose:
+    """Forward map: the car pose after rotating about ``first_end``, the other end, then ``first_end``."""
+    x, y, h = car
+    sign = 1.0 if first_end == LEFT else -1.0
+    for a in angles:
+        px, py = x - sign * half_length * math.sin(h), y + sign * half_length * math.cos(h)
+        c, s = math.cos(a), math.sin(a)
+        dx, dy = x - px, y - py
+        x, y, h = px + c * dx - s * dy, py + s * dx + c * dy, h + a
+        sign = -sign
+    return (x, y, h)
+
+
+def _candidates_within(start: Pose, goal: Pose, ell: float,
+                       alpha_max: float) -> list[tuple[float, int, float, float, float]]:
+    """Closed-form candidates ``(total, first_end, a1, a2, a3)`` within the bound, best first.
+
+    Let ``P0`` be the first pivot and ``u(a)`` the unit vector of angle ``a``. With ``psi`` the
+    direction from ``P0`` to the other end, after the first two rotations the first end sits at
+    ``P0 + 2l (u(psi+a1) - u(psi+a1+a2))``, which must equal the goal's first end. Its distance
+    ``d`` to ``P0`` gives ``|a2| = 2 asin(d / 4l)``; ``atan2`` of the difference gives ``a1``;
+    ``a3`` closes the heading. Callers verify candidates with the forward map.
+    """
+    sh, ch = math.sin(start[2]), math.cos(start[2])
+    sg, cg = math.sin(goal[2]), math.cos(goal[2])
+    found: list[tuple[float, int, float, float, float]] = []
+    limit = 4.0 * ell * math.sin(0.5 * alpha_max) + 1e-12
+    for first in (LEFT, RIGHT):
+        sign = 1.0 if first == LEFT else -1.0
+        p0x, p0y = start[0] - sign * ell * sh, start[1] + sign * ell * ch
+        p2x, p2y = goal[0] - sign * ell * sg, goal[1] + sign * ell * cg
+        dx, dy = p2x - p0x, p2y - p0y
+        d = math.hypot(dx, dy)
+        if d > limit:
+            continue
+        # direction from the first end to the other end: h - pi/2 for A, h + pi/2 for B
+        psi0 = start[2] - sign * 0.5 * math.pi
+        dpsi = goal[2] - start[2]
+        if d < 1e-12:  # (nearly) a pure rotation about the first end: one or two halves
+            cands = [(wrap_angle(dpsi), 0.0, 0.0), (0.5 * wrap_angle(dpsi), 0.0,
+                                                    0.5 * wrap_angle(dpsi))]
+        else:
+            half = math.asin(min(1.0, d / (4.0 * ell)))
+            bearing = math.atan2(dy, dx)
+            cands = []
+            for a2 in (2.0 * half, -2.0 * half):
+                a = bearing - 0.5 * a2 + (0.5 * math.pi if a2 > 0 else -0.5 * math.pi)
+                a1 = wrap_angle(a - psi0)
+                a3 = wrap_angle(dpsi - a1 - a2)
+                cands.append((a1, a2, a3))
+        bound = alpha_max + ANGLE_TOL  # round-off of asin/atan2 at the bound itself
+        for a1, a2, a3 in cands:
+            if abs(a1) <= bound and abs(a2) <= bound and abs(a3) <= bound:
+                found.append((abs(a1) + abs(a2) + abs(a3), first, a1, a2, a3))
+    found.sort()
+    return found
+
+
+def solve_piece(start: Pose, goal: Pose, ell: float,
+                alpha_max: float) -> tuple[bool, tuple[Rotation, ...]]:
+    """Inner loop of the steering: ``(reachable, rotations)`` of the best verified candidate.
+
+    The closed-form candidates (:func:`_candidates_within`), best first; the rotation records
+    are built while verifying each candidate with the forward map, and the first candidate
+    that reaches the goal is returned.
+    """
+    if abs(wrap_angle(goal[2] - start[2])) > 3.0 * alpha_max + ANGLE_TOL:
+        return False, ()
+    found = _candidates_within(start, goal, ell, alpha_max)
+    for _total, first, a1, a2, a3 in found:
+        x, y, h = start
+        sign = 1.0 if first == LEFT else -1.0
+        end = first
+        rots = []
+        for a in (a1, a2, a3):
+            if abs(a) > ZERO_ANGLE:
+                px, py = x - sign * ell * math.sin(h), y + sign * ell * math.cos(h)
+                c, s_ = math.cos(a), math.sin(a)
+                dx, dy = x - px, y - py
+                x, y, h = px + c * dx - s_ * dy, py + s_ * dx + c * dy, h + a
+                rots.append(Rotation(end, (px, py), a, (x, y, h)))
+            sign = -sign
+            end = 1 - end
+        if (abs(x - goal[0]) <= IK_VERIFY_TOL and abs(y - goal[1]) <= IK_VERIFY_TOL
+                and abs(wrap_angle(h - goal[2])) <= IK_VERIFY_TOL):
+            return True, tuple(rots)
+    return False, ()
+
+
+def solve_three_rotations(start: Pose, goal: Pose, *, half_length: float,
+                          alpha_max: float) -> ThreeRotationResult:
+    """Join two car poses by three alternating pivot rotations, each ``|alpha| <= alpha_max``.
+
+    Both sequences (``A, B, A`` and ``B, A, B``) and both elbow branches are tried; every
+    candidate within the bound is verified with :func:`forward`, smallest total ``|alpha|``
+    first, and the first one that reaches the goal is returned. Rotations of zero angle are dropped.
+
+    Args:
+        start: car pose (m, m, rad) of the supporting edge before the rotations.
+        goal: car pose to reach.
+        half_length: half-length ``l`` of the supporting edge (m).
+        alpha_max: bound on each rotation (rad).
+    """
+    ok, rotations = solve_piece(start, goal, half_length, alpha_max)
+    if not ok:
+        return ThreeRotationResult(False, (), math.inf)
+    return ThreeRotationResult(True, rotations, sum(abs(r.angle) for r in rotations))
+
+
+def vector_fields(car: Pose, half_length: float) -> tuple[np.ndarray, np.ndarray]:
+    """Vector fields of rotation about ``A`` and ``B`` at ``car`` in (x, y, h) coordinates.
+
+    Returns ``(L, R)`` where ``L = d/de rotate_about(car, A, e)`` at ``e = 0`` (and ``R`` for
+    ``B``): ``L = (l cos h, l sin h, 1)`` and ``R = (-l cos h, -l sin h, 1)``, the paper's
+    ``(-l sin th, l cos th, 1)`` and ``(l sin th, -l cos th, 1)`` with ``th = h - pi/2``.
+    """
+    c, s = math.cos(car[2]), math.sin(car[2])
+    ell = half_length
+    return np.array([ell * c, ell * s, 1.0]), np.array([-ell * c, -ell * s, 1.0])

@@ -1,0 +1,71 @@
+"""What our OMPL planners share: the crash guard and writing a solution path."""
+
+from __future__ import annotations
+
+import logging
+from typing import Any
+
+from ompl import base as ob
+from ompl import geometric as og
+
+from pivot_ompl.base.state import write_state
+from pivot_ompl.se2 import Pose
+
+log = logging.getLogger(__name__)
+
+
+class GuardedPlanner(ob.Planner):
+    """An ``ob.Planner`` whose ``solve`` never lets an exception escape.
+
+    An exception escaping a Python ``solve`` aborts a whole ``ompl.tools.Benchmark`` run: it
+    is logged and reported as ``CRASH`` instead. Subclasses implement ``_solve(ptc)``.
+    """
+
+    def clear(self) -> None:  # noqa: D102
+        super().clear()
+
+    def solve(self, ptc: Any) -> ob.PlannerStatus:  # noqa: D102
+        try:
+            return self._solve(ptc)
+        except _NoQuery as e:
+            return ob.PlannerStatus(e.status)
+        except Exception:
+            log.exception("%s crashed", self.getName())
+            return ob.PlannerStatus(ob.PlannerStatus.CRASH)
+
+    def _solve(self, ptc: Any) -> ob.PlannerStatus:
+        raise NotImplementedError
+
+    def _endpoints(self, ptc: Any) -> tuple[Any, Any]:
+        """The query's start and goal states, read the safe way (``PlannerInputStates``; never
+        ``pdef.getStartState``, which hands the state's ownership to Python).
+        """
+        pis = self.getPlannerInputStates()
+        start = pis.nextStart()
+        if start is None:
+            raise _NoQuery(ob.PlannerStatus.INVALID_START)
+        goal = pis.nextGoal(ptc)
+        if goal is None:
+            raise _NoQuery(ob.PlannerStatus.INVALID_GOAL)
+        return start, goal
+
+
+class _NoQuery(Exception):  # noqa: N818 - internal control flow, never escapes solve()
+    def __init__(self, status: Any) -> None:
+        self.status = status
+
+
+def states_to_path(planner: Any, states: list[tuple[Pose, int]], *,
+                   approximate: bool = False) -> Any:
+    """Add ``states`` as a ``PathGeometric`` solution of ``planner``'s problem definition."""
+    si = planner.getSpaceInformation()
+    path = og.PathGeometric(si)
+    for pose, grasp in states:
+        # the binding's append keeps the pointer (no copy): one fresh state each, owned by
+        # the path from then on (never freed here)
+        st = si.allocState()
+        write_state(st, pose, grasp)
+        path.append(st)
+    pdef = planner.getProblemDefinition()
+    pdef.addSolutionPath(path, approximate, 0.0, planner.getName())
+    return path

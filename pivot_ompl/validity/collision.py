@@ -1,0 +1,182 @@
+"""Collision and clearance with coal: obstacles as prisms, the box and the robot as boxes.
+
+Obstacles are vertical prisms standing on the floor: a box obstacle is a ``coal.Box``, a
+cylinder a ``coal.Cylinder``, a polygon is triangulated (ear clipping, so non-convex polygons
+work) into convex triangular prisms (``coal.Convex``). All obstacles live in one
+``DynamicAABBTreeCollisionManager`` so a query costs one call. The box is its 3-D shape standing
+on the floor; the robot is its bounding box (floor footprint x height) at the grasp.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import coal
+import numpy as np
+
+from pivot_ompl.grasp import BoxGraspModel
+from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Obstacle, PolygonObstacle, Scene
+from pivot_ompl.se2 import Pose, triangulate
+
+
+def _transform(x: float, y: float, yaw: float, z: float) -> coal.Transform3s:
+    c, s = math.cos(yaw), math.sin(yaw)
+    return coal.Transform3s(np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]),
+                            np.array([x, y, z]))
+
+
+def _prism(points: list[tuple[float, float]], height: float) -> coal.Convex:
+    verts = coal.StdVec_Vec3s()
+    for z in (0.0, height):
+        for x, y in points:
+            verts.append(np.array([x, y, z]))
+    return coal.Convex.convexHull(verts, False, "")
+
+
+def obstacle_objects(obstacle: Obstacle) -> list[coal.CollisionObject]:
+    """The coal collision objects of one obstacle (several for a non-convex polygon)."""
+    if isinstance(obstacle, BoxObstacle):
+        shape = coal.Box(obstacle.size[0], obstacle.size[1], obstacle.height)
+        return [coal.CollisionObject(shape, _transform(*obstacle.center, obstacle.yaw,
+                                                       0.5 * obstacle.height))]
+    if isinstance(obstacle, CylinderObstacle):
+        shape = coal.Cylinder(obstacle.radius, obstacle.height)
+        return [coal.CollisionObject(shape, _transform(*obstacle.center, 0.0,
+                                                       0.5 * obstacle.height))]
+    if isinstance(obstacle, PolygonObstacle):
+        out = []
+        for a, b, c in triangulate(obstacle.points):
+            tri = [obstacle.points[a], obstacle.points[b], obstacle.points[c]]
+            out.append(coal.CollisionObject(_prism(tri, obstacle.height), coal.Transform3s()))
+        return out
+    raise TypeError(f"unknown obstacle {obstacle!r}")
+
+
+@dataclass
+class CollisionWorld:
+    """The scene's obstacles and the two moving bodies, with coal queries.
+
+    Attributes:
+        model: the box and robot geometry.
+        bounds: floor area ``(xmin, ymin, xmax, ymax)``.
+    """
+
+    model: BoxGraspModel
+    bounds: tuple[float, float, float, float]
+
+    def __post_init__(self) -> None:
+        """Create the body shapes."""
+        w, d, h = self.model.object_size
+        self._box_shape = coal.Box(w, d, h)
+        depth, width = self.model.robot_footprint
+        self._robot_shape = coal.Box(depth, width, self.model.robot_height)
+        self._box = coal.CollisionObject(self._box_shape)
+        self._robot = coal.CollisionObject(self._robot_shape)
+        self._box_radius = 0.5 * math.hypot(w, d)
+        self._robot_radius = self.model.robot_radius()
+        self._disk_shape = coal.Cylinder(self.model.robot_radius(), self.model.robot_height)
+        self._disk = coal.CollisionObject(self._disk_shape)
+        self._objects: list[coal.CollisionObject] = []
+        self._manager = coal.DynamicAABBTreeCollisionManager()
+        self._dcb = coal.DistanceCallBackDefault()
+        self._ccb = coal.CollisionCallBackDefault()
+        self._req = coal.DistanceRequest()
+        self._res = coal.DistanceResult()
+        self.queries = 0
+
+    @classmethod
+    def from_scene(cls, scene: Scene) -> CollisionWorld:
+        """Build the world of a scene."""
+        world = cls(scene.model, scene.bounds)
+        for o in scene.obstacles:
+            world.add_obstacle(o)
+        world.setup()
+        return world
+
+    def add_obstacle(self, obstacle: Obstacle) -> None:
+        """Add a static obstacle (call :meth:`setup` after the last one)."""
+        for obj in obstacle_objects(obstacle):
+            self._objects.append(obj)
+            self._manager.registerObject(obj)
+
+    def setup(self) -> None:
+        """Build the broad-phase tree."""
+        self._manager.setup()
+
+    @property
+    def has_obstacles(self) -> bool:
+        """Whether the world holds any obstacle."""
+        return bool(self._objects)
+
+    # -- queries -----------------------------------------------------------------------
+    def _distance(self, obj: coal.CollisionObject) -> float:
+        self.queries += 1
+        if not self._objects:
+            return math.inf
+        obj.computeAABB()
+        cb = self._dcb
+        cb.data.result.clear()
+        self._manager.distance(obj, cb)
+        return cb.data.result.min_distance
+
+    def box_distance(self, obj: Pose) -> float:
+        """Distance (m) from the box at object pose ``obj`` to the nearest obstacle (<= 0: hit)."""
+        self._box.setTransform(_transform(obj[0], obj[1], obj[2], 0.5 * self.model.object_size[2]))
+        return self._distance(self._box)
+
+    def robot_distance(self, robot: Pose) -> float:
+        """Distance (m) from the robot's bounding box at ``robot`` to the nearest obstacle."""
+        self._robot.setTransform(_transform(robot[0], robot[1], robot[2],
+                                            0.5 * self.model.robot_height))
+        return self._distance(self._robot)
+
+    def robot_box_distance(self, robot: Pose, obj: Pose) -> float:
+        """Distance (m) between the robot at ``robot`` and the resting box at ``obj``."""
+        self.queries += 1
+        self._res.clear()
+        return coal.distance(self._robot_shape,
+                             _transform(robot[0], robot[1], robot[2], 0.5 * self.model.robot_height),
+                             self._box_shape,
+                             _transform(obj[0], obj[1], obj[2], 0.5 * self.model.object_size[2]),
+                             self._req, self._res)
+
+    def turning_disk_distance(self, x: float, y: float) -> float:
+        """Clearance (m) to the obstacles of the disk the robot sweeps turning in place at
+        ``(x, y)``.
+        """
+        self._disk.setTransform(_transform(x, y, 0.0, 0.5 * self.model.robot_height))
+        return self._distance(self._disk)
+
+    def turning_disk_box_distance(self, x: float, y: float, obj: Pose) -> float:
+        """Clearance (m) between that disk and the box resting at object pose ``obj``."""
+        self.queries += 1
+        self._res.clear()
+        return coal.distance(self._disk_shape, _transform(x, y, 0.0, 0.5 * self.model.robot_height),
+                             self._box_shape,
+                             _transform(obj[0], obj[1], obj[2], 0.5 * self.model.object_size[2]),
+                             self._req, self._res)
+
+    # -- bounds ------------------------------------------------------------------------
+    def bounds_margin(self, corners: list[tuple[float, float]]) -> float:
+        """Smallest distance (m) of the corners to the bounds' sides (< 0: outside)."""
+        x0, y0, x1, y1 = self.bounds
+        return min(min(x - x0, x1 - x, y - y0, y1 - y) for x, y in corners)
+
+    def _inside(self, pose: Pose, half_diagonal: float) -> bool:
+        """Quick accept: the circumscribed disk of a footprint lies inside the bounds."""
+        x0, y0, x1, y1 = self.bounds
+        return (x0 + half_diagonal <= pose[0] <= x1 - half_diagonal
+                and y0 + half_diagonal <= pose[1] <= y1 - half_diagonal)
+
+    def box_in_bounds(self, obj: Pose) -> bool:
+        """Whether the box footprint at ``obj`` lies inside the bounds."""
+        if self._inside(obj, self._box_radius):
+            return True
+        return self.bounds_margin(self.model.object_corners(obj)) >= 0.0
+
+    def robot_in_bounds(self, robot: Pose) -> bool:
+        """Whether the robot footprint at ``robot`` lies inside the bounds."""
+        if self._inside(robot, self._robot_radius):
+            return True
+        return self.bounds_margin(self.model.robot_corners(robot)) >= 0.0

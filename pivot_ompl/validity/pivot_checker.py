@@ -1,0 +1,257 @@
+"""The pure-Python validity core: states, pivot edges (transfer) and walks (transit).
+
+OMPL's validators (:mod:`pivot_ompl.validity`, :mod:`pivot_ompl.motion_validator`) and our
+planners both ask this object, so every edge is converted and checked once (cached) whichever
+component asks first.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+from pivot_ompl.pivoting.kinematics import LEFT, Rotation
+from pivot_ompl.pivoting.steering import PivotSequence, PivotSteering
+from pivot_ompl.scene import Scene
+from pivot_ompl.se2 import Pose, rotate_about
+from pivot_ompl.validity.certify import SWEEP_TOLERANCE, certify
+from pivot_ompl.validity.collision import CollisionWorld
+from pivot_ompl.validity.walking import WalkPlanner, WalkResult
+
+log = logging.getLogger(__name__)
+
+#: A colliding edge is converted again with the rotation bound halved up to this many times.
+MIN_ALPHA_HALVINGS = 3
+#: Only edges up to this Reeds-Shepp length (m) are subdivided on collision: subdivision
+#: matters in tight spots, where planners try short edges.
+SUBDIVIDE_MAX_LENGTH = 2.0
+
+
+@dataclass(frozen=True)
+class EdgeResult:
+    """A transfer edge (same grasp) checked.
+
+    Attributes:
+        valid: the pivot sequence is collision-free and inside the bounds.
+        sequence: the pivot rotations (car poses) of the edge.
+        length: Reeds-Shepp length of the edge (m).
+        reason: why it is invalid (``""`` if valid).
+    """
+
+    valid: bool
+    sequence: PivotSequence
+    length: float
+    reason: str = ""
+
+
+@dataclass
+class MotionCounters:
+    """Counts of motion checks (OMPL's own counters stay 0 for Python validators)."""
+
+    valid: int = 0
+    invalid: int = 0
+    cache_hits: int = 0
+
+
+@dataclass
+class PivotChecker:
+    """States, transfer edges and transit walks of one scene.
+
+    Args:
+        scene: the planning problem.
+        seed: seed of the walk roadmap's generator.
+        tolerance: swept-check tolerance (m): no point of a body moves farther than this
+            between two certified samples.
+    """
+
+    scene: Scene
+    seed: int = 0
+    tolerance: float = SWEEP_TOLERANCE
+    world: CollisionWorld = field(init=False)
+    steering: PivotSteering = field(init=False)
+    walker: WalkPlanner = field(init=False)
+    counters: MotionCounters = field(default_factory=MotionCounters, init=False)
+
+    def __post_init__(self) -> None:
+        """Build the collision world, the steering method and the walk planner."""
+        s = self.scene
+        self.model = s.model
+        self.world = CollisionWorld.from_scene(s)
+        self.steering = PivotSteering(turning_radius=s.turning_radius, alpha_max=s.alpha_max)
+        self.walker = WalkPlanner(s.model, self.world)
+        self._edges: dict[tuple, EdgeResult] = {}
+        self._walks: dict[tuple, WalkResult] = {}
+        self._fine: dict[int, PivotSteering] = {}
+        # reach of each body from a pivot corner, per grasp: bounds rotation sweeps
+        self._reach: dict[int, tuple[float, float]] = {}
+        for g in range(4):
+            car = (0.0, 0.0, 0.0)
+            a = self.model.pivots(car, g)[LEFT]
+            box = self.model.object_corners(self.model.object_from_car(car, g))
+            rob = self.model.robot_corners(self.model.robot_from_car(car, g))
+            self._reach[g] = (max(math.hypot(x - a[0], y - a[1]) for x, y in box),
+                              max(math.hypot(x - a[0], y - a[1]) for x, y in rob))
+
+    # -- states --------------------------------------------------------------------------
+    def box_valid(self, obj: Pose) -> bool:
+        """The box alone at ``obj`` is inside the bounds and collision-free."""
+        return self.world.box_in_bounds(obj) and self.world.box_distance(obj) > 0.0
+
+    def robot_valid(self, obj: Pose, grasp: int) -> bool:
+        """The robot holding the box at ``obj`` with ``grasp`` is inside bounds and free."""
+        r = self.model.robot_pose(obj, grasp)
+        return self.world.robot_in_bounds(r) and self.world.robot_distance(r) > 0.0
+
+    def state_valid(self, obj: Pose, grasp: int) -> bool:
+        """Box and robot at ``grasp`` inside the bounds and collision-free."""
+        return self.box_valid(obj) and self.robot_valid(obj, grasp)
+
+    def clearance(self, obj: Pose, grasp: int) -> float:
+        """Smallest distance (m) of box or robot to obstacles or to the bounds' sides."""
+        r = self.model.robot_pose(obj, grasp)
+        w = self.world
+        return min(w.box_distance(obj), w.robot_distance(r),
+                   w.bounds_margin(self.model.object_corners(obj)),
+                   w.bounds_margin(self.model.robot_corners(r)))
+
+    # -- transfer ------------------------------------------------------------------------
+    def transfer(self, obj_a: Pose, obj_b: Pose, grasp: int, *,
+                 with_robot: bool = True) -> EdgeResult:
+        """Check the pivot sequence moving the box from ``obj_a`` to ``obj_b`` at ``grasp``.
+
+        With ``with_robot=False`` only the box is checked (the object roadmap of the
+        Visibility PRM, where the robot is considered separately).
+        """
+        return self._cached(self._edges, (obj_a, obj_b, grasp, with_robot),
+                            lambda: self._transfer(obj_a, obj_b, grasp, with_robot))
+
+    def _cached(self, cache: dict, key: tuple, compute: Callable[[], Any]) -> Any:
+        """A motion result from ``cache``, or computed, stored and counted."""
+        hit = cache.get(key)
+        if hit is not None:
+            self.counters.cache_hits += 1
+            return hit
+        res = compute()
+        cache[key] = res
+        if res.valid:
+            self.counters.valid += 1
+        else:
+            self.counters.invalid += 1
+        return res
+
+    def _transfer(self, obj_a: Pose, obj_b: Pose, grasp: int, with_robot: bool) -> EdgeResult:
+        """Check the edge; where a rotation collides, convert again with rotations bounded by
+        half the bound (they hug the Reeds-Shepp path closer: the topological property), down
+        to ``alpha_max / 2**MIN_ALPHA_HALVINGS``, before declaring the motion invalid.
+        Rotations are produced and checked one by one, so a colliding edge stops early.
+        """
+        m = self.model
+        ca, cb = m.car_pose(obj_a, grasp), m.car_pose(obj_b, grasp)
+        res = self._check(self.steering, ca, cb, grasp, with_robot)
+        if res.valid or "collides during" not in res.reason or \
+                res.length > SUBDIVIDE_MAX_LENGTH:
+            return res
+        for k in range(1, MIN_ALPHA_HALVINGS + 1):
+            again = self._check(self._fine_steering(k), ca, cb, grasp, with_robot)
+            if again.valid:
+                return again
+        return res
+
+    def _fine_steering(self, halvings: int) -> PivotSteering:
+        st = self._fine.get(halvings)
+        if st is None:
+            st = PivotSteering(turning_radius=self.scene.turning_radius,
+                               alpha_max=self.scene.alpha_max / 2 ** halvings)
+            self._fine[halvings] = st
+        return st
+
+    def _check(self, steering: PivotSteering, ca: Pose, cb: Pose, grasp: int,
+               with_robot: bool) -> EdgeResult:
+        """Bounds and certified sweeps rotation by rotation, stopping at the first failure."""
+        m, w = self.model, self.world
+        r_box, r_rob = self._reach[grasp]
+        obstacles = w.has_obstacles
+        ell = m.edge_half_length(grasp)
+        length = steering.rs.distance(ca, cb)
+
+        def box_d(car: Pose) -> float:
+            return w.box_distance(m.object_from_car(car, grasp))
+
+        def rob_d(car: Pose) -> float:
+            return w.robot_distance(m.robot_from_car(car, grasp))
+
+        def in_bounds(car: Pose, bulge_b: float, bulge_r: float) -> bool:
+            if w.bounds_margin(m.object_corners(m.object_from_car(car, grasp))) < bulge_b:
+                return False
+            return not with_robot or \
+                w.bounds_margin(m.robot_corners(m.robot_from_car(car, grasp))) >= bulge_r
+
+        def fail(reason: str) -> EdgeResult:
+            return EdgeResult(False, PivotSequence(ca, cb, (), length, 0), length, reason)
+
+        prev = ca
+        if obstacles:
+            db = box_d(ca)
+            dr = rob_d(ca) if with_robot else math.inf
+            if db <= 0 or dr <= 0:
+                return fail("collides at the start")
+        checked: list[Rotation] = []
+        for i, (rot, _) in enumerate(steering.iter_rotations(ca, cb, half_length=ell)):
+            if rot is None:
+                continue
+            bulge = 1.0 - math.cos(0.5 * rot.angle)
+            if not (in_bounds(prev, r_box * bulge, r_rob * bulge)
+                    and in_bounds(rot.car, r_box * bulge, r_rob * bulge)):
+                return fail(f"leaves the bounds at rotation {i}")
+            if obstacles:
+                base, piv, ang = prev, rot.pivot, rot.angle
+                db_end = box_d(rot.car)
+                ok = certify(lambda s, base=base, piv=piv, ang=ang:
+                             box_d(rotate_about(base, piv, s * ang)),
+                             r_box * abs(ang), tolerance=self.tolerance, d0=db, d1=db_end).valid
+                if not ok:
+                    return fail(f"box collides during rotation {i}")
+                db = db_end
+                if with_robot:
+                    dr_end = rob_d(rot.car)
+                    ok = certify(lambda s, base=base, piv=piv, ang=ang:
+                                 rob_d(rotate_about(base, piv, s * ang)),
+                                 r_rob * abs(ang), tolerance=self.tolerance, d0=dr,
+                                 d1=dr_end).valid
+                    if not ok:
+                        return fail(f"robot collides during rotation {i}")
+                    dr = dr_end
+            checked.append(rot)
+            prev = rot.car
+        # merge rotations about one corner exactly as PivotSteering.convert does: the merged
+        # rotation sweeps the union of the two checked sweeps
+        merged: list[Rotation] = []
+        for r in checked:
+            steering._append(merged, r)
+        seq = PivotSequence(ca, cb, tuple(merged), length, 0)
+        return EdgeResult(True, seq, length)
+
+    # -- transit -------------------------------------------------------------------------
+    def transit(self, obj: Pose, from_grasp: int, to_grasp: int) -> WalkResult:
+        """The robot's walk between two grasps of the box resting at ``obj`` (cached)."""
+        return self._cached(self._walks, (obj, from_grasp, to_grasp),
+                            lambda: self.walker.plan(obj, from_grasp, to_grasp))
+
+    def explain(self, obj: Pose) -> str:
+        """Why each grasp is invalid at object pose ``obj`` (for error messages)."""
+        w, m = self.world, self.model
+        if not w.box_in_bounds(obj):
+            return "the box leaves the bounds"
+        if w.box_distance(obj) <= 0:
+            return "the box collides with an obstacle"
+        parts = []
+        for g in range(4):
+            r = m.robot_pose(obj, g)
+            if not w.robot_in_bounds(r):
+                parts.append(f"grasp {g}: robot leaves the bounds")
+            elif w.robot_distance(r) <= 0:
+                parts.append(f"grasp {g}: robot collides")
+        return "; ".join(parts) or "valid"

@@ -1,0 +1,145 @@
+"""``pivot-ompl check``: the project's own validator of a ``pivot-plan/1`` plan.
+
+Checks chain continuity (each step starts where the previous ended, each phase where the
+previous one left robot and box), pivots at the supporting edge's ends, angle bounds, the rigid
+grasp (robot pose = grasp pose of the object pose), start and goal, and, with a scene,
+bounds and collisions of every rotation's swept box and robot and of every walk.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from pivot_ompl import hrp2
+from pivot_ompl.grasp import BoxGraspModel
+from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
+from pivot_ompl.scene import Scene
+from pivot_ompl.se2 import Pose, rotate_about, wrap_angle
+from pivot_ompl.validity.certify import SWEEP_TOLERANCE, certify
+from pivot_ompl.validity.collision import CollisionWorld
+
+#: Tolerance on continuity and exact arrival (m and rad).
+POSE_TOL = 1e-6
+
+
+@dataclass
+class PlanCheckReport:
+    """Outcome of :func:`check_plan`: ``ok`` and the list of problems found."""
+
+    problems: list[str] = field(default_factory=list)
+    steps: int = 0
+    transits: int = 0
+
+    @property
+    def ok(self) -> bool:
+        """No problem found."""
+        return not self.problems
+
+
+def _close(a: Pose, b: Pose, tol: float = POSE_TOL) -> bool:
+    return (abs(a[0] - b[0]) <= tol and abs(a[1] - b[1]) <= tol
+            and abs(wrap_angle(a[2] - b[2])) <= tol)
+
+
+def check_plan(plan: Plan, scene: Scene | None = None, *, collisions: bool = True,
+               tolerance: float = SWEEP_TOLERANCE) -> PlanCheckReport:
+    """Validate ``plan`` (optionally against ``scene``); see the module docstring."""
+    rep = PlanCheckReport()
+    model = BoxGraspModel(plan.object_size, plan.robot_footprint, plan.standoff,
+                          scene.model.robot_height if scene else hrp2.HEIGHT)
+    world = CollisionWorld.from_scene(scene) if scene is not None else None
+    if scene is not None:
+        if not _close(plan.start, scene.start):
+            rep.problems.append(f"plan starts at {plan.start}, scene start is {scene.start}")
+        if plan.status == "exact" and not _close(plan.object_end, scene.goal):
+            rep.problems.append(f"plan ends at {plan.object_end}, scene goal is {scene.goal}")
+        for name, a, b in (("object_size", plan.object_size, scene.model.object_size),
+                           ("robot_footprint", plan.robot_footprint, scene.model.robot_footprint)):
+            if any(abs(x - y) > 1e-9 for x, y in zip(a, b, strict=True)):
+                rep.problems.append(f"{name} {list(a)} differs from the scene's {list(b)}")
+    obj = plan.start
+    robot: Pose | None = None
+    amax = plan.alpha_max
+    for pi, ph in enumerate(plan.phases):
+        where = f"phases[{pi}]"
+        if isinstance(ph, TransferPhase):
+            g = ph.grasp
+            if robot is not None and not _close(ph.robot_start, robot):
+                rep.problems.append(f"{where}: robot_start {ph.robot_start} is not where the "
+                                    f"robot was left {robot}")
+            if not _close(ph.robot_start, model.robot_pose(obj, g)):
+                rep.problems.append(f"{where}: robot_start is not grasp {g} of the object")
+            car = model.car_pose(obj, g)
+            for si, st in enumerate(ph.steps):
+                w = f"{where}.steps[{si}]"
+                rep.steps += 1
+                if abs(st.angle) > amax + 1e-9:
+                    rep.problems.append(f"{w}: |angle| {abs(st.angle):.6g} > alpha_max {amax:.6g}")
+                ends = model.pivots(car, g)
+                if min(math.hypot(st.pivot[0] - e[0], st.pivot[1] - e[1]) for e in ends) > 1e-6:
+                    rep.problems.append(f"{w}: pivot {st.pivot} is not an end of the "
+                                        "supporting edge")
+                new_car = rotate_about(car, st.pivot, st.angle)
+                exp_obj = model.object_from_car(new_car, g)
+                if not _close(st.object, exp_obj):
+                    rep.problems.append(f"{w}: object {st.object} is not the rotation's result "
+                                        f"{exp_obj}")
+                if not _close(st.robot, model.robot_pose(st.object, g)):
+                    rep.problems.append(f"{w}: robot {st.robot} is not rigidly at grasp {g}")
+                if world is not None and collisions:
+                    _check_rotation(rep, w, world, model, car, st.pivot, st.angle, g, tolerance)
+                car = model.car_pose(st.object, g)
+            obj = ph.object_end if ph.steps else obj
+            robot = ph.robot_end
+        elif isinstance(ph, TransitPhase):
+            rep.transits += 1
+            path = ph.robot_path
+            if not _close(path[0], model.robot_pose(obj, ph.from_grasp)):
+                rep.problems.append(f"{where}: walk does not start at grasp {ph.from_grasp}")
+            if robot is not None and not _close(path[0], robot):
+                rep.problems.append(f"{where}: walk does not start where the robot was left")
+            if not _close(path[-1], model.robot_pose(obj, ph.to_grasp)):
+                rep.problems.append(f"{where}: walk does not end at grasp {ph.to_grasp}")
+            if world is not None and collisions:
+                for k, (a, b) in enumerate(zip(path, path[1:], strict=False)):
+                    _check_walk(rep, f"{where}.robot_path[{k}]", world, model, a, b, obj,
+                                tolerance)
+            robot = path[-1]
+    return rep
+
+
+def _check_rotation(rep: PlanCheckReport, where: str, world: CollisionWorld,
+                    model: BoxGraspModel, car: Pose, pivot: tuple[float, float], angle: float,
+                    g: int, tol: float) -> None:
+    for body, conv, corners, dist in (
+            ("box", model.object_from_car, model.object_corners, world.box_distance),
+            ("robot", model.robot_from_car, model.robot_corners, world.robot_distance)):
+        reach = max(math.hypot(x - pivot[0], y - pivot[1]) for x, y in corners(conv(car, g)))
+        n = max(2, int(math.ceil(reach * abs(angle) / 0.01)) + 1)
+        for k in range(n):
+            p = conv(rotate_about(car, pivot, angle * k / (n - 1)), g)
+            if world.bounds_margin(corners(p)) < -1e-9:
+                rep.problems.append(f"{where}: {body} leaves the bounds")
+                return
+        if world.has_obstacles:
+            res = certify(lambda s: dist(conv(rotate_about(car, pivot, s * angle), g)),
+                          reach * abs(angle), tolerance=tol)
+            if not res.valid:
+                rep.problems.append(f"{where}: {body} collides (rotation fraction "
+                                    f"{res.first_collision:.3f})")
+
+
+def _check_walk(rep: PlanCheckReport, where: str, world: CollisionWorld, model: BoxGraspModel,
+                a: Pose, b: Pose, obj: Pose, tol: float) -> None:
+    dyaw = wrap_angle(b[2] - a[2])
+    lip = math.hypot(b[0] - a[0], b[1] - a[1]) + model.robot_radius() * abs(dyaw)
+
+    def clearance(s: float) -> float:
+        p = (a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]), a[2] + s * dyaw)
+        if world.bounds_margin(model.robot_corners(p)) < 0:
+            return -1.0
+        return min(world.robot_distance(p), world.robot_box_distance(p, obj))
+
+    if lip > 0 and not certify(clearance, lip, tolerance=tol).valid:
+        rep.problems.append(f"{where}: the walking robot collides or leaves the bounds")

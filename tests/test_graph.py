@@ -1,0 +1,99 @@
+"""A* and union-find against brute force on random graphs."""
+
+from __future__ import annotations
+
+import heapq
+import math
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from pivot_ompl.graph import UnionFind, astar
+
+
+def random_graph(n: int, p: float, seed: int) -> dict[int, list[tuple[int, float]]]:
+    rng = np.random.default_rng(seed)
+    adj: dict[int, list[tuple[int, float]]] = {i: [] for i in range(n)}
+    for i in range(n):
+        for j in range(i + 1, n):
+            if rng.random() < p:
+                c = float(rng.uniform(0.1, 3.0))
+                adj[i].append((j, c))
+                adj[j].append((i, c))
+    return adj
+
+
+def dijkstra(adj, starts, goals) -> float:
+    dist = {s: 0.0 for s in starts}
+    heap = [(0.0, s) for s in starts]
+    done = set()
+    while heap:
+        d, u = heapq.heappop(heap)
+        if u in done:
+            continue
+        done.add(u)
+        if u in goals:
+            return d
+        for v, c in adj[u]:
+            if d + c < dist.get(v, math.inf):
+                dist[v] = d + c
+                heapq.heappush(heap, (d + c, v))
+    return math.inf
+
+
+def cost(adj, path) -> float:
+    return sum(dict(adj[a])[b] for a, b in zip(path, path[1:], strict=False))
+
+
+@given(seed=st.integers(0, 10_000), n=st.integers(2, 25), p=st.floats(0.05, 0.5))
+@settings(max_examples=150, deadline=None)
+def test_astar_is_optimal_with_zero_heuristic_and_multiple_ends(seed, n, p):
+    adj = random_graph(n, p, seed)
+    starts, goals = [0, n // 3], {n - 1, n // 2}
+    path = astar(starts, goals, lambda u: adj[u], lambda u: 0.0)
+    best = dijkstra(adj, starts, goals)
+    if math.isinf(best):
+        assert path == []
+    else:
+        assert path[0] in starts and path[-1] in goals
+        assert cost(adj, path) == best or math.isclose(cost(adj, path), best)
+
+
+def test_astar_on_a_grid_with_an_admissible_heuristic_finds_the_shortest_detour():
+    free = np.ones((20, 20), dtype=bool)
+    free[5, :18] = False  # a wall with a gap on the right
+
+    def nb(c):
+        x, y = c
+        for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+            q = (x + dx, y + dy)
+            if 0 <= q[0] < 20 and 0 <= q[1] < 20 and free[q]:
+                yield q, 1.0
+
+    goal = (10, 0)
+    path = astar([(0, 0)], {goal}, nb, lambda c: abs(c[0] - goal[0]) + abs(c[1] - goal[1]))
+    assert path[0] == (0, 0) and path[-1] == goal
+    assert all(free[c] for c in path)
+    assert len(path) - 1 == 10 + 2 * 18  # down through the gap at column 18 and back
+    free[5, 18:] = False
+    assert astar([(0, 0)], {goal}, nb, lambda c: 0.0) == []
+
+
+@given(seed=st.integers(0, 10_000))
+@settings(max_examples=100, deadline=None)
+def test_union_find_matches_naive_components(seed):
+    rng = np.random.default_rng(seed)
+    n = 30
+    uf: UnionFind[int] = UnionFind()
+    label = list(range(n))
+    for i in range(n):
+        uf.add(i)
+    for _ in range(int(rng.integers(0, 40))):
+        a, b = (int(x) for x in rng.integers(0, n, 2))
+        uf.union(a, b)
+        la, lb = label[a], label[b]
+        label = [la if x == lb else x for x in label]
+    for i in range(n):
+        for j in range(n):
+            assert uf.connected(i, j) == (label[i] == label[j])
