@@ -11,7 +11,7 @@ Our figures (``seed``, ``pivots``, ``regrasps``, ``plan valid``, the planners' `
 roadmap figures such as ``planner critical configurations``, the checker's counters) are
 added to every run record before saving, so they are columns of the ``runs`` table.
 
-The rules that keep ``Benchmark`` alive over many runs (see ../shared/NOTES.md):
+The rules that keep ``Benchmark`` alive over many runs:
 * everything the Benchmark points to (SimpleSetup, Python validators, planners, the
   projection) stays referenced until the log is saved: all of it lives in ``main``'s frame;
 * OMPL's seed is set first (``ou.RNG.setSeed`` works only before the first random number);
@@ -41,12 +41,10 @@ from pivot_ompl.bench import build_database, run_extras
 from pivot_ompl.planners import make_planner
 from pivot_ompl.scene import load_scene
 
-ROOT = Path(__file__).resolve().parents[1]
-
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("scene", nargs="?", default=str(ROOT / "scenes" / "corridor.yaml"))
+    ap.add_argument("scene", nargs="?", default="corridor")
     ap.add_argument("--planners", default="regrasp,visprm,rrtconnect,kpiece1")
     ap.add_argument("--runs", type=int, default=10)
     ap.add_argument("--time", type=float, default=5.0)

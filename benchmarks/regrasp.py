@@ -23,7 +23,6 @@ from pathlib import Path
 from pivot_ompl.bench.summary import exact
 from pivot_ompl.bench.sweep import run_sweep
 
-ROOT = Path(__file__).resolve().parents[1]
 PAPER = {"mean_time": 263.7, "failure_rate": 0.10}
 
 
@@ -39,7 +38,7 @@ def _num(run: dict, key: str) -> float:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--scene", default=str(ROOT / "scenes" / "fig10.yaml"))
+    ap.add_argument("--scene", default="fig10")
     ap.add_argument("--runs", type=int, default=100)
     ap.add_argument("--time", type=float, default=30.0)
     ap.add_argument("--planners", default="regrasp,rrtconnect,kpiece1")

@@ -11,12 +11,11 @@ median <= 0.5 ms per conversion, <= 15 rotations per metre.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import time
-from pathlib import Path
 
 import numpy as np
+from common import write_json
 
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.pivoting.steering import PivotSteering
@@ -51,12 +50,10 @@ def main() -> None:
            "p95_ms": float(np.percentile(t, 95)), "rotations_per_m": rots / length,
            "targets": {"median_ms": 0.5, "rotations_per_m": 15.0}}
     print(f"RS-to-pivot conversion over {args.pairs} pairs 0.1-6 m apart")
-    print(f"  median {res['median_ms']:.3f} ms   p95 {res['p95_ms']:.3f} ms   (target median <= 0.5 ms)")
+    print(f"  median {res['median_ms']:.3f} ms   p95 {res['p95_ms']:.3f} ms   "
+          "(target median <= 0.5 ms)")
     print(f"  {res['rotations_per_m']:.2f} rotations per metre of RS path   (target <= 15)")
-    out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(json.dumps(res, indent=1) + "\n")
-    print(f"written {out}")
+    write_json(res, args.out)
 
 
 if __name__ == "__main__":

@@ -9,24 +9,21 @@ Median over seeded random states (state checks/s) and random short motions, same
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import time
-from pathlib import Path
 
 import numpy as np
+from common import write_json
 from ompl import util as ou
 
 from pivot_ompl.scene import load_scene
 from pivot_ompl.validity.collision import CollisionWorld
 from pivot_ompl.validity.pivot_checker import PivotChecker
 
-ROOT = Path(__file__).resolve().parents[1]
-
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--scene", default=str(ROOT / "scenes" / "fig10.yaml"))
+    ap.add_argument("--scene", default="fig10")
     ap.add_argument("--n", type=int, default=2000)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--out", default="results/validation.json")
@@ -82,12 +79,10 @@ def main() -> None:
            "coal_fraction": coal_time[0] / total}
     print(f"{scene.name}: {state_rate:,.0f} state checks/s; "
           f"{res['motion_checks_per_s']:.0f} motion checks/s "
-          f"(median {res['motion_check_median_ms']:.2f} ms, {100 * res['motion_valid_fraction']:.0f} % valid); "
+          f"(median {res['motion_check_median_ms']:.2f} ms, "
+          f"{100 * res['motion_valid_fraction']:.0f} % valid); "
           f"{100 * res['coal_fraction']:.0f} % of motion-check time in coal queries")
-    out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(json.dumps(res, indent=1) + "\n")
-    print(f"written {out}")
+    write_json(res, args.out)
 
 
 if __name__ == "__main__":

@@ -16,7 +16,6 @@ every check of the motion.
 from __future__ import annotations
 
 import argparse
-import json
 import logging
 import math
 import os
@@ -24,6 +23,8 @@ import platform
 import sys
 import time
 from pathlib import Path
+
+from common import write_json
 
 from pivot_ompl.planfile import load_plan
 from pivot_ompl.wholebody import generate_motion
@@ -92,17 +93,6 @@ def run(plan_path: Path | None, *, repeat: int, motion_out: Path | None) -> dict
     }
 
 
-def _finite(x):
-    """``x`` with non-finite floats replaced by None (strict JSON)."""
-    if isinstance(x, dict):
-        return {k: _finite(v) for k, v in x.items()}
-    if isinstance(x, list | tuple):
-        return [_finite(v) for v in x]
-    if isinstance(x, float) and not math.isfinite(x):
-        return None
-    return x
-
-
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("plan", type=Path, nargs="?", default=None,
@@ -124,9 +114,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"worst ZMP margin {1000 * res['worst_zmp_margin_m']:.1f} mm, "
           f"max hand error {1000 * res['max_hand_error_m']:.2f} mm, "
           f"checks {'PASS' if res['checks_passed'] else 'FAIL'}")
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text(json.dumps(_finite(res), indent=1, allow_nan=False) + "\n")
-    print(f"wrote {args.out}")
+    write_json(res, args.out)
     return 0 if res["checks_passed"] else 1
 
 

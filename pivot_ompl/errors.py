@@ -59,6 +59,18 @@ class UnreachableError(PivotError):
             f"{alpha_max:.6g} rad")
 
 
+class Interrupted(PivotError):
+    """A computation was stopped by its termination condition (a planner's time limit).
+
+    Attributes:
+        what: what was stopped.
+    """
+
+    def __init__(self, what: str) -> None:
+        self.what = what
+        super().__init__(f"{what}: stopped by the termination condition")
+
+
 class SteeringError(PivotError):
     """The Reeds-Shepp-to-pivot conversion did not converge (a piece shorter than the minimum).
 

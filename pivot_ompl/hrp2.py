@@ -14,8 +14,12 @@ from __future__ import annotations
 import functools
 import logging
 import math
+from typing import TYPE_CHECKING
 
 from pivot_ompl.resources import URDF_RELPATH, urdf_path
+
+if TYPE_CHECKING:
+    import numpy as np
 
 log = logging.getLogger(__name__)
 
@@ -56,7 +60,7 @@ def load_pinocchio_model():  # noqa: ANN201 - pinocchio types are untyped
     return pin.buildModelFromUrdf(str(urdf_path()), pin.JointModelFreeFlyer())
 
 
-def half_sitting_configuration(model) -> object:  # noqa: ANN001
+def half_sitting_configuration(model) -> np.ndarray:  # noqa: ANN001
     """Pinocchio configuration in half-sitting with the soles on the floor at the origin."""
     import numpy as np
     import pinocchio as pin
@@ -72,7 +76,7 @@ def half_sitting_configuration(model) -> object:  # noqa: ANN001
 
 
 @functools.lru_cache(maxsize=1)
-def derived_floor_geometry() -> dict[str, object]:
+def derived_floor_geometry() -> dict[str, float]:
     """Measure the model's floor bounding box, height and reach in half-sitting.
 
     Returns a dict with ``depth``/``width`` of the collision primitives' floor projection

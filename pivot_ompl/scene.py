@@ -158,7 +158,8 @@ def scene_from_dict(doc: Any, *, source: str = "") -> Scene:
     robot = r.mapping(top.get("robot", {}), "robot", set(), {"model", "footprint", "standoff"})
     model_name = robot.get("model", "hrp2")
     if model_name not in ROBOT_MODELS:
-        raise r.fail("robot.model", model_name, f"unknown robot model (known: {sorted(ROBOT_MODELS)})")
+        raise r.fail("robot.model", model_name,
+                     f"unknown robot model (known: {sorted(ROBOT_MODELS)})")
     rm = _robot_defaults(model_name)
     foot = (r.vector(robot["footprint"], 2, "robot.footprint", positive=True)
             if "footprint" in robot else rm["footprint"])

@@ -16,13 +16,16 @@ def wrap_angle(angle: float) -> float:
 
 
 def compose(a: Pose, b: Pose) -> Pose:
-    """Return ``a * b``: pose ``b`` given in frame ``a``, expressed in the frame of ``a``'s parent."""
+    """Return ``a * b``: pose ``b`` given in frame ``a``, expressed in ``a``'s parent frame."""
     c, s = math.cos(a[2]), math.sin(a[2])
     return (a[0] + c * b[0] - s * b[1], a[1] + s * b[0] + c * b[1], a[2] + b[2])
 
 
 def rotate_about(pose: Pose, pivot: tuple[float, float], angle: float) -> Pose:
-    """Rotate a rigidly attached ``pose`` by ``angle`` (rad, CCW) about the vertical through ``pivot``."""
+    """Rotate a rigidly attached ``pose`` by ``angle`` (rad, CCW).
+
+    The rotation is about the vertical through ``pivot``.
+    """
     c, s = math.cos(angle), math.sin(angle)
     dx, dy = pose[0] - pivot[0], pose[1] - pivot[1]
     return (pivot[0] + c * dx - s * dy, pivot[1] + s * dx + c * dy, pose[2] + angle)

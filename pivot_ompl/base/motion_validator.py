@@ -2,9 +2,9 @@
 
 * Same grasp: the edge is the Reeds-Shepp path of the grasp's car between the two object
   poses, converted to pivot rotations; each rotation's swept box and robot are certified
-  collision-free (:mod:`pivot_ompl.sweep`, tolerance 2 mm) and inside the bounds.
+  collision-free (:mod:`pivot_ompl.validity.certify`, tolerance 2 mm) and inside the bounds.
 * Different grasps at the same object pose (to 1e-9 m / rad): the robot's walk round the
-  resting box from one grasp pose to the other must exist (:mod:`pivot_ompl.walking`).
+  resting box from one grasp pose to the other must exist (:mod:`pivot_ompl.validity.walking`).
 * Anything else (a grasp change while the box moves) is invalid.
 
 OMPL's motion counters stay 0 for Python validators: see ``checker.counters``.

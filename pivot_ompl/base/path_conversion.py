@@ -6,7 +6,7 @@ from typing import Any
 
 from pivot_ompl.errors import PlanningError
 from pivot_ompl.pivoting.transfer import rs_samples, steps_of
-from pivot_ompl.planfile import Phase, Plan, TransferPhase, TransitPhase
+from pivot_ompl.planfile import Phase, Plan, TransferPhase, TransferStep, TransitPhase
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose
 from pivot_ompl.validity.pivot_checker import PivotChecker
@@ -31,7 +31,8 @@ def path_to_plan(scene: Scene, checker: PivotChecker, states: list[tuple[Pose, i
             phases.append(TransitPhase(g, states[i + 1][1], walk.robot_path, pose))
             i += 1
             continue
-        steps, rs = [], []
+        steps: list[TransferStep] = []
+        rs: list[Pose] = []
         j = i
         while j < len(states) - 1 and states[j + 1][1] == g:
             edge = checker.transfer(states[j][0], states[j + 1][0], g)

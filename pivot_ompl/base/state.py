@@ -1,4 +1,7 @@
-"""Reading and writing the compound state ``(object pose, grasp)`` of :mod:`pivot_ompl.base.space`."""
+"""Reading and writing the compound state ``(object pose, grasp)``.
+
+The state space is that of :mod:`pivot_ompl.base.space`.
+"""
 
 from __future__ import annotations
 

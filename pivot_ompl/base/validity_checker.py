@@ -14,7 +14,8 @@ class PivotValidityChecker(ob.StateValidityChecker):
     """Valid iff the box and the robot at the state's grasp are inside the bounds and free.
 
     Args:
-        si: the space information (not stored: see ../shared/NOTES.md on cycles).
+        si: the space information (not stored: a Python object holding its space information
+            makes a reference cycle through C++ that is never collected).
         checker: the shared validity core.
     """
 

@@ -60,7 +60,9 @@ def _animate(args: argparse.Namespace) -> int:
             first = min(failed, key=lambda r: r.index if r.index >= 0 else len(motion.t))
             i = first.index if first.index >= 0 else 0
             bad = ", ".join(f"{r.name} ({r.detail})" for r in failed)
-            raise WholeBodyError(int(motion.phase[i]), int(motion.step[i]),
+            phase, step = motion.phase, motion.step
+            assert phase is not None and step is not None  # required by check_motion
+            raise WholeBodyError(int(phase[i]), int(step[i]),
                                  f"generated motion fails its checks: {bad}; not written")
     path = motion.save(args.out)
     print(f"wrote {path}")

@@ -13,6 +13,7 @@ import logging
 import os
 import sys
 from collections.abc import Sequence
+from typing import NoReturn
 
 from pivot_ompl.errors import InputError, PivotError
 
@@ -29,7 +30,7 @@ VERB_MODULES = ("pivot_ompl.cli.steer", "pivot_ompl.cli.plan", "pivot_ompl.cli.c
 class _Parser(argparse.ArgumentParser):
     """Argument parser whose usage errors exit with code 2 and name the argument."""
 
-    def error(self, message: str) -> None:  # noqa: D102
+    def error(self, message: str) -> NoReturn:  # noqa: D102
         self.print_usage(sys.stderr)
         print(f"{self.prog}: error: {message}", file=sys.stderr)
         raise SystemExit(EXIT_BAD_INPUT)
@@ -53,8 +54,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def _quiet_exit() -> None:
-    """At exit, send fd 2 to /dev/null: nanobind lists 'leaked instances' of OMPL objects
-    that Python keeps until the very end (harmless; tracebacks and exit codes are kept).
+    """At exit, send fd 2 to /dev/null.
+
+    nanobind lists 'leaked instances' of OMPL objects that Python keeps until the very end
+    (harmless; tracebacks and exit codes are kept).
     """
     sys.stderr.flush()
     devnull = os.open(os.devnull, os.O_WRONLY)

@@ -1,4 +1,7 @@
-"""``pivot-ompl plan SCENE``: plan with our planners or OMPL's (exit 0 found, 1 none, 2 bad input)."""
+"""``pivot-ompl plan SCENE``: plan with our planners or OMPL's.
+
+Exit status: 0 found, 1 none, 2 bad input.
+"""
 
 from __future__ import annotations
 

@@ -40,10 +40,10 @@ def run(args: argparse.Namespace) -> int:
         base = default_scene(start=start, goal=goal)
         name = "steer"
     steering = PivotSteering(turning_radius=base.turning_radius, alpha_max=base.alpha_max)
-    phase = transfer_phase(base.model, steering, [start, goal], grasp)  # type: ignore[list-item]
+    phase = transfer_phase(base.model, steering, [start, goal], grasp)
     m = base.model
     plan = Plan(name, "exact", m.object_size, m.robot_footprint, m.standoff, base.alpha_max,
-                start, [phase], {"planner": "steer", "turning_radius": base.turning_radius,  # type: ignore[arg-type]
+                start, [phase], {"planner": "steer", "turning_radius": base.turning_radius,
                                  "goal": list(goal)})
     print(f"{len(phase.steps)} pivot rotations, max |angle| "
           f"{max((abs(s.angle) for s in phase.steps), default=0.0):.6f} rad, "

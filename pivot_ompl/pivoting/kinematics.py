@@ -82,7 +82,10 @@ def end_point(car: Pose, half_length: float, end: int) -> tuple[float, float]:
 
 def forward(car: Pose, half_length: float, first_end: int,
             angles: tuple[float, float, float]) -> Pose:
-    """Forward map: the car pose after rotating about ``first_end``, the other end, then ``first_end``."""
+    """Forward map: the car pose after three rotations.
+
+    The rotations are about ``first_end``, the other end, then ``first_end``.
+    """
     x, y, h = car
     sign = 1.0 if first_end == LEFT else -1.0
     for a in angles:

@@ -12,10 +12,10 @@ from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 
-from pivot_ompl.errors import InputError, SteeringError
+from pivot_ompl.errors import InputError, Interrupted, SteeringError
 from pivot_ompl.pivoting.kinematics import Rotation, solve_piece
 from pivot_ompl.pivoting.reeds_shepp import ReedsShepp
 from pivot_ompl.se2 import Pose
@@ -78,31 +78,39 @@ class PivotSteering:
             raise InputError("alpha_max", self.alpha_max, "must be in (0, pi/2] rad")
         self.rs = ReedsShepp(turning_radius=self.turning_radius)
 
-    def convert(self, start: Pose, goal: Pose, *, half_length: float) -> PivotSequence:
+    def convert(self, start: Pose, goal: Pose, *, half_length: float,
+                should_stop: Callable[[], bool] | None = None) -> PivotSequence:
         """Convert the Reeds-Shepp path ``start -> goal`` (car poses) into pivot rotations.
 
         Args:
             start: car pose (supporting-edge centre, heading) at the start.
             goal: car pose to reach.
             half_length: half-length ``l`` of the supporting edge (m).
+            should_stop: termination condition, polled once per path piece.
 
         Raises:
             SteeringError: the dichotomy did not converge (pieces shorter than 2**-40 of the path).
+            Interrupted: ``should_stop()`` became true.
         """
         rotations: list[Rotation] = []
         pieces = 0
-        for r, last_of_piece in self.iter_rotations(start, goal, half_length=half_length):
+        for r, last_of_piece in self.iter_rotations(start, goal, half_length=half_length,
+                                                    should_stop=should_stop):
             if r is not None:
                 self._append(rotations, r)
             pieces += last_of_piece
         return PivotSequence(start, goal, tuple(rotations), self.rs.distance(start, goal), pieces)
 
-    def iter_rotations(self, start: Pose, goal: Pose, *,
-                       half_length: float) -> Iterator[tuple[Rotation | None, bool]]:
+    def iter_rotations(self, start: Pose, goal: Pose, *, half_length: float,
+                       should_stop: Callable[[], bool] | None = None,
+                       ) -> Iterator[tuple[Rotation | None, bool]]:
         """The dichotomy as a generator, so that a checker can stop at the first collision.
 
         Yields ``(rotation, ends_piece)`` pairs; a piece solved with no rotation (start and
         target equal) yields ``(None, True)``. Rotations are *not* merged here.
+
+        Raises:
+            Interrupted: ``should_stop()`` became true (polled once per path piece).
         """
         if not (half_length > 0):
             raise InputError("half_length", half_length, "must be > 0 m")
@@ -114,6 +122,8 @@ class PivotSteering:
         # stack of pieces (t0, t1, pose at t1, depth) of the original path, last popped first
         stack: list[tuple[float, float, Pose, int]] = [(0.0, 1.0, goal, 0)]
         while stack:
+            if should_stop is not None and should_stop():
+                raise Interrupted("pivot steering")
             t0, t1, target, depth = stack.pop()
             if math.hypot(target[0] - current[0], target[1] - current[1]) <= reach:
                 ok, rots = solve_piece(current, target, half_length, amax)

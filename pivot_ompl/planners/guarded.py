@@ -37,8 +37,10 @@ class GuardedPlanner(ob.Planner):
         raise NotImplementedError
 
     def _endpoints(self, ptc: Any) -> tuple[Any, Any]:
-        """The query's start and goal states, read the safe way (``PlannerInputStates``; never
-        ``pdef.getStartState``, which hands the state's ownership to Python).
+        """The query's start and goal states, read the safe way.
+
+        Through ``PlannerInputStates``; never ``pdef.getStartState``, which hands the
+        state's ownership to Python.
         """
         pis = self.getPlannerInputStates()
         start = pis.nextStart()

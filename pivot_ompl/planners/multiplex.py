@@ -140,9 +140,10 @@ class MultiplexedSearch:
         return self._random_pose()
 
     def _visible(self, a: Pose, b: Pose) -> bool:
-        """Object-roadmap visibility: the box alone can pivot along the edge; critical
-        configurations (where the robot's bounding volume starts or stops colliding along
-        the edge) are recorded.
+        """Object-roadmap visibility: the box alone can pivot along the edge.
+
+        Critical configurations (where the robot's bounding volume starts or stops colliding
+        along the edge) are recorded.
         """
         edge = self.checker.transfer(a, b, 0, with_robot=False)
         if not edge.valid:
@@ -181,8 +182,9 @@ class MultiplexedSearch:
         self._uf.union(a, b)
 
     def _maybe_connected(self) -> bool:
-        """Whether start and goal share a component of the candidate graph. Edges are only
-        removed later, so this is a sound filter: no component, no path.
+        """Whether start and goal share a component of the candidate graph.
+
+        Edges are only removed later, so this is a sound filter: no component, no path.
         """
         goals = {self._uf.find(g) for g in self.goal_nodes}
         return any(self._uf.find(s) in goals for s in self.start_nodes)
@@ -220,8 +222,10 @@ class MultiplexedSearch:
         return len(added)
 
     def _plausible(self, car_a: Pose, car_b: Pose, grasp: int) -> bool:
-        """Cheap necessary test of a candidate edge: the box and robot are free at a few
-        poses along its Reeds-Shepp path (the full pivot check is left to the lazy search).
+        """Cheap necessary test of a candidate edge.
+
+        The box and robot are free at a few poses along its Reeds-Shepp path (the full pivot
+        check is left to the lazy search).
         """
         ck, m = self.checker, self.checker.model
         for c in ck.steering.rs.sample(car_a, car_b, [0.25, 0.5, 0.75]):
@@ -285,8 +289,10 @@ class MultiplexedSearch:
             self.stats.time_search += time.perf_counter() - t0
 
     def _shortest_path(self) -> list[Node]:
-        """A* over the multiplexed graph; heuristic: straight distance of the box to the goal
-        less the largest car offset (a transfer edge is at least that long).
+        """A* over the multiplexed graph.
+
+        Heuristic: straight distance of the box to the goal less the largest car offset (a
+        transfer edge is at least that long).
         """
         poses = self.obj.poses
         gx, gy = self.goal[0], self.goal[1]
@@ -363,10 +369,12 @@ class MultiplexedSearch:
         return states
 
     def _bridge_step(self, ptc: Callable[[], bool], attempts: int = 100) -> list[Node]:
-        """Bridge tests for narrow passages: two box poses (same yaw) in collision whose
-        midpoint is free give a passage node; straight extensions along the box's axes from it
-        (the directions in which each grasp's car drives straight) give aligned approach
-        nodes. Runs up to ``attempts`` cheap tests, adds the first passage found.
+        """Bridge tests for narrow passages.
+
+        Two box poses (same yaw) in collision whose midpoint is free give a passage node;
+        straight extensions along the box's axes from it (the directions in which each grasp's
+        car drives straight) give aligned approach nodes. Runs up to ``attempts`` cheap tests,
+        adds the first passage found.
         """
         ck, p = self.checker, self.params
         w = ck.world
@@ -408,9 +416,10 @@ class MultiplexedSearch:
         return self._random_pose()
 
     def _extend(self, near: Pose, target: Pose) -> Pose:
-        """Move from ``near`` towards ``target`` along the object's Reeds-Shepp path by at most
-        ``epsilon``, stopping at the last box-valid pose (sampled every 5 cm): the diffusion
-        creeps into narrow passages instead of jumping over them.
+        """Move from ``near`` towards ``target`` along the object's Reeds-Shepp path.
+
+        Moves by at most ``epsilon``, stopping at the last box-valid pose (sampled every 5 cm):
+        the diffusion creeps into narrow passages instead of jumping over them.
         """
         rs = self.checker.steering.rs
         d = rs.distance(near, target)

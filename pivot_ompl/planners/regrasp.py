@@ -63,7 +63,11 @@ class RegraspPlanner(GuardedPlanner):
         search = MultiplexedSearch(checker, s_pose, g_pose, self.params,
                                    np.random.default_rng(self.seed))
         self.last_search = search
-        states = search.run(lambda: bool(ptc()))
+        checker.should_stop = lambda: bool(ptc())  # the steering inside edge checks stops too
+        try:
+            states = search.run(lambda: bool(ptc()))
+        finally:
+            checker.should_stop = None
         self.stats = asdict(search.stats)
         self.stats["time"] = time.perf_counter() - t0
         if not states:

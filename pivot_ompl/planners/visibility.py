@@ -60,7 +60,8 @@ class VisibilityRoadmapBuilder:
         rm = self.roadmap
         seen: dict[int, int] = {}  # component -> guard seen
         near = rm.nearest(q, len(self.guards), among=self.guards)
-        dist = pose_metric(np.array([rm.poses[g] for g in near]), q) if near else []
+        dist: np.ndarray | list[float] = (
+            pose_metric(np.array([rm.poses[g] for g in near]), q) if near else [])
         for g, d in zip(near, dist, strict=False):
             if d > self.guard_radius:
                 break

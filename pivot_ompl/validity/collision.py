@@ -136,14 +136,16 @@ class CollisionWorld:
         self.queries += 1
         self._res.clear()
         return coal.distance(self._robot_shape,
-                             _transform(robot[0], robot[1], robot[2], 0.5 * self.model.robot_height),
+                             _transform(robot[0], robot[1], robot[2],
+                                        0.5 * self.model.robot_height),
                              self._box_shape,
                              _transform(obj[0], obj[1], obj[2], 0.5 * self.model.object_size[2]),
                              self._req, self._res)
 
     def turning_disk_distance(self, x: float, y: float) -> float:
-        """Clearance (m) to the obstacles of the disk the robot sweeps turning in place at
-        ``(x, y)``.
+        """Clearance (m) to the obstacles of the disk the robot sweeps turning in place.
+
+        The disk is centred at ``(x, y)``.
         """
         self._disk.setTransform(_transform(x, y, 0.0, 0.5 * self.model.robot_height))
         return self._distance(self._disk)

@@ -1,8 +1,8 @@
 """The pure-Python validity core: states, pivot edges (transfer) and walks (transit).
 
-OMPL's validators (:mod:`pivot_ompl.validity`, :mod:`pivot_ompl.motion_validator`) and our
-planners both ask this object, so every edge is converted and checked once (cached) whichever
-component asks first.
+OMPL's validators (:mod:`pivot_ompl.base.validity_checker`,
+:mod:`pivot_ompl.base.motion_validator`) and our planners both ask this object, so every edge
+is converted and checked once (cached) whichever component asks first.
 """
 
 from __future__ import annotations
@@ -13,6 +13,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
+from pivot_ompl.errors import Interrupted
 from pivot_ompl.pivoting.kinematics import LEFT, Rotation
 from pivot_ompl.pivoting.steering import PivotSequence, PivotSteering
 from pivot_ompl.scene import Scene
@@ -28,6 +29,12 @@ MIN_ALPHA_HALVINGS = 3
 #: Only edges up to this Reeds-Shepp length (m) are subdivided on collision: subdivision
 #: matters in tight spots, where planners try short edges.
 SUBDIVIDE_MAX_LENGTH = 2.0
+
+
+def _swept_clearance(dist: Callable[[Pose], float], base: Pose, pivot: tuple[float, float],
+                     angle: float) -> Callable[[float], float]:
+    """Clearance at fraction ``s`` of the rotation of ``base`` by ``angle`` about ``pivot``."""
+    return lambda s: dist(rotate_about(base, pivot, s * angle))
 
 
 @dataclass(frozen=True)
@@ -74,6 +81,8 @@ class PivotChecker:
     steering: PivotSteering = field(init=False)
     walker: WalkPlanner = field(init=False)
     counters: MotionCounters = field(default_factory=MotionCounters, init=False)
+    #: Termination condition of the current solve (set by planners; polled by the steering).
+    should_stop: Callable[[], bool] | None = field(default=None, init=False)
 
     def __post_init__(self) -> None:
         """Build the collision world, the steering method and the walk planner."""
@@ -123,10 +132,16 @@ class PivotChecker:
         """Check the pivot sequence moving the box from ``obj_a`` to ``obj_b`` at ``grasp``.
 
         With ``with_robot=False`` only the box is checked (the object roadmap of the
-        Visibility PRM, where the robot is considered separately).
+        Visibility PRM, where the robot is considered separately). An edge whose check is
+        stopped by :attr:`should_stop` is invalid and not cached (a later solve checks it).
         """
-        return self._cached(self._edges, (obj_a, obj_b, grasp, with_robot),
-                            lambda: self._transfer(obj_a, obj_b, grasp, with_robot))
+        try:
+            return self._cached(self._edges, (obj_a, obj_b, grasp, with_robot),
+                                lambda: self._transfer(obj_a, obj_b, grasp, with_robot))
+        except Interrupted:
+            length = self.steering.rs.distance(obj_a, obj_b)
+            return EdgeResult(False, PivotSequence(obj_a, obj_b, (), length, 0), length,
+                              "interrupted by the termination condition")
 
     def _cached(self, cache: dict, key: tuple, compute: Callable[[], Any]) -> Any:
         """A motion result from ``cache``, or computed, stored and counted."""
@@ -143,9 +158,11 @@ class PivotChecker:
         return res
 
     def _transfer(self, obj_a: Pose, obj_b: Pose, grasp: int, with_robot: bool) -> EdgeResult:
-        """Check the edge; where a rotation collides, convert again with rotations bounded by
-        half the bound (they hug the Reeds-Shepp path closer: the topological property), down
-        to ``alpha_max / 2**MIN_ALPHA_HALVINGS``, before declaring the motion invalid.
+        """Check the edge, retrying with smaller rotations where one collides.
+
+        Where a rotation collides, convert again with rotations bounded by half the bound
+        (they hug the Reeds-Shepp path closer: the topological property), down to
+        ``alpha_max / 2**MIN_ALPHA_HALVINGS``, before declaring the motion invalid.
         Rotations are produced and checked one by one, so a colliding edge stops early.
         """
         m = self.model
@@ -199,7 +216,8 @@ class PivotChecker:
             if db <= 0 or dr <= 0:
                 return fail("collides at the start")
         checked: list[Rotation] = []
-        for i, (rot, _) in enumerate(steering.iter_rotations(ca, cb, half_length=ell)):
+        for i, (rot, _) in enumerate(steering.iter_rotations(ca, cb, half_length=ell,
+                                                             should_stop=self.should_stop)):
             if rot is None:
                 continue
             bulge = 1.0 - math.cos(0.5 * rot.angle)
@@ -209,16 +227,14 @@ class PivotChecker:
             if obstacles:
                 base, piv, ang = prev, rot.pivot, rot.angle
                 db_end = box_d(rot.car)
-                ok = certify(lambda s, base=base, piv=piv, ang=ang:
-                             box_d(rotate_about(base, piv, s * ang)),
+                ok = certify(_swept_clearance(box_d, base, piv, ang),
                              r_box * abs(ang), tolerance=self.tolerance, d0=db, d1=db_end).valid
                 if not ok:
                     return fail(f"box collides during rotation {i}")
                 db = db_end
                 if with_robot:
                     dr_end = rob_d(rot.car)
-                    ok = certify(lambda s, base=base, piv=piv, ang=ang:
-                                 rob_d(rotate_about(base, piv, s * ang)),
+                    ok = certify(_swept_clearance(rob_d, base, piv, ang),
                                  r_rob * abs(ang), tolerance=self.tolerance, d0=dr,
                                  d1=dr_end).valid
                     if not ok:

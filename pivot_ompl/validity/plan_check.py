@@ -9,6 +9,7 @@ bounds and collisions of every rotation's swept box and robot and of every walk.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from pivot_ompl import hrp2
@@ -109,6 +110,13 @@ def check_plan(plan: Plan, scene: Scene | None = None, *, collisions: bool = Tru
     return rep
 
 
+def _rotation_clearance(dist: Callable[[Pose], float], conv: Callable[[Pose, int], Pose],
+                        car: Pose, pivot: tuple[float, float], angle: float,
+                        g: int) -> Callable[[float], float]:
+    """Clearance of the body at fraction ``s`` of the rotation of ``car`` about ``pivot``."""
+    return lambda s: dist(conv(rotate_about(car, pivot, s * angle), g))
+
+
 def _check_rotation(rep: PlanCheckReport, where: str, world: CollisionWorld,
                     model: BoxGraspModel, car: Pose, pivot: tuple[float, float], angle: float,
                     g: int, tol: float) -> None:
@@ -123,7 +131,7 @@ def _check_rotation(rep: PlanCheckReport, where: str, world: CollisionWorld,
                 rep.problems.append(f"{where}: {body} leaves the bounds")
                 return
         if world.has_obstacles:
-            res = certify(lambda s: dist(conv(rotate_about(car, pivot, s * angle), g)),
+            res = certify(_rotation_clearance(dist, conv, car, pivot, angle, g),
                           reach * abs(angle), tolerance=tol)
             if not res.valid:
                 rep.problems.append(f"{where}: {body} collides (rotation fraction "

@@ -10,8 +10,8 @@ once per scene against the static obstacles; the resting box of a query blocks t
 near it. Between two neighbouring clear positions (up to ``2.3 * resolution`` apart) the walk
 is valid with no further check: the capsule swept by the turning disk along the step leaves
 the two end disks by less than the margin. The grid path found by A* is then shortened by
-straight forward walks, each certified collision-free (:mod:`pivot_ompl.sweep`), so the walk
-has few turns.
+straight forward walks, each certified collision-free (:mod:`pivot_ompl.validity.certify`), so
+the walk has few turns.
 """
 
 from __future__ import annotations
@@ -247,8 +247,8 @@ class WalkPlanner:
         keys[-1] = goal
         clean = [keys[0]]
         for p in keys[1:]:
-            q = clean[-1]
-            if abs(p[0] - q[0]) + abs(p[1] - q[1]) + abs(wrap_angle(p[2] - q[2])) > 1e-12:
+            kept = clean[-1]
+            if abs(p[0] - kept[0]) + abs(p[1] - kept[1]) + abs(wrap_angle(p[2] - kept[2])) > 1e-12:
                 clean.append(p)
         length = sum(math.hypot(b[0] - a[0], b[1] - a[1])
                      for a, b in zip(clean, clean[1:], strict=False))

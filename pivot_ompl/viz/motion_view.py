@@ -12,6 +12,7 @@ from __future__ import annotations
 import logging
 import math
 from pathlib import Path
+from typing import Any
 
 import meshcat
 import numpy as np
@@ -52,7 +53,7 @@ def pose7_to_matrix(p: np.ndarray) -> np.ndarray:
 def foot_links(model: RobotModel) -> list[str]:
     """The links whose resting placements are footsteps."""
     names = model.links
-    exact = [n for n in ("left_foot", "right_foot") if n in names]
+    exact: list[str] = [n for n in ("left_foot", "right_foot") if n in names]
     if exact:
         return exact
     return [n for n in names if "foot" in n.lower() or "sole" in n.lower()][:2]
@@ -109,7 +110,7 @@ def show_motion(vis: meshcat.Visualizer, motion: Motion, *, scene: Scene | None 
 
     Args:
         vis: the visualizer to draw into.
-        motion: the motion (:func:`~pivot_ompl.viz.motion.load_motion`).
+        motion: the motion (:func:`~pivot_ompl.motionfile.load_motion`).
         scene: floor and obstacles to draw, or ``None`` (a floor around the motion).
         object_size: box size (w, d, h) in m; default the motion's, then the scene's, then
             the paper's box.
@@ -150,7 +151,7 @@ def show_motion(vis: meshcat.Visualizer, motion: Motion, *, scene: Scene | None 
     robot[model.root].set_transform(root_tf[0])
 
     anim = AnimationBuilder(vis)
-    tol = {"position_tol": tolerance, "rotation_tol": 0.5 * tolerance}
+    tol: dict[str, Any] = {"position_tol": tolerance, "rotation_tol": 0.5 * tolerance}
     anim.add_transforms("box", t, box_tf, **tol)
     anim.add_transforms(f"robot/{model.root}", t, root_tf, **tol)
     for link in model.links:

@@ -1,5 +1,7 @@
-"""Figures with matplotlib: the paper's Fig. 6 (RS path dotted, pivot sequence, pivots, box
-outlines) and plan figures with obstacles, roadmaps, critical configurations and walks.
+"""Figures with matplotlib.
+
+The paper's Fig. 6 (RS path dotted, pivot sequence, pivots, box outlines) and plan figures
+with obstacles, roadmaps, critical configurations and walks.
 """
 
 from __future__ import annotations

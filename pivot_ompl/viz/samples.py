@@ -2,7 +2,7 @@
 
 :func:`write_samples` writes into a folder: a scene with one obstacle of each kind, a short
 plan (transfer, transit, transfer), a tiny two-legged URDF of primitives and a synthetic
-motion ``.npz`` following the motion-file contract (:mod:`pivot_ompl.viz.motion`).
+motion ``.npz`` following the motion-file contract (:mod:`pivot_ompl.motionfile`).
 """
 
 from __future__ import annotations
@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -136,7 +137,7 @@ def write_samples(folder: str | Path, *, duration: float = 4.0) -> Samples:
     plan = sample_plan().to_json(folder / "plan.json")
     urdf = folder / "tiny.urdf"
     urdf.write_text(tiny_urdf())
-    arrays = sample_motion_arrays(duration=duration)
+    arrays: dict[str, Any] = sample_motion_arrays(duration=duration)
     motion = folder / "motion.npz"
     np.savez(motion, urdf=np.array(str(urdf)), scene=np.array("sample"), **arrays)
     return Samples(scene, plan, urdf, motion)

@@ -30,7 +30,7 @@ def translation(x: float, y: float, z: float) -> np.ndarray:
     return t
 
 
-def axis_angle(axis: Sequence[float], angle: float) -> np.ndarray:
+def axis_angle(axis: Sequence[float] | np.ndarray, angle: float) -> np.ndarray:
     """Rotation of ``angle`` (rad) about the unit ``axis`` through the origin, as a 4x4."""
     a = np.asarray(axis, dtype=float)
     a = a / np.linalg.norm(a)

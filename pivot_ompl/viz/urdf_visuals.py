@@ -12,6 +12,7 @@ import logging
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import cast
 
 import meshcat
 import meshcat.geometry as g
@@ -183,7 +184,7 @@ def _mesh_geometry(model: RobotModel, mesh: yourdfpy.Mesh) -> tuple[g.Geometry, 
     file = next((c for c in candidates if c.is_file()), None)
     if file is None:
         raise FileNotFoundError(mesh.filename)
-    tm = trimesh.load(str(file), force="mesh")
+    tm = cast("trimesh.Trimesh", trimesh.load(str(file), force="mesh"))
     scale = np.eye(4)
     if mesh.scale is not None:
         s = np.broadcast_to(np.asarray(mesh.scale, dtype=float), (3,))

@@ -34,6 +34,7 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -330,7 +331,7 @@ class WholeBodyGenerator:
         G = hold.T_world_G(obj, k)
         theta = hold.tilt
         robot_before = phase.robot_start
-        state = {"G": G, "tilt": 0.0}
+        state: dict[str, Any] = {"G": G, "tilt": 0.0}
 
         def set_box() -> None:
             self._box_T = hold.T_world_box(state["G"], k, state["tilt"])
@@ -408,7 +409,7 @@ class WholeBodyGenerator:
     # -- output -------------------------------------------------------------------------
     def _motion(self) -> Motion:
         r = self._rec
-        names = [str(n) for n in self.walker.robot.model.names[2:]]
+        names = tuple(str(n) for n in self.walker.robot.model.names[2:])
         grip = np.zeros((4, 2, 3))
         for k in range(4):
             left, right = self.hold.T_box_hands(k)

@@ -35,6 +35,7 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 
@@ -236,21 +237,26 @@ def check_motion(motion: Motion, plan: Plan | None = None, *, zmp_tolerance: flo
             plan of this motion (phase count, box size).
     """
     motion.require(*DYNAMICS, "box_size")
+    com, support, phase, box_size = motion.com, motion.support, motion.phase, motion.box_size
+    step, holding, grasp = motion.step, motion.holding, motion.grasp
+    assert com is not None and support is not None and phase is not None  # required above
+    assert box_size is not None  # required above
+    assert step is not None and holding is not None and grasp is not None  # Motion defaults
     if plan is not None:
-        n_phases = int(motion.phase.max()) + 1
+        n_phases = int(phase.max()) + 1
         if len(plan.phases) != n_phases:
             raise InputError("plan.phases", len(plan.phases),
                              f"the motion has {n_phases} phases: not the plan it was made from")
-        if not np.allclose(plan.object_size, motion.box_size, atol=1e-9):
+        if not np.allclose(plan.object_size, box_size, atol=1e-9):
             raise InputError("plan.object_size", plan.object_size,
-                             f"the motion's box is {tuple(motion.box_size)}")
+                             f"the motion's box is {tuple(box_size)}")
     kin = _kinematics(motion)
     rep = MotionReport()
     t = motion.t
     n = len(t)
 
     # com file
-    dev = np.abs(kin.com - motion.com).max(axis=1)
+    dev = np.abs(kin.com - com).max(axis=1)
     d = float(dev.max())
     rep.results.append(CheckResult("com_file", d < 1e-3, d, 1e-3, "m", "",
                                    int(np.argmax(dev))))
@@ -260,7 +266,7 @@ def check_motion(motion: Motion, plan: Plan | None = None, *, zmp_tolerance: flo
     sole = np.asarray(motion.sole_size or SOLE_SIZE)
     worst, where, wi = math.inf, "", -1
     for i in range(n):
-        s = motion.support[i]
+        s = support[i]
         pts = []
         if s in (SUPPORT_DOUBLE, SUPPORT_LEFT):
             pts.append(_sole_corners(kin.feet["left_foot"][i], sole))
@@ -269,7 +275,7 @@ def check_motion(motion: Motion, plan: Plan | None = None, *, zmp_tolerance: flo
         poly = _convex_hull(np.vstack(pts))
         m = _margin(poly, zmp[i])
         if m < worst:
-            worst, where, wi = m, f"t = {t[i]:.3f} s, phase {motion.phase[i]}, support {s}", i
+            worst, where, wi = m, f"t = {t[i]:.3f} s, phase {phase[i]}, support {s}", i
     rep.results.append(CheckResult("zmp", worst >= zmp_tolerance, worst, zmp_tolerance, "m",
                                    f"worst at {where}", wi))
 
@@ -277,7 +283,7 @@ def check_motion(motion: Motion, plan: Plan | None = None, *, zmp_tolerance: flo
     worst, where, wi = 0.0, "", -1
     for side, code in (("left_foot", SUPPORT_LEFT), ("right_foot", SUPPORT_RIGHT)):
         T = kin.feet[side]
-        contact = (motion.support == SUPPORT_DOUBLE) | (motion.support == code)
+        contact = (support == SUPPORT_DOUBLE) | (support == code)
         for a, b in _runs(contact):
             p = T[a:b, :3, 3]
             slide = float(np.linalg.norm(p - p[0], axis=1).max())
@@ -293,14 +299,14 @@ def check_motion(motion: Motion, plan: Plan | None = None, *, zmp_tolerance: flo
 
     # hands
     worst, where, wi = 0.0, "", -1
-    for i in np.nonzero(motion.holding)[0]:
-        k = int(motion.grasp[i])
+    for i in np.nonzero(holding)[0]:
+        k = int(grasp[i])
         B = _box_T(motion.box[i])
         for h, name in enumerate(("left_hand", "right_hand")):
             g = B[:3, :3] @ motion.grip_box[k, h] + B[:3, 3]
             e = float(np.linalg.norm(kin.hands[name][i] - g))
             if e > worst:
-                worst, where, wi = e, f"{name} t = {t[i]:.3f} s, phase {motion.phase[i]}", i
+                worst, where, wi = e, f"{name} t = {t[i]:.3f} s, phase {phase[i]}", i
     rep.results.append(CheckResult("hands", worst < hand_tolerance, worst, hand_tolerance, "m",
                                    where, int(wi)))
 
@@ -308,40 +314,40 @@ def check_motion(motion: Motion, plan: Plan | None = None, *, zmp_tolerance: flo
     q = motion.q[:, 7:]
     over = np.maximum(kin.lower - q, q - kin.upper)
     worst = float(over.max())
-    i, j = np.unravel_index(int(np.argmax(over)), over.shape)
+    si, sj = np.unravel_index(int(np.argmax(over)), over.shape)
     rep.results.append(CheckResult("joint_limits", worst <= 1e-6, worst, 1e-6, "rad",
-                                   f"{motion.joint_names[j]} at t = {t[i]:.3f} s", int(i)))
+                                   f"{motion.joint_names[sj]} at t = {t[si]:.3f} s", int(si)))
 
     # joint velocities (finite differences)
-    v = np.abs(np.diff(q, axis=0)) / np.diff(t)[:, None]
-    ratio = v / kin.velocity
+    vel = np.abs(np.diff(q, axis=0)) / np.diff(t)[:, None]
+    ratio = vel / kin.velocity
     worst = float(ratio.max())
-    i, j = np.unravel_index(int(np.argmax(ratio)), ratio.shape)
+    si, sj = np.unravel_index(int(np.argmax(ratio)), ratio.shape)
     rep.results.append(CheckResult("joint_velocity", worst <= 1.0 + 1e-6, worst, 1.0,
-                                   "x", f"{motion.joint_names[j]} at t = {t[i]:.3f} s "
-                                   "(fraction of its velocity limit)", int(i)))
+                                   "x", f"{motion.joint_names[sj]} at t = {t[si]:.3f} s "
+                                   "(fraction of its velocity limit)", int(si)))
 
     # smoothness: joint accelerations (second differences); sustained QP chattering at the
     # velocity limits shows as ~2 v_max / dt (1200 rad/s^2) at most samples
     acc = np.abs(q[2:] - 2 * q[1:-1] + q[:-2]) / (motion.dt ** 2)
     per_sample = acc.max(axis=1)
     p99 = float(np.percentile(per_sample, 99))
-    i, j = np.unravel_index(int(np.argmax(acc)), acc.shape)
+    si, sj = np.unravel_index(int(np.argmax(acc)), acc.shape)
     rep.results.append(CheckResult("joint_accel", p99 < accel_limit, p99, accel_limit,
-                                   "r/s2", f"99th percentile; max {acc[i, j]:.0f} at "
-                                   f"{motion.joint_names[j]} t = {t[i + 1]:.3f} s",
+                                   "r/s2", f"99th percentile; max {acc[si, sj]:.0f} at "
+                                   f"{motion.joint_names[sj]} t = {t[si + 1]:.3f} s",
                                    int(np.argmax(per_sample)) + 1))
 
     # box on/above floor, pivot corner fixed
-    hold = BoxHold(tuple(float(x) for x in motion.box_size))  # type: ignore[arg-type]
+    hold = BoxHold(cast("tuple[float, float, float]", tuple(float(x) for x in box_size)))
     corners = np.array([hold.box_corners(_box_T(row)) for row in motion.box])
     low = float(corners[:, :, 2].min())
     rep.results.append(CheckResult("box_floor", low > -corner_tolerance, -low,
                                    corner_tolerance, "m", "deepest corner below the floor",
                                    int(np.argmin(corners[:, :, 2].min(axis=1)))))
-    key = motion.phase.astype(np.int64) * 100_000 + motion.step
+    key = phase.astype(np.int64) * 100_000 + step
     worst, where, rotations, wi = 0.0, "", 0, -1
-    for a, b in _runs(motion.step >= 0):
+    for a, b in _runs(step >= 0):
         # split runs where (phase, step) changes
         cuts = [a] + [i for i in range(a + 1, b) if key[i] != key[i - 1]] + [b]
         for c0, c1 in zip(cuts[:-1], cuts[1:], strict=True):
@@ -353,15 +359,15 @@ def check_motion(motion: Motion, plan: Plan | None = None, *, zmp_tolerance: flo
             best = int(bottom[int(np.argmin(moves))])
             v = min(moves)
             if plan is not None:
-                ph = plan.phases[int(motion.phase[c0])]
-                if isinstance(ph, TransferPhase) and motion.step[c0] < len(ph.steps):
-                    piv = np.array([*ph.steps[int(motion.step[c0])].pivot, 0.0])
+                ph = plan.phases[int(phase[c0])]
+                if isinstance(ph, TransferPhase) and step[c0] < len(ph.steps):
+                    piv = np.array([*ph.steps[int(step[c0])].pivot, 0.0])
                     v = max(v, float(np.linalg.norm(cs[:, best] - piv, axis=1).max()))
                 else:
                     v = math.inf
             if v > worst:
                 worst, wi = v, c0
-                where = f"phase {motion.phase[c0]} step {motion.step[c0]}"
+                where = f"phase {phase[c0]} step {step[c0]}"
     rep.results.append(CheckResult("pivot_corner", worst < corner_tolerance and rotations > 0
                                    or (rotations == 0 and worst == 0.0), worst,
                                    corner_tolerance, "m", f"{rotations} rotations; {where}", wi))
@@ -392,12 +398,15 @@ def _robot_plan(motion: Motion, plan: Plan, kin: _Kinematics, *, step_tol: float
     0.02 rad); during a transit it stays within 3 cm of the ``robot_path`` polyline.
     The value is the worst of (step error / 1 cm, path deviation / 3 cm): pass below 1.
     """
+    phase, support, step = motion.phase, motion.support, motion.step
+    assert phase is not None and support is not None  # required by check_motion
+    assert step is not None  # a Motion default
     mid = 0.5 * (kin.feet["left_foot"][:, :2, 3] + kin.feet["right_foot"][:, :2, 3])
     xl, xr = kin.feet["left_foot"][:, :2, 0], kin.feet["right_foot"][:, :2, 0]
     yaw = np.arctan2(xl[:, 1] + xr[:, 1], xl[:, 0] + xr[:, 0])
     worst, where, wi = 0.0, "", -1
     for p, ph in enumerate(plan.phases):
-        idx = np.nonzero((motion.phase == p) & (motion.support == SUPPORT_DOUBLE))[0]
+        idx = np.nonzero((phase == p) & (support == SUPPORT_DOUBLE))[0]
         if len(idx) == 0:
             continue
         if isinstance(ph, TransitPhase):
@@ -408,7 +417,7 @@ def _robot_plan(motion: Motion, plan: Plan, kin: _Kinematics, *, step_tol: float
                     worst, where, wi = v, f"transit phase {p} t = {motion.t[i]:.3f} s", int(i)
             continue
         for j, st in enumerate(ph.steps):
-            sel = idx[motion.step[idx] == j]
+            sel = idx[step[idx] == j]
             if len(sel) == 0:
                 continue
             i = int(sel[-1])
@@ -437,7 +446,9 @@ def _box_clearance(motion: Motion, *, samples: int = 2000) -> CheckResult:
     model = pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())
     geom = pin.buildGeomFromUrdf(model, str(path), pin.GeometryType.COLLISION)
     data, gdata = model.createData(), geom.createData()
-    box = coal.Box(*[float(x) for x in motion.box_size])
+    box_size = motion.box_size
+    assert box_size is not None  # required by check_motion
+    box = coal.Box(*[float(x) for x in box_size])
     keep = [k for k, g in enumerate(geom.geometryObjects)
             if not any(g.name.startswith(n) for n in CONTACT_LINKS)]
     req, res = coal.DistanceRequest(), coal.DistanceResult()
@@ -460,6 +471,9 @@ def _box_clearance(motion: Motion, *, samples: int = 2000) -> CheckResult:
 
 def _box_plan(motion: Motion, plan: Plan, hold: BoxHold, tol: float) -> CheckResult:
     """Box pose against the plan: at every pivot step's end and throughout transits."""
+    phase, step, tilt = motion.phase, motion.step, motion.tilt
+    assert phase is not None  # required by check_motion
+    assert step is not None and tilt is not None  # Motion defaults
     worst, where, checked, wi = 0.0, "", 0, -1
 
     def compare(i: int, T_expected: np.ndarray, label: str) -> None:
@@ -473,12 +487,12 @@ def _box_plan(motion: Motion, plan: Plan, hold: BoxHold, tol: float) -> CheckRes
         if v > worst:
             worst, where, wi = v, label, i
 
-    if int(motion.phase.max()) >= len(plan.phases):
+    if int(phase.max()) >= len(plan.phases):
         return CheckResult("box_plan", False, math.inf, tol, "m",
-                           f"motion has phase {int(motion.phase.max())}, plan has "
+                           f"motion has phase {int(phase.max())}, plan has "
                            f"{len(plan.phases)}")
     for p, ph in enumerate(plan.phases):
-        idx = np.nonzero(motion.phase == p)[0]
+        idx = np.nonzero(phase == p)[0]
         if len(idx) == 0:
             return CheckResult("box_plan", False, math.inf, tol, "m", f"phase {p} missing")
         if isinstance(ph, TransitPhase):
@@ -487,20 +501,20 @@ def _box_plan(motion: Motion, plan: Plan, hold: BoxHold, tol: float) -> CheckRes
                 compare(int(i), T, f"transit phase {p}")
             continue
         k = ph.grasp
-        steps_seen = sorted(set(int(s) for s in motion.step[idx] if s >= 0))
+        steps_seen = sorted(set(int(s) for s in step[idx] if s >= 0))
         if steps_seen != list(range(len(ph.steps))):
             return CheckResult("box_plan", False, math.inf, tol, "m",
                                f"phase {p}: motion pivots {len(steps_seen)} times, plan "
                                f"{len(ph.steps)}")
         for j, st in enumerate(ph.steps):
-            last = int(idx[motion.step[idx] == j][-1])
-            T = hold.T_world_box(hold.T_world_G(st.object, k), k, float(motion.tilt[last]))
+            last = int(idx[step[idx] == j][-1])
+            T = hold.T_world_box(hold.T_world_G(st.object, k), k, float(tilt[last]))
             compare(last, T, f"phase {p} step {j}")
         first = int(idx[0])
         compare(first, hold.T_world_box(hold.T_world_G(ph.object_start, k), k,
-                                        float(motion.tilt[first])), f"phase {p} start")
+                                        float(tilt[first])), f"phase {p} start")
         lastp = int(idx[-1])
         compare(lastp, hold.T_world_box(hold.T_world_G(ph.object_end, k), k,
-                                        float(motion.tilt[lastp])), f"phase {p} end")
+                                        float(tilt[lastp])), f"phase {p} end")
     return CheckResult("box_plan", worst < tol, worst, tol, "m", f"{checked} poses; worst {where}",
                        wi)

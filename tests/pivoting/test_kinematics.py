@@ -100,10 +100,10 @@ def test_lie_bracket_spans_r3():
         q = np.array([rng.uniform(-3, 3), rng.uniform(-3, 3), rng.uniform(-math.pi, math.pi)])
         ell = rng.uniform(0.1, 1.0)
 
-        def L(p):  # noqa: N802
+        def L(p, ell=ell):  # noqa: N802
             return vector_fields(tuple(p), ell)[0]
 
-        def R(p):  # noqa: N802
+        def R(p, ell=ell):  # noqa: N802
             return vector_fields(tuple(p), ell)[1]
 
         bracket = jac(R, q) @ L(q) - jac(L, q) @ R(q)
@@ -113,7 +113,8 @@ def test_lie_bracket_spans_r3():
         for end, field in ((LEFT, L(q)), (RIGHT, R(q))):
             p = end_point(tuple(q), ell, end)
             e = 1e-7
-            num = (np.array(rotate_about(tuple(q), p, e)) - np.array(rotate_about(tuple(q), p, -e))) / (2 * e)
+            num = (np.array(rotate_about(tuple(q), p, e))
+                   - np.array(rotate_about(tuple(q), p, -e))) / (2 * e)
             assert np.allclose(num, field, atol=1e-6)
 
 
@@ -179,7 +180,7 @@ def test_merged_rotations_alternate_ends(steering):
     """After merging, no two consecutive rotations turn about the same corner within bound."""
     for a, b in random_pairs(200, seed=11):
         rots = steering.convert(a, b, half_length=ELL).rotations
-        for r1, r2 in zip(rots, rots[1:]):
+        for r1, r2 in zip(rots, rots[1:], strict=False):
             if r1.end == r2.end:
                 assert abs(r1.angle + r2.angle) > AMAX
 

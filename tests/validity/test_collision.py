@@ -65,7 +65,7 @@ def test_certify_is_conservative():
         b = a + rng.normal(0, 0.6, 3)
         lip = np.hypot(*(b - a)[:2]) + 0.5 * math.hypot(0.8, 0.6) * abs(b[2] - a[2])
 
-        def at(t):
+        def at(t, a=a, b=b):
             return tuple(a + t * (b - a))
 
         res = certify(lambda t: w.box_distance(at(t)), lip, tolerance=0.002)

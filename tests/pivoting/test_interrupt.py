@@ -1,0 +1,35 @@
+"""The steering stops when its termination condition says so; the checker does not cache it."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from factories import make_scene
+
+from pivot_ompl.errors import Interrupted
+from pivot_ompl.pivoting.steering import PivotSteering
+from pivot_ompl.validity.pivot_checker import PivotChecker
+
+
+def test_steering_polls_its_stop_condition():
+    steering = PivotSteering(turning_radius=2.0, alpha_max=math.pi / 8)
+    calls = []
+
+    def stop() -> bool:
+        calls.append(1)
+        return len(calls) > 3
+
+    with pytest.raises(Interrupted):
+        steering.convert((0.0, 0.0, 0.0), (50.0, 0.0, 0.0), half_length=0.3, should_stop=stop)
+    assert len(calls) == 4
+
+
+def test_an_interrupted_edge_is_invalid_and_not_cached():
+    ck = PivotChecker(make_scene(), seed=0)
+    a, b = (1.5, 3.0, 0.0), (6.0, 3.0, 0.0)
+    ck.should_stop = lambda: True
+    res = ck.transfer(a, b, 0)
+    assert not res.valid and "interrupted" in res.reason
+    ck.should_stop = None
+    assert ck.transfer(a, b, 0).valid
