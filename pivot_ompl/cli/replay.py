@@ -101,11 +101,11 @@ def run(args: argparse.Namespace) -> int:
         from pivot_ompl.viz.serve import serve
 
         def ready(url: str) -> None:
-            print(f"meshcat viewer: {url}  (Ctrl-C to stop)", flush=True)
+            print(f"replay viewer: {url}  (Ctrl-C to stop)", flush=True)
 
         if args.html:
             _write(build, args.html, title, open_it=False)
-        return serve(build, open_browser=args.open, on_ready=ready)
+        return serve(build, open_browser=args.open, on_ready=ready, title=title)
     out = Path(args.html) if args.html else Path(args.input).with_suffix(".html")
     return _write(build, out, title, open_it=args.open)
 
@@ -115,8 +115,8 @@ def _write(build, out: str | Path, title: str, *, open_it: bool) -> int:
     from pivot_ompl.viz.recorder import recording_visualizer
 
     vis = recording_visualizer()
-    build(vis)
-    res = write_html(vis, out, title=title)
+    info = build(vis)
+    res = write_html(vis, out, title=title, guide=getattr(info, "guide", None))
     print(f"replay: {res.path} ({res.size_bytes / 1e6:.2f} MB, {res.seconds:.2f} s)",
           flush=True)
     if open_it:

@@ -142,16 +142,3 @@ def draw_footsteps(vis: meshcat.Visualizer, poses: Iterable[Pose], size: Sequenc
         node.set_object(g.Box([size[0], size[1], thickness]), _lambert(color, opacity=opacity))
         node.set_transform(planar(pose, 0.5 * thickness + 0.002))
     return n
-
-
-def set_camera(vis: meshcat.Visualizer, target: Sequence[float], extent: float) -> None:
-    """Look at ``target`` (x, y, z) from a diagonal viewpoint ``extent`` metres away.
-
-    Uses meshcat's root camera nodes, so ``vis`` must be a root visualizer
-    (``meshcat.Visualizer()`` or the recorder's).
-    """
-    root = meshcat.Visualizer.view_into(vis.window, vis.path.append("/Cameras/default"))
-    root.set_transform(translation(*target))
-    d = max(extent, 2.0)
-    # The camera's "rotated" frame is y-up: world (dx, dy, dz) is (dx, dz, -dy) there.
-    root["rotated/<object>"].set_property("position", [0.55 * d, 0.6 * d, 0.75 * d])

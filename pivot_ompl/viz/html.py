@@ -4,8 +4,10 @@ The file inlines meshcat's viewer bundle (three.js, from the meshcat wheel) and 
 commands as base64 strings; large ones (the animation of a long motion) are gzip-compressed
 and inflated by the browser's ``DecompressionStream``. Every command is decoded first, then
 all are applied in order: the scene is complete when the animation is loaded, and the
-animation then starts playing. ``window.viewer`` is the ``MeshCat.Viewer``;
-``window.replayLoaded`` becomes ``true`` once every command has been applied
+animation then starts playing. With a :class:`~pivot_ompl.viz.chapters.ReplayGuide` the page
+also carries the replay controls of :mod:`pivot_ompl.viz.overlay` (camera views, follow
+mode, speeds, chapters, phase label), started once the scene is loaded. ``window.viewer``
+is the ``MeshCat.Viewer``; ``window.replayLoaded`` becomes ``true`` once every command has been applied
 (``window.replayError`` holds a message if one failed).
 """
 
@@ -22,6 +24,8 @@ from pathlib import Path
 import meshcat
 
 from pivot_ompl.errors import InputError
+from pivot_ompl.viz.chapters import ReplayGuide
+from pivot_ompl.viz.overlay import overlay_script
 from pivot_ompl.viz.recorder import RecordingWindow
 
 log = logging.getLogger(__name__)
@@ -44,6 +48,9 @@ _TEMPLATE = """<!DOCTYPE html>
 var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
 window.viewer = viewer;
 window.replayLoaded = false;
+</script>
+{overlay}
+<script>
 (async function () {{
   var cmds = {commands};
   function bytesOf(b64) {{
@@ -63,6 +70,7 @@ window.replayLoaded = false;
     for (var i = 0; i < cmds.length; i++)
       decoded.push(typeof cmds[i] === "string" ? bytesOf(cmds[i]) : await inflate(cmds[i].gz));
     for (var i = 0; i < decoded.length; i++) viewer.handle_command_bytearray(decoded[i]);
+    if (window.replayUI) window.replayUI.start();
     window.replayLoaded = true;
   }} catch (e) {{
     window.replayError = String(e);
@@ -94,11 +102,21 @@ class HtmlExport:
     commands: int
 
 
-def html_text(window: RecordingWindow, *, title: str = "pivot-ompl replay") -> str:
-    """The self-contained page for the scene recorded in ``window``."""
+def viewer_js() -> str:
+    """Meshcat's viewer bundle, safe to inline in a ``<script>`` block."""
     js = VIEWER_JS.read_text(encoding="utf-8")
     if "</script" in js.lower():  # never true for meshcat 0.3.2; guard the inlining anyway
         js = js.replace("</script", "<\\/script").replace("</SCRIPT", "<\\/SCRIPT")
+    return js
+
+
+def html_text(window: RecordingWindow, *, title: str = "pivot-ompl replay",
+              guide: ReplayGuide | None = None) -> str:
+    """The self-contained page for the scene recorded in ``window``.
+
+    With ``guide``, the page carries the replay controls (:mod:`pivot_ompl.viz.overlay`).
+    """
+    js = viewer_js()
     cmds: list[str | dict[str, str]] = []
     for c in window.commands():
         if len(c) > GZIP_ABOVE:
@@ -107,13 +125,18 @@ def html_text(window: RecordingWindow, *, title: str = "pivot-ompl replay") -> s
         else:
             cmds.append(base64.b64encode(c).decode("ascii"))
     safe_title = title.replace("&", "&amp;").replace("<", "&lt;")
-    return _TEMPLATE.format(title=safe_title, viewer_js=js,
+    overlay = overlay_script(guide.to_json()) if guide is not None else ""
+    return _TEMPLATE.format(title=safe_title, viewer_js=js, overlay=overlay,
                             commands=json.dumps(cmds, separators=(",\n", ":")))
 
 
 def write_html(vis: meshcat.Visualizer, path: str | Path, *,
-               title: str = "pivot-ompl replay") -> HtmlExport:
+               title: str = "pivot-ompl replay", guide: ReplayGuide | None = None) -> HtmlExport:
     """Write the scene recorded by ``vis`` (a recording visualizer) to one HTML file.
+
+    ``guide`` (the ``guide`` of the :class:`~pivot_ompl.viz.plan_view.ReplayInfo` a
+    ``show_*`` call returns) adds the replay controls. The file is written to a temporary
+    name first, so a failed export never destroys an existing file.
 
     Raises:
         InputError: ``vis`` is not backed by a :class:`RecordingWindow`.
@@ -127,7 +150,12 @@ def write_html(vis: meshcat.Visualizer, path: str | Path, *,
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     n = len(window.commands())
-    path.write_text(html_text(window, title=title), encoding="utf-8")
+    tmp = path.with_name(path.name + ".part")
+    try:
+        tmp.write_text(html_text(window, title=title, guide=guide), encoding="utf-8")
+        tmp.replace(path)
+    finally:
+        tmp.unlink(missing_ok=True)
     out = HtmlExport(path, path.stat().st_size, time.perf_counter() - t0, n)
     log.info("wrote %s (%.1f MB, %d commands) in %.2f s", path, out.size_bytes / 1e6, n,
              out.seconds)

@@ -23,6 +23,7 @@ from pivot_ompl.resources import data_path
 from pivot_ompl.scene import DEFAULT_OBJECT_SIZE, Scene
 from pivot_ompl.viz import draw
 from pivot_ompl.viz.animation import AnimationBuilder
+from pivot_ompl.viz.chapters import Chapter, ReplayGuide, replay_guide, standing_height
 from pivot_ompl.viz.plan_view import ReplayInfo, draw_plan_markers, show_scene
 from pivot_ompl.viz.shapes import quat_xyzw_to_matrix
 from pivot_ompl.viz.urdf_visuals import RobotModel, draw_robot, load_robot
@@ -188,4 +189,27 @@ def show_motion(vis: meshcat.Visualizer, motion: Motion, *, scene: Scene | None 
     log.info("motion replay: %d visuals, %d samples, %d track keys, %.1f s, %d footsteps",
              n_vis, len(t), anim.keys, float(t[-1]), n_steps)
     nodes = ("floor", "box", "robot") + (("footsteps",) if n_steps else ())
-    return ReplayInfo(float(t[-1]), len(t), nodes, n_steps, n_piv)
+    frame = scene.bounds if scene is not None else bounds
+    assert frame is not None  # noqa: S101 - for mypy: bounds is set without a scene
+    guide = motion_guide(motion, plan=plan, scene=scene).with_frame(
+        frame, max(standing_height(None, scene), float(np.max(q[:, 2])) + 0.8, float(size[2])))
+    return ReplayInfo(float(t[-1]), len(t), nodes, n_steps, n_piv, guide)
+
+
+def motion_guide(motion: Motion, *, plan: Plan | None = None,
+                 scene: Scene | None = None) -> ReplayGuide:
+    """Chapters and phase labels of a motion, from its ``phase`` and ``step`` arrays.
+
+    Times are relative to the motion's first sample (as in the replay). A motion without a
+    ``phase`` array has one label, ``"motion"``; a plan that does not match the motion's
+    phases is ignored with a warning.
+    """
+    t = motion.t - motion.t[0] if len(motion.t) else motion.t
+    if motion.phase is None:
+        return ReplayGuide(motion.duration, (Chapter(0.0, "start", "moment"),),
+                           ((0.0, "motion"),))
+    if plan is not None and len(motion.phase) and int(np.max(motion.phase)) >= len(plan.phases):
+        log.warning("the motion has phases beyond the plan's %d: chapters without the plan",
+                    len(plan.phases))
+        plan = None
+    return replay_guide(t, motion.phase, motion.step, plan=plan, scene=scene)

@@ -17,6 +17,8 @@ from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose
 from pivot_ompl.viz import draw
 from pivot_ompl.viz.animation import AnimationBuilder
+from pivot_ompl.viz.camera import frame_scene
+from pivot_ompl.viz.chapters import ReplayGuide, replay_guide, standing_height
 from pivot_ompl.viz.timeline import ReplayTiming, plan_keyframes
 
 log = logging.getLogger(__name__)
@@ -32,6 +34,9 @@ class ReplayInfo:
         nodes: names of the top-level nodes drawn.
         footsteps: footsteps drawn.
         pivots: pivot markers drawn.
+        guide: chapters, phase labels and camera framing of an animated replay (give it to
+            :func:`~pivot_ompl.viz.html.write_html` or :func:`~pivot_ompl.viz.serve.serve`
+            for the page's controls), ``None`` for a static view.
     """
 
     duration: float
@@ -39,6 +44,7 @@ class ReplayInfo:
     nodes: tuple[str, ...]
     footsteps: int = 0
     pivots: int = 0
+    guide: ReplayGuide | None = None
 
 
 def plan_bounds(plan: Plan, *, margin: float = 1.5) -> tuple[float, float, float, float]:
@@ -62,14 +68,9 @@ def show_scene(vis: meshcat.Visualizer, scene: Scene | None, *,
     draw.draw_scene(vis, scene, bounds=bounds)
     b = scene.bounds if scene is not None else bounds
     if camera and b is not None:
-        _camera(vis, b)
+        frame_scene(vis, b, height=standing_height(None, scene))
     n = len(scene.obstacles) if scene is not None else 0
     return ReplayInfo(0.0, 0, ("floor",) + (("obstacles",) if n else ()))
-
-
-def _camera(vis: meshcat.Visualizer, b: tuple[float, float, float, float]) -> None:
-    draw.set_camera(vis, (0.5 * (b[0] + b[2]), 0.5 * (b[1] + b[3]), 0.0),
-                    0.6 * math.hypot(b[2] - b[0], b[3] - b[1]))
 
 
 def _footprint_poses(plan: Plan) -> list[Pose]:
@@ -143,8 +144,10 @@ def show_plan(vis: meshcat.Visualizer, scene: Scene | None, plan: Plan, *,
     anim.add_transforms("robot", kf.times, np.asarray(kf.robot))
     if len(kf.times) > 1:
         anim.send(play=play)
+    guide = replay_guide(kf.times, kf.phase, kf.step, plan=plan, scene=scene).with_frame(
+        scene.bounds if scene is not None else plan_bounds(plan), standing_height(model, scene))
     log.info("plan replay: %d phases, %d pivots, %.1f s", len(plan.phases), n_piv, kf.duration)
-    return ReplayInfo(kf.duration, len(kf.times), tuple(nodes), n_feet, n_piv)
+    return ReplayInfo(kf.duration, len(kf.times), tuple(nodes), n_feet, n_piv, guide)
 
 
 def show_roadmap(vis: meshcat.Visualizer, nodes: Sequence[Sequence[float]],

@@ -4,10 +4,16 @@
 counted up from 6000 (zmq) and 7000 (web) until free ones bind, so a second viewer never
 clashes with the first. :class:`LiveViewer` owns that process and always terminates it
 (context exit, Ctrl-C, SIGTERM), leaving no stray server behind.
+
+With a replay guide, :class:`ReplayPage` also serves the replay page with its controls
+(:mod:`pivot_ompl.viz.overlay`: camera views, follow mode, speeds, chapters, phase label) on
+its own local port; the page's websocket is relayed to meshcat's server, so it shows the
+live scene (meshcat's server accepts websockets from its own origin only).
 """
 
 from __future__ import annotations
 
+import asyncio
 import contextlib
 import io
 import logging
@@ -17,8 +23,15 @@ import time
 import webbrowser
 from collections.abc import Callable
 from types import FrameType
+from typing import Any
 
 import meshcat
+import tornado.httpserver
+import tornado.netutil
+import tornado.web
+import tornado.websocket
+
+from pivot_ompl.viz.chapters import ReplayGuide
 
 log = logging.getLogger(__name__)
 
@@ -61,20 +74,148 @@ class LiveViewer:
         self.close()
 
 
+_LIVE_PAGE = """<!DOCTYPE html>
+<html>
+<head><meta charset="utf-8"><title>{title}</title>
+<style>body {{ margin: 0; }} #meshcat-pane {{ width: 100vw; height: 100vh; overflow: hidden; }}
+</style></head>
+<body>
+<div id="meshcat-pane"></div>
+<script>
+{viewer_js}
+</script>
+<script>
+var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
+window.viewer = viewer;
+window.replayLoaded = false;
+viewer.connect("ws://" + location.host + "/ws");
+</script>
+{overlay}
+<script>
+(function wait() {{  // the scene arrives over the websocket, the animation last
+  if (viewer.animator.actions.length > 0 && viewer.scene_tree.children.meshcat) {{
+    if (window.replayUI) window.replayUI.start();
+    window.replayLoaded = true;
+  }} else setTimeout(wait, 100);
+}})();
+</script>
+</body>
+</html>
+"""
+
+
+class _PageHandler(tornado.web.RequestHandler):
+    def initialize(self, page: str) -> None:
+        self.page = page
+
+    def get(self) -> None:
+        self.set_header("Content-Type", "text/html; charset=utf-8")
+        self.set_header("Cache-Control", "no-store")
+        self.write(self.page)
+
+
+class _RelayHandler(tornado.websocket.WebSocketHandler):
+    """Relays one browser websocket to meshcat's server, both ways."""
+
+    def initialize(self, upstream: str) -> None:
+        self.upstream_url = upstream
+        self.upstream: Any = None
+
+    async def open(self) -> None:
+        self.upstream = await tornado.websocket.websocket_connect(self.upstream_url,
+                                                                  max_message_size=1 << 30)
+        asyncio.get_running_loop().create_task(self._pump())
+
+    async def _pump(self) -> None:
+        while True:
+            msg = await self.upstream.read_message()
+            if msg is None:
+                self.close()
+                return
+            try:
+                await self.write_message(msg, binary=isinstance(msg, bytes))
+            except tornado.websocket.WebSocketClosedError:
+                return
+
+    def on_message(self, message: str | bytes) -> None:
+        if self.upstream is not None:
+            self.upstream.write_message(message, binary=isinstance(message, bytes))
+
+    def on_close(self) -> None:
+        if self.upstream is not None:
+            self.upstream.close()
+
+
+class ReplayPage:
+    """The replay page with its controls, served on a free local port for a live viewer.
+
+    Attributes:
+        url: the page's address (``http://127.0.0.1:<port>/``).
+    """
+
+    def __init__(self, viewer: LiveViewer, guide: ReplayGuide, *,
+                 title: str = "pivot-ompl replay") -> None:
+        from pivot_ompl.viz.html import viewer_js
+        from pivot_ompl.viz.overlay import overlay_script
+
+        web = viewer.url.split("//", 1)[1].split("/", 1)[0]  # host:port of meshcat's server
+        page = _LIVE_PAGE.format(title=title.replace("&", "&amp;").replace("<", "&lt;"),
+                                 viewer_js=viewer_js(), overlay=overlay_script(guide.to_json()))
+        self._loop = asyncio.new_event_loop()
+        socks = tornado.netutil.bind_sockets(0, "127.0.0.1")
+        self.url = f"http://127.0.0.1:{socks[0].getsockname()[1]}/"
+        ready = threading.Event()
+
+        def run() -> None:
+            asyncio.set_event_loop(self._loop)
+            app = tornado.web.Application([
+                (r"/", _PageHandler, {"page": page}),
+                (r"/ws", _RelayHandler, {"upstream": f"ws://{web}/"})])
+            self._server = tornado.httpserver.HTTPServer(app, max_buffer_size=1 << 30)
+            self._server.add_sockets(socks)
+            ready.set()
+            self._loop.run_forever()
+            self._server.stop()
+            self._loop.run_until_complete(self._loop.shutdown_asyncgens())
+            self._loop.close()
+
+        self._thread = threading.Thread(target=run, name="replay-page", daemon=True)
+        self._thread.start()
+        ready.wait(10)
+        log.info("replay page at %s (relaying %s)", self.url, web)
+
+    def close(self) -> None:
+        """Stop serving the page (idempotent)."""
+        if self._thread.is_alive():
+            self._loop.call_soon_threadsafe(self._loop.stop)
+            self._thread.join(10)
+
+    def __enter__(self) -> ReplayPage:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
 class _Stop(Exception):
     """Raised by the SIGTERM handler to leave the serving loop."""
 
 
 def serve(build: Callable[[meshcat.Visualizer], object], *, open_browser: bool = False,
           on_ready: Callable[[str], None] | None = None,
-          stop: threading.Event | None = None) -> int:
+          stop: threading.Event | None = None, title: str = "pivot-ompl replay") -> int:
     """Start a live viewer, draw with ``build(vis)``, then wait until Ctrl-C / SIGTERM.
+
+    When ``build`` returns a ``ReplayInfo`` with a ``guide``, the replay page with its
+    controls (:class:`ReplayPage`) is served too and its URL is the one given to
+    ``on_ready`` and opened; meshcat's own page stays available at the server's URL.
 
     Args:
         build: draws the scene into the visualizer it is given.
         open_browser: open the URL in the default browser.
         on_ready: called with the URL once the scene is sent (the CLI prints it).
         stop: optional event that ends the wait (for tests and embedding).
+        title: the replay page's title.
 
     Returns:
         0 once the server has been stopped.
@@ -86,12 +227,18 @@ def serve(build: Callable[[meshcat.Visualizer], object], *, open_browser: bool =
 
         old = signal.signal(signal.SIGTERM, on_term)
     viewer = LiveViewer()
+    page: ReplayPage | None = None
     try:
-        build(viewer.vis)
+        info = build(viewer.vis)
+        url = viewer.url
+        guide = getattr(info, "guide", None)
+        if isinstance(guide, ReplayGuide):
+            page = ReplayPage(viewer, guide, title=title)
+            url = page.url
         if on_ready is not None:
-            on_ready(viewer.url)
+            on_ready(url)
         if open_browser:
-            webbrowser.open(viewer.url, new=2)
+            webbrowser.open(url, new=2)
         while stop is None or not stop.is_set():
             time.sleep(0.2)
             if viewer.vis.window.server_proc.poll() is not None:
@@ -100,6 +247,8 @@ def serve(build: Callable[[meshcat.Visualizer], object], *, open_browser: bool =
     except (KeyboardInterrupt, _Stop):
         log.info("stopping the viewer")
     finally:
+        if page is not None:
+            page.close()
         viewer.close()
         if old is not None:
             signal.signal(signal.SIGTERM, old)

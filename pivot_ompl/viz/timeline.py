@@ -43,19 +43,24 @@ class Keyframes:
         box: ``(K, 4, 4)`` ``T_world_box`` (box centre).
         robot: ``(K, 4, 4)`` ``T_world_robot`` (footprint centre on the floor, x = heading).
         phase: ``(K,)`` index of the plan phase each key belongs to.
+        step: ``(K,)`` index of the pivot step rotating in that phase (-1: tilting or
+            walking).
     """
 
     times: list[float] = field(default_factory=list)
     box: list[np.ndarray] = field(default_factory=list)
     robot: list[np.ndarray] = field(default_factory=list)
     phase: list[int] = field(default_factory=list)
+    step: list[int] = field(default_factory=list)
 
-    def add(self, t: float, box: np.ndarray, robot: np.ndarray, phase: int) -> None:
+    def add(self, t: float, box: np.ndarray, robot: np.ndarray, phase: int,
+            step: int = -1) -> None:
         """Append one key."""
         self.times.append(t)
         self.box.append(box)
         self.robot.append(robot)
         self.phase.append(phase)
+        self.step.append(step)
 
     @property
     def duration(self) -> float:
@@ -93,7 +98,7 @@ def _transfer(kf: Keyframes, model: BoxGraspModel, ph: TransferPhase, index: int
                box_transform(model, obj, grasp=k, tilt=tm.tilt * j / n_tilt), planar(rob),
                index)
     t += tm.tilt_time
-    for step in ph.steps:
+    for i_step, step in enumerate(ph.steps):
         dur = max(tm.min_step, abs(step.angle) / tm.pivot_speed)
         n = max(1, math.ceil(abs(step.angle) / tm.sample_angle))
         for j in range(1, n + 1):
@@ -101,7 +106,7 @@ def _transfer(kf: Keyframes, model: BoxGraspModel, ph: TransferPhase, index: int
             o = step.object if j == n else rotate_about(obj, step.pivot, a)
             r = step.robot if j == n else rotate_about(rob, step.pivot, a)
             kf.add(t + dur * j / n, box_transform(model, o, grasp=k, tilt=tm.tilt), planar(r),
-                   index)
+                   index, i_step)
         t += dur
         obj, rob = step.object, step.robot
     for j in range(1, n_tilt + 1):  # put it back upright

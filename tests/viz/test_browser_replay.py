@@ -11,6 +11,7 @@ from __future__ import annotations
 import base64
 import fcntl
 import json
+import math
 import os
 import select
 import shutil
@@ -208,9 +209,9 @@ def browser(tmp_path_factory):
     assert b.proc.poll() is not None, "Chromium still running after the test"
 
 
-def _open(browser: Chromium, html: Path) -> None:
+def _open(browser: Chromium, html: Path, fragment: str = "") -> None:
     browser.events.clear()
-    browser.call("Page.navigate", {"url": html.resolve().as_uri()})
+    browser.call("Page.navigate", {"url": html.resolve().as_uri() + fragment})
     browser.wait_for("window.replayLoaded === true || !!window.replayError", timeout=60)
     assert browser.evaluate("window.replayError || ''") == ""
     browser.evaluate(HELPERS)
@@ -345,3 +346,190 @@ def test_hrp2_motion_in_chromium(browser, tmp_path):
     for p in paths:
         assert _dist(p1[p], p2[p]) > 0.05, f"{p} did not move"
     assert png1 != png2
+
+
+# -- the replay's own controls: camera views, follow mode, speeds, chapters ------------------
+
+#: In-page measurements of the camera's view (independent of the page's own script).
+VIEW_HELPERS = """
+window.__cam = function () { const c = viewer.camera; c.updateMatrixWorld(true);
+  c.updateProjectionMatrix(); return c; };
+window.__ndc = function (pts) {  // scene points (z up) -> normalised device coordinates
+  const T = MeshCat.THREE, c = __cam(); viewer.scene.updateMatrixWorld(true);
+  return pts.map(p => { const v = new T.Vector3(p[0], p[1], p[2])
+    .applyMatrix4(viewer.scene.matrixWorld).project(c); return [v.x, v.y, v.z]; });
+};
+window.__eye = function () {  // camera position in the scene's frame (z up)
+  const e = new MeshCat.THREE.Vector3(); __cam().getWorldPosition(e);
+  e.applyMatrix4(viewer.scene.matrixWorld.clone().invert()); return [e.x, e.y, e.z];
+};
+window.__projectedFraction = function (path) {  // bbox of a node on screen / viewport
+  const T = MeshCat.THREE, n = __node(path); n.object.updateMatrixWorld(true);
+  const b = new T.Box3().setFromObject(n.object), pts = [];
+  for (const x of [b.min.x, b.max.x]) for (const y of [b.min.y, b.max.y])
+    for (const z of [b.min.z, b.max.z]) pts.push([x, y, z]);
+  const q = __ndc(pts).filter(v => v[2] < 1);
+  if (q.length < 8) return 0;
+  const cl = v => Math.max(-1, Math.min(1, v));
+  const xs = q.map(v => cl(v[0])), ys = q.map(v => cl(v[1]));
+  return (Math.max(...xs) - Math.min(...xs)) * (Math.max(...ys) - Math.min(...ys)) / 4;
+};
+window.__rate = async function (ms) {  // animation seconds per wall second while playing
+  const a = viewer.animator;
+  const t0 = replayUI.time(), w0 = a.clock.oldTime;
+  await new Promise(r => setTimeout(r, ms));
+  const t1 = replayUI.time(), w1 = a.clock.oldTime;  // the clock ticks with each update
+  return (t1 - t0) / ((w1 - w0) / 1000);
+};
+window.__settled = function () { return !replayUI.state.glide; };
+true
+"""
+
+
+def _viewport(browser: Chromium, width: int = 1280, height: int = 800) -> None:
+    browser.call("Emulation.setDeviceMetricsOverride",
+                 {"width": width, "height": height, "deviceScaleFactor": 1, "mobile": False})
+
+
+def _settle(browser: Chromium) -> None:
+    browser.wait_for("__settled()", timeout=20)
+    browser.evaluate("__frame()")
+    browser.evaluate("__frame()")
+
+
+def _label(browser: Chromium) -> str:
+    return browser.evaluate("document.getElementById('pr-label').dataset.label")
+
+
+def _floor_corners_in_view(browser: Chromium, bounds) -> bool:
+    x0, y0, x1, y1 = bounds
+    corners = [[x0, y0, 0], [x1, y0, 0], [x0, y1, 0], [x1, y1, 0]]
+    ndc = browser.evaluate(f"__ndc({json.dumps(corners)})")
+    return all(abs(v[0]) <= 1.0 and abs(v[1]) <= 1.0 and v[2] < 1 for v in ndc)
+
+
+def test_replay_controls_in_chromium(browser, tmp_path):
+    """Framed on load, then following; chapters seek and relabel; 20x plays 20x as fast."""
+    from pivot_ompl.planfile import load_plan
+    from pivot_ompl.scene import load_scene
+    from pivot_ompl.viz import ReplayTiming, recording_visualizer, show_plan, write_html
+
+    ARTIFACTS.mkdir(exist_ok=True)
+    s = write_samples(tmp_path)
+    scene = load_scene(s.scene)
+    bounds = scene.bounds
+    html = tmp_path / "plan.html"
+    vis = recording_visualizer()
+    # slow timing (about 4.5 min) so that 2 s at 50x stay inside the animation
+    info = show_plan(vis, scene, load_plan(s.plan),
+                     timing=ReplayTiming(pivot_speed=0.05, walk_speed=0.05, turn_speed=0.1))
+    assert info.duration > 150
+    write_html(vis, html, guide=info.guide)
+    _viewport(browser)
+    # on load: the scene framed from a three-quarter view (held here so the test sees it)
+    _open(browser, html, "#overview=600")
+    browser.evaluate(VIEW_HELPERS)
+    browser.evaluate("__frame()")
+    assert browser.evaluate("replayUI.state.view") == "overview"
+    assert _floor_corners_in_view(browser, bounds)
+    view = browser.evaluate("__eye()")
+    cx, cy = 0.5 * (bounds[0] + bounds[2]), 0.5 * (bounds[1] + bounds[3])
+    assert view[0] < cx and view[1] < cy and view[2] > 2.0  # from the front left, above
+    browser.screenshot(ARTIFACTS / "controls_on_load.png")
+    # as a user opens it: after the framed view, the camera follows robot and box
+    _open(browser, html)
+    browser.evaluate(VIEW_HELPERS)
+    browser.wait_for("replayUI.state.view === 'follow'", timeout=10)
+    _settle(browser)
+    assert browser.evaluate("viewer.animator.playing") is True
+    frac = browser.evaluate("__projectedFraction('meshcat/robot')")
+    browser.screenshot(ARTIFACTS / "controls_follow_after_load.png")
+    assert frac >= 0.05, f"robot covers {frac:.3f} of the viewport"
+
+    # speed: 20x advances the animation time about 20 times as fast as 1x
+    browser.evaluate("replayUI.seek(0); replayUI.setSpeed(1); true")
+    r1 = browser.evaluate("__rate(1500)")
+    browser.evaluate("replayUI.seek(0); document.querySelector('[data-key=speed20]').click(); true")
+    assert browser.evaluate("viewer.animator.mixer.timeScale") == 20
+    r20 = browser.evaluate("__rate(2000)")
+    assert browser.evaluate("viewer.animator.playing") is True
+    assert r1 == pytest.approx(1.0, rel=0.1)
+    assert r20 / r1 == pytest.approx(20.0, rel=0.1)
+    assert "20×" in browser.evaluate("document.getElementById('pr-label').textContent")
+
+    # chapters: one entry per phase plus key moments; clicking one seeks and relabels
+    browser.evaluate("viewer.animator.pause(); replayUI.setSpeed(1); replayUI.seek(3); true")
+    browser.evaluate("__frame()")
+    first = _label(browser)
+    assert first.startswith("transfer 1/2 · pivot")
+    titles = browser.evaluate("Array.from(document.querySelectorAll('#pr-chapters div'))"
+                              ".map(d => d.textContent)")
+    assert sum("transfer" in t for t in titles) == 2 and sum("regrasp" in t for t in titles) == 1
+    t_regrasp = browser.evaluate("replayUI.chapters.find(c => c.kind === 'regrasp').time")
+    browser.evaluate("Array.from(document.querySelectorAll('#pr-chapters div'))"
+                     ".find(d => d.textContent.includes('regrasp')).click(); true")
+    _settle(browser)
+    assert browser.evaluate("replayUI.time()") == pytest.approx(t_regrasp, abs=0.05)
+    assert _label(browser).startswith("regrasp 1/1 · walk")
+    assert browser.evaluate("document.querySelector('#pr-chapters .pr-current').textContent"
+                            ).find("regrasp") >= 0
+    browser.screenshot(ARTIFACTS / "controls_regrasp_chapter.png")
+    browser.evaluate("Array.from(document.querySelectorAll('#pr-chapters div'))"
+                     ".find(d => d.textContent.includes('transfer 2/2')).click(); true")
+    browser.evaluate("__frame()")
+    assert _label(browser).startswith("transfer 2/2 · pivot 17/51")  # 17 done before
+
+    # an obstacle between the camera and the robot is drawn translucent, others stay opaque
+    browser.evaluate("""(() => { const T = MeshCat.THREE;
+      const inv = viewer.scene.matrixWorld.clone().invert();
+      const rb = new T.Box3().setFromObject(__node('meshcat/robot').object).applyMatrix4(inv);
+      const ob = new T.Box3().setFromObject(__node('meshcat/obstacles/0').object)
+        .applyMatrix4(inv);
+      const r = rb.getCenter(new T.Vector3()), o = ob.getCenter(new T.Vector3());
+      const eye = o.clone().add(o.clone().sub(r).setLength(1.5)); eye.z = r.z + 0.3;
+      replayUI.state.glide = null; replayUI.place(r, eye); return true; })()""")
+    browser.evaluate("__frame()")
+    op = browser.evaluate("(() => { const o = []; __node('meshcat/obstacles').object.traverse("
+                          "m => { if (m.isMesh) o.push(m.material.opacity); }); return o; })()")
+    assert op[0] < 0.5 and all(v == 1.0 for v in op[1:]), op
+
+    # top view: the whole floor from above
+    browser.evaluate("document.querySelector('[data-key=top]').click(); true")
+    _settle(browser)
+    eye = browser.evaluate("__eye()")
+    cx, cy = 0.5 * (bounds[0] + bounds[2]), 0.5 * (bounds[1] + bounds[3])
+    assert eye[2] > 5.0 and math.hypot(eye[0] - cx, eye[1] - cy) < 0.05 * eye[2]  # above
+    assert _floor_corners_in_view(browser, bounds)
+    browser.screenshot(ARTIFACTS / "controls_top.png")
+    # overview again, at the start: the framed scene a person sees on load
+    browser.evaluate("replayUI.setView('overview'); replayUI.seek(0); true")
+    _settle(browser)
+    assert _floor_corners_in_view(browser, bounds)
+    browser.screenshot(ARTIFACTS / "controls_framed_start.png")
+
+
+def test_live_replay_page_in_chromium(browser, tmp_path):
+    """--serve: the replay page with its controls shows the live scene over the relay."""
+    from pivot_ompl.planfile import load_plan
+    from pivot_ompl.scene import load_scene
+    from pivot_ompl.viz import show_plan
+    from pivot_ompl.viz.serve import LiveViewer, ReplayPage
+
+    s = write_samples(tmp_path)
+    with LiveViewer() as live:
+        info = show_plan(live.vis, load_scene(s.scene), load_plan(s.plan))
+        assert info.guide is not None
+        with ReplayPage(live, info.guide) as page:
+            _viewport(browser)
+            browser.call("Page.navigate", {"url": page.url})
+            browser.wait_for("window.replayLoaded === true", timeout=60)
+            browser.evaluate(HELPERS)
+            browser.evaluate(VIEW_HELPERS)
+            assert browser.evaluate("__node('meshcat/obstacles/2') !== null")
+            n = browser.evaluate("document.querySelectorAll('#pr-chapters div').length")
+            assert n == len(info.guide.chapters)
+            browser.evaluate("viewer.animator.pause(); replayUI.seek("
+                             f"{info.guide.chapters[-2].time + 0.5}); true")
+            browser.evaluate("__frame()")
+            assert _label(browser) == info.guide.label_at(info.guide.chapters[-2].time + 0.5)
+    browser.call("Page.navigate", {"url": "about:blank"})

@@ -1,0 +1,132 @@
+"""Camera placements of a replay: three-quarter overview, top-down, robot and box followed.
+
+The same geometry as the page's controls (:mod:`pivot_ompl.viz.overlay`), for notebooks:
+:func:`frame_scene`, :func:`top_view` and :func:`follow_view` compute a :class:`CameraPose`
+and send it to meshcat's default camera (:func:`look_at`). meshcat's camera has a 75 deg
+vertical field of view; the framing assumes a 16:10 pane unless told otherwise.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import meshcat
+import numpy as np
+
+from pivot_ompl.errors import InputError
+from pivot_ompl.viz.overlay import CAMERA_FOV, THREE_QUARTER
+
+Bounds = tuple[float, float, float, float]
+
+
+@dataclass(frozen=True)
+class CameraPose:
+    """Where the camera is and what it looks at (world frame, m, z up).
+
+    Attributes:
+        target: the point looked at (the orbit centre).
+        eye: the camera position.
+    """
+
+    target: tuple[float, float, float]
+    eye: tuple[float, float, float]
+
+    @property
+    def distance(self) -> float:
+        """Eye-to-target distance (m)."""
+        return math.dist(self.target, self.eye)
+
+
+def _check_bounds(bounds: Sequence[float]) -> Bounds:
+    if len(bounds) != 4:
+        raise InputError("bounds", list(bounds), "must be (xmin, ymin, xmax, ymax)")
+    x0, y0, x1, y1 = (float(b) for b in bounds)
+    if not all(map(math.isfinite, (x0, y0, x1, y1))) or x1 <= x0 or y1 <= y0:
+        raise InputError("bounds", [x0, y0, x1, y1], "must be finite with xmin < xmax, "
+                         "ymin < ymax")
+    return x0, y0, x1, y1
+
+
+def fit_distance(radius: float, *, aspect: float = 1.6, fov: float = CAMERA_FOV) -> float:
+    """Distance (m) at which a sphere of ``radius`` (m) fills the narrower field of view."""
+    vf = math.radians(fov)
+    hf = 2 * math.atan(math.tan(vf / 2) * aspect)
+    return radius / math.sin(min(vf, hf) / 2)  # the bounding sphere fits
+
+
+def _three_quarter(center: np.ndarray, distance: float) -> CameraPose:
+    d = np.asarray(THREE_QUARTER, dtype=float)
+    d /= np.linalg.norm(d)
+    eye = center + distance * d
+    return CameraPose(tuple(float(v) for v in center),  # type: ignore[arg-type]
+                      tuple(float(v) for v in eye))  # type: ignore[arg-type]
+
+
+def overview_pose(bounds: Sequence[float], *, height: float = 1.5,
+                  aspect: float = 1.6) -> CameraPose:
+    """The scene's bounds (up to ``height``, m) framed from a three-quarter view."""
+    x0, y0, x1, y1 = _check_bounds(bounds)
+    r = 0.5 * math.sqrt((x1 - x0) ** 2 + (y1 - y0) ** 2 + height ** 2)
+    c = np.array([0.5 * (x0 + x1), 0.5 * (y0 + y1), min(0.5 * height, 0.25)])
+    return _three_quarter(c, fit_distance(r, aspect=aspect))
+
+
+def top_pose(bounds: Sequence[float], *, height: float = 1.5,
+             aspect: float = 1.6) -> CameraPose:
+    """The whole floor seen from straight above."""
+    x0, y0, x1, y1 = _check_bounds(bounds)
+    d = 0.55 * max(y1 - y0, (x1 - x0) / aspect) / math.tan(math.radians(CAMERA_FOV) / 2) \
+        + height
+    cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+    return CameraPose((cx, cy, 0.0), (cx, cy - 1e-3 * d, d))
+
+
+def follow_pose(points: np.ndarray, *, aspect: float = 1.6, min_radius: float = 0.9) -> CameraPose:
+    """Robot and box framed from a three-quarter view.
+
+    ``points`` ``(N, 3)``: points of both (e.g. corners of their bounding boxes, m).
+    """
+    p = np.asarray(points, dtype=float).reshape(-1, 3)
+    lo, hi = p.min(axis=0), p.max(axis=0)
+    r = max(0.5 * float(np.linalg.norm(hi - lo)), min_radius) * 0.85
+    return _three_quarter(0.5 * (lo + hi), fit_distance(r, aspect=aspect))
+
+
+def look_at(vis: meshcat.Visualizer, pose: CameraPose) -> None:
+    """Put meshcat's default camera (``/Cameras/default``) at ``pose.eye``.
+
+    meshcat's own page orbits about the scene origin and offers no command to move that
+    centre, so a bare meshcat viewer looks towards the origin from ``pose.eye``; the replay
+    pages (:func:`~pivot_ompl.viz.html.write_html`, :func:`~pivot_ompl.viz.serve.serve`)
+    place eye and target exactly. ``vis`` must share the root of the scene.
+    """
+    root = meshcat.Visualizer.view_into(vis.window, vis.path.append("/Cameras/default"))
+    root.set_transform(np.eye(4))
+    x, y, z = pose.eye
+    # The camera's "rotated" frame is y-up: world (x, y, z) is (x, z, -y) there.
+    root["rotated/<object>"].set_property("position", [x, z, -y])
+
+
+def frame_scene(vis: meshcat.Visualizer, bounds: Sequence[float], *,
+                height: float = 1.5) -> CameraPose:
+    """Look at the whole scene from a three-quarter view (the view a replay opens with)."""
+    pose = overview_pose(bounds, height=height)
+    look_at(vis, pose)
+    return pose
+
+
+def top_view(vis: meshcat.Visualizer, bounds: Sequence[float], *,
+             height: float = 1.5) -> CameraPose:
+    """Look at the whole floor from above."""
+    pose = top_pose(bounds, height=height)
+    look_at(vis, pose)
+    return pose
+
+
+def follow_view(vis: meshcat.Visualizer, points: np.ndarray) -> CameraPose:
+    """Frame robot and box given by ``points`` ``(N, 3)`` (one view; the page follows live)."""
+    pose = follow_pose(points)
+    look_at(vis, pose)
+    return pose
