@@ -7,8 +7,8 @@ all are applied in order: the scene is complete when the animation is loaded, an
 animation then starts playing. With a :class:`~pivot_ompl.viz.chapters.ReplayGuide` the page
 also carries the replay controls of :mod:`pivot_ompl.viz.overlay` (camera views, follow
 mode, speeds, chapters, phase label), started once the scene is loaded. ``window.viewer``
-is the ``MeshCat.Viewer``; ``window.replayLoaded`` becomes ``true`` once every command has been applied
-(``window.replayError`` holds a message if one failed).
+is the ``MeshCat.Viewer``; ``window.replayLoaded`` becomes ``true`` once every command has
+been applied (``window.replayError`` holds a message if one failed).
 """
 
 from __future__ import annotations
