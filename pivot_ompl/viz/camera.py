@@ -69,7 +69,7 @@ def overview_pose(bounds: Sequence[float], *, height: float = 1.5,
     """The scene's bounds (up to ``height``, m) framed from a three-quarter view."""
     x0, y0, x1, y1 = _check_bounds(bounds)
     r = 0.5 * math.sqrt((x1 - x0) ** 2 + (y1 - y0) ** 2 + height ** 2)
-    c = np.array([0.5 * (x0 + x1), 0.5 * (y0 + y1), min(0.5 * height, 0.25)])
+    c = np.array([0.5 * (x0 + x1), 0.5 * (y0 + y1), 0.5 * height])
     return _three_quarter(c, fit_distance(r, aspect=aspect))
 
 
@@ -90,7 +90,7 @@ def follow_pose(points: np.ndarray, *, aspect: float = 1.6, min_radius: float = 
     """
     p = np.asarray(points, dtype=float).reshape(-1, 3)
     lo, hi = p.min(axis=0), p.max(axis=0)
-    r = max(0.5 * float(np.linalg.norm(hi - lo)), min_radius) * 0.85
+    r = max(0.5 * float(np.linalg.norm(hi - lo)), min_radius)
     return _three_quarter(0.5 * (lo + hi), fit_distance(r, aspect=aspect))
 
 

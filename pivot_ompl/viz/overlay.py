@@ -142,7 +142,6 @@ JS = r"""
   function overviewPose() {
     const box = sceneBox(), c = box.getCenter(new T.Vector3());
     const r = 0.5 * box.getSize(new T.Vector3()).length();
-    c.z = Math.min(c.z, 0.25);
     return { target: c, eye: c.clone().addScaledVector(DIR, fitDistance(r)) };
   }
   function topPose() {
@@ -162,7 +161,7 @@ JS = r"""
   }
   function followPose(box) {
     const c = box.getCenter(new T.Vector3());
-    const r = Math.max(0.5 * box.getSize(new T.Vector3()).length(), 0.9) * 0.85;
+    const r = Math.max(0.5 * box.getSize(new T.Vector3()).length(), 0.9);
     const cur = currentPose(), dir = cur.eye.clone().sub(cur.target);
     if (state.view !== "follow" || dir.lengthSq() < 1e-9 || dir.z < 0.05 * dir.length())
       dir.copy(DIR);

@@ -1,7 +1,11 @@
-"""Figures with matplotlib.
+"""Plan figures with matplotlib, drawn like the regrasp paper's figures 5 and 10.
 
-The paper's Fig. 6 (RS path dotted, pivot sequence, pivots, box outlines) and plan figures
-with obstacles, roadmaps, critical configurations and walks.
+The planner's roadmap faint in the background (object roadmap grey, per-grasp manipulation
+edges in the grasp's colour, critical configurations as small crosses); the plan on top: the
+object path (the supporting edge's centre) in the grasp's colour with the box footprints
+along it, the pivot points, the Reeds-Shepp path dotted; regrasps labelled where the box
+rests (``regrasp k: grasp i→j``) and their walks drawn and labelled with their length;
+start and goal footprints marked.
 """
 
 from __future__ import annotations
@@ -13,6 +17,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.patches import Circle, Polygon  # noqa: E402
 
 from pivot_ompl.grasp import BoxGraspModel  # noqa: E402
@@ -21,52 +26,45 @@ from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Scene  # noqa: E402
 from pivot_ompl.se2 import rectangle_corners  # noqa: E402
 
 GRASP_COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:purple")
+WALK_COLOUR = "tab:red"
+#: Box footprints drawn per metre of object path (at least the ends of each transfer).
+FOOTPRINTS_PER_M = 1.5
 
 
-def plot_plan(plan: Plan, path: str | Path, *, scene: Scene | None = None,
-              search: Any = None, title: str = "") -> Path:
-    """Draw ``plan`` (and the scene, and the planner's roadmaps if given) to a PNG file."""
+def plan_figure(plan: Plan, *, scene: Scene | None = None, search: Any = None,
+                title: str = "") -> Figure:
+    """The plan figure (a matplotlib ``Figure``; :func:`plot_plan` writes it to a file)."""
     model = BoxGraspModel(plan.object_size, plan.robot_footprint, plan.standoff)
-    fig, ax = plt.subplots(figsize=(10, 7))
+    fig, ax = plt.subplots(figsize=(11, 7.5))
     if scene is not None:
         x0, y0, x1, y1 = scene.bounds
         ax.add_patch(Polygon([(x0, y0), (x1, y0), (x1, y1), (x0, y1)], fill=False, lw=1.5,
                              ec="black"))
         for o in scene.obstacles:
             if isinstance(o, BoxObstacle):
-                pts = rectangle_corners((*o.center, o.yaw), *o.size)
-                ax.add_patch(Polygon(pts, fc="0.6", ec="0.3"))
+                ax.add_patch(Polygon(rectangle_corners((*o.center, o.yaw), *o.size), fc="0.55",
+                                     ec="0.3", zorder=2))
             elif isinstance(o, CylinderObstacle):
-                ax.add_patch(Circle(o.center, o.radius, fc="0.6", ec="0.3"))
+                ax.add_patch(Circle(o.center, o.radius, fc="0.55", ec="0.3", zorder=2))
             else:
-                ax.add_patch(Polygon(o.points, fc="0.6", ec="0.3"))
+                ax.add_patch(Polygon(o.points, fc="0.55", ec="0.3", zorder=2))
     if search is not None:
         _draw_roadmaps(ax, search)
-    for ph in plan.phases:
-        if isinstance(ph, TransferPhase):
-            c = GRASP_COLOURS[ph.grasp]
-            if ph.rs_path:
-                ax.plot([p[0] for p in ph.rs_path], [p[1] for p in ph.rs_path], ":", c="k",
-                        lw=1.0)
-            poses = [ph.object_start] + [s.object for s in ph.steps]
-            cars = [model.car_pose(p, ph.grasp) for p in poses]
-            ax.plot([q[0] for q in cars], [q[1] for q in cars], "-", c=c, lw=1.5)
-            ax.plot([s.pivot[0] for s in ph.steps], [s.pivot[1] for s in ph.steps], ".", c=c,
-                    ms=4)
-            every = max(1, len(poses) // 12)
-            for p in poses[::every] + [poses[-1]]:
-                ax.add_patch(Polygon(model.object_corners(p), fill=False, ec=c, lw=0.8))
-            ax.add_patch(Polygon(model.robot_corners(ph.robot_start), fill=False, ec=c,
-                                 ls="--", lw=0.8))
-        elif isinstance(ph, TransitPhase):
-            ax.plot([p[0] for p in ph.robot_path], [p[1] for p in ph.robot_path], "-",
-                    c="tab:red", lw=1.2)
+    _draw_plan(ax, plan, model)
     ax.set_aspect("equal")
     ax.autoscale_view()
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.set_title(title or f"{plan.scene}: {plan.pivots} pivots, {plan.regrasps} regrasps "
                  f"({plan.status})")
+    ax.legend(loc="upper right", fontsize=7, framealpha=0.85)
+    return fig
+
+
+def plot_plan(plan: Plan, path: str | Path, *, scene: Scene | None = None,
+              search: Any = None, title: str = "") -> Path:
+    """Draw ``plan`` (and the scene, and the planner's roadmaps if given) to a PNG file."""
+    fig = plan_figure(plan, scene=scene, search=search, title=title)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110, bbox_inches="tight")
@@ -74,19 +72,80 @@ def plot_plan(plan: Plan, path: str | Path, *, scene: Scene | None = None,
     return path
 
 
+def _label(ax: Any, xy: tuple[float, float], text: str, colour: str) -> None:
+    ax.annotate(text, xy, xytext=(8, 8), textcoords="offset points", fontsize=8, color=colour,
+                fontweight="bold", zorder=6,
+                bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": colour, "alpha": 0.85},
+                arrowprops={"arrowstyle": "-", "color": colour, "lw": 0.8})
+
+
+def _draw_plan(ax: Any, plan: Plan, model: BoxGraspModel) -> None:
+    seen: set[str] = set()
+
+    def once(label: str) -> str:
+        if label in seen:
+            return "_nolegend_"
+        seen.add(label)
+        return label
+
+    ax.add_patch(Polygon(model.object_corners(plan.start), fill=False, ec="black", lw=2.0,
+                         zorder=5, label=once("start")))
+    end = plan.object_end
+    ax.add_patch(Polygon(model.object_corners(end), fill=False, ec="black", lw=2.0, ls="--",
+                         zorder=5, label=once("end")))
+    k_rg = 0
+    for ph in plan.phases:
+        if isinstance(ph, TransferPhase):
+            c = GRASP_COLOURS[ph.grasp]
+            if ph.rs_path:
+                ax.plot([p[0] for p in ph.rs_path], [p[1] for p in ph.rs_path], ":", c="k",
+                        lw=0.8, zorder=3, label=once("Reeds-Shepp path"))
+            poses = [ph.object_start] + [s.object for s in ph.steps]
+            cars = [model.car_pose(p, ph.grasp) for p in poses]
+            ax.plot([q[0] for q in cars], [q[1] for q in cars], "-", c=c, lw=2.2, zorder=4,
+                    label=once(f"path, grasp {ph.grasp}"))
+            ax.plot([s.pivot[0] for s in ph.steps], [s.pivot[1] for s in ph.steps], ".", c=c,
+                    ms=4, zorder=4)
+            length = sum(((b[0] - a[0]) ** 2 + (b[1] - a[1]) ** 2) ** 0.5
+                         for a, b in zip(cars, cars[1:], strict=False))
+            n = max(2, int(length * FOOTPRINTS_PER_M) + 1)
+            idx = sorted({round(i * (len(poses) - 1) / (n - 1)) for i in range(n)})
+            for i in idx:
+                ax.add_patch(Polygon(model.object_corners(poses[i]), fc=c, alpha=0.18, ec=c,
+                                     lw=1.0, zorder=4))
+            ax.add_patch(Polygon(model.robot_corners(ph.robot_start), fill=False, ec=c,
+                                 ls="--", lw=0.9, zorder=4))
+        elif isinstance(ph, TransitPhase):
+            k_rg += 1
+            xs, ys = [p[0] for p in ph.robot_path], [p[1] for p in ph.robot_path]
+            ax.plot(xs, ys, "-", c=WALK_COLOUR, lw=1.6, zorder=5, label=once("regrasp walk"))
+            ax.annotate("", (xs[-1], ys[-1]), (xs[-2], ys[-2]) if len(xs) > 1 else (xs[0], ys[0]),
+                        arrowprops={"arrowstyle": "->", "color": WALK_COLOUR, "lw": 1.4},
+                        zorder=5)
+            o = ph.object_pose
+            ax.plot([o[0]], [o[1]], "o", mfc="white", mec=WALK_COLOUR, ms=7, mew=2, zorder=6,
+                    label=once("regrasp position"))
+            _label(ax, (o[0], o[1]), f"regrasp {k_rg}: grasp {ph.from_grasp}→{ph.to_grasp}",
+                   WALK_COLOUR)
+            mid = ph.robot_path[len(ph.robot_path) // 2]
+            _label(ax, (mid[0], mid[1]), f"walk {k_rg}: {ph.length:.1f} m", WALK_COLOUR)
+
+
 def _draw_roadmaps(ax: Any, search: Any) -> None:
+    """The planner's roadmaps, faint: they are the background of the plan."""
     obj = search.obj
     pts = obj.poses
-    ax.plot([p[0] for p in pts], [p[1] for p in pts], ".", c="0.7", ms=2, label="object roadmap")
+    ax.plot([p[0] for p in pts], [p[1] for p in pts], ".", c="0.75", ms=1.5,
+            label="object roadmap", zorder=1)
     for i, j in obj.edges:
-        ax.plot([pts[i][0], pts[j][0]], [pts[i][1], pts[j][1]], "-", c="0.85", lw=0.5)
+        ax.plot([pts[i][0], pts[j][0]], [pts[i][1], pts[j][1]], "-", c="0.88", lw=0.4,
+                zorder=1)
     crit = [pts[i] for i in search.critical]
     if crit:
-        ax.plot([p[0] for p in crit], [p[1] for p in crit], "x", c="tab:red", ms=3,
-                label="critical configurations")
+        ax.plot([p[0] for p in crit], [p[1] for p in crit], "x", c="0.6", ms=2.5, mew=0.6,
+                label="critical configurations", zorder=1)
     for (i, g), nbrs in search.adj.items():
         for (j, h) in nbrs:
             if h == g and j > i:
                 ax.plot([pts[i][0], pts[j][0]], [pts[i][1], pts[j][1]], "-",
-                        c=GRASP_COLOURS[g], lw=0.3, alpha=0.4)
-    ax.legend(loc="upper right", fontsize=7)
+                        c=GRASP_COLOURS[g], lw=0.3, alpha=0.1, zorder=1)
