@@ -96,7 +96,8 @@ class ReplayGuide:
                    height: float) -> ReplayGuide:
         """The same guide framing ``bounds`` (m) up to ``height`` (m)."""
         x0, y0, x1, y1 = (float(b) for b in bounds)
-        return replace(self, bounds=(x0, y0, x1, y1), height=float(height))
+        return replace(self, bounds=(x0, y0, x1, y1), height=float(height),
+                       extra=dict(self.extra))
 
     def to_json(self) -> dict[str, Any]:
         """The structure the page's script reads (``window.PIVOT_REPLAY``)."""

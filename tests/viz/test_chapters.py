@@ -217,3 +217,39 @@ def test_plan_figure_labels_regrasps_and_walks(plan, scene):
     assert "regrasp 1: grasp 0→1" in texts
     assert f"walk 1: {walk.length:.1f} m" in texts
     assert len([t for t in texts if t.startswith("regrasp")]) == plan.regrasps
+
+
+def test_cli_html_carries_the_controls_and_chapters(tmp_path):
+    import json
+
+    from pivot_ompl.cli.main import main as cli_main
+    from pivot_ompl.viz.samples import write_samples
+
+    s = write_samples(tmp_path)
+    for src, extra in ((s.plan, []), (s.motion, ["--plan", str(s.plan), "--urdf", str(s.urdf)])):
+        out = tmp_path / f"{src.stem}.html"
+        assert cli_main(["replay", str(src), "--scene", str(s.scene), "--html", str(out),
+                         *extra]) == 0
+        text = out.read_text()
+        cfg = json.loads(re.search(r"window\.PIVOT_REPLAY = (\{.*?\});</script>", text).group(1))
+        assert cfg["speeds"] == [1, 5, 20, 50] and cfg["bounds"] == [-2.0, -2.0, 4.0, 4.0]
+        assert any(c["kind"] == "regrasp" and c["title"].startswith("regrasp 1/1")
+                   for c in cfg["chapters"]) == (src == s.plan)  # the sample motion: 1 phase
+        assert "window.replayUI" in text and "replayUI.start()" in text
+
+
+def test_failed_export_keeps_the_existing_file(tmp_path, plan, scene):
+    from pivot_ompl.viz import write_html
+
+    vis = recording_visualizer()
+    info = show_plan(vis, scene, plan)
+    out = tmp_path / "replay.html"
+    out.write_text("previous replay")
+    bad = info.guide.with_frame(scene.bounds, 2.0)
+    bad.extra["oops"] = object()  # not JSON: the export fails while building the page
+    with pytest.raises(TypeError):
+        write_html(vis, out, guide=bad)
+    assert out.read_text() == "previous replay"
+    assert not (tmp_path / "replay.html.part").exists()
+    write_html(vis, out, guide=info.guide)
+    assert "PIVOT_REPLAY" in out.read_text()
