@@ -24,6 +24,7 @@ from __future__ import annotations
 from pivot_ompl.motionfile import Motion, load_motion
 from pivot_ompl.viz.camera import (
     CameraPose,
+    fit_pose,
     follow_pose,
     follow_view,
     frame_scene,
@@ -41,7 +42,7 @@ from pivot_ompl.viz.serve import LiveViewer, serve
 from pivot_ompl.viz.timeline import ReplayTiming
 
 __all__ = [
-    "CameraPose", "Chapter", "HtmlExport", "LiveViewer", "Motion", "RecordingWindow",
+    "CameraPose", "Chapter", "fit_pose", "HtmlExport", "LiveViewer", "Motion", "RecordingWindow",
     "ReplayGuide", "ReplayInfo", "ReplayTiming", "follow_pose", "follow_view", "frame_scene",
     "load_motion", "look_at", "motion_guide", "narrowest_steps", "overview_pose",
     "recording_visualizer", "replay_guide", "serve", "show_motion", "show_plan",

@@ -49,28 +49,39 @@ def _check_bounds(bounds: Sequence[float]) -> Bounds:
     return x0, y0, x1, y1
 
 
-def fit_distance(radius: float, *, aspect: float = 1.6, fov: float = CAMERA_FOV) -> float:
-    """Distance (m) at which a sphere of ``radius`` (m) fills the narrower field of view."""
-    vf = math.radians(fov)
-    hf = 2 * math.atan(math.tan(vf / 2) * aspect)
-    return radius / math.sin(min(vf, hf) / 2)  # the bounding sphere fits
+def fit_pose(lo: Sequence[float], hi: Sequence[float], direction: Sequence[float], *,
+             margin: float = 0.95, aspect: float = 1.6, fov: float = CAMERA_FOV) -> CameraPose:
+    """The closest view along ``direction`` holding the box ``lo``..``hi`` (m) in the pane.
 
-
-def _three_quarter(center: np.ndarray, distance: float) -> CameraPose:
-    d = np.asarray(THREE_QUARTER, dtype=float)
-    d /= np.linalg.norm(d)
-    eye = center + distance * d
-    return CameraPose(tuple(float(v) for v in center),  # type: ignore[arg-type]
-                      tuple(float(v) for v in eye))  # type: ignore[arg-type]
+    The camera looks at the box's centre from ``direction`` (target to eye); every corner
+    projects within ``margin`` of the pane's edges (pinhole camera, vertical field of view
+    ``fov`` deg, ``aspect`` width/height), with at least 0.3 m in front of the camera.
+    """
+    lo_, hi_ = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+    c = 0.5 * (lo_ + hi_)
+    d = np.asarray(direction, dtype=float)
+    d = d / np.linalg.norm(d)
+    f = -d
+    r = np.cross(f, [0.0, 0.0, 1.0])
+    r = r / np.linalg.norm(r) if np.linalg.norm(r) > 1e-9 else np.array([1.0, 0.0, 0.0])
+    u = np.cross(r, f)
+    tv = math.tan(math.radians(fov) / 2)
+    corners = np.array([[x, y, z] for x in (lo_[0], hi_[0]) for y in (lo_[1], hi_[1])
+                        for z in (lo_[2], hi_[2])]) - c
+    z0 = corners @ f
+    dist = max(0.5, float(np.max(np.maximum.reduce([
+        np.abs(corners @ r) / (margin * tv * aspect) - z0,
+        np.abs(corners @ u) / (margin * tv) - z0, 0.3 - z0]))))
+    eye = c + dist * d
+    return CameraPose((float(c[0]), float(c[1]), float(c[2])),
+                      (float(eye[0]), float(eye[1]), float(eye[2])))
 
 
 def overview_pose(bounds: Sequence[float], *, height: float = 1.5,
                   aspect: float = 1.6) -> CameraPose:
     """The scene's bounds (up to ``height``, m) framed from a three-quarter view."""
     x0, y0, x1, y1 = _check_bounds(bounds)
-    r = 0.5 * math.sqrt((x1 - x0) ** 2 + (y1 - y0) ** 2 + height ** 2)
-    c = np.array([0.5 * (x0 + x1), 0.5 * (y0 + y1), 0.5 * height])
-    return _three_quarter(c, fit_distance(r, aspect=aspect))
+    return fit_pose((x0, y0, 0.0), (x1, y1, height), THREE_QUARTER, aspect=aspect)
 
 
 def top_pose(bounds: Sequence[float], *, height: float = 1.5,
@@ -83,15 +94,17 @@ def top_pose(bounds: Sequence[float], *, height: float = 1.5,
     return CameraPose((cx, cy, 0.0), (cx, cy - 1e-3 * d, d))
 
 
-def follow_pose(points: np.ndarray, *, aspect: float = 1.6, min_radius: float = 0.9) -> CameraPose:
-    """Robot and box framed from a three-quarter view.
+def follow_pose(points: np.ndarray, *, aspect: float = 1.6) -> CameraPose:
+    """Robot and box framed from a three-quarter view, with 0.8 m of context around.
 
     ``points`` ``(N, 3)``: points of both (e.g. corners of their bounding boxes, m).
     """
     p = np.asarray(points, dtype=float).reshape(-1, 3)
     lo, hi = p.min(axis=0), p.max(axis=0)
-    r = max(0.5 * float(np.linalg.norm(hi - lo)), min_radius)
-    return _three_quarter(0.5 * (lo + hi), fit_distance(r, aspect=aspect))
+    c = 0.5 * (lo + hi)
+    ctx = np.array([0.8, 0.8, 0.6])
+    return fit_pose(np.minimum(lo, c - ctx), np.maximum(hi, c + ctx), THREE_QUARTER,
+                    margin=0.9, aspect=aspect)
 
 
 def look_at(vis: meshcat.Visualizer, pose: CameraPose) -> None:

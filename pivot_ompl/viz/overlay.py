@@ -125,10 +125,23 @@ JS = r"""
     state.glide = { from: from, target: target, eye: eye, t0: performance.now(),
                     dur: 1000 * (seconds === undefined ? 0.8 : seconds) };
   }
-  function fitDistance(radius) {
-    const vf = FOV * Math.PI / 180, aspect = V.camera.aspect || 1.6;
-    const hf = 2 * Math.atan(Math.tan(vf / 2) * aspect);
-    return radius / Math.sin(Math.min(vf, hf) / 2);  // the bounding sphere fits
+  function fitPose(box, dir, margin) {
+    // Closest eye along dir (from the target) whose view holds the 8 corners of box within
+    // margin of the pane's edges: exact for a pinhole camera, closed form per corner.
+    const c = box.getCenter(new T.Vector3()), d = dir.clone().normalize();
+    const f = d.clone().negate(), r = new T.Vector3().crossVectors(f, new T.Vector3(0, 0, 1));
+    if (r.lengthSq() < 1e-9) r.set(1, 0, 0);
+    r.normalize();
+    const u = new T.Vector3().crossVectors(r, f);
+    const tv = Math.tan(FOV * Math.PI / 360), aspect = V.camera.aspect || 1.6;
+    let D = 0.5;
+    for (const x of [box.min.x, box.max.x]) for (const y of [box.min.y, box.max.y])
+      for (const z of [box.min.z, box.max.z]) {
+        const q = new T.Vector3(x, y, z).sub(c), z0 = q.dot(f);
+        D = Math.max(D, Math.abs(q.dot(r)) / (margin * tv * aspect) - z0,
+                     Math.abs(q.dot(u)) / (margin * tv) - z0, 0.3 - z0);
+      }
+    return { target: c, eye: c.clone().addScaledVector(d, D) };
   }
   function sceneBox() {
     const b = cfg.bounds, h = cfg.height || 1.5;
@@ -139,11 +152,7 @@ JS = r"""
     }
     return box;
   }
-  function overviewPose() {
-    const box = sceneBox(), c = box.getCenter(new T.Vector3());
-    const r = 0.5 * box.getSize(new T.Vector3()).length();
-    return { target: c, eye: c.clone().addScaledVector(DIR, fitDistance(r)) };
-  }
+  function overviewPose() { return fitPose(sceneBox(), DIR, 0.95); }
   function topPose() {
     const box = sceneBox(), c = box.getCenter(new T.Vector3()), s = box.getSize(new T.Vector3());
     const vf = FOV * Math.PI / 180, aspect = V.camera.aspect || 1.6;
@@ -160,13 +169,13 @@ JS = r"""
     return box.isEmpty() ? null : box;
   }
   function followPose(box) {
-    const c = box.getCenter(new T.Vector3());
-    const r = Math.max(0.5 * box.getSize(new T.Vector3()).length(), 0.9);
+    const b = box.clone(), c = b.getCenter(new T.Vector3());
+    b.expandByPoint(c.clone().add(new T.Vector3(0.8, 0.8, 0.6)));  // a little context
+    b.expandByPoint(c.clone().sub(new T.Vector3(0.8, 0.8, 0.6)));
     const cur = currentPose(), dir = cur.eye.clone().sub(cur.target);
     if (state.view !== "follow" || dir.lengthSq() < 1e-9 || dir.z < 0.05 * dir.length())
       dir.copy(DIR);
-    dir.normalize();
-    return { target: c, eye: c.clone().addScaledVector(dir, fitDistance(r)) };
+    return fitPose(b, dir, 0.9);
   }
 
   // ---- obstacles hiding the robot ----------------------------------------------------
