@@ -95,14 +95,14 @@ def top_pose(bounds: Sequence[float], *, height: float = 1.5,
 
 
 def follow_pose(points: np.ndarray, *, aspect: float = 1.6) -> CameraPose:
-    """Robot and box framed from a three-quarter view, with 0.8 m of context around.
+    """Robot and box framed from a three-quarter view, with 0.6 m of context around.
 
     ``points`` ``(N, 3)``: points of both (e.g. corners of their bounding boxes, m).
     """
     p = np.asarray(points, dtype=float).reshape(-1, 3)
     lo, hi = p.min(axis=0), p.max(axis=0)
     c = 0.5 * (lo + hi)
-    ctx = np.array([0.8, 0.8, 0.6])
+    ctx = np.array([0.6, 0.6, 0.4])
     return fit_pose(np.minimum(lo, c - ctx), np.maximum(hi, c + ctx), THREE_QUARTER,
                     margin=0.9, aspect=aspect)
 

@@ -170,8 +170,8 @@ JS = r"""
   }
   function followPose(box) {
     const b = box.clone(), c = b.getCenter(new T.Vector3());
-    b.expandByPoint(c.clone().add(new T.Vector3(0.8, 0.8, 0.6)));  // a little context
-    b.expandByPoint(c.clone().sub(new T.Vector3(0.8, 0.8, 0.6)));
+    b.expandByPoint(c.clone().add(new T.Vector3(0.6, 0.6, 0.4)));  // a little context
+    b.expandByPoint(c.clone().sub(new T.Vector3(0.6, 0.6, 0.4)));
     const cur = currentPose(), dir = cur.eye.clone().sub(cur.target);
     if (state.view !== "follow" || dir.lengthSq() < 1e-9 || dir.z < 0.05 * dir.length())
       dir.copy(DIR);

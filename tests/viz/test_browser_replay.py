@@ -444,7 +444,6 @@ def test_replay_controls_in_chromium(browser, tmp_path):
     assert browser.evaluate("viewer.animator.playing") is True
     frac = browser.evaluate("__projectedFraction('meshcat/robot')")
     browser.screenshot(ARTIFACTS / "controls_follow_after_load.png")
-    print(f"robot bounding box: {frac:.3f} of the viewport")
     assert frac >= 0.05, f"robot covers {frac:.3f} of the viewport"
 
     # speed: 20x advances the animation time about 20 times as fast as 1x
