@@ -346,6 +346,14 @@ def test_hrp2_motion_in_chromium(browser, tmp_path):
     for p in paths:
         assert _dist(p1[p], p2[p]) > 0.05, f"{p} did not move"
     assert png1 != png2
+    # follow mode frames the real robot model too, big enough to watch
+    _viewport(browser)
+    browser.evaluate(VIEW_HELPERS)
+    browser.evaluate("replayUI.setView('follow'); replayUI.seek(1.0); true")
+    _settle(browser)
+    frac = browser.evaluate("__projectedFraction('meshcat/robot')")
+    browser.screenshot(ARTIFACTS / "hrp2_follow.png")
+    assert frac >= 0.05, f"HRP-2 covers {frac:.3f} of the viewport"
 
 
 # -- the replay's own controls: camera views, follow mode, speeds, chapters ------------------
