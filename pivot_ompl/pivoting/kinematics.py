@@ -142,22 +142,62 @@ def _candidates_within(start: Pose, goal: Pose, ell: float,
     return found
 
 
-def solve_piece(start: Pose, goal: Pose, ell: float,
-                alpha_max: float) -> tuple[bool, tuple[Rotation, ...]]:
+def _chord_distance(px: float, py: float, start: Pose, goal: Pose) -> float:
+    """Distance (m) of the point ``(px, py)`` to the segment from ``start`` to ``goal``."""
+    ux, uy = goal[0] - start[0], goal[1] - start[1]
+    vx, vy = px - start[0], py - start[1]
+    n2 = ux * ux + uy * uy
+    t = 0.0 if n2 <= 0.0 else min(1.0, max(0.0, (vx * ux + vy * uy) / n2))
+    return math.hypot(vx - t * ux, vy - t * uy)
+
+
+def _merged_count(cand: tuple[float, int, float, float, float], previous: Rotation | None,
+                  alpha_max: float) -> int:
+    """Rotations a candidate adds once its first rotation is merged into ``previous``."""
+    _total, first, *angles = cand
+    n = sum(1 for a in angles if abs(a) > ZERO_ANGLE)
+    a1 = angles[0]
+    if previous is not None and abs(a1) > ZERO_ANGLE and previous.end == first and \
+            abs(previous.angle + a1) <= alpha_max + ANGLE_TOL:
+        n -= 1
+    return n
+
+
+def solve_piece(start: Pose, goal: Pose, ell: float, alpha_max: float, *,
+                max_deviation: float = math.inf,
+                previous: Rotation | None = None) -> tuple[bool, tuple[Rotation, ...]]:
     """Inner loop of the steering: ``(reachable, rotations)`` of the best verified candidate.
 
     The closed-form candidates (:func:`_candidates_within`), best first; the rotation records
     are built while verifying each candidate with the forward map, and the first candidate
-    that reaches the goal is returned.
+    that reaches the goal and stays within ``max_deviation`` is returned.
+
+    Args:
+        start: car pose where the rotations start.
+        goal: car pose to reach.
+        ell: half-length of the supporting edge (m).
+        alpha_max: bound on each rotation (rad).
+        max_deviation: bound (m) on how far the car's centre strays from the segment
+            ``start -> goal`` while rotating: the distance of every intermediate car position
+            plus the sagitta ``l (1 - cos(|a|/2))`` of each rotation's arc (an upper bound of
+            the whole sweep's deviation). This is the small-time property: a piece's
+            rotations stay in a neighbourhood of the piece that the caller shrinks with it.
+        previous: the rotation before the piece: candidates are ranked by the rotations
+            they add once their first rotation is merged into it, then by total angle, so
+            that consecutive pieces of a push alternate corners without a break.
     """
     if abs(wrap_angle(goal[2] - start[2])) > 3.0 * alpha_max + ANGLE_TOL:
         return False, ()
     found = _candidates_within(start, goal, ell, alpha_max)
+    if previous is not None and len(found) > 1:
+        found.sort(key=lambda c: (_merged_count(c, previous, alpha_max), c[0]))
+    bounded = math.isfinite(max_deviation)
     for _total, first, a1, a2, a3 in found:
         x, y, h = start
         sign = 1.0 if first == LEFT else -1.0
         end = first
         rots = []
+        worst = prev = 0.0
         for a in (a1, a2, a3):
             if abs(a) > ZERO_ANGLE:
                 px, py = x - sign * ell * math.sin(h), y + sign * ell * math.cos(h)
@@ -165,8 +205,14 @@ def solve_piece(start: Pose, goal: Pose, ell: float,
                 dx, dy = x - px, y - py
                 x, y, h = px + c * dx - s_ * dy, py + s_ * dx + c * dy, h + a
                 rots.append(Rotation(end, (px, py), a, (x, y, h)))
+                if bounded:  # an arc is within its ends' distance plus its sagitta
+                    d = _chord_distance(x, y, start, goal)
+                    worst = max(worst, max(prev, d) + ell * (1.0 - math.cos(0.5 * a)))
+                    prev = d
             sign = -sign
             end = 1 - end
+        if worst > max_deviation:
+            continue
         if (abs(x - goal[0]) <= IK_VERIFY_TOL and abs(y - goal[1]) <= IK_VERIFY_TOL
                 and abs(wrap_angle(h - goal[2])) <= IK_VERIFY_TOL):
             return True, tuple(rots)

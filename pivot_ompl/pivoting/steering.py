@@ -1,9 +1,20 @@
 """The pivoting steering method: a Reeds-Shepp path turned into bounded pivot rotations.
 
-From the controllability paper (Section IV-B): try to join the two ends of the Reeds-Shepp
-path by three rotations; if that fails, split the path at mid-length (poses taken on the
-*original* path with OMPL's ``interpolate``) and recurse. Each piece is solved from the pose
-actually reached, so no error accumulates and the goal is reached exactly (round-off only).
+From the controllability paper (Section IV-B): join poses of the Reeds-Shepp path by three
+rotations, each piece solved from the pose actually reached (so no error accumulates and the
+goal is reached exactly, round-off only). Pieces are the **longest** that three rotations
+reach: from the pose reached at parameter ``t0`` the steering gallops along the path (the
+previous piece's length, then doubling) and bisects back to the farthest parameter ``t1``
+solvable by three rotations, so a straight push runs at the ideal alternating rate
+``2 l sin(alpha/2)`` per rotation. Poses are taken on the *original* path with OMPL's
+``interpolate``.
+
+Small-time property: a piece's rotations must keep the car's centre within
+``deviation_ratio`` times the piece's length of the piece's chord (:func:`solve_piece`'s
+``max_deviation``); a solution that strays further is refused and the piece shortened. The
+pivot path therefore stays in a neighbourhood of the Reeds-Shepp path that shrinks with the
+path (controllability paper: small-time local controllability), however short the move.
+
 Consecutive rotations about the same corner are merged when the sum stays within the bound,
 which removes the redundant rotation at every junction of two pieces.
 """
@@ -14,16 +25,44 @@ import logging
 import math
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 from pivot_ompl.errors import InputError, Interrupted, SteeringError
-from pivot_ompl.pivoting.kinematics import Rotation, solve_piece
+from pivot_ompl.pivoting.kinematics import ANGLE_TOL, Rotation, solve_piece
 from pivot_ompl.pivoting.reeds_shepp import ReedsShepp
 from pivot_ompl.se2 import Pose
 
 log = logging.getLogger(__name__)
 
-#: Deepest dichotomy level before giving up (a piece of 2**-40 of the path).
+#: Deepest halving of a piece before giving up (a piece of 2**-40 of the path).
 MAX_DEPTH = 40
+
+#: A piece's rotations keep the car within this fraction of the piece's length of its chord.
+DEVIATION_RATIO = 0.5
+
+#: The search for the longest piece stops when the bracket ``[t_ok, t_fail]`` is shorter
+#: than this fraction of the piece found (pieces are within this of the longest).
+LONGEST_TOLERANCE = 0.125
+
+#: Growth of the trial piece while galloping along the path.
+GALLOP = 2.0
+
+
+class Piece(NamedTuple):
+    """One piece of a Reeds-Shepp path solved by (at most three) rotations.
+
+    Attributes:
+        t0, t1: the piece's parameters on the path (fractions of its length).
+        start: the car pose actually reached at ``t0`` (where the rotations start).
+        target: the path's pose at ``t1`` (reached by the rotations up to round-off).
+        rotations: the rotations, unmerged (empty when ``start`` already is ``target``).
+    """
+
+    t0: float
+    t1: float
+    start: Pose
+    target: Pose
+    rotations: tuple[Rotation, ...]
 
 
 @dataclass(frozen=True)
@@ -89,22 +128,22 @@ class PivotSteering:
             should_stop: termination condition, polled once per path piece.
 
         Raises:
-            SteeringError: the dichotomy did not converge (pieces shorter than 2**-40 of the path).
+            SteeringError: no piece solvable from some pose (pieces shorter than 2**-40).
             Interrupted: ``should_stop()`` became true.
         """
         rotations: list[Rotation] = []
         pieces = 0
-        for r, last_of_piece in self.iter_rotations(start, goal, half_length=half_length,
-                                                    should_stop=should_stop):
-            if r is not None:
+        for piece in self.iter_pieces(start, goal, half_length=half_length,
+                                      should_stop=should_stop):
+            for r in piece.rotations:
                 self._append(rotations, r)
-            pieces += last_of_piece
+            pieces += 1
         return PivotSequence(start, goal, tuple(rotations), self.rs.distance(start, goal), pieces)
 
     def iter_rotations(self, start: Pose, goal: Pose, *, half_length: float,
                        should_stop: Callable[[], bool] | None = None,
                        ) -> Iterator[tuple[Rotation | None, bool]]:
-        """The dichotomy as a generator, so that a checker can stop at the first collision.
+        """The pieces' rotations one by one, so that a checker can stop at the first collision.
 
         Yields ``(rotation, ends_piece)`` pairs; a piece solved with no rotation (start and
         target equal) yields ``(None, True)``. Rotations are *not* merged here.
@@ -112,41 +151,104 @@ class PivotSteering:
         Raises:
             Interrupted: ``should_stop()`` became true (polled once per path piece).
         """
+        for piece in self.iter_pieces(start, goal, half_length=half_length,
+                                      should_stop=should_stop):
+            if not piece.rotations:
+                yield None, True
+            for k, r in enumerate(piece.rotations):
+                yield r, k == len(piece.rotations) - 1
+
+    def iter_pieces(self, start: Pose, goal: Pose, *, half_length: float,
+                    should_stop: Callable[[], bool] | None = None,
+                    span: tuple[float, float] = (0.0, 1.0), origin: Pose | None = None,
+                    alpha_max: float | None = None) -> Iterator[Piece]:
+        """The longest pieces of the Reeds-Shepp path ``start -> goal``, in order.
+
+        Args:
+            start: car pose at the start of the Reeds-Shepp path.
+            goal: car pose at its end.
+            half_length: half-length ``l`` of the supporting edge (m).
+            should_stop: termination condition, polled once per piece.
+            span: the parameters ``(t0, t1)`` of the part of the path to convert (a local
+                refinement converts one piece's part again).
+            origin: the car pose actually reached at ``span[0]`` (default: the path's pose).
+            alpha_max: bound on each rotation (rad), at most the steering's (default: it).
+
+        Raises:
+            SteeringError: no piece solvable from some pose (pieces shorter than 2**-40).
+            Interrupted: ``should_stop()`` became true.
+        """
         if not (half_length > 0):
             raise InputError("half_length", half_length, "must be > 0 m")
+        amax = self.alpha_max if alpha_max is None else alpha_max
+        if not (0 < amax <= self.alpha_max):
+            raise InputError("alpha_max", amax, f"must be in (0, {self.alpha_max}] rad")
         rs = self.rs
-        amax = self.alpha_max
-        current = start
-        # a rotation moves the edge centre by at most l*|alpha|: a cheap necessary condition
-        reach = 3.0 * half_length * amax + 1e-9
-        # stack of pieces (t0, t1, pose at t1, depth) of the original path, last popped first
-        stack: list[tuple[float, float, Pose, int]] = [(0.0, 1.0, goal, 0)]
-        while stack:
+        ell = half_length
+        t0, t_end = span
+        length = rs.distance(start, goal)
+        current = origin if origin is not None else (
+            start if t0 == 0.0 else rs.interpolate(start, goal, t0))
+        end_pose = goal if t_end == 1.0 else rs.interpolate(start, goal, t_end)
+        # a rotation moves the edge centre by at most 2 l sin(alpha/2): a necessary condition
+        reach = 6.0 * ell * math.sin(0.5 * amax) + 1e-9
+        # first guess: the ideal push's piece (two full rotations)
+        step = (4.0 * ell * math.sin(0.5 * amax) / length) if length > 0 else 1.0
+        min_step = (t_end - t0) * 2.0 ** -MAX_DEPTH
+        previous: Rotation | None = None
+
+        def solve(t: float) -> tuple[Pose, tuple[Rotation, ...]] | None:
+            target = end_pose if t >= t_end else rs.interpolate(start, goal, t)
+            if math.hypot(target[0] - current[0], target[1] - current[1]) > reach:
+                return None
+            ok, rots = solve_piece(current, target, ell, amax,
+                                   max_deviation=DEVIATION_RATIO * (t - t0) * length + 1e-12,
+                                   previous=previous)
+            return (target, rots) if ok else None
+
+        while t0 < t_end:
             if should_stop is not None and should_stop():
                 raise Interrupted("pivot steering")
-            t0, t1, target, depth = stack.pop()
-            if math.hypot(target[0] - current[0], target[1] - current[1]) <= reach:
-                ok, rots = solve_piece(current, target, half_length, amax)
-                if ok:
-                    if not rots:
-                        yield None, True
-                    for k, r in enumerate(rots):
-                        yield r, k == len(rots) - 1
-                    if rots:
-                        current = rots[-1].car
-                    continue
-            if depth >= MAX_DEPTH:
-                raise SteeringError(start, goal, f"no convergence at t={t0:.6g}..{t1:.6g}")
-            mid = 0.5 * (t0 + t1)
-            stack.append((mid, t1, target, depth + 1))
-            stack.append((t0, mid, rs.interpolate(start, goal, mid), depth + 1))
+            step = min(max(step, min_step), t_end - t0)
+            t_ok, best = t0, None
+            t_fail = t_end + 1.0
+            t = t0 + step
+            while True:  # gallop forwards from the last piece's length, or halve back
+                res = solve(t)
+                if res is not None:
+                    t_ok, best = t, res
+                    if t >= t_end or t_fail <= t_end:
+                        break
+                    t = min(t_end, t0 + (t - t0) * GALLOP)
+                else:
+                    t_fail = t
+                    if best is not None:
+                        break
+                    if t - t0 <= min_step:
+                        raise SteeringError(start, goal, f"no convergence at t={t0:.6g}")
+                    t = t0 + 0.5 * (t - t0)
+            while t_fail <= t_end and t_fail - t_ok > LONGEST_TOLERANCE * (t_ok - t0):
+                t = 0.5 * (t_ok + t_fail)  # bisect to the longest solvable piece
+                res = solve(t)
+                if res is not None:
+                    t_ok, best = t, res
+                else:
+                    t_fail = t
+            assert best is not None
+            target, rots = best
+            yield Piece(t0, t_ok, current, target, rots)
+            if rots:
+                current = rots[-1].car
+                previous = rots[-1]
+            step = t_ok - t0
+            t0 = t_ok
 
     def _append(self, rotations: list[Rotation], r: Rotation) -> None:
         """Append ``r``, merged into the previous rotation when both turn about one corner."""
         if self.merge and rotations and rotations[-1].end == r.end:
             prev = rotations[-1]
             total = prev.angle + r.angle
-            if abs(total) <= self.alpha_max:
+            if abs(total) <= self.alpha_max + ANGLE_TOL:  # round-off of two halves
                 rotations.pop()
                 if abs(total) > 1e-12:
                     rotations.append(Rotation(r.end, prev.pivot, total, r.car))
