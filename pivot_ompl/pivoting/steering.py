@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Generator, Iterator
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
@@ -161,7 +161,8 @@ class PivotSteering:
     def iter_pieces(self, start: Pose, goal: Pose, *, half_length: float,
                     should_stop: Callable[[], bool] | None = None,
                     span: tuple[float, float] = (0.0, 1.0), origin: Pose | None = None,
-                    alpha_max: float | None = None) -> Iterator[Piece]:
+                    alpha_max: float | None = None,
+                    ) -> Generator[Piece, tuple[Pose, Rotation | None] | None, None]:
         """The longest pieces of the Reeds-Shepp path ``start -> goal``, in order.
 
         Args:
@@ -173,6 +174,9 @@ class PivotSteering:
                 refinement converts one piece's part again).
             origin: the car pose actually reached at ``span[0]`` (default: the path's pose).
             alpha_max: bound on each rotation (rad), at most the steering's (default: it).
+
+        A caller that replaces a piece by its own rotations (a local refinement) sends the
+        generator ``(pose reached, last rotation)`` back; the next piece starts there.
 
         Raises:
             SteeringError: no piece solvable from some pose (pieces shorter than 2**-40).
@@ -236,7 +240,12 @@ class PivotSteering:
                     t_fail = t
             assert best is not None
             target, rots = best
-            yield Piece(t0, t_ok, current, target, rots)
+            sent = yield Piece(t0, t_ok, current, target, rots)
+            if sent is not None:  # the caller replaced the piece (a local refinement)
+                current, previous = sent
+                step = t_ok - t0
+                t0 = t_ok
+                continue
             if rots:
                 current = rots[-1].car
                 previous = rots[-1]

@@ -24,11 +24,8 @@ from pivot_ompl.validity.walking import WalkPlanner, WalkResult
 
 log = logging.getLogger(__name__)
 
-#: A colliding edge is converted again with the rotation bound halved up to this many times.
+#: A colliding piece is converted again with the rotation bound halved up to this many times.
 MIN_ALPHA_HALVINGS = 3
-#: Only edges up to this Reeds-Shepp length (m) are subdivided on collision: subdivision
-#: matters in tight spots, where planners try short edges.
-SUBDIVIDE_MAX_LENGTH = 2.0
 
 
 def _swept_clearance(dist: Callable[[Pose], float], base: Pose, pivot: tuple[float, float],
@@ -61,6 +58,8 @@ class MotionCounters:
     valid: int = 0
     invalid: int = 0
     cache_hits: int = 0
+    #: pieces of edges converted again with smaller rotations because they collided
+    refined_pieces: int = 0
 
 
 @dataclass
@@ -93,7 +92,6 @@ class PivotChecker:
         self.walker = WalkPlanner(s.model, self.world)
         self._edges: dict[tuple, EdgeResult] = {}
         self._walks: dict[tuple, WalkResult] = {}
-        self._fine: dict[int, PivotSteering] = {}
         # reach of each body from a pivot corner, per grasp: bounds rotation sweeps
         self._reach: dict[int, tuple[float, float]] = {}
         for g in range(4):
@@ -158,40 +156,25 @@ class PivotChecker:
         return res
 
     def _transfer(self, obj_a: Pose, obj_b: Pose, grasp: int, with_robot: bool) -> EdgeResult:
-        """Check the edge, retrying with smaller rotations where one collides.
-
-        Where a rotation collides, convert again with rotations bounded by half the bound
-        (they hug the Reeds-Shepp path closer: the topological property), down to
-        ``alpha_max / 2**MIN_ALPHA_HALVINGS``, before declaring the motion invalid.
-        Rotations are produced and checked one by one, so a colliding edge stops early.
-        """
+        """Check the edge piece by piece, refining only a piece that collides."""
         m = self.model
-        ca, cb = m.car_pose(obj_a, grasp), m.car_pose(obj_b, grasp)
-        res = self._check(self.steering, ca, cb, grasp, with_robot)
-        if res.valid or "collides during" not in res.reason or \
-                res.length > SUBDIVIDE_MAX_LENGTH:
-            return res
-        for k in range(1, MIN_ALPHA_HALVINGS + 1):
-            again = self._check(self._fine_steering(k), ca, cb, grasp, with_robot)
-            if again.valid:
-                return again
-        return res
+        return self._check(m.car_pose(obj_a, grasp), m.car_pose(obj_b, grasp), grasp,
+                           with_robot)
 
-    def _fine_steering(self, halvings: int) -> PivotSteering:
-        st = self._fine.get(halvings)
-        if st is None:
-            st = PivotSteering(turning_radius=self.scene.turning_radius,
-                               alpha_max=self.scene.alpha_max / 2 ** halvings)
-            self._fine[halvings] = st
-        return st
+    def _check(self, ca: Pose, cb: Pose, grasp: int, with_robot: bool) -> EdgeResult:
+        """Bounds and certified sweeps rotation by rotation, stopping at the first failure.
 
-    def _check(self, steering: PivotSteering, ca: Pose, cb: Pose, grasp: int,
-               with_robot: bool) -> EdgeResult:
-        """Bounds and certified sweeps rotation by rotation, stopping at the first failure."""
+        The steering's pieces are checked in order. Where a piece's rotations collide or
+        leave the bounds, that piece alone (the same stretch of the Reeds-Shepp path, from
+        the same pose) is converted again with the rotation bound halved, down to
+        ``alpha_max / 2**MIN_ALPHA_HALVINGS``: smaller rotations hug the path closer (the
+        topological property); the rest of the edge keeps full rotations.
+        """
         m, w = self.model, self.world
         r_box, r_rob = self._reach[grasp]
         obstacles = w.has_obstacles
         ell = m.edge_half_length(grasp)
+        steering = self.steering
         length = steering.rs.distance(ca, cb)
 
         def box_d(car: Pose) -> float:
@@ -209,39 +192,68 @@ class PivotChecker:
         def fail(reason: str) -> EdgeResult:
             return EdgeResult(False, PivotSequence(ca, cb, (), length, 0), length, reason)
 
-        prev = ca
+        def check_rotations(prev: Pose, rots: tuple[Rotation, ...], db: float, dr: float,
+                            ) -> tuple[str, float, float]:
+            """``(failure, clearances at the end)``; failure ``""`` when all pass."""
+            for rot in rots:
+                bulge = 1.0 - math.cos(0.5 * rot.angle)
+                if not (in_bounds(prev, r_box * bulge, r_rob * bulge)
+                        and in_bounds(rot.car, r_box * bulge, r_rob * bulge)):
+                    return "leaves the bounds", db, dr
+                if obstacles:
+                    base, piv, ang = prev, rot.pivot, rot.angle
+                    db_end = box_d(rot.car)
+                    if not certify(_swept_clearance(box_d, base, piv, ang), r_box * abs(ang),
+                                   tolerance=self.tolerance, d0=db, d1=db_end).valid:
+                        return "box collides", db, dr
+                    db = db_end
+                    if with_robot:
+                        dr_end = rob_d(rot.car)
+                        if not certify(_swept_clearance(rob_d, base, piv, ang),
+                                       r_rob * abs(ang), tolerance=self.tolerance, d0=dr,
+                                       d1=dr_end).valid:
+                            return "robot collides", db, dr
+                        dr = dr_end
+                prev = rot.car
+            return "", db, dr
+
+        db = dr = math.inf
         if obstacles:
             db = box_d(ca)
             dr = rob_d(ca) if with_robot else math.inf
             if db <= 0 or dr <= 0:
                 return fail("collides at the start")
         checked: list[Rotation] = []
-        for i, (rot, _) in enumerate(steering.iter_rotations(ca, cb, half_length=ell,
-                                                             should_stop=self.should_stop)):
-            if rot is None:
-                continue
-            bulge = 1.0 - math.cos(0.5 * rot.angle)
-            if not (in_bounds(prev, r_box * bulge, r_rob * bulge)
-                    and in_bounds(rot.car, r_box * bulge, r_rob * bulge)):
-                return fail(f"leaves the bounds at rotation {i}")
-            if obstacles:
-                base, piv, ang = prev, rot.pivot, rot.angle
-                db_end = box_d(rot.car)
-                ok = certify(_swept_clearance(box_d, base, piv, ang),
-                             r_box * abs(ang), tolerance=self.tolerance, d0=db, d1=db_end).valid
-                if not ok:
-                    return fail(f"box collides during rotation {i}")
-                db = db_end
-                if with_robot:
-                    dr_end = rob_d(rot.car)
-                    ok = certify(_swept_clearance(rob_d, base, piv, ang),
-                                 r_rob * abs(ang), tolerance=self.tolerance, d0=dr,
-                                 d1=dr_end).valid
-                    if not ok:
-                        return fail(f"robot collides during rotation {i}")
-                    dr = dr_end
-            checked.append(rot)
-            prev = rot.car
+        pieces = steering.iter_pieces(ca, cb, half_length=ell, should_stop=self.should_stop)
+        reply: tuple[Pose, Rotation | None] | None = None
+        while True:
+            try:
+                piece = pieces.send(reply) if reply is not None else next(pieces)
+            except StopIteration:
+                break
+            reply = None
+            why, db1, dr1 = check_rotations(piece.start, piece.rotations, db, dr)
+            k = 0
+            while why and k < MIN_ALPHA_HALVINGS:  # refine this piece only
+                k += 1
+                fine: list[Rotation] = []
+                for sub in steering.iter_pieces(
+                        ca, cb, half_length=ell, should_stop=self.should_stop,
+                        span=(piece.t0, piece.t1), origin=piece.start,
+                        alpha_max=steering.alpha_max / 2 ** k):
+                    fine.extend(sub.rotations)
+                why, db1, dr1 = check_rotations(piece.start, tuple(fine), db, dr)
+                if not why:
+                    self.counters.refined_pieces += 1
+                    checked.extend(fine)
+                    end = fine[-1].car if fine else piece.start
+                    reply = (end, fine[-1] if fine else None)
+            if why:
+                return fail(f"{why} during rotation {len(checked)} "
+                            f"(path {piece.t0:.3f}..{piece.t1:.3f})")
+            if reply is None:
+                checked.extend(piece.rotations)
+            db, dr = db1, dr1
         # merge rotations about one corner exactly as PivotSteering.convert does: the merged
         # rotation sweeps the union of the two checked sweeps
         merged: list[Rotation] = []

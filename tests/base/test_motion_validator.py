@@ -75,7 +75,8 @@ def test_pivot_clipping_a_corner_is_rejected_though_ends_are_free():
             break
     assert target is not None, "no clipping point found"
     pillar = {"type": "cylinder", "center": list(target), "radius": 0.01, "height": 1.0}
-    clipped = make_problem(make_scene(obstacles=[pillar]))
+    # (the plan of the refined edge is checked below: the scene runs from a to b)
+    clipped = make_problem(make_scene(obstacles=[pillar], start=list(a), goal=list(b)))
     assert clipped.checker.state_valid(a, 0) and clipped.checker.state_valid(b, 0)
     for r in seq.rotations:  # every step end is free ...
         assert clipped.checker.world.box_distance(m.object_from_car(r.car, 0)) > 0

@@ -1,0 +1,57 @@
+"""Local refinement: only the piece of an edge that collides is converted with smaller angles."""
+
+from __future__ import annotations
+
+import math
+
+from factories import make_scene
+
+from pivot_ompl.base.path_conversion import path_to_plan
+from pivot_ompl.base.problem import make_problem
+from pivot_ompl.se2 import rotate_about
+from pivot_ompl.validity.plan_check import check_plan
+
+A, B = (2.0, 3.0, 0.0), (6.0, 3.2, 0.3)
+
+
+def _inside(pt, obj, m, margin=0.02):
+    c, s = math.cos(obj[2]), math.sin(obj[2])
+    dx, dy = pt[0] - obj[0], pt[1] - obj[1]
+    u, v = c * dx + s * dy, -s * dx + c * dy
+    hx, hy = 0.5 * m.object_size[0] + margin, 0.5 * m.object_size[1] + margin
+    return abs(u) <= hx and abs(v) <= hy
+
+
+def _clipping_pillar(scene, seq, a):
+    """A thin pillar swept by the box in mid-rotation but clear of every step's end pose."""
+    m = scene.model
+    ends = [m.object_from_car(r.car, 0) for r in seq.rotations] + [a]
+    for k, rot in enumerate(seq.rotations[3:], start=3):
+        before = seq.rotations[k - 1].car
+        mid = m.object_from_car(rotate_about(before, rot.pivot, 0.5 * rot.angle), 0)
+        for c in m.object_corners(mid):
+            if not any(_inside(c, e, m) for e in ends):
+                return {"type": "cylinder", "center": list(c), "radius": 0.005, "height": 1.0}
+    raise AssertionError("no clipping point found")
+
+
+def test_only_the_colliding_piece_is_refined():
+    free = make_problem(make_scene(start=list(A), goal=list(B)))
+    edge = free.checker.transfer(A, B, 0)
+    assert edge.valid
+    pillar = _clipping_pillar(free.scene, edge.sequence, A)
+    scene = make_scene(start=list(A), goal=list(B), obstacles=[pillar])
+    clipped = make_problem(scene)
+    res = clipped.checker.transfer(A, B, 0)
+    assert res.valid, res.reason
+    assert clipped.checker.counters.refined_pieces >= 1
+    rep = check_plan(path_to_plan(scene, clipped.checker, [(A, 0), (B, 0)]), scene)
+    assert rep.ok, rep.problems
+    # the coarse rotations elsewhere are kept: the whole edge used to be converted again at
+    # alpha_max/2 or less (then no rotation would be larger than alpha_max/2)
+    amax = scene.alpha_max
+    rots = res.sequence.rotations
+    small = sum(abs(r.angle) < 0.5 * amax + 1e-9 for r in rots)
+    full = sum(abs(r.angle) > 0.9 * amax for r in rots)
+    assert full >= 0.5 * len(edge.sequence.rotations), (full, small, len(rots))
+    assert len(rots) <= len(edge.sequence.rotations) + 30
