@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pivot_ompl.graph import UnionFind, astar
+from pivot_ompl.planners.optimiser import TIME_SHARE, budgeted, optimise
 from pivot_ompl.planners.roadmap import Roadmap, pose_metric
 from pivot_ompl.planners.visibility import VisibilityRoadmapBuilder
 from pivot_ompl.se2 import Pose
@@ -364,7 +365,8 @@ class MultiplexedSearch:
         states = [(self.obj.poses[i], g) for i, g in path]
         if p.optimise:
             t1 = time.perf_counter()
-            states = optimise_path(ck, states, regrasp_cost=p.regrasp_cost, ptc=ptc)
+            states = optimise(ck, states, grasps=p.grasps,
+                              should_stop=budgeted(ptc, TIME_SHARE * (t1 - t0)))
             self.stats.time_optimise = time.perf_counter() - t1
         return states
 
@@ -442,50 +444,3 @@ class MultiplexedSearch:
         s.connectors = kinds.count("connector")
         s.critical = kinds.count("critical")
         s.manipulation_nodes = {g: len(v) for g, v in self.by_grasp.items()}
-
-
-def path_cost(checker: PivotChecker, states: list[tuple[Pose, int]], regrasp_cost: float) -> float:
-    """Cost of a path: Reeds-Shepp length of transfers + walking length and cost of regrasps."""
-    total = 0.0
-    for (pa, ga), (pb, gb) in zip(states, states[1:], strict=False):
-        if ga == gb:
-            total += checker.transfer(pa, pb, ga).length
-        else:
-            total += regrasp_cost + checker.transit(pa, ga, gb).length
-    return total
-
-
-def optimise_path(checker: PivotChecker, states: list[tuple[Pose, int]], *,
-                  regrasp_cost: float, ptc: Callable[[], bool]) -> list[tuple[Pose, int]]:
-    """Path optimiser: merge consecutive regrasps, then shortcut within one grasp.
-
-    A shortcut joins states ``i`` and ``j > i + 1`` of the same grasp by one pivot edge when
-    it is valid and cheaper; regrasps that become useless (a grasp left and taken back) vanish
-    with the states they joined. Every accepted change keeps the path valid.
-    """
-    s = list(states)
-    # 1) chains of grasp changes at one pose: keep the first and the last grasp
-    i = 0
-    while i < len(s) - 2:
-        if s[i][0] == s[i + 1][0] == s[i + 2][0]:
-            a, c = s[i][1], s[i + 2][1]
-            if a == c:
-                del s[i + 1:i + 3]
-                continue
-            if checker.transit(s[i][0], a, c).valid:
-                del s[i + 1]
-                continue
-        i += 1
-    # 2) greedy shortcuts, farthest first
-    i = 0
-    while i < len(s) - 2 and not ptc():
-        for j in range(len(s) - 1, i + 1, -1):
-            if s[j][1] != s[i][1] or s[j][0] == s[i][0]:
-                continue
-            old = path_cost(checker, s[i:j + 1], regrasp_cost)
-            edge = checker.transfer(s[i][0], s[j][0], s[i][1])
-            if edge.valid and edge.length < old:
-                s = s[:i + 1] + s[j:]
-                break
-        i += 1
-    return s

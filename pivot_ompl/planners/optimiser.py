@@ -1,0 +1,326 @@
+"""The path optimiser: fewest pivots and regrasps over the waypoints of a found path.
+
+A path is a list of ``(object pose, grasp)`` states; a grasp change happens at one object
+pose (two consecutive states with the same pose), with a valid walk
+(:meth:`PivotChecker.transit`). Its cost, in pivots::
+
+    cost = pivots + w_r * regrasps + w_w * walking length (m)
+
+The optimiser keeps the path's object poses (the *waypoints*, in order) and chooses anew
+which of them to pass through and with which grasp: a layered graph whose nodes are
+``(waypoint i, grasp g)``, with
+
+* a **transfer** ``(i, g) -> (j, g)`` for every ``j > i`` (a shortcut when ``j > i + 1``,
+  re-steered from scratch: its cost is its pivot count), and
+* a **regrasp** ``(i, g) -> (i, h)`` (cost ``w_r + w_w * walk length``).
+
+Dynamic programming over the waypoints (the graph is acyclic but for the regrasps inside a
+layer) gives the cheapest path; edges are checked lazily, only when a cheapest path uses
+them, with optimistic costs until then (a transfer needs at least
+``max(d / (2 l sin(alpha/2)), |dh| / alpha)`` rotations, since one rotation moves the edge's
+centre by at most ``2 l sin(alpha/2)``; a walk is at least the straight line). When every edge
+of the cheapest path is checked it is optimal over the waypoints. Until then the best path
+of checked edges is kept, so the result is always valid and never costlier than the input:
+regrasps that serve nothing disappear, chains of regrasps merge, shortcuts replace detours and
+the grasp of each phase is chosen by the cost. The termination condition is polled between
+edge checks and reaches the steering inside them.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from pivot_ompl.se2 import Pose, wrap_angle
+from pivot_ompl.validity.pivot_checker import PivotChecker
+
+log = logging.getLogger(__name__)
+
+State = tuple[Pose, int]
+
+#: Spacing (m) of the poses along a shortcut's Reeds-Shepp path checked before the (costly)
+#: pivot check: a shortcut whose path crosses an obstacle is refused at once.
+PREFILTER_STEP = 0.25
+
+#: Share of the time spent planning that the optimiser may use on top of it: 0.25 keeps the
+#: optimisation within 20 % of the whole planning time.
+TIME_SHARE = 0.25
+
+
+@dataclass(frozen=True)
+class PathWeights:
+    """Weights of the path cost, in pivots.
+
+    Attributes:
+        regrasp: cost of one regrasp (pivots): releasing, tilting back, grasping again.
+        walking: cost of one metre walked alone (pivots per m).
+    """
+
+    regrasp: float = 10.0
+    walking: float = 2.0
+
+
+@dataclass
+class OptimiseStats:
+    """What one optimisation did.
+
+    Attributes:
+        waypoints: distinct object poses of the input path.
+        cost_before, cost_after: path cost (pivots + weighted regrasps and walking).
+        transfers_checked, walks_checked: edges checked (cache hits included).
+        rounds: cheapest-path rounds.
+        optimal: the result is the cheapest path over the waypoints (every edge checked).
+        seconds: wall-clock time (s).
+    """
+
+    waypoints: int = 0
+    cost_before: float = 0.0
+    cost_after: float = 0.0
+    transfers_checked: int = 0
+    walks_checked: int = 0
+    rounds: int = 0
+    optimal: bool = False
+    seconds: float = 0.0
+
+
+@dataclass
+class _Graph:
+    """The layered graph of waypoints and grasps, with checked and optimistic edge costs."""
+
+    checker: PivotChecker
+    poses: list[Pose]
+    weights: PathWeights
+    grasps: tuple[int, ...]
+    nodes: list[list[int]] = field(default_factory=list)  # valid grasps per waypoint
+    #: checked costs: ``None`` = invalid
+    transfer: dict[tuple[int, int, int], float | None] = field(default_factory=dict)
+    walk: dict[tuple[int, int, int], float | None] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        """Valid grasps of every waypoint."""
+        ck = self.checker
+        self.nodes = [[g for g in self.grasps if ck.state_valid(p, g)] for p in self.poses]
+        m = ck.model
+        a = ck.scene.alpha_max
+        self._per_rotation = {g: 2.0 * m.edge_half_length(g) * math.sin(0.5 * a)
+                              for g in range(4)}
+
+    def transfer_bound(self, i: int, j: int, g: int) -> float:
+        """Fewest rotations that can move the box from waypoint ``i`` to ``j`` at ``g``."""
+        m = self.checker.model
+        ca, cb = m.car_pose(self.poses[i], g), m.car_pose(self.poses[j], g)
+        d = math.hypot(cb[0] - ca[0], cb[1] - ca[1])
+        return max(d / self._per_rotation[g],
+                   abs(wrap_angle(cb[2] - ca[2])) / self.checker.scene.alpha_max)
+
+    def walk_bound(self, i: int, g: int, h: int) -> float:
+        """Cheapest conceivable regrasp from ``g`` to ``h`` at waypoint ``i``."""
+        m = self.checker.model
+        ra, rb = m.robot_pose(self.poses[i], g), m.robot_pose(self.poses[i], h)
+        return self.weights.regrasp + self.weights.walking * math.hypot(rb[0] - ra[0],
+                                                                       rb[1] - ra[1])
+
+    def cost(self, kind: str, key: tuple[int, int, int], optimistic: bool) -> float | None:
+        """Checked cost of an edge; its bound if unchecked and ``optimistic``, else ``None``."""
+        table = self.transfer if kind == "t" else self.walk
+        if key in table:
+            return table[key]
+        if not optimistic:
+            return None
+        return self.transfer_bound(*key) if kind == "t" else self.walk_bound(*key)
+
+    def cheapest(self, optimistic: bool) -> tuple[float, list[tuple[int, int]]]:
+        """Dynamic programming over the waypoints: ``(cost, nodes)``; ``inf`` if no path."""
+        n = len(self.poses)
+        best: dict[tuple[int, int], float] = {(0, g): 0.0 for g in self.nodes[0]}
+        back: dict[tuple[int, int], tuple[int, int] | None] = {k: None for k in best}
+        for i in range(n):
+            layer = [g for g in self.nodes[i] if (i, g) in best]
+            for _ in range(len(self.nodes[i]) - 1):  # regrasps inside the layer
+                changed = False
+                for g in list(layer):
+                    for h in self.nodes[i]:
+                        if h == g:
+                            continue
+                        c = self.cost("w", (i, g, h), optimistic)
+                        if c is None:
+                            continue
+                        v = best[(i, g)] + c
+                        if v < best.get((i, h), math.inf) - 1e-12:
+                            best[(i, h)] = v
+                            back[(i, h)] = (i, g)
+                            if h not in layer:
+                                layer.append(h)
+                            changed = True
+                if not changed:
+                    break
+            for g in layer:
+                b0 = best[(i, g)]
+                for j in range(i + 1, n):
+                    if g not in self.nodes[j]:
+                        continue
+                    c = self.cost("t", (i, j, g), optimistic)
+                    if c is None:
+                        continue
+                    v = b0 + c
+                    if v < best.get((j, g), math.inf) - 1e-12:
+                        best[(j, g)] = v
+                        back[(j, g)] = (i, g)
+        ends = [(best[(n - 1, g)], g) for g in self.nodes[n - 1] if (n - 1, g) in best]
+        if not ends:
+            return math.inf, []
+        total, g = min(ends)
+        path: list[tuple[int, int]] = []
+        node: tuple[int, int] | None = (n - 1, g)
+        while node is not None:
+            path.append(node)
+            node = back[node]
+        return total, path[::-1]
+
+
+def _waypoints(states: list[State]) -> tuple[list[Pose], list[tuple[int, int]]]:
+    """Distinct consecutive object poses and the input path as ``(waypoint, grasp)`` nodes."""
+    poses: list[Pose] = []
+    nodes: list[tuple[int, int]] = []
+    for pose, g in states:
+        if not poses or pose != poses[-1]:
+            poses.append(pose)
+        nodes.append((len(poses) - 1, g))
+    return poses, nodes
+
+
+def path_cost(checker: PivotChecker, states: list[State], weights: PathWeights) -> float:
+    """Cost of a path (pivots + weighted regrasps and walking); ``inf`` if an edge is invalid."""
+    total = 0.0
+    for (pa, ga), (pb, gb) in zip(states, states[1:], strict=False):
+        if ga == gb:
+            e = checker.transfer(pa, pb, ga)
+            if not e.valid:
+                return math.inf
+            total += len(e.sequence.rotations)
+        else:
+            w = checker.transit(pa, ga, gb)
+            if not w.valid or pa != pb:
+                return math.inf
+            total += weights.regrasp + weights.walking * w.length
+    return total
+
+
+def budgeted(should_stop: Callable[[], bool], seconds: float) -> Callable[[], bool]:
+    """``should_stop`` or ``seconds`` elapsed from now (wall clock)."""
+    deadline = time.perf_counter() + max(0.0, seconds)
+    return lambda: should_stop() or time.perf_counter() > deadline
+
+
+def optimise(checker: PivotChecker, states: list[State], *,
+             should_stop: Callable[[], bool], weights: PathWeights | None = None,
+             grasps: tuple[int, ...] = (0, 1, 2, 3),
+             stats: OptimiseStats | None = None) -> list[State]:
+    """The cheapest path over the waypoints of ``states`` found before ``should_stop``.
+
+    Args:
+        checker: validity of transfers and walks (its caches make re-checks free).
+        states: a valid path of ``(object pose, grasp)`` states.
+        should_stop: termination condition, polled between edge checks and, through the
+            checker, inside them.
+        weights: cost weights (:class:`PathWeights`).
+        grasps: the grasps the robot may use.
+        stats: filled with what was done, if given.
+
+    Returns:
+        A valid path from the same start pose to the same goal pose, never costlier than
+        ``states`` (``states`` itself when nothing better was found).
+    """
+    w = weights or PathWeights()
+    st = stats if stats is not None else OptimiseStats()
+    t0 = time.perf_counter()
+    if len(states) < 2:
+        return list(states)
+    poses, given = _waypoints(states)
+    st.waypoints = len(poses)
+    before = path_cost(checker, states, w)
+    st.cost_before = st.cost_after = before
+    if not math.isfinite(before) or len(poses) < 2:
+        return list(states)
+    graph = _Graph(checker, poses, w, tuple(sorted(set(grasps) | {g for _, g in states})))
+    # the input's own edges are checked (cache hits): the DP over checked edges finds it
+    for (i, g), (j, h) in zip(given, given[1:], strict=False):
+        if g == h:
+            graph.transfer[(i, j, g)] = float(len(checker.transfer(
+                poses[i], poses[j], g).sequence.rotations))
+        else:
+            graph.walk[(i, g, h)] = w.regrasp + w.walking * checker.transit(
+                poses[i], g, h).length
+    outer = checker.should_stop  # the planner's termination condition, if any
+    stop = (lambda: should_stop() or bool(outer())) if outer is not None else should_stop
+    checker.should_stop = stop  # edge checks inside the optimiser stop too
+    try:
+        _lazy_rounds(graph, stop, st)
+    finally:
+        checker.should_stop = outer
+    cost, nodes = graph.cheapest(optimistic=False)
+    result = list(states)
+    if nodes and cost < before - 1e-9:
+        result = [(poses[i], g) for i, g in nodes]
+        st.cost_after = cost
+    st.seconds = time.perf_counter() - t0
+    log.debug("optimiser: cost %.1f -> %.1f over %d waypoints, %d rounds, %d transfers and "
+              "%d walks checked, %.3f s%s", before, st.cost_after, st.waypoints, st.rounds,
+              st.transfers_checked, st.walks_checked, st.seconds,
+              " (optimal)" if st.optimal else "")
+    return result
+
+
+def _lazy_rounds(graph: _Graph, stop: Callable[[], bool], st: OptimiseStats) -> None:
+    """Cheapest optimistic path, check its unchecked edges, repeat until all are checked."""
+    ck = graph.checker
+    poses = graph.poses
+    while not stop():
+        st.rounds += 1
+        _cost, nodes = graph.cheapest(optimistic=True)
+        pending = []
+        for (i, g), (j, h) in zip(nodes, nodes[1:], strict=False):
+            key = (i, j, g) if g == h else (i, g, h)
+            table = graph.transfer if g == h else graph.walk
+            if key not in table:
+                pending.append((g == h, key))
+        if not pending:
+            st.optimal = True
+            return
+        for is_transfer, key in pending:
+            if stop():
+                return
+            c: float | None = None
+            if is_transfer:
+                i, j, g = key
+                st.transfers_checked += 1
+                if _plausible(ck, poses[i], poses[j], g):
+                    e = ck.transfer(poses[i], poses[j], g)
+                    if stop() and not e.valid:  # interrupted: unknown, not invalid
+                        return
+                    c = float(len(e.sequence.rotations)) if e.valid else None
+                graph.transfer[key] = c
+            else:
+                i, g, h = key
+                st.walks_checked += 1
+                walk = ck.transit(poses[i], g, h)
+                if walk.valid:
+                    c = graph.weights.regrasp + graph.weights.walking * walk.length
+                graph.walk[key] = c
+            if c is None:
+                break  # the path is broken: find the next cheapest
+
+
+def _plausible(ck: PivotChecker, a: Pose, b: Pose, g: int) -> bool:
+    """Box and robot are free at poses every :data:`PREFILTER_STEP` m along the car's path."""
+    m = ck.model
+    ca, cb = m.car_pose(a, g), m.car_pose(b, g)
+    rs = ck.steering.rs
+    n = int(rs.distance(ca, cb) / PREFILTER_STEP)
+    if n < 2:
+        return True
+    return all(ck.state_valid(m.object_from_car(c, g), g)
+               for c in rs.sample(ca, cb, [k / n for k in range(1, n)]))

@@ -1,0 +1,97 @@
+"""The path optimiser: fewer pivots and regrasps, valid paths, termination honoured."""
+
+from __future__ import annotations
+
+import math
+import time
+
+from factories import make_scene, shipped
+
+from pivot_ompl.base.path_conversion import path_to_plan
+from pivot_ompl.base.problem import make_problem
+from pivot_ompl.planners.optimiser import OptimiseStats, PathWeights, optimise, path_cost
+from pivot_ompl.validity.plan_check import check_plan
+
+START, GOAL = (1.5, 3.0, 0.0), (6.5, 3.0, 0.0)
+
+
+def _zigzag_with_regrasps():
+    """A valid but wasteful open-floor path: detours, a regrasp there and back, a chain."""
+    scene = make_scene(start=list(START), goal=list(GOAL))
+    problem = make_problem(scene)
+    ck = problem.checker
+    w1, w2, w3 = (2.5, 4.2, 0.5), (4.0, 1.8, -0.4), (5.2, 4.0, 0.3)
+    states = [(START, 0), (w1, 0), (w1, 1), (w1, 0), (w2, 0), (w2, 2), (w2, 3), (w3, 3),
+              (GOAL, 3)]
+    assert math.isfinite(path_cost(ck, states, PathWeights())), "the input must be valid"
+    return scene, ck, states
+
+
+def _regrasps(states):
+    return sum(1 for a, b in zip(states, states[1:], strict=False) if a[1] != b[1])
+
+
+def test_optimiser_cuts_pivots_and_regrasps_and_stays_valid():
+    scene, ck, states = _zigzag_with_regrasps()
+    w = PathWeights()
+    stats = OptimiseStats()
+    out = optimise(ck, states, should_stop=lambda: False, weights=w, stats=stats)
+    before, after = path_cost(ck, states, w), path_cost(ck, out, w)
+    assert after <= before and stats.cost_after == after and stats.optimal
+    # open floor: one straight push at one grasp, the waste and every regrasp gone
+    assert _regrasps(out) == 0 and len(out) == 2
+    assert out[0][0] == START and out[-1][0] == GOAL
+    plan = path_to_plan(scene, ck, out)
+    rep = check_plan(plan, scene)
+    assert rep.ok, rep.problems
+    pivots_before = path_to_plan(scene, ck, states).pivots
+    assert plan.pivots < 0.6 * pivots_before, (plan.pivots, pivots_before)
+
+
+def test_regrasps_kept_where_needed_and_rules_hold():
+    """On the slot scene a regrasp is needed: the optimised path keeps a valid one."""
+    from pivot_ompl.api import plan
+
+    scene = shipped("slot")
+    res = plan(scene, planner="regrasp", time_limit=60.0, seed=0)
+    assert res.solved and res.regrasps >= 1
+    assert check_plan(res.plan, scene).ok
+
+
+def test_grasp_is_chosen_by_the_cost():
+    """A move along the box's y axis: sideways for grasp 0, a straight push for grasp 1."""
+    a, b = (2.0, 1.5, 0.0), (2.0, 4.5, 0.0)
+    scene = make_scene(start=list(a), goal=list(b))
+    ck = make_problem(scene).checker
+    states = [(a, 2), (b, 2)]  # sideways at grasp 2 (grasp 0 would leave the bounds)
+    free = PathWeights(regrasp=0.0, walking=0.0)
+    cheap = optimise(ck, states, should_stop=lambda: False, weights=free)
+    moving = {a_[1] for a_, b_ in zip(cheap, cheap[1:], strict=False) if a_[1] == b_[1]}
+    assert moving <= {1, 3}  # the push, no sideways manoeuvre
+    assert path_cost(ck, cheap, free) < 0.5 * path_cost(ck, states, free)
+    assert check_plan(path_to_plan(scene, ck, cheap), scene).ok
+    # a regrasp priced above the pivots it saves is not taken (start at grasp 0 only)
+    ck2 = make_problem(scene).checker
+    dear = optimise(ck2, states, should_stop=lambda: False, grasps=(0, 2),
+                    weights=PathWeights(regrasp=1000.0, walking=0.0))
+    assert _regrasps(dear) == 0
+
+
+def test_termination_condition_is_honoured():
+    _scene, ck, states = _zigzag_with_regrasps()
+    t0 = time.perf_counter()
+    stats = OptimiseStats()
+    out = optimise(ck, states, should_stop=lambda: True, stats=stats)
+    assert time.perf_counter() - t0 < 0.5
+    # no new edge is checked; the input's own edges still allow dropping the round trip
+    assert stats.transfers_checked == stats.walks_checked == 0 and stats.rounds == 0
+    assert path_cost(ck, out, PathWeights()) <= path_cost(ck, states, PathWeights())
+    calls = []
+
+    def stop():
+        calls.append(1)
+        return len(calls) > 3
+
+    out = optimise(ck, states, should_stop=stop)
+    assert math.isfinite(path_cost(ck, out, PathWeights()))
+    assert path_cost(ck, out, PathWeights()) <= path_cost(ck, states, PathWeights())
