@@ -14,7 +14,7 @@ from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.base.problem import make_setup
 from pivot_ompl.base.state import read_state
 from pivot_ompl.errors import InputError, PlanningError
-from pivot_ompl.planfile import Plan
+from pivot_ompl.planfile import Plan, plan_quality
 from pivot_ompl.planners import OMPL_PLANNERS, make_planner
 from pivot_ompl.scene import Scene, load_scene
 
@@ -125,6 +125,8 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     result_plan.extra["timings"] = timings
     stats = dict(getattr(p, "stats", {}) or {})
     result_plan.extra["roadmap"] = stats
+    if result_plan.phases:
+        result_plan.extra["quality"] = plan_quality(result_plan)
     c = problem.checker.counters
     log.info("%s on %s: %s in %.2f s (%d pivots, %d regrasps)", planner, scene.name, name,
              t2 - t1, result_plan.pivots, result_plan.regrasps)

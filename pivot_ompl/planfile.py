@@ -17,6 +17,19 @@ counter-clockwise positive) about the vertical through the world point ``pivot``
 metres, angles in radians, numbers at full double precision. Consecutive ``robot_path`` poses
 are joined by straight-line motion of the robot's centre with the yaw interpolated linearly
 along the shorter way round. Extra fields are kept in :attr:`Plan.extra`.
+
+Optional extra field ``quality`` (written by ``pivot-ompl plan``; plans without it load as
+before; a reader recomputes it with :func:`plan_quality`)::
+
+    "quality": {"pivots": n, "transfer_length": m, "pivots_per_m": r,
+                "ideal_pivots_per_m": r0, "regrasps": k, "regrasps_lower_bound": k0 | null,
+                "walking_length": w, "duration_estimate": s}
+
+``transfer_length`` is the distance travelled by the supporting edge's centre (the
+Reeds-Shepp car) through the step poses; ``ideal_pivots_per_m`` the rate of an alternating
+push with full rotations, ``1 / (2 l sin(alpha_max/2))`` per phase (``l`` that grasp's
+half-edge), weighted by length; ``walking_length`` the transits' length; ``duration_estimate``
+the whole-body motion's duration (s) by :class:`DurationModel`.
 """
 
 from __future__ import annotations
@@ -170,6 +183,71 @@ class Plan:
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(json.dumps(self.to_dict(), indent=1, allow_nan=False) + "\n")
         return path
+
+
+@dataclass(frozen=True)
+class DurationModel:
+    """Seconds of whole-body motion per plan element (the HRP-2 generator's defaults).
+
+    Calibrated on motions of fig10 plans made by :mod:`pivot_ompl.wholebody` (its default
+    ``Timing`` and ``WalkSettings``): a least-squares fit of the phase durations.
+
+    Attributes:
+        per_pivot: one pivot rotation, with the footsteps that follow it (s).
+        per_transfer: a transfer phase's fixed part: reaching, tilting, setting down,
+            releasing (s).
+        per_transit: a transit's fixed part: starting and stopping the walk (s).
+        per_walk_m: one metre walked alone (s/m).
+    """
+
+    per_pivot: float = 2.6
+    per_transfer: float = 6.0
+    per_transit: float = 3.0
+    per_walk_m: float = 7.0
+
+
+def plan_quality(plan: Plan, *, regrasps_lower_bound: int | None = None,
+                 durations: DurationModel | None = None) -> dict[str, Any]:
+    """The ``quality`` block of a plan (see the module docstring); pure, from the plan alone.
+
+    Args:
+        plan: the plan.
+        regrasps_lower_bound: fewest regrasps any plan of the scene needs, if known.
+        durations: the whole-body duration model.
+    """
+    from pivot_ompl.grasp import BoxGraspModel  # local: grasp imports nothing from here
+
+    d = durations or DurationModel()
+    model = BoxGraspModel(plan.object_size, plan.robot_footprint, plan.standoff)
+    half = math.sin(0.5 * plan.alpha_max)
+    length = ideal = walking = 0.0
+    transfers = transits = 0
+    for p in plan.phases:
+        if isinstance(p, TransitPhase):
+            transits += 1
+            walking += p.length
+            continue
+        if not p.steps:
+            continue
+        transfers += 1
+        cars = [model.car_pose(q, p.grasp) for q in
+                (p.object_start, *(st.object for st in p.steps))]
+        run = sum(math.hypot(b[0] - a[0], b[1] - a[1]) for a, b in zip(cars, cars[1:],
+                                                                      strict=False))
+        length += run
+        ideal += run / (2.0 * model.edge_half_length(p.grasp) * half)
+    pivots = plan.pivots
+    return {
+        "pivots": pivots,
+        "transfer_length": length,
+        "pivots_per_m": pivots / length if length > 0 else 0.0,
+        "ideal_pivots_per_m": ideal / length if length > 0 else 0.0,
+        "regrasps": plan.regrasps,
+        "regrasps_lower_bound": regrasps_lower_bound,
+        "walking_length": walking,
+        "duration_estimate": (d.per_pivot * pivots + d.per_transfer * transfers
+                              + d.per_transit * transits + d.per_walk_m * walking),
+    }
 
 
 # -- reading -----------------------------------------------------------------------------

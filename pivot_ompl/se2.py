@@ -46,10 +46,16 @@ def rectangle_corners(pose: Pose, length: float, width: float) -> list[tuple[flo
     return out
 
 
+#: Doubled area (m^2) below which three points are collinear for :func:`triangulate`.
+DEGENERATE_AREA2 = 1e-12
+
+
 def triangulate(points: Sequence[tuple[float, float]]) -> list[tuple[int, int, int]]:
     """Ear-clipping triangulation of a simple polygon (either orientation); CCW vertex indices.
 
-    A degenerate remainder (collinear points, no area) is dropped.
+    A degenerate remainder (collinear points, no area) is dropped: ears whose doubled area
+    is below :data:`DEGENERATE_AREA2` (m^2, round-off of a rotated collinear triple) are not
+    triangles (a flat prism crashes coal's convex hull).
     """
     pts = [(float(p[0]), float(p[1])) for p in points]
     n = len(pts)
@@ -70,7 +76,7 @@ def triangulate(points: Sequence[tuple[float, float]]) -> list[tuple[int, int, i
         guard += 1
         for k in range(len(idx)):
             a, b, c = idx[k - 1], idx[k], idx[(k + 1) % len(idx)]
-            if cross(a, b, c) <= 1e-15:
+            if cross(a, b, c) <= DEGENERATE_AREA2:
                 continue
             if any(inside(p, a, b, c) for p in idx if p not in (a, b, c)):
                 continue
@@ -79,6 +85,6 @@ def triangulate(points: Sequence[tuple[float, float]]) -> list[tuple[int, int, i
             break
         else:
             break  # degenerate remainder (collinear points): drop it
-    if len(idx) == 3:
+    if len(idx) == 3 and cross(idx[0], idx[1], idx[2]) > DEGENERATE_AREA2:
         tris.append((idx[0], idx[1], idx[2]))
     return tris

@@ -124,7 +124,9 @@ def run_extras(scene: Any, problem: Any, planner: Any, seed: int | None = None) 
     """Our run properties for the run that just ended (call it from a post-run event).
 
     ``seed INTEGER``; with a solution ``pivots INTEGER``, ``regrasps INTEGER``,
-    ``plan valid BOOLEAN`` (the path converts to a pivot plan); the planner's ``stats``
+    ``plan valid BOOLEAN`` (the path converts to a pivot plan) and the plan's quality block
+    (``quality transfer length REAL``, ``quality pivots per m``, ``quality ideal pivots per
+    m``, ``quality walking length``, ``quality duration estimate``); the planner's ``stats``
     (roadmap sizes, ``planner critical configurations``...) as ``planner <key>`` columns
     (dicts of numbers summed, e.g. ``planner manipulation nodes``); the checker's
     motion counters as ``checker <key>``.
@@ -132,6 +134,7 @@ def run_extras(scene: Any, problem: Any, planner: Any, seed: int | None = None) 
     from pivot_ompl.base.path_conversion import path_to_plan
     from pivot_ompl.base.state import read_state
     from pivot_ompl.errors import PivotError
+    from pivot_ompl.planfile import plan_quality
 
     vals: dict[str, Any] = {}
     if seed is not None:
@@ -143,6 +146,9 @@ def run_extras(scene: Any, problem: Any, planner: Any, seed: int | None = None) 
         try:
             plan = path_to_plan(scene, problem.checker, states)
             vals.update({"pivots": plan.pivots, "regrasps": plan.regrasps, "plan valid": True})
+            q = plan_quality(plan)
+            vals.update({f"quality {k.replace('_', ' ')}": v for k, v in q.items()
+                         if k not in ("pivots", "regrasps") and v is not None})
         except PivotError:
             vals["plan valid"] = False
     vals.update(_flatten("planner ", dict(getattr(planner, "stats", None) or {})))

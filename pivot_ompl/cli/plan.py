@@ -60,6 +60,13 @@ def run(args: argparse.Namespace) -> int:
         print(file=sys.stderr)
     print(f"{res.status}: {res.pivots} pivots, {res.regrasps} regrasps, "
           f"solve {res.timings['solve']:.2f} s")
+    q = res.plan.extra.get("quality")
+    if q:
+        bound = q["regrasps_lower_bound"]
+        print(f"quality: {q['pivots_per_m']:.1f} pivots/m (ideal {q['ideal_pivots_per_m']:.1f}) "
+              f"over {q['transfer_length']:.2f} m, {q['regrasps']} regrasps"
+              f"{'' if bound is None else f' (at least {bound})'}, "
+              f"walking {q['walking_length']:.1f} m, whole body ~{q['duration_estimate']:.0f} s")
     if args.out:
         res.to_json(args.out)
         print(f"plan written to {args.out}")

@@ -71,3 +71,20 @@ def test_certify_is_conservative():
         res = certify(lambda t: w.box_distance(at(t)), lip, tolerance=0.002)
         if res.valid:
             assert all(w.box_distance(at(t)) > -0.002 for t in np.linspace(0, 1, 200))
+
+
+def test_rotated_collinear_vertices_build_a_world():
+    """fig10's polygon has three collinear vertices; turned by 30 degrees the round-off left
+    a flat triangle (doubled area 6e-16 m^2) whose prism crashed coal (segfault)."""
+    pts = [(5.8, 2.2), (6.8, 2.2), (6.8, 3.4), (6.3, 2.8), (5.8, 3.4)]
+    c, s = math.cos(math.radians(30)), math.sin(math.radians(30))
+    rot = [(6 + c * (x - 6) - s * (y - 3.5), 3.5 + s * (x - 6) + c * (y - 3.5)) for x, y in pts]
+    tris = triangulate(rot)
+    assert all(area(rot, t) > 1e-9 for t in tris)
+    n = len(rot)
+    poly = 0.5 * abs(sum(rot[i][0] * rot[(i + 1) % n][1] - rot[(i + 1) % n][0] * rot[i][1]
+                         for i in range(n)))
+    assert sum(area(rot, t) for t in tris) == pytest.approx(poly)
+    scene = make_scene(obstacles=[{"type": "polygon", "points": [list(p) for p in rot],
+                                   "height": 1.0}], start=[1, 1, 0], goal=[7, 5, 0])
+    assert CollisionWorld.from_scene(scene).box_distance((1.0, 1.0, 0.0)) > 0
