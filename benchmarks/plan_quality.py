@@ -181,7 +181,7 @@ def main() -> None:
     if args.worker:
         worker()
         return
-    sys.path.insert(0, str(HERE.parent))
+    sys.path[:0] = [str(HERE.parent), str(ROOT)]  # this checkout's package and common.py
     from common import write_json
 
     versions = {"after": ROOT}

@@ -30,6 +30,9 @@ IK_VERIFY_TOL = 1e-9
 #: Round-off allowed on the rotation bound (rad): a rotation of exactly alpha_max must pass.
 ANGLE_TOL = 1e-12
 
+#: Overshoot of the bound (rad) by round-off of an ill-conditioned candidate that is clamped.
+CLAMP_TOL = 1e-7
+
 #: Rotations smaller than this (rad) are dropped from solutions.
 ZERO_ANGLE = 1e-12
 
@@ -135,7 +138,17 @@ def _candidates_within(start: Pose, goal: Pose, ell: float,
                 a3 = wrap_angle(dpsi - a1 - a2)
                 cands.append((a1, a2, a3))
         bound = alpha_max + ANGLE_TOL  # round-off of asin/atan2 at the bound itself
-        for a1, a2, a3 in cands:
+        for cand in cands:
+            # a tiny middle rotation leaves a1 and a3 ill-conditioned (1e-9 rad for
+            # a2 ~ 1e-7): an angle that overshoots the bound by less than CLAMP_TOL is put
+            # on it, and the forward-map verification decides
+            a1, a2, a3 = cand
+            if bound < abs(a3) <= alpha_max + CLAMP_TOL:  # the heading closes on a1
+                a3 = math.copysign(alpha_max, a3)
+                a1 = wrap_angle(dpsi - a2 - a3)
+            if bound < abs(a1) <= alpha_max + CLAMP_TOL:
+                a1 = math.copysign(alpha_max, a1)
+                a3 = wrap_angle(dpsi - a1 - a2)
             if abs(a1) <= bound and abs(a2) <= bound and abs(a3) <= bound:
                 found.append((abs(a1) + abs(a2) + abs(a3), first, a1, a2, a3))
     found.sort()

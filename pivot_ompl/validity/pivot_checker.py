@@ -24,8 +24,9 @@ from pivot_ompl.validity.walking import WalkPlanner, WalkResult
 
 log = logging.getLogger(__name__)
 
-#: A colliding piece is converted again with the rotation bound halved up to this many times.
-MIN_ALPHA_HALVINGS = 3
+#: A colliding piece is converted again with the rotation bound times each of these factors
+#: in turn (half-octave steps down to alpha_max/8): the largest rotations that pass are kept.
+REFINE_FACTORS = tuple(2.0 ** (-0.5 * k) for k in range(1, 7))
 
 
 def _swept_clearance(dist: Callable[[Pose], float], base: Pose, pivot: tuple[float, float],
@@ -166,9 +167,9 @@ class PivotChecker:
 
         The steering's pieces are checked in order. Where a piece's rotations collide or
         leave the bounds, that piece alone (the same stretch of the Reeds-Shepp path, from
-        the same pose) is converted again with the rotation bound halved, down to
-        ``alpha_max / 2**MIN_ALPHA_HALVINGS``: smaller rotations hug the path closer (the
-        topological property); the rest of the edge keeps full rotations.
+        the same pose) is converted again with the rotation bound reduced by half-octave steps
+        (:data:`REFINE_FACTORS`), down to ``alpha_max / 8``: smaller rotations hug the path
+        closer (the topological property); the rest of the edge keeps full rotations.
         """
         m, w = self.model, self.world
         r_box, r_rob = self._reach[grasp]
@@ -233,14 +234,14 @@ class PivotChecker:
                 break
             reply = None
             why, db1, dr1 = check_rotations(piece.start, piece.rotations, db, dr)
-            k = 0
-            while why and k < MIN_ALPHA_HALVINGS:  # refine this piece only
-                k += 1
+            for factor in REFINE_FACTORS:  # refine this piece only
+                if not why:
+                    break
                 fine: list[Rotation] = []
                 for sub in steering.iter_pieces(
                         ca, cb, half_length=ell, should_stop=self.should_stop,
                         span=(piece.t0, piece.t1), origin=piece.start,
-                        alpha_max=steering.alpha_max / 2 ** k):
+                        alpha_max=steering.alpha_max * factor):
                     fine.extend(sub.rotations)
                 why, db1, dr1 = check_rotations(piece.start, tuple(fine), db, dr)
                 if not why:

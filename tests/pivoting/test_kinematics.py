@@ -233,3 +233,19 @@ def test_bad_parameters():
     with pytest.raises(InputError) as e:
         PivotSteering(turning_radius=2.0, alpha_max=3.0)
     assert e.value.field == "alpha_max"
+
+
+@pytest.mark.parametrize("a2", [5.960464477539063e-08, -1e-7, 3e-8])
+def test_tiny_middle_rotation_at_the_bound(a2):
+    """Regression (found by hypothesis): with a2 ~ 6e-8 the closed form's a1 is off by 1e-9
+    rad, so a3 = alpha_max came out 1.1e-9 over the bound and the pose was unreachable."""
+    start = (0.0, 0.0, 0.0)
+    for a1, a3 in ((0.25, AMAX), (AMAX, -0.1), (-AMAX, -AMAX)):
+        goal = forward(start, ELL, LEFT, (a1, a2, a3))
+        res = solve_three_rotations(start, goal, half_length=ELL, alpha_max=AMAX)
+        assert res.reachable
+        car = start
+        for r in res.rotations:
+            assert abs(r.angle) <= AMAX + 1e-12
+            car = rotate_about(car, r.pivot, r.angle)
+        assert_pose_close(car, goal)
