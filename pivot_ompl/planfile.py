@@ -29,7 +29,8 @@ before; a reader recomputes it with :func:`plan_quality`)::
 Reeds-Shepp car) through the step poses; ``ideal_pivots_per_m`` the rate of an alternating
 push with full rotations, ``1 / (2 l sin(alpha_max/2))`` per phase (``l`` that grasp's
 half-edge), weighted by length; ``walking_length`` the transits' length; ``duration_estimate``
-the whole-body motion's duration (s) by :class:`DurationModel`.
+the whole-body motion's duration (s) by :class:`DurationModel` (per phase, pivot, radian
+turned and metre walked).
 """
 
 from __future__ import annotations
@@ -189,21 +190,24 @@ class Plan:
 class DurationModel:
     """Seconds of whole-body motion per plan element (the HRP-2 generator's defaults).
 
-    Calibrated on motions of fig10 plans made by :mod:`pivot_ompl.wholebody` (its default
-    ``Timing`` and ``WalkSettings``): a least-squares fit of the phase durations.
+    A least-squares fit of the phase durations of a fig10 plan's motion made by
+    :mod:`pivot_ompl.wholebody` (default ``Timing`` and ``WalkSettings``; 5 transfer and 4
+    transit phases, 1749 s): a rotation costs a little by itself and much by its angle, since
+    the robot steps round the pivot at most 0.15 m a step.
 
     Attributes:
-        per_pivot: one pivot rotation, with the footsteps that follow it (s).
-        per_transfer: a transfer phase's fixed part: reaching, tilting, setting down,
-            releasing (s).
-        per_transit: a transit's fixed part: starting and stopping the walk (s).
+        per_transfer: a transfer phase's fixed part: reaching, tilting, setting down (s).
+        per_pivot: one pivot rotation's fixed part (s).
+        per_radian: the steps that follow a rotation, per radian turned (s/rad).
+        per_transit: a transit's fixed part: releasing, starting and stopping the walk (s).
         per_walk_m: one metre walked alone (s/m).
     """
 
-    per_pivot: float = 2.6
-    per_transfer: float = 6.0
-    per_transit: float = 3.0
-    per_walk_m: float = 7.0
+    per_transfer: float = 8.3
+    per_pivot: float = 2.1
+    per_radian: float = 16.7
+    per_transit: float = 19.0
+    per_walk_m: float = 9.4
 
 
 def plan_quality(plan: Plan, *, regrasps_lower_bound: int | None = None,
@@ -220,7 +224,7 @@ def plan_quality(plan: Plan, *, regrasps_lower_bound: int | None = None,
     d = durations or DurationModel()
     model = BoxGraspModel(plan.object_size, plan.robot_footprint, plan.standoff)
     half = math.sin(0.5 * plan.alpha_max)
-    length = ideal = walking = 0.0
+    length = ideal = walking = turned = 0.0
     transfers = transits = 0
     for p in plan.phases:
         if isinstance(p, TransitPhase):
@@ -230,6 +234,7 @@ def plan_quality(plan: Plan, *, regrasps_lower_bound: int | None = None,
         if not p.steps:
             continue
         transfers += 1
+        turned += sum(abs(st.angle) for st in p.steps)
         cars = [model.car_pose(q, p.grasp) for q in
                 (p.object_start, *(st.object for st in p.steps))]
         run = sum(math.hypot(b[0] - a[0], b[1] - a[1]) for a, b in zip(cars, cars[1:],
@@ -245,8 +250,9 @@ def plan_quality(plan: Plan, *, regrasps_lower_bound: int | None = None,
         "regrasps": plan.regrasps,
         "regrasps_lower_bound": regrasps_lower_bound,
         "walking_length": walking,
-        "duration_estimate": (d.per_pivot * pivots + d.per_transfer * transfers
-                              + d.per_transit * transits + d.per_walk_m * walking),
+        "duration_estimate": (d.per_transfer * transfers + d.per_pivot * pivots
+                              + d.per_radian * turned + d.per_transit * transits
+                              + d.per_walk_m * walking),
     }
 
 
