@@ -105,6 +105,7 @@ class _Graph:
     #: checked costs: ``None`` = invalid
     transfer: dict[tuple[int, int, int], float | None] = field(default_factory=dict)
     walk: dict[tuple[int, int, int], float | None] = field(default_factory=dict)
+    _bounds: dict[tuple[str, int, int, int], float] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         """Valid grasps of every waypoint."""
@@ -137,7 +138,12 @@ class _Graph:
             return table[key]
         if not optimistic:
             return None
-        return self.transfer_bound(*key) if kind == "t" else self.walk_bound(*key)
+        bkey = (kind, *key)
+        b = self._bounds.get(bkey)
+        if b is None:
+            b = self.transfer_bound(*key) if kind == "t" else self.walk_bound(*key)
+            self._bounds[bkey] = b
+        return b
 
     def cheapest(self, optimistic: bool) -> tuple[float, list[tuple[int, int]]]:
         """Dynamic programming over the waypoints: ``(cost, nodes)``; ``inf`` if no path."""
