@@ -324,7 +324,7 @@ def test_invalid_start_is_recorded_as_ompl_status(tmp_path: Path) -> None:
 
 
 def _paper_table(text: str) -> list[dict[str, str]]:
-    section = text.split("## 3. Paper comparison", 1)[1]
+    section = text.split("## 3. Paper comparison", 1)[1].split("\n## ", 1)[0]
     lines = [ln for ln in section.splitlines() if ln.startswith("|")]
     head = [c.strip() for c in lines[0].strip("|").split("|")]
     return [dict(zip(head, (c.strip() for c in ln.strip("|").split("|")), strict=True))
