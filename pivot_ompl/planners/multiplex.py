@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pivot_ompl.graph import UnionFind, astar
-from pivot_ompl.planners.optimiser import TIME_SHARE, budgeted, optimise
+from pivot_ompl.planners.optimiser import budgeted, optimise
 from pivot_ompl.planners.roadmap import Roadmap, pose_metric
 from pivot_ompl.planners.visibility import VisibilityRoadmapBuilder
 from pivot_ompl.se2 import Pose
@@ -366,7 +366,7 @@ class MultiplexedSearch:
         if p.optimise:
             t1 = time.perf_counter()
             states = optimise(ck, states, grasps=p.grasps,
-                              should_stop=budgeted(ptc, TIME_SHARE * (t1 - t0)))
+                              should_stop=budgeted(ptc, ck))
             self.stats.time_optimise = time.perf_counter() - t1
         return states
 
