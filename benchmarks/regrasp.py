@@ -46,7 +46,7 @@ def main() -> None:
     args = ap.parse_args()
     planners = args.planners.split(",")
     sweep = run_sweep([args.scene], planners, runs=args.runs, time_limit=args.time,
-                      out=args.out)
+                      out=args.out, overwrite=True)
     rows = {r.planner: r for r in sweep.rows}
     ours = rows.get("regrasp")
     lines = [f"{'planner':<12} {'success':>8} {'median s':>9} {'p95 s':>8} {'mean s':>8} "

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import logging
+import math
+import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -15,10 +17,16 @@ from pivot_ompl.base.problem import make_setup
 from pivot_ompl.base.state import read_state
 from pivot_ompl.errors import InputError, PlanningError
 from pivot_ompl.planfile import Plan, plan_quality
-from pivot_ompl.planners import OMPL_PLANNERS, make_planner
+from pivot_ompl.planners import OMPL_PLANNERS, PLANNERS, make_planner
 from pivot_ompl.scene import Scene, load_scene
 
 log = logging.getLogger(__name__)
+
+#: Largest effective time limit (s, 11.6 days): a larger one (or ``inf``) means "until solved"
+#: in practice and is clamped to this, which OMPL's clock still represents.
+MAX_TIME_LIMIT = 1.0e6
+#: Largest seed (OMPL's global seed is ``seed + 1``, a 32-bit value on every platform).
+MAX_SEED = 2**32 - 2
 
 
 @dataclass
@@ -73,21 +81,21 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
 
     Args:
         scene: a :class:`Scene` or the path of a scene file.
-        planner: ``"regrasp"``, ``"visprm"`` or an OMPL planner (``"rrtconnect"``, ``"prm"``...).
-        time_limit: wall-clock limit of the solve (s).
-        seed: seed of our planners' generator (and of OMPL's RNG for OMPL planners).
+        planner: ``"regrasp"``, ``"visprm"`` or an OMPL planner (``"rrtconnect"``,
+            ``"kpiece1"``...; the names are the keys of ``pivot_ompl.planners.PLANNERS``).
+        time_limit: wall-clock limit of the solve (s, > 0); above :data:`MAX_TIME_LIMIT`
+            (``math.inf`` included) it is :data:`MAX_TIME_LIMIT`.
+        seed: seed of our planners' generator (and of OMPL's RNG for OMPL planners),
+            0 to :data:`MAX_SEED`.
         simplify: run OMPL's ``PathSimplifier`` on OMPL planners' paths.
 
     Raises:
         PlanningError: ``INVALID_START``/``INVALID_GOAL`` (no grasp valid there).
-        InputError: bad parameters.
+        InputError: bad parameters (wrong type or value), naming the parameter.
     """
+    time_limit = _check_arguments(scene, planner, time_limit, seed, simplify)
     if not isinstance(scene, Scene):
         scene = load_scene(scene)
-    if not (time_limit > 0):
-        raise InputError("time_limit", time_limit, "must be > 0 s")
-    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        raise InputError("seed", seed, "must be a non-negative integer")
     t0 = time.perf_counter()
     if planner in OMPL_PLANNERS:
         ou.RNG.setSeed(seed + 1)  # OMPL's seed must be > 0
@@ -133,6 +141,25 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     return PlanResult(name, result_plan, planner, seed, time_limit, timings, stats,
                       {"valid": c.valid, "invalid": c.invalid, "cache_hits": c.cache_hits},
                       getattr(p, "last_search", None))
+
+
+def _check_arguments(scene: Any, planner: Any, time_limit: Any, seed: Any,
+                     simplify: Any) -> float:
+    """Validate :func:`plan`'s arguments; return the effective time limit (s)."""
+    if not isinstance(scene, Scene | str | os.PathLike):
+        raise InputError("scene", type(scene).__name__,
+                         "must be a Scene, a scene file path or a shipped scene name")
+    if not isinstance(planner, str) or planner not in PLANNERS:
+        raise InputError("planner", planner, f"unknown planner (known: {sorted(PLANNERS)})")
+    if isinstance(time_limit, bool) or not isinstance(time_limit, int | float):
+        raise InputError("time_limit", time_limit, "must be a number of seconds")
+    if math.isnan(time_limit) or time_limit <= 0:
+        raise InputError("time_limit", time_limit, "must be > 0 s")
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= MAX_SEED:
+        raise InputError("seed", seed, f"must be an integer in [0, {MAX_SEED}]")
+    if not isinstance(simplify, bool):
+        raise InputError("simplify", simplify, "must be True or False")
+    return float(min(time_limit, MAX_TIME_LIMIT))
 
 
 def _status_name(status: Any) -> str:

@@ -7,7 +7,23 @@ without parsing messages.
 
 from __future__ import annotations
 
+import reprlib
 from typing import Any
+
+_REPR = reprlib.Repr()
+_REPR.maxstring, _REPR.maxother, _REPR.maxlong = 80, 80, 40
+_REPR.maxlist = _REPR.maxtuple = _REPR.maxdict = _REPR.maxset = 6
+_REPR.maxlevel = 3
+
+
+def abridge(value: Any) -> str:
+    """A short ``repr`` of ``value`` for a message (long numbers, strings, lists abridged)."""
+    try:
+        return _REPR.repr(value)
+    except (ValueError, RecursionError):  # e.g. an int beyond Python's digit limit
+        if isinstance(value, int):
+            return f"<integer of {value.bit_length()} bits>"
+        return f"<{type(value).__name__}>"
 
 
 class PivotError(Exception):
@@ -29,7 +45,7 @@ class InputError(PivotError, ValueError):
         self.reason = reason
         self.source = source
         where = f"{source}: " if source else ""
-        super().__init__(f"{where}{field} = {value!r}: {reason}")
+        super().__init__(f"{where}{field} = {abridge(value)}: {reason}")
 
 
 class SceneError(InputError):

@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 
 from pivot_ompl.errors import InputError
+from pivot_ompl.fileio import atomic_output
 
 FORMAT = "pivot-motion/1"
 REQUIRED = ("t", "q", "joint_names", "urdf", "box")
@@ -102,7 +103,10 @@ class Motion:
                 raise InputError(f"motion.{key}", None, "is required", source=self.source)
 
     def save(self, path: str | Path) -> Path:
-        """Write the motion as a compressed ``.npz``; return the path."""
+        """Write the motion as a compressed ``.npz``; return the path.
+
+        The file is replaced only once completely written (a temporary file moved into place).
+        """
         self.require(*DYNAMICS)
         path = Path(path)
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -120,7 +124,7 @@ class Motion:
             arrays["sole_size"] = np.array(self.sole_size)
         if self.scene:
             arrays["scene"] = np.array(self.scene)
-        with path.open("wb") as fh:
+        with atomic_output(path) as tmp, tmp.open("wb") as fh:
             np.savez_compressed(fh, **arrays)
         return path
 
@@ -139,16 +143,39 @@ def load_motion(path: str | Path) -> Motion:
     src = str(path)
     try:
         data = np.load(path, allow_pickle=False)
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as e:
-        raise InputError("motion", src, f"is not a readable .npz motion file ({e})") from e
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, MemoryError) as e:
+        raise InputError("motion", src, f"is not a readable .npz motion file ({e!s:.120})") from e
+    if not isinstance(data, np.lib.npyio.NpzFile):
+        raise InputError("motion", src, "is a single array, not a .npz motion file")
     try:
         with data:
             for key in REQUIRED:
                 if key not in data.files:
                     raise InputError(f"motion.{key}", None, "is required", source=src)
             arrays = {k: data[k] for k in data.files}
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as e:
-        raise InputError("motion", src, f"is not a readable .npz motion file ({e})") from e
+    except InputError:
+        raise
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, KeyError, MemoryError) as e:
+        raise InputError("motion", src, f"is not a readable .npz motion file ({e!s:.120})") from e
+    try:
+        return _motion_from_arrays(arrays, src)
+    except (TypeError, ValueError, OverflowError) as e:  # e.g. text where numbers belong
+        if isinstance(e, InputError):
+            raise
+        raise InputError("motion", src, f"has an array of the wrong kind ({e!s:.120})") from e
+
+
+def _finite(a: np.ndarray, key: str, src: str) -> np.ndarray:
+    if not a.size:
+        return a
+    bad = np.nonzero(~np.isfinite(a).reshape(len(a), -1).all(axis=1))[0]
+    if len(bad):
+        raise InputError(f"motion.{key}", f"sample {int(bad[0])}",
+                         f"must be finite (NaN or inf in {len(bad)} samples)", source=src)
+    return a
+
+
+def _motion_from_arrays(arrays: dict[str, np.ndarray], src: str) -> Motion:
     t = np.asarray(arrays["t"], dtype=float).reshape(-1)
     q = np.asarray(arrays["q"], dtype=float)
     box = np.asarray(arrays["box"], dtype=float)
@@ -167,6 +194,8 @@ def load_motion(path: str | Path) -> Motion:
                          f"must name the {q.shape[1] - 7} joint values of q", source=src)
     if box.shape != (n, 7):
         raise InputError("motion.box", list(box.shape), f"must have shape ({n}, 7)", source=src)
+    _finite(q, "q", src)
+    _finite(box, "box", src)
     extra: dict[str, Any] = {}
     for key, shape in (("com", (n, 3)), ("zmp", (n, 2))):
         if key in arrays:
@@ -174,13 +203,17 @@ def load_motion(path: str | Path) -> Motion:
             if a.shape != shape:
                 raise InputError(f"motion.{key}", list(a.shape), f"must have shape {shape}",
                                  source=src)
-            extra[key] = a
+            extra[key] = _finite(a, key, src)
     for key in ("support", "phase", "step", "holding", "grasp", "tilt"):
         if key in arrays:
             a = np.asarray(arrays[key]).reshape(-1)
             if a.shape != (n,):
                 raise InputError(f"motion.{key}", list(a.shape), f"must have shape ({n},)",
                                  source=src)
+            if a.dtype.kind not in "biuf":
+                raise InputError(f"motion.{key}", str(a.dtype), "must hold numbers", source=src)
+            if a.dtype.kind == "f":
+                _finite(a, key, src)
             extra[key] = a.astype(bool if key == "holding" else float if key == "tilt" else int)
     if "grip_box" in arrays:
         g = np.asarray(arrays["grip_box"], dtype=float)

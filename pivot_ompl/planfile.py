@@ -31,6 +31,9 @@ push with full rotations, ``1 / (2 l sin(alpha_max/2))`` per phase (``l`` that g
 half-edge), weighted by length; ``walking_length`` the transits' length; ``duration_estimate``
 the whole-body motion's duration (s) by :class:`DurationModel` (per phase, pivot, radian
 turned and metre walked).
+
+Reading is strict (:mod:`pivot_ompl.fileio`): UTF-8, no duplicate key, no ``NaN``; every number
+must be finite and within +-:data:`MAX_VALUE` (metres or radians), else :class:`PlanFileError`.
 """
 
 from __future__ import annotations
@@ -42,10 +45,13 @@ from pathlib import Path
 from typing import Any
 
 from pivot_ompl.errors import PlanFileError
+from pivot_ompl.fileio import atomic_output, load_json
 from pivot_ompl.se2 import Pose
 
 FORMAT = "pivot-plan/1"
 STATUSES = ("exact", "approximate", "none")
+#: Largest magnitude of any number of a plan (m or rad): the scenes' coordinate limit.
+MAX_VALUE = 1.0e4
 
 
 @dataclass(frozen=True)
@@ -179,10 +185,14 @@ class Plan:
         return doc
 
     def to_json(self, path: str | Path) -> Path:
-        """Write the plan to ``path`` (full double precision); return the path."""
+        """Write the plan to ``path`` (full double precision); return the path.
+
+        The file is replaced only once completely written (a temporary file moved into place).
+        """
         path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps(self.to_dict(), indent=1, allow_nan=False) + "\n")
+        text = json.dumps(self.to_dict(), indent=1, allow_nan=False) + "\n"
+        with atomic_output(path) as tmp:
+            tmp.write_text(text, encoding="utf-8")
         return path
 
 
@@ -259,9 +269,17 @@ def plan_quality(plan: Plan, *, regrasps_lower_bound: int | None = None,
 # -- reading -----------------------------------------------------------------------------
 
 def _num(v: Any, fld: str, src: str) -> float:
-    if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
+    if isinstance(v, bool) or not isinstance(v, int | float):
         raise PlanFileError(fld, v, "must be a finite number", source=src)
-    return float(v)
+    try:
+        x = float(v)
+    except OverflowError:
+        x = math.inf
+    if not math.isfinite(x):
+        raise PlanFileError(fld, v, "must be a finite number", source=src)
+    if abs(x) > MAX_VALUE:
+        raise PlanFileError(fld, v, f"must be within +-{MAX_VALUE:g}", source=src)
+    return x
 
 
 def _vec(v: Any, n: int, fld: str, src: str) -> tuple[float, ...]:
@@ -338,7 +356,11 @@ def plan_from_dict(doc: Any, *, source: str = "") -> Plan:
                     _num(st.get("angle"), f"{fs}.angle", src),
                     _vec(st.get("object"), 3, f"{fs}.object", src),  # type: ignore[arg-type]
                     _vec(st.get("robot"), 3, f"{fs}.robot", src)))  # type: ignore[arg-type]
-            rsp = tuple(_vec(q, 3, f"{f}.rs_path", src) for q in ph.get("rs_path", []))
+            rs_raw = ph.get("rs_path", [])
+            if not isinstance(rs_raw, list):
+                raise PlanFileError(f"{f}.rs_path", rs_raw, "must be a list of [x, y, yaw]",
+                                    source=src)
+            rsp = tuple(_vec(q, 3, f"{f}.rs_path[{j}]", src) for j, q in enumerate(rs_raw))
             phase = TransferPhase(g, rs, tuple(steps), obj, rsp)  # type: ignore[arg-type]
             phases.append(phase)
             obj = phase.object_end
@@ -372,10 +394,4 @@ def load_plan(path: str | Path) -> Plan:
         PlanFileError: unreadable file, invalid JSON or a malformed field.
     """
     path = Path(path)
-    try:
-        doc = json.loads(path.read_text())
-    except OSError as e:
-        raise PlanFileError("path", str(path), f"cannot be read ({e.strerror})") from e
-    except json.JSONDecodeError as e:
-        raise PlanFileError("<document>", str(path), f"is not valid JSON ({e})") from e
-    return plan_from_dict(doc, source=str(path))
+    return plan_from_dict(load_json(path, error=PlanFileError), source=str(path))

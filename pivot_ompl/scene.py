@@ -15,6 +15,15 @@ Format (a contract for users and outside tools)::
     goal: [x, y, yaw]
 
 Lengths in metres, angles in radians. Every error names the file, the field and the value.
+
+Limits (a scene outside them has no sensible plan; it is refused with the field named):
+coordinates within +-:data:`MAX_COORD` m, the floor area at most :data:`MAX_EXTENT` m on a side,
+box and footprint sides within [:data:`MIN_SIZE`, :data:`MAX_SIZE`] m, ``alpha_max`` within
+[:data:`MIN_ALPHA_MAX`, pi/2] rad, ``turning_radius`` within [:data:`MIN_TURNING_RADIUS`,
+:data:`MAX_TURNING_RADIUS`] m, at most :data:`MAX_OBSTACLES` obstacles and
+:data:`MAX_POLYGON_POINTS` points per polygon; a polygon must be simple (no self-intersection).
+Yaw angles must lie within [-2 pi, 2 pi] (larger magnitudes are refused: degrees given by
+mistake); those outside [-pi, pi] are wrapped into [-pi, pi) on load.
 """
 
 from __future__ import annotations
@@ -24,13 +33,15 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import yaml
+import shapely.geometry
+import shapely.validation
 
 from pivot_ompl import hrp2
-from pivot_ompl.errors import SceneError
+from pivot_ompl.errors import InputError, SceneError
+from pivot_ompl.fileio import load_yaml
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.resources import shipped_scenes
-from pivot_ompl.se2 import Pose
+from pivot_ompl.se2 import Pose, wrap_angle
 
 #: The controllability paper's set-up (Section V): box width (local x), depth, height (m).
 DEFAULT_OBJECT_SIZE = (0.8, 0.6, 1.3)
@@ -38,6 +49,21 @@ DEFAULT_OBJECT_SIZE = (0.8, 0.6, 1.3)
 DEFAULT_TURNING_RADIUS = 2.0
 #: Bound on each pivot rotation (rad): pi/8 = 22.5 deg.
 DEFAULT_ALPHA_MAX = math.pi / 8
+
+#: Largest coordinate magnitude (m): far below where doubles lose the 1e-6 m pose tolerance.
+MAX_COORD = 1.0e4
+#: Largest side of the floor area (m): the regrasping grid (0.1 m) stays within 4 M cells.
+MAX_EXTENT = 200.0
+#: Smallest and largest side of the box and of the robot's footprint (m).
+MIN_SIZE, MAX_SIZE = 0.05, 20.0
+#: Smallest bound on a pivot rotation (rad): below it a metre takes thousands of rotations.
+MIN_ALPHA_MAX = 0.01
+#: Range of the Reeds-Shepp turning radius (m).
+MIN_TURNING_RADIUS, MAX_TURNING_RADIUS = 0.1, 1000.0
+#: Most obstacles, and most points of one polygon.
+MAX_OBSTACLES, MAX_POLYGON_POINTS = 100_000, 10_000
+#: Largest accepted yaw magnitude (rad) before wrapping (2 pi, with round-off).
+MAX_YAW = 2.0 * math.pi + 1e-9
 
 
 @dataclass(frozen=True)
@@ -127,19 +153,41 @@ class _Reader:
         return d
 
     def number(self, v: Any, fld: str, *, positive: bool = False,
-               nonneg: bool = False) -> float:
-        if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
+               nonneg: bool = False, lo: float = -MAX_COORD, hi: float = MAX_COORD) -> float:
+        if isinstance(v, bool) or not isinstance(v, int | float):
             raise self.fail(fld, v, "must be a finite number")
-        if positive and v <= 0:
+        try:
+            x = float(v)
+        except OverflowError:
+            x = math.inf
+        if not math.isfinite(x):
+            raise self.fail(fld, v, "must be a finite number")
+        if positive and x <= 0:
             raise self.fail(fld, v, "must be > 0")
-        if nonneg and v < 0:
+        if nonneg and x < 0:
             raise self.fail(fld, v, "must be >= 0")
-        return float(v)
+        if not lo <= x <= hi:
+            raise self.fail(fld, v, f"must be within [{lo:g}, {hi:g}]")
+        return x
 
-    def vector(self, v: Any, n: int, fld: str, *, positive: bool = False) -> tuple[float, ...]:
+    def angle(self, v: Any, fld: str) -> float:
+        """A yaw (rad) within [-2 pi, 2 pi], wrapped into [-pi, pi) when outside [-pi, pi]."""
+        a = self.number(v, fld, lo=-MAX_YAW, hi=MAX_YAW)
+        return a if -math.pi <= a <= math.pi else wrap_angle(a)
+
+    def vector(self, v: Any, n: int, fld: str, *, positive: bool = False,
+               lo: float = -MAX_COORD, hi: float = MAX_COORD) -> tuple[float, ...]:
         if not isinstance(v, list | tuple) or len(v) != n:
             raise self.fail(fld, v, f"must be a list of {n} numbers")
-        return tuple(self.number(x, f"{fld}[{i}]", positive=positive) for i, x in enumerate(v))
+        return tuple(self.number(x, f"{fld}[{i}]", positive=positive, lo=lo, hi=hi)
+                     for i, x in enumerate(v))
+
+    def pose(self, v: Any, fld: str) -> tuple[float, float, float]:
+        """``[x, y, yaw]``: coordinates within +-MAX_COORD m, the yaw as :meth:`angle`."""
+        if not isinstance(v, list | tuple) or len(v) != 3:
+            raise self.fail(fld, v, "must be a list of 3 numbers [x, y, yaw]")
+        return (self.number(v[0], f"{fld}[0]"), self.number(v[1], f"{fld}[1]"),
+                self.angle(v[2], f"{fld}[2]"))
 
 
 def scene_from_dict(doc: Any, *, source: str = "") -> Scene:
@@ -153,38 +201,43 @@ def scene_from_dict(doc: Any, *, source: str = "") -> Scene:
     b = r.vector(top["bounds"], 4, "bounds")
     if not (b[0] < b[2] and b[1] < b[3]):
         raise r.fail("bounds", list(b), "must satisfy xmin < xmax and ymin < ymax")
+    if max(b[2] - b[0], b[3] - b[1]) > MAX_EXTENT:
+        raise r.fail("bounds", list(b), f"the floor area must be at most {MAX_EXTENT:g} m on a "
+                     "side")
     obj = r.mapping(top["object"], "object", {"size"}, set())
-    size = r.vector(obj["size"], 3, "object.size", positive=True)
+    size = r.vector(obj["size"], 3, "object.size", positive=True, lo=MIN_SIZE, hi=MAX_SIZE)
     robot = r.mapping(top.get("robot", {}), "robot", set(), {"model", "footprint", "standoff"})
     model_name = robot.get("model", "hrp2")
     if model_name not in ROBOT_MODELS:
         raise r.fail("robot.model", model_name,
                      f"unknown robot model (known: {sorted(ROBOT_MODELS)})")
     rm = _robot_defaults(model_name)
-    foot = (r.vector(robot["footprint"], 2, "robot.footprint", positive=True)
+    foot = (r.vector(robot["footprint"], 2, "robot.footprint", positive=True, lo=MIN_SIZE,
+                     hi=MAX_SIZE)
             if "footprint" in robot else rm["footprint"])
-    standoff = (r.number(robot["standoff"], "robot.standoff", nonneg=True)
+    standoff = (r.number(robot["standoff"], "robot.standoff", nonneg=True, hi=MAX_SIZE)
                 if "standoff" in robot else rm["standoff"])
     piv = r.mapping(top.get("pivot", {}), "pivot", set(), {"alpha_max", "turning_radius"})
     alpha_max = r.number(piv.get("alpha_max", DEFAULT_ALPHA_MAX), "pivot.alpha_max",
-                         positive=True)
-    if alpha_max > 0.5 * math.pi:
-        raise r.fail("pivot.alpha_max", alpha_max, "must be <= pi/2 rad")
+                         positive=True, lo=MIN_ALPHA_MAX, hi=0.5 * math.pi)
     turning = r.number(piv.get("turning_radius", DEFAULT_TURNING_RADIUS),
-                       "pivot.turning_radius", positive=True)
+                       "pivot.turning_radius", positive=True, lo=MIN_TURNING_RADIUS,
+                       hi=MAX_TURNING_RADIUS)
     obstacles = []
     raw_obs = top.get("obstacles", [])
     if raw_obs is None:
         raw_obs = []
     if not isinstance(raw_obs, list):
         raise r.fail("obstacles", raw_obs, "must be a list")
+    if len(raw_obs) > MAX_OBSTACLES:
+        raise r.fail("obstacles", len(raw_obs), f"at most {MAX_OBSTACLES} obstacles")
     for i, o in enumerate(raw_obs):
         obstacles.append(_obstacle(r, o, f"obstacles[{i}]"))
     model = BoxGraspModel(size, foot, standoff, rm["height"])  # type: ignore[arg-type]
-    start = r.vector(top["start"], 3, "start")
-    goal = r.vector(top["goal"], 3, "goal")
+    start = r.pose(top["start"], "start")
+    goal = r.pose(top["goal"], "goal")
     for fld, pose in (("start", start), ("goal", goal)):
-        for x, y in model.object_corners(pose):  # type: ignore[arg-type]
+        for x, y in model.object_corners(pose):
             if not (b[0] <= x <= b[2] and b[1] <= y <= b[3]):
                 raise r.fail(fld, list(pose), f"the box footprint leaves bounds {list(b)}")
     return Scene(name, b, model, start, goal, tuple(obstacles), alpha_max,  # type: ignore[arg-type]
@@ -210,7 +263,7 @@ def _obstacle(r: _Reader, o: Any, f: str) -> Obstacle:
         d = r.mapping(o, f, {"type", "center", "size", "height"}, {"yaw"})
         return BoxObstacle(r.vector(d["center"], 2, f"{f}.center"),  # type: ignore[arg-type]
                            r.vector(d["size"], 2, f"{f}.size", positive=True),  # type: ignore[arg-type]
-                           r.number(d.get("yaw", 0.0), f"{f}.yaw"),
+                           r.angle(d.get("yaw", 0.0), f"{f}.yaw"),
                            r.number(d["height"], f"{f}.height", positive=True))
     if kind == "cylinder":
         d = r.mapping(o, f, {"type", "center", "radius", "height"}, set())
@@ -220,13 +273,18 @@ def _obstacle(r: _Reader, o: Any, f: str) -> Obstacle:
     if kind == "polygon":
         d = r.mapping(o, f, {"type", "points", "height"}, set())
         pts = d["points"]
-        if not isinstance(pts, list) or len(pts) < 3:
-            raise r.fail(f"{f}.points", pts, "must be a list of at least 3 [x, y] points")
+        if not isinstance(pts, list) or not 3 <= len(pts) <= MAX_POLYGON_POINTS:
+            raise r.fail(f"{f}.points", pts, "must be a list of 3 to "
+                         f"{MAX_POLYGON_POINTS} [x, y] points")
         points = tuple(r.vector(p, 2, f"{f}.points[{j}]") for j, p in enumerate(pts))
         area2 = sum(points[i][0] * points[(i + 1) % len(points)][1]
                     - points[(i + 1) % len(points)][0] * points[i][1] for i in range(len(points)))
         if abs(area2) < 1e-12:
             raise r.fail(f"{f}.points", pts, "polygon has zero area")
+        ring = shapely.geometry.Polygon(points)
+        if not ring.is_valid:
+            raise r.fail(f"{f}.points", pts, "must be a simple polygon "
+                         f"({shapely.validation.explain_validity(ring)})")
         return PolygonObstacle(points, r.number(d["height"], f"{f}.height",  # type: ignore[arg-type]
                                                 positive=True))
     raise r.fail(f"{f}.type", kind, "must be 'box', 'cylinder' or 'polygon'")
@@ -242,16 +300,19 @@ def load_scene(path: str | Path) -> Scene:
     path = Path(path)
     if not path.exists() and str(path) in shipped_scenes():
         path = shipped_scenes()[str(path)]
+    return scene_from_dict(load_yaml(path, error=SceneError), source=str(path))
+
+
+def check_pose(pose: Any, *, field: str) -> Pose:
+    """An object pose given outside a scene file (``--start``), under the scene file's rules.
+
+    Raises:
+        InputError: a coordinate beyond +-:data:`MAX_COORD` m or a yaw beyond +-2 pi rad.
+    """
     try:
-        text = path.read_text()
-    except OSError as e:
-        raise SceneError("path", str(path), f"cannot be read ({e.strerror})") from e
-    try:
-        doc = yaml.safe_load(text)
-    except yaml.YAMLError as e:
-        raise SceneError("<document>", str(path), f"is not valid YAML ({e})",
-                         source=str(path)) from e
-    return scene_from_dict(doc, source=str(path))
+        return _Reader("").pose(list(pose) if isinstance(pose, tuple) else pose, field)
+    except SceneError as e:
+        raise InputError(e.field, e.value, e.reason) from None
 
 
 def default_scene(*, start: Pose = (0.0, 0.0, 0.0), goal: Pose = (0.0, 0.0, 0.0),

@@ -88,3 +88,104 @@ def test_cli_bad_scene_exits_2(tmp_path):
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 2
     assert "object.size[1]" in r.stderr and "Traceback" not in r.stderr
+
+
+# --- hostile input (issue 15): absurd values are refused at the loader, naming the field ------
+
+@pytest.mark.parametrize("override, field", [
+    ({"object": {"size": [1e-9, 1e-9, 1e-9]}}, "object.size[0]"),        # hang: 1e-9 m box
+    ({"object": {"size": [1e-4, 0.6, 1.3]}}, "object.size[0]"),          # 0.1 mm box: 7 s
+    ({"bounds": [0.0, 0.0, 1.3e6, 6.0], "goal": [1.27e6, 3.0, 0.0]}, "bounds[2]"),  # far goal
+    ({"bounds": [0.0, 0.0, 1000.0, 6.0], "goal": [900.0, 3.0, 0.0]}, "bounds"),  # 1 km floor
+    ({"goal": [1e308, 3.0, 0.0]}, "goal[0]"),
+    ({"goal": [6.0, 3.0, 1e300]}, "goal[2]"),
+    ({"goal": [6.0, 3.0, 90.0]}, "goal[2]"),                             # degrees by mistake
+    ({"goal": [10**400, 3.0, 0.0]}, "goal[0]"),                          # 401-digit integer
+    ({"pivot": {"alpha_max": 1e-9}}, "pivot.alpha_max"),
+    ({"pivot": {"turning_radius": 1e-9}}, "pivot.turning_radius"),
+    ({"robot": {"footprint": [1e-9, 0.5]}}, "robot.footprint[0]"),
+    ({"obstacles": [{"type": "polygon", "points": [[1, 1], [2, 2], [2, 1], [1, 2]],
+                     "height": 1}]}, "obstacles[0].points"),              # a bow tie
+    ({"obstacles": [{"type": "box", "center": [1, 1], "size": [1, 1], "height": 1,
+                     "yaw": 1e300}]}, "obstacles[0].yaw"),
+])
+def test_absurd_values_refused(override, field):
+    with pytest.raises(SceneError) as e:
+        make_scene(**override)
+    assert e.value.field == field
+    assert len(str(e.value)) < 400  # values abridged
+
+
+def test_simple_nonconvex_polygon_still_accepted():
+    s = make_scene(obstacles=[{"type": "polygon", "points": [[3, 4], [5, 4], [5, 5], [4, 4.5],
+                                                             [3, 5]], "height": 1.0}])
+    assert len(s.obstacles) == 1
+
+
+@pytest.mark.parametrize("yaw, wrapped", [(2 * math.pi, 0.0), (-2 * math.pi, 0.0),
+                                          (1.5 * math.pi, -0.5 * math.pi), (math.pi, math.pi),
+                                          (0.3, 0.3)])
+def test_yaw_wrapped_into_minus_pi_pi(yaw, wrapped):
+    s = make_scene(goal=[6.0, 3.0, yaw], start=[1.5, 3.0, yaw])
+    assert s.goal[2] == pytest.approx(wrapped, abs=1e-12)
+    assert s.start[2] == pytest.approx(wrapped, abs=1e-12)
+    assert -math.pi <= s.goal[2] <= math.pi
+
+
+def _write(tmp_path, text: str | bytes):
+    p = tmp_path / "s.yaml"
+    if isinstance(text, bytes):
+        p.write_bytes(text)
+    else:
+        p.write_text(text)
+    return p
+
+
+GOOD = ("name: t\nbounds: [0, 0, 8, 6]\nobject: {size: [0.8, 0.6, 1.3]}\n"
+        "start: [1.5, 3.0, 0.0]\ngoal: [6.0, 3.0, 0.0]\n")
+
+
+def test_duplicate_key_refused(tmp_path):
+    with pytest.raises(SceneError) as e:
+        load_scene(_write(tmp_path, GOOD + "goal: [5.0, 3.0, 0.0]\n"))
+    assert "duplicate key" in str(e.value) and "goal" in str(e.value)
+
+
+def test_not_utf8_refused(tmp_path):
+    with pytest.raises(SceneError) as e:
+        load_scene(_write(tmp_path, GOOD.encode() + b"# \xff\xfe caf\xe9\n"))
+    assert "UTF-8" in str(e.value)
+
+
+def test_deep_nesting_refused(tmp_path):
+    with pytest.raises(SceneError) as e:
+        load_scene(_write(tmp_path, GOOD.replace("name: t", "name: " + "[" * 50_000
+                                                 + "]" * 50_000)))
+    assert "nested too deeply" in str(e.value) or "YAML" in str(e.value)
+
+
+def test_alias_bomb_is_refused_fast_and_short(tmp_path):
+    lines = ['a: &a ["lol","lol","lol","lol","lol","lol","lol","lol","lol"]']
+    for i in range(1, 9):
+        prev, cur = chr(ord("a") + i - 1), chr(ord("a") + i)
+        lines.append(f"{cur}: &{cur} [{', '.join(['*' + prev] * 9)}]")
+    bomb = "\n".join(lines) + "\nname: *i\n"
+    import time
+    t0 = time.perf_counter()
+    with pytest.raises(SceneError) as e:
+        load_scene(_write(tmp_path, bomb))
+    assert time.perf_counter() - t0 < 2.0
+    assert len(str(e.value)) < 400 and "aliases" in str(e.value)
+
+
+def test_small_aliases_still_work(tmp_path):
+    text = GOOD.replace("object: {size: [0.8, 0.6, 1.3]}",
+                        "object: {size: &s [0.8, 0.6, 1.3]}\nobstacles:\n"
+                        "  - {type: box, center: [4, 1], size: [0.5, 0.5], height: 1}")
+    assert load_scene(_write(tmp_path, text)).model.object_size == (0.8, 0.6, 1.3)
+
+
+def test_directory_is_not_a_scene(tmp_path):
+    with pytest.raises(SceneError) as e:
+        load_scene(tmp_path)
+    assert "directory" in str(e.value)

@@ -5,14 +5,23 @@ Outputs in ``out/``: ``<scene>.log`` (an OMPL benchmark log per scene), ``benchm
 ``summary.txt`` / ``summary.md`` (the table), ``<scene>_times.png`` and ``<scene>_success.png``.
 Run ``i`` of every planner uses seed ``seed0 + i``; every run is a fresh process, so the same
 seeds give the same results whatever the executor (times aside).
+
+``out`` must be a new or empty folder, unless ``overwrite``: then the previous sweep's outputs
+are replaced as a whole (no stale log is left) once the new sweep has succeeded. Outputs are
+first written into a hidden folder inside ``out`` and moved into place at the end, so a failed
+or interrupted sweep leaves the previous results as they were.
 """
 
 from __future__ import annotations
 
+import fnmatch
 import json
 import logging
+import os
+import shutil
 import socket
 import time
+import uuid
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -25,11 +34,15 @@ from pivot_ompl.bench.plots import plot_success, plot_times
 from pivot_ompl.bench.progress import Progress
 from pivot_ompl.bench.summary import Row, format_markdown, format_table, summarize
 from pivot_ompl.errors import InputError
+from pivot_ompl.fileio import read_text
 from pivot_ompl.scene import load_scene
 
 log = logging.getLogger(__name__)
 
 _SPECS = "Properties of benchmarked planners:\n"
+#: The files a sweep writes into its folder (replaced as a whole with ``overwrite``).
+OUTPUT_PATTERNS = ("*.log", "benchmark.db", "runs.json", "summary.txt", "summary.md",
+                   "*_times.png", "*_success.png")
 
 
 @dataclass
@@ -96,7 +109,7 @@ def make_jobs(scenes: Sequence[str | Path], planners: Sequence[str], *, runs: in
             raise InputError("SCENE", str(s), f"scene name {scene.name!r} also used by "
                              f"{names[scene.name]} (names key the logs)")
         names[scene.name] = str(s)
-        loaded.append((scene.name, Path(s).read_text(), str(s)))
+        loaded.append((scene.name, read_text(scene.source, field="SCENE"), str(s)))
     return [Job(name, text, p, seed0 + i, float(time_limit), memory_limit, simplify, src)
             for i in range(runs) for name, text, src in loaded for p in planners]
 
@@ -132,6 +145,33 @@ def experiment_log(scene: str, results: Sequence[JobResult], planners: Sequence[
         enums=(first["enums"] if first and first["enums"] else [STATUS_ENUM]), planners=blocks)
 
 
+def check_out_folder(out: str | Path, *, overwrite: bool = False) -> Path:
+    """Check the output folder before any run.
+
+    Raises:
+        InputError: ``out`` is a file, or holds files and ``overwrite`` is false.
+    """
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise InputError("--out", str(out), "is a file: give a folder")
+    if out.is_dir() and not overwrite:
+        held = sorted(p.name for p in out.iterdir() if not p.name.startswith("."))
+        if held:
+            raise InputError("--out", str(out), f"already holds {len(held)} file(s) "
+                             f"({', '.join(held[:3])}...): give --overwrite to replace a "
+                             "previous sweep's outputs, or another folder")
+    return out
+
+
+def _publish(staging: Path, out: Path) -> None:
+    """Replace the previous sweep's outputs in ``out`` by the files in ``staging``."""
+    for p in out.iterdir():
+        if p.is_file() and any(fnmatch.fnmatch(p.name, pat) for pat in OUTPUT_PATTERNS):
+            p.unlink()
+    for p in staging.iterdir():
+        os.replace(p, out / p.name)
+
+
 def _ompl_version() -> str:
     from importlib.metadata import version
 
@@ -144,16 +184,35 @@ def _ompl_version() -> str:
 def run_sweep(scenes: Sequence[str | Path], planners: Sequence[str], *, runs: int,
               time_limit: float, out: str | Path, executor: Executor | None = None,
               seed0: int = 0, memory_limit: float = 4096.0, simplify: bool = False,
-              progress: bool = True, plots: bool = True) -> SweepResult:
+              progress: bool = True, plots: bool = True, overwrite: bool = False) -> SweepResult:
     """Run the sweep and write every output into ``out`` (see the module docstring).
 
     Raises:
-        InputError: bad input (see :func:`make_jobs`).
+        InputError: bad input (see :func:`make_jobs` and :func:`check_out_folder`).
     """
+    final = check_out_folder(out, overwrite=overwrite)
     jobs = make_jobs(scenes, planners, runs=runs, time_limit=time_limit, seed0=seed0,
                      memory_limit=memory_limit, simplify=simplify)
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
+    final.mkdir(parents=True, exist_ok=True)
+    staging = final / f".partial-{uuid.uuid4().hex[:8]}"
+    staging.mkdir()
+    try:
+        res = _run(jobs, planners, runs=runs, time_limit=time_limit, out=staging,
+                   executor=executor, seed0=seed0, memory_limit=memory_limit,
+                   progress=progress, plots=plots)
+        _publish(staging, final)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+    res.logs = {k: final / p.name for k, p in res.logs.items()}
+    res.database = final / res.database.name if res.database else None
+    res.plots = [final / p.name for p in res.plots]
+    return res
+
+
+def _run(jobs: list[Job], planners: Sequence[str], *, runs: int, time_limit: float,
+         out: Path, executor: Executor | None, seed0: int, memory_limit: float,
+         progress: bool, plots: bool) -> SweepResult:
+    """Run ``jobs`` and write the outputs into ``out``."""
     executor = executor or LocalExecutor()
     start = time.strftime("%Y-%m-%d %H:%M:%S")
     t0 = time.monotonic()

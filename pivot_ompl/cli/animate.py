@@ -16,6 +16,7 @@ import sys
 import time
 from typing import TextIO
 
+from pivot_ompl.cli.args import finite, output_file
 from pivot_ompl.errors import WholeBodyError
 
 log = logging.getLogger(__name__)
@@ -46,6 +47,7 @@ def _animate(args: argparse.Namespace) -> int:
     from pivot_ompl.wholebody.generator import generate_motion
     from pivot_ompl.wholebody.motion_checks import check_motion
 
+    output_file(args.out, "--out", inputs=[args.plan], suffixes=[".npz"])
     plan = load_plan(args.plan)
     bar = None if args.no_progress else ProgressBar("animate")
     motion, stats = generate_motion(plan, tilt=math.radians(args.tilt_deg), progress=bar)
@@ -87,7 +89,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                               description=_animate.__doc__ or __doc__.splitlines()[0])
     p.add_argument("plan", help="pivot-plan/1 JSON file")
     p.add_argument("--out", required=True, help="motion file to write (.npz)")
-    p.add_argument("--tilt-deg", type=float, default=5.0,
+    p.add_argument("--tilt-deg", type=finite("--tilt-deg"), default=5.0,
                    help="inclination of the held box about its supporting edge (deg)")
     p.add_argument("--no-check", action="store_true", help="skip the motion checks")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")

@@ -1,10 +1,14 @@
-"""Argument types shared by the verbs: each error names the option and the value."""
+"""Argument types and output checks shared by the verbs: each error names the option and value."""
 
 from __future__ import annotations
 
 import argparse
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
+from pathlib import Path
+
+from pivot_ompl.errors import abridge
+from pivot_ompl.fileio import check_output
 
 
 def finite(name: str) -> Callable[[str], float]:
@@ -14,9 +18,9 @@ def finite(name: str) -> Callable[[str], float]:
         try:
             v = float(text)
         except ValueError:
-            raise argparse.ArgumentTypeError(f"{name} = {text!r}: not a number") from None
+            raise argparse.ArgumentTypeError(f"{name} = {abridge(text)}: not a number") from None
         if not math.isfinite(v):
-            raise argparse.ArgumentTypeError(f"{name} = {text!r}: must be finite")
+            raise argparse.ArgumentTypeError(f"{name} = {abridge(text)}: must be finite")
         return v
 
     return conv
@@ -29,7 +33,60 @@ def positive(name: str) -> Callable[[str], float]:
     def conv(text: str) -> float:
         v = base(text)
         if v <= 0:
-            raise argparse.ArgumentTypeError(f"{name} = {text!r}: must be > 0")
+            raise argparse.ArgumentTypeError(f"{name} = {abridge(text)}: must be > 0")
         return v
 
     return conv
+
+
+def time_limit(name: str = "--time") -> Callable[[str], float]:
+    """An argparse type for a time limit (s): a number > 0, ``inf`` allowed (no NaN)."""
+
+    def conv(text: str) -> float:
+        try:
+            v = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} = {abridge(text)}: not a number") from None
+        if math.isnan(v) or v <= 0:
+            raise argparse.ArgumentTypeError(f"{name} = {abridge(text)}: must be > 0 s")
+        return v
+
+    return conv
+
+
+def integer(name: str, minimum: int = 0, maximum: int | None = None) -> Callable[[str], int]:
+    """An argparse type for an integer in ``[minimum, maximum]``; the error names the option."""
+
+    def conv(text: str) -> int:
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"{name} = {abridge(text)}: not an integer") from None
+        if v < minimum or (maximum is not None and v > maximum):
+            top = "" if maximum is None else f", {maximum}"
+            raise argparse.ArgumentTypeError(
+                f"{name} = {abridge(text)}: must be in [{minimum}{top or ', ...'}]")
+        return v
+
+    return conv
+
+
+def output_file(path: str | None, field: str, *, inputs: Iterable[str | Path | None] = (),
+                suffixes: Iterable[str] = ()) -> Path | None:
+    """Check an output option before any work (``None`` passes); see ``fileio.check_output``."""
+    if path is None:
+        return None
+    return check_output(path, field=field, inputs=[i for i in inputs if i],
+                        suffixes=suffixes)
+
+
+def figure_file(path: str | None, field: str, *,
+                inputs: Iterable[str | Path | None] = ()) -> Path | None:
+    """Check a figure output: the extension must be one matplotlib writes."""
+    if path is None:
+        return None
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    kinds = sorted(f".{k}" for k in FigureCanvasBase.get_supported_filetypes())
+    return output_file(path, field, inputs=inputs, suffixes=kinds)

@@ -47,7 +47,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--runs", type=_count("--runs", 1), default=50, help="runs per planner")
     p.add_argument("--time", type=positive("--time"), default=30.0,
                    help="time limit per run (s)")
-    p.add_argument("--out", default="results", help="output directory [default: results]")
+    p.add_argument("--out", default="results",
+                   help="output directory, new or empty unless --overwrite [default: results]")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace a previous sweep's outputs in --out (after the new one ends)")
     p.add_argument("--executor", choices=["local", "dask"], default="local",
                    help="local processes, or a Dask cluster [default: local]")
     p.add_argument("--scheduler", default=None,
@@ -75,13 +78,16 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--planners", args.planners, "give at least one planner")
     if args.scheduler and args.executor != "dask":
         raise InputError("--scheduler", args.scheduler, "needs --executor dask")
+    from pivot_ompl.bench.sweep import check_out_folder
+
+    check_out_folder(args.out, overwrite=args.overwrite)  # before starting a Dask cluster
     executor = make_executor(args.executor, scheduler=args.scheduler, workers=args.workers)
     if not log.isEnabledFor(logging.DEBUG):  # Dask's INFO chatter would bury the progress bar
         logging.getLogger("distributed").setLevel(logging.WARNING)
     res = run_sweep(args.scenes, planners, runs=args.runs, time_limit=args.time, out=args.out,
                     executor=executor, seed0=args.seed0, memory_limit=args.memory,
                     simplify=args.simplify, progress=not args.no_progress,
-                    plots=not args.no_plots)
+                    plots=not args.no_plots, overwrite=args.overwrite)
     sys.stdout.write(res.table)
     print(f"{len(res.results)} runs in {res.wall:.1f} s; logs: "
           + ", ".join(str(p) for p in res.logs.values()))

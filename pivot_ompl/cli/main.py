@@ -32,6 +32,8 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message: str) -> NoReturn:  # noqa: D102
         self.print_usage(sys.stderr)
+        if len(message) > 300:  # argparse echoes whole values: keep the message short
+            message = message[:297] + "..."
         print(f"{self.prog}: error: {message}", file=sys.stderr)
         raise SystemExit(EXIT_BAD_INPUT)
 
@@ -74,7 +76,10 @@ def _ompl_log_level(level: str) -> None:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the CLI; return the exit code."""
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as e:  # usage error (2) or --help (0): a code, also for in-process callers
+        return e.code if isinstance(e.code, int) else EXIT_BAD_INPUT
     logging.basicConfig(level=getattr(logging, args.log_level),
                         format="%(levelname)s %(name)s: %(message)s")
     logging.getLogger("matplotlib").setLevel(logging.WARNING)
@@ -89,6 +94,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     except PivotError as e:
         print(f"pivot-ompl {args.verb}: {e}", file=sys.stderr)
         return EXIT_NO_SOLUTION
+    except OSError as e:  # an output that cannot be written (permissions, full disk)
+        print(f"pivot-ompl {args.verb}: error: {e.filename or ''}: {e.strerror or e}",
+              file=sys.stderr)
+        return EXIT_BAD_INPUT
 
 
 if __name__ == "__main__":  # pragma: no cover

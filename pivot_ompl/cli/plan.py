@@ -1,6 +1,8 @@
 """``pivot-ompl plan SCENE``: plan with our planners or OMPL's.
 
-Exit status: 0 found, 1 none, 2 bad input.
+Exit status: 0 found, 1 none, 2 bad input. ``--out`` and ``--plot`` are checked before planning
+(not a directory, not the scene file, a known figure extension) and written only when a plan is
+found, each through a temporary file: a failed run leaves existing files as they were.
 """
 
 from __future__ import annotations
@@ -11,9 +13,10 @@ import sys
 import threading
 import time
 
-from pivot_ompl.api import plan
-from pivot_ompl.cli.args import positive
+from pivot_ompl.api import MAX_SEED, plan
+from pivot_ompl.cli.args import figure_file, integer, output_file, time_limit
 from pivot_ompl.errors import PlanningError
+from pivot_ompl.fileio import atomic_output
 from pivot_ompl.planners import PLANNERS
 from pivot_ompl.scene import load_scene
 
@@ -25,8 +28,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("plan", help="plan a pivoting path with regrasps for a scene")
     p.add_argument("scene", help="scene YAML file")
     p.add_argument("--planner", default="regrasp", choices=sorted(PLANNERS))
-    p.add_argument("--time", type=positive("--time"), default=30.0, help="time limit (s)")
-    p.add_argument("--seed", type=int, default=0, help="seed (>= 0)")
+    p.add_argument("--time", type=time_limit("--time"), default=30.0,
+                   help="time limit (s; inf: until solved)")
+    p.add_argument("--seed", type=integer("--seed", 0, MAX_SEED), default=0,
+                   help=f"seed (0..{MAX_SEED})")
     p.add_argument("--out", help="write the pivot-plan/1 JSON here")
     p.add_argument("--plot", help="write the figure (PNG) here")
     p.set_defaults(func=run)
@@ -35,16 +40,15 @@ def register(sub: argparse._SubParsersAction) -> None:
 def _progress(stop: threading.Event, limit: float) -> None:
     t0 = time.monotonic()
     while not stop.wait(1.0):
-        print(f"\rplanning... {time.monotonic() - t0:5.1f} s / {limit:.0f} s", end="",
+        print(f"\rplanning... {time.monotonic() - t0:5.1f} s / {limit:.4g} s", end="",
               file=sys.stderr, flush=True)
 
 
 def run(args: argparse.Namespace) -> int:
     """Plan, write the plan and the figure."""
     scene = load_scene(args.scene)
-    if args.seed < 0:
-        from pivot_ompl.errors import InputError
-        raise InputError("--seed", args.seed, "must be >= 0")
+    out = output_file(args.out, "--out", inputs=[scene.source])
+    fig = figure_file(args.plot, "--plot", inputs=[scene.source])
     stop = threading.Event()
     th = threading.Thread(target=_progress, args=(stop, args.time), daemon=True)
     th.start()
@@ -67,11 +71,16 @@ def run(args: argparse.Namespace) -> int:
               f"over {q['transfer_length']:.2f} m, {q['regrasps']} regrasps"
               f"{'' if bound is None else f' (at least {bound})'}, "
               f"walking {q['walking_length']:.1f} m, whole body ~{q['duration_estimate']:.0f} s")
-    if args.out:
-        res.to_json(args.out)
-        print(f"plan written to {args.out}")
-    if args.plot:
+    if not res.solved:
+        if out or fig:
+            print("no plan found: nothing written", file=sys.stderr)
+        return 1
+    if out:
+        res.to_json(out)
+        print(f"plan written to {out}")
+    if fig:
         from pivot_ompl.viz.plan_figure import plot_plan
-        plot_plan(res.plan, args.plot, scene=scene, search=res.search)
-        print(f"figure written to {args.plot}")
-    return 0 if res.solved else 1
+        with atomic_output(fig) as tmp:
+            plot_plan(res.plan, tmp, scene=scene, search=res.search)
+        print(f"figure written to {fig}")
+    return 0

@@ -5,7 +5,8 @@
 Without ``--html`` or ``--serve`` the replay is written next to the input
 (``<input>.html``). The scene comes from ``--scene`` or from the plan's/motion's scene name
 (``scenes/<name>.yaml`` under the repository root); without one no obstacle is drawn (a
-warning says so).
+warning says so). The HTML file is never one of the inputs (exit 2) and is written through a
+temporary file.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from pathlib import Path
 
 import meshcat
 
+from pivot_ompl.cli.args import output_file, positive
 from pivot_ompl.errors import InputError
 from pivot_ompl.planfile import load_plan
 from pivot_ompl.resources import shipped_scenes
@@ -42,7 +44,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--urdf", default=None,
                    help="robot model of a motion made for another robot (default: the shipped "
                         "model the motion names)")
-    p.add_argument("--fps", type=float, default=25.0,
+    p.add_argument("--fps", type=positive("--fps"), default=25.0,
                    help="animation keys per second of a motion replay (default 25)")
     p.set_defaults(func=run)
 
@@ -67,8 +69,8 @@ def _builder(args: argparse.Namespace):
     src = Path(args.input)
     if not src.is_file():
         raise InputError("input", str(src), "file not found")
-    if args.fps <= 0:
-        raise InputError("--fps", args.fps, "must be > 0")
+    if not 0 < args.fps <= 1000:
+        raise InputError("--fps", args.fps, "must be in (0, 1000] keys per second")
     if src.suffix.lower() == ".npz":
         from pivot_ompl.motionfile import load_motion
         from pivot_ompl.viz.motion_view import show_motion
@@ -96,6 +98,8 @@ def _builder(args: argparse.Namespace):
 
 def run(args: argparse.Namespace) -> int:
     """Run ``replay``; returns the exit code (0 ok, 1 failure; bad input raises)."""
+    inputs = [args.input, args.plan, args.scene, args.urdf]
+    html = output_file(args.html, "--html", inputs=inputs, suffixes=[".html", ".htm"])
     build, title = _builder(args)
     if args.serve:
         from pivot_ompl.viz.serve import serve
@@ -103,10 +107,12 @@ def run(args: argparse.Namespace) -> int:
         def ready(url: str) -> None:
             print(f"replay viewer: {url}  (Ctrl-C to stop)", flush=True)
 
-        if args.html:
-            _write(build, args.html, title, open_it=False)
+        if html:
+            _write(build, html, title, open_it=False)
         return serve(build, open_browser=args.open, on_ready=ready, title=title)
-    out = Path(args.html) if args.html else Path(args.input).with_suffix(".html")
+    out = html or output_file(str(Path(args.input).with_suffix(".html")), "input",
+                              inputs=inputs)
+    assert out is not None  # noqa: S101 - for mypy
     return _write(build, out, title, open_it=args.open)
 
 

@@ -1,16 +1,23 @@
-"""``pivot-ompl steer``: a Reeds-Shepp path turned into pivot rotations (no obstacles)."""
+"""``pivot-ompl steer``: a Reeds-Shepp path turned into pivot rotations (no obstacles).
+
+Start and goal follow the scene file's rules (coordinates within +-1e4 m; yaw within
+[-2 pi, 2 pi], wrapped into [-pi, pi)). ``--time`` bounds the conversion (exit 1 when it runs
+out). ``--out`` and ``--plot`` are checked first and written through temporary files.
+"""
 
 from __future__ import annotations
 
 import argparse
 import logging
+import time
 
-from pivot_ompl.cli.args import finite
+from pivot_ompl.cli.args import figure_file, finite, integer, output_file, time_limit
+from pivot_ompl.fileio import atomic_output
 from pivot_ompl.grasp import check_grasp
 from pivot_ompl.pivoting.steering import PivotSteering
-from pivot_ompl.pivoting.transfer import transfer_phase
-from pivot_ompl.planfile import Plan
-from pivot_ompl.scene import default_scene, load_scene
+from pivot_ompl.pivoting.transfer import rs_samples, steps_of
+from pivot_ompl.planfile import Plan, TransferPhase
+from pivot_ompl.scene import check_pose, default_scene, load_scene
 
 log = logging.getLogger(__name__)
 
@@ -23,7 +30,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--goal", nargs=3, required=True, metavar=("X", "Y", "YAW"),
                    type=finite("--goal"), help="object goal pose (m, m, rad)")
     p.add_argument("--scene", help="take box, robot and pivot parameters from a scene file")
-    p.add_argument("--grasp", type=int, default=0, help="grasp index 0..3 (default 0)")
+    p.add_argument("--grasp", type=integer("--grasp", 0, 3), default=0,
+                   help="grasp index 0..3 (default 0)")
+    p.add_argument("--time", type=time_limit("--time"), default=30.0,
+                   help="time limit of the conversion (s, default 30)")
     p.add_argument("--out", help="write the pivot-plan/1 JSON here")
     p.add_argument("--plot", help="write the figure (PNG) here")
     p.set_defaults(func=run)
@@ -31,7 +41,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Steer and write the plan/figure."""
-    start, goal = tuple(args.start), tuple(args.goal)
+    start = check_pose(args.start, field="--start")
+    goal = check_pose(args.goal, field="--goal")
     grasp = check_grasp(args.grasp, field="--grasp")
     if args.scene:
         base = load_scene(args.scene)
@@ -39,20 +50,28 @@ def run(args: argparse.Namespace) -> int:
     else:
         base = default_scene(start=start, goal=goal)
         name = "steer"
+    out = output_file(args.out, "--out", inputs=[base.source])
+    fig = figure_file(args.plot, "--plot", inputs=[base.source])
     steering = PivotSteering(turning_radius=base.turning_radius, alpha_max=base.alpha_max)
-    phase = transfer_phase(base.model, steering, [start, goal], grasp)
     m = base.model
+    deadline = time.monotonic() + min(args.time, 1e6)
+    seq = steering.convert(m.car_pose(start, grasp), m.car_pose(goal, grasp),
+                           half_length=m.edge_half_length(grasp),
+                           should_stop=lambda: time.monotonic() > deadline)
+    phase = TransferPhase(grasp, m.robot_pose(start, grasp), steps_of(m, seq, grasp), start,
+                          rs_samples(steering, seq))
     plan = Plan(name, "exact", m.object_size, m.robot_footprint, m.standoff, base.alpha_max,
                 start, [phase], {"planner": "steer", "turning_radius": base.turning_radius,
                                  "goal": list(goal)})
     print(f"{len(phase.steps)} pivot rotations, max |angle| "
           f"{max((abs(s.angle) for s in phase.steps), default=0.0):.6f} rad, "
           f"end {list(plan.object_end)}")
-    if args.out:
-        plan.to_json(args.out)
-        print(f"plan written to {args.out}")
-    if args.plot:
+    if out:
+        plan.to_json(out)
+        print(f"plan written to {out}")
+    if fig:
         from pivot_ompl.viz.plan_figure import plot_plan
-        plot_plan(plan, args.plot, title=f"steer {list(start)} -> {list(goal)}")
-        print(f"figure written to {args.plot}")
+        with atomic_output(fig) as tmp:
+            plot_plan(plan, tmp, title=f"steer {list(start)} -> {list(goal)}")
+        print(f"figure written to {fig}")
     return 0

@@ -4,6 +4,12 @@ Checks chain continuity (each step starts where the previous ended, each phase w
 previous one left robot and box), pivots at the supporting edge's ends, angle bounds, the rigid
 grasp (robot pose = grasp pose of the object pose), start and goal, and, with a scene,
 bounds and collisions of every rotation's swept box and robot and of every walk.
+
+With a scene, the scene is the only authority: the box size, the robot's footprint and
+standoff and ``alpha_max`` are the scene's; the plan's copies of them are compared and a
+mismatch is a problem. The plan must start at the scene's start, end at its goal and have
+status ``exact``. A rotation over ``alpha_max`` or a pose outside the scene's bounds is reported
+without sweeping it, so absurd numbers cost no time.
 """
 
 from __future__ import annotations
@@ -47,21 +53,29 @@ def check_plan(plan: Plan, scene: Scene | None = None, *, collisions: bool = Tru
                tolerance: float = SWEEP_TOLERANCE) -> PlanCheckReport:
     """Validate ``plan`` (optionally against ``scene``); see the module docstring."""
     rep = PlanCheckReport()
-    model = BoxGraspModel(plan.object_size, plan.robot_footprint, plan.standoff,
-                          scene.model.robot_height if scene else hrp2.HEIGHT)
     world = CollisionWorld.from_scene(scene) if scene is not None else None
     if scene is not None:
+        model = scene.model
+        amax = scene.alpha_max
+        if plan.status != "exact":
+            rep.problems.append(f"plan status is {plan.status!r}, not 'exact': it does not "
+                                "claim to reach the goal")
         if not _close(plan.start, scene.start):
             rep.problems.append(f"plan starts at {plan.start}, scene start is {scene.start}")
-        if plan.status == "exact" and not _close(plan.object_end, scene.goal):
+        if not _close(plan.object_end, scene.goal):
             rep.problems.append(f"plan ends at {plan.object_end}, scene goal is {scene.goal}")
-        for name, a, b in (("object_size", plan.object_size, scene.model.object_size),
-                           ("robot_footprint", plan.robot_footprint, scene.model.robot_footprint)):
+        for name, a, b in (("object_size", plan.object_size, model.object_size),
+                           ("robot_footprint", plan.robot_footprint, model.robot_footprint),
+                           ("standoff", (plan.standoff,), (model.standoff,)),
+                           ("alpha_max", (plan.alpha_max,), (amax,))):
             if any(abs(x - y) > 1e-9 for x, y in zip(a, b, strict=True)):
-                rep.problems.append(f"{name} {list(a)} differs from the scene's {list(b)}")
+                rep.problems.append(f"plan's {name} {list(a)} differs from the scene's "
+                                    f"{list(b)}")
+    else:
+        model = BoxGraspModel(plan.object_size, plan.robot_footprint, plan.standoff, hrp2.HEIGHT)
+        amax = plan.alpha_max
     obj = plan.start
     robot: Pose | None = None
-    amax = plan.alpha_max
     for pi, ph in enumerate(plan.phases):
         where = f"phases[{pi}]"
         if isinstance(ph, TransferPhase):
@@ -75,12 +89,15 @@ def check_plan(plan: Plan, scene: Scene | None = None, *, collisions: bool = Tru
             for si, st in enumerate(ph.steps):
                 w = f"{where}.steps[{si}]"
                 rep.steps += 1
+                sweep = world is not None and collisions
                 if abs(st.angle) > amax + 1e-9:
                     rep.problems.append(f"{w}: |angle| {abs(st.angle):.6g} > alpha_max {amax:.6g}")
+                    sweep = False  # not a rotation the robot may make: no time on sweeping it
                 ends = model.pivots(car, g)
                 if min(math.hypot(st.pivot[0] - e[0], st.pivot[1] - e[1]) for e in ends) > 1e-6:
                     rep.problems.append(f"{w}: pivot {st.pivot} is not an end of the "
                                         "supporting edge")
+                    sweep = False  # its sweep could span the whole floor: not swept
                 new_car = rotate_about(car, st.pivot, st.angle)
                 exp_obj = model.object_from_car(new_car, g)
                 if not _close(st.object, exp_obj):
@@ -88,7 +105,7 @@ def check_plan(plan: Plan, scene: Scene | None = None, *, collisions: bool = Tru
                                         f"{exp_obj}")
                 if not _close(st.robot, model.robot_pose(st.object, g)):
                     rep.problems.append(f"{w}: robot {st.robot} is not rigidly at grasp {g}")
-                if world is not None and collisions:
+                if sweep and world is not None:
                     _check_rotation(rep, w, world, model, car, st.pivot, st.angle, g, tolerance)
                 car = model.car_pose(st.object, g)
             obj = ph.object_end if ph.steps else obj
@@ -103,6 +120,13 @@ def check_plan(plan: Plan, scene: Scene | None = None, *, collisions: bool = Tru
             if not _close(path[-1], model.robot_pose(obj, ph.to_grasp)):
                 rep.problems.append(f"{where}: walk does not end at grasp {ph.to_grasp}")
             if world is not None and collisions:
+                outside = [k for k, q in enumerate(path)
+                           if world.bounds_margin(model.robot_corners(q)) < -1e-9]
+                if outside:  # reported once, not swept: an absurd coordinate costs no time
+                    rep.problems.append(f"{where}.robot_path[{outside[0]}]: the robot leaves "
+                                        "the bounds")
+                    robot = path[-1]
+                    continue
                 for k, (a, b) in enumerate(zip(path, path[1:], strict=False)):
                     _check_walk(rep, f"{where}.robot_path[{k}]", world, model, a, b, obj,
                                 tolerance)

@@ -217,6 +217,35 @@ def _box_T(row: np.ndarray) -> np.ndarray:
     return transform(matrix_from_quat(row[3:]), row[:3])
 
 
+def _phase_sequence(phase: np.ndarray, n_phases: int | None) -> CheckResult:
+    """Phases run 0, 1, 2, ... in order (each sample in its phase or the next one)."""
+    bad = np.zeros(len(phase), dtype=bool)
+    if len(phase):
+        bad[0] = phase[0] != 0
+        bad[1:] = (np.diff(phase) < 0) | (np.diff(phase) > 1)
+        bad |= phase < 0
+        if n_phases is not None:
+            bad |= phase >= n_phases
+    idx = np.nonzero(bad)[0]
+    i = int(idx[0]) if len(idx) else -1
+    detail = f"sample {i}: phase {int(phase[i])}" if i >= 0 else ""
+    return CheckResult("phase_order", not len(idx), float(len(idx)), 0.0, "smp", detail, i)
+
+
+def _all_finite(motion: Motion) -> CheckResult:
+    """Every numeric array of the motion is finite (NaN anywhere fails)."""
+    for key in ("t", "q", "box", "com", "zmp", "tilt"):
+        a = getattr(motion, key)
+        if a is None:
+            continue
+        rows = np.isfinite(np.asarray(a, dtype=float)).reshape(len(a), -1).all(axis=1)
+        if not rows.all():
+            i = int(np.argmin(rows))
+            return CheckResult("finite", False, float((~rows).sum()), 0.0, "smp",
+                               f"{key} at sample {i}", i)
+    return CheckResult("finite", True, 0.0, 0.0, "smp", "")
+
+
 def check_motion(motion: Motion, plan: Plan | None = None, *, zmp_tolerance: float = 0.0,
                  foot_tolerance: float = 1e-3, hand_tolerance: float = 0.01,
                  corner_tolerance: float = 1e-3, accel_limit: float = 100.0) -> MotionReport:
@@ -250,8 +279,13 @@ def check_motion(motion: Motion, plan: Plan | None = None, *, zmp_tolerance: flo
         if not np.allclose(plan.object_size, box_size, atol=1e-9):
             raise InputError("plan.object_size", plan.object_size,
                              f"the motion's box is {tuple(box_size)}")
-    kin = _kinematics(motion)
     rep = MotionReport()
+    rep.results.append(_phase_sequence(phase, None if plan is None else len(plan.phases)))
+    finite = _all_finite(motion)
+    rep.results.append(finite)
+    if not finite.passed:  # NaN would make every other check meaningless (or PASS)
+        return rep
+    kin = _kinematics(motion)
     t = motion.t
     n = len(t)
 

@@ -1,0 +1,206 @@
+"""The file boundary: bounded, strict reading of YAML/JSON inputs and atomic output writing.
+
+Reading (scene YAML, ``pivot-plan/1`` JSON): at most :data:`MAX_FILE_BYTES`, UTF-8 only,
+duplicate keys refused, YAML aliases expanded to at most :data:`MAX_NODES` nodes (a "billion
+laughs" file is refused in milliseconds), nesting deeper than the parser's recursion refused,
+integers too long for a float refused. Every failure is an :class:`~pivot_ompl.errors.InputError`
+of the caller's kind naming the file.
+
+Writing: :func:`atomic_output` yields a temporary path next to the target; the target is
+replaced (``os.replace``) only when the ``with`` block succeeds, so a failed run never destroys
+an existing file. :func:`check_output` refuses, before any work, a target that is a directory,
+that is one of the run's input files, or whose folder cannot be created.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import uuid
+from collections.abc import Iterable, Iterator
+from contextlib import contextmanager, suppress
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from pivot_ompl.errors import InputError
+
+#: Largest input file read (bytes): scenes and plans are kilobytes to a few megabytes.
+MAX_FILE_BYTES = 64 * 1024 * 1024
+#: Largest number of YAML nodes after alias expansion.
+MAX_NODES = 1_000_000
+
+
+def read_text(path: str | Path, *, error: type[InputError] = InputError,
+              field: str = "path") -> str:
+    """The UTF-8 text of ``path`` (at most :data:`MAX_FILE_BYTES`).
+
+    Raises:
+        error: unreadable, a directory, too large, or not UTF-8 (naming ``field`` and the path).
+    """
+    p = Path(path)
+    try:
+        with p.open("rb") as fh:
+            data = fh.read(MAX_FILE_BYTES + 1)
+    except IsADirectoryError:
+        raise error(field, str(p), "is a directory, not a file") from None
+    except OSError as e:
+        raise error(field, str(p), f"cannot be read ({e.strerror or e})") from None
+    if len(data) > MAX_FILE_BYTES:
+        raise error(field, str(p), f"is larger than {MAX_FILE_BYTES // 2**20} MB")
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise error("<document>", str(p), f"is not UTF-8 text (byte {e.start})",
+                    source=str(p)) from None
+
+
+class _StrictLoader(yaml.SafeLoader):
+    """PyYAML's safe loader that refuses duplicate mapping keys."""
+
+    def construct_mapping(self, node: yaml.MappingNode, deep: bool = False) -> dict:
+        seen: set[Any] = set()
+        for key_node, _ in node.value:
+            key = self.construct_object(key_node, deep=deep)
+            try:
+                dup = key in seen
+                seen.add(key)
+            except TypeError:  # an unhashable key: the base class reports it
+                break
+            if dup:
+                raise yaml.constructor.ConstructorError(
+                    None, None, f"duplicate key {key!r:.60}", key_node.start_mark)
+        return super().construct_mapping(node, deep=deep)
+
+
+def _expanded_size(node: yaml.Node, memo: dict[int, int]) -> int:
+    """Number of nodes of ``node`` once aliases are expanded (shared nodes counted each time)."""
+    k = id(node)
+    if k in memo:
+        return memo[k]
+    memo[k] = MAX_NODES + 1  # a cycle (recursive alias) counts as too large
+    n = 1
+    if isinstance(node, yaml.SequenceNode):
+        for child in node.value:
+            n += _expanded_size(child, memo)
+            if n > MAX_NODES:
+                break
+    elif isinstance(node, yaml.MappingNode):
+        for kn, vn in node.value:
+            n += _expanded_size(kn, memo) + _expanded_size(vn, memo)
+            if n > MAX_NODES:
+                break
+    memo[k] = n
+    return n
+
+
+def load_yaml(path: str | Path, *, error: type[InputError] = InputError) -> Any:
+    """Parse a YAML file strictly (see the module docstring).
+
+    Raises:
+        error: unreadable, not UTF-8, invalid YAML, a duplicate key, too many or too deeply
+            nested nodes.
+    """
+    src = str(path)
+    text = read_text(path, error=error)
+    loader = _StrictLoader(text)
+    try:
+        node = loader.get_single_node()
+        if node is None:
+            return None
+        if _expanded_size(node, {}) > MAX_NODES:
+            raise error("<document>", src, f"expands to more than {MAX_NODES} YAML nodes "
+                        "(aliases)", source=src)
+        return loader.construct_document(node)
+    except yaml.YAMLError as e:
+        raise error("<document>", src, f"is not valid YAML ({_short(e)})", source=src) from None
+    except RecursionError:
+        raise error("<document>", src, "is nested too deeply", source=src) from None
+    finally:
+        loader.dispose()
+
+
+def _no_duplicates(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    d: dict[str, Any] = {}
+    for k, v in pairs:
+        if k in d:
+            raise ValueError(f"duplicate key {k!r:.60}")
+        d[k] = v
+    return d
+
+
+def load_json(path: str | Path, *, error: type[InputError] = InputError) -> Any:
+    """Parse a JSON file strictly (no duplicate key, no NaN/Infinity, bounded nesting).
+
+    Raises:
+        error: unreadable, not UTF-8, invalid JSON, a duplicate key, too deeply nested.
+    """
+    src = str(path)
+    text = read_text(path, error=error)
+
+    def constant(name: str) -> Any:
+        raise ValueError(f"{name} is not a JSON number")
+
+    try:
+        return json.loads(text, object_pairs_hook=_no_duplicates, parse_constant=constant)
+    except RecursionError:
+        raise error("<document>", src, "is nested too deeply", source=src) from None
+    except ValueError as e:  # JSONDecodeError, duplicate key, integer too long
+        raise error("<document>", src, f"is not valid JSON ({_short(e)})", source=src) from None
+
+
+def _short(e: Exception, n: int = 160) -> str:
+    text = " ".join(str(e).split())
+    return text if len(text) <= n else text[:n - 3] + "..."
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    try:
+        return a.exists() and b.exists() and os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+def check_output(path: str | Path, *, field: str, inputs: Iterable[str | Path] = (),
+                 suffixes: Iterable[str] = ()) -> Path:
+    """Validate an output path before any work; return it.
+
+    Raises:
+        InputError: ``path`` is a directory, is one of ``inputs``, has a suffix not in
+            ``suffixes`` (when given), or its folder is a file.
+    """
+    p = Path(path)
+    if not str(path) or p.is_dir() or str(path).endswith(os.sep):
+        raise InputError(field, str(path), "is a directory: give a file name")
+    allowed = [s.lower() for s in suffixes]
+    if allowed and p.suffix.lower() not in allowed:
+        raise InputError(field, str(path), f"unsupported extension (use one of {allowed})")
+    for src in inputs:
+        if _same_file(p, Path(src)):
+            raise InputError(field, str(path), f"is the input file {src}: refusing to "
+                             "overwrite it")
+    for parent in p.parents:
+        if parent.exists():
+            if not parent.is_dir():
+                raise InputError(field, str(path), f"{parent} is not a directory")
+            break
+    return p
+
+
+@contextmanager
+def atomic_output(path: str | Path) -> Iterator[Path]:
+    """Yield a temporary path next to ``path``; move it onto ``path`` only on success.
+
+    The temporary name keeps the suffix (writers that infer the format from it work). On an
+    exception the temporary file is removed and ``path`` is untouched.
+    """
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    tmp = p.with_name(f".{p.stem}.{uuid.uuid4().hex[:8]}.tmp{p.suffix}")
+    try:
+        yield tmp
+        os.replace(tmp, p)
+    finally:
+        with suppress(FileNotFoundError):
+            tmp.unlink()
