@@ -104,7 +104,10 @@ def load_yaml(path: str | Path, *, error: type[InputError] = InputError) -> Any:
     """
     src = str(path)
     text = read_text(path, error=error)
-    loader = _StrictLoader(text)
+    try:
+        loader = _StrictLoader(text)  # the reader refuses control characters here
+    except yaml.YAMLError as e:
+        raise error("<document>", src, f"is not valid YAML ({_short(e)})", source=src) from None
     try:
         node = loader.get_single_node()
         if node is None:

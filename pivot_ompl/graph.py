@@ -7,12 +7,15 @@ import math
 from collections.abc import Callable, Collection, Hashable, Iterable
 from typing import Generic, TypeVar
 
+from pivot_ompl.errors import Interrupted
+
 N = TypeVar("N", bound=Hashable)
 
 
 def astar(starts: Iterable[N], goals: Collection[N],
           neighbours: Callable[[N], Iterable[tuple[N, float]]],
-          heuristic: Callable[[N], float]) -> list[N]:
+          heuristic: Callable[[N], float], *,
+          should_stop: Callable[[], bool] | None = None) -> list[N]:
     """Cheapest path from any start to any goal; ``[]`` if none.
 
     Args:
@@ -20,6 +23,10 @@ def astar(starts: Iterable[N], goals: Collection[N],
         goals: goal nodes (membership tested).
         neighbours: ``n -> [(m, cost), ...]`` with non-negative costs.
         heuristic: admissible lower bound of the cost from a node to the goals.
+        should_stop: termination condition, polled every 1024 expansions.
+
+    Raises:
+        Interrupted: ``should_stop()`` became true.
     """
     dist: dict[N, float] = {}
     parent: dict[N, N] = {}
@@ -36,6 +43,8 @@ def astar(starts: Iterable[N], goals: Collection[N],
         if u in done:
             continue
         done.add(u)
+        if should_stop is not None and len(done) % 1024 == 0 and should_stop():
+            raise Interrupted("A* search")
         if u in goals:
             path = [u]
             while path[-1] in parent:

@@ -97,3 +97,15 @@ def test_union_find_matches_naive_components(seed):
     for i in range(n):
         for j in range(n):
             assert uf.connected(i, j) == (label[i] == label[j])
+
+
+def test_astar_honours_the_termination_condition():
+    import pytest
+
+    from pivot_ompl.errors import Interrupted
+
+    def line(n):  # an endless corridor: the goal is never reached
+        yield n + 1, 1.0
+
+    with pytest.raises(Interrupted):
+        astar([0], {-1}, line, lambda n: 0.0, should_stop=lambda: True)

@@ -189,3 +189,9 @@ def test_directory_is_not_a_scene(tmp_path):
     with pytest.raises(SceneError) as e:
         load_scene(tmp_path)
     assert "directory" in str(e.value)
+
+
+def test_control_characters_refused(tmp_path):
+    """Found by the fuzz test: PyYAML's reader refuses NUL when the loader is built."""
+    with pytest.raises(SceneError, match="YAML"):
+        load_scene(_write(tmp_path, b"\x00"))

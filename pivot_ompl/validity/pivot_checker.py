@@ -20,7 +20,7 @@ from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose, rotate_about
 from pivot_ompl.validity.certify import SWEEP_TOLERANCE, certify
 from pivot_ompl.validity.collision import CollisionWorld
-from pivot_ompl.validity.walking import WalkPlanner, WalkResult
+from pivot_ompl.validity.walking import INVALID_WALK, WalkPlanner, WalkResult
 
 log = logging.getLogger(__name__)
 
@@ -265,9 +265,16 @@ class PivotChecker:
 
     # -- transit -------------------------------------------------------------------------
     def transit(self, obj: Pose, from_grasp: int, to_grasp: int) -> WalkResult:
-        """The robot's walk between two grasps of the box resting at ``obj`` (cached)."""
-        return self._cached(self._walks, (obj, from_grasp, to_grasp),
-                            lambda: self.walker.plan(obj, from_grasp, to_grasp))
+        """The robot's walk between two grasps of the box resting at ``obj`` (cached).
+
+        A walk whose search is stopped by :attr:`should_stop` is invalid and not cached.
+        """
+        try:
+            return self._cached(self._walks, (obj, from_grasp, to_grasp),
+                                lambda: self.walker.plan(obj, from_grasp, to_grasp,
+                                                         should_stop=self.should_stop))
+        except Interrupted:
+            return INVALID_WALK
 
     def explain(self, obj: Pose) -> str:
         """Why each grasp is invalid at object pose ``obj`` (for error messages)."""

@@ -18,10 +18,12 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from pivot_ompl.errors import Interrupted
 from pivot_ompl.graph import astar
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.se2 import Pose, wrap_angle
@@ -84,6 +86,8 @@ class WalkPlanner:
     box_margin: float = 0.08
     tolerance: float = SWEEP_TOLERANCE
     _free: np.ndarray | None = field(default=None, init=False, repr=False)
+    _partial: np.ndarray | None = field(default=None, init=False, repr=False)
+    _rows_done: int = field(default=0, init=False, repr=False)
 
     def __post_init__(self) -> None:
         """Check that the margin covers the capsule sliver of the longest grid move."""
@@ -112,14 +116,24 @@ class WalkPlanner:
         return obj is None or \
             self.world.turning_disk_box_distance(x, y, obj) > self.margin + self.box_margin
 
-    def build(self) -> np.ndarray:
-        """The grid of turn-in-place positions clear of the static obstacles (built once)."""
+    def build(self, should_stop: Callable[[], bool] | None = None) -> np.ndarray:
+        """The grid of turn-in-place positions clear of the static obstacles (built once).
+
+        Raises:
+            Interrupted: ``should_stop()`` became true (polled once per grid row); the rows
+                done are kept and the next call resumes there.
+        """
         if self._free is None:
-            free = np.zeros((self._nx, self._ny), dtype=bool)
-            for ix in range(self._nx):
+            if self._partial is None:
+                self._partial = np.zeros((self._nx, self._ny), dtype=bool)
+            free = self._partial
+            for ix in range(self._rows_done, self._nx):
+                if should_stop is not None and should_stop():
+                    raise Interrupted("walking grid")
                 for iy in range(self._ny):
                     free[ix, iy] = self._disk_clear(*self._xy(ix, iy), None)
-            self._free = free
+                self._rows_done = ix + 1
+            self._free, self._partial = free, None
             log.debug("walk grid %dx%d: %d free", self._nx, self._ny, int(free.sum()))
         return self._free
 
@@ -160,14 +174,19 @@ class WalkPlanner:
         return out
 
     # -- query -------------------------------------------------------------------------
-    def plan(self, obj: Pose, from_grasp: int, to_grasp: int) -> WalkResult:
-        """Walk from grasp ``from_grasp`` to grasp ``to_grasp`` of the box resting at ``obj``."""
+    def plan(self, obj: Pose, from_grasp: int, to_grasp: int, *,
+             should_stop: Callable[[], bool] | None = None) -> WalkResult:
+        """Walk from grasp ``from_grasp`` to grasp ``to_grasp`` of the box resting at ``obj``.
+
+        Raises:
+            Interrupted: ``should_stop()`` became true (grid build and A* poll it).
+        """
         m = self.model
         start, goal = m.robot_pose(obj, from_grasp), m.robot_pose(obj, to_grasp)
         exits_s, exits_g = self._exits(start, obj), self._exits(goal, obj)
         if not exits_s or not exits_g:
             return INVALID_WALK
-        free = self.build().copy()
+        free = self.build(should_stop).copy()
         # the resting box blocks the positions near it
         b = self.world.bounds
         res = self.resolution
@@ -205,7 +224,7 @@ class WalkPlanner:
                 goals.setdefault(c, e)
         if not starts or not goals:
             return INVALID_WALK
-        cells = _astar(free, list(starts), goals, res)
+        cells = _astar(free, list(starts), goals, res, should_stop)
         if not cells:
             return INVALID_WALK
         e_s, e_g = starts[cells[0]], goals[cells[-1]]
@@ -257,7 +276,7 @@ class WalkPlanner:
 
 
 def _astar(free: np.ndarray, starts: list[tuple[int, int]], goals: dict[tuple[int, int], int],
-           res: float) -> list[tuple[int, int]]:
+           res: float, should_stop: Callable[[], bool] | None = None) -> list[tuple[int, int]]:
     """A* over the free grid cells (8 neighbours and knight moves), Euclidean costs."""
     gx = float(np.mean([g[0] for g in goals]))
     gy = float(np.mean([g[1] for g in goals]))
@@ -274,4 +293,4 @@ def _astar(free: np.ndarray, starts: list[tuple[int, int]], goals: dict[tuple[in
     def h(c: tuple[int, int]) -> float:
         return max(0.0, math.hypot(c[0] - gx, c[1] - gy) - spread)
 
-    return astar(starts, goals, neighbours, h)
+    return astar(starts, goals, neighbours, h, should_stop=should_stop)

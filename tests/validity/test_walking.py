@@ -43,3 +43,23 @@ def test_no_walk_through_a_wall_round_the_box():
     ck = PivotChecker(scene, seed=0)
     assert ck.state_valid((4.0, 3.0, 0.0), 2)
     assert not ck.transit((4.0, 3.0, 0.0), 2, 0).valid
+
+
+def test_walk_search_honours_the_termination_condition():
+    """A large floor's grid takes seconds: the walk stops at the limit and resumes later."""
+    import time
+
+    from pivot_ompl.validity.walking import INVALID_WALK
+
+    scene = make_scene(bounds=[0.0, 0.0, 60.0, 60.0], start=[30.0, 30.0, 0.0],
+                       goal=[40.0, 30.0, 0.0])
+    ck = PivotChecker(scene, seed=0)
+    for _ in range(2):
+        deadline = time.monotonic() + 0.3
+        ck.should_stop = lambda d=deadline: time.monotonic() > d
+        t0 = time.monotonic()
+        assert ck.transit(scene.start, 0, 2) is INVALID_WALK
+        assert time.monotonic() - t0 < 1.5
+    done = ck.walker._rows_done
+    assert 0 < done < 601  # the rows of both calls are kept, not rebuilt
+    assert not ck._walks  # an interrupted walk is not cached

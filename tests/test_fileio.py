@@ -1,0 +1,73 @@
+"""The file boundary: strict bounded reading, outputs checked first and written atomically."""
+
+from __future__ import annotations
+
+import pytest
+
+from pivot_ompl.errors import InputError, PlanFileError, abridge
+from pivot_ompl.fileio import MAX_NODES, atomic_output, check_output, load_json, load_yaml
+
+
+def test_abridge_keeps_messages_short():
+    assert len(abridge(10**400)) < 60
+    assert "bits" in abridge(10**5000)  # beyond Python's int-to-text limit: no ValueError
+    assert len(abridge("x" * 10**6)) < 100
+    assert len(abridge([[i] * 1000 for i in range(1000)])) < 200
+    assert len(str(InputError("f", "y" * 10**6, "bad"))) < 150
+
+
+def test_yaml_duplicate_key_in_nested_mapping(tmp_path):
+    p = tmp_path / "a.yaml"
+    p.write_text("robot:\n  standoff: 0.2\n  standoff: 0.3\n")
+    with pytest.raises(InputError, match="duplicate key 'standoff'"):
+        load_yaml(p)
+
+
+def test_yaml_alias_budget(tmp_path):
+    p = tmp_path / "a.yaml"
+    p.write_text("a: &a [1, 2, 3]\nb: [*a, *a]\n")
+    assert load_yaml(p) == {"a": [1, 2, 3], "b": [[1, 2, 3], [1, 2, 3]]}
+    width = int(MAX_NODES ** 0.5) + 2
+    p.write_text(f"a: &a [{', '.join(['1'] * width)}]\nb: [{', '.join(['*a'] * width)}]\n")
+    with pytest.raises(InputError, match="aliases"):
+        load_yaml(p)
+
+
+def test_empty_yaml_is_none(tmp_path):
+    p = tmp_path / "a.yaml"
+    p.write_text("")
+    assert load_yaml(p) is None
+
+
+def test_json_error_kind_is_the_callers(tmp_path):
+    p = tmp_path / "a.json"
+    p.write_text('{"a": Infinity}')
+    with pytest.raises(PlanFileError, match="Infinity"):
+        load_json(p, error=PlanFileError)
+
+
+def test_atomic_output_replaces_only_on_success(tmp_path):
+    p = tmp_path / "out.txt"
+    p.write_text("old")
+    with pytest.raises(RuntimeError), atomic_output(p) as tmp:
+        tmp.write_text("half")
+        raise RuntimeError("writer failed")
+    assert p.read_text() == "old" and sorted(x.name for x in tmp_path.iterdir()) == ["out.txt"]
+    with atomic_output(p) as tmp:
+        assert tmp.suffix == ".txt" and tmp.parent == tmp_path
+        tmp.write_text("new")
+    assert p.read_text() == "new" and sorted(x.name for x in tmp_path.iterdir()) == ["out.txt"]
+
+
+def test_check_output(tmp_path):
+    src = tmp_path / "scene.yaml"
+    src.write_text("x")
+    with pytest.raises(InputError, match="is a directory"):
+        check_output(tmp_path, field="--out")
+    with pytest.raises(InputError, match="input file"):
+        check_output(tmp_path / "." / "scene.yaml", field="--out", inputs=[src])
+    with pytest.raises(InputError, match="extension"):
+        check_output(tmp_path / "f.xyz", field="--plot", suffixes=[".png"])
+    with pytest.raises(InputError, match="not a directory"):
+        check_output(src / "sub" / "p.json", field="--out")
+    assert check_output(tmp_path / "new" / "p.json", field="--out", inputs=[src]).name == "p.json"
