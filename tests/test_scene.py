@@ -104,7 +104,7 @@ def test_cli_bad_scene_exits_2(tmp_path):
     ({"pivot": {"alpha_max": 1e-9}}, "pivot.alpha_max"),
     ({"pivot": {"turning_radius": 1e-9}}, "pivot.turning_radius"),
     ({"robot": {"footprint": [1e-9, 0.5]}}, "robot.footprint[0]"),
-    ({"obstacles": [{"type": "polygon", "points": [[1, 1], [2, 2], [2, 1], [1, 2]],
+    ({"obstacles": [{"type": "polygon", "points": [[1, 1], [3, 3], [3, 1], [1, 2]],
                      "height": 1}]}, "obstacles[0].points"),              # a bow tie
     ({"obstacles": [{"type": "box", "center": [1, 1], "size": [1, 1], "height": 1,
                      "yaw": 1e300}]}, "obstacles[0].yaw"),

@@ -12,14 +12,18 @@ import logging
 import time
 
 from pivot_ompl.cli.args import figure_file, finite, integer, output_file, time_limit
+from pivot_ompl.errors import Interrupted
 from pivot_ompl.fileio import atomic_output
 from pivot_ompl.grasp import check_grasp
 from pivot_ompl.pivoting.steering import PivotSteering
-from pivot_ompl.pivoting.transfer import rs_samples, steps_of
+from pivot_ompl.pivoting.transfer import RS_PLOT_STEP, steps_of
 from pivot_ompl.planfile import Plan, TransferPhase
 from pivot_ompl.scene import check_pose, default_scene, load_scene
 
 log = logging.getLogger(__name__)
+
+#: Most Reeds-Shepp samples kept for plotting (a 9 km path would otherwise store 180 000).
+MAX_RS_SAMPLES = 2000
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -55,11 +59,15 @@ def run(args: argparse.Namespace) -> int:
     steering = PivotSteering(turning_radius=base.turning_radius, alpha_max=base.alpha_max)
     m = base.model
     deadline = time.monotonic() + min(args.time, 1e6)
-    seq = steering.convert(m.car_pose(start, grasp), m.car_pose(goal, grasp),
-                           half_length=m.edge_half_length(grasp),
-                           should_stop=lambda: time.monotonic() > deadline)
-    phase = TransferPhase(grasp, m.robot_pose(start, grasp), steps_of(m, seq, grasp), start,
-                          rs_samples(steering, seq))
+    try:
+        seq = steering.convert(m.car_pose(start, grasp), m.car_pose(goal, grasp),
+                               half_length=m.edge_half_length(grasp),
+                               should_stop=lambda: time.monotonic() > deadline)
+    except Interrupted:
+        raise Interrupted(f"steering at the --time limit of {args.time:g} s") from None
+    n = max(2, min(MAX_RS_SAMPLES, int(seq.rs_length / RS_PLOT_STEP) + 1))
+    rs = tuple(steering.rs.sample(seq.start, seq.goal, [i / (n - 1) for i in range(n)]))
+    phase = TransferPhase(grasp, m.robot_pose(start, grasp), steps_of(m, seq, grasp), start, rs)
     plan = Plan(name, "exact", m.object_size, m.robot_footprint, m.standoff, base.alpha_max,
                 start, [phase], {"planner": "steer", "turning_radius": base.turning_radius,
                                  "goal": list(goal)})
