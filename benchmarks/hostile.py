@@ -51,6 +51,10 @@ def cases(d: Path) -> list[tuple[str, list[str], float | None, int]]:
                         "2"], 2.0, 2),
         ("goal 1.27e6 m away", ["plan", scene(d, "far", bounds=[0, 0, 1.3e6, 6],
                                               goal=[1.27e6, 3, 0]), "--time", "2"], 2.0, 2),
+        ("box 5 cm (smallest)", ["plan", scene(d, "small", object={"size": [0.05] * 3}),
+                                 "--time", "2"], 2.0, -1),
+        ("alpha_max 0.01, radius 0.1", ["plan", scene(d, "slow", pivot={
+            "alpha_max": 0.01, "turning_radius": 0.1}), "--time", "2"], 2.0, -1),
         ("enclosed, no solution", ["plan", enclosed, "--time", "2"], 2.0, 1),
         ("fig10 --time 2", ["plan", fig10, "--time", "2", "--seed", "1"], 2.0, -1),
         ("fig10 on a 200 m floor", ["plan", scene(d, "big", **{
