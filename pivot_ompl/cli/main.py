@@ -24,7 +24,8 @@ EXIT_OK, EXIT_NO_SOLUTION, EXIT_BAD_INPUT = 0, 1, 2
 #: Modules defining further verbs: each has ``register(subparsers)``; a missing optional
 #: dependency only hides that verb.
 VERB_MODULES = ("pivot_ompl.cli.steer", "pivot_ompl.cli.plan", "pivot_ompl.cli.check",
-                "pivot_ompl.cli.replay", "pivot_ompl.cli.animate", "pivot_ompl.cli.bench")
+                "pivot_ompl.cli.replay", "pivot_ompl.cli.animate", "pivot_ompl.cli.bench",
+                "pivot_ompl.cli.generate")
 
 
 class _Parser(argparse.ArgumentParser):

@@ -1,0 +1,375 @@
+"""Scene families whose scenes come with a witness plan, built constructively.
+
+Each family lays out the box's path and the robot's regrasp poses first (in a local frame),
+places walls, slots, doors, pockets and clutter around them, checks the chain with the
+project's own steering and walk planner (:mod:`pivot_ompl.generate.witness`) and, for
+``walls`` and ``corridor``, turns the whole scene by a random angle. A layout whose chain
+fails is drawn again from the same generator, so a seed always gives the same scene.
+
+Families:
+
+* ``walls``: 1-3 walls at random positions and orientations across a room. Each wall has a
+  **slot** only the box passes (narrower than the robot) and a robot **door**
+  (``door_width``); half the doors open into a **pocket** closed by a baffle. The witness
+  pushes the box into each slot, walks round through the door and pulls the box out.
+* ``corridor``: a corridor with 1-3 right-angle bends; at each bend a small square where the
+  robot alone walks round the box but robot and box cannot turn: the witness regrasps there.
+* ``clutter``: a room with pillars, tables and counters round a one-grasp pivoting path (no
+  regrasp needed).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from pivot_ompl.errors import InputError
+from pivot_ompl.generate.transform import RigidMap, transform_scene
+from pivot_ompl.generate.witness import State, build_witness
+from pivot_ompl.planfile import Plan
+from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Obstacle, Scene, scene_from_dict
+from pivot_ompl.se2 import Pose, rotate_about
+from pivot_ompl.validity.collision import CollisionWorld
+from pivot_ompl.validity.pivot_checker import PivotChecker
+
+log = logging.getLogger(__name__)
+
+#: The box of the regrasp paper's Fig. 10 (m): its 0.4 m side passes slots the robot cannot.
+BOX = (0.8, 0.4, 1.0)
+#: Height of walls and baffles (m).
+WALL_HEIGHT = 2.0
+#: Clearance kept between clutter and the witness's bodies (m).
+CLUTTER_MARGIN = 0.12
+
+
+@dataclass(frozen=True)
+class GeneratorParams:
+    """Parameters of the generator (lengths in m, angles in rad).
+
+    Attributes:
+        door_width: range of robot door widths (``walls``).
+        slot_gap: range of the gap on each side of the box in a slot.
+        corridor_width: range of corridor widths (``corridor``).
+        bend_size: range of the side of the square at a bend (``corridor``).
+        max_tilt: largest tilt of a wall from the room's cross direction (``walls``).
+        rotate: turn the scene by a random angle (``walls``, ``corridor``).
+        attempts: layouts drawn at most before giving up.
+    """
+
+    door_width: tuple[float, float] = (1.15, 1.35)
+    slot_gap: tuple[float, float] = (0.1, 0.12)
+    corridor_width: tuple[float, float] = (1.2, 1.4)
+    bend_size: tuple[float, float] = (2.7, 3.1)
+    max_tilt: float = 0.3
+    rotate: bool = True
+    attempts: int = 60
+
+
+@dataclass(frozen=True)
+class Generated:
+    """A generated scene and its witness plan (checked by ``check_plan``)."""
+
+    scene: Scene
+    witness: Plan
+    family: str
+    seed: int
+    attempts: int
+
+
+def _scene(name: str, bounds: tuple[float, float, float, float], obstacles: list[Obstacle],
+           start: Pose, goal: Pose) -> Scene:
+    doc = {"name": name, "bounds": list(bounds), "object": {"size": list(BOX)},
+           "start": list(start), "goal": list(goal)}
+    sc = scene_from_dict(doc, source="<generated>")
+    return Scene(sc.name, sc.bounds, sc.model, sc.start, sc.goal, tuple(obstacles),
+                 sc.alpha_max, sc.turning_radius, sc.robot_model, "")
+
+
+def _u(rng: np.random.Generator, r: tuple[float, float]) -> float:
+    if r[1] < r[0]:
+        raise _Retry(f"empty range {r}")
+    return float(rng.uniform(r[0], r[1]))
+
+
+def _along(p: tuple[float, float], phi: float, d: float, s: float = 0.0) -> tuple[float, float]:
+    """Point ``d`` along direction ``phi`` and ``s`` to its left from ``p``."""
+    return (p[0] + d * math.cos(phi) - s * math.sin(phi), p[1] + d * math.sin(phi)
+            + s * math.cos(phi))
+
+
+# -- walls -------------------------------------------------------------------------------
+def _wall_pieces(origin: tuple[float, float], phi: float, t: float, s_lo: float, s_hi: float,
+                 holes: list[tuple[float, float]]) -> list[Obstacle]:
+    """A wall of thickness ``t`` whose near face passes through ``origin`` with normal ``phi``.
+
+    It spans ``s_lo..s_hi`` along its face, less the ``holes`` (intervals of ``s``).
+    """
+    out: list[Obstacle] = []
+    cur = s_lo
+    for a, b in sorted(holes):
+        if a > cur:
+            out.append(_piece(origin, phi, t, cur, a))
+        cur = max(cur, b)
+    if s_hi > cur:
+        out.append(_piece(origin, phi, t, cur, s_hi))
+    return out
+
+
+def _piece(origin: tuple[float, float], phi: float, t: float, a: float, b: float) -> Obstacle:
+    c = _along(origin, phi, 0.5 * t, 0.5 * (a + b))
+    return BoxObstacle(c, (t, b - a), phi, WALL_HEIGHT)
+
+
+def _walls_layout(rng: np.random.Generator, p: GeneratorParams,
+                  seed: int) -> tuple[Scene, list[State]]:
+    n = int(rng.integers(1, 4))
+    standoff = _scene("ref", (0.0, 0.0, 9.0, 9.0), [], (4.0, 4.0, 0.0),
+                      (4.0, 4.0, 0.0)).model.standoff
+    width = float(rng.uniform(6.0, 7.5))
+    obstacles: list[Obstacle] = []
+    states: list[State] = []
+    x = float(rng.uniform(3.6, 4.2))  # near face of the first wall, on the room's midline
+    y_prev = float(rng.uniform(1.5, width - 1.5))
+    approach: list[tuple[Pose, Pose, Pose]] = []
+    for _ in range(n):
+        phi = float(rng.uniform(-p.max_tilt, p.max_tilt))
+        t = float(rng.uniform(0.3, 0.5))
+        ys = float(np.clip(y_prev + rng.uniform(-1.8, 1.8), 1.3, width - 1.3))
+        origin = (x, ys)
+        cphi = math.cos(phi)
+        s_lo = -ys / cphi - 1.0
+        s_hi = (width - ys) / cphi + 1.0
+        slot = BOX[1] + 2 * _u(rng, p.slot_gap)
+        door = _u(rng, p.door_width)
+        # the door: at least 1.8 m from the slot, inside the room
+        sides = [sd for sd in (-1, 1)
+                 if (s_lo + 1.2 if sd < 0 else s_hi - 1.2) * sd > 1.8 + 0.5 * door]
+        if not sides:
+            raise _Retry("no room for a door")
+        sd = sides[int(rng.integers(len(sides)))]
+        far = (s_lo + 1.0 + 0.5 * door + 0.1) if sd < 0 else (s_hi - 1.0 - 0.5 * door - 0.1)
+        near = sd * (1.8 + 0.5 * door)
+        s_d = float(rng.uniform(min(near, far), max(near, far)))
+        holes = [(-0.5 * slot, 0.5 * slot), (s_d - 0.5 * door, s_d + 0.5 * door)]
+        obstacles += _wall_pieces(origin, phi, t, s_lo, s_hi, holes)
+        if rng.uniform() < 0.5:  # a pocket behind the door, open towards the slot
+            depth = float(rng.uniform(1.15, 1.35))
+            a = s_d - 0.5 * door - 0.3 if sd > 0 else s_lo
+            b = s_hi if sd > 0 else s_d + 0.5 * door + 0.3
+            obstacles.append(_piece(_along(origin, phi, t + depth), phi, 0.2, a, b))
+        # pushed into the slot until the robot's front is 6 cm from the wall
+        push = _along(origin, phi, BOX[0] / 2 + standoff - 0.06)
+        before = _along(origin, phi, -float(rng.uniform(1.2, 1.6)))
+        after = _along(origin, phi, t + float(rng.uniform(1.0, 1.3)) + 0.4)
+        approach.append(((before[0], before[1], phi), (push[0], push[1], phi),
+                         (after[0], after[1], phi)))
+        x = after[0] + float(rng.uniform(1.6, 2.4))
+        y_prev = ys
+    length = x + float(rng.uniform(0.5, 1.2))
+    start = (_u(rng, (0.9, approach[0][0][0] - 0.6)), float(rng.uniform(1.0, width - 1.0)),
+             approach[0][0][2] + float(rng.uniform(-0.5, 0.5)))
+    last = approach[-1][2]
+    goal = (_u(rng, (last[0] + 0.6, length - 0.9)), float(rng.uniform(1.0, width - 1.0)),
+            last[2] + float(rng.uniform(-0.5, 0.5)))
+    states.append((start, 0))
+    for i, (q_before, q_push, q_after) in enumerate(approach):
+        if i > 0:
+            states.append((states[-1][0], 0))  # regrasp: behind the box again
+        states += [(q_before, 0), (q_push, 0), (q_push, 2), (q_after, 2)]
+    states.append((goal, 2))
+    scene = _scene(f"walls_{seed}", (0.0, 0.0, length, width), obstacles, start, goal)
+    return scene, states
+
+
+# -- corridor ----------------------------------------------------------------------------
+def _free_complement(bounds: tuple[float, float, float, float],
+                     free: list[tuple[float, float, float, float]]) -> list[Obstacle]:
+    """Axis-aligned boxes covering ``bounds`` less the union of the ``free`` rectangles."""
+    xs = sorted({bounds[0], bounds[2], *(r[0] for r in free), *(r[2] for r in free)})
+    ys = sorted({bounds[1], bounds[3], *(r[1] for r in free), *(r[3] for r in free)})
+    out: list[Obstacle] = []
+    for j in range(len(ys) - 1):
+        y0, y1 = ys[j], ys[j + 1]
+        run: float | None = None
+        for i in range(len(xs)):
+            blocked = False
+            if i < len(xs) - 1:
+                cx, cy = 0.5 * (xs[i] + xs[i + 1]), 0.5 * (y0 + y1)
+                blocked = not any(r[0] <= cx <= r[2] and r[1] <= cy <= r[3] for r in free)
+            if blocked and run is None:
+                run = xs[i]
+            elif not blocked and run is not None:
+                out.append(BoxObstacle((0.5 * (run + xs[i]), 0.5 * (y0 + y1)),
+                                       (xs[i] - run, y1 - y0), 0.0, WALL_HEIGHT))
+                run = None
+    return out
+
+
+def _corridor_layout(rng: np.random.Generator, p: GeneratorParams,
+                     seed: int) -> tuple[Scene, list[State]]:
+    bends = int(rng.integers(1, 4))
+    w = _u(rng, p.corridor_width)
+    free: list[tuple[float, float, float, float]] = []
+    states: list[State] = []
+    pos = (0.0, 0.0)
+    heading = 0  # 0: +x, 1: +y (the corridor climbs a staircase)
+    leg0 = float(rng.uniform(3.0, 4.0))
+    corners: list[tuple[tuple[float, float], int]] = []
+    for _ in range(bends):
+        leg = leg0 if not corners else float(rng.uniform(2.5, 3.5))
+        nxt = (pos[0] + leg, pos[1]) if heading == 0 else (pos[0], pos[1] + leg)
+        corners.append((nxt, heading))
+        pos = nxt
+        heading = 1 - heading
+    end_leg = float(rng.uniform(3.0, 4.0))
+    end = (pos[0] + end_leg, pos[1]) if heading == 0 else (pos[0], pos[1] + end_leg)
+    pts = [(0.0, 0.0)] + [c for c, _ in corners] + [end]
+    for a, b in zip(pts, pts[1:], strict=False):
+        free.append((min(a[0], b[0]) - 0.5 * w, min(a[1], b[1]) - 0.5 * w,
+                     max(a[0], b[0]) + 0.5 * w, max(a[1], b[1]) + 0.5 * w))
+    for c, _ in corners:
+        j = 0.5 * _u(rng, p.bend_size)
+        free.append((c[0] - j, c[1] - j, c[0] + j, c[1] + j))
+    # start and end in small rooms so the box has room to line up
+    room = 1.6
+    free.append((-room, -room, 0.5 * w + 0.6, room))
+    free.append((end[0] - room, end[1] - room, end[0] + room, end[1] + room))
+    lo = (min(r[0] for r in free) - 0.3, min(r[1] for r in free) - 0.3)
+    free = [(r[0] - lo[0], r[1] - lo[1], r[2] - lo[0], r[3] - lo[1]) for r in free]
+    bounds = (0.0, 0.0, max(r[2] for r in free) + 0.3, max(r[3] for r in free) + 0.3)
+
+    def at(q: tuple[float, float], yaw: float) -> Pose:
+        return (q[0] - lo[0], q[1] - lo[1], yaw)
+
+    start = at((float(rng.uniform(-0.6, 0.2)), float(rng.uniform(-0.5, 0.5))),
+               float(rng.uniform(-0.4, 0.4)))
+    states.append((start, 0))
+    grasp = 0
+    for c, h in corners:
+        # box yaw 0 throughout: grasp 0 pushes along +x, grasp 1 along +y
+        before = (c[0] - 1.2, c[1]) if h == 0 else (c[0], c[1] - 1.2)
+        states.append((at(before, 0.0), grasp))
+        states.append((at(c, 0.0), grasp))
+        grasp = 1 - grasp
+        states.append((at(c, 0.0), grasp))
+        after = (c[0] + 1.2, c[1]) if h == 1 else (c[0], c[1] + 1.2)
+        states.append((at(after, 0.0), grasp))
+    goal = at((end[0] + float(rng.uniform(-0.3, 0.5)) * (heading == 0),
+               end[1] + float(rng.uniform(-0.3, 0.5)) * (heading == 1)),
+              float(rng.uniform(-0.3, 0.3)))
+    states.append((goal, grasp))
+    obstacles = _free_complement(bounds, free)
+    return _scene(f"corridor_{seed}", bounds, obstacles, start, goal), states
+
+
+# -- clutter -----------------------------------------------------------------------------
+def _clutter_layout(rng: np.random.Generator, p: GeneratorParams,
+                    seed: int) -> tuple[Scene, list[State]]:
+    bx, by = float(rng.uniform(7.0, 10.0)), float(rng.uniform(5.0, 8.0))
+    m = 1.0
+
+    def pose() -> Pose:
+        return (float(rng.uniform(m, bx - m)), float(rng.uniform(m, by - m)),
+                float(rng.uniform(-math.pi, math.pi)))
+
+    start, goal = pose(), pose()
+    if math.hypot(goal[0] - start[0], goal[1] - start[1]) < 3.0:
+        raise _Retry("start and goal too close")
+    g = int(rng.integers(4))
+    states: list[State] = [(start, g), (goal, g)]
+    empty = _scene(f"clutter_{seed}", (0.0, 0.0, bx, by), [], start, goal)
+    ck = PivotChecker(empty)
+    if not ck.transfer(start, goal, g).valid:
+        raise _Retry("no direct pivoting path")
+    bodies = _swept_samples(ck, states)
+    obstacles: list[Obstacle] = []
+    for _ in range(int(rng.integers(5, 12)) * 4):
+        if len(obstacles) >= 12:
+            break
+        c = (float(rng.uniform(0.3, bx - 0.3)), float(rng.uniform(0.3, by - 0.3)))
+        kind = rng.uniform()
+        o: Obstacle
+        if kind < 0.4:
+            o = CylinderObstacle(c, float(rng.uniform(0.15, 0.4)), float(rng.uniform(0.8, 2.5)))
+        else:
+            o = BoxObstacle(c, (float(rng.uniform(0.4, 1.4)), float(rng.uniform(0.4, 1.0))),
+                            float(rng.uniform(-math.pi, math.pi)), float(rng.uniform(0.7, 1.2)))
+        if _clear_of(empty, o, bodies):
+            obstacles.append(o)
+    return _scene(f"clutter_{seed}", (0.0, 0.0, bx, by), obstacles, start, goal), states
+
+
+def _swept_samples(ck: PivotChecker, states: list[State]) -> list[tuple[Pose, Pose]]:
+    """Box and robot poses sampled along the witness's rotations (every 1/4 rotation)."""
+    m = ck.model
+    out: list[tuple[Pose, Pose]] = []
+    for (pa, g), (pb, _) in zip(states, states[1:], strict=False):
+        seq = ck.transfer(pa, pb, g).sequence
+        prev = m.car_pose(pa, g)
+        for r in seq.rotations:
+            for s in (0.0, 0.25, 0.5, 0.75):
+                car = rotate_about(prev, r.pivot, s * r.angle)
+                out.append((m.object_from_car(car, g), m.robot_from_car(car, g)))
+            prev = r.car
+        out.append((m.object_from_car(prev, g), m.robot_from_car(prev, g)))
+    return out
+
+
+def _clear_of(scene: Scene, o: Obstacle, bodies: list[tuple[Pose, Pose]]) -> bool:
+    w = CollisionWorld(scene.model, scene.bounds)
+    w.add_obstacle(o)
+    w.setup()
+    return all(w.box_distance(b) > CLUTTER_MARGIN and w.robot_distance(r) > CLUTTER_MARGIN
+               for b, r in bodies)
+
+
+class _Retry(Exception):  # noqa: N818 - a layout to draw again, never escapes generate()
+    pass
+
+
+Layout = Callable[[np.random.Generator, GeneratorParams, int], tuple[Scene, list[State]]]
+FAMILIES: dict[str, Layout] = {"walls": _walls_layout, "corridor": _corridor_layout,
+                               "clutter": _clutter_layout}
+_ROTATED = {"walls", "corridor"}
+
+
+def generate(family: str, seed: int, *, params: GeneratorParams | None = None) -> Generated:
+    """A scene of ``family`` and its witness plan, deterministic for ``seed``.
+
+    Raises:
+        InputError: unknown family, bad seed, or no valid layout within ``params.attempts``.
+    """
+    if family not in FAMILIES:
+        raise InputError("family", family, f"unknown family (known: {sorted(FAMILIES)})")
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise InputError("seed", seed, "must be a non-negative integer")
+    p = params or GeneratorParams()
+    rng = np.random.default_rng([seed, sorted(FAMILIES).index(family)])
+    reason = ""
+    for attempt in range(1, p.attempts + 1):
+        try:
+            scene, states = FAMILIES[family](rng, p, seed)
+        except _Retry as e:
+            reason = str(e)
+            continue
+        if family in _ROTATED and p.rotate:
+            b = scene.bounds
+            f = RigidMap(float(rng.uniform(-math.pi, math.pi)),
+                         (0.5 * (b[0] + b[2]), 0.5 * (b[1] + b[3])))
+            scene = transform_scene(scene, f, name=scene.name)
+            states = [(f.pose(q), f.grasp(g)) for q, g in states]
+        w = build_witness(scene, states)
+        if w.plan is not None:
+            log.info("%s seed %d: layout %d holds (%d regrasps)", family, seed, attempt,
+                     w.plan.regrasps)
+            w.plan.extra["family"] = family
+            w.plan.extra["seed"] = seed
+            return Generated(scene, w.plan, family, seed, attempt)
+        reason = w.reason
+        log.debug("%s seed %d: layout %d rejected: %s", family, seed, attempt, reason)
+    raise InputError("seed", seed, f"no valid {family} layout in {p.attempts} attempts "
+                     f"(last: {reason})")
