@@ -17,7 +17,7 @@ from pivot_ompl.base.problem import make_setup
 from pivot_ompl.base.state import read_state
 from pivot_ompl.errors import InputError, PlanningError
 from pivot_ompl.planfile import Plan, plan_quality
-from pivot_ompl.planners import OMPL_PLANNERS, PLANNERS, make_planner
+from pivot_ompl.planners import OMPL_PLANNERS, PLANNERS, check_planner_name, make_planner
 from pivot_ompl.scene import Scene, load_scene
 
 log = logging.getLogger(__name__)
@@ -149,6 +149,8 @@ def _check_arguments(scene: Any, planner: Any, time_limit: Any, seed: Any,
     if not isinstance(scene, Scene | str | os.PathLike):
         raise InputError("scene", type(scene).__name__,
                          "must be a Scene, a scene file path or a shipped scene name")
+    if isinstance(planner, str):
+        check_planner_name(planner)  # refused planners (prm) say why
     if not isinstance(planner, str) or planner not in PLANNERS:
         raise InputError("planner", planner, f"unknown planner (known: {sorted(PLANNERS)})")
     if isinstance(time_limit, bool) or not isinstance(time_limit, int | float):

@@ -89,9 +89,11 @@ def allocator(planner: str) -> Callable[[Any, int], Any]:
         InputError: unknown planner name or unimportable ``module:factory``.
     """
     from pivot_ompl.errors import InputError
-    from pivot_ompl.planners import PLANNERS
+    from pivot_ompl.planners import PLANNERS, REFUSED
 
     if ":" not in planner:
+        if planner in REFUSED:
+            raise InputError("planner", planner, f"refused: {REFUSED[planner]}")
         if planner not in PLANNERS:
             raise InputError("planner", planner,
                              f"unknown planner (known: {sorted(PLANNERS)} or module:factory)")

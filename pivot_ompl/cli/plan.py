@@ -17,7 +17,7 @@ from pivot_ompl.api import MAX_SEED, plan
 from pivot_ompl.cli.args import figure_file, integer, output_file, time_limit
 from pivot_ompl.errors import PlanningError
 from pivot_ompl.fileio import atomic_output
-from pivot_ompl.planners import PLANNERS
+from pivot_ompl.planners import PLANNERS, REFUSED
 from pivot_ompl.scene import load_scene
 
 log = logging.getLogger(__name__)
@@ -27,7 +27,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``plan`` verb."""
     p = sub.add_parser("plan", help="plan a pivoting path with regrasps for a scene")
     p.add_argument("scene", help="scene YAML file")
-    p.add_argument("--planner", default="regrasp", choices=sorted(PLANNERS))
+    p.add_argument("--planner", default="regrasp", choices=sorted([*PLANNERS, *REFUSED]),
+                   help="planner (prm, prmstar: refused with the reason, exit 2)")
     p.add_argument("--time", type=time_limit("--time"), default=30.0,
                    help="time limit (s; inf: until solved)")
     p.add_argument("--seed", type=integer("--seed", 0, MAX_SEED), default=0,

@@ -7,9 +7,16 @@ OMPL's planners run on the same space as baselines (:data:`PLANNERS`).
 from __future__ import annotations
 
 from pivot_ompl.planners.multiplex import RegraspParams
-from pivot_ompl.planners.registry import OMPL_PLANNERS, PLANNERS, Allocator, make_planner
+from pivot_ompl.planners.registry import (
+    OMPL_PLANNERS,
+    PLANNERS,
+    REFUSED,
+    Allocator,
+    check_planner_name,
+    make_planner,
+)
 from pivot_ompl.planners.regrasp import RegraspPlanner
 from pivot_ompl.planners.visibility import VisibilityPRM
 
-__all__ = ["OMPL_PLANNERS", "PLANNERS", "Allocator", "RegraspParams", "RegraspPlanner",
-           "VisibilityPRM", "make_planner"]
+__all__ = ["OMPL_PLANNERS", "PLANNERS", "REFUSED", "Allocator", "RegraspParams",
+           "RegraspPlanner", "VisibilityPRM", "check_planner_name", "make_planner"]

@@ -21,9 +21,9 @@ import numpy as np
 
 from pivot_ompl.graph import UnionFind, astar
 from pivot_ompl.planners.optimiser import budgeted, optimise
-from pivot_ompl.planners.roadmap import Roadmap, pose_metric
+from pivot_ompl.planners.roadmap import Roadmap, canonical, half_turn, pose_metric
 from pivot_ompl.planners.visibility import VisibilityRoadmapBuilder
-from pivot_ompl.se2 import Pose
+from pivot_ompl.se2 import Pose, wrap_angle
 from pivot_ompl.validity.pivot_checker import PivotChecker
 
 log = logging.getLogger(__name__)
@@ -53,8 +53,21 @@ class RegraspParams:
         bridge_bias: probability that a diffusion iteration is a bridge test instead.
         bridge_sigma: standard deviation (m) of the bridge test's second sample.
         bridge_rounds: rounds of (up to 100) bridge tests before the diffusion.
-        search_every: the diffusion searches after this many new manipulation nodes.
-        passage_steps: distances (m) of the straight extensions from a passage node.
+        search_every: the diffusion searches after this many new manipulation nodes (a
+            search is skipped at no cost while the candidate graph cannot join start and goal).
+        passage_steps: distances (m) of the extensions from a passage node.
+        eager_filter: test a candidate edge's plausibility (box and robot free at three
+            poses of its Reeds-Shepp path) when it is inserted; otherwise only when a search
+            first uses it (measured slower on fig10: every rejection then costs an A* run).
+        passage_mode: ``"box"``: passage nodes keep the bridge test's random yaw and are
+            extended along the box's axes; ``"geometry"``: the passage's direction is taken
+            across the line joining the two colliding samples, the box turned along and
+            across it. Neither depends on the world's axes.
+        yaw_range: sampled yaws lie in ``[-yaw_range, yaw_range)``. Whatever the range,
+            neighbours are found with yaw modulo pi and linked to the grasp of the same
+            physical state (yaw ``t`` with grasp ``k`` = yaw ``t + pi`` with ``k + 2``);
+            ``pi/2`` also samples only one yaw of each pair (measured: more needless
+            regrasps and slower on fig10 than ``pi``).
     """
 
     epsilon: float = 1.0
@@ -70,6 +83,9 @@ class RegraspParams:
     bridge_bias: float = 0.3
     bridge_rounds: int = 60
     search_every: int = 8
+    eager_filter: bool = True
+    passage_mode: str = "box"
+    yaw_range: float = math.pi
     bridge_sigma: float = 0.5
     passage_steps: tuple[float, ...] = (0.5, 1.0, 1.5, 2.0)
     max_visibility_samples: int = 30
@@ -119,6 +135,8 @@ class MultiplexedSearch:
         self.adj: dict[Node, dict[Node, float]] = {}
         self._uf: UnionFind[Node] = UnionFind()  # over candidate edges (never split)
         self.by_grasp: dict[int, list[int]] = {g: [] for g in self.params.grasps}
+        #: object nodes where grasp 0 or 2 (index 0), 1 or 3 (index 1) is valid
+        self._parity: tuple[list[int], list[int]] = ([], [])
         self.verified: dict[tuple[Node, Node], bool] = {}
         self.critical: list[int] = []
         b = self.checker.world.bounds
@@ -126,12 +144,20 @@ class MultiplexedSearch:
         self._hi = (b[2], b[3])
         self.start_nodes: list[Node] = []
         self.goal_nodes: set[Node] = set()
+        #: Nodes that may be reachable from the start nodes over candidate edges (a superset:
+        #: edges are only ever removed after it is computed), ``None`` until a search fails.
+        self._reach: set[Node] | None = None
+        self._vis: VisibilityRoadmapBuilder | None = None
+        self._done = 0  # object nodes already added to the manipulation roadmaps
+        self._h: dict[int, float] = {}  # A* heuristic per object node
+        self._since = 0
 
     # -- object roadmap --------------------------------------------------------------------
     def _random_pose(self) -> Pose:
+        """A uniform pose; yaw in ``[-yaw_range, yaw_range)``."""
         return (float(self.rng.uniform(self._lo[0], self._hi[0])),
                 float(self.rng.uniform(self._lo[1], self._hi[1])),
-                float(self.rng.uniform(-math.pi, math.pi)))
+                float(self.rng.uniform(-self.params.yaw_range, self.params.yaw_range)))
 
     def _sample_box_valid(self) -> Pose:
         for _ in range(1000):
@@ -154,7 +180,7 @@ class MultiplexedSearch:
 
     def _record_critical(self, seq) -> None:
         ck, m = self.checker, self.checker.model
-        poses = [m.object_from_car(r.car, 0) for r in seq.rotations]
+        poses = [canonical(m.object_from_car(r.car, 0)) for r in seq.rotations]
         if len(poses) < 2:
             return
         for g in self.params.grasps:
@@ -176,17 +202,44 @@ class MultiplexedSearch:
             self._uf.add(node)
 
     def _link(self, a: Node, b: Node, cost: float) -> None:
-        if (a, b) in self.verified and not self.verified[(a, b)]:
+        key = (a, b) if a <= b else (b, a)
+        if self.verified.get(key) is False:
             return
         self.adj[a][b] = cost
         self.adj[b][a] = cost
         self._uf.union(a, b)
+        r = self._reach
+        if r is not None and (a in r) != (b in r):
+            self._grow_reach(b if a in r else a)
+
+    def _grow_reach(self, node: Node) -> None:
+        """Add ``node`` and everything connected to it to the reachable set."""
+        assert self._reach is not None
+        stack = [node]
+        self._reach.add(node)
+        while stack:
+            for v in self.adj[stack.pop()]:
+                if v not in self._reach:
+                    self._reach.add(v)
+                    stack.append(v)
+
+    def _compute_reach(self) -> None:
+        """The exact set of nodes connected to a start node over the surviving edges."""
+        self._reach = set()
+        for s in self.start_nodes:
+            if s not in self._reach:
+                self._grow_reach(s)
 
     def _maybe_connected(self) -> bool:
         """Whether start and goal share a component of the candidate graph.
 
-        Edges are only removed later, so this is a sound filter: no component, no path.
+        Two sound filters: the union-find over every candidate edge ever added, and the set
+        of nodes reachable from the start over the surviving edges (computed when a search
+        fails, grown as edges are added; edges removed later only shrink the truth). A search
+        that cannot succeed is skipped.
         """
+        if self._reach is not None and self._reach.isdisjoint(self.goal_nodes):
+            return False
         goals = {self._uf.find(g) for g in self.goal_nodes}
         return any(self._uf.find(s) in goals for s in self.start_nodes)
 
@@ -206,14 +259,22 @@ class MultiplexedSearch:
             node = (i, g)
             self._add_node(node)
             car = m.car_pose(q, g)
-            for j in self.obj.nearest(q, p.neighbours, among=self.by_grasp[g]):
+            # neighbours in pose (yaw modulo pi): node j's yaw is within pi/2 of q's or its
+            # half-turn is, and then the same physical state is (j, g + 2)
+            for j in self.obj.nearest(q, p.neighbours, among=self._parity[g % 2]):
                 qj = self.obj.poses[j]
-                carj = m.car_pose(qj, g)
+                gj = g if abs(wrap_angle(qj[2] - q[2])) <= 0.5 * math.pi else (g + 2) % 4
+                if (j, gj) not in self.adj:
+                    continue
+                carj = m.car_pose(qj, gj)
                 d = rs.distance(car, carj)
-                if d <= p.connect_radius and self._plausible(car, carj, g):
-                    self._link(node, (j, g), d)
+                if d <= p.connect_radius and (not p.eager_filter
+                                              or self._plausible(car, carj, g)):
+                    self._link(node, (j, gj), d)
             self.by_grasp[g].append(i)
             added.append(g)
+        for parity in {g % 2 for g in added}:
+            self._parity[parity].append(i)
         # regrasping roadmap: the robot walks between the valid grasps at this pose
         for a_i, a in enumerate(added):
             for b in added[a_i + 1:]:
@@ -223,10 +284,9 @@ class MultiplexedSearch:
         return len(added)
 
     def _plausible(self, car_a: Pose, car_b: Pose, grasp: int) -> bool:
-        """Cheap necessary test of a candidate edge.
+        """Cheap necessary test of a candidate edge, run first when the lazy search checks it.
 
-        The box and robot are free at a few poses along its Reeds-Shepp path (the full pivot
-        check is left to the lazy search).
+        The box and robot are free at a few poses along its Reeds-Shepp path.
         """
         ck, m = self.checker, self.checker.model
         for c in ck.steering.rs.sample(car_a, car_b, [0.25, 0.5, 0.75]):
@@ -240,8 +300,11 @@ class MultiplexedSearch:
         if v is not None:
             return v
         pa, pb = self.obj.poses[a[0]], self.obj.poses[b[0]]
-        if a[1] == b[1]:
-            v = self.checker.transfer(pa, pb, a[1]).valid
+        if a[0] != b[0]:  # a transfer; (j, g + 2) is (j's half-turn, g)
+            m = self.checker.model
+            pb = pb if a[1] == b[1] else half_turn(pb)
+            v = (self._plausible(m.car_pose(pa, a[1]), m.car_pose(pb, a[1]), a[1])
+                 and self.checker.transfer(pa, pb, a[1]).valid)
         else:
             walk = self.checker.transit(pa, a[1], b[1])
             v = walk.valid
@@ -254,16 +317,21 @@ class MultiplexedSearch:
             self.stats.edges_invalid += 1
         return v
 
-    def search(self, ptc: Callable[[], bool]) -> list[Node]:
-        """Lazy shortest path from a start node to a goal node; ``[]`` if none yet."""
+    def search(self, ptc: Callable[[], bool], *, transfers_only: bool = False) -> list[Node]:
+        """Lazy shortest path from a start node to a goal node; ``[]`` if none yet.
+
+        With ``transfers_only``, regrasp edges are not used (one grasp all the way).
+        """
         if not self._maybe_connected():
             return []
         t0 = time.perf_counter()
         try:
             while not ptc():
                 self.stats.searches += 1
-                path = self._shortest_path()
+                path = self._shortest_path(transfers_only)
                 if not path:
+                    if not transfers_only:
+                        self._compute_reach()
                     return []
                 # validate every transfer edge of the path (so one search removes all its bad
                 # transfers), then the walks, which cost more, only if the transfers hold
@@ -271,7 +339,7 @@ class MultiplexedSearch:
                 ok = True
                 for walks in (False, True):
                     for a, b in pairs:
-                        if (a[1] != b[1]) != walks:
+                        if (a[0] == b[0]) != walks:
                             continue
                         if ptc():
                             return []
@@ -289,7 +357,7 @@ class MultiplexedSearch:
         finally:
             self.stats.time_search += time.perf_counter() - t0
 
-    def _shortest_path(self) -> list[Node]:
+    def _shortest_path(self, transfers_only: bool = False) -> list[Node]:
         """A* over the multiplexed graph.
 
         Heuristic: straight distance of the box to the goal less the largest car offset (a
@@ -298,25 +366,33 @@ class MultiplexedSearch:
         poses = self.obj.poses
         gx, gy = self.goal[0], self.goal[1]
         slack = max(self.checker.model.object_size[:2])
+        cache = self._h
+        adj = self.adj
 
         def h(n: Node) -> float:
-            q = poses[n[0]]
-            return max(0.0, math.hypot(q[0] - gx, q[1] - gy) - slack)
+            v = cache.get(n[0])
+            if v is None:
+                q = poses[n[0]]
+                v = cache[n[0]] = max(0.0, math.hypot(q[0] - gx, q[1] - gy) - slack)
+            return v
 
-        return astar(self.start_nodes, self.goal_nodes, lambda u: self.adj[u].items(), h)
+        if transfers_only:
+            return astar(self.start_nodes, self.goal_nodes,
+                         lambda u: [(v, c) for v, c in adj[u].items() if v[0] != u[0]], h)
+        return astar(self.start_nodes, self.goal_nodes, lambda u: adj[u].items(), h)
 
     # -- the algorithm (Fig. 7 of the paper) -------------------------------------------------
-    def run(self, ptc: Callable[[], bool]) -> list[tuple[Pose, int]]:
-        """Plan; return the path as ``(object pose, grasp)`` states, ``[]`` on time-out."""
+    def _initialise(self) -> None:
+        """Start and goal nodes, the direct edges, and the Visibility PRM builder."""
         p, ck = self.params, self.checker
         s_i = self.obj.add(self.start, "start")
         g_i = self.obj.add(self.goal, "goal")
-        t0 = time.perf_counter()
-        vis = VisibilityRoadmapBuilder(self._sample_box_valid, self._visible,
-                                       max_failures=p.guard_failures, roadmap=self.obj)
-        vis.guards.extend([s_i, g_i])
+        self._vis = VisibilityRoadmapBuilder(self._sample_box_valid, self._visible,
+                                             max_failures=p.guard_failures, roadmap=self.obj)
+        self._vis.guards.extend([s_i, g_i])
         for i in (s_i, g_i):
             self.plan_with_object_config(i)
+        self._done = len(self.obj)
         self.start_nodes = [n for n in self.adj if n[0] == s_i]
         self.goal_nodes = {n for n in self.adj if n[0] == g_i}
         m = ck.model
@@ -324,63 +400,104 @@ class MultiplexedSearch:
             if (g_i, g) in self.goal_nodes:
                 d = ck.steering.rs.distance(m.car_pose(self.start, g), m.car_pose(self.goal, g))
                 self._link((s_i, g), (g_i, g), d)
+
+    def run(self, ptc: Callable[[], bool]) -> list[tuple[Pose, int]]:
+        """Plan; return the path as ``(object pose, grasp)`` states, ``[]`` on time-out.
+
+        Calling it again continues with the same roadmaps and caches (OMPL's semantics:
+        solving again continues), e.g. after a time-out.
+        """
+        p = self.params
+        t0 = time.perf_counter()
+        if self._vis is None:
+            self._initialise()
+        vis = self._vis
+        assert vis is not None
         path = self.search(ptc)
-        if not path:
-            done = 2
-            n = 0
-            while not ptc() and vis.failures < p.guard_failures and \
-                    n < p.max_visibility_samples:
-                n += 1
-                vis.step()
-                for i in range(done, len(self.obj)):
-                    self.plan_with_object_config(i)
-                done = len(self.obj)
-            self.stats.time_visibility = time.perf_counter() - t0
-            path = self.search(ptc)
-            # diffusion: grow the object roadmap towards random samples
-            # passage phase: cheap bridge tests before the diffusion
-            for _ in range(p.bridge_rounds):
-                if path or ptc():
-                    break
+        n = 0
+        while not path and not ptc() and vis.failures < p.guard_failures and \
+                n < p.max_visibility_samples:
+            n += 1
+            vis.step()
+            path = self._add_new_nodes(ptc)
+        self.stats.time_visibility += time.perf_counter() - t0
+        # passage phase: cheap bridge tests before the diffusion
+        for _ in range(p.bridge_rounds if self.stats.passage_nodes == 0 else 0):
+            if path or ptc():
+                break
+            path = self._bridge_step(ptc)
+        # diffusion: grow the object roadmap towards random samples
+        while not path and not ptc():
+            if self.rng.uniform() < p.bridge_bias:
                 path = self._bridge_step(ptc)
-            since = 0
-            while not path and not ptc():
-                if self.rng.uniform() < p.bridge_bias:
-                    path = self._bridge_step(ptc)
-                    continue
-                q = self._diffusion_target()
-                near = self.obj.nearest(q, 1)[0]
-                qn = self._extend(self.obj.poses[near], q)
-                if qn == self.obj.poses[near]:
-                    continue
-                i = self.obj.add(qn, "diffusion")
-                self.stats.diffusion_nodes += 1
-                since += self.plan_with_object_config(i) > 0
-                if since >= p.search_every:
-                    since = 0
-                    path = self.search(ptc)
+                continue
+            q = self._diffusion_target()
+            near = self.obj.nearest(q, 1)[0]
+            qn = self._extend(self.obj.poses[near], q)
+            if qn == self.obj.poses[near]:
+                continue
+            self.obj.add(canonical(qn), "diffusion")
+            self.stats.diffusion_nodes += 1
+            path = self._add_new_nodes(ptc)
         self._fill_stats()
         if not path:
             return []
-        states = [(self.obj.poses[i], g) for i, g in path]
-        if p.optimise:
-            t1 = time.perf_counter()
-            states = optimise(ck, states, grasps=p.grasps,
-                              should_stop=budgeted(ptc, ck))
-            self.stats.time_optimise = time.perf_counter() - t1
+        return self._finish(self._express(path), ptc)
+
+    def _express(self, path: list[Node]) -> list[tuple[Pose, int]]:
+        """The path as ``(object pose, grasp)`` states in the start's frame.
+
+        A transfer edge may join ``(i, g)`` to ``(j, g + 2)``: the same car, so node ``j`` is
+        written as its half-turn with grasp ``g``. The frame carries on along the path; the
+        goal may thus be reached as its half-turn (the same physical configuration).
+        """
+        out: list[tuple[Pose, int]] = []
+        flip = False
+        prev: Node | None = None
+        for node in path:
+            if prev is not None and prev[0] != node[0] and prev[1] != node[1]:
+                flip = not flip
+            q = self.obj.poses[node[0]]
+            out.append((half_turn(q) if flip else q, (node[1] + 2 * flip) % 4))
+            prev = node
+        return out
+
+    def _add_new_nodes(self, ptc: Callable[[], bool]) -> list[Node]:
+        """Add the object nodes not yet multiplexed; search every ``search_every`` additions."""
+        for i in range(self._done, len(self.obj)):
+            self._since += self.plan_with_object_config(i) > 0
+        self._done = len(self.obj)
+        if self._since < self.params.search_every:
+            return []
+        self._since = 0
+        return self.search(ptc)
+
+    def _finish(self, states: list[tuple[Pose, int]],
+                ptc: Callable[[], bool]) -> list[tuple[Pose, int]]:
+        """The one call to the path optimiser at the end of the search."""
+        if not self.params.optimise:
+            return states
+        t1 = time.perf_counter()
+        states = optimise(self.checker, states, grasps=self.params.grasps,
+                          should_stop=budgeted(ptc, self.checker))
+        self.stats.time_optimise += time.perf_counter() - t1
         return states
 
     def _bridge_step(self, ptc: Callable[[], bool], attempts: int = 100) -> list[Node]:
-        """Bridge tests for narrow passages.
+        """Bridge tests for narrow passages, directions taken from the scene's geometry.
 
-        Two box poses (same yaw) in collision whose midpoint is free give a passage node;
-        straight extensions along the box's axes from it (the directions in which each grasp's
-        car drives straight) give aligned approach nodes. Runs up to ``attempts`` cheap tests,
-        adds the first passage found.
+        Two box poses (same yaw) in collision lie on either side of a passage if the box
+        fits between them: the passage runs across the line joining them. The box at their
+        midpoint, its axes (the directions each grasp's car drives straight) turned along and
+        across that direction, is a passage node if free, and nodes are added along the
+        passage on both sides. Nothing depends on the world's axes. Runs up to
+        ``attempts`` cheap tests (polling ``ptc``), adds the first passage found.
         """
         ck, p = self.checker, self.params
         w = ck.world
-        for _ in range(attempts):
+        for k in range(attempts):
+            if k % 10 == 0 and ptc():
+                return []
             q1 = self._random_pose()
             if not w.box_in_bounds(q1) or w.box_distance(q1) > 0:
                 continue
@@ -388,23 +505,34 @@ class MultiplexedSearch:
                   q1[1] + float(self.rng.normal(0, p.bridge_sigma)), q1[2])
             if not w.box_in_bounds(q2) or w.box_distance(q2) > 0:
                 continue
-            mid = (0.5 * (q1[0] + q2[0]), 0.5 * (q1[1] + q2[1]), q1[2])
-            if ck.box_valid(mid):
+            mx, my = 0.5 * (q1[0] + q2[0]), 0.5 * (q1[1] + q2[1])
+            if p.passage_mode == "box":  # the bridge's own (random) yaw and the box's axes
+                along = q1[2]
+                free = [(mx, my, q1[2])] if ck.box_valid((mx, my, q1[2])) else []
+            else:
+                across = math.atan2(q2[1] - q1[1], q2[0] - q1[0])
+                along = across + 0.5 * math.pi  # the passage's direction
+                free = [c for c in (canonical((mx, my, along)), canonical((mx, my, across)))
+                        if ck.box_valid(c)]
+            if free:
                 break
         else:
             return []
         self.stats.passage_nodes += 1
-        new = [self.obj.add(mid, "passage")]
-        for k in range(4):
-            a = mid[2] + k * 0.5 * math.pi
-            for d in p.passage_steps:
-                q = (mid[0] + d * math.cos(a), mid[1] + d * math.sin(a), mid[2])
-                if not ck.box_valid(q):
-                    break
-                new.append(self.obj.add(q, "passage"))
+        dirs = [along, along + math.pi] if p.passage_mode != "box" else \
+            [along + k * 0.5 * math.pi for k in range(4)]
+        for c in free:
+            self.obj.add(c, "passage")
+            for a in dirs:
+                for d in p.passage_steps:
+                    q = (mx + d * math.cos(a), my + d * math.sin(a), c[2])
+                    if not ck.box_valid(q):
+                        break
+                    self.obj.add(q, "passage")
         added = 0
-        for i in new:
+        for i in range(self._done, len(self.obj)):
             added += self.plan_with_object_config(i)
+        self._done = len(self.obj)
         return self.search(ptc) if added else []
 
     def _diffusion_target(self) -> Pose:
@@ -424,6 +552,10 @@ class MultiplexedSearch:
         the diffusion creeps into narrow passages instead of jumping over them.
         """
         rs = self.checker.steering.rs
+        # the box is symmetric: steer to the target's half-turn nearest to ``near``'s yaw
+        dyaw = wrap_angle(target[2] - near[2])
+        if abs(dyaw) > 0.5 * math.pi:
+            target = (target[0], target[1], wrap_angle(target[2] + math.pi))
         d = rs.distance(near, target)
         if d == 0.0:
             return near

@@ -23,9 +23,7 @@ def _ompl(cls: Any) -> Allocator:
     return make
 
 
-#: Planner name -> allocator. OMPL's PRM is not listed: in the ompl 2.0.1 wheel
-#: ``PRM::solve`` grows its roadmap on a C++ thread that calls our Python validators while the
-#: calling thread holds the GIL, so it deadlocks (seen in bench runs).
+#: Planner name -> allocator.
 PLANNERS: dict[str, Allocator] = {
     "regrasp": lambda problem, seed: RegraspPlanner(problem.si, problem.checker, seed=seed),
     "visprm": lambda problem, seed: VisibilityPRM(problem.si, seed=seed),
@@ -36,6 +34,13 @@ PLANNERS: dict[str, Allocator] = {
     "bkpiece1": _ompl(og.BKPIECE1),
 }
 
+#: OMPL planners refused, with the reason (``make_planner`` raises ``InputError``: exit 2).
+REFUSED: dict[str, str] = {
+    name: ("OMPL's PRM grows its roadmap on a C++ thread that calls our Python validators "
+           "while the calling thread holds the GIL: in the ompl 2.0.1 wheel it deadlocks. "
+           "Use 'visprm' (a visibility PRM) or 'regrasp'.")
+    for name in ("prm", "prmstar")}
+
 #: Planners whose randomness comes from OMPL's global seed (``ompl.util.RNG.setSeed``).
 OMPL_PLANNERS = frozenset(PLANNERS) - {"regrasp", "visprm"}
 
@@ -44,10 +49,16 @@ def make_planner(name: str, problem: PivotProblem, *, seed: int = 0) -> ob.Plann
     """Allocate planner ``name`` on ``problem``.
 
     Raises:
-        InputError: unknown planner name.
+        InputError: unknown or refused planner name (the message gives the reason).
     """
-    try:
-        alloc = PLANNERS[name]
-    except KeyError:
-        raise InputError("planner", name, f"unknown planner (known: {sorted(PLANNERS)})") from None
-    return alloc(problem, seed)
+    check_planner_name(name)
+    return PLANNERS[name](problem, seed)
+
+
+def check_planner_name(name: str) -> str:
+    """Return ``name`` if it is a usable planner, else raise :class:`InputError` saying why."""
+    if name in REFUSED:
+        raise InputError("planner", name, f"refused: {REFUSED[name]}")
+    if name not in PLANNERS:
+        raise InputError("planner", name, f"unknown planner (known: {sorted(PLANNERS)})")
+    return name

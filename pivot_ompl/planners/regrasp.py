@@ -22,7 +22,9 @@ class RegraspPlanner(GuardedPlanner):
     """Visibility PRM on the box, manipulation and regrasping roadmaps multiplexed, diffusion.
 
     The start is the problem's start state (its pose; every valid grasp is a start); the goal
-    must be a ``GoalState``/``GoalStates`` (their pose; every valid grasp is a goal).
+    must be a ``GoalState``/``GoalStates`` (their pose; every valid grasp is a goal). Calling
+    ``solve`` again on the same query continues with the roadmaps and caches of the previous
+    calls; ``clear()`` forgets them.
 
     Args:
         si: the space information.
@@ -60,9 +62,12 @@ class RegraspPlanner(GuardedPlanner):
         if not any(checker.state_valid(g_pose, g) for g in grasps):
             return ob.PlannerStatus(ob.PlannerStatus.INVALID_GOAL)
         t0 = time.perf_counter()
-        search = MultiplexedSearch(checker, s_pose, g_pose, self.params,
-                                   np.random.default_rng(self.seed))
-        self.last_search = search
+        search = self.last_search
+        if search is None or search.start != s_pose or search.goal != g_pose:
+            search = MultiplexedSearch(checker, s_pose, g_pose, self.params,
+                                       np.random.default_rng(self.seed))
+            self.last_search = search
+        # else: solving again continues with the same roadmaps and caches (OMPL semantics)
         checker.should_stop = lambda: bool(ptc())  # the steering inside edge checks stops too
         try:
             states = search.run(lambda: bool(ptc()))

@@ -14,9 +14,33 @@ from pivot_ompl.se2 import Pose
 YAW_WEIGHT = 0.5
 
 
+def canonical_yaw(yaw: float) -> tuple[float, int]:
+    """The box's yaw modulo pi, in ``[-pi/2, pi/2)``, and the grasp shift (0 or 2) it implies.
+
+    The box is symmetric under a half turn: object yaw ``t`` with grasp ``k`` and yaw
+    ``t + pi`` with grasp ``k + 2`` are the same car, robot pose and pivots.
+    """
+    c = (yaw + 0.5 * math.pi) % math.pi - 0.5 * math.pi
+    return c, (0 if abs(math.remainder(c - yaw, 2 * math.pi)) < 1.0 else 2)
+
+
+def half_turn(pose: Pose) -> Pose:
+    """The same box turned by pi (with grasp ``k + 2`` it is the same physical state)."""
+    return (pose[0], pose[1], math.remainder(pose[2] + math.pi, 2 * math.pi))
+
+
+def canonical(pose: Pose) -> Pose:
+    """``pose`` with its yaw taken modulo pi (see :func:`canonical_yaw`)."""
+    return (pose[0], pose[1], canonical_yaw(pose[2])[0])
+
+
 def pose_metric(a: np.ndarray, b: Pose) -> np.ndarray:
-    """Cheap metric between an array of poses ``a`` (N x 3) and pose ``b`` (m)."""
-    dyaw = np.abs((a[:, 2] - b[2] + math.pi) % (2 * math.pi) - math.pi)
+    """Cheap metric between an array of poses ``a`` (N x 3) and pose ``b`` (m).
+
+    Yaw differences are taken modulo pi (the box's half-turn symmetry: the grasps cover the
+    rest).
+    """
+    dyaw = np.abs((a[:, 2] - b[2] + 0.5 * math.pi) % math.pi - 0.5 * math.pi)
     return np.hypot(a[:, 0] - b[0], a[:, 1] - b[1]) + YAW_WEIGHT * dyaw
 
 
@@ -60,11 +84,16 @@ class Roadmap:
         if n == 0:
             return []
         if among is None:
-            d = pose_metric(self._arr[:n], pose)
-            order = np.argsort(d)[:k]
-            return [int(i) for i in order]
+            return [int(i) for i in _smallest(pose_metric(self._arr[:n], pose), k)]
         if not among:
             return []
         idx = np.asarray(among)
-        d = pose_metric(self._arr[idx], pose)
-        return [int(idx[i]) for i in np.argsort(d)[:k]]
+        return [int(idx[i]) for i in _smallest(pose_metric(self._arr[idx], pose), k)]
+
+
+def _smallest(d: np.ndarray, k: int) -> np.ndarray:
+    """Indices of the ``k`` smallest values of ``d``, in increasing order (O(n + k log k))."""
+    if k >= len(d):
+        return np.argsort(d, kind="stable")
+    part = np.argpartition(d, k - 1)[:k]
+    return part[np.argsort(d[part], kind="stable")]

@@ -120,7 +120,8 @@ class VisibilityPRM(GuardedPlanner):
         lo, hi = rs.getBounds().low, rs.getBounds().high
         a, b = si.allocState(), si.allocState()
 
-        def sample() -> tuple[Pose, int]:
+        def sample() -> tuple[Pose, int] | None:
+            """A valid sample, or ``None`` once the termination condition holds."""
             while True:
                 q = (rng.uniform(lo[0], hi[0]), rng.uniform(lo[1], hi[1]),
                      rng.uniform(-np.pi, np.pi))
@@ -128,6 +129,8 @@ class VisibilityPRM(GuardedPlanner):
                 write_state(a, q, g)
                 if si.isValid(a):
                     return q, g
+                if ptc():  # a scene with little free space must not run past the limit
+                    return None
 
         def visible(p: tuple[Pose, int], q: tuple[Pose, int]) -> bool:
             write_state(a, *p)
@@ -161,8 +164,12 @@ class VisibilityPRM(GuardedPlanner):
         while not ptc() and find(s_i) != find(g_i):
             n_samples += 1
             q = sample()
+            if q is None:
+                break
             seen: dict[int, int] = {}
             for gd in guards:
+                if ptc():
+                    break
                 c = find(gd)
                 if c in seen or nodes[gd][1] != q[1]:
                     continue
