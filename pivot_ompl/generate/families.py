@@ -63,7 +63,7 @@ class GeneratorParams:
     door_width: tuple[float, float] = (1.15, 1.35)
     slot_gap: tuple[float, float] = (0.1, 0.12)
     corridor_width: tuple[float, float] = (1.2, 1.4)
-    bend_size: tuple[float, float] = (2.7, 3.1)
+    bend_size: tuple[float, float] = (3.0, 3.4)
     max_tilt: float = 0.3
     rotate: bool = True
     attempts: int = 60

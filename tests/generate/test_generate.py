@@ -117,3 +117,9 @@ def test_rotated_polygon_triangulation_has_no_zero_area_triangle(angle):
     assert all(area(*(pts[i] for i in t)) > 1e-6 for t in tris)
     total = abs(sum(area(pts[0], pts[i], pts[i + 1]) for i in range(1, len(pts) - 1)))
     assert sum(area(*(pts[i] for i in t)) for t in tris) == pytest.approx(total)
+
+
+@pytest.mark.parametrize(("family", "seeds"), [("corridor", range(4)), ("walls", range(1))])
+def test_several_walls_or_bends_occur(family, seeds):
+    """Regression: second bends were always rejected (the walk round the box failed there)."""
+    assert max(generate(family, s).witness.regrasps for s in seeds) >= 2
