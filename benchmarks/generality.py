@@ -42,6 +42,8 @@ def main() -> None:
     suite = generate_suite(args.families.split(","), count=args.per_family, out=out / "scenes")
     scenes = [*suite, *(shipped_scenes()[n] for n in args.shipped.split(",") if n)]
     families = {load_scene(p).name: fam for p, fam in suite.items()}
+    for p in scenes[len(suite):]:  # a shipped scene is its own row (fig10, corridor...)
+        families[load_scene(p).name] = f"shipped {load_scene(p).name}"
     sweep = run_sweep(scenes, args.planners.split(","), runs=args.runs, time_limit=args.time,
                       out=out, executor=LocalExecutor(args.workers), plots=False)
     rows = family_rows(sweep.results, families, time_limit=args.time)
