@@ -95,7 +95,7 @@ def test_rigid_copies_keep_clearances(angle, mirror, x, y, yaw):
         # the bounds become walls: distances to them are measured to a 3-D box, equal to
         # the bounds margin when positive
         if d0 > 0:
-            assert d1 == pytest.approx(d0, abs=1e-6)
+            assert d1 == pytest.approx(d0, abs=1e-4)  # coal GJK precision
         else:
             assert d1 <= 1e-9
     assert copy.start == pytest.approx(f.pose(scene.start))
