@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import subprocess
 import sys
 import time
@@ -120,3 +121,16 @@ def test_repeated_solves_in_one_process():
         assert path.getStateCount() >= 2
         first = path.getState(0)
         assert (first[0].getX(), first[0].getY()) == (0.0, 0.0) and first[1].value in range(4)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_plans_reach_the_goal_as_given_not_its_half_turn(seed):
+    """Regression: with the box's half-turn symmetry the search once ended at the goal's half
+    turn (corridor, seeds 0 and 1): the path's frame parity must come back even."""
+    scene = shipped("corridor")
+    res = plan(scene, planner="regrasp", time_limit=60.0, seed=seed)
+    assert res.solved
+    end = res.plan.object_end
+    assert end[:2] == pytest.approx(scene.goal[:2], abs=1e-6)
+    assert math.remainder(end[2] - scene.goal[2], 2 * math.pi) == pytest.approx(0.0, abs=1e-6)
+    assert check_plan(res.plan, scene).ok

@@ -93,3 +93,19 @@ def test_walk_far_outside_the_bounds_is_reported_without_sweeping():
 def test_without_a_scene_the_plan_parameters_are_used():
     plan = steer_plan(alpha_max=math.pi / 4)
     assert check_plan(plan).ok
+
+
+def test_a_plan_ending_at_the_goal_turned_by_pi_is_refused():
+    """Regression: the planner once wrote the goal as its half turn (the same placement of the
+    symmetric box under another name); plans must reach the goal exactly as the scene says."""
+    import math
+
+    from pivot_ompl.planfile import Plan, TransferPhase
+
+    scene = make_scene(goal=[1.5, 3.0, math.pi])  # the start turned by pi, nothing to move
+    m = scene.model
+    plan = Plan(scene.name, "exact", m.object_size, m.robot_footprint, m.standoff,
+                scene.alpha_max, scene.start,
+                [TransferPhase(0, m.robot_pose(scene.start, 0), (), scene.start)])
+    rep = check_plan(plan, scene)
+    assert not rep.ok and any("ends at" in p for p in rep.problems)
