@@ -88,8 +88,9 @@ def test_the_same_physical_state_has_the_same_car():
     make_planner("regrasp", make_setup(scene))  # allocates on any scene
 
 
-def test_a_plan_may_reach_the_goal_turned_by_half_a_turn():
-    """The box is symmetric: ending at goal yaw + pi is the goal; + pi/2 is not."""
+def test_check_refuses_a_goal_turned_by_half_a_turn():
+    """Plans reach the goal exactly as given: ending at goal yaw + pi, the same placement of
+    the symmetric box under another name, is not accepted by ``check`` (nor + pi/2)."""
     import dataclasses
     import math
 
@@ -97,11 +98,11 @@ def test_a_plan_may_reach_the_goal_turned_by_half_a_turn():
 
     scene = shipped("open")
     res = plan(scene, planner="regrasp", time_limit=10.0, seed=0)
+    assert check_plan(res.plan, scene).ok
     x, y, yaw = scene.goal
-    turned = dataclasses.replace(scene, goal=(x, y, yaw + math.pi))
-    assert check_plan(res.plan, turned).ok
-    quarter = dataclasses.replace(scene, goal=(x, y, yaw + 0.5 * math.pi))
-    assert not check_plan(res.plan, quarter).ok
+    for turn in (math.pi, 0.5 * math.pi):
+        turned = dataclasses.replace(scene, goal=(x, y, yaw + turn))
+        assert not check_plan(res.plan, turned).ok
 
 
 def test_paths_across_the_half_turn_are_written_in_one_frame():
