@@ -24,7 +24,8 @@ if TYPE_CHECKING:
 log = logging.getLogger(__name__)
 
 __all__ = ["FOOTPRINT", "FRAMES", "HALF_SITTING", "HEIGHT", "SOLE_SIZE", "STANDOFF",
-           "URDF_RELPATH", "derived_floor_geometry", "half_sitting_configuration",
+           "STEP_BACKWARD", "STEP_FORWARD", "STEP_LATERAL", "STEP_TURN", "URDF_RELPATH",
+           "derived_floor_geometry", "half_sitting_configuration",
            "hrp2_floor_geometry", "load_pinocchio_model", "urdf_path"]
 
 #: Conservative robot floor bounding box (depth along heading, width) used by the planners (m).
@@ -34,6 +35,16 @@ STANDOFF = 0.25
 #: Height of the robot's bounding volume (m): the URDF's zero-pose standing height, sole to
 #: top of head (the published 1.539 m; our primitive head box stands 2 cm higher).
 HEIGHT = 1.56
+
+#: Step limits of the walk pattern (robot frame, one step): forward, backward and lateral
+#: displacement of the sole midpoint (m) and yaw change (rad). The whole-body generator's
+#: PlaCo walk uses them, and they set the planner's walking costs (its cost of a motion is
+#: proportional to the number of steps it takes): the values with which HRP-2 motions of
+#: every shipped scene pass ``check-motion`` (ZMP margin, no foot sliding, joint limits).
+STEP_FORWARD = 0.15
+STEP_BACKWARD = 0.08
+STEP_LATERAL = 0.06
+STEP_TURN = 0.25
 
 #: Frame names every consumer relies on.
 FRAMES = ("left_foot", "right_foot", "trunk", "left_hand", "right_hand")

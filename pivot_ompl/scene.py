@@ -5,7 +5,9 @@ Format (a contract for users and outside tools)::
     name: two-rooms
     bounds: [xmin, ymin, xmax, ymax]          # floor area every footprint stays in (m)
     object: {size: [w, d, h]}                  # box, w along its local x
-    robot: {model: hrp2, footprint: [depth, width], standoff: s}
+    robot: {model: hrp2, footprint: [depth, width], standoff: s,
+            walk: {step_forward: 0.15, step_backward: 0.08, step_lateral: 0.06,
+                   step_turn: 0.25, side_cost: 2.5, back_cost: 1.875, turn_cost: 0.6}}
     pivot: {alpha_max: 0.39269908169872414, turning_radius: 2.0}   # optional
     obstacles:                                 # static vertical prisms standing on the floor
       - {type: box, center: [x, y], size: [sx, sy], yaw: 0.0, height: 1.0}
@@ -100,6 +102,36 @@ Obstacle = BoxObstacle | CylinderObstacle | PolygonObstacle
 
 
 @dataclass(frozen=True)
+class WalkParameters:
+    """How the robot walks alone (the scene's ``robot.walk`` block; HRP-2 defaults).
+
+    A walk's cost is in metres of forward walking: it is proportional to the number of steps
+    the walk takes, so by default the costs follow from the step limits.
+
+    Attributes:
+        step_forward, step_backward, step_lateral: longest step of the sole midpoint
+            forward, backward and sideways (m).
+        step_turn: largest yaw change of one step (rad).
+        side_cost: cost of one metre walked sideways, per metre walked forward (>= 1).
+        back_cost: same for walking backward (>= 1).
+        turn_cost: cost of turning, metres of forward walking per radian (>= 0).
+    """
+
+    step_forward: float = hrp2.STEP_FORWARD
+    step_backward: float = hrp2.STEP_BACKWARD
+    step_lateral: float = hrp2.STEP_LATERAL
+    step_turn: float = hrp2.STEP_TURN
+    side_cost: float = hrp2.STEP_FORWARD / hrp2.STEP_LATERAL
+    back_cost: float = hrp2.STEP_FORWARD / hrp2.STEP_BACKWARD
+    turn_cost: float = hrp2.STEP_FORWARD / hrp2.STEP_TURN
+
+    @property
+    def turning_radius(self) -> float:
+        """Smallest radius of a forward walk turning at every step (m)."""
+        return self.step_forward / self.step_turn
+
+
+@dataclass(frozen=True)
 class Scene:
     """A planning problem.
 
@@ -108,6 +140,7 @@ class Scene:
         bounds: ``(xmin, ymin, xmax, ymax)`` of the floor area (m).
         model: box and robot geometry (:class:`~pivot_ompl.grasp.BoxGraspModel`).
         robot_model: robot model name (``"hrp2"``).
+        walk: how the robot walks alone (step limits, walking costs).
         alpha_max: bound on each pivot rotation (rad).
         turning_radius: Reeds-Shepp turning radius (m).
         obstacles: static prisms.
@@ -124,6 +157,7 @@ class Scene:
     alpha_max: float = DEFAULT_ALPHA_MAX
     turning_radius: float = DEFAULT_TURNING_RADIUS
     robot_model: str = "hrp2"
+    walk: WalkParameters = field(default_factory=WalkParameters)
     source: str = field(default="", compare=False)
 
 
@@ -206,7 +240,8 @@ def scene_from_dict(doc: Any, *, source: str = "") -> Scene:
                      "side")
     obj = r.mapping(top["object"], "object", {"size"}, set())
     size = r.vector(obj["size"], 3, "object.size", positive=True, lo=MIN_SIZE, hi=MAX_SIZE)
-    robot = r.mapping(top.get("robot", {}), "robot", set(), {"model", "footprint", "standoff"})
+    robot = r.mapping(top.get("robot", {}), "robot", set(),
+                      {"model", "footprint", "standoff", "walk"})
     model_name = robot.get("model", "hrp2")
     if model_name not in ROBOT_MODELS:
         raise r.fail("robot.model", model_name,
@@ -217,6 +252,7 @@ def scene_from_dict(doc: Any, *, source: str = "") -> Scene:
             if "footprint" in robot else rm["footprint"])
     standoff = (r.number(robot["standoff"], "robot.standoff", nonneg=True, hi=MAX_SIZE)
                 if "standoff" in robot else rm["standoff"])
+    walk = _walk(r, robot.get("walk", {}))
     piv = r.mapping(top.get("pivot", {}), "pivot", set(), {"alpha_max", "turning_radius"})
     alpha_max = r.number(piv.get("alpha_max", DEFAULT_ALPHA_MAX), "pivot.alpha_max",
                          positive=True, lo=MIN_ALPHA_MAX, hi=0.5 * math.pi)
@@ -241,7 +277,26 @@ def scene_from_dict(doc: Any, *, source: str = "") -> Scene:
             if not (b[0] <= x <= b[2] and b[1] <= y <= b[3]):
                 raise r.fail(fld, list(pose), f"the box footprint leaves bounds {list(b)}")
     return Scene(name, b, model, start, goal, tuple(obstacles), alpha_max,  # type: ignore[arg-type]
-                 turning, model_name, source)
+                 turning, model_name, walk, source)
+
+
+def _walk(r: _Reader, raw: Any) -> WalkParameters:
+    """The ``robot.walk`` block: step limits (> 0) and walking costs (>= 1; turning >= 0)."""
+    names = ("step_forward", "step_backward", "step_lateral", "step_turn", "side_cost",
+             "back_cost", "turn_cost")
+    d = r.mapping({} if raw is None else raw, "robot.walk", set(), set(names))
+    out = {}
+    for k in names:
+        if k not in d:
+            continue
+        fld = f"robot.walk.{k}"
+        v = r.number(d[k], fld, positive=k.startswith("step"), nonneg=k == "turn_cost")
+        if k in ("side_cost", "back_cost") and v < 1.0:
+            raise r.fail(fld, v, "must be >= 1 (walking forward costs 1 per metre)")
+        if k == "step_turn" and v > 0.5 * math.pi:
+            raise r.fail(fld, v, "must be <= pi/2 rad")
+        out[k] = v
+    return WalkParameters(**out)
 
 
 def _robot_defaults(name: str) -> dict[str, Any]:

@@ -77,6 +77,7 @@ class CollisionWorld:
         self._robot_radius = self.model.robot_radius()
         self._disk_shape = coal.Cylinder(self.model.robot_radius(), self.model.robot_height)
         self._disk = coal.CollisionObject(self._disk_shape)
+        self._disks: dict[float, coal.CollisionObject] = {}
         self._objects: list[coal.CollisionObject] = []
         self._manager = coal.DynamicAABBTreeCollisionManager()
         self._dcb = coal.DistanceCallBackDefault()
@@ -158,6 +159,18 @@ class CollisionWorld:
                              self._box_shape,
                              _transform(obj[0], obj[1], obj[2], 0.5 * self.model.object_size[2]),
                              self._req, self._res)
+
+    def disk_distance(self, x: float, y: float, radius: float) -> float:
+        """Clearance (m) to the obstacles of a vertical cylinder of ``radius`` at ``(x, y)``.
+
+        The cylinder is as high as the robot: e.g. the disk inscribed in its footprint.
+        """
+        obj = self._disks.get(radius)
+        if obj is None:
+            obj = coal.CollisionObject(coal.Cylinder(radius, self.model.robot_height))
+            self._disks[radius] = obj
+        obj.setTransform(_transform(x, y, 0.0, 0.5 * self.model.robot_height))
+        return self._distance(obj)
 
     # -- bounds ------------------------------------------------------------------------
     def bounds_margin(self, corners: list[tuple[float, float]]) -> float:

@@ -90,7 +90,7 @@ class PivotChecker:
         self.model = s.model
         self.world = CollisionWorld.from_scene(s)
         self.steering = PivotSteering(turning_radius=s.turning_radius, alpha_max=s.alpha_max)
-        self.walker = WalkPlanner(s.model, self.world)
+        self.walker = WalkPlanner(s.model, self.world, s.walk, tolerance=self.tolerance)
         self._edges: dict[tuple, EdgeResult] = {}
         self._walks: dict[tuple, WalkResult] = {}
         # reach of each body from a pivot corner, per grasp: bounds rotation sweeps

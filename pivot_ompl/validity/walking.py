@@ -1,42 +1,63 @@
 """The robot walking alone round the resting box (transit, the regrasping roadmap).
 
-Local steering (the regrasp paper, Section IV): forward walking plus short straight steps. A
-walk is a short straight backward step off the held face, turns in place and straight forward
-walks, and a short forward step onto the new grasp pose.
+Free walking as in the regrasp paper (Section IV): forward walking, turning while walking,
+sideways and backward steps, and turns in place. The walk planner is A* over a state lattice
+(:mod:`pivot_ompl.validity.walk_lattice`: floor grid x 16 headings), so it is complete at its
+resolution: if a walk made of lattice motions exists, it is found. It needs no turning disk:
+a robot narrower than a door walks through it forward or sideways.
 
-The regrasping roadmap is a grid of floor positions (spacing ``resolution``) where the robot
-can turn in place: the disk its footprint sweeps, inflated by ``margin``, is clear. It is built
-once per scene against the static obstacles; the resting box of a query blocks the positions
-near it. Between two neighbouring clear positions (up to ``2.3 * resolution`` apart) the walk
-is valid with no further check: the capsule swept by the turning disk along the step leaves
-the two end disks by less than the margin. The grid path found by A* is then shortened by
-straight forward walks, each certified collision-free (:mod:`pivot_ompl.validity.certify`), so
-the walk has few turns.
+* **Exact ends**: the grasp poses are joined to the nearby lattice states (within
+  ``1.5 * resolution``, the two nearest headings) by a short straight motion.
+* **Certified**: every motion is a straight move of the robot's centre with linear yaw,
+  certified collision-free from clearances (:mod:`pivot_ompl.validity.certify`) against the
+  obstacles, the bounds and the resting box (kept ``box_margin`` away: the robot's bounding box
+  does not cover its arms' sway while it walks). The clearances of lattice states are lower
+  bounds from the turning disk where it is clear (one query per grid position for all
+  headings), the robot body's own distance otherwise; the obstacles' part is cached per scene,
+  the resting box's part per box pose.
+* **Admissible heuristic**: ``hypot(D, turn_cost * heading error)`` where ``D`` is the
+  shortest floor distance to the goal round the obstacles and the resting box for the disk
+  inscribed in the footprint (:mod:`pivot_ompl.validity.walk_field`), a lower bound of every
+  walk's length; every motion costs at least ``hypot(length, turn_cost * turn)``
+  (:func:`~.walk_lattice.motion_cost`). Where ``D`` is infinite no walk exists: such queries
+  fail at once.
+* **Smoothing**: the lattice path is shortened greedily by certified straight motions (any
+  direction, linear yaw) and by forward walks along Dubins curves (OMPL's, turning radius
+  ``step_forward / step_turn``) whenever they cost less.
+* Every loop honours the caller's termination condition; a search larger than
+  ``max_expansions`` states gives up (no walk).
 """
 
 from __future__ import annotations
 
 import logging
 import math
+from collections import OrderedDict
 from collections.abc import Callable
 from dataclasses import dataclass, field
-
-import numpy as np
 
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.graph import astar
 from pivot_ompl.grasp import BoxGraspModel
+from pivot_ompl.pivoting.dubins import Dubins
+from pivot_ompl.scene import WalkParameters
 from pivot_ompl.se2 import Pose, wrap_angle
 from pivot_ompl.validity.certify import SWEEP_TOLERANCE, certify
 from pivot_ompl.validity.collision import CollisionWorld
+from pivot_ompl.validity.walk_field import FloorField
+from pivot_ompl.validity.walk_lattice import (
+    HEADING_YAWS,
+    N_HEADINGS,
+    motion_cost,
+    nearest_headings,
+    primitives,
+)
 
 log = logging.getLogger(__name__)
 
-#: Grid moves (in cells): 8 neighbours and the 8 knight moves.
-_MOVES = [(dx, dy) for dx in (-2, -1, 0, 1, 2) for dy in (-2, -1, 0, 1, 2)
-          if (dx, dy) != (0, 0) and abs(dx) + abs(dy) <= 3 and max(abs(dx), abs(dy)) <= 2
-          and not (abs(dx) == 2 and dy == 0) and not (abs(dy) == 2 and dx == 0)
-          and not (abs(dx) == 2 and abs(dy) == 2)]
+State = tuple[int, int, int]
+_START: State = (-1, -1, -1)
+_GOAL: State = (-2, -2, -2)
 
 
 @dataclass(frozen=True)
@@ -47,7 +68,8 @@ class WalkResult:
         valid: a collision-free walk was found.
         robot_path: key poses (straight segments, yaw interpolated linearly between them).
         length: walking distance of the robot's centre (m).
-        cost: length plus the turning cost (m).
+        cost: walking cost (m of forward walking: sideways, backward and turning weighted by
+            the scene's ``robot.walk`` costs).
     """
 
     valid: bool
@@ -59,238 +81,313 @@ class WalkResult:
 INVALID_WALK = WalkResult(False, (), math.inf, math.inf)
 
 
+class _GiveUp(Exception):
+    """The lattice search exceeded its budget."""
+
+
 @dataclass
 class WalkPlanner:
-    """Plans the robot's walk between two grasps of a resting box.
+    """Plans the robot's walk between two grasps of a resting box (see the module docstring).
 
     Args:
         model: box and robot geometry.
-        world: the static obstacles.
-        resolution: grid spacing of the turn-in-place positions (m).
-        back_off: length of the straight backward steps tried off a grasp pose (m).
-        turn_cost: cost of turning in place (m per rad).
-        margin: clearance kept round the turning disk (m); must exceed the capsule sliver
-            ``r - sqrt(r^2 - (1.15 resolution)^2)``.
-        box_margin: extra clearance kept from the resting box while walking (m): the robot's
-            bounding box does not cover its arms' sway while it walks (about 7 cm measured
-            on HRP-2 by the whole-body generator), and the box is what it walks closest to.
-        tolerance: swept-check tolerance of straight walks (m).
+        world: the static obstacles (robot body queries go through it).
+        walk: step limits and walking costs.
+        resolution: lattice grid spacing (m).
+        box_margin: clearance kept from the resting box while walking (m).
+        tolerance: swept-check tolerance (m).
+        max_expansions: lattice states expanded before a query gives up.
+        box_cache: resting-box poses whose lattice clearances are kept.
     """
 
     model: BoxGraspModel
     world: CollisionWorld
+    walk: WalkParameters = field(default_factory=WalkParameters)
     resolution: float = 0.1
-    back_off: float = 0.3
-    turn_cost: float = 0.15
-    margin: float = 0.02
     box_margin: float = 0.08
     tolerance: float = SWEEP_TOLERANCE
-    _free: np.ndarray | None = field(default=None, init=False, repr=False)
-    _partial: np.ndarray | None = field(default=None, init=False, repr=False)
-    _rows_done: int = field(default=0, init=False, repr=False)
+    max_expansions: int = 60_000
+    box_cache: int = 16
+    inflation: float = 3.0
+    #: Termination condition polled by the search (set by the owner).
+    should_stop: Callable[[], bool] | None = field(default=None, repr=False)
+    expansions: int = field(default=0, init=False)
 
     def __post_init__(self) -> None:
-        """Check that the margin covers the capsule sliver of the longest grid move."""
-        r = self.model.robot_radius()
-        step = math.hypot(2, 1) * self.resolution / 2
-        sliver = r - math.sqrt(max(0.0, r * r - step * step))
-        if self.margin <= sliver:
-            from pivot_ompl.errors import InputError
-            raise InputError("margin", self.margin, f"must exceed the grid sliver {sliver:.4f} m")
+        """Lattice size, primitives and the caches."""
         b = self.world.bounds
         self._nx = int(math.floor((b[2] - b[0]) / self.resolution)) + 1
         self._ny = int(math.floor((b[3] - b[1]) / self.resolution)) + 1
+        self._prims = primitives(self.resolution, self.walk)
+        self._radius = self.model.robot_radius()
+        self._disk: dict[tuple[int, int], float] = {}
+        self._static: dict[State, float] = {}
+        self._boxed: OrderedDict[Pose, dict[State, float]] = OrderedDict()
+        self._dubins = Dubins(turning_radius=self.walk.turning_radius)
+        self.field = FloorField(self.model, self.world, self.resolution, self.box_margin)
 
-    # -- grid ------------------------------------------------------------------------------
-    def _xy(self, ix: int, iy: int) -> tuple[float, float]:
+    # -- clearances ------------------------------------------------------------------------
+    def pose(self, s: State) -> Pose:
+        """The robot pose of lattice state ``s``."""
         b = self.world.bounds
-        return (b[0] + ix * self.resolution, b[1] + iy * self.resolution)
+        return (b[0] + s[0] * self.resolution, b[1] + s[1] * self.resolution,
+                HEADING_YAWS[s[2]])
 
-    def _disk_clear(self, x: float, y: float, obj: Pose | None) -> bool:
-        r = self.model.robot_radius() + self.margin
-        b = self.world.bounds
-        if not (b[0] + r <= x <= b[2] - r and b[1] + r <= y <= b[3] - r):
-            return False
-        if self.world.turning_disk_distance(x, y) <= self.margin:
-            return False
-        return obj is None or \
-            self.world.turning_disk_box_distance(x, y, obj) > self.margin + self.box_margin
+    def _exact(self, p: Pose, obj: Pose | None) -> float:
+        """Clearance (m) of the robot at ``p`` to obstacles, bounds and the resting box."""
+        w = self.world
+        d = w.bounds_margin(self.model.robot_corners(p))
+        if d <= 0.0:
+            return d
+        d = min(d, w.robot_distance(p))
+        if obj is not None and d > 0.0:
+            d = min(d, w.robot_box_distance(p, obj) - self.box_margin)
+        return d
 
-    def build(self, should_stop: Callable[[], bool] | None = None) -> np.ndarray:
-        """The grid of turn-in-place positions clear of the static obstacles (built once).
+    def _static_clearance(self, s: State) -> float:
+        """Lower bound of the robot's clearance to obstacles and bounds at ``s`` (cached)."""
+        v = self._static.get(s)
+        if v is not None:
+            return v
+        x, y, yaw = self.pose(s)
+        cell = (s[0], s[1])
+        dd = self._disk.get(cell)
+        if dd is None:
+            b, r = self.world.bounds, self._radius
+            dd = min(x - b[0] - r, b[2] - x - r, y - b[1] - r, b[3] - y - r)
+            if dd > 0.0:
+                dd = min(dd, self.world.turning_disk_distance(x, y))
+            self._disk[cell] = dd
+        if dd > 2.0 * self.resolution:
+            v = dd
+        else:
+            w = self.world
+            v = w.bounds_margin(self.model.robot_corners((x, y, yaw)))
+            if v > 0.0:
+                v = min(v, w.robot_distance((x, y, yaw)))
+        self._static[s] = v
+        return v
 
-        Raises:
-            Interrupted: ``should_stop()`` became true (polled once per grid row); the rows
-                done are kept and the next call resumes there.
+    def _box_table(self, obj: Pose) -> dict[State, float]:
+        table = self._boxed.get(obj)
+        if table is None:
+            table = {}
+            self._boxed[obj] = table
+            while len(self._boxed) > self.box_cache:
+                self._boxed.popitem(last=False)
+        else:
+            self._boxed.move_to_end(obj)
+        return table
+
+    def _clearance(self, s: State, obj: Pose, table: dict[State, float]) -> float:
+        """Lower bound of the robot's clearance at ``s`` with the box resting at ``obj``."""
+        v = table.get(s)
+        if v is not None:
+            return v
+        v = self._static_clearance(s)
+        if v > 0.0:
+            p = self.pose(s)
+            # centre to box rectangle, minus the turning radius: a lower bound
+            c, sn = math.cos(obj[2]), math.sin(obj[2])
+            ex, ey = p[0] - obj[0], p[1] - obj[1]
+            lx, ly = abs(c * ex + sn * ey), abs(-sn * ex + c * ey)
+            hw, hd = 0.5 * self.model.object_size[0], 0.5 * self.model.object_size[1]
+            lb = math.hypot(max(0.0, lx - hw), max(0.0, ly - hd)) - self._radius \
+                - self.box_margin
+            if lb <= 2.0 * self.resolution:
+                lb = self.world.robot_box_distance(p, obj) - self.box_margin
+            v = min(v, lb)
+        table[s] = v
+        return v
+
+    def segment_free(self, a: Pose, b: Pose, obj: Pose | None, *, da: float | None = None,
+                     db: float | None = None) -> bool:
+        """The straight motion ``a -> b`` (linear yaw) is certified free.
+
+        ``da``/``db``: lower bounds of the end clearances, if known.
         """
-        if self._free is None:
-            if self._partial is None:
-                self._partial = np.zeros((self._nx, self._ny), dtype=bool)
-            free = self._partial
-            for ix in range(self._rows_done, self._nx):
-                if should_stop is not None and should_stop():
-                    raise Interrupted("walking grid")
-                for iy in range(self._ny):
-                    free[ix, iy] = self._disk_clear(*self._xy(ix, iy), None)
-                self._rows_done = ix + 1
-            self._free, self._partial = free, None
-            log.debug("walk grid %dx%d: %d free", self._nx, self._ny, int(free.sum()))
-        return self._free
-
-    # -- local steering ----------------------------------------------------------------
-    def segment_valid(self, a: Pose, b: Pose, obj: Pose | None) -> bool:
-        """Straight motion a -> b with linearly interpolated yaw, certified collision-free."""
         dyaw = wrap_angle(b[2] - a[2])
-        lip = math.hypot(b[0] - a[0], b[1] - a[1]) + self.model.robot_radius() * abs(dyaw)
+        lip = math.hypot(b[0] - a[0], b[1] - a[1]) + self._radius * abs(dyaw)
+        if da is None:
+            da = self._exact(a, obj)
+        if da <= 0.0:
+            return False
         if lip == 0.0:
+            return True
+        if db is not None and db > 0.0 and da + db > lip:
             return True
 
         def clearance(s: float) -> float:
-            p = (a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]), a[2] + s * dyaw)
-            if not self.world.robot_in_bounds(p):
-                return -1.0
-            d = self.world.robot_distance(p)
-            if obj is not None:
-                d = min(d, self.world.robot_box_distance(p, obj) - self.box_margin)
-            return d
+            return self._exact((a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]),
+                                a[2] + s * dyaw), obj)
 
-        return certify(clearance, lip, tolerance=self.tolerance).valid
+        return certify(clearance, lip, tolerance=self.tolerance, d0=da,
+                       d1=db if db is not None and db > 0.0 else None).valid
 
-    def _walk_valid(self, p: tuple[float, float], q: tuple[float, float], obj: Pose) -> bool:
-        yaw = math.atan2(q[1] - p[1], q[0] - p[0])
-        return self.segment_valid((p[0], p[1], yaw), (q[0], q[1], yaw), obj)
-
-    def _exits(self, grasp_pose: Pose, obj: Pose) -> list[tuple[tuple[float, float], list[Pose]]]:
-        """Ways off a grasp pose to a turn-in-place spot: where it stands, or after a step back."""
-        out = []
-        c, s = math.cos(grasp_pose[2]), math.sin(grasp_pose[2])
-        for k in range(4):
-            back = k * self.back_off
-            p = (grasp_pose[0] - back * c, grasp_pose[1] - back * s, grasp_pose[2])
-            if back > 0 and not self.segment_valid(grasp_pose, p, obj):
-                break
-            if self._disk_clear(p[0], p[1], obj):
-                out.append(((p[0], p[1]), [grasp_pose] if back == 0 else [grasp_pose, p]))
-        return out
-
-    # -- query -------------------------------------------------------------------------
+    # -- query -----------------------------------------------------------------------------
     def plan(self, obj: Pose, from_grasp: int, to_grasp: int, *,
              should_stop: Callable[[], bool] | None = None) -> WalkResult:
         """Walk from grasp ``from_grasp`` to grasp ``to_grasp`` of the box resting at ``obj``.
 
         Raises:
-            Interrupted: ``should_stop()`` became true (grid build and A* poll it).
+            Interrupted: ``should_stop()`` (or :attr:`should_stop`) became true.
         """
+        if should_stop is not None:
+            self.should_stop = should_stop
         m = self.model
-        start, goal = m.robot_pose(obj, from_grasp), m.robot_pose(obj, to_grasp)
-        exits_s, exits_g = self._exits(start, obj), self._exits(goal, obj)
-        if not exits_s or not exits_g:
+        return self.plan_between(m.robot_pose(obj, from_grasp), m.robot_pose(obj, to_grasp),
+                                 obj)
+
+    def plan_between(self, start: Pose, goal: Pose, obj: Pose) -> WalkResult:
+        """Walk from robot pose ``start`` to ``goal`` with the box resting at ``obj``."""
+        table = self._box_table(obj)
+        d_start, d_goal = self._exact(start, obj), self._exact(goal, obj)
+        if d_start <= 0.0 or d_goal <= 0.0:
             return INVALID_WALK
-        free = self.build(should_stop).copy()
-        # the resting box blocks the positions near it
-        b = self.world.bounds
-        res = self.resolution
-        reach = 0.5 * math.hypot(m.object_size[0], m.object_size[1]) + m.robot_radius() \
-            + self.margin
-        x0 = max(0, int((obj[0] - reach - b[0]) / res))
-        x1 = min(self._nx - 1, int((obj[0] + reach - b[0]) / res) + 1)
-        y0 = max(0, int((obj[1] - reach - b[1]) / res))
-        y1 = min(self._ny - 1, int((obj[1] + reach - b[1]) / res) + 1)
-        for ix in range(x0, x1 + 1):
-            for iy in range(y0, y1 + 1):
-                if free[ix, iy]:
-                    free[ix, iy] = self._disk_clear(*self._xy(ix, iy), obj)
-        # attach the exits to clear grid positions within one knight move
-        attach = math.hypot(2, 1) * res / 2 * 2
-
-        def attached(p: tuple[float, float]) -> list[tuple[int, int]]:
-            cx, cy = int(round((p[0] - b[0]) / res)), int(round((p[1] - b[1]) / res))
-            out = []
-            for ix in range(cx - 2, cx + 3):
-                for iy in range(cy - 2, cy + 3):
-                    if 0 <= ix < self._nx and 0 <= iy < self._ny and free[ix, iy]:
-                        q = self._xy(ix, iy)
-                        if math.hypot(q[0] - p[0], q[1] - p[1]) <= attach:
-                            out.append((ix, iy))
-            return out
-
-        starts: dict[tuple[int, int], int] = {}
-        for e, (pos, _) in enumerate(exits_s):
-            for c in attached(pos):
-                starts.setdefault(c, e)
-        goals: dict[tuple[int, int], int] = {}
-        for e, (pos, _) in enumerate(exits_g):
-            for c in attached(pos):
-                goals.setdefault(c, e)
+        walk = self.walk
+        starts = self._attach(start, obj, table, d_start, leaving=True)
+        goals = self._attach(goal, obj, table, d_goal, leaving=False)
         if not starts or not goals:
             return INVALID_WALK
-        cells = _astar(free, list(starts), goals, res, should_stop)
-        if not cells:
+        dist = self.field.distances(obj, sorted({(s[0], s[1]) for s in goals}))
+        if all(math.isinf(dist[s[0], s[1]]) for s in starts):
             return INVALID_WALK
-        e_s, e_g = starts[cells[0]], goals[cells[-1]]
-        pts = [exits_s[e_s][0]] + [self._xy(*c) for c in cells] + [exits_g[e_g][0]]
-        pts = self._shorten(pts, obj)
-        return self._assemble(pts, exits_s[e_s][1], exits_g[e_g][1], goal)
+        counter = [0]
+        stop = self.should_stop
 
-    def _shorten(self, pts: list[tuple[float, float]], obj: Pose) -> list[tuple[float, float]]:
-        """Greedy shortcuts by certified straight forward walks (farthest reachable first)."""
-        out = [pts[0]]
-        i = 0
-        while i < len(pts) - 1:
-            j = len(pts) - 1
-            lo = i + 1
-            # binary-search-like descent: try far points first, then closer ones
-            while j > lo and not self._walk_valid(pts[i], pts[j], obj):
-                j = lo + (j - lo) // 2 if j - lo > 8 else j - 1
-            out.append(pts[j])
-            i = j
+        def neighbours(u: State):  # noqa: ANN202 - generator of (state, cost)
+            if u == _START:
+                yield from starts.items()
+                return
+            counter[0] += 1
+            if counter[0] > self.max_expansions:
+                raise _GiveUp
+            if stop is not None and counter[0] % 64 == 0 and stop():
+                raise Interrupted("walk planning")
+            cu = self._clearance(u, obj, table)
+            pu = self.pose(u)
+            nx, ny = self._nx, self._ny
+            for pr in self._prims[u[2]]:
+                ix, iy = u[0] + pr.dix, u[1] + pr.diy
+                if not (0 <= ix < nx and 0 <= iy < ny):
+                    continue
+                if math.isinf(dist[ix, iy]):
+                    continue
+                v = (ix, iy, (u[2] + pr.dh) % N_HEADINGS)
+                cv = self._clearance(v, obj, table)
+                if cv <= 0.0:
+                    continue
+                if self.segment_free(pu, self.pose(v), obj, da=cu, db=cv):
+                    yield v, pr.cost
+            c = goals.get(u)
+            if c is not None:
+                yield _GOAL, c
+
+        gyaw = goal[2]
+        eps = self.inflation
+        tc = walk.turn_cost
+
+        def heuristic(u: State) -> float:
+            if u[0] < 0:
+                return 0.0
+            return eps * math.hypot(float(dist[u[0], u[1]]),
+                                    tc * abs(wrap_angle(HEADING_YAWS[u[2]] - gyaw)))
+
+        try:
+            states = astar([_START], {_GOAL}, neighbours, heuristic)
+        except _GiveUp:
+            log.debug("walk search gave up after %d expansions", counter[0])
+            states = []
+        finally:
+            self.expansions += counter[0]
+        if not states:
+            return INVALID_WALK
+        poses = [start] + [self.pose(s) for s in states[1:-1]] + [goal]
+        return self._result(self._smooth(poses, obj))
+
+    def _attach(self, pose: Pose, obj: Pose, table: dict[State, float], d_pose: float, *,
+                leaving: bool) -> dict[State, float]:
+        """Lattice states joined to ``pose`` by a certified straight motion, with its cost."""
+        b, res = self.world.bounds, self.resolution
+        reach = 1.5 * res
+        cx, cy = (pose[0] - b[0]) / res, (pose[1] - b[1]) / res
+        out: dict[State, float] = {}
+        for ix in range(math.floor(cx - 1.5), math.ceil(cx + 1.5) + 1):
+            for iy in range(math.floor(cy - 1.5), math.ceil(cy + 1.5) + 1):
+                if not (0 <= ix < self._nx and 0 <= iy < self._ny):
+                    continue
+                if math.hypot(ix - cx, iy - cy) * res > reach:
+                    continue
+                for h in nearest_headings(pose[2]):
+                    s = (ix, iy, h)
+                    cs = self._clearance(s, obj, table)
+                    if cs <= 0.0:
+                        continue
+                    p = self.pose(s)
+                    a, z = (pose, p) if leaving else (p, pose)
+                    da, dz = (d_pose, cs) if leaving else (cs, d_pose)
+                    if self.segment_free(a, z, obj, da=da, db=dz):
+                        out[s] = motion_cost(a, z, self.walk)
         return out
 
-    def _assemble(self, pts: list[tuple[float, float]], head: list[Pose], tail: list[Pose],
-                  goal: Pose) -> WalkResult:
-        keys = list(head)
-        last = keys[-1]
-        for q in pts[1:]:
-            if math.hypot(q[0] - last[0], q[1] - last[1]) < 1e-12:
-                continue
-            yaw = math.atan2(q[1] - last[1], q[0] - last[0])
-            yaw = last[2] + wrap_angle(yaw - last[2])
-            keys.append((last[0], last[1], yaw))  # turn in place
-            keys.append((q[0], q[1], yaw))        # walk straight
+    # -- smoothing -------------------------------------------------------------------------
+    #: Certified shortcut attempts per smoothing pass.
+    MAX_SHORTCUT_CHECKS = 40
+
+    def _dubins_walk(self, a: Pose, b: Pose) -> list[Pose]:
+        """Poses every ~``resolution`` along the Dubins curve ``a -> b`` (ends excluded)."""
+        length = self._dubins.distance(a, b)
+        n = max(1, math.ceil(length / self.resolution))
+        pts = self._dubins.sample(a, b, [k / n for k in range(1, n)])
+        return [(x, y, a[2] + wrap_angle(yaw - a[2])) for x, y, yaw in pts]
+
+    def _smooth(self, poses: list[Pose], obj: Pose) -> list[Pose]:
+        """Greedy shortcuts: straight motions, then Dubins forward walks, when cheaper."""
+        walk = self.walk
+        costs = [motion_cost(a, b, walk) for a, b in zip(poses, poses[1:], strict=False)]
+        prefix = [0.0]
+        for c in costs:
+            prefix.append(prefix[-1] + c)
+        out = [poses[0]]
+        checks = 0
+        i, n = 0, len(poses)
+        while i < n - 1:
+            nxt, piece = i + 1, []
+            for j in range(n - 1, i + 1, -1):
+                if checks >= self.MAX_SHORTCUT_CHECKS:
+                    break
+                old = prefix[j] - prefix[i]
+                a, b = poses[i], poses[j]
+                if motion_cost(a, b, walk) < old - 1e-9:
+                    checks += 1
+                    if self.segment_free(a, b, obj):
+                        nxt = j
+                        break
+                if self._dubins.distance(a, b) >= old - 1e-9:
+                    continue
+                mids = self._dubins_walk(a, b)
+                chain = [a, *mids, b]
+                dc = sum(motion_cost(p, q, walk) for p, q in zip(chain, chain[1:], strict=False))
+                if dc < old - 1e-9:
+                    checks += 1
+                    if all(self.segment_free(p, q, obj)
+                           for p, q in zip(chain, chain[1:], strict=False)):
+                        nxt, piece = j, mids
+                        break
+            out.extend(piece)
+            out.append(poses[nxt])
+            i = nxt
+        return out
+
+    def _result(self, poses: list[Pose]) -> WalkResult:
+        keys = [poses[0]]
+        for p in poses[1:]:
             last = keys[-1]
-        for p in reversed(tail):  # turn-in-place spot ... grasp pose
-            yaw = last[2] + wrap_angle(p[2] - last[2])
-            keys.append((last[0], last[1], yaw))
-            keys.append((p[0], p[1], yaw))
-            last = keys[-1]
-        keys[-1] = goal
-        clean = [keys[0]]
-        for p in keys[1:]:
-            kept = clean[-1]
-            if abs(p[0] - kept[0]) + abs(p[1] - kept[1]) + abs(wrap_angle(p[2] - kept[2])) > 1e-12:
-                clean.append(p)
+            q = (p[0], p[1], last[2] + wrap_angle(p[2] - last[2]))
+            if abs(q[0] - last[0]) + abs(q[1] - last[1]) + abs(q[2] - last[2]) > 1e-12:
+                keys.append(q)
+        keys[-1] = poses[-1]
         length = sum(math.hypot(b[0] - a[0], b[1] - a[1])
-                     for a, b in zip(clean, clean[1:], strict=False))
-        turn = sum(abs(wrap_angle(b[2] - a[2])) for a, b in zip(clean, clean[1:], strict=False))
-        return WalkResult(True, tuple(clean), length, length + self.turn_cost * turn)
-
-
-def _astar(free: np.ndarray, starts: list[tuple[int, int]], goals: dict[tuple[int, int], int],
-           res: float, should_stop: Callable[[], bool] | None = None) -> list[tuple[int, int]]:
-    """A* over the free grid cells (8 neighbours and knight moves), Euclidean costs."""
-    gx = float(np.mean([g[0] for g in goals]))
-    gy = float(np.mean([g[1] for g in goals]))
-    spread = max(math.hypot(g[0] - gx, g[1] - gy) for g in goals)
-    nx, ny = free.shape
-    moves = [(dx, dy, math.hypot(dx, dy)) for dx, dy in _MOVES]
-
-    def neighbours(c: tuple[int, int]):
-        for dx, dy, w in moves:
-            x, y = c[0] + dx, c[1] + dy
-            if 0 <= x < nx and 0 <= y < ny and free[x, y]:
-                yield (x, y), w
-
-    def h(c: tuple[int, int]) -> float:
-        return max(0.0, math.hypot(c[0] - gx, c[1] - gy) - spread)
-
-    return astar(starts, goals, neighbours, h, should_stop=should_stop)
+                     for a, b in zip(keys, keys[1:], strict=False))
+        cost = sum(motion_cost(a, b, self.walk) for a, b in zip(keys, keys[1:], strict=False))
+        return WalkResult(True, tuple(keys), length, cost)

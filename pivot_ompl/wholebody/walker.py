@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pivot_ompl import hrp2
 from pivot_ompl.hrp2 import HALF_SITTING, SOLE_SIZE, urdf_path
 from pivot_ompl.se2 import Pose, wrap_angle
 from pivot_ompl.wholebody.box import rot_z, transform
@@ -62,10 +63,10 @@ class WalkSettings:
     com_height: float = 0.79
     foot_height: float = 0.04
     feet_spacing: float = 0.20
-    max_dx_forward: float = 0.15
-    max_dx_backward: float = 0.08
-    max_dy: float = 0.06
-    max_dtheta: float = 0.25
+    max_dx_forward: float = hrp2.STEP_FORWARD
+    max_dx_backward: float = hrp2.STEP_BACKWARD
+    max_dy: float = hrp2.STEP_LATERAL
+    max_dtheta: float = hrp2.STEP_TURN
     zmp_margin: float = 0.03
     foot_offset: float = 0.0
     hand_position_weight: float = 1000.0

@@ -1,0 +1,99 @@
+"""The walking robot's state lattice: headings, motion primitives and their costs.
+
+States are ``(ix, iy, h)``: a floor grid position (spacing ``resolution``) and one of 16
+headings. The headings are the directions of the 16 integer vectors
+``(1, 0), (2, 1), (1, 1), (1, 2), (0, 1), ...`` (0, 26.6, 45, 63.4, 90 deg, ...), so a step
+along a heading, or square to it, or against it, ends exactly on a grid position: walking
+forward, sideways and backward are exact lattice motions. Primitives from heading ``h``:
+
+* forward, one grid vector along ``h`` (0.14 to 0.22 m), keeping the heading or turning to
+  the next heading either way while walking (the yaw changes linearly along the step);
+* a side step left or right, and a back step, keeping the heading;
+* a turn in place to the next heading either way.
+
+Each primitive is a straight motion of the robot's centre with its yaw interpolated linearly:
+exactly a segment of a ``pivot-plan/1`` walk. Costs (:func:`motion_cost`) are in metres of
+forward walking (:class:`~pivot_ompl.scene.WalkParameters`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from pivot_ompl.scene import WalkParameters
+from pivot_ompl.se2 import Pose, wrap_angle
+
+#: Grid directions of the 16 headings, counter-clockwise from +x.
+HEADING_VECTORS: tuple[tuple[int, int], ...] = (
+    (1, 0), (2, 1), (1, 1), (1, 2), (0, 1), (-1, 2), (-1, 1), (-2, 1),
+    (-1, 0), (-2, -1), (-1, -1), (-1, -2), (0, -1), (1, -2), (1, -1), (2, -1))
+N_HEADINGS = len(HEADING_VECTORS)
+#: Yaw of each heading (rad).
+HEADING_YAWS: tuple[float, ...] = tuple(math.atan2(v[1], v[0]) for v in HEADING_VECTORS)
+
+
+def motion_cost(a: Pose, b: Pose, walk: WalkParameters) -> float:
+    """Cost (m of forward walking) of the straight motion ``a -> b`` with linear yaw.
+
+    The displacement is split, in the robot frame at the middle yaw, into its forward or
+    backward part ``dx`` and its sideways part ``dy``; with the yaw change ``dth`` the cost is
+    ``hypot(dx, side_cost dy, turn_cost dth)`` (``back_cost`` instead of 1 backward). With the
+    default costs (ratios of the step limits) it is ``step_forward`` times the number of steps
+    the whole-body walk takes, whose steps lie in the ellipsoid of the step limits. Every
+    weight is at least the forward one, so a walk costs at least
+    ``hypot(length, turn_cost * |heading change|)``: the A* heuristic of
+    :mod:`pivot_ompl.validity.walking` is admissible.
+    """
+    dyaw = wrap_angle(b[2] - a[2])
+    mid = a[2] + 0.5 * dyaw
+    ex, ey = b[0] - a[0], b[1] - a[1]
+    c, s = math.cos(mid), math.sin(mid)
+    dx, dy = c * ex + s * ey, -s * ex + c * ey
+    fx = dx if dx >= 0.0 else walk.back_cost * dx
+    return math.hypot(fx, walk.side_cost * dy, walk.turn_cost * dyaw)
+
+
+@dataclass(frozen=True)
+class Primitive:
+    """One lattice motion from heading ``h``: grid offset, heading change and cost (m)."""
+
+    dix: int
+    diy: int
+    dh: int
+    cost: float
+    kind: str
+
+
+def primitives(resolution: float, walk: WalkParameters,
+               step: float = 0.2) -> tuple[tuple[Primitive, ...], ...]:
+    """The motion primitives of each heading (see the module docstring).
+
+    Args:
+        resolution: grid spacing (m).
+        walk: walking costs.
+        step: nominal length of one lattice step (m); a grid vector is repeated to about it.
+    """
+    def vec(h: int) -> tuple[int, int]:
+        vx, vy = HEADING_VECTORS[h % N_HEADINGS]
+        k = max(1, round(step / (resolution * math.hypot(vx, vy))))
+        return k * vx, k * vy
+
+    out = []
+    for h in range(N_HEADINGS):
+        yaw = HEADING_YAWS[h]
+        prims = []
+        moves = [(vec(h), dh, "forward") for dh in (0, -1, 1)]
+        moves += [(vec(h + 4), 0, "left"), (vec(h - 4), 0, "right"), (vec(h + 8), 0, "back")]
+        moves += [((0, 0), 1, "turn"), ((0, 0), -1, "turn")]
+        for (dix, diy), dh, kind in moves:
+            b = (dix * resolution, diy * resolution,
+                 yaw + wrap_angle(HEADING_YAWS[(h + dh) % N_HEADINGS] - yaw))
+            prims.append(Primitive(dix, diy, dh, motion_cost((0.0, 0.0, yaw), b, walk), kind))
+        out.append(tuple(prims))
+    return tuple(out)
+
+
+def nearest_headings(yaw: float, count: int = 2) -> list[int]:
+    """The ``count`` headings nearest to ``yaw``."""
+    return sorted(range(N_HEADINGS), key=lambda h: abs(wrap_angle(HEADING_YAWS[h] - yaw)))[:count]
