@@ -136,13 +136,27 @@ class WalkPlanner:
     def _exact(self, p: Pose, obj: Pose | None) -> float:
         """Clearance (m) of the robot at ``p`` to obstacles, bounds and the resting box."""
         w = self.world
-        d = w.bounds_margin(self.model.robot_corners(p))
-        if d <= 0.0:
-            return d
+        b, r = w.bounds, self._radius
+        d = min(p[0] - b[0], b[2] - p[0], p[1] - b[1], b[3] - p[1]) - r  # disk: a lower bound
+        if d < 2.0 * r:
+            d = w.bounds_margin(self.model.robot_corners(p))
+            if d <= 0.0:
+                return d
         d = min(d, w.robot_distance(p))
-        if obj is not None and d > 0.0:
+        if obj is not None and d > 0.0 and self._box_lower_bound(p, obj) < d:
             d = min(d, w.robot_box_distance(p, obj) - self.box_margin)
         return d
+
+    def _box_lower_bound(self, p: Pose, obj: Pose) -> float:
+        """Lower bound of the robot's clearance to the box at ``obj``, less the box margin.
+
+        The robot's centre to the box rectangle, less the turning radius.
+        """
+        c, sn = math.cos(obj[2]), math.sin(obj[2])
+        ex, ey = p[0] - obj[0], p[1] - obj[1]
+        lx, ly = abs(c * ex + sn * ey), abs(-sn * ex + c * ey)
+        hw, hd = 0.5 * self.model.object_size[0], 0.5 * self.model.object_size[1]
+        return math.hypot(max(0.0, lx - hw), max(0.0, ly - hd)) - self._radius - self.box_margin
 
     def _static_clearance(self, s: State) -> float:
         """Lower bound of the robot's clearance to obstacles and bounds at ``s`` (cached)."""
@@ -187,13 +201,7 @@ class WalkPlanner:
         v = self._static_clearance(s)
         if v > 0.0:
             p = self.pose(s)
-            # centre to box rectangle, minus the turning radius: a lower bound
-            c, sn = math.cos(obj[2]), math.sin(obj[2])
-            ex, ey = p[0] - obj[0], p[1] - obj[1]
-            lx, ly = abs(c * ex + sn * ey), abs(-sn * ex + c * ey)
-            hw, hd = 0.5 * self.model.object_size[0], 0.5 * self.model.object_size[1]
-            lb = math.hypot(max(0.0, lx - hw), max(0.0, ly - hd)) - self._radius \
-                - self.box_margin
+            lb = self._box_lower_bound(p, obj)
             if lb <= 2.0 * self.resolution:
                 lb = self.world.robot_box_distance(p, obj) - self.box_margin
             v = min(v, lb)
