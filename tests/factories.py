@@ -28,3 +28,42 @@ def make_scene(**overrides) -> Scene:
            "start": [1.5, 3.0, 0.0], "goal": [6.0, 3.0, 0.0], "obstacles": []}
     doc.update(overrides)
     return scene_from_dict(doc, source="<test>")
+
+
+def rotated_scene_doc(doc: dict, angle: float, about: tuple[float, float] = (0.0, 0.0)) -> dict:
+    """A scene document with every coordinate rotated by ``angle`` (rad) about ``about``.
+
+    The bounds become the axis-aligned box round the rotated bounds (scenes of this kind are
+    closed by their own walls, so the extra floor is outside them).
+    """
+    import copy
+
+    c, s = math.cos(angle), math.sin(angle)
+
+    def pt(p):
+        x, y = p[0] - about[0], p[1] - about[1]
+        return [about[0] + c * x - s * y, about[1] + s * x + c * y]
+
+    out = copy.deepcopy(doc)
+    x0, y0, x1, y1 = doc["bounds"]
+    corners = [pt(p) for p in ((x0, y0), (x1, y0), (x1, y1), (x0, y1))]
+    out["bounds"] = [min(p[0] for p in corners), min(p[1] for p in corners),
+                     max(p[0] for p in corners), max(p[1] for p in corners)]
+    out["name"] = f"{doc['name']}_rot{angle:.2f}"
+    for o in out.get("obstacles") or []:
+        if o["type"] in ("box", "cylinder"):
+            o["center"] = pt(o["center"])
+        if o["type"] == "box":
+            o["yaw"] = o.get("yaw", 0.0) + angle
+        if o["type"] == "polygon":
+            o["points"] = [pt(p) for p in o["points"]]
+    for k in ("start", "goal"):
+        out[k] = pt(doc[k]) + [doc[k][2] + angle]
+    return out
+
+
+def shipped_doc(name: str) -> dict:
+    """The parsed YAML document of a shipped scene."""
+    import yaml
+
+    return yaml.safe_load(scene_file(name).read_text())

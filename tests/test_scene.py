@@ -41,6 +41,13 @@ def test_defaults():
     ({"pivot": {"turning_radius": 0}}, "pivot.turning_radius"),
     ({"robot": {"model": "asimo"}}, "robot.model"),
     ({"robot": {"standoff": -0.1}}, "robot.standoff"),
+    ({"robot": {"walk": {"side_cost": 0.5}}}, "robot.walk.side_cost"),
+    ({"robot": {"walk": {"back_cost": "high"}}}, "robot.walk.back_cost"),
+    ({"robot": {"walk": {"step_forward": 0.0}}}, "robot.walk.step_forward"),
+    ({"robot": {"walk": {"step_turn": 2.0}}}, "robot.walk.step_turn"),
+    ({"robot": {"walk": {"turn_cost": -1.0}}}, "robot.walk.turn_cost"),
+    ({"robot": {"walk": {"stride": 0.3}}}, "robot.walk.stride"),
+    ({"robot": {"walk": [0.1]}}, "robot.walk"),
     ({"obstacles": [{"type": "cone", "center": [1, 1]}]}, "obstacles[0].type"),
     ({"obstacles": [{"type": "box", "center": [1, 1], "size": [1, 1]}]}, "obstacles[0].height"),
     ({"obstacles": [{"type": "cylinder", "center": [1, 1], "radius": -1, "height": 1}]},
@@ -55,6 +62,22 @@ def test_errors_name_field_and_value(override, field):
         make_scene(**override)
     assert e.value.field == field
     assert "<test>" in str(e.value) and field in str(e.value)
+
+
+def test_walk_defaults_follow_the_hrp2_step_limits():
+    from pivot_ompl import hrp2
+
+    w = make_scene().walk
+    assert (w.step_forward, w.step_backward, w.step_lateral, w.step_turn) == (
+        hrp2.STEP_FORWARD, hrp2.STEP_BACKWARD, hrp2.STEP_LATERAL, hrp2.STEP_TURN)
+    # costs in metres of forward walking = steps taken: sideways and backward dearer
+    assert w.side_cost == pytest.approx(hrp2.STEP_FORWARD / hrp2.STEP_LATERAL)
+    assert w.back_cost == pytest.approx(hrp2.STEP_FORWARD / hrp2.STEP_BACKWARD)
+    assert w.side_cost > 1 and w.back_cost > 1
+    assert w.turn_cost == pytest.approx(hrp2.STEP_FORWARD / hrp2.STEP_TURN)
+    custom = make_scene(robot={"walk": {"side_cost": 4.0, "turn_cost": 0.0}}).walk
+    assert custom.side_cost == 4.0 and custom.turn_cost == 0.0
+    assert custom.back_cost == w.back_cost
 
 
 def test_missing_field(tmp_path):

@@ -2,10 +2,17 @@
 
 from __future__ import annotations
 
+import math
+
 import pytest
-from factories import make_scene
+from factories import make_scene, rotated_scene_doc, shipped, shipped_doc
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
+from pivot_ompl.scene import WalkParameters, scene_from_dict
+from pivot_ompl.se2 import wrap_angle
+from pivot_ompl.validity.walk_lattice import HEADING_YAWS, N_HEADINGS, motion_cost, primitives
 from pivot_ompl.validity.pivot_checker import PivotChecker
 from pivot_ompl.validity.plan_check import check_plan
 
@@ -62,6 +69,140 @@ def test_walk_search_honours_the_termination_condition():
         t0 = time.monotonic()
         assert ck.transit(scene.start, 0, 2) is INVALID_WALK
         assert time.monotonic() - t0 < 1.5
-    done = ck.walker._rows_done
+    done = ck.walker.field.rows_done
     assert 0 < done < 601  # the rows of both calls are kept, not rebuilt
     assert not ck._walks  # an interrupted walk is not cached
+
+
+# -- free walking: doors and corridors narrower than the turning disk ----------------------
+# (box resting in the wall's slot, the robot walks round from one side to the other)
+SLOT_POSES = {"door": (4.85, 2.0, 0.0), "t_junction": (4.85, 2.5, 0.0)}
+
+
+def _rot(p, angle):
+    c, s = math.cos(angle), math.sin(angle)
+    return (c * p[0] - s * p[1], s * p[0] + c * p[1], p[2] + angle)
+
+
+def _walk_round(scene, obj):
+    ck = PivotChecker(scene, seed=0)
+    grasps = [g for g in range(4) if ck.state_valid(obj, g)]
+    # the two grasps on either side of the wall
+    g1, g2 = min(grasps, key=lambda g: scene.model.robot_pose(obj, g)[0]), \
+        max(grasps, key=lambda g: scene.model.robot_pose(obj, g)[0])
+    return ck, g1, g2, ck.transit(obj, g1, g2)
+
+
+def _check_walk(scene, obj, g1, g2, walk):
+    m = scene.model
+    plan = Plan(scene.name, "exact", m.object_size, m.robot_footprint, m.standoff,
+                scene.alpha_max, obj,
+                [TransferPhase(g1, m.robot_pose(obj, g1), (), obj),
+                 TransitPhase(g1, g2, walk.robot_path, obj),
+                 TransferPhase(g2, m.robot_pose(obj, g2), (), obj)])
+    return [p for p in check_plan(plan, scene).problems if "scene" not in p]
+
+
+@pytest.mark.parametrize("name", ["door", "t_junction"])
+def test_no_turn_in_place_in_the_narrow_passage(name):
+    scene = shipped(name)
+    ck = PivotChecker(scene, seed=0)
+    # door centre / corridor: the turning disk collides there, the robot walking does not
+    x, y = (4.85, 5.5) if name == "door" else (6.0, 6.45)
+    assert ck.world.turning_disk_distance(x, y) < 0.0
+    assert 2.0 * scene.model.robot_radius() > 0.9
+
+
+@pytest.mark.parametrize("name", ["door", "t_junction"])
+def test_walks_round_through_the_narrow_passage(name):
+    scene = shipped(name)
+    obj = SLOT_POSES[name]
+    ck, g1, g2, walk = _walk_round(scene, obj)
+    assert walk.valid
+    m = scene.model
+    assert walk.robot_path[0] == pytest.approx(m.robot_pose(obj, g1), abs=1e-12)
+    assert walk.robot_path[-1] == pytest.approx(m.robot_pose(obj, g2), abs=1e-12)
+    assert _check_walk(scene, obj, g1, g2, walk) == []
+    # it goes through the door / the corridor (the slot is too narrow for the robot)
+    if name == "door":
+        assert any(4.6 < p[0] < 5.1 and 5.0 < p[1] < 6.0 for p in walk.robot_path) or \
+            any(a[0] < 4.7 < b[0] and a[1] > 4.9 for a, b in
+                zip(walk.robot_path, walk.robot_path[1:], strict=False))
+    else:
+        assert max(p[1] for p in walk.robot_path) > 6.0
+    assert walk.cost >= walk.length
+
+
+@pytest.mark.parametrize(("name", "angle"), [("door", 0.5), ("t_junction", -1.1),
+                                              ("door", 2.3)])
+def test_rotated_copies_walk_too(name, angle):
+    doc = rotated_scene_doc(shipped_doc(name), angle)
+    scene = scene_from_dict(doc, source="<rotated>")
+    obj = _rot(SLOT_POSES[name], angle)
+    ck = PivotChecker(scene, seed=0)
+    grasps = [g for g in range(4) if ck.state_valid(obj, g)]
+    left = [g for g in grasps if _rot(scene.model.robot_pose(obj, g), -angle)[0] < 4.85]
+    right = [g for g in grasps if _rot(scene.model.robot_pose(obj, g), -angle)[0] > 4.85]
+    walk = ck.transit(obj, left[0], right[0])
+    assert walk.valid
+    assert _check_walk(scene, obj, left[0], right[0], walk) == []
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.floats(-5, 5), st.floats(-5, 5), st.floats(-7, 7), st.floats(-5, 5),
+       st.floats(-5, 5), st.floats(-7, 7))
+def test_motion_cost_bounds_the_heuristic(x0, y0, t0, x1, y1, t1):
+    # every motion costs at least hypot(length, turn_cost * turn): the A* heuristic is
+    # admissible; and forward walking costs exactly its length
+    w = WalkParameters()
+    a, b = (x0, y0, t0), (x1, y1, t1)
+    c = motion_cost(a, b, w)
+    low = math.hypot(math.hypot(x1 - x0, y1 - y0), w.turn_cost * abs(wrap_angle(t1 - t0)))
+    assert c >= low - 1e-9
+    d = math.hypot(x1 - x0, y1 - y0)
+    assert motion_cost((x0, y0, t0), (x0 + d * math.cos(t0), y0 + d * math.sin(t0), t0),
+                       w) == pytest.approx(d, abs=1e-9)
+
+
+def test_floor_distance_is_a_lower_bound_of_the_walk():
+    scene = shipped("t_junction")
+    obj = SLOT_POSES["t_junction"]
+    ck, g1, g2, walk = _walk_round(scene, obj)
+    wp = ck.walker
+    b, res = scene.bounds, wp.resolution
+    goal = walk.robot_path[-1]
+    cell = (round((goal[0] - b[0]) / res), round((goal[1] - b[1]) / res))
+    dist = wp.field.distances(obj, [cell])
+    s = walk.robot_path[0]
+    d0 = dist[round((s[0] - b[0]) / res), round((s[1] - b[1]) / res)]
+    assert math.isfinite(d0)
+    assert d0 <= walk.length + 2 * res  # ends attach within 1.5 resolution
+    assert d0 > 5.0  # round the wall, not through the slot (2 m straight)
+
+
+def test_primitives_cover_every_kind_on_the_grid():
+    prims = primitives(0.1, WalkParameters())
+    assert len(prims) == N_HEADINGS
+    for h, ps in enumerate(prims):
+        kinds = sorted({p.kind for p in ps})
+        assert kinds == ["back", "forward", "left", "right", "turn"]
+        fwd = [p for p in ps if p.kind == "forward" and p.dh == 0][0]
+        side = [p for p in ps if p.kind == "left"][0]
+        back = [p for p in ps if p.kind == "back"][0]
+        # exactly along / square to / against the heading
+        yaw = HEADING_YAWS[h]
+        assert math.atan2(fwd.diy, fwd.dix) == pytest.approx(yaw)
+        assert wrap_angle(math.atan2(side.diy, side.dix) - yaw) == pytest.approx(math.pi / 2)
+        assert abs(wrap_angle(math.atan2(back.diy, back.dix) - yaw)) == pytest.approx(math.pi)
+        assert side.cost > fwd.cost * 1.5 and back.cost > fwd.cost * 1.5
+
+
+@pytest.mark.parametrize("name", ["door", "t_junction"])
+def test_regrasp_plan_through_the_narrow_passage_passes_check(name):
+    from pivot_ompl.api import plan
+
+    scene = shipped(name)
+    res = plan(scene, planner="regrasp", time_limit=60.0, seed=1)
+    assert res.solved and res.regrasps >= 1
+    rep = check_plan(res.plan, scene)
+    assert rep.ok, rep.problems
