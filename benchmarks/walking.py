@@ -9,7 +9,7 @@
    p95 planning time, regrasps. Targets: >= 95 % success within 60 s (aim 100 % within 10 s);
    transit query median <= 20 ms.
 
-    python benchmarks/walking.py [--poses 40] [--runs 20] [--time 60]
+    python benchmarks/walking.py [--poses 40] [--runs 20] [--time 60] [--inflation W]
                                  [--scenes door,t_junction] [--walk-scenes door,t_junction,fig10]
                                  [--out results/walking.json]
 """
@@ -34,10 +34,12 @@ def _p95(xs: list[float]) -> float:
     return float(np.percentile(xs, 95)) if xs else math.nan
 
 
-def transit_queries(name: str, poses: int, seed: int) -> dict:
+def transit_queries(name: str, poses: int, seed: int, inflation: float | None = None) -> dict:
     """Time transit queries at random valid box poses of scene ``name``."""
     scene = load_scene(name)
     ck = PivotChecker(scene)
+    if inflation is not None:
+        ck.walker.inflation = inflation
     rng = np.random.default_rng(seed)
     x0, y0, x1, y1 = scene.bounds
     times, found, tried = [], 0, 0
@@ -56,7 +58,8 @@ def transit_queries(name: str, poses: int, seed: int) -> dict:
                 w = ck.transit(obj, g1, g2)
                 times.append(time.perf_counter() - t)
                 found += w.valid
-    return {"scene": name, "poses": poses, "queries": len(times),
+    return {"scene": name, "inflation": ck.walker.inflation, "poses": poses,
+            "queries": len(times), "expansions": ck.walker.expansions,
             "with_walk": found / len(times), "median_ms": 1e3 * statistics.median(times),
             "p95_ms": 1e3 * _p95(times), "mean_ms": 1e3 * statistics.fmean(times)}
 
@@ -89,13 +92,18 @@ def main() -> None:
     ap.add_argument("--scenes", default="door,t_junction")
     ap.add_argument("--walk-scenes", default="door,t_junction,fig10")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--inflation", type=float, default=None,
+                    help="A* heuristic weight (default: the planner's)")
     ap.add_argument("--out", default="results/walking.json")
     args = ap.parse_args()
-    walks = [transit_queries(s, args.poses, args.seed) for s in args.walk_scenes.split(",") if s]
-    print(f"{'scene':<12} {'queries':>7} {'walk found':>10} {'median ms':>9} {'p95 ms':>8}")
+    walks = [transit_queries(s, args.poses, args.seed, args.inflation)
+             for s in args.walk_scenes.split(",") if s]
+    print(f"{'scene':<12} {'weight':>6} {'queries':>7} {'walk found':>10} {'median ms':>9} "
+          f"{'p95 ms':>8} {'expansions':>10}")
     for w in walks:
-        print(f"{w['scene']:<12} {w['queries']:7d} {100 * w['with_walk']:9.0f}% "
-              f"{w['median_ms']:9.1f} {w['p95_ms']:8.1f}")
+        print(f"{w['scene']:<12} {w['inflation']:6.1f} {w['queries']:7d} "
+              f"{100 * w['with_walk']:9.0f}% {w['median_ms']:9.1f} {w['p95_ms']:8.1f} "
+              f"{w['expansions']:10d}")
     plans = [regrasp_runs(s, args.runs, args.time) for s in args.scenes.split(",")
              if s and args.runs > 0]
     print(f"{'scene':<12} {'runs':>5} {'success':>8} {'median s':>9} {'p95 s':>8} {'max s':>7} "

@@ -36,6 +36,8 @@ from collections import OrderedDict
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.graph import astar
 from pivot_ompl.grasp import BoxGraspModel
@@ -123,6 +125,7 @@ class WalkPlanner:
         self._disk: dict[tuple[int, int], float] = {}
         self._static: dict[State, float] = {}
         self._boxed: OrderedDict[Pose, dict[State, float]] = OrderedDict()
+        self._distances: OrderedDict[tuple, np.ndarray] = OrderedDict()
         self._dubins = Dubins(turning_radius=self.walk.turning_radius)
         self.field = FloorField(self.model, self.world, self.resolution, self.box_margin)
 
@@ -257,7 +260,13 @@ class WalkPlanner:
         goals = self._attach(goal, obj, table, d_goal, leaving=False)
         if not starts or not goals:
             return INVALID_WALK
-        dist = self.field.distances(obj, sorted({(s[0], s[1]) for s in goals}))
+        cells = tuple(sorted({(s[0], s[1]) for s in goals}))
+        dist = self._distances.get((obj, cells))
+        if dist is None:
+            dist = self.field.distances(obj, list(cells))
+            self._distances[(obj, cells)] = dist
+            while len(self._distances) > 4 * self.box_cache:
+                self._distances.popitem(last=False)
         if all(math.isinf(dist[s[0], s[1]]) for s in starts):
             return INVALID_WALK
         counter = [0]
