@@ -12,9 +12,9 @@ from hypothesis import strategies as st
 from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
 from pivot_ompl.scene import WalkParameters, scene_from_dict
 from pivot_ompl.se2 import wrap_angle
-from pivot_ompl.validity.walk_lattice import HEADING_YAWS, N_HEADINGS, motion_cost, primitives
 from pivot_ompl.validity.pivot_checker import PivotChecker
 from pivot_ompl.validity.plan_check import check_plan
+from pivot_ompl.validity.walk_lattice import HEADING_YAWS, N_HEADINGS, motion_cost, primitives
 
 POSE = (4.0, 3.0, 0.3)
 
