@@ -9,7 +9,7 @@
    p95 planning time, regrasps. Targets: >= 95 % success within 60 s (aim 100 % within 10 s);
    transit query median <= 20 ms.
 
-    python benchmarks/walking.py [--poses 40] [--runs 20] [--time 60] [--inflation W]
+    python benchmarks/walking.py [--poses 40] [--runs 20] [--time 60] [--inflation 1,3]
                                  [--scenes door,t_junction] [--walk-scenes door,t_junction,fig10]
                                  [--out results/walking.json]
 """
@@ -92,12 +92,13 @@ def main() -> None:
     ap.add_argument("--scenes", default="door,t_junction")
     ap.add_argument("--walk-scenes", default="door,t_junction,fig10")
     ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--inflation", type=float, default=None,
-                    help="A* heuristic weight (default: the planner's)")
+    ap.add_argument("--inflation", default="",
+                    help="A* heuristic weights to compare, e.g. 1,3 (default: the planner's)")
     ap.add_argument("--out", default="results/walking.json")
     args = ap.parse_args()
-    walks = [transit_queries(s, args.poses, args.seed, args.inflation)
-             for s in args.walk_scenes.split(",") if s]
+    weights = [float(w) for w in args.inflation.split(",") if w] or [None]
+    walks = [transit_queries(s, args.poses, args.seed, w)
+             for s in args.walk_scenes.split(",") if s for w in weights]
     print(f"{'scene':<12} {'weight':>6} {'queries':>7} {'walk found':>10} {'median ms':>9} "
           f"{'p95 ms':>8} {'expansions':>10}")
     for w in walks:

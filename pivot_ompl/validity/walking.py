@@ -320,7 +320,7 @@ class WalkPlanner:
         if not states:
             return INVALID_WALK
         poses = [start] + [self.pose(s) for s in states[1:-1]] + [goal]
-        return self._result(self._smooth(poses, obj))
+        return self._result(self._smooth(self._smooth(poses, obj), obj))
 
     def _attach(self, pose: Pose, obj: Pose, table: dict[State, float], d_pose: float, *,
                 leaving: bool) -> dict[State, float]:
@@ -349,7 +349,7 @@ class WalkPlanner:
 
     # -- smoothing -------------------------------------------------------------------------
     #: Certified shortcut attempts per smoothing pass.
-    MAX_SHORTCUT_CHECKS = 40
+    MAX_SHORTCUT_CHECKS = 400
 
     def _dubins_walk(self, a: Pose, b: Pose) -> list[Pose]:
         """Poses every ~``resolution`` along the Dubins curve ``a -> b`` (ends excluded)."""
@@ -370,7 +370,13 @@ class WalkPlanner:
         i, n = 0, len(poses)
         while i < n - 1:
             nxt, piece = i + 1, []
-            for j in range(n - 1, i + 1, -1):
+            # the far end first, then ends at halving distances: long shortcuts are tried
+            # without spending the budget on every pose of a long walk
+            ends = sorted({min(n - 1, i + step) for step in (n, 64, 32, 16, 8, 4, 2)},
+                          reverse=True)
+            for j in ends:
+                if j <= i + 1:
+                    continue
                 if checks >= self.MAX_SHORTCUT_CHECKS:
                     break
                 old = prefix[j] - prefix[i]
