@@ -131,6 +131,9 @@ def test_walks_round_through_the_narrow_passage(name):
     else:
         assert max(p[1] for p in walk.robot_path) > 6.0
     assert walk.cost >= walk.length
+    # smoothed all along (regression: a shortcut budget spent on the first poses left the
+    # lattice's staircase at the end of the walk, 32 and 43 key poses)
+    assert len(walk.robot_path) <= 25
 
 
 @pytest.mark.parametrize(("name", "angle"), [("door", 0.5), ("t_junction", -1.1),
