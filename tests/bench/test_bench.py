@@ -359,7 +359,7 @@ def test_readme_paper_comparison_command_parses() -> None:
     from pivot_ompl.cli.main import build_parser
 
     text = (ROOT / "benchmarks" / "README.md").read_text()
-    section = text.split("## 3. Paper comparison", 1)[1]
+    section = text.split("## 3. Paper comparison", 1)[1].split("\n## ", 1)[0]
     cmd = section.split("```sh\n", 1)[1].split("\n#", 1)[0].replace("\\\n", " ")
     argv = shlex.split(cmd)
     assert argv[:2] == ["pivot-ompl", "bench"]
