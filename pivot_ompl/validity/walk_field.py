@@ -15,12 +15,14 @@ The obstacles' part is built once per scene; the resting box's per query (vector
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
+from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.se2 import Pose
 from pivot_ompl.validity.collision import CollisionWorld
@@ -43,6 +45,9 @@ class FloorField:
     resolution: float
     box_margin: float
     _open: np.ndarray | None = field(default=None, init=False, repr=False)
+    _partial: np.ndarray | None = field(default=None, init=False, repr=False)
+    #: Grid rows of :meth:`static_open` done so far (it resumes there when interrupted).
+    rows_done: int = field(default=0, init=False)
 
     def __post_init__(self) -> None:
         """Grid size and the inscribed radius."""
@@ -54,17 +59,30 @@ class FloorField:
         ys = b[1] + self.resolution * np.arange(self.ny)
         self._x, self._y = np.meshgrid(xs, ys, indexing="ij")
 
-    def static_open(self) -> np.ndarray:
-        """Open positions ignoring the resting box, ``(nx, ny)`` booleans (built once)."""
+    def static_open(self, should_stop: Callable[[], bool] | None = None) -> np.ndarray:
+        """Open positions ignoring the resting box, ``(nx, ny)`` booleans (built once).
+
+        Raises:
+            Interrupted: ``should_stop()`` became true (polled once per grid row); the rows
+                done are kept (:attr:`rows_done`) and the next call resumes there.
+        """
         if self._open is None:
             b, r = self.world.bounds, self.radius
             x, y = self._x, self._y
-            ok = (x - b[0] >= r) & (b[2] - x >= r) & (y - b[1] >= r) & (b[3] - y >= r)
+            if self._partial is None:
+                self._partial = (x - b[0] >= r) & (b[2] - x >= r) & (y - b[1] >= r) \
+                    & (b[3] - y >= r)
+            ok = self._partial
             if self.world.has_obstacles:
-                for ix, iy in zip(*np.nonzero(ok), strict=True):
-                    ok[ix, iy] = self.world.disk_distance(float(x[ix, iy]), float(y[ix, iy]),
-                                                          r) > 0.0
-            self._open = ok
+                for ix in range(self.rows_done, self.nx):
+                    if should_stop is not None and should_stop():
+                        raise Interrupted("walking floor field")
+                    for iy in np.nonzero(ok[ix])[0]:
+                        ok[ix, iy] = self.world.disk_distance(float(x[ix, iy]),
+                                                              float(y[ix, iy]), r) > 0.0
+                    self.rows_done = ix + 1
+            self.rows_done = self.nx
+            self._open, self._partial = ok, None
             sx, sy = np.nonzero(ok)
             n = self.nx * self.ny
             rows, cols, lens = [], [], []
@@ -83,9 +101,10 @@ class FloorField:
             self._n = n
         return self._open
 
-    def open_with_box(self, obj: Pose) -> np.ndarray:
+    def open_with_box(self, obj: Pose,
+                      should_stop: Callable[[], bool] | None = None) -> np.ndarray:
         """Open positions with the box resting at ``obj``."""
-        ok = self.static_open()
+        ok = self.static_open(should_stop)
         c, s = math.cos(obj[2]), math.sin(obj[2])
         ex, ey = self._x - obj[0], self._y - obj[1]
         lx = np.abs(c * ex + s * ey) - 0.5 * self.model.object_size[0]
@@ -93,12 +112,13 @@ class FloorField:
         d = np.hypot(np.maximum(lx, 0.0), np.maximum(ly, 0.0))
         return ok & (d > self.radius + self.box_margin)
 
-    def distances(self, obj: Pose, goals: list[tuple[int, int]]) -> np.ndarray:
+    def distances(self, obj: Pose, goals: list[tuple[int, int]],
+                  should_stop: Callable[[], bool] | None = None) -> np.ndarray:
         """Shortest open-grid distance (m) of every position to the nearest of ``goals``.
 
         ``inf``: unreachable. With the box resting at ``obj``; shape ``(nx, ny)``.
         """
-        ok = self.open_with_box(obj).ravel()
+        ok = self.open_with_box(obj, should_stop).ravel()
         keep = ok[self._rows] & ok[self._cols]
         g = csr_matrix((self._lens[keep], (self._rows[keep], self._cols[keep])),
                        shape=(self._n, self._n))

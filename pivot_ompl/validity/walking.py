@@ -241,10 +241,9 @@ class WalkPlanner:
         """Walk from grasp ``from_grasp`` to grasp ``to_grasp`` of the box resting at ``obj``.
 
         Raises:
-            Interrupted: ``should_stop()`` (or :attr:`should_stop`) became true.
+            Interrupted: ``should_stop()`` became true (floor field build and A* poll it).
         """
-        if should_stop is not None:
-            self.should_stop = should_stop
+        self.should_stop = should_stop
         m = self.model
         return self.plan_between(m.robot_pose(obj, from_grasp), m.robot_pose(obj, to_grasp),
                                  obj)
@@ -263,7 +262,7 @@ class WalkPlanner:
         cells = tuple(sorted({(s[0], s[1]) for s in goals}))
         dist = self._distances.get((obj, cells))
         if dist is None:
-            dist = self.field.distances(obj, list(cells))
+            dist = self.field.distances(obj, list(cells), self.should_stop)
             self._distances[(obj, cells)] = dist
             while len(self._distances) > 4 * self.box_cache:
                 self._distances.popitem(last=False)

@@ -55,13 +55,16 @@ def test_no_walk_through_a_wall_round_the_box():
 
 
 def test_walk_search_honours_the_termination_condition():
-    """A large floor's grid takes seconds: the walk stops at the limit and resumes later."""
+    """A large floor's field takes seconds: the walk stops at the limit and resumes later."""
     import time
 
     from pivot_ompl.validity.walking import INVALID_WALK
 
+    # an obstacle, so that every grid position of the floor field needs a clearance query
     scene = make_scene(bounds=[0.0, 0.0, 60.0, 60.0], start=[30.0, 30.0, 0.0],
-                       goal=[40.0, 30.0, 0.0])
+                       goal=[40.0, 30.0, 0.0],
+                       obstacles=[{"type": "cylinder", "center": [55.0, 55.0], "radius": 0.3,
+                                   "height": 1.0}])
     ck = PivotChecker(scene, seed=0)
     for _ in range(2):
         deadline = time.monotonic() + 0.3
