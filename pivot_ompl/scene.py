@@ -157,8 +157,8 @@ class Scene:
     alpha_max: float = DEFAULT_ALPHA_MAX
     turning_radius: float = DEFAULT_TURNING_RADIUS
     robot_model: str = "hrp2"
-    walk: WalkParameters = field(default_factory=WalkParameters)
     source: str = field(default="", compare=False)
+    walk: WalkParameters = field(default_factory=WalkParameters)
 
 
 ROBOT_MODELS = {"hrp2": {"footprint": hrp2.FOOTPRINT, "standoff": hrp2.STANDOFF,
@@ -277,7 +277,7 @@ def scene_from_dict(doc: Any, *, source: str = "") -> Scene:
             if not (b[0] <= x <= b[2] and b[1] <= y <= b[3]):
                 raise r.fail(fld, list(pose), f"the box footprint leaves bounds {list(b)}")
     return Scene(name, b, model, start, goal, tuple(obstacles), alpha_max,  # type: ignore[arg-type]
-                 turning, model_name, walk, source)
+                 turning, model_name, source, walk=walk)
 
 
 def _walk(r: _Reader, raw: Any) -> WalkParameters:
