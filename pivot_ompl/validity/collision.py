@@ -4,7 +4,15 @@ Obstacles are vertical prisms standing on the floor: a box obstacle is a ``coal.
 cylinder a ``coal.Cylinder``, a polygon is triangulated (ear clipping, so non-convex polygons
 work) into convex triangular prisms (``coal.Convex``). All obstacles live in one
 ``DynamicAABBTreeCollisionManager`` so a query costs one call. The box is its 3-D shape standing
-on the floor; the robot is its bounding box (floor footprint x height) at the grasp.
+on the floor. The robot has two bodies:
+
+* walking (:meth:`CollisionWorld.robot_distance`): its footprint rectangle x height, which
+  holds the arms' sway while it walks (measured on whole-body motions by
+  ``tests/wholebody/test_body_envelopes.py``);
+* holding the box at grasp ``k`` (:meth:`CollisionWorld.held_distance`): one convex prism
+  round the footprint, both arms from the shoulders to the grip points and the inclined box's
+  overhang over the gap (:meth:`~pivot_ompl.grasp.BoxGraspModel.held_outline`, derived from
+  the URDF and the grip conventions for the grasp and the box size).
 """
 
 from __future__ import annotations
@@ -75,6 +83,11 @@ class CollisionWorld:
         self._robot = coal.CollisionObject(self._robot_shape)
         self._box_radius = 0.5 * math.hypot(w, d)
         self._robot_radius = self.model.robot_radius()
+        height = max(self.model.robot_height, self.model.object_size[2])
+        self._held = []
+        for g in range(4):
+            shape = _prism(list(self.model.held_outline(g)), height)
+            self._held.append(coal.CollisionObject(shape))
         self._disk_shape = coal.Cylinder(self.model.robot_radius(), self.model.robot_height)
         self._disk = coal.CollisionObject(self._disk_shape)
         self._disks: dict[float, coal.CollisionObject] = {}
@@ -131,6 +144,16 @@ class CollisionWorld:
         self._robot.setTransform(_transform(robot[0], robot[1], robot[2],
                                             0.5 * self.model.robot_height))
         return self._distance(self._robot)
+
+    def held_distance(self, robot: Pose, grasp: int) -> float:
+        """Distance (m) from the robot holding the box at ``grasp`` to the nearest obstacle.
+
+        The robot stands at ``robot``; its body covers the arms and the inclined box's
+        overhang (the box itself is :meth:`box_distance`); <= 0: hit.
+        """
+        obj = self._held[grasp]
+        obj.setTransform(_transform(robot[0], robot[1], robot[2], 0.0))
+        return self._distance(obj)
 
     def robot_box_distance(self, robot: Pose, obj: Pose) -> float:
         """Distance (m) between the robot at ``robot`` and the resting box at ``obj``."""
@@ -189,6 +212,10 @@ class CollisionWorld:
         if self._inside(obj, self._box_radius):
             return True
         return self.bounds_margin(self.model.object_corners(obj)) >= 0.0
+
+    def held_in_bounds(self, robot: Pose, grasp: int) -> bool:
+        """Whether the holding robot's body (see :meth:`held_distance`) lies inside the bounds."""
+        return self.bounds_margin(self.model.held_corners(robot, grasp)) >= 0.0
 
     def robot_in_bounds(self, robot: Pose) -> bool:
         """Whether the robot footprint at ``robot`` lies inside the bounds."""

@@ -1,0 +1,134 @@
+"""How far a whole-body motion leaves the planner's 2-D bodies (the floor envelope check).
+
+The planner checks a holding robot as the prism over
+:meth:`~pivot_ompl.grasp.BoxGraspModel.held_outline` and a walking robot as its footprint
+rectangle (:mod:`pivot_ompl.validity.collision`). This module measures, on a motion made from a
+plan, the floor projection of every link's collision geometry (box corners; cylinders as
+circumscribed 24-gon prisms)
+against those bodies:
+
+* during a transfer phase, the held body of the phase's grasp, placed where the plan puts it:
+  attached to the box (its grasp frame recovered from the motion's box pose and tilt);
+* during a transit phase, the footprint rectangle at the robot's sole midpoint and heading
+  (the robot follows the plan's path within the ``robot_plan`` check's 3 cm).
+
+The result is the largest distance (m) any point leaves its body (<= 0: inside everywhere).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from pivot_ompl.grasp import BoxGraspModel
+from pivot_ompl.motionfile import Motion
+from pivot_ompl.planfile import Plan, TransferPhase
+from pivot_ompl.resources import data_path
+from pivot_ompl.wholebody.box import BoxHold, matrix_from_quat, transform
+
+
+@dataclass(frozen=True)
+class Excursion:
+    """The worst floor excursion of a link out of the planner's body.
+
+    Attributes:
+        distance: how far (m) the link's floor projection leaves the body (<= 0: inside).
+        link: the URDF link.
+        index: sample index.
+        time: sample time (s).
+        body: ``"held"`` or ``"walking"``.
+    """
+
+    distance: float
+    link: str
+    index: int
+    time: float
+    body: str
+
+
+def _outside(poly: np.ndarray, pts: np.ndarray) -> np.ndarray:
+    """Largest signed distance of ``pts`` (M x 2) beyond the edges of convex CCW ``poly``."""
+    a = poly
+    e = np.roll(poly, -1, axis=0) - a
+    n = np.stack([e[:, 1], -e[:, 0]], axis=1) / np.linalg.norm(e, axis=1)[:, None]
+    return ((pts[:, None, :] - a[None]) * n[None]).sum(axis=2).max(axis=1)
+
+
+def _hull(points: np.ndarray) -> np.ndarray:
+    from scipy.spatial import ConvexHull
+
+    h = ConvexHull(points)
+    return points[h.vertices]  # counter-clockwise in 2-D
+
+
+def _outline_points(g) -> np.ndarray:  # noqa: ANN001 - a coal shape
+    """Points (in the shape's frame) whose convex hull is the shape (a cylinder: 24-gons)."""
+    import coal
+
+    if isinstance(g, coal.Cylinder):
+        a = np.linspace(0.0, 2 * np.pi, 24, endpoint=False)
+        # circumscribed polygon: vertices at r / cos(pi / 24)
+        r = g.radius / np.cos(np.pi / 24)
+        ring = np.stack([r * np.cos(a), r * np.sin(a)], axis=1)
+        return np.vstack([np.column_stack([ring, np.full(24, z)])
+                          for z in (-g.halfLength, g.halfLength)])
+    g.computeLocalAABB()
+    lo, hi = np.asarray(g.aabb_local.min_), np.asarray(g.aabb_local.max_)
+    return np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
+                     for z in (lo[2], hi[2])])
+
+
+def floor_excursion(motion: Motion, plan: Plan, *, stride: int = 10) -> list[Excursion]:
+    """Per link, the worst excursion of its floor projection out of the planner's bodies.
+
+    Args:
+        motion: a motion generated from ``plan``.
+        plan: its plan (phases, grasps, robot geometry).
+        stride: check every ``stride``-th sample.
+    """
+    import pinocchio as pin
+
+    assert motion.phase is not None and motion.box_size is not None  # noqa: S101
+    assert motion.tilt is not None  # noqa: S101
+    model_g = BoxGraspModel(plan.object_size, plan.robot_footprint, plan.standoff)
+    hold = BoxHold(tuple(float(x) for x in motion.box_size))  # type: ignore[arg-type]
+    path = data_path(motion.urdf, field="motion.urdf")
+    model = pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())
+    geom = pin.buildGeomFromUrdf(model, str(path), pin.GeometryType.COLLISION)
+    data, gdata = model.createData(), geom.createData()
+    local = [_outline_points(obj.geometry) for obj in geom.geometryObjects]
+    links = [model.frames[o.parentFrame].name for o in geom.geometryObjects]
+    held = [_hull(np.array(model_g.held_outline(g))) for g in range(4)]
+    d, w = 0.5 * model_g.robot_footprint[0], 0.5 * model_g.robot_footprint[1]
+    rect = np.array([(-d, -w), (d, -w), (d, w), (-d, w)])
+    lf, rf = model.getFrameId("left_foot"), model.getFrameId("right_foot")
+    best: dict[str, Excursion] = {}
+    for i in range(0, len(motion.t), stride):
+        q = motion.q[i]
+        pin.framesForwardKinematics(model, data, q)
+        pin.updateGeometryPlacements(model, data, geom, gdata)
+        ph = plan.phases[int(motion.phase[i])]
+        if isinstance(ph, TransferPhase):
+            k = ph.grasp
+            B = transform(matrix_from_quat(motion.box[i, 3:]), motion.box[i, :3])
+            G = B @ np.linalg.inv(hold.T_G_box(k, float(motion.tilt[i])))
+            car = (float(G[0, 3]), float(G[1, 3]), float(np.arctan2(G[1, 0], G[0, 0])))
+            pose = model_g.robot_from_car(car, k)
+            poly, body = held[k], "held"
+        else:
+            pl, pr = data.oMf[lf], data.oMf[rf]
+            mid = 0.5 * (pl.translation + pr.translation)
+            x = pl.rotation[:, 0] + pr.rotation[:, 0]
+            pose = (float(mid[0]), float(mid[1]), float(np.arctan2(x[1], x[0])))
+            poly, body = rect, "walking"
+        c, s = np.cos(pose[2]), np.sin(pose[2])
+        R = np.array([[c, s], [-s, c]])  # world -> robot frame
+        for k_geom, M in enumerate(gdata.oMg):
+            pts = (M.rotation @ local[k_geom].T).T[:, :2] + M.translation[:2]
+            rel = (pts - np.array(pose[:2])) @ R.T
+            v = float(_outside(poly, rel).max())
+            name = links[k_geom]
+            if name not in best or v > best[name].distance:
+                best[name] = Excursion(v, name, i, float(motion.t[i]), body)
+    return sorted(best.values(), key=lambda e: -e.distance)
