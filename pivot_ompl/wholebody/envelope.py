@@ -9,21 +9,22 @@ against those bodies:
 
 * during a transfer phase, the held body of the phase's grasp, placed where the plan puts it:
   attached to the box (its grasp frame recovered from the motion's box pose and tilt);
-* during a transit phase, the footprint rectangle at the robot's sole midpoint and heading
-  (the robot follows the plan's path within the ``robot_plan`` check's 3 cm).
+* during a transit phase, the footprint rectangle swept along the phase's ``robot_path``
+  (sampled every ``path_step``), which is what the planner certifies for a walk.
 
 The result is the largest distance (m) any point leaves its body (<= 0: inside everywhere).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.motionfile import Motion
-from pivot_ompl.planfile import Plan, TransferPhase
+from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
 from pivot_ompl.resources import data_path
 from pivot_ompl.wholebody.box import BoxHold, matrix_from_quat, transform
 
@@ -79,13 +80,42 @@ def _outline_points(g) -> np.ndarray:  # noqa: ANN001 - a coal shape
                      for z in (lo[2], hi[2])])
 
 
-def floor_excursion(motion: Motion, plan: Plan, *, stride: int = 10) -> list[Excursion]:
+def _path_poses(path: tuple, step: float) -> np.ndarray:
+    """Poses (x, y, yaw) along a robot path, straight segments, yaw interpolated."""
+    out = [path[0]]
+    for a, b in zip(path, path[1:], strict=False):
+        dyaw = math.remainder(b[2] - a[2], 2 * math.pi)
+        n = max(1, int(math.ceil(max(math.hypot(b[0] - a[0], b[1] - a[1]),
+                                     0.4 * abs(dyaw)) / step)))
+        for k in range(1, n + 1):
+            s = k / n
+            out.append((a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]), a[2] + s * dyaw))
+    return np.array(out)
+
+
+def _outside_union(poly: np.ndarray, poses: np.ndarray, pts: np.ndarray) -> float:
+    """Largest distance of any of ``pts`` outside the union of ``poly`` placed at ``poses``."""
+    c, s = np.cos(poses[:, 2]), np.sin(poses[:, 2])
+    dx = pts[None, :, 0] - poses[:, None, 0]
+    dy = pts[None, :, 1] - poses[:, None, 1]
+    rel = np.stack([c[:, None] * dx + s[:, None] * dy, -s[:, None] * dx + c[:, None] * dy],
+                   axis=2)  # poses x points x 2
+    a = poly
+    e = np.roll(poly, -1, axis=0) - a
+    n = np.stack([e[:, 1], -e[:, 0]], axis=1) / np.linalg.norm(e, axis=1)[:, None]
+    out = ((rel[:, :, None, :] - a[None, None]) * n[None, None]).sum(axis=3).max(axis=2)
+    return float(out.min(axis=0).max())
+
+
+def floor_excursion(motion: Motion, plan: Plan, *, stride: int = 10,
+                    path_step: float = 0.02) -> list[Excursion]:
     """Per link, the worst excursion of its floor projection out of the planner's bodies.
 
     Args:
         motion: a motion generated from ``plan``.
         plan: its plan (phases, grasps, robot geometry).
         stride: check every ``stride``-th sample.
+        path_step: spacing (m) of the footprints along a transit's path.
     """
     import pinocchio as pin
 
@@ -102,7 +132,8 @@ def floor_excursion(motion: Motion, plan: Plan, *, stride: int = 10) -> list[Exc
     held = [_hull(np.array(model_g.held_outline(g))) for g in range(4)]
     d, w = 0.5 * model_g.robot_footprint[0], 0.5 * model_g.robot_footprint[1]
     rect = np.array([(-d, -w), (d, -w), (d, w), (-d, w)])
-    lf, rf = model.getFrameId("left_foot"), model.getFrameId("right_foot")
+    paths = {p: _path_poses(ph.robot_path, path_step) for p, ph in enumerate(plan.phases)
+             if isinstance(ph, TransitPhase)}
     best: dict[str, Excursion] = {}
     for i in range(0, len(motion.t), stride):
         q = motion.q[i]
@@ -117,11 +148,15 @@ def floor_excursion(motion: Motion, plan: Plan, *, stride: int = 10) -> list[Exc
             pose = model_g.robot_from_car(car, k)
             poly, body = held[k], "held"
         else:
-            pl, pr = data.oMf[lf], data.oMf[rf]
-            mid = 0.5 * (pl.translation + pr.translation)
-            x = pl.rotation[:, 0] + pr.rotation[:, 0]
-            pose = (float(mid[0]), float(mid[1]), float(np.arctan2(x[1], x[0])))
-            poly, body = rect, "walking"
+            poses = paths[int(motion.phase[i])]
+            for k_geom, M in enumerate(gdata.oMg):
+                pts = (M.rotation @ local[k_geom].T).T[:, :2] + M.translation[:2]
+                near = poses[np.linalg.norm(poses[:, :2] - pts.mean(axis=0), axis=1) < 1.0]
+                v = _outside_union(rect, near, pts) if len(near) else math.inf
+                name = links[k_geom]
+                if name not in best or v > best[name].distance:
+                    best[name] = Excursion(v, name, i, float(motion.t[i]), "walking")
+            continue
         c, s = np.cos(pose[2]), np.sin(pose[2])
         R = np.array([[c, s], [-s, c]])  # world -> robot frame
         for k_geom, M in enumerate(gdata.oMg):
