@@ -230,11 +230,44 @@ def test_motion_file_round_trip_and_cli(generated, plan, tmp_path, capsys):
     again = load_motion(path)
     assert np.array_equal(again.q, motion.q) and again.joint_names == motion.joint_names
     plan_path = plan.to_json(tmp_path / "plan.json")
-    assert cli_main(["check-motion", str(path), "--plan", str(plan_path)]) == 0
-    assert "zmp" in capsys.readouterr().out
-    assert cli_main(["check-motion", str(tmp_path / "missing.npz")]) == 2
+    free = _scene_file(tmp_path / "free.yaml", [])
+    assert cli_main(["check-motion", str(path), "--plan", str(plan_path),
+                     "--scene", str(free)]) == 0
+    out = capsys.readouterr().out
+    assert "zmp" in out and "obstacles" in out and "LARM_LINK5" in out
+    # the motion names scene "test", which is not shipped: the obstacles need --scene
+    assert cli_main(["check-motion", str(path), "--plan", str(plan_path)]) == 2
+    assert "motion.scene" in capsys.readouterr().err
+    assert cli_main(["check-motion", str(tmp_path / "missing.npz"), "--scene", str(free)]) == 2
     other = short_plan(transit=False).to_json(tmp_path / "other.json")  # not this motion's plan
-    assert cli_main(["check-motion", str(path), "--plan", str(other)]) == 2
+    assert cli_main(["check-motion", str(path), "--plan", str(other),
+                     "--scene", str(free)]) == 2
+
+
+def _scene_file(path, obstacles: list[str]):
+    lines = ["name: t", "bounds: [-4.0, -4.0, 4.0, 4.0]", f"object: {{size: {list(SIZE)}}}",
+             "obstacles:" if obstacles else "obstacles: []", *obstacles,
+             "start: [0.0, 0.0, 0.0]", "goal: [0.2, 0.0, 0.0]"]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_check_motion_rejects_arms_in_a_wall(generated, plan, tmp_path, capsys):
+    """A post between robot and box at the start (the arms reach over it) fails the motion."""
+    motion = generated[0]
+    path = motion.save(tmp_path / "m.npz")
+    model = BoxGraspModel(SIZE)
+    r = model.robot_pose((0.0, 0.0, 0.0), 0)
+    x = r[0] + 0.5 * model.robot_footprint[0] + 0.12
+    post = _scene_file(tmp_path / "post.yaml", [
+        f"  - {{type: box, center: [{x:.3f}, 0.18], size: [0.05, 0.05], yaw: 0.0, "
+        "height: 2.0}"])
+    assert cli_main(["check-motion", str(path), "--scene", str(post)]) == 1
+    out = capsys.readouterr().out
+    line = next(ln for ln in out.splitlines() if ln.startswith("obstacles"))
+    assert "FAIL" in line and "depth" in line and "obstacles[0] (box)" in line, line
+    arms = [ln.split() for ln in out.splitlines() if ln.startswith(("LARM_LINK", "RARM_LINK"))]
+    assert any(float(a[1]) < 0 and a[3] == "obstacles[0]" for a in arms), out
 
 
 def test_unreachable_grip_fails_naming_the_step(tmp_path, capsys):
