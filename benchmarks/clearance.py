@@ -38,6 +38,7 @@ def main() -> None:
     ap.add_argument("--seeds", default="0,1,2")
     ap.add_argument("--time", type=float, default=60.0, help="planning time limit (s)")
     ap.add_argument("--out", default="results/clearance.json")
+    ap.add_argument("--keep", default=None, help="folder to write each plan and motion to")
     args = ap.parse_args()
     logging.basicConfig(level=logging.WARNING)
     runs = []
@@ -54,6 +55,9 @@ def main() -> None:
             motion, stats = generate_motion(plan)
             gen = time.perf_counter() - t0
             rep = obstacle_clearance(motion, scene)
+            if args.keep:
+                plan.to_json(f"{args.keep}/{name}_{seed}_plan.json")
+                motion.save(f"{args.keep}/{name}_{seed}_motion.npz")
             w = rep.worst
             assert w is not None
             run = {"scene": name, "seed": seed, "status": "exact", "duration": motion.duration,

@@ -26,6 +26,7 @@ log = logging.getLogger(__name__)
 __all__ = ["FOOTPRINT", "FRAMES", "HALF_SITTING", "HAND_ENVELOPE", "HEIGHT",
            "SHOULDER_ENVELOPE", "SHOULDER_XY", "SOLE_SIZE", "STANDOFF",
            "STEP_BACKWARD", "STEP_FORWARD", "STEP_LATERAL", "STEP_TURN", "URDF_RELPATH",
+           "WALK_SWAY",
            "derived_arm_geometry", "derived_floor_geometry", "half_sitting_configuration",
            "hrp2_floor_geometry", "load_pinocchio_model", "urdf_path"]
 
@@ -57,6 +58,13 @@ SHOULDER_XY = (0.016, 0.25)
 #: whole-body motions (``tests/wholebody/test_body_envelopes.py``).
 SHOULDER_ENVELOPE = 0.11
 HAND_ENVELOPE = 0.07
+
+#: Lateral sway (m) of the shoulders beyond each side of :data:`FOOTPRINT` while HRP-2 walks
+#: (the trunk swings over each support foot): the walking body is the footprint widened by
+#: this on both sides. Measured on fig10 motions: shoulders 3.2 cm past the 0.35 m half-width
+#: (``check-motion`` found them 22 mm inside a wall the footprint cleared by 8 mm); 5 cm
+#: keeps them >= 1 cm clear.
+WALK_SWAY = 0.05
 
 #: Frame names every consumer relies on.
 FRAMES = ("left_foot", "right_foot", "trunk", "left_hand", "right_hand")

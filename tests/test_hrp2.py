@@ -141,3 +141,12 @@ def test_floor_geometry_for_scenes():
     assert (depth, width) == (0.40, 0.70) and g["standoff"] == 0.25
     assert d["zero_pose_depth"] <= depth <= 0.45 and d["width"] <= width <= 0.75
     assert g["height"] == pytest.approx(1.56, abs=0.01)
+
+
+def test_arm_constants_match_the_urdf():
+    """The planner's arm envelope constants hold HRP-2's shoulders and wrists (pinocchio)."""
+    d = hrp2.derived_arm_geometry()
+    assert hrp2.SHOULDER_XY[0] == pytest.approx(d["shoulder_x"], abs=1e-3)
+    assert hrp2.SHOULDER_XY[1] == pytest.approx(d["shoulder_y"], abs=1e-3)
+    assert d["shoulder"] <= hrp2.SHOULDER_ENVELOPE <= d["shoulder"] + 0.03
+    assert d["wrist"] <= hrp2.HAND_ENVELOPE <= d["wrist"] + 0.03

@@ -6,9 +6,8 @@ work) into convex triangular prisms (``coal.Convex``). All obstacles live in one
 ``DynamicAABBTreeCollisionManager`` so a query costs one call. The box is its 3-D shape standing
 on the floor. The robot has two bodies:
 
-* walking (:meth:`CollisionWorld.robot_distance`): its footprint rectangle x height, which
-  holds the arms' sway while it walks (measured on whole-body motions by
-  ``tests/wholebody/test_body_envelopes.py``);
+* walking (:meth:`CollisionWorld.robot_distance`): its footprint rectangle x height,
+  widened on both sides by the trunk's and shoulders' sway (:data:`pivot_ompl.hrp2.WALK_SWAY`);
 * holding the box at grasp ``k`` (:meth:`CollisionWorld.held_distance`): one convex prism
   round the footprint, both arms from the shoulders to the grip points and the inclined box's
   overhang over the gap (:meth:`~pivot_ompl.grasp.BoxGraspModel.held_outline`, derived from
@@ -23,6 +22,7 @@ from dataclasses import dataclass
 import coal
 import numpy as np
 
+from pivot_ompl import hrp2
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Obstacle, PolygonObstacle, Scene
 from pivot_ompl.se2 import Pose, triangulate
@@ -78,7 +78,7 @@ class CollisionWorld:
         w, d, h = self.model.object_size
         self._box_shape = coal.Box(w, d, h)
         depth, width = self.model.robot_footprint
-        self._robot_shape = coal.Box(depth, width, self.model.robot_height)
+        self._robot_shape = coal.Box(depth, width + 2.0 * hrp2.WALK_SWAY, self.model.robot_height)
         self._box = coal.CollisionObject(self._box_shape)
         self._robot = coal.CollisionObject(self._robot_shape)
         self._box_radius = 0.5 * math.hypot(w, d)
@@ -140,7 +140,10 @@ class CollisionWorld:
         return self._distance(self._box)
 
     def robot_distance(self, robot: Pose) -> float:
-        """Distance (m) from the robot's bounding box at ``robot`` to the nearest obstacle."""
+        """Distance (m) from the walking robot at ``robot`` to the nearest obstacle.
+
+        Its body: the footprint widened by :data:`~pivot_ompl.hrp2.WALK_SWAY` on both sides.
+        """
         self._robot.setTransform(_transform(robot[0], robot[1], robot[2],
                                             0.5 * self.model.robot_height))
         return self._distance(self._robot)

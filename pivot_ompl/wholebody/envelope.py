@@ -9,7 +9,8 @@ against those bodies:
 
 * during a transfer phase, the held body of the phase's grasp, placed where the plan puts it:
   attached to the box (its grasp frame recovered from the motion's box pose and tilt);
-* during a transit phase, the footprint rectangle swept along the phase's ``robot_path``
+* during a transit phase, the walking body (footprint widened by ``WALK_SWAY``) swept along
+  the phase's ``robot_path``
   (sampled every ``path_step``), which is what the planner certifies for a walk.
 
 The result is the largest distance (m) any point leaves its body (<= 0: inside everywhere).
@@ -23,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pivot_ompl.grasp import BoxGraspModel
+from pivot_ompl.hrp2 import WALK_SWAY
 from pivot_ompl.motionfile import Motion
 from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
 from pivot_ompl.resources import data_path
@@ -109,7 +111,7 @@ def _outside_union(poly: np.ndarray, poses: np.ndarray, pts: np.ndarray) -> floa
 
 def floor_excursion(motion: Motion, plan: Plan, *, stride: int = 10,
                     path_step: float = 0.02) -> list[Excursion]:
-    """Per link, the worst excursion of its floor projection out of the planner's bodies.
+    """Per link and body, the worst excursion of its floor projection (worst first).
 
     Args:
         motion: a motion generated from ``plan``.
@@ -130,11 +132,11 @@ def floor_excursion(motion: Motion, plan: Plan, *, stride: int = 10,
     local = [_outline_points(obj.geometry) for obj in geom.geometryObjects]
     links = [model.frames[o.parentFrame].name for o in geom.geometryObjects]
     held = [_hull(np.array(model_g.held_outline(g))) for g in range(4)]
-    d, w = 0.5 * model_g.robot_footprint[0], 0.5 * model_g.robot_footprint[1]
+    d, w = 0.5 * model_g.robot_footprint[0], 0.5 * model_g.robot_footprint[1] + WALK_SWAY
     rect = np.array([(-d, -w), (d, -w), (d, w), (-d, w)])
     paths = {p: _path_poses(ph.robot_path, path_step) for p, ph in enumerate(plan.phases)
              if isinstance(ph, TransitPhase)}
-    best: dict[str, Excursion] = {}
+    best: dict[tuple[str, str], Excursion] = {}
     for i in range(0, len(motion.t), stride):
         q = motion.q[i]
         pin.framesForwardKinematics(model, data, q)
@@ -153,9 +155,9 @@ def floor_excursion(motion: Motion, plan: Plan, *, stride: int = 10,
                 pts = (M.rotation @ local[k_geom].T).T[:, :2] + M.translation[:2]
                 near = poses[np.linalg.norm(poses[:, :2] - pts.mean(axis=0), axis=1) < 1.0]
                 v = _outside_union(rect, near, pts) if len(near) else math.inf
-                name = links[k_geom]
-                if name not in best or v > best[name].distance:
-                    best[name] = Excursion(v, name, i, float(motion.t[i]), "walking")
+                key = (links[k_geom], "walking")
+                if key not in best or v > best[key].distance:
+                    best[key] = Excursion(v, key[0], i, float(motion.t[i]), "walking")
             continue
         c, s = np.cos(pose[2]), np.sin(pose[2])
         R = np.array([[c, s], [-s, c]])  # world -> robot frame
@@ -163,7 +165,7 @@ def floor_excursion(motion: Motion, plan: Plan, *, stride: int = 10,
             pts = (M.rotation @ local[k_geom].T).T[:, :2] + M.translation[:2]
             rel = (pts - np.array(pose[:2])) @ R.T
             v = float(_outside(poly, rel).max())
-            name = links[k_geom]
-            if name not in best or v > best[name].distance:
-                best[name] = Excursion(v, name, i, float(motion.t[i]), body)
+            key = (links[k_geom], body)
+            if key not in best or v > best[key].distance:
+                best[key] = Excursion(v, key[0], i, float(motion.t[i]), body)
     return sorted(best.values(), key=lambda e: -e.distance)

@@ -281,3 +281,23 @@ def test_unreachable_grip_fails_naming_the_step(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "phase 0, step" in err and "unreachable grip" in err
     assert not out.exists()
+
+
+#: How far (m) link floor projections may leave the planner's bodies on whole-body motions:
+#: measured, holding: the shoulders' sideways sway mid-step (6.6 cm) and the chest's lean;
+#: walking: the shanks at the last steps of a walk (8.5 cm past the swept footprint). The
+#: 3-D obstacle check of every motion (check-motion, animate) covers these margins.
+HELD_MARGIN = 0.07
+WALK_MARGIN = 0.09
+
+
+def test_links_stay_within_the_planner_bodies_to_the_stated_margin(generated, plan):
+    from pivot_ompl.wholebody.envelope import floor_excursion
+
+    ex = floor_excursion(generated[0], plan, stride=40)
+    by_body = {b: max(e.distance for e in ex if e.body == b) for b in ("held", "walking")}
+    assert by_body["held"] <= HELD_MARGIN, ex[:3]
+    assert by_body["walking"] <= WALK_MARGIN, ex[:3]
+    # the hands stay inside the held body (the arms' region reaches the grip points)
+    hands = [e for e in ex if e.link in ("LARM_LINK6", "RARM_LINK6") and e.body == "held"]
+    assert hands and all(e.distance <= 0.0 for e in hands), hands
