@@ -28,6 +28,11 @@ from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Obstacle, PolygonObs
 from pivot_ompl.se2 import Pose, triangulate
 
 
+#: Distance (m) the planner's bodies keep from obstacles: the whole-body motion's links and
+#: box then keep >= 1 cm (the ``obstacles`` check of ``check-motion``).
+KEEP_CLEARANCE = 0.01
+
+
 def _transform(x: float, y: float, yaw: float, z: float) -> coal.Transform3s:
     c, s = math.cos(yaw), math.sin(yaw)
     return coal.Transform3s(np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]),
@@ -68,10 +73,13 @@ class CollisionWorld:
     Attributes:
         model: the box and robot geometry.
         bounds: floor area ``(xmin, ymin, xmax, ymax)``.
+        clearance: distance (m) the bodies keep from obstacles: every obstacle distance
+            returned is the true distance minus this, so ``> 0`` means at least this clear.
     """
 
     model: BoxGraspModel
     bounds: tuple[float, float, float, float]
+    clearance: float = 0.0
 
     def __post_init__(self) -> None:
         """Create the body shapes."""
@@ -100,9 +108,9 @@ class CollisionWorld:
         self.queries = 0
 
     @classmethod
-    def from_scene(cls, scene: Scene) -> CollisionWorld:
-        """Build the world of a scene."""
-        world = cls(scene.model, scene.bounds)
+    def from_scene(cls, scene: Scene, *, clearance: float = KEEP_CLEARANCE) -> CollisionWorld:
+        """Build the world of a scene (bodies keep ``clearance`` m from obstacles)."""
+        world = cls(scene.model, scene.bounds, clearance)
         for o in scene.obstacles:
             world.add_obstacle(o)
         world.setup()
@@ -132,7 +140,7 @@ class CollisionWorld:
         cb = self._dcb
         cb.data.result.clear()
         self._manager.distance(obj, cb)
-        return cb.data.result.min_distance
+        return cb.data.result.min_distance - self.clearance
 
     def box_distance(self, obj: Pose) -> float:
         """Distance (m) from the box at object pose ``obj`` to the nearest obstacle (<= 0: hit)."""

@@ -46,7 +46,10 @@ def test_distances_match_geometry():
     s = make_scene(obstacles=[{"type": "box", "center": [5, 3], "size": [1, 1], "height": 1},
                               {"type": "cylinder", "center": [2, 5], "radius": 0.5,
                                "height": 1}])
-    w = CollisionWorld.from_scene(s)
+    w = CollisionWorld.from_scene(s, clearance=0.0)
+    kept = CollisionWorld.from_scene(s)  # distances beyond the kept clearance
+    assert kept.box_distance((3.0, 3.0, 0.0)) == pytest.approx(1.1 - kept.clearance, abs=1e-6)
+    assert kept.clearance == 0.01
     # box 0.8 wide (x) at x=3: its face at 3.4, obstacle face at 4.5
     assert w.box_distance((3.0, 3.0, 0.0)) == pytest.approx(1.1, abs=1e-6)
     # nearest is the cylinder: 5 - 0.5 - (3 + 0.3) = 1.2 (the box obstacle is 2.1 away)
