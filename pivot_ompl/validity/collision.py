@@ -27,7 +27,6 @@ from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Obstacle, PolygonObstacle, Scene
 from pivot_ompl.se2 import Pose, triangulate
 
-
 #: Distance (m) the planner's bodies keep from obstacles: the whole-body motion's links and
 #: box then keep >= 1 cm (the ``obstacles`` check of ``check-motion``).
 KEEP_CLEARANCE = 0.01
