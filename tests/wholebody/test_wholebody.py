@@ -277,7 +277,12 @@ def test_unreachable_grip_fails_naming_the_step(tmp_path, capsys):
     assert e.value.phase == 0 and "unreachable grip" in e.value.reason
     path = far.to_json(tmp_path / "far.json")
     out = tmp_path / "m.npz"
-    assert cli_main(["animate", str(path), "--out", str(out), "--no-progress"]) == 1
+    # the plan names scene "test", not a shipped one: the obstacle check needs --scene
+    assert cli_main(["animate", str(path), "--out", str(out), "--no-progress"]) == 2
+    assert "plan.scene" in capsys.readouterr().err
+    free = _scene_file(tmp_path / "free.yaml", [])
+    assert cli_main(["animate", str(path), "--out", str(out), "--no-progress",
+                     "--scene", str(free)]) == 1
     err = capsys.readouterr().err
     assert "phase 0, step" in err and "unreachable grip" in err
     assert not out.exists()
