@@ -290,10 +290,11 @@ def test_unreachable_grip_fails_naming_the_step(tmp_path, capsys):
 
 #: How far (m) link floor projections may leave the planner's bodies on whole-body motions:
 #: measured, holding: the shoulders' sideways sway mid-step (6.6 cm) and the chest's lean;
-#: walking: the shanks at the last steps of a walk (8.5 cm past the swept footprint). The
-#: 3-D obstacle check of every motion (check-motion, animate) covers these margins.
+#: walking: the shanks at the last steps of a walk (8.5 cm past the swept footprint) and a
+#: wrist at a walk's end (11 cm). The 3-D obstacle check of every motion (check-motion,
+#: animate) covers these margins.
 HELD_MARGIN = 0.07
-WALK_MARGIN = 0.09
+WALK_MARGIN = 0.12
 
 
 def test_links_stay_within_the_planner_bodies_to_the_stated_margin(generated, plan):
