@@ -34,7 +34,7 @@ VIEWER_JS = Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js"
 #: Commands larger than this (bytes) are stored gzip-compressed.
 GZIP_ABOVE = 8_000
 
-_TEMPLATE = """<!DOCTYPE html>
+_PAGE = """<!DOCTYPE html>
 <html>
 <head><meta charset="utf-8"><title>{title}</title>
 <style>body {{ margin: 0; }} #meshcat-pane {{ width: 100vw; height: 100vh; overflow: hidden; }}
@@ -48,10 +48,16 @@ _TEMPLATE = """<!DOCTYPE html>
 var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
 window.viewer = viewer;
 window.replayLoaded = false;
-</script>
+{connect}</script>
 {overlay}
 <script>
-(async function () {{
+{loader}</script>
+</body>
+</html>
+"""
+
+#: The offline page's loader: the recorded commands (gzip-compressed above GZIP_ABOVE bytes).
+_OFFLINE_LOADER = """(async function () {{
   var cmds = {commands};
   function bytesOf(b64) {{
     var s = atob(b64), bytes = new Uint8Array(s.length);
@@ -79,10 +85,18 @@ window.replayLoaded = false;
       "<pre style='position:absolute;color:red;z-index:9'>replay failed: " + e + "</pre>");
   }}
 }})();
-</script>
-</body>
-</html>
 """
+
+
+def replay_page(*, title: str, overlay: str, loader: str, connect: str = "") -> str:
+    """A replay page: meshcat's viewer, the replay controls' ``overlay`` and a ``loader`` script.
+
+    The offline export (:func:`html_text`) and the live page (:mod:`pivot_ompl.viz.serve`,
+    ``connect`` opens its websocket) differ only by these.
+    """
+    safe_title = title.replace("&", "&amp;").replace("<", "&lt;")
+    return _PAGE.format(title=safe_title, viewer_js=viewer_js(), overlay=overlay,
+                        loader=loader, connect=connect)
 
 
 @dataclass(frozen=True)
@@ -116,7 +130,6 @@ def html_text(window: RecordingWindow, *, title: str = "pivot-ompl replay",
 
     With ``guide``, the page carries the replay controls (:mod:`pivot_ompl.viz.overlay`).
     """
-    js = viewer_js()
     cmds: list[str | dict[str, str]] = []
     for c in window.commands():
         if len(c) > GZIP_ABOVE:
@@ -124,10 +137,9 @@ def html_text(window: RecordingWindow, *, title: str = "pivot-ompl replay",
                                                              mtime=0)).decode("ascii")})
         else:
             cmds.append(base64.b64encode(c).decode("ascii"))
-    safe_title = title.replace("&", "&amp;").replace("<", "&lt;")
     overlay = overlay_script(guide.to_json()) if guide is not None else ""
-    return _TEMPLATE.format(title=safe_title, viewer_js=js, overlay=overlay,
-                            commands=json.dumps(cmds, separators=(",\n", ":")))
+    loader = _OFFLINE_LOADER.format(commands=json.dumps(cmds, separators=(",\n", ":")))
+    return replay_page(title=title, overlay=overlay, loader=loader)
 
 
 def write_html(vis: meshcat.Visualizer, path: str | Path, *,

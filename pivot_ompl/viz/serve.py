@@ -74,33 +74,13 @@ class LiveViewer:
         self.close()
 
 
-_LIVE_PAGE = """<!DOCTYPE html>
-<html>
-<head><meta charset="utf-8"><title>{title}</title>
-<style>body {{ margin: 0; }} #meshcat-pane {{ width: 100vw; height: 100vh; overflow: hidden; }}
-</style></head>
-<body>
-<div id="meshcat-pane"></div>
-<script>
-{viewer_js}
-</script>
-<script>
-var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
-window.viewer = viewer;
-window.replayLoaded = false;
-viewer.connect("ws://" + location.host + "/ws");
-</script>
-{overlay}
-<script>
-(function wait() {{  // the scene arrives over the websocket, the animation last
-  if (viewer.animator.actions.length > 0 && viewer.scene_tree.children.meshcat) {{
+#: The live page's loader: the scene arrives over the websocket, the animation last.
+_LIVE_LOADER = """(function wait() {
+  if (viewer.animator.actions.length > 0 && viewer.scene_tree.children.meshcat) {
     if (window.replayUI) window.replayUI.start();
     window.replayLoaded = true;
-  }} else setTimeout(wait, 100);
-}})();
-</script>
-</body>
-</html>
+  } else setTimeout(wait, 100);
+})();
 """
 
 
@@ -155,12 +135,13 @@ class ReplayPage:
 
     def __init__(self, viewer: LiveViewer, guide: ReplayGuide, *,
                  title: str = "pivot-ompl replay") -> None:
-        from pivot_ompl.viz.html import viewer_js
+        from pivot_ompl.viz.html import replay_page
         from pivot_ompl.viz.overlay import overlay_script
 
         web = viewer.url.split("//", 1)[1].split("/", 1)[0]  # host:port of meshcat's server
-        page = _LIVE_PAGE.format(title=title.replace("&", "&amp;").replace("<", "&lt;"),
-                                 viewer_js=viewer_js(), overlay=overlay_script(guide.to_json()))
+        page = replay_page(title=title, overlay=overlay_script(guide.to_json()),
+                           loader=_LIVE_LOADER,
+                           connect='viewer.connect("ws://" + location.host + "/ws");\n')
         self._loop = asyncio.new_event_loop()
         socks = tornado.netutil.bind_sockets(0, "127.0.0.1")
         self.url = f"http://127.0.0.1:{socks[0].getsockname()[1]}/"
