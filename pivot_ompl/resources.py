@@ -52,22 +52,3 @@ def urdf_path() -> Path:
 def shipped_scenes() -> dict[str, Path]:
     """Shipped scene name -> file (``scenes/<name>.yaml``)."""
     return {p.stem: p for p in sorted((data_root() / "scenes").glob("*.yaml"))}
-
-
-def scene_file(name_or_path: str | Path) -> Path:
-    """A scene file: an existing path, else the shipped scene of that name.
-
-    Raises:
-        InputError: neither a file nor a shipped scene name.
-    """
-    path = Path(name_or_path)
-    if path.is_file():
-        return path
-    shipped = shipped_scenes()
-    name = str(name_or_path)
-    if name in shipped:
-        return shipped[name]
-    if path.exists():
-        raise InputError("scene", name, "is not a file")
-    raise InputError("scene", name, "no such file, nor a shipped scene "
-                     f"(shipped: {', '.join(shipped)})")

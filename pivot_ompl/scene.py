@@ -353,8 +353,8 @@ def load_scene(path: str | Path) -> Scene:
             bad value, naming the file, the field and the value.
     """
     path = Path(path)
-    if not path.exists() and str(path) in shipped_scenes():
-        path = shipped_scenes()[str(path)]
+    if not path.exists():
+        path = shipped_scenes().get(str(path), path)
     return scene_from_dict(load_yaml(path, error=SceneError), source=str(path))
 
 
