@@ -68,6 +68,16 @@ def mutate(doc, path, value):
     return doc
 
 
+def mutate_all(doc, changes):
+    """``doc`` with every applicable ``(path, value)`` change (an inapplicable one is skipped)."""
+    for path, value in changes:
+        try:
+            doc = mutate(doc, path, value)
+        except (KeyError, IndexError, TypeError):
+            continue
+    return doc
+
+
 SCENE_PATHS = list(paths(SCENE_DOC))
 PLAN_PATHS = list(paths(PLAN_DOC))
 
@@ -75,12 +85,7 @@ PLAN_PATHS = list(paths(PLAN_DOC))
 @FUZZ
 @given(st.lists(st.tuples(st.sampled_from(SCENE_PATHS), values), min_size=1, max_size=3))
 def test_scene_reader_mutations(changes):
-    doc = SCENE_DOC
-    for path, value in changes:
-        try:
-            doc = mutate(doc, path, value)
-        except (KeyError, IndexError, TypeError):
-            continue
+    doc = mutate_all(SCENE_DOC, changes)
     t0 = time.perf_counter()
     try:
         assert isinstance(scene_from_dict(doc, source="<fuzz>"), Scene)
@@ -104,12 +109,7 @@ def test_scene_reader_raw_files(tmp_path_factory, data):
 @FUZZ
 @given(st.lists(st.tuples(st.sampled_from(PLAN_PATHS), values), min_size=1, max_size=3))
 def test_plan_reader_mutations(changes):
-    doc = PLAN_DOC
-    for path, value in changes:
-        try:
-            doc = mutate(doc, path, value)
-        except (KeyError, IndexError, TypeError):
-            continue
+    doc = mutate_all(PLAN_DOC, changes)
     try:
         assert isinstance(plan_from_dict(doc, source="<fuzz>"), Plan)
     except PlanFileError as e:
