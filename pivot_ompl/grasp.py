@@ -38,6 +38,20 @@ from pivot_ompl.se2 import Pose, rectangle_corners, wrap_angle
 
 GRASPS: tuple[int, ...] = (0, 1, 2, 3)
 
+#: How the box is held (shared by the planner's bodies and the whole-body generator):
+#: inclination towards the robot about the supporting edge (rad),
+HOLD_TILT = math.radians(5.0)
+#: grip height above the floor in the untilted grasp frame (m), clipped to ``h - GRIP_TOP``,
+GRIP_HEIGHT = 0.95
+GRIP_TOP = 0.10
+#: half distance between the two grip points (m), clipped to ``l - GRIP_EDGE``,
+GRIP_SPACING = 0.25
+GRIP_EDGE = 0.05
+#: and the grip point's distance in front of the held face (m).
+GRIP_OFFSET = 0.055
+
+Polygon = tuple[tuple[float, float], ...]
+
 
 @dataclass(frozen=True)
 class BoxGraspModel:
@@ -119,14 +133,87 @@ class BoxGraspModel:
         """The box footprint's four corners for object pose ``obj``."""
         return rectangle_corners(obj, self.object_size[0], self.object_size[1])
 
+    def walking_extent(self) -> tuple[float, float, float]:
+        """The walking body: its reach ``(ahead, behind, half_width)`` from the robot pose (m).
+
+        The footprint, grown to HRP-2's measured walking envelope
+        (:data:`~pivot_ompl.hrp2.WALK_ENVELOPE`: the knees ahead, the chest behind, the
+        shoulders' sway to the sides) where the envelope reaches further: the planner checks a
+        walking robot as this rectangle x :attr:`robot_height`.
+        """
+        d, w = 0.5 * self.robot_footprint[0], 0.5 * self.robot_footprint[1]
+        ahead, behind, side = hrp2.WALK_ENVELOPE
+        return max(d, ahead), max(d, behind), max(w, side)
+
     def robot_corners(self, robot: Pose) -> list[tuple[float, float]]:
-        """The robot bounding box's four corners on the floor for robot pose ``robot``."""
-        return rectangle_corners(robot, self.robot_footprint[0], self.robot_footprint[1])
+        """The walking body's four corners on the floor for robot pose ``robot``."""
+        ahead, behind, hw = self.walking_extent()
+        c, s = math.cos(robot[2]), math.sin(robot[2])
+        return [(robot[0] + c * x - s * y, robot[1] + s * x + c * y)
+                for x, y in ((ahead, hw), (-behind, hw), (-behind, -hw), (ahead, -hw))]
 
     def robot_radius(self) -> float:
-        """Radius of the disk the robot's footprint sweeps when turning in place (m)."""
-        return 0.5 * math.hypot(*self.robot_footprint)
+        """Radius (m) of the disk the walking body sweeps turning in place about its pose."""
+        ahead, behind, hw = self.walking_extent()
+        return math.hypot(max(ahead, behind), hw)
 
+    def robot_inradius(self) -> float:
+        """Radius (m) of the largest disk round the robot pose inside the walking body."""
+        return min(self.walking_extent())
+
+    # -- the held assembly ----------------------------------------------------------------
+    def grip_lateral(self, grasp: int) -> float:
+        """Lateral offset (m) of each grip point from the held face's centre line."""
+        return min(GRIP_SPACING, self.edge_half_length(grasp) - GRIP_EDGE)
+
+    def held_polygons(self, grasp: int) -> tuple[Polygon, ...]:
+        """What the holding robot occupies beyond its footprint, in the robot frame.
+
+        Robot frame: origin at the robot's centre, x along its heading, y to its left (m).
+        Two convex floor polygons (vertical prisms up to the robot's height):
+
+        * the arms: the convex hull of both shoulders' floor envelopes (squares of half-side
+          :data:`~pivot_ompl.hrp2.SHOULDER_ENVELOPE` round HRP-2's shoulder joints, from the
+          URDF) and both hands' envelopes (half-side :data:`~pivot_ompl.hrp2.HAND_ENVELOPE`
+          round the grip points, ``GRIP_OFFSET`` in front of the held face at lateral offset
+          :meth:`grip_lateral`), up to the held face;
+        * the inclined box's overhang: tilted by :data:`HOLD_TILT` towards the robot about
+          its supporting edge, the box's top leans ``h sin(tilt)`` over the gap, across the
+          whole face.
+        """
+        front = 0.5 * self.robot_footprint[0]
+        face = front + self.standoff
+        sx, sy = hrp2.SHOULDER_XY
+        a_s, a_h = hrp2.SHOULDER_ENVELOPE, hrp2.HAND_ENVELOPE
+        gx, gy = face - GRIP_OFFSET, self.grip_lateral(grasp)
+        right = ((sx - a_s, -(sy + a_s)), (sx + a_s, -(sy + a_s)),
+                 (gx - a_h, -(gy + a_h)), (face, -(gy + a_h)))
+        arms = right + tuple((x, -y) for x, y in reversed(right))
+        lean = self.object_size[2] * math.sin(HOLD_TILT)
+        ell = self.edge_half_length(grasp)
+        overhang = ((face - lean, -ell), (face, -ell), (face, ell), (face - lean, ell))
+        return (arms, overhang)
+
+    def held_outline(self, grasp: int) -> tuple[tuple[float, float], ...]:
+        """Floor points (robot frame) whose convex hull is the holding robot's body.
+
+        The walking body behind and beside the robot (:meth:`walking_extent`: the robot
+        steps while it pivots the box; ahead, the knees stay under the arms) and
+        :meth:`held_polygons`: one convex prism, so the planner checks the whole held
+        assembly with one distance query.
+        """
+        _, behind, w = self.walking_extent()
+        ahead = 0.5 * self.robot_footprint[0]
+        pts = [(-behind, -w), (ahead, -w), (ahead, w), (-behind, w)]
+        for poly in self.held_polygons(grasp):
+            pts += poly
+        return tuple(pts)
+
+    def held_corners(self, robot: Pose, grasp: int) -> list[tuple[float, float]]:
+        """World floor points of :meth:`held_outline` for the robot at ``robot``."""
+        c, s = math.cos(robot[2]), math.sin(robot[2])
+        return [(robot[0] + c * x - s * y, robot[1] + s * x + c * y)
+                for x, y in self.held_outline(grasp)]
 
 def check_grasp(grasp: int, *, field: str = "grasp") -> int:
     """Return ``grasp`` if it is one of :data:`GRASPS`, else raise :class:`InputError`."""

@@ -23,9 +23,11 @@ if TYPE_CHECKING:
 
 log = logging.getLogger(__name__)
 
-__all__ = ["FOOTPRINT", "FRAMES", "HALF_SITTING", "HEIGHT", "SOLE_SIZE", "STANDOFF",
+__all__ = ["FOOTPRINT", "FRAMES", "HALF_SITTING", "HAND_ENVELOPE", "HEIGHT",
+           "SHOULDER_ENVELOPE", "SHOULDER_XY", "SOLE_SIZE", "STANDOFF",
            "STEP_BACKWARD", "STEP_FORWARD", "STEP_LATERAL", "STEP_TURN", "URDF_RELPATH",
-           "derived_floor_geometry", "half_sitting_configuration",
+           "WALK_ENVELOPE",
+           "derived_arm_geometry", "derived_floor_geometry", "half_sitting_configuration",
            "hrp2_floor_geometry", "load_pinocchio_model", "urdf_path"]
 
 #: Conservative robot floor bounding box (depth along heading, width) used by the planners (m).
@@ -45,6 +47,29 @@ STEP_FORWARD = 0.15
 STEP_BACKWARD = 0.08
 STEP_LATERAL = 0.06
 STEP_TURN = 0.25
+
+#: Shoulder joints in the robot frame (sole midpoint, x forward) in half-sitting: ``(x, +/-y)``
+#: (m); :func:`derived_arm_geometry` measures them on the URDF.
+SHOULDER_XY = (0.016, 0.25)
+#: Half-sides (m) of the floor squares round a shoulder joint and round a grip point that
+#: the arms' floor envelope (their convex hull) is made of: the largest half floor
+#: diagonal of the shoulder's and of the wrist's collision primitives
+#: (:func:`derived_arm_geometry`), plus room for the elbow's outward bend and the wrists'
+#: swing as the hands reach and release, measured on whole-body motions
+#: (:func:`pivot_ompl.wholebody.envelope.floor_excursion`: a wrist 7.7 mm past a 0.07 m
+#: hand envelope).
+SHOULDER_ENVELOPE = 0.11
+HAND_ENVELOPE = 0.085
+
+#: HRP-2's walking envelope: how far (m) its links reach from the robot pose (sole midpoint)
+#: while it walks, ``(ahead, behind, to each side)``, measured on whole-body motions relative
+#: to the path the planner certifies (:func:`pivot_ompl.wholebody.envelope.floor_excursion`):
+#: ahead, the bent knee of a swing leg (the shank's collision cylinder reaches 0.23 m in
+#: half-sitting, 0.30 m mid-swing); behind, the chest's back (0.26 m); to each side, the
+#: shoulders as the trunk sways over each support foot (0.405 m walking, 0.422 m holding the
+#: box). Each holds ~1 cm over the measured reach. A scene's footprint larger than this
+#: envelope (more cautious) is kept (:meth:`pivot_ompl.grasp.BoxGraspModel.walking_extent`).
+WALK_ENVELOPE = (0.31, 0.27, 0.43)
 
 #: Frame names every consumer relies on.
 FRAMES = ("left_foot", "right_foot", "trunk", "left_hand", "right_hand")
@@ -142,6 +167,38 @@ def derived_floor_geometry() -> dict[str, float]:
             "height": float(top), "reach": float(reach),
             "zero_pose_depth": float(np.ptp(pts0[:, 0])),
             "zero_pose_width": float(np.ptp(pts0[:, 1]))}
+
+
+@functools.lru_cache(maxsize=1)
+def derived_arm_geometry() -> dict[str, float]:
+    """Measure the arms on the URDF (half-sitting, relative to the sole midpoint).
+
+    Returns ``shoulder_x``, ``shoulder_y`` (the right and left shoulder joints' mean ahead
+    of and half-spacing across the sole midpoint, m), ``shoulder`` and ``wrist`` (the
+    largest half floor diagonal of the collision primitives of the shoulder links
+    ``*ARM_LINK0..1`` and of the wrist and fingers ``*ARM_LINK5..6``, m).
+    """
+    import numpy as np
+    import pinocchio as pin
+
+    model = load_pinocchio_model()
+    data = model.createData()
+    geom = pin.buildGeomFromUrdf(model, str(urdf_path()), pin.GeometryType.COLLISION)
+    q = half_sitting_configuration(model)
+    pin.framesForwardKinematics(model, data, q)
+    mid = 0.5 * (data.oMf[model.getFrameId("left_foot")].translation
+                 + data.oMf[model.getFrameId("right_foot")].translation)
+    sh = [data.oMi[model.getJointId(f"{s}ARM_JOINT0")].translation - mid for s in "RL"]
+    widest = {"shoulder": 0.0, "wrist": 0.0}
+    for obj in geom.geometryObjects:
+        part = ("shoulder" if any(f"ARM_LINK{i}" in obj.name for i in (0, 1)) else
+                "wrist" if any(f"ARM_LINK{i}" in obj.name for i in (5, 6)) else "")
+        if part:
+            g = obj.geometry
+            h = np.asarray(g.halfSide) if hasattr(g, "halfSide") else np.array([g.radius] * 2)
+            widest[part] = max(widest[part], float(np.hypot(h[0], h[1])))
+    return {"shoulder_x": float(0.5 * (sh[0][0] + sh[1][0])),
+            "shoulder_y": float(0.5 * (sh[1][1] - sh[0][1])), **widest}
 
 
 def hrp2_floor_geometry() -> dict[str, object]:

@@ -18,7 +18,8 @@ Optional: ``format`` = ``"pivot-motion/1"``; ``step`` (N, index of the pivot ste
 in its phase, -1 otherwise); ``holding`` (N bool, both hands on the grip points); ``grasp``
 (N, -1 when not holding); ``tilt`` (N, rad); ``box_size`` (or ``object_size``) (3,) box size
 (w, d, h); ``grip_box`` (4 x 2 x 3: grip points in the box frame per grasp, left then right);
-``sole_size`` (2,) sole length and width (m); ``scene`` () scene name. Other keys are ignored.
+``sole_size`` (2,) sole length and width (m); ``scene`` () scene name (``check-motion``
+loads it to check the obstacles, unless given ``--scene``). Other keys are ignored.
 """
 
 from __future__ import annotations

@@ -141,3 +141,37 @@ def test_floor_geometry_for_scenes():
     assert (depth, width) == (0.40, 0.70) and g["standoff"] == 0.25
     assert d["zero_pose_depth"] <= depth <= 0.45 and d["width"] <= width <= 0.75
     assert g["height"] == pytest.approx(1.56, abs=0.01)
+
+
+def test_arm_constants_match_the_urdf():
+    """The planner's arm envelope constants hold HRP-2's shoulders and wrists (pinocchio)."""
+    d = hrp2.derived_arm_geometry()
+    assert hrp2.SHOULDER_XY[0] == pytest.approx(d["shoulder_x"], abs=1e-3)
+    assert hrp2.SHOULDER_XY[1] == pytest.approx(d["shoulder_y"], abs=1e-3)
+    assert d["shoulder"] <= hrp2.SHOULDER_ENVELOPE <= d["shoulder"] + 0.03
+    assert d["wrist"] <= hrp2.HAND_ENVELOPE <= d["wrist"] + 0.03
+
+
+def test_walking_envelope_holds_every_link_in_half_sitting():
+    """Every collision primitive's floor projection lies inside the walking envelope.
+
+    In half-sitting the shanks' cylinders reach 0.23 m ahead of the sole midpoint, beyond the
+    footprint's 0.20 m; walking reaches further (swing knee, trunk sway), which
+    ``tests/wholebody`` measures on motions.
+    """
+
+    from pivot_ompl.wholebody.envelope import _outline_points
+
+    model = hrp2.load_pinocchio_model()
+    geom = pin.buildGeomFromUrdf(model, str(hrp2.urdf_path()), pin.GeometryType.COLLISION)
+    data, gdata = model.createData(), geom.createData()
+    pin.framesForwardKinematics(model, data, hrp2.half_sitting_configuration(model))
+    pin.updateGeometryPlacements(model, data, geom, gdata)
+    mid = 0.5 * (data.oMf[model.getFrameId("left_foot")].translation
+                 + data.oMf[model.getFrameId("right_foot")].translation)
+    pts = np.vstack([(M.rotation @ _outline_points(o.geometry).T).T + M.translation - mid
+                     for o, M in zip(geom.geometryObjects, gdata.oMg, strict=True)])
+    ahead, behind, side = hrp2.WALK_ENVELOPE
+    assert pts[:, 0].max() > 0.5 * hrp2.FOOTPRINT[0]  # the footprint alone would not do
+    assert pts[:, 0].max() <= ahead and -pts[:, 0].min() <= behind
+    assert np.abs(pts[:, 1]).max() <= side

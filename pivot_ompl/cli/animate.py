@@ -1,10 +1,16 @@
 """``pivot-ompl animate`` and ``pivot-ompl check-motion``: whole-body motion from a plan.
 
-* ``pivot-ompl animate PLAN.json --out motion.npz``: generate the HRP-2 whole-body motion
-  (progress bar on stderr), check it, write it. Exit 1 with a message naming the phase and
-  step when the solver fails or the motion fails its checks (nothing is written then).
-* ``pivot-ompl check-motion motion.npz [--plan PLAN.json]``: print the checks' margins;
-  exit 0 when all pass, 1 when one fails, 2 on bad input.
+* ``pivot-ompl animate PLAN.json --out motion.npz [--scene S]``: generate the HRP-2
+  whole-body motion (progress bar on stderr), check it, write it. Exit 1 with a message naming
+  the phase and step when the solver fails or the motion fails its checks (nothing is
+  written then).
+* ``pivot-ompl check-motion motion.npz [--plan PLAN.json] [--scene S]``: print the checks'
+  margins and every link's obstacle clearance; exit 0 when all pass, 1 when one fails, 2 on
+  bad input.
+
+Both check every link and the box against the scene's obstacles. The scene is ``--scene``
+(a file or a shipped scene's name), else the scene the plan or motion names (its ``scene``
+field) when that is a shipped scene's name or a readable file; otherwise exit 2.
 """
 
 from __future__ import annotations
@@ -14,10 +20,14 @@ import logging
 import math
 import sys
 import time
-from typing import TextIO
+from pathlib import Path
+from typing import TYPE_CHECKING, TextIO
 
 from pivot_ompl.cli.args import finite, output_file
-from pivot_ompl.errors import WholeBodyError
+from pivot_ompl.errors import InputError, WholeBodyError
+
+if TYPE_CHECKING:
+    from pivot_ompl.scene import Scene
 
 log = logging.getLogger(__name__)
 
@@ -42,6 +52,24 @@ class ProgressBar:
         self.stream.flush()
 
 
+def resolve_scene(option: str | None, named: str, *, field: str) -> Scene:
+    """The scene to check obstacles against: ``--scene``, else the file's ``scene`` name.
+
+    Raises:
+        InputError: no scene given and the file's name is neither a shipped scene nor a file.
+        SceneError: the scene file is invalid.
+    """
+    from pivot_ompl.resources import shipped_scenes
+    from pivot_ompl.scene import load_scene
+
+    if option:
+        return load_scene(option)
+    if named and (named in shipped_scenes() or Path(named).is_file()):
+        return load_scene(named)
+    raise InputError(field, named, "is not a shipped scene or a file: pass --scene FILE "
+                     "(the obstacles are checked)")
+
+
 def _animate(args: argparse.Namespace) -> int:
     from pivot_ompl.planfile import load_plan
     from pivot_ompl.wholebody.generator import generate_motion
@@ -49,13 +77,15 @@ def _animate(args: argparse.Namespace) -> int:
 
     output_file(args.out, "--out", inputs=[args.plan], suffixes=[".npz"])
     plan = load_plan(args.plan)
+    scene = None if args.no_check else resolve_scene(args.scene, plan.scene,
+                                                     field="plan.scene")
     bar = None if args.no_progress else ProgressBar("animate")
     motion, stats = generate_motion(plan, tilt=math.radians(args.tilt_deg), progress=bar)
     print(f"motion: {stats.duration:.2f} s in {stats.compute:.2f} s "
           f"({stats.real_time_factor:.1f}x real time), {stats.ticks} samples, "
           f"max hand error {1000 * stats.max_hand_error:.2f} mm")
     if not args.no_check:
-        report = check_motion(motion, plan)
+        report = check_motion(motion, plan, scene=scene)
         print(report.table())
         if not report.passed:
             failed = [r for r in report.results if not r.passed]
@@ -78,7 +108,11 @@ def _check(args: argparse.Namespace) -> int:
 
     motion = load_motion(args.motion)
     plan = load_plan(args.plan) if args.plan else None
-    report = check_motion(motion, plan)
+    scene = resolve_scene(args.scene, motion.scene, field="motion.scene")
+    report = check_motion(motion, plan, scene=scene)
+    if report.clearance is not None:
+        print(f"obstacle clearance per link (scene {scene.name}):")
+        print(report.clearance.table())
     print(report.table())
     return 0 if report.passed else 1
 
@@ -91,12 +125,19 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--out", required=True, help="motion file to write (.npz)")
     p.add_argument("--tilt-deg", type=finite("--tilt-deg"), default=5.0,
                    help="inclination of the held box about its supporting edge (deg)")
+    p.add_argument("--scene", default=None,
+                   help="scene whose obstacles are checked (file or shipped name; default: "
+                        "the plan's scene)")
     p.add_argument("--no-check", action="store_true", help="skip the motion checks")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=_animate)
     c = subparsers.add_parser("check-motion", help="check a whole-body motion file",
-                              description="ZMP, feet, hands, joint limits, pivot corner and "
-                                          "plan agreement of a motion file")
+                              description="ZMP, feet, hands, joint limits, pivot corner, "
+                                          "obstacle clearance of every link and plan "
+                                          "agreement of a motion file")
     c.add_argument("motion", help="motion file (.npz)")
     c.add_argument("--plan", default=None, help="the plan the motion was generated from")
+    c.add_argument("--scene", default=None,
+                   help="scene whose obstacles are checked (file or shipped name; default: "
+                        "the motion's scene)")
     c.set_defaults(func=_check)

@@ -127,8 +127,6 @@ def _piece(origin: tuple[float, float], phi: float, t: float, a: float, b: float
 def _walls_layout(rng: np.random.Generator, p: GeneratorParams,
                   seed: int) -> tuple[Scene, list[State]]:
     n = int(rng.integers(1, 4))
-    standoff = _scene("ref", (0.0, 0.0, 9.0, 9.0), [], (4.0, 4.0, 0.0),
-                      (4.0, 4.0, 0.0)).model.standoff
     width = float(rng.uniform(6.0, 7.5))
     obstacles: list[Obstacle] = []
     states: list[State] = []
@@ -161,8 +159,9 @@ def _walls_layout(rng: np.random.Generator, p: GeneratorParams,
             a = s_d - 0.5 * door - 0.3 if sd > 0 else s_lo
             b = s_hi if sd > 0 else s_d + 0.5 * door + 0.3
             obstacles.append(_piece(_along(origin, phi, t + depth), phi, 0.2, a, b))
-        # pushed into the slot until the robot's front is 6 cm from the wall
-        push = _along(origin, phi, BOX[0] / 2 + standoff - 0.06)
+        # pushed into the slot until the held face is 2 cm in: the holding robot's arms reach
+        # the grip points on the box's sides, so they stay out of the slot
+        push = _along(origin, phi, BOX[0] / 2 + 0.02)
         before = _along(origin, phi, -float(rng.uniform(1.2, 1.6)))
         after = _along(origin, phi, t + float(rng.uniform(1.0, 1.3)) + 0.4)
         approach.append(((before[0], before[1], phi), (push[0], push[1], phi),
@@ -303,28 +302,29 @@ def _clutter_layout(rng: np.random.Generator, p: GeneratorParams,
     return _scene(f"clutter_{seed}", (0.0, 0.0, bx, by), obstacles, start, goal), states
 
 
-def _swept_samples(ck: PivotChecker, states: list[State]) -> list[tuple[Pose, Pose]]:
-    """Box and robot poses sampled along the witness's rotations (every 1/4 rotation)."""
+def _swept_samples(ck: PivotChecker, states: list[State]) -> list[tuple[Pose, Pose, int]]:
+    """Box and robot poses (and grasp) sampled along the witness's rotations (every 1/4)."""
     m = ck.model
-    out: list[tuple[Pose, Pose]] = []
+    out: list[tuple[Pose, Pose, int]] = []
     for (pa, g), (pb, _) in zip(states, states[1:], strict=False):
         seq = ck.transfer(pa, pb, g).sequence
         prev = m.car_pose(pa, g)
         for r in seq.rotations:
             for s in (0.0, 0.25, 0.5, 0.75):
                 car = rotate_about(prev, r.pivot, s * r.angle)
-                out.append((m.object_from_car(car, g), m.robot_from_car(car, g)))
+                out.append((m.object_from_car(car, g), m.robot_from_car(car, g), g))
             prev = r.car
-        out.append((m.object_from_car(prev, g), m.robot_from_car(prev, g)))
+        out.append((m.object_from_car(prev, g), m.robot_from_car(prev, g), g))
     return out
 
 
-def _clear_of(scene: Scene, o: Obstacle, bodies: list[tuple[Pose, Pose]]) -> bool:
+def _clear_of(scene: Scene, o: Obstacle, bodies: list[tuple[Pose, Pose, int]]) -> bool:
+    """The obstacle keeps the margin from the box and the holding robot's body (arms too)."""
     w = CollisionWorld(scene.model, scene.bounds)
     w.add_obstacle(o)
     w.setup()
-    return all(w.box_distance(b) > CLUTTER_MARGIN and w.robot_distance(r) > CLUTTER_MARGIN
-               for b, r in bodies)
+    return all(w.box_distance(b) > CLUTTER_MARGIN and w.held_distance(r, g) > CLUTTER_MARGIN
+               for b, r, g in bodies)
 
 
 class _Retry(Exception):  # noqa: N818 - a layout to draw again, never escapes generate()

@@ -4,7 +4,15 @@ Obstacles are vertical prisms standing on the floor: a box obstacle is a ``coal.
 cylinder a ``coal.Cylinder``, a polygon is triangulated (ear clipping, so non-convex polygons
 work) into convex triangular prisms (``coal.Convex``). All obstacles live in one
 ``DynamicAABBTreeCollisionManager`` so a query costs one call. The box is its 3-D shape standing
-on the floor; the robot is its bounding box (floor footprint x height) at the grasp.
+on the floor. The robot has two bodies:
+
+* walking (:meth:`CollisionWorld.robot_distance`): its footprint rectangle grown by how far
+  the links reach beyond it while walking (:meth:`~pivot_ompl.grasp.BoxGraspModel.walking_extent`)
+  x height;
+* holding the box at grasp ``k`` (:meth:`CollisionWorld.held_distance`): one convex prism
+  round the footprint, both arms from the shoulders to the grip points and the inclined box's
+  overhang over the gap (:meth:`~pivot_ompl.grasp.BoxGraspModel.held_outline`, derived from
+  the URDF and the grip conventions for the grasp and the box size).
 """
 
 from __future__ import annotations
@@ -18,6 +26,10 @@ import numpy as np
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Obstacle, PolygonObstacle, Scene
 from pivot_ompl.se2 import Pose, triangulate
+
+#: Distance (m) the planner's bodies keep from obstacles: the whole-body motion's links and
+#: box then keep >= 1 cm (the ``obstacles`` check of ``check-motion``).
+KEEP_CLEARANCE = 0.01
 
 
 def _transform(x: float, y: float, yaw: float, z: float) -> coal.Transform3s:
@@ -60,21 +72,33 @@ class CollisionWorld:
     Attributes:
         model: the box and robot geometry.
         bounds: floor area ``(xmin, ymin, xmax, ymax)``.
+        clearance: distance (m) the bodies keep from obstacles: every obstacle distance
+            returned is the true distance minus this, so ``> 0`` means at least this clear.
     """
 
     model: BoxGraspModel
     bounds: tuple[float, float, float, float]
+    clearance: float = 0.0
 
     def __post_init__(self) -> None:
         """Create the body shapes."""
         w, d, h = self.model.object_size
         self._box_shape = coal.Box(w, d, h)
-        depth, width = self.model.robot_footprint
-        self._robot_shape = coal.Box(depth, width, self.model.robot_height)
+        ahead, behind, half_width = self.model.walking_extent()
+        self._robot_shape = coal.Box(ahead + behind, 2.0 * half_width, self.model.robot_height)
+        self._robot_ahead = 0.5 * (ahead - behind)  # the body's centre ahead of the pose
         self._box = coal.CollisionObject(self._box_shape)
         self._robot = coal.CollisionObject(self._robot_shape)
         self._box_radius = 0.5 * math.hypot(w, d)
         self._robot_radius = self.model.robot_radius()
+        height = max(self.model.robot_height, self.model.object_size[2])
+        self._held = []
+        self._held_points = []
+        for g in range(4):
+            outline = self.model.held_outline(g)
+            self._held.append(coal.CollisionObject(_prism(list(outline), height)))
+            self._held_points.append(np.array(outline).T)
+        self._held_radius = [float(np.hypot(*p).max()) for p in self._held_points]
         self._disk_shape = coal.Cylinder(self.model.robot_radius(), self.model.robot_height)
         self._disk = coal.CollisionObject(self._disk_shape)
         self._disks: dict[float, coal.CollisionObject] = {}
@@ -87,9 +111,9 @@ class CollisionWorld:
         self.queries = 0
 
     @classmethod
-    def from_scene(cls, scene: Scene) -> CollisionWorld:
-        """Build the world of a scene."""
-        world = cls(scene.model, scene.bounds)
+    def from_scene(cls, scene: Scene, *, clearance: float = KEEP_CLEARANCE) -> CollisionWorld:
+        """Build the world of a scene (bodies keep ``clearance`` m from obstacles)."""
+        world = cls(scene.model, scene.bounds, clearance)
         for o in scene.obstacles:
             world.add_obstacle(o)
         world.setup()
@@ -119,7 +143,7 @@ class CollisionWorld:
         cb = self._dcb
         cb.data.result.clear()
         self._manager.distance(obj, cb)
-        return cb.data.result.min_distance
+        return cb.data.result.min_distance - self.clearance
 
     def box_distance(self, obj: Pose) -> float:
         """Distance (m) from the box at object pose ``obj`` to the nearest obstacle (<= 0: hit)."""
@@ -127,18 +151,33 @@ class CollisionWorld:
         return self._distance(self._box)
 
     def robot_distance(self, robot: Pose) -> float:
-        """Distance (m) from the robot's bounding box at ``robot`` to the nearest obstacle."""
-        self._robot.setTransform(_transform(robot[0], robot[1], robot[2],
-                                            0.5 * self.model.robot_height))
+        """Distance (m) from the walking robot at ``robot`` to the nearest obstacle.
+
+        Its body: :meth:`~pivot_ompl.grasp.BoxGraspModel.walking_extent`.
+        """
+        self._robot.setTransform(self._robot_transform(robot))
         return self._distance(self._robot)
+
+    def _robot_transform(self, robot: Pose) -> coal.Transform3s:
+        a = self._robot_ahead
+        return _transform(robot[0] + a * math.cos(robot[2]), robot[1] + a * math.sin(robot[2]),
+                          robot[2], 0.5 * self.model.robot_height)
+
+    def held_distance(self, robot: Pose, grasp: int) -> float:
+        """Distance (m) from the robot holding the box at ``grasp`` to the nearest obstacle.
+
+        The robot stands at ``robot``; its body covers the arms and the inclined box's
+        overhang (the box itself is :meth:`box_distance`); <= 0: hit.
+        """
+        obj = self._held[grasp]
+        obj.setTransform(_transform(robot[0], robot[1], robot[2], 0.0))
+        return self._distance(obj)
 
     def robot_box_distance(self, robot: Pose, obj: Pose) -> float:
         """Distance (m) between the robot at ``robot`` and the resting box at ``obj``."""
         self.queries += 1
         self._res.clear()
-        return coal.distance(self._robot_shape,
-                             _transform(robot[0], robot[1], robot[2],
-                                        0.5 * self.model.robot_height),
+        return coal.distance(self._robot_shape, self._robot_transform(robot),
                              self._box_shape,
                              _transform(obj[0], obj[1], obj[2], 0.5 * self.model.object_size[2]),
                              self._req, self._res)
@@ -190,8 +229,19 @@ class CollisionWorld:
             return True
         return self.bounds_margin(self.model.object_corners(obj)) >= 0.0
 
+    def held_in_bounds(self, robot: Pose, grasp: int) -> bool:
+        """Whether the holding robot's body (see :meth:`held_distance`) lies inside the bounds."""
+        if self._inside(robot, self._held_radius[grasp]):
+            return True
+        c, s = math.cos(robot[2]), math.sin(robot[2])
+        px, py = self._held_points[grasp]
+        x, y = robot[0] + c * px - s * py, robot[1] + s * px + c * py
+        x0, y0, x1, y1 = self.bounds
+        return bool(min((x - x0).min(), (x1 - x).min(),
+                        (y - y0).min(), (y1 - y).min()) >= 0.0)
+
     def robot_in_bounds(self, robot: Pose) -> bool:
-        """Whether the robot footprint at ``robot`` lies inside the bounds."""
+        """Whether the walking body at ``robot`` lies inside the bounds."""
         if self._inside(robot, self._robot_radius):
             return True
         return self.bounds_margin(self.model.robot_corners(robot)) >= 0.0

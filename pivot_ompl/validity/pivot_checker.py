@@ -99,7 +99,7 @@ class PivotChecker:
             car = (0.0, 0.0, 0.0)
             a = self.model.pivots(car, g)[LEFT]
             box = self.model.object_corners(self.model.object_from_car(car, g))
-            rob = self.model.robot_corners(self.model.robot_from_car(car, g))
+            rob = self.model.held_corners(self.model.robot_from_car(car, g), g)
             self._reach[g] = (max(math.hypot(x - a[0], y - a[1]) for x, y in box),
                               max(math.hypot(x - a[0], y - a[1]) for x, y in rob))
 
@@ -111,7 +111,7 @@ class PivotChecker:
     def robot_valid(self, obj: Pose, grasp: int) -> bool:
         """The robot holding the box at ``obj`` with ``grasp`` is inside bounds and free."""
         r = self.model.robot_pose(obj, grasp)
-        return self.world.robot_in_bounds(r) and self.world.robot_distance(r) > 0.0
+        return self.world.held_in_bounds(r, grasp) and self.world.held_distance(r, grasp) > 0.0
 
     def state_valid(self, obj: Pose, grasp: int) -> bool:
         """Box and robot at ``grasp`` inside the bounds and collision-free."""
@@ -121,9 +121,9 @@ class PivotChecker:
         """Smallest distance (m) of box or robot to obstacles or to the bounds' sides."""
         r = self.model.robot_pose(obj, grasp)
         w = self.world
-        return min(w.box_distance(obj), w.robot_distance(r),
+        return min(w.box_distance(obj), w.held_distance(r, grasp),
                    w.bounds_margin(self.model.object_corners(obj)),
-                   w.bounds_margin(self.model.robot_corners(r)))
+                   w.bounds_margin(self.model.held_corners(r, grasp)))
 
     # -- transfer ------------------------------------------------------------------------
     def transfer(self, obj_a: Pose, obj_b: Pose, grasp: int, *,
@@ -182,13 +182,13 @@ class PivotChecker:
             return w.box_distance(m.object_from_car(car, grasp))
 
         def rob_d(car: Pose) -> float:
-            return w.robot_distance(m.robot_from_car(car, grasp))
+            return w.held_distance(m.robot_from_car(car, grasp), grasp)
 
         def in_bounds(car: Pose, bulge_b: float, bulge_r: float) -> bool:
             if w.bounds_margin(m.object_corners(m.object_from_car(car, grasp))) < bulge_b:
                 return False
             return not with_robot or \
-                w.bounds_margin(m.robot_corners(m.robot_from_car(car, grasp))) >= bulge_r
+                w.bounds_margin(m.held_corners(m.robot_from_car(car, grasp), grasp)) >= bulge_r
 
         def fail(reason: str) -> EdgeResult:
             return EdgeResult(False, PivotSequence(ca, cb, (), length, 0), length, reason)
@@ -286,8 +286,8 @@ class PivotChecker:
         parts = []
         for g in range(4):
             r = m.robot_pose(obj, g)
-            if not w.robot_in_bounds(r):
+            if not w.held_in_bounds(r, g):
                 parts.append(f"grasp {g}: robot leaves the bounds")
-            elif w.robot_distance(r) <= 0:
+            elif w.held_distance(r, g) <= 0:
                 parts.append(f"grasp {g}: robot collides")
         return "; ".join(parts) or "valid"

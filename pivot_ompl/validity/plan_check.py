@@ -3,7 +3,9 @@
 Checks chain continuity (each step starts where the previous ended, each phase where the
 previous one left robot and box), pivots at the supporting edge's ends, angle bounds, the rigid
 grasp (robot pose = grasp pose of the object pose), start and goal, and, with a scene,
-bounds and collisions of every rotation's swept box and robot and of every walk.
+bounds and collisions of every rotation's swept box and holding robot (its footprint, arms
+and the inclined box's overhang: ``CollisionWorld.held_distance``) and of every walk (the
+walking footprint).
 
 With a scene, the scene is the only authority: the box size, the robot's footprint and
 standoff and ``alpha_max`` are the scene's; the plan's copies of them are compared and a
@@ -144,9 +146,15 @@ def _rotation_clearance(dist: Callable[[Pose], float], conv: Callable[[Pose, int
 def _check_rotation(rep: PlanCheckReport, where: str, world: CollisionWorld,
                     model: BoxGraspModel, car: Pose, pivot: tuple[float, float], angle: float,
                     g: int, tol: float) -> None:
+    def held_corners(robot: Pose) -> list[tuple[float, float]]:
+        return model.held_corners(robot, g)
+
+    def held_distance(robot: Pose) -> float:
+        return world.held_distance(robot, g)
+
     for body, conv, corners, dist in (
             ("box", model.object_from_car, model.object_corners, world.box_distance),
-            ("robot", model.robot_from_car, model.robot_corners, world.robot_distance)):
+            ("robot", model.robot_from_car, held_corners, held_distance)):
         reach = max(math.hypot(x - pivot[0], y - pivot[1]) for x, y in corners(conv(car, g)))
         n = max(2, int(math.ceil(reach * abs(angle) / 0.01)) + 1)
         for k in range(n):

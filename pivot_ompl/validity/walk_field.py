@@ -54,7 +54,7 @@ class FloorField:
         b = self.world.bounds
         self.nx = int(math.floor((b[2] - b[0]) / self.resolution)) + 1
         self.ny = int(math.floor((b[3] - b[1]) / self.resolution)) + 1
-        self.radius = 0.5 * min(self.model.robot_footprint)
+        self.radius = self.model.robot_inradius()
         xs = b[0] + self.resolution * np.arange(self.nx)
         ys = b[1] + self.resolution * np.arange(self.ny)
         self._x, self._y = np.meshgrid(xs, ys, indexing="ij")

@@ -148,12 +148,13 @@ def narrowest_steps(plan: Plan, scene: Scene) -> dict[int, tuple[int, float]]:
 
     if not scene.obstacles:
         return {}
-    world = CollisionWorld.from_scene(scene)
+    world = CollisionWorld.from_scene(scene, clearance=0.0)  # true distances
     out: dict[int, tuple[int, float]] = {}
     for i, ph in enumerate(plan.phases):
         if not isinstance(ph, TransferPhase) or not ph.steps:
             continue
-        d = [min(world.box_distance(s.object), world.robot_distance(s.robot)) for s in ph.steps]
+        d = [min(world.box_distance(s.object), world.held_distance(s.robot, ph.grasp))
+             for s in ph.steps]
         j = int(np.argmin(d))
         out[i] = (j, float(d[j]))
     return out

@@ -31,9 +31,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pivot_ompl.grasp import (
+    GRIP_EDGE,
+    GRIP_HEIGHT,
+    GRIP_OFFSET,
+    GRIP_SPACING,
+    GRIP_TOP,
+    HOLD_TILT,
+)
 from pivot_ompl.se2 import Pose
 
-DEFAULT_TILT = math.radians(5.0)
+#: The hold conventions live in :mod:`pivot_ompl.grasp` (the planner's bodies use them too).
+DEFAULT_TILT = HOLD_TILT
 
 
 def rot_z(a: float) -> np.ndarray:
@@ -94,9 +103,9 @@ class BoxHold:
 
     size: tuple[float, float, float]
     tilt: float = DEFAULT_TILT
-    grip_height: float = 0.95
-    grip_spacing: float = 0.25
-    grip_offset: float = 0.055
+    grip_height: float = GRIP_HEIGHT
+    grip_spacing: float = GRIP_SPACING
+    grip_offset: float = GRIP_OFFSET
 
     def half_extent(self, grasp: int) -> float:
         """Half of the box's extent along the robot's facing direction (m)."""
@@ -124,8 +133,8 @@ class BoxHold:
 
     def T_G_hands(self, grasp: int) -> tuple[np.ndarray, np.ndarray]:
         """Grip frames ``(left, right)`` in the tilted grasp frame."""
-        zg = min(self.grip_height, self.size[2] - 0.10)
-        yg = min(self.grip_spacing, self.edge_half_length(grasp) - 0.05)
+        zg = min(self.grip_height, self.size[2] - GRIP_TOP)
+        yg = min(self.grip_spacing, self.edge_half_length(grasp) - GRIP_EDGE)
         R = rot_y(-0.5 * math.pi)
         return (transform(R, (-self.grip_offset, yg, zg)),
                 transform(R, (-self.grip_offset, -yg, zg)))

@@ -22,6 +22,11 @@ Every check recomputes what it needs with pinocchio from ``q`` and the URDF name
 * ``box_clearance`` -- the robot's collision primitives, hands and fingers excluded, never
   penetrate the box (checked on about 2000 evenly spread samples).
 * ``box_floor`` -- no box corner below the floor (> -1 mm).
+* ``obstacles`` (with a scene) -- every link's collision geometry and the (tilted) box keep
+  at least ``obstacle_clearance`` (1 cm by default) from every obstacle at every sample
+  (coal broad phase; samples between queries are certified by a bound on how far the body
+  can move, see :mod:`pivot_ompl.wholebody.clearance`). A failure names the link, the time,
+  the obstacle and the depth; ``MotionReport.clearance`` holds the minimum per link.
 * ``com_file`` -- the ``com`` array agrees with the CoM of ``q`` (< 1 mm).
 * ``robot_plan`` (with a plan) -- the robot (sole midpoint) stands at each pivot step's
   ``robot`` pose at the step's end (< 1 cm, 0.02 rad) and keeps within 3 cm of a transit's
@@ -44,7 +49,9 @@ from pivot_ompl.hrp2 import SOLE_SIZE
 from pivot_ompl.motionfile import DYNAMICS, SUPPORT_DOUBLE, SUPPORT_LEFT, SUPPORT_RIGHT, Motion
 from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
 from pivot_ompl.resources import data_path
+from pivot_ompl.scene import Scene
 from pivot_ompl.wholebody.box import BoxHold, matrix_from_quat, transform
+from pivot_ompl.wholebody.clearance import ClearanceReport, obstacle_clearance
 
 log = logging.getLogger(__name__)
 
@@ -79,6 +86,8 @@ class MotionReport:
     """All checks of a motion."""
 
     results: list[CheckResult] = field(default_factory=list)
+    #: Obstacle clearance per link and of the box (with a scene).
+    clearance: ClearanceReport | None = None
 
     @property
     def passed(self) -> bool:
@@ -246,9 +255,11 @@ def _all_finite(motion: Motion) -> CheckResult:
     return CheckResult("finite", True, 0.0, 0.0, "smp", "")
 
 
-def check_motion(motion: Motion, plan: Plan | None = None, *, zmp_tolerance: float = 0.0,
-                 foot_tolerance: float = 1e-3, hand_tolerance: float = 0.01,
-                 corner_tolerance: float = 1e-3, accel_limit: float = 100.0) -> MotionReport:
+def check_motion(motion: Motion, plan: Plan | None = None, *, scene: Scene | None = None,
+                 zmp_tolerance: float = 0.0, foot_tolerance: float = 1e-3,
+                 hand_tolerance: float = 0.01, corner_tolerance: float = 1e-3,
+                 accel_limit: float = 100.0,
+                 obstacle_tolerance: float = 0.01) -> MotionReport:
     """Run every check on ``motion`` (and against ``plan`` when given).
 
     Args:
@@ -260,6 +271,9 @@ def check_motion(motion: Motion, plan: Plan | None = None, *, zmp_tolerance: flo
         hand_tolerance: hand-to-grip limit (m).
         corner_tolerance: pivot corner / box pose limit (m).
         accel_limit: limit of the 99th percentile of the largest joint acceleration (rad/s^2).
+        scene: the scene of the motion: enables the ``obstacles`` check.
+        obstacle_tolerance: smallest accepted clearance of a link or the box to an
+            obstacle (m).
 
     Raises:
         InputError: the motion file is inconsistent with its URDF, or ``plan`` is not the
@@ -407,10 +421,24 @@ def check_motion(motion: Motion, plan: Plan | None = None, *, zmp_tolerance: flo
                                    corner_tolerance, "m", f"{rotations} rotations; {where}", wi))
 
     rep.results.append(_box_clearance(motion))
+    if scene is not None:
+        rep.clearance = obstacle_clearance(motion, scene)
+        rep.results.append(_obstacles(rep.clearance, obstacle_tolerance))
     if plan is not None:
         rep.results.append(_box_plan(motion, plan, hold, corner_tolerance))
         rep.results.append(_robot_plan(motion, plan, kin))
     return rep
+
+
+def _obstacles(cl: ClearanceReport, tol: float) -> CheckResult:
+    """The ``obstacles`` check from the clearance report."""
+    w = cl.worst
+    if w is None or math.isinf(w.clearance):
+        return CheckResult("obstacles", True, math.inf, tol, "m", "no obstacle")
+    what = "depth" if w.clearance < 0 else "clearance"
+    return CheckResult("obstacles", w.clearance >= tol, w.clearance, tol, "m",
+                       f"{w.link} {what} {1000 * abs(w.clearance):.1f} mm at t = {w.time:.3f} s"
+                       f" to {w.obstacle}; {cl.queries} queries, {cl.seconds:.1f} s", w.index)
 
 
 def _point_polyline(p: np.ndarray, poly: np.ndarray) -> float:

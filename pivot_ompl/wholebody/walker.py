@@ -95,8 +95,8 @@ def planar(T: np.ndarray) -> Pose:
 #: (shoulder roll 0.15 rad) and elbows bent 0.9 rad, so that the arms stay inside the 0.70 m
 #: wide floor box while the trunk sways over the feet.
 UPPER_POSTURE = {k: v for k, v in HALF_SITTING.items() if not k.startswith(("RLEG", "LLEG"))}
-UPPER_POSTURE.update({"RARM_JOINT0": 0.0, "LARM_JOINT0": 0.0, "RARM_JOINT1": 0.15,
-                      "LARM_JOINT1": -0.15, "RARM_JOINT3": -0.9, "LARM_JOINT3": -0.9})
+UPPER_POSTURE.update({"RARM_JOINT0": 0.15, "LARM_JOINT0": 0.15, "RARM_JOINT1": 0.15,
+                      "LARM_JOINT1": -0.15, "RARM_JOINT3": -0.5, "LARM_JOINT3": -0.5})
 
 
 class SolverFailure(RuntimeError):

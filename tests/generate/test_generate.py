@@ -14,6 +14,7 @@ from pivot_ompl.errors import InputError
 from pivot_ompl.generate import generate, mirror_scene, rotate_scene, scene_to_dict
 from pivot_ompl.planfile import TransitPhase, load_plan
 from pivot_ompl.scene import load_scene, scene_from_dict
+from pivot_ompl.validity.collision import KEEP_CLEARANCE
 from pivot_ompl.validity.pivot_checker import PivotChecker
 from pivot_ompl.validity.plan_check import check_plan
 
@@ -94,10 +95,11 @@ def test_rigid_copies_keep_clearances(angle, mirror, x, y, yaw):
     q = (x, y, yaw)
     for g in range(4):
         d0, d1 = a.clearance(q, g), b.clearance(f.pose(q), f.grasp(g))
-        # the bounds become walls: distances to them are measured to a 3-D box, equal to
-        # the bounds margin when positive
+        # the bounds become walls: the bodies keep KEEP_CLEARANCE from a wall but not from the
+        # floor's edge, so near the former bounds the copy's clearance is smaller by at most
+        # that much; elsewhere it is the same (coal's GJK precision)
         if d0 > 0:
-            assert d1 == pytest.approx(d0, abs=1e-4)  # coal GJK precision
+            assert d0 - KEEP_CLEARANCE - 1e-4 <= d1 <= d0 + 1e-4
         else:
             assert d1 <= 1e-9
     assert copy.start == pytest.approx(f.pose(scene.start))

@@ -46,7 +46,10 @@ def test_distances_match_geometry():
     s = make_scene(obstacles=[{"type": "box", "center": [5, 3], "size": [1, 1], "height": 1},
                               {"type": "cylinder", "center": [2, 5], "radius": 0.5,
                                "height": 1}])
-    w = CollisionWorld.from_scene(s)
+    w = CollisionWorld.from_scene(s, clearance=0.0)
+    kept = CollisionWorld.from_scene(s)  # distances beyond the kept clearance
+    assert kept.box_distance((3.0, 3.0, 0.0)) == pytest.approx(1.1 - kept.clearance, abs=1e-6)
+    assert kept.clearance == 0.01
     # box 0.8 wide (x) at x=3: its face at 3.4, obstacle face at 4.5
     assert w.box_distance((3.0, 3.0, 0.0)) == pytest.approx(1.1, abs=1e-6)
     # nearest is the cylinder: 5 - 0.5 - (3 + 0.3) = 1.2 (the box obstacle is 2.1 away)
@@ -88,3 +91,21 @@ def test_rotated_collinear_vertices_build_a_world():
     scene = make_scene(obstacles=[{"type": "polygon", "points": [list(p) for p in rot],
                                    "height": 1.0}], start=[1, 1, 0], goal=[7, 5, 0])
     assert CollisionWorld.from_scene(scene).box_distance((1.0, 1.0, 0.0)) > 0
+
+
+def test_walking_body_reaches_as_far_as_the_knees():
+    """Regression: the demo's robot side-stepped past a wall end it cleared with its footprint.
+
+    fig10, t = 1407.8 s: robot at (8.21, 5.40) facing -y, the wall's end at y = 5.19; the
+    footprint's front (0.20 m ahead) cleared it, a bent knee (0.30 m ahead) was 75 mm inside.
+    """
+    from factories import shipped
+
+    scene = shipped("fig10")
+    world = CollisionWorld.from_scene(scene)
+    robot = (8.21, 5.40, -0.5 * math.pi)
+    ahead, behind, half = scene.model.walking_extent()
+    assert ahead >= 0.30 and behind >= 0.26 and half >= 0.42
+    assert world.robot_distance(robot) < 0.0
+    # backed off by the envelope, the same side-step is free
+    assert world.robot_distance((8.21, 5.19 + ahead + 0.02, -0.5 * math.pi)) > 0.0

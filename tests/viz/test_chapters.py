@@ -87,12 +87,12 @@ def test_labels_count_pivots_up_to_the_total(plan):
 def test_narrowest_passage_is_the_smallest_clearance(plan, scene):
     kf = plan_keyframes(plan)
     g = replay_guide(kf.times, kf.phase, kf.step, plan=plan, scene=scene, narrow_below=10.0)
-    world = CollisionWorld.from_scene(scene)
+    world = CollisionWorld.from_scene(scene, clearance=0.0)  # true distances
     moments = [c for c in g.chapters if c.title.startswith("narrowest passage")]
     assert len(moments) == 2  # one per transfer phase
     for c in moments:
         ph = plan.phases[c.phase]
-        d = [min(world.box_distance(s.object), world.robot_distance(s.robot))
+        d = [min(world.box_distance(s.object), world.held_distance(s.robot, ph.grasp))
              for s in ph.steps]
         j = int(np.argmin(d))
         assert f"{100 * d[j]:.0f} cm clear" in c.title

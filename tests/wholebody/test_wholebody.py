@@ -230,11 +230,44 @@ def test_motion_file_round_trip_and_cli(generated, plan, tmp_path, capsys):
     again = load_motion(path)
     assert np.array_equal(again.q, motion.q) and again.joint_names == motion.joint_names
     plan_path = plan.to_json(tmp_path / "plan.json")
-    assert cli_main(["check-motion", str(path), "--plan", str(plan_path)]) == 0
-    assert "zmp" in capsys.readouterr().out
-    assert cli_main(["check-motion", str(tmp_path / "missing.npz")]) == 2
+    free = _scene_file(tmp_path / "free.yaml", [])
+    assert cli_main(["check-motion", str(path), "--plan", str(plan_path),
+                     "--scene", str(free)]) == 0
+    out = capsys.readouterr().out
+    assert "zmp" in out and "obstacles" in out and "LARM_LINK5" in out
+    # the motion names scene "test", which is not shipped: the obstacles need --scene
+    assert cli_main(["check-motion", str(path), "--plan", str(plan_path)]) == 2
+    assert "motion.scene" in capsys.readouterr().err
+    assert cli_main(["check-motion", str(tmp_path / "missing.npz"), "--scene", str(free)]) == 2
     other = short_plan(transit=False).to_json(tmp_path / "other.json")  # not this motion's plan
-    assert cli_main(["check-motion", str(path), "--plan", str(other)]) == 2
+    assert cli_main(["check-motion", str(path), "--plan", str(other),
+                     "--scene", str(free)]) == 2
+
+
+def _scene_file(path, obstacles: list[str]):
+    lines = ["name: t", "bounds: [-4.0, -4.0, 4.0, 4.0]", f"object: {{size: {list(SIZE)}}}",
+             "obstacles:" if obstacles else "obstacles: []", *obstacles,
+             "start: [0.0, 0.0, 0.0]", "goal: [0.2, 0.0, 0.0]"]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_check_motion_rejects_arms_in_a_wall(generated, plan, tmp_path, capsys):
+    """A post between robot and box at the start (the arms reach over it) fails the motion."""
+    motion = generated[0]
+    path = motion.save(tmp_path / "m.npz")
+    model = BoxGraspModel(SIZE)
+    r = model.robot_pose((0.0, 0.0, 0.0), 0)
+    x = r[0] + 0.5 * model.robot_footprint[0] + 0.12
+    post = _scene_file(tmp_path / "post.yaml", [
+        f"  - {{type: box, center: [{x:.3f}, 0.18], size: [0.05, 0.05], yaw: 0.0, "
+        "height: 2.0}"])
+    assert cli_main(["check-motion", str(path), "--scene", str(post)]) == 1
+    out = capsys.readouterr().out
+    line = next(ln for ln in out.splitlines() if ln.startswith("obstacles"))
+    assert "FAIL" in line and "depth" in line and "obstacles[0] (box)" in line, line
+    arms = [ln.split() for ln in out.splitlines() if ln.startswith(("LARM_LINK", "RARM_LINK"))]
+    assert any(float(a[1]) < 0 and a[3] == "obstacles[0]" for a in arms), out
 
 
 def test_unreachable_grip_fails_naming_the_step(tmp_path, capsys):
@@ -244,7 +277,32 @@ def test_unreachable_grip_fails_naming_the_step(tmp_path, capsys):
     assert e.value.phase == 0 and "unreachable grip" in e.value.reason
     path = far.to_json(tmp_path / "far.json")
     out = tmp_path / "m.npz"
-    assert cli_main(["animate", str(path), "--out", str(out), "--no-progress"]) == 1
+    # the plan names scene "test", not a shipped one: the obstacle check needs --scene
+    assert cli_main(["animate", str(path), "--out", str(out), "--no-progress"]) == 2
+    assert "plan.scene" in capsys.readouterr().err
+    free = _scene_file(tmp_path / "free.yaml", [])
+    assert cli_main(["animate", str(path), "--out", str(out), "--no-progress",
+                     "--scene", str(free)]) == 1
     err = capsys.readouterr().err
     assert "phase 0, step" in err and "unreachable grip" in err
     assert not out.exists()
+
+
+#: How far (m) link floor projections may leave the planner's bodies on whole-body motions:
+#: not at all. The bodies (``hrp2.WALK_ENVELOPE``, the arms' envelopes) were grown to the
+#: measured reach of the knees, chest, shoulders and wrists, and they keep
+#: ``KEEP_CLEARANCE`` (1 cm) from obstacles: every link then keeps that 1 cm too.
+HELD_MARGIN = 0.0
+WALK_MARGIN = 0.0
+
+
+def test_links_stay_within_the_planner_bodies_to_the_stated_margin(generated, plan):
+    from pivot_ompl.wholebody.envelope import floor_excursion
+
+    ex = floor_excursion(generated[0], plan, stride=40)
+    by_body = {b: max(e.distance for e in ex if e.body == b) for b in ("held", "walking")}
+    assert by_body["held"] <= HELD_MARGIN, ex[:3]
+    assert by_body["walking"] <= WALK_MARGIN, ex[:3]
+    # the hands stay inside the held body (the arms' region reaches the grip points)
+    hands = [e for e in ex if e.link in ("LARM_LINK6", "RARM_LINK6") and e.body == "held"]
+    assert hands and all(e.distance <= 0.0 for e in hands), hands
