@@ -197,13 +197,12 @@ class BoxGraspModel:
     def held_outline(self, grasp: int) -> tuple[tuple[float, float], ...]:
         """Floor points (robot frame) whose convex hull is the holding robot's body.
 
-        The walking body behind and beside the robot (:meth:`walking_extent`: the robot
-        steps while it pivots the box; ahead, the knees stay under the arms) and
+        The walking body (:meth:`walking_extent`: the robot steps while it pivots the box,
+        and its hands swing from their walking posture to the grips) and
         :meth:`held_polygons`: one convex prism, so the planner checks the whole held
         assembly with one distance query.
         """
-        _, behind, w = self.walking_extent()
-        ahead = 0.5 * self.robot_footprint[0]
+        ahead, behind, w = self.walking_extent()
         pts = [(-behind, -w), (ahead, -w), (ahead, w), (-behind, w)]
         for poly in self.held_polygons(grasp):
             pts += poly

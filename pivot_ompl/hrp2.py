@@ -56,8 +56,8 @@ SHOULDER_XY = (0.016, 0.25)
 #: diagonal of the shoulder's and of the wrist's collision primitives
 #: (:func:`derived_arm_geometry`), plus room for the elbow's outward bend and the wrists'
 #: swing as the hands reach and release, measured on whole-body motions
-#: (:func:`pivot_ompl.wholebody.envelope.floor_excursion`: a wrist 7.7 mm past a 0.07 m
-#: hand envelope).
+#: (:func:`pivot_ompl.wholebody.envelope.floor_excursion`: wrists 7.7 mm past a 0.07 m
+#: hand envelope on fig10).
 SHOULDER_ENVELOPE = 0.11
 HAND_ENVELOPE = 0.085
 

@@ -7,8 +7,9 @@ plan, the floor projection of every link's collision geometry (box corners; cyli
 circumscribed 24-gon prisms)
 against those bodies:
 
-* during a transfer phase, the held body of the phase's grasp, placed where the plan puts it:
-  attached to the box (its grasp frame recovered from the motion's box pose and tilt);
+* during a transfer phase, the held body of the phase's grasp and the box's footprint (a hand
+  on the held face may reach over it), placed where the plan puts them: attached to the box
+  (its grasp frame recovered from the motion's box pose and tilt);
 * during a transit phase, the walking body
   (:meth:`~pivot_ompl.grasp.BoxGraspModel.walking_extent`) swept along the phase's
   ``robot_path`` (sampled every ``path_step``), which is what the planner certifies for a walk.
@@ -55,6 +56,13 @@ def _outside(poly: np.ndarray, pts: np.ndarray) -> np.ndarray:
     e = np.roll(poly, -1, axis=0) - a
     n = np.stack([e[:, 1], -e[:, 0]], axis=1) / np.linalg.norm(e, axis=1)[:, None]
     return ((pts[:, None, :] - a[None]) * n[None]).sum(axis=2).max(axis=1)
+
+
+def _box_rect(model: BoxGraspModel, grasp: int) -> np.ndarray:
+    """The held box's footprint in the robot frame (CCW): the planner checks it as the box."""
+    face = 0.5 * model.robot_footprint[0] + model.standoff
+    far, ell = face + 2.0 * model.half_extent(grasp), model.edge_half_length(grasp)
+    return np.array([(face, -ell), (far, -ell), (far, ell), (face, ell)])
 
 
 def _hull(points: np.ndarray) -> np.ndarray:
@@ -131,6 +139,7 @@ def floor_excursion(motion: Motion, plan: Plan, *, stride: int = 10,
     local = [_outline_points(obj.geometry) for obj in geom.geometryObjects]
     links = [model.frames[o.parentFrame].name for o in geom.geometryObjects]
     held = [_hull(np.array(model_g.held_outline(g))) for g in range(4)]
+    boxes = [_box_rect(model_g, g) for g in range(4)]
     ahead, behind, w = model_g.walking_extent()
     rect = np.array([(-behind, -w), (ahead, -w), (ahead, w), (-behind, w)])
     paths = {p: _path_poses(ph.robot_path, path_step) for p, ph in enumerate(plan.phases)
@@ -147,7 +156,7 @@ def floor_excursion(motion: Motion, plan: Plan, *, stride: int = 10,
             G = B @ np.linalg.inv(hold.T_G_box(k, float(motion.tilt[i])))
             car = (float(G[0, 3]), float(G[1, 3]), float(np.arctan2(G[1, 0], G[0, 0])))
             pose = model_g.robot_from_car(car, k)
-            poly, body = held[k], "held"
+            poly, box, body = held[k], boxes[k], "held"
         else:
             poses = paths[int(motion.phase[i])]
             for k_geom, M in enumerate(gdata.oMg):
@@ -163,7 +172,7 @@ def floor_excursion(motion: Motion, plan: Plan, *, stride: int = 10,
         for k_geom, M in enumerate(gdata.oMg):
             pts = (M.rotation @ local[k_geom].T).T[:, :2] + M.translation[:2]
             rel = (pts - np.array(pose[:2])) @ R.T
-            v = float(_outside(poly, rel).max())
+            v = float(np.minimum(_outside(poly, rel), _outside(box, rel)).max())
             key = (links[k_geom], body)
             if key not in best or v > best[key].distance:
                 best[key] = Excursion(v, key[0], i, float(motion.t[i]), body)

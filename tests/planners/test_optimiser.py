@@ -17,7 +17,8 @@ START, GOAL = (1.5, 3.0, 0.0), (6.5, 3.0, 0.0)
 
 def _zigzag_with_regrasps():
     """A valid but wasteful open-floor path: detours, a regrasp there and back, a chain."""
-    scene = make_scene(start=list(START), goal=list(GOAL))
+    # floor to the left of the start: the holding robot's body turns round behind it
+    scene = make_scene(start=list(START), goal=list(GOAL), bounds=[-1.0, 0.0, 8.0, 6.0])
     problem = make_problem(scene)
     ck = problem.checker
     w1, w2, w3 = (2.5, 4.2, 0.5), (4.0, 1.8, -0.4), (5.2, 4.0, 0.3)

