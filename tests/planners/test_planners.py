@@ -34,7 +34,8 @@ def test_no_regrasp_where_not_needed():
     scene = shipped("cluttered_room")
     results = [plan(scene, planner="regrasp", time_limit=60.0, seed=s) for s in range(8)]
     assert all(r.solved and check_plan(r.plan, scene).ok for r in results)
-    assert sum(r.regrasps == 0 for r in results) >= 4
+    # 3 of 8 since the holding robot's body covers its arms and walking envelope (4 before)
+    assert sum(r.regrasps == 0 for r in results) >= 3
 
 
 def test_open_scene_direct():
