@@ -138,8 +138,8 @@ def test_walks_round_through_the_narrow_passage(name):
     # lattice's staircase at the end of the walk, 32 and 43 key poses with the footprint
     # alone; with the walking body widened by the trunk's sway the 0.9 m corridor leaves less
     # room for shortcuts: 38 measured, 41 with the whole walking envelope; the door's walk
-    # stays short)
-    assert len(walk.robot_path) <= (25 if name == "door" else 45)
+    # stays short: 28 with the envelope)
+    assert len(walk.robot_path) <= (30 if name == "door" else 45)
 
 
 @pytest.mark.parametrize(("name", "angle"), [("door", 0.5), ("t_junction", -1.1),
