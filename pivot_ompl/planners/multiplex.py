@@ -352,7 +352,14 @@ class MultiplexedSearch:
                     if not ok:
                         break
                 if ok:
-                    return path
+                    bad = self._invalid_as_expressed(path, ptc)
+                    if bad is None:
+                        return path
+                    if ptc():
+                        return []
+                    self.verified[bad if bad[0] <= bad[1] else (bad[1], bad[0])] = False
+                    self.adj[bad[0]].pop(bad[1], None)
+                    self.adj[bad[1]].pop(bad[0], None)
             return []
         finally:
             self.stats.time_search += time.perf_counter() - t0
@@ -470,6 +477,25 @@ class MultiplexedSearch:
             out.append((half_turn(q) if flip else q, (node[1] + 2 * flip) % 4))
             prev = node
         return out
+
+    def _invalid_as_expressed(self, path: list[Node],
+                              ptc: Callable[[], bool]) -> tuple[Node, Node] | None:
+        """The first transfer edge of ``path`` that fails as written by :meth:`_express`.
+
+        After an odd number of half turns an edge is written as the half turn of both poses
+        with grasp ``g + 2``: the same motion, but computed from other numbers, so a rotation
+        grazing the bounds or an obstacle may pass one check and fail the other (the plan is
+        written from the checks of the written poses). Only those edges cost a check; the
+        others are the checks already made (cache hits).
+        """
+        states = self._express(path)
+        for (a, b), (sa, sb) in zip(zip(path, path[1:], strict=False),
+                                    zip(states, states[1:], strict=False), strict=True):
+            if a[0] == b[0]:
+                continue
+            if ptc() or not self.checker.transfer(sa[0], sb[0], sa[1]).valid:
+                return a, b  # the caller tells an interruption from a failure by ``ptc``
+        return None
 
     def _add_new_nodes(self, ptc: Callable[[], bool]) -> list[Node]:
         """Add the object nodes not yet multiplexed; search every ``search_every`` additions."""

@@ -135,3 +135,16 @@ def test_plans_reach_the_goal_as_given_not_its_half_turn(seed):
     assert end[:2] == pytest.approx(scene.goal[:2], abs=1e-6)
     assert math.remainder(end[2] - scene.goal[2], 2 * math.pi) == pytest.approx(0.0, abs=1e-6)
     assert check_plan(res.plan, scene).ok
+
+
+@pytest.mark.slow
+def test_edges_written_in_the_flipped_frame_are_checked_as_written():
+    """Regression: fig10 seed 8 returned a path whose edge, written after a half turn as the
+    half turn of both poses with grasp g + 2, left the bounds though the search's check of the
+    same motion in its own numbers passed: ``plan`` raised INVALID_PATH."""
+    scene = shipped("fig10")
+    res = plan(scene, planner="regrasp", time_limit=60.0, seed=8)
+    assert res.solved
+    assert check_plan(res.plan, scene).ok
+    bound = res.plan.extra["quality"]["regrasps_lower_bound"]
+    assert bound is not None and bound <= res.regrasps

@@ -1,0 +1,335 @@
+"""A sound lower bound on the number of regrasps any plan of a scene needs.
+
+**Relaxation.** A plan is a sequence of transfer phases (box and robot move together with one
+grasp ``k``; every intermediate configuration ``(x, y, yaw)`` of the box has box and robot
+inside the bounds and clear of the obstacles) joined by regrasps (the box rests at one pose
+where the robot holds it with grasp ``k`` before and grasp ``j`` after). Forget the pivoting
+kinematics (any continuous motion of ``(x, y, yaw)`` is allowed), the walk round the box,
+the robot's upper body and the obstacles' heights, and keep of the held assembly only two
+floor rectangles that are *subsets* of what the checkers test: the box's footprint and the
+robot's footprint at the grasp. Every plan is then a path of the relaxed problem with the same
+number of grasp changes, so the fewest grasp changes of the relaxed problem is a lower bound.
+
+**Over-approximating the free space.** Yaw is cut into ``N`` bins of width ``w`` (``N`` even).
+In bin ``b`` (centre ``t_b``), rotating a body about the box's centre from ``t_b`` to any yaw of
+the bin moves none of its points by more than ``D = 2 r sin(w / 4)`` (``r``: the farthest
+point of that rectangle from the box's centre). If the body at ``(x, y, yaw)`` is free, then the
+rectangle at ``(x, y, t_b)`` *eroded* by ``D`` (half-sizes less ``D``) lies inside the body at
+``(x, y, yaw)`` (Brouwer: the map ``p -> p + y - T(p)`` sends the disk of radius ``D`` about a
+point ``y`` of the eroded rectangle into itself, so ``y = T(p)`` for a point ``p`` of the body), so
+it is free too. With the yaw fixed at ``t_b`` the positions where an eroded rectangle ``E`` is
+free are exact polygons: outside every ``K (+) -E`` (Minkowski sum, the convex hull of the
+vertex differences for a convex obstacle piece ``K``; polygons are split into triangles,
+cylinders replaced by inscribed polygons, which are subsets) and inside the bounds shrunk by
+``E``'s extent. So ``F(b, k)``, the positions where both eroded rectangles of grasp ``k`` are free
+at ``t_b``, contains every free ``(x, y)`` of the whole bin: an over-approximation. The swept
+checks' own tolerance (:data:`~pivot_ompl.validity.certify.SWEEP_TOLERANCE`: an accepted
+motion may come that close to an obstacle between its checked samples) is added to ``D``.
+
+**Search.** Nodes are the connected pieces of every ``F(b, k)``. A continuous transfer stays in
+one piece while its yaw stays in a bin and crosses to the next bin at a shared yaw, so through
+a point common to a piece of ``F(b, k)`` and one of ``F(b +- 1, k)`` (cost 0). A regrasp from
+``k`` to ``j`` happens at one pose, so in a point common to pieces of ``F(b, k)`` and
+``F(b, j)`` (cost 1). The fewest cost-1 edges from a piece holding the start to a piece holding
+the goal (0-1 breadth-first search) is at most the regrasps of any valid plan. Finer bins
+(``resolution``, the largest erosion) resolve narrower passages; coarser ones are faster and
+still sound. Grasp ``k + 2`` at yaw ``t`` is the same set as grasp ``k`` at ``t + pi``, so only
+grasps 0 and 1 are computed.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from shapely.geometry.base import BaseGeometry
+
+from pivot_ompl.scene import BoxObstacle, CylinderObstacle, PolygonObstacle, Scene
+from pivot_ompl.se2 import Pose, rectangle_corners, triangulate, wrap_angle
+from pivot_ompl.validity.certify import SWEEP_TOLERANCE
+
+log = logging.getLogger(__name__)
+
+#: Largest erosion (m) of the robot's rectangle by the rotation within a yaw bin: it sets the
+#: number of bins (narrower passages than about this are not resolved).
+RESOLUTION = 0.02
+#: Sides of the polygon inscribed in a cylinder obstacle (a subset of it).
+CIRCLE_SIDES = 24
+#: Yaw bins at most (a tiny ``resolution`` on a large robot would ask for many more).
+MAX_BINS = 720
+#: Added to every erosion (m): keeps the over-approximation on the safe side of round-off.
+ROUND_OFF = 1e-7
+
+
+@dataclass(frozen=True)
+class RegraspBound:
+    """Outcome of :func:`regrasp_lower_bound`.
+
+    Attributes:
+        regrasps: fewest regrasps any valid plan needs; ``None`` when unknown (stopped by
+            the time limit) or when the relaxation finds no path at all (then no plan exists;
+            ``solvable`` is ``False``).
+        solvable: the relaxed problem joins start and goal (``False`` proves that no plan
+            exists); ``None`` when stopped.
+        bins: yaw bins used.
+        pieces: connected pieces of free positions over all bins and grasps.
+        seconds: wall-clock time (s).
+    """
+
+    regrasps: int | None
+    solvable: bool | None
+    bins: int
+    pieces: int
+    seconds: float
+
+
+@dataclass(frozen=True)
+class _Rect:
+    """A rectangle in the box's frame: centre, yaw, half-sizes, and its rotation erosion."""
+
+    cx: float
+    cy: float
+    yaw: float
+    hx: float
+    hy: float
+
+    @property
+    def reach(self) -> float:
+        """Distance of its farthest point from the box's centre."""
+        return max(math.hypot(x, y) for x, y in
+                   rectangle_corners((self.cx, self.cy, self.yaw), 2 * self.hx, 2 * self.hy))
+
+    def eroded_corners(self, yaw: float, d: float) -> np.ndarray | None:
+        """Corners (4 x 2) after turning the box frame by ``yaw`` and eroding by ``d``."""
+        hx, hy = self.hx - d, self.hy - d
+        if hx <= 0 or hy <= 0:
+            return None
+        c, s = math.cos(yaw), math.sin(yaw)
+        centre = (c * self.cx - s * self.cy, s * self.cx + c * self.cy, self.yaw + yaw)
+        return np.array(rectangle_corners(centre, 2 * hx, 2 * hy))
+
+
+def _parts(scene: Scene, grasp: int) -> list[_Rect]:
+    """The box's and the robot's footprints at ``grasp`` in the box's frame."""
+    m = scene.model
+    rx, ry, rh = m.robot_pose((0.0, 0.0, 0.0), grasp)
+    return [_Rect(0.0, 0.0, 0.0, 0.5 * m.object_size[0], 0.5 * m.object_size[1]),
+            _Rect(rx, ry, rh, 0.5 * m.robot_footprint[0], 0.5 * m.robot_footprint[1])]
+
+
+def _obstacle_pieces(scene: Scene) -> list[np.ndarray]:
+    """Convex floor pieces (k x 2 vertex arrays), each a subset of an obstacle's footprint."""
+    out: list[np.ndarray] = []
+    for o in scene.obstacles:
+        if isinstance(o, BoxObstacle):
+            out.append(np.array(rectangle_corners((*o.center, o.yaw), *o.size)))
+        elif isinstance(o, CylinderObstacle):
+            a = np.linspace(0.0, 2 * math.pi, CIRCLE_SIDES, endpoint=False)
+            out.append(np.column_stack([o.center[0] + o.radius * np.cos(a),
+                                        o.center[1] + o.radius * np.sin(a)]))
+        elif isinstance(o, PolygonObstacle):
+            pts = np.asarray(o.points, dtype=float)
+            out.extend(pts[list(tri)] for tri in triangulate(o.points))
+    return out
+
+
+def _free_pieces(scene: Scene, parts: list[_Rect], yaw: float, erosion: list[float],
+                 pieces: list[np.ndarray]) -> list[BaseGeometry]:
+    """Connected pieces of the box positions where every eroded part is free at ``yaw``."""
+    x0, y0, x1, y1 = scene.bounds
+    lo, hi = [x0, y0], [x1, y1]
+    hulls = []
+    for part, d in zip(parts, erosion, strict=True):
+        e = part.eroded_corners(yaw, d)
+        if e is None:
+            continue
+        # inside the bounds: every corner of the eroded rectangle
+        lo = [max(lo[0], x0 - e[:, 0].min()), max(lo[1], y0 - e[:, 1].min())]
+        hi = [min(hi[0], x1 - e[:, 0].max()), min(hi[1], y1 - e[:, 1].max())]
+        if pieces:
+            diffs = [(k[:, None, :] - e[None, :, :]).reshape(-1, 2) for k in pieces]
+            index = np.repeat(np.arange(len(diffs)), [len(d) for d in diffs])
+            points = shapely.points(np.concatenate(diffs))
+            hulls.extend(shapely.convex_hull(shapely.multipoints(points, indices=index)))
+    if lo[0] > hi[0] or lo[1] > hi[1]:
+        return []
+    region: BaseGeometry = shapely.box(lo[0], lo[1], hi[0], hi[1])
+    if hulls:
+        region = region.difference(shapely.union_all(hulls))
+    geoms = [g for g in getattr(region, "geoms", [region]) if not g.is_empty]
+    return _merge_touching(geoms)
+
+
+def _merge_touching(geoms: list[BaseGeometry]) -> list[BaseGeometry]:
+    """Pieces that touch (a common point) joined: a path may pass where they meet."""
+    if len(geoms) < 2:
+        return geoms
+    parent = list(range(len(geoms)))
+
+    def find(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    tree = shapely.STRtree(geoms)
+    a, b = tree.query(geoms, predicate="intersects")
+    for i, j in zip(a.tolist(), b.tolist(), strict=True):
+        parent[find(i)] = find(j)
+    groups: dict[int, list[BaseGeometry]] = {}
+    for i, g in enumerate(geoms):
+        groups.setdefault(find(i), []).append(g)
+    return [gs[0] if len(gs) == 1 else shapely.union_all(gs) for gs in groups.values()]
+
+
+def _bins(scene: Scene, resolution: float) -> int:
+    """Even number of yaw bins whose rotation erosion is at most ``resolution``."""
+    reach = max(p.reach for g in (0, 1) for p in _parts(scene, g))
+    w = 4.0 * math.asin(min(1.0, resolution / (2.0 * reach)))
+    n = max(8, math.ceil(2.0 * math.pi / w))
+    return min(MAX_BINS, n + n % 2)
+
+
+@dataclass
+class FreeCover:
+    """Over-approximation of the free states of every grasp (see the module docstring).
+
+    Attributes:
+        bins: yaw bins (even); bin ``b`` holds yaws ``-pi + [b, b + 1) * 2 pi / bins``.
+        free: connected pieces of free box positions of grasps 0 and 1, per bin.
+    """
+
+    bins: int
+    free: list[list[list[BaseGeometry]]]
+
+    @property
+    def width(self) -> float:
+        """Width of a yaw bin (rad)."""
+        return 2.0 * math.pi / self.bins
+
+    def bin_of(self, yaw: float) -> int:
+        """The bin holding ``yaw`` (any angle)."""
+        return int((wrap_angle(yaw) + math.pi) // self.width) % self.bins
+
+    def pieces(self, b: int, grasp: int) -> list[BaseGeometry]:
+        """Pieces of bin ``b`` at ``grasp`` (grasp ``k + 2`` is grasp ``k`` a half turn on)."""
+        return self.free[grasp % 2][(b + (self.bins // 2) * ((grasp % 4) // 2)) % self.bins]
+
+    def holding(self, pose: Pose, grasp: int) -> list[int]:
+        """Indices of the pieces of ``pose``'s bin at ``grasp`` that hold its position."""
+        pt = shapely.Point(pose[0], pose[1])
+        return [c for c, geom in enumerate(self.pieces(self.bin_of(pose[2]), grasp))
+                if geom.distance(pt) <= ROUND_OFF]
+
+    def covers(self, pose: Pose, grasp: int) -> bool:
+        """Whether the state may be free (``False`` proves it is in collision)."""
+        return bool(self.holding(pose, grasp))
+
+
+def free_cover(scene: Scene, *, resolution: float = RESOLUTION,
+               tolerance: float = SWEEP_TOLERANCE,
+               should_stop: Callable[[], bool] | None = None) -> FreeCover | None:
+    """The :class:`FreeCover` of ``scene``; ``None`` if ``should_stop`` said stop.
+
+    Args:
+        scene: the scene.
+        resolution: largest erosion (m) of the rotation within a yaw bin; sets the bins.
+        tolerance: the swept checks' tolerance (m), added to every erosion.
+        should_stop: polled once per yaw bin.
+    """
+    n = _bins(scene, resolution)
+    w = 2.0 * math.pi / n
+    pieces = _obstacle_pieces(scene)
+    free: list[list[list[BaseGeometry]]] = [[], []]
+    for g in (0, 1):
+        parts = _parts(scene, g)
+        erosion = [2.0 * p.reach * math.sin(0.25 * w) + tolerance + ROUND_OFF for p in parts]
+        for b in range(n):
+            if should_stop is not None and should_stop():
+                return None
+            free[g].append(_free_pieces(scene, parts, -math.pi + (b + 0.5) * w, erosion, pieces))
+    return FreeCover(n, free)
+
+
+def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
+                        tolerance: float = SWEEP_TOLERANCE,
+                        should_stop: Callable[[], bool] | None = None) -> RegraspBound:
+    """Fewest regrasps any plan of ``scene`` needs (see the module docstring: sound).
+
+    Args:
+        scene: the scene.
+        resolution: largest erosion (m) of the rotation within a yaw bin; sets the bins.
+        tolerance: the swept checks' tolerance (m), added to every erosion.
+        should_stop: polled once per yaw bin; when it returns ``True`` the result is unknown.
+
+    Returns:
+        A :class:`RegraspBound`.
+    """
+    t0 = time.perf_counter()
+    cover = free_cover(scene, resolution=resolution, tolerance=tolerance,
+                       should_stop=should_stop)
+    n = _bins(scene, resolution)
+    if cover is None:
+        return RegraspBound(None, None, n, 0, time.perf_counter() - t0)
+    ids: dict[tuple[int, int, int], int] = {}
+    for b in range(n):
+        for k in range(4):
+            for c in range(len(cover.pieces(b, k))):
+                ids[(b, k, c)] = len(ids)
+    adj: list[list[tuple[int, int]]] = [[] for _ in ids]
+
+    def link(b1: int, k1: int, b2: int, k2: int, cost: int) -> None:
+        ga, gb = cover.pieces(b1, k1), cover.pieces(b2, k2)
+        if not ga or not gb:
+            return
+        ia, ib = shapely.STRtree(gb).query(ga, predicate="intersects")
+        for i, j in zip(ia.tolist(), ib.tolist(), strict=True):
+            u, v = ids[(b1, k1, i)], ids[(b2, k2, j)]
+            adj[u].append((v, cost))
+            adj[v].append((u, cost))
+
+    for b in range(n):
+        if should_stop is not None and should_stop():
+            return RegraspBound(None, None, n, len(ids), time.perf_counter() - t0)
+        for k in range(4):
+            link(b, k, (b + 1) % n, k, 0)  # a transfer crossing into the next bin
+            for j in range(k + 1, 4):
+                link(b, k, b, j, 1)  # a regrasp
+
+    def holding(pose: Pose) -> list[int]:
+        b = cover.bin_of(pose[2])
+        return [ids[(b, k, c)] for k in range(4) for c in cover.holding(pose, k)]
+
+    best = _zero_one_bfs(adj, holding(scene.start), set(holding(scene.goal)))
+    seconds = time.perf_counter() - t0
+    log.debug("regrasp bound %s over %d yaw bins, %d pieces, %.2f s", best, n, len(ids), seconds)
+    return RegraspBound(best, best is not None, n, len(ids), seconds)
+
+
+def _zero_one_bfs(adj: list[list[tuple[int, int]]], starts: list[int],
+                  goals: set[int]) -> int | None:
+    """Fewest cost-1 edges from any start to any goal; ``None`` if none is reachable."""
+    dist = [math.inf] * len(adj)
+    queue: deque[int] = deque()
+    for s in starts:
+        dist[s] = 0
+        queue.append(s)
+    while queue:
+        u = queue.popleft()
+        if u in goals:
+            return int(dist[u])
+        for v, c in adj[u]:
+            nd = dist[u] + c
+            if nd < dist[v]:
+                dist[v] = nd
+                if c == 0:
+                    queue.appendleft(v)
+                else:
+                    queue.append(v)
+    return None
