@@ -1,14 +1,16 @@
 """Plan quality before/after, side by side: pivots, regrasps, walking, optimisation time.
 
 Plans fig10 and rotated / mirrored copies of it (``rot30``: turned by 30 degrees about the
-room's centre, the old bounds kept as walls; ``mirror``: reflected in y) with
+room's centre, the old bounds kept as walls; ``mirror``: reflected in the line at 0.3 rad
+through the centre; both made by ``pivot_ompl.generate``) with
 ``RegraspPlanner`` over seeds, with two versions of the package in turn: one worker process
 per version (``--before DIR``, e.g. an export of ``main``, and this checkout), fed the same
 (scene, seed) jobs alternately, so both see the same machine. Prints medians per scene and
 version: pivots, regrasps, pivots per metre of transfer, walking length, planning time, the
-optimiser's share of it, the estimated whole-body duration, and whether every plan passes the
-independent plan check. Targets (issue 14): fig10 median <= 250 pivots, median regrasps 2,
-optimisation <= 20 % of planning time.
+optimiser's share of it, the estimated whole-body duration, whether every plan passes the
+independent plan check, runs that raised an error, and the quality block's lower bound on
+regrasps with its computing time (versions that write it). Targets (issue 14): fig10 median
+<= 250 pivots, median regrasps 2, optimisation <= 20 % of planning time.
 
     python benchmarks/plan_quality.py --before /tmp/base [--seeds 100] [--time 30]
         [--scenes fig10,rot30,mirror] [--out results/plan_quality.json]
@@ -34,86 +36,56 @@ ROOT = HERE.parents[1]
 
 # -- scenes ------------------------------------------------------------------------------
 
-def _xf(doc: dict[str, Any], fn, yaw_fn) -> dict[str, Any]:  # noqa: ANN001
-    """A copy of a scene dict with every point mapped by ``fn`` and yaw by ``yaw_fn``."""
-    out = json.loads(json.dumps(doc))
-    out["start"] = [*fn(doc["start"][:2]), yaw_fn(doc["start"][2])]
-    out["goal"] = [*fn(doc["goal"][:2]), yaw_fn(doc["goal"][2])]
-    obs = []
-    for o in doc.get("obstacles", []):
-        o = dict(o)
-        if o["type"] == "polygon":
-            o["points"] = [list(fn(p)) for p in o["points"]]
-        else:
-            o["center"] = list(fn(o["center"]))
-            if o["type"] == "box":
-                o["yaw"] = yaw_fn(o.get("yaw", 0.0))
-        obs.append(o)
-    out["obstacles"] = obs
-    return out
+def variant(name: str):  # noqa: ANN201 (a Scene of whichever package version runs)
+    """fig10 as is, turned by 30 degrees (``rot30``) or mirrored (``mirror``).
 
+    The copies are :mod:`pivot_ompl.generate`'s: the old floor kept as walls round it,
+    ``mirror`` reflected in the line at 0.3 rad through the room's centre.
+    """
+    from pivot_ompl.generate import mirror_scene, rotate_scene
+    from pivot_ompl.scene import load_scene
 
-def variant(doc: dict[str, Any], name: str) -> dict[str, Any]:
-    """fig10 (``doc``) as is, turned by 30 degrees (``rot30``) or mirrored (``mirror``)."""
-    x0, y0, x1, y1 = doc["bounds"]
+    base = load_scene("fig10")
     if name == "fig10":
-        return doc
-    if name == "mirror":
-        out = _xf(doc, lambda p: (p[0], y0 + y1 - p[1]), lambda a: -a)
-        out["name"] = "fig10_mirror"
-        return out
+        return base
     if name == "rot30":
-        th = math.radians(30.0)
-        cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
-        c, s = math.cos(th), math.sin(th)
-
-        def fn(p):  # noqa: ANN001, ANN202
-            dx, dy = p[0] - cx, p[1] - cy
-            return (cx + c * dx - s * dy, cy + s * dx + c * dy)
-
-        out = _xf(doc, fn, lambda a: a + th)
-        corners = [fn(p) for p in ((x0, y0), (x1, y0), (x1, y1), (x0, y1))]
-        walls = []
-        for a, b in zip(corners, corners[1:] + corners[:1], strict=True):
-            walls.append({"type": "box", "center": [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])],
-                          "size": [math.dist(a, b) + 0.2, 0.2],
-                          "yaw": math.atan2(b[1] - a[1], b[0] - a[0]), "height": 2.0})
-        # the old bounds become walls; the new bounds hold them with a margin
-        xs, ys = [p[0] for p in corners], [p[1] for p in corners]
-        out["bounds"] = [min(xs) - 0.3, min(ys) - 0.3, max(xs) + 0.3, max(ys) + 0.3]
-        out["obstacles"] = out["obstacles"] + walls
-        out["name"] = "fig10_rot30"
-        return out
+        return rotate_scene(base, math.radians(30.0), name="fig10_rot30")
+    if name == "mirror":
+        return mirror_scene(base, 0.3, name="fig10_mirror")
     raise SystemExit(f"unknown scene variant {name!r}")
 
 
 # -- worker: plans jobs read from stdin with whichever package is on its path ------------
 
 def worker() -> None:
-    import yaml
     from ompl import util as ou
 
     from pivot_ompl.api import plan
-    from pivot_ompl.resources import data_root
-    from pivot_ompl.scene import scene_from_dict
+    from pivot_ompl.errors import PivotError
     from pivot_ompl.validity.plan_check import check_plan
 
     ou.setLogLevel(ou.LOG_WARN)
-    base = yaml.safe_load((data_root() / "scenes" / "fig10.yaml").read_text())
     scenes: dict[str, Any] = {}
     for line in sys.stdin:
         name, seed_s, limit_s = line.split()
         if name not in scenes:
-            scenes[name] = scene_from_dict(variant(base, name), source=name)
+            scenes[name] = variant(name)
         scene = scenes[name]
-        res = plan(scene, planner="regrasp", time_limit=float(limit_s), seed=int(seed_s))
+        try:
+            res = plan(scene, planner="regrasp", time_limit=float(limit_s), seed=int(seed_s))
+        except PivotError as e:  # e.g. a path the conversion refuses: counted, not fatal
+            print(json.dumps({"scene": name, "seed": int(seed_s), "solved": False,
+                              "solve": 0.0, "optimise": 0.0, "error": str(e)}), flush=True)
+            continue
         row: dict[str, Any] = {"scene": name, "seed": int(seed_s), "solved": res.solved,
                                "solve": res.timings["solve"],
                                "optimise": float(res.roadmap.get("time_optimise", 0.0))}
         if res.solved:
             p = res.plan
+            q = p.extra.get("quality") or {}
             row.update(pivots=p.pivots, regrasps=p.regrasps,
                        walking=sum(ph.length for ph in p.phases if ph.type == "transit"),
+                       bound=q.get("regrasps_lower_bound"), bound_s=res.timings.get("bound"),
                        check=check_plan(p, scene).ok, plan=p.to_dict())
         print(json.dumps(row), flush=True)
 
@@ -164,7 +136,14 @@ def _summary(rows: list[dict[str, Any]]) -> dict[str, Any]:
             if quality else math.nan,
             "duration_median": statistics.median(q["duration_estimate"] for q in quality)
             if quality else math.nan,
-            "checked_ok": sum(bool(r.get("check")) for r in ok)}
+            "checked_ok": sum(bool(r.get("check")) for r in ok),
+            "errors": sum("error" in r for r in rows),
+            "bound_median": _median([r["bound"] for r in ok if r.get("bound") is not None]),
+            "bound_s_median": _median([r["bound_s"] for r in ok if r.get("bound_s") is not None])}
+
+
+def _median(vals: list[float]) -> float:
+    return statistics.median(vals) if vals else math.nan
 
 
 def main() -> None:
@@ -207,7 +186,8 @@ def main() -> None:
     table = {f"{name}/{ver}": _summary(rs) for (name, ver), rs in rows.items()}
     print(f"\n{'scene/version':18s} {'runs':>4} {'ok':>5} {'pivots':>7} {'range':>10} "
           f"{'regr':>5} {'range':>6} {'piv/m':>6} {'walk m':>7} {'solve s':>8} "
-          f"{'opt %':>6} {'max %':>6} {'body s':>7} {'checked':>7}")
+          f"{'opt %':>6} {'max %':>6} {'body s':>7} {'checked':>7} {'errors':>6} {'bound':>5} "
+          f"{'bound s':>7}")
     for key, t in table.items():
         pr, rr = t["pivots_range"] or [0, 0], t["regrasps_range"] or [0, 0]
         print(f"{key:18s} {t['runs']:4d} {100 * t['success']:4.0f}% {t['pivots_median']:7.0f} "
@@ -215,7 +195,8 @@ def main() -> None:
               f"{f'{rr[0]}-{rr[1]}':>6} {t['pivots_per_m_median']:6.1f} "
               f"{t['walking_median']:7.1f} {t['solve_median']:8.2f} "
               f"{100 * t['optimise_share_median']:6.1f} {100 * t['optimise_share_max']:6.1f} "
-              f"{t['duration_median']:7.0f} {t['checked_ok']:7d}")
+              f"{t['duration_median']:7.0f} {t['checked_ok']:7d} {t['errors']:6d} "
+              f"{t['bound_median']:5.1f} {t['bound_s_median']:7.2f}")
     print("targets: fig10 median <= 250 pivots, median regrasps 2, optimisation <= 20 % of "
           "planning time")
     write_json({"seeds": args.seeds, "time_limit": args.time, "versions":
