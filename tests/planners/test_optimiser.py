@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 
@@ -96,3 +97,29 @@ def test_termination_condition_is_honoured():
     out = optimise(ck, states, should_stop=stop)
     assert math.isfinite(path_cost(ck, out, PathWeights()))
     assert path_cost(ck, out, PathWeights()) <= path_cost(ck, states, PathWeights())
+
+
+def test_walks_are_computed_only_for_paths_whose_transfers_hold():
+    """The transfers of a candidate path are checked before its walks: with every transfer
+    but the input's own refused, no walk but the input's own is ever computed (in path order
+    the regrasp at the first waypoint of a candidate would be walked before its transfer)."""
+    scene = make_scene(start=list(START), goal=list(GOAL))
+    ck = make_problem(scene).checker
+    mid = (4.0, 3.0, 0.0)
+    states = [(START, 0), (mid, 0), (mid, 1), (GOAL, 1)]
+    own = {(START, mid, 0), (mid, GOAL, 1)}
+    walks: list[tuple] = []
+    transfer, transit = ck.transfer, ck.transit
+
+    def only_own(a, b, g, **kw):
+        res = transfer(a, b, g, **kw)
+        return res if (a, b, g) in own else dataclasses.replace(res, valid=False)
+
+    def logged(obj, g, h):
+        walks.append((obj, g, h))
+        return transit(obj, g, h)
+
+    ck.transfer, ck.transit = only_own, logged
+    out = optimise(ck, states, should_stop=lambda: False)
+    assert out == states
+    assert set(walks) == {(mid, 0, 1)}
