@@ -29,6 +29,7 @@ edge checks and reaches the steering inside them.
 
 from __future__ import annotations
 
+import bisect
 import logging
 import math
 import time
@@ -111,11 +112,15 @@ class _Graph:
     transfer: dict[tuple[int, int, int], float | None] = field(default_factory=dict)
     walk: dict[tuple[int, int, int], float | None] = field(default_factory=dict)
     _bounds: dict[tuple[str, int, int, int], float] = field(default_factory=dict)
+    _valid_at: dict[int, list[int]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         """Valid grasps of every waypoint."""
         ck = self.checker
         self.nodes = [[g for g in self.grasps if ck.state_valid(p, g)] for p in self.poses]
+        #: the waypoints (ascending) where each grasp is valid
+        self._valid_at = {g: [i for i, ns in enumerate(self.nodes) if g in ns]
+                          for g in self.grasps}
         m = ck.model
         a = ck.scene.alpha_max
         self._per_rotation = {g: 2.0 * m.edge_half_length(g) * math.sin(0.5 * a)
@@ -153,6 +158,7 @@ class _Graph:
     def cheapest(self, optimistic: bool) -> tuple[float, list[tuple[int, int]]]:
         """Dynamic programming over the waypoints: ``(cost, nodes)``; ``inf`` if no path."""
         n = len(self.poses)
+        checked, bounds = self.transfer, self._bounds
         best: dict[tuple[int, int], float] = {(0, g): 0.0 for g in self.nodes[0]}
         back: dict[tuple[int, int], tuple[int, int] | None] = {k: None for k in best}
         for i in range(n):
@@ -175,14 +181,21 @@ class _Graph:
                             changed = True
                 if not changed:
                     break
-            for g in layer:
+            for g in layer:  # the transfers, the inner loop of the rounds: kept lean
                 b0 = best[(i, g)]
-                for j in range(i + 1, n):
-                    if g not in self.nodes[j]:
+                later = self._valid_at[g]
+                for j in later[bisect.bisect_right(later, i):]:
+                    key = (i, j, g)
+                    if key in checked:
+                        c = checked[key]
+                        if c is None:
+                            continue
+                    elif not optimistic:
                         continue
-                    c = self.cost("t", (i, j, g), optimistic)
-                    if c is None:
-                        continue
+                    else:
+                        c = bounds.get(("t", i, j, g))
+                        if c is None:
+                            c = bounds[("t", i, j, g)] = self.transfer_bound(i, j, g)
                     v = b0 + c
                     if v < best.get((j, g), math.inf) - 1e-12:
                         best[(j, g)] = v
