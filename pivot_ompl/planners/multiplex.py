@@ -137,7 +137,10 @@ class MultiplexedSearch:
         self.by_grasp: dict[int, list[int]] = {g: [] for g in self.params.grasps}
         #: object nodes where grasp 0 or 2 (index 0), 1 or 3 (index 1) is valid
         self._parity: tuple[list[int], list[int]] = ([], [])
+        #: edges found invalid (undirected; ``False``): never linked again
         self.verified: dict[tuple[Node, Node], bool] = {}
+        #: checked valid, as the plan writes them: ``(state, state)`` in path order
+        self._valid: set[tuple[tuple[Pose, int], tuple[Pose, int]]] = set()
         self.critical: list[int] = []
         b = self.checker.world.bounds
         self._lo = (b[0], b[1])
@@ -294,24 +297,35 @@ class MultiplexedSearch:
                 return False
         return True
 
-    def _edge_valid(self, a: Node, b: Node) -> bool:
+    def _edge_valid(self, a: Node, b: Node, sa: tuple[Pose, int], sb: tuple[Pose, int]) -> bool:
+        """Check the edge ``a -> b`` of a path, written as the states ``sa -> sb``.
+
+        The edge is checked exactly as the plan will hold it (the path's frame and
+        direction, :meth:`_express`): a pivot sequence depends on its direction, and a pose
+        and its half turn differ by round-off, which can change the Reeds-Shepp path. An
+        invalid edge is refused in every frame and direction (a conservative choice).
+        """
         key = (a, b) if a <= b else (b, a)
-        v = self.verified.get(key)
-        if v is not None:
-            return v
-        pa, pb = self.obj.poses[a[0]], self.obj.poses[b[0]]
-        if a[0] != b[0]:  # a transfer; (j, g + 2) is (j's half-turn, g)
-            m = self.checker.model
-            pb = pb if a[1] == b[1] else half_turn(pb)
-            v = (self._plausible(m.car_pose(pa, a[1]), m.car_pose(pb, a[1]), a[1])
-                 and self.checker.transfer(pa, pb, a[1]).valid)
+        if self.verified.get(key) is False:
+            return False
+        if (sa, sb) in self._valid:
+            return True
+        (pa, ga), (pb, gb) = sa, sb
+        ck = self.checker
+        if a[0] != b[0]:  # a transfer
+            m = ck.model
+            v = (self._plausible(m.car_pose(pa, ga), m.car_pose(pb, ga), ga)
+                 and ck.transfer(pa, pb, ga).valid)
         else:
-            walk = self.checker.transit(pa, a[1], b[1])
+            walk = ck.transit(pa, ga, gb)
             v = walk.valid
             if v:  # the real walking cost replaces the estimate
                 cost = self.params.regrasp_cost + walk.cost
                 self.adj[a][b] = self.adj[b][a] = cost
-        self.verified[key] = v
+        if v:
+            self._valid.add((sa, sb))
+        else:
+            self.verified[key] = False
         self.stats.edges_checked += 1
         if not v:
             self.stats.edges_invalid += 1
@@ -335,15 +349,16 @@ class MultiplexedSearch:
                     return []
                 # validate every transfer edge of the path (so one search removes all its bad
                 # transfers), then the walks, which cost more, only if the transfers hold
-                pairs = list(zip(path, path[1:], strict=False))
+                states = self._express(path)
+                pairs = list(zip(path, path[1:], states, states[1:], strict=False))
                 ok = True
                 for walks in (False, True):
-                    for a, b in pairs:
+                    for a, b, sa, sb in pairs:
                         if (a[0] == b[0]) != walks:
                             continue
                         if ptc():
                             return []
-                        if not self._edge_valid(a, b):
+                        if not self._edge_valid(a, b, sa, sb):
                             self.adj[a].pop(b, None)
                             self.adj[b].pop(a, None)
                             ok = False

@@ -124,3 +124,26 @@ def test_paths_across_the_half_turn_are_written_in_one_frame():
     assert [g for _, g in out] == [0, 0, 1, 1]
     assert out[1][0][2] == pytest.approx(-1.5 + math.pi)
     assert out[3][0][2] == pytest.approx(-1.0 + math.pi)
+
+
+def test_search_checks_edges_as_the_plan_writes_them():
+    """Regression (fig10, seed 8): an edge checked in one frame (or direction) and written in
+    the other (its poses half-turned, round-off apart) took another Reeds-Shepp path and
+    failed the plan's conversion. Every edge of the path must be the one that was checked."""
+    import numpy as np
+
+    from pivot_ompl.base.path_conversion import path_to_plan
+    from pivot_ompl.planners.multiplex import MultiplexedSearch, RegraspParams
+    from pivot_ompl.validity.pivot_checker import PivotChecker
+    from pivot_ompl.validity.plan_check import check_plan
+
+    scene = shipped("fig10")
+    checker = PivotChecker(scene, seed=8)
+    search = MultiplexedSearch(checker, scene.start, scene.goal, RegraspParams(optimise=False),
+                               np.random.default_rng(8))
+    states = search.run(lambda: False)
+    assert states and states[-1] == (scene.goal, states[-1][1])
+    before = checker.counters.valid + checker.counters.invalid
+    plan_ = path_to_plan(scene, checker, states)  # raises INVALID_PATH on an unchecked edge
+    assert checker.counters.valid + checker.counters.invalid == before  # all cache hits
+    assert check_plan(plan_, scene).ok
