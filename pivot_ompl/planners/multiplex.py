@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from pivot_ompl.errors import Interrupted
 from pivot_ompl.graph import UnionFind, astar
 from pivot_ompl.planners.optimiser import budgeted, optimise
 from pivot_ompl.planners.roadmap import Roadmap, canonical, half_turn, pose_metric
@@ -163,7 +164,10 @@ class MultiplexedSearch:
                 float(self.rng.uniform(-self.params.yaw_range, self.params.yaw_range)))
 
     def _sample_box_valid(self) -> Pose:
-        for _ in range(1000):
+        stop = self.checker.should_stop
+        for k in range(1000):
+            if stop is not None and k % 50 == 49 and stop():
+                break
             q = self._random_pose()
             if self.checker.box_valid(q):
                 return q
@@ -342,7 +346,10 @@ class MultiplexedSearch:
         try:
             while not ptc():
                 self.stats.searches += 1
-                path = self._shortest_path(transfers_only)
+                try:
+                    path = self._shortest_path(transfers_only, ptc)
+                except Interrupted:
+                    return []
                 if not path:
                     if not transfers_only:
                         self._compute_reach()
@@ -379,7 +386,8 @@ class MultiplexedSearch:
         finally:
             self.stats.time_search += time.perf_counter() - t0
 
-    def _shortest_path(self, transfers_only: bool = False) -> list[Node]:
+    def _shortest_path(self, transfers_only: bool = False,
+                       ptc: Callable[[], bool] | None = None) -> list[Node]:
         """A* over the multiplexed graph.
 
         Heuristic: straight distance of the box to the goal less the largest car offset (a
@@ -408,7 +416,7 @@ class MultiplexedSearch:
                     for v, c in adj[n].items() if not transfers_only or v[0] != n[0]]
 
         path = astar([(s, 0) for s in self.start_nodes], {(g, 0) for g in self.goal_nodes},
-                     neighbours, lambda u: h(u[0]))
+                     neighbours, lambda u: h(u[0]), should_stop=ptc)
         return [n for n, _ in path]
 
     # -- the algorithm (Fig. 7 of the paper) -------------------------------------------------
@@ -512,11 +520,26 @@ class MultiplexedSearch:
                 return a, b  # the caller tells an interruption from a failure by ``ptc``
         return None
 
+    def _multiplex_pending(self, ptc: Callable[[], bool]) -> tuple[int, int]:
+        """Multiplex the object nodes not yet multiplexed, polling ``ptc`` between nodes.
+
+        Returns the numbers of manipulation nodes added and of object nodes that gave some;
+        nodes left when ``ptc`` stops it are multiplexed by the next call (solving again
+        continues).
+        """
+        added = nodes = 0
+        for i in range(self._done, len(self.obj)):
+            if ptc():
+                break
+            k = self.plan_with_object_config(i)
+            added += k
+            nodes += k > 0
+            self._done = i + 1
+        return added, nodes
+
     def _add_new_nodes(self, ptc: Callable[[], bool]) -> list[Node]:
         """Add the object nodes not yet multiplexed; search every ``search_every`` additions."""
-        for i in range(self._done, len(self.obj)):
-            self._since += self.plan_with_object_config(i) > 0
-        self._done = len(self.obj)
+        self._since += self._multiplex_pending(ptc)[1]
         if self._since < self.params.search_every:
             return []
         self._since = 0
@@ -579,11 +602,7 @@ class MultiplexedSearch:
                     if not ck.box_valid(q):
                         break
                     self.obj.add(q, "passage")
-        added = 0
-        for i in range(self._done, len(self.obj)):
-            added += self.plan_with_object_config(i)
-        self._done = len(self.obj)
-        return self.search(ptc) if added else []
+        return self.search(ptc) if self._multiplex_pending(ptc)[0] else []
 
     def _diffusion_target(self) -> Pose:
         u = self.rng.uniform()

@@ -147,3 +147,29 @@ def test_search_checks_edges_as_the_plan_writes_them():
     plan_ = path_to_plan(scene, checker, states)  # raises INVALID_PATH on an unchecked edge
     assert checker.counters.valid + checker.counters.invalid == before  # all cache hits
     assert check_plan(plan_, scene).ok
+
+
+def test_multiplexing_stops_at_the_termination_condition_and_resumes():
+    """Multiplexing a batch of object nodes polls the termination condition between nodes
+    (a bridge step adds up to 17 nodes, each with 40 candidate edges); the nodes left are
+    multiplexed by the next call."""
+    import numpy as np
+
+    from pivot_ompl.planners.multiplex import MultiplexedSearch, RegraspParams
+    from pivot_ompl.validity.pivot_checker import PivotChecker
+
+    scene = shipped("open")
+    search = MultiplexedSearch(PivotChecker(scene), scene.start, scene.goal, RegraspParams(),
+                               np.random.default_rng(0))
+    for k in range(5):
+        search.obj.add((2.0 + 0.5 * k, 3.0, 0.1 * k), "diffusion")
+    calls = []
+
+    def stop_after_two() -> bool:
+        calls.append(1)
+        return len(calls) > 2
+
+    assert search._multiplex_pending(stop_after_two)[1] == 2
+    assert search._done == 2
+    assert search._multiplex_pending(lambda: False)[1] == 3
+    assert search._done == 5
