@@ -11,6 +11,7 @@ they validated (pivot sequences and walks are the expensive part), so the search
 
 from __future__ import annotations
 
+import heapq
 import logging
 import math
 import time
@@ -20,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pivot_ompl.errors import Interrupted
-from pivot_ompl.graph import UnionFind, astar
+from pivot_ompl.graph import UnionFind
 from pivot_ompl.planners.optimiser import budgeted, optimise
 from pivot_ompl.planners.roadmap import Roadmap, canonical, half_turn, pose_metric
 from pivot_ompl.planners.visibility import VisibilityRoadmapBuilder
@@ -30,6 +31,11 @@ from pivot_ompl.validity.pivot_checker import PivotChecker
 log = logging.getLogger(__name__)
 
 Node = tuple[int, int]  # (object roadmap index, grasp)
+
+
+def _key(a: Node, b: Node) -> tuple[Node, Node]:
+    """The undirected key of edge ``a - b``."""
+    return (a, b) if a <= b else (b, a)
 
 
 @dataclass(frozen=True)
@@ -57,9 +63,12 @@ class RegraspParams:
         search_every: the diffusion searches after this many new manipulation nodes (a
             search is skipped at no cost while the candidate graph cannot join start and goal).
         passage_steps: distances (m) of the extensions from a passage node.
+        search_weight: inflation of the graph search's heuristic (weighted A*: a path at
+            most this factor costlier than the graph's shortest, found expanding far fewer
+            nodes; the path optimiser shortens it afterwards).
         eager_filter: test a candidate edge's plausibility (box and robot free at three
-            poses of its Reeds-Shepp path) when it is inserted; otherwise only when a search
-            first uses it (measured slower on fig10: every rejection then costs an A* run).
+            poses of its Reeds-Shepp path) when it is inserted; otherwise (the default)
+            only when the lazy A* pops it (:meth:`MultiplexedSearch._shortest_path`).
         passage_mode: ``"box"``: passage nodes keep the bridge test's random yaw and are
             extended along the box's axes; ``"geometry"``: the passage's direction is taken
             across the line joining the two colliding samples, the box turned along and
@@ -83,13 +92,14 @@ class RegraspParams:
     critical_spacing: float = 0.4
     bridge_bias: float = 0.3
     bridge_rounds: int = 60
-    search_every: int = 8
-    eager_filter: bool = True
+    search_every: int = 16
+    eager_filter: bool = False
     passage_mode: str = "box"
     yaw_range: float = math.pi
     bridge_sigma: float = 0.5
-    passage_steps: tuple[float, ...] = (0.5, 1.0, 1.5, 2.0)
+    passage_steps: tuple[float, ...] = (0.75, 1.5)
     max_visibility_samples: int = 30
+    search_weight: float = 2.0
 
 
 @dataclass
@@ -106,6 +116,7 @@ class RegraspStats:
     regrasp_edges: int = 0
     searches: int = 0
     edges_checked: int = 0
+    plausibility_tests: int = 0
     edges_invalid: int = 0
     time_visibility: float = 0.0
     time_search: float = 0.0
@@ -142,15 +153,18 @@ class MultiplexedSearch:
         self.verified: dict[tuple[Node, Node], bool] = {}
         #: checked valid, as the plan writes them: ``(state, state)`` in path order
         self._valid: set[tuple[tuple[Pose, int], tuple[Pose, int]]] = set()
+        #: results of the cheap test of transfer edges (:meth:`_plausible_edge`)
+        self._plausibility: dict[tuple[Node, Node], bool] = {}
         self.critical: list[int] = []
         b = self.checker.world.bounds
         self._lo = (b[0], b[1])
         self._hi = (b[2], b[3])
         self.start_nodes: list[Node] = []
         self.goal_nodes: set[Node] = set()
-        #: Nodes that may be reachable from the start nodes over candidate edges (a superset:
-        #: edges are only ever removed after it is computed), ``None`` until a search fails.
-        self._reach: set[Node] | None = None
+        #: States ``(node, frame parity)`` that may be reached from the start nodes over
+        #: edges that passed the cheap test (a superset after full checks remove edges),
+        #: ``None`` before the start and goal nodes exist.
+        self._reach: set[tuple[Node, int]] | None = None
         self._vis: VisibilityRoadmapBuilder | None = None
         self._done = 0  # object nodes already added to the manipulation roadmaps
         self._h: dict[int, float] = {}  # A* heuristic per object node
@@ -216,36 +230,55 @@ class MultiplexedSearch:
         self.adj[b][a] = cost
         self._uf.union(a, b)
         r = self._reach
-        if r is not None and (a in r) != (b in r):
-            self._grow_reach(b if a in r else a)
+        if r is None:
+            return
+        flip = int(a[0] != b[0] and a[1] != b[1])
+        for parity in (0, 1):
+            sa, sb = (a, parity), (b, parity ^ flip)
+            if (sa in r) == (sb in r):
+                continue
+            if a[0] != b[0] and not self._plausible_edge(a, b):
+                return
+            self._grow_reach(sb if sa in r else sa)
 
-    def _grow_reach(self, node: Node) -> None:
-        """Add ``node`` and everything connected to it to the reachable set."""
-        assert self._reach is not None
-        stack = [node]
-        self._reach.add(node)
+    def _grow_reach(self, state: tuple[Node, int]) -> None:
+        """Add ``state`` and the states joined to it by plausible edges to the reachable set.
+
+        Each transfer edge that would add a state is tested first (the cheap test, cached):
+        the set is the component of the start over the edges that survive that test.
+        """
+        reach = self._reach
+        assert reach is not None
+        stack = [state]
+        reach.add(state)
         while stack:
-            for v in self.adj[stack.pop()]:
-                if v not in self._reach:
-                    self._reach.add(v)
-                    stack.append(v)
+            n, parity = stack.pop()
+            for v in list(self.adj[n]):
+                transfer = v[0] != n[0]
+                sv = (v, parity ^ int(transfer and v[1] != n[1]))
+                if sv in reach or (transfer and not self._plausible_edge(n, v)):
+                    continue
+                reach.add(sv)
+                stack.append(sv)
 
     def _compute_reach(self) -> None:
-        """The exact set of nodes connected to a start node over the surviving edges."""
+        """The states ``(node, frame parity)`` connected to a start over surviving edges."""
         self._reach = set()
         for s in self.start_nodes:
-            if s not in self._reach:
-                self._grow_reach(s)
+            if (s, 0) not in self._reach:
+                self._grow_reach((s, 0))
 
     def _maybe_connected(self) -> bool:
-        """Whether start and goal share a component of the candidate graph.
+        """Whether the goal (in the start's frame) may be reached from the start.
 
         Two sound filters: the union-find over every candidate edge ever added, and the set
-        of nodes reachable from the start over the surviving edges (computed when a search
-        fails, grown as edges are added; edges removed later only shrink the truth). A search
-        that cannot succeed is skipped.
+        of states reachable from the start over the edges that passed the cheap test (kept
+        up to date as edges are added; edges refused later by a full check only shrink the
+        truth, so it is computed again when a search fails). A search that cannot succeed
+        is skipped.
         """
-        if self._reach is not None and self._reach.isdisjoint(self.goal_nodes):
+        r = self._reach
+        if r is not None and not any((g, 0) in r for g in self.goal_nodes):
             return False
         goals = {self._uf.find(g) for g in self.goal_nodes}
         return any(self._uf.find(s) in goals for s in self.start_nodes)
@@ -276,7 +309,7 @@ class MultiplexedSearch:
                 carj = m.car_pose(qj, gj)
                 d = rs.distance(car, carj)
                 if d <= p.connect_radius and (not p.eager_filter
-                                              or self._plausible(car, carj, g)):
+                                              or self._plausible_edge(node, (j, gj))):
                     self._link(node, (j, gj), d)
             self.by_grasp[g].append(i)
             added.append(g)
@@ -301,6 +334,30 @@ class MultiplexedSearch:
                 return False
         return True
 
+    def _plausible_edge(self, a: Node, b: Node) -> bool:
+        """The cheap test of transfer edge ``a - b`` (cached); an implausible edge is dropped.
+
+        ``(j, g + 2)`` is the same car as ``(j's half turn, g)``.
+        """
+        key = _key(a, b)
+        v = self._plausibility.get(key)
+        if v is None:
+            m = self.checker.model
+            pa, pb = self.obj.poses[a[0]], self.obj.poses[b[0]]
+            pb = pb if a[1] == b[1] else half_turn(pb)
+            v = self._plausibility[key] = self._plausible(m.car_pose(pa, a[1]),
+                                                          m.car_pose(pb, a[1]), a[1])
+            self.stats.plausibility_tests += 1
+            if not v:
+                self._drop(a, b)
+        return v
+
+    def _drop(self, a: Node, b: Node) -> None:
+        """Remove edge ``a - b`` for good (never linked again)."""
+        self.adj[a].pop(b, None)
+        self.adj[b].pop(a, None)
+        self.verified[_key(a, b)] = False
+
     def _edge_valid(self, a: Node, b: Node, sa: tuple[Pose, int], sb: tuple[Pose, int]) -> bool:
         """Check the edge ``a -> b`` of a path, written as the states ``sa -> sb``.
 
@@ -317,9 +374,7 @@ class MultiplexedSearch:
         (pa, ga), (pb, gb) = sa, sb
         ck = self.checker
         if a[0] != b[0]:  # a transfer
-            m = ck.model
-            v = (self._plausible(m.car_pose(pa, ga), m.car_pose(pb, ga), ga)
-                 and ck.transfer(pa, pb, ga).valid)
+            v = self._plausible_edge(a, b) and ck.transfer(pa, pb, ga).valid
         else:
             walk = ck.transit(pa, ga, gb)
             v = walk.valid
@@ -388,7 +443,14 @@ class MultiplexedSearch:
 
     def _shortest_path(self, transfers_only: bool = False,
                        ptc: Callable[[], bool] | None = None) -> list[Node]:
-        """A* over the multiplexed graph.
+        """Lazy A* over the multiplexed graph (candidate edges tested when they matter).
+
+        The queue holds edges, not nodes (Lazy Weighted A*): a transfer edge's cheap
+        plausibility test (:meth:`_plausible_edge`, cached) runs only when the edge is popped
+        to close its end node, so one search tests about one edge per node it expands
+        instead of every edge of the graph, and an implausible edge costs no further search
+        (it is dropped and the search goes on). Costs do not depend on the test, so the path
+        is the shortest over the plausible edges.
 
         Heuristic: straight distance of the box to the goal less the largest car offset (a
         transfer edge is at least that long).
@@ -398,26 +460,65 @@ class MultiplexedSearch:
         slack = max(self.checker.model.object_size[:2])
         cache = self._h
         adj = self.adj
+        plausible = self._plausible_edge
+        known = self._plausibility
+        weight = self.params.search_weight
 
-        def h(n: Node) -> float:
-            v = cache.get(n[0])
+        def h(i: int) -> float:
+            v = cache.get(i)
             if v is None:
-                q = poses[n[0]]
-                v = cache[n[0]] = max(0.0, math.hypot(q[0] - gx, q[1] - gy) - slack)
+                q = poses[i]
+                v = cache[i] = weight * max(0.0, math.hypot(q[0] - gx, q[1] - gy) - slack)
             return v
 
         # A transfer edge joining grasp g to grasp g + 2 turns the path's frame by a half turn
         # (see _express): the search tracks that parity, so that the plan reaches the goal
         # exactly as given (not its half turn, the same placement of the box under another
         # name, which a checker comparing poses would refuse).
-        def neighbours(u: tuple[Node, int]) -> list[tuple[tuple[Node, int], float]]:
-            n, parity = u
-            return [((v, parity ^ int(v[0] != n[0] and v[1] != n[1])), c)
-                    for v, c in adj[n].items() if not transfers_only or v[0] != n[0]]
-
-        path = astar([(s, 0) for s in self.start_nodes], {(g, 0) for g in self.goal_nodes},
-                     neighbours, lambda u: h(u[0]), should_stop=ptc)
-        return [n for n, _ in path]
+        State = tuple[Node, int]
+        goals = {(g, 0) for g in self.goal_nodes}
+        heap: list[tuple[float, int, float, State, State | None]] = []
+        tie = 0
+        for st in self.start_nodes:
+            heap.append((h(st[0]), tie, 0.0, (st, 0), None))
+            tie += 1
+        heapq.heapify(heap)
+        parent: dict[State, State | None] = {}
+        best: dict[State, float] = {}
+        pops = 0
+        while heap:
+            _, _, gv, v, u = heapq.heappop(heap)
+            if v in parent:
+                continue
+            pops += 1
+            if ptc is not None and pops % 512 == 0 and ptc():
+                raise Interrupted("regrasp graph search")
+            if u is not None and u[0][0] != v[0][0] and not plausible(u[0], v[0]):
+                continue  # the edge was dropped from the graph
+            parent[v] = u
+            if v in goals:
+                path = [v[0]]
+                w = u
+                while w is not None:
+                    path.append(w[0])
+                    w = parent[w]
+                return path[::-1]
+            n, parity = v
+            for m_, c in adj[n].items():
+                transfer = m_[0] != n[0]
+                if transfers_only and not transfer:
+                    continue
+                ws = (m_, parity ^ int(transfer and m_[1] != n[1]))
+                if ws in parent:
+                    continue
+                gw = gv + c
+                if gw >= best.get(ws, math.inf):
+                    continue
+                if not transfer or known.get(_key(n, m_)):  # a tested edge: prune by cost
+                    best[ws] = gw
+                tie += 1
+                heapq.heappush(heap, (gw + h(m_[0]), tie, gw, ws, v))
+        return []
 
     # -- the algorithm (Fig. 7 of the paper) -------------------------------------------------
     def _initialise(self) -> None:
@@ -438,6 +539,7 @@ class MultiplexedSearch:
             if (g_i, g) in self.goal_nodes:
                 d = ck.steering.rs.distance(m.car_pose(self.start, g), m.car_pose(self.goal, g))
                 self._link((s_i, g), (g_i, g), d)
+        self._compute_reach()
 
     def run(self, ptc: Callable[[], bool]) -> list[tuple[Pose, int]]:
         """Plan; return the path as ``(object pose, grasp)`` states, ``[]`` on time-out.

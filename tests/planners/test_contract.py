@@ -173,3 +173,50 @@ def test_multiplexing_stops_at_the_termination_condition_and_resumes():
     assert search._done == 2
     assert search._multiplex_pending(lambda: False)[1] == 3
     assert search._done == 5
+
+
+def _wall_search(*, reach: bool = True):
+    """A search on a scene with a pillar between start and goal, no roadmap sampled yet.
+
+    ``reach=False``: without the reachable-set filter (the direct edge is left untested).
+    """
+    import numpy as np
+
+    from factories import make_scene
+
+    from pivot_ompl.planners.multiplex import MultiplexedSearch, RegraspParams
+    from pivot_ompl.validity.pivot_checker import PivotChecker
+
+    pillar = {"type": "box", "center": [3.75, 3.0], "size": [0.4, 0.4], "height": 1.0}
+    scene = make_scene(obstacles=[pillar], start=[2.0, 3.0, 0.0], goal=[5.5, 3.0, 0.0])
+    search = MultiplexedSearch(PivotChecker(scene), scene.start, scene.goal, RegraspParams(),
+                               np.random.default_rng(0))
+    if not reach:
+        search._compute_reach = lambda: None  # type: ignore[method-assign]
+    search._initialise()
+    return search
+
+
+def test_goal_joined_only_by_implausible_edges_skips_the_search():
+    """The direct edge crosses the pillar: the reachable set (start's component over edges
+    that pass the cheap test) does not hold the goal, so no search runs."""
+    search = _wall_search()
+    assert not search._maybe_connected()
+    assert search.search(lambda: False) == [] and search.stats.searches == 0
+    assert _wall_search(reach=False)._maybe_connected()  # the union-find alone cannot tell
+
+
+def test_lazy_search_drops_implausible_edges_and_goes_round():
+    """Lazy A*: the direct edge (the shortest) is tested when popped, dropped, and the same
+    search returns the detour; only the edges it pops are tested."""
+    search = _wall_search(reach=False)
+    s = (search.start_nodes[0][0], 0)
+    g = (next(iter(search.goal_nodes))[0], 0)
+    assert g in search.adj[s]
+    detour = search.obj.add((3.75, 1.8, 0.0), "guard")
+    search.plan_with_object_config(detour)
+    path = search._shortest_path()
+    assert path[0] in search.start_nodes and path[-1] in search.goal_nodes
+    assert any(n[0] == detour for n in path)
+    assert g not in search.adj[s]  # the direct edge was dropped
+    assert search.stats.plausibility_tests <= 8
