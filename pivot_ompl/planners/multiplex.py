@@ -24,6 +24,7 @@ from pivot_ompl.errors import Interrupted
 from pivot_ompl.graph import UnionFind
 from pivot_ompl.planners.optimiser import budgeted, optimise
 from pivot_ompl.planners.roadmap import Roadmap, canonical, half_turn, pose_metric
+from pivot_ompl.planners.single_grasp import SingleGraspConnect
 from pivot_ompl.planners.visibility import VisibilityRoadmapBuilder
 from pivot_ompl.se2 import Pose, wrap_angle
 from pivot_ompl.validity.pivot_checker import PivotChecker
@@ -31,6 +32,7 @@ from pivot_ompl.validity.pivot_checker import PivotChecker
 log = logging.getLogger(__name__)
 
 Node = tuple[int, int]  # (object roadmap index, grasp)
+
 
 
 def _key(a: Node, b: Node) -> tuple[Node, Node]:
@@ -63,6 +65,11 @@ class RegraspParams:
         search_every: the diffusion searches after this many new manipulation nodes (a
             search is skipped at no cost while the candidate graph cannot join start and goal).
         passage_steps: distances (m) of the extensions from a passage node.
+        single_grasp_checks: motion checks (transfer edges) of the single-grasp
+            RRT-Connect tried before the multiplexed search
+            (:mod:`pivot_ompl.planners.single_grasp`), shared by the grasps valid at both
+            start and goal; ``0``: not tried.
+        single_grasp_step: its longest extension (m).
         search_weight: inflation of the graph search's heuristic (weighted A*: a path at
             most this factor costlier than the graph's shortest, found expanding far fewer
             nodes; the path optimiser shortens it afterwards).
@@ -100,6 +107,8 @@ class RegraspParams:
     passage_steps: tuple[float, ...] = (0.75, 1.5)
     max_visibility_samples: int = 30
     search_weight: float = 2.0
+    single_grasp_checks: int = 80
+    single_grasp_step: float = 1.5
 
 
 @dataclass
@@ -118,6 +127,9 @@ class RegraspStats:
     edges_checked: int = 0
     plausibility_tests: int = 0
     edges_invalid: int = 0
+    single_grasp_checks: int = 0
+    single_grasp_solved: bool = False
+    time_single_grasp: float = 0.0
     time_visibility: float = 0.0
     time_search: float = 0.0
     time_optimise: float = 0.0
@@ -551,6 +563,10 @@ class MultiplexedSearch:
         t0 = time.perf_counter()
         if self._vis is None:
             self._initialise()
+            direct = self._single_grasp(ptc)
+            if direct:
+                self._fill_stats()
+                return self._finish(direct, ptc)
         vis = self._vis
         assert vis is not None
         path = self.search(ptc)
@@ -583,6 +599,33 @@ class MultiplexedSearch:
         if not path:
             return []
         return self._finish(self._express(path), ptc)
+
+    def _single_grasp(self, ptc: Callable[[], bool]) -> list[tuple[Pose, int]]:
+        """A regrasp-free path by RRT-Connect at each grasp valid at both ends, or ``[]``.
+
+        Its own generator (spawned from the planner's, which it leaves as it was) and a
+        budget of motion checks shared by the grasps.
+        """
+        p, ck = self.params, self.checker
+        grasps = [g for g in p.grasps if ck.state_valid(self.start, g)
+                  and ck.state_valid(self.goal, g)]
+        if p.single_grasp_checks <= 0 or not grasps:
+            return []
+        t0 = time.perf_counter()
+        rng = self.rng.spawn(1)[0]
+        share = max(1, p.single_grasp_checks // len(grasps))
+        try:
+            for g in grasps:
+                rrt = SingleGraspConnect(ck, self.start, self.goal, g, rng,
+                                         step=p.single_grasp_step)
+                poses = rrt.run(share, ptc)
+                self.stats.single_grasp_checks += rrt.checks
+                if poses:
+                    self.stats.single_grasp_solved = True
+                    return [(q, g) for q in poses]
+            return []
+        finally:
+            self.stats.time_single_grasp += time.perf_counter() - t0
 
     def _express(self, path: list[Node]) -> list[tuple[Pose, int]]:
         """The path as ``(object pose, grasp)`` states in the start's frame.

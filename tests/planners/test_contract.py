@@ -181,7 +181,6 @@ def _wall_search(*, reach: bool = True):
     ``reach=False``: without the reachable-set filter (the direct edge is left untested).
     """
     import numpy as np
-
     from factories import make_scene
 
     from pivot_ompl.planners.multiplex import MultiplexedSearch, RegraspParams

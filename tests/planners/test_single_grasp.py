@@ -1,0 +1,33 @@
+"""The single-grasp RRT-Connect tried before the multiplexed search."""
+
+from __future__ import annotations
+
+import numpy as np
+from factories import shipped
+
+from pivot_ompl.base.path_conversion import path_to_plan
+from pivot_ompl.planners.single_grasp import SingleGraspConnect
+from pivot_ompl.validity.pivot_checker import PivotChecker
+from pivot_ompl.validity.plan_check import check_plan
+
+
+def test_connects_the_cluttered_room_with_one_grasp():
+    scene = shipped("cluttered_room")
+    checker = PivotChecker(scene)
+    rrt = SingleGraspConnect(checker, scene.start, scene.goal, 0, np.random.default_rng(0))
+    poses = rrt.run(200, lambda: False)
+    assert poses[0] == scene.start and poses[-1] == scene.goal and len(poses) > 2
+    before = checker.counters.valid + checker.counters.invalid
+    plan = path_to_plan(scene, checker, [(q, 0) for q in poses])
+    # every edge was checked in the direction the plan follows it (both trees)
+    assert checker.counters.valid + checker.counters.invalid == before
+    assert plan.regrasps == 0 and check_plan(plan, scene).ok
+
+
+def test_stops_at_its_budget_where_a_regrasp_is_needed():
+    scene = shipped("fig10")
+    rrt = SingleGraspConnect(PivotChecker(scene), scene.start, scene.goal, 0,
+                             np.random.default_rng(0))
+    assert rrt.run(15, lambda: False) == []
+    assert rrt.checks == 15
+    assert rrt.run(20, lambda: True) == [] and rrt.checks == 15  # the condition stops it
