@@ -104,7 +104,7 @@ class RegraspParams:
     passage_mode: str = "box"
     yaw_range: float = math.pi
     bridge_sigma: float = 0.5
-    passage_steps: tuple[float, ...] = (0.75, 1.5)
+    passage_steps: tuple[float, ...] = (0.5, 1.0, 1.5, 2.0)
     max_visibility_samples: int = 30
     search_weight: float = 2.0
     single_grasp_checks: int = 80

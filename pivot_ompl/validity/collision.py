@@ -32,10 +32,23 @@ from pivot_ompl.se2 import Pose, triangulate
 KEEP_CLEARANCE = 0.01
 
 
+#: Scratch rotation and translation of :func:`_transform` (``coal.Transform3s`` copies them):
+#: filling two arrays costs a third of building them, and this runs for every query.
+_ROTATION = np.eye(3)
+_TRANSLATION = np.zeros(3)
+
+
 def _transform(x: float, y: float, yaw: float, z: float) -> coal.Transform3s:
     c, s = math.cos(yaw), math.sin(yaw)
-    return coal.Transform3s(np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]),
-                            np.array([x, y, z]))
+    r, t = _ROTATION, _TRANSLATION
+    r[0, 0] = c
+    r[0, 1] = -s
+    r[1, 0] = s
+    r[1, 1] = c
+    t[0] = x
+    t[1] = y
+    t[2] = z
+    return coal.Transform3s(r, t)
 
 
 def _prism(points: list[tuple[float, float]], height: float) -> coal.Convex:
