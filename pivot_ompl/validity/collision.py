@@ -31,7 +31,6 @@ from pivot_ompl.se2 import Pose, triangulate
 #: box then keep >= 1 cm (the ``obstacles`` check of ``check-motion``).
 KEEP_CLEARANCE = 0.01
 
-
 #: Scratch rotation and translation of :func:`_transform` (``coal.Transform3s`` copies them):
 #: filling two arrays costs a third of building them, and this runs for every query.
 _ROTATION = np.eye(3)
