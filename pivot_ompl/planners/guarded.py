@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import gc
 import logging
 from typing import Any
 
@@ -19,12 +20,19 @@ class GuardedPlanner(ob.Planner):
 
     An exception escaping a Python ``solve`` aborts a whole ``ompl.tools.Benchmark`` run: it
     is logged and reported as ``CRASH`` instead. Subclasses implement ``_solve(ptc)``.
+
+    Python's cyclic garbage collector is paused during ``solve`` (and restored after): a
+    full collection over a large roadmap took up to 80 ms, enough to overrun a 0.5 s time
+    limit by 16 % when it fell at the end; the planners' data hold no reference cycles
+    (measured: nothing to collect after a 15 s solve, and the same peak memory).
     """
 
     def clear(self) -> None:  # noqa: D102
         super().clear()
 
     def solve(self, ptc: Any) -> ob.PlannerStatus:  # noqa: D102
+        collecting = gc.isenabled()
+        gc.disable()
         try:
             return self._solve(ptc)
         except _NoQuery as e:
@@ -32,6 +40,9 @@ class GuardedPlanner(ob.Planner):
         except Exception:
             log.exception("%s crashed", self.getName())
             return ob.PlannerStatus(ob.PlannerStatus.CRASH)
+        finally:
+            if collecting:
+                gc.enable()
 
     def _solve(self, ptc: Any) -> ob.PlannerStatus:
         raise NotImplementedError

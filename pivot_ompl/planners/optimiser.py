@@ -53,7 +53,7 @@ PREFILTER_STEP = 0.25
 #: still stops it). Edge checks are most of the optimiser's time.
 CHECK_SHARE = 0.2
 #: The smallest budget (motion checks), for paths found with little search.
-MIN_CHECKS = 40
+MIN_CHECKS = 10
 
 
 @dataclass(frozen=True)

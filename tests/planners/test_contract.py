@@ -219,3 +219,32 @@ def test_lazy_search_drops_implausible_edges_and_goes_round():
     assert any(n[0] == detour for n in path)
     assert g not in search.adj[s]  # the direct edge was dropped
     assert search.stats.plausibility_tests <= 8
+
+
+def test_solve_pauses_the_garbage_collector_and_restores_it():
+    """A full collection over a large roadmap took up to 80 ms, past a short time limit."""
+    import gc
+
+    from ompl import base as ob
+
+    from pivot_ompl.planners.guarded import GuardedPlanner
+
+    seen = []
+
+    class Probe(GuardedPlanner):
+        def _solve(self, ptc):
+            seen.append(gc.isenabled())
+            raise RuntimeError("crash inside solve")
+
+    problem = make_setup(shipped("open"))
+    probe = Probe(problem.si, "probe")
+    assert gc.isenabled()
+    status = probe.solve(ob.timedPlannerTerminationCondition(1.0))
+    assert seen == [False] and gc.isenabled()
+    assert status.getStatus() == ob.PlannerStatus.CRASH
+    gc.disable()
+    try:
+        probe.solve(ob.timedPlannerTerminationCondition(1.0))
+        assert not gc.isenabled()  # a caller's choice is kept
+    finally:
+        gc.enable()
