@@ -175,7 +175,8 @@ class MultiplexedSearch:
         self.goal_nodes: set[Node] = set()
         #: States ``(node, frame parity)`` that may be reached from the start nodes over
         #: edges that passed the cheap test (a superset after full checks remove edges),
-        #: ``None`` before the start and goal nodes exist.
+        #: ``None`` before the start and goal nodes exist or after the termination condition
+        #: stopped its growth (then a failed search computes it again).
         self._reach: set[tuple[Node, int]] | None = None
         self._vis: VisibilityRoadmapBuilder | None = None
         self._done = 0  # object nodes already added to the manipulation roadmaps
@@ -252,6 +253,8 @@ class MultiplexedSearch:
             if a[0] != b[0] and not self._plausible_edge(a, b):
                 return
             self._grow_reach(sb if sa in r else sa)
+            if self._reach is None:
+                return
 
     def _grow_reach(self, state: tuple[Node, int]) -> None:
         """Add ``state`` and the states joined to it by plausible edges to the reachable set.
@@ -263,7 +266,13 @@ class MultiplexedSearch:
         assert reach is not None
         stack = [state]
         reach.add(state)
+        stop = self.checker.should_stop
+        steps = 0
         while stack:
+            steps += 1
+            if stop is not None and steps % 64 == 1 and stop():
+                self._reach = None  # incomplete: forgotten (computed again after a search)
+                return
             n, parity = stack.pop()
             for v in list(self.adj[n]):
                 transfer = v[0] != n[0]
@@ -277,6 +286,8 @@ class MultiplexedSearch:
         """The states ``(node, frame parity)`` connected to a start over surviving edges."""
         self._reach = set()
         for s in self.start_nodes:
+            if self._reach is None:  # stopped by the termination condition
+                return
             if (s, 0) not in self._reach:
                 self._grow_reach((s, 0))
 
@@ -503,7 +514,7 @@ class MultiplexedSearch:
             if v in parent:
                 continue
             pops += 1
-            if ptc is not None and pops % 512 == 0 and ptc():
+            if ptc is not None and pops % 64 == 0 and ptc():
                 raise Interrupted("regrasp graph search")
             if u is not None and u[0][0] != v[0][0] and not plausible(u[0], v[0]):
                 continue  # the edge was dropped from the graph

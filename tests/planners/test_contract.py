@@ -248,3 +248,18 @@ def test_solve_pauses_the_garbage_collector_and_restores_it():
         assert not gc.isenabled()  # a caller's choice is kept
     finally:
         gc.enable()
+
+
+def test_reachable_set_stopped_by_the_termination_condition_is_forgotten():
+    """An incomplete reachable set would skip searches that can succeed: when the
+    termination condition stops its growth it is dropped (the union-find alone filters,
+    and a failed search computes it again)."""
+    search = _wall_search()
+    assert search._reach is not None
+    search.checker.should_stop = lambda: True
+    search._compute_reach()
+    assert search._reach is None
+    assert search._maybe_connected()  # the union-find alone cannot tell
+    search.checker.should_stop = None
+    search._compute_reach()
+    assert search._reach is not None and not search._maybe_connected()
