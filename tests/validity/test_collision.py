@@ -115,7 +115,6 @@ def test_walking_body_reaches_as_far_as_the_knees(monkeypatch):
 
 def test_transforms_do_not_share_the_scratch_arrays():
     """``_transform`` fills scratch arrays: each transform must keep its own copy."""
-
     from pivot_ompl.validity.collision import _transform
 
     a = _transform(1.0, 2.0, 0.3, 0.5)
