@@ -241,7 +241,8 @@ class WalkPlanner:
         """Walk from grasp ``from_grasp`` to grasp ``to_grasp`` of the box resting at ``obj``.
 
         Raises:
-            Interrupted: ``should_stop()`` became true (floor field build and A* poll it).
+            Interrupted: ``should_stop()`` became true (floor field build, A* and smoothing
+                poll it).
         """
         self.should_stop = should_stop
         m = self.model
@@ -262,6 +263,8 @@ class WalkPlanner:
         cells = tuple(sorted({(s[0], s[1]) for s in goals}))
         dist = self._distances.get((obj, cells))
         if dist is None:
+            if self.should_stop is not None and self.should_stop():  # tens of ms in C
+                raise Interrupted("walk planning")
             dist = self.field.distances(obj, list(cells), self.should_stop)
             self._distances[(obj, cells)] = dist
             while len(self._distances) > 4 * self.box_cache:
@@ -278,7 +281,7 @@ class WalkPlanner:
             counter[0] += 1
             if counter[0] > self.max_expansions:
                 raise _GiveUp
-            if stop is not None and counter[0] % 64 == 0 and stop():
+            if stop is not None and counter[0] % 8 == 0 and stop():
                 raise Interrupted("walk planning")
             cu = self._clearance(u, obj, table)
             pu = self.pose(u)
@@ -378,6 +381,8 @@ class WalkPlanner:
                     continue
                 if checks >= self.MAX_SHORTCUT_CHECKS:
                     break
+                if self.should_stop is not None and self.should_stop():
+                    raise Interrupted("walk smoothing")
                 old = prefix[j] - prefix[i]
                 a, b = poses[i], poses[j]
                 if motion_cost(a, b, walk) < old - 1e-9:

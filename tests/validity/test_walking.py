@@ -215,3 +215,22 @@ def test_regrasp_plan_through_the_narrow_passage_passes_check(name):
     assert res.solved and res.regrasps >= 1
     rep = check_plan(res.plan, scene)
     assert rep.ok, rep.problems
+
+
+def test_walk_query_stops_at_once_when_the_condition_holds():
+    """A walk asked after the deadline raises at once (no floor field, no search, no
+    smoothing: the field's Dijkstra alone runs tens of ms in C)."""
+    from pivot_ompl.errors import Interrupted
+    from pivot_ompl.validity.pivot_checker import PivotChecker
+
+    scene = shipped("fig10")
+    checker = PivotChecker(scene)
+    walker = checker.walker
+    walker.field.static_open()  # built before: its own build polls the condition
+    with pytest.raises(Interrupted):
+        walker.plan(scene.start, 0, 2, should_stop=lambda: True)
+    assert walker.expansions == 0 and not walker._distances
+    walker.should_stop = lambda: True
+    with pytest.raises(Interrupted):  # smoothing polls too
+        walker._smooth([(2.0, 2.0, 0.0), (2.1, 2.0, 0.0), (2.2, 2.0, 0.0), (2.3, 2.0, 0.0)],
+                       scene.start)
