@@ -34,7 +34,7 @@ from dataclasses import dataclass
 
 from pivot_ompl import hrp2
 from pivot_ompl.errors import InputError
-from pivot_ompl.se2 import Pose, rectangle_corners, wrap_angle
+from pivot_ompl.se2 import Pose, place_points, rectangle_corners, wrap_angle
 
 GRASPS: tuple[int, ...] = (0, 1, 2, 3)
 
@@ -145,12 +145,14 @@ class BoxGraspModel:
         ahead, behind, side = hrp2.WALK_ENVELOPE
         return max(d, ahead), max(d, behind), max(w, side)
 
+    def walking_outline(self) -> tuple[tuple[float, float], ...]:
+        """The walking body's corners (CCW) in the robot frame (:meth:`walking_extent`)."""
+        ahead, behind, hw = self.walking_extent()
+        return ((-behind, -hw), (ahead, -hw), (ahead, hw), (-behind, hw))
+
     def robot_corners(self, robot: Pose) -> list[tuple[float, float]]:
         """The walking body's four corners on the floor for robot pose ``robot``."""
-        ahead, behind, hw = self.walking_extent()
-        c, s = math.cos(robot[2]), math.sin(robot[2])
-        return [(robot[0] + c * x - s * y, robot[1] + s * x + c * y)
-                for x, y in ((ahead, hw), (-behind, hw), (-behind, -hw), (ahead, -hw))]
+        return place_points(robot, self.walking_outline())
 
     def robot_radius(self) -> float:
         """Radius (m) of the disk the walking body sweeps turning in place about its pose."""
@@ -202,17 +204,14 @@ class BoxGraspModel:
         :meth:`held_polygons`: one convex prism, so the planner checks the whole held
         assembly with one distance query.
         """
-        ahead, behind, w = self.walking_extent()
-        pts = [(-behind, -w), (ahead, -w), (ahead, w), (-behind, w)]
+        pts = list(self.walking_outline())
         for poly in self.held_polygons(grasp):
             pts += poly
         return tuple(pts)
 
     def held_corners(self, robot: Pose, grasp: int) -> list[tuple[float, float]]:
         """World floor points of :meth:`held_outline` for the robot at ``robot``."""
-        c, s = math.cos(robot[2]), math.sin(robot[2])
-        return [(robot[0] + c * x - s * y, robot[1] + s * x + c * y)
-                for x, y in self.held_outline(grasp)]
+        return place_points(robot, self.held_outline(grasp))
 
 def check_grasp(grasp: int, *, field: str = "grasp") -> int:
     """Return ``grasp`` if it is one of :data:`GRASPS`, else raise :class:`InputError`."""

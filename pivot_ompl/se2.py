@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 
 Pose = tuple[float, float, float]
 
@@ -36,14 +36,17 @@ def pose_distance(a: Pose, b: Pose) -> tuple[float, float]:
     return math.hypot(a[0] - b[0], a[1] - b[1]), abs(wrap_angle(a[2] - b[2]))
 
 
+def place_points(pose: Pose, points: Iterable[tuple[float, float]]
+                 ) -> list[tuple[float, float]]:
+    """World coordinates of ``points`` given in the frame of ``pose`` (x forward, y left)."""
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    return [(pose[0] + c * x - s * y, pose[1] + s * x + c * y) for x, y in points]
+
+
 def rectangle_corners(pose: Pose, length: float, width: float) -> list[tuple[float, float]]:
     """Corners (CCW) of a ``length`` (along local x) by ``width`` rectangle centred at ``pose``."""
-    c, s = math.cos(pose[2]), math.sin(pose[2])
     hx, hy = 0.5 * length, 0.5 * width
-    out = []
-    for lx, ly in ((hx, hy), (-hx, hy), (-hx, -hy), (hx, -hy)):
-        out.append((pose[0] + c * lx - s * ly, pose[1] + s * lx + c * ly))
-    return out
+    return place_points(pose, ((hx, hy), (-hx, hy), (-hx, -hy), (hx, -hy)))
 
 
 #: Doubled area (m^2) below which three points are collinear for :func:`triangulate`.

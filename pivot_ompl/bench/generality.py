@@ -13,6 +13,8 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from pivot_ompl.bench.summary import exact
 from pivot_ompl.generate import generate, write_generated
 
@@ -62,7 +64,7 @@ def family_rows(results: Sequence[Mapping], families: Mapping[str, str], *,
     rows = []
     for (fam, planner), xs in groups.items():
         times = sorted(t for _, t in xs)
-        p95 = times[min(len(times) - 1, math.ceil(0.95 * len(times)) - 1)]
+        p95 = float(np.percentile(times, 95, method="inverted_cdf"))  # nearest rank
         rows.append(FamilyRow(fam, planner, len(xs), sum(ok for ok, _ in xs) / len(xs),
                               statistics.median(times), p95))
     return sorted(rows, key=lambda row: (row.family, row.planner))

@@ -140,8 +140,7 @@ def floor_excursion(motion: Motion, plan: Plan, *, stride: int = 10,
     links = [model.frames[o.parentFrame].name for o in geom.geometryObjects]
     held = [_hull(np.array(model_g.held_outline(g))) for g in range(4)]
     boxes = [_box_rect(model_g, g) for g in range(4)]
-    ahead, behind, w = model_g.walking_extent()
-    rect = np.array([(-behind, -w), (ahead, -w), (ahead, w), (-behind, w)])
+    rect = np.array(model_g.walking_outline())
     paths = {p: _path_poses(ph.robot_path, path_step) for p, ph in enumerate(plan.phases)
              if isinstance(ph, TransitPhase)}
     best: dict[tuple[str, str], Excursion] = {}

@@ -98,12 +98,7 @@ def test_scene_reader_mutations(changes):
 @given(st.one_of(st.binary(max_size=300), st.text(max_size=300).map(str.encode),
                  values.map(lambda v: yaml.safe_dump(v).encode())))
 def test_scene_reader_raw_files(tmp_path_factory, data):
-    p = tmp_path_factory.mktemp("fz") / "s.yaml"
-    p.write_bytes(data)
-    try:
-        load_scene(p)
-    except SceneError as e:
-        assert len(str(e)) < 800
+    _read_raw_file(tmp_path_factory, data, "s.yaml", load_scene, SceneError)
 
 
 @FUZZ
@@ -120,11 +115,16 @@ def test_plan_reader_mutations(changes):
 @given(st.one_of(st.binary(max_size=300),
                  values.map(lambda v: json.dumps(v, allow_nan=True).encode())))
 def test_plan_reader_raw_files(tmp_path_factory, data):
-    p = tmp_path_factory.mktemp("fz") / "p.json"
+    _read_raw_file(tmp_path_factory, data, "p.json", load_plan, PlanFileError)
+
+
+def _read_raw_file(tmp_path_factory, data: bytes, name: str, load, error) -> None:
+    """A file of arbitrary bytes is read, or refused with a short ``error``."""
+    p = tmp_path_factory.mktemp("fz") / name
     p.write_bytes(data)
     try:
-        load_plan(p)
-    except PlanFileError as e:
+        load(p)
+    except error as e:
         assert len(str(e)) < 800
 
 
