@@ -23,6 +23,7 @@ import numpy as np
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.graph import UnionFind
 from pivot_ompl.planners.optimiser import budgeted, optimise
+from pivot_ompl.planners.passages import find_passages, passage_poses
 from pivot_ompl.planners.roadmap import Roadmap, canonical, half_turn, pose_metric
 from pivot_ompl.planners.single_grasp import SingleGraspConnect
 from pivot_ompl.planners.visibility import VisibilityRoadmapBuilder
@@ -70,6 +71,15 @@ class RegraspParams:
             (:mod:`pivot_ompl.planners.single_grasp`), shared by the grasps valid at both
             start and goal; ``0``: not tried.
         single_grasp_step: its longest extension (m).
+        slot_seeds: seed the object roadmap with box poses along the scene's slots
+            (:mod:`pivot_ompl.planners.passages`): gaps between obstacles wide enough for
+            the box but narrower than the walking robot (its least width and the kept
+            clearance on both sides, plus ``slot_play``), where it must let go of the box.
+        slot_play: the play (m) beyond which a gap no longer counts as a slot: the walking
+            robot's lattice passes a gap only with some play.
+        slot_spacing: spacing (m) of the seeded poses along a slot.
+        slot_approach: distances (m) beyond the slot's ends (and the box's length) of the
+            seeded poses from which the box is pushed in or pulled out.
         search_weight: inflation of the graph search's heuristic (weighted A*: a path at
             most this factor costlier than the graph's shortest, found expanding far fewer
             nodes; the path optimiser shortens it afterwards).
@@ -109,6 +119,10 @@ class RegraspParams:
     search_weight: float = 2.0
     single_grasp_checks: int = 80
     single_grasp_step: float = 1.5
+    slot_seeds: bool = True
+    slot_play: float = 0.1
+    slot_spacing: float = 0.1
+    slot_approach: tuple[float, ...] = (0.4, 0.7, 1.2)
 
 
 @dataclass
@@ -121,6 +135,8 @@ class RegraspStats:
     critical: int = 0
     diffusion_nodes: int = 0
     passage_nodes: int = 0
+    slots: int = 0
+    slot_nodes: int = 0
     manipulation_nodes: dict[int, int] = field(default_factory=dict)
     regrasp_edges: int = 0
     searches: int = 0
@@ -555,6 +571,8 @@ class MultiplexedSearch:
         for i in (s_i, g_i):
             self.plan_with_object_config(i)
         self._done = len(self.obj)
+        if p.slot_seeds:
+            self._seed_slots()
         self.start_nodes = [n for n in self.adj if n[0] == s_i]
         self.goal_nodes = {n for n in self.adj if n[0] == g_i}
         m = ck.model
@@ -563,6 +581,26 @@ class MultiplexedSearch:
                 d = ck.steering.rs.distance(m.car_pose(self.start, g), m.car_pose(self.goal, g))
                 self._link((s_i, g), (g_i, g), d)
         self._compute_reach()
+
+    def _seed_slots(self) -> None:
+        """Add the box-valid poses along the scene's slots to the object roadmap.
+
+        They are multiplexed with the next nodes (the search that follows sees them).
+        """
+        p, ck = self.params, self.checker
+        m, clear = ck.model, ck.world.clearance
+        ahead, behind, half_width = m.walking_extent()
+        narrowest = min(ahead + behind, 2.0 * half_width) + 2.0 * clear
+        slots = find_passages(ck.scene, min_width=min(m.object_size[:2]) + 2.0 * clear,
+                              max_width=narrowest + p.slot_play)
+        reach = max(m.object_size[:2])
+        for slot in slots:
+            for q in passage_poses(slot, reach=reach, spacing=p.slot_spacing,
+                                   approach=p.slot_approach):
+                if ck.box_valid(q):
+                    self.obj.add(canonical(q), "slot")
+                    self.stats.slot_nodes += 1
+        self.stats.slots = len(slots)
 
     def run(self, ptc: Callable[[], bool]) -> list[tuple[Pose, int]]:
         """Plan; return the path as ``(object pose, grasp)`` states, ``[]`` on time-out.

@@ -1,15 +1,21 @@
 """The walk planner's heuristic: floor distances on the lattice grid, obstacles included.
 
 A relaxation of the lattice (:mod:`pivot_ompl.validity.walk_lattice`): a grid position is
-*open* when the disk inscribed in the robot's footprint (radius ``min(depth, width) / 2``),
-centred there, is clear of the obstacles and the bounds, and ``box_margin`` away from the
-resting box. A lattice state is collision-free only at an open position (the footprint
-contains that disk), and every lattice motion's translation is a sum of the 16 heading vectors
-between open positions (a motion twice a unit vector passes the position in between, where
-the footprint is free too). So the shortest path over open positions with those moves
-(Dijkstra, scipy) is a lower bound of the length of any lattice walk: an admissible
-heuristic that knows the obstacles, and a proof that no walk exists when it is infinite.
-The obstacles' part is built once per scene; the resting box's per query (vectorised).
+*open* when the walking body, there, is clear of the obstacles and inside the bounds at one
+of :data:`OPEN_YAWS` at least (the 16 headings and the 16 yaws half-way between neighbours),
+and the disk inscribed in the body round the robot pose is ``box_margin`` away from the
+resting box. Every lattice state's body is free at its heading, one of those yaws, and
+contains that disk; every lattice motion's translation is a sum of the 16 heading vectors
+between open positions: a motion twice a unit vector passes the position in between with its
+yaw half-way (turning while walking) or unchanged, and the body is free there too. So the
+shortest path over open positions with those moves (Dijkstra, scipy) is a lower bound of the
+length of any lattice walk: an admissible heuristic that knows the obstacles, and a proof that
+no walk exists when it is infinite. Testing the body itself, not only its inscribed disk,
+closes the gaps the robot cannot pass at any heading (a slot only the box fits through):
+without that, a walk whose only way lies through such a gap is refused only after the
+lattice search has expanded every state it can reach (seconds). A position is tested at the
+yaws only where the inscribed disk is clear and the disk the body sweeps turning in place is
+not. The obstacles' part is built once per scene; the resting box's per query (vectorised).
 """
 
 from __future__ import annotations
@@ -26,7 +32,15 @@ from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.se2 import Pose
 from pivot_ompl.validity.collision import CollisionWorld
-from pivot_ompl.validity.walk_lattice import HEADING_VECTORS
+from pivot_ompl.validity.walk_lattice import HEADING_VECTORS, HEADING_YAWS
+
+#: Yaws at which a grid position may hold the walking body: the 16 lattice headings and the
+#: yaws half-way between neighbouring ones (a step that turns while walking passes a grid
+#: position with its yaw half-way).
+OPEN_YAWS: tuple[float, ...] = tuple(sorted(
+    {*HEADING_YAWS, *(a + 0.5 * ((b - a + math.pi) % (2 * math.pi) - math.pi)
+                      for a, b in zip(HEADING_YAWS, HEADING_YAWS[1:] + HEADING_YAWS[:1],
+                                      strict=True))}))
 
 
 @dataclass
@@ -48,6 +62,7 @@ class FloorField:
     _partial: np.ndarray | None = field(default=None, init=False, repr=False)
     #: Grid rows of :meth:`static_open` done so far (it resumes there when interrupted).
     rows_done: int = field(default=0, init=False)
+    _last_yaw: int = field(default=0, init=False, repr=False)
 
     def __post_init__(self) -> None:
         """Grid size and the inscribed radius."""
@@ -78,8 +93,7 @@ class FloorField:
                     if should_stop is not None and should_stop():
                         raise Interrupted("walking floor field")
                     for iy in np.nonzero(ok[ix])[0]:
-                        ok[ix, iy] = self.world.disk_distance(float(x[ix, iy]),
-                                                              float(y[ix, iy]), r) > 0.0
+                        ok[ix, iy] = self._body_fits(float(x[ix, iy]), float(y[ix, iy]))
                     self.rows_done = ix + 1
             self.rows_done = self.nx
             self._open, self._partial = ok, None
@@ -100,6 +114,26 @@ class FloorField:
             self._lens = np.concatenate(lens)
             self._n = n
         return self._open
+
+    def _body_fits(self, x: float, y: float) -> bool:
+        """The walking body at ``(x, y)`` is free and inside the bounds at some open yaw."""
+        w = self.world
+        if w.disk_distance(x, y, self.radius) <= 0.0:
+            return False
+        b, rr = w.bounds, self.model.robot_radius()
+        if min(x - b[0], b[2] - x, y - b[1], b[3] - y) > rr and \
+                w.turning_disk_distance(x, y) > 0.0:
+            return True
+        m = self.model
+        k0 = self._last_yaw  # neighbouring positions mostly fit at the same yaw: tried first
+        n = len(OPEN_YAWS)
+        for k in range(k0, k0 + n):
+            yaw = OPEN_YAWS[k % n]
+            if w.bounds_margin(m.robot_corners((x, y, yaw))) > 0.0 and \
+                    w.robot_distance((x, y, yaw)) > 0.0:
+                self._last_yaw = k % n
+                return True
+        return False
 
     def open_with_box(self, obj: Pose,
                       should_stop: Callable[[], bool] | None = None) -> np.ndarray:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 from factories import make_scene, rotated_scene_doc, shipped, shipped_doc
 from hypothesis import given, settings
@@ -234,3 +235,40 @@ def test_walk_query_stops_at_once_when_the_condition_holds():
     with pytest.raises(Interrupted):  # smoothing polls too
         walker._smooth([(2.0, 2.0, 0.0), (2.1, 2.0, 0.0), (2.2, 2.0, 0.0), (2.3, 2.0, 0.0)],
                        scene.start)
+
+
+@pytest.mark.parametrize("name", ["fig10", "cluttered_room"])
+def test_every_free_lattice_state_lies_on_an_open_floor_position(name):
+    # the floor field tests the walking body at 32 yaws: a relaxation only if it never closes a
+    # position where a lattice state (or a step's midpoint, at a half-way yaw) is free
+    from pivot_ompl.validity.walk_field import OPEN_YAWS
+
+    scene = shipped(name)
+    wp = PivotChecker(scene, seed=0).walker
+    open_ = wp.field.static_open()
+    rng = np.random.default_rng(7)
+    w, m = wp.world, scene.model
+    tested = 0
+    for _ in range(4000):
+        ix, iy = int(rng.integers(wp.field.nx)), int(rng.integers(wp.field.ny))
+        x, y = wp.pose((ix, iy, 0))[:2]
+        yaw = OPEN_YAWS[int(rng.integers(len(OPEN_YAWS)))]
+        if w.bounds_margin(m.robot_corners((x, y, yaw))) > 0 and \
+                w.robot_distance((x, y, yaw)) > 0:
+            tested += 1
+            assert open_[ix, iy], (x, y, yaw)
+    assert tested > 1000
+
+
+def test_a_walk_whose_only_way_is_a_slot_fails_at_once():
+    # regression: the box resting in wall B's robot door of fig10; the only other way from the
+    # door's pocket is wall B's slot (0.62 m), which the walking body (0.60 m deep, 1 cm kept
+    # on both sides) cannot pass at any lattice heading. The field's inscribed disk passed it,
+    # so the lattice search expanded every state it could reach (19.5k, ~1.6 s) to fail.
+    scene = shipped("fig10")
+    wp = PivotChecker(scene, seed=0).walker
+    box = (7.9, 0.925, 0.0)
+    wp.expansions = 0
+    walk = wp.plan_between((8.75, 0.925, math.pi), (7.05, 0.925, 0.0), box)
+    assert not walk.valid
+    assert wp.expansions == 0

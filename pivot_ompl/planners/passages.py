@@ -1,0 +1,130 @@
+"""Narrow passages read from the scene's geometry: gaps between facing obstacles.
+
+A *passage* is the gap between two obstacles (the room's sides count as obstacles) whose
+width lies in a given range. Its axis runs square to the shortest segment joining them,
+through that segment's midpoint; along the axis it is centred on the stretch where the two
+obstacles face each other (the overlap of their projections on the axis), so a slot cut
+through a thick wall is centred in the wall whatever the segment's ends. Everything comes from
+the obstacles' own footprints (shapely's exact distances), so a rotated, mirrored or
+unfamiliar layout gives its own passages: no direction of the world is preferred.
+
+The regrasp planner (:mod:`pivot_ompl.planners.multiplex`) seeds its object roadmap with box
+poses along the passages too narrow for the walking robot: the slots only the box passes, where
+the robot must let go of it and walk round. Sampling finds such a pose (box within a few
+centimetres of both sides, yaw within a few degrees of the axis) only after thousands of
+samples.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from shapely.geometry.base import BaseGeometry
+
+from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Obstacle, Scene
+from pivot_ompl.se2 import Pose, rectangle_corners
+
+#: Sides of the polygon inscribed in a cylinder's footprint (its gaps are then at most
+#: ``r (1 - cos(pi / n))`` = 0.2 % of the radius wider than the true ones).
+CIRCLE_SIDES = 32
+
+
+@dataclass(frozen=True)
+class Passage:
+    """A gap between two obstacles.
+
+    Attributes:
+        center: the middle of the gap (m): across, the midpoint of the shortest segment
+            joining the obstacles; along, the middle of the stretch where they face each other.
+        axis: yaw (rad) of the passage's axis, in ``[-pi/2, pi/2)`` (either way along it).
+        width: the gap (m), the length of that shortest segment.
+        length: the stretch along the axis where the obstacles face each other (m, ``0`` when
+            they face each other at one point only, e.g. two disks).
+    """
+
+    center: tuple[float, float]
+    axis: float
+    width: float
+    length: float
+
+
+def obstacle_footprint(obstacle: Obstacle) -> BaseGeometry:
+    """The obstacle's floor footprint as a shapely polygon (a disk: inscribed polygon)."""
+    if isinstance(obstacle, BoxObstacle):
+        return shapely.Polygon(rectangle_corners((*obstacle.center, obstacle.yaw),
+                                                 *obstacle.size))
+    if isinstance(obstacle, CylinderObstacle):
+        return shapely.Point(obstacle.center).buffer(obstacle.radius,
+                                                      quad_segs=CIRCLE_SIDES // 4)
+    return shapely.Polygon(obstacle.points)
+
+
+def _room_sides(bounds: tuple[float, float, float, float], depth: float) -> list[BaseGeometry]:
+    """The four slabs just outside the room's bounds, ``depth`` thick."""
+    x0, y0, x1, y1 = bounds
+    return [shapely.box(x0 - depth, y0 - depth, x0, y1 + depth),
+            shapely.box(x1, y0 - depth, x1 + depth, y1 + depth),
+            shapely.box(x0, y0 - depth, x1, y0),
+            shapely.box(x0, y1, x1, y1 + depth)]
+
+
+def _extent(geom: BaseGeometry, u: np.ndarray) -> tuple[float, float]:
+    """The interval of ``geom``'s projection on the unit vector ``u``."""
+    pts = np.asarray(shapely.get_coordinates(geom))
+    proj = pts @ u
+    return float(proj.min()), float(proj.max())
+
+
+def find_passages(scene: Scene, *, min_width: float, max_width: float) -> list[Passage]:
+    """Every gap of width in ``[min_width, max_width]`` between two obstacles or sides.
+
+    Each pair of obstacles (the room's four sides included) gives at most one passage, at its
+    shortest segment. Sides meeting at a corner, and obstacles touching, give none.
+    """
+    shapes = [obstacle_footprint(o) for o in scene.obstacles]
+    shapes += _room_sides(scene.bounds, max(1.0, 2.0 * max_width))
+    tree = shapely.STRtree(shapes)
+    out: list[Passage] = []
+    for i, a in enumerate(shapes):
+        for j in tree.query(a, predicate="dwithin", distance=max_width):
+            j = int(j)
+            if j <= i:
+                continue
+            b = shapes[j]
+            width = float(a.distance(b))
+            if not min_width <= width <= max_width:
+                continue
+            (ax, ay), (bx, by) = shapely.shortest_line(a, b).coords
+            axis = math.atan2(by - ay, bx - ax) + 0.5 * math.pi
+            u = np.array([math.cos(axis), math.sin(axis)])
+            lo_a, hi_a = _extent(a, u)
+            lo_b, hi_b = _extent(b, u)
+            lo, hi = max(lo_a, lo_b), min(hi_a, hi_b)
+            mid = np.array([0.5 * (ax + bx), 0.5 * (ay + by)])
+            along = 0.5 * (lo + hi) if hi >= lo else float(mid @ u)
+            c = mid + (along - float(mid @ u)) * u
+            out.append(Passage((float(c[0]), float(c[1])),
+                               (axis + 0.5 * math.pi) % math.pi - 0.5 * math.pi,
+                               width, max(0.0, hi - lo)))
+    return out
+
+
+def passage_poses(passage: Passage, *, reach: float, spacing: float,
+                  approach: tuple[float, ...]) -> list[Pose]:
+    """Box poses on a passage's axis, at both yaws square to each other along it.
+
+    Every ``spacing`` from the centre up to ``length / 2 + reach`` on both sides (through the
+    passage and out of it), then at ``length / 2 + reach + d`` for each ``d`` of ``approach``
+    (where the box is pushed in or pulled out).
+    """
+    half = 0.5 * passage.length + reach
+    n = int(math.floor(half / spacing + 1e-9))
+    offsets = [k * spacing for k in range(-n, n + 1)]
+    offsets += [s * (half + d) for d in approach for s in (-1.0, 1.0)]
+    cx, cy = passage.center
+    c, s = math.cos(passage.axis), math.sin(passage.axis)
+    return [(cx + t * c, cy + t * s, yaw) for yaw in (passage.axis, passage.axis + 0.5 * math.pi)
+            for t in offsets]
