@@ -8,19 +8,19 @@ prints success and median / p95 time per family and planner. Run timing figures 
 
     python benchmarks/generality.py [--per-family 34] [--time 30] [--runs 1]
                                     [--planners regrasp,rrtconnect] [--out results/generality]
+                                    [--overwrite]
 """
 
 from __future__ import annotations
 
 import argparse
 from dataclasses import asdict
-from pathlib import Path
 
 from common import write_json
 
 from pivot_ompl.bench.executors import LocalExecutor
 from pivot_ompl.bench.generality import family_rows, format_rows, generate_suite
-from pivot_ompl.bench.sweep import run_sweep
+from pivot_ompl.bench.sweep import check_out_folder, run_sweep
 from pivot_ompl.resources import shipped_scenes
 from pivot_ompl.scene import load_scene
 
@@ -37,15 +37,18 @@ def main() -> None:
     ap.add_argument("--shipped", default=",".join(SHIPPED))
     ap.add_argument("--workers", type=int, default=1)
     ap.add_argument("--out", default="results/generality")
+    ap.add_argument("--overwrite", action="store_true",
+                    help="replace a previous run's outputs in --out")
     args = ap.parse_args()
-    out = Path(args.out)
+    out = check_out_folder(args.out, overwrite=args.overwrite)  # before the scenes go in
     suite = generate_suite(args.families.split(","), count=args.per_family, out=out / "scenes")
     scenes = [*suite, *(shipped_scenes()[n] for n in args.shipped.split(",") if n)]
     families = {load_scene(p).name: fam for p, fam in suite.items()}
     for p in scenes[len(suite):]:  # a shipped scene is its own row (fig10, corridor...)
         families[load_scene(p).name] = f"shipped {load_scene(p).name}"
     sweep = run_sweep(scenes, args.planners.split(","), runs=args.runs, time_limit=args.time,
-                      out=out, executor=LocalExecutor(args.workers), plots=False)
+                      out=out, executor=LocalExecutor(args.workers), plots=False,
+                      overwrite=True)  # the folder was checked, and holds the scenes now
     rows = family_rows(sweep.results, families, time_limit=args.time)
     text = format_rows(rows)
     print(f"\n{len(suite)} generated + {len(scenes) - len(suite)} shipped scenes, "

@@ -24,12 +24,9 @@ import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
-from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Obstacle, Scene
-from pivot_ompl.se2 import Pose, rectangle_corners
-
-#: Sides of the polygon inscribed in a cylinder's footprint (its gaps are then at most
-#: ``r (1 - cos(pi / n))`` = 0.2 % of the radius wider than the true ones).
-CIRCLE_SIDES = 32
+from pivot_ompl.scene import Scene
+from pivot_ompl.se2 import Pose
+from pivot_ompl.validity.footprints import obstacle_footprint
 
 
 @dataclass(frozen=True)
@@ -49,17 +46,6 @@ class Passage:
     axis: float
     width: float
     length: float
-
-
-def obstacle_footprint(obstacle: Obstacle) -> BaseGeometry:
-    """The obstacle's floor footprint as a shapely polygon (a disk: inscribed polygon)."""
-    if isinstance(obstacle, BoxObstacle):
-        return shapely.Polygon(rectangle_corners((*obstacle.center, obstacle.yaw),
-                                                 *obstacle.size))
-    if isinstance(obstacle, CylinderObstacle):
-        return shapely.Point(obstacle.center).buffer(obstacle.radius,
-                                                      quad_segs=CIRCLE_SIDES // 4)
-    return shapely.Polygon(obstacle.points)
 
 
 def _room_sides(bounds: tuple[float, float, float, float], depth: float) -> list[BaseGeometry]:

@@ -115,6 +115,8 @@ class CollisionWorld:
         self._disk = coal.CollisionObject(self._disk_shape)
         self._disks: dict[float, coal.CollisionObject] = {}
         self._objects: list[coal.CollisionObject] = []
+        #: the static obstacles added (:meth:`add_obstacle`), as the scene gives them
+        self.obstacles: list[Obstacle] = []
         self._manager = coal.DynamicAABBTreeCollisionManager()
         self._dcb = coal.DistanceCallBackDefault()
         self._ccb = coal.CollisionCallBackDefault()
@@ -133,6 +135,7 @@ class CollisionWorld:
 
     def add_obstacle(self, obstacle: Obstacle) -> None:
         """Add a static obstacle (call :meth:`setup` after the last one)."""
+        self.obstacles.append(obstacle)
         for obj in obstacle_objects(obstacle):
             self._objects.append(obj)
             self._manager.registerObject(obj)

@@ -50,17 +50,16 @@ import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
-from pivot_ompl.scene import BoxObstacle, CylinderObstacle, PolygonObstacle, Scene
-from pivot_ompl.se2 import Pose, rectangle_corners, triangulate, wrap_angle
+from pivot_ompl.scene import Scene
+from pivot_ompl.se2 import Pose, rectangle_corners, wrap_angle
 from pivot_ompl.validity.certify import SWEEP_TOLERANCE
+from pivot_ompl.validity.footprints import meeting_hulls, obstacle_pieces
 
 log = logging.getLogger(__name__)
 
 #: Largest erosion (m) of the robot's rectangle by the rotation within a yaw bin: it sets the
 #: number of bins (narrower passages than about this are not resolved).
 RESOLUTION = 0.02
-#: Sides of the polygon inscribed in a cylinder obstacle (a subset of it).
-CIRCLE_SIDES = 24
 #: Yaw bins at most (a tiny ``resolution`` on a large robot would ask for many more).
 MAX_BINS = 720
 #: Added to every erosion (m): keeps the over-approximation on the safe side of round-off.
@@ -123,22 +122,6 @@ def _parts(scene: Scene, grasp: int) -> list[_Rect]:
             _Rect(rx, ry, rh, 0.5 * m.robot_footprint[0], 0.5 * m.robot_footprint[1])]
 
 
-def _obstacle_pieces(scene: Scene) -> list[np.ndarray]:
-    """Convex floor pieces (k x 2 vertex arrays), each a subset of an obstacle's footprint."""
-    out: list[np.ndarray] = []
-    for o in scene.obstacles:
-        if isinstance(o, BoxObstacle):
-            out.append(np.array(rectangle_corners((*o.center, o.yaw), *o.size)))
-        elif isinstance(o, CylinderObstacle):
-            a = np.linspace(0.0, 2 * math.pi, CIRCLE_SIDES, endpoint=False)
-            out.append(np.column_stack([o.center[0] + o.radius * np.cos(a),
-                                        o.center[1] + o.radius * np.sin(a)]))
-        elif isinstance(o, PolygonObstacle):
-            pts = np.asarray(o.points, dtype=float)
-            out.extend(pts[list(tri)] for tri in triangulate(o.points))
-    return out
-
-
 def _free_pieces(scene: Scene, parts: list[_Rect], yaw: float, erosion: list[float],
                  pieces: list[np.ndarray]) -> list[BaseGeometry]:
     """Connected pieces of the box positions where every eroded part is free at ``yaw``."""
@@ -152,11 +135,7 @@ def _free_pieces(scene: Scene, parts: list[_Rect], yaw: float, erosion: list[flo
         # inside the bounds: every corner of the eroded rectangle
         lo = [max(lo[0], x0 - e[:, 0].min()), max(lo[1], y0 - e[:, 1].min())]
         hi = [min(hi[0], x1 - e[:, 0].max()), min(hi[1], y1 - e[:, 1].max())]
-        if pieces:
-            diffs = [(k[:, None, :] - e[None, :, :]).reshape(-1, 2) for k in pieces]
-            index = np.repeat(np.arange(len(diffs)), [len(d) for d in diffs])
-            points = shapely.points(np.concatenate(diffs))
-            hulls.extend(shapely.convex_hull(shapely.multipoints(points, indices=index)))
+        hulls.extend(meeting_hulls(pieces, e))
     if lo[0] > hi[0] or lo[1] > hi[1]:
         return []
     region: BaseGeometry = shapely.box(lo[0], lo[1], hi[0], hi[1])
@@ -245,7 +224,7 @@ def free_cover(scene: Scene, *, resolution: float = RESOLUTION,
     """
     n = _bins(scene, resolution)
     w = 2.0 * math.pi / n
-    pieces = _obstacle_pieces(scene)
+    pieces = obstacle_pieces(scene.obstacles)
     free: list[list[list[BaseGeometry]]] = [[], []]
     for g in (0, 1):
         parts = _parts(scene, g)

@@ -13,9 +13,14 @@ length of any lattice walk: an admissible heuristic that knows the obstacles, an
 no walk exists when it is infinite. Testing the body itself, not only its inscribed disk,
 closes the gaps the robot cannot pass at any heading (a slot only the box fits through):
 without that, a walk whose only way lies through such a gap is refused only after the
-lattice search has expanded every state it can reach (seconds). A position is tested at the
-yaws only where the inscribed disk is clear and the disk the body sweeps turning in place is
-not. The obstacles' part is built once per scene; the resting box's per query (vectorised).
+lattice search has expanded every state it can reach (seconds).
+
+The obstacles' part is built once per scene, vectorised (shapely): at each yaw, the positions
+where the body (grown by the kept clearance) meets an obstacle are the convex hulls of vertex
+differences (:func:`~pivot_ompl.validity.footprints.meeting_hulls`), computed for polygons
+*inside* the true shapes (a cylinder's inscribed polygon, the clearance's rounded corners by
+chords), so a position is never closed where the exact checks would let the body stand. The
+resting box's part is computed per query (vectorised).
 """
 
 from __future__ import annotations
@@ -25,6 +30,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
+import shapely
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
@@ -32,7 +38,11 @@ from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.se2 import Pose
 from pivot_ompl.validity.collision import CollisionWorld
+from pivot_ompl.validity.footprints import meeting_hulls, obstacle_pieces
 from pivot_ompl.validity.walk_lattice import HEADING_VECTORS, HEADING_YAWS
+
+#: Grid positions whose graph edges are built between two polls of the termination condition.
+GRAPH_CHUNK = 20_000
 
 #: Yaws at which a grid position may hold the walking body: the 16 lattice headings and the
 #: yaws half-way between neighbouring ones (a step that turns while walking passes a grid
@@ -60,9 +70,10 @@ class FloorField:
     box_margin: float
     _open: np.ndarray | None = field(default=None, init=False, repr=False)
     _partial: np.ndarray | None = field(default=None, init=False, repr=False)
-    #: Grid rows of :meth:`static_open` done so far (it resumes there when interrupted).
+    #: Yaws, then grid rows of the graph, of :meth:`static_open` done so far (it resumes
+    #: there when interrupted).
+    yaws_done: int = field(default=0, init=False)
     rows_done: int = field(default=0, init=False)
-    _last_yaw: int = field(default=0, init=False, repr=False)
 
     def __post_init__(self) -> None:
         """Grid size and the inscribed radius."""
@@ -73,67 +84,88 @@ class FloorField:
         xs = b[0] + self.resolution * np.arange(self.nx)
         ys = b[1] + self.resolution * np.arange(self.ny)
         self._x, self._y = np.meshgrid(xs, ys, indexing="ij")
+        #: the walking body's corners, and its outline grown by the kept clearance (chords
+        #: inside the rounded corners), relative to the robot pose at yaw 0
+        self._outline = np.array(self.model.walking_outline())
+        grown = shapely.Polygon(self._outline).buffer(self.world.clearance, quad_segs=4) \
+            if self.world.clearance > 0 else shapely.Polygon(self._outline)
+        self._grown = np.asarray(grown.exterior.coords)[:-1]
+        self._pieces = obstacle_pieces(self.world.obstacles)
 
     def static_open(self, should_stop: Callable[[], bool] | None = None) -> np.ndarray:
         """Open positions ignoring the resting box, ``(nx, ny)`` booleans (built once).
 
         Raises:
-            Interrupted: ``should_stop()`` became true (polled once per grid row); the rows
-                done are kept (:attr:`rows_done`) and the next call resumes there.
+            Interrupted: ``should_stop()`` became true (polled once per yaw); the yaws done
+                are kept (:attr:`yaws_done`) and the next call resumes there.
         """
         if self._open is None:
-            b, r = self.world.bounds, self.radius
-            x, y = self._x, self._y
             if self._partial is None:
-                self._partial = (x - b[0] >= r) & (b[2] - x >= r) & (y - b[1] >= r) \
-                    & (b[3] - y >= r)
+                self._partial = np.zeros((self.nx, self.ny), dtype=bool)
             ok = self._partial
-            if self.world.has_obstacles:
-                for ix in range(self.rows_done, self.nx):
-                    if should_stop is not None and should_stop():
-                        raise Interrupted("walking floor field")
-                    for iy in np.nonzero(ok[ix])[0]:
-                        ok[ix, iy] = self._body_fits(float(x[ix, iy]), float(y[ix, iy]))
-                    self.rows_done = ix + 1
-            self.rows_done = self.nx
+            for k in range(self.yaws_done, len(OPEN_YAWS)):
+                if should_stop is not None and should_stop():
+                    raise Interrupted("walking floor field")
+                ok |= self._fits_at(OPEN_YAWS[k])
+                self.yaws_done = k + 1
+            chunk = max(1, GRAPH_CHUNK // self.ny)  # grid rows per poll
+            for i0 in range(self.rows_done, self.nx, chunk):
+                if should_stop is not None and should_stop():
+                    raise Interrupted("walking floor field")
+                self._add_rows(ok, i0, min(self.nx, i0 + chunk))
+                self.rows_done = min(self.nx, i0 + chunk)
             self._open, self._partial = ok, None
-            sx, sy = np.nonzero(ok)
-            n = self.nx * self.ny
-            rows, cols, lens = [], [], []
-            for vx, vy in HEADING_VECTORS[:8]:  # the other 8 are their opposites
-                tx, ty = sx + vx, sy + vy
-                inside = (tx >= 0) & (tx < self.nx) & (ty >= 0) & (ty < self.ny)
-                a = sx[inside] * self.ny + sy[inside]
-                t = tx[inside] * self.ny + ty[inside]
-                keep = ok.ravel()[t]
-                rows.append(a[keep])
-                cols.append(t[keep])
-                lens.append(np.full(int(keep.sum()), self.resolution * math.hypot(vx, vy)))
-            self._rows = np.concatenate(rows)
-            self._cols = np.concatenate(cols)
-            self._lens = np.concatenate(lens)
-            self._n = n
         return self._open
 
-    def _body_fits(self, x: float, y: float) -> bool:
-        """The walking body at ``(x, y)`` is free and inside the bounds at some open yaw."""
-        w = self.world
-        if w.disk_distance(x, y, self.radius) <= 0.0:
-            return False
-        b, rr = w.bounds, self.model.robot_radius()
-        if min(x - b[0], b[2] - x, y - b[1], b[3] - y) > rr and \
-                w.turning_disk_distance(x, y) > 0.0:
-            return True
-        m = self.model
-        k0 = self._last_yaw  # neighbouring positions mostly fit at the same yaw: tried first
-        n = len(OPEN_YAWS)
-        for k in range(k0, k0 + n):
-            yaw = OPEN_YAWS[k % n]
-            if w.bounds_margin(m.robot_corners((x, y, yaw))) > 0.0 and \
-                    w.robot_distance((x, y, yaw)) > 0.0:
-                self._last_yaw = k % n
-                return True
-        return False
+    def _add_rows(self, ok: np.ndarray, i0: int, i1: int) -> None:
+        """The grid graph's edges from grid rows ``i0:i1``, into a CSR matrix built directly.
+
+        Every position has one slot per heading vector (16, in :data:`HEADING_VECTORS`
+        order): the edge to the position that vector away, of its length when both ends are
+        open, ``inf`` otherwise (no edge; an outside target points back at the position
+        itself). No COO-to-CSR conversion (a sort): a query only closes the resting box's
+        positions (in place, restored after). Built a block of rows at a time, as the memory
+        it fills costs time on a large floor.
+        """
+        nx, ny, nd = self.nx, self.ny, len(HEADING_VECTORS)
+        if i0 == 0:
+            self._indices = np.empty((nx * ny, nd), dtype=np.int32)
+            self._weights = np.empty((nx * ny, nd))
+            self._indptr = np.arange(0, nd * nx * ny + 1, nd, dtype=np.int64)
+        ix, iy = np.arange(i0, i1)[:, None, None], np.arange(ny)[None, :, None]
+        v = np.asarray(HEADING_VECTORS)
+        tx, ty = ix + v[None, None, :, 0], iy + v[None, None, :, 1]
+        inside = (tx >= 0) & (tx < nx) & (ty >= 0) & (ty < ny)
+        target = np.where(inside, tx * ny + ty, ix * ny + iy).reshape(-1, nd)
+        rows = slice(i0 * ny, i1 * ny)
+        self._indices[rows] = target
+        flat = ok.ravel()
+        both = inside.reshape(-1, nd) & flat[rows, None] & flat[target]
+        lengths = self.resolution * np.hypot(v[:, 0], v[:, 1])
+        self._weights[rows] = np.where(both, lengths[None, :], np.inf)
+
+    def _fits_at(self, yaw: float) -> np.ndarray:
+        """Grid positions where the walking body at ``yaw`` is inside the bounds and clear."""
+        c, s = math.cos(yaw), math.sin(yaw)
+        rot = np.array([[c, -s], [s, c]])
+        corners = self._outline @ rot.T
+        b = self.world.bounds
+        x, y = self._x, self._y
+        xs, ys = x[:, 0], y[0, :]
+        ok = ((xs + corners[:, 0].min() > b[0]) & (xs + corners[:, 0].max() < b[2]))[:, None] \
+            & ((ys + corners[:, 1].min() > b[1]) & (ys + corners[:, 1].max() < b[3]))[None, :]
+        res = self.resolution
+        for hull in meeting_hulls(self._pieces, self._grown @ rot.T):
+            x0, y0, x1, y1 = hull.bounds  # the grid positions in its bounding box
+            i0 = max(0, math.ceil((x0 - b[0]) / res))
+            i1 = min(self.nx, math.floor((x1 - b[0]) / res) + 1)
+            j0 = max(0, math.ceil((y0 - b[1]) / res))
+            j1 = min(self.ny, math.floor((y1 - b[1]) / res) + 1)
+            if i0 >= i1 or j0 >= j1:
+                continue
+            sub = ok[i0:i1, j0:j1]
+            sub &= ~shapely.contains_xy(hull, x[i0:i1, j0:j1], y[i0:i1, j0:j1])
+        return ok
 
     def open_with_box(self, obj: Pose,
                       should_stop: Callable[[], bool] | None = None) -> np.ndarray:
@@ -152,10 +184,27 @@ class FloorField:
 
         ``inf``: unreachable. With the box resting at ``obj``; shape ``(nx, ny)``.
         """
-        ok = self.open_with_box(obj, should_stop).ravel()
-        keep = ok[self._rows] & ok[self._cols]
-        g = csr_matrix((self._lens[keep], (self._rows[keep], self._cols[keep])),
-                       shape=(self._n, self._n))
-        idx = [ix * self.ny + iy for ix, iy in goals]
-        d = dijkstra(g, directed=False, indices=idx, min_only=True)
+        static = self.static_open(should_stop)
+        closed = np.nonzero((static & ~self.open_with_box(obj, should_stop)).ravel())[0]
+        nd, ny = len(HEADING_VECTORS), self.ny
+        slots = [(closed[:, None] * nd + np.arange(nd)[None, :]).ravel()]  # edges out
+        cx, cy = closed // ny, closed % ny
+        for d, (vx, vy) in enumerate(HEADING_VECTORS):  # edges in: from the position -v away
+            sx, sy = cx - vx, cy - vy
+            inside = (sx >= 0) & (sx < self.nx) & (sy >= 0) & (sy < ny)
+            slots.append((sx[inside] * ny + sy[inside]) * nd + d)
+        cut = np.concatenate(slots)
+        if should_stop is not None and should_stop():
+            raise Interrupted("walking floor field")
+        w = self._weights.reshape(-1)  # a view
+        saved = w[cut]
+        w[cut] = np.inf  # closed in place for this query, restored after
+        try:
+            n = self.nx * ny
+            g = csr_matrix((w, self._indices.reshape(-1), self._indptr), shape=(n, n),
+                           copy=False)
+            idx = [ix * ny + iy for ix, iy in goals]
+            d = dijkstra(g, directed=True, indices=idx, min_only=True)
+        finally:
+            w[cut] = saved
         return np.asarray(d).reshape(self.nx, self.ny)

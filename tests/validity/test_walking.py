@@ -56,26 +56,46 @@ def test_no_walk_through_a_wall_round_the_box():
 
 
 def test_walk_search_honours_the_termination_condition():
-    """A large floor's field takes seconds: the walk stops at the limit and resumes later."""
+    """A large floor's field takes a second: the walk stops at the limit and resumes later."""
     import time
 
     from pivot_ompl.validity.walking import INVALID_WALK
 
-    # an obstacle, so that every grid position of the floor field needs a clearance query
+    # 601 x 601 grid positions (the field's build polls once per yaw and per graph direction)
     scene = make_scene(bounds=[0.0, 0.0, 60.0, 60.0], start=[30.0, 30.0, 0.0],
                        goal=[40.0, 30.0, 0.0],
                        obstacles=[{"type": "cylinder", "center": [55.0, 55.0], "radius": 0.3,
                                    "height": 1.0}])
     ck = PivotChecker(scene, seed=0)
+    field = ck.walker.field
+    progress = [0]
     for _ in range(2):
-        deadline = time.monotonic() + 0.3
+        deadline = time.monotonic() + 0.02
         ck.should_stop = lambda d=deadline: time.monotonic() > d
         t0 = time.monotonic()
         assert ck.transit(scene.start, 0, 2) is INVALID_WALK
-        assert time.monotonic() - t0 < 1.5
-    done = ck.walker.field.rows_done
-    assert 0 < done < 601  # the rows of both calls are kept, not rebuilt
+        assert time.monotonic() - t0 < 1.0
+        progress.append(field.yaws_done + field.rows_done)
+    assert progress[0] < progress[1] < progress[2]  # kept between calls, not rebuilt
     assert not ck._walks  # an interrupted walk is not cached
+
+
+def test_an_interrupted_floor_field_resumes_where_it_stopped():
+    from pivot_ompl.errors import Interrupted
+    from pivot_ompl.validity.walk_field import GRAPH_CHUNK, OPEN_YAWS
+
+    scene = shipped("fig10")
+    field = PivotChecker(scene, seed=0).walker.field
+    polls = iter(range(100))
+    with pytest.raises(Interrupted):
+        field.static_open(lambda: next(polls) >= 3)
+    assert field.yaws_done == 3
+    seen = []
+    built = field.static_open(lambda: seen.append(1) or False)
+    chunks = -(-field.nx // max(1, GRAPH_CHUNK // field.ny))
+    assert len(seen) == len(OPEN_YAWS) - 3 + chunks  # none done again
+    fresh = PivotChecker(scene, seed=0).walker.field.static_open()
+    assert np.array_equal(built, fresh)
 
 
 # -- free walking: doors and corridors narrower than the turning disk ----------------------

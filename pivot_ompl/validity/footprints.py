@@ -1,0 +1,65 @@
+"""Obstacle footprints on the floor as shapely geometry, and where a body meets them.
+
+Two uses, both relaxations that must never forbid what the exact (coal) checks allow:
+the lower bound on regrasps (:mod:`pivot_ompl.validity.regrasp_bound`) and the walking floor
+field (:mod:`pivot_ompl.validity.walk_field`). So the pieces are *subsets* of the obstacles
+(a cylinder by its inscribed polygon), and a body's forbidden positions are computed exactly
+for those pieces (Minkowski sums of convex polygons: convex hulls of vertex differences).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import shapely
+from shapely.geometry.base import BaseGeometry
+
+from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Obstacle, PolygonObstacle
+from pivot_ompl.se2 import rectangle_corners, triangulate
+
+#: Sides of the polygon inscribed in a cylinder obstacle (a subset of it).
+CIRCLE_SIDES = 24
+
+
+def obstacle_pieces(obstacles: list[Obstacle] | tuple[Obstacle, ...], *,
+                    circle_sides: int = CIRCLE_SIDES) -> list[np.ndarray]:
+    """Convex floor pieces (k x 2 vertex arrays), each a subset of an obstacle's footprint."""
+    out: list[np.ndarray] = []
+    for o in obstacles:
+        if isinstance(o, BoxObstacle):
+            out.append(np.array(rectangle_corners((*o.center, o.yaw), *o.size)))
+        elif isinstance(o, CylinderObstacle):
+            a = np.linspace(0.0, 2 * math.pi, circle_sides, endpoint=False)
+            out.append(np.column_stack([o.center[0] + o.radius * np.cos(a),
+                                        o.center[1] + o.radius * np.sin(a)]))
+        elif isinstance(o, PolygonObstacle):
+            pts = np.asarray(o.points, dtype=float)
+            out.extend(pts[list(tri)] for tri in triangulate(o.points))
+    return out
+
+
+def obstacle_footprint(obstacle: Obstacle, *, circle_sides: int = CIRCLE_SIDES) -> BaseGeometry:
+    """The obstacle's whole floor footprint (a cylinder: its inscribed polygon)."""
+    if isinstance(obstacle, BoxObstacle):
+        return shapely.Polygon(rectangle_corners((*obstacle.center, obstacle.yaw),
+                                                 *obstacle.size))
+    if isinstance(obstacle, CylinderObstacle):
+        a = np.linspace(0.0, 2 * math.pi, circle_sides, endpoint=False)
+        return shapely.Polygon(np.column_stack([obstacle.center[0] + obstacle.radius * np.cos(a),
+                                                obstacle.center[1] + obstacle.radius * np.sin(a)]))
+    return shapely.Polygon(obstacle.points)
+
+
+def meeting_hulls(pieces: list[np.ndarray], body: np.ndarray) -> list[BaseGeometry]:
+    """Per piece, the positions of a reference point at which a convex body meets it.
+
+    ``body``: the body's points (m x 2) relative to the reference point; the body is their
+    convex hull. The set is the hull of ``piece - body`` (a Minkowski sum of convex sets).
+    """
+    if not pieces:
+        return []
+    diffs = [(k[:, None, :] - body[None, :, :]).reshape(-1, 2) for k in pieces]
+    index = np.repeat(np.arange(len(diffs)), [len(d) for d in diffs])
+    points = shapely.points(np.concatenate(diffs))
+    return list(shapely.convex_hull(shapely.multipoints(points, indices=index)))
