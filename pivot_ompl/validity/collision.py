@@ -99,6 +99,7 @@ class CollisionWorld:
         ahead, behind, half_width = self.model.walking_extent()
         self._robot_shape = coal.Box(ahead + behind, 2.0 * half_width, self.model.robot_height)
         self._robot_ahead = 0.5 * (ahead - behind)  # the body's centre ahead of the pose
+        self._robot_half = (0.5 * (ahead + behind), half_width)
         self._box = coal.CollisionObject(self._box_shape)
         self._robot = coal.CollisionObject(self._robot_shape)
         self._box_radius = 0.5 * math.hypot(w, d)
@@ -232,6 +233,21 @@ class CollisionWorld:
         x0, y0, x1, y1 = self.bounds
         return min(min(x - x0, x1 - x, y - y0, y1 - y) for x, y in corners)
 
+    def robot_bounds_margin(self, robot: Pose) -> float:
+        """:meth:`bounds_margin` of the walking body's corners at ``robot``, in closed form.
+
+        The body is a rectangle: its corners reach ``L |cos| + W |sin|`` along x and
+        ``L |sin| + W |cos|`` along y from its centre (half-length ``L``, half-width ``W``).
+        """
+        c, s = math.cos(robot[2]), math.sin(robot[2])
+        a = self._robot_ahead
+        cx, cy = robot[0] + a * c, robot[1] + a * s
+        half_l, half_w = self._robot_half
+        ex = half_l * abs(c) + half_w * abs(s)
+        ey = half_l * abs(s) + half_w * abs(c)
+        x0, y0, x1, y1 = self.bounds
+        return min(cx - ex - x0, x1 - cx - ex, cy - ey - y0, y1 - cy - ey)
+
     def _inside(self, pose: Pose, half_diagonal: float) -> bool:
         """Quick accept: the circumscribed disk of a footprint lies inside the bounds."""
         x0, y0, x1, y1 = self.bounds
@@ -259,4 +275,4 @@ class CollisionWorld:
         """Whether the walking body at ``robot`` lies inside the bounds."""
         if self._inside(robot, self._robot_radius):
             return True
-        return self.bounds_margin(self.model.robot_corners(robot)) >= 0.0
+        return self.robot_bounds_margin(robot) >= 0.0

@@ -142,7 +142,7 @@ class WalkPlanner:
         b, r = w.bounds, self._radius
         d = min(p[0] - b[0], b[2] - p[0], p[1] - b[1], b[3] - p[1]) - r  # disk: a lower bound
         if d < 2.0 * r:
-            d = w.bounds_margin(self.model.robot_corners(p))
+            d = w.robot_bounds_margin(p)
             if d <= 0.0:
                 return d
         d = min(d, w.robot_distance(p))
@@ -179,7 +179,7 @@ class WalkPlanner:
             v = dd
         else:
             w = self.world
-            v = w.bounds_margin(self.model.robot_corners((x, y, yaw)))
+            v = w.robot_bounds_margin((x, y, yaw))
             if v > 0.0:
                 v = min(v, w.robot_distance((x, y, yaw)))
         self._static[s] = v

@@ -6,7 +6,9 @@ import math
 
 import numpy as np
 import pytest
-from factories import make_scene
+from factories import make_scene, shipped
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from pivot_ompl.se2 import triangulate
 from pivot_ompl.validity.certify import certify
@@ -122,3 +124,15 @@ def test_transforms_do_not_share_the_scratch_arrays():
     assert a.getTranslation().tolist() == [1.0, 2.0, 0.5]
     assert a.getRotation()[0, 0] == math.cos(0.3) and a.getRotation()[1, 0] == math.sin(0.3)
     assert b.getTranslation().tolist() == [-4.0, 7.0, 0.1]
+
+
+FIG10 = shipped("fig10")
+
+
+@settings(max_examples=200, deadline=None)
+@given(x=st.floats(-1.0, 13.0), y=st.floats(-1.0, 8.0), yaw=st.floats(-4.0, 4.0))
+def test_the_walking_body_bounds_margin_in_closed_form_is_the_corners(x, y, yaw):
+    scene = FIG10
+    w = CollisionWorld.from_scene(scene)
+    corners = w.bounds_margin(scene.model.robot_corners((x, y, yaw)))
+    assert w.robot_bounds_margin((x, y, yaw)) == pytest.approx(corners, abs=1e-12)
