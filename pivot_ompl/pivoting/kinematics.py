@@ -16,6 +16,7 @@ verified with the forward map (the printed formula of the paper leaves ``phi`` u
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -30,7 +31,9 @@ IK_VERIFY_TOL = 1e-9
 #: Round-off allowed on the rotation bound (rad): a rotation of exactly alpha_max must pass.
 ANGLE_TOL = 1e-12
 
-#: Overshoot of the bound (rad) by round-off of an ill-conditioned candidate that is clamped.
+#: Overshoot of the bound (rad) by round-off of an ill-conditioned candidate that is clamped
+#: (at least; more where the ends' round-off over their distance ``d`` says so, see
+#: :func:`_candidates_within`).
 CLAMP_TOL = 1e-7
 
 #: Rotations smaller than this (rad) are dropped from solutions.
@@ -138,15 +141,19 @@ def _candidates_within(start: Pose, goal: Pose, ell: float,
                 a3 = wrap_angle(dpsi - a1 - a2)
                 cands.append((a1, a2, a3))
         bound = alpha_max + ANGLE_TOL  # round-off of asin/atan2 at the bound itself
+        # a tiny middle rotation leaves a1 and a3 ill-conditioned: the bearing of the ends'
+        # difference (length d) carries the round-off of their coordinates over d (3e-7 rad
+        # for a2 ~ 1e-9); an angle that overshoots the bound by less than that is put on it,
+        # and the forward-map verification decides
+        scale = 1.0 + abs(p0x) + abs(p0y) + abs(p2x) + abs(p2y)
+        clamp = alpha_max + max(CLAMP_TOL, min(1e-4, 8.0 * sys.float_info.epsilon * scale / d)) \
+            if d > 0.0 else alpha_max + CLAMP_TOL
         for cand in cands:
-            # a tiny middle rotation leaves a1 and a3 ill-conditioned (1e-9 rad for
-            # a2 ~ 1e-7): an angle that overshoots the bound by less than CLAMP_TOL is put
-            # on it, and the forward-map verification decides
             a1, a2, a3 = cand
-            if bound < abs(a3) <= alpha_max + CLAMP_TOL:  # the heading closes on a1
+            if bound < abs(a3) <= clamp:  # the heading closes on a1
                 a3 = math.copysign(alpha_max, a3)
                 a1 = wrap_angle(dpsi - a2 - a3)
-            if bound < abs(a1) <= alpha_max + CLAMP_TOL:
+            if bound < abs(a1) <= clamp:
                 a1 = math.copysign(alpha_max, a1)
                 a3 = wrap_angle(dpsi - a1 - a2)
             if abs(a1) <= bound and abs(a2) <= bound and abs(a3) <= bound:
