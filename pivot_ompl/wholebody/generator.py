@@ -41,7 +41,7 @@ import numpy as np
 from pivot_ompl.errors import InputError, WholeBodyError
 from pivot_ompl.hrp2 import SOLE_SIZE, URDF_RELPATH
 from pivot_ompl.motionfile import Motion
-from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
+from pivot_ompl.planfile import Plan, TransferPhase, TransferStep, TransitPhase
 from pivot_ompl.se2 import Pose, rotate_about, wrap_angle
 from pivot_ompl.wholebody.box import (
     DEFAULT_TILT,
@@ -72,6 +72,8 @@ class Timing:
         min_rotate: duration of a pivot step that needs no footstep.
         max_hand_error: a hand further than this from its grip point while holding fails (m).
         max_steps: a transit walk is planned (and comes to rest) every this many steps.
+        pivot_walk_steps: pivot steps are walked continuously in walks of at most this
+            many steps (each comes to rest; the LIPM QP grows with the horizon).
     """
 
     reach: float = 1.5
@@ -82,6 +84,7 @@ class Timing:
     min_rotate: float = 1.2
     max_hand_error: float = 0.01
     max_steps: int = 10
+    pivot_walk_steps: int = 30
 
 
 @dataclass
@@ -353,37 +356,31 @@ class WholeBodyGenerator:
         self._stand(tm.tilt, tilt_each, holding=True, grasp=k, tilt_of=lambda s: theta *
                     min_jerk(s), hands_of=lambda s: self._grip_hands(state["G"], k,
                                                                        state["tilt"]))
-        # pivot steps
+        # pivot steps: the plan is checked first, then walked in continuous walks
+        objs = [obj]
         for j, step in enumerate(phase.steps):
-            self._step = j
-            corners = hold.pivot_corners(obj, k)
+            corners = hold.pivot_corners(objs[-1], k)
             piv = np.array([step.pivot[0], step.pivot[1], 0.0])
             if min(np.linalg.norm(c - piv) for c in corners) > 1e-4:
                 raise InputError(f"phases[{i}].steps[{j}].pivot", step.pivot,
                                  "is not an end corner of the supporting edge")
-            G_before = state["G"]
-            G_after = hold.T_world_G(step.object, k)
             R = rotation_about_vertical(step.pivot, step.angle)
-            if np.abs(R @ G_before - G_after).max() > 1e-4:
+            if np.abs(R @ hold.T_world_G(objs[-1], k) - hold.T_world_G(step.object, k)
+                      ).max() > 1e-4:
                 raise InputError(f"phases[{i}].steps[{j}].object", step.object,
                                  "is not the previous pose rotated about the pivot")
-
-            def rot_each(s: float, G0=G_before, st=step) -> None:  # noqa: ANN001
-                a = st.angle * min_jerk(s)
-                state["G"] = rotation_about_vertical(st.pivot, a) @ G0
-                set_box()
-
-            # the robot's attached pose turns about the pivot with the box: step along that arc
-            arc = [rotate_about(robot_before, step.pivot, step.angle * u)
-                   for u in (0.25, 0.5, 0.75)] + [step.robot]
-            self._walk_to(arc, holding=True, grasp=k, tilt=theta, each=rot_each,
-                          hands_of=lambda: self._grip_hands(state["G"], k, theta),
-                          follow_path=True)
-            robot_before = step.robot
-            state["G"] = G_after
+            objs.append(step.object)
+        robots = [robot_before, *(st.robot for st in phase.steps)]
+        j = 0
+        while j < len(phase.steps):
+            n = self._pivot_walk(i, phase, j, robots, state, set_box)
+            if n == 0:  # no continuous stepping for this pivot: step it alone
+                self._pivot_alone(i, phase, j, robots[j], state, set_box)
+                n = 1
+            j += n
+            state["G"] = hold.T_world_G(phase.steps[j - 1].object, k)
             set_box()
-            obj = step.object
-            self._unit_done(f"phase {i}: pivot {j + 1}/{len(phase.steps)}")
+        obj = phase.steps[-1].object if phase.steps else obj
         self._step = -1
 
         # set down, release
@@ -400,6 +397,94 @@ class WholeBodyGenerator:
             interpolate_frame(grip[1], self._rest_hands()[1], min_jerk(s))))
         self._unit_done(f"phase {i}: release")
         return obj
+
+    def _pivot_arc(self, before: Pose, step: TransferStep, n: int = 8) -> list[Pose]:
+        """The robot's attached pose turning about the pivot with the box (``n`` pieces)."""
+        return [rotate_about(before, step.pivot, step.angle * u / n) for u in range(n + 1)]
+
+    def _rotation(self, step: TransferStep, G0: np.ndarray, state: dict[str, Any],
+                  set_box: Callable[[], None]) -> Callable[[float], None]:
+        """``each(s)``: the box turned by the step's angle times min_jerk(s) from ``G0``."""
+        def each(s: float) -> None:
+            state["G"] = rotation_about_vertical(step.pivot, step.angle * min_jerk(s)) @ G0
+            set_box()
+        return each
+
+    def _pivot_alone(self, i: int, phase: TransferPhase, j: int, before: Pose,
+                     state: dict[str, Any], set_box: Callable[[], None]) -> None:
+        """Pivot step ``j`` as a walk of its own along its arc (or standing, if no step)."""
+        k, theta = phase.grasp, self.hold.tilt
+        step = phase.steps[j]
+        self._step = j
+        arc = [rotate_about(before, step.pivot, step.angle * u)
+               for u in (0.25, 0.5, 0.75)] + [step.robot]
+        self._walk_to(arc, holding=True, grasp=k, tilt=theta,
+                      each=self._rotation(step, state["G"], state, set_box),
+                      hands_of=lambda: self._grip_hands(state["G"], k, theta),
+                      follow_path=True)
+        self._unit_done(f"phase {i}: pivot {j + 1}/{len(phase.steps)}")
+
+    def _pivot_walk(self, i: int, phase: TransferPhase, j0: int, robots: list[Pose],
+                    state: dict[str, Any], set_box: Callable[[], None]) -> int:
+        """Pivot steps ``j0, j0 + 1, ...`` in one continuous walk; return how many.
+
+        The footsteps of each pivot come from :meth:`PlacoWalker.pivot_footsteps` (two or
+        three steps, the feet alternating across pivots) and the walk is planned in one
+        piece of at most :attr:`Timing.pivot_walk_steps` steps, coming to rest only at its
+        end. Pivot ``j``'s rotation runs from the middle of the double support that ends
+        pivot ``j - 1`` (or the walk's start) to the middle of the double support after its
+        own last step, where both feet stand at the step's ``robot`` pose. Returns 0 when
+        pivot ``j0`` needs no step or cannot be stepped so (the caller steps it alone).
+        """
+        walker, tm, hold = self.walker, self.timing, self.hold
+        k, theta = phase.grasp, hold.tilt
+        feet = (walker.T_left, walker.T_right)
+        fly: bool | None = None
+        footsteps: list = []
+        last: list[int] = []  # index in footsteps of each pivot's last landing
+        j = j0
+        while j < len(phase.steps):
+            fs = walker.pivot_footsteps(self._pivot_arc(robots[j], phase.steps[j]),
+                                        feet=feet, fly_left=fly)
+            if not fs or (footsteps and len(footsteps) + len(fs) - 4 > tm.pivot_walk_steps):
+                break
+            footsteps = fs if not footsteps else footsteps + fs[2:]
+            last.append(len(footsteps) - 1)
+            left = [np.array(f.frame) for f in fs if str(f.side) == "left"]
+            right = [np.array(f.frame) for f in fs if str(f.side) == "right"]
+            feet = (left[-1], right[-1])
+            fly = str(fs[-1].side) != "left"
+            j += 1
+        if not last:
+            return 0
+        t0 = self._t
+        traj = walker.plan_walk(footsteps, t0)
+        supports = traj.get_supports()
+        ends = []
+        for n in last:  # the double support after landing footstep n is support 2 (n - 1)
+            a = 2 * (n - 1)
+            t_a = supports[a].t_start
+            t_b = supports[a + 1].t_start if a + 1 < len(supports) else traj.t_end
+            ends.append(int(round((0.5 * (t_a + t_b) - t0) / self.settings.dt)))
+        total = self._ticks(traj.t_end - t0)
+        starts = [0, *ends[:-1]]
+        rot = None
+        p = 0
+        for tick in range(total):
+            while p < len(ends) - 1 and tick > ends[p]:
+                self._unit_done(f"phase {i}: pivot {j0 + p + 1}/{len(phase.steps)}")
+                p += 1
+                rot = None
+            if rot is None:
+                self._step = j0 + p
+                G0 = hold.T_world_G(_object_before(phase, j0 + p), k)
+                rot = self._rotation(phase.steps[j0 + p], G0, state, set_box)
+            rot((tick - starts[p]) / max(ends[p] - starts[p], 1))
+            self._tick(traj, self._grip_hands(state["G"], k, theta), holding=True, grasp=k,
+                       tilt=theta)
+        self._unit_done(f"phase {i}: pivot {j0 + len(last)}/{len(phase.steps)}")
+        walker.stand()
+        return len(last)
 
     def _transit(self, i: int, phase: TransitPhase, obj: Pose) -> None:
         self._box_T = self.hold.T_world_box(self.hold.T_world_G(obj, 0), 0, 0.0)
@@ -422,6 +507,11 @@ class WholeBodyGenerator:
             grasp=np.array(r.grasp, dtype=int), tilt=np.array(r.tilt),
             box_size=tuple(float(x) for x in self.plan.object_size),  # type: ignore[arg-type]
             grip_box=grip, sole_size=SOLE_SIZE, scene=self.plan.scene)
+
+
+def _object_before(phase: TransferPhase, j: int) -> Pose:
+    """Object pose before pivot step ``j`` of ``phase``."""
+    return phase.object_start if j == 0 else phase.steps[j - 1].object
 
 
 def generate_motion(plan: Plan, *, settings: WalkSettings | None = None,

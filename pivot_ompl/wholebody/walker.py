@@ -53,6 +53,15 @@ class WalkSettings:
         relative_weight: hand-to-hand relative task position weight.
         relative_orientation_weight: hand-to-hand relative task orientation weight.
         posture_weight: posture (joints) task weight.
+        pivot_dy_out: while pivoting (:meth:`PlacoWalker.pivot_footsteps`), how far a foot
+            may land outside its nominal place beside the support foot (m): the feet at most
+            ``feet_spacing + pivot_dy_out`` apart (0.38 m: 9 deg of hip roll per leg, of
+            HRP-2's 35 deg outward).
+        pivot_dy_in: same, inside: the feet at least ``feet_spacing - pivot_dy_in`` apart
+            (and the soles at least :attr:`pivot_sole_gap` apart).
+        pivot_dtheta: while pivoting, largest yaw between the two feet (rad; 0.40 rad is
+            split between the two hip yaw joints, each limited to 30 deg inward).
+        pivot_sole_gap: least gap between the two sole rectangles while pivoting (m).
     """
 
     dt: float = 0.005
@@ -74,6 +83,10 @@ class WalkSettings:
     relative_weight: float = 0.1
     relative_orientation_weight: float = 0.0
     posture_weight: float = 1e-3
+    pivot_dy_out: float = 0.18
+    pivot_dy_in: float = 0.03
+    pivot_dtheta: float = 0.40
+    pivot_sole_gap: float = 0.02
 
     @property
     def omega(self) -> float:
@@ -374,6 +387,82 @@ class PlacoWalker:
         if not np.allclose(prev, last, atol=1e-4):
             steps.append(footstep(fly_left, last))
         return steps
+
+    def pivot_footsteps(self, path: list[Pose], *, feet: tuple[np.ndarray, np.ndarray],
+                        fly_left: bool | None = None, resolution: float = 0.005) -> list:
+        """Fewest footsteps from the sole frames ``feet`` (left, right) to ``path[-1]``.
+
+        Each foot lands at its nominal place beside a pose along ``path``, which runs from
+        the robot's pose to its pose after a pivot rotation (the arc its attached pose
+        describes about the pivot). Each step lands the flying foot at its
+        nominal place beside the furthest pose along the path that the support foot can
+        reach: landing within :attr:`WalkSettings.max_dx_forward` / ``max_dx_backward``
+        along and ``pivot_dy_out`` / ``pivot_dy_in`` across the foot's nominal place beside
+        the support foot, turned at most ``pivot_dtheta`` from it, the soles
+        ``pivot_sole_gap`` apart. Unlike :meth:`path_footsteps` the robot need not stand at
+        each intermediate pose, only both feet at the end's, so a pivot takes two or three
+        steps. ``fly_left`` forces the first flying foot (a walk alternates its feet).
+
+        Returns the footsteps led by the two given feet (flying foot first), as
+        ``make_supports`` expects; empty when no step is needed or when no sequence of at
+        most 8 steps reaches the end (the caller then walks with :meth:`path_footsteps`).
+        """
+        placo = self._placo
+        dense = _densify(list(path), resolution)
+        nominal = [self.feet_frames(q) for q in dense]
+        goal_l, goal_r = nominal[-1]
+        T = {True: np.array(feet[0]), False: np.array(feet[1])}
+        if (np.allclose(T[True], goal_l, atol=1e-4) and np.allclose(T[False], goal_r, atol=1e-4)):
+            return []
+        if fly_left is None:
+            dx, dy, dth = _relative(dense[0], dense[-1])
+            fly_left = dy > 0 if abs(dy) > 0.02 else dth >= 0
+
+        def footstep(left: bool, frame: np.ndarray):  # noqa: ANN202
+            f = placo.Footstep(self.params.foot_width, self.params.foot_length)
+            f.side = placo.HumanoidRobot_Side.left if left else placo.HumanoidRobot_Side.right
+            f.frame = frame
+            return f
+
+        steps = [footstep(fly_left, T[fly_left]), footstep(not fly_left, T[not fly_left])]
+        side = fly_left
+        for _ in range(8):
+            landing = None
+            for k in range(len(dense) - 1, -1, -1):
+                cand = nominal[k][0 if side else 1]
+                if self._reachable(cand, T[not side], left=side):
+                    landing = cand
+                    break
+            if landing is None:
+                return []
+            T[side] = landing
+            steps.append(footstep(side, landing))
+            side = not side
+            if (np.allclose(T[True], goal_l, atol=1e-4)
+                    and np.allclose(T[False], goal_r, atol=1e-4)):
+                return steps
+        return []
+
+    def _reachable(self, T_fly: np.ndarray, T_support: np.ndarray, *, left: bool) -> bool:
+        """Whether a foot can land at ``T_fly`` beside the support foot ``T_support``."""
+        s = self.settings
+        sign = 1.0 if left else -1.0
+        rel = np.linalg.inv(T_support) @ T_fly
+        dx = float(rel[0, 3])
+        dy = sign * (float(rel[1, 3]) - sign * s.feet_spacing)  # > 0: outside
+        dth = abs(math.atan2(rel[1, 0], rel[0, 0]))
+        if not (-s.max_dx_backward <= dx <= s.max_dx_forward):
+            return False
+        if not (-s.pivot_dy_in <= dy <= s.pivot_dy_out) or dth > s.pivot_dtheta:
+            return False
+        # soles apart: the flying sole's corners beyond the support sole's inner side
+        # and the support sole's corners beyond the flying sole's, by the gap
+        hx, hy = 0.5 * SOLE_SIZE[0], 0.5 * SOLE_SIZE[1]
+        corners = np.array([[hx, hy, 0, 1], [hx, -hy, 0, 1], [-hx, hy, 0, 1],
+                            [-hx, -hy, 0, 1]], dtype=float).T
+        a = sign * (rel @ corners)[1]
+        b = -sign * (np.linalg.inv(rel) @ corners)[1]
+        return bool(a.min() >= hy + s.pivot_sole_gap and b.min() >= hy + s.pivot_sole_gap)
 
     @staticmethod
     def chunks(footsteps: list, max_steps: int) -> list[list]:
