@@ -83,8 +83,8 @@ class Timing:
     rotate_margin: float = 0.3
     min_rotate: float = 1.2
     max_hand_error: float = 0.01
-    max_steps: int = 10
-    pivot_walk_steps: int = 30
+    max_steps: int = 20
+    pivot_walk_steps: int = 24
 
 
 @dataclass

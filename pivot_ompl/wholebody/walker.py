@@ -40,35 +40,39 @@ class WalkSettings:
         dt: solver tick and motion sampling period (s).
         single_support_duration: duration of a step's single support (s).
         single_support_timesteps: LIPM samples per single support.
-        double_support_ratio: double support duration / single support duration.
+        double_support_ratio: double support duration / single support duration (0.1 s
+            of double support after 0.7 s of single support: the HRP-2 defaults of its
+            walking pattern generator, jrl-umi3218/jrl-walkgen).
         startend_double_support_ratio: same, for the first and last double supports.
         com_height: CoM height while walking (m).
         foot_height: swing foot apex (m).
         feet_spacing: lateral distance between the sole centres (m).
-        max_dx_forward, max_dx_backward, max_dy: step length bounds (m).
-        max_dtheta: step yaw bound (rad).
+        max_dx_forward, max_dx_backward: how far a foot may land ahead of / behind its
+            nominal place beside the support foot (m).
+        max_dy, max_dtheta: lateral and yaw step bounds of PlaCo's naive footstep planner
+            (:meth:`PlacoWalker.plan_footsteps`, walks to a transfer's start) (m, rad).
         zmp_margin: ZMP margin inside the sole kept by the pattern generator (m).
         foot_offset: sole midpoint ahead of the robot pose centre (m).
         hand_position_weight, hand_orientation_weight: hand frame task weights.
         relative_weight: hand-to-hand relative task position weight.
         relative_orientation_weight: hand-to-hand relative task orientation weight.
         posture_weight: posture (joints) task weight.
-        pivot_dy_out: while pivoting (:meth:`PlacoWalker.pivot_footsteps`), how far a foot
-            may land outside its nominal place beside the support foot (m): the feet at most
-            ``feet_spacing + pivot_dy_out`` apart (0.38 m: 9 deg of hip roll per leg, of
-            HRP-2's 35 deg outward).
-        pivot_dy_in: same, inside: the feet at least ``feet_spacing - pivot_dy_in`` apart
-            (and the soles at least :attr:`pivot_sole_gap` apart).
-        pivot_dtheta: while pivoting, largest yaw between the two feet (rad; 0.40 rad is
-            split between the two hip yaw joints, each limited to 30 deg inward).
-        pivot_sole_gap: least gap between the two sole rectangles while pivoting (m).
+        foot_dy_out: how far a foot may land outside its nominal place beside the support
+            foot (m; :meth:`PlacoWalker.pivot_footsteps` and :meth:`path_footsteps`): the
+            feet at most ``feet_spacing + foot_dy_out`` apart (0.38 m: 9 deg of hip roll per
+            leg, of HRP-2's 35 deg outward).
+        foot_dy_in: same, inside: the feet at least ``feet_spacing - foot_dy_in`` apart
+            (and the soles at least :attr:`sole_gap` apart).
+        foot_dtheta: largest yaw between the two feet (rad; 0.40 rad is split between the
+            two hip yaw joints, each limited to 30 deg inward).
+        sole_gap: least gap between the two sole rectangles (m).
     """
 
     dt: float = 0.005
     single_support_duration: float = 0.7
     single_support_timesteps: int = 14
-    double_support_ratio: float = 0.4
-    startend_double_support_ratio: float = 1.5
+    double_support_ratio: float = 0.1 / 0.7
+    startend_double_support_ratio: float = 1.0
     com_height: float = 0.79
     foot_height: float = 0.04
     feet_spacing: float = 0.20
@@ -83,10 +87,10 @@ class WalkSettings:
     relative_weight: float = 0.1
     relative_orientation_weight: float = 0.0
     posture_weight: float = 1e-3
-    pivot_dy_out: float = 0.18
-    pivot_dy_in: float = 0.03
-    pivot_dtheta: float = 0.40
-    pivot_sole_gap: float = 0.02
+    foot_dy_out: float = 0.18
+    foot_dy_in: float = 0.03
+    foot_dtheta: float = 0.40
+    sole_gap: float = 0.02
 
     @property
     def omega(self) -> float:
@@ -325,20 +329,20 @@ class PlacoWalker:
         return footsteps if len(footsteps) > 2 else []
 
     def path_footsteps(self, path: list[Pose], *, resolution: float = 0.01,
-                       inner_dy: float = 0.02) -> list:
+                       path_tol: float = 0.015) -> list:
         """Footsteps that follow ``path`` (robot poses joined by straight lines, linear yaw).
 
-        Each step moves the robot frame (sole midpoint) to the furthest pose along the path
-        whose displacement from the current one, in the current frame, lies in the ellipsoid
-        of :attr:`WalkSettings.max_dx_forward` / ``max_dx_backward``, ``max_dy`` and
-        ``max_dtheta``; a lateral step towards the support foot is limited to ``inner_dy`` (m)
-        so the feet never come closer than the nominal gap minus that. The flying foot lands
-        beside the new robot pose; a last step brings the feet together at the path's end.
+        Each step lands the flying foot at its nominal place beside the furthest pose along
+        the path that it reaches from the support foot: relative to its nominal place beside
+        the support foot, in the ellipsoid of :attr:`WalkSettings.max_dx_forward` /
+        ``max_dx_backward`` (along), ``foot_dy_out`` (outside) and ``foot_dtheta`` (yaw),
+        at most ``foot_dy_in`` inside and the soles ``sole_gap`` apart, and the sole
+        midpoint of the double support that follows within ``path_tol`` (m) of the path
+        (corners are not cut). A last step brings the feet together at the path's end.
         The list starts with the two current feet, as PlaCo's ``make_supports`` expects; it
         is empty when no step is needed.
         """
         placo = self._placo
-        s = self.settings
         dense = _densify([self.robot_pose(), *path], resolution)
         cur = dense[0]
         T_l, T_r = self.T_left, self.T_right
@@ -360,21 +364,28 @@ class PlacoWalker:
 
         steps = [footstep(fly_left, T_l if fly_left else T_r),
                  footstep(not fly_left, T_r if fly_left else T_l)]
+        feet = {True: np.array(T_l), False: np.array(T_r)}
+        beside = {True: 0, False: 0}  # index of the dense pose each foot stands beside
         i = 0
         while i < len(dense) - 1:
             j = i
             while j + 1 < len(dense):
-                dx, dy, dth = _relative(cur, dense[j + 1])
-                dy_max = s.max_dy if (dy >= 0) == fly_left else inner_dy
-                dx_max = s.max_dx_forward if dx >= 0 else s.max_dx_backward
-                if (dx / dx_max) ** 2 + (dy / dy_max) ** 2 + (dth / s.max_dtheta) ** 2 > 1.0:
+                cand = self.feet_frames(dense[j + 1])[0 if fly_left else 1]
+                if not self._reachable(cand, feet[not fly_left], left=fly_left,
+                                       ellipsoid=True):
+                    break
+                # the sole midpoint of the double support that follows stays on the path
+                mid = 0.5 * (cand[:2, 3] + feet[not fly_left][:2, 3])
+                near = dense[beside[not fly_left]:j + 2]
+                if min(math.hypot(mid[0] - q[0], mid[1] - q[1]) for q in near) > path_tol:
                     break
                 j += 1
             if j == i:  # resolution too coarse for the limits: force progress
                 j = i + 1
             cur, i = dense[j], j
             want_l, want_r = self.feet_frames(cur)
-            steps.append(footstep(fly_left, want_l if fly_left else want_r))
+            feet[fly_left], beside[fly_left] = (want_l if fly_left else want_r), j
+            steps.append(footstep(fly_left, feet[fly_left]))
             fly_left = not fly_left
         if len(steps) == 2:
             return []
@@ -397,9 +408,9 @@ class PlacoWalker:
         describes about the pivot). Each step lands the flying foot at its
         nominal place beside the furthest pose along the path that the support foot can
         reach: landing within :attr:`WalkSettings.max_dx_forward` / ``max_dx_backward``
-        along and ``pivot_dy_out`` / ``pivot_dy_in`` across the foot's nominal place beside
-        the support foot, turned at most ``pivot_dtheta`` from it, the soles
-        ``pivot_sole_gap`` apart. Unlike :meth:`path_footsteps` the robot need not stand at
+        along and ``foot_dy_out`` / ``foot_dy_in`` across the foot's nominal place beside
+        the support foot, turned at most ``foot_dtheta`` from it, the soles
+        ``sole_gap`` apart. Unlike :meth:`path_footsteps` the robot need not stand at
         each intermediate pose, only both feet at the end's, so a pivot takes two or three
         steps. ``fly_left`` forces the first flying foot (a walk alternates its feet).
 
@@ -443,8 +454,15 @@ class PlacoWalker:
                 return steps
         return []
 
-    def _reachable(self, T_fly: np.ndarray, T_support: np.ndarray, *, left: bool) -> bool:
-        """Whether a foot can land at ``T_fly`` beside the support foot ``T_support``."""
+    def _reachable(self, T_fly: np.ndarray, T_support: np.ndarray, *, left: bool,
+                   ellipsoid: bool = False) -> bool:
+        """Whether a foot can land at ``T_fly`` beside the support foot ``T_support``.
+
+        Relative to the foot's nominal place beside the support foot: along within
+        ``max_dx_forward`` / ``max_dx_backward``, outside within ``foot_dy_out``, yaw within
+        ``foot_dtheta`` (each alone, or together in their ellipsoid with ``ellipsoid``);
+        inside at most ``foot_dy_in``; the soles at least ``sole_gap`` apart.
+        """
         s = self.settings
         sign = 1.0 if left else -1.0
         rel = np.linalg.inv(T_support) @ T_fly
@@ -453,8 +471,13 @@ class PlacoWalker:
         dth = abs(math.atan2(rel[1, 0], rel[0, 0]))
         if not (-s.max_dx_backward <= dx <= s.max_dx_forward):
             return False
-        if not (-s.pivot_dy_in <= dy <= s.pivot_dy_out) or dth > s.pivot_dtheta:
+        if not (-s.foot_dy_in <= dy <= s.foot_dy_out) or dth > s.foot_dtheta:
             return False
+        if ellipsoid:
+            dx_max = s.max_dx_forward if dx >= 0 else s.max_dx_backward
+            if ((dx / dx_max) ** 2 + (max(dy, 0.0) / s.foot_dy_out) ** 2
+                    + (dth / s.foot_dtheta) ** 2) > 1.0:
+                return False
         # soles apart: the flying sole's corners beyond the support sole's inner side
         # and the support sole's corners beyond the flying sole's, by the gap
         hx, hy = 0.5 * SOLE_SIZE[0], 0.5 * SOLE_SIZE[1]
@@ -462,7 +485,7 @@ class PlacoWalker:
                             [-hx, -hy, 0, 1]], dtype=float).T
         a = sign * (rel @ corners)[1]
         b = -sign * (np.linalg.inv(rel) @ corners)[1]
-        return bool(a.min() >= hy + s.pivot_sole_gap and b.min() >= hy + s.pivot_sole_gap)
+        return bool(a.min() >= hy + s.sole_gap and b.min() >= hy + s.sole_gap)
 
     @staticmethod
     def chunks(footsteps: list, max_steps: int) -> list[list]:

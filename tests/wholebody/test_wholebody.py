@@ -211,9 +211,20 @@ def test_path_footsteps_follow_a_sideways_path():
         pa = (a[0, 3], a[1, 3], math.atan2(a[1, 0], a[0, 0]))
         pb = (b[0, 3], b[1, 3], math.atan2(b[1, 0], b[0, 0]))
         dx, dy, dth = _relative(pa, pb)
-        assert abs(dth) <= settings.max_dtheta + 1e-9
+        assert abs(dth) <= settings.foot_dtheta + 1e-9
         assert -settings.max_dx_backward - 1e-9 <= dx <= settings.max_dx_forward + 1e-9
-        assert 0.20 - 0.02 - 1e-9 <= abs(dy) <= 0.20 + settings.max_dy + 0.03  # feet apart
+        spacing = settings.feet_spacing
+        assert spacing - settings.foot_dy_in - 1e-9 <= abs(dy) <= spacing + settings.foot_dy_out
+    # every double support's sole midpoint lies on the path (both feet beside path poses)
+    for a, b in zip(frames[1:], frames[2:], strict=False):
+        mid = 0.5 * (a[:2, 3] + b[:2, 3])
+        assert min(_point_segment(mid, p, q) for p, q in zip(path, path[1:], strict=False)) < 0.03
+
+
+def _point_segment(m, p, q) -> float:
+    p, q = np.array(p[:2]), np.array(q[:2])
+    u = np.clip(np.dot(m - p, q - p) / max(np.dot(q - p, q - p), 1e-12), 0.0, 1.0)
+    return float(np.linalg.norm(m - (p + u * (q - p))))
 
 
 def load_motion_copy(motion):
