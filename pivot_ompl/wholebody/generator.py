@@ -433,7 +433,8 @@ class WholeBodyGenerator:
         piece of at most :attr:`Timing.pivot_walk_steps` steps, coming to rest only at its
         end. Pivot ``j``'s rotation runs from the middle of the double support that ends
         pivot ``j - 1`` (or the walk's start) to the middle of the double support after its
-        own last step, where both feet stand at the step's ``robot`` pose. Returns 0 when
+        own last step, where both feet stand at the step's ``robot`` pose (the walk's first
+        rotation starts with its first step). Returns 0 when
         pivot ``j0`` needs no step or cannot be stepped so (the caller steps it alone).
         """
         walker, tm, hold = self.walker, self.timing, self.hold
@@ -467,7 +468,10 @@ class WholeBodyGenerator:
             t_b = supports[a + 1].t_start if a + 1 < len(supports) else traj.t_end
             ends.append(int(round((0.5 * (t_a + t_b) - t0) / self.settings.dt)))
         total = self._ticks(traj.t_end - t0)
-        starts = [0, *ends[:-1]]
+        # the first rotation waits for the walk's first step (the body does not follow the
+        # box while the CoM shifts in the starting double support)
+        first = int(round((supports[1].t_start - t0) / self.settings.dt))
+        starts = [min(first, ends[0] - 1), *ends[:-1]]
         rot = None
         p = 0
         for tick in range(total):
