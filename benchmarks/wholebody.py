@@ -10,7 +10,9 @@ push at grasp 0 (17 pivots), a transit to grasp 1 and a backward pull (5 pivots)
 
 Prints and writes (JSON) the real-time factor of generation (seconds of motion per second of
 compute; target >= 5), the worst ZMP margin and the largest hand-to-grip error, together with
-every check of the motion.
+every check of the motion; and where the motion's seconds go (per pivot step, transfer
+remainder, transit; :mod:`pivot_ompl.wholebody.durations`) with the
+``planfile.DurationModel`` fitted to them, beside the plan's ``duration_estimate``.
 """
 
 from __future__ import annotations
@@ -26,8 +28,9 @@ from pathlib import Path
 
 from common import write_json
 
-from pivot_ompl.planfile import load_plan
+from pivot_ompl.planfile import load_plan, plan_quality
 from pivot_ompl.wholebody import generate_motion
+from pivot_ompl.wholebody.durations import duration_breakdown, fit_duration_model
 from pivot_ompl.wholebody.motion_checks import check_motion
 
 TARGET_RTF = 5.0
@@ -73,6 +76,8 @@ def run(plan_path: Path | None, *, repeat: int, motion_out: Path | None) -> dict
     if motion_out is not None:
         motion.save(motion_out)
     best = max(runs, key=lambda r: r["real_time_factor"])
+    split = duration_breakdown(motion, plan)
+    fitted = fit_duration_model(split)
     return {
         "benchmark": "wholebody", "plan": str(plan_path) if plan_path else "synthetic",
         "scene": plan.scene,
@@ -88,6 +93,13 @@ def run(plan_path: Path | None, *, repeat: int, motion_out: Path | None) -> dict
         "checks": {r.name: {"passed": r.passed, "value": r.value, "limit": r.limit,
                             "unit": r.unit, "detail": r.detail} for r in report.results},
         "check_time_s": t_check, "runs": runs,
+        "seconds": {"pivot_mean": split.per_pivot_mean,
+                    "pivots": sum(s for _, s in split.pivots),
+                    "transfer_rest": sum(split.transfer_rest),
+                    "transits": sum(s for _, s in split.transits)},
+        "duration_estimate_s": plan_quality(plan)["duration_estimate"],
+        "fitted_duration_model": {k: getattr(fitted, k) for k in (
+            "per_transfer", "per_pivot", "per_radian", "per_transit", "per_walk_m")},
         "machine": {"python": platform.python_version(), "cpus": os.cpu_count(),
                     "platform": platform.platform()},
     }
@@ -114,6 +126,12 @@ def main(argv: list[str] | None = None) -> int:
     print(f"worst ZMP margin {1000 * res['worst_zmp_margin_m']:.1f} mm, "
           f"max hand error {1000 * res['max_hand_error_m']:.2f} mm, "
           f"checks {'PASS' if res['checks_passed'] else 'FAIL'}")
+    sec = res["seconds"]
+    print(f"seconds: pivots {sec['pivots']:.1f} ({sec['pivot_mean']:.2f} a pivot), transfer "
+          f"rest {sec['transfer_rest']:.1f}, transits {sec['transits']:.1f}; the plan's "
+          f"duration_estimate {res['duration_estimate_s']:.1f} s")
+    print("fitted DurationModel: " + ", ".join(
+        f"{k} {v:.2f}" for k, v in res["fitted_duration_model"].items()))
     write_json(res, args.out)
     return 0 if res["checks_passed"] else 1
 

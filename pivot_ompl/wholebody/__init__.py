@@ -3,6 +3,7 @@
 * :mod:`.box` -- box, grasp-frame and grip-point kinematics (tilt 5 deg, grips on the held face);
 * :mod:`.walker` -- the PlaCo controller (walk pattern generator, kinematics solver, tasks);
 * :mod:`.generator` -- plan -> :class:`Motion` (timeline of reach, tilt, pivots, release, walks);
+* :mod:`.durations` -- a motion's seconds per plan element and the duration model they fit;
 * :mod:`.motion` -- the ``.npz`` motion file contract;
 * :mod:`.checks` -- checks computed from the motion's own configurations;
 * :mod:`.cli` -- ``pivot-ompl animate`` and ``pivot-ompl check-motion``.

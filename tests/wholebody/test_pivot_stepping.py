@@ -102,3 +102,17 @@ def test_a_straight_push_passes_every_check(push):
     plan, motion, _ = push
     report = check_motion(motion, plan)
     assert report.passed, report.table()
+
+
+def test_breakdown_accounts_for_every_second_and_the_fit_for_the_total(push):
+    from pivot_ompl.planfile import plan_quality
+    from pivot_ompl.wholebody.durations import duration_breakdown, fit_duration_model
+
+    plan, motion, _ = push
+    split = duration_breakdown(motion, plan)
+    assert len(split.pivots) == plan.pivots
+    seconds = sum(s for _, s in split.pivots) + sum(split.transfer_rest)
+    assert seconds == pytest.approx(motion.duration, abs=2 * motion.dt)
+    fitted = fit_duration_model(split)
+    estimate = plan_quality(plan, durations=fitted)["duration_estimate"]
+    assert estimate == pytest.approx(motion.duration, rel=0.01)
