@@ -202,24 +202,29 @@ class Plan:
 class DurationModel:
     """Seconds of whole-body motion per plan element (the HRP-2 generator's defaults).
 
-    A least-squares fit of the phase durations of a fig10 plan's motion made by
-    :mod:`pivot_ompl.wholebody` (default ``Timing`` and ``WalkSettings``; 5 transfer and 4
-    transit phases, 1749 s): a rotation costs a little by itself and much by its angle, since
-    the robot steps round the pivot at most 0.15 m a step.
+    Fitted by :func:`pivot_ompl.wholebody.durations.fit_duration_model` (least squares per
+    pivot step and per transit, the transfer remainder's mean) to the motion of the fig10
+    demo plan (seed 0: 300 pivots, 4 regrasps, 23.6 m walked; 1005 s) made by
+    :mod:`pivot_ompl.wholebody` with its default ``Timing`` and ``WalkSettings``; the fit
+    gives that motion's duration back exactly. The robot walks the pivot steps of a transfer
+    continuously, two or three 0.84 s steps a pivot, so a rotation costs mostly by itself and
+    little by its angle; a metre walked alone costs 10 s because the planned walks are often
+    sideways or backward.
 
     Attributes:
-        per_transfer: a transfer phase's fixed part: reaching, tilting, setting down (s).
+        per_transfer: a transfer phase's fixed part: reaching, tilting, setting down,
+            releasing (s).
         per_pivot: one pivot rotation's fixed part (s).
-        per_radian: the steps that follow a rotation, per radian turned (s/rad).
-        per_transit: a transit's fixed part: releasing, starting and stopping the walk (s).
+        per_radian: per radian turned (s/rad).
+        per_transit: a transit's fixed part: starting and stopping the walk (s).
         per_walk_m: one metre walked alone (s/m).
     """
 
-    per_transfer: float = 8.3
-    per_pivot: float = 2.1
-    per_radian: float = 16.7
-    per_transit: float = 19.0
-    per_walk_m: float = 9.4
+    per_transfer: float = 5.1
+    per_pivot: float = 2.0
+    per_radian: float = 2.4
+    per_transit: float = 2.3
+    per_walk_m: float = 10.1
 
 
 def plan_quality(plan: Plan, *, regrasps_lower_bound: int | None = None,

@@ -116,3 +116,11 @@ def test_breakdown_accounts_for_every_second_and_the_fit_for_the_total(push):
     fitted = fit_duration_model(split)
     estimate = plan_quality(plan, durations=fitted)["duration_estimate"]
     assert estimate == pytest.approx(motion.duration, rel=0.01)
+
+
+def test_the_plans_duration_estimate_is_honest_for_a_straight_push(push):
+    from pivot_ompl.planfile import plan_quality
+
+    plan, motion, _ = push
+    estimate = plan_quality(plan)["duration_estimate"]
+    assert abs(estimate - motion.duration) <= 0.15 * motion.duration, (estimate, motion.duration)
