@@ -50,7 +50,7 @@ from pivot_ompl.wholebody.box import (
     rotation_about_vertical,
     transform,
 )
-from pivot_ompl.wholebody.walker import PlacoWalker, SolverFailure, WalkSettings
+from pivot_ompl.wholebody.walker import PlacoWalker, SolverFailure, WalkSettings, planar
 
 log = logging.getLogger(__name__)
 
@@ -72,6 +72,9 @@ class Timing:
         min_rotate: duration of a pivot step that needs no footstep.
         max_hand_error: a hand further than this from its grip point while holding fails (m).
         max_steps: a transit walk is planned (and comes to rest) every this many steps.
+        follow_feet: a pivot's rotation progress is this share of how far the feet have
+            turned and the rest a minimum-jerk profile over the pivot's time (0 smooth,
+            1 with the feet: the trunk, and the shoulders, follow the feet).
         pivot_walk_steps: pivot steps are walked continuously in walks of at most this
             many steps (each comes to rest; the LIPM QP grows with the horizon).
     """
@@ -85,6 +88,7 @@ class Timing:
     max_hand_error: float = 0.01
     max_steps: int = 20
     pivot_walk_steps: int = 24
+    follow_feet: float = 0.5
 
 
 @dataclass
@@ -424,6 +428,23 @@ class WholeBodyGenerator:
                       follow_path=True)
         self._unit_done(f"phase {i}: pivot {j + 1}/{len(phase.steps)}")
 
+    def _turn_progress(self, traj, before: Pose, step: TransferStep,  # noqa: ANN001
+                       s: float) -> float:
+        """How far (0..1) the planned feet have turned from ``before`` towards the step's end.
+
+        The box turns with the feet's mean yaw (which the trunk follows), so the arms keep
+        their posture while the feet turn; a step of (almost) no angle turns in time
+        (``min_jerk(s)``).
+        """
+        if abs(step.angle) < 1e-3:
+            return min_jerk(s)
+        left = planar(np.array(traj.get_T_world_left(self._t)))[2]
+        right = planar(np.array(traj.get_T_world_right(self._t)))[2]
+        yaw = left + 0.5 * wrap_angle(right - left)
+        feet = min(1.0, max(0.0, wrap_angle(yaw - before[2]) / step.angle))
+        w = self.timing.follow_feet
+        return w * feet + (1.0 - w) * min_jerk(s)
+
     def _pivot_walk(self, i: int, phase: TransferPhase, j0: int, robots: list[Pose],
                     state: dict[str, Any], set_box: Callable[[], None]) -> int:
         """Pivot steps ``j0, j0 + 1, ...`` in one continuous walk; return how many.
@@ -472,18 +493,25 @@ class WholeBodyGenerator:
         # box while the CoM shifts in the starting double support)
         first = int(round((supports[1].t_start - t0) / self.settings.dt))
         starts = [min(first, ends[0] - 1), *ends[:-1]]
-        rot = None
-        p = 0
+        G0: np.ndarray | None = None
+        p, u = 0, 0.0
         for tick in range(total):
             while p < len(ends) - 1 and tick > ends[p]:
                 self._unit_done(f"phase {i}: pivot {j0 + p + 1}/{len(phase.steps)}")
                 p += 1
-                rot = None
-            if rot is None:
+                G0 = None
+            step = phase.steps[j0 + p]
+            if G0 is None:
                 self._step = j0 + p
                 G0 = hold.T_world_G(_object_before(phase, j0 + p), k)
-                rot = self._rotation(phase.steps[j0 + p], G0, state, set_box)
-            rot((tick - starts[p]) / max(ends[p] - starts[p], 1))
+                u = 0.0
+            if tick >= ends[p]:
+                u = 1.0
+            elif tick > starts[p]:
+                u = max(u, self._turn_progress(traj, robots[j0 + p], step,
+                                               (tick - starts[p]) / (ends[p] - starts[p])))
+            state["G"] = rotation_about_vertical(step.pivot, step.angle * u) @ G0
+            set_box()
             self._tick(traj, self._grip_hands(state["G"], k, theta), holding=True, grasp=k,
                        tilt=theta)
         self._unit_done(f"phase {i}: pivot {j0 + len(last)}/{len(phase.steps)}")
