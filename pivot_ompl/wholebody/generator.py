@@ -73,8 +73,9 @@ class Timing:
         max_hand_error: a hand further than this from its grip point while holding fails (m).
         max_steps: a transit walk is planned (and comes to rest) every this many steps.
         follow_feet: a pivot's rotation progress is this share of how far the feet have
-            turned and the rest a minimum-jerk profile over the pivot's time (0 smooth,
-            1 with the feet: the trunk, and the shoulders, follow the feet).
+            turned and the rest a minimum-jerk profile over the pivot's time (1: with the
+            feet, which the trunk and the shoulders follow, so that every link stays in the
+            planner's held body; 0 (smoother) let shoulders out by 34 mm on fig10).
         pivot_walk_steps: pivot steps are walked continuously in walks of at most this
             many steps (each comes to rest; the LIPM QP grows with the horizon).
     """
@@ -88,7 +89,7 @@ class Timing:
     max_hand_error: float = 0.01
     max_steps: int = 20
     pivot_walk_steps: int = 24
-    follow_feet: float = 0.5
+    follow_feet: float = 1.0
 
 
 @dataclass
@@ -430,11 +431,12 @@ class WholeBodyGenerator:
 
     def _turn_progress(self, traj, before: Pose, step: TransferStep,  # noqa: ANN001
                        s: float) -> float:
-        """How far (0..1) the planned feet have turned from ``before`` towards the step's end.
+        """How far (0..1) the box has turned at this tick of a pivot step.
 
-        The box turns with the feet's mean yaw (which the trunk follows), so the arms keep
-        their posture while the feet turn; a step of (almost) no angle turns in time
-        (``min_jerk(s)``).
+        A share :attr:`Timing.follow_feet` follows the planned feet: their mean yaw (which
+        the trunk, and so the shoulders, follow) measured from ``before`` towards the step's
+        end; the rest is a minimum-jerk profile over the pivot's time ``s``. A step of
+        (almost) no angle turns in time only.
         """
         if abs(step.angle) < 1e-3:
             return min_jerk(s)
