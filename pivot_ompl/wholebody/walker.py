@@ -29,6 +29,10 @@ from pivot_ompl.wholebody.box import rot_z, transform
 
 log = logging.getLogger(__name__)
 
+#: The sole's corners in its own frame (homogeneous columns).
+_SOLE_CORNERS = np.array([[x, y, 0.0, 1.0] for x in (0.5 * SOLE_SIZE[0], -0.5 * SOLE_SIZE[0])
+                          for y in (0.5 * SOLE_SIZE[1], -0.5 * SOLE_SIZE[1])]).T
+
 GRAVITY = 9.81
 
 
@@ -344,7 +348,6 @@ class PlacoWalker:
         The list starts with the two current feet, as PlaCo's ``make_supports`` expects; it
         is empty when no step is needed.
         """
-        placo = self._placo
         dense = _densify([self.robot_pose(), *path], resolution)
         cur = dense[0]
         T_l, T_r = self.T_left, self.T_right
@@ -358,14 +361,8 @@ class PlacoWalker:
             if abs(dx) > 0.05:
                 break
 
-        def footstep(left: bool, T: np.ndarray):  # noqa: ANN202
-            f = placo.Footstep(self.params.foot_width, self.params.foot_length)
-            f.side = placo.HumanoidRobot_Side.left if left else placo.HumanoidRobot_Side.right
-            f.frame = T
-            return f
-
-        steps = [footstep(fly_left, T_l if fly_left else T_r),
-                 footstep(not fly_left, T_r if fly_left else T_l)]
+        steps = [self._footstep(fly_left, T_l if fly_left else T_r),
+                 self._footstep(not fly_left, T_r if fly_left else T_l)]
         feet = {True: np.array(T_l), False: np.array(T_r)}
         beside = {True: 0, False: 0}  # index of the dense pose each foot stands beside
         i = 0
@@ -387,7 +384,7 @@ class PlacoWalker:
             cur, i = dense[j], j
             want_l, want_r = self.feet_frames(cur)
             feet[fly_left], beside[fly_left] = (want_l if fly_left else want_r), j
-            steps.append(footstep(fly_left, feet[fly_left]))
+            steps.append(self._footstep(fly_left, feet[fly_left]))
             fly_left = not fly_left
         if len(steps) == 2:
             return []
@@ -398,7 +395,7 @@ class PlacoWalker:
             if (str(f.side) == "left") == fly_left:
                 prev = np.array(f.frame)
         if not np.allclose(prev, last, atol=1e-4):
-            steps.append(footstep(fly_left, last))
+            steps.append(self._footstep(fly_left, last))
         return steps
 
     def pivot_footsteps(self, path: list[Pose], *, feet: tuple[np.ndarray, np.ndarray],
@@ -420,7 +417,6 @@ class PlacoWalker:
         ``make_supports`` expects; empty when no step is needed or when no sequence of at
         most 8 steps reaches the end (the caller then walks with :meth:`path_footsteps`).
         """
-        placo = self._placo
         dense = _densify(list(path), resolution)
         nominal = [self.feet_frames(q) for q in dense]
         goal_l, goal_r = nominal[-1]
@@ -431,13 +427,8 @@ class PlacoWalker:
             dx, dy, dth = _relative(dense[0], dense[-1])
             fly_left = dy > 0 if abs(dy) > 0.02 else dth >= 0
 
-        def footstep(left: bool, frame: np.ndarray):  # noqa: ANN202
-            f = placo.Footstep(self.params.foot_width, self.params.foot_length)
-            f.side = placo.HumanoidRobot_Side.left if left else placo.HumanoidRobot_Side.right
-            f.frame = frame
-            return f
-
-        steps = [footstep(fly_left, T[fly_left]), footstep(not fly_left, T[not fly_left])]
+        steps = [self._footstep(fly_left, T[fly_left]),
+                 self._footstep(not fly_left, T[not fly_left])]
         side = fly_left
         for _ in range(8):
             landing = None
@@ -449,12 +440,20 @@ class PlacoWalker:
             if landing is None:
                 return []
             T[side] = landing
-            steps.append(footstep(side, landing))
+            steps.append(self._footstep(side, landing))
             side = not side
             if (np.allclose(T[True], goal_l, atol=1e-4)
                     and np.allclose(T[False], goal_r, atol=1e-4)):
                 return steps
         return []
+
+    def _footstep(self, left: bool, frame: np.ndarray):  # noqa: ANN202 - a placo.Footstep
+        """A PlaCo footstep of the left (or right) foot at sole frame ``frame``."""
+        placo = self._placo
+        f = placo.Footstep(self.params.foot_width, self.params.foot_length)
+        f.side = placo.HumanoidRobot_Side.left if left else placo.HumanoidRobot_Side.right
+        f.frame = frame
+        return f
 
     def _reachable(self, T_fly: np.ndarray, T_support: np.ndarray, *, left: bool,
                    ellipsoid: bool = False) -> bool:
@@ -482,11 +481,9 @@ class PlacoWalker:
                 return False
         # soles apart: the flying sole's corners beyond the support sole's inner side
         # and the support sole's corners beyond the flying sole's, by the gap
-        hx, hy = 0.5 * SOLE_SIZE[0], 0.5 * SOLE_SIZE[1]
-        corners = np.array([[hx, hy, 0, 1], [hx, -hy, 0, 1], [-hx, hy, 0, 1],
-                            [-hx, -hy, 0, 1]], dtype=float).T
-        a = sign * (rel @ corners)[1]
-        b = -sign * (np.linalg.inv(rel) @ corners)[1]
+        hy = 0.5 * SOLE_SIZE[1]
+        a = sign * (rel @ _SOLE_CORNERS)[1]
+        b = -sign * (np.linalg.inv(rel) @ _SOLE_CORNERS)[1]
         return bool(a.min() >= hy + s.sole_gap and b.min() >= hy + s.sole_gap)
 
     @staticmethod
