@@ -22,6 +22,13 @@ from pivot_ompl.se2 import rectangle_corners, triangulate
 CIRCLE_SIDES = 24
 
 
+def _inscribed_polygon(cylinder: CylinderObstacle, sides: int) -> np.ndarray:
+    """Vertices (sides x 2) of the regular polygon inscribed in a cylinder's footprint."""
+    a = np.linspace(0.0, 2 * math.pi, sides, endpoint=False)
+    return np.column_stack([cylinder.center[0] + cylinder.radius * np.cos(a),
+                            cylinder.center[1] + cylinder.radius * np.sin(a)])
+
+
 def obstacle_pieces(obstacles: list[Obstacle] | tuple[Obstacle, ...], *,
                     circle_sides: int = CIRCLE_SIDES) -> list[np.ndarray]:
     """Convex floor pieces (k x 2 vertex arrays), each a subset of an obstacle's footprint."""
@@ -30,9 +37,7 @@ def obstacle_pieces(obstacles: list[Obstacle] | tuple[Obstacle, ...], *,
         if isinstance(o, BoxObstacle):
             out.append(np.array(rectangle_corners((*o.center, o.yaw), *o.size)))
         elif isinstance(o, CylinderObstacle):
-            a = np.linspace(0.0, 2 * math.pi, circle_sides, endpoint=False)
-            out.append(np.column_stack([o.center[0] + o.radius * np.cos(a),
-                                        o.center[1] + o.radius * np.sin(a)]))
+            out.append(_inscribed_polygon(o, circle_sides))
         elif isinstance(o, PolygonObstacle):
             pts = np.asarray(o.points, dtype=float)
             out.extend(pts[list(tri)] for tri in triangulate(o.points))
@@ -45,9 +50,7 @@ def obstacle_footprint(obstacle: Obstacle, *, circle_sides: int = CIRCLE_SIDES) 
         return shapely.Polygon(rectangle_corners((*obstacle.center, obstacle.yaw),
                                                  *obstacle.size))
     if isinstance(obstacle, CylinderObstacle):
-        a = np.linspace(0.0, 2 * math.pi, circle_sides, endpoint=False)
-        return shapely.Polygon(np.column_stack([obstacle.center[0] + obstacle.radius * np.cos(a),
-                                                obstacle.center[1] + obstacle.radius * np.sin(a)]))
+        return shapely.Polygon(_inscribed_polygon(obstacle, circle_sides))
     return shapely.Polygon(obstacle.points)
 
 

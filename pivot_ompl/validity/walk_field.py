@@ -76,7 +76,7 @@ class FloorField:
     rows_done: int = field(default=0, init=False)
 
     def __post_init__(self) -> None:
-        """Grid size and the inscribed radius."""
+        """Grid size, the inscribed radius, the walking body's outlines, obstacle pieces."""
         b = self.world.bounds
         self.nx = int(math.floor((b[2] - b[0]) / self.resolution)) + 1
         self.ny = int(math.floor((b[3] - b[1]) / self.resolution)) + 1
@@ -96,8 +96,9 @@ class FloorField:
         """Open positions ignoring the resting box, ``(nx, ny)`` booleans (built once).
 
         Raises:
-            Interrupted: ``should_stop()`` became true (polled once per yaw); the yaws done
-                are kept (:attr:`yaws_done`) and the next call resumes there.
+            Interrupted: ``should_stop()`` became true (polled once per yaw, then once per
+                block of grid rows of the graph); the work done is kept (:attr:`yaws_done`,
+                :attr:`rows_done`) and the next call resumes there.
         """
         if self._open is None:
             if self._partial is None:
