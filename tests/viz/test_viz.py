@@ -440,10 +440,17 @@ def _pid_alive(pid: int) -> bool:
     return not (stat.exists() and stat.read_text().split(")")[1].split()[0] == "Z")
 
 
+def _as_from_a_terminal() -> None:
+    """Ctrl-C's default disposition in the server, as a terminal gives it: a suite started
+    from a background job inherits SIGINT ignored, and the server's Ctrl-C would never come."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _start_server(plan: Path, scene: Path) -> tuple[subprocess.Popen, str, int]:
     proc = subprocess.Popen(
         [sys.executable, "-m", "pivot_ompl.cli", "replay", str(plan), "--scene", str(scene),
-         "--serve"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+         "--serve"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        preexec_fn=_as_from_a_terminal)
     url = pid = None
     deadline = time.monotonic() + 30
     while url is None and time.monotonic() < deadline:
