@@ -220,9 +220,12 @@ class MultiplexedSearch:
         """Object-roadmap visibility: the box alone can pivot along the edge.
 
         Critical configurations (where the robot's bounding volume starts or stops colliding
-        along the edge) are recorded.
+        along the edge) are recorded. The box's cheap test along the path runs first.
         """
-        edge = self.checker.transfer(a, b, 0, with_robot=False)
+        ck = self.checker
+        if not ck.path_free(a, b, 0, with_robot=False):
+            return False
+        edge = ck.transfer(a, b, 0, with_robot=False)
         if not edge.valid:
             return False
         self._record_critical(edge.sequence)

@@ -43,10 +43,6 @@ log = logging.getLogger(__name__)
 
 State = tuple[Pose, int]
 
-#: Spacing (m) of the poses along a shortcut's Reeds-Shepp path checked before the (costly)
-#: pivot check: a shortcut whose path crosses an obstacle is refused at once.
-PREFILTER_STEP = 0.25
-
 #: The optimiser may compute at most this share of the motion checks (transfers and walks,
 #: cache hits free) that planning computed before it: a budget of work, not of wall-clock
 #: time, so that a seed gives the same plan on any machine (the planner's own time limit
@@ -339,7 +335,8 @@ def _lazy_rounds(graph: _Graph, stop: Callable[[], bool], st: OptimiseStats) -> 
             if is_transfer:
                 i, j, g = key
                 st.transfers_checked += 1
-                if _plausible(ck, poses[i], poses[j], g):
+                # a shortcut whose path crosses an obstacle is refused at once
+                if ck.path_free(poses[i], poses[j], g):
                     e = ck.transfer(poses[i], poses[j], g)
                     if stop() and not e.valid:  # interrupted: unknown, not invalid
                         return
@@ -355,14 +352,3 @@ def _lazy_rounds(graph: _Graph, stop: Callable[[], bool], st: OptimiseStats) -> 
             if c is None:
                 break  # the path is broken: find the next cheapest
 
-
-def _plausible(ck: PivotChecker, a: Pose, b: Pose, g: int) -> bool:
-    """Box and robot are free at poses every :data:`PREFILTER_STEP` m along the car's path."""
-    m = ck.model
-    ca, cb = m.car_pose(a, g), m.car_pose(b, g)
-    rs = ck.steering.rs
-    n = int(rs.distance(ca, cb) / PREFILTER_STEP)
-    if n < 2:
-        return True
-    return all(ck.state_valid(m.object_from_car(c, g), g)
-               for c in rs.sample(ca, cb, [k / n for k in range(1, n)]))

@@ -5,7 +5,9 @@ from the start and one from the goal, both at grasp ``g``, each extension a pivo
 of at most ``step`` along the Reeds-Shepp path of the car (Kuffner and LaValle's
 RRT-Connect: extend one tree towards a random pose, then pull the other tree to the new
 node, swap). The budget is a number of motion checks (not wall-clock time), so a seed gives
-the same result on any machine; every check goes through the shared checker's cache.
+the same result on any machine; every check goes through the shared checker's cache, after
+the cheap test of :meth:`~pivot_ompl.validity.pivot_checker.PivotChecker.path_free` (a refused
+edge counts as a check).
 
 Edges are checked in the direction the plan follows them (a pivot sequence depends on its
 direction): start tree parent -> child, goal tree child -> parent. The path ends exactly at
@@ -92,7 +94,8 @@ class SingleGraspConnect:
         """Check the transfer between ``near`` (in ``tree``) and ``new`` as the plan will."""
         self.checks += 1
         a, b = (new, near) if tree.towards_root else (near, new)
-        return self.checker.transfer(a, b, self.grasp).valid
+        ck = self.checker
+        return ck.path_free(a, b, self.grasp) and ck.transfer(a, b, self.grasp).valid
 
     def _extend(self, tree: _Tree, target: Pose) -> tuple[str, int]:
         """One step of ``tree`` towards ``target``: ``("reached" | "advanced" | "trapped", i)``."""

@@ -24,6 +24,9 @@ from pivot_ompl.validity.walking import INVALID_WALK, WalkPlanner, WalkResult
 
 log = logging.getLogger(__name__)
 
+#: Spacing (m) of the poses that :meth:`PivotChecker.path_free` tests along a car's path.
+PREFILTER_STEP = 0.25
+
 #: A colliding piece is converted again with the rotation bound times each of these factors
 #: in turn (half-octave steps down to alpha_max/8): the largest rotations that pass are kept.
 REFINE_FACTORS = tuple(2.0 ** (-0.5 * k) for k in range(1, 7))
@@ -126,6 +129,28 @@ class PivotChecker:
                    w.bounds_margin(self.model.held_corners(r, grasp)))
 
     # -- transfer ------------------------------------------------------------------------
+    def path_free(self, obj_a: Pose, obj_b: Pose, grasp: int, *, with_robot: bool = True,
+                  step: float = PREFILTER_STEP) -> bool:
+        """Cheap test run before :meth:`transfer`: the box (and robot) free along the path.
+
+        Poses every ``step`` m along the car's Reeds-Shepp path from ``obj_a`` to ``obj_b``
+        at ``grasp`` (not its ends) are tested. The pivot sequence stays close to that path
+        but not on it, so this is a filter, not a proof either way: a ``True`` still needs
+        :meth:`transfer`, and a ``False`` may (rarely, grazing an obstacle) refuse an edge
+        whose pivots would pass. It costs a few state tests, where a colliding edge's full
+        check converts its colliding piece again at up to four rotation bounds.
+        """
+        m = self.model
+        ca, cb = m.car_pose(obj_a, grasp), m.car_pose(obj_b, grasp)
+        rs = self.steering.rs
+        n = int(rs.distance(ca, cb) / step)
+        if n < 2:
+            return True
+        cars = rs.sample(ca, cb, [k / n for k in range(1, n)])
+        if with_robot:
+            return all(self.state_valid(m.object_from_car(c, grasp), grasp) for c in cars)
+        return all(self.box_valid(m.object_from_car(c, grasp)) for c in cars)
+
     def transfer(self, obj_a: Pose, obj_b: Pose, grasp: int, *,
                  with_robot: bool = True) -> EdgeResult:
         """Check the pivot sequence moving the box from ``obj_a`` to ``obj_b`` at ``grasp``.

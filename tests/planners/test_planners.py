@@ -147,3 +147,17 @@ def test_edges_written_in_the_flipped_frame_are_checked_as_written():
     assert check_plan(res.plan, scene).ok
     bound = res.plan.extra["quality"]["regrasps_lower_bound"]
     assert bound is not None and bound <= res.regrasps
+
+
+def test_a_visibility_edge_through_a_wall_costs_no_pivot_check():
+    import numpy as np
+
+    from pivot_ompl.planners.multiplex import MultiplexedSearch
+    from pivot_ompl.validity.pivot_checker import PivotChecker
+
+    scene = shipped("fig10")
+    checker = PivotChecker(scene)
+    search = MultiplexedSearch(checker, scene.start, scene.goal, RegraspParams(),
+                               np.random.default_rng(0))
+    assert not search._visible((2.5, 3.0, 0.0), (5.5, 3.0, 0.0))  # across wall A
+    assert checker.counters.valid + checker.counters.invalid == 0

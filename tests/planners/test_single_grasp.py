@@ -31,3 +31,13 @@ def test_stops_at_its_budget_where_a_regrasp_is_needed():
     assert rrt.run(15, lambda: False) == []
     assert rrt.checks == 15
     assert rrt.run(20, lambda: True) == [] and rrt.checks == 15  # the condition stops it
+
+
+def test_an_extension_through_an_obstacle_costs_no_pivot_check():
+    # the direct edge crosses fig10's walls: refused by the cheap test, counted as a check
+    scene = shipped("fig10")
+    checker = PivotChecker(scene)
+    rrt = SingleGraspConnect(checker, scene.start, scene.goal, 0, np.random.default_rng(0))
+    assert rrt.run(1, lambda: False) == [] and rrt.checks == 1
+    assert checker.counters.valid + checker.counters.invalid == 0
+
