@@ -36,10 +36,10 @@ from scipy.sparse.csgraph import dijkstra
 
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import BoxGraspModel
-from pivot_ompl.se2 import Pose
+from pivot_ompl.se2 import Pose, rectangle_corners
 from pivot_ompl.validity.collision import CollisionWorld
 from pivot_ompl.validity.footprints import meeting_hulls, obstacle_pieces
-from pivot_ompl.validity.walk_lattice import HEADING_VECTORS, HEADING_YAWS
+from pivot_ompl.validity.walk_lattice import HEADING_VECTORS, HEADING_YAWS, N_HEADINGS, Primitive
 
 #: Grid positions whose graph edges are built between two polls of the termination condition.
 GRAPH_CHUNK = 20_000
@@ -69,6 +69,8 @@ class FloorField:
     resolution: float
     box_margin: float
     _open: np.ndarray | None = field(default=None, init=False, repr=False)
+    #: per yaw of :data:`OPEN_YAWS` (as far as built), where the walking body fits
+    _fits: list[np.ndarray] = field(default_factory=list, init=False, repr=False)
     _partial: np.ndarray | None = field(default=None, init=False, repr=False)
     #: Yaws, then grid rows of the graph, of :meth:`static_open` done so far (it resumes
     #: there when interrupted).
@@ -107,7 +109,9 @@ class FloorField:
             for k in range(self.yaws_done, len(OPEN_YAWS)):
                 if should_stop is not None and should_stop():
                     raise Interrupted("walking floor field")
-                ok |= self._fits_at(OPEN_YAWS[k])
+                fits = self._fits_at(OPEN_YAWS[k])
+                self._fits.append(fits)
+                ok |= fits
                 self.yaws_done = k + 1
             chunk = max(1, GRAPH_CHUNK // self.ny)  # grid rows per poll
             for i0 in range(self.rows_done, self.nx, chunk):
@@ -209,3 +213,75 @@ class FloorField:
         finally:
             w[cut] = saved
         return np.asarray(d).reshape(self.nx, self.ny)
+
+    def lattice_costs(self, obj: Pose, goals: list[tuple[int, int, int]],
+                      prims: tuple[tuple[Primitive, ...], ...],
+                      should_stop: Callable[[], bool] | None = None) -> np.ndarray:
+        """Cost-to-go of every lattice state to the nearest of ``goals``, relaxed.
+
+        The lattice (:mod:`~pivot_ompl.validity.walk_lattice`) with its motions ``prims`` and
+        their costs, where a state ``(ix, iy, h)`` is free when the walking body at heading
+        ``h`` fits there (obstacles grown by the kept clearance, bounds: the yaw's
+        :meth:`static_open` layer) and does not meet the resting box grown by ``box_margin``
+        (chords inside the rounded corners); a motion is kept when both its ends are free,
+        its sweep is not checked. Every lattice walk the search may take is a walk of this
+        graph: the cost-to-go is an admissible heuristic that knows where the body can stand
+        at which heading (where it must turn, and where it cannot), and ``inf`` proves that
+        no lattice walk reaches the goals. Shape ``(nx, ny, N_HEADINGS)``; Dijkstra (scipy)
+        over the reversed motions.
+        """
+        self.static_open(should_stop)
+        nx, ny, nh = self.nx, self.ny, N_HEADINGS
+        free = np.empty((nx, ny, nh), dtype=bool)
+        for h in range(nh):
+            free[:, :, h] = self._fits[OPEN_YAWS.index(HEADING_YAWS[h])] \
+                & ~self._meets_box(obj, HEADING_YAWS[h])
+        if should_stop is not None and should_stop():
+            raise Interrupted("walking lattice field")
+        node = np.arange(nx * ny * nh).reshape(nx, ny, nh)
+        src, dst, cost = [], [], []
+        for h in range(nh):
+            for pr in prims[h]:
+                h2 = (h + pr.dh) % nh
+                i0, i1 = max(0, -pr.dix), min(nx, nx - pr.dix)
+                j0, j1 = max(0, -pr.diy), min(ny, ny - pr.diy)
+                if i0 >= i1 or j0 >= j1:
+                    continue
+                a = (slice(i0, i1), slice(j0, j1), h)
+                b = (slice(i0 + pr.dix, i1 + pr.dix), slice(j0 + pr.diy, j1 + pr.diy), h2)
+                ok = free[a] & free[b]
+                src.append(node[a][ok])
+                dst.append(node[b][ok])
+                cost.append(np.full(len(src[-1]), pr.cost))
+        n = nx * ny * nh
+        # reversed motions: Dijkstra from the goals gives every state's cost to reach them
+        g = csr_matrix((np.concatenate(cost), (np.concatenate(dst), np.concatenate(src))),
+                       shape=(n, n))
+        if should_stop is not None and should_stop():
+            raise Interrupted("walking lattice field")
+        d = dijkstra(g, directed=True, indices=[node[s] for s in goals], min_only=True)
+        return np.asarray(d).reshape(nx, ny, nh)
+
+    def _meets_box(self, obj: Pose, yaw: float) -> np.ndarray:
+        """Grid positions where the walking body at ``yaw`` meets the grown resting box.
+
+        The box at ``obj`` grown by ``box_margin``: a polygon inside the rounded grown box.
+        """
+        w, d = self.model.object_size[0], self.model.object_size[1]
+        box = shapely.Polygon(rectangle_corners(obj, w, d))
+        if self.box_margin > 0:
+            box = box.buffer(self.box_margin, quad_segs=4)
+        c, s = math.cos(yaw), math.sin(yaw)
+        body = self._outline @ np.array([[c, -s], [s, c]]).T
+        hull = meeting_hulls([np.asarray(box.exterior.coords)[:-1]], body)[0]
+        out = np.zeros((self.nx, self.ny), dtype=bool)
+        b, res = self.world.bounds, self.resolution
+        x0, y0, x1, y1 = hull.bounds
+        i0 = max(0, math.ceil((x0 - b[0]) / res))
+        i1 = min(self.nx, math.floor((x1 - b[0]) / res) + 1)
+        j0 = max(0, math.ceil((y0 - b[1]) / res))
+        j1 = min(self.ny, math.floor((y1 - b[1]) / res) + 1)
+        if i0 < i1 and j0 < j1:
+            out[i0:i1, j0:j1] = shapely.contains_xy(hull, self._x[i0:i1, j0:j1],
+                                                    self._y[i0:i1, j0:j1])
+        return out

@@ -83,6 +83,18 @@ class WalkResult:
 INVALID_WALK = WalkResult(False, (), math.inf, math.inf)
 
 
+@dataclass
+class _BoxTable:
+    """What is known of the lattice with the box resting at one pose."""
+
+    #: lower bound of each state's clearance (obstacles, bounds and box)
+    states: dict[State, float] = field(default_factory=dict)
+    #: lower bound of each state's clearance to the box, less the margin
+    box: dict[State, float] = field(default_factory=dict)
+    #: lattice motions (end states in order) certified clear of the box
+    edges: dict[tuple[State, State], bool] = field(default_factory=dict)
+
+
 class _GiveUp(Exception):
     """The lattice search exceeded its budget."""
 
@@ -111,6 +123,11 @@ class WalkPlanner:
     max_expansions: int = 60_000
     box_cache: int = 16
     inflation: float = 3.0
+    #: expansions after which a search starts again guided by the lattice field
+    #: (:meth:`FloorField.lattice_costs`); 0: never
+    field_after: int = 1000
+    #: largest lattice (grid positions x headings) that field is computed for
+    max_field_states: int = 2_000_000
     #: Termination condition polled by the search (set by the owner).
     should_stop: Callable[[], bool] | None = field(default=None, repr=False)
     expansions: int = field(default=0, init=False)
@@ -124,8 +141,10 @@ class WalkPlanner:
         self._radius = self.model.robot_radius()
         self._disk: dict[tuple[int, int], float] = {}
         self._static: dict[State, float] = {}
-        self._boxed: OrderedDict[Pose, dict[State, float]] = OrderedDict()
+        self._boxed: OrderedDict[Pose, _BoxTable] = OrderedDict()
+        self._static_edges: dict[tuple[State, State], bool] = {}
         self._distances: OrderedDict[tuple, np.ndarray] = OrderedDict()
+        self._lattice: OrderedDict[tuple, np.ndarray] = OrderedDict()
         self._dubins = Dubins(turning_radius=self.walk.turning_radius)
         self.field = FloorField(self.model, self.world, self.resolution, self.box_margin)
 
@@ -138,6 +157,13 @@ class WalkPlanner:
 
     def _exact(self, p: Pose, obj: Pose | None) -> float:
         """Clearance (m) of the robot at ``p`` to obstacles, bounds and the resting box."""
+        d = self._static_exact(p)
+        if obj is not None and d > 0.0:
+            d = min(d, self._box_clear(p, obj, d))
+        return d
+
+    def _static_exact(self, p: Pose) -> float:
+        """Clearance (m) of the robot at ``p`` to the obstacles and the bounds."""
         w = self.world
         b, r = w.bounds, self._radius
         d = min(p[0] - b[0], b[2] - p[0], p[1] - b[1], b[3] - p[1]) - r  # disk: a lower bound
@@ -145,10 +171,17 @@ class WalkPlanner:
             d = w.robot_bounds_margin(p)
             if d <= 0.0:
                 return d
-        d = min(d, w.robot_distance(p))
-        if obj is not None and d > 0.0 and self._box_lower_bound(p, obj) < d:
-            d = min(d, w.robot_box_distance(p, obj) - self.box_margin)
-        return d
+        return min(d, w.robot_distance(p))
+
+    def _box_clear(self, p: Pose, obj: Pose, enough: float) -> float:
+        """Lower bound of the robot's clearance at ``p`` to the box at ``obj``, less the margin.
+
+        The cheap bound (:meth:`_box_lower_bound`) when it reaches ``enough``, else exact.
+        """
+        lb = self._box_lower_bound(p, obj)
+        if lb < enough:
+            return self.world.robot_box_distance(p, obj) - self.box_margin
+        return lb
 
     def _box_lower_bound(self, p: Pose, obj: Pose) -> float:
         """Lower bound of the robot's clearance to the box at ``obj``, less the box margin.
@@ -185,10 +218,10 @@ class WalkPlanner:
         self._static[s] = v
         return v
 
-    def _box_table(self, obj: Pose) -> dict[State, float]:
+    def _box_table(self, obj: Pose) -> _BoxTable:
         table = self._boxed.get(obj)
         if table is None:
-            table = {}
+            table = _BoxTable()
             self._boxed[obj] = table
             while len(self._boxed) > self.box_cache:
                 self._boxed.popitem(last=False)
@@ -196,44 +229,94 @@ class WalkPlanner:
             self._boxed.move_to_end(obj)
         return table
 
-    def _clearance(self, s: State, obj: Pose, table: dict[State, float]) -> float:
+    def _box_state(self, s: State, obj: Pose, table: _BoxTable) -> float:
+        """Lower bound of the robot's clearance at ``s`` to the box at ``obj`` (cached)."""
+        v = table.box.get(s)
+        if v is None:
+            v = self._box_clear(self.pose(s), obj, 2.0 * self.resolution)
+            table.box[s] = v
+        return v
+
+    def _clearance(self, s: State, obj: Pose, table: _BoxTable) -> float:
         """Lower bound of the robot's clearance at ``s`` with the box resting at ``obj``."""
-        v = table.get(s)
+        v = table.states.get(s)
         if v is not None:
             return v
         v = self._static_clearance(s)
         if v > 0.0:
-            p = self.pose(s)
-            lb = self._box_lower_bound(p, obj)
-            if lb <= 2.0 * self.resolution:
-                lb = self.world.robot_box_distance(p, obj) - self.box_margin
-            v = min(v, lb)
-        table[s] = v
+            v = min(v, self._box_state(s, obj, table))
+        table.states[s] = v
         return v
+
+    def _certified(self, a: Pose, b: Pose, clearance: Callable[[Pose], float], da: float,
+                   db: float) -> bool:
+        """The straight motion ``a -> b`` (linear yaw) keeps ``clearance`` positive.
+
+        ``da``/``db``: lower bounds of ``clearance`` at the ends.
+        """
+        if da <= 0.0 or db <= 0.0:
+            return False
+        dyaw = wrap_angle(b[2] - a[2])
+        lip = math.hypot(b[0] - a[0], b[1] - a[1]) + self._radius * abs(dyaw)
+        if da + db > lip:
+            return True
+
+        def at(s: float) -> float:
+            return clearance((a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]),
+                              a[2] + s * dyaw))
+
+        return certify(at, lip, tolerance=self.tolerance, d0=da, d1=db).valid
+
+    def _edge_free(self, u: State, v: State, obj: Pose, table: _BoxTable) -> bool:
+        """The lattice motion between ``u`` and ``v`` is certified free (both ends free).
+
+        Certified apart against the obstacles and bounds (cached for the scene: the same
+        motions recur in every walk) and against the resting box (cached per box pose), each
+        from its own clearances, which are larger than their minimum: fewer samples.
+        """
+        key = (u, v) if u < v else (v, u)
+        ok = self._static_edges.get(key)
+        if ok is None:
+            ok = self._certified(self.pose(key[0]), self.pose(key[1]), self._static_exact,
+                                 self._static_clearance(key[0]),
+                                 self._static_clearance(key[1]))
+            self._static_edges[key] = ok
+        if not ok:
+            return False
+        ok = table.edges.get(key)
+        if ok is None:
+            a, b = self.pose(key[0]), self.pose(key[1])
+            enough = (math.hypot(b[0] - a[0], b[1] - a[1])
+                      + self._radius * abs(wrap_angle(b[2] - a[2])))
+            ok = self._certified(a, b, lambda p: self._box_clear(p, obj, enough),
+                                 self._box_state(key[0], obj, table),
+                                 self._box_state(key[1], obj, table))
+            table.edges[key] = ok
+        return ok
 
     def segment_free(self, a: Pose, b: Pose, obj: Pose | None, *, da: float | None = None,
                      db: float | None = None) -> bool:
         """The straight motion ``a -> b`` (linear yaw) is certified free.
 
-        ``da``/``db``: lower bounds of the end clearances, if known.
+        ``da``/``db``: lower bounds of the end clearances (obstacles, bounds and box), if
+        known. The obstacles and bounds, and the box, are certified apart (each from its own,
+        larger, clearances).
         """
-        dyaw = wrap_angle(b[2] - a[2])
-        lip = math.hypot(b[0] - a[0], b[1] - a[1]) + self._radius * abs(dyaw)
-        if da is None:
-            da = self._exact(a, obj)
-        if da <= 0.0:
+        if da is not None and da <= 0.0:
             return False
-        if lip == 0.0:
+        if a == b:
+            return (da if da is not None else self._exact(a, obj)) > 0.0
+        sa = da if da is not None else self._static_exact(a)
+        sb = db if db is not None and db > 0.0 else self._static_exact(b)
+        if not self._certified(a, b, self._static_exact, sa, sb):
+            return False
+        if obj is None:
             return True
-        if db is not None and db > 0.0 and da + db > lip:
-            return True
-
-        def clearance(s: float) -> float:
-            return self._exact((a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]),
-                                a[2] + s * dyaw), obj)
-
-        return certify(clearance, lip, tolerance=self.tolerance, d0=da,
-                       d1=db if db is not None and db > 0.0 else None).valid
+        dyaw = wrap_angle(b[2] - a[2])
+        enough = math.hypot(b[0] - a[0], b[1] - a[1]) + self._radius * abs(dyaw)
+        ba = max(self._box_clear(a, obj, enough), da if da is not None else -math.inf)
+        bb = max(self._box_clear(b, obj, enough), db if db is not None else -math.inf)
+        return self._certified(a, b, lambda p: self._box_clear(p, obj, enough), ba, bb)
 
     # -- query -----------------------------------------------------------------------------
     def plan(self, obj: Pose, from_grasp: int, to_grasp: int, *,
@@ -271,7 +354,7 @@ class WalkPlanner:
                 self._distances.popitem(last=False)
         if all(math.isinf(dist[s[0], s[1]]) for s in starts):
             return INVALID_WALK
-        counter = [0]
+        counter, budget = [0], [self.max_expansions]
         stop = self.should_stop
 
         def neighbours(u: State):  # noqa: ANN202 - generator of (state, cost)
@@ -279,12 +362,10 @@ class WalkPlanner:
                 yield from starts.items()
                 return
             counter[0] += 1
-            if counter[0] > self.max_expansions:
+            if counter[0] > budget[0]:
                 raise _GiveUp
             if stop is not None and counter[0] % 8 == 0 and stop():
                 raise Interrupted("walk planning")
-            cu = self._clearance(u, obj, table)
-            pu = self.pose(u)
             nx, ny = self._nx, self._ny
             for pr in self._prims[u[2]]:
                 ix, iy = u[0] + pr.dix, u[1] + pr.diy
@@ -296,7 +377,7 @@ class WalkPlanner:
                 cv = self._clearance(v, obj, table)
                 if cv <= 0.0:
                     continue
-                if self.segment_free(pu, self.pose(v), obj, da=cu, db=cv):
+                if self._edge_free(u, v, obj, table):
                     yield v, pr.cost
             c = goals.get(u)
             if c is not None:
@@ -312,8 +393,31 @@ class WalkPlanner:
             return eps * math.hypot(float(dist[u[0], u[1]]),
                                     tc * abs(wrap_angle(HEADING_YAWS[u[2]] - gyaw)))
 
+        n_states = self._nx * self._ny * N_HEADINGS
+        lattice_field = 0 < self.field_after < self.max_expansions \
+            and n_states <= self.max_field_states
+        budget[0] = self.field_after if lattice_field else self.max_expansions
+        states: list[State] = []
         try:
-            states = astar([_START], {_GOAL}, neighbours, heuristic)
+            try:
+                states = astar([_START], {_GOAL}, neighbours, heuristic)
+            except _GiveUp:
+                if not lattice_field:
+                    raise
+                # a hard walk (a tight spot, or none at all): again, guided by the costs of
+                # the lattice relaxed to its states, which know the headings
+                log.debug("walk search: lattice field after %d expansions", counter[0])
+                costs = self._lattice_costs(obj, goals)
+                if all(math.isinf(costs[s]) for s in starts):
+                    return INVALID_WALK
+
+                def heuristic3(u: State) -> float:
+                    if u[0] < 0:
+                        return 0.0
+                    return max(heuristic(u), eps * float(costs[u]))
+
+                budget[0] = self.max_expansions
+                states = astar([_START], {_GOAL}, neighbours, heuristic3)
         except _GiveUp:
             log.debug("walk search gave up after %d expansions", counter[0])
             states = []
@@ -324,7 +428,20 @@ class WalkPlanner:
         poses = [start] + [self.pose(s) for s in states[1:-1]] + [goal]
         return self._result(self._smooth(self._smooth(poses, obj), obj))
 
-    def _attach(self, pose: Pose, obj: Pose, table: dict[State, float], d_pose: float, *,
+    def _lattice_costs(self, obj: Pose, goals: dict[State, float]) -> np.ndarray:
+        """:meth:`FloorField.lattice_costs` to the goal states (cached per box and goals)."""
+        key = (obj, tuple(sorted(goals)))
+        costs = self._lattice.get(key)
+        if costs is None:
+            if self.should_stop is not None and self.should_stop():
+                raise Interrupted("walk planning")
+            costs = self.field.lattice_costs(obj, list(goals), self._prims, self.should_stop)
+            self._lattice[key] = costs
+            while len(self._lattice) > self.box_cache:
+                self._lattice.popitem(last=False)
+        return costs
+
+    def _attach(self, pose: Pose, obj: Pose, table: _BoxTable, d_pose: float, *,
                 leaving: bool) -> dict[State, float]:
         """Lattice states joined to ``pose`` by a certified straight motion, with its cost."""
         b, res = self.world.bounds, self.resolution
