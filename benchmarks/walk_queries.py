@@ -12,7 +12,7 @@ change of validity is listed: a walk found where none was, or lost).
     python benchmarks/walk_queries.py --record [--scene fig10] [--runs 10]
         [--copies rot37,mir20] [--queries results/walk_queries.json]
     python benchmarks/walk_queries.py [--queries results/walk_queries.json] [--repeat 1]
-        [--out results/walk_bench.json]
+        [--out results/walk_bench.json] [--set field_after=1000 ...]
 """
 
 from __future__ import annotations
@@ -73,12 +73,16 @@ def record(name: str, runs: int, copies: list[str], out: Path) -> None:
     print(f"written {out}")
 
 
-def replay(path: Path) -> dict:
-    """Replay the recorded queries once; figures and validity changes."""
+def replay(path: Path, settings: dict[str, float] | None = None) -> dict:
+    """Replay the recorded queries once; figures and validity changes.
+
+    ``settings``: walk planner attributes to set (e.g. ``{"inflation": 2.0}``).
+    """
     groups = json.loads(path.read_text())["groups"]
     scenes: dict[tuple[str, str], Scene] = {}
     times, changed = [], []
     expansions, length_old, length_new, n_valid = 0, 0.0, 0.0, 0
+    cost_old, cost_new = 0.0, 0.0
     group_cpu = []
     for g in groups:
         key = (g["scene"], g["copy"])
@@ -86,6 +90,8 @@ def replay(path: Path) -> dict:
             scenes[key] = scene_copy(*key)
         ck = PivotChecker(scenes[key])
         w = ck.walker
+        for k, v in (settings or {}).items():
+            setattr(w, k, type(getattr(w, k))(v))
         t_group = 0.0
         for i, q in enumerate(g["queries"]):
             t0 = time.process_time()
@@ -100,6 +106,8 @@ def replay(path: Path) -> dict:
                 n_valid += 1
                 length_old += q["length"]
                 length_new += r.length
+                cost_old += q["cost"]
+                cost_new += r.cost
         expansions += w.expansions
         group_cpu.append(t_group)
     return {"queries": len(times), "cpu_total_s": sum(times),
@@ -107,6 +115,7 @@ def replay(path: Path) -> dict:
             "cpu_max_ms": 1e3 * max(times), "run_cpu_median_s": statistics.median(group_cpu),
             "expansions": expansions, "valid_both": n_valid,
             "length_recorded_m": length_old, "length_now_m": length_new,
+            "cost_recorded_m": cost_old, "cost_now_m": cost_new,
             "validity_changed": changed}
 
 
@@ -120,19 +129,23 @@ def main() -> None:
     ap.add_argument("--queries", default="results/walk_queries.json")
     ap.add_argument("--repeat", type=int, default=1)
     ap.add_argument("--out", default="results/walk_bench.json")
+    ap.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                    help="a walk planner attribute for the replay, e.g. inflation=2")
     a = ap.parse_args()
     if a.record:
         record(a.scene, a.runs, [c for c in a.copies.split(",") if c], Path(a.queries))
         return
+    settings = {k: float(v) for k, v in (kv.split("=", 1) for kv in a.set)}
     results = []
     for k in range(a.repeat):
-        res = replay(Path(a.queries))
+        res = replay(Path(a.queries), settings)
         results.append(res)
         print(f"replay {k}: {res['queries']} queries, CPU total {res['cpu_total_s']:.3f} s, "
               f"median {res['cpu_median_ms']:.1f} ms, max {res['cpu_max_ms']:.0f} ms, "
               f"per run median {res['run_cpu_median_s']:.3f} s, "
               f"expansions {res['expansions']}, walk length {res['length_now_m']:.2f} m "
               f"(recorded {res['length_recorded_m']:.2f} m over {res['valid_both']} walks), "
+              f"cost {res['cost_now_m']:.2f} m (recorded {res['cost_recorded_m']:.2f} m), "
               f"validity changed: {len(res['validity_changed'])}", flush=True)
         for c in res["validity_changed"]:
             print("  changed:", c)

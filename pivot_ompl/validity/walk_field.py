@@ -1,6 +1,18 @@
-"""The walk planner's heuristic: floor distances on the lattice grid, obstacles included.
+"""The walk planner's heuristics: lattice costs-to-go, and floor distances on the grid.
 
-A relaxation of the lattice (:mod:`pivot_ompl.validity.walk_lattice`): a grid position is
+**Lattice costs** (:meth:`FloorField.lattice_costs`, the heuristic of floors up to
+``WalkPlanner.max_field_states`` lattice states): the lattice itself with its motions and
+their costs, relaxed to its states: a state is free when the walking body at its heading is
+inside the bounds, clear of the obstacles grown by the kept clearance and of the resting box
+grown by the walk's box margin (both for polygons inside the true grown shapes, see below);
+a motion is kept when both its ends are free, its sweep is not checked. The planner's search
+only takes motions whose ends are free by the exact checks, so every walk it can find is a
+walk of this graph: its cost-to-go (one Dijkstra from the goal states over the reversed
+motions) is admissible, knows at which heading the robot fits where, and is infinite only
+where no walk exists. The obstacles' graph is built once per scene, in CSR form directly;
+a query closes the states the box blocks (in place, restored after).
+
+**Floor distances** (:meth:`FloorField.distances`, the heuristic of larger floors): a relaxation of the lattice (:mod:`pivot_ompl.validity.walk_lattice`): a grid position is
 *open* when the walking body, there, is clear of the obstacles and inside the bounds at one
 of :data:`OPEN_YAWS` at least (the 16 headings and the 16 yaws half-way between neighbours),
 and the disk inscribed in the body round the robot pose is ``box_margin`` away from the
@@ -20,7 +32,8 @@ where the body (grown by the kept clearance) meets an obstacle are the convex hu
 differences (:func:`~pivot_ompl.validity.footprints.meeting_hulls`), computed for polygons
 *inside* the true shapes (a cylinder's inscribed polygon, the clearance's rounded corners by
 chords), so a position is never closed where the exact checks would let the body stand. The
-resting box's part is computed per query (vectorised).
+resting box's part is computed per query (vectorised): for the lattice costs, the same hulls
+of the box grown by the margin (its rounded corners by chords) and the body at each heading.
 """
 
 from __future__ import annotations
@@ -69,8 +82,9 @@ class FloorField:
     resolution: float
     box_margin: float
     _open: np.ndarray | None = field(default=None, init=False, repr=False)
-    #: per yaw of :data:`OPEN_YAWS` (as far as built), where the walking body fits
-    _fits: list[np.ndarray] = field(default_factory=list, init=False, repr=False)
+    #: per index into :data:`OPEN_YAWS` (as far as built), where the walking body fits
+    _fits: dict[int, np.ndarray] = field(default_factory=dict, init=False, repr=False)
+    _lattice: csr_matrix | None = field(default=None, init=False, repr=False)
     _partial: np.ndarray | None = field(default=None, init=False, repr=False)
     #: Yaws, then grid rows of the graph, of :meth:`static_open` done so far (it resumes
     #: there when interrupted).
@@ -109,9 +123,7 @@ class FloorField:
             for k in range(self.yaws_done, len(OPEN_YAWS)):
                 if should_stop is not None and should_stop():
                     raise Interrupted("walking floor field")
-                fits = self._fits_at(OPEN_YAWS[k])
-                self._fits.append(fits)
-                ok |= fits
+                ok |= self._fits_index(k)
                 self.yaws_done = k + 1
             chunk = max(1, GRAPH_CHUNK // self.ny)  # grid rows per poll
             for i0 in range(self.rows_done, self.nx, chunk):
@@ -148,6 +160,13 @@ class FloorField:
         both = inside.reshape(-1, nd) & flat[rows, None] & flat[target]
         lengths = self.resolution * np.hypot(v[:, 0], v[:, 1])
         self._weights[rows] = np.where(both, lengths[None, :], np.inf)
+
+    def _fits_index(self, k: int) -> np.ndarray:
+        """:meth:`_fits_at` the yaw ``OPEN_YAWS[k]`` (kept)."""
+        fits = self._fits.get(k)
+        if fits is None:
+            fits = self._fits[k] = self._fits_at(OPEN_YAWS[k])
+        return fits
 
     def _fits_at(self, yaw: float) -> np.ndarray:
         """Grid positions where the walking body at ``yaw`` is inside the bounds and clear."""
@@ -216,7 +235,8 @@ class FloorField:
 
     def lattice_costs(self, obj: Pose, goals: list[tuple[int, int, int]],
                       prims: tuple[tuple[Primitive, ...], ...],
-                      should_stop: Callable[[], bool] | None = None) -> np.ndarray:
+                      should_stop: Callable[[], bool] | None = None, *,
+                      limit: float = math.inf) -> np.ndarray:
         """Cost-to-go of every lattice state to the nearest of ``goals``, relaxed.
 
         The lattice (:mod:`~pivot_ompl.validity.walk_lattice`) with its motions ``prims`` and
@@ -228,60 +248,105 @@ class FloorField:
         graph: the cost-to-go is an admissible heuristic that knows where the body can stand
         at which heading (where it must turn, and where it cannot), and ``inf`` proves that
         no lattice walk reaches the goals. Shape ``(nx, ny, N_HEADINGS)``; Dijkstra (scipy)
-        over the reversed motions.
+        over the reversed motions, stopped at ``limit`` (``inf`` there: a cost above it, or
+        none).
         """
-        self.static_open(should_stop)
+        rows = self._lattice_graph(prims, should_stop)
         nx, ny, nh = self.nx, self.ny, N_HEADINGS
-        free = np.empty((nx, ny, nh), dtype=bool)
-        for h in range(nh):
-            free[:, :, h] = self._fits[OPEN_YAWS.index(HEADING_YAWS[h])] \
-                & ~self._meets_box(obj, HEADING_YAWS[h])
-        if should_stop is not None and should_stop():
-            raise Interrupted("walking lattice field")
         node = np.arange(nx * ny * nh).reshape(nx, ny, nh)
-        src, dst, cost = [], [], []
-        for h in range(nh):
-            for pr in prims[h]:
-                h2 = (h + pr.dh) % nh
-                i0, i1 = max(0, -pr.dix), min(nx, nx - pr.dix)
-                j0, j1 = max(0, -pr.diy), min(ny, ny - pr.diy)
-                if i0 >= i1 or j0 >= j1:
-                    continue
-                a = (slice(i0, i1), slice(j0, j1), h)
-                b = (slice(i0 + pr.dix, i1 + pr.dix), slice(j0 + pr.diy, j1 + pr.diy), h2)
-                ok = free[a] & free[b]
-                src.append(node[a][ok])
-                dst.append(node[b][ok])
-                cost.append(np.full(len(src[-1]), pr.cost))
-        n = nx * ny * nh
-        # reversed motions: Dijkstra from the goals gives every state's cost to reach them
-        g = csr_matrix((np.concatenate(cost), (np.concatenate(dst), np.concatenate(src))),
-                       shape=(n, n))
+        # the states where the body meets the box relay nothing: their rows (the motions
+        # into them, reversed) closed in place for this query, restored after
+        blocked = np.concatenate([node[:, :, h][meets]
+                                  for h, meets in enumerate(self._meets_box(obj))])
+        first, count = rows.indptr[blocked], np.diff(rows.indptr)[blocked]
+        cut = np.repeat(first - np.cumsum(count) + count, count) + np.arange(count.sum())
         if should_stop is not None and should_stop():
             raise Interrupted("walking lattice field")
-        d = dijkstra(g, directed=True, indices=[node[s] for s in goals], min_only=True)
+        saved = rows.data[cut]
+        rows.data[cut] = np.inf
+        try:
+            d = dijkstra(rows, directed=True, indices=[node[s] for s in goals], min_only=True,
+                         limit=limit)
+        finally:
+            rows.data[cut] = saved
         return np.asarray(d).reshape(nx, ny, nh)
 
-    def _meets_box(self, obj: Pose, yaw: float) -> np.ndarray:
-        """Grid positions where the walking body at ``yaw`` meets the grown resting box.
+    def _lattice_graph(self, prims: tuple[tuple[Primitive, ...], ...],
+                       should_stop: Callable[[], bool] | None = None) -> csr_matrix:
+        """The lattice's motions between states free of the obstacles and bounds, reversed.
 
-        The box at ``obj`` grown by ``box_margin``: a polygon inside the rounded grown box.
+        Built once (the primitives are the walk planner's, the same for every query),
+        directly in CSR form (no sort): row ``v`` holds, per primitive that can end at
+        ``v``'s heading, the motion from its start state when both states are free (its
+        cost). Polls ``should_stop`` once per heading; the headings' layers already built
+        are kept.
+        """
+        if self._lattice is None:
+            nx, ny, nh = self.nx, self.ny, N_HEADINGS
+            free = np.empty((nx, ny, nh), dtype=bool)
+            for h in range(nh):
+                if should_stop is not None and should_stop():
+                    raise Interrupted("walking lattice field")
+                free[:, :, h] = self._fits_index(OPEN_YAWS.index(HEADING_YAWS[h]))
+            into: list[list[tuple[int, Primitive]]] = [[] for _ in range(nh)]
+            for h in range(nh):
+                for pr in prims[h]:
+                    into[(h + pr.dh) % nh].append((h, pr))
+            k = max(len(x) for x in into)
+            n = nx * ny * nh
+            indices = np.zeros((nx, ny, nh, k), dtype=np.int32)
+            weights = np.full((nx, ny, nh, k), np.inf)
+            node = np.arange(n, dtype=np.int32).reshape(nx, ny, nh)
+            ix, iy = np.arange(nx)[:, None], np.arange(ny)[None, :]
+            for h2 in range(nh):
+                for slot in range(k):
+                    if slot >= len(into[h2]):
+                        continue
+                    h, pr = into[h2][slot]
+                    sx, sy = ix - pr.dix, iy - pr.diy
+                    inside = (sx >= 0) & (sx < nx) & (sy >= 0) & (sy < ny)
+                    sx, sy = np.where(inside, sx, ix), np.where(inside, sy, iy)
+                    ok = inside & free[:, :, h2] & free[sx, sy, h]
+                    indices[:, :, h2, slot] = node[sx, sy, h]
+                    weights[:, :, h2, slot][ok] = pr.cost
+            # only the motions that exist (Dijkstra scans every entry of a row)
+            keep = np.isfinite(weights.reshape(n, k))
+            indptr = np.zeros(n + 1, dtype=np.int32)
+            np.cumsum(keep.sum(axis=1), out=indptr[1:])
+            self._lattice = csr_matrix(
+                (weights.reshape(n, k)[keep], indices.reshape(n, k)[keep], indptr),
+                shape=(n, n), copy=False)
+        return self._lattice
+
+    def _meets_box(self, obj: Pose) -> list[np.ndarray]:
+        """Per heading, the grid positions where the walking body meets the grown box.
+
+        The box resting at ``obj`` grown by ``box_margin``: a polygon inside the rounded
+        grown box; ``(nx, ny)`` booleans for each of the ``N_HEADINGS`` headings.
         """
         w, d = self.model.object_size[0], self.model.object_size[1]
         box = shapely.Polygon(rectangle_corners(obj, w, d))
         if self.box_margin > 0:
             box = box.buffer(self.box_margin, quad_segs=4)
-        c, s = math.cos(yaw), math.sin(yaw)
-        body = self._outline @ np.array([[c, -s], [s, c]]).T
-        hull = meeting_hulls([np.asarray(box.exterior.coords)[:-1]], body)[0]
-        out = np.zeros((self.nx, self.ny), dtype=bool)
+        pts = np.asarray(box.exterior.coords)[:-1]
+        diffs = []
+        for yaw in HEADING_YAWS:  # the Minkowski sums of the box and the turned body
+            c, s = math.cos(yaw), math.sin(yaw)
+            body = self._outline @ np.array([[c, -s], [s, c]]).T
+            diffs.append((pts[:, None, :] - body[None, :, :]).reshape(-1, 2))
+        hulls = shapely.convex_hull(shapely.multipoints(
+            np.concatenate(diffs), indices=np.repeat(np.arange(len(diffs)), len(diffs[0]))))
         b, res = self.world.bounds, self.resolution
-        x0, y0, x1, y1 = hull.bounds
-        i0 = max(0, math.ceil((x0 - b[0]) / res))
-        i1 = min(self.nx, math.floor((x1 - b[0]) / res) + 1)
-        j0 = max(0, math.ceil((y0 - b[1]) / res))
-        j1 = min(self.ny, math.floor((y1 - b[1]) / res) + 1)
-        if i0 < i1 and j0 < j1:
-            out[i0:i1, j0:j1] = shapely.contains_xy(hull, self._x[i0:i1, j0:j1],
-                                                    self._y[i0:i1, j0:j1])
+        out = []
+        for hull in hulls:
+            meets = np.zeros((self.nx, self.ny), dtype=bool)
+            x0, y0, x1, y1 = hull.bounds
+            i0 = max(0, math.ceil((x0 - b[0]) / res))
+            i1 = min(self.nx, math.floor((x1 - b[0]) / res) + 1)
+            j0 = max(0, math.ceil((y0 - b[1]) / res))
+            j1 = min(self.ny, math.floor((y1 - b[1]) / res) + 1)
+            if i0 < i1 and j0 < j1:
+                meets[i0:i1, j0:j1] = shapely.contains_xy(hull, self._x[i0:i1, j0:j1],
+                                                          self._y[i0:i1, j0:j1])
+            out.append(meets)
         return out
