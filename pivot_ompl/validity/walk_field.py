@@ -12,20 +12,21 @@ motions) is admissible, knows at which heading the robot fits where, and is infi
 where no walk exists. The obstacles' graph is built once per scene, in CSR form directly;
 a query closes the states the box blocks (in place, restored after).
 
-**Floor distances** (:meth:`FloorField.distances`, the heuristic of larger floors): a relaxation of the lattice (:mod:`pivot_ompl.validity.walk_lattice`): a grid position is
-*open* when the walking body, there, is clear of the obstacles and inside the bounds at one
-of :data:`OPEN_YAWS` at least (the 16 headings and the 16 yaws half-way between neighbours),
-and the disk inscribed in the body round the robot pose is ``box_margin`` away from the
-resting box. Every lattice state's body is free at its heading, one of those yaws, and
-contains that disk; every lattice motion's translation is a sum of the 16 heading vectors
-between open positions: a motion twice a unit vector passes the position in between with its
-yaw half-way (turning while walking) or unchanged, and the body is free there too. So the
-shortest path over open positions with those moves (Dijkstra, scipy) is a lower bound of the
-length of any lattice walk: an admissible heuristic that knows the obstacles, and a proof that
-no walk exists when it is infinite. Testing the body itself, not only its inscribed disk,
-closes the gaps the robot cannot pass at any heading (a slot only the box fits through):
-without that, a walk whose only way lies through such a gap is refused only after the
-lattice search has expanded every state it can reach (seconds).
+**Floor distances** (:meth:`FloorField.distances`, the heuristic of larger floors): a
+relaxation of the lattice (:mod:`pivot_ompl.validity.walk_lattice`): a grid position is *open*
+when the walking body, there, is clear of the obstacles and inside the bounds at one of
+:data:`OPEN_YAWS` at least (the 16 headings and the 16 yaws half-way between neighbours), and
+the disk inscribed in the body round the robot pose is ``box_margin`` away from the resting
+box. Every lattice state's body is free at its heading, one of those yaws, and contains that
+disk; every lattice motion's translation is a sum of the 16 heading vectors between open
+positions: a motion twice a unit vector passes the position in between with its yaw half-way
+(turning while walking) or unchanged, and the body is free there too. So the shortest path over
+open positions with those moves (Dijkstra, scipy) is a lower bound of the length of any lattice
+walk: an admissible heuristic that knows the obstacles, and a proof that no walk exists when it
+is infinite. Testing the body itself, not only its inscribed disk, closes the gaps the robot
+cannot pass at any heading (a slot only the box fits through): without that, a walk whose only
+way lies through such a gap is refused only after the lattice search has expanded every state
+it can reach (seconds).
 
 The obstacles' part is built once per scene, vectorised (shapely): at each yaw, the positions
 where the body (grown by the kept clearance) meets an obstacle are the convex hulls of vertex
