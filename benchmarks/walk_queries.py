@@ -84,6 +84,7 @@ def replay(path: Path, settings: dict[str, float] | None = None) -> dict:
     expansions, length_old, length_new, n_valid = 0, 0.0, 0.0, 0
     cost_old, cost_new = 0.0, 0.0
     group_cpu = []
+    per_copy: dict[str, list[float]] = {}
     for g in groups:
         key = (g["scene"], g["copy"])
         if key not in scenes:
@@ -110,9 +111,11 @@ def replay(path: Path, settings: dict[str, float] | None = None) -> dict:
                 cost_new += r.cost
         expansions += w.expansions
         group_cpu.append(t_group)
+        per_copy.setdefault(g["copy"] or g["scene"], []).append(t_group)
     return {"queries": len(times), "cpu_total_s": sum(times),
             "cpu_median_ms": 1e3 * statistics.median(times),
             "cpu_max_ms": 1e3 * max(times), "run_cpu_median_s": statistics.median(group_cpu),
+            "run_cpu_median_s_per_copy": {k: statistics.median(v) for k, v in per_copy.items()},
             "expansions": expansions, "valid_both": n_valid,
             "length_recorded_m": length_old, "length_now_m": length_new,
             "cost_recorded_m": cost_old, "cost_now_m": cost_new,
@@ -147,6 +150,8 @@ def main() -> None:
               f"(recorded {res['length_recorded_m']:.2f} m over {res['valid_both']} walks), "
               f"cost {res['cost_now_m']:.2f} m (recorded {res['cost_recorded_m']:.2f} m), "
               f"validity changed: {len(res['validity_changed'])}", flush=True)
+        print("  per run median CPU (s):", {k: round(v, 3) for k, v in
+                                             res["run_cpu_median_s_per_copy"].items()})
         for c in res["validity_changed"]:
             print("  changed:", c)
     write_json({"replays": results,

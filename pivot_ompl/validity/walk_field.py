@@ -236,8 +236,7 @@ class FloorField:
 
     def lattice_costs(self, obj: Pose, goals: list[tuple[int, int, int]],
                       prims: tuple[tuple[Primitive, ...], ...],
-                      should_stop: Callable[[], bool] | None = None, *,
-                      limit: float = math.inf) -> np.ndarray:
+                      should_stop: Callable[[], bool] | None = None) -> np.ndarray:
         """Cost-to-go of every lattice state to the nearest of ``goals``, relaxed.
 
         The lattice (:mod:`~pivot_ompl.validity.walk_lattice`) with its motions ``prims`` and
@@ -249,8 +248,7 @@ class FloorField:
         graph: the cost-to-go is an admissible heuristic that knows where the body can stand
         at which heading (where it must turn, and where it cannot), and ``inf`` proves that
         no lattice walk reaches the goals. Shape ``(nx, ny, N_HEADINGS)``; Dijkstra (scipy)
-        over the reversed motions, stopped at ``limit`` (``inf`` there: a cost above it, or
-        none).
+        over the reversed motions.
         """
         rows = self._lattice_graph(prims, should_stop)
         nx, ny, nh = self.nx, self.ny, N_HEADINGS
@@ -266,8 +264,7 @@ class FloorField:
         saved = rows.data[cut]
         rows.data[cut] = np.inf
         try:
-            d = dijkstra(rows, directed=True, indices=[node[s] for s in goals], min_only=True,
-                         limit=limit)
+            d = dijkstra(rows, directed=True, indices=[node[s] for s in goals], min_only=True)
         finally:
             rows.data[cut] = saved
         return np.asarray(d).reshape(nx, ny, nh)
