@@ -444,7 +444,7 @@ class WalkPlanner:
                 raise Interrupted("walk planning")
             costs = self.field.lattice_costs(obj, list(goals), self._prims, self.should_stop)
             self._lattice[key] = costs
-            while len(self._lattice) > self.box_cache:
+            while len(self._lattice) > 4:  # a float per lattice state each; rarely asked again
                 self._lattice.popitem(last=False)
         return costs
 

@@ -405,3 +405,28 @@ def test_a_walk_the_lattice_cannot_make_fails_at_once():
     goal = (7.094899449139221, 2.3700015785652875, 1.6470417189355206)
     assert not wp.plan_between(start, goal, obj).valid
     assert wp.expansions == 0
+
+
+def test_floors_too_large_for_the_lattice_costs_walk_with_the_floor_distance():
+    # beyond max_field_states the heuristic is the floor distance (no headings): the same
+    # tight turn is still found, exact at both ends and passing the independent check
+    obj = (4.881849527519183, 3.8451219714433633, -1.4253664043695728)
+    start = (5.005029680573598, 3.004094831635443, 1.7162262492202203)
+    goal = (5.524987928548769, 3.9393185590732096, 3.287022576015117)
+    doc = shipped_doc("fig10")
+    doc["start"] = doc["goal"] = list(obj)
+    scene = scene_from_dict(doc)
+    wp = PivotChecker(scene, seed=0).walker
+    wp.max_field_states = 0
+    walk = wp.plan_between(start, goal, obj)
+    assert walk.valid and not wp._lattice and wp._distances
+    assert walk.robot_path[0] == start and walk.robot_path[-1] == goal
+    m = scene.model
+    g1 = next(g for g in range(4) if np.allclose(m.robot_pose(obj, g), start))
+    g2 = next(g for g in range(4) if np.allclose(m.robot_pose(obj, g), goal))
+    plan = Plan(scene.name, "exact", m.object_size, m.robot_footprint, m.standoff,
+                scene.alpha_max, obj,
+                [TransferPhase(g1, start, (), obj), TransitPhase(g1, g2, walk.robot_path, obj),
+                 TransferPhase(g2, goal, (), obj)])
+    rep = check_plan(plan, scene)
+    assert rep.ok, rep.problems
