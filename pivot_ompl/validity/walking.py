@@ -17,19 +17,22 @@ a robot narrower than a door walks through it forward or sideways.
   part per box pose. The clearances of lattice states are lower bounds from the turning disk
   where it is clear (one query per grid position for all headings), the robot body's own
   distance otherwise; the obstacles' part is cached per scene, the box's per box pose.
-* **Admissible heuristic**: the cost-to-go of the lattice relaxed to its states
+* **Admissible heuristics, cheap first**: most walks are easy, so a query is first searched
+  guided by ``hypot(D, turn_cost * heading error)`` (weighted by ``floor_inflation``), where
+  ``D`` is the shortest floor distance to the goal round the obstacles and the resting box
+  (:meth:`~pivot_ompl.validity.walk_field.FloorField.distances`, over the grid positions
+  where the walking body fits at one of 32 yaws), a lower bound of every walk's length; every
+  motion costs at least ``hypot(length, turn_cost * turn)``
+  (:func:`~.walk_lattice.motion_cost`). Where ``D`` is infinite no walk exists. A search
+  past ``quick_expansions`` states (a tight spot, where that guide, blind to the headings,
+  fills every heading of the cells near the goal) is made again guided by the cost-to-go of
+  the lattice relaxed to its states
   (:meth:`~pivot_ompl.validity.walk_field.FloorField.lattice_costs`: the same motions and
   costs, a state free when the walking body at its heading fits there and does not meet the
-  grown box, motions' sweeps not checked), one Dijkstra (scipy) per query. It knows where the
-  robot can stand at which heading, so in a tight spot (turning between the resting box and
-  furniture) the search no longer fills every heading of the cells the floor distance finds
-  near; where it is infinite no walk exists: such queries fail at once. Weighted by
-  ``inflation``. On floors whose lattice is too large (``max_field_states``), the heuristic is
-  ``hypot(D, turn_cost * heading error)`` where ``D`` is the shortest floor distance to the
-  goal round the obstacles and the resting box for the disk inscribed in the footprint
-  (:meth:`~pivot_ompl.validity.walk_field.FloorField.distances`), a lower bound of every
-  walk's length; every motion costs at least ``hypot(length, turn_cost * turn)``
-  (:func:`~.walk_lattice.motion_cost`).
+  grown box, motions' sweeps not checked; one Dijkstra, scipy), weighted by ``inflation``: it
+  knows where the robot can stand at which heading, and where it is infinite no walk exists,
+  so such queries end at once. Floors whose lattice is larger than ``max_field_states`` keep
+  the floor distance.
 * **Smoothing**: the lattice path is shortened greedily by certified straight motions (any
   direction, linear yaw) and by forward walks along Dubins curves (OMPL's, turning radius
   ``step_forward / step_turn``) whenever they cost less.
@@ -127,6 +130,10 @@ class WalkPlanner:
             lattice cost-to-go).
         max_field_states: largest lattice (grid positions x headings) whose cost-to-go is
             computed (about 100 bytes a state); larger floors use the floor distances.
+        quick_expansions: a walk is first searched guided by the floor distances (cheap to
+            compute, blind to the robot's heading); past this many expansions it is searched
+            again guided by the lattice's cost-to-go (a Dijkstra per query, which pays only for
+            the hard walks: turning in a tight spot, or no walk at all).
     """
 
     model: BoxGraspModel
@@ -140,6 +147,7 @@ class WalkPlanner:
     inflation: float = 1.5
     floor_inflation: float = 3.0
     max_field_states: int = 1_000_000
+    quick_expansions: int = 1500
     #: Termination condition polled by the search (set by the owner).
     should_stop: Callable[[], bool] | None = field(default=None, repr=False)
     expansions: int = field(default=0, init=False)
@@ -360,30 +368,56 @@ class WalkPlanner:
         goals = self._attach(goal, obj, table, d_goal, leaving=False)
         if not starts or not goals:
             return INVALID_WALK
-        if self._nx * self._ny * N_HEADINGS <= self.max_field_states:
-            costs = self._lattice_costs(obj, goals)
-            eps = self.inflation
+        # the floor distances first, with few expansions (most walks are easy); a walk
+        # that needs more is searched again guided by the lattice's cost-to-go
+        lattice = self._nx * self._ny * N_HEADINGS <= self.max_field_states
+        dist = self._floor_distances(obj, goals)
+        eps, gyaw, tc = self.floor_inflation, goal[2], walk.turn_cost
 
-            def closed(ix: int, iy: int, h: int) -> bool:  # no walk from there
+        def floor_closed(ix: int, iy: int, h: int) -> bool:  # no walk from there
+            return math.isinf(dist[ix, iy])
+
+        def floor_h(u: State) -> float:
+            if u[0] < 0:
+                return 0.0
+            return eps * math.hypot(float(dist[u[0], u[1]]),
+                                    tc * abs(wrap_angle(HEADING_YAWS[u[2]] - gyaw)))
+
+        if all(floor_closed(*s) for s in starts):
+            return INVALID_WALK
+        try:
+            states = self._search(starts, goals, obj, table, floor_closed, floor_h,
+                                  self.quick_expansions if lattice else self.max_expansions)
+        except _GiveUp:
+            if not lattice:
+                log.debug("walk search gave up after %d expansions", self.max_expansions)
+                return INVALID_WALK
+            costs = self._lattice_costs(obj, goals)
+            weight = self.inflation
+
+            def closed(ix: int, iy: int, h: int) -> bool:
                 return math.isinf(costs[ix, iy, h])
 
             def heuristic(u: State) -> float:
-                return 0.0 if u[0] < 0 else eps * float(costs[u])
-        else:
-            dist = self._floor_distances(obj, goals)
-            eps, gyaw, tc = self.floor_inflation, goal[2], walk.turn_cost
+                return 0.0 if u[0] < 0 else weight * float(costs[u])
 
-            def closed(ix: int, iy: int, h: int) -> bool:
-                return math.isinf(dist[ix, iy])
-
-            def heuristic(u: State) -> float:
-                if u[0] < 0:
-                    return 0.0
-                return eps * math.hypot(float(dist[u[0], u[1]]),
-                                        tc * abs(wrap_angle(HEADING_YAWS[u[2]] - gyaw)))
-
-        if all(closed(*s) for s in starts):
+            if all(closed(*s) for s in starts):
+                return INVALID_WALK
+            try:
+                states = self._search(starts, goals, obj, table, closed, heuristic,
+                                      self.max_expansions)
+            except _GiveUp:
+                log.debug("walk search gave up after %d expansions", self.max_expansions)
+                states = []
+        if not states:
             return INVALID_WALK
+        poses = [start] + [self.pose(s) for s in states[1:-1]] + [goal]
+        return self._result(self._smooth(self._smooth(poses, obj), obj))
+
+    def _search(self, starts: dict[State, float], goals: dict[State, float], obj: Pose,
+                table: _BoxTable, closed: Callable[[int, int, int], bool],
+                heuristic: Callable[[State], float], cap: int) -> list[State]:
+        """Weighted A* over the lattice; ``[]``: no walk; raises ``_GiveUp`` past ``cap``."""
         counter = [0]
         stop = self.should_stop
 
@@ -392,7 +426,7 @@ class WalkPlanner:
                 yield from starts.items()
                 return
             counter[0] += 1
-            if counter[0] > self.max_expansions:
+            if counter[0] > cap:
                 raise _GiveUp
             if stop is not None and counter[0] % 8 == 0 and stop():
                 raise Interrupted("walk planning")
@@ -411,16 +445,9 @@ class WalkPlanner:
                 yield _GOAL, c
 
         try:
-            states = astar([_START], {_GOAL}, neighbours, heuristic)
-        except _GiveUp:
-            log.debug("walk search gave up after %d expansions", counter[0])
-            states = []
+            return astar([_START], {_GOAL}, neighbours, heuristic)
         finally:
             self.expansions += counter[0]
-        if not states:
-            return INVALID_WALK
-        poses = [start] + [self.pose(s) for s in states[1:-1]] + [goal]
-        return self._result(self._smooth(self._smooth(poses, obj), obj))
 
     def _floor_distances(self, obj: Pose, goals: dict[State, float]) -> np.ndarray:
         """:meth:`FloorField.distances` to the goal states' positions (cached)."""

@@ -368,8 +368,9 @@ def test_every_free_lattice_state_is_free_in_the_lattice_relaxation(name):
 
 def test_a_tight_turn_beside_the_box_is_found_with_few_expansions():
     # regression: fig10 seed 5's second walk, the robot turning between the resting box and
-    # the wall; guided by the floor distance (no headings) the search expanded 5485 states
-    # (~0.5 s) for a walk costing 13.2 m
+    # the wall; guided by the floor distance alone (no headings) the search expanded 5485
+    # states (~0.5 s) for a walk costing 13.2 m. Now the floor-guided search stops at
+    # quick_expansions and the lattice-guided one finishes in a few hundred
     obj = (4.881849527519183, 3.8451219714433633, -1.4253664043695728)
     start = (5.005029680573598, 3.004094831635443, 1.7162262492202203)
     goal = (5.524987928548769, 3.9393185590732096, 3.287022576015117)
@@ -378,7 +379,7 @@ def test_a_tight_turn_beside_the_box_is_found_with_few_expansions():
     scene = scene_from_dict(doc)
     wp = PivotChecker(scene, seed=0).walker
     walk = wp.plan_between(start, goal, obj)
-    assert walk.valid and wp.expansions < 500
+    assert walk.valid and wp.expansions < wp.quick_expansions + 500
     assert walk.robot_path[0] == start and walk.robot_path[-1] == goal
     assert walk.cost < 13.2
     m = scene.model
@@ -392,10 +393,12 @@ def test_a_tight_turn_beside_the_box_is_found_with_few_expansions():
     assert rep.ok, rep.problems
 
 
-def test_a_walk_the_lattice_cannot_make_fails_at_once():
+def test_a_walk_the_lattice_cannot_make_fails_after_the_quick_search():
     # regression: fig10 mirrored at 20 deg (seed 3's ninth walk): the box resting by a wall,
     # no lattice walk from one grasp to the other; the floor distance was finite, so the
-    # search expanded every state it could reach (54 k, ~5 s) to fail
+    # search expanded every state it could reach (54 k, ~5 s) to fail. Now the floor-guided
+    # search stops at quick_expansions and the lattice's cost-to-go proves at once that no
+    # walk exists
     from pivot_ompl.generate import mirror_scene
 
     scene = mirror_scene(shipped("fig10"), math.radians(20.0))
@@ -404,7 +407,7 @@ def test_a_walk_the_lattice_cannot_make_fails_at_once():
     start = (6.197857429409817, 2.953367342764553, 0.07624539214062409)
     goal = (7.094899449139221, 2.3700015785652875, 1.6470417189355206)
     assert not wp.plan_between(start, goal, obj).valid
-    assert wp.expansions == 0
+    assert wp.expansions <= wp.quick_expansions + 1
 
 
 def test_floors_too_large_for_the_lattice_costs_walk_with_the_floor_distance():
