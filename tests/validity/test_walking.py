@@ -366,22 +366,33 @@ def test_every_free_lattice_state_is_free_in_the_lattice_relaxation(name):
     assert tested > 500 and near_box > 20
 
 
-def test_a_tight_turn_beside_the_box_is_found_with_few_expansions():
-    # regression: fig10 seed 5's second walk, the robot turning between the resting box and
-    # the wall; guided by the floor distance alone (no headings) the search expanded 5485
-    # states (~0.5 s) for a walk costing 13.2 m. Now the floor-guided search stops at
-    # quick_expansions and the lattice-guided one finishes in a few hundred
-    obj = (4.881849527519183, 3.8451219714433633, -1.4253664043695728)
-    start = (5.005029680573598, 3.004094831635443, 1.7162262492202203)
-    goal = (5.524987928548769, 3.9393185590732096, 3.287022576015117)
+#: fig10 seed 5's second walk: the robot turning between the resting box and the wall
+#: (box pose, start and goal robot poses)
+TIGHT_TURN = ((4.881849527519183, 3.8451219714433633, -1.4253664043695728),
+              (5.005029680573598, 3.004094831635443, 1.7162262492202203),
+              (5.524987928548769, 3.9393185590732096, 3.287022576015117))
+
+
+def _tight_turn(**settings):
+    """fig10 with the box at the tight turn's pose, its walk planner, and the walk planned.
+
+    The scene starts and ends at the box's pose, so that ``check_plan`` takes a plan from
+    there; ``settings`` are set on the walk planner first.
+    """
+    obj, start, goal = TIGHT_TURN
     doc = shipped_doc("fig10")
-    doc["start"] = doc["goal"] = list(obj)  # so that the independent check takes the plan
+    doc["start"] = doc["goal"] = list(obj)
     scene = scene_from_dict(doc)
     wp = PivotChecker(scene, seed=0).walker
-    walk = wp.plan_between(start, goal, obj)
-    assert walk.valid and wp.expansions < wp.quick_expansions + 500
+    for name, value in settings.items():
+        setattr(wp, name, value)
+    return scene, wp, wp.plan_between(start, goal, obj)
+
+
+def _assert_checked(scene, walk) -> None:
+    """The tight turn's walk ends exactly at its poses and passes the independent check."""
+    obj, start, goal = TIGHT_TURN
     assert walk.robot_path[0] == start and walk.robot_path[-1] == goal
-    assert walk.cost < 13.2
     m = scene.model
     g1 = next(g for g in range(4) if np.allclose(m.robot_pose(obj, g), start))
     g2 = next(g for g in range(4) if np.allclose(m.robot_pose(obj, g), goal))
@@ -391,6 +402,16 @@ def test_a_tight_turn_beside_the_box_is_found_with_few_expansions():
                  TransferPhase(g2, goal, (), obj)])
     rep = check_plan(plan, scene)
     assert rep.ok, rep.problems
+
+
+def test_a_tight_turn_beside_the_box_is_found_with_few_expansions():
+    # regression: guided by the floor distance alone (no headings) the search expanded 5485
+    # states (~0.5 s) for a walk costing 13.2 m. Now the floor-guided search stops at
+    # quick_expansions and the lattice-guided one finishes in a few hundred
+    scene, wp, walk = _tight_turn()
+    assert walk.valid and wp.expansions < wp.quick_expansions + 500
+    assert walk.cost < 13.2
+    _assert_checked(scene, walk)
 
 
 def test_a_walk_the_lattice_cannot_make_fails_after_the_quick_search():
@@ -413,23 +434,6 @@ def test_a_walk_the_lattice_cannot_make_fails_after_the_quick_search():
 def test_floors_too_large_for_the_lattice_costs_walk_with_the_floor_distance():
     # beyond max_field_states the heuristic is the floor distance (no headings): the same
     # tight turn is still found, exact at both ends and passing the independent check
-    obj = (4.881849527519183, 3.8451219714433633, -1.4253664043695728)
-    start = (5.005029680573598, 3.004094831635443, 1.7162262492202203)
-    goal = (5.524987928548769, 3.9393185590732096, 3.287022576015117)
-    doc = shipped_doc("fig10")
-    doc["start"] = doc["goal"] = list(obj)
-    scene = scene_from_dict(doc)
-    wp = PivotChecker(scene, seed=0).walker
-    wp.max_field_states = 0
-    walk = wp.plan_between(start, goal, obj)
+    scene, wp, walk = _tight_turn(max_field_states=0)
     assert walk.valid and not wp._lattice and wp._distances
-    assert walk.robot_path[0] == start and walk.robot_path[-1] == goal
-    m = scene.model
-    g1 = next(g for g in range(4) if np.allclose(m.robot_pose(obj, g), start))
-    g2 = next(g for g in range(4) if np.allclose(m.robot_pose(obj, g), goal))
-    plan = Plan(scene.name, "exact", m.object_size, m.robot_footprint, m.standoff,
-                scene.alpha_max, obj,
-                [TransferPhase(g1, start, (), obj), TransitPhase(g1, g2, walk.robot_path, obj),
-                 TransferPhase(g2, goal, (), obj)])
-    rep = check_plan(plan, scene)
-    assert rep.ok, rep.problems
+    _assert_checked(scene, walk)
