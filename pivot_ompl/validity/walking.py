@@ -268,6 +268,10 @@ class WalkPlanner:
         table.states[s] = v
         return v
 
+    def _sweep(self, a: Pose, b: Pose) -> float:
+        """Farthest (m) any point of the walking body moves along ``a -> b`` (linear yaw)."""
+        return math.hypot(b[0] - a[0], b[1] - a[1]) + self._radius * abs(wrap_angle(b[2] - a[2]))
+
     def _certified(self, a: Pose, b: Pose, clearance: Callable[[Pose], float], da: float,
                    db: float) -> bool:
         """The straight motion ``a -> b`` (linear yaw) keeps ``clearance`` positive.
@@ -277,7 +281,7 @@ class WalkPlanner:
         if da <= 0.0 or db <= 0.0:
             return False
         dyaw = wrap_angle(b[2] - a[2])
-        lip = math.hypot(b[0] - a[0], b[1] - a[1]) + self._radius * abs(dyaw)
+        lip = self._sweep(a, b)
         if da + db > lip:
             return True
 
@@ -306,8 +310,7 @@ class WalkPlanner:
         ok = table.edges.get(key)
         if ok is None:
             a, b = self.pose(key[0]), self.pose(key[1])
-            enough = (math.hypot(b[0] - a[0], b[1] - a[1])
-                      + self._radius * abs(wrap_angle(b[2] - a[2])))
+            enough = self._sweep(a, b)
             ok = self._certified(a, b, lambda p: self._box_clear(p, obj, enough),
                                  self._box_state(key[0], obj, table),
                                  self._box_state(key[1], obj, table))
@@ -326,19 +329,15 @@ class WalkPlanner:
             return False
         if a == b:
             return (da if da is not None else self._exact(a, obj)) > 0.0
-        if da is not None and db is not None and db > 0.0:
-            lip = (math.hypot(b[0] - a[0], b[1] - a[1])
-                   + self._radius * abs(wrap_angle(b[2] - a[2])))
-            if da + db > lip:  # the ends' clearances alone certify it
-                return True
+        if da is not None and db is not None and db > 0.0 and da + db > self._sweep(a, b):
+            return True  # the ends' clearances alone certify it
         sa = da if da is not None else self._static_exact(a)
         sb = db if db is not None and db > 0.0 else self._static_exact(b)
         if not self._certified(a, b, self._static_exact, sa, sb):
             return False
         if obj is None:
             return True
-        dyaw = wrap_angle(b[2] - a[2])
-        enough = math.hypot(b[0] - a[0], b[1] - a[1]) + self._radius * abs(dyaw)
+        enough = self._sweep(a, b)
         ba = max(self._box_clear(a, obj, enough), da if da is not None else -math.inf)
         bb = max(self._box_clear(b, obj, enough), db if db is not None else -math.inf)
         return self._certified(a, b, lambda p: self._box_clear(p, obj, enough), ba, bb)
