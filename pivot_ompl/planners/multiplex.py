@@ -370,11 +370,7 @@ class MultiplexedSearch:
 
         The box and robot are free at a few poses along its Reeds-Shepp path.
         """
-        ck, m = self.checker, self.checker.model
-        for c in ck.steering.rs.sample(car_a, car_b, [0.25, 0.5, 0.75]):
-            if not ck.state_valid(m.object_from_car(c, grasp), grasp):
-                return False
-        return True
+        return self.checker.cars_free(car_a, car_b, grasp, (0.25, 0.5, 0.75))
 
     def _plausible_edge(self, a: Node, b: Node) -> bool:
         """The cheap test of transfer edge ``a - b`` (cached); an implausible edge is dropped.

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -142,11 +142,15 @@ class PivotChecker:
         """
         m = self.model
         ca, cb = m.car_pose(obj_a, grasp), m.car_pose(obj_b, grasp)
-        rs = self.steering.rs
-        n = int(rs.distance(ca, cb) / step)
-        if n < 2:
-            return True
-        cars = rs.sample(ca, cb, [k / n for k in range(1, n)])
+        n = int(self.steering.rs.distance(ca, cb) / step)
+        return n < 2 or self.cars_free(ca, cb, grasp, [k / n for k in range(1, n)],
+                                       with_robot=with_robot)
+
+    def cars_free(self, car_a: Pose, car_b: Pose, grasp: int, ts: Sequence[float], *,
+                  with_robot: bool = True) -> bool:
+        """The box (and robot) free at fractions ``ts`` of the car's Reeds-Shepp path."""
+        m = self.model
+        cars = self.steering.rs.sample(car_a, car_b, list(ts))
         if with_robot:
             return all(self.state_valid(m.object_from_car(c, grasp), grasp) for c in cars)
         return all(self.box_valid(m.object_from_car(c, grasp)) for c in cars)
