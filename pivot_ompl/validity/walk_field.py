@@ -221,18 +221,11 @@ class FloorField:
         cut = np.concatenate(slots)
         if should_stop is not None and should_stop():
             raise Interrupted("walking floor field")
-        w = self._weights.reshape(-1)  # a view
-        saved = w[cut]
-        w[cut] = np.inf  # closed in place for this query, restored after
-        try:
-            n = self.nx * ny
-            g = csr_matrix((w, self._indices.reshape(-1), self._indptr), shape=(n, n),
-                           copy=False)
-            idx = [ix * ny + iy for ix, iy in goals]
-            d = dijkstra(g, directed=True, indices=idx, min_only=True)
-        finally:
-            w[cut] = saved
-        return np.asarray(d).reshape(self.nx, self.ny)
+        n = self.nx * ny
+        g = csr_matrix((self._weights.reshape(-1), self._indices.reshape(-1), self._indptr),
+                       shape=(n, n), copy=False)
+        dist = _dijkstra_closing(g, cut, [ix * ny + iy for ix, iy in goals])
+        return dist.reshape(self.nx, self.ny)
 
     def lattice_costs(self, obj: Pose, goals: list[tuple[int, int, int]],
                       prims: tuple[tuple[Primitive, ...], ...],
@@ -261,13 +254,7 @@ class FloorField:
         cut = np.repeat(first - np.cumsum(count) + count, count) + np.arange(count.sum())
         if should_stop is not None and should_stop():
             raise Interrupted("walking lattice field")
-        saved = rows.data[cut]
-        rows.data[cut] = np.inf
-        try:
-            d = dijkstra(rows, directed=True, indices=[node[s] for s in goals], min_only=True)
-        finally:
-            rows.data[cut] = saved
-        return np.asarray(d).reshape(nx, ny, nh)
+        return _dijkstra_closing(rows, cut, [node[s] for s in goals]).reshape(nx, ny, nh)
 
     def _lattice_graph(self, prims: tuple[tuple[Primitive, ...], ...],
                        should_stop: Callable[[], bool] | None = None) -> csr_matrix:
@@ -348,3 +335,17 @@ class FloorField:
                                                           self._y[i0:i1, j0:j1])
             out.append(meets)
         return out
+
+
+def _dijkstra_closing(graph: csr_matrix, cut: np.ndarray, sources: list) -> np.ndarray:
+    """Distances from the nearest of ``sources`` over ``graph``, its entries ``cut`` closed.
+
+    The entries (the resting box's part of a query) are closed in place in the graph built
+    once per scene, and restored after.
+    """
+    saved = graph.data[cut]
+    graph.data[cut] = np.inf
+    try:
+        return np.asarray(dijkstra(graph, directed=True, indices=sources, min_only=True))
+    finally:
+        graph.data[cut] = saved
