@@ -66,3 +66,37 @@ def meeting_hulls(pieces: list[np.ndarray], body: np.ndarray) -> list[BaseGeomet
     index = np.repeat(np.arange(len(diffs)), [len(d) for d in diffs])
     points = shapely.points(np.concatenate(diffs))
     return list(shapely.convex_hull(shapely.multipoints(points, indices=index)))
+
+
+def grid_inside(hull: BaseGeometry, xs: np.ndarray,
+                ys: np.ndarray) -> tuple[slice, slice, np.ndarray]:
+    """The points of the grid ``xs`` x ``ys`` strictly inside a convex polygon.
+
+    ``xs``, ``ys``: increasing coordinates. Returns the index ranges of the grid points inside
+    the polygon's bounding box and their mask (``True`` inside), as ``shapely.contains_xy``
+    would give, from the polygon's edges taken as the lines bounding each grid column from
+    below and above (the grid is rasterised one column at a time, not point by point).
+    """
+    if hull.geom_type != "Polygon" or hull.is_empty:
+        return slice(0, 0), slice(0, 0), np.zeros((0, 0), dtype=bool)
+    x0, y0, x1, y1 = hull.bounds
+    i0, i1 = np.searchsorted(xs, x0, side="right"), np.searchsorted(xs, x1, side="left")
+    j0, j1 = np.searchsorted(ys, y0, side="right"), np.searchsorted(ys, y1, side="left")
+    cols, rows = slice(int(i0), int(max(i0, i1))), slice(int(j0), int(max(j0, j1)))
+    ring = shapely.get_coordinates(hull.exterior)
+    p, q = ring[:-1], ring[1:]
+    if np.sum(p[:, 0] * q[:, 1] - q[:, 0] * p[:, 1]) < 0.0:  # clockwise: the inside is right
+        p, q = q, p
+    d = q - p
+    x = xs[cols][:, None]
+    lo = np.full(x.shape[0], -np.inf)
+    hi = np.full(x.shape[0], np.inf)
+    # an edge running right bounds the inside from below, one running left from above; the
+    # vertical ones lie at the bounding box's sides, outside the columns taken
+    for sel, out, reduce in ((d[:, 0] > 1e-12, lo, np.max), (d[:, 0] < -1e-12, hi, np.min)):
+        if np.any(sel):
+            ps, ds = p[sel], d[sel]
+            y = ps[:, 1] + ds[:, 1] / ds[:, 0] * (x - ps[:, 0])
+            out[:] = reduce(y, axis=1)
+    y = ys[rows][None, :]
+    return cols, rows, (y > lo[:, None]) & (y < hi[:, None])

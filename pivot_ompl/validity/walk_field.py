@@ -52,7 +52,7 @@ from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.se2 import Pose, rectangle_corners
 from pivot_ompl.validity.collision import CollisionWorld
-from pivot_ompl.validity.footprints import meeting_hulls, obstacle_pieces
+from pivot_ompl.validity.footprints import grid_inside, meeting_hulls, obstacle_pieces
 from pivot_ompl.validity.walk_lattice import HEADING_VECTORS, HEADING_YAWS, N_HEADINGS, Primitive
 
 #: Grid positions whose graph edges are built between two polls of the termination condition.
@@ -179,17 +179,9 @@ class FloorField:
         xs, ys = x[:, 0], y[0, :]
         ok = ((xs + corners[:, 0].min() > b[0]) & (xs + corners[:, 0].max() < b[2]))[:, None] \
             & ((ys + corners[:, 1].min() > b[1]) & (ys + corners[:, 1].max() < b[3]))[None, :]
-        res = self.resolution
         for hull in meeting_hulls(self._pieces, self._grown @ rot.T):
-            x0, y0, x1, y1 = hull.bounds  # the grid positions in its bounding box
-            i0 = max(0, math.ceil((x0 - b[0]) / res))
-            i1 = min(self.nx, math.floor((x1 - b[0]) / res) + 1)
-            j0 = max(0, math.ceil((y0 - b[1]) / res))
-            j1 = min(self.ny, math.floor((y1 - b[1]) / res) + 1)
-            if i0 >= i1 or j0 >= j1:
-                continue
-            sub = ok[i0:i1, j0:j1]
-            sub &= ~shapely.contains_xy(hull, x[i0:i1, j0:j1], y[i0:i1, j0:j1])
+            cols, rows, inside = grid_inside(hull, xs, ys)
+            ok[cols, rows] &= ~inside
         return ok
 
     def open_with_box(self, obj: Pose,
@@ -321,18 +313,12 @@ class FloorField:
             diffs.append((pts[:, None, :] - body[None, :, :]).reshape(-1, 2))
         hulls = shapely.convex_hull(shapely.multipoints(
             np.concatenate(diffs), indices=np.repeat(np.arange(len(diffs)), len(diffs[0]))))
-        b, res = self.world.bounds, self.resolution
+        xs, ys = self._x[:, 0], self._y[0, :]
         out = []
         for hull in hulls:
             meets = np.zeros((self.nx, self.ny), dtype=bool)
-            x0, y0, x1, y1 = hull.bounds
-            i0 = max(0, math.ceil((x0 - b[0]) / res))
-            i1 = min(self.nx, math.floor((x1 - b[0]) / res) + 1)
-            j0 = max(0, math.ceil((y0 - b[1]) / res))
-            j1 = min(self.ny, math.floor((y1 - b[1]) / res) + 1)
-            if i0 < i1 and j0 < j1:
-                meets[i0:i1, j0:j1] = shapely.contains_xy(hull, self._x[i0:i1, j0:j1],
-                                                          self._y[i0:i1, j0:j1])
+            cols, rows, inside = grid_inside(hull, xs, ys)
+            meets[cols, rows] = inside
             out.append(meets)
         return out
 
