@@ -15,6 +15,7 @@ N = TypeVar("N", bound=Hashable)
 def astar(starts: Iterable[N], goals: Collection[N],
           neighbours: Callable[[N], Iterable[tuple[N, float]]],
           heuristic: Callable[[N], float], *,
+          valid: Callable[[N, N], bool] | None = None,
           should_stop: Callable[[], bool] | None = None) -> list[N]:
     """Cheapest path from any start to any goal; ``[]`` if none.
 
@@ -23,6 +24,10 @@ def astar(starts: Iterable[N], goals: Collection[N],
         goals: goal nodes (membership tested).
         neighbours: ``n -> [(m, cost), ...]`` with non-negative costs.
         heuristic: admissible lower bound of the cost from a node to the goals.
+        valid: ``(n, m) -> bool``, if given: the edges ``neighbours`` gives are candidates,
+            each checked only when the node it leads to is taken from the queue through it
+            (lazy A*: most edges out of an expanded node never are, and are never checked).
+            A node whose edge fails stays open, to be reached through another.
         should_stop: termination condition, polled every 1024 expansions.
 
     Raises:
@@ -30,19 +35,23 @@ def astar(starts: Iterable[N], goals: Collection[N],
     """
     dist: dict[N, float] = {}
     parent: dict[N, N] = {}
-    heap: list[tuple[float, int, N]] = []
+    heap: list[tuple[float, int, float, N, N | None]] = []
     tie = 0
     for s in starts:
         dist[s] = 0.0
-        heap.append((heuristic(s), tie, s))
+        heap.append((heuristic(s), tie, 0.0, s, None))
         tie += 1
     heapq.heapify(heap)
     done: set[N] = set()
     while heap:
-        _, _, u = heapq.heappop(heap)
-        if u in done:
+        _, _, du, u, p = heapq.heappop(heap)
+        if u in done or (valid is None and du > dist[u]):
+            continue
+        if valid is not None and p is not None and not valid(p, u):
             continue
         done.add(u)
+        if p is not None:
+            parent[u] = p
         if should_stop is not None and len(done) % 1024 == 0 and should_stop():
             raise Interrupted("A* search")
         if u in goals:
@@ -50,14 +59,16 @@ def astar(starts: Iterable[N], goals: Collection[N],
             while path[-1] in parent:
                 path.append(parent[path[-1]])
             return path[::-1]
-        du = dist[u]
         for v, c in neighbours(u):
             nd = du + c
-            if nd < dist.get(v, math.inf):
+            # checked edges: only the cheapest known way to ``v`` is queued; candidate
+            # edges: every way is queued (the cheapest may fail its check)
+            if v in done or (valid is None and nd >= dist.get(v, math.inf)):
+                continue
+            if valid is None:
                 dist[v] = nd
-                parent[v] = u
-                tie += 1
-                heapq.heappush(heap, (nd + heuristic(v), tie, v))
+            tie += 1
+            heapq.heappush(heap, (nd + heuristic(v), tie, nd, v, u))
     return []
 
 

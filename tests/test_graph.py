@@ -109,3 +109,50 @@ def test_astar_honours_the_termination_condition():
 
     with pytest.raises(Interrupted):
         astar([0], {-1}, line, lambda n: 0.0, should_stop=lambda: True)
+
+
+@given(seed=st.integers(0, 10_000), n=st.integers(2, 25), p=st.floats(0.05, 0.6),
+       broken=st.floats(0.0, 0.7))
+@settings(max_examples=150, deadline=None)
+def test_lazy_astar_finds_the_cheapest_path_over_the_edges_that_pass(seed, n, p, broken):
+    adj = random_graph(n, p, seed)
+    rng = np.random.default_rng(seed + 1)
+    bad = {(u, v) for u in adj for v, _ in adj[u] if rng.random() < broken}
+    kept = {u: [(v, c) for v, c in adj[u] if (u, v) not in bad] for u in adj}
+    starts, goals = [0, n // 3], {n - 1, n // 2}
+    checked: list[tuple[int, int]] = []
+
+    def valid(u: int, v: int) -> bool:
+        checked.append((u, v))
+        return (u, v) not in bad
+
+    path = astar(starts, goals, lambda u: adj[u], lambda u: 0.0, valid=valid)
+    best = dijkstra(kept, starts, goals)
+    if math.isinf(best):
+        assert path == []
+    else:
+        assert path[0] in starts and path[-1] in goals
+        assert all((a, b) not in bad for a, b in zip(path, path[1:], strict=False))
+        assert math.isclose(cost(adj, path), best)
+    assert len(checked) == len(set(checked))  # no edge is checked twice
+
+
+def test_lazy_astar_checks_only_the_edges_it_takes_from_the_queue():
+    def nb(c):  # an open grid: 8 neighbours each
+        x, y = c
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                if (dx or dy) and 0 <= x + dx < 30 and 0 <= y + dy < 30:
+                    yield (x + dx, y + dy), math.hypot(dx, dy)
+
+    goal = (29, 29)
+    checked = []
+
+    def valid(u, v):
+        checked.append(v)
+        return True
+
+    path = astar([(0, 0)], {goal}, nb, lambda c: math.hypot(goal[0] - c[0], goal[1] - c[1]),
+                 valid=valid)
+    assert len(path) == 30
+    assert len(checked) <= 2 * len(path)  # eager: 8 per expanded node

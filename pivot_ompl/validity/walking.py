@@ -36,6 +36,9 @@ a robot narrower than a door walks through it forward or sideways.
 * **Smoothing**: the lattice path is shortened greedily by certified straight motions (any
   direction, linear yaw) and by forward walks along Dubins curves (OMPL's, turning radius
   ``step_forward / step_turn``) whenever they cost less.
+* **Lazy**: a motion (and the state it reaches) is certified only when the search takes it
+  from the queue (lazy A*, :func:`pivot_ompl.graph.astar` with ``valid``): most motions out of
+  an expanded state never are, and cost nothing.
 * Every loop honours the caller's termination condition; a search larger than
   ``max_expansions`` states gives up (no walk).
 """
@@ -416,7 +419,7 @@ class WalkPlanner:
     def _search(self, starts: dict[State, float], goals: dict[State, float], obj: Pose,
                 table: _BoxTable, closed: Callable[[int, int, int], bool],
                 heuristic: Callable[[State], float], cap: int) -> list[State]:
-        """Weighted A* over the lattice; ``[]``: no walk; raises ``_GiveUp`` past ``cap``."""
+        """Lazy weighted A* over the lattice; ``[]``: no walk; raises ``_GiveUp`` past ``cap``."""
         counter = [0]
         stop = self.should_stop
 
@@ -432,19 +435,19 @@ class WalkPlanner:
             nx, ny = self._nx, self._ny
             for pr in self._prims[u[2]]:
                 ix, iy, h = u[0] + pr.dix, u[1] + pr.diy, (u[2] + pr.dh) % N_HEADINGS
-                if not (0 <= ix < nx and 0 <= iy < ny) or closed(ix, iy, h):
-                    continue
-                v = (ix, iy, h)
-                if self._clearance(v, obj, table) <= 0.0:
-                    continue
-                if self._edge_free(u, v, obj, table):
-                    yield v, pr.cost
+                if 0 <= ix < nx and 0 <= iy < ny and not closed(ix, iy, h):
+                    yield (ix, iy, h), pr.cost
             c = goals.get(u)
             if c is not None:
                 yield _GOAL, c
 
+        def free(u: State, v: State) -> bool:  # the joins to start and goal are certified
+            if u == _START or v == _GOAL:
+                return True
+            return self._clearance(v, obj, table) > 0.0 and self._edge_free(u, v, obj, table)
+
         try:
-            return astar([_START], {_GOAL}, neighbours, heuristic)
+            return astar([_START], {_GOAL}, neighbours, heuristic, valid=free)
         finally:
             self.expansions += counter[0]
 

@@ -437,3 +437,34 @@ def test_floors_too_large_for_the_lattice_costs_walk_with_the_floor_distance():
     scene, wp, walk = _tight_turn(max_field_states=0)
     assert walk.valid and not wp._lattice and wp._distances
     _assert_checked(scene, walk)
+
+
+def test_the_walk_search_certifies_only_the_motions_it_takes(monkeypatch):
+    # regression: every motion out of an expanded state to a free state was certified (the
+    # slot walk of fig10, round wall A through its door: 1426 motions for 297 expansions).
+    # The search now certifies a motion when it takes it from the queue
+    from pivot_ompl.validity import walking
+
+    obj = (4.15, 1.5, 0.0)  # the box in wall A's slot
+    doc = shipped_doc("fig10")
+    doc["start"] = doc["goal"] = list(obj)
+    ck = PivotChecker(scene_from_dict(doc), seed=0)
+    wp, calls = ck.walker, []
+    edge_free = walking.WalkPlanner._edge_free
+
+    def counted(self, u, v, obj, table):  # noqa: ANN001, ANN202
+        calls.append((u, v))
+        return edge_free(self, u, v, obj, table)
+
+    monkeypatch.setattr(walking.WalkPlanner, "_edge_free", counted)
+    walk = ck.transit(obj, 0, 2)
+    assert walk.valid and walk.length > 9.0  # round through the door
+    assert 100 < wp.expansions and len(calls) < 2 * wp.expansions
+    m = ck.scene.model
+    plan = Plan(ck.scene.name, "exact", m.object_size, m.robot_footprint, m.standoff,
+                ck.scene.alpha_max, obj,
+                [TransferPhase(0, m.robot_pose(obj, 0), (), obj),
+                 TransitPhase(0, 2, walk.robot_path, obj),
+                 TransferPhase(2, m.robot_pose(obj, 2), (), obj)])
+    rep = check_plan(plan, ck.scene)
+    assert rep.ok, rep.problems
