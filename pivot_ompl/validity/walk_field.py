@@ -52,7 +52,7 @@ from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.se2 import Pose, rectangle_corners
 from pivot_ompl.validity.collision import CollisionWorld
-from pivot_ompl.validity.footprints import grid_inside, meeting_hulls, obstacle_pieces
+from pivot_ompl.validity.footprints import EdgeSet, grid_union, meeting_edges, obstacle_pieces
 from pivot_ompl.validity.walk_lattice import HEADING_VECTORS, HEADING_YAWS, N_HEADINGS, Primitive
 
 #: Grid positions whose graph edges are built between two polls of the termination condition.
@@ -87,6 +87,7 @@ class FloorField:
     _fits: dict[int, np.ndarray] = field(default_factory=dict, init=False, repr=False)
     _lattice: csr_matrix | None = field(default=None, init=False, repr=False)
     _partial: np.ndarray | None = field(default=None, init=False, repr=False)
+    _edges: EdgeSet | None = field(default=None, init=False, repr=False)
     #: Yaws, then grid rows of the graph, of :meth:`static_open` done so far (it resumes
     #: there when interrupted).
     yaws_done: int = field(default=0, init=False)
@@ -179,10 +180,28 @@ class FloorField:
         xs, ys = x[:, 0], y[0, :]
         ok = ((xs + corners[:, 0].min() > b[0]) & (xs + corners[:, 0].max() < b[2]))[:, None] \
             & ((ys + corners[:, 1].min() > b[1]) & (ys + corners[:, 1].max() < b[3]))[None, :]
-        for hull in meeting_hulls(self._pieces, self._grown @ rot.T):
-            cols, rows, inside = grid_inside(hull, xs, ys)
-            ok[cols, rows] &= ~inside
+        n = len(self._pieces)
+        if n:
+            k = OPEN_YAWS.index(yaw) if yaw in OPEN_YAWS else -1
+            edges = self._static_edges().rows(k * n, (k + 1) * n) if k >= 0 else \
+                meeting_edges(self._pieces, [self._grown @ rot.T] * n)
+            ok &= ~grid_union(edges, xs, ys)[0]
         return ok
+
+    def _static_edges(self) -> EdgeSet:
+        """Where the grown body meets each obstacle piece, at every yaw of :data:`OPEN_YAWS`.
+
+        Polygon ``k * len(pieces) + i``: piece ``i`` at yaw ``OPEN_YAWS[k]`` (all summed at
+        once, vectorised; built once).
+        """
+        if self._edges is None:
+            bodies = []
+            for yaw in OPEN_YAWS:
+                c, s = math.cos(yaw), math.sin(yaw)
+                body = self._grown @ np.array([[c, -s], [s, c]]).T
+                bodies.extend([body] * len(self._pieces))
+            self._edges = meeting_edges(self._pieces * len(OPEN_YAWS), bodies)
+        return self._edges
 
     def open_with_box(self, obj: Pose,
                       should_stop: Callable[[], bool] | None = None) -> np.ndarray:
@@ -306,21 +325,14 @@ class FloorField:
         if self.box_margin > 0:
             box = box.buffer(self.box_margin, quad_segs=4)
         pts = np.asarray(box.exterior.coords)[:-1]
-        diffs = []
+        bodies = []
         for yaw in HEADING_YAWS:  # the Minkowski sums of the box and the turned body
             c, s = math.cos(yaw), math.sin(yaw)
-            body = self._outline @ np.array([[c, -s], [s, c]]).T
-            diffs.append((pts[:, None, :] - body[None, :, :]).reshape(-1, 2))
-        hulls = shapely.convex_hull(shapely.multipoints(
-            np.concatenate(diffs), indices=np.repeat(np.arange(len(diffs)), len(diffs[0]))))
-        xs, ys = self._x[:, 0], self._y[0, :]
-        out = []
-        for hull in hulls:
-            meets = np.zeros((self.nx, self.ny), dtype=bool)
-            cols, rows, inside = grid_inside(hull, xs, ys)
-            meets[cols, rows] = inside
-            out.append(meets)
-        return out
+            bodies.append(self._outline @ np.array([[c, -s], [s, c]]).T)
+        edges = meeting_edges([pts] * len(bodies), bodies)
+        meets = grid_union(edges, self._x[:, 0], self._y[0, :], groups=np.arange(len(bodies)),
+                           n_groups=len(bodies))
+        return list(meets)
 
 
 def _dijkstra_closing(graph: csr_matrix, cut: np.ndarray, sources: list) -> np.ndarray:

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from pivot_ompl.validity.footprints import grid_inside
+from pivot_ompl.validity.footprints import grid_inside, grid_union, meeting_edges, meeting_hulls
 
 
 @given(seed=st.integers(0, 100_000), k=st.integers(3, 12), clockwise=st.booleans())
@@ -42,3 +44,70 @@ def test_grid_inside_of_an_axis_aligned_square_and_a_thin_diagonal():
     got[cols, rows] = inside
     assert np.array_equal(np.argwhere(got), [[i, i] for i in range(1, 9)])
     assert not grid_inside(shapely.LineString([(0, 0), (1, 1)]).convex_hull, xs, ys)[2].any()
+
+
+def _random_piece(rng: np.random.Generator) -> np.ndarray:
+    c = rng.uniform(-2.0, 2.0, 2)
+    kind = rng.integers(3)
+    if kind == 0:  # a rectangle, often axis-aligned (edges parallel to the body's)
+        w, h = rng.uniform(0.05, 1.0, 2)
+        a = [0.0, math.pi / 2, float(rng.uniform(0.0, 6.3))][rng.integers(3)]
+        rot = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
+        return c + np.array([[-w, -h], [w, -h], [w, h], [-w, h]]) @ rot.T
+    if kind == 1:  # an inscribed 24-gon, edges parallel to the body's at some yaws
+        a = np.linspace(0.0, 2 * math.pi, 24, endpoint=False)
+        r = rng.uniform(0.05, 0.5)
+        return np.column_stack([c[0] + r * np.cos(a), c[1] + r * np.sin(a)])
+    return c + rng.uniform(-1.0, 1.0, (3, 2))  # a triangle, either orientation
+
+
+@given(seed=st.integers(0, 100_000))
+@settings(max_examples=150, deadline=None)
+def test_meeting_edges_rasterised_as_the_hulls_one_by_one(seed):
+    rng = np.random.default_rng(seed)
+    pieces = [_random_piece(rng) for _ in range(int(rng.integers(1, 6)))]
+    body = shapely.Polygon([(-0.2, -0.3), (0.3, -0.3), (0.3, 0.3), (-0.2, 0.3)])
+    body = np.asarray(body.buffer(0.05, quad_segs=4).exterior.coords)[:-1]
+    yaw = [0.0, math.pi / 2, math.pi / 8 * int(rng.integers(16)), float(rng.uniform(0, 6.3))][
+        rng.integers(4)]
+    turned = body @ np.array([[math.cos(yaw), -math.sin(yaw)], [math.sin(yaw), math.cos(yaw)]]).T
+    res = float(rng.choice([0.025, 0.05, 0.1]))
+    xs = -3.0 + res * np.arange(int(6.0 / res))
+    ys = -3.1 + res * np.arange(int(6.3 / res))
+    want = np.zeros((len(xs), len(ys)), dtype=bool)
+    for hull in meeting_hulls(pieces, turned):
+        cols, rows, inside = grid_inside(hull, xs, ys)
+        want[cols, rows] |= inside
+    groups = rng.integers(0, 2, len(pieces))
+    got = grid_union(meeting_edges(pieces, [turned] * len(pieces)), xs, ys, groups=groups,
+                     n_groups=2)
+    assert np.array_equal(got[0] | got[1], want)
+    for hull, g in zip(meeting_hulls(pieces, turned), groups, strict=True):
+        cols, rows, inside = grid_inside(hull, xs, ys)
+        assert got[g][cols, rows][inside].all()
+
+
+def test_meeting_edges_certified_hull_has_the_geos_vertices():
+    piece = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.5], [0.0, 0.5]])
+    body = np.array([[-0.1, -0.1], [0.1, -0.1], [0.1, 0.1], [-0.1, 0.1]])
+    edges = meeting_edges([piece], [body])
+    got = {tuple(v) for v in edges.start[0][edges.used[0]]}
+    hull = meeting_hulls([piece], body)[0]
+    assert got == {tuple(v) for v in shapely.get_coordinates(hull.exterior)}
+    assert len(got) == 4  # the collinear differences dropped, as GEOS does
+
+
+@given(seed=st.integers(0, 100_000), tilt=st.floats(1e-15, 1e-6))
+@settings(max_examples=100, deadline=None)
+def test_meeting_edges_vertices_are_the_geos_hull_vertices_with_nearly_parallel_edges(
+        seed, tilt):
+    rng = np.random.default_rng(seed)
+    pieces = [_random_piece(rng) for _ in range(3)]
+    body = np.array([[-0.2, -0.3], [0.3, -0.3], [0.3, 0.3], [-0.2, 0.3]])
+    yaw = math.pi / 2 * int(rng.integers(4)) + tilt * float(rng.choice([-1.0, 1.0]))
+    turned = body @ np.array([[math.cos(yaw), -math.sin(yaw)], [math.sin(yaw), math.cos(yaw)]]).T
+    edges = meeting_edges(pieces, [turned] * len(pieces))
+    for i, hull in enumerate(meeting_hulls(pieces, turned)):
+        want = {tuple(v) for v in shapely.get_coordinates(hull.exterior)}
+        got = edges.start[i][edges.used[i]]
+        assert len(got) == len(want) and {tuple(v) for v in got} == want

@@ -1,0 +1,130 @@
+"""Walking floor field micro-benchmark: the static field and the box footprints, old vs new.
+
+For fig10 and its copies (``scene_copy``: ``rot37``, ``mir20`` by default), times
+``FloorField.static_open`` (the obstacles' part, once per planning run) and
+``FloorField._meets_box`` (the resting box's part, per lattice-field query) with the numpy
+route (``footprints.meeting_edges`` + ``grid_union``) and with the shapely route it replaced
+(:func:`reference_fits`, :func:`reference_meets_box`: shapely convex hulls of vertex
+differences, each rasterised by ``footprints.grid_inside``), side by side: CPU time
+(``process_time``), best of ``--repeat`` fresh fields, and whether the booleans are equal.
+
+    python benchmarks/walk_field.py [--scene fig10] [--copies rot37,mir20] [--repeat 5]
+        [--out results/walk_field.json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+from collections.abc import Callable
+
+import numpy as np
+import shapely
+from common import write_json
+from walk_queries import scene_copy
+
+from pivot_ompl.se2 import Pose, rectangle_corners
+from pivot_ompl.validity.footprints import grid_inside, meeting_hulls
+from pivot_ompl.validity.pivot_checker import PivotChecker
+from pivot_ompl.validity.walk_field import FloorField
+from pivot_ompl.validity.walk_lattice import HEADING_YAWS
+
+
+def reference_fits(f: FloorField, yaw: float) -> np.ndarray:
+    """``FloorField._fits_at`` by the shapely route (the code before the numpy one)."""
+    c, s = math.cos(yaw), math.sin(yaw)
+    rot = np.array([[c, -s], [s, c]])
+    corners = f._outline @ rot.T
+    b = f.world.bounds
+    xs, ys = f._x[:, 0], f._y[0, :]
+    ok = ((xs + corners[:, 0].min() > b[0]) & (xs + corners[:, 0].max() < b[2]))[:, None] \
+        & ((ys + corners[:, 1].min() > b[1]) & (ys + corners[:, 1].max() < b[3]))[None, :]
+    for hull in meeting_hulls(f._pieces, f._grown @ rot.T):
+        cols, rows, inside = grid_inside(hull, xs, ys)
+        ok[cols, rows] &= ~inside
+    return ok
+
+
+def reference_meets_box(f: FloorField, obj: Pose) -> list[np.ndarray]:
+    """``FloorField._meets_box`` by the shapely route (the code before the numpy one)."""
+    box = shapely.Polygon(rectangle_corners(obj, f.model.object_size[0], f.model.object_size[1]))
+    if f.box_margin > 0:
+        box = box.buffer(f.box_margin, quad_segs=4)
+    pts = np.asarray(box.exterior.coords)[:-1]
+    diffs = []
+    for yaw in HEADING_YAWS:
+        c, s = math.cos(yaw), math.sin(yaw)
+        body = f._outline @ np.array([[c, -s], [s, c]]).T
+        diffs.append((pts[:, None, :] - body[None, :, :]).reshape(-1, 2))
+    hulls = shapely.convex_hull(shapely.multipoints(
+        np.concatenate(diffs), indices=np.repeat(np.arange(len(diffs)), len(diffs[0]))))
+    xs, ys = f._x[:, 0], f._y[0, :]
+    out = []
+    for hull in hulls:
+        meets = np.zeros((f.nx, f.ny), dtype=bool)
+        cols, rows, inside = grid_inside(hull, xs, ys)
+        meets[cols, rows] = inside
+        out.append(meets)
+    return out
+
+
+def fresh_field(template: FloorField, old: bool) -> FloorField:
+    """A new field of ``template``'s scene, on the shapely route if ``old``."""
+    f = FloorField(template.model, template.world, template.resolution, template.box_margin)
+    if old:
+        f._fits_at = lambda yaw: reference_fits(f, yaw)  # type: ignore[method-assign]
+        f._meets_box = lambda obj: reference_meets_box(f, obj)  # type: ignore[method-assign]
+    return f
+
+
+def best_of(repeat: int, run: Callable[[], object]) -> tuple[float, object]:
+    """Least CPU time (s) of ``repeat`` runs, and the last run's result."""
+    best, out = math.inf, None
+    for _ in range(repeat):
+        t = time.process_time()
+        out = run()
+        best = min(best, time.process_time() - t)
+    return best, out
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--scene", default="fig10")
+    ap.add_argument("--copies", default="rot37,mir20")
+    ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--out", default="results/walk_field.json")
+    a = ap.parse_args()
+    rows = []
+    for copy in ["", *a.copies.split(",")]:
+        scene = scene_copy(a.scene, copy)
+        template = PivotChecker(scene).walker.field
+        objs = [scene.start, scene.goal]
+        row: dict[str, object] = {"copy": copy or "orig", "grid": [template.nx, template.ny]}
+        results = {}
+        for route in ("old", "new"):
+            old = route == "old"
+            t_static, ok = best_of(
+                a.repeat, lambda t=template, old=old: fresh_field(t, old).static_open())
+            f = fresh_field(template, old)
+            t_box, meets = best_of(a.repeat, lambda f=f, objs=objs: [f._meets_box(o) for o in objs])
+            row[f"static_open_{route}_ms"] = 1e3 * t_static
+            row[f"meets_box_{route}_ms"] = 1e3 * t_box / len(objs)
+            results[route] = (ok, meets)
+        (ok_old, m_old), (ok_new, m_new) = results["old"], results["new"]
+        row["equal"] = bool(np.array_equal(ok_old, ok_new)) and all(
+            np.array_equal(x, y) for a_, b_ in zip(m_old, m_new, strict=True)
+            for x, y in zip(a_, b_, strict=True))
+        row["static_speedup"] = row["static_open_old_ms"] / row["static_open_new_ms"]
+        row["meets_box_speedup"] = row["meets_box_old_ms"] / row["meets_box_new_ms"]
+        print(f"{row['copy']:>6} grid {template.nx}x{template.ny}: static_open "
+              f"{row['static_open_old_ms']:.1f} -> {row['static_open_new_ms']:.1f} ms "
+              f"(x{row['static_speedup']:.2f}), _meets_box {row['meets_box_old_ms']:.2f} -> "
+              f"{row['meets_box_new_ms']:.2f} ms (x{row['meets_box_speedup']:.2f}), "
+              f"equal: {row['equal']}")
+        rows.append(row)
+    write_json({"scene": a.scene, "repeat": a.repeat, "rows": rows}, a.out)
+
+
+if __name__ == "__main__":
+    main()
