@@ -160,6 +160,14 @@ def _three_least(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.concatenate(idx[:2], axis=-1), np.concatenate(least, axis=-1)
 
 
+def _after_last(edge: np.ndarray, mine: np.ndarray, count: int) -> np.ndarray:
+    """Per slot, the vertex after the last edge (``edge`` where ``mine``) up to it, cyclically."""
+    slot = np.broadcast_to(np.arange(edge.shape[1]), edge.shape)
+    last = np.maximum.accumulate(np.where(mine, slot, -1), axis=1)
+    last = np.where(last < 0, last[:, -1:], last)
+    return (np.take_along_axis(edge, last, axis=1) + 1) % count
+
+
 def _sum_hulls(pieces: np.ndarray, bodies: np.ndarray) -> tuple[np.ndarray, np.ndarray,
                                                                   np.ndarray, np.ndarray]:
     """Hulls of ``piece - body`` per row (``(g, k, 2)``, ``(g, m, 2)`` convex polygons).
@@ -182,12 +190,14 @@ def _sum_hulls(pieces: np.ndarray, bodies: np.ndarray) -> tuple[np.ndarray, np.n
     for poly in (p, q):
         e = np.roll(poly, -1, axis=1) - poly
         normals.append(np.arctan2(-e[..., 0], e[..., 1]) % (2 * math.pi))
-    ang = np.sort(np.concatenate(normals, axis=1), axis=1)
+    ang = np.concatenate(normals, axis=1)
+    order = np.argsort(ang, axis=1)
+    ang = np.take_along_axis(ang, order, axis=1)
     gap = np.diff(ang, axis=1, append=ang[:, :1] + 2 * math.pi)
-    mid = ang + 0.5 * gap
-    u = np.stack([np.cos(mid), np.sin(mid)], axis=-1)
-    ip = np.argmax(_dots(u, p), axis=2)
-    iq = np.argmax(_dots(u, q), axis=2)
+    # between two consecutive normals, each polygon's extreme vertex is the one after the
+    # edge of the last of its normals so far (cyclically)
+    ip = _after_last(order, order < k, k)
+    iq = _after_last(order - k, order >= k, m)
     # the vertex as one of the differences (same floats): p's vertex minus the body's
     pidx = np.where(pflip[:, None], k - 1 - ip, ip)
     qidx = np.where(qflip[:, None], m - 1 - iq, iq)
@@ -306,22 +316,24 @@ def meeting_edges(pieces: list[np.ndarray], bodies: list[np.ndarray]) -> EdgeSet
     return EdgeSet(start, end, used, bounds)
 
 
-def _bound(p: np.ndarray, slope: np.ndarray, sel: np.ndarray, x: np.ndarray,
-           reduce: np.ufunc, empty: float) -> np.ndarray:
-    """Per polygon and column ``x`` ``(n, w)``, ``reduce`` of its edges' lines (``sel``).
+def _bound(p: np.ndarray, slope: np.ndarray, sel: np.ndarray, poly: np.ndarray,
+           x: np.ndarray, reduce: np.ufunc, empty: float) -> np.ndarray:
+    """Per (polygon ``poly``, column ``x``) pair, ``reduce`` of its edges' lines (``sel``).
 
-    The selected edges are moved to the front of each row first (so the broadcast is only
-    as wide as the most edges one polygon has on that side).
+    The line of edge ``p``, ``slope`` at ``x`` is ``p_y + slope * (x - p_x)`` (evaluated as
+    :func:`grid_inside` does). The selected edges are moved to the front of each polygon's
+    row first (so the arrays are only as wide as the most edges one polygon has on that
+    side), the others made lines constant at ``empty``.
     """
-    order = np.argsort(~sel, axis=1, kind="stable")
-    width = max(1, int(sel.sum(axis=1).max(initial=0)))
-    order = order[:, :width]
-    px = np.take_along_axis(p[..., 0], order, axis=1)[:, None, :]
-    py = np.take_along_axis(p[..., 1], order, axis=1)[:, None, :]
-    k = np.take_along_axis(slope, order, axis=1)[:, None, :]
-    y = py + k * (x[:, :, None] - px)
-    return reduce.reduce(np.where(np.take_along_axis(sel, order, axis=1)[:, None, :], y, empty),
-                         axis=2)
+    order = np.argsort(~sel, axis=1, kind="stable")[:, :max(1, int(sel.sum(axis=1).max()))]
+    use = np.take_along_axis(sel, order, axis=1)
+    px = np.where(use, np.take_along_axis(p[..., 0], order, axis=1), 0.0)[poly]
+    py = np.where(use, np.take_along_axis(p[..., 1], order, axis=1), empty)[poly]
+    k = np.where(use, np.take_along_axis(slope, order, axis=1), 0.0)[poly]
+    y = np.subtract(x[:, None], px, out=px)
+    np.multiply(k, y, out=y)
+    np.add(py, y, out=y)
+    return reduce.reduce(y, axis=1)
 
 
 def grid_union(edges: EdgeSet, xs: np.ndarray, ys: np.ndarray,
@@ -330,8 +342,7 @@ def grid_union(edges: EdgeSet, xs: np.ndarray, ys: np.ndarray,
 
     The same test as :func:`grid_inside` (each polygon's column intervals from its edges,
     the grid points strictly inside its bounding box), for all polygons at once: per polygon
-    and column of its bounding box the interval of rows inside, marked in a difference
-    array. ``groups``: each polygon's group (default all in group 0). Returns
+    and column of its bounding box the interval of rows inside. ``groups``: each polygon's group (default all in group 0). Returns
     ``(n_groups, len(xs), len(ys))``.
     """
     nx, ny = len(xs), len(ys)
@@ -346,18 +357,28 @@ def grid_union(edges: EdgeSet, xs: np.ndarray, ys: np.ndarray,
     x0, y0, x1, y1 = (edges.bounds[:, i] for i in range(4))
     c0 = np.searchsorted(xs, x0, side="right")  # the columns strictly inside the box
     c1 = np.maximum(c0, np.searchsorted(xs, x1, side="left"))
-    cols = c0[:, None] + np.arange(max(1, int((c1 - c0).max())))[None, :]
-    column = cols < c1[:, None]
-    cols = np.minimum(cols, nx - 1)
+    width = c1 - c0
+    poly = np.repeat(np.arange(n), width)  # the (polygon, column) pairs of the boxes
+    cols = c0[poly] + np.arange(len(poly)) - np.repeat(np.cumsum(width) - width, width)
     x = xs[cols]
-    lo = np.where(column, np.maximum(_bound(p, slope, lower, x, np.maximum, -np.inf),
-                                     y0[:, None]), np.inf)
-    hi = np.minimum(_bound(p, slope, upper, x, np.minimum, np.inf), y1[:, None])
-    first = np.searchsorted(ys, lo.ravel(), side="right").reshape(lo.shape)
-    stop = np.searchsorted(ys, hi.ravel(), side="left").reshape(hi.shape)
+    lo = np.maximum(_bound(p, slope, lower, poly, x, np.maximum, -np.inf), y0[poly])
+    hi = np.minimum(_bound(p, slope, upper, poly, x, np.minimum, np.inf), y1[poly])
+    first = np.searchsorted(ys, lo, side="right")
+    stop = np.searchsorted(ys, hi, side="left")
     keep = first < stop
-    base = (groups[:, None] * nx + cols) * (ny + 1)
-    size = n_groups * nx * (ny + 1)
-    marks = np.bincount((base + first)[keep], minlength=size) \
-        - np.bincount((base + stop)[keep], minlength=size)
-    return np.cumsum(marks.reshape(n_groups, nx, ny + 1), axis=2)[:, :, :ny] > 0
+    key = (groups[poly] * nx + cols)[keep]
+    if 2 * len(key) > n_groups * nx:  # many pairs per column: a difference array
+        size = n_groups * nx * (ny + 1)
+        base = key * (ny + 1)
+        marks = np.bincount(base + first[keep], minlength=size) \
+            - np.bincount(base + stop[keep], minlength=size)
+        return np.cumsum(marks.reshape(n_groups, nx, ny + 1), axis=2)[:, :, :ny] > 0
+    rows = np.arange(ny)  # few: their rows, or-ed per (group, column) run of the sorted pairs
+    inside = (rows >= first[keep, None]) & (rows < stop[keep, None])
+    out = np.zeros((n_groups * nx, ny), dtype=bool)
+    if len(key):
+        order = np.argsort(key, kind="stable")
+        key = key[order]
+        runs = np.flatnonzero(np.diff(key, prepend=-1))
+        out[key[runs]] = np.logical_or.reduceat(inside[order], runs, axis=0)
+    return out.reshape(n_groups, nx, ny)
