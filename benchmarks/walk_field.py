@@ -6,7 +6,8 @@ For fig10 and its copies (``scene_copy``: ``rot37``, ``mir20`` by default), time
 route (``footprints.meeting_edges`` + ``grid_union``) and with the shapely route it replaced
 (:func:`reference_fits`, :func:`reference_meets_box`: shapely convex hulls of vertex
 differences, each rasterised by ``footprints.grid_inside``), side by side: CPU time
-(``process_time``), best of ``--repeat`` fresh fields, and whether the booleans are equal.
+(``process_time``), best of ``--repeat`` fresh fields (old and new alternated), and whether
+the booleans are equal.
 
     python benchmarks/walk_field.py [--scene fig10] [--copies rot37,mir20] [--repeat 5]
         [--out results/walk_field.json]
@@ -27,12 +28,13 @@ from walk_queries import scene_copy
 from pivot_ompl.se2 import Pose, rectangle_corners
 from pivot_ompl.validity.footprints import grid_inside, meeting_hulls
 from pivot_ompl.validity.pivot_checker import PivotChecker
-from pivot_ompl.validity.walk_field import FloorField
+from pivot_ompl.validity.walk_field import OPEN_YAWS, FloorField
 from pivot_ompl.validity.walk_lattice import HEADING_YAWS
 
 
 def reference_fits(f: FloorField, yaw: float) -> np.ndarray:
-    """``FloorField._fits_at`` by the shapely route (the code before the numpy one)."""
+    """``FloorField._fits_index`` of ``yaw`` by the shapely route (the code before the
+    numpy one)."""
     c, s = math.cos(yaw), math.sin(yaw)
     rot = np.array([[c, -s], [s, c]])
     corners = f._outline @ rot.T
@@ -73,19 +75,21 @@ def fresh_field(template: FloorField, old: bool) -> FloorField:
     """A new field of ``template``'s scene, on the shapely route if ``old``."""
     f = FloorField(template.model, template.world, template.resolution, template.box_margin)
     if old:
-        f._fits_at = lambda yaw: reference_fits(f, yaw)  # type: ignore[method-assign]
+        f._fits_range = lambda k0, k1: [  # type: ignore[method-assign]
+            reference_fits(f, OPEN_YAWS[k]) for k in range(k0, k1)]
         f._meets_box = lambda obj: reference_meets_box(f, obj)  # type: ignore[method-assign]
     return f
 
 
-def best_of(repeat: int, run: Callable[[], object]) -> tuple[float, object]:
-    """Least CPU time (s) of ``repeat`` runs, and the last run's result."""
-    best, out = math.inf, None
+def best_of(repeat: int, runs: dict[str, Callable[[], object]]) -> dict[str, tuple[float, object]]:
+    """Per run, least CPU time (s) of ``repeat`` (the runs alternated), and its last result."""
+    best = {name: (math.inf, None) for name in runs}
     for _ in range(repeat):
-        t = time.process_time()
-        out = run()
-        best = min(best, time.process_time() - t)
-    return best, out
+        for name, run in runs.items():
+            t = time.process_time()
+            out = run()
+            best[name] = (min(best[name][0], time.process_time() - t), out)
+    return best
 
 
 def main() -> None:
@@ -101,16 +105,18 @@ def main() -> None:
         template = PivotChecker(scene).walker.field
         objs = [scene.start, scene.goal]
         row: dict[str, object] = {"copy": copy or "orig", "grid": [template.nx, template.ny]}
+        static = best_of(a.repeat, {
+            route: (lambda t=template, old=route == "old": fresh_field(t, old).static_open())
+            for route in ("old", "new")})
+        fields = {route: fresh_field(template, route == "old") for route in ("old", "new")}
+        box = best_of(a.repeat, {
+            route: (lambda f=f, objs=objs: [f._meets_box(o) for o in objs])
+            for route, f in fields.items()})
         results = {}
         for route in ("old", "new"):
-            old = route == "old"
-            t_static, ok = best_of(
-                a.repeat, lambda t=template, old=old: fresh_field(t, old).static_open())
-            f = fresh_field(template, old)
-            t_box, meets = best_of(a.repeat, lambda f=f, objs=objs: [f._meets_box(o) for o in objs])
-            row[f"static_open_{route}_ms"] = 1e3 * t_static
-            row[f"meets_box_{route}_ms"] = 1e3 * t_box / len(objs)
-            results[route] = (ok, meets)
+            row[f"static_open_{route}_ms"] = 1e3 * static[route][0]
+            row[f"meets_box_{route}_ms"] = 1e3 * box[route][0] / len(objs)
+            results[route] = (static[route][1], box[route][1])
         (ok_old, m_old), (ok_new, m_new) = results["old"], results["new"]
         row["equal"] = bool(np.array_equal(ok_old, ok_new)) and all(
             np.array_equal(x, y) for a_, b_ in zip(m_old, m_new, strict=True)

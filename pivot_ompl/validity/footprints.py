@@ -127,10 +127,10 @@ class EdgeSet:
     used: np.ndarray
     bounds: np.ndarray
 
-    def rows(self, i0: int, i1: int) -> EdgeSet:
-        """Polygons ``i0:i1``."""
-        return EdgeSet(self.start[i0:i1], self.end[i0:i1], self.used[i0:i1],
-                       self.bounds[i0:i1])
+    def take(self, index: np.ndarray) -> EdgeSet:
+        """The polygons ``index`` (an index array)."""
+        return EdgeSet(self.start[index], self.end[index], self.used[index],
+                       self.bounds[index])
 
 
 def _ccw(poly: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -342,8 +342,8 @@ def grid_union(edges: EdgeSet, xs: np.ndarray, ys: np.ndarray,
 
     The same test as :func:`grid_inside` (each polygon's column intervals from its edges,
     the grid points strictly inside its bounding box), for all polygons at once: per polygon
-    and column of its bounding box the interval of rows inside. ``groups``: each polygon's group (default all in group 0). Returns
-    ``(n_groups, len(xs), len(ys))``.
+    and column of its bounding box the interval of rows inside. ``groups``: each polygon's
+    group (default all in group 0). Returns ``(n_groups, len(xs), len(ys))``.
     """
     nx, ny = len(xs), len(ys)
     n = edges.start.shape[0]

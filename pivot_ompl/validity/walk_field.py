@@ -58,6 +58,10 @@ from pivot_ompl.validity.walk_lattice import HEADING_VECTORS, HEADING_YAWS, N_HE
 #: Grid positions whose graph edges are built between two polls of the termination condition.
 GRAPH_CHUNK = 20_000
 
+#: Yaws of :data:`OPEN_YAWS` rasterised together between two polls of the termination
+#: condition.
+YAW_CHUNK = 8
+
 #: Yaws at which a grid position may hold the walking body: the 16 lattice headings and the
 #: yaws half-way between neighbouring ones (a step that turns while walking passes a grid
 #: position with its yaw half-way).
@@ -114,7 +118,8 @@ class FloorField:
         """Open positions ignoring the resting box, ``(nx, ny)`` booleans (built once).
 
         Raises:
-            Interrupted: ``should_stop()`` became true (polled once per yaw, then once per
+            Interrupted: ``should_stop()`` became true (polled once per block of
+                :data:`YAW_CHUNK` yaws, then once per
                 block of grid rows of the graph); the work done is kept (:attr:`yaws_done`,
                 :attr:`rows_done`) and the next call resumes there.
         """
@@ -122,11 +127,13 @@ class FloorField:
             if self._partial is None:
                 self._partial = np.zeros((self.nx, self.ny), dtype=bool)
             ok = self._partial
-            for k in range(self.yaws_done, len(OPEN_YAWS)):
+            for k0 in range(self.yaws_done, len(OPEN_YAWS), YAW_CHUNK):
                 if should_stop is not None and should_stop():
                     raise Interrupted("walking floor field")
-                ok |= self._fits_index(k)
-                self.yaws_done = k + 1
+                k1 = min(len(OPEN_YAWS), k0 + YAW_CHUNK)
+                for fits in self._fits_range(k0, k1):
+                    ok |= fits
+                self.yaws_done = k1
             chunk = max(1, GRAPH_CHUNK // self.ny)  # grid rows per poll
             for i0 in range(self.rows_done, self.nx, chunk):
                 if should_stop is not None and should_stop():
@@ -164,29 +171,33 @@ class FloorField:
         self._weights[rows] = np.where(both, lengths[None, :], np.inf)
 
     def _fits_index(self, k: int) -> np.ndarray:
-        """:meth:`_fits_at` the yaw ``OPEN_YAWS[k]`` (kept)."""
-        fits = self._fits.get(k)
-        if fits is None:
-            fits = self._fits[k] = self._fits_at(OPEN_YAWS[k])
-        return fits
+        """Grid positions where the walking body at yaw ``OPEN_YAWS[k]`` fits (kept).
 
-    def _fits_at(self, yaw: float) -> np.ndarray:
-        """Grid positions where the walking body at ``yaw`` is inside the bounds and clear."""
-        c, s = math.cos(yaw), math.sin(yaw)
-        rot = np.array([[c, -s], [s, c]])
-        corners = self._outline @ rot.T
-        b = self.world.bounds
-        x, y = self._x, self._y
-        xs, ys = x[:, 0], y[0, :]
-        ok = ((xs + corners[:, 0].min() > b[0]) & (xs + corners[:, 0].max() < b[2]))[:, None] \
-            & ((ys + corners[:, 1].min() > b[1]) & (ys + corners[:, 1].max() < b[3]))[None, :]
-        n = len(self._pieces)
-        if n:
-            k = OPEN_YAWS.index(yaw) if yaw in OPEN_YAWS else -1
-            edges = self._static_edges().rows(k * n, (k + 1) * n) if k >= 0 else \
-                meeting_edges(self._pieces, [self._grown @ rot.T] * n)
-            ok &= ~grid_union(edges, xs, ys)[0]
-        return ok
+        Inside the bounds and clear of the obstacles grown by the clearance.
+        """
+        return self._fits_range(k, k + 1)[0]
+
+    def _fits_range(self, k0: int, k1: int) -> list[np.ndarray]:
+        """:meth:`_fits_index` of ``k0 .. k1 - 1``, those not kept yet computed together."""
+        todo = [k for k in range(k0, k1) if k not in self._fits]
+        if todo:
+            xs, ys = self._x[:, 0], self._y[0, :]
+            n = len(self._pieces)
+            meets = grid_union(
+                self._static_edges().take(np.concatenate([np.arange(k * n, (k + 1) * n)
+                                                          for k in todo])),
+                xs, ys, groups=np.repeat(np.arange(len(todo)), n), n_groups=len(todo)) \
+                if n else np.zeros((len(todo), self.nx, self.ny), dtype=bool)
+            b = self.world.bounds
+            for k, hit in zip(todo, meets, strict=True):
+                c, s = math.cos(OPEN_YAWS[k]), math.sin(OPEN_YAWS[k])
+                corners = self._outline @ np.array([[c, -s], [s, c]]).T
+                inside = ((xs + corners[:, 0].min() > b[0])
+                          & (xs + corners[:, 0].max() < b[2]))[:, None] \
+                    & ((ys + corners[:, 1].min() > b[1])
+                       & (ys + corners[:, 1].max() < b[3]))[None, :]
+                self._fits[k] = inside & ~hit
+        return [self._fits[k] for k in range(k0, k1)]
 
     def _static_edges(self) -> EdgeSet:
         """Where the grown body meets each obstacle piece, at every yaw of :data:`OPEN_YAWS`.

@@ -62,7 +62,7 @@ def _reference_meets_box(f: FloorField, obj) -> list[np.ndarray]:
 def _assert_field_as_reference(scene, objs) -> None:
     f = PivotChecker(scene).walker.field
     for k, yaw in enumerate(OPEN_YAWS):
-        assert np.array_equal(f._fits_at(yaw), _reference_fits(f, yaw)), (scene.name, k)
+        assert np.array_equal(f._fits_index(k), _reference_fits(f, yaw)), (scene.name, k)
     for obj in objs:
         got, want = f._meets_box(obj), _reference_meets_box(f, obj)
         assert all(np.array_equal(a, b) for a, b in zip(got, want, strict=True)), obj
