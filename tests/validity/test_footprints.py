@@ -111,3 +111,19 @@ def test_meeting_edges_vertices_are_the_geos_hull_vertices_with_nearly_parallel_
         want = {tuple(v) for v in shapely.get_coordinates(hull.exterior)}
         got = edges.start[i][edges.used[i]]
         assert len(got) == len(want) and {tuple(v) for v in got} == want
+
+
+def test_grid_union_leaves_out_grid_points_on_the_edges():
+    # binary fractions: the hull's edges lie exactly on grid rows and columns
+    xs = ys = np.arange(16) * 0.25
+    piece = np.array([[1.0, 1.0], [2.5, 1.0], [2.5, 2.0], [1.0, 2.0]])
+    tilted = np.array([[2.0, 2.5], [3.0, 2.5], [2.5, 3.5]])  # slanted edges through points
+    body = np.array([[-0.25, -0.25], [0.25, -0.25], [0.25, 0.25], [-0.25, 0.25]])
+    got = grid_union(meeting_edges([piece, tilted], [body, body]), xs, ys,
+                     groups=np.array([0, 1]), n_groups=2)
+    want = np.zeros((2, 16, 16), dtype=bool)
+    for g, hull in enumerate(meeting_hulls([piece, tilted], body)):
+        cols, rows, inside = grid_inside(hull, xs, ys)
+        want[g][cols, rows] = inside
+    assert np.array_equal(got, want)
+    assert np.array_equal(np.argwhere(got[0]), [[i, j] for i in range(4, 11) for j in range(4, 9)])

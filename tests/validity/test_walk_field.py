@@ -1,8 +1,9 @@
 """The walking floor field's rasterised footprints against the shapely route they replaced.
 
-:func:`_reference_fits` and :func:`_reference_meets_box` are the field's code before the
-footprints were summed and rasterised in numpy (shapely convex hulls of vertex differences,
-each rasterised by ``grid_inside``): the new route must give exactly the same booleans.
+``reference_fits`` and ``reference_meets_box`` (``benchmarks/walk_field.py``) are the field's
+code before the footprints were summed and rasterised in numpy (shapely convex hulls of
+vertex differences, each rasterised by ``grid_inside``): the new route must give exactly the
+same booleans.
 """
 
 from __future__ import annotations
@@ -12,59 +13,24 @@ import sys
 
 import numpy as np
 import pytest
-import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from pivot_ompl.se2 import rectangle_corners
-from pivot_ompl.validity.footprints import grid_inside, meeting_hulls
 from pivot_ompl.validity.pivot_checker import PivotChecker
-from pivot_ompl.validity.walk_field import OPEN_YAWS, FloorField
-from pivot_ompl.validity.walk_lattice import HEADING_YAWS
+from pivot_ompl.validity.walk_field import OPEN_YAWS
 from tests.factories import ROOT, make_scene, shipped
 
 sys.path.insert(0, str(ROOT / "benchmarks"))
+from walk_field import reference_fits, reference_meets_box  # noqa: E402
 from walk_queries import scene_copy  # noqa: E402
-
-
-def _reference_fits(f: FloorField, yaw: float) -> np.ndarray:
-    c, s = math.cos(yaw), math.sin(yaw)
-    rot = np.array([[c, -s], [s, c]])
-    corners = f._outline @ rot.T
-    b = f.world.bounds
-    xs, ys = f._x[:, 0], f._y[0, :]
-    ok = ((xs + corners[:, 0].min() > b[0]) & (xs + corners[:, 0].max() < b[2]))[:, None] \
-        & ((ys + corners[:, 1].min() > b[1]) & (ys + corners[:, 1].max() < b[3]))[None, :]
-    for hull in meeting_hulls(f._pieces, f._grown @ rot.T):
-        cols, rows, inside = grid_inside(hull, xs, ys)
-        ok[cols, rows] &= ~inside
-    return ok
-
-
-def _reference_meets_box(f: FloorField, obj) -> list[np.ndarray]:
-    box = shapely.Polygon(rectangle_corners(obj, f.model.object_size[0], f.model.object_size[1]))
-    if f.box_margin > 0:
-        box = box.buffer(f.box_margin, quad_segs=4)
-    pts = np.asarray(box.exterior.coords)[:-1]
-    out = []
-    for yaw in HEADING_YAWS:
-        c, s = math.cos(yaw), math.sin(yaw)
-        body = f._outline @ np.array([[c, -s], [s, c]]).T
-        hull = meeting_hulls([pts], body)[0]
-        meets = np.zeros((f.nx, f.ny), dtype=bool)
-        cols, rows, inside = grid_inside(hull, xs := f._x[:, 0], f._y[0, :])
-        assert len(xs) == f.nx
-        meets[cols, rows] = inside
-        out.append(meets)
-    return out
 
 
 def _assert_field_as_reference(scene, objs) -> None:
     f = PivotChecker(scene).walker.field
     for k, yaw in enumerate(OPEN_YAWS):
-        assert np.array_equal(f._fits_index(k), _reference_fits(f, yaw)), (scene.name, k)
+        assert np.array_equal(f._fits_index(k), reference_fits(f, yaw)), (scene.name, k)
     for obj in objs:
-        got, want = f._meets_box(obj), _reference_meets_box(f, obj)
+        got, want = f._meets_box(obj), reference_meets_box(f, obj)
         assert all(np.array_equal(a, b) for a, b in zip(got, want, strict=True)), obj
 
 
