@@ -5,6 +5,12 @@ the lower bound on regrasps (:mod:`pivot_ompl.validity.regrasp_bound`) and the w
 field (:mod:`pivot_ompl.validity.walk_field`). So the pieces are *subsets* of the obstacles
 (a cylinder by its inscribed polygon), and a body's forbidden positions are computed exactly
 for those pieces (Minkowski sums of convex polygons: convex hulls of vertex differences).
+
+Two routes give the same hulls: shapely geometry (:func:`meeting_hulls`, rasterised one at a
+time by :func:`grid_inside`), and numpy for many (piece, body) pairs at once
+(:func:`meeting_edges`: certified to have exactly GEOS's vertices, GEOS where it cannot be
+certified; rasterised together by :func:`grid_union`, with the same float expressions, so
+the same grid points).
 """
 
 from __future__ import annotations
