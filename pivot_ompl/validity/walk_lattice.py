@@ -21,6 +21,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from pivot_ompl.scene import WalkParameters
 from pivot_ompl.se2 import Pose, wrap_angle
 
@@ -52,6 +54,45 @@ def motion_cost(a: Pose, b: Pose, walk: WalkParameters) -> float:
     dx, dy = c * ex + s * ey, -s * ex + c * ey
     fx = dx if dx >= 0.0 else walk.back_cost * dx
     return math.hypot(fx, walk.side_cost * dy, walk.turn_cost * dyaw)
+
+
+def chain_cost(poses: np.ndarray, walk: WalkParameters) -> float:
+    """Total :func:`motion_cost` of the straight motions between consecutive rows of ``poses``.
+
+    ``poses``: an ``(n, 3)`` array of ``x, y, yaw``; the same sum as :func:`motion_cost` pose
+    by pose (to rounding), vectorised: a Dubins walk sampled every few centimetres has tens of
+    motions.
+    """
+    d = np.diff(poses, axis=0)
+    dyaw = (d[:, 2] + math.pi) % (2.0 * math.pi) - math.pi
+    mid = poses[:-1, 2] + 0.5 * dyaw
+    c, s = np.cos(mid), np.sin(mid)
+    dx = c * d[:, 0] + s * d[:, 1]
+    dy = c * d[:, 1] - s * d[:, 0]
+    fx = np.where(dx >= 0.0, dx, walk.back_cost * dx)
+    return float(np.sqrt(fx * fx + (walk.side_cost * dy) ** 2
+                         + (walk.turn_cost * dyaw) ** 2).sum())
+
+
+def forward_chain_cost_bound(length: float, pieces: int, turn: float, radius: float,
+                             walk: WalkParameters) -> float:
+    """Lower bound of :func:`chain_cost` of a forward curve cut into equal pieces.
+
+    The curve (a Dubins walk: curvature at most ``1 / radius``, yaw along its tangent) is
+    ``length`` long, sampled at ``pieces`` equal arc lengths, and its yaw changes by ``turn``
+    (mod 2 pi) end to end. Each piece's chord is at least the chord of a circle of that
+    radius over the same arc length (Schur's comparison), the pieces' turns add up to at
+    least ``|wrap(turn)|``, and every motion costs at least ``hypot(w |displacement|,
+    turn_cost |dyaw|)`` with ``w`` the smallest walking weight; the triangle inequality
+    gathers the pieces. Lets a shortcut be refused without sampling its curve.
+    """
+    step = length / max(1, pieces)
+    if step <= math.pi * radius:
+        chords = 2.0 * radius * pieces * math.sin(step / (2.0 * radius))
+    else:
+        chords = 0.0
+    w = min(1.0, walk.side_cost, walk.back_cost)
+    return math.hypot(w * chords, walk.turn_cost * abs(wrap_angle(turn)))
 
 
 @dataclass(frozen=True)

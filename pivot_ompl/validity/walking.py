@@ -65,6 +65,8 @@ from pivot_ompl.validity.walk_field import FloorField
 from pivot_ompl.validity.walk_lattice import (
     HEADING_YAWS,
     N_HEADINGS,
+    chain_cost,
+    forward_chain_cost_bound,
     motion_cost,
     nearest_headings,
     primitives,
@@ -108,6 +110,19 @@ class _BoxTable:
     box: dict[State, float] = field(default_factory=dict)
     #: lattice motions (end states in order) certified clear of the box
     edges: dict[tuple[State, State], bool] = field(default_factory=dict)
+
+
+@dataclass
+class _SmoothMemo:
+    """What the smoothing passes over one walk learn, shared between them."""
+
+    #: clearances of each pose met (:meth:`WalkPlanner._exact_parts`)
+    clearances: dict[Pose, tuple[float, float]] = field(default_factory=dict)
+    #: straight motions (linear yaw) certified free or refused
+    segments: dict[tuple[Pose, Pose], bool] = field(default_factory=dict)
+    #: Dubins walks sampled: their poses (ends included) and their cost; ``None``: blocked
+    curves: dict[tuple[Pose, Pose], tuple[np.ndarray, float] | None] = field(
+        default_factory=dict)
 
 
 class _GiveUp(Exception):
@@ -320,6 +335,33 @@ class WalkPlanner:
             table.edges[key] = ok
         return ok
 
+    def _exact_parts(self, p: Pose, obj: Pose) -> tuple[float, float]:
+        """:meth:`_exact` in two parts: to the obstacles and bounds, and to the box.
+
+        The robot's clearance at ``p`` to the obstacles and bounds, and a lower bound of its
+        clearance to the box less the margin (``-inf`` when the first is not positive);
+        their minimum is :meth:`_exact`.
+        """
+        d = self._static_exact(p)
+        return d, (self._box_clear(p, obj, d) if d > 0.0 else -math.inf)
+
+    def _free_between(self, a: Pose, b: Pose, obj: Pose, ca: tuple[float, float],
+                      cb: tuple[float, float]) -> bool:
+        """:meth:`segment_free` from both ends' :meth:`_exact_parts` (no query at the ends).
+
+        The obstacles and the box are certified apart, each from its own end clearances.
+        """
+        if min(ca) <= 0.0 or min(cb) <= 0.0:
+            return False
+        if a == b:
+            return True
+        sweep = self._sweep(a, b)
+        if min(ca) + min(cb) > sweep:
+            return True  # the ends' clearances alone certify it
+        if not self._certified(a, b, self._static_exact, ca[0], cb[0]):
+            return False
+        return self._certified(a, b, lambda p: self._box_clear(p, obj, sweep), ca[1], cb[1])
+
     def segment_free(self, a: Pose, b: Pose, obj: Pose | None, *, da: float | None = None,
                      db: float | None = None) -> bool:
         """The straight motion ``a -> b`` (linear yaw) is certified free.
@@ -414,7 +456,8 @@ class WalkPlanner:
         if not states:
             return INVALID_WALK
         poses = [start] + [self.pose(s) for s in states[1:-1]] + [goal]
-        return self._result(self._smooth(self._smooth(poses, obj), obj))
+        memo = _SmoothMemo()  # the second pass reuses what the first learnt
+        return self._result(self._smooth(self._smooth(poses, obj, memo=memo), obj, memo=memo))
 
     def _search(self, starts: dict[State, float], goals: dict[State, float], obj: Pose,
                 table: _BoxTable, closed: Callable[[int, int, int], bool],
@@ -506,16 +549,39 @@ class WalkPlanner:
     #: Certified shortcut attempts per smoothing pass.
     MAX_SHORTCUT_CHECKS = 400
 
-    def _dubins_walk(self, a: Pose, b: Pose) -> list[Pose]:
-        """Poses every ~``resolution`` along the Dubins curve ``a -> b`` (ends excluded)."""
-        length = self._dubins.distance(a, b)
-        n = max(1, math.ceil(length / self.resolution))
-        pts = self._dubins.sample(a, b, [k / n for k in range(1, n)])
-        return [(x, y, a[2] + wrap_angle(yaw - a[2])) for x, y, yaw in pts]
+    def _dubins_walk(self, a: Pose, b: Pose, length: float) -> np.ndarray:
+        """Poses every ~``resolution`` along the Dubins curve ``a -> b`` (``length`` long).
 
-    def _smooth(self, poses: list[Pose], obj: Pose) -> list[Pose]:
-        """Greedy shortcuts: straight motions, then Dubins forward walks, when cheaper."""
+        Ends included, as an ``(n, 3)`` array; yaws continuous from ``a``'s.
+        """
+        n = max(1, math.ceil(length / self.resolution))
+        pts = np.array([a, *self._dubins.sample(a, b, [k / n for k in range(1, n)]), b])
+        pts[1:-1, 2] = a[2] + (pts[1:-1, 2] - a[2] + math.pi) % (2.0 * math.pi) - math.pi
+        return pts
+
+    def _dubins_probes(self, a: Pose, b: Pose, pieces: int) -> list[Pose]:
+        """The poses of :meth:`_dubins_walk` (``pieces`` pieces) at 1/2, 1/4 and 3/4 of the way.
+
+        In that order; the same poses, to the bit (their clearances are shared).
+        """
+        ks = dict.fromkeys(k for k in (pieces // 2, pieces // 4, 3 * pieces // 4)
+                           if 0 < k < pieces)
+        out = []
+        for k in ks:
+            x, y, yaw = self._dubins.interpolate(a, b, k / pieces)
+            out.append((x, y, a[2] + (yaw - a[2] + math.pi) % (2.0 * math.pi) - math.pi))
+        return out
+
+    def _smooth(self, poses: list[Pose], obj: Pose, *, memo: _SmoothMemo | None = None
+                ) -> list[Pose]:
+        """Greedy shortcuts: straight motions, then Dubins forward walks, when cheaper.
+
+        ``memo``: what an earlier pass over the same walk learnt (clearances, certified or
+        refused motions, sampled Dubins walks), reused and completed.
+        """
         walk = self.walk
+        memo = _SmoothMemo() if memo is None else memo
+        known, segments, curves = memo.clearances, memo.segments, memo.curves
         costs = [motion_cost(a, b, walk) for a, b in zip(poses, poses[1:], strict=False)]
         prefix = [0.0]
         for c in costs:
@@ -523,21 +589,26 @@ class WalkPlanner:
         out = [poses[0]]
         checks = 0
         i, n = 0, len(poses)
-        known: dict[Pose, float] = {}
+        radius = walk.turning_radius
 
-        def clear(p: Pose) -> float:  # the poses' clearances, each queried once
+        def clear(p: Pose) -> tuple[float, float]:  # each pose's clearances, queried once
             d = known.get(p)
             if d is None:
-                d = known[p] = self._exact(p, obj)
+                d = known[p] = self._exact_parts(p, obj)
             return d
 
         def chain_free(chain: list[Pose]) -> bool:
-            dp = clear(chain[0])
+            cp = clear(chain[0])
             for p, q in zip(chain, chain[1:], strict=False):
-                dq = clear(q)
-                if dq <= 0.0 or not self.segment_free(p, q, obj, da=dp, db=dq):
+                cq = clear(q)
+                if min(cq) <= 0.0:
                     return False
-                dp = dq
+                ok = segments.get((p, q))
+                if ok is None:
+                    ok = segments[(p, q)] = self._free_between(p, q, obj, cp, cq)
+                if not ok:
+                    return False
+                cp = cq
             return True
 
         while i < n - 1:
@@ -560,14 +631,29 @@ class WalkPlanner:
                     if chain_free([a, b]):
                         nxt = j
                         break
-                if self._dubins.distance(a, b) >= old - 1e-9:
+                if (a, b) in curves:
+                    curve = curves[(a, b)]
+                else:
+                    length = self._dubins.distance(a, b)
+                    pieces = max(1, math.ceil(length / self.resolution))
+                    # cheap refusals first: the curve's cost bounded from its length, then
+                    # its poses at 1/2, 1/4 and 3/4 of the way (a blocked curve is nearly
+                    # always blocked at one of them) before it is sampled whole
+                    if length >= old - 1e-9 or forward_chain_cost_bound(
+                            length, pieces, b[2] - a[2], radius, walk) >= old - 1e-9:
+                        continue
+                    curve = None
+                    if all(min(clear(p)) > 0.0 for p in self._dubins_probes(a, b, pieces)):
+                        pts = self._dubins_walk(a, b, length)
+                        curve = (pts, chain_cost(pts, walk))
+                    curves[(a, b)] = curve
+                if curve is None:
                     continue
-                mids = self._dubins_walk(a, b)
-                chain = [a, *mids, b]
-                dc = sum(motion_cost(p, q, walk) for p, q in zip(chain, chain[1:], strict=False))
+                pts, dc = curve
                 if dc < old - 1e-9:
                     checks += 1
-                    if chain_free(chain):
+                    mids: list[Pose] = [(x, y, t) for x, y, t in pts[1:-1].tolist()]
+                    if chain_free([a, *mids, b]):
                         nxt, piece = j, mids
                         break
             out.extend(piece)

@@ -299,7 +299,7 @@ def _lattice_fixture(scene, obj, start, goal, monkeypatch):
     """The walker, its cheapest lattice walk (no smoothing, no inflation) and its field."""
     wp = PivotChecker(scene, seed=0).walker
     wp.inflation = 1.0
-    monkeypatch.setattr(type(wp), "_smooth", lambda self, poses, obj: poses)
+    monkeypatch.setattr(type(wp), "_smooth", lambda self, poses, obj, memo=None: poses)
     walk = wp.plan_between(start, goal, obj)
     table = wp._box_table(obj)
     starts = wp._attach(start, obj, table, wp._exact(start, obj), leaving=True)
