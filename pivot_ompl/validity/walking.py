@@ -35,7 +35,12 @@ a robot narrower than a door walks through it forward or sideways.
   the floor distance.
 * **Smoothing**: the lattice path is shortened greedily by certified straight motions (any
   direction, linear yaw) and by forward walks along Dubins curves (OMPL's, turning radius
-  ``step_forward / step_turn``) whenever they cost less.
+  ``step_forward / step_turn``) whenever they cost less, in two passes. A Dubins shortcut is
+  refused cheaply when it can be: its cost bounded from its length
+  (:func:`~.walk_lattice.forward_chain_cost_bound`), then its poses at 1/2, 1/4 and 3/4 of
+  the way (a blocked curve nearly always is at one of them), before it is sampled whole and
+  costed (:func:`~.walk_lattice.chain_cost`). The second pass reuses what the first learnt:
+  the poses' clearances, the motions certified or refused, the curves sampled.
 * **Lazy**: a motion (and the state it reaches) is certified only when the search takes it
   from the queue (lazy A*, :func:`pivot_ompl.graph.astar` with ``valid``): most motions out of
   an expanded state never are, and cost nothing.
@@ -457,6 +462,9 @@ class WalkPlanner:
             return INVALID_WALK
         poses = [start] + [self.pose(s) for s in states[1:-1]] + [goal]
         memo = _SmoothMemo()  # the second pass reuses what the first learnt
+        for s in states[1:-1]:  # the lattice states' clearances, known from the search
+            memo.clearances[self.pose(s)] = (self._static_clearance(s),
+                                             self._box_state(s, obj, table))
         return self._result(self._smooth(self._smooth(poses, obj, memo=memo), obj, memo=memo))
 
     def _search(self, starts: dict[State, float], goals: dict[State, float], obj: Pose,
