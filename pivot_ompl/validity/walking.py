@@ -39,8 +39,9 @@ a robot narrower than a door walks through it forward or sideways.
   refused cheaply when it can be: its cost bounded from its length
   (:func:`~.walk_lattice.forward_chain_cost_bound`), then its poses at 1/2, 1/4 and 3/4 of
   the way (a blocked curve nearly always is at one of them), before it is sampled whole and
-  costed (:func:`~.walk_lattice.chain_cost`). The second pass reuses what the first learnt:
-  the poses' clearances, the motions certified or refused, the curves sampled.
+  costed (:func:`~.walk_lattice.chain_cost`). The lattice states' clearances come from the
+  search's caches, and the second pass reuses what the first learnt: the poses' clearances,
+  the motions certified or refused, the curves sampled.
 * **Lazy**: a motion (and the state it reaches) is certified only when the search takes it
   from the queue (lazy A*, :func:`pivot_ompl.graph.astar` with ``valid``): most motions out of
   an expanded state never are, and cost nothing.
