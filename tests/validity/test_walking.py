@@ -99,6 +99,28 @@ def test_an_interrupted_floor_field_resumes_where_it_stopped():
     assert np.array_equal(built, fresh)
 
 
+
+def test_the_floor_field_sums_footprints_a_block_of_yaws_between_polls(monkeypatch):
+    # regression: the footprints of all 32 yaws were summed in one call before the first
+    # block was rasterised, past the next poll: fig10 at a 0.5 s limit ended 30 ms late
+    from pivot_ompl.errors import Interrupted
+    from pivot_ompl.validity import walk_field
+    from pivot_ompl.validity.walk_field import YAW_CHUNK
+
+    field = PivotChecker(shipped("fig10"), seed=0).walker.field
+    summed = []
+    orig = walk_field.meeting_edges
+
+    def counted(pieces, bodies):  # noqa: ANN001, ANN202
+        summed.append(len(pieces))
+        return orig(pieces, bodies)
+
+    monkeypatch.setattr(walk_field, "meeting_edges", counted)
+    polls = iter(range(100))
+    with pytest.raises(Interrupted):
+        field.static_open(lambda: next(polls) >= 1)
+    assert summed == [YAW_CHUNK * len(field._pieces)]
+
 # -- free walking: doors and corridors narrower than the turning disk ----------------------
 # (box resting in the wall's slot, the robot walks round from one side to the other)
 SLOT_POSES = {"door": (4.85, 2.0, 0.0), "t_junction": (4.85, 2.5, 0.0)}
