@@ -67,3 +67,21 @@ def shipped_doc(name: str) -> dict:
     import yaml
 
     return yaml.safe_load(scene_file(name).read_text())
+
+
+def walk_problems(scene: Scene, obj, g1: int, g2: int, walk) -> list[str]:  # noqa: ANN001
+    """What the independent check finds in a walk from grasp ``g1`` to ``g2`` round ``obj``.
+
+    The walk is checked as a plan of its own (a transfer-less grasp at each end); problems
+    that only say the plan's ends are not the scene's start and goal are left out.
+    """
+    from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
+    from pivot_ompl.validity.plan_check import check_plan
+
+    m = scene.model
+    plan = Plan(scene.name, "exact", m.object_size, m.robot_footprint, m.standoff,
+                scene.alpha_max, obj,
+                [TransferPhase(g1, m.robot_pose(obj, g1), (), obj),
+                 TransitPhase(g1, g2, walk.robot_path, obj),
+                 TransferPhase(g2, m.robot_pose(obj, g2), (), obj)])
+    return [p for p in check_plan(plan, scene).problems if "scene" not in p]

@@ -7,14 +7,12 @@ import math
 
 import numpy as np
 import pytest
-from factories import shipped
+from factories import shipped, walk_problems
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
 from pivot_ompl.scene import WalkParameters
 from pivot_ompl.validity.pivot_checker import PivotChecker
-from pivot_ompl.validity.plan_check import check_plan
 from pivot_ompl.validity.walk_lattice import chain_cost, forward_chain_cost_bound, motion_cost
 
 #: fig10's box resting beside wall B's door: the walk between its two long sides goes round
@@ -32,6 +30,13 @@ yaw = st.floats(-7.0, 7.0)
 pose = st.tuples(coord, coord, yaw)
 
 
+def _dubins_walk(a, b):  # noqa: ANN001, ANN202
+    """The walker, and the Dubins walk ``a -> b`` as it samples it: length, pieces, poses."""
+    wp = _walker()
+    length = wp._dubins.distance(a, b)
+    return wp, length, max(1, math.ceil(length / wp.resolution)), wp._dubins_walk(a, b, length)
+
+
 @settings(max_examples=200, deadline=None)
 @given(st.lists(pose, min_size=2, max_size=12),
        st.floats(1.0, 3.0), st.floats(1.0, 3.0), st.floats(0.0, 2.0))
@@ -46,10 +51,7 @@ def test_chain_cost_is_the_sum_of_the_motion_costs(poses, side, back, turn):
 def test_dubins_cost_bound_never_exceeds_the_sampled_walk(a, b):
     # the bound refuses Dubins shortcuts without sampling them: it must never exceed what
     # the sampled forward walk costs, or a cheaper shortcut would be lost
-    wp = _walker()
-    length = wp._dubins.distance(a, b)
-    pieces = max(1, math.ceil(length / wp.resolution))
-    pts = wp._dubins_walk(a, b, length)
+    wp, length, pieces, pts = _dubins_walk(a, b)
     assert len(pts) == pieces + 1
     bound = forward_chain_cost_bound(length, pieces, b[2] - a[2], wp.walk.turning_radius,
                                      wp.walk)
@@ -60,10 +62,8 @@ def test_dubins_cost_bound_never_exceeds_the_sampled_walk(a, b):
 @given(pose, pose)
 def test_dubins_probes_are_poses_of_the_sampled_walk(a, b):
     # bit for bit: a probe's clearance is reused when the walk is checked whole
-    wp = _walker()
-    length = wp._dubins.distance(a, b)
-    pieces = max(1, math.ceil(length / wp.resolution))
-    sampled = {tuple(p) for p in wp._dubins_walk(a, b, length).tolist()}
+    wp, _, pieces, pts = _dubins_walk(a, b)
+    sampled = {tuple(p) for p in pts.tolist()}
     probes = wp._dubins_probes(a, b, pieces)
     assert len(probes) == len({k for k in (pieces // 2, pieces // 4, 3 * pieces // 4)
                                if 0 < k < pieces})
@@ -113,10 +113,4 @@ def test_smoothing_a_long_walk_is_cheap_and_the_walk_passes_check(monkeypatch):
     assert walk.cost <= lattice_cost[0] + 1e-9  # shortcuts only when cheaper
     assert queries[0] <= 1000
     assert sampled[0] <= 1000
-    plan = Plan(scene.name, "exact", m.object_size, m.robot_footprint, m.standoff,
-                scene.alpha_max, obj,
-                [TransferPhase(g1, m.robot_pose(obj, g1), (), obj),
-                 TransitPhase(g1, g2, walk.robot_path, obj),
-                 TransferPhase(g2, m.robot_pose(obj, g2), (), obj)])
-    rep = check_plan(plan, scene)
-    assert not [p for p in rep.problems if "scene" not in p], rep.problems
+    assert walk_problems(scene, obj, g1, g2, walk) == []

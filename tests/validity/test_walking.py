@@ -6,11 +6,10 @@ import math
 
 import numpy as np
 import pytest
-from factories import make_scene, rotated_scene_doc, shipped, shipped_doc
+from factories import make_scene, rotated_scene_doc, shipped, shipped_doc, walk_problems
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
 from pivot_ompl.scene import WalkParameters, scene_from_dict
 from pivot_ompl.se2 import wrap_angle
 from pivot_ompl.validity.pivot_checker import PivotChecker
@@ -30,13 +29,7 @@ def test_walks_join_the_grasp_poses_and_pass_check(g1, g2):
     assert walk.robot_path[0] == pytest.approx(m.robot_pose(POSE, g1))
     assert walk.robot_path[-1] == pytest.approx(m.robot_pose(POSE, g2))
     assert walk.length > 0
-    plan = Plan(scene.name, "exact", m.object_size, m.robot_footprint, m.standoff,
-                scene.alpha_max, POSE,
-                [TransferPhase(g1, m.robot_pose(POSE, g1), (), POSE),
-                 TransitPhase(g1, g2, walk.robot_path, POSE),
-                 TransferPhase(g2, m.robot_pose(POSE, g2), (), POSE)])
-    rep = check_plan(plan, scene)
-    assert rep.ok, rep.problems
+    assert walk_problems(scene, POSE, g1, g2, walk) == []
 
 
 def test_no_walk_through_a_wall_round_the_box():
@@ -140,16 +133,6 @@ def _walk_round(scene, obj):
     return ck, g1, g2, ck.transit(obj, g1, g2)
 
 
-def _check_walk(scene, obj, g1, g2, walk):
-    m = scene.model
-    plan = Plan(scene.name, "exact", m.object_size, m.robot_footprint, m.standoff,
-                scene.alpha_max, obj,
-                [TransferPhase(g1, m.robot_pose(obj, g1), (), obj),
-                 TransitPhase(g1, g2, walk.robot_path, obj),
-                 TransferPhase(g2, m.robot_pose(obj, g2), (), obj)])
-    return [p for p in check_plan(plan, scene).problems if "scene" not in p]
-
-
 @pytest.mark.parametrize("name", ["door", "t_junction"])
 def test_no_turn_in_place_in_the_narrow_passage(name):
     scene = shipped(name)
@@ -169,7 +152,7 @@ def test_walks_round_through_the_narrow_passage(name):
     m = scene.model
     assert walk.robot_path[0] == pytest.approx(m.robot_pose(obj, g1), abs=1e-12)
     assert walk.robot_path[-1] == pytest.approx(m.robot_pose(obj, g2), abs=1e-12)
-    assert _check_walk(scene, obj, g1, g2, walk) == []
+    assert walk_problems(scene, obj, g1, g2, walk) == []
     # it goes through the door / the corridor (the slot is too narrow for the robot)
     if name == "door":
         assert any(4.6 < p[0] < 5.1 and 5.0 < p[1] < 6.0 for p in walk.robot_path) or \
@@ -198,7 +181,7 @@ def test_rotated_copies_walk_too(name, angle):
     right = [g for g in grasps if _rot(scene.model.robot_pose(obj, g), -angle)[0] > 4.85]
     walk = ck.transit(obj, left[0], right[0])
     assert walk.valid
-    assert _check_walk(scene, obj, left[0], right[0], walk) == []
+    assert walk_problems(scene, obj, left[0], right[0], walk) == []
 
 
 @settings(max_examples=200, deadline=None)
@@ -419,12 +402,7 @@ def _assert_checked(scene, walk) -> None:
     m = scene.model
     g1 = next(g for g in range(4) if np.allclose(m.robot_pose(obj, g), start))
     g2 = next(g for g in range(4) if np.allclose(m.robot_pose(obj, g), goal))
-    plan = Plan(scene.name, "exact", m.object_size, m.robot_footprint, m.standoff,
-                scene.alpha_max, obj,
-                [TransferPhase(g1, start, (), obj), TransitPhase(g1, g2, walk.robot_path, obj),
-                 TransferPhase(g2, goal, (), obj)])
-    rep = check_plan(plan, scene)
-    assert rep.ok, rep.problems
+    assert walk_problems(scene, obj, g1, g2, walk) == []
 
 
 def test_a_tight_turn_beside_the_box_is_found_with_few_expansions():
@@ -483,11 +461,4 @@ def test_the_walk_search_certifies_only_the_motions_it_takes(monkeypatch):
     walk = ck.transit(obj, 0, 2)
     assert walk.valid and walk.length > 9.0  # round through the door
     assert 100 < wp.expansions and len(calls) < 2 * wp.expansions
-    m = ck.scene.model
-    plan = Plan(ck.scene.name, "exact", m.object_size, m.robot_footprint, m.standoff,
-                ck.scene.alpha_max, obj,
-                [TransferPhase(0, m.robot_pose(obj, 0), (), obj),
-                 TransitPhase(0, 2, walk.robot_path, obj),
-                 TransferPhase(2, m.robot_pose(obj, 2), (), obj)])
-    rep = check_plan(plan, ck.scene)
-    assert rep.ok, rep.problems
+    assert walk_problems(ck.scene, obj, 0, 2, walk) == []
