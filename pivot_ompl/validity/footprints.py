@@ -133,11 +133,6 @@ class EdgeSet:
     used: np.ndarray
     bounds: np.ndarray
 
-    def take(self, index: np.ndarray) -> EdgeSet:
-        """The polygons ``index`` (an index array)."""
-        return EdgeSet(self.start[index], self.end[index], self.used[index],
-                       self.bounds[index])
-
 
 def _ccw(poly: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Polygons ``(g, k, 2)`` with their vertices counter-clockwise, and which were reversed."""

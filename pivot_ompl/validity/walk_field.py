@@ -28,9 +28,12 @@ cannot pass at any heading (a slot only the box fits through): without that, a w
 way lies through such a gap is refused only after the lattice search has expanded every state
 it can reach (seconds).
 
-The obstacles' part is built once per scene, vectorised (shapely): at each yaw, the positions
-where the body (grown by the kept clearance) meets an obstacle are the convex hulls of vertex
-differences (:func:`~pivot_ompl.validity.footprints.meeting_hulls`), computed for polygons
+The obstacles' part is built once per scene, vectorised (numpy), a block of yaws at a time
+between polls of the termination condition: at each yaw, the positions where the body (grown
+by the kept clearance) meets an obstacle are the convex hulls of vertex differences
+(:func:`~pivot_ompl.validity.footprints.meeting_edges`, the same hulls as shapely's
+:func:`~pivot_ompl.validity.footprints.meeting_hulls`; rasterised together by
+:func:`~pivot_ompl.validity.footprints.grid_union`), computed for polygons
 *inside* the true shapes (a cylinder's inscribed polygon, the clearance's rounded corners by
 chords), so a position is never closed where the exact checks would let the body stand. The
 resting box's part is computed per query (vectorised): for the lattice costs, the same hulls
