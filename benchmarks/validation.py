@@ -16,9 +16,9 @@ import numpy as np
 from common import write_json
 from ompl import util as ou
 
+from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.scene import load_scene
 from pivot_ompl.validity.collision import CollisionWorld
-from pivot_ompl.validity.pivot_checker import PivotChecker
 
 
 def main() -> None:

@@ -25,11 +25,11 @@ import shapely
 from common import write_json
 from walk_queries import scene_copy
 
+from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.se2 import Pose, rectangle_corners
+from pivot_ompl.transit.field import OPEN_YAWS, FloorField
+from pivot_ompl.transit.lattice import HEADING_YAWS
 from pivot_ompl.validity.footprints import grid_inside, meeting_hulls
-from pivot_ompl.validity.pivot_checker import PivotChecker
-from pivot_ompl.validity.walk_field import OPEN_YAWS, FloorField
-from pivot_ompl.validity.walk_lattice import HEADING_YAWS
 
 
 def reference_fits(f: FloorField, yaw: float) -> np.ndarray:

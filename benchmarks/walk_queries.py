@@ -27,10 +27,10 @@ from pathlib import Path
 from common import write_json
 
 import pivot_ompl
+from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.generate import mirror_scene, rotate_scene
 from pivot_ompl.scene import Scene, load_scene
-from pivot_ompl.validity import walking
-from pivot_ompl.validity.pivot_checker import PivotChecker
+from pivot_ompl.transit import planner as walking
 
 
 def scene_copy(name: str, copy: str) -> Scene:

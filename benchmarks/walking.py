@@ -25,8 +25,8 @@ import numpy as np
 from common import write_json
 
 import pivot_ompl
+from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.scene import load_scene
-from pivot_ompl.validity.pivot_checker import PivotChecker
 from pivot_ompl.validity.plan_check import check_plan
 
 

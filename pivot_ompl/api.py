@@ -12,6 +12,7 @@ from typing import Any
 
 from ompl import util as ou
 
+from pivot_ompl.analysis.regrasp_bound import regrasp_lower_bound
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.base.problem import make_setup
 from pivot_ompl.base.state import read_state
@@ -19,7 +20,6 @@ from pivot_ompl.errors import InputError, PlanningError
 from pivot_ompl.planfile import Plan, plan_quality
 from pivot_ompl.planners import OMPL_PLANNERS, PLANNERS, check_planner_name, make_planner
 from pivot_ompl.scene import Scene, load_scene
-from pivot_ompl.validity.regrasp_bound import regrasp_lower_bound
 
 log = logging.getLogger(__name__)
 

@@ -31,7 +31,7 @@ push with full rotations, ``1 / (2 l sin(alpha_max/2))`` per phase (``l`` that g
 half-edge), weighted by length; ``walking_length`` the transits' length; ``duration_estimate``
 the whole-body motion's duration (s) by :class:`DurationModel` (per phase, pivot, radian
 turned and metre walked); ``regrasps_lower_bound`` the fewest regrasps any valid plan of the
-scene needs (a proven bound, :mod:`pivot_ompl.validity.regrasp_bound`; ``null`` when unknown,
+scene needs (a proven bound, :mod:`pivot_ompl.analysis.regrasp_bound`; ``null`` when unknown,
 e.g. not computed within the time limit).
 
 Reading is strict (:mod:`pivot_ompl.fileio`): UTF-8, no duplicate key, no ``NaN``; every number

@@ -4,7 +4,7 @@
   poses, converted to pivot rotations; each rotation's swept box and robot are certified
   collision-free (:mod:`pivot_ompl.validity.certify`, tolerance 2 mm) and inside the bounds.
 * Different grasps at the same object pose (to 1e-9 m / rad): the robot's walk round the
-  resting box from one grasp pose to the other must exist (:mod:`pivot_ompl.validity.walking`).
+  resting box from one grasp pose to the other must exist (:mod:`pivot_ompl.transit.planner`).
 * Anything else (a grasp change while the box moves) is invalid.
 
 OMPL's motion counters stay 0 for Python validators: see ``checker.counters``.
@@ -17,8 +17,8 @@ from typing import Any
 from ompl import base as ob
 
 from pivot_ompl.base.state import read_state
+from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.se2 import pose_distance
-from pivot_ompl.validity.pivot_checker import PivotChecker
 
 #: Two object poses closer than this (m and rad) are the same pose for a grasp change.
 SAME_POSE_TOL = 1e-9

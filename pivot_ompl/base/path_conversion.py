@@ -4,12 +4,12 @@ from __future__ import annotations
 
 from typing import Any
 
+from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.errors import PlanningError
 from pivot_ompl.pivoting.transfer import rs_samples, steps_of
 from pivot_ompl.planfile import Phase, Plan, TransferPhase, TransferStep, TransitPhase
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose
-from pivot_ompl.validity.pivot_checker import PivotChecker
 
 
 def path_to_plan(scene: Scene, checker: PivotChecker, states: list[tuple[Pose, int]], *,

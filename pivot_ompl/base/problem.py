@@ -18,10 +18,10 @@ from pivot_ompl.base.motion_validator import PivotMotionValidator
 from pivot_ompl.base.space import GRASP_WEIGHT, ensure_projection, make_space
 from pivot_ompl.base.state import write_state
 from pivot_ompl.base.validity_checker import PivotValidityChecker
+from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.errors import PlanningError
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose
-from pivot_ompl.validity.pivot_checker import PivotChecker
 
 
 @dataclass

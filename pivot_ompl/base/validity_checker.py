@@ -7,7 +7,7 @@ from typing import Any
 from ompl import base as ob
 
 from pivot_ompl.base.state import read_state
-from pivot_ompl.validity.pivot_checker import PivotChecker
+from pivot_ompl.checking.pivot_checker import PivotChecker
 
 
 class PivotValidityChecker(ob.StateValidityChecker):

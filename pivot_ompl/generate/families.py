@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.errors import InputError
 from pivot_ompl.generate.transform import RigidMap, transform_scene
 from pivot_ompl.generate.witness import State, build_witness
@@ -34,7 +35,6 @@ from pivot_ompl.planfile import Plan
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Obstacle, Scene, scene_from_dict
 from pivot_ompl.se2 import Pose, rotate_about
 from pivot_ompl.validity.collision import CollisionWorld
-from pivot_ompl.validity.pivot_checker import PivotChecker
 
 log = logging.getLogger(__name__)
 

@@ -10,10 +10,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from pivot_ompl.base.path_conversion import path_to_plan
+from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planfile import Plan
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose
-from pivot_ompl.validity.pivot_checker import PivotChecker
 from pivot_ompl.validity.plan_check import check_plan
 
 State = tuple[Pose, int]

@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.graph import UnionFind
 from pivot_ompl.planners.optimiser import budgeted, optimise
@@ -28,7 +29,6 @@ from pivot_ompl.planners.roadmap import Roadmap, canonical, half_turn, pose_metr
 from pivot_ompl.planners.single_grasp import SingleGraspConnect
 from pivot_ompl.planners.visibility import VisibilityRoadmapBuilder
 from pivot_ompl.se2 import Pose, wrap_angle
-from pivot_ompl.validity.pivot_checker import PivotChecker
 
 log = logging.getLogger(__name__)
 

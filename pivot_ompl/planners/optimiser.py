@@ -36,8 +36,8 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
+from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.se2 import Pose, wrap_angle
-from pivot_ompl.validity.pivot_checker import PivotChecker
 
 log = logging.getLogger(__name__)
 

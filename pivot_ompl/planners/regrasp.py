@@ -11,9 +11,9 @@ import numpy as np
 from ompl import base as ob
 
 from pivot_ompl.base.state import read_state
+from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planners.guarded import GuardedPlanner, states_to_path
 from pivot_ompl.planners.multiplex import MultiplexedSearch, RegraspParams
-from pivot_ompl.validity.pivot_checker import PivotChecker
 
 log = logging.getLogger(__name__)
 

@@ -6,7 +6,7 @@ of at most ``step`` along the Reeds-Shepp path of the car (Kuffner and LaValle's
 RRT-Connect: extend one tree towards a random pose, then pull the other tree to the new
 node, swap). The budget is a number of motion checks (not wall-clock time), so a seed gives
 the same result on any machine; every check goes through the shared checker's cache, after
-the cheap test of :meth:`~pivot_ompl.validity.pivot_checker.PivotChecker.path_free` (a refused
+the cheap test of :meth:`~pivot_ompl.checking.pivot_checker.PivotChecker.path_free` (a refused
 edge counts as a check).
 
 Edges are checked in the direction the plan follows them (a pivot sequence depends on its
@@ -22,9 +22,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planners.roadmap import YAW_WEIGHT
 from pivot_ompl.se2 import Pose
-from pivot_ompl.validity.pivot_checker import PivotChecker
 
 
 @dataclass

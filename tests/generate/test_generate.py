@@ -9,13 +9,13 @@ from factories import shipped
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cli.main import main
 from pivot_ompl.errors import InputError
 from pivot_ompl.generate import generate, mirror_scene, rotate_scene, scene_to_dict
 from pivot_ompl.planfile import TransitPhase, load_plan
 from pivot_ompl.scene import load_scene, scene_from_dict
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
-from pivot_ompl.validity.pivot_checker import PivotChecker
 from pivot_ompl.validity.plan_check import check_plan
 
 

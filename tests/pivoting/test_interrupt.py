@@ -7,9 +7,9 @@ import math
 import pytest
 from factories import make_scene
 
+from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.pivoting.steering import PivotSteering
-from pivot_ompl.validity.pivot_checker import PivotChecker
 
 
 def test_steering_polls_its_stop_condition():

@@ -111,8 +111,8 @@ def test_paths_across_the_half_turn_are_written_in_one_frame():
 
     import numpy as np
 
+    from pivot_ompl.checking.pivot_checker import PivotChecker
     from pivot_ompl.planners.multiplex import MultiplexedSearch, RegraspParams
-    from pivot_ompl.validity.pivot_checker import PivotChecker
 
     scene = shipped("open")
     search = MultiplexedSearch(PivotChecker(scene), scene.start, scene.goal, RegraspParams(),
@@ -133,8 +133,8 @@ def test_search_checks_edges_as_the_plan_writes_them():
     import numpy as np
 
     from pivot_ompl.base.path_conversion import path_to_plan
+    from pivot_ompl.checking.pivot_checker import PivotChecker
     from pivot_ompl.planners.multiplex import MultiplexedSearch, RegraspParams
-    from pivot_ompl.validity.pivot_checker import PivotChecker
     from pivot_ompl.validity.plan_check import check_plan
 
     scene = shipped("fig10")
@@ -155,8 +155,8 @@ def test_multiplexing_stops_at_the_termination_condition_and_resumes():
     multiplexed by the next call."""
     import numpy as np
 
+    from pivot_ompl.checking.pivot_checker import PivotChecker
     from pivot_ompl.planners.multiplex import MultiplexedSearch, RegraspParams
-    from pivot_ompl.validity.pivot_checker import PivotChecker
 
     scene = shipped("open")
     search = MultiplexedSearch(PivotChecker(scene), scene.start, scene.goal, RegraspParams(),
@@ -183,8 +183,8 @@ def _wall_search(*, reach: bool = True):
     import numpy as np
     from factories import make_scene
 
+    from pivot_ompl.checking.pivot_checker import PivotChecker
     from pivot_ompl.planners.multiplex import MultiplexedSearch, RegraspParams
-    from pivot_ompl.validity.pivot_checker import PivotChecker
 
     pillar = {"type": "box", "center": [3.75, 3.0], "size": [0.4, 0.4], "height": 1.0}
     scene = make_scene(obstacles=[pillar], start=[2.0, 3.0, 0.0], goal=[5.5, 3.0, 0.0])

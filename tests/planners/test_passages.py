@@ -10,10 +10,10 @@ from factories import shipped
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.generate import RigidMap, mirror_scene, rotate_scene
 from pivot_ompl.planners.multiplex import MultiplexedSearch, RegraspParams
 from pivot_ompl.planners.passages import find_passages, passage_poses
-from pivot_ompl.validity.pivot_checker import PivotChecker
 
 #: fig10's slot widths window: the box's 0.4 m side and 1 cm a side, up to the walking body's
 #: 0.60 m depth, 1 cm a side and 10 cm of play

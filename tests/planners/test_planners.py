@@ -152,8 +152,8 @@ def test_edges_written_in_the_flipped_frame_are_checked_as_written():
 def test_a_visibility_edge_through_a_wall_costs_no_pivot_check():
     import numpy as np
 
+    from pivot_ompl.checking.pivot_checker import PivotChecker
     from pivot_ompl.planners.multiplex import MultiplexedSearch
-    from pivot_ompl.validity.pivot_checker import PivotChecker
 
     scene = shipped("fig10")
     checker = PivotChecker(scene)

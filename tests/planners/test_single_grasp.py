@@ -6,8 +6,8 @@ import numpy as np
 from factories import shipped
 
 from pivot_ompl.base.path_conversion import path_to_plan
+from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planners.single_grasp import SingleGraspConnect
-from pivot_ompl.validity.pivot_checker import PivotChecker
 from pivot_ompl.validity.plan_check import check_plan
 
 

@@ -9,12 +9,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from pivot_ompl import hrp2
+from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.grasp import GRIP_OFFSET, HOLD_TILT, BoxGraspModel
 from pivot_ompl.pivoting.steering import PivotSteering
 from pivot_ompl.pivoting.transfer import transfer_phase
 from pivot_ompl.planfile import Plan
 from pivot_ompl.validity.collision import CollisionWorld
-from pivot_ompl.validity.pivot_checker import PivotChecker
 from pivot_ompl.validity.plan_check import check_plan
 
 

@@ -7,10 +7,10 @@ import math
 import pytest
 from factories import shipped
 
+from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.pivoting.transfer import transfer_phase
 from pivot_ompl.planfile import Plan, TransitPhase
 from pivot_ompl.se2 import Pose, wrap_angle
-from pivot_ompl.validity.pivot_checker import PivotChecker
 from pivot_ompl.validity.plan_check import check_plan
 from pivot_ompl.wholebody import generate_motion
 from pivot_ompl.wholebody.motion_checks import check_motion

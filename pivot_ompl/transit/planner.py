@@ -2,7 +2,7 @@
 
 Free walking as in the regrasp paper (Section IV): forward walking, turning while walking,
 sideways and backward steps, and turns in place. The walk planner is A* over a state lattice
-(:mod:`pivot_ompl.validity.walk_lattice`: floor grid x 16 headings), so it is complete at its
+(:mod:`pivot_ompl.transit.lattice`: floor grid x 16 headings), so it is complete at its
 resolution: if a walk made of lattice motions exists, it is found. It needs no turning disk:
 a robot narrower than a door walks through it forward or sideways.
 
@@ -20,14 +20,14 @@ a robot narrower than a door walks through it forward or sideways.
 * **Admissible heuristics, cheap first**: most walks are easy, so a query is first searched
   guided by ``hypot(D, turn_cost * heading error)`` (weighted by ``floor_inflation``), where
   ``D`` is the shortest floor distance to the goal round the obstacles and the resting box
-  (:meth:`~pivot_ompl.validity.walk_field.FloorField.distances`, over the grid positions
+  (:meth:`~pivot_ompl.transit.field.FloorField.distances`, over the grid positions
   where the walking body fits at one of 32 yaws), a lower bound of every walk's length; every
   motion costs at least ``hypot(length, turn_cost * turn)``
-  (:func:`~.walk_lattice.motion_cost`). Where ``D`` is infinite no walk exists. A search
+  (:func:`~.lattice.motion_cost`). Where ``D`` is infinite no walk exists. A search
   past ``quick_expansions`` states (a tight spot, where that guide, blind to the headings,
   fills every heading of the cells near the goal) is made again guided by the cost-to-go of
   the lattice relaxed to its states
-  (:meth:`~pivot_ompl.validity.walk_field.FloorField.lattice_costs`: the same motions and
+  (:meth:`~pivot_ompl.transit.field.FloorField.lattice_costs`: the same motions and
   costs, a state free when the walking body at its heading fits there and does not meet the
   grown box, motions' sweeps not checked; one Dijkstra, scipy), weighted by ``inflation``: it
   knows where the robot can stand at which heading, and where it is infinite no walk exists,
@@ -37,9 +37,9 @@ a robot narrower than a door walks through it forward or sideways.
   direction, linear yaw) and by forward walks along Dubins curves (OMPL's, turning radius
   ``step_forward / step_turn``) whenever they cost less, in two passes. A Dubins shortcut is
   refused cheaply when it can be: its cost bounded from its length
-  (:func:`~.walk_lattice.forward_chain_cost_bound`), then its poses at 1/2, 1/4 and 3/4 of
+  (:func:`~.lattice.forward_chain_cost_bound`), then its poses at 1/2, 1/4 and 3/4 of
   the way (a blocked curve nearly always is at one of them), before it is sampled whole and
-  costed (:func:`~.walk_lattice.chain_cost`). The lattice states' clearances come from the
+  costed (:func:`~.lattice.chain_cost`). The lattice states' clearances come from the
   search's caches, and the second pass reuses what the first learnt: the poses' clearances,
   the motions certified or refused, the curves sampled.
 * **Lazy**: a motion (and the state it reaches) is certified only when the search takes it
@@ -65,10 +65,8 @@ from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.pivoting.dubins import Dubins
 from pivot_ompl.scene import WalkParameters
 from pivot_ompl.se2 import Pose, wrap_angle
-from pivot_ompl.validity.certify import SWEEP_TOLERANCE, certify
-from pivot_ompl.validity.collision import CollisionWorld
-from pivot_ompl.validity.walk_field import FloorField
-from pivot_ompl.validity.walk_lattice import (
+from pivot_ompl.transit.field import FloorField
+from pivot_ompl.transit.lattice import (
     HEADING_YAWS,
     N_HEADINGS,
     chain_cost,
@@ -77,6 +75,8 @@ from pivot_ompl.validity.walk_lattice import (
     nearest_headings,
     primitives,
 )
+from pivot_ompl.validity.certify import SWEEP_TOLERANCE, certify
+from pivot_ompl.validity.collision import CollisionWorld
 
 log = logging.getLogger(__name__)
 

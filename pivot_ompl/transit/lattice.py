@@ -45,7 +45,7 @@ def motion_cost(a: Pose, b: Pose, walk: WalkParameters) -> float:
     the whole-body walk takes, whose steps lie in the ellipsoid of the step limits. Every
     weight is at least the forward one, so a walk costs at least
     ``hypot(length, turn_cost * |heading change|)``: the A* heuristic of
-    :mod:`pivot_ompl.validity.walking` is admissible.
+    :mod:`pivot_ompl.transit.planner` is admissible.
     """
     dyaw = wrap_angle(b[2] - a[2])
     mid = a[2] + 0.5 * dyaw

@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 from factories import make_scene, shipped
 
+from pivot_ompl.analysis.regrasp_bound import free_cover, regrasp_lower_bound
+from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.generate import generate, mirror_scene, rotate_scene
 from pivot_ompl.scene import BoxObstacle, Scene
-from pivot_ompl.validity.pivot_checker import PivotChecker
-from pivot_ompl.validity.regrasp_bound import free_cover, regrasp_lower_bound
 
 GOLDEN = Path(__file__).parents[1] / "data" / "golden" / "seeded_plans.json"
 

@@ -18,9 +18,9 @@ from pivot_ompl.pivoting.kinematics import LEFT, Rotation
 from pivot_ompl.pivoting.steering import PivotSequence, PivotSteering
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose, rotate_about
+from pivot_ompl.transit.planner import INVALID_WALK, WalkPlanner, WalkResult
 from pivot_ompl.validity.certify import SWEEP_TOLERANCE, certify
 from pivot_ompl.validity.collision import CollisionWorld
-from pivot_ompl.validity.walking import INVALID_WALK, WalkPlanner, WalkResult
 
 log = logging.getLogger(__name__)
 

@@ -11,9 +11,9 @@ from factories import shipped, walk_problems
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.scene import WalkParameters
-from pivot_ompl.validity.pivot_checker import PivotChecker
-from pivot_ompl.validity.walk_lattice import chain_cost, forward_chain_cost_bound, motion_cost
+from pivot_ompl.transit.lattice import chain_cost, forward_chain_cost_bound, motion_cost
 
 #: fig10's box resting beside wall B's door: the walk between its two long sides goes round
 #: the wall (10.5 m), the longest walk of the recorded regrasp runs

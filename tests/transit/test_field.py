@@ -16,8 +16,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from pivot_ompl.validity.pivot_checker import PivotChecker
-from pivot_ompl.validity.walk_field import OPEN_YAWS
+from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.transit.field import OPEN_YAWS
 from tests.factories import ROOT, make_scene, shipped
 
 sys.path.insert(0, str(ROOT / "benchmarks"))

@@ -10,11 +10,11 @@ from factories import make_scene, rotated_scene_doc, shipped, shipped_doc, walk_
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.scene import WalkParameters, scene_from_dict
 from pivot_ompl.se2 import wrap_angle
-from pivot_ompl.validity.pivot_checker import PivotChecker
+from pivot_ompl.transit.lattice import HEADING_YAWS, N_HEADINGS, motion_cost, primitives
 from pivot_ompl.validity.plan_check import check_plan
-from pivot_ompl.validity.walk_lattice import HEADING_YAWS, N_HEADINGS, motion_cost, primitives
 
 POSE = (4.0, 3.0, 0.3)
 
@@ -52,7 +52,7 @@ def test_walk_search_honours_the_termination_condition():
     """A large floor's field takes a second: the walk stops at the limit and resumes later."""
     import time
 
-    from pivot_ompl.validity.walking import INVALID_WALK
+    from pivot_ompl.transit.planner import INVALID_WALK
 
     # 601 x 601 grid positions (the field's build polls once per yaw and per graph direction)
     scene = make_scene(bounds=[0.0, 0.0, 60.0, 60.0], start=[30.0, 30.0, 0.0],
@@ -75,7 +75,7 @@ def test_walk_search_honours_the_termination_condition():
 
 def test_an_interrupted_floor_field_resumes_where_it_stopped():
     from pivot_ompl.errors import Interrupted
-    from pivot_ompl.validity.walk_field import GRAPH_CHUNK, OPEN_YAWS, YAW_CHUNK
+    from pivot_ompl.transit.field import GRAPH_CHUNK, OPEN_YAWS, YAW_CHUNK
 
     scene = shipped("fig10")
     field = PivotChecker(scene, seed=0).walker.field
@@ -97,8 +97,8 @@ def test_the_floor_field_sums_footprints_a_block_of_yaws_between_polls(monkeypat
     # regression: the footprints of all 32 yaws were summed in one call before the first
     # block was rasterised, past the next poll: fig10 at a 0.5 s limit ended 30 ms late
     from pivot_ompl.errors import Interrupted
-    from pivot_ompl.validity import walk_field
-    from pivot_ompl.validity.walk_field import YAW_CHUNK
+    from pivot_ompl.transit import field as walk_field
+    from pivot_ompl.transit.field import YAW_CHUNK
 
     field = PivotChecker(shipped("fig10"), seed=0).walker.field
     summed = []
@@ -247,8 +247,8 @@ def test_regrasp_plan_through_the_narrow_passage_passes_check(name):
 def test_walk_query_stops_at_once_when_the_condition_holds():
     """A walk asked after the deadline raises at once (no floor field, no search, no
     smoothing: the field's Dijkstra alone runs tens of ms in C)."""
+    from pivot_ompl.checking.pivot_checker import PivotChecker
     from pivot_ompl.errors import Interrupted
-    from pivot_ompl.validity.pivot_checker import PivotChecker
 
     scene = shipped("fig10")
     checker = PivotChecker(scene)
@@ -267,7 +267,7 @@ def test_walk_query_stops_at_once_when_the_condition_holds():
 def test_every_free_lattice_state_lies_on_an_open_floor_position(name):
     # the floor field tests the walking body at 32 yaws: a relaxation only if it never closes a
     # position where a lattice state (or a step's midpoint, at a half-way yaw) is free
-    from pivot_ompl.validity.walk_field import OPEN_YAWS
+    from pivot_ompl.transit.field import OPEN_YAWS
 
     scene = shipped(name)
     wp = PivotChecker(scene, seed=0).walker
@@ -343,7 +343,7 @@ def test_lattice_costs_bound_the_cheapest_lattice_walk(name, angle, monkeypatch)
 def test_every_free_lattice_state_is_free_in_the_lattice_relaxation(name):
     # a lattice state the search may stand on (clearance > 0 to obstacles, bounds and the
     # resting box) is never closed by the relaxation, the box's part included
-    from pivot_ompl.validity.walk_field import OPEN_YAWS
+    from pivot_ompl.transit.field import OPEN_YAWS
 
     scene = shipped(name)
     wp = PivotChecker(scene, seed=0).walker
@@ -444,7 +444,7 @@ def test_the_walk_search_certifies_only_the_motions_it_takes(monkeypatch):
     # regression: every motion out of an expanded state to a free state was certified (the
     # slot walk of fig10, round wall A through its door: 1426 motions for 297 expansions).
     # The search now certifies a motion when it takes it from the queue
-    from pivot_ompl.validity import walking
+    from pivot_ompl.transit import planner as walking
 
     obj = (4.15, 1.5, 0.0)  # the box in wall A's slot
     doc = shipped_doc("fig10")

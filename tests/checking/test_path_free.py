@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from factories import make_scene
 
-from pivot_ompl.validity.pivot_checker import PivotChecker
+from pivot_ompl.checking.pivot_checker import PivotChecker
 
 WALL = {"type": "box", "center": [4.0, 3.0], "size": [0.3, 2.0], "yaw": 0.0, "height": 2.0}
 

@@ -13,7 +13,7 @@ where no walk exists. The obstacles' graph is built once per scene, in CSR form 
 a query closes the states the box blocks (in place, restored after).
 
 **Floor distances** (:meth:`FloorField.distances`, the heuristic of larger floors): a
-relaxation of the lattice (:mod:`pivot_ompl.validity.walk_lattice`): a grid position is *open*
+relaxation of the lattice (:mod:`pivot_ompl.transit.lattice`): a grid position is *open*
 when the walking body, there, is clear of the obstacles and inside the bounds at one of
 :data:`OPEN_YAWS` at least (the 16 headings and the 16 yaws half-way between neighbours), and
 the disk inscribed in the body round the robot pose is ``box_margin`` away from the resting
@@ -54,9 +54,9 @@ from scipy.sparse.csgraph import dijkstra
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.se2 import Pose, rectangle_corners
+from pivot_ompl.transit.lattice import HEADING_VECTORS, HEADING_YAWS, N_HEADINGS, Primitive
 from pivot_ompl.validity.collision import CollisionWorld
 from pivot_ompl.validity.footprints import EdgeSet, grid_union, meeting_edges, obstacle_pieces
-from pivot_ompl.validity.walk_lattice import HEADING_VECTORS, HEADING_YAWS, N_HEADINGS, Primitive
 
 #: Grid positions whose graph edges are built between two polls of the termination condition.
 GRAPH_CHUNK = 20_000
@@ -254,7 +254,7 @@ class FloorField:
                       should_stop: Callable[[], bool] | None = None) -> np.ndarray:
         """Cost-to-go of every lattice state to the nearest of ``goals``, relaxed.
 
-        The lattice (:mod:`~pivot_ompl.validity.walk_lattice`) with its motions ``prims`` and
+        The lattice (:mod:`~pivot_ompl.transit.lattice`) with its motions ``prims`` and
         their costs, where a state ``(ix, iy, h)`` is free when the walking body at heading
         ``h`` fits there (obstacles grown by the kept clearance, bounds: the yaw's
         :meth:`static_open` layer) and does not meet the resting box grown by ``box_margin``
