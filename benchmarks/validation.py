@@ -68,7 +68,9 @@ def main() -> None:
     t0 = time.perf_counter()
     for q, q2, g in motions:
         t = time.perf_counter()
-        valid += ck._transfer(q, q2, g, True).valid  # uncached
+        m = ck.model  # uncached: the transfer check itself
+        valid += ck.transfers.check(m.car_pose(q, g), m.car_pose(q2, g), g, with_robot=True,
+                                    should_stop=None).valid
         per.append(time.perf_counter() - t)
     total = time.perf_counter() - t0
     CollisionWorld._distance = orig

@@ -2,7 +2,7 @@
 
 For fig10 and its copies (``scene_copy``: ``rot37``, ``mir20`` by default), times
 ``FloorField.static_open`` (the obstacles' part, once per planning run) and
-``FloorField._meets_box`` (the resting box's part, per lattice-field query) with the numpy
+``FloorField.meets_box`` (the resting box's part, per lattice-field query) with the numpy
 route (``footprints.meeting_edges`` + ``grid_union``) and with the shapely route it replaced
 (:func:`reference_fits`, :func:`reference_meets_box`: shapely convex hulls of vertex
 differences, each rasterised by ``footprints.grid_inside``), side by side: CPU time
@@ -33,7 +33,7 @@ from pivot_ompl.validity.footprints import grid_inside, meeting_hulls
 
 
 def reference_fits(f: FloorField, yaw: float) -> np.ndarray:
-    """``FloorField._fits_index`` of ``yaw`` by the shapely route (the code before the
+    """``FloorField.fits_index`` of ``yaw`` by the shapely route (the code before the
     numpy one)."""
     c, s = math.cos(yaw), math.sin(yaw)
     rot = np.array([[c, -s], [s, c]])
@@ -42,14 +42,14 @@ def reference_fits(f: FloorField, yaw: float) -> np.ndarray:
     xs, ys = f._x[:, 0], f._y[0, :]
     ok = ((xs + corners[:, 0].min() > b[0]) & (xs + corners[:, 0].max() < b[2]))[:, None] \
         & ((ys + corners[:, 1].min() > b[1]) & (ys + corners[:, 1].max() < b[3]))[None, :]
-    for hull in meeting_hulls(f._pieces, f._grown @ rot.T):
+    for hull in meeting_hulls(f.pieces, f._grown @ rot.T):
         cols, rows, inside = grid_inside(hull, xs, ys)
         ok[cols, rows] &= ~inside
     return ok
 
 
 def reference_meets_box(f: FloorField, obj: Pose) -> list[np.ndarray]:
-    """``FloorField._meets_box`` by the shapely route (the code before the numpy one)."""
+    """``FloorField.meets_box`` by the shapely route (the code before the numpy one)."""
     box = shapely.Polygon(rectangle_corners(obj, f.model.object_size[0], f.model.object_size[1]))
     if f.box_margin > 0:
         box = box.buffer(f.box_margin, quad_segs=4)
@@ -75,9 +75,9 @@ def fresh_field(template: FloorField, old: bool) -> FloorField:
     """A new field of ``template``'s scene, on the shapely route if ``old``."""
     f = FloorField(template.model, template.world, template.resolution, template.box_margin)
     if old:
-        f._fits_range = lambda k0, k1: [  # type: ignore[method-assign]
+        f.fits_range = lambda k0, k1: [  # type: ignore[method-assign]
             reference_fits(f, OPEN_YAWS[k]) for k in range(k0, k1)]
-        f._meets_box = lambda obj: reference_meets_box(f, obj)  # type: ignore[method-assign]
+        f.meets_box = lambda obj: reference_meets_box(f, obj)  # type: ignore[method-assign]
     return f
 
 
@@ -110,7 +110,7 @@ def main() -> None:
             for route in ("old", "new")})
         fields = {route: fresh_field(template, route == "old") for route in ("old", "new")}
         box = best_of(a.repeat, {
-            route: (lambda f=f, objs=objs: [f._meets_box(o) for o in objs])
+            route: (lambda f=f, objs=objs: [f.meets_box(o) for o in objs])
             for route, f in fields.items()})
         results = {}
         for route in ("old", "new"):
@@ -125,7 +125,7 @@ def main() -> None:
         row["meets_box_speedup"] = row["meets_box_old_ms"] / row["meets_box_new_ms"]
         print(f"{row['copy']:>6} grid {template.nx}x{template.ny}: static_open "
               f"{row['static_open_old_ms']:.1f} -> {row['static_open_new_ms']:.1f} ms "
-              f"(x{row['static_speedup']:.2f}), _meets_box {row['meets_box_old_ms']:.2f} -> "
+              f"(x{row['static_speedup']:.2f}), meets_box {row['meets_box_old_ms']:.2f} -> "
               f"{row['meets_box_new_ms']:.2f} ms (x{row['meets_box_speedup']:.2f}), "
               f"equal: {row['equal']}")
         rows.append(row)

@@ -48,9 +48,9 @@ def record(name: str, runs: int, copies: list[str], out: Path) -> None:
     current: list[dict] = []
     orig = walking.WalkPlanner.plan_between
 
-    def spy(self: walking.WalkPlanner, start, goal, obj):  # noqa: ANN001, ANN202
+    def spy(self: walking.WalkPlanner, start, goal, obj, **kw):  # noqa: ANN001, ANN202
         e0 = self.expansions
-        r = orig(self, start, goal, obj)
+        r = orig(self, start, goal, obj, **kw)
         current.append({"start": list(start), "goal": list(goal), "obj": list(obj),
                         "valid": r.valid, "length": r.length, "cost": r.cost,
                         "expansions": self.expansions - e0})

@@ -16,7 +16,8 @@ def astar(starts: Iterable[N], goals: Collection[N],
           neighbours: Callable[[N], Iterable[tuple[N, float]]],
           heuristic: Callable[[N], float], *,
           valid: Callable[[N, N], bool] | None = None,
-          should_stop: Callable[[], bool] | None = None) -> list[N]:
+          known: Callable[[N, N], bool] | None = None,
+          should_stop: Callable[[], bool] | None = None, poll_every: int = 1024) -> list[N]:
     """Cheapest path from any start to any goal; ``[]`` if none.
 
     Args:
@@ -28,7 +29,11 @@ def astar(starts: Iterable[N], goals: Collection[N],
             each checked only when the node it leads to is taken from the queue through it
             (lazy A*: most edges out of an expanded node never are, and are never checked).
             A node whose edge fails stays open, to be reached through another.
-        should_stop: termination condition, polled every 1024 expansions.
+        known: ``(n, m) -> bool``, with ``valid``: the candidate edges already known to pass
+            ``valid``; a way through one of them is queued only if it is the cheapest known
+            way (as with checked edges), so the queue stays small.
+        should_stop: termination condition, polled every ``poll_every`` expansions.
+        poll_every: expansions between two polls of ``should_stop``.
 
     Raises:
         Interrupted: ``should_stop()`` became true.
@@ -52,7 +57,7 @@ def astar(starts: Iterable[N], goals: Collection[N],
         done.add(u)
         if p is not None:
             parent[u] = p
-        if should_stop is not None and len(done) % 1024 == 0 and should_stop():
+        if should_stop is not None and len(done) % poll_every == 0 and should_stop():
             raise Interrupted("A* search")
         if u in goals:
             path = [u]
@@ -63,9 +68,9 @@ def astar(starts: Iterable[N], goals: Collection[N],
             nd = du + c
             # checked edges: only the cheapest known way to ``v`` is queued; candidate
             # edges: every way is queued (the cheapest may fail its check)
-            if v in done or (valid is None and nd >= dist.get(v, math.inf)):
+            if v in done or nd >= dist.get(v, math.inf):
                 continue
-            if valid is None:
+            if valid is None or (known is not None and known(u, v)):
                 dist[v] = nd
             tie += 1
             heapq.heappush(heap, (nd + heuristic(v), tie, nd, v, u))

@@ -8,51 +8,26 @@ is converted and checked once (cached) whichever component asks first.
 from __future__ import annotations
 
 import logging
-import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
+from pivot_ompl.checking.transfer_check import EdgeResult, TransferCheck
 from pivot_ompl.errors import Interrupted
-from pivot_ompl.pivoting.kinematics import LEFT, Rotation
+from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.pivoting.steering import PivotSequence, PivotSteering
 from pivot_ompl.scene import Scene
-from pivot_ompl.se2 import Pose, rotate_about
+from pivot_ompl.se2 import Pose
 from pivot_ompl.transit.planner import INVALID_WALK, WalkPlanner, WalkResult
-from pivot_ompl.validity.certify import SWEEP_TOLERANCE, certify
+from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import CollisionWorld
+
+__all__ = ["EdgeResult", "MotionCounters", "PivotChecker"]
 
 log = logging.getLogger(__name__)
 
 #: Spacing (m) of the poses that :meth:`PivotChecker.path_free` tests along a car's path.
 PREFILTER_STEP = 0.25
-
-#: A colliding piece is converted again with the rotation bound times each of these factors
-#: in turn (half-octave steps down to alpha_max/8): the largest rotations that pass are kept.
-REFINE_FACTORS = tuple(2.0 ** (-0.5 * k) for k in range(1, 7))
-
-
-def _swept_clearance(dist: Callable[[Pose], float], base: Pose, pivot: tuple[float, float],
-                     angle: float) -> Callable[[float], float]:
-    """Clearance at fraction ``s`` of the rotation of ``base`` by ``angle`` about ``pivot``."""
-    return lambda s: dist(rotate_about(base, pivot, s * angle))
-
-
-@dataclass(frozen=True)
-class EdgeResult:
-    """A transfer edge (same grasp) checked.
-
-    Attributes:
-        valid: the pivot sequence is collision-free and inside the bounds.
-        sequence: the pivot rotations (car poses) of the edge.
-        length: Reeds-Shepp length of the edge (m).
-        reason: why it is invalid (``""`` if valid).
-    """
-
-    valid: bool
-    sequence: PivotSequence
-    length: float
-    reason: str = ""
 
 
 @dataclass
@@ -66,45 +41,51 @@ class MotionCounters:
     refined_pieces: int = 0
 
 
-@dataclass
 class PivotChecker:
-    """States, transfer edges and transit walks of one scene.
+    """States, transfer edges and transit walks of one scene, with their caches.
 
     Args:
         scene: the planning problem.
-        seed: seed of the walk roadmap's generator.
+        seed: kept for callers that record it (the checks are deterministic).
         tolerance: swept-check tolerance (m): no point of a body moves farther than this
             between two certified samples.
+
+    Attributes:
+        scene, model: the scene and its box and robot geometry.
+        world: the collision world (obstacles and bounds).
+        steering: the pivot steering of the scene's turning radius and rotation bound.
+        walker: the walk planner (transit).
+        transfers: the pivot sequences' checks.
+        counters: motion checks computed, valid and invalid, and cache hits.
     """
 
     scene: Scene
-    seed: int = 0
-    tolerance: float = SWEEP_TOLERANCE
-    world: CollisionWorld = field(init=False)
-    steering: PivotSteering = field(init=False)
-    walker: WalkPlanner = field(init=False)
-    counters: MotionCounters = field(default_factory=MotionCounters, init=False)
-    #: Termination condition of the current solve (set by planners; polled by the steering).
-    should_stop: Callable[[], bool] | None = field(default=None, init=False)
+    seed: int
+    tolerance: float
+    model: BoxGraspModel
+    world: CollisionWorld
+    steering: PivotSteering
+    walker: WalkPlanner
+    transfers: TransferCheck
+    counters: MotionCounters
 
-    def __post_init__(self) -> None:
+    def __init__(self, scene: Scene, *, seed: int = 0, tolerance: float = SWEEP_TOLERANCE
+                 ) -> None:
         """Build the collision world, the steering method and the walk planner."""
-        s = self.scene
-        self.model = s.model
-        self.world = CollisionWorld.from_scene(s)
-        self.steering = PivotSteering(turning_radius=s.turning_radius, alpha_max=s.alpha_max)
-        self.walker = WalkPlanner(s.model, self.world, s.walk, tolerance=self.tolerance)
+        self.scene, self.seed, self.tolerance = scene, seed, tolerance
+        self.model = scene.model
+        self.world = CollisionWorld.from_scene(scene)
+        self.steering = PivotSteering(turning_radius=scene.turning_radius,
+                                      alpha_max=scene.alpha_max)
+        self.walker = WalkPlanner(scene.model, self.world, scene.walk, tolerance=tolerance)
+        self.counters = MotionCounters()
         self._edges: dict[tuple, EdgeResult] = {}
         self._walks: dict[tuple, WalkResult] = {}
-        # reach of each body from a pivot corner, per grasp: bounds rotation sweeps
-        self._reach: dict[int, tuple[float, float]] = {}
-        for g in range(4):
-            car = (0.0, 0.0, 0.0)
-            a = self.model.pivots(car, g)[LEFT]
-            box = self.model.object_corners(self.model.object_from_car(car, g))
-            rob = self.model.held_corners(self.model.robot_from_car(car, g), g)
-            self._reach[g] = (max(math.hypot(x - a[0], y - a[1]) for x, y in box),
-                              max(math.hypot(x - a[0], y - a[1]) for x, y in rob))
+        self.transfers = TransferCheck(self.model, self.world, self.steering,
+                                       tolerance=tolerance, refined=self._count_refined)
+
+    def _count_refined(self) -> None:
+        self.counters.refined_pieces += 1
 
     # -- states --------------------------------------------------------------------------
     def box_valid(self, obj: Pose) -> bool:
@@ -155,17 +136,21 @@ class PivotChecker:
             return all(self.state_valid(m.object_from_car(c, grasp), grasp) for c in cars)
         return all(self.box_valid(m.object_from_car(c, grasp)) for c in cars)
 
-    def transfer(self, obj_a: Pose, obj_b: Pose, grasp: int, *,
-                 with_robot: bool = True) -> EdgeResult:
+    def transfer(self, obj_a: Pose, obj_b: Pose, grasp: int, *, with_robot: bool = True,
+                 should_stop: Callable[[], bool] | None = None) -> EdgeResult:
         """Check the pivot sequence moving the box from ``obj_a`` to ``obj_b`` at ``grasp``.
 
         With ``with_robot=False`` only the box is checked (the object roadmap of the
-        Visibility PRM, where the robot is considered separately). An edge whose check is
-        stopped by :attr:`should_stop` is invalid and not cached (a later solve checks it).
+        Visibility PRM, where the robot is considered separately). ``should_stop`` is polled
+        by the steering once per path piece; an edge whose check it stops is invalid and not
+        cached (a later call checks it).
         """
+        m = self.model
         try:
             return self._cached(self._edges, (obj_a, obj_b, grasp, with_robot),
-                                lambda: self._transfer(obj_a, obj_b, grasp, with_robot))
+                                lambda: self.transfers.check(
+                                    m.car_pose(obj_a, grasp), m.car_pose(obj_b, grasp), grasp,
+                                    with_robot=with_robot, should_stop=should_stop))
         except Interrupted:
             length = self.steering.rs.distance(obj_a, obj_b)
             return EdgeResult(False, PivotSequence(obj_a, obj_b, (), length, 0), length,
@@ -185,123 +170,17 @@ class PivotChecker:
             self.counters.invalid += 1
         return res
 
-    def _transfer(self, obj_a: Pose, obj_b: Pose, grasp: int, with_robot: bool) -> EdgeResult:
-        """Check the edge piece by piece, refining only a piece that collides."""
-        m = self.model
-        return self._check(m.car_pose(obj_a, grasp), m.car_pose(obj_b, grasp), grasp,
-                           with_robot)
-
-    def _check(self, ca: Pose, cb: Pose, grasp: int, with_robot: bool) -> EdgeResult:
-        """Bounds and certified sweeps rotation by rotation, stopping at the first failure.
-
-        The steering's pieces are checked in order. Where a piece's rotations collide or
-        leave the bounds, that piece alone (the same stretch of the Reeds-Shepp path, from
-        the same pose) is converted again with the rotation bound reduced by half-octave steps
-        (:data:`REFINE_FACTORS`), down to ``alpha_max / 8``: smaller rotations hug the path
-        closer (the topological property); the rest of the edge keeps full rotations.
-        """
-        m, w = self.model, self.world
-        r_box, r_rob = self._reach[grasp]
-        obstacles = w.has_obstacles
-        ell = m.edge_half_length(grasp)
-        steering = self.steering
-        length = steering.rs.distance(ca, cb)
-
-        def box_d(car: Pose) -> float:
-            return w.box_distance(m.object_from_car(car, grasp))
-
-        def rob_d(car: Pose) -> float:
-            return w.held_distance(m.robot_from_car(car, grasp), grasp)
-
-        def in_bounds(car: Pose, bulge_b: float, bulge_r: float) -> bool:
-            if w.bounds_margin(m.object_corners(m.object_from_car(car, grasp))) < bulge_b:
-                return False
-            return not with_robot or \
-                w.bounds_margin(m.held_corners(m.robot_from_car(car, grasp), grasp)) >= bulge_r
-
-        def fail(reason: str) -> EdgeResult:
-            return EdgeResult(False, PivotSequence(ca, cb, (), length, 0), length, reason)
-
-        def check_rotations(prev: Pose, rots: tuple[Rotation, ...], db: float, dr: float,
-                            ) -> tuple[str, float, float]:
-            """``(failure, clearances at the end)``; failure ``""`` when all pass."""
-            for rot in rots:
-                bulge = 1.0 - math.cos(0.5 * rot.angle)
-                if not (in_bounds(prev, r_box * bulge, r_rob * bulge)
-                        and in_bounds(rot.car, r_box * bulge, r_rob * bulge)):
-                    return "leaves the bounds", db, dr
-                if obstacles:
-                    base, piv, ang = prev, rot.pivot, rot.angle
-                    db_end = box_d(rot.car)
-                    if not certify(_swept_clearance(box_d, base, piv, ang), r_box * abs(ang),
-                                   tolerance=self.tolerance, d0=db, d1=db_end).valid:
-                        return "box collides", db, dr
-                    db = db_end
-                    if with_robot:
-                        dr_end = rob_d(rot.car)
-                        if not certify(_swept_clearance(rob_d, base, piv, ang),
-                                       r_rob * abs(ang), tolerance=self.tolerance, d0=dr,
-                                       d1=dr_end).valid:
-                            return "robot collides", db, dr
-                        dr = dr_end
-                prev = rot.car
-            return "", db, dr
-
-        db = dr = math.inf
-        if obstacles:
-            db = box_d(ca)
-            dr = rob_d(ca) if with_robot else math.inf
-            if db <= 0 or dr <= 0:
-                return fail("collides at the start")
-        checked: list[Rotation] = []
-        pieces = steering.iter_pieces(ca, cb, half_length=ell, should_stop=self.should_stop)
-        reply: tuple[Pose, Rotation | None] | None = None
-        while True:
-            try:
-                piece = pieces.send(reply) if reply is not None else next(pieces)
-            except StopIteration:
-                break
-            reply = None
-            why, db1, dr1 = check_rotations(piece.start, piece.rotations, db, dr)
-            for factor in REFINE_FACTORS:  # refine this piece only
-                if not why:
-                    break
-                fine: list[Rotation] = []
-                for sub in steering.iter_pieces(
-                        ca, cb, half_length=ell, should_stop=self.should_stop,
-                        span=(piece.t0, piece.t1), origin=piece.start,
-                        alpha_max=steering.alpha_max * factor):
-                    fine.extend(sub.rotations)
-                why, db1, dr1 = check_rotations(piece.start, tuple(fine), db, dr)
-                if not why:
-                    self.counters.refined_pieces += 1
-                    checked.extend(fine)
-                    end = fine[-1].car if fine else piece.start
-                    reply = (end, fine[-1] if fine else None)
-            if why:
-                return fail(f"{why} during rotation {len(checked)} "
-                            f"(path {piece.t0:.3f}..{piece.t1:.3f})")
-            if reply is None:
-                checked.extend(piece.rotations)
-            db, dr = db1, dr1
-        # merge rotations about one corner exactly as PivotSteering.convert does: the merged
-        # rotation sweeps the union of the two checked sweeps
-        merged: list[Rotation] = []
-        for r in checked:
-            steering._append(merged, r)
-        seq = PivotSequence(ca, cb, tuple(merged), length, 0)
-        return EdgeResult(True, seq, length)
-
     # -- transit -------------------------------------------------------------------------
-    def transit(self, obj: Pose, from_grasp: int, to_grasp: int) -> WalkResult:
+    def transit(self, obj: Pose, from_grasp: int, to_grasp: int, *,
+                should_stop: Callable[[], bool] | None = None) -> WalkResult:
         """The robot's walk between two grasps of the box resting at ``obj`` (cached).
 
-        A walk whose search is stopped by :attr:`should_stop` is invalid and not cached.
+        A walk whose search ``should_stop`` stops is invalid and not cached.
         """
         try:
             return self._cached(self._walks, (obj, from_grasp, to_grasp),
                                 lambda: self.walker.plan(obj, from_grasp, to_grasp,
-                                                         should_stop=self.should_stop))
+                                                         should_stop=should_stop))
         except Interrupted:
             return INVALID_WALK
 

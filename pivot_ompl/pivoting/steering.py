@@ -136,7 +136,7 @@ class PivotSteering:
         for piece in self.iter_pieces(start, goal, half_length=half_length,
                                       should_stop=should_stop):
             for r in piece.rotations:
-                self._append(rotations, r)
+                self.append_merged(rotations, r)
             pieces += 1
         return PivotSequence(start, goal, tuple(rotations), self.rs.distance(start, goal), pieces)
 
@@ -214,32 +214,9 @@ class PivotSteering:
             if should_stop is not None and should_stop():
                 raise Interrupted("pivot steering")
             step = min(max(step, min_step), t_end - t0)
-            t_ok, best = t0, None
-            t_fail = t_end + 1.0
-            t = t0 + step
-            while True:  # gallop forwards from the last piece's length, or halve back
-                res = solve(t)
-                if res is not None:
-                    t_ok, best = t, res
-                    if t >= t_end or t_fail <= t_end:
-                        break
-                    t = min(t_end, t0 + (t - t0) * GALLOP)
-                else:
-                    t_fail = t
-                    if best is not None:
-                        break
-                    if t - t0 <= min_step:
-                        raise SteeringError(start, goal, f"no convergence at t={t0:.6g}")
-                    t = t0 + 0.5 * (t - t0)
-            while t_fail <= t_end and t_fail - t_ok > LONGEST_TOLERANCE * (t_ok - t0):
-                t = 0.5 * (t_ok + t_fail)  # bisect to the longest solvable piece
-                res = solve(t)
-                if res is not None:
-                    t_ok, best = t, res
-                else:
-                    t_fail = t
-            assert best is not None
-            target, rots = best
+            t_ok, (target, rots) = _longest(solve, t0, t_end, step, min_step,
+                                            lambda t: SteeringError(
+                                                start, goal, f"no convergence at t={t:.6g}"))
             sent = yield Piece(t0, t_ok, current, target, rots)
             if sent is not None:  # the caller replaced the piece (a local refinement)
                 current, previous = sent
@@ -252,7 +229,7 @@ class PivotSteering:
             step = t_ok - t0
             t0 = t_ok
 
-    def _append(self, rotations: list[Rotation], r: Rotation) -> None:
+    def append_merged(self, rotations: list[Rotation], r: Rotation) -> None:
         """Append ``r``, merged into the previous rotation when both turn about one corner."""
         if self.merge and rotations and rotations[-1].end == r.end:
             prev = rotations[-1]
@@ -263,3 +240,42 @@ class PivotSteering:
                     rotations.append(Rotation(r.end, prev.pivot, total, r.car))
                 return
         rotations.append(r)
+
+
+_Solved = tuple[Pose, tuple[Rotation, ...]]
+
+
+def _longest(solve: Callable[[float], _Solved | None], t0: float, t_end: float, step: float,
+             min_step: float, failure: Callable[[float], Exception]) -> tuple[float, _Solved]:
+    """The farthest parameter ``t`` in ``(t0, t_end]`` that ``solve`` reaches, and its result.
+
+    Gallops forwards from ``t0 + step`` (the last piece's length) while pieces solve, or
+    halves back until one does (raising ``failure(t0)`` below ``min_step``), then bisects
+    between the last success and the first failure down to :data:`LONGEST_TOLERANCE`.
+    """
+    t_ok, best = t0, None
+    t_fail = t_end + 1.0
+    t = t0 + step
+    while True:
+        res = solve(t)
+        if res is not None:
+            t_ok, best = t, res
+            if t >= t_end or t_fail <= t_end:
+                break
+            t = min(t_end, t0 + (t - t0) * GALLOP)
+        else:
+            t_fail = t
+            if best is not None:
+                break
+            if t - t0 <= min_step:
+                raise failure(t0)
+            t = t0 + 0.5 * (t - t0)
+    while t_fail <= t_end and t_fail - t_ok > LONGEST_TOLERANCE * (t_ok - t0):
+        t = 0.5 * (t_ok + t_fail)
+        res = solve(t)
+        if res is not None:
+            t_ok, best = t, res
+        else:
+            t_fail = t
+    assert best is not None
+    return t_ok, best

@@ -6,7 +6,7 @@ OMPL's planners run on the same space as baselines (:data:`PLANNERS`).
 
 from __future__ import annotations
 
-from pivot_ompl.planners.multiplex import RegraspParams
+from pivot_ompl.planners.config import RegraspConfig
 from pivot_ompl.planners.registry import (
     OMPL_PLANNERS,
     PLANNERS,
@@ -16,7 +16,7 @@ from pivot_ompl.planners.registry import (
     make_planner,
 )
 from pivot_ompl.planners.regrasp import RegraspPlanner
-from pivot_ompl.planners.visibility import VisibilityPRM
+from pivot_ompl.planners.visprm import VisibilityPRM
 
-__all__ = ["OMPL_PLANNERS", "PLANNERS", "REFUSED", "Allocator", "RegraspParams",
+__all__ = ["OMPL_PLANNERS", "PLANNERS", "REFUSED", "Allocator", "RegraspConfig",
            "RegraspPlanner", "VisibilityPRM", "check_planner_name", "make_planner"]

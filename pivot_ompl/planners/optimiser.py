@@ -24,7 +24,7 @@ of the cheapest path is checked it is optimal over the waypoints. Until then the
 of checked edges is kept, so the result is always valid and never costlier than the input:
 regrasps that serve nothing disappear, chains of regrasps merge, shortcuts replace detours and
 the grasp of each phase is chosen by the cost. The termination condition is polled between
-edge checks and reaches the steering inside them.
+edge checks and passed to them.
 """
 
 from __future__ import annotations
@@ -239,14 +239,15 @@ def path_cost(checker: PivotChecker, states: list[State], weights: PathWeights) 
 
 
 def budgeted(should_stop: Callable[[], bool], checker: PivotChecker, *,
-             share: float = CHECK_SHARE) -> Callable[[], bool]:
+             share: float = CHECK_SHARE, minimum: int = MIN_CHECKS) -> Callable[[], bool]:
     """``should_stop``, or ``share`` x the motion checks done so far computed from now on.
 
-    Counts, not seconds: the optimisation of a seeded run is the same on any machine.
+    Counts, not seconds: the optimisation of a seeded run is the same on any machine. At
+    least ``minimum`` checks are allowed.
     """
     c = checker.counters
     start = c.valid + c.invalid
-    limit = max(MIN_CHECKS, share * start)
+    limit = max(minimum, share * start)
     return lambda: should_stop() or (c.valid + c.invalid - start) > limit
 
 
@@ -259,8 +260,8 @@ def optimise(checker: PivotChecker, states: list[State], *,
     Args:
         checker: validity of transfers and walks (its caches make re-checks free).
         states: a valid path of ``(object pose, grasp)`` states.
-        should_stop: termination condition, polled between edge checks and, through the
-            checker, inside them.
+        should_stop: termination condition, polled between edge checks and passed to
+            them (the pivot steering and the walk search poll it too).
         weights: cost weights (:class:`PathWeights`).
         grasps: the grasps the robot may use.
         stats: filled with what was done, if given.
@@ -289,13 +290,7 @@ def optimise(checker: PivotChecker, states: list[State], *,
         else:
             graph.walk[(i, g, h)] = w.regrasp + w.walking * checker.transit(
                 poses[i], g, h).length
-    outer = checker.should_stop  # the planner's termination condition, if any
-    stop = (lambda: should_stop() or bool(outer())) if outer is not None else should_stop
-    checker.should_stop = stop  # edge checks inside the optimiser stop too
-    try:
-        _lazy_rounds(graph, stop, st)
-    finally:
-        checker.should_stop = outer
+    _lazy_rounds(graph, should_stop, st)
     cost, nodes = graph.cheapest(optimistic=False)
     result = list(states)
     if nodes and cost < before - 1e-9:
@@ -337,7 +332,7 @@ def _lazy_rounds(graph: _Graph, stop: Callable[[], bool], st: OptimiseStats) -> 
                 st.transfers_checked += 1
                 # a shortcut whose path crosses an obstacle is refused at once
                 if ck.path_free(poses[i], poses[j], g):
-                    e = ck.transfer(poses[i], poses[j], g)
+                    e = ck.transfer(poses[i], poses[j], g, should_stop=stop)
                     if stop() and not e.valid:  # interrupted: unknown, not invalid
                         return
                     c = float(len(e.sequence.rotations)) if e.valid else None
@@ -345,7 +340,9 @@ def _lazy_rounds(graph: _Graph, stop: Callable[[], bool], st: OptimiseStats) -> 
             else:
                 i, g, h = key
                 st.walks_checked += 1
-                walk = ck.transit(poses[i], g, h)
+                walk = ck.transit(poses[i], g, h, should_stop=stop)
+                if stop() and not walk.valid:  # interrupted: unknown, not invalid
+                    return
                 if walk.valid:
                     c = graph.weights.regrasp + graph.weights.walking * walk.length
                 graph.walk[key] = c

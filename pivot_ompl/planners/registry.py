@@ -11,7 +11,7 @@ from ompl import geometric as og
 from pivot_ompl.base.problem import PivotProblem
 from pivot_ompl.errors import InputError
 from pivot_ompl.planners.regrasp import RegraspPlanner
-from pivot_ompl.planners.visibility import VisibilityPRM
+from pivot_ompl.planners.visprm import VisibilityPRM
 
 #: An allocator: ``(problem, seed) -> planner`` on ``problem.si``.
 Allocator = Callable[[PivotProblem, int], ob.Planner]

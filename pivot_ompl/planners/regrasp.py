@@ -12,8 +12,9 @@ from ompl import base as ob
 
 from pivot_ompl.base.state import read_state
 from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.planners.config import RegraspConfig
 from pivot_ompl.planners.guarded import GuardedPlanner, states_to_path
-from pivot_ompl.planners.multiplex import MultiplexedSearch, RegraspParams
+from pivot_ompl.planners.regrasp_search import RegraspSearch
 
 log = logging.getLogger(__name__)
 
@@ -21,6 +22,7 @@ log = logging.getLogger(__name__)
 class RegraspPlanner(GuardedPlanner):
     """Visibility PRM on the box, manipulation and regrasping roadmaps multiplexed, diffusion.
 
+    A thin adapter: the algorithm is :class:`~pivot_ompl.planners.regrasp_search.RegraspSearch`.
     The start is the problem's start state (its pose; every valid grasp is a start); the goal
     must be a ``GoalState``/``GoalStates`` (their pose; every valid grasp is a goal). Calling
     ``solve`` again on the same query continues with the roadmaps and caches of the previous
@@ -31,20 +33,18 @@ class RegraspPlanner(GuardedPlanner):
         checker: the validity core behind ``si``'s validators (``problem.checker`` of
             :func:`pivot_ompl.base.problem.make_setup`): the planner validates through it.
         seed: seed of the planner's generator (runs are deterministic for a seed).
-        params: planner parameters (:class:`RegraspParams`), or keyword overrides.
+        config: the planner's configuration (:class:`~pivot_ompl.planners.config.RegraspConfig`).
+        name: the planner's name in OMPL (benchmark logs tell configurations apart by it).
     """
 
     def __init__(self, si: ob.SpaceInformation, checker: PivotChecker, *, seed: int = 0,
-                 params: RegraspParams | None = None, **overrides: Any) -> None:
+                 config: RegraspConfig | None = None, name: str = "RegraspPlanner") -> None:
         """Create the planner."""
-        super().__init__(si, "RegraspPlanner")
-        p = params or RegraspParams()
-        if overrides:
-            p = RegraspParams(**{**asdict(p), **overrides})
-        self.params = p
+        super().__init__(si, name)
+        self.config = config or RegraspConfig()
         self.checker = checker
         self.seed = seed
-        self.last_search: MultiplexedSearch | None = None
+        self.last_search: RegraspSearch | None = None
         self.stats: dict[str, Any] = {}
 
     def clear(self) -> None:  # noqa: D102
@@ -56,7 +56,7 @@ class RegraspPlanner(GuardedPlanner):
         start, goal = self._endpoints(ptc)
         s_pose, _ = read_state(start)
         g_pose, _ = read_state(goal)
-        grasps = self.params.grasps
+        grasps = self.config.grasps
         if not any(checker.state_valid(s_pose, g) for g in grasps):
             return ob.PlannerStatus(ob.PlannerStatus.INVALID_START)
         if not any(checker.state_valid(g_pose, g) for g in grasps):
@@ -64,15 +64,11 @@ class RegraspPlanner(GuardedPlanner):
         t0 = time.perf_counter()
         search = self.last_search
         if search is None or search.start != s_pose or search.goal != g_pose:
-            search = MultiplexedSearch(checker, s_pose, g_pose, self.params,
-                                       np.random.default_rng(self.seed))
+            search = RegraspSearch(checker, s_pose, g_pose, self.config,
+                                   np.random.default_rng(self.seed))
             self.last_search = search
         # else: solving again continues with the same roadmaps and caches (OMPL semantics)
-        checker.should_stop = lambda: bool(ptc())  # the steering inside edge checks stops too
-        try:
-            states = search.run(lambda: bool(ptc()))
-        finally:
-            checker.should_stop = None
+        states = search.run(lambda: bool(ptc()))
         self.stats = asdict(search.stats)
         self.stats["time"] = time.perf_counter() - t0
         if not states:

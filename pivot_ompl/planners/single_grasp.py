@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
-from pivot_ompl.planners.roadmap import YAW_WEIGHT
+from pivot_ompl.planners.objects.roadmap import YAW_WEIGHT
 from pivot_ompl.se2 import Pose
 
 
@@ -90,14 +90,17 @@ class SingleGraspConnect:
         self._a = _Tree(self.start, towards_root=False)
         self._b = _Tree(self.goal, towards_root=True)
 
-    def _edge(self, tree: _Tree, near: Pose, new: Pose) -> bool:
+    def _edge(self, tree: _Tree, near: Pose, new: Pose, should_stop: Callable[[], bool]
+              ) -> bool:
         """Check the transfer between ``near`` (in ``tree``) and ``new`` as the plan will."""
         self.checks += 1
         a, b = (new, near) if tree.towards_root else (near, new)
         ck = self.checker
-        return ck.path_free(a, b, self.grasp) and ck.transfer(a, b, self.grasp).valid
+        return ck.path_free(a, b, self.grasp) and \
+            ck.transfer(a, b, self.grasp, should_stop=should_stop).valid
 
-    def _extend(self, tree: _Tree, target: Pose) -> tuple[str, int]:
+    def _extend(self, tree: _Tree, target: Pose, should_stop: Callable[[], bool]
+                ) -> tuple[str, int]:
         """One step of ``tree`` towards ``target``: ``("reached" | "advanced" | "trapped", i)``."""
         ck, g = self.checker, self.grasp
         m, rs = ck.model, ck.steering.rs
@@ -110,7 +113,8 @@ class SingleGraspConnect:
         else:
             new = m.object_from_car(rs.interpolate(ca, cb, self.step / d), g)
             status = "advanced"
-        if new == near or not ck.state_valid(new, g) or not self._edge(tree, near, new):
+        if new == near or not ck.state_valid(new, g) or \
+                not self._edge(tree, near, new, should_stop):
             return "trapped", i
         return status, tree.add(new, i)
 
@@ -120,17 +124,17 @@ class SingleGraspConnect:
         Calling it again continues with the same trees.
         """
         a, b = self._a, self._b
-        if self.checks == 0 and self._edge(a, self.start, self.goal):  # the direct edge
+        if self.checks == 0 and self._edge(a, self.start, self.goal, should_stop):  # direct
             return [self.start, self.goal]
         while self.checks < budget and not should_stop():
             q = (float(self.rng.uniform(self._lo[0], self._hi[0])),
                  float(self.rng.uniform(self._lo[1], self._hi[1])),
                  float(self.rng.uniform(-math.pi, math.pi)))
-            status, i = self._extend(a, q)
+            status, i = self._extend(a, q, should_stop)
             if status != "trapped":
                 new = a.poses[i]
                 while self.checks < budget and not should_stop():  # connect b to the new node
-                    status_b, j = self._extend(b, new)
+                    status_b, j = self._extend(b, new, should_stop)
                     if status_b == "reached":
                         return self._path(a, i, b, j)
                     if status_b == "trapped":

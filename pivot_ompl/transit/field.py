@@ -44,7 +44,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
@@ -74,7 +73,6 @@ OPEN_YAWS: tuple[float, ...] = tuple(sorted(
                                       strict=True))}))
 
 
-@dataclass
 class FloorField:
     """Open grid positions and floor distances to a goal (see the module docstring).
 
@@ -83,38 +81,48 @@ class FloorField:
         world: the static obstacles.
         resolution: grid spacing (m), the lattice's.
         box_margin: clearance kept from the resting box (m).
+
+    Attributes:
+        nx, ny: grid size.
+        radius: the walking body's inscribed radius (m).
+        pieces: the obstacles' convex pieces (:func:`~pivot_ompl.validity.footprints.
+            obstacle_pieces`).
+        yaws_done, rows_done: yaws, then grid rows of the graph, of :meth:`static_open` done
+            so far (it resumes there when interrupted).
     """
 
-    model: BoxGraspModel
-    world: CollisionWorld
-    resolution: float
-    box_margin: float
-    _open: np.ndarray | None = field(default=None, init=False, repr=False)
-    #: per index into :data:`OPEN_YAWS` (as far as built), where the walking body fits
-    _fits: dict[int, np.ndarray] = field(default_factory=dict, init=False, repr=False)
-    _lattice: csr_matrix | None = field(default=None, init=False, repr=False)
-    _partial: np.ndarray | None = field(default=None, init=False, repr=False)
-    #: Yaws, then grid rows of the graph, of :meth:`static_open` done so far (it resumes
-    #: there when interrupted).
-    yaws_done: int = field(default=0, init=False)
-    rows_done: int = field(default=0, init=False)
+    nx: int
+    ny: int
+    radius: float
+    pieces: list[np.ndarray]
+    yaws_done: int
+    rows_done: int
 
-    def __post_init__(self) -> None:
+    def __init__(self, model: BoxGraspModel, world: CollisionWorld, resolution: float,
+                 box_margin: float) -> None:
         """Grid size, the inscribed radius, the walking body's outlines, obstacle pieces."""
-        b = self.world.bounds
-        self.nx = int(math.floor((b[2] - b[0]) / self.resolution)) + 1
-        self.ny = int(math.floor((b[3] - b[1]) / self.resolution)) + 1
-        self.radius = self.model.robot_inradius()
-        xs = b[0] + self.resolution * np.arange(self.nx)
-        ys = b[1] + self.resolution * np.arange(self.ny)
+        self.model, self.world = model, world
+        self.resolution, self.box_margin = resolution, box_margin
+        self._open: np.ndarray | None = None
+        #: per index into :data:`OPEN_YAWS` (as far as built), where the walking body fits
+        self._fits: dict[int, np.ndarray] = {}
+        self._lattice: csr_matrix | None = None
+        self._partial: np.ndarray | None = None
+        self.yaws_done = self.rows_done = 0
+        b = world.bounds
+        self.nx = int(math.floor((b[2] - b[0]) / resolution)) + 1
+        self.ny = int(math.floor((b[3] - b[1]) / resolution)) + 1
+        self.radius = model.robot_inradius()
+        xs = b[0] + resolution * np.arange(self.nx)
+        ys = b[1] + resolution * np.arange(self.ny)
         self._x, self._y = np.meshgrid(xs, ys, indexing="ij")
         #: the walking body's corners, and its outline grown by the kept clearance (chords
         #: inside the rounded corners), relative to the robot pose at yaw 0
-        self._outline = np.array(self.model.walking_outline())
-        grown = shapely.Polygon(self._outline).buffer(self.world.clearance, quad_segs=4) \
-            if self.world.clearance > 0 else shapely.Polygon(self._outline)
+        self._outline = np.array(model.walking_outline())
+        grown = shapely.Polygon(self._outline).buffer(world.clearance, quad_segs=4) \
+            if world.clearance > 0 else shapely.Polygon(self._outline)
         self._grown = np.asarray(grown.exterior.coords)[:-1]
-        self._pieces = obstacle_pieces(self.world.obstacles)
+        self.pieces = obstacle_pieces(world.obstacles)
 
     def static_open(self, should_stop: Callable[[], bool] | None = None) -> np.ndarray:
         """Open positions ignoring the resting box, ``(nx, ny)`` booleans (built once).
@@ -133,7 +141,7 @@ class FloorField:
                 if should_stop is not None and should_stop():
                     raise Interrupted("walking floor field")
                 k1 = min(len(OPEN_YAWS), k0 + YAW_CHUNK)
-                for fits in self._fits_range(k0, k1):
+                for fits in self.fits_range(k0, k1):
                     ok |= fits
                 self.yaws_done = k1
             chunk = max(1, GRAPH_CHUNK // self.ny)  # grid rows per poll
@@ -172,19 +180,19 @@ class FloorField:
         lengths = self.resolution * np.hypot(v[:, 0], v[:, 1])
         self._weights[rows] = np.where(both, lengths[None, :], np.inf)
 
-    def _fits_index(self, k: int) -> np.ndarray:
+    def fits_index(self, k: int) -> np.ndarray:
         """Grid positions where the walking body at yaw ``OPEN_YAWS[k]`` fits (kept).
 
         Inside the bounds and clear of the obstacles grown by the clearance.
         """
-        return self._fits_range(k, k + 1)[0]
+        return self.fits_range(k, k + 1)[0]
 
-    def _fits_range(self, k0: int, k1: int) -> list[np.ndarray]:
-        """:meth:`_fits_index` of ``k0 .. k1 - 1``, those not kept yet computed together."""
+    def fits_range(self, k0: int, k1: int) -> list[np.ndarray]:
+        """:meth:`fits_index` of ``k0 .. k1 - 1``, those not kept yet computed together."""
         todo = [k for k in range(k0, k1) if k not in self._fits]
         if todo:
             xs, ys = self._x[:, 0], self._y[0, :]
-            n = len(self._pieces)
+            n = len(self.pieces)
             meets = grid_union(self._static_edges(todo), xs, ys,
                                groups=np.repeat(np.arange(len(todo)), n), n_groups=len(todo)) \
                 if n else np.zeros((len(todo), self.nx, self.ny), dtype=bool)
@@ -211,8 +219,8 @@ class FloorField:
         for k in yaws:
             c, s = math.cos(OPEN_YAWS[k]), math.sin(OPEN_YAWS[k])
             body = self._grown @ np.array([[c, -s], [s, c]]).T
-            bodies.extend([body] * len(self._pieces))
-        return meeting_edges(self._pieces * len(yaws), bodies)
+            bodies.extend([body] * len(self.pieces))
+        return meeting_edges(self.pieces * len(yaws), bodies)
 
     def open_with_box(self, obj: Pose,
                       should_stop: Callable[[], bool] | None = None) -> np.ndarray:
@@ -271,7 +279,7 @@ class FloorField:
         # the states where the body meets the box relay nothing: their rows (the motions
         # into them, reversed) closed in place for this query, restored after
         blocked = np.concatenate([node[:, :, h][meets]
-                                  for h, meets in enumerate(self._meets_box(obj))])
+                                  for h, meets in enumerate(self.meets_box(obj))])
         first, count = rows.indptr[blocked], np.diff(rows.indptr)[blocked]
         cut = np.repeat(first - np.cumsum(count) + count, count) + np.arange(count.sum())
         if should_stop is not None and should_stop():
@@ -294,7 +302,7 @@ class FloorField:
             for h in range(nh):
                 if should_stop is not None and should_stop():
                     raise Interrupted("walking lattice field")
-                free[:, :, h] = self._fits_index(OPEN_YAWS.index(HEADING_YAWS[h]))
+                free[:, :, h] = self.fits_index(OPEN_YAWS.index(HEADING_YAWS[h]))
             into: list[list[tuple[int, Primitive]]] = [[] for _ in range(nh)]
             for h in range(nh):
                 for pr in prims[h]:
@@ -325,7 +333,7 @@ class FloorField:
                 shape=(n, n), copy=False)
         return self._lattice
 
-    def _meets_box(self, obj: Pose) -> list[np.ndarray]:
+    def meets_box(self, obj: Pose) -> list[np.ndarray]:
         """Per heading, the grid positions where the walking body meets the grown box.
 
         The box resting at ``obj`` grown by ``box_margin``: a polygon inside the rounded

@@ -133,19 +133,17 @@ def _draw_plan(ax: Any, plan: Plan, model: BoxGraspModel) -> None:
 
 def _draw_roadmaps(ax: Any, search: Any) -> None:
     """The planner's roadmaps, faint: they are the background of the plan."""
-    obj = search.obj
+    obj = search.roadmap
     pts = obj.poses
     ax.plot([p[0] for p in pts], [p[1] for p in pts], ".", c="0.75", ms=1.5,
             label="object roadmap", zorder=1)
     for i, j in obj.edges:
         ax.plot([pts[i][0], pts[j][0]], [pts[i][1], pts[j][1]], "-", c="0.88", lw=0.4,
                 zorder=1)
-    crit = [pts[i] for i in search.critical]
+    crit = [pts[i] for i in search.critical.indices]
     if crit:
         ax.plot([p[0] for p in crit], [p[1] for p in crit], "x", c="0.6", ms=2.5, mew=0.6,
                 label="critical configurations", zorder=1)
-    for (i, g), nbrs in search.adj.items():
-        for (j, h) in nbrs:
-            if h == g and j > i:
-                ax.plot([pts[i][0], pts[j][0]], [pts[i][1], pts[j][1]], "-",
-                        c=GRASP_COLOURS[g], lw=0.3, alpha=0.1, zorder=1)
+    for (i, g), (j, _) in search.graph.transfer_edges():
+        ax.plot([pts[i][0], pts[j][0]], [pts[i][1], pts[j][1]], "-",
+                c=GRASP_COLOURS[g], lw=0.3, alpha=0.1, zorder=1)

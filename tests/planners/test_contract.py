@@ -10,7 +10,7 @@ from pivot_ompl.base.problem import make_setup
 from pivot_ompl.cli.main import main
 from pivot_ompl.errors import InputError
 from pivot_ompl.planners import RegraspPlanner, make_planner
-from pivot_ompl.planners.roadmap import canonical_yaw, pose_metric
+from pivot_ompl.planners.objects.roadmap import canonical_yaw, pose_metric
 
 
 @pytest.mark.parametrize("planner", ["regrasp", "visprm"])
@@ -53,9 +53,9 @@ def test_solve_again_continues_with_the_same_roadmap():
     ss.solve(0.3)  # too short to solve: the roadmap is kept
     first = planner.last_search
     assert first is not None
-    nodes = len(first.obj)
+    nodes = len(first.roadmap)
     ss.solve(60.0)
-    assert planner.last_search is first and len(first.obj) >= nodes
+    assert planner.last_search is first and len(first.roadmap) >= nodes
     assert ss.haveExactSolutionPath()
     planner.clear()
     assert planner.last_search is None
@@ -105,22 +105,26 @@ def test_check_refuses_a_goal_turned_by_half_a_turn():
         assert not check_plan(res.plan, turned).ok
 
 
+def _search(scene, config=None, seed=0):
+    import numpy as np
+
+    from pivot_ompl.checking.pivot_checker import PivotChecker
+    from pivot_ompl.planners.config import RegraspConfig
+    from pivot_ompl.planners.regrasp_search import RegraspSearch
+
+    return RegraspSearch(PivotChecker(scene, seed=seed), scene.start, scene.goal,
+                         config or RegraspConfig(), np.random.default_rng(seed))
+
+
 def test_paths_across_the_half_turn_are_written_in_one_frame():
     """Regression: a transfer edge (i, g) -> (j, g + 2) is written as j's half-turn, grasp g."""
     import math
 
-    import numpy as np
-
-    from pivot_ompl.checking.pivot_checker import PivotChecker
-    from pivot_ompl.planners.multiplex import MultiplexedSearch, RegraspParams
-
-    scene = shipped("open")
-    search = MultiplexedSearch(PivotChecker(scene), scene.start, scene.goal, RegraspParams(),
-                               np.random.default_rng(0))
-    i = search.obj.add((0.0, 0.0, 0.0), "start")
-    j = search.obj.add((1.0, 0.0, -1.5), "guard")
-    k = search.obj.add((2.0, 0.0, -1.0), "guard")
-    out = search._express([(i, 0), (j, 2), (j, 3), (k, 3)])
+    search = _search(shipped("open"))
+    i = search.roadmap.add((0.0, 0.0, 0.0), "start")
+    j = search.roadmap.add((1.0, 0.0, -1.5), "guard")
+    k = search.roadmap.add((2.0, 0.0, -1.0), "guard")
+    out = search.graph.express([(i, 0), (j, 2), (j, 3), (k, 3)])
     assert [g for _, g in out] == [0, 0, 1, 1]
     assert out[1][0][2] == pytest.approx(-1.5 + math.pi)
     assert out[3][0][2] == pytest.approx(-1.0 + math.pi)
@@ -130,17 +134,13 @@ def test_search_checks_edges_as_the_plan_writes_them():
     """Regression (fig10, seed 8): an edge checked in one frame (or direction) and written in
     the other (its poses half-turned, round-off apart) took another Reeds-Shepp path and
     failed the plan's conversion. Every edge of the path must be the one that was checked."""
-    import numpy as np
-
     from pivot_ompl.base.path_conversion import path_to_plan
-    from pivot_ompl.checking.pivot_checker import PivotChecker
-    from pivot_ompl.planners.multiplex import MultiplexedSearch, RegraspParams
+    from pivot_ompl.planners.config import OptimiserConfig, RegraspConfig
     from pivot_ompl.validity.plan_check import check_plan
 
     scene = shipped("fig10")
-    checker = PivotChecker(scene, seed=8)
-    search = MultiplexedSearch(checker, scene.start, scene.goal, RegraspParams(optimise=False),
-                               np.random.default_rng(8))
+    search = _search(scene, RegraspConfig(optimiser=OptimiserConfig(enabled=False)), seed=8)
+    checker = search.checker
     states = search.run(lambda: False)
     assert states and states[-1] == (scene.goal, states[-1][1])
     before = checker.counters.valid + checker.counters.invalid
@@ -153,46 +153,29 @@ def test_multiplexing_stops_at_the_termination_condition_and_resumes():
     """Multiplexing a batch of object nodes polls the termination condition between nodes
     (a bridge step adds up to 17 nodes, each with 40 candidate edges); the nodes left are
     multiplexed by the next call."""
-    import numpy as np
-
-    from pivot_ompl.checking.pivot_checker import PivotChecker
-    from pivot_ompl.planners.multiplex import MultiplexedSearch, RegraspParams
-
-    scene = shipped("open")
-    search = MultiplexedSearch(PivotChecker(scene), scene.start, scene.goal, RegraspParams(),
-                               np.random.default_rng(0))
+    search = _search(shipped("open"))
     for k in range(5):
-        search.obj.add((2.0 + 0.5 * k, 3.0, 0.1 * k), "diffusion")
+        search.roadmap.add((2.0 + 0.5 * k, 3.0, 0.1 * k), "diffusion")
     calls = []
 
     def stop_after_two() -> bool:
         calls.append(1)
         return len(calls) > 2
 
-    assert search._multiplex_pending(stop_after_two)[1] == 2
-    assert search._done == 2
-    assert search._multiplex_pending(lambda: False)[1] == 3
-    assert search._done == 5
+    assert search.graph.multiplex_pending(stop_after_two)[1] == 2
+    assert search.graph.multiplexed == 2
+    assert search.graph.multiplex_pending(lambda: False)[1] == 3
+    assert search.graph.multiplexed == 5
 
 
-def _wall_search(*, reach: bool = True):
-    """A search on a scene with a pillar between start and goal, no roadmap sampled yet.
-
-    ``reach=False``: without the reachable-set filter (the direct edge is left untested).
-    """
-    import numpy as np
+def _wall_search():
+    """A search on a scene with a pillar between start and goal, no roadmap sampled yet."""
     from factories import make_scene
-
-    from pivot_ompl.checking.pivot_checker import PivotChecker
-    from pivot_ompl.planners.multiplex import MultiplexedSearch, RegraspParams
 
     pillar = {"type": "box", "center": [3.75, 3.0], "size": [0.4, 0.4], "height": 1.0}
     scene = make_scene(obstacles=[pillar], start=[2.0, 3.0, 0.0], goal=[5.5, 3.0, 0.0])
-    search = MultiplexedSearch(PivotChecker(scene), scene.start, scene.goal, RegraspParams(),
-                               np.random.default_rng(0))
-    if not reach:
-        search._compute_reach = lambda: None  # type: ignore[method-assign]
-    search._initialise()
+    search = _search(scene)
+    search.prepare(lambda: False)
     return search
 
 
@@ -200,25 +183,43 @@ def test_goal_joined_only_by_implausible_edges_skips_the_search():
     """The direct edge crosses the pillar: the reachable set (start's component over edges
     that pass the cheap test) does not hold the goal, so no search runs."""
     search = _wall_search()
-    assert not search._maybe_connected()
-    assert search.search(lambda: False) == [] and search.stats.searches == 0
-    assert _wall_search(reach=False)._maybe_connected()  # the union-find alone cannot tell
+    g = search.graph
+    s, goal = g.start_nodes[0], next(iter(g.goal_nodes))
+    assert not g.maybe_connected()
+    assert search.paths.find(lambda: False) == [] and search.paths.searches == 0
+    assert g.removed(s, goal)  # the cheap test removed the direct edge
 
 
 def test_lazy_search_drops_implausible_edges_and_goes_round():
     """Lazy A*: the direct edge (the shortest) is tested when popped, dropped, and the same
     search returns the detour; only the edges it pops are tested."""
-    search = _wall_search(reach=False)
-    s = (search.start_nodes[0][0], 0)
-    g = (next(iter(search.goal_nodes))[0], 0)
-    assert g in search.adj[s]
-    detour = search.obj.add((3.75, 1.8, 0.0), "guard")
-    search.plan_with_object_config(detour)
-    path = search._shortest_path()
-    assert path[0] in search.start_nodes and path[-1] in search.goal_nodes
+    from factories import make_scene
+
+    from pivot_ompl.checking.pivot_checker import PivotChecker
+    from pivot_ompl.planners.multiplex.graph import MultiplexedGraph
+    from pivot_ompl.planners.multiplex.search import PathSearch
+    from pivot_ompl.planners.objects.roadmap import Roadmap
+
+    pillar = {"type": "box", "center": [3.75, 3.0], "size": [0.4, 0.4], "height": 1.0}
+    scene = make_scene(obstacles=[pillar], start=[2.0, 3.0, 0.0], goal=[5.5, 3.0, 0.0])
+    checker = PivotChecker(scene)
+    roadmap = Roadmap()
+    s_i, g_i = roadmap.add(scene.start, "start"), roadmap.add(scene.goal, "goal")
+    graph = MultiplexedGraph(checker, roadmap, grasps=(0, 1, 2, 3), neighbours=10,
+                             connect_radius=3.5, regrasp_cost=2.0)
+    graph.multiplex_pending(lambda: False)
+    graph.start_nodes = [n for n in graph.adj if n[0] == s_i]  # no reachable set: the
+    graph.goal_nodes = {n for n in graph.adj if n[0] == g_i}    # search itself must test
+    s, g = graph.start_nodes[0], (g_i, graph.start_nodes[0][1])
+    graph.link(s, g, 3.5, lambda: False)
+    detour = roadmap.add((3.75, 1.8, 0.0), "guard")
+    graph.multiplex_pending(lambda: False)
+    path = PathSearch(checker, graph, scene.goal, weight=2.0, regrasp_cost=2.0).cheapest(
+        lambda: False)
+    assert path[0] in graph.start_nodes and path[-1] in graph.goal_nodes
     assert any(n[0] == detour for n in path)
-    assert g not in search.adj[s]  # the direct edge was dropped
-    assert search.stats.plausibility_tests <= 8
+    assert g not in graph.adj[s] and graph.removed(s, g)  # the direct edge was dropped
+    assert graph.plausibility_tests <= 8
 
 
 def test_solve_pauses_the_garbage_collector_and_restores_it():
@@ -252,14 +253,12 @@ def test_solve_pauses_the_garbage_collector_and_restores_it():
 
 def test_reachable_set_stopped_by_the_termination_condition_is_forgotten():
     """An incomplete reachable set would skip searches that can succeed: when the
-    termination condition stops its growth it is dropped (the union-find alone filters,
+    termination condition stops its growth it is dropped (the components alone filter,
     and a failed search computes it again)."""
     search = _wall_search()
-    assert search._reach is not None
-    search.checker.should_stop = lambda: True
-    search._compute_reach()
-    assert search._reach is None
-    assert search._maybe_connected()  # the union-find alone cannot tell
-    search.checker.should_stop = None
-    search._compute_reach()
-    assert search._reach is not None and not search._maybe_connected()
+    g = search.graph
+    assert not g.maybe_connected()
+    g.compute_reach(lambda: True)
+    assert g.maybe_connected()  # forgotten: the components alone cannot tell
+    g.compute_reach(lambda: False)
+    assert not g.maybe_connected()

@@ -12,8 +12,9 @@ from hypothesis import strategies as st
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.generate import RigidMap, mirror_scene, rotate_scene
-from pivot_ompl.planners.multiplex import MultiplexedSearch, RegraspParams
-from pivot_ompl.planners.passages import find_passages, passage_poses
+from pivot_ompl.planners.config import RegraspConfig, SamplingConfig
+from pivot_ompl.planners.objects.slots import find_passages, passage_poses
+from pivot_ompl.planners.regrasp_search import RegraspSearch
 
 #: fig10's slot widths window: the box's 0.4 m side and 1 cm a side, up to the walking body's
 #: 0.60 m depth, 1 cm a side and 10 cm of play
@@ -71,14 +72,15 @@ def test_each_slot_gets_a_seeded_node_where_the_box_can_be_let_go():
 def test_the_planner_seeds_its_roadmap_along_the_slots():
     scene = shipped("fig10")
     ck = PivotChecker(scene, seed=0)
-    search = MultiplexedSearch(ck, scene.start, scene.goal, RegraspParams(),
-                               np.random.default_rng(0))
-    search._initialise()
+    search = RegraspSearch(ck, scene.start, scene.goal, RegraspConfig(),
+                           np.random.default_rng(0))
+    search.prepare(lambda: False)
     assert search.stats.slots == 2
-    seeded = [q for q, k in zip(search.obj.poses, search.obj.kinds, strict=True) if k == "slot"]
+    seeded = [search.roadmap[i] for i in search.roadmap.of_kind("slot")]
     assert len(seeded) == search.stats.slot_nodes > 20
     assert all(ck.box_valid(q) for q in seeded)
-    off = MultiplexedSearch(ck, scene.start, scene.goal, RegraspParams(slot_seeds=False),
-                            np.random.default_rng(0))
-    off._initialise()
-    assert "slot" not in off.obj.kinds
+    off = RegraspSearch(ck, scene.start, scene.goal,
+                        RegraspConfig(sampling=SamplingConfig(slots=False)),
+                        np.random.default_rng(0))
+    off.prepare(lambda: False)
+    assert not off.roadmap.of_kind("slot")

@@ -13,7 +13,7 @@ from factories import make_scene, scene_file, shipped
 from pivot_ompl.api import plan
 from pivot_ompl.errors import InputError, PlanningError
 from pivot_ompl.planfile import TransitPhase, load_plan
-from pivot_ompl.planners import RegraspParams
+from pivot_ompl.planners import RegraspConfig
 from pivot_ompl.validity.plan_check import check_plan
 
 
@@ -73,7 +73,11 @@ def test_bad_parameters():
     with pytest.raises(InputError):
         plan(shipped("open"), planner="nope")
     with pytest.raises(TypeError):
-        RegraspParams(epsilon=1.0, colour="red")  # type: ignore[call-arg]
+        RegraspConfig(colour="red")  # type: ignore[call-arg]
+    with pytest.raises(InputError, match="search.colour"):
+        RegraspConfig().with_values({"search.colour": 1})
+    with pytest.raises(InputError, match="search.weight"):
+        RegraspConfig().with_values({"search.weight": "heavy"})
 
 
 def run_cli(*args, timeout=180):
@@ -150,14 +154,13 @@ def test_edges_written_in_the_flipped_frame_are_checked_as_written():
 
 
 def test_a_visibility_edge_through_a_wall_costs_no_pivot_check():
-    import numpy as np
 
     from pivot_ompl.checking.pivot_checker import PivotChecker
-    from pivot_ompl.planners.multiplex import MultiplexedSearch
+    from pivot_ompl.planners.objects.critical import CriticalConfigurations
+    from pivot_ompl.planners.objects.roadmap import Roadmap
 
     scene = shipped("fig10")
     checker = PivotChecker(scene)
-    search = MultiplexedSearch(checker, scene.start, scene.goal, RegraspParams(),
-                               np.random.default_rng(0))
-    assert not search._visible((2.5, 3.0, 0.0), (5.5, 3.0, 0.0))  # across wall A
+    critical = CriticalConfigurations(checker, Roadmap(), grasps=(0, 1, 2, 3), spacing=0.4)
+    assert not critical.box_visible((2.5, 3.0, 0.0), (5.5, 3.0, 0.0), lambda: False)  # wall A
     assert checker.counters.valid + checker.counters.invalid == 0

@@ -28,9 +28,9 @@ from walk_queries import scene_copy  # noqa: E402
 def _assert_field_as_reference(scene, objs) -> None:
     f = PivotChecker(scene).walker.field
     for k, yaw in enumerate(OPEN_YAWS):
-        assert np.array_equal(f._fits_index(k), reference_fits(f, yaw)), (scene.name, k)
+        assert np.array_equal(f.fits_index(k), reference_fits(f, yaw)), (scene.name, k)
     for obj in objs:
-        got, want = f._meets_box(obj), reference_meets_box(f, obj)
+        got, want = f.meets_box(obj), reference_meets_box(f, obj)
         assert all(np.array_equal(a, b) for a, b in zip(got, want, strict=True)), obj
 
 

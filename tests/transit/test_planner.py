@@ -64,13 +64,15 @@ def test_walk_search_honours_the_termination_condition():
     progress = [0]
     for _ in range(2):
         deadline = time.monotonic() + 0.02
-        ck.should_stop = lambda d=deadline: time.monotonic() > d
         t0 = time.monotonic()
-        assert ck.transit(scene.start, 0, 2) is INVALID_WALK
+        assert ck.transit(scene.start, 0, 2,
+                          should_stop=lambda d=deadline: time.monotonic() > d) is INVALID_WALK
         assert time.monotonic() - t0 < 1.0
         progress.append(field.yaws_done + field.rows_done)
     assert progress[0] < progress[1] < progress[2]  # kept between calls, not rebuilt
-    assert not ck._walks  # an interrupted walk is not cached
+    before = ck.counters.valid + ck.counters.invalid
+    assert ck.transit(scene.start, 0, 2, should_stop=lambda: True) is INVALID_WALK
+    assert ck.counters.valid + ck.counters.invalid == before  # interrupted: not cached
 
 
 def test_an_interrupted_floor_field_resumes_where_it_stopped():
@@ -112,7 +114,7 @@ def test_the_floor_field_sums_footprints_a_block_of_yaws_between_polls(monkeypat
     polls = iter(range(100))
     with pytest.raises(Interrupted):
         field.static_open(lambda: next(polls) >= 1)
-    assert summed == [YAW_CHUNK * len(field._pieces)]
+    assert summed == [YAW_CHUNK * len(field.pieces)]
 
 # -- free walking: doors and corridors narrower than the turning disk ----------------------
 # (box resting in the wall's slot, the robot walks round from one side to the other)
@@ -256,11 +258,10 @@ def test_walk_query_stops_at_once_when_the_condition_holds():
     walker.field.static_open()  # built before: its own build polls the condition
     with pytest.raises(Interrupted):
         walker.plan(scene.start, 0, 2, should_stop=lambda: True)
-    assert walker.expansions == 0 and not walker._distances and not walker._lattice
-    walker.should_stop = lambda: True
+    assert walker.expansions == 0 and walker.cached_fields() == (0, 0)
     with pytest.raises(Interrupted):  # smoothing polls too
-        walker._smooth([(2.0, 2.0, 0.0), (2.1, 2.0, 0.0), (2.2, 2.0, 0.0), (2.3, 2.0, 0.0)],
-                       scene.start)
+        walker.smoother.smooth([(2.0, 2.0, 0.0), (2.1, 2.0, 0.0), (2.2, 2.0, 0.0),
+                                (2.3, 2.0, 0.0)], scene.start, should_stop=lambda: True)
 
 
 @pytest.mark.parametrize("name", ["fig10", "cluttered_room"])
@@ -277,7 +278,7 @@ def test_every_free_lattice_state_lies_on_an_open_floor_position(name):
     tested = 0
     for _ in range(4000):
         ix, iy = int(rng.integers(wp.field.nx)), int(rng.integers(wp.field.ny))
-        x, y = wp.pose((ix, iy, 0))[:2]
+        x, y = wp.clearance.pose((ix, iy, 0))[:2]
         yaw = OPEN_YAWS[int(rng.integers(len(OPEN_YAWS)))]
         if w.bounds_margin(m.robot_corners((x, y, yaw))) > 0 and \
                 w.robot_distance((x, y, yaw)) > 0:
@@ -304,12 +305,12 @@ def _lattice_fixture(scene, obj, start, goal, monkeypatch):
     """The walker, its cheapest lattice walk (no smoothing, no inflation) and its field."""
     wp = PivotChecker(scene, seed=0).walker
     wp.inflation = 1.0
-    monkeypatch.setattr(type(wp), "_smooth", lambda self, poses, obj, memo=None: poses)
+    monkeypatch.setattr(type(wp.smoother), "smooth",
+                        lambda self, poses, obj, memo=None, should_stop=None: poses)
     walk = wp.plan_between(start, goal, obj)
-    table = wp._box_table(obj)
-    starts = wp._attach(start, obj, table, wp._exact(start, obj), leaving=True)
-    goals = wp._attach(goal, obj, table, wp._exact(goal, obj), leaving=False)
-    return wp, walk, starts, wp._lattice_costs(obj, goals)
+    starts = wp.attach(start, obj, leaving=True)
+    goals = wp.attach(goal, obj, leaving=False)
+    return wp, walk, starts, wp.lattice_costs(obj, goals)
 
 
 @pytest.mark.parametrize(("name", "angle"), [("fig10", 0.0), ("fig10", 0.65), ("door", -1.1)])
@@ -354,8 +355,8 @@ def test_every_free_lattice_state_is_free_in_the_lattice_relaxation(name):
         x0, y0, x1, y1 = scene.bounds
         obj = (float(rng.uniform(x0, x1)), float(rng.uniform(y0, y1)),
                float(rng.uniform(-math.pi, math.pi)))
-        meets = f._meets_box(obj)
-        table = wp._box_table(obj)
+        meets = f.meets_box(obj)
+        boxed = wp.clearance.with_box(obj)
         for _ in range(600):  # states within 1.2 m of the box: its part matters
             x = obj[0] + rng.uniform(-1.2, 1.2)
             y = obj[1] + rng.uniform(-1.2, 1.2)
@@ -363,10 +364,10 @@ def test_every_free_lattice_state_is_free_in_the_lattice_relaxation(name):
                  int(rng.integers(N_HEADINGS)))
             if not (0 <= s[0] < f.nx and 0 <= s[1] < f.ny):
                 continue
-            if wp._clearance(s, obj, table) > 0.0:
+            if boxed.state(s) > 0.0:
                 tested += 1
-                near_box += wp._box_state(s, obj, table) < 0.1
-                fits = f._fits_index(OPEN_YAWS.index(HEADING_YAWS[s[2]]))
+                near_box += boxed.box_state(s) < 0.1
+                fits = f.fits_index(OPEN_YAWS.index(HEADING_YAWS[s[2]]))
                 assert fits[s[0], s[1]], s
                 assert not meets[s[2]][s[0], s[1]], (s, obj)
     assert tested > 500 and near_box > 20
@@ -436,7 +437,7 @@ def test_floors_too_large_for_the_lattice_costs_walk_with_the_floor_distance():
     # beyond max_field_states the heuristic is the floor distance (no headings): the same
     # tight turn is still found, exact at both ends and passing the independent check
     scene, wp, walk = _tight_turn(max_field_states=0)
-    assert walk.valid and not wp._lattice and wp._distances
+    assert walk.valid and wp.cached_fields()[1] == 0 and wp.cached_fields()[0] > 0
     _assert_checked(scene, walk)
 
 
@@ -444,20 +445,20 @@ def test_the_walk_search_certifies_only_the_motions_it_takes(monkeypatch):
     # regression: every motion out of an expanded state to a free state was certified (the
     # slot walk of fig10, round wall A through its door: 1426 motions for 297 expansions).
     # The search now certifies a motion when it takes it from the queue
-    from pivot_ompl.transit import planner as walking
+    from pivot_ompl.transit.clearance import BoxedClearance
 
     obj = (4.15, 1.5, 0.0)  # the box in wall A's slot
     doc = shipped_doc("fig10")
     doc["start"] = doc["goal"] = list(obj)
     ck = PivotChecker(scene_from_dict(doc), seed=0)
     wp, calls = ck.walker, []
-    edge_free = walking.WalkPlanner._edge_free
+    motion_free = BoxedClearance.motion_free
 
-    def counted(self, u, v, obj, table):  # noqa: ANN001, ANN202
+    def counted(self, u, v):  # noqa: ANN001, ANN202
         calls.append((u, v))
-        return edge_free(self, u, v, obj, table)
+        return motion_free(self, u, v)
 
-    monkeypatch.setattr(walking.WalkPlanner, "_edge_free", counted)
+    monkeypatch.setattr(BoxedClearance, "motion_free", counted)
     walk = ck.transit(obj, 0, 2)
     assert walk.valid and walk.length > 9.0  # round through the door
     assert 100 < wp.expansions and len(calls) < 2 * wp.expansions

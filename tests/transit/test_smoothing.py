@@ -33,8 +33,9 @@ pose = st.tuples(coord, coord, yaw)
 def _dubins_walk(a, b):  # noqa: ANN001, ANN202
     """The walker, and the Dubins walk ``a -> b`` as it samples it: length, pieces, poses."""
     wp = _walker()
-    length = wp._dubins.distance(a, b)
-    return wp, length, max(1, math.ceil(length / wp.resolution)), wp._dubins_walk(a, b, length)
+    length = wp.smoother.dubins.distance(a, b)
+    pieces = max(1, math.ceil(length / wp.resolution))
+    return wp, length, pieces, wp.smoother.dubins_walk(a, b, length)
 
 
 @settings(max_examples=200, deadline=None)
@@ -64,7 +65,7 @@ def test_dubins_probes_are_poses_of_the_sampled_walk(a, b):
     # bit for bit: a probe's clearance is reused when the walk is checked whole
     wp, _, pieces, pts = _dubins_walk(a, b)
     sampled = {tuple(p) for p in pts.tolist()}
-    probes = wp._dubins_probes(a, b, pieces)
+    probes = wp.smoother.dubins_probes(a, b, pieces)
     assert len(probes) == len({k for k in (pieces // 2, pieces // 4, 3 * pieces // 4)
                                if 0 < k < pieces})
     assert all(p in sampled for p in probes)
@@ -82,7 +83,7 @@ def test_smoothing_a_long_walk_is_cheap_and_the_walk_passes_check(monkeypatch):
     g1, g2 = 0, 2
     assert m.robot_pose(obj, g1)[0] < obj[0] < m.robot_pose(obj, g2)[0]
     sampled = [0]
-    dubins, queries = wp._dubins, [0]
+    dubins, queries = wp.smoother.dubins, [0]
     sample, interpolate = dubins.sample, dubins.interpolate
 
     def count_sample(a, b, ts):
@@ -95,19 +96,20 @@ def test_smoothing_a_long_walk_is_cheap_and_the_walk_passes_check(monkeypatch):
 
     monkeypatch.setattr(dubins, "sample", count_sample)
     monkeypatch.setattr(dubins, "interpolate", count_interpolate)
-    smooth = type(wp)._smooth
+    smooth = type(wp.smoother).smooth
     lattice_cost = []
+    world = wp.world
 
     def counted(self, poses, obj, **kw):
         lattice_cost.append(sum(motion_cost(a, b, self.walk)
                                 for a, b in zip(poses, poses[1:], strict=False)))
-        q0 = self.world.queries
+        q0 = world.queries
         try:
             return smooth(self, poses, obj, **kw)
         finally:
-            queries[0] += self.world.queries - q0
+            queries[0] += world.queries - q0
 
-    monkeypatch.setattr(type(wp), "_smooth", counted)
+    monkeypatch.setattr(type(wp.smoother), "smooth", counted)
     walk = ck.transit(obj, g1, g2)
     assert walk.valid and walk.length > 9.0
     assert walk.cost <= lattice_cost[0] + 1e-9  # shortcuts only when cheaper

@@ -64,7 +64,7 @@ def test_reach_bounds_cover_the_held_body(size, grasp, car):
     for pivot in m.pivots(car, grasp):
         far = max(math.hypot(x - pivot[0], y - pivot[1])
                   for x, y in m.held_corners(m.robot_from_car(car, grasp), grasp))
-        assert far <= checker._reach[grasp][1] + 1e-9
+        assert far <= checker.transfers.reach(grasp)[1] + 1e-9
 
 
 #: Where the pole stands across the gap, as a fraction of the standoff from the robot's front:

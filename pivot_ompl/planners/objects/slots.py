@@ -8,11 +8,10 @@ through a thick wall is centred in the wall whatever the segment's ends. Everyth
 the obstacles' own footprints (shapely's exact distances), so a rotated, mirrored or
 unfamiliar layout gives its own passages: no direction of the world is preferred.
 
-The regrasp planner (:mod:`pivot_ompl.planners.multiplex`) seeds its object roadmap with box
-poses along the passages too narrow for the walking robot: the slots only the box passes, where
-the robot must let go of it and walk round. Sampling finds such a pose (box within a few
-centimetres of both sides, yaw within a few degrees of the axis) only after thousands of
-samples.
+The regrasp planner seeds its object roadmap with box poses along the passages too narrow for
+the walking robot (:func:`slot_poses`): the slots only the box passes, where the robot must
+let go of it and walk round. Sampling finds such a pose (box within a few centimetres of both
+sides, yaw within a few degrees of the axis) only after thousands of samples.
 """
 
 from __future__ import annotations
@@ -24,6 +23,8 @@ import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
+from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.planners.objects.roadmap import canonical
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose
 from pivot_ompl.validity.footprints import obstacle_footprint
@@ -114,3 +115,29 @@ def passage_poses(passage: Passage, *, reach: float, spacing: float,
     c, s = math.cos(passage.axis), math.sin(passage.axis)
     return [(cx + t * c, cy + t * s, yaw) for yaw in (passage.axis, passage.axis + 0.5 * math.pi)
             for t in offsets]
+
+
+def slots(checker: PivotChecker, *, play: float) -> list[Passage]:
+    """The scene's slots: gaps wide enough for the box but not for the walking robot.
+
+    A gap counts if it is wider than the box's narrow side (plus the kept clearance on both
+    sides) and narrower than the walking robot's least width (plus the clearance and
+    ``play``, beyond which the robot's walk passes).
+    """
+    m, clear = checker.model, checker.world.clearance
+    ahead, behind, half_width = m.walking_extent()
+    narrowest = min(ahead + behind, 2.0 * half_width) + 2.0 * clear
+    return find_passages(checker.scene, min_width=min(m.object_size[:2]) + 2.0 * clear,
+                         max_width=narrowest + play)
+
+
+def slot_poses(checker: PivotChecker, passages: list[Passage], *, spacing: float,
+               approach: tuple[float, ...]) -> list[Pose]:
+    """The free box poses along ``passages`` (:func:`passage_poses`, yaw modulo pi)."""
+    reach = max(checker.model.object_size[:2])
+    out: list[Pose] = []
+    for passage in passages:
+        for q in passage_poses(passage, reach=reach, spacing=spacing, approach=approach):
+            if checker.box_valid(q):
+                out.append(canonical(q))
+    return out

@@ -1,13 +1,17 @@
-"""A small undirected roadmap with nearest-neighbour queries on object poses."""
+"""The object roadmap: box poses with a label, nearest-neighbour queries and components.
+
+The box is symmetric under a half turn: object yaw ``t`` with grasp ``k`` and yaw ``t + pi``
+with grasp ``k + 2`` are the same car, robot pose and pivots (:func:`half_turn`,
+:func:`canonical`). Neighbours are therefore found with yaw modulo pi (:func:`pose_metric`).
+"""
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 
 import numpy as np
 
-from pivot_ompl.graph import UnionFind
+from pivot_ompl.graph import UnionFind, astar
 from pivot_ompl.se2 import Pose
 
 #: Weight of yaw in the nearest-neighbour metric (m per rad).
@@ -15,11 +19,7 @@ YAW_WEIGHT = 0.5
 
 
 def canonical_yaw(yaw: float) -> tuple[float, int]:
-    """The box's yaw modulo pi, in ``[-pi/2, pi/2)``, and the grasp shift (0 or 2) it implies.
-
-    The box is symmetric under a half turn: object yaw ``t`` with grasp ``k`` and yaw
-    ``t + pi`` with grasp ``k + 2`` are the same car, robot pose and pivots.
-    """
+    """The box's yaw modulo pi, in ``[-pi/2, pi/2)``, and the grasp shift (0 or 2) it implies."""
     c = (yaw + 0.5 * math.pi) % math.pi - 0.5 * math.pi
     return c, (0 if abs(math.remainder(c - yaw, 2 * math.pi)) < 1.0 else 2)
 
@@ -44,19 +44,36 @@ def pose_metric(a: np.ndarray, b: Pose) -> np.ndarray:
     return np.hypot(a[:, 0] - b[0], a[:, 1] - b[1]) + YAW_WEIGHT * dyaw
 
 
-@dataclass
 class Roadmap:
-    """Nodes (object poses with a label), edges and connected components (union-find)."""
+    """Object poses with a label (``"guard"``, ``"slot"``, ...), edges and components.
 
-    poses: list[Pose] = field(default_factory=list)
-    kinds: list[str] = field(default_factory=list)
-    edges: list[tuple[int, int]] = field(default_factory=list)
-    _arr: np.ndarray = field(default_factory=lambda: np.zeros((64, 3)))
-    _components: UnionFind[int] = field(default_factory=UnionFind)
+    Attributes:
+        poses: the nodes' object poses, by index.
+        kinds: each node's label.
+        edges: the visibility edges ``(i, j)``.
+    """
+
+    poses: list[Pose]
+    kinds: list[str]
+    edges: list[tuple[int, int]]
+    _arr: np.ndarray
+    _components: UnionFind[int]
+
+    def __init__(self) -> None:
+        """An empty roadmap."""
+        self.poses = []
+        self.kinds = []
+        self.edges = []
+        self._arr = np.zeros((64, 3))
+        self._components = UnionFind()
 
     def __len__(self) -> int:
         """Number of nodes."""
         return len(self.poses)
+
+    def __getitem__(self, i: int) -> Pose:
+        """The pose of node ``i``."""
+        return self.poses[i]
 
     def add(self, pose: Pose, kind: str) -> int:
         """Add a node; return its index."""
@@ -78,6 +95,21 @@ class Roadmap:
         """Representative of ``i``'s connected component."""
         return self._components.find(i)
 
+    def path(self, i: int, j: int) -> list[int]:
+        """Fewest edges from node ``i`` to node ``j`` (``[]`` if not connected)."""
+        if self.component(i) != self.component(j):
+            return []
+        adjacent: dict[int, list[int]] = {}
+        for a, b in self.edges:
+            adjacent.setdefault(a, []).append(b)
+            adjacent.setdefault(b, []).append(a)
+        return astar([i], {j}, lambda n: ((m, 1.0) for m in adjacent.get(n, ())),
+                     lambda n: 0.0)
+
+    def of_kind(self, kind: str) -> list[int]:
+        """Indices of the nodes labelled ``kind``."""
+        return [i for i, k in enumerate(self.kinds) if k == kind]
+
     def nearest(self, pose: Pose, k: int, *, among: list[int] | None = None) -> list[int]:
         """Indices of the ``k`` nodes nearest to ``pose`` (optionally among a subset)."""
         n = len(self.poses)
@@ -89,6 +121,10 @@ class Roadmap:
             return []
         idx = np.asarray(among)
         return [int(idx[i]) for i in _smallest(pose_metric(self._arr[idx], pose), k)]
+
+    def distances(self, indices: list[int], pose: Pose) -> np.ndarray:
+        """:func:`pose_metric` from the nodes ``indices`` to ``pose``."""
+        return pose_metric(self._arr[np.asarray(indices, dtype=int)], pose)
 
 
 def _smallest(d: np.ndarray, k: int) -> np.ndarray:

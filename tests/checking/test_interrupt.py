@@ -28,8 +28,6 @@ def test_steering_polls_its_stop_condition():
 def test_an_interrupted_edge_is_invalid_and_not_cached():
     ck = PivotChecker(make_scene(), seed=0)
     a, b = (1.5, 3.0, 0.0), (6.0, 3.0, 0.0)
-    ck.should_stop = lambda: True
-    res = ck.transfer(a, b, 0)
+    res = ck.transfer(a, b, 0, should_stop=lambda: True)
     assert not res.valid and "interrupted" in res.reason
-    ck.should_stop = None
     assert ck.transfer(a, b, 0).valid

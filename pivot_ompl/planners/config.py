@@ -1,0 +1,235 @@
+"""The regrasp planner's configuration: nested frozen dataclasses, one per stage.
+
+:class:`RegraspConfig` holds the grasps the robot may use and one block per stage of the
+planner: :class:`SamplingConfig` (the object roadmap: visibility, critical configurations,
+slots, bridge tests, diffusion), :class:`SearchConfig` (the multiplexed graph and its lazy
+search), :class:`SingleGraspConfig` (the regrasp-free try) and :class:`OptimiserConfig`. Units
+are metres and radians; lengths "in the pose metric" add ``YAW_WEIGHT`` metres per radian.
+
+Every leaf has a dotted name (``search.weight``, ``sampling.slot_spacing``...), listed by
+:meth:`RegraspConfig.flat` and set by :meth:`RegraspConfig.with_values`: what
+``pivot-ompl bench --param NAME=V1,V2`` sweeps (OMPL 2.0.1's Python binding cannot declare
+planner parameters: ``Planner.params()`` raises a conversion error).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, fields, is_dataclass, replace
+from typing import Any
+
+from pivot_ompl.errors import InputError
+
+
+@dataclass(frozen=True)
+class SamplingConfig:
+    """How the object roadmap (the box alone) grows.
+
+    Attributes:
+        guard_failures: consecutive discarded samples that end the Visibility PRM.
+        max_visibility_samples: samples of the Visibility PRM phase at most, before the
+            passage and diffusion phases.
+        guard_radius: a sample is tested for visibility only from guards this near (m,
+            pose metric).
+        critical_spacing: a critical configuration closer than this (m, pose metric) to a
+            recorded one is not recorded again.
+        slots: seed the roadmap with box poses along the scene's slots (gaps wide enough
+            for the box but narrower than the walking robot, where it must let go of the box:
+            :mod:`pivot_ompl.planners.objects.slots`).
+        slot_play: the play (m) beyond which a gap no longer counts as a slot.
+        slot_spacing: spacing (m) of the seeded poses along a slot.
+        slot_approach: distances (m) beyond the slot's ends (and the box's length) of the
+            seeded poses from which the box is pushed in or pulled out.
+        bridge_rounds: rounds of (up to 100) bridge tests before the diffusion.
+        bridge_bias: probability that a diffusion iteration is a bridge test instead.
+        bridge_sigma: standard deviation (m) of the bridge test's second sample.
+        passage_steps: distances (m) of the extensions from a passage node.
+        epsilon: diffusion extension step (m, Reeds-Shepp length of the box's path).
+        critical_bias: probability that a diffusion sample is drawn near a critical
+            configuration.
+        goal_bias: probability that a diffusion sample is the goal pose.
+        yaw_range: sampled yaws lie in ``[-yaw_range, yaw_range)`` (neighbours are found with
+            yaw modulo pi whatever the range: the box's half-turn symmetry).
+    """
+
+    guard_failures: int = 25
+    max_visibility_samples: int = 30
+    guard_radius: float = 3.0
+    critical_spacing: float = 0.4
+    slots: bool = True
+    slot_play: float = 0.1
+    slot_spacing: float = 0.2
+    slot_approach: tuple[float, ...] = (0.4, 0.7, 1.2)
+    bridge_rounds: int = 60
+    bridge_bias: float = 0.3
+    bridge_sigma: float = 0.5
+    passage_steps: tuple[float, ...] = (0.5, 1.0, 1.5, 2.0)
+    epsilon: float = 1.0
+    critical_bias: float = 0.25
+    goal_bias: float = 0.05
+    yaw_range: float = math.pi
+
+
+@dataclass(frozen=True)
+class SearchConfig:
+    """The multiplexed graph and its search.
+
+    Attributes:
+        neighbours: candidate transfer edges per new manipulation node.
+        connect_radius: candidate edges are not longer than this (m, Reeds-Shepp length).
+        weight: inflation of the search's heuristic (weighted A*: a path at most this
+            factor costlier than the graph's cheapest, found expanding far fewer nodes).
+        every: the roadmap's growth searches after this many new object nodes gave
+            manipulation nodes (a search is skipped at no cost while the candidate graph
+            cannot join start and goal).
+        regrasp_cost: a regrasp's price in the search (m of box path, on top of the walk's
+            estimated length).
+    """
+
+    neighbours: int = 10
+    connect_radius: float = 3.5
+    weight: float = 2.0
+    every: int = 16
+    regrasp_cost: float = 2.0
+
+
+@dataclass(frozen=True)
+class SingleGraspConfig:
+    """The single-grasp RRT-Connect tried before the multiplexed search.
+
+    Attributes:
+        checks: motion checks (transfer edges) it may make, shared by the grasps valid at
+            both start and goal; ``0``: not tried.
+        step: its longest extension (m of the car's Reeds-Shepp path).
+    """
+
+    checks: int = 80
+    step: float = 1.5
+
+
+@dataclass(frozen=True)
+class OptimiserConfig:
+    """The path optimiser run once on the path found.
+
+    Attributes:
+        enabled: run it (shortcuts, useless regrasps removed, grasps chosen by the cost).
+        check_share: it may compute at most this share of the motion checks planning made
+            (a budget of work, not of seconds: a seed gives the same plan on any machine).
+        min_checks: the smallest budget (motion checks).
+    """
+
+    enabled: bool = True
+    check_share: float = 0.2
+    min_checks: int = 10
+
+
+@dataclass(frozen=True)
+class RegraspConfig:
+    """Everything the regrasp planner can be told (see the module docstring).
+
+    Attributes:
+        grasps: the grasps the robot may use.
+        sampling: the object roadmap's growth.
+        search: the multiplexed graph and its search.
+        single_grasp: the regrasp-free try.
+        optimiser: the path optimiser.
+    """
+
+    grasps: tuple[int, ...] = (0, 1, 2, 3)
+    sampling: SamplingConfig = field(default_factory=SamplingConfig)
+    search: SearchConfig = field(default_factory=SearchConfig)
+    single_grasp: SingleGraspConfig = field(default_factory=SingleGraspConfig)
+    optimiser: OptimiserConfig = field(default_factory=OptimiserConfig)
+
+    def flat(self) -> dict[str, Any]:
+        """Every leaf by dotted name (``"search.weight": 2.0``...), in declaration order."""
+        return _flatten(self, "")
+
+    def with_values(self, values: dict[str, Any]) -> RegraspConfig:
+        """A copy with the leaves named in ``values`` replaced (dotted names).
+
+        Values are converted to the leaf's type (a string ``"1.5"`` for a float, ``"0,1"``
+        for a tuple, ``"true"``/``"false"`` for a flag), so they may come from a command line.
+
+        Raises:
+            InputError: unknown name, or a value of the wrong type or out of range.
+        """
+        out: Any = self
+        for name, value in values.items():
+            out = _replace_leaf(out, name.split("."), value, name)
+        out.validate()
+        return out
+
+    def validate(self) -> None:
+        """Raise :class:`InputError` naming the first leaf whose value is out of range."""
+        for name, v in self.flat().items():
+            if isinstance(v, bool):
+                continue
+            vals = v if isinstance(v, tuple) else (v,)
+            for x in vals:
+                if isinstance(x, int | float) and not (math.isfinite(x) and x >= 0):
+                    raise InputError(name, v, "must be finite and >= 0")
+        if not self.grasps or any(g not in (0, 1, 2, 3) for g in self.grasps):
+            raise InputError("grasps", self.grasps, "must be grasp indices 0, 1, 2 or 3")
+        if self.search.weight < 1.0:
+            raise InputError("search.weight", self.search.weight, "must be >= 1")
+        for name in ("search.neighbours", "search.every", "sampling.guard_failures"):
+            if self.flat()[name] < 1:
+                raise InputError(name, self.flat()[name], "must be >= 1")
+
+
+def _flatten(obj: Any, prefix: str) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for f in fields(obj):
+        v = getattr(obj, f.name)
+        if is_dataclass(v):
+            out.update(_flatten(v, f"{prefix}{f.name}."))
+        else:
+            out[f"{prefix}{f.name}"] = v
+    return out
+
+
+def _replace_leaf(obj: Any, path: list[str], value: Any, name: str) -> Any:
+    known = {f.name: f for f in fields(obj)}
+    if path[0] not in known:
+        raise InputError("param", name, f"unknown parameter (known: {sorted(_leaf_names())})")
+    current = getattr(obj, path[0])
+    if len(path) > 1:
+        if not is_dataclass(current):
+            raise InputError("param", name, "unknown parameter")
+        return replace(obj, **{path[0]: _replace_leaf(current, path[1:], value, name)})
+    if is_dataclass(current):
+        raise InputError("param", name, "names a group, not a parameter")
+    return replace(obj, **{path[0]: _convert(value, current, name)})
+
+
+def _convert(value: Any, like: Any, name: str) -> Any:
+    """``value`` as the type of ``like`` (strings parsed)."""
+    try:
+        if isinstance(like, bool):
+            if isinstance(value, str):
+                if value.lower() not in ("true", "false", "1", "0"):
+                    raise ValueError(value)
+                return value.lower() in ("true", "1")
+            if not isinstance(value, bool):
+                raise ValueError(value)
+            return value
+        if isinstance(like, tuple):
+            items = value.split(",") if isinstance(value, str) else list(value)
+            kind = type(like[0]) if like else float
+            return tuple(kind(x) for x in items)
+        if isinstance(like, int):
+            if isinstance(value, float) and not value.is_integer():
+                raise ValueError(value)
+            return int(value)
+        return float(value)
+    except (TypeError, ValueError):
+        raise InputError(name, value, f"must be of type {type(like).__name__}") from None
+
+
+def _leaf_names() -> list[str]:
+    return list(RegraspConfig().flat())
+
+
+__all__ = ["OptimiserConfig", "RegraspConfig", "SamplingConfig", "SearchConfig",
+           "SingleGraspConfig"]

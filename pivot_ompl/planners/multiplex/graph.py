@@ -1,0 +1,330 @@
+"""The multiplexed graph: manipulation roadmaps per grasp joined by the regrasping roadmap.
+
+Nodes are ``(object node, grasp)``: the box at an object-roadmap pose held with a grasp. Two
+kinds of edge join them (:func:`is_transfer`):
+
+* a **transfer** ``(i, g) - (j, h)`` between two object nodes: box and robot pivot together
+  with one grasp. The box is symmetric under a half turn, so neighbours are found with yaw
+  modulo pi and the grasp ``h`` of node ``j`` is ``g`` or ``g + 2``, whichever describes the
+  same car; an edge with ``h = g + 2`` turns the path's *frame* by a half turn
+  (:func:`frame_flip`);
+* a **regrasp** ``(i, g) - (i, h)`` at one object node: the robot walks round the resting box.
+
+Edges are candidates until a search uses them. A transfer's cheap test (box and robot free at
+three poses of its Reeds-Shepp path, :meth:`MultiplexedGraph.plausible`) runs when a search or
+the reachable set meets it; an edge that fails it, or a full check, is removed for good.
+
+Searches run over *states* ``(node, parity)``: the parity of the half turns taken so far, so
+that a path reaches the goal exactly as given (not its half turn, the same placement of the
+box under another name, which a checker comparing poses would refuse). The graph owns that
+rule (:meth:`MultiplexedGraph.successor`) and writes a path in the start's frame
+(:meth:`MultiplexedGraph.express`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterator
+
+from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.graph import UnionFind
+from pivot_ompl.planners.objects.roadmap import Roadmap, half_turn
+from pivot_ompl.se2 import Pose, wrap_angle
+
+Node = tuple[int, int]  # (object roadmap index, grasp)
+State = tuple[Node, int]  # (node, frame parity)
+Stop = Callable[[], bool]
+
+#: Fractions of a transfer's Reeds-Shepp path where its cheap test places box and robot.
+PLAUSIBILITY_FRACTIONS = (0.25, 0.5, 0.75)
+
+
+def is_transfer(a: Node, b: Node) -> bool:
+    """Whether the edge ``a - b`` moves the box (else it is a regrasp at one pose)."""
+    return a[0] != b[0]
+
+
+def frame_flip(a: Node, b: Node) -> int:
+    """1 if the edge ``a - b`` turns the path's frame by a half turn, else 0.
+
+    That is a transfer whose grasps differ: the same car written from the other side.
+    """
+    return int(a[0] != b[0] and a[1] != b[1])
+
+
+def undirected(a: Node, b: Node) -> tuple[Node, Node]:
+    """The key of the edge ``a - b`` whichever way it is taken."""
+    return (a, b) if a <= b else (b, a)
+
+
+class MultiplexedGraph:
+    """Manipulation nodes and candidate edges over an object roadmap (module docstring).
+
+    Args:
+        checker: state validity, the cheap test of transfers, the Reeds-Shepp distances.
+        roadmap: the object roadmap whose nodes are multiplexed.
+        grasps: the grasps the robot may use.
+        neighbours: candidate transfer edges per new manipulation node.
+        connect_radius: longest candidate transfer edge (m, Reeds-Shepp length of its car).
+        regrasp_cost: a regrasp's price (m) on top of its walk's estimated length.
+
+    Attributes:
+        adj: candidate edges and their costs, both ways: ``adj[a][b]``.
+        by_grasp: object nodes multiplexed at each grasp.
+        start_nodes, goal_nodes: the manipulation nodes at the start and goal poses.
+        multiplexed: object nodes (by index, from 0) already multiplexed.
+        regrasp_edges, plausibility_tests: counts.
+    """
+
+    adj: dict[Node, dict[Node, float]]
+    by_grasp: dict[int, list[int]]
+    start_nodes: list[Node]
+    goal_nodes: set[Node]
+    multiplexed: int
+    regrasp_edges: int
+    plausibility_tests: int
+
+    def __init__(self, checker: PivotChecker, roadmap: Roadmap, *, grasps: tuple[int, ...],
+                 neighbours: int, connect_radius: float, regrasp_cost: float) -> None:
+        """An empty graph over ``roadmap``."""
+        self.checker = checker
+        self.roadmap = roadmap
+        self.grasps = grasps
+        self.neighbours = neighbours
+        self.connect_radius = connect_radius
+        self.regrasp_cost = regrasp_cost
+        self.adj = {}
+        self.by_grasp = {g: [] for g in grasps}
+        self.start_nodes = []
+        self.goal_nodes = set()
+        self.multiplexed = 0
+        self.regrasp_edges = 0
+        self.plausibility_tests = 0
+        self._components: UnionFind[Node] = UnionFind()  # over candidate edges (never split)
+        #: object nodes where grasp 0 or 2 (index 0), 1 or 3 (index 1) is valid
+        self._parity: tuple[list[int], list[int]] = ([], [])
+        self._removed: set[tuple[Node, Node]] = set()
+        self._plausible: dict[tuple[Node, Node], bool] = {}
+        #: states reachable from a start over edges that passed the cheap test (a superset
+        #: of the truth once full checks remove edges); ``None`` before the ends are set, or
+        #: after the termination condition stopped its growth
+        self._reach: set[State] | None = None
+
+    # -- structure ---------------------------------------------------------------------
+    def successor(self, state: State, node: Node) -> State:
+        """The state reached from ``state`` along the edge to ``node`` (parity carried on)."""
+        return node, state[1] ^ frame_flip(state[0], node)
+
+    def successors(self, state: State) -> Iterator[tuple[State, float]]:
+        """The states one candidate edge away, with the edges' costs."""
+        n, parity = state
+        for m, c in self.adj[n].items():
+            yield (m, parity ^ frame_flip(n, m)), c
+
+    def removed(self, a: Node, b: Node) -> bool:
+        """Whether the edge ``a - b`` was removed (it is never linked again)."""
+        return undirected(a, b) in self._removed
+
+    def remove(self, a: Node, b: Node) -> None:
+        """Remove the edge ``a - b`` for good."""
+        self.adj[a].pop(b, None)
+        self.adj[b].pop(a, None)
+        self._removed.add(undirected(a, b))
+
+    def set_cost(self, a: Node, b: Node, cost: float) -> None:
+        """Replace the cost of the edge ``a - b`` (e.g. a walk's estimate by its real cost)."""
+        self.adj[a][b] = self.adj[b][a] = cost
+
+    def transfer_edges(self) -> Iterator[tuple[Node, Node]]:
+        """Every candidate transfer edge at one grasp, once (for pictures)."""
+        for a, nbrs in self.adj.items():
+            for b in nbrs:
+                if b[1] == a[1] and b[0] > a[0]:
+                    yield a, b
+
+    # -- growth ------------------------------------------------------------------------
+    def multiplex_pending(self, should_stop: Stop) -> tuple[int, int]:
+        """Multiplex the object nodes not yet multiplexed, polling ``should_stop`` between.
+
+        Returns the numbers of manipulation nodes added and of object nodes that gave some;
+        the nodes left when stopped are multiplexed by the next call.
+        """
+        added = nodes = 0
+        for i in range(self.multiplexed, len(self.roadmap)):
+            if should_stop():
+                break
+            k = self._multiplex(i, should_stop)
+            added += k
+            nodes += k > 0
+            self.multiplexed = i + 1
+        return added, nodes
+
+    def _multiplex(self, i: int, should_stop: Stop) -> int:
+        """Add object node ``i`` at every grasp valid there (``PlanWithObjectConfig``).
+
+        Each manipulation node gets candidate transfer edges to its nearest nodes (yaw modulo
+        pi: node ``j``'s yaw within pi/2 of ``i``'s, or its half turn with grasp ``g + 2``),
+        and regrasp edges join the grasps valid at ``i``. Returns the manipulation nodes added.
+        """
+        q = self.roadmap.poses[i]
+        ck, m = self.checker, self.checker.model
+        rs = ck.steering.rs
+        added: list[int] = []
+        for g in self.grasps:
+            if not ck.state_valid(q, g):
+                continue
+            node = (i, g)
+            if node not in self.adj:
+                self.adj[node] = {}
+                self._components.add(node)
+            car = m.car_pose(q, g)
+            for j in self.roadmap.nearest(q, self.neighbours, among=self._parity[g % 2]):
+                qj = self.roadmap.poses[j]
+                gj = g if abs(wrap_angle(qj[2] - q[2])) <= 0.5 * math.pi else (g + 2) % 4
+                if (j, gj) not in self.adj:
+                    continue
+                d = rs.distance(car, m.car_pose(qj, gj))
+                if d <= self.connect_radius:
+                    self.link(node, (j, gj), d, should_stop)
+            self.by_grasp[g].append(i)
+            added.append(g)
+        for parity in {g % 2 for g in added}:
+            self._parity[parity].append(i)
+        for k, a in enumerate(added):  # the regrasping roadmap at this pose
+            for b in added[k + 1:]:
+                self.link((i, a), (i, b), self.regrasp_cost + self.walk_estimate(a, b),
+                          should_stop)
+                self.regrasp_edges += 1
+        return len(added)
+
+    def walk_estimate(self, a: int, b: int) -> float:
+        """Estimated length (m) of the walk from grasp ``a`` to ``b``.
+
+        Quarter circles round the box at the robot's distance.
+        """
+        quarters = min((b - a) % 4, (a - b) % 4)
+        return self.checker.model.robot_offset(a) * 0.5 * math.pi * quarters
+
+    def link(self, a: Node, b: Node, cost: float, should_stop: Stop) -> None:
+        """Add the candidate edge ``a - b`` (unless removed before); keep the reachable set."""
+        if self.removed(a, b):
+            return
+        self.adj[a][b] = cost
+        self.adj[b][a] = cost
+        self._components.union(a, b)
+        reach = self._reach
+        if reach is None:
+            return
+        flip = frame_flip(a, b)
+        for parity in (0, 1):
+            sa, sb = (a, parity), (b, parity ^ flip)
+            if (sa in reach) == (sb in reach):
+                continue
+            if is_transfer(a, b) and not self.plausible(a, b):
+                return
+            self._grow_reach(sb if sa in reach else sa, should_stop)
+            if self._reach is None:
+                return
+
+    def set_ends(self, start: int, goal: int, should_stop: Stop) -> None:
+        """Set the start and goal object nodes (both multiplexed).
+
+        Their manipulation nodes, the direct edge at each grasp valid at both (always tried
+        first), and the reachable set.
+        """
+        self.start_nodes = [n for n in self.adj if n[0] == start]
+        self.goal_nodes = {n for n in self.adj if n[0] == goal}
+        m, rs = self.checker.model, self.checker.steering.rs
+        qs, qg = self.roadmap.poses[start], self.roadmap.poses[goal]
+        for (_, g) in self.start_nodes:
+            if (goal, g) in self.goal_nodes:
+                self.link((start, g), (goal, g),
+                          rs.distance(m.car_pose(qs, g), m.car_pose(qg, g)), should_stop)
+        self.compute_reach(should_stop)
+
+    # -- the cheap test and the reachable set ---------------------------------------------
+    def plausible(self, a: Node, b: Node) -> bool:
+        """The cheap test of transfer ``a - b`` (cached); an implausible edge is removed.
+
+        ``(j, g + 2)`` is the same car as ``(j's half turn, g)``.
+        """
+        key = undirected(a, b)
+        v = self._plausible.get(key)
+        if v is None:
+            m = self.checker.model
+            pa, pb = self.roadmap.poses[a[0]], self.roadmap.poses[b[0]]
+            pb = pb if a[1] == b[1] else half_turn(pb)
+            v = self._plausible[key] = self.checker.cars_free(
+                m.car_pose(pa, a[1]), m.car_pose(pb, a[1]), a[1], PLAUSIBILITY_FRACTIONS)
+            self.plausibility_tests += 1
+            if not v:
+                self.remove(a, b)
+        return v
+
+    def known_plausible(self, a: Node, b: Node) -> bool:
+        """Whether ``a - b`` is a regrasp or a transfer that passed its cheap test already."""
+        return not is_transfer(a, b) or self._plausible.get(undirected(a, b), False)
+
+    def compute_reach(self, should_stop: Stop) -> None:
+        """The states connected to a start over edges that pass the cheap test."""
+        self._reach = set()
+        for s in self.start_nodes:
+            if self._reach is None:  # stopped by the termination condition
+                return
+            if (s, 0) not in self._reach:
+                self._grow_reach((s, 0), should_stop)
+
+    def _grow_reach(self, state: State, should_stop: Stop) -> None:
+        """Add ``state`` and the states joined to it by plausible edges to the reachable set.
+
+        Each transfer that would add a state is tested first (cached): the set is the start's
+        component over the edges that survive the test. Stopped, the set is forgotten.
+        """
+        reach = self._reach
+        assert reach is not None
+        stack = [state]
+        reach.add(state)
+        steps = 0
+        while stack:
+            steps += 1
+            if steps % 64 == 1 and should_stop():
+                self._reach = None  # incomplete: computed again after a failed search
+                return
+            u = stack.pop()
+            for v in list(self.adj[u[0]]):
+                sv = self.successor(u, v)
+                if sv in reach or (is_transfer(u[0], v) and not self.plausible(u[0], v)):
+                    continue
+                reach.add(sv)
+                stack.append(sv)
+
+    def maybe_connected(self) -> bool:
+        """Whether the goal (in the start's frame) may be reached from the start.
+
+        Two sound filters: the components over every candidate edge ever added, and the
+        reachable set (edges refused later by full checks only shrink the truth, so a failed
+        search computes it again). A search that cannot succeed is skipped.
+        """
+        r = self._reach
+        if r is not None and not any((g, 0) in r for g in self.goal_nodes):
+            return False
+        goals = {self._components.find(g) for g in self.goal_nodes}
+        return any(self._components.find(s) in goals for s in self.start_nodes)
+
+    # -- paths -------------------------------------------------------------------------
+    def express(self, path: list[Node]) -> list[tuple[Pose, int]]:
+        """The path as ``(object pose, grasp)`` states in the start's frame.
+
+        After a transfer joining ``(i, g)`` to ``(j, g + 2)``, node ``j`` is written as its
+        half turn with grasp ``g``, and so on along the path.
+        """
+        out: list[tuple[Pose, int]] = []
+        flip = 0
+        prev: Node | None = None
+        for node in path:
+            if prev is not None:
+                flip ^= frame_flip(prev, node)
+            q = self.roadmap.poses[node[0]]
+            out.append((half_turn(q) if flip else q, (node[1] + 2 * flip) % 4))
+            prev = node
+        return out

@@ -1,0 +1,277 @@
+"""The regrasp planner's algorithm (the regrasp paper, Fig. 7), over named parts.
+
+:class:`RegraspSearch` orchestrates; each stage is a part of its own:
+
+1. the start and goal, and the scene's **slots** (:mod:`.objects.slots`) seeded into the
+   object roadmap (:class:`~.objects.roadmap.Roadmap`);
+2. a **single-grasp** RRT-Connect (:mod:`.single_grasp`), which ends planning where one grasp
+   suffices;
+3. the **Visibility PRM** on the box alone (:class:`~.objects.visibility.VisibilityRoadmap`),
+   recording **critical configurations** (:class:`~.objects.critical.CriticalConfigurations`);
+4. **bridge tests** for narrow passages (:class:`~.objects.bridge.BridgeTest`);
+5. **diffusion** (:class:`~.objects.diffusion.Diffusion`), with bridge tests mixed in;
+6. after each batch of new object nodes, their **multiplexing** into the manipulation and
+   regrasping roadmaps (:class:`~.multiplex.graph.MultiplexedGraph`) and the **lazy search**
+   with the full checks of the path found (:class:`~.multiplex.search.PathSearch`);
+7. the **path optimiser** (:mod:`.optimiser`) on the path found.
+
+The termination condition is an argument of every call that takes time, down to the pivot
+steering and the walk search. Calling :meth:`RegraspSearch.run` again continues with the same
+roadmaps and caches (OMPL's semantics: solving again continues).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.planners.config import RegraspConfig
+from pivot_ompl.planners.multiplex.graph import MultiplexedGraph, Node
+from pivot_ompl.planners.multiplex.search import PathSearch
+from pivot_ompl.planners.objects.bridge import BridgeTest
+from pivot_ompl.planners.objects.critical import CriticalConfigurations
+from pivot_ompl.planners.objects.diffusion import Diffusion
+from pivot_ompl.planners.objects.roadmap import Roadmap, canonical
+from pivot_ompl.planners.objects.samplers import PoseSampler
+from pivot_ompl.planners.objects.slots import slot_poses, slots
+from pivot_ompl.planners.objects.visibility import VisibilityRoadmap
+from pivot_ompl.planners.optimiser import budgeted, optimise
+from pivot_ompl.planners.single_grasp import SingleGraspConnect
+from pivot_ompl.se2 import Pose
+
+Stop = Callable[[], bool]
+State = tuple[Pose, int]
+
+
+@dataclass
+class RegraspStats:
+    """Figures of one run (roadmap sizes, counts, seconds per stage)."""
+
+    object_nodes: int = 0
+    guards: int = 0
+    connectors: int = 0
+    critical: int = 0
+    diffusion_nodes: int = 0
+    passage_nodes: int = 0
+    slots: int = 0
+    slot_nodes: int = 0
+    manipulation_nodes: dict[int, int] = field(default_factory=dict)
+    regrasp_edges: int = 0
+    searches: int = 0
+    edges_checked: int = 0
+    plausibility_tests: int = 0
+    edges_invalid: int = 0
+    single_grasp_checks: int = 0
+    single_grasp_solved: bool = False
+    time_single_grasp: float = 0.0
+    time_visibility: float = 0.0
+    time_search: float = 0.0
+    time_optimise: float = 0.0
+
+
+class RegraspSearch:
+    """One query's roadmaps, graph and search (see the module docstring).
+
+    Args:
+        checker: validity of states, pivot edges and walks.
+        start, goal: object poses.
+        config: the planner's configuration.
+        rng: random generator (the only source of randomness).
+
+    Attributes:
+        roadmap: the object roadmap.
+        critical: the critical configurations recorded in it.
+        visibility: the Visibility PRM over it.
+        graph: the multiplexed graph.
+        paths: its search.
+        stats: figures of the runs so far.
+    """
+
+    roadmap: Roadmap
+    critical: CriticalConfigurations
+    visibility: VisibilityRoadmap[Pose]
+    graph: MultiplexedGraph
+    paths: PathSearch
+    stats: RegraspStats
+
+    def __init__(self, checker: PivotChecker, start: Pose, goal: Pose, config: RegraspConfig,
+                 rng: np.random.Generator) -> None:
+        """The parts, empty."""
+        self.checker, self.start, self.goal = checker, start, goal
+        self.config, self.rng = config, rng
+        sc, se = config.sampling, config.search
+        self.roadmap = Roadmap()
+        self.sampler = PoseSampler(checker, rng, yaw_range=sc.yaw_range)
+        self.critical = CriticalConfigurations(checker, self.roadmap, grasps=config.grasps,
+                                               spacing=sc.critical_spacing)
+        self.visibility = VisibilityRoadmap(
+            self.roadmap, sample=self.sampler.box_valid, visible=self.critical.box_visible,
+            candidates=self._near_guards, max_failures=sc.guard_failures)
+        self.bridge = BridgeTest(checker, self.sampler, sigma=sc.bridge_sigma,
+                                 steps=sc.passage_steps)
+        self.diffusion = Diffusion(checker, self.sampler, goal, epsilon=sc.epsilon,
+                                   goal_bias=sc.goal_bias, critical_bias=sc.critical_bias)
+        self.graph = MultiplexedGraph(checker, self.roadmap, grasps=config.grasps,
+                                      neighbours=se.neighbours,
+                                      connect_radius=se.connect_radius,
+                                      regrasp_cost=se.regrasp_cost)
+        self.paths = PathSearch(checker, self.graph, goal, weight=se.weight,
+                                regrasp_cost=se.regrasp_cost)
+        self.stats = RegraspStats()
+        self._started = False
+        self._since = 0  # object nodes multiplexed since the last search
+
+    def _near_guards(self, q: Pose, guards: list[int]) -> Iterator[int]:
+        """The guards within ``guard_radius`` of ``q``, nearest first."""
+        near = self.roadmap.nearest(q, len(guards), among=guards)
+        if not near:
+            return
+        radius = self.config.sampling.guard_radius
+        for g, d in zip(near, self.roadmap.distances(near, q), strict=True):
+            if d > radius:
+                return
+            yield g
+
+    # -- the stages --------------------------------------------------------------------
+    def prepare(self, should_stop: Stop) -> None:
+        """Add start and goal nodes, the slots and the direct edges (the first run does it).
+
+        Once: later calls do nothing.
+        """
+        if self._started:
+            return
+        self._started = True
+        rm = self.roadmap
+        s_i = rm.add(self.start, "start")
+        g_i = rm.add(self.goal, "goal")
+        self.visibility.adopt_guard(s_i)
+        self.visibility.adopt_guard(g_i)
+        self.graph.multiplex_pending(lambda: False)  # the ends, whatever the time
+        sc = self.config.sampling
+        if sc.slots:
+            found = slots(self.checker, play=sc.slot_play)
+            for q in slot_poses(self.checker, found, spacing=sc.slot_spacing,
+                                approach=sc.slot_approach):
+                rm.add(q, "slot")
+                self.stats.slot_nodes += 1
+            self.stats.slots = len(found)
+        self.graph.set_ends(s_i, g_i, should_stop)
+
+    def _single_grasp(self, should_stop: Stop) -> list[State]:
+        """A regrasp-free path by RRT-Connect at each grasp valid at both ends, or ``[]``.
+
+        Its own generator (spawned from the planner's, which it leaves as it was) and a
+        budget of motion checks shared by the grasps.
+        """
+        ck, cfg = self.checker, self.config.single_grasp
+        grasps = [g for g in self.config.grasps if ck.state_valid(self.start, g)
+                  and ck.state_valid(self.goal, g)]
+        if cfg.checks <= 0 or not grasps:
+            return []
+        t0 = time.perf_counter()
+        rng = self.rng.spawn(1)[0]
+        share = max(1, cfg.checks // len(grasps))
+        try:
+            for g in grasps:
+                rrt = SingleGraspConnect(ck, self.start, self.goal, g, rng, step=cfg.step)
+                poses = rrt.run(share, should_stop)
+                self.stats.single_grasp_checks += rrt.checks
+                if poses:
+                    self.stats.single_grasp_solved = True
+                    return [(q, g) for q in poses]
+            return []
+        finally:
+            self.stats.time_single_grasp += time.perf_counter() - t0
+
+    def _grown(self, should_stop: Stop) -> list[Node]:
+        """Multiplex the new object nodes; search every ``search.every`` that gave some."""
+        self._since += self.graph.multiplex_pending(should_stop)[1]
+        if self._since < self.config.search.every:
+            return []
+        self._since = 0
+        return self.paths.find(should_stop)
+
+    def _bridge(self, should_stop: Stop) -> list[Node]:
+        """One round of bridge tests; the passage's nodes added and searched at once."""
+        nodes = self.bridge.passage(should_stop)
+        if not nodes:
+            return []
+        self.stats.passage_nodes += 1
+        for q in nodes:
+            self.roadmap.add(q, "passage")
+        return self.paths.find(should_stop) if self.graph.multiplex_pending(should_stop)[0] \
+            else []
+
+    def _diffuse(self, should_stop: Stop) -> list[Node]:
+        """One diffusion step (or a bridge test, with probability ``bridge_bias``)."""
+        if self.rng.uniform() < self.config.sampling.bridge_bias:
+            return self._bridge(should_stop)
+        rm = self.roadmap
+        q = self.diffusion.target([rm.poses[i] for i in self.critical.indices])
+        near = rm.poses[rm.nearest(q, 1)[0]]
+        qn = self.diffusion.extend(near, q)
+        if qn == near:
+            return []
+        rm.add(canonical(qn), "diffusion")
+        self.stats.diffusion_nodes += 1
+        return self._grown(should_stop)
+
+    # -- the algorithm -------------------------------------------------------------------
+    def run(self, should_stop: Stop) -> list[State]:
+        """Plan; the path as ``(object pose, grasp)`` states, ``[]`` when stopped."""
+        sc = self.config.sampling
+        t0 = time.perf_counter()
+        if not self._started:
+            self.prepare(should_stop)
+            direct = self._single_grasp(should_stop)
+            if direct:
+                self._fill_stats()
+                return self._optimised(direct, should_stop)
+        path = self.paths.find(should_stop)
+        n = 0
+        while not path and not should_stop() and not self.visibility.done and \
+                n < sc.max_visibility_samples:
+            n += 1
+            self.visibility.step(should_stop)
+            path = self._grown(should_stop)
+        self.stats.time_visibility += time.perf_counter() - t0
+        for _ in range(sc.bridge_rounds if self.stats.passage_nodes == 0 else 0):
+            if path or should_stop():
+                break
+            path = self._bridge(should_stop)
+        while not path and not should_stop():
+            path = self._diffuse(should_stop)
+        self._fill_stats()
+        if not path:
+            return []
+        return self._optimised(self.graph.express(path), should_stop)
+
+    def _optimised(self, states: list[State], should_stop: Stop) -> list[State]:
+        """The one call to the path optimiser, within its budget of motion checks."""
+        cfg = self.config.optimiser
+        if not cfg.enabled:
+            return states
+        t1 = time.perf_counter()
+        budget = budgeted(should_stop, self.checker, share=cfg.check_share,
+                          minimum=cfg.min_checks)
+        states = optimise(self.checker, states, grasps=self.config.grasps, should_stop=budget)
+        self.stats.time_optimise += time.perf_counter() - t1
+        return states
+
+    def _fill_stats(self) -> None:
+        s, kinds = self.stats, self.roadmap.kinds
+        s.object_nodes = len(self.roadmap)
+        s.guards = kinds.count("guard") + 2
+        s.connectors = kinds.count("connector")
+        s.critical = kinds.count("critical")
+        s.manipulation_nodes = {g: len(v) for g, v in self.graph.by_grasp.items()}
+        s.regrasp_edges = self.graph.regrasp_edges
+        s.plausibility_tests = self.graph.plausibility_tests
+        s.searches = self.paths.searches
+        s.edges_checked = self.paths.edges_checked
+        s.edges_invalid = self.paths.edges_invalid
+        s.time_search = self.paths.seconds
