@@ -37,12 +37,12 @@ def reference_fits(f: FloorField, yaw: float) -> np.ndarray:
     numpy one)."""
     c, s = math.cos(yaw), math.sin(yaw)
     rot = np.array([[c, -s], [s, c]])
-    corners = f._outline @ rot.T
+    corners = f.outline @ rot.T
     b = f.world.bounds
-    xs, ys = f._x[:, 0], f._y[0, :]
+    xs, ys = f.grid_x[:, 0], f.grid_y[0, :]
     ok = ((xs + corners[:, 0].min() > b[0]) & (xs + corners[:, 0].max() < b[2]))[:, None] \
         & ((ys + corners[:, 1].min() > b[1]) & (ys + corners[:, 1].max() < b[3]))[None, :]
-    for hull in meeting_hulls(f.pieces, f._grown @ rot.T):
+    for hull in meeting_hulls(f.pieces, f.grown_outline @ rot.T):
         cols, rows, inside = grid_inside(hull, xs, ys)
         ok[cols, rows] &= ~inside
     return ok
@@ -57,11 +57,11 @@ def reference_meets_box(f: FloorField, obj: Pose) -> list[np.ndarray]:
     diffs = []
     for yaw in HEADING_YAWS:
         c, s = math.cos(yaw), math.sin(yaw)
-        body = f._outline @ np.array([[c, -s], [s, c]]).T
+        body = f.outline @ np.array([[c, -s], [s, c]]).T
         diffs.append((pts[:, None, :] - body[None, :, :]).reshape(-1, 2))
     hulls = shapely.convex_hull(shapely.multipoints(
         np.concatenate(diffs), indices=np.repeat(np.arange(len(diffs)), len(diffs[0]))))
-    xs, ys = f._x[:, 0], f._y[0, :]
+    xs, ys = f.grid_x[:, 0], f.grid_y[0, :]
     out = []
     for hull in hulls:
         meets = np.zeros((f.nx, f.ny), dtype=bool)

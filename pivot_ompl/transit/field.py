@@ -87,6 +87,10 @@ class FloorField:
         radius: the walking body's inscribed radius (m).
         pieces: the obstacles' convex pieces (:func:`~pivot_ompl.validity.footprints.
             obstacle_pieces`).
+        grid_x, grid_y: the grid positions' coordinates (m), ``(nx, ny)`` arrays.
+        outline: the walking body's corners relative to the robot pose at yaw 0 (m).
+        grown_outline: that outline grown by the kept clearance (chords inside the rounded
+            corners).
         yaws_done, rows_done: yaws, then grid rows of the graph, of :meth:`static_open` done
             so far (it resumes there when interrupted).
     """
@@ -115,13 +119,13 @@ class FloorField:
         self.radius = model.robot_inradius()
         xs = b[0] + resolution * np.arange(self.nx)
         ys = b[1] + resolution * np.arange(self.ny)
-        self._x, self._y = np.meshgrid(xs, ys, indexing="ij")
+        self.grid_x, self.grid_y = np.meshgrid(xs, ys, indexing="ij")
         #: the walking body's corners, and its outline grown by the kept clearance (chords
         #: inside the rounded corners), relative to the robot pose at yaw 0
-        self._outline = np.array(model.walking_outline())
-        grown = shapely.Polygon(self._outline).buffer(world.clearance, quad_segs=4) \
-            if world.clearance > 0 else shapely.Polygon(self._outline)
-        self._grown = np.asarray(grown.exterior.coords)[:-1]
+        self.outline = np.array(model.walking_outline())
+        grown = shapely.Polygon(self.outline).buffer(world.clearance, quad_segs=4) \
+            if world.clearance > 0 else shapely.Polygon(self.outline)
+        self.grown_outline = np.asarray(grown.exterior.coords)[:-1]
         self.pieces = obstacle_pieces(world.obstacles)
 
     def static_open(self, should_stop: Callable[[], bool] | None = None) -> np.ndarray:
@@ -191,7 +195,7 @@ class FloorField:
         """:meth:`fits_index` of ``k0 .. k1 - 1``, those not kept yet computed together."""
         todo = [k for k in range(k0, k1) if k not in self._fits]
         if todo:
-            xs, ys = self._x[:, 0], self._y[0, :]
+            xs, ys = self.grid_x[:, 0], self.grid_y[0, :]
             n = len(self.pieces)
             meets = grid_union(self._static_edges(todo), xs, ys,
                                groups=np.repeat(np.arange(len(todo)), n), n_groups=len(todo)) \
@@ -199,7 +203,7 @@ class FloorField:
             b = self.world.bounds
             for k, hit in zip(todo, meets, strict=True):
                 c, s = math.cos(OPEN_YAWS[k]), math.sin(OPEN_YAWS[k])
-                corners = self._outline @ np.array([[c, -s], [s, c]]).T
+                corners = self.outline @ np.array([[c, -s], [s, c]]).T
                 inside = ((xs + corners[:, 0].min() > b[0])
                           & (xs + corners[:, 0].max() < b[2]))[:, None] \
                     & ((ys + corners[:, 1].min() > b[1])
@@ -218,7 +222,7 @@ class FloorField:
         bodies = []
         for k in yaws:
             c, s = math.cos(OPEN_YAWS[k]), math.sin(OPEN_YAWS[k])
-            body = self._grown @ np.array([[c, -s], [s, c]]).T
+            body = self.grown_outline @ np.array([[c, -s], [s, c]]).T
             bodies.extend([body] * len(self.pieces))
         return meeting_edges(self.pieces * len(yaws), bodies)
 
@@ -227,7 +231,7 @@ class FloorField:
         """Open positions with the box resting at ``obj``."""
         ok = self.static_open(should_stop)
         c, s = math.cos(obj[2]), math.sin(obj[2])
-        ex, ey = self._x - obj[0], self._y - obj[1]
+        ex, ey = self.grid_x - obj[0], self.grid_y - obj[1]
         lx = np.abs(c * ex + s * ey) - 0.5 * self.model.object_size[0]
         ly = np.abs(-s * ex + c * ey) - 0.5 * self.model.object_size[1]
         d = np.hypot(np.maximum(lx, 0.0), np.maximum(ly, 0.0))
@@ -347,9 +351,9 @@ class FloorField:
         bodies = []
         for yaw in HEADING_YAWS:  # the Minkowski sums of the box and the turned body
             c, s = math.cos(yaw), math.sin(yaw)
-            bodies.append(self._outline @ np.array([[c, -s], [s, c]]).T)
+            bodies.append(self.outline @ np.array([[c, -s], [s, c]]).T)
         edges = meeting_edges([pts] * len(bodies), bodies)
-        meets = grid_union(edges, self._x[:, 0], self._y[0, :], groups=np.arange(len(bodies)),
+        meets = grid_union(edges, self.grid_x[:, 0], self.grid_y[0, :], groups=np.arange(len(bodies)),
                            n_groups=len(bodies))
         return list(meets)
 
