@@ -63,7 +63,7 @@ def main() -> None:
         a = (1.0, -2.0, 0.4)
         b = (1.0 + mag * math.cos(th), -2.0 + mag * math.sin(th), 0.4 + rng.uniform(-1, 1) * mag)
         seq = st.convert(a, b, half_length=ell)
-        pts = np.array([p[:2] for p in st.rs.sample(a, b, [i / 399 for i in range(400)])])
+        pts = np.array([p[:2] for p in st.paths.sample(a, b, [i / 399 for i in range(400)])])
         dev = max((float(np.min(np.hypot(pts[:, 0] - r.car[0], pts[:, 1] - r.car[1])))
                    for r in seq.rotations), default=0.0)
         worst = max(worst, dev / seq.rs_length)

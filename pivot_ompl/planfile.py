@@ -23,16 +23,20 @@ before; a reader recomputes it with :func:`plan_quality`)::
 
     "quality": {"pivots": n, "transfer_length": m, "pivots_per_m": r,
                 "ideal_pivots_per_m": r0, "regrasps": k, "regrasps_lower_bound": k0 | null,
-                "walking_length": w, "duration_estimate": s}
+                "walking_length": w, "duration_estimate": s, "regrasp_cost": c,
+                "cost": s + c * k}
 
 ``transfer_length`` is the distance travelled by the supporting edge's centre (the
 Reeds-Shepp car) through the step poses; ``ideal_pivots_per_m`` the rate of an alternating
 push with full rotations, ``1 / (2 l sin(alpha_max/2))`` per phase (``l`` that grasp's
-half-edge), weighted by length; ``walking_length`` the transits' length; ``duration_estimate``
-the whole-body motion's duration (s) by :class:`DurationModel` (per phase, pivot, radian
-turned and metre walked); ``regrasps_lower_bound`` the fewest regrasps any valid plan of the
-scene needs (a proven bound, :mod:`pivot_ompl.analysis.regrasp_bound`; ``null`` when unknown,
-e.g. not computed within the time limit).
+half-edge), weighted by length; ``walking_length`` the transits' length;
+``duration_estimate`` the whole-body motion's duration (s) by
+:class:`~pivot_ompl.cost.DurationModel` (per phase, pivot, radian turned and metre walked);
+``regrasp_cost`` the price (s) of one regrasp on top of its execution seconds and ``cost``
+the plan's cost, ``duration_estimate + regrasp_cost * regrasps``
+(:class:`~pivot_ompl.cost.CostModel`: what the planner minimises); ``regrasps_lower_bound``
+the fewest regrasps any valid plan of the scene needs (a proven bound,
+:mod:`pivot_ompl.analysis.regrasp_bound`; ``null`` when unknown).
 
 Reading is strict (:mod:`pivot_ompl.fileio`): UTF-8, no duplicate key, no ``NaN``; every number
 must be finite and within +-:data:`MAX_VALUE` (metres or radians), else :class:`PlanFileError`.
@@ -46,6 +50,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from pivot_ompl.cost import CostModel, DurationModel
 from pivot_ompl.errors import PlanFileError
 from pivot_ompl.fileio import atomic_output, load_json
 from pivot_ompl.se2 import Pose
@@ -198,47 +203,21 @@ class Plan:
         return path
 
 
-@dataclass(frozen=True)
-class DurationModel:
-    """Seconds of whole-body motion per plan element (the HRP-2 generator's defaults).
-
-    Fitted by :func:`pivot_ompl.wholebody.durations.fit_duration_model` (least squares per
-    pivot step and per transit, the transfer remainder's mean) to the motion of the fig10
-    demo plan (seed 0: 300 pivots, 4 regrasps, 23.6 m walked; 1005 s) made by
-    :mod:`pivot_ompl.wholebody` with its default ``Timing`` and ``WalkSettings``; the fit
-    gives that motion's duration back exactly. The robot walks the pivot steps of a transfer
-    continuously, two or three 0.84 s steps a pivot, so a rotation costs mostly by itself and
-    little by its angle; a metre walked alone costs 10 s because the planned walks are often
-    sideways or backward.
-
-    Attributes:
-        per_transfer: a transfer phase's fixed part: reaching, tilting, setting down,
-            releasing (s).
-        per_pivot: one pivot rotation's fixed part (s).
-        per_radian: per radian turned (s/rad).
-        per_transit: a transit's fixed part: starting and stopping the walk (s).
-        per_walk_m: one metre walked alone (s/m).
-    """
-
-    per_transfer: float = 5.1
-    per_pivot: float = 2.0
-    per_radian: float = 2.4
-    per_transit: float = 2.3
-    per_walk_m: float = 10.1
-
-
 def plan_quality(plan: Plan, *, regrasps_lower_bound: int | None = None,
-                 durations: DurationModel | None = None) -> dict[str, Any]:
+                 durations: DurationModel | None = None,
+                 costs: CostModel | None = None) -> dict[str, Any]:
     """The ``quality`` block of a plan (see the module docstring); pure, from the plan alone.
 
     Args:
         plan: the plan.
         regrasps_lower_bound: fewest regrasps any plan of the scene needs, if known.
-        durations: the whole-body duration model.
+        durations: the whole-body duration model (default: ``costs``'s).
+        costs: the cost model whose price per regrasp the block reports.
     """
     from pivot_ompl.grasp import BoxGraspModel  # local: grasp imports nothing from here
 
-    d = durations or DurationModel()
+    costs = costs or CostModel()
+    d = durations or costs.durations
     model = BoxGraspModel(plan.object_size, plan.robot_footprint, plan.standoff)
     half = math.sin(0.5 * plan.alpha_max)
     length = ideal = walking = turned = 0.0
@@ -259,6 +238,8 @@ def plan_quality(plan: Plan, *, regrasps_lower_bound: int | None = None,
         length += run
         ideal += run / (2.0 * model.edge_half_length(p.grasp) * half)
     pivots = plan.pivots
+    seconds = (d.per_transfer * transfers + d.per_pivot * pivots + d.per_radian * turned
+               + d.per_transit * transits + d.per_walk_m * walking)
     return {
         "pivots": pivots,
         "transfer_length": length,
@@ -267,9 +248,9 @@ def plan_quality(plan: Plan, *, regrasps_lower_bound: int | None = None,
         "regrasps": plan.regrasps,
         "regrasps_lower_bound": regrasps_lower_bound,
         "walking_length": walking,
-        "duration_estimate": (d.per_transfer * transfers + d.per_pivot * pivots
-                              + d.per_radian * turned + d.per_transit * transits
-                              + d.per_walk_m * walking),
+        "duration_estimate": seconds,
+        "regrasp_cost": costs.regrasp,
+        "cost": seconds + costs.regrasp * plan.regrasps,
     }
 
 

@@ -10,12 +10,16 @@ from pivot_ompl.scene import Scene, load_scene, scene_from_dict
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = data_root() / "scenes"
+#: Scenes kept for tests only (e.g. the first fig10, whose exact poses regression tests use).
+TEST_SCENES = Path(__file__).resolve().parent / "data" / "scenes"
 PAPER_BOX = (0.8, 0.6, 1.3)
 ALPHA_MAX = math.pi / 8
 
 
 def scene_file(name: str) -> Path:
-    return SCENES / f"{name}.yaml"
+    """A shipped scene's file, else one of the test scenes."""
+    path = SCENES / f"{name}.yaml"
+    return path if path.exists() else TEST_SCENES / f"{name}.yaml"
 
 
 def shipped(name: str) -> Scene:

@@ -8,6 +8,7 @@ is converted and checked once (cached) whichever component asks first.
 from __future__ import annotations
 
 import logging
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -123,7 +124,7 @@ class PivotChecker:
         """
         m = self.model
         ca, cb = m.car_pose(obj_a, grasp), m.car_pose(obj_b, grasp)
-        n = int(self.steering.rs.distance(ca, cb) / step)
+        n = int(self.steering.paths.distance(ca, cb) / step)
         return n < 2 or self.cars_free(ca, cb, grasp, [k / n for k in range(1, n)],
                                        with_robot=with_robot)
 
@@ -131,7 +132,7 @@ class PivotChecker:
                   with_robot: bool = True) -> bool:
         """The box (and robot) free at fractions ``ts`` of the car's Reeds-Shepp path."""
         m = self.model
-        cars = self.steering.rs.sample(car_a, car_b, list(ts))
+        cars = self.steering.paths.sample(car_a, car_b, list(ts))
         if with_robot:
             return all(self.state_valid(m.object_from_car(c, grasp), grasp) for c in cars)
         return all(self.box_valid(m.object_from_car(c, grasp)) for c in cars)
@@ -152,7 +153,7 @@ class PivotChecker:
                                     m.car_pose(obj_a, grasp), m.car_pose(obj_b, grasp), grasp,
                                     with_robot=with_robot, should_stop=should_stop))
         except Interrupted:
-            length = self.steering.rs.distance(obj_a, obj_b)
+            length = self.steering.paths.distance(obj_a, obj_b)
             return EdgeResult(False, PivotSequence(obj_a, obj_b, (), length, 0), length,
                               "interrupted by the termination condition")
 
@@ -183,6 +184,34 @@ class PivotChecker:
                                                          should_stop=should_stop))
         except Interrupted:
             return INVALID_WALK
+
+    def spin_radius(self, grasp: int) -> float:
+        """Farthest point (m) of the box and the holding robot from the car at ``grasp``."""
+        m = self.model
+        car = (0.0, 0.0, 0.0)
+        pts = m.object_corners(m.object_from_car(car, grasp)) + \
+            m.held_corners(m.robot_from_car(car, grasp), grasp)
+        return max(math.hypot(x, y) for x, y in pts)
+
+    def turned(self, obj: Pose, grasp: int, *, margin: float) -> Pose | None:
+        """The box turned round with the robot, if the assembly has room to turn in place.
+
+        The car of ``(obj, grasp)`` spins by pi about its own position (the path
+        :class:`~pivot_ompl.pivoting.curves.CarPaths` gives two car poses at one position):
+        the box swings round to the robot's other side. Returns the object pose reached, or
+        ``None`` unless the disk the assembly sweeps (radius :meth:`spin_radius` plus
+        ``margin``) is inside the bounds and clear of the obstacles, and the state reached
+        is valid. A cheap sufficient test (one query): the turn's pivot sequence is still
+        checked by :meth:`transfer`.
+        """
+        m, w = self.model, self.world
+        cx, cy, h = m.car_pose(obj, grasp)
+        r = self.spin_radius(grasp) + margin
+        x0, y0, x1, y1 = w.bounds
+        if min(cx - x0, x1 - cx, cy - y0, y1 - cy) < r or w.disk_distance(cx, cy, r) <= 0:
+            return None
+        turned = m.object_from_car((cx, cy, h + math.pi), grasp)
+        return turned if self.state_valid(turned, grasp) else None
 
     def explain(self, obj: Pose) -> str:
         """Why each grasp is invalid at object pose ``obj`` (for error messages)."""

@@ -85,7 +85,7 @@ class TransferCheck:
         """
         steering = self.steering
         ell = self.model.edge_half_length(grasp)
-        length = steering.rs.distance(ca, cb)
+        length = steering.paths.distance(ca, cb)
 
         def fail(reason: str) -> EdgeResult:
             return EdgeResult(False, PivotSequence(ca, cb, (), length, 0), length, reason)

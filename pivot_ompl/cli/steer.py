@@ -66,7 +66,7 @@ def run(args: argparse.Namespace) -> int:
     except Interrupted:
         raise Interrupted(f"steering at the --time limit of {args.time:g} s") from None
     n = max(2, min(MAX_RS_SAMPLES, int(seq.rs_length / RS_PLOT_STEP) + 1))
-    rs = tuple(steering.rs.sample(seq.start, seq.goal, [i / (n - 1) for i in range(n)]))
+    rs = tuple(steering.paths.sample(seq.start, seq.goal, [i / (n - 1) for i in range(n)]))
     phase = TransferPhase(grasp, m.robot_pose(start, grasp), steps_of(m, seq, grasp), start, rs)
     plan = Plan(name, "exact", m.object_size, m.robot_footprint, m.standoff, base.alpha_max,
                 start, [phase], {"planner": "steer", "turning_radius": base.turning_radius,

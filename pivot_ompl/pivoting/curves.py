@@ -10,7 +10,7 @@ from typing import Any, ClassVar
 
 from ompl import base as ob
 
-from pivot_ompl.se2 import Pose
+from pivot_ompl.se2 import Pose, wrap_angle
 
 
 class Curves:
@@ -73,3 +73,55 @@ class Dubins(Curves):
     """Dubins curves (forward only): OMPL's ``DubinsStateSpace``."""
 
     space_class = ob.DubinsStateSpace
+
+
+#: Two car poses closer than this (m) share their position: the path between them is a spin.
+SPIN_TOL = 1e-9
+#: A spin's length is the arc a point this far from the car (m, about a supporting edge's
+#: half-length) traces: it only sets how densely cheap tests sample a spin.
+SPIN_RADIUS = 0.3
+
+
+class CarPaths:
+    """The pivoting car's reference paths: Reeds-Shepp curves, and spins (turns in place).
+
+    Pivoting is small-time controllable: rotations about the two ends of the supporting
+    edge, turning the same way in turn, spin the car about its own position (the box swings
+    round with the robot: "backward and forward manipulation"), which no Reeds-Shepp curve
+    of a positive turning radius does. Where two car poses share their position (within
+    :data:`SPIN_TOL`), the path between them is the spin: the position fixed, the heading
+    turned linearly the short way round (by exactly pi: clockwise, as :func:`wrap_angle`
+    maps pi to -pi). Elsewhere it is the Reeds-Shepp curve.
+
+    Args:
+        turning_radius: the Reeds-Shepp curves' turning radius (m).
+    """
+
+    def __init__(self, *, turning_radius: float) -> None:
+        """The curves of this turning radius."""
+        self.rs = ReedsShepp(turning_radius=turning_radius)
+
+    @staticmethod
+    def is_spin(a: Pose, b: Pose) -> bool:
+        """Whether the path ``a -> b`` is a spin (same position, another heading)."""
+        return abs(b[0] - a[0]) <= SPIN_TOL and abs(b[1] - a[1]) <= SPIN_TOL and \
+            abs(wrap_angle(b[2] - a[2])) > 0.0
+
+    def distance(self, a: Pose, b: Pose) -> float:
+        """Length of the path ``a -> b`` (m; a spin's by :data:`SPIN_RADIUS`)."""
+        if self.is_spin(a, b):
+            return SPIN_RADIUS * abs(wrap_angle(b[2] - a[2]))
+        return self.rs.distance(a, b)
+
+    def interpolate(self, a: Pose, b: Pose, t: float) -> Pose:
+        """The pose at fraction ``t`` in [0, 1] of the path ``a -> b``."""
+        if self.is_spin(a, b):
+            return (a[0], a[1], wrap_angle(a[2] + t * wrap_angle(b[2] - a[2])))
+        return self.rs.interpolate(a, b, t)
+
+    def sample(self, a: Pose, b: Pose, ts: list[float]) -> list[Pose]:
+        """Poses at each fraction of ``ts`` along the path ``a -> b``."""
+        if self.is_spin(a, b):
+            turn = wrap_angle(b[2] - a[2])
+            return [(a[0], a[1], wrap_angle(a[2] + t * turn)) for t in ts]
+        return self.rs.sample(a, b, ts)

@@ -17,6 +17,12 @@ path (controllability paper: small-time local controllability), however short th
 
 Consecutive rotations about the same corner are merged when the sum stays within the bound,
 which removes the redundant rotation at every junction of two pieces.
+
+Between two car poses at the same position the reference path is a **spin**, a turn in place
+(:class:`~pivot_ompl.pivoting.curves.CarPaths`): three rotations solve each piece of it too
+(``a/4`` about one end, ``a/2`` about the other, ``a/4`` about the first: the car turns by
+``a`` and comes back to its place), so the box swings round with the robot wherever the
+assembly has room, as the regrasp paper's robot did with "backward and forward manipulation".
 """
 
 from __future__ import annotations
@@ -28,9 +34,9 @@ from dataclasses import dataclass, field
 from typing import NamedTuple
 
 from pivot_ompl.errors import InputError, Interrupted, SteeringError
+from pivot_ompl.pivoting.curves import CarPaths
 from pivot_ompl.pivoting.kinematics import ANGLE_TOL, Rotation, solve_piece
-from pivot_ompl.pivoting.reeds_shepp import ReedsShepp
-from pivot_ompl.se2 import Pose
+from pivot_ompl.se2 import Pose, wrap_angle
 
 log = logging.getLogger(__name__)
 
@@ -107,7 +113,7 @@ class PivotSteering:
     turning_radius: float
     alpha_max: float
     merge: bool = True
-    rs: ReedsShepp = field(init=False, repr=False)
+    paths: CarPaths = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         """Validate the parameters and build the OMPL Reeds-Shepp space."""
@@ -115,7 +121,7 @@ class PivotSteering:
             raise InputError("turning_radius", self.turning_radius, "must be > 0 m")
         if not (0 < self.alpha_max <= 0.5 * math.pi):
             raise InputError("alpha_max", self.alpha_max, "must be in (0, pi/2] rad")
-        self.rs = ReedsShepp(turning_radius=self.turning_radius)
+        self.paths = CarPaths(turning_radius=self.turning_radius)
 
     def convert(self, start: Pose, goal: Pose, *, half_length: float,
                 should_stop: Callable[[], bool] | None = None) -> PivotSequence:
@@ -138,7 +144,8 @@ class PivotSteering:
             for r in piece.rotations:
                 self.append_merged(rotations, r)
             pieces += 1
-        return PivotSequence(start, goal, tuple(rotations), self.rs.distance(start, goal), pieces)
+        return PivotSequence(start, goal, tuple(rotations), self.paths.distance(start, goal),
+                             pieces)
 
     def iter_rotations(self, start: Pose, goal: Pose, *, half_length: float,
                        should_stop: Callable[[], bool] | None = None,
@@ -187,10 +194,14 @@ class PivotSteering:
         amax = self.alpha_max if alpha_max is None else alpha_max
         if not (0 < amax <= self.alpha_max):
             raise InputError("alpha_max", amax, f"must be in (0, {self.alpha_max}] rad")
-        rs = self.rs
+        rs = self.paths
         ell = half_length
         t0, t_end = span
         length = rs.distance(start, goal)
+        # the small-time neighbourhood scales with the path's length; a spin's with the arc
+        # the edge's ends trace
+        scale = ell * abs(wrap_angle(goal[2] - start[2])) if rs.is_spin(start, goal) \
+            else length
         current = origin if origin is not None else (
             start if t0 == 0.0 else rs.interpolate(start, goal, t0))
         end_pose = goal if t_end == 1.0 else rs.interpolate(start, goal, t_end)
@@ -206,7 +217,7 @@ class PivotSteering:
             if math.hypot(target[0] - current[0], target[1] - current[1]) > reach:
                 return None
             ok, rots = solve_piece(current, target, ell, amax,
-                                   max_deviation=DEVIATION_RATIO * (t - t0) * length + 1e-12,
+                                   max_deviation=DEVIATION_RATIO * (t - t0) * scale + 1e-12,
                                    previous=previous)
             return (target, rots) if ok else None
 

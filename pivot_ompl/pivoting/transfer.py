@@ -27,7 +27,7 @@ def steps_of(model: BoxGraspModel, seq: PivotSequence, grasp: int) -> tuple[Tran
 def rs_samples(steering: PivotSteering, seq: PivotSequence) -> tuple[Pose, ...]:
     """Car poses along the sequence's Reeds-Shepp path, about every :data:`RS_PLOT_STEP` m."""
     n = max(2, int(seq.rs_length / RS_PLOT_STEP) + 1)
-    return tuple(steering.rs.sample(seq.start, seq.goal, [i / (n - 1) for i in range(n)]))
+    return tuple(steering.paths.sample(seq.start, seq.goal, [i / (n - 1) for i in range(n)]))
 
 
 def transfer_phase(model: BoxGraspModel, steering: PivotSteering, waypoints: list[Pose],

@@ -1,15 +1,17 @@
 """The regrasp planner's configuration: nested frozen dataclasses, one per stage.
 
-:class:`RegraspConfig` holds the grasps the robot may use and one block per stage of the
-planner: :class:`SamplingConfig` (the object roadmap: visibility, critical configurations,
-slots, bridge tests, diffusion), :class:`SearchConfig` (the multiplexed graph and its lazy
-search), :class:`SingleGraspConfig` (the regrasp-free try) and :class:`OptimiserConfig`. Units
-are metres and radians; lengths "in the pose metric" add ``YAW_WEIGHT`` metres per radian.
+:class:`RegraspConfig` holds the grasps the robot may use, one block per stage of the planner
+(:class:`SamplingConfig`: the object roadmap's visibility, critical configurations, slots,
+bridge tests and diffusion; :class:`SearchConfig`: the multiplexed graph and its lazy search;
+:class:`SingleGraspConfig`: the regrasp-free try; :class:`OptimiserConfig`) and the cost both
+the search and the optimiser minimise (:class:`~pivot_ompl.cost.CostModel`). Units are
+metres, radians and seconds; lengths "in the pose metric" add ``YAW_WEIGHT`` m per radian.
 
-Every leaf has a dotted name (``search.weight``, ``sampling.slot_spacing``...), listed by
-:meth:`RegraspConfig.flat` and set by :meth:`RegraspConfig.with_values`: what
-``pivot-ompl bench --param NAME=V1,V2`` sweeps (OMPL 2.0.1's Python binding cannot declare
-planner parameters: ``Planner.params()`` raises a conversion error).
+Every leaf has a dotted name (``search.weight``, ``cost.regrasp``,
+``sampling.slot_spacing``...), listed by :meth:`RegraspConfig.flat` and set by
+:meth:`RegraspConfig.with_values`: what ``pivot-ompl bench --param NAME=V1,V2`` sweeps (OMPL
+2.0.1's Python binding cannot declare planner parameters: ``Planner.params()`` raises a
+conversion error).
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ import math
 from dataclasses import dataclass, field, fields, is_dataclass, replace
 from typing import Any
 
+from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import InputError
 
 
@@ -82,15 +85,24 @@ class SearchConfig:
         every: the roadmap's growth searches after this many new object nodes gave
             manipulation nodes (a search is skipped at no cost while the candidate graph
             cannot join start and goal).
-        regrasp_cost: a regrasp's price in the search (m of box path, on top of the walk's
-            estimated length).
+        turns: give every manipulation node whose assembly has room to turn round in place
+            a candidate *turn* edge: the box swung round by pi with the robot (the car spins
+            about its position: backward and forward manipulation), which puts the robot on
+            the box's other side without a regrasp.
+        turn_margin: room (m) a turn needs beyond the disk the assembly sweeps.
+        improve_share: once a path is found, the search looks for the cheapest path of the
+            graph (heuristic not inflated), checking at most this share of the motion
+            checks made so far; the cheaper path is kept.
     """
 
     neighbours: int = 10
     connect_radius: float = 3.5
     weight: float = 2.0
     every: int = 16
-    regrasp_cost: float = 2.0
+    turns: bool = True
+    turn_margin: float = 0.05
+    improve_share: float = 0.3
+    improve_growth: float = 0.5
 
 
 @dataclass(frozen=True)
@@ -116,11 +128,18 @@ class OptimiserConfig:
         check_share: it may compute at most this share of the motion checks planning made
             (a budget of work, not of seconds: a seed gives the same plan on any machine).
         min_checks: the smallest budget (motion checks).
+        routes: re-route each transfer phase along the held assembly's cheapest lattice
+            route where that is cheaper (:mod:`pivot_ompl.planners.routes.refine`), then
+            optimise again.
+        route_share: the re-routing may compute at most this share of the motion checks
+            planning made.
     """
 
     enabled: bool = True
     check_share: float = 0.2
     min_checks: int = 10
+    routes: bool = True
+    route_share: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -133,6 +152,8 @@ class RegraspConfig:
         search: the multiplexed graph and its search.
         single_grasp: the regrasp-free try.
         optimiser: the path optimiser.
+        cost: what the search and the optimiser minimise: seconds of whole-body execution
+            plus a price per regrasp (``cost.regrasp``, s).
     """
 
     grasps: tuple[int, ...] = (0, 1, 2, 3)
@@ -140,6 +161,7 @@ class RegraspConfig:
     search: SearchConfig = field(default_factory=SearchConfig)
     single_grasp: SingleGraspConfig = field(default_factory=SingleGraspConfig)
     optimiser: OptimiserConfig = field(default_factory=OptimiserConfig)
+    cost: CostModel = field(default_factory=CostModel)
 
     def flat(self) -> dict[str, Any]:
         """Every leaf by dotted name (``"search.weight": 2.0``...), in declaration order."""

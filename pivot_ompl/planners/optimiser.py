@@ -1,24 +1,25 @@
-"""The path optimiser: fewest pivots and regrasps over the waypoints of a found path.
+"""The path optimiser: the cheapest path over the waypoints of a found path.
 
 A path is a list of ``(object pose, grasp)`` states; a grasp change happens at one object
 pose (two consecutive states with the same pose), with a valid walk
-(:meth:`PivotChecker.transit`). Its cost, in pivots::
-
-    cost = pivots + w_r * regrasps + w_w * walking length (m)
+(:meth:`PivotChecker.transit`). Its cost is the planner's one cost model
+(:class:`~pivot_ompl.cost.CostModel`): seconds of whole-body execution plus a price per
+regrasp (a transfer costs its rotations' seconds, a regrasp its price, its walk and a new
+phase).
 
 The optimiser keeps the path's object poses (the *waypoints*, in order) and chooses anew
 which of them to pass through and with which grasp: a layered graph whose nodes are
 ``(waypoint i, grasp g)``, with
 
 * a **transfer** ``(i, g) -> (j, g)`` for every ``j > i`` (a shortcut when ``j > i + 1``,
-  re-steered from scratch: its cost is its pivot count), and
-* a **regrasp** ``(i, g) -> (i, h)`` (cost ``w_r + w_w * walk length``).
+  re-steered from scratch: its cost is its rotations' seconds), and
+* a **regrasp** ``(i, g) -> (i, h)`` (cost :meth:`~pivot_ompl.cost.CostModel.regrasp_seconds`).
 
 Dynamic programming over the waypoints (the graph is acyclic but for the regrasps inside a
 layer) gives the cheapest path; edges are checked lazily, only when a cheapest path uses
-them, with optimistic costs until then (a transfer needs at least
-``max(d / (2 l sin(alpha/2)), |dh| / alpha)`` rotations, since one rotation moves the edge's
-centre by at most ``2 l sin(alpha/2)``; a walk is at least the straight line); the transfers
+them, with optimistic costs until then (a transfer's
+:meth:`~pivot_ompl.cost.CostModel.transfer_bound`; a walk is at least the straight line); the
+transfers
 of a candidate path are checked before its walks, which cost more. When every edge
 of the cheapest path is checked it is optimal over the waypoints. Until then the best path
 of checked edges is kept, so the result is always valid and never costlier than the input:
@@ -37,6 +38,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.cost import CostModel
 from pivot_ompl.se2 import Pose, wrap_angle
 
 log = logging.getLogger(__name__)
@@ -52,35 +54,13 @@ CHECK_SHARE = 0.2
 MIN_CHECKS = 10
 
 
-@dataclass(frozen=True)
-class PathWeights:
-    """Weights of the path cost, in pivots.
-
-    A regrasp lasts about as long as 3 pivots plus the walk (``planfile.DurationModel``: a
-    pivot of 0.3 rad about 2.7 s, a regrasp's transfer and transit parts 7.4 s),
-    but each one releases and grasps the box again, the riskiest moment on a real robot:
-    it is priced well above its duration, so that a plan trades up to 25 pivots for one
-    regrasp less (a switch to the longer edge, which halves the pivots per metre, must save
-    more than that).
-
-    Attributes:
-        regrasp: cost of one regrasp (pivots): releasing, tilting back, grasping again.
-        walking: cost of one metre walked alone (pivots per m; a metre of walking lasts
-            about as long as 3.7 pivots of 0.3 rad since the whole body walks its pivots
-            continuously; the weight was set when it lasted about 2.7, and is kept).
-    """
-
-    regrasp: float = 25.0
-    walking: float = 2.5
-
-
 @dataclass
 class OptimiseStats:
     """What one optimisation did.
 
     Attributes:
         waypoints: distinct object poses of the input path.
-        cost_before, cost_after: path cost (pivots + weighted regrasps and walking).
+        cost_before, cost_after: path cost (s, :class:`~pivot_ompl.cost.CostModel`).
         transfers_checked, walks_checked: edges checked (cache hits included).
         rounds: cheapest-path rounds.
         optimal: the result is the cheapest path over the waypoints (every edge checked).
@@ -103,7 +83,7 @@ class _Graph:
 
     checker: PivotChecker
     poses: list[Pose]
-    weights: PathWeights
+    costs: CostModel
     grasps: tuple[int, ...]
     nodes: list[list[int]] = field(default_factory=list)  # valid grasps per waypoint
     #: checked costs: ``None`` = invalid
@@ -119,25 +99,20 @@ class _Graph:
         #: the waypoints (ascending) where each grasp is valid
         self._valid_at = {g: [i for i, ns in enumerate(self.nodes) if g in ns]
                           for g in self.grasps}
-        m = ck.model
-        a = ck.scene.alpha_max
-        self._per_rotation = {g: 2.0 * m.edge_half_length(g) * math.sin(0.5 * a)
-                              for g in range(4)}
 
     def transfer_bound(self, i: int, j: int, g: int) -> float:
-        """Fewest rotations that can move the box from waypoint ``i`` to ``j`` at ``g``."""
+        """Fewest seconds that can move the box from waypoint ``i`` to ``j`` at ``g``."""
         m = self.checker.model
         ca, cb = m.car_pose(self.poses[i], g), m.car_pose(self.poses[j], g)
-        d = math.hypot(cb[0] - ca[0], cb[1] - ca[1])
-        return max(d / self._per_rotation[g],
-                   abs(wrap_angle(cb[2] - ca[2])) / self.checker.scene.alpha_max)
+        return self.costs.transfer_bound(math.hypot(cb[0] - ca[0], cb[1] - ca[1]),
+                                         wrap_angle(cb[2] - ca[2]), m.edge_half_length(g),
+                                         self.checker.scene.alpha_max)
 
     def walk_bound(self, i: int, g: int, h: int) -> float:
-        """Cheapest conceivable regrasp from ``g`` to ``h`` at waypoint ``i``."""
+        """Cheapest conceivable regrasp from ``g`` to ``h`` at waypoint ``i`` (s)."""
         m = self.checker.model
         ra, rb = m.robot_pose(self.poses[i], g), m.robot_pose(self.poses[i], h)
-        return self.weights.regrasp + self.weights.walking * math.hypot(rb[0] - ra[0],
-                                                                       rb[1] - ra[1])
+        return self.costs.regrasp_seconds(math.hypot(rb[0] - ra[0], rb[1] - ra[1]))
 
     def cost(self, kind: str, key: tuple[int, int, int], optimistic: bool) -> float | None:
         """Checked cost of an edge; its bound if unchecked and ``optimistic``, else ``None``."""
@@ -221,20 +196,20 @@ def _waypoints(states: list[State]) -> tuple[list[Pose], list[tuple[int, int]]]:
     return poses, nodes
 
 
-def path_cost(checker: PivotChecker, states: list[State], weights: PathWeights) -> float:
-    """Cost of a path (pivots + weighted regrasps and walking); ``inf`` if an edge is invalid."""
+def path_cost(checker: PivotChecker, states: list[State], costs: CostModel) -> float:
+    """Cost of a path (s, :class:`~pivot_ompl.cost.CostModel`); ``inf`` if an edge is invalid."""
     total = 0.0
     for (pa, ga), (pb, gb) in zip(states, states[1:], strict=False):
         if ga == gb:
             e = checker.transfer(pa, pb, ga)
             if not e.valid:
                 return math.inf
-            total += len(e.sequence.rotations)
+            total += costs.rotations(r.angle for r in e.sequence.rotations)
         else:
             w = checker.transit(pa, ga, gb)
             if not w.valid or pa != pb:
                 return math.inf
-            total += weights.regrasp + weights.walking * w.length
+            total += costs.regrasp_seconds(w.length)
     return total
 
 
@@ -252,7 +227,7 @@ def budgeted(should_stop: Callable[[], bool], checker: PivotChecker, *,
 
 
 def optimise(checker: PivotChecker, states: list[State], *,
-             should_stop: Callable[[], bool], weights: PathWeights | None = None,
+             should_stop: Callable[[], bool], costs: CostModel | None = None,
              grasps: tuple[int, ...] = (0, 1, 2, 3),
              stats: OptimiseStats | None = None) -> list[State]:
     """The cheapest path over the waypoints of ``states`` found before ``should_stop``.
@@ -262,7 +237,7 @@ def optimise(checker: PivotChecker, states: list[State], *,
         states: a valid path of ``(object pose, grasp)`` states.
         should_stop: termination condition, polled between edge checks and passed to
             them (the pivot steering and the walk search poll it too).
-        weights: cost weights (:class:`PathWeights`).
+        costs: the cost model (default :class:`~pivot_ompl.cost.CostModel`).
         grasps: the grasps the robot may use.
         stats: filled with what was done, if given.
 
@@ -270,7 +245,7 @@ def optimise(checker: PivotChecker, states: list[State], *,
         A valid path from the same start pose to the same goal pose, never costlier than
         ``states`` (``states`` itself when nothing better was found).
     """
-    w = weights or PathWeights()
+    w = costs or CostModel()
     st = stats if stats is not None else OptimiseStats()
     t0 = time.perf_counter()
     if len(states) < 2:
@@ -285,11 +260,10 @@ def optimise(checker: PivotChecker, states: list[State], *,
     # the input's own edges are checked (cache hits): the DP over checked edges finds it
     for (i, g), (j, h) in zip(given, given[1:], strict=False):
         if g == h:
-            graph.transfer[(i, j, g)] = float(len(checker.transfer(
-                poses[i], poses[j], g).sequence.rotations))
+            graph.transfer[(i, j, g)] = w.rotations(
+                r.angle for r in checker.transfer(poses[i], poses[j], g).sequence.rotations)
         else:
-            graph.walk[(i, g, h)] = w.regrasp + w.walking * checker.transit(
-                poses[i], g, h).length
+            graph.walk[(i, g, h)] = w.regrasp_seconds(checker.transit(poses[i], g, h).length)
     _lazy_rounds(graph, should_stop, st)
     cost, nodes = graph.cheapest(optimistic=False)
     result = list(states)
@@ -335,7 +309,8 @@ def _lazy_rounds(graph: _Graph, stop: Callable[[], bool], st: OptimiseStats) -> 
                     e = ck.transfer(poses[i], poses[j], g, should_stop=stop)
                     if stop() and not e.valid:  # interrupted: unknown, not invalid
                         return
-                    c = float(len(e.sequence.rotations)) if e.valid else None
+                    c = graph.costs.rotations(r.angle for r in e.sequence.rotations) \
+                        if e.valid else None
                 graph.transfer[key] = c
             else:
                 i, g, h = key
@@ -344,7 +319,7 @@ def _lazy_rounds(graph: _Graph, stop: Callable[[], bool], st: OptimiseStats) -> 
                 if stop() and not walk.valid:  # interrupted: unknown, not invalid
                     return
                 if walk.valid:
-                    c = graph.weights.regrasp + graph.weights.walking * walk.length
+                    c = graph.costs.regrasp_seconds(walk.length)
                 graph.walk[key] = c
             if c is None:
                 break  # the path is broken: find the next cheapest

@@ -103,7 +103,7 @@ class SingleGraspConnect:
                 ) -> tuple[str, int]:
         """One step of ``tree`` towards ``target``: ``("reached" | "advanced" | "trapped", i)``."""
         ck, g = self.checker, self.grasp
-        m, rs = ck.model, ck.steering.rs
+        m, rs = ck.model, ck.steering.paths
         i = tree.nearest(target)
         near = tree.poses[i]
         ca, cb = m.car_pose(near, g), m.car_pose(target, g)

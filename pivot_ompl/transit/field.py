@@ -353,8 +353,8 @@ class FloorField:
             c, s = math.cos(yaw), math.sin(yaw)
             bodies.append(self.outline @ np.array([[c, -s], [s, c]]).T)
         edges = meeting_edges([pts] * len(bodies), bodies)
-        meets = grid_union(edges, self.grid_x[:, 0], self.grid_y[0, :], groups=np.arange(len(bodies)),
-                           n_groups=len(bodies))
+        meets = grid_union(edges, self.grid_x[:, 0], self.grid_y[0, :],
+                           groups=np.arange(len(bodies)), n_groups=len(bodies))
         return list(meets)
 
 

@@ -171,7 +171,7 @@ def test_sideways_and_cusp_heavy(steering):
 
 def deviation_from_rs(steering, a, b, seq, n=400):
     """Largest distance (m) of a car position of ``seq`` to the Reeds-Shepp path ``a -> b``."""
-    pts = np.array([p[:2] for p in steering.rs.sample(a, b, [i / (n - 1) for i in range(n)])])
+    pts = np.array([p[:2] for p in steering.paths.sample(a, b, [i / (n - 1) for i in range(n)])])
     return max((float(np.min(np.hypot(pts[:, 0] - r.car[0], pts[:, 1] - r.car[1])))
                 for r in seq.rotations), default=0.0)
 
@@ -200,7 +200,7 @@ def test_tiny_displacements(mag, th, dh):
 def test_pieces_stay_near_their_chord(steering):
     """Every piece's intermediate car positions are within DEVIATION_RATIO of its length."""
     for a, b in random_pairs(200, seed=5, lo=0.001, hi=3.0):
-        length = steering.rs.distance(a, b)
+        length = steering.paths.distance(a, b)
         for p in steering.iter_pieces(a, b, half_length=ELL):
             s = (p.t1 - p.t0) * length
             for r in p.rotations:

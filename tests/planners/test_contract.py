@@ -153,7 +153,9 @@ def test_multiplexing_stops_at_the_termination_condition_and_resumes():
     """Multiplexing a batch of object nodes polls the termination condition between nodes
     (a bridge step adds up to 17 nodes, each with 40 candidate edges); the nodes left are
     multiplexed by the next call."""
-    search = _search(shipped("open"))
+    from pivot_ompl.planners.config import RegraspConfig, SearchConfig
+
+    search = _search(shipped("open"), RegraspConfig(search=SearchConfig(turns=False)))
     for k in range(5):
         search.roadmap.add((2.0 + 0.5 * k, 3.0, 0.1 * k), "diffusion")
     calls = []
@@ -196,6 +198,7 @@ def test_lazy_search_drops_implausible_edges_and_goes_round():
     from factories import make_scene
 
     from pivot_ompl.checking.pivot_checker import PivotChecker
+    from pivot_ompl.cost import CostModel
     from pivot_ompl.planners.multiplex.graph import MultiplexedGraph
     from pivot_ompl.planners.multiplex.search import PathSearch
     from pivot_ompl.planners.objects.roadmap import Roadmap
@@ -206,7 +209,7 @@ def test_lazy_search_drops_implausible_edges_and_goes_round():
     roadmap = Roadmap()
     s_i, g_i = roadmap.add(scene.start, "start"), roadmap.add(scene.goal, "goal")
     graph = MultiplexedGraph(checker, roadmap, grasps=(0, 1, 2, 3), neighbours=10,
-                             connect_radius=3.5, regrasp_cost=2.0)
+                             connect_radius=3.5, costs=CostModel())
     graph.multiplex_pending(lambda: False)
     graph.start_nodes = [n for n in graph.adj if n[0] == s_i]  # no reachable set: the
     graph.goal_nodes = {n for n in graph.adj if n[0] == g_i}    # search itself must test
@@ -214,8 +217,7 @@ def test_lazy_search_drops_implausible_edges_and_goes_round():
     graph.link(s, g, 3.5, lambda: False)
     detour = roadmap.add((3.75, 1.8, 0.0), "guard")
     graph.multiplex_pending(lambda: False)
-    path = PathSearch(checker, graph, scene.goal, weight=2.0, regrasp_cost=2.0).cheapest(
-        lambda: False)
+    path = PathSearch(checker, graph, scene.goal, weight=2.0).cheapest(lambda: False)
     assert path[0] in graph.start_nodes and path[-1] in graph.goal_nodes
     assert any(n[0] == detour for n in path)
     assert g not in graph.adj[s] and graph.removed(s, g)  # the direct edge was dropped

@@ -1,4 +1,4 @@
-"""The path optimiser: fewer pivots and regrasps, valid paths, termination honoured."""
+"""The path optimiser: cheaper paths by the cost model, valid paths, termination honoured."""
 
 from __future__ import annotations
 
@@ -10,7 +10,8 @@ from factories import make_scene, shipped
 
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.base.problem import make_problem
-from pivot_ompl.planners.optimiser import OptimiseStats, PathWeights, optimise, path_cost
+from pivot_ompl.cost import CostModel, DurationModel
+from pivot_ompl.planners.optimiser import OptimiseStats, optimise, path_cost
 from pivot_ompl.validity.plan_check import check_plan
 
 START, GOAL = (1.5, 3.0, 0.0), (6.5, 3.0, 0.0)
@@ -25,7 +26,7 @@ def _zigzag_with_regrasps():
     w1, w2, w3 = (2.5, 4.2, 0.5), (4.0, 1.8, -0.4), (5.2, 4.0, 0.3)
     states = [(START, 0), (w1, 0), (w1, 1), (w1, 0), (w2, 0), (w2, 2), (w2, 3), (w3, 3),
               (GOAL, 3)]
-    assert math.isfinite(path_cost(ck, states, PathWeights())), "the input must be valid"
+    assert math.isfinite(path_cost(ck, states, CostModel())), "the input must be valid"
     return scene, ck, states
 
 
@@ -35,9 +36,9 @@ def _regrasps(states):
 
 def test_optimiser_cuts_pivots_and_regrasps_and_stays_valid():
     scene, ck, states = _zigzag_with_regrasps()
-    w = PathWeights()
+    w = CostModel()
     stats = OptimiseStats()
-    out = optimise(ck, states, should_stop=lambda: False, weights=w, stats=stats)
+    out = optimise(ck, states, should_stop=lambda: False, costs=w, stats=stats)
     before, after = path_cost(ck, states, w), path_cost(ck, out, w)
     assert after <= before and stats.cost_after == after and stats.optimal
     # open floor: one straight push at one grasp, the waste and every regrasp gone
@@ -66,8 +67,9 @@ def test_grasp_is_chosen_by_the_cost():
     scene = make_scene(start=list(a), goal=list(b))
     ck = make_problem(scene).checker
     states = [(a, 2), (b, 2)]  # sideways at grasp 2 (grasp 0 would leave the bounds)
-    free = PathWeights(regrasp=0.0, walking=0.0)
-    cheap = optimise(ck, states, should_stop=lambda: False, weights=free)
+    free = CostModel(regrasp=0.0, durations=DurationModel(per_transfer=0.0, per_transit=0.0,
+                                                          per_walk_m=0.0))
+    cheap = optimise(ck, states, should_stop=lambda: False, costs=free)
     moving = {a_[1] for a_, b_ in zip(cheap, cheap[1:], strict=False) if a_[1] == b_[1]}
     assert moving <= {1, 3}  # the push, no sideways manoeuvre
     assert path_cost(ck, cheap, free) < 0.5 * path_cost(ck, states, free)
@@ -75,7 +77,7 @@ def test_grasp_is_chosen_by_the_cost():
     # a regrasp priced above the pivots it saves is not taken (start at grasp 0 only)
     ck2 = make_problem(scene).checker
     dear = optimise(ck2, states, should_stop=lambda: False, grasps=(0, 2),
-                    weights=PathWeights(regrasp=1000.0, walking=0.0))
+                    costs=CostModel(regrasp=1000.0))
     assert _regrasps(dear) == 0
 
 
@@ -87,7 +89,7 @@ def test_termination_condition_is_honoured():
     assert time.perf_counter() - t0 < 0.5
     # no new edge is checked; the input's own edges still allow dropping the round trip
     assert stats.transfers_checked == stats.walks_checked == 0 and stats.rounds == 0
-    assert path_cost(ck, out, PathWeights()) <= path_cost(ck, states, PathWeights())
+    assert path_cost(ck, out, CostModel()) <= path_cost(ck, states, CostModel())
     calls = []
 
     def stop():
@@ -95,8 +97,8 @@ def test_termination_condition_is_honoured():
         return len(calls) > 3
 
     out = optimise(ck, states, should_stop=stop)
-    assert math.isfinite(path_cost(ck, out, PathWeights()))
-    assert path_cost(ck, out, PathWeights()) <= path_cost(ck, states, PathWeights())
+    assert math.isfinite(path_cost(ck, out, CostModel()))
+    assert path_cost(ck, out, CostModel()) <= path_cost(ck, states, CostModel())
 
 
 def test_walks_are_computed_only_for_paths_whose_transfers_hold():

@@ -27,7 +27,7 @@ def _slots(scene):
 
 def test_fig10_has_two_slots_centred_in_its_walls():
     slots = _slots(shipped("fig10"))
-    assert [p.center for p in slots] == [pytest.approx((4.05, 1.5)), pytest.approx((7.95, 5.5))]
+    assert [p.center for p in slots] == [pytest.approx((3.55, 1.5)), pytest.approx((8.95, 5.5))]
     for p in slots:
         assert p.axis == pytest.approx(0.0, abs=1e-9)
         assert p.width == pytest.approx(0.62)

@@ -292,7 +292,7 @@ def test_a_walk_whose_only_way_is_a_slot_fails_at_once():
     # door's pocket is wall B's slot (0.62 m), which the walking body (0.60 m deep, 1 cm kept
     # on both sides) cannot pass at any lattice heading. The field's inscribed disk passed it,
     # so the lattice search expanded every state it could reach (19.5k, ~1.6 s) to fail.
-    scene = shipped("fig10")
+    scene = shipped("fig10_narrow")
     wp = PivotChecker(scene, seed=0).walker
     box = (7.9, 0.925, 0.0)
     wp.expansions = 0
@@ -387,7 +387,7 @@ def _tight_turn(**settings):
     there; ``settings`` are set on the walk planner first.
     """
     obj, start, goal = TIGHT_TURN
-    doc = shipped_doc("fig10")
+    doc = shipped_doc("fig10_narrow")
     doc["start"] = doc["goal"] = list(obj)
     scene = scene_from_dict(doc)
     wp = PivotChecker(scene, seed=0).walker
@@ -424,7 +424,7 @@ def test_a_walk_the_lattice_cannot_make_fails_after_the_quick_search():
     # walk exists
     from pivot_ompl.generate import mirror_scene
 
-    scene = mirror_scene(shipped("fig10"), math.radians(20.0))
+    scene = mirror_scene(shipped("fig10_narrow"), math.radians(20.0))
     wp = PivotChecker(scene, seed=0).walker
     obj = (7.045387948164916, 3.018113151730951, 0.07624539214062409)
     start = (6.197857429409817, 2.953367342764553, 0.07624539214062409)
@@ -448,7 +448,7 @@ def test_the_walk_search_certifies_only_the_motions_it_takes(monkeypatch):
     from pivot_ompl.transit.clearance import BoxedClearance
 
     obj = (4.15, 1.5, 0.0)  # the box in wall A's slot
-    doc = shipped_doc("fig10")
+    doc = shipped_doc("fig10_narrow")
     doc["start"] = doc["goal"] = list(obj)
     ck = PivotChecker(scene_from_dict(doc), seed=0)
     wp, calls = ck.walker, []

@@ -22,7 +22,7 @@ LONG_WALK_BOX = (8.05, 5.5, 0.0)
 
 @functools.cache
 def _walker():
-    return PivotChecker(shipped("fig10"), seed=0).walker
+    return PivotChecker(shipped("fig10_narrow"), seed=0).walker
 
 
 coord = st.floats(-3.0, 3.0)
@@ -76,7 +76,7 @@ def test_smoothing_a_long_walk_is_cheap_and_the_walk_passes_check(monkeypatch):
     # costs) before its poses were checked, and the second pass queried again what the
     # first had learnt: 1296 clearance queries and 6087 sampled Dubins poses on this walk
     # (now 905 and 364)
-    scene = shipped("fig10")
+    scene = shipped("fig10_narrow")
     ck = PivotChecker(scene, seed=0)
     wp, m = ck.walker, scene.model
     obj = LONG_WALK_BOX

@@ -98,14 +98,14 @@ def test_rotated_collinear_vertices_build_a_world():
 def test_walking_body_reaches_as_far_as_the_knees(monkeypatch):
     """Regression: the demo's robot side-stepped past a wall end it cleared with its footprint.
 
-    fig10, t = 1407.8 s: robot at (8.21, 5.40) facing -y, the wall's end at y = 5.19; the
+    fig10 (first reconstruction), t = 1407.8 s: robot at (8.21, 5.40) facing -y, the wall's end at y = 5.19; the
     footprint's front (0.20 m ahead) cleared it, a bent knee (0.30 m ahead) was 75 mm inside.
     """
     from factories import shipped
 
     from pivot_ompl import hrp2
 
-    scene = shipped("fig10")
+    scene = shipped("fig10_narrow")
     robot = (8.21, 5.40, -0.5 * math.pi)
     ahead, behind, half = scene.model.walking_extent()
     assert ahead >= 0.30 and behind >= 0.26 and half >= 0.42

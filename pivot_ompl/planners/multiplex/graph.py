@@ -10,6 +10,12 @@ kinds of edge join them (:func:`is_transfer`):
   (:func:`frame_flip`);
 * a **regrasp** ``(i, g) - (i, h)`` at one object node: the robot walks round the resting box.
 
+A **turn** is a transfer too: from ``(i, g)`` to the pose the box reaches when the car spins
+by pi about its own position (the box swings round with the robot,
+:class:`~pivot_ompl.pivoting.curves.CarPaths`), an object node of its own (kind ``"turn"``)
+added wherever the disk the assembly sweeps is free: the robot reaches the box's other side
+without letting go of it.
+
 Edges are candidates until a search uses them. A transfer's cheap test (box and robot free at
 three poses of its Reeds-Shepp path, :meth:`MultiplexedGraph.plausible`) runs when a search or
 the reachable set meets it; an edge that fails it, or a full check, is removed for good.
@@ -27,8 +33,9 @@ import math
 from collections.abc import Callable, Iterator
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.cost import CostModel
 from pivot_ompl.graph import UnionFind
-from pivot_ompl.planners.objects.roadmap import Roadmap, half_turn
+from pivot_ompl.planners.objects.roadmap import Roadmap, canonical_yaw, half_turn
 from pivot_ompl.se2 import Pose, wrap_angle
 
 Node = tuple[int, int]  # (object roadmap index, grasp)
@@ -66,7 +73,11 @@ class MultiplexedGraph:
         grasps: the grasps the robot may use.
         neighbours: candidate transfer edges per new manipulation node.
         connect_radius: longest candidate transfer edge (m, Reeds-Shepp length of its car).
-        regrasp_cost: a regrasp's price (m) on top of its walk's estimated length.
+        costs: the edges' costs (s): a transfer's estimated from its Reeds-Shepp length, a
+            regrasp's from its walk's estimated length (a search replaces both by the real
+            ones as it checks them).
+        turns: add turn edges (:data:`SearchConfig.turns`), keeping ``turn_margin`` (m) free
+            round the disk a turn sweeps.
 
     Attributes:
         adj: candidate edges and their costs, both ways: ``adj[a][b]``.
@@ -85,19 +96,28 @@ class MultiplexedGraph:
     plausibility_tests: int
 
     def __init__(self, checker: PivotChecker, roadmap: Roadmap, *, grasps: tuple[int, ...],
-                 neighbours: int, connect_radius: float, regrasp_cost: float) -> None:
+                 neighbours: int, connect_radius: float, costs: CostModel,
+                 turns: bool = False, turn_margin: float = 0.05) -> None:
         """An empty graph over ``roadmap``."""
         self.checker = checker
         self.roadmap = roadmap
         self.grasps = grasps
         self.neighbours = neighbours
         self.connect_radius = connect_radius
-        self.regrasp_cost = regrasp_cost
+        self.costs = costs
+        m, alpha = checker.model, checker.scene.alpha_max
+        #: seconds per metre of each grasp's car pushing straight
+        self.push_rate = {g: costs.push_rate(m.edge_half_length(g), alpha) for g in range(4)}
+        self.turn_margin = turn_margin
+        #: turn edges to link once their turn node is multiplexed: node -> (node, cost)
+        self._turns: dict[int, list[tuple[Node, int, float]]] = {}
         self.adj = {}
         self.by_grasp = {g: [] for g in grasps}
         self.start_nodes = []
         self.goal_nodes = set()
         self.multiplexed = 0
+        self.turns = turns
+        self.turn_edges = 0
         self.regrasp_edges = 0
         self.plausibility_tests = 0
         self._components: UnionFind[Node] = UnionFind()  # over candidate edges (never split)
@@ -150,10 +170,15 @@ class MultiplexedGraph:
         the nodes left when stopped are multiplexed by the next call.
         """
         added = nodes = 0
-        for i in range(self.multiplexed, len(self.roadmap)):
+        while self.multiplexed < len(self.roadmap):  # turn nodes are added on the way
             if should_stop():
                 break
+            i = self.multiplexed
             k = self._multiplex(i, should_stop)
+            for node, grasp, cost in self._turns.pop(i, ()):
+                if (i, grasp) in self.adj:
+                    self.link(node, (i, grasp), cost, should_stop)
+                    self.turn_edges += 1
             added += k
             nodes += k > 0
             self.multiplexed = i + 1
@@ -168,7 +193,7 @@ class MultiplexedGraph:
         """
         q = self.roadmap.poses[i]
         ck, m = self.checker, self.checker.model
-        rs = ck.steering.rs
+        rs = ck.steering.paths
         added: list[int] = []
         for g in self.grasps:
             if not ck.state_valid(q, g):
@@ -185,17 +210,30 @@ class MultiplexedGraph:
                     continue
                 d = rs.distance(car, m.car_pose(qj, gj))
                 if d <= self.connect_radius:
-                    self.link(node, (j, gj), d, should_stop)
+                    self.link(node, (j, gj), d * self.push_rate[g], should_stop)
             self.by_grasp[g].append(i)
             added.append(g)
         for parity in {g % 2 for g in added}:
             self._parity[parity].append(i)
+        if self.turns and self.roadmap.kinds[i] != "turn":
+            for g in added:
+                self._add_turn(i, g)
         for k, a in enumerate(added):  # the regrasping roadmap at this pose
             for b in added[k + 1:]:
-                self.link((i, a), (i, b), self.regrasp_cost + self.walk_estimate(a, b),
-                          should_stop)
+                self.link((i, a), (i, b),
+                          self.costs.regrasp_seconds(self.walk_estimate(a, b)), should_stop)
                 self.regrasp_edges += 1
         return len(added)
+
+    def _add_turn(self, i: int, g: int) -> None:
+        """A turn node for ``(i, g)`` if the assembly has room to turn (linked later)."""
+        turned = self.checker.turned(self.roadmap.poses[i], g, margin=self.turn_margin)
+        if turned is None:
+            return
+        yaw, shift = canonical_yaw(turned[2])
+        j = self.roadmap.add((turned[0], turned[1], yaw), "turn")
+        cost = self.costs.spin_estimate(math.pi, self.checker.scene.alpha_max)
+        self._turns.setdefault(j, []).append(((i, g), (g + shift) % 4, cost))
 
     def walk_estimate(self, a: int, b: int) -> float:
         """Estimated length (m) of the walk from grasp ``a`` to ``b``.
@@ -234,12 +272,12 @@ class MultiplexedGraph:
         """
         self.start_nodes = [n for n in self.adj if n[0] == start]
         self.goal_nodes = {n for n in self.adj if n[0] == goal}
-        m, rs = self.checker.model, self.checker.steering.rs
+        m, rs = self.checker.model, self.checker.steering.paths
         qs, qg = self.roadmap.poses[start], self.roadmap.poses[goal]
         for (_, g) in self.start_nodes:
             if (goal, g) in self.goal_nodes:
-                self.link((start, g), (goal, g),
-                          rs.distance(m.car_pose(qs, g), m.car_pose(qg, g)), should_stop)
+                d = rs.distance(m.car_pose(qs, g), m.car_pose(qg, g))
+                self.link((start, g), (goal, g), d * self.push_rate[g], should_stop)
         self.compute_reach(should_stop)
 
     # -- the cheap test and the reachable set ---------------------------------------------
@@ -328,3 +366,4 @@ class MultiplexedGraph:
             out.append((half_turn(q) if flip else q, (node[1] + 2 * flip) % 4))
             prev = node
         return out
+

@@ -38,7 +38,6 @@ class PathSearch:
         graph: the graph searched (edges removed as they fail).
         goal: the goal pose (the heuristic's target).
         weight: inflation of the heuristic (weighted A*).
-        regrasp_cost: a regrasp's price (m) on top of its walk's real cost.
 
     Attributes:
         searches, edges_checked, edges_invalid: counts.
@@ -51,19 +50,20 @@ class PathSearch:
     seconds: float
 
     def __init__(self, checker: PivotChecker, graph: MultiplexedGraph, goal: Pose, *,
-                 weight: float, regrasp_cost: float) -> None:
+                 weight: float) -> None:
         """A search over ``graph``."""
         self.checker = checker
         self.graph = graph
         self.goal = goal
         self.weight = weight
-        self.regrasp_cost = regrasp_cost
         self.searches = self.edges_checked = self.edges_invalid = 0
         self.seconds = 0.0
         #: heuristic per object node: the box's straight distance to the goal less the
-        #: largest car offset (a transfer edge is at least that long), weighted
+        #: largest car offset (a transfer edge is at least that long), at the fastest
+        #: grasp's seconds per metre, weighted
         self._h: dict[int, float] = {}
         self._slack = max(checker.model.object_size[:2])
+        self._rate = min(graph.push_rate.values())
         #: edges checked valid, as the plan writes them: ``(state, state)`` in path order
         self._checked: set[tuple[tuple[Pose, int], tuple[Pose, int]]] = set()
 
@@ -72,29 +72,40 @@ class PathSearch:
         v = self._h.get(i)
         if v is None:
             q = self.graph.roadmap.poses[i]
-            v = self._h[i] = self.weight * max(
+            v = self._h[i] = self.weight * self._rate * max(
                 0.0, math.hypot(q[0] - self.goal[0], q[1] - self.goal[1]) - self._slack)
         return v
 
-    def cheapest(self, should_stop: Stop) -> list[Node]:
+    def cost(self, path: list[Node]) -> float:
+        """The graph's cost of ``path`` (s: real for the edges checked, estimates otherwise)."""
+        adj = self.graph.adj
+        return sum(adj[a][b] for a, b in zip(path, path[1:], strict=False))
+
+    def cheapest(self, should_stop: Stop, *, weight: float | None = None) -> list[Node]:
         """Lazy weighted A* from a start node to a goal node; ``[]`` if there is none.
+
+        ``weight``: the heuristic's inflation for this search (default :attr:`weight`).
 
         Raises:
             Interrupted: ``should_stop()`` became true.
         """
         g = self.graph
+        scale = 1.0 if weight is None else weight / self.weight
 
         def valid(u: State, v: State) -> bool:
             return not is_transfer(u[0], v[0]) or g.plausible(u[0], v[0])
 
         states = astar([(s, 0) for s in g.start_nodes], {(n, 0) for n in g.goal_nodes},
-                       g.successors, lambda s: self.heuristic(s[0][0]), valid=valid,
+                       g.successors, lambda s: scale * self.heuristic(s[0][0]), valid=valid,
                        known=lambda u, v: g.known_plausible(u[0], v[0]),
                        should_stop=should_stop, poll_every=POLL_EVERY)
         return [s[0] for s in states]
 
-    def find(self, should_stop: Stop) -> list[Node]:
-        """A path whose every edge passes its full check; ``[]`` if none yet (or stopped)."""
+    def find(self, should_stop: Stop, *, weight: float | None = None) -> list[Node]:
+        """A path whose every edge passes its full check; ``[]`` if none yet (or stopped).
+
+        ``weight``: the heuristic's inflation (default :attr:`weight`).
+        """
         g = self.graph
         if not g.maybe_connected():
             return []
@@ -103,7 +114,7 @@ class PathSearch:
             while not should_stop():
                 self.searches += 1
                 try:
-                    path = self.cheapest(should_stop)
+                    path = self.cheapest(should_stop, weight=weight)
                 except Interrupted:
                     return []
                 if not path:
@@ -152,13 +163,19 @@ class PathSearch:
             return True
         (pa, ga), (pb, gb) = sa, sb
         ck = self.checker
+        costs = g.costs
         if is_transfer(a, b):
-            v = g.plausible(a, b) and ck.transfer(pa, pb, ga, should_stop=should_stop).valid
+            v = g.plausible(a, b)
+            if v:
+                edge = ck.transfer(pa, pb, ga, should_stop=should_stop)
+                v = edge.valid
+                if v:  # the real rotations' seconds replace the estimate
+                    g.set_cost(a, b, costs.rotations(r.angle for r in edge.sequence.rotations))
         else:
             walk = ck.transit(pa, ga, gb, should_stop=should_stop)
             v = walk.valid
-            if v:  # the real walking cost replaces the estimate
-                g.set_cost(a, b, self.regrasp_cost + walk.cost)
+            if v:  # the real walk replaces the estimate
+                g.set_cost(a, b, costs.regrasp_seconds(walk.length))
         if v:
             self._checked.add((sa, sb))
         self.edges_checked += 1

@@ -58,7 +58,7 @@ class Diffusion:
         The box is symmetric: it steers to the target's half turn nearest to ``near``'s yaw.
         Returns ``near`` itself when the first step collides.
         """
-        rs = self.checker.steering.rs
+        rs = self.checker.steering.paths
         if abs(wrap_angle(target[2] - near[2])) > 0.5 * math.pi:
             target = (target[0], target[1], wrap_angle(target[2] + math.pi))
         d = rs.distance(near, target)
