@@ -105,7 +105,8 @@ RUN_SPACING = 6
 
 def _corners(route: list[Pose]) -> list[Pose]:
     """The route's ends, the poses where it turns or starts turning, and every
-    :data:`RUN_SPACING` th pose of a long straight run (the transfers worth trying)."""
+    :data:`RUN_SPACING` th pose of a long straight run (the transfers worth trying).
+    """
     if len(route) < 3:
         return route
     keep = [0]
