@@ -91,3 +91,13 @@ def triangulate(points: Sequence[tuple[float, float]]) -> list[tuple[int, int, i
     if len(idx) == 3 and cross(idx[0], idx[1], idx[2]) > DEGENERATE_AREA2:
         tris.append((idx[0], idx[1], idx[2]))
     return tris
+
+
+#: The 16 headings of the floor lattices: the directions of these integer grid vectors,
+#: counter-clockwise from +x (0, 26.6, 45, 63.4, 90 deg, ...), so a step along a heading, or
+#: square to it, or against it, ends exactly on a grid position.
+GRID_HEADINGS: tuple[tuple[int, int], ...] = (
+    (1, 0), (2, 1), (1, 1), (1, 2), (0, 1), (-1, 2), (-1, 1), (-2, 1),
+    (-1, 0), (-2, -1), (-1, -1), (-1, -2), (0, -1), (1, -2), (1, -1), (2, -1))
+#: Yaw of each of :data:`GRID_HEADINGS` (rad).
+GRID_HEADING_YAWS: tuple[float, ...] = tuple(math.atan2(v[1], v[0]) for v in GRID_HEADINGS)

@@ -24,15 +24,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from pivot_ompl.scene import WalkParameters
-from pivot_ompl.se2 import Pose, wrap_angle
+from pivot_ompl.se2 import GRID_HEADING_YAWS, GRID_HEADINGS, Pose, wrap_angle
 
-#: Grid directions of the 16 headings, counter-clockwise from +x.
-HEADING_VECTORS: tuple[tuple[int, int], ...] = (
-    (1, 0), (2, 1), (1, 1), (1, 2), (0, 1), (-1, 2), (-1, 1), (-2, 1),
-    (-1, 0), (-2, -1), (-1, -1), (-1, -2), (0, -1), (1, -2), (1, -1), (2, -1))
-N_HEADINGS = len(HEADING_VECTORS)
-#: Yaw of each heading (rad).
-HEADING_YAWS: tuple[float, ...] = tuple(math.atan2(v[1], v[0]) for v in HEADING_VECTORS)
+#: Grid directions of the 16 headings (counter-clockwise from +x), their number and yaws.
+HEADING_VECTORS, N_HEADINGS, HEADING_YAWS = GRID_HEADINGS, len(GRID_HEADINGS), GRID_HEADING_YAWS
 
 
 def motion_cost(a: Pose, b: Pose, walk: WalkParameters) -> float:

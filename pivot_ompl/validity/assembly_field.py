@@ -7,7 +7,7 @@ grasp (the supporting edge's centre and the robot's heading). Relative to its ca
 assembly of grasp ``k`` is that of grasp ``k + 2``: one shape per grasp *parity*.
 
 For each parity and each yaw of :data:`FIELD_YAWS` (the 16 lattice headings of
-:data:`~pivot_ompl.transit.lattice.HEADING_YAWS` and the 16 yaws half-way between them), a
+:data:`~pivot_ompl.se2.GRID_HEADING_YAWS` and the 16 yaws half-way between them), a
 boolean grid says where the car may stand: both bodies inside the bounds and clear of the
 obstacles grown by the kept clearance (the clearance's rounded corners by chords, a
 cylinder by its inscribed polygon: the shapes are *inside* the true grown ones, so a
@@ -28,8 +28,8 @@ import shapely
 
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import BoxGraspModel
+from pivot_ompl.se2 import GRID_HEADING_YAWS as HEADING_YAWS
 from pivot_ompl.se2 import Pose
-from pivot_ompl.transit.lattice import HEADING_YAWS
 from pivot_ompl.validity.collision import CollisionWorld
 from pivot_ompl.validity.footprints import grid_union, meeting_edges, obstacle_pieces
 

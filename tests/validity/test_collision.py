@@ -98,8 +98,9 @@ def test_rotated_collinear_vertices_build_a_world():
 def test_walking_body_reaches_as_far_as_the_knees(monkeypatch):
     """Regression: the demo's robot side-stepped past a wall end it cleared with its footprint.
 
-    fig10 (first reconstruction), t = 1407.8 s: robot at (8.21, 5.40) facing -y, the wall's end at y = 5.19; the
-    footprint's front (0.20 m ahead) cleared it, a bent knee (0.30 m ahead) was 75 mm inside.
+    The first fig10, t = 1407.8 s: robot at (8.21, 5.40) facing -y, the wall's end at
+    y = 5.19; the footprint's front (0.20 m ahead) cleared it, a bent knee (0.30 m ahead) was
+    75 mm inside.
     """
     from factories import shipped
 

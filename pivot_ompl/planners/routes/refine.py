@@ -104,8 +104,10 @@ RUN_SPACING = 6
 
 
 def _corners(route: list[Pose]) -> list[Pose]:
-    """The route's ends, the poses where it turns or starts turning, and every
-    :data:`RUN_SPACING` th pose of a long straight run (the transfers worth trying).
+    """The route's poses worth joining by transfers.
+
+    Its ends, the poses where it starts or stops turning, and every :data:`RUN_SPACING` th
+    pose of a long straight run.
     """
     if len(route) < 3:
         return route
