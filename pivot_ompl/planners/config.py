@@ -90,9 +90,6 @@ class SearchConfig:
             about its position: backward and forward manipulation), which puts the robot on
             the box's other side without a regrasp.
         turn_margin: room (m) a turn needs beyond the disk the assembly sweeps.
-        improve_share: once a path is found, the search looks for the cheapest path of the
-            graph (heuristic not inflated), checking at most this share of the motion
-            checks made so far; the cheaper path is kept.
     """
 
     neighbours: int = 10
@@ -101,8 +98,6 @@ class SearchConfig:
     every: int = 16
     turns: bool = True
     turn_margin: float = 0.05
-    improve_share: float = 0.3
-    improve_growth: float = 0.5
 
 
 @dataclass(frozen=True)

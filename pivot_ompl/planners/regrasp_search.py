@@ -41,7 +41,7 @@ from pivot_ompl.planners.objects.slots import slot_poses, slots
 from pivot_ompl.planners.objects.visibility import VisibilityRoadmap
 from pivot_ompl.planners.optimiser import budgeted, optimise
 from pivot_ompl.planners.routes.lattice import TransferLattice
-from pivot_ompl.planners.routes.refine import RefineStats, refine_phases
+from pivot_ompl.planners.routes.refine import RefineStats, refine
 from pivot_ompl.planners.single_grasp import SingleGraspConnect
 from pivot_ompl.se2 import Pose
 
@@ -68,7 +68,6 @@ class RegraspStats:
     edges_checked: int = 0
     plausibility_tests: int = 0
     edges_invalid: int = 0
-    improved: int = 0
     single_grasp_checks: int = 0
     single_grasp_solved: bool = False
     time_single_grasp: float = 0.0
@@ -76,7 +75,8 @@ class RegraspStats:
     time_search: float = 0.0
     time_optimise: float = 0.0
     time_routes: float = 0.0
-    rerouted_phases: int = 0
+    refined: int = 0
+    regrasps_turned: int = 0
 
 
 class RegraspSearch:
@@ -213,20 +213,6 @@ class RegraspSearch:
         return self.paths.find(should_stop) if self.graph.multiplex_pending(should_stop)[0] \
             else []
 
-    def _diffuse_only(self, should_stop: Stop) -> None:
-        """One diffusion step without a search (or a bridge test's nodes)."""
-        if self.rng.uniform() < self.config.sampling.bridge_bias:
-            for q in self.bridge.passage(should_stop):
-                self.roadmap.add(q, "passage")
-            return
-        rm = self.roadmap
-        q = self.diffusion.target([rm.poses[i] for i in self.critical.indices])
-        near = rm.poses[rm.nearest(q, 1)[0]]
-        qn = self.diffusion.extend(near, q)
-        if qn != near:
-            rm.add(canonical(qn), "diffusion")
-            self.stats.diffusion_nodes += 1
-
     def _diffuse(self, should_stop: Stop) -> list[Node]:
         """One diffusion step (or a bridge test, with probability ``bridge_bias``)."""
         if self.rng.uniform() < self.config.sampling.bridge_bias:
@@ -267,37 +253,12 @@ class RegraspSearch:
             path = self._bridge(should_stop)
         while not path and not should_stop():
             path = self._diffuse(should_stop)
-        if path:
-            path = self._improved(path, should_stop)
         states = self._optimised(self.graph.express(path), should_stop) if path else []
         self._fill_stats()
         return states
 
-    def _improved(self, path: list[Node], should_stop: Stop) -> list[Node]:
-        """The graph's cheapest checked path, if cheaper than ``path`` (within a budget).
-
-        The first path comes from an inflated heuristic; the search runs again with none,
-        within ``search.improve_share`` of the motion checks made so far.
-        """
-        share = self.config.search.improve_share
-        if share <= 0:
-            return path
-        budget = budgeted(should_stop, self.checker, share=share, minimum=0)
-        grow = int(self.config.search.improve_growth * len(self.roadmap))
-        target = len(self.roadmap) + grow
-        tries = 0
-        while len(self.roadmap) < target and tries < 20 * grow and not budget():
-            tries += 1
-            self._diffuse_only(budget)
-        self.graph.multiplex_pending(budget)
-        better = self.paths.find(budget, weight=1.0)
-        if better and self.paths.cost(better) < self.paths.cost(path) - 1e-9:
-            self.stats.improved += 1
-            return better
-        return path
-
     def _optimised(self, states: list[State], should_stop: Stop) -> list[State]:
-        """The path optimiser, the phases re-routed on the lattice, the optimiser again.
+        """The path's phases re-planned on the lattice, then the path optimiser.
 
         Each within its budget of motion checks (a share of those planning made).
         """
@@ -310,18 +271,15 @@ class RegraspSearch:
         def budget(share: float = cfg.check_share) -> Stop:
             return budgeted(should_stop, ck, share=share, minimum=cfg.min_checks)
 
-        states = optimise(ck, states, grasps=self.config.grasps, should_stop=budget(),
-                          costs=costs)
         if cfg.routes:
             if self.lattice is None:
                 self.lattice = TransferLattice(ck, costs)
             t2 = time.perf_counter()
-            rerouted = refine_phases(ck, self.lattice, states, costs=costs,
-                                     should_stop=budget(cfg.route_share), stats=self.refine)
+            states = refine(ck, self.lattice, states, costs=costs,
+                            should_stop=budget(cfg.route_share), stats=self.refine)
             self.stats.time_routes += time.perf_counter() - t2
-            if rerouted != states:
-                states = optimise(ck, rerouted, grasps=self.config.grasps,
-                                  should_stop=budget(), costs=costs)
+        states = optimise(ck, states, grasps=self.config.grasps, should_stop=budget(),
+                          costs=costs)
         self.stats.time_optimise += time.perf_counter() - t1
         return states
 
@@ -339,4 +297,5 @@ class RegraspSearch:
         s.edges_checked = self.paths.edges_checked
         s.edges_invalid = self.paths.edges_invalid
         s.time_search = self.paths.seconds
-        s.rerouted_phases = self.refine.rerouted
+        s.refined = self.refine.applied
+        s.regrasps_turned = self.refine.regrasps_removed

@@ -76,36 +76,27 @@ class PathSearch:
                 0.0, math.hypot(q[0] - self.goal[0], q[1] - self.goal[1]) - self._slack)
         return v
 
-    def cost(self, path: list[Node]) -> float:
-        """The graph's cost of ``path`` (s: real for the edges checked, estimates otherwise)."""
-        adj = self.graph.adj
-        return sum(adj[a][b] for a, b in zip(path, path[1:], strict=False))
 
-    def cheapest(self, should_stop: Stop, *, weight: float | None = None) -> list[Node]:
+
+    def cheapest(self, should_stop: Stop) -> list[Node]:
         """Lazy weighted A* from a start node to a goal node; ``[]`` if there is none.
-
-        ``weight``: the heuristic's inflation for this search (default :attr:`weight`).
 
         Raises:
             Interrupted: ``should_stop()`` became true.
         """
         g = self.graph
-        scale = 1.0 if weight is None else weight / self.weight
 
         def valid(u: State, v: State) -> bool:
             return not is_transfer(u[0], v[0]) or g.plausible(u[0], v[0])
 
         states = astar([(s, 0) for s in g.start_nodes], {(n, 0) for n in g.goal_nodes},
-                       g.successors, lambda s: scale * self.heuristic(s[0][0]), valid=valid,
+                       g.successors, lambda s: self.heuristic(s[0][0]), valid=valid,
                        known=lambda u, v: g.known_plausible(u[0], v[0]),
                        should_stop=should_stop, poll_every=POLL_EVERY)
         return [s[0] for s in states]
 
-    def find(self, should_stop: Stop, *, weight: float | None = None) -> list[Node]:
-        """A path whose every edge passes its full check; ``[]`` if none yet (or stopped).
-
-        ``weight``: the heuristic's inflation (default :attr:`weight`).
-        """
+    def find(self, should_stop: Stop) -> list[Node]:
+        """A path whose every edge passes its full check; ``[]`` if none yet (or stopped)."""
         g = self.graph
         if not g.maybe_connected():
             return []
@@ -114,7 +105,7 @@ class PathSearch:
             while not should_stop():
                 self.searches += 1
                 try:
-                    path = self.cheapest(should_stop, weight=weight)
+                    path = self.cheapest(should_stop)
                 except Interrupted:
                     return []
                 if not path:

@@ -12,14 +12,21 @@ yaw). Costs are seconds (:class:`~pivot_ompl.cost.CostModel`): a push of ``d`` m
 
 :meth:`TransferLattice.route` is A* between two exact object poses at one grasp (joined to
 the nearby lattice states by short paths), guided by the straight distance at the push rate
-(admissible); it gives the lattice's cheapest route, a guide whose motions the pivot
-checker still certifies.
+plus the heading still to turn at the spin rate (admissible: pushes do not turn, turns do
+not move the car), inflated by ``weight``; it gives a route at most that factor costlier
+than the lattice's cheapest, a guide whose motions the pivot checker still certifies. A query
+whose ends lie in different connected components of the lattice (computed once per grasp
+parity, scipy) has no route and costs nothing.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterator
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
@@ -42,13 +49,15 @@ class TransferLattice:
         costs: the cost model (seconds).
         resolution: grid spacing (m).
         max_expansions: states expanded before a query gives up.
+        weight: inflation of the A* heuristic (a route costs at most this factor more than
+            the lattice's cheapest).
     """
 
     def __init__(self, checker: PivotChecker, costs: CostModel, *, resolution: float = 0.1,
-                 max_expansions: int = 200_000) -> None:
+                 max_expansions: int = 200_000, weight: float = 1.0) -> None:
         """A lattice over the checker's floor."""
         self.checker, self.costs = checker, costs
-        self.resolution, self.max_expansions = resolution, max_expansions
+        self.resolution, self.max_expansions, self.weight = resolution, max_expansions, weight
         self.field = AssemblyField(checker.model, checker.world, resolution)
         alpha = checker.scene.alpha_max
         m = checker.model
@@ -60,6 +69,8 @@ class TransferLattice:
         self._turns = [abs(wrap_angle(HEADING_YAWS[(h + 1) % N_HEADINGS] - HEADING_YAWS[h]))
                        for h in range(N_HEADINGS)]
         self.expansions = 0
+        self._routes: dict[tuple[Pose, Pose, int], tuple[list[Pose], float]] = {}
+        self._labels: dict[int, np.ndarray] = {}
 
     def car(self, s: State) -> Pose:
         """The car pose of lattice state ``s``."""
@@ -67,29 +78,52 @@ class TransferLattice:
         return (x, y, HEADING_YAWS[s[2]])
 
     def route(self, start: Pose, goal: Pose, grasp: int, *,
-              should_stop: Callable[[], bool] | None = None) -> list[Pose]:
-        """Object poses of the cheapest lattice route from ``start`` to ``goal`` at ``grasp``.
+              should_stop: Callable[[], bool] | None = None) -> tuple[list[Pose], float]:
+        """The cheapest lattice route from ``start`` to ``goal`` at ``grasp``, and its cost.
 
-        Ends exact (the given poses); ``[]`` when the lattice has no route.
+        Object poses, the ends exact (the given poses), and the lattice's seconds; ``([],
+        inf)`` when the lattice has no route. Routes are kept (asked again, they are free).
 
         Raises:
             Interrupted: ``should_stop()`` became true.
         """
+        key = (start, goal, grasp)
+        hit = self._routes.get(key)
+        if hit is None:
+            hit = self._route(start, goal, grasp, should_stop)
+            self._routes[key] = hit
+        return hit
+
+    def _route(self, start: Pose, goal: Pose, grasp: int,
+               should_stop: Callable[[], bool] | None) -> tuple[list[Pose], float]:
         m = self.checker.model
         ca, cb = m.car_pose(start, grasp), m.car_pose(goal, grasp)
         parity = grasp % 2
         starts = self._attach(ca, parity, grasp)
         goals = self._attach(cb, parity, grasp)
         if not starts or not goals:
-            return []
+            return [], math.inf
+        labels = self._components(parity, should_stop)
+        ny = self.field.ny
+
+        def label(u: State) -> int:
+            return int(labels[(u[0] * ny + u[1]) * N_HEADINGS + u[2]])
+
+        if not {label(u) for u in starts} & {label(u) for u in goals}:
+            return [], math.inf
         rate = self._push[grasp]
-        fits = self.field.fits
+        grids: dict[int, object] = {}
         nx, ny = self.field.nx, self.field.ny
         steps, turns, spin = self._steps, self._turns, self._spin
         counter = [0]
 
         def free(ix: int, iy: int, k: int) -> bool:
-            return 0 <= ix < nx and 0 <= iy < ny and bool(fits(parity, k)[ix, iy])
+            if not (0 <= ix < nx and 0 <= iy < ny):
+                return False
+            grid = grids.get(k)
+            if grid is None:
+                grid = grids[k] = self.field.fits(parity, k, should_stop=should_stop).tolist()
+            return grid[ix][iy]  # type: ignore[index]
 
         def neighbours(u: State) -> Iterator[tuple[State, float]]:
             if u == _START:
@@ -115,21 +149,72 @@ class TransferLattice:
             if c is not None:
                 yield _GOAL, c
 
-        gx, gy = cb[0], cb[1]
+        gx, gy, gh = cb
+        weight = self.weight
 
         def heuristic(u: State) -> float:
+            # pushes move the car without turning it, turns turn it without moving it
             if u[0] < 0:
                 return 0.0
             x, y = self.field.position(u[0], u[1])
-            return rate * math.hypot(x - gx, y - gy)
+            return weight * (rate * math.hypot(x - gx, y - gy)
+                             + spin * abs(wrap_angle(HEADING_YAWS[u[2]] - gh)))
 
         try:
             states = astar([_START], {_GOAL}, neighbours, heuristic)
         finally:
             self.expansions += counter[0]
         if not states:
-            return []
-        return [start] + [m.object_from_car(self.car(s), grasp) for s in states[1:-1]] + [goal]
+            return [], math.inf
+        poses = [start] + [m.object_from_car(self.car(s), grasp) for s in states[1:-1]] + [goal]
+        return poses, self._cost(states, starts, goals, rate)
+
+    def _components(self, parity: int, should_stop: Callable[[], bool] | None) -> np.ndarray:
+        """Connected component of every lattice state of ``parity`` (kept)."""
+        labels = self._labels.get(parity)
+        if labels is not None:
+            return labels
+        f = self.field
+        nx, ny, nh = f.nx, f.ny, N_HEADINGS
+        fits = np.stack([f.fits(parity, k, should_stop=should_stop)
+                         for k in range(2 * nh)])  # (2 nh, nx, ny)
+        state = fits[0::2]  # at each heading
+        ix, iy = np.meshgrid(np.arange(nx), np.arange(ny), indexing="ij")
+        rows, cols = [], []
+
+        def index(x: np.ndarray, y: np.ndarray, h: int) -> np.ndarray:
+            return (x * ny + y) * nh + h
+
+        for h, (vx, vy) in enumerate(HEADING_VECTORS):
+            jx, jy = ix + vx, iy + vy
+            inside = (jx >= 0) & (jx < nx) & (jy >= 0) & (jy < ny)
+            ok = inside & state[h]
+            ok[inside] &= state[h][jx[inside], jy[inside]]
+            rows.append(index(ix[ok], iy[ok], h))
+            cols.append(index(jx[ok], jy[ok], h))
+            h2 = (h + 1) % nh
+            ok = state[h] & state[h2] & fits[2 * h + 1]
+            rows.append(index(ix[ok], iy[ok], h))
+            cols.append(index(ix[ok], iy[ok], h2))
+        n = nx * ny * nh
+        r, c = np.concatenate(rows), np.concatenate(cols)
+        graph = coo_matrix((np.ones(len(r), dtype=np.int8), (r, c)), shape=(n, n)).tocsr()
+        _, labels = connected_components(graph, directed=False)
+        self._labels[parity] = labels
+        return labels
+
+    def _cost(self, states: list[State], starts: dict[State, float],
+              goals: dict[State, float], rate: float) -> float:
+        """The lattice's seconds of a route's states (the joins to its ends included)."""
+        inner = states[1:-1]
+        total = starts[inner[0]] + goals[inner[-1]]
+        for u, v in zip(inner, inner[1:], strict=False):
+            if u[2] == v[2]:
+                total += self._steps[u[2]] * rate
+            else:
+                h = u[2] if (u[2] + 1) % N_HEADINGS == v[2] else v[2]
+                total += self._turns[h] * self._spin
+        return total
 
     def _attach(self, car: Pose, parity: int, grasp: int) -> dict[State, float]:
         """Free lattice states near ``car`` (the two nearest headings), with a cost guess."""

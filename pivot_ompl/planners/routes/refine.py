@@ -1,14 +1,21 @@
-"""Each transfer phase of a path re-routed along the lattice's cheapest route, when cheaper.
+"""A path's phases re-planned on the held assembly's lattice: cheaper routes, fewer regrasps.
 
-A phase (consecutive states of one grasp, from one regrasp or end to the next) found by the
-multiplexed search follows the roadmap's few nodes. :func:`refine_phases` plans the phase
-again on the held assembly's lattice (:class:`~.lattice.TransferLattice`: pushes, pulls and
-turns in place, the cheapest route the lattice knows), then shortens that route: the
+A path found by the multiplexed search is a sequence of *phases* (transfers at one grasp)
+joined by regrasps. :func:`refine` looks at every run of consecutive phases ``i .. j`` whose
+grasps differ by a half turn or not at all (the robot ends on the box's other side, or the
+same): such a run can be one phase at phase ``i``'s grasp, the regrasps inside it replaced by
+turns of the box with the robot, wherever the lattice finds room
+(:class:`~.lattice.TransferLattice`: pushes, pulls and turns in place, the cheapest route the
+lattice knows). After a run whose grasps differ by a half turn the rest of the path is written
+in the turned frame (the same motions), and its last phase, which must end at the goal as
+given, is routed again from there. ``i == j`` re-routes one phase.
+
+Candidates are priced with the lattice's seconds (:class:`~pivot_ompl.cost.CostModel`) against
+the path's real ones; the most promising is then made real: each new route shortened into the
 cheapest chain of certified transfers between its poses (each pose joined to the poses 1, 2,
-4, ... further on and to the end), found lazily. The phase keeps
-the cheaper of the two (seconds, :class:`~pivot_ompl.cost.CostModel`); a route that the exact
-checks refuse somewhere leaves the phase as it was. The path's regrasps and grasps are kept:
-its structure is the search's; the optimiser afterwards may still change it.
+4, ... further on and to the end, found lazily). A candidate whose real cost is not lower, or
+that the exact checks refuse somewhere, is dropped. The result is always a valid path, never
+costlier than the input; the optimiser afterwards may still shortcut it.
 """
 
 from __future__ import annotations
@@ -21,6 +28,7 @@ from dataclasses import dataclass
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
+from pivot_ompl.planners.objects.roadmap import half_turn
 from pivot_ompl.planners.routes.lattice import TransferLattice
 from pivot_ompl.se2 import Pose, wrap_angle
 
@@ -29,78 +37,191 @@ log = logging.getLogger(__name__)
 State = tuple[Pose, int]
 Stop = Callable[[], bool]
 
+#: Along a straight run of a lattice route, a pose is kept every this many lattice motions.
+RUN_SPACING = 6
+
 
 @dataclass
 class RefineStats:
-    """What :func:`refine_phases` did.
+    """What :func:`refine` did.
 
     Attributes:
-        phases: transfer phases looked at.
-        rerouted: phases replaced by a cheaper lattice route.
+        candidates: runs of phases priced on the lattice.
+        tried: candidates made real (their routes checked).
+        applied: candidates that made the path cheaper.
+        regrasps_removed: regrasps replaced by turns.
         seconds_saved: cost saved (s).
     """
 
-    phases: int = 0
-    rerouted: int = 0
+    candidates: int = 0
+    tried: int = 0
+    applied: int = 0
+    regrasps_removed: int = 0
     seconds_saved: float = 0.0
 
 
-def refine_phases(checker: PivotChecker, lattice: TransferLattice, states: list[State], *,
-                  costs: CostModel, should_stop: Stop,
-                  stats: RefineStats | None = None) -> list[State]:
-    """``states`` with each transfer phase re-routed where the lattice's route is cheaper.
+@dataclass(frozen=True)
+class _Phase:
+    grasp: int
+    poses: tuple[Pose, ...]
 
-    Stopped by ``should_stop`` (polled between checks), it returns what it has so far: a
-    valid path, never costlier than ``states``.
-    """
-    st = stats if stats is not None else RefineStats()
-    out: list[State] = []
-    i, n = 0, len(states)
-    while i < n:
-        j = i
-        while j + 1 < n and states[j + 1][1] == states[i][1]:
-            j += 1
-        phase = states[i:j + 1]
-        if j > i and not should_stop():
-            st.phases += 1
-            try:
-                phase = _rerouted(checker, lattice, phase, costs, should_stop, st)
-            except Interrupted:
-                pass
-        out.extend(phase if not out or out[-1] != phase[0] else phase[1:])
-        i = j + 1
+    def turned(self) -> _Phase:
+        """The same motion written in the half-turned frame."""
+        return _Phase((self.grasp + 2) % 4, tuple(half_turn(q) for q in self.poses))
+
+
+def _phases(states: list[State]) -> list[_Phase]:
+    out: list[_Phase] = []
+    for q, g in states:
+        if out and out[-1].grasp == g:
+            if out[-1].poses[-1] != q:
+                out[-1] = _Phase(g, out[-1].poses + (q,))
+        else:
+            out.append(_Phase(g, (q,)))
     return out
 
 
-def _seconds(checker: PivotChecker, poses: list[Pose], grasp: int, costs: CostModel) -> float:
-    total = 0.0
-    for a, b in zip(poses, poses[1:], strict=False):
-        e = checker.transfer(a, b, grasp)
-        if not e.valid:
-            return math.inf
-        total += costs.rotations(r.angle for r in e.sequence.rotations)
-    return total
+def _states(phases: list[_Phase]) -> list[State]:
+    return [(q, p.grasp) for p in phases for q in p.poses]
 
 
-def _rerouted(checker: PivotChecker, lattice: TransferLattice, phase: list[State],
-              costs: CostModel, should_stop: Stop, st: RefineStats) -> list[State]:
-    grasp = phase[0][1]
-    poses = [q for q, _ in phase]
-    before = _seconds(checker, poses, grasp, costs)
-    route = _corners(lattice.route(poses[0], poses[-1], grasp, should_stop=should_stop))
-    if len(route) < 2:
-        return phase
-    short, seconds = _shortened(checker, route, grasp, costs, should_stop)
-    if short and seconds < before - 1e-9:
-        st.rerouted += 1
-        st.seconds_saved += before - seconds
-        log.debug("phase at grasp %d re-routed: %.0f -> %.0f s", grasp, before, seconds)
-        return [(q, grasp) for q in short]
-    return phase
+class _Pricer:
+    """Real seconds of phases and regrasps (the checker's caches make repeats free)."""
+
+    def __init__(self, checker: PivotChecker, costs: CostModel) -> None:
+        self.checker, self.costs = checker, costs
+
+    def phase(self, p: _Phase) -> float:
+        total = 0.0
+        for a, b in zip(p.poses, p.poses[1:], strict=False):
+            e = self.checker.transfer(a, b, p.grasp)
+            if not e.valid:
+                return math.inf
+            total += self.costs.rotations(r.angle for r in e.sequence.rotations)
+        return total
+
+    def regrasp(self, a: _Phase, b: _Phase) -> float:
+        w = self.checker.transit(a.poses[-1], a.grasp, b.grasp)
+        return self.costs.regrasp_seconds(w.length) if w.valid else math.inf
+
+    def path(self, phases: list[_Phase]) -> float:
+        return sum(self.phase(p) for p in phases) + sum(
+            self.regrasp(a, b) for a, b in zip(phases, phases[1:], strict=False))
 
 
-#: Along a straight run of the route, a pose is kept every this many lattice motions.
-RUN_SPACING = 6
+def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State], *,
+           costs: CostModel, should_stop: Stop, stats: RefineStats | None = None,
+           ) -> list[State]:
+    """``states`` with runs of phases re-planned on the lattice (see the module docstring).
+
+    Stopped by ``should_stop`` (polled between lattice queries and checks), it returns the
+    best path it has: valid, never costlier than ``states``.
+    """
+    st = stats if stats is not None else RefineStats()
+    pricer = _Pricer(checker, costs)
+    phases = _phases(states)
+    if not phases:
+        return states
+    current = pricer.path(phases)
+    if not math.isfinite(current):
+        return states
+    refused: set[tuple[int, int, tuple[Pose, ...]]] = set()
+    try:
+        while not should_stop():
+            best = _best_candidate(lattice, pricer, phases, current, refused, should_stop, st)
+            if best is None:
+                break
+            i, j, plan = best
+            refused.add((i, j, phases[i].poses))
+            st.tried += 1
+            real = _made_real(checker, lattice, plan, costs, should_stop)
+            if real is None:
+                continue
+            cost = pricer.path(real)
+            if cost < current - 1e-9:
+                st.applied += 1
+                st.regrasps_removed += len(phases) - len(real)
+                st.seconds_saved += current - cost
+                log.debug("refined phases %d..%d: %.0f -> %.0f s", i, j, current, cost)
+                phases, current = real, cost
+    except Interrupted:
+        pass
+    return _states(phases)
+
+
+def _candidates(phases: list[_Phase]) -> list[tuple[int, int]]:
+    """Runs ``i .. j`` whose grasps differ by zero or a half turn."""
+    return [(i, j) for i in range(len(phases)) for j in range(i, len(phases))
+            if (phases[j].grasp - phases[i].grasp) % 2 == 0]
+
+
+def _best_candidate(lattice: TransferLattice, pricer: _Pricer, phases: list[_Phase],
+                    current: float, refused: set, should_stop: Stop, st: RefineStats,
+                    ) -> tuple[int, int, list[_Phase | tuple[Pose, Pose, int]]] | None:
+    """The run whose lattice re-plan saves the most (estimated), as a plan to make real.
+
+    A plan is the new phase list where the phases to route are ``(start, end, grasp)``. The
+    regrasps a plan keeps are the path's own (a turned phase's regrasp is the same walk
+    written in the other frame), so they are priced by the path's walks.
+    """
+    last = len(phases) - 1
+    cost = [pricer.phase(p) for p in phases]
+    regrasp = [0.0] + [pricer.regrasp(a, b) for a, b in zip(phases, phases[1:], strict=False)]
+    best: tuple[float, int, int, list] | None = None
+    for i, j in _candidates(phases):
+        if (i, j, phases[i].poses) in refused:
+            continue
+        if should_stop():
+            raise Interrupted("route refinement")
+        g = phases[i].grasp
+        turned = (phases[j].grasp - g) % 4 == 2
+        start, end = phases[i].poses[0], phases[j].poses[-1]
+        if turned and j < last:
+            end = half_turn(end)
+        st.candidates += 1
+        estimate = sum(cost[:i]) + sum(regrasp[1:i + 1])
+        if estimate >= current:
+            continue
+        _route, seconds = lattice.route(start, end, g, should_stop=should_stop)
+        estimate += seconds + sum(cost[j + 1:]) + sum(regrasp[j + 1:])
+        plan: list = list(phases[:i]) + [(start, end, g)]
+        tail: list = list(phases[j + 1:])
+        if turned and tail:
+            tail = [p.turned() for p in tail]
+            lp = tail[-1]
+            if estimate - cost[last] >= current:
+                continue
+            _route, seconds = lattice.route(lp.poses[0], phases[-1].poses[-1], lp.grasp,
+                                            should_stop=should_stop)
+            estimate += seconds - cost[last]
+            tail[-1] = (lp.poses[0], phases[-1].poses[-1], lp.grasp)
+        plan += tail
+        saving = current - estimate
+        if saving > 1e-9 and (best is None or saving > best[0]):
+            best = (saving, i, j, plan)
+    return None if best is None else (best[1], best[2], best[3])
+
+
+def _made_real(checker: PivotChecker, lattice: TransferLattice, plan: list,
+               costs: CostModel, should_stop: Stop) -> list[_Phase] | None:
+    """The plan's routed items as chains of certified transfers; ``None`` if one fails."""
+    out: list[_Phase] = []
+    for item in plan:
+        if isinstance(item, _Phase):
+            out.append(item)
+            continue
+        start, end, grasp = item
+        route, _ = lattice.route(start, end, grasp, should_stop=should_stop)
+        if len(route) < 2:
+            return None
+        chain, _seconds = _shortened(checker, _corners(route), grasp, costs, should_stop)
+        if not chain:
+            return None
+        if out and out[-1].grasp == grasp:  # a regrasp the run removed: one phase
+            out[-1] = _Phase(grasp, out[-1].poses + tuple(chain[1:]))
+        else:
+            out.append(_Phase(grasp, tuple(chain)))
+    return out
 
 
 def _corners(route: list[Pose]) -> list[Pose]:
@@ -128,21 +249,20 @@ def _shortened(checker: PivotChecker, route: list[Pose], grasp: int, costs: Cost
 
     Candidate transfers join route pose ``i`` to ``i + 1, i + 2, i + 4, ...`` and to the
     end. Lazily: the cheapest chain by estimated costs (a transfer's reference path length
-    at the push rate, :meth:`~pivot_ompl.cost.CostModel.transfer_estimate`, until it is
-    checked), its unchecked transfers checked (the cheap test first), again until every
-    transfer of it is checked.
+    at the push rate, :meth:`~pivot_ompl.cost.CostModel.transfer_estimate`, a turn's
+    :meth:`~pivot_ompl.cost.CostModel.spin_estimate`, until it is checked), its unchecked
+    transfers checked (the cheap test first), again until every transfer of it is checked.
     """
     n = len(route)
     m, alpha = checker.model, checker.scene.alpha_max
     ell = m.edge_half_length(grasp)
     cars = [m.car_pose(q, grasp) for q in route]
+    paths = checker.steering.paths
     ends = {i: sorted({min(n - 1, i + (1 << k)) for k in range(n.bit_length() + 1)} - {i})
             for i in range(n - 1)}
     checked: dict[tuple[int, int], float] = {}
 
-    paths = checker.steering.paths
-
-    def bound(i: int, j: int) -> float:
+    def estimate(i: int, j: int) -> float:
         a, b = cars[i], cars[j]
         if paths.is_spin(a, b):
             return costs.spin_estimate(wrap_angle(b[2] - a[2]), alpha)
@@ -157,7 +277,7 @@ def _shortened(checker: PivotChecker, route: list[Pose], grasp: int, costs: Cost
                 continue
             for j in ends[i]:
                 c = checked.get((i, j))
-                v = best[i] + (bound(i, j) if c is None else c)
+                v = best[i] + (estimate(i, j) if c is None else c)
                 if v < best[j]:
                     best[j], back[j] = v, i
         if not math.isfinite(best[-1]):
