@@ -165,8 +165,8 @@ class RegraspConfig:
     def with_values(self, values: dict[str, Any]) -> RegraspConfig:
         """A copy with the leaves named in ``values`` replaced (dotted names).
 
-        Values are converted to the leaf's type (a string ``"1.5"`` for a float, ``"0,1"``
-        for a tuple, ``"true"``/``"false"`` for a flag), so they may come from a command line.
+        Values are converted to the leaf's type (a string ``"1.5"`` for a float, ``"0,1"`` or
+        ``"0 1"`` for a tuple, ``"true"``/``"false"`` for a flag), so they may come from a command line.
 
         Raises:
             InputError: unknown name, or a value of the wrong type or out of range.
@@ -232,7 +232,7 @@ def _convert(value: Any, like: Any, name: str) -> Any:
                 raise ValueError(value)
             return value
         if isinstance(like, tuple):
-            items = value.split(",") if isinstance(value, str) else list(value)
+            items = value.replace(",", " ").split() if isinstance(value, str) else list(value)
             kind = type(like[0]) if like else float
             return tuple(kind(x) for x in items)
         if isinstance(like, int):

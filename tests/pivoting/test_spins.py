@@ -1,0 +1,44 @@
+"""Turns in place: the spin path between two car poses at one position, and its pivots."""
+
+from __future__ import annotations
+
+import math
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from pivot_ompl.pivoting.curves import SPIN_RADIUS, CarPaths
+from pivot_ompl.pivoting.steering import PivotSteering
+from pivot_ompl.se2 import wrap_angle
+
+AMAX = math.pi / 8
+poses = st.tuples(st.floats(-5, 5), st.floats(-5, 5), st.floats(-math.pi, math.pi))
+
+
+@settings(max_examples=60, deadline=None)
+@given(p=poses, turn=st.floats(0.05, math.pi), ell=st.sampled_from([0.2, 0.3, 0.4]),
+       sign=st.sampled_from([1.0, -1.0]))
+def test_a_spin_reaches_its_goal_exactly_and_stays_at_its_place(p, turn, ell, sign):
+    steering = PivotSteering(turning_radius=2.0, alpha_max=AMAX)
+    goal = (p[0], p[1], wrap_angle(p[2] + sign * turn))
+    assert steering.paths.is_spin(p, goal)
+    seq = steering.convert(p, goal, half_length=ell)
+    end = seq.rotations[-1].car
+    assert math.hypot(end[0] - goal[0], end[1] - goal[1]) < 1e-9
+    assert abs(wrap_angle(end[2] - goal[2])) < 1e-9
+    assert all(abs(r.angle) <= AMAX + 1e-9 for r in seq.rotations)
+    # the car never strays from its place by more than an edge end's arc of a rotation
+    for r in seq.rotations:
+        assert math.hypot(r.car[0] - p[0], r.car[1] - p[1]) <= 2 * ell * math.sin(AMAX) + 1e-9
+    # three rotations per piece of at most 2 alpha: a half turn takes about 12
+    assert len(seq.rotations) <= 3 * math.ceil(turn / (2 * AMAX) - 1e-9)
+
+
+def test_spin_path_interpolates_the_heading_the_short_way():
+    paths = CarPaths(turning_radius=2.0)
+    a, b = (1.0, 2.0, 3.0), (1.0, 2.0, -3.0)  # 0.28 rad counter-clockwise across pi
+    mid = paths.interpolate(a, b, 0.5)
+    assert mid[:2] == (1.0, 2.0) and abs(wrap_angle(mid[2] - math.pi)) < 1e-12
+    assert paths.distance(a, b) == SPIN_RADIUS * abs(wrap_angle(b[2] - a[2]))
+    assert not paths.is_spin(a, (1.0 + 1e-6, 2.0, -3.0))  # elsewhere: Reeds-Shepp
+    assert not paths.is_spin(a, a)

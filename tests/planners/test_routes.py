@@ -1,0 +1,105 @@
+"""Turns in place and the held assembly's lattice: routes, and regrasps replaced by turns."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from factories import make_scene, shipped
+
+from pivot_ompl.base.path_conversion import path_to_plan
+from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.cost import CostModel
+from pivot_ompl.planners.config import RegraspConfig, SearchConfig
+from pivot_ompl.planners.optimiser import path_cost
+from pivot_ompl.planners.regrasp_search import RegraspSearch
+from pivot_ompl.planners.routes.lattice import TransferLattice
+from pivot_ompl.planners.routes.refine import RefineStats, refine
+from pivot_ompl.validity.plan_check import check_plan
+
+COSTS = CostModel()
+OPEN = dict(bounds=[0.0, 0.0, 10.0, 6.0], start=[1.5, 3.0, 0.0], goal=[8.5, 3.0, 0.0])
+
+
+def test_a_turn_needs_room_and_its_pivots_are_certified():
+    ck = PivotChecker(make_scene(**OPEN))
+    q = (5.0, 3.0, 0.3)
+    t = ck.turned(q, 0, margin=0.05)
+    assert t is not None and ck.state_valid(t, 0)
+    assert ck.transfer(q, t, 0).valid
+    assert ck.turned((1.0, 3.0, 0.0), 0, margin=0.05) is None  # the floor's side is too near
+
+
+def test_turn_edges_join_the_manipulation_roadmaps_where_there_is_room():
+    scene = make_scene(**OPEN)
+    on = RegraspSearch(PivotChecker(scene), scene.start, scene.goal, RegraspConfig(),
+                       np.random.default_rng(0))
+    on.prepare(lambda: False)
+    off = RegraspSearch(PivotChecker(scene), scene.start, scene.goal,
+                        RegraspConfig(search=SearchConfig(turns=False)),
+                        np.random.default_rng(0))
+    off.prepare(lambda: False)
+    assert on.roadmap.of_kind("turn") and on.graph.turn_edges > 0
+    assert not off.roadmap.of_kind("turn") and off.graph.turn_edges == 0
+
+
+def test_lattice_routes_end_exactly_and_enclosed_goals_cost_nothing():
+    ck = PivotChecker(make_scene(**OPEN))
+    lattice = TransferLattice(ck, COSTS)
+    route, seconds = lattice.route(ck.scene.start, ck.scene.goal, 0)
+    assert route[0] == ck.scene.start and route[-1] == ck.scene.goal
+    assert math.isfinite(seconds) and all(ck.state_valid(q, 0) for q in route)
+    box = dict(type="box", size=[0.2, 3.0], height=1.0)
+    walls = [dict(box, center=[7.0, 3.0]), dict(box, center=[10.0 - 0.1, 3.0]),
+             dict(box, center=[8.5, 1.6], size=[3.0, 0.2]),
+             dict(box, center=[8.5, 4.4], size=[3.0, 0.2])]
+    shut = PivotChecker(make_scene(**{**OPEN, "obstacles": walls}))
+    lat = TransferLattice(shut, COSTS)
+    assert lat.route(shut.scene.start, (8.5, 3.0, 0.0), 0) == ([], math.inf)
+    assert lat.expansions == 0
+
+
+def _wasteful(ck, grasps):
+    """A valid path over an open floor with regrasps that serve nothing."""
+    a, b = (3.0, 3.0, 0.0), (6.0, 3.2, 0.2)
+    path = [(ck.scene.start, grasps[0]), (a, grasps[0])]
+    for g in grasps[1:]:
+        path += [(a, g)]
+        a, b = b, a
+        path += [(a, g)]
+    path += [(ck.scene.goal, grasps[-1])]
+    assert math.isfinite(path_cost(ck, path, COSTS)), path
+    return path
+
+
+def test_regrasps_that_serve_nothing_become_turns_or_go():
+    for grasps in ([0, 2], [0, 2, 0], [0, 1, 2]):
+        scene = make_scene(**OPEN)
+        ck = PivotChecker(scene)
+        path = _wasteful(ck, grasps)
+        stats = RefineStats()
+        out = refine(ck, TransferLattice(ck, COSTS), path, costs=COSTS,
+                     should_stop=lambda: False, stats=stats)
+        regrasps = sum(1 for x, y in zip(out, out[1:], strict=False) if x[1] != y[1])
+        assert path_cost(ck, out, COSTS) < path_cost(ck, path, COSTS)
+        assert out[0][0] == scene.start and out[-1][0] == scene.goal  # the goal as given
+        if grasps != [0, 1, 2]:  # a net quarter turn of the robot keeps one regrasp
+            assert regrasps == 0, grasps
+        assert stats.applied >= 1
+        rep = check_plan(path_to_plan(scene, ck, out), scene)
+        assert rep.ok, rep.problems
+
+
+def test_refinement_is_never_costlier_and_stops_at_once():
+    scene = shipped("slot")
+    ck = PivotChecker(scene)
+    search = RegraspSearch(ck, scene.start, scene.goal,
+                           RegraspConfig().with_values({"optimiser.enabled": "false"}),
+                           np.random.default_rng(1))
+    path = search.run(lambda: False)
+    lattice = TransferLattice(ck, COSTS)
+    same = refine(ck, lattice, path, costs=COSTS, should_stop=lambda: True)
+    assert same == path
+    out = refine(ck, lattice, path, costs=COSTS, should_stop=lambda: False)
+    assert path_cost(ck, out, COSTS) <= path_cost(ck, path, COSTS)
+    assert check_plan(path_to_plan(scene, ck, out), scene).ok

@@ -1,0 +1,60 @@
+"""The cost model: seconds of execution plus a price per regrasp; its bounds are bounds."""
+
+from __future__ import annotations
+
+import math
+
+from factories import make_scene
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.cost import REGRASP_COST, CostModel
+from pivot_ompl.se2 import wrap_angle
+
+CHECKER = PivotChecker(make_scene(bounds=[-10.0, -10.0, 10.0, 10.0]))
+COSTS = CostModel()
+
+
+@settings(max_examples=40, deadline=None)
+@given(x=st.floats(-3, 3), y=st.floats(-3, 3), yaw=st.floats(-math.pi, math.pi),
+       grasp=st.integers(0, 3))
+def test_transfer_bound_never_exceeds_the_real_rotations(x, y, yaw, grasp):
+    m, alpha = CHECKER.model, CHECKER.scene.alpha_max
+    a, b = (0.0, 0.0, 0.0), (x, y, yaw)
+    edge = CHECKER.transfer(a, b, grasp)
+    assert edge.valid  # an empty floor
+    real = COSTS.rotations(r.angle for r in edge.sequence.rotations)
+    ca, cb = m.car_pose(a, grasp), m.car_pose(b, grasp)
+    bound = COSTS.transfer_bound(math.hypot(cb[0] - ca[0], cb[1] - ca[1]),
+                                 wrap_angle(cb[2] - ca[2]), m.edge_half_length(grasp), alpha)
+    assert bound <= real + 1e-9
+
+
+def test_a_straight_push_costs_its_estimate():
+    m, alpha = CHECKER.model, CHECKER.scene.alpha_max
+    for grasp in (0, 1):
+        h = grasp * math.pi / 2
+        d = 4.0
+        b = (d * math.cos(h), d * math.sin(h), 0.0)
+        edge = CHECKER.transfer((0.0, 0.0, 0.0), b, grasp)
+        real = COSTS.rotations(r.angle for r in edge.sequence.rotations)
+        estimate = COSTS.transfer_estimate(d, m.edge_half_length(grasp), alpha)
+        assert abs(real - estimate) < 0.06 * estimate
+
+
+def test_a_spin_costs_its_estimate():
+    alpha = CHECKER.scene.alpha_max
+    m = CHECKER.model
+    cx, cy, h = m.car_pose((0.0, 0.0, 0.0), 0)
+    edge = CHECKER.transfer((0.0, 0.0, 0.0), m.object_from_car((cx, cy, h + math.pi), 0), 0)
+    real = COSTS.rotations(r.angle for r in edge.sequence.rotations)
+    assert abs(real - COSTS.spin_estimate(math.pi, alpha)) < 0.1 * real
+
+
+def test_a_regrasp_costs_its_price_its_walk_and_a_new_phase():
+    d = COSTS.durations
+    assert COSTS.regrasp == REGRASP_COST
+    assert COSTS.regrasp_seconds(2.0) == REGRASP_COST + d.per_transit + d.per_transfer \
+        + 2.0 * d.per_walk_m
+    assert CostModel(regrasp=0.0).regrasp_seconds(0.0) == d.per_transit + d.per_transfer
