@@ -166,7 +166,8 @@ class RegraspConfig:
         """A copy with the leaves named in ``values`` replaced (dotted names).
 
         Values are converted to the leaf's type (a string ``"1.5"`` for a float, ``"0,1"`` or
-        ``"0 1"`` for a tuple, ``"true"``/``"false"`` for a flag), so they may come from a command line.
+        ``"0 1"`` for a tuple, ``"true"``/``"false"`` for a flag), so they may come from a
+        command line.
 
         Raises:
             InputError: unknown name, or a value of the wrong type or out of range.
