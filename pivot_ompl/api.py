@@ -18,7 +18,15 @@ from pivot_ompl.base.problem import make_setup
 from pivot_ompl.base.state import read_state
 from pivot_ompl.errors import InputError, PlanningError
 from pivot_ompl.planfile import Plan, plan_quality
-from pivot_ompl.planners import OMPL_PLANNERS, PLANNERS, check_planner_name, make_planner
+from pivot_ompl.planners import (
+    OMPL_PLANNERS,
+    PLANNERS,
+    RegraspConfig,
+    RegraspPlanner,
+    check_planner_name,
+    make_planner,
+    parse_spec,
+)
 from pivot_ompl.scene import Scene, load_scene
 
 log = logging.getLogger(__name__)
@@ -81,32 +89,44 @@ class PlanResult:
 
 
 def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: float = 30.0,
-         seed: int = 0, simplify: bool = False) -> PlanResult:
+         seed: int = 0, simplify: bool = False, regrasp_cost: float | None = None,
+         config: RegraspConfig | None = None) -> PlanResult:
     """Plan a pivoting path (with regrasps where needed) for ``scene``.
 
     Args:
         scene: a :class:`Scene` or the path of a scene file.
         planner: ``"regrasp"``, ``"visprm"`` or an OMPL planner (``"rrtconnect"``,
-            ``"kpiece1"``...; the names are the keys of ``pivot_ompl.planners.PLANNERS``).
+            ``"kpiece1"``...; the names are the keys of ``pivot_ompl.planners.PLANNERS``);
+            the regrasp planner's parameters may follow in brackets
+            (``"regrasp[search.weight=1.5]"``, :mod:`pivot_ompl.planners.registry`).
         time_limit: wall-clock limit of the solve (s, > 0); above :data:`MAX_TIME_LIMIT`
             (``math.inf`` included) it is :data:`MAX_TIME_LIMIT`.
         seed: seed of our planners' generator (and of OMPL's RNG for OMPL planners),
             0 to :data:`MAX_SEED`.
         simplify: run OMPL's ``PathSimplifier`` on OMPL planners' paths.
+        regrasp_cost: the price of one regrasp (s, >= 0) on top of its execution seconds,
+            which the regrasp planner's search and optimiser pay (default
+            :data:`pivot_ompl.cost.REGRASP_COST`); the quality block reports it.
+        config: the regrasp planner's configuration (``regrasp_cost`` overrides its
+            ``cost.regrasp``).
 
     Raises:
         PlanningError: ``INVALID_START``/``INVALID_GOAL`` (no grasp valid there).
         InputError: bad parameters (wrong type or value), naming the parameter.
     """
     time_limit = _check_arguments(scene, planner, time_limit, seed, simplify)
+    config = _check_config(config, regrasp_cost)
     if not isinstance(scene, Scene):
         scene = load_scene(scene)
     t0 = time.perf_counter()
-    if planner in OMPL_PLANNERS:
+    base = parse_spec(planner)[0]
+    if base in OMPL_PLANNERS:
         ou.RNG.setSeed(seed + 1)  # OMPL's seed must be > 0
     problem = make_setup(scene, seed=seed)
     ss = problem.setup
-    p = make_planner(planner, problem, seed=seed)
+    p = make_planner(planner, problem, seed=seed, config=config)
+    if isinstance(p, RegraspPlanner):
+        config = p.config
     ss.setPlanner(p)
     ss.setup()
     t1 = time.perf_counter()
@@ -120,7 +140,7 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
         raise PlanningError(name, problem.checker.explain(scene.goal))
     extra = {"planner": planner, "seed": seed, "time_limit": time_limit}
     if name == "EXACT_SOLUTION" and ss.haveExactSolutionPath():
-        if simplify and planner in OMPL_PLANNERS:
+        if simplify and base in OMPL_PLANNERS:
             ss.simplifySolution()
         path = ss.getSolutionPath()
         states = [read_state(path.getState(i)) for i in range(path.getStateCount())]
@@ -143,7 +163,8 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
         if bound.solvable is False:  # a relaxation of every plan: a bug if it finds none
             log.warning("the regrasp bound's relaxation finds no path, yet a plan exists")
         result_plan.extra["quality"] = plan_quality(result_plan,
-                                                    regrasps_lower_bound=bound.regrasps)
+                                                    regrasps_lower_bound=bound.regrasps,
+                                                    costs=config.cost)
     c = problem.checker.counters
     log.info("%s on %s: %s in %.2f s (%d pivots, %d regrasps)", planner, scene.name, name,
              t2 - t1, result_plan.pivots, result_plan.regrasps)
@@ -158,10 +179,9 @@ def _check_arguments(scene: Any, planner: Any, time_limit: Any, seed: Any,
     if not isinstance(scene, Scene | str | os.PathLike):
         raise InputError("scene", type(scene).__name__,
                          "must be a Scene, a scene file path or a shipped scene name")
-    if isinstance(planner, str):
-        check_planner_name(planner)  # refused planners (prm) say why
-    if not isinstance(planner, str) or planner not in PLANNERS:
+    if not isinstance(planner, str):
         raise InputError("planner", planner, f"unknown planner (known: {sorted(PLANNERS)})")
+    check_planner_name(planner)  # unknown or refused planners (prm) say why
     if isinstance(time_limit, bool) or not isinstance(time_limit, int | float):
         raise InputError("time_limit", time_limit, "must be a number of seconds")
     if math.isnan(time_limit) or time_limit <= 0:
@@ -171,6 +191,20 @@ def _check_arguments(scene: Any, planner: Any, time_limit: Any, seed: Any,
     if not isinstance(simplify, bool):
         raise InputError("simplify", simplify, "must be True or False")
     return float(min(time_limit, MAX_TIME_LIMIT))
+
+
+def _check_config(config: Any, regrasp_cost: Any) -> RegraspConfig:
+    """The regrasp planner's configuration with ``regrasp_cost`` applied."""
+    if config is None:
+        config = RegraspConfig()
+    elif not isinstance(config, RegraspConfig):
+        raise InputError("config", type(config).__name__, "must be a RegraspConfig")
+    if regrasp_cost is None:
+        return config
+    if isinstance(regrasp_cost, bool) or not isinstance(regrasp_cost, int | float) or \
+            not math.isfinite(regrasp_cost) or regrasp_cost < 0:
+        raise InputError("regrasp_cost", regrasp_cost, "must be a number of seconds >= 0")
+    return config.with_values({"cost.regrasp": float(regrasp_cost)})
 
 
 def _status_name(status: Any) -> str:

@@ -39,6 +39,19 @@ def positive(name: str) -> Callable[[str], float]:
     return conv
 
 
+def non_negative(name: str) -> Callable[[str], float]:
+    """An argparse type for a finite float >= 0; the error names the option."""
+    base = finite(name)
+
+    def conv(text: str) -> float:
+        v = base(text)
+        if v < 0:
+            raise argparse.ArgumentTypeError(f"{name} = {abridge(text)}: must be >= 0")
+        return v
+
+    return conv
+
+
 def time_limit(name: str = "--time") -> Callable[[str], float]:
     """An argparse type for a time limit (s): a number > 0, ``inf`` allowed (no NaN)."""
 

@@ -14,7 +14,8 @@ import threading
 import time
 
 from pivot_ompl.api import MAX_SEED, plan
-from pivot_ompl.cli.args import figure_file, integer, output_file, time_limit
+from pivot_ompl.cli.args import figure_file, integer, non_negative, output_file, time_limit
+from pivot_ompl.cost import REGRASP_COST
 from pivot_ompl.errors import PlanningError
 from pivot_ompl.fileio import atomic_output
 from pivot_ompl.planners import PLANNERS, REFUSED
@@ -27,8 +28,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``plan`` verb."""
     p = sub.add_parser("plan", help="plan a pivoting path with regrasps for a scene")
     p.add_argument("scene", help="scene YAML file")
-    p.add_argument("--planner", default="regrasp", choices=sorted([*PLANNERS, *REFUSED]),
-                   help="planner (prm, prmstar: refused with the reason, exit 2)")
+    p.add_argument("--planner", default="regrasp",
+                   help=f"planner: one of {', '.join(sorted(PLANNERS))}, or the regrasp "
+                        "planner with parameters, e.g. 'regrasp[search.weight=1.5]' "
+                        f"({', '.join(sorted(REFUSED))}: refused with the reason, exit 2)")
+    p.add_argument("--regrasp-cost", type=non_negative("--regrasp-cost"), default=None,
+                   metavar="S", help="price of one regrasp on top of its execution seconds "
+                                     f"(s, >= 0; default {REGRASP_COST:g})")
     p.add_argument("--time", type=time_limit("--time"), default=30.0,
                    help="time limit (s; inf: until solved)")
     p.add_argument("--seed", type=integer("--seed", 0, MAX_SEED), default=0,
@@ -54,7 +60,8 @@ def run(args: argparse.Namespace) -> int:
     th = threading.Thread(target=_progress, args=(stop, args.time), daemon=True)
     th.start()
     try:
-        res = plan(scene, planner=args.planner, time_limit=args.time, seed=args.seed)
+        res = plan(scene, planner=args.planner, time_limit=args.time, seed=args.seed,
+                   regrasp_cost=args.regrasp_cost)
     except PlanningError as e:
         stop.set()
         print(f"\npivot-ompl plan: {e}", file=sys.stderr)

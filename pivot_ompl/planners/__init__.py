@@ -14,9 +14,12 @@ from pivot_ompl.planners.registry import (
     Allocator,
     check_planner_name,
     make_planner,
+    parse_spec,
+    planner_spec,
 )
 from pivot_ompl.planners.regrasp import RegraspPlanner
 from pivot_ompl.planners.visprm import VisibilityPRM
 
 __all__ = ["OMPL_PLANNERS", "PLANNERS", "REFUSED", "Allocator", "RegraspConfig",
-           "RegraspPlanner", "VisibilityPRM", "check_planner_name", "make_planner"]
+           "RegraspPlanner", "VisibilityPRM", "check_planner_name", "make_planner", "parse_spec",
+           "planner_spec"]

@@ -210,7 +210,9 @@ def _flatten(obj: Any, prefix: str) -> dict[str, Any]:
 def _replace_leaf(obj: Any, path: list[str], value: Any, name: str) -> Any:
     known = {f.name: f for f in fields(obj)}
     if path[0] not in known:
-        raise InputError("param", name, f"unknown parameter (known: {sorted(_leaf_names())})")
+        groups = sorted({n.split(".")[0] for n in _leaf_names()})
+        raise InputError("param", name, "unknown parameter: the names are those of "
+                         f"RegraspConfig().flat(), in the groups {', '.join(groups)}")
     current = getattr(obj, path[0])
     if len(path) > 1:
         if not is_dataclass(current):

@@ -1,4 +1,11 @@
-"""Planner names: ours (``regrasp``, ``visprm``) and OMPL's baselines on the same space."""
+"""Planner names: ours (``regrasp``, ``visprm``) and OMPL's baselines on the same space.
+
+A *planner spec* is a name, optionally with parameters of a configurable planner in brackets:
+``regrasp[search.weight=1.5;cost.regrasp=60]`` (dotted names of
+:meth:`~pivot_ompl.planners.config.RegraspConfig.flat`, ``;`` between them). Each spec is one
+planner configuration, under its own name in OMPL (``RegraspPlanner[search.weight=1.5]``):
+what ``pivot-ompl bench --param`` sweeps.
+"""
 
 from __future__ import annotations
 
@@ -10,6 +17,7 @@ from ompl import geometric as og
 
 from pivot_ompl.base.problem import PivotProblem
 from pivot_ompl.errors import InputError
+from pivot_ompl.planners.config import RegraspConfig
 from pivot_ompl.planners.regrasp import RegraspPlanner
 from pivot_ompl.planners.visprm import VisibilityPRM
 
@@ -45,20 +53,63 @@ REFUSED: dict[str, str] = {
 OMPL_PLANNERS = frozenset(PLANNERS) - {"regrasp", "visprm"}
 
 
-def make_planner(name: str, problem: PivotProblem, *, seed: int = 0) -> ob.Planner:
-    """Allocate planner ``name`` on ``problem``.
+#: Planners whose parameters a spec may set (their configuration's dotted names).
+CONFIGURABLE = frozenset({"regrasp"})
+
+
+def parse_spec(spec: str) -> tuple[str, dict[str, str]]:
+    """``"regrasp[a.b=1;c=2]"`` -> ``("regrasp", {"a.b": "1", "c": "2"})``.
 
     Raises:
-        InputError: unknown or refused planner name (the message gives the reason).
+        InputError: a malformed spec, or parameters for a planner that takes none.
     """
-    check_planner_name(name)
-    return PLANNERS[name](problem, seed)
+    name, bracket, rest = spec.partition("[")
+    if not bracket:
+        return spec, {}
+    if not rest.endswith("]") or "[" in rest[:-1]:
+        raise InputError("planner", spec, "write parameters as name[key=value;key=value]")
+    if name not in CONFIGURABLE:
+        raise InputError("planner", spec, f"only {sorted(CONFIGURABLE)} take parameters")
+    values: dict[str, str] = {}
+    for item in filter(None, rest[:-1].split(";")):
+        key, eq, value = item.partition("=")
+        if not eq or not key.strip():
+            raise InputError("planner", spec, f"parameter {item!r} is not key=value")
+        values[key.strip()] = value.strip()
+    return name, values
+
+
+def planner_spec(name: str, values: dict[str, object]) -> str:
+    """The spec of planner ``name`` with ``values`` (the inverse of :func:`parse_spec`)."""
+    if not values:
+        return name
+    return name + "[" + ";".join(f"{k}={v}" for k, v in values.items()) + "]"
+
+
+def make_planner(name: str, problem: PivotProblem, *, seed: int = 0,
+                 config: RegraspConfig | None = None) -> ob.Planner:
+    """Allocate planner ``name`` (a spec, see the module docstring) on ``problem``.
+
+    ``config``: the regrasp planner's base configuration, which a spec's values override.
+
+    Raises:
+        InputError: unknown or refused planner name, bad parameters (the message says why).
+    """
+    base, values = parse_spec(check_planner_name(name))
+    if base == "regrasp":
+        cfg = (config or RegraspConfig()).with_values(values)
+        label = "RegraspPlanner" + (name[len(base):] if values else "")
+        return RegraspPlanner(problem.si, problem.checker, seed=seed, config=cfg, name=label)
+    return PLANNERS[base](problem, seed)
 
 
 def check_planner_name(name: str) -> str:
-    """Return ``name`` if it is a usable planner, else raise :class:`InputError` saying why."""
-    if name in REFUSED:
-        raise InputError("planner", name, f"refused: {REFUSED[name]}")
-    if name not in PLANNERS:
+    """Return ``name`` if it is a usable planner spec, else raise :class:`InputError`."""
+    base, values = parse_spec(name)
+    if base in REFUSED:
+        raise InputError("planner", name, f"refused: {REFUSED[base]}")
+    if base not in PLANNERS:
         raise InputError("planner", name, f"unknown planner (known: {sorted(PLANNERS)})")
+    if values:
+        RegraspConfig().with_values(values)  # names and values checked now
     return name
