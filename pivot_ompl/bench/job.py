@@ -83,27 +83,40 @@ JobResult = dict[str, Any]
 def allocator(planner: str) -> Callable[[Any, int], Any]:
     """Return the ``(problem, seed) -> planner`` allocator of a planner spec.
 
-    A ``module:factory`` spec names a user factory ``(si, seed) -> planner``.
+    A name of :data:`pivot_ompl.planners.PLANNERS`, with parameters in brackets for the
+    regrasp planner (``regrasp[search.weight=1.5]``, :mod:`pivot_ompl.planners.registry`),
+    or a ``module:factory`` spec naming a user factory ``(si, seed) -> planner``.
 
     Raises:
-        InputError: unknown planner name or unimportable ``module:factory``.
+        InputError: unknown planner name, bad parameters or unimportable ``module:factory``.
     """
     from pivot_ompl.errors import InputError
-    from pivot_ompl.planners import PLANNERS, REFUSED
+    from pivot_ompl.planners import PLANNERS, check_planner_name, make_planner
 
     if ":" not in planner:
-        if planner in REFUSED:
-            raise InputError("planner", planner, f"refused: {REFUSED[planner]}")
-        if planner not in PLANNERS:
-            raise InputError("planner", planner,
-                             f"unknown planner (known: {sorted(PLANNERS)} or module:factory)")
-        return PLANNERS[planner]
+        try:
+            check_planner_name(planner)
+        except InputError as e:
+            if planner.partition("[")[0] not in PLANNERS:
+                raise InputError("planner", planner, f"unknown planner (known: "
+                                 f"{sorted(PLANNERS)} or module:factory)") from None
+            raise InputError("planner", planner, e.reason) from None
+        return lambda problem, seed: make_planner(planner, problem, seed=seed)
     mod, _, attr = planner.partition(":")
     try:
         factory = getattr(importlib.import_module(mod), attr)
     except (ImportError, AttributeError) as e:
         raise InputError("planner", planner, f"cannot import the factory ({e})") from None
     return lambda problem, seed: factory(problem.si, seed)
+
+
+def parameter_lines(planner: str) -> list[str]:
+    """The common-property lines recording a planner spec's parameters (``name = value``)."""
+    from pivot_ompl.planners import parse_spec
+
+    if ":" in planner:
+        return []
+    return [f"{k} = {v}" for k, v in parse_spec(planner)[1].items()]
 
 
 #: Clearer column names for some planner figures.
@@ -228,7 +241,8 @@ def execute(job: Job) -> JobResult:
         bench.saveResultsToFile(log_path)
         log = parse_log(Path(log_path).read_text())
     block = log.planners[0]
-    res.update({"planner_name": block.name, "common": block.common, "setup": log.setup,
+    res.update({"planner_name": block.name,
+                "common": block.common + parameter_lines(job.planner), "setup": log.setup,
                 "cpuinfo": log.cpuinfo, "version": log.version, "host": log.host,
                 "enums": log.enums})
     if block.runs:

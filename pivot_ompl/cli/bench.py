@@ -11,7 +11,7 @@ import argparse
 import logging
 import sys
 
-from pivot_ompl.cli.args import positive
+from pivot_ompl.cli.args import non_negative, positive
 from pivot_ompl.errors import InputError
 
 log = logging.getLogger(__name__)
@@ -34,6 +34,62 @@ def _count(name: str, minimum: int) -> object:
     return conv
 
 
+def _split_specs(text: str) -> list[str]:
+    """Comma-separated planner specs (commas inside brackets belong to a spec)."""
+    out, depth, cur = [], 0, ""
+    for ch in text:
+        depth += {"[": 1, "]": -1}.get(ch, 0)
+        if ch == "," and depth == 0:
+            out.append(cur)
+            cur = ""
+        else:
+            cur += ch
+    return [*out, cur]
+
+
+def expand_params(planners: list[str], params: list[str], *,
+                  regrasp_cost: float | None = None) -> list[str]:
+    """The planner specs with every combination of the ``--param`` values.
+
+    Only the configurable planners (the regrasp planner) take parameters; the others are
+    kept as given.
+
+    Raises:
+        InputError: a malformed ``--param``, or parameters and no planner to take them.
+    """
+    import itertools
+
+    from pivot_ompl.planners import parse_spec, planner_spec
+    from pivot_ompl.planners.registry import CONFIGURABLE
+
+    grid: list[list[tuple[str, str]]] = []
+    for item in params:
+        name, eq, text = item.partition("=")
+        vals = [v.strip() for v in text.split(",") if v.strip()]
+        if not eq or not name.strip() or not vals:
+            raise InputError("--param", item, "write NAME=V1,V2 (e.g. search.weight=1.5,2)")
+        grid.append([(name.strip(), v) for v in vals])
+    if regrasp_cost is not None:
+        grid.append([("cost.regrasp", f"{regrasp_cost:g}")])
+    if not grid:
+        return planners
+    if not any(parse_spec(p)[0] in CONFIGURABLE for p in planners if ":" not in p):
+        raise InputError("--param", ",".join(params) or "--regrasp-cost",
+                         f"none of the planners takes parameters (only {sorted(CONFIGURABLE)})")
+    out = []
+    for p in planners:
+        if ":" in p:
+            out.append(p)
+            continue
+        base, given = parse_spec(p)
+        if base not in CONFIGURABLE:
+            out.append(p)
+            continue
+        for combo in itertools.product(*grid):
+            out.append(planner_spec(base, {**given, **dict(combo)}))
+    return out
+
+
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``bench`` verb."""
     p = sub.add_parser(
@@ -44,6 +100,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--planners", default=DEFAULT_PLANNERS,
                    help="comma-separated planner names (or module:factory) "
                         f"[default: {DEFAULT_PLANNERS}]")
+    p.add_argument("--param", action="append", default=[], metavar="NAME=V1,V2",
+                   help="sweep a parameter of the regrasp planner (a dotted name of "
+                        "RegraspConfig, e.g. search.weight=1.5,2): one planner "
+                        "configuration per value, each under its own name; repeat for a "
+                        "grid of configurations")
+    p.add_argument("--regrasp-cost", type=non_negative("--regrasp-cost"), default=None,
+                   metavar="S", help="price of one regrasp (s) for the regrasp planner")
     p.add_argument("--runs", type=_count("--runs", 1), default=50, help="runs per planner")
     p.add_argument("--time", type=positive("--time"), default=30.0,
                    help="time limit per run (s)")
@@ -73,9 +136,10 @@ def run(args: argparse.Namespace) -> int:
     from pivot_ompl.bench.executors import make_executor
     from pivot_ompl.bench.sweep import run_sweep
 
-    planners = [p.strip() for p in args.planners.split(",") if p.strip()]
+    planners = [p.strip() for p in _split_specs(args.planners) if p.strip()]
     if not planners:
         raise InputError("--planners", args.planners, "give at least one planner")
+    planners = expand_params(planners, args.param, regrasp_cost=args.regrasp_cost)
     if args.scheduler and args.executor != "dask":
         raise InputError("--scheduler", args.scheduler, "needs --executor dask")
     from pivot_ompl.bench.sweep import check_out_folder

@@ -367,3 +367,26 @@ def test_readme_paper_comparison_command_parses() -> None:
     assert [Path(s).name for s in args.scenes] == ["fig10.yaml"]
     assert (ROOT / args.scenes[0]).exists()
     assert (args.runs, args.time) == (100, 30.0)
+
+
+def test_param_sweeps_give_one_named_configuration_per_value():
+    from pivot_ompl.cli.bench import expand_params
+
+    got = expand_params(["regrasp", "rrtconnect"], ["search.weight=1.5,2", "search.turns=false"],
+                        regrasp_cost=60.0)
+    assert got == ["regrasp[search.weight=1.5;search.turns=false;cost.regrasp=60]",
+                   "regrasp[search.weight=2;search.turns=false;cost.regrasp=60]", "rrtconnect"]
+    with pytest.raises(InputError):
+        expand_params(["rrtconnect"], ["search.weight=1.5"])
+    with pytest.raises(InputError):
+        expand_params(["regrasp"], ["search.weight"])
+
+
+def test_a_configured_planner_runs_under_its_own_name_with_its_parameters(tmp_path):
+    from pivot_ompl.bench.job import Job, execute
+
+    text = (Path(__file__).resolve().parents[2] / "scenes" / "slot.yaml").read_text()
+    res = execute(Job("slot", text, "regrasp[search.weight=1.5]", 0, 10.0))
+    assert res["planner_name"] == "geometric_RegraspPlanner[search.weight=1.5]"
+    assert "search.weight = 1.5" in res["common"]
+    assert res["run"]["solved BOOLEAN"] == "1"
