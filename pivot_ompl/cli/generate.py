@@ -12,6 +12,7 @@ import dataclasses
 from pivot_ompl.cli.args import positive
 from pivot_ompl.errors import InputError
 from pivot_ompl.generate import FAMILIES, GeneratorParams, generate, write_generated
+from pivot_ompl.generate.families import BUILDING_LAYOUTS
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -25,7 +26,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--door-width", type=positive("--door-width"), nargs=2,
                    metavar=("MIN", "MAX"), help="range of robot door widths (m), walls")
     p.add_argument("--no-rotate", action="store_true",
-                   help="keep the layout's axes (walls, corridor)")
+                   help="keep the layout's axes (walls, corridor, building)")
+    p.add_argument("--walls", type=positive("--walls"), metavar="K",
+                   help="number of walls, each with a box-only slot (walls; default 1-3)")
+    p.add_argument("--slot-clearance", type=positive("--slot-clearance"), metavar="C",
+                   help="gap (m) each side of the box in every slot (walls, building)")
+    p.add_argument("--rooms", type=positive("--rooms"), metavar="N",
+                   help="number of rooms (building; default 4)")
+    p.add_argument("--layout", choices=BUILDING_LAYOUTS, default="row",
+                   help="rooms in a row or a grid (building; default row)")
     p.set_defaults(func=run)
 
 
@@ -35,7 +44,15 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--seed", args.seed, "must be >= 0")
     if int(args.count) != args.count:
         raise InputError("--count", args.count, "must be a whole number")
-    params = GeneratorParams(rotate=not args.no_rotate)
+    for name in ("walls", "rooms"):
+        value = getattr(args, name)
+        if value is not None and int(value) != value:
+            raise InputError(f"--{name}", value, "must be a whole number")
+    params = GeneratorParams(rotate=not args.no_rotate,
+                             walls=None if args.walls is None else int(args.walls),
+                             slot_clearance=args.slot_clearance,
+                             rooms=4 if args.rooms is None else int(args.rooms),
+                             layout=args.layout)
     if args.door_width:
         lo, hi = args.door_width
         if lo > hi:

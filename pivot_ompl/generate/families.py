@@ -29,19 +29,25 @@ import numpy as np
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.errors import InputError
+from pivot_ompl.generate.building import building_layout
+from pivot_ompl.generate.layout import (
+    BOX,
+    HELD_FACE_BACK,
+    WALL_HEIGHT,
+    Retry,
+    free_complement,
+    make_scene,
+    uniform,
+)
 from pivot_ompl.generate.transform import RigidMap, transform_scene
 from pivot_ompl.generate.witness import State, build_witness
 from pivot_ompl.planfile import Plan
-from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Obstacle, Scene, scene_from_dict
+from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Obstacle, Scene
 from pivot_ompl.se2 import Pose, rotate_about
 from pivot_ompl.validity.collision import CollisionWorld
 
 log = logging.getLogger(__name__)
 
-#: The box of the regrasp paper's Fig. 10 (m): its 0.4 m side passes slots the robot cannot.
-BOX = (0.8, 0.4, 1.0)
-#: Height of walls and baffles (m).
-WALL_HEIGHT = 2.0
 #: Clearance kept between clutter and the witness's bodies (m).
 CLUTTER_MARGIN = 0.12
 
@@ -58,6 +64,12 @@ class GeneratorParams:
         max_tilt: largest tilt of a wall from the room's cross direction (``walls``).
         rotate: turn the scene by a random angle (``walls``, ``corridor``).
         attempts: layouts drawn at most before giving up.
+        walls: number of walls (``walls``; default 1 to 3 at random).
+        slot_clearance: the gap (m) on each side of the box in every slot (``walls`` and
+            ``building``; default ``slot_gap``'s range).
+        rooms: number of rooms (``building``).
+        layout: ``"row"`` (rooms in a row) or ``"grid"`` (rooms in a grid, the route
+            snaking through them), ``building``.
     """
 
     door_width: tuple[float, float] = (1.15, 1.35)
@@ -67,6 +79,10 @@ class GeneratorParams:
     max_tilt: float = 0.3
     rotate: bool = True
     attempts: int = 60
+    walls: int | None = None
+    slot_clearance: float | None = None
+    rooms: int = 4
+    layout: str = "row"
 
 
 @dataclass(frozen=True)
@@ -80,25 +96,15 @@ class Generated:
     attempts: int
 
 
-def _scene(name: str, bounds: tuple[float, float, float, float], obstacles: list[Obstacle],
-           start: Pose, goal: Pose) -> Scene:
-    doc = {"name": name, "bounds": list(bounds), "object": {"size": list(BOX)},
-           "start": list(start), "goal": list(goal)}
-    sc = scene_from_dict(doc, source="<generated>")
-    return Scene(sc.name, sc.bounds, sc.model, sc.start, sc.goal, tuple(obstacles),
-                 sc.alpha_max, sc.turning_radius, sc.robot_model, "")
-
-
-def _u(rng: np.random.Generator, r: tuple[float, float]) -> float:
-    if r[1] < r[0]:
-        raise _Retry(f"empty range {r}")
-    return float(rng.uniform(r[0], r[1]))
-
-
 def _along(p: tuple[float, float], phi: float, d: float, s: float = 0.0) -> tuple[float, float]:
     """Point ``d`` along direction ``phi`` and ``s`` to its left from ``p``."""
     return (p[0] + d * math.cos(phi) - s * math.sin(phi), p[1] + d * math.sin(phi)
             + s * math.cos(phi))
+
+
+def _slot_gap(rng: np.random.Generator, p: GeneratorParams) -> float:
+    """The gap (m) on each side of the box in a slot."""
+    return p.slot_clearance if p.slot_clearance is not None else uniform(rng, p.slot_gap)
 
 
 # -- walls -------------------------------------------------------------------------------
@@ -126,7 +132,7 @@ def _piece(origin: tuple[float, float], phi: float, t: float, a: float, b: float
 
 def _walls_layout(rng: np.random.Generator, p: GeneratorParams,
                   seed: int) -> tuple[Scene, list[State]]:
-    n = int(rng.integers(1, 4))
+    n = int(rng.integers(1, 4)) if p.walls is None else p.walls
     width = float(rng.uniform(6.0, 7.5))
     obstacles: list[Obstacle] = []
     states: list[State] = []
@@ -141,13 +147,13 @@ def _walls_layout(rng: np.random.Generator, p: GeneratorParams,
         cphi = math.cos(phi)
         s_lo = -ys / cphi - 1.0
         s_hi = (width - ys) / cphi + 1.0
-        slot = BOX[1] + 2 * _u(rng, p.slot_gap)
-        door = _u(rng, p.door_width)
+        slot = BOX[1] + 2 * _slot_gap(rng, p)
+        door = uniform(rng, p.door_width)
         # the door: at least 1.8 m from the slot, inside the room
         sides = [sd for sd in (-1, 1)
                  if (s_lo + 1.2 if sd < 0 else s_hi - 1.2) * sd > 1.8 + 0.5 * door]
         if not sides:
-            raise _Retry("no room for a door")
+            raise Retry("no room for a door")
         sd = sides[int(rng.integers(len(sides)))]
         far = (s_lo + 1.0 + 0.5 * door + 0.1) if sd < 0 else (s_hi - 1.0 - 0.5 * door - 0.1)
         near = sd * (1.8 + 0.5 * door)
@@ -159,9 +165,9 @@ def _walls_layout(rng: np.random.Generator, p: GeneratorParams,
             a = s_d - 0.5 * door - 0.3 if sd > 0 else s_lo
             b = s_hi if sd > 0 else s_d + 0.5 * door + 0.3
             obstacles.append(_piece(_along(origin, phi, t + depth), phi, 0.2, a, b))
-        # pushed into the slot until the held face is 2 cm in: the holding robot's arms reach
-        # the grip points on the box's sides, so they stay out of the slot
-        push = _along(origin, phi, BOX[0] / 2 + 0.02)
+        # pushed into the slot until the held face is HELD_FACE_BACK short of the wall: the arms
+        # (which reach the grip points on the box's sides) stay out of the slot
+        push = _along(origin, phi, BOX[0] / 2 - HELD_FACE_BACK)
         before = _along(origin, phi, -float(rng.uniform(1.2, 1.6)))
         after = _along(origin, phi, t + float(rng.uniform(1.0, 1.3)) + 0.4)
         approach.append(((before[0], before[1], phi), (push[0], push[1], phi),
@@ -169,10 +175,10 @@ def _walls_layout(rng: np.random.Generator, p: GeneratorParams,
         x = after[0] + float(rng.uniform(1.6, 2.4))
         y_prev = ys
     length = x + float(rng.uniform(0.5, 1.2))
-    start = (_u(rng, (0.9, approach[0][0][0] - 0.6)), float(rng.uniform(1.0, width - 1.0)),
+    start = (uniform(rng, (0.9, approach[0][0][0] - 0.6)), float(rng.uniform(1.0, width - 1.0)),
              approach[0][0][2] + float(rng.uniform(-0.5, 0.5)))
     last = approach[-1][2]
-    goal = (_u(rng, (last[0] + 0.6, length - 0.9)), float(rng.uniform(1.0, width - 1.0)),
+    goal = (uniform(rng, (last[0] + 0.6, length - 0.9)), float(rng.uniform(1.0, width - 1.0)),
             last[2] + float(rng.uniform(-0.5, 0.5)))
     states.append((start, 0))
     for i, (q_before, q_push, q_after) in enumerate(approach):
@@ -180,38 +186,15 @@ def _walls_layout(rng: np.random.Generator, p: GeneratorParams,
             states.append((states[-1][0], 0))  # regrasp: behind the box again
         states += [(q_before, 0), (q_push, 0), (q_push, 2), (q_after, 2)]
     states.append((goal, 2))
-    scene = _scene(f"walls_{seed}", (0.0, 0.0, length, width), obstacles, start, goal)
+    scene = make_scene(f"walls_{seed}", (0.0, 0.0, length, width), obstacles, start, goal)
     return scene, states
 
 
 # -- corridor ----------------------------------------------------------------------------
-def _free_complement(bounds: tuple[float, float, float, float],
-                     free: list[tuple[float, float, float, float]]) -> list[Obstacle]:
-    """Axis-aligned boxes covering ``bounds`` less the union of the ``free`` rectangles."""
-    xs = sorted({bounds[0], bounds[2], *(r[0] for r in free), *(r[2] for r in free)})
-    ys = sorted({bounds[1], bounds[3], *(r[1] for r in free), *(r[3] for r in free)})
-    out: list[Obstacle] = []
-    for j in range(len(ys) - 1):
-        y0, y1 = ys[j], ys[j + 1]
-        run: float | None = None
-        for i in range(len(xs)):
-            blocked = False
-            if i < len(xs) - 1:
-                cx, cy = 0.5 * (xs[i] + xs[i + 1]), 0.5 * (y0 + y1)
-                blocked = not any(r[0] <= cx <= r[2] and r[1] <= cy <= r[3] for r in free)
-            if blocked and run is None:
-                run = xs[i]
-            elif not blocked and run is not None:
-                out.append(BoxObstacle((0.5 * (run + xs[i]), 0.5 * (y0 + y1)),
-                                       (xs[i] - run, y1 - y0), 0.0, WALL_HEIGHT))
-                run = None
-    return out
-
-
 def _corridor_layout(rng: np.random.Generator, p: GeneratorParams,
                      seed: int) -> tuple[Scene, list[State]]:
     bends = int(rng.integers(1, 4))
-    w = _u(rng, p.corridor_width)
+    w = uniform(rng, p.corridor_width)
     free: list[tuple[float, float, float, float]] = []
     states: list[State] = []
     pos = (0.0, 0.0)
@@ -231,7 +214,7 @@ def _corridor_layout(rng: np.random.Generator, p: GeneratorParams,
         free.append((min(a[0], b[0]) - 0.5 * w, min(a[1], b[1]) - 0.5 * w,
                      max(a[0], b[0]) + 0.5 * w, max(a[1], b[1]) + 0.5 * w))
     for c, _ in corners:
-        j = 0.5 * _u(rng, p.bend_size)
+        j = 0.5 * uniform(rng, p.bend_size)
         free.append((c[0] - j, c[1] - j, c[0] + j, c[1] + j))
     # start and end in small rooms so the box has room to line up
     room = 1.6
@@ -261,8 +244,8 @@ def _corridor_layout(rng: np.random.Generator, p: GeneratorParams,
                end[1] + float(rng.uniform(-0.3, 0.5)) * (heading == 1)),
               float(rng.uniform(-0.3, 0.3)))
     states.append((goal, grasp))
-    obstacles = _free_complement(bounds, free)
-    return _scene(f"corridor_{seed}", bounds, obstacles, start, goal), states
+    obstacles = free_complement(bounds, free)
+    return make_scene(f"corridor_{seed}", bounds, obstacles, start, goal), states
 
 
 # -- clutter -----------------------------------------------------------------------------
@@ -277,13 +260,13 @@ def _clutter_layout(rng: np.random.Generator, p: GeneratorParams,
 
     start, goal = pose(), pose()
     if math.hypot(goal[0] - start[0], goal[1] - start[1]) < 3.0:
-        raise _Retry("start and goal too close")
+        raise Retry("start and goal too close")
     g = int(rng.integers(4))
     states: list[State] = [(start, g), (goal, g)]
-    empty = _scene(f"clutter_{seed}", (0.0, 0.0, bx, by), [], start, goal)
+    empty = make_scene(f"clutter_{seed}", (0.0, 0.0, bx, by), [], start, goal)
     ck = PivotChecker(empty)
     if not ck.transfer(start, goal, g).valid:
-        raise _Retry("no direct pivoting path")
+        raise Retry("no direct pivoting path")
     bodies = _swept_samples(ck, states)
     obstacles: list[Obstacle] = []
     for _ in range(int(rng.integers(5, 12)) * 4):
@@ -299,7 +282,7 @@ def _clutter_layout(rng: np.random.Generator, p: GeneratorParams,
                             float(rng.uniform(-math.pi, math.pi)), float(rng.uniform(0.7, 1.2)))
         if _clear_of(empty, o, bodies):
             obstacles.append(o)
-    return _scene(f"clutter_{seed}", (0.0, 0.0, bx, by), obstacles, start, goal), states
+    return make_scene(f"clutter_{seed}", (0.0, 0.0, bx, by), obstacles, start, goal), states
 
 
 def _swept_samples(ck: PivotChecker, states: list[State]) -> list[tuple[Pose, Pose, int]]:
@@ -327,14 +310,34 @@ def _clear_of(scene: Scene, o: Obstacle, bodies: list[tuple[Pose, Pose, int]]) -
                for b, r, g in bodies)
 
 
-class _Retry(Exception):  # noqa: N818 - a layout to draw again, never escapes generate()
-    pass
-
-
 Layout = Callable[[np.random.Generator, GeneratorParams, int], tuple[Scene, list[State]]]
+def _building(rng: np.random.Generator, p: GeneratorParams,
+              seed: int) -> tuple[Scene, list[State]]:
+    return building_layout(rng, rooms=p.rooms, layout=p.layout, slot_gap=p.slot_gap,
+                           slot_clearance=p.slot_clearance, seed=seed)
+
+
 FAMILIES: dict[str, Layout] = {"walls": _walls_layout, "corridor": _corridor_layout,
-                               "clutter": _clutter_layout}
-_ROTATED = {"walls", "corridor"}
+                               "clutter": _clutter_layout, "building": _building}
+#: Each family's stream of random numbers (fixed: a new family changes no other's scenes).
+_STREAM = {"clutter": 0, "corridor": 1, "walls": 2, "building": 3}
+_ROTATED = {"walls", "corridor", "building"}
+#: Layouts of the ``building`` family.
+BUILDING_LAYOUTS = ("row", "grid")
+
+
+def _check_params(p: GeneratorParams) -> None:
+    """Raise :class:`InputError` for parameters no layout can honour."""
+    if p.walls is not None and (isinstance(p.walls, bool) or not isinstance(p.walls, int)
+                                or not 1 <= p.walls <= 64):
+        raise InputError("walls", p.walls, "must be a whole number from 1 to 64")
+    if p.slot_clearance is not None and not 0.005 <= p.slot_clearance <= 0.5:
+        raise InputError("slot_clearance", p.slot_clearance,
+                         "must be from 0.005 m (the kept 1 cm over both sides) to 0.5 m")
+    if isinstance(p.rooms, bool) or not isinstance(p.rooms, int) or not 1 <= p.rooms <= 256:
+        raise InputError("rooms", p.rooms, "must be a whole number from 1 to 256")
+    if p.layout not in BUILDING_LAYOUTS:
+        raise InputError("layout", p.layout, f"must be one of {list(BUILDING_LAYOUTS)}")
 
 
 def generate(family: str, seed: int, *, params: GeneratorParams | None = None) -> Generated:
@@ -348,12 +351,13 @@ def generate(family: str, seed: int, *, params: GeneratorParams | None = None) -
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise InputError("seed", seed, "must be a non-negative integer")
     p = params or GeneratorParams()
-    rng = np.random.default_rng([seed, sorted(FAMILIES).index(family)])
+    _check_params(p)
+    rng = np.random.default_rng([seed, _STREAM[family]])
     reason = ""
     for attempt in range(1, p.attempts + 1):
         try:
             scene, states = FAMILIES[family](rng, p, seed)
-        except _Retry as e:
+        except Retry as e:
             reason = str(e)
             continue
         if family in _ROTATED and p.rotate:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 
 import pytest
+import shapely
 from factories import shipped
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -12,10 +13,13 @@ from hypothesis import strategies as st
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cli.main import main
 from pivot_ompl.errors import InputError
-from pivot_ompl.generate import generate, mirror_scene, rotate_scene, scene_to_dict
+from pivot_ompl.generate import GeneratorParams, generate, mirror_scene, rotate_scene, scene_to_dict
+from pivot_ompl.generate.building import ROOM, ROOM_DEPTH
+from pivot_ompl.generate.layout import BOX
 from pivot_ompl.planfile import TransitPhase, load_plan
 from pivot_ompl.scene import load_scene, scene_from_dict
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
+from pivot_ompl.validity.footprints import obstacle_pieces
 from pivot_ompl.validity.plan_check import check_plan
 
 
@@ -127,3 +131,53 @@ def test_rotated_polygon_triangulation_has_no_zero_area_triangle(angle):
 def test_several_walls_or_bends_occur(family, seeds):
     """Regression: second bends were always rejected (the walk round the box failed there)."""
     assert max(generate(family, s).witness.regrasps for s in seeds) >= 2
+
+
+@pytest.mark.parametrize(("rooms", "layout"), [(1, "row"), (3, "row"), (4, "grid")])
+def test_building_floors_grow_with_their_rooms(rooms, layout):
+    """A building of N rooms: its witness passes the check and the floor holds N rooms."""
+    gen = generate("building", 0, params=GeneratorParams(rooms=rooms, layout=layout))
+    rep = check_plan(gen.witness, gen.scene)
+    assert rep.ok, rep.problems
+    x0, y0, x1, y1 = gen.scene.bounds
+    area = (x1 - x0) * (y1 - y0)
+    assert area >= rooms * ROOM * ROOM_DEPTH
+    assert gen.scene.name == f"building_{layout}{rooms}_0"
+
+
+def test_walls_count_and_slot_clearance_are_honoured():
+    """--walls K gives K walls (each forcing a regrasp); --slot-clearance sets every slot."""
+    gen = generate("walls", 0, params=GeneratorParams(walls=2, slot_clearance=0.04,
+                                                      rotate=False))
+    assert check_plan(gen.witness, gen.scene).ok
+    assert gen.witness.regrasps >= 2
+    slots = [g for g in _slot_widths(gen.scene, gen.witness) if g < 1.0]
+    assert len(slots) == 2
+    assert all(abs(g - (BOX[1] + 0.08)) < 1e-6 for g in slots)
+
+
+def _slot_widths(scene, plan):
+    """Free width across the box where it rests in a slot (every regrasp of a walls witness)."""
+    walls = shapely.union_all([shapely.Polygon(p) for p in obstacle_pieces(scene.obstacles)])
+    out = []
+    for ph in plan.phases:
+        if isinstance(ph, TransitPhase):
+            x, y, yaw = ph.object_pose
+            c, s = math.cos(yaw), math.sin(yaw)
+            x, y = x - 0.235 * c, y - 0.235 * s  # 0.15 m into the wall (0.3-0.5 m thick)
+            # a line across the box there, 2 m long
+            line = shapely.LineString([(x + s, y - c), (x - s, y + c)])
+            free = line.difference(walls)
+            piece = min(getattr(free, "geoms", [free]),
+                        key=lambda g: g.distance(shapely.Point(x, y)))
+            out.append(piece.length)
+    return out
+
+
+@pytest.mark.parametrize(("params", "field"), [
+    (GeneratorParams(walls=0), "walls"), (GeneratorParams(slot_clearance=0.001), "slot_clearance"),
+    (GeneratorParams(rooms=0), "rooms"), (GeneratorParams(layout="ring"), "layout")])
+def test_bad_generator_parameters_name_their_field(params, field):
+    with pytest.raises(InputError) as e:
+        generate("walls", 0, params=params)
+    assert e.value.field == field
