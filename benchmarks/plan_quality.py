@@ -1,19 +1,24 @@
-"""Plan quality before/after, side by side: pivots, regrasps, walking, optimisation time.
+"""Plan quality before/after, side by side: regrasps against the proven bound, route, pivots.
 
 Plans fig10 and rotated / mirrored copies of it (``rot30``: turned by 30 degrees about the
 room's centre, the old bounds kept as walls; ``mirror``: reflected in the line at 0.3 rad
-through the centre; both made by ``pivot_ompl.generate``) with
+through the centre; both made by ``pivot_ompl.generate``), any shipped scene by name, and
+generated scenes (``gen:FAMILY:SEED[:NAME=VALUE...]``, e.g. ``gen:walls:1:walls=2``,
+``gen:building:0:rooms=3``; the values are ``GeneratorParams`` fields) with
 ``RegraspPlanner`` over seeds, with two versions of the package in turn: one worker process
 per version (``--before DIR``, e.g. an export of ``main``, and this checkout), fed the same
 (scene, seed) jobs alternately, so both see the same machine. Prints medians per scene and
 version: pivots, regrasps, pivots per metre of transfer, walking length, planning time, the
 optimiser's share of it, the estimated whole-body duration, whether every plan passes the
 independent plan check, runs that raised an error, and the quality block's lower bound on
-regrasps with its computing time (versions that write it). Targets (issue 14): fig10 median
-<= 250 pivots, median regrasps 2, optimisation <= 20 % of planning time.
+regrasps with its computing time (versions that write it), the share of runs whose regrasps
+equal the bound, and the median route ratio (box route over the proven shortest route).
+Targets: fig10 and its copies median regrasps = bound = 2, <= 250 pivots; walls, corridor and
+shipped scenes at the bound in >= 90 % of runs; one-grasp scenes 0 regrasps in 100 %; route
+ratio median <= 1.3.
 
-    python benchmarks/plan_quality.py --before /tmp/base [--seeds 100] [--time 30]
-        [--scenes fig10,rot30,mirror] [--out results/plan_quality.json]
+    python benchmarks/plan_quality.py [--before /tmp/base] [--seeds 20] [--time 30]
+        [--scenes fig10,rot30,mirror,slot,gen:walls:1:walls=2] [--out results/plan_quality.json]
 
 Run timing figures under ``flock /tmp/pivot-bench.lock``.
 """
@@ -45,6 +50,8 @@ def variant(name: str):  # noqa: ANN201 (a Scene of whichever package version ru
     from pivot_ompl.generate import mirror_scene, rotate_scene
     from pivot_ompl.scene import load_scene
 
+    if name.startswith("gen:"):
+        return _generated(name)
     base = load_scene("fig10")
     if name == "fig10":
         return base
@@ -52,7 +59,24 @@ def variant(name: str):  # noqa: ANN201 (a Scene of whichever package version ru
         return rotate_scene(base, math.radians(30.0), name="fig10_rot30")
     if name == "mirror":
         return mirror_scene(base, 0.3, name="fig10_mirror")
-    raise SystemExit(f"unknown scene variant {name!r}")
+    return load_scene(name)  # a shipped scene
+
+
+def _generated(spec: str):  # noqa: ANN202
+    """``gen:FAMILY:SEED[:NAME=VALUE...]``: a generated scene."""
+    import dataclasses
+
+    from pivot_ompl.generate import GeneratorParams, generate
+
+    _, family, seed, *pairs = spec.split(":")
+    fields = {f.name: f.type for f in dataclasses.fields(GeneratorParams)}
+    values: dict[str, Any] = {}
+    for pair in pairs:
+        key, value = pair.split("=", 1)
+        values[key] = value if key == "layout" else (
+            int(value) if key in ("walls", "rooms") else float(value))
+        assert key in fields, key
+    return generate(family, int(seed), params=GeneratorParams(**values)).scene
 
 
 # -- worker: plans jobs read from stdin with whichever package is on its path ------------
@@ -86,6 +110,7 @@ def worker() -> None:
             row.update(pivots=p.pivots, regrasps=p.regrasps,
                        walking=sum(ph.length for ph in p.phases if ph.type == "transit"),
                        bound=q.get("regrasps_lower_bound"), bound_s=res.timings.get("bound"),
+                       route_ratio=q.get("route_ratio"),
                        check=check_plan(p, scene).ok, plan=p.to_dict())
         print(json.dumps(row), flush=True)
 
@@ -139,7 +164,15 @@ def _summary(rows: list[dict[str, Any]]) -> dict[str, Any]:
             "checked_ok": sum(bool(r.get("check")) for r in ok),
             "errors": sum("error" in r for r in rows),
             "bound_median": _median([r["bound"] for r in ok if r.get("bound") is not None]),
-            "bound_s_median": _median([r["bound_s"] for r in ok if r.get("bound_s") is not None])}
+            "bound_s_median": _median([r["bound_s"] for r in ok if r.get("bound_s") is not None]),
+            "at_bound": _share([r["regrasps"] == r["bound"] for r in ok
+                                if r.get("bound") is not None]),
+            "route_ratio_median": _median([r["route_ratio"] for r in ok
+                                           if r.get("route_ratio") is not None])}
+
+
+def _share(flags: list[bool]) -> float:
+    return sum(flags) / len(flags) if flags else math.nan
 
 
 def _median(vals: list[float]) -> float:
@@ -150,7 +183,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--before", help="package tree of the 'before' version (e.g. main)")
-    ap.add_argument("--seeds", type=int, default=100)
+    ap.add_argument("--seeds", type=int, default=20)
     ap.add_argument("--seeds-variants", type=int, default=None,
                     help="seeds on the rotated/mirrored copies (default: --seeds)")
     ap.add_argument("--time", type=float, default=30.0)
@@ -171,6 +204,8 @@ def main() -> None:
     try:
         for name in args.scenes.split(","):
             n = args.seeds if name == "fig10" else (args.seeds_variants or args.seeds)
+            if name.startswith("gen:") or name not in ("fig10", "rot30", "mirror"):
+                n = args.seeds
             for seed in range(n):
                 for ver, proc in procs.items():  # alternately: the same load for both
                     r = _ask(proc, f"{name} {seed} {args.time}")
@@ -187,18 +222,21 @@ def main() -> None:
     print(f"\n{'scene/version':18s} {'runs':>4} {'ok':>5} {'pivots':>7} {'range':>10} "
           f"{'regr':>5} {'range':>6} {'piv/m':>6} {'walk m':>7} {'solve s':>8} "
           f"{'opt %':>6} {'max %':>6} {'body s':>7} {'checked':>7} {'errors':>6} {'bound':>5} "
-          f"{'bound s':>7}")
+          f"{'bound s':>7} {'at bd':>6} {'route':>6}")
     for key, t in table.items():
         pr, rr = t["pivots_range"] or [0, 0], t["regrasps_range"] or [0, 0]
-        print(f"{key:18s} {t['runs']:4d} {100 * t['success']:4.0f}% {t['pivots_median']:7.0f} "
+        print(f"{key[-18:]:18s} {t['runs']:4d} {100 * t['success']:4.0f}% "
+              f"{t['pivots_median']:7.0f} "
               f"{f'{pr[0]}-{pr[1]}':>10} {t['regrasps_median']:5.1f} "
               f"{f'{rr[0]}-{rr[1]}':>6} {t['pivots_per_m_median']:6.1f} "
               f"{t['walking_median']:7.1f} {t['solve_median']:8.2f} "
               f"{100 * t['optimise_share_median']:6.1f} {100 * t['optimise_share_max']:6.1f} "
               f"{t['duration_median']:7.0f} {t['checked_ok']:7d} {t['errors']:6d} "
-              f"{t['bound_median']:5.1f} {t['bound_s_median']:7.2f}")
-    print("targets: fig10 median <= 250 pivots, median regrasps 2, optimisation <= 20 % of "
-          "planning time")
+              f"{t['bound_median']:5.1f} {t['bound_s_median']:7.2f} "
+              f"{100 * t['at_bound']:5.0f}% {t['route_ratio_median']:6.2f}")
+    print("targets: fig10 and copies: regrasps = bound = 2, <= 250 pivots; walls, corridor, "
+          "shipped: at the bound in >= 90 % of runs; one-grasp scenes 0 regrasps; route ratio "
+          "median <= 1.3")
     write_json({"seeds": args.seeds, "time_limit": args.time, "versions":
                 {k: str(v) for k, v in versions.items()}, "table": table}, args.out)
 

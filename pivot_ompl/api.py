@@ -12,7 +12,7 @@ from typing import Any
 
 from ompl import util as ou
 
-from pivot_ompl.analysis.regrasp_bound import regrasp_lower_bound
+from pivot_ompl.analysis.bound_cache import lower_bound
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.base.problem import make_setup
 from pivot_ompl.base.state import read_state
@@ -36,9 +36,10 @@ log = logging.getLogger(__name__)
 MAX_TIME_LIMIT = 1.0e6
 #: Largest seed (OMPL's global seed is ``seed + 1``, a 32-bit value on every platform).
 MAX_SEED = 2**32 - 2
-#: The lower bound on regrasps of a solved plan's quality block may take at least this share
-#: of the time limit after the search (more if the search left time), then it is ``null``.
-BOUND_TIME_SHARE = 0.2
+#: Least time (s) left after the setup for which the search still starts.
+MIN_SOLVE_TIME = 1e-3
+#: Longest a first computation of a scene's lower bounds may take (s); then they are ``null``.
+BOUND_TIME_LIMIT = 30.0
 
 
 @dataclass
@@ -52,7 +53,8 @@ class PlanResult:
         seed: seed used.
         time_limit: time limit (s).
         timings: seconds spent in ``setup``, ``solve``, ``convert`` and (solved plans)
-            ``bound``, the lower bound on regrasps of the quality block.
+            ``bound``, fetching or computing the quality block's lower bounds (outside the
+            time limit; once per scene, then cached).
         roadmap: planner figures (roadmap sizes, critical configurations...), if any.
         motion_checks: counts of valid and invalid motions and cache hits.
         search: the regrasp planner's roadmaps (for plotting), ``None`` for other planners.
@@ -90,7 +92,7 @@ class PlanResult:
 
 def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: float = 30.0,
          seed: int = 0, simplify: bool = False, regrasp_cost: float | None = None,
-         config: RegraspConfig | None = None) -> PlanResult:
+         config: RegraspConfig | None = None, bound: bool = True) -> PlanResult:
     """Plan a pivoting path (with regrasps where needed) for ``scene``.
 
     Args:
@@ -99,7 +101,8 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
             ``"kpiece1"``...; the names are the keys of ``pivot_ompl.planners.PLANNERS``);
             the regrasp planner's parameters may follow in brackets
             (``"regrasp[search.weight=1.5]"``, :mod:`pivot_ompl.planners.registry`).
-        time_limit: wall-clock limit of the solve (s, > 0); above :data:`MAX_TIME_LIMIT`
+        time_limit: wall-clock limit (s, > 0) of loading, setup and solve together (the
+            lower bounds are outside it, see ``bound``); above :data:`MAX_TIME_LIMIT`
             (``math.inf`` included) it is :data:`MAX_TIME_LIMIT`.
         seed: seed of our planners' generator (and of OMPL's RNG for OMPL planners),
             0 to :data:`MAX_SEED`.
@@ -109,6 +112,10 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
             :data:`pivot_ompl.cost.REGRASP_COST`); the quality block reports it.
         config: the regrasp planner's configuration (``regrasp_cost`` overrides its
             ``cost.regrasp``).
+        bound: report the scene's lower bounds on regrasps and route length in the quality
+            block (:func:`pivot_ompl.analysis.bound_cache.lower_bound`: computed once per
+            scene geometry, at most :data:`BOUND_TIME_LIMIT` s, outside ``time_limit``, then
+            read from the cache); ``False``: ``null`` there and nothing computed.
 
     Raises:
         PlanningError: ``INVALID_START``/``INVALID_GOAL`` (no grasp valid there).
@@ -116,9 +123,12 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     """
     time_limit = _check_arguments(scene, planner, time_limit, seed, simplify)
     config = _check_config(config, regrasp_cost)
+    if not isinstance(bound, bool):
+        raise InputError("bound", bound, "must be True or False")
+    started = time.monotonic()  # the time limit counts from here: loading and setup included
+    t0 = time.perf_counter()
     if not isinstance(scene, Scene):
         scene = load_scene(scene)
-    t0 = time.perf_counter()
     base = parse_spec(planner)[0]
     if base in OMPL_PLANNERS:
         ou.RNG.setSeed(seed + 1)  # OMPL's seed must be > 0
@@ -130,9 +140,13 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     ss.setPlanner(p)
     ss.setup()
     t1 = time.perf_counter()
-    deadline = time.monotonic() + time_limit
-    status = ss.solve(time_limit)
-    name = _status_name(status)
+    left = time_limit - (time.monotonic() - started)
+    if left > MIN_SOLVE_TIME:
+        name = _status_name(ss.solve(left))
+    else:  # the setup used the whole limit
+        log.warning("setup took %.2f s of the %.4g s limit: no time left to solve", t1 - t0,
+                    time_limit)
+        name = "TIMEOUT"
     t2 = time.perf_counter()
     if name == "INVALID_START":
         raise PlanningError(name, problem.checker.explain(scene.start))
@@ -155,16 +169,17 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     stats = dict(getattr(p, "stats", {}) or {})
     result_plan.extra["roadmap"] = stats
     if result_plan.phases:
-        # the lower bound on regrasps: within what is left of the time limit, and at least
-        # BOUND_TIME_SHARE of it (a search that used all its time still gets a bound)
-        bound_end = max(deadline, time.monotonic() + BOUND_TIME_SHARE * time_limit)
-        bound = regrasp_lower_bound(scene, should_stop=lambda: time.monotonic() > bound_end)
-        timings["bound"] = bound.seconds
-        if bound.solvable is False:  # a relaxation of every plan: a bug if it finds none
-            log.warning("the regrasp bound's relaxation finds no path, yet a plan exists")
-        result_plan.extra["quality"] = plan_quality(result_plan,
-                                                    regrasps_lower_bound=bound.regrasps,
-                                                    costs=config.cost)
+        regrasps, route = None, None
+        if bound:
+            t4 = time.perf_counter()
+            bound_end = time.monotonic() + BOUND_TIME_LIMIT
+            lb = lower_bound(scene, should_stop=lambda: time.monotonic() > bound_end)
+            timings["bound"] = time.perf_counter() - t4
+            if lb.solvable is False:  # a relaxation of every plan: a bug if it finds none
+                log.warning("the regrasp bound's relaxation finds no path, yet a plan exists")
+            regrasps, route = lb.regrasps, lb.shortest_route
+        result_plan.extra["quality"] = plan_quality(result_plan, regrasps_lower_bound=regrasps,
+                                                    shortest_route=route, costs=config.cost)
     c = problem.checker.counters
     log.info("%s on %s: %s in %.2f s (%d pivots, %d regrasps)", planner, scene.name, name,
              t2 - t1, result_plan.pivots, result_plan.regrasps)

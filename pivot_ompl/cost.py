@@ -19,11 +19,12 @@ from dataclasses import dataclass, field
 #: Default price of one regrasp (s), beyond its execution time. A release and re-grasp is the
 #: riskiest moment of the task on a real humanoid: the box is set down and tilted again, the
 #: hands leave it and must find it again after a walk whose end pose drifts by centimetres,
-#: and a missed grasp costs a recovery (perceive the box again, re-plan, retry) of minutes.
-#: With a failure rate of 5-10 % per re-grasp and a recovery of about ten minutes, the
-#: expected loss is 30-60 s; we take 60 s, so a plan trades up to a minute of pivoting
-#: (about 20 rotations) for one regrasp less, and never adds a regrasp to save less.
-REGRASP_COST = 120.0
+#: and a missed grasp costs a recovery (perceive the box again, re-plan, retry, often with an
+#: operator) of a quarter to half an hour. With a failure rate of 10-20 % per re-grasp the
+#: expected loss is about 2-6 minutes; we take 300 s, so a plan trades up to five minutes of
+#: pivoting (a half turn of robot and box in place costs about one) for one regrasp less, and
+#: never adds a regrasp to save less. ``--regrasp-cost`` sets it per plan.
+REGRASP_COST = 300.0
 
 
 @dataclass(frozen=True)

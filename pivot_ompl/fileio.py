@@ -191,6 +191,23 @@ def check_output(path: str | Path, *, field: str, inputs: Iterable[str | Path] =
     return p
 
 
+#: Longest file stem :func:`file_stem` makes (bytes; room for suffixes and temporary names
+#: under the usual 255-byte limit of a file name).
+MAX_STEM = 100
+
+
+def file_stem(name: str) -> str:
+    """A file name stem made from a name read from a file (a scene's ``name``): never a path.
+
+    Letters, digits, ``.``, ``-`` and ``_`` are kept, every other character becomes ``_``;
+    leading dots are dropped (no ``..``, no hidden file) and the stem is cut to
+    :data:`MAX_STEM` characters; an empty result is ``"unnamed"``.
+    """
+    stem = "".join(c if (c.isascii() and c.isalnum()) or c in "._-" else "_" for c in name)
+    stem = stem.lstrip(".")[:MAX_STEM]
+    return stem or "unnamed"
+
+
 @contextmanager
 def atomic_output(path: str | Path) -> Iterator[Path]:
     """Yield a temporary path next to ``path``; move it onto ``path`` only on success.

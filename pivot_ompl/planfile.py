@@ -24,7 +24,8 @@ before; a reader recomputes it with :func:`plan_quality`)::
     "quality": {"pivots": n, "transfer_length": m, "pivots_per_m": r,
                 "ideal_pivots_per_m": r0, "regrasps": k, "regrasps_lower_bound": k0 | null,
                 "walking_length": w, "duration_estimate": s, "regrasp_cost": c,
-                "cost": s + c * k}
+                "cost": s + c * k, "route_length": b, "shortest_route": b0 | null,
+                "route_ratio": b / b0 | null}
 
 ``transfer_length`` is the distance travelled by the supporting edge's centre (the
 Reeds-Shepp car) through the step poses; ``ideal_pivots_per_m`` the rate of an alternating
@@ -36,7 +37,11 @@ half-edge), weighted by length; ``walking_length`` the transits' length;
 the plan's cost, ``duration_estimate + regrasp_cost * regrasps``
 (:class:`~pivot_ompl.cost.CostModel`: what the planner minimises); ``regrasps_lower_bound``
 the fewest regrasps any valid plan of the scene needs (a proven bound,
-:mod:`pivot_ompl.analysis.regrasp_bound`; ``null`` when unknown).
+:mod:`pivot_ompl.analysis.regrasp_bound`; ``null`` when unknown). ``route_length`` is the
+box centre's route through every second step pose of each transfer (a pair of pivots is the
+gait's stride: the zigzag within it is not route), ``shortest_route`` a proven lower bound on
+any plan's route (:mod:`pivot_ompl.analysis.route_bound`) and ``route_ratio`` their ratio (how
+far the route is from the shortest; ``null`` when either is unknown).
 
 Reading is strict (:mod:`pivot_ompl.fileio`): UTF-8, no duplicate key, no ``NaN``; every number
 must be finite and within +-:data:`MAX_VALUE` (metres or radians), else :class:`PlanFileError`.
@@ -204,6 +209,7 @@ class Plan:
 
 
 def plan_quality(plan: Plan, *, regrasps_lower_bound: int | None = None,
+                 shortest_route: float | None = None,
                  durations: DurationModel | None = None,
                  costs: CostModel | None = None) -> dict[str, Any]:
     """The ``quality`` block of a plan (see the module docstring); pure, from the plan alone.
@@ -211,6 +217,7 @@ def plan_quality(plan: Plan, *, regrasps_lower_bound: int | None = None,
     Args:
         plan: the plan.
         regrasps_lower_bound: fewest regrasps any plan of the scene needs, if known.
+        shortest_route: lower bound (m) on any plan's box route, if known.
         durations: the whole-body duration model (default: ``costs``'s).
         costs: the cost model whose price per regrasp the block reports.
     """
@@ -220,7 +227,7 @@ def plan_quality(plan: Plan, *, regrasps_lower_bound: int | None = None,
     d = durations or costs.durations
     model = BoxGraspModel(plan.object_size, plan.robot_footprint, plan.standoff)
     half = math.sin(0.5 * plan.alpha_max)
-    length = ideal = walking = turned = 0.0
+    length = ideal = walking = turned = route = 0.0
     transfers = transits = 0
     for p in plan.phases:
         if isinstance(p, TransitPhase):
@@ -237,6 +244,10 @@ def plan_quality(plan: Plan, *, regrasps_lower_bound: int | None = None,
                                                                       strict=False))
         length += run
         ideal += run / (2.0 * model.edge_half_length(p.grasp) * half)
+        poses = [p.object_start, *(st.object for st in p.steps)]
+        stride = poses[::2] if len(poses) % 2 else [*poses[::2], poses[-1]]
+        route += sum(math.hypot(b[0] - a[0], b[1] - a[1])
+                     for a, b in zip(stride, stride[1:], strict=False))
     pivots = plan.pivots
     seconds = (d.per_transfer * transfers + d.per_pivot * pivots + d.per_radian * turned
                + d.per_transit * transits + d.per_walk_m * walking)
@@ -251,6 +262,9 @@ def plan_quality(plan: Plan, *, regrasps_lower_bound: int | None = None,
         "duration_estimate": seconds,
         "regrasp_cost": costs.regrasp,
         "cost": seconds + costs.regrasp * plan.regrasps,
+        "route_length": route,
+        "shortest_route": shortest_route,
+        "route_ratio": route / shortest_route if shortest_route else None,
     }
 
 

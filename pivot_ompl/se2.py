@@ -5,6 +5,9 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Sequence
 
+import numpy as np
+import shapely
+
 Pose = tuple[float, float, float]
 
 TWO_PI = 2.0 * math.pi
@@ -49,48 +52,39 @@ def rectangle_corners(pose: Pose, length: float, width: float) -> list[tuple[flo
     return place_points(pose, ((hx, hy), (-hx, hy), (-hx, -hy), (hx, -hy)))
 
 
-#: Doubled area (m^2) below which three points are collinear for :func:`triangulate`.
+#: Doubled area (m^2) below which a triangle of :func:`triangulate` is flat (round-off of a
+#: rotated collinear triple; a flat prism crashes coal's convex hull).
 DEGENERATE_AREA2 = 1e-12
 
 
 def triangulate(points: Sequence[tuple[float, float]]) -> list[tuple[int, int, int]]:
-    """Ear-clipping triangulation of a simple polygon (either orientation); CCW vertex indices.
+    """Triangles (CCW vertex indices into ``points``) that cover a simple polygon exactly.
 
-    A degenerate remainder (collinear points, no area) is dropped: ears whose doubled area
-    is below :data:`DEGENERATE_AREA2` (m^2, round-off of a rotated collinear triple) are not
-    triangles (a flat prism crashes coal's convex hull).
+    Either orientation; repeated consecutive vertices, collinear runs and very thin parts
+    are fine. GEOS's constrained Delaunay triangulation (``shapely``) of the polygon, which
+    adds no vertex, so every triangle's corners are points of the polygon (a repeated point is
+    named by its first index). Only flat triangles (doubled area below
+    :data:`DEGENERATE_AREA2`) are dropped: the triangles' union is the polygon up to them.
     """
-    pts = [(float(p[0]), float(p[1])) for p in points]
-    n = len(pts)
-    area2 = sum(pts[i][0] * pts[(i + 1) % n][1] - pts[(i + 1) % n][0] * pts[i][1]
-                for i in range(n))
-    idx = list(range(n)) if area2 > 0 else list(range(n - 1, -1, -1))
-
-    def cross(o: int, a: int, b: int) -> float:
-        return ((pts[a][0] - pts[o][0]) * (pts[b][1] - pts[o][1])
-                - (pts[a][1] - pts[o][1]) * (pts[b][0] - pts[o][0]))
-
-    def inside(p: int, a: int, b: int, c: int) -> bool:
-        return cross(a, b, p) >= 0 and cross(b, c, p) >= 0 and cross(c, a, p) >= 0
-
-    tris: list[tuple[int, int, int]] = []
-    guard = 0
-    while len(idx) > 3 and guard < 10 * n * n:
-        guard += 1
-        for k in range(len(idx)):
-            a, b, c = idx[k - 1], idx[k], idx[(k + 1) % len(idx)]
-            if cross(a, b, c) <= DEGENERATE_AREA2:
-                continue
-            if any(inside(p, a, b, c) for p in idx if p not in (a, b, c)):
-                continue
-            tris.append((a, b, c))
-            idx.pop(k)
-            break
-        else:
-            break  # degenerate remainder (collinear points): drop it
-    if len(idx) == 3 and cross(idx[0], idx[1], idx[2]) > DEGENERATE_AREA2:
-        tris.append((idx[0], idx[1], idx[2]))
-    return tris
+    pts = np.asarray(points, dtype=float)
+    poly = shapely.Polygon(pts)
+    if not poly.is_valid:
+        poly = shapely.make_valid(poly)
+    index: dict[tuple[float, float], int] = {}
+    for k, (x, y) in enumerate(pts.tolist()):
+        index.setdefault((x, y), k)
+    out: list[tuple[int, int, int]] = []
+    for tri in getattr(shapely.constrained_delaunay_triangles(poly), "geoms", []):
+        corners = np.asarray(tri.exterior.coords)[:3]
+        ids = [index.get((float(x), float(y)), -1) for x, y in corners]
+        ids = [k if k >= 0 else int(np.argmin(np.hypot(*(pts - c).T)))
+               for k, c in zip(ids, corners, strict=True)]
+        a, b, c = (pts[k] for k in ids)
+        area2 = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+        if abs(area2) <= DEGENERATE_AREA2:
+            continue
+        out.append((ids[0], ids[1], ids[2]) if area2 > 0 else (ids[0], ids[2], ids[1]))
+    return out
 
 
 #: The 16 headings of the floor lattices: the directions of these integer grid vectors,

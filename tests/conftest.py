@@ -11,6 +11,15 @@ from pivot_ompl.grasp import BoxGraspModel
 ou.setLogLevel(ou.LogLevel.LOG_ERROR)
 
 
+@pytest.fixture(scope="session", autouse=True)
+def _private_cache(tmp_path_factory: pytest.TempPathFactory):
+    """The suite's caches (the regrasp bounds) live in a folder of its own, never in ~/.cache."""
+    mp = pytest.MonkeyPatch()
+    mp.setenv("XDG_CACHE_HOME", str(tmp_path_factory.mktemp("cache")))
+    yield
+    mp.undo()
+
+
 @pytest.fixture
 def paper_model() -> BoxGraspModel:
     return BoxGraspModel(PAPER_BOX)

@@ -2,10 +2,22 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from pivot_ompl.errors import InputError, PlanFileError, abridge
-from pivot_ompl.fileio import MAX_NODES, atomic_output, check_output, load_json, load_yaml
+from pivot_ompl.fileio import (
+    MAX_NODES,
+    MAX_STEM,
+    atomic_output,
+    check_output,
+    file_stem,
+    load_json,
+    load_yaml,
+)
 
 
 def test_abridge_keeps_messages_short():
@@ -71,3 +83,36 @@ def test_check_output(tmp_path):
     with pytest.raises(InputError, match="not a directory"):
         check_output(src / "sub" / "p.json", field="--out")
     assert check_output(tmp_path / "new" / "p.json", field="--out", inputs=[src]).name == "p.json"
+
+
+@settings(max_examples=200, deadline=None)
+@given(name=st.text(max_size=400))
+def test_a_name_never_becomes_a_path(name):
+    stem = file_stem(name)
+    assert stem and len(stem) <= MAX_STEM
+    assert "/" not in stem and "\\" not in stem and "\0" not in stem
+    assert not stem.startswith(".")
+    assert Path(stem).name == stem
+
+
+def test_names_with_dots_and_slashes():
+    assert file_stem("../../etc/passwd") == "_.._etc_passwd"
+    assert file_stem("..") == "unnamed"
+    assert file_stem("fig10_rot37") == "fig10_rot37"
+
+
+def test_bench_keeps_a_hostile_scene_name_inside_out(tmp_path, capsys):
+    from factories import scene_file
+
+    from pivot_ompl.cli.main import main
+
+    text = scene_file("open").read_text()
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(text.replace("name: open", "name: ../escape", 1))
+    victim = tmp_path / "escape.log"
+    victim.write_text("keep me")
+    out = tmp_path / "res"
+    assert main(["bench", str(bad), "--planners", "regrasp", "--runs", "1", "--time", "2",
+                 "--out", str(out), "--no-progress", "--no-plots", "--workers", "1"]) == 0
+    assert victim.read_text() == "keep me"
+    assert (out / "_escape.log").is_file()

@@ -4,27 +4,36 @@
 grasp ``k``; every intermediate configuration ``(x, y, yaw)`` of the box has box and robot
 inside the bounds and clear of the obstacles) joined by regrasps (the box rests at one pose
 where the robot holds it with grasp ``k`` before and grasp ``j`` after). Forget the pivoting
-kinematics (any continuous motion of ``(x, y, yaw)`` is allowed), the walk round the box,
-the robot's upper body and the obstacles' heights, and keep of the held assembly only two
-floor rectangles that are *subsets* of what the checkers test: the box's footprint and the
-robot's footprint at the grasp. Every plan is then a path of the relaxed problem with the same
-number of grasp changes, so the fewest grasp changes of the relaxed problem is a lower bound.
+kinematics (any continuous motion of ``(x, y, yaw)`` is allowed), the walk round the box and
+the obstacles' heights (every obstacle is a prism standing on the floor, so a body meets it
+exactly where their floor shadows meet), and keep of the held assembly the two floor bodies the
+checkers test (:class:`~pivot_ompl.validity.collision.CollisionWorld`): the box's footprint
+and the holding robot's convex body (the hull of
+:meth:`~pivot_ompl.grasp.BoxGraspModel.held_outline`, which reaches the held face: no gap
+between robot and box where a wall's corner could hide), each kept
+:data:`~pivot_ompl.validity.collision.KEEP_CLEARANCE` from the obstacles. Every plan is then a
+path of the relaxed problem with the same number of grasp changes, so the fewest grasp changes
+of the relaxed problem is a lower bound.
 
 **Over-approximating the free space.** Yaw is cut into ``N`` bins of width ``w`` (``N`` even).
 In bin ``b`` (centre ``t_b``), rotating a body about the box's centre from ``t_b`` to any yaw of
 the bin moves none of its points by more than ``D = 2 r sin(w / 4)`` (``r``: the farthest
-point of that rectangle from the box's centre). If the body at ``(x, y, yaw)`` is free, then the
-rectangle at ``(x, y, t_b)`` *eroded* by ``D`` (half-sizes less ``D``) lies inside the body at
-``(x, y, yaw)`` (Brouwer: the map ``p -> p + y - T(p)`` sends the disk of radius ``D`` about a
-point ``y`` of the eroded rectangle into itself, so ``y = T(p)`` for a point ``p`` of the body), so
-it is free too. With the yaw fixed at ``t_b`` the positions where an eroded rectangle ``E`` is
-free are exact polygons: outside every ``K (+) -E`` (Minkowski sum, the convex hull of the
-vertex differences for a convex obstacle piece ``K``; polygons are split into triangles,
-cylinders replaced by inscribed polygons, which are subsets) and inside the bounds shrunk by
-``E``'s extent. So ``F(b, k)``, the positions where both eroded rectangles of grasp ``k`` are free
-at ``t_b``, contains every free ``(x, y)`` of the whole bin: an over-approximation. The swept
-checks' own tolerance (:data:`~pivot_ompl.validity.certify.SWEEP_TOLERANCE`: an accepted
-motion may come that close to an obstacle between its checked samples) is added to ``D``.
+point of that body from the box's centre). If the body at ``(x, y, yaw)`` is free, then the
+body at ``(x, y, t_b)`` *eroded* by ``D`` (the points whose ``D``-disk lies in it) lies inside
+the body at ``(x, y, yaw)`` (Brouwer: the map ``p -> p + y - T(p)`` sends the disk of radius
+``D`` about a point ``y`` of the eroded body into itself, so ``y = T(p)`` for a point ``p`` of
+the body), so it is free too. A body kept ``c`` from the obstacles is the body grown by ``c``
+kept clear; the net offset ``c - D - tol`` (``tol``: the swept checks' own tolerance,
+:data:`~pivot_ompl.validity.certify.SWEEP_TOLERANCE`, how close an accepted motion may come
+between its checked samples) grows or erodes the convex body (growth by the polygon of chords
+of the round offset, erosion by the exact inward offset: both subsets of the true set). With
+the yaw fixed at ``t_b`` the positions where such a convex body ``E`` is free are exact
+polygons: outside every ``K (+) -E`` (Minkowski sum, the convex hull of the vertex differences
+for a convex obstacle piece ``K``; polygons are split into triangles, cylinders replaced by
+inscribed polygons, which are subsets) and inside the bounds shrunk by ``E``'s extent (the body
+eroded by ``D + tol`` only: the bounds keep no clearance). So ``F(b, k)``, the positions where
+both bodies of grasp ``k`` are free at ``t_b``, contains every free ``(x, y)`` of the whole bin:
+an over-approximation.
 
 **Search.** Nodes are the connected pieces of every ``F(b, k)``. A continuous transfer stays in
 one piece while its yaw stays in a bin and crosses to the next bin at a shared yaw, so through
@@ -50,9 +59,11 @@ import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
+from pivot_ompl.analysis.route_bound import shortest_route
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose, rectangle_corners, wrap_angle
 from pivot_ompl.validity.certify import SWEEP_TOLERANCE
+from pivot_ompl.validity.collision import KEEP_CLEARANCE
 from pivot_ompl.validity.footprints import meeting_hulls, obstacle_pieces
 
 log = logging.getLogger(__name__)
@@ -79,6 +90,8 @@ class RegraspBound:
         bins: yaw bins used.
         pieces: connected pieces of free positions over all bins and grasps.
         seconds: wall-clock time (s).
+        shortest_route: lower bound (m) on the box centre's route of any plan
+            (:func:`~pivot_ompl.analysis.route_bound.shortest_route`), ``None`` if unknown.
     """
 
     regrasps: int | None
@@ -86,56 +99,65 @@ class RegraspBound:
     bins: int
     pieces: int
     seconds: float
+    shortest_route: float | None = None
 
 
 @dataclass(frozen=True)
-class _Rect:
-    """A rectangle in the box's frame: centre, yaw, half-sizes, and its rotation erosion."""
+class _Body:
+    """A convex floor body in the box's frame (its vertices, counter-clockwise)."""
 
-    cx: float
-    cy: float
-    yaw: float
-    hx: float
-    hy: float
+    points: np.ndarray
 
     @property
     def reach(self) -> float:
         """Distance of its farthest point from the box's centre."""
-        return max(math.hypot(x, y) for x, y in
-                   rectangle_corners((self.cx, self.cy, self.yaw), 2 * self.hx, 2 * self.hy))
+        return float(np.hypot(self.points[:, 0], self.points[:, 1]).max())
 
-    def eroded_corners(self, yaw: float, d: float) -> np.ndarray | None:
-        """Corners (4 x 2) after turning the box frame by ``yaw`` and eroding by ``d``."""
-        hx, hy = self.hx - d, self.hy - d
-        if hx <= 0 or hy <= 0:
-            return None
+    def offset_points(self, yaw: float, d: float) -> np.ndarray | None:
+        """Vertices after turning the box frame by ``yaw`` and eroding by ``d`` (growing if < 0).
+
+        ``None`` when the erosion leaves nothing.
+        """
         c, s = math.cos(yaw), math.sin(yaw)
-        centre = (c * self.cx - s * self.cy, s * self.cx + c * self.cy, self.yaw + yaw)
-        return np.array(rectangle_corners(centre, 2 * hx, 2 * hy))
+        pts = self.points @ np.array([[c, s], [-s, c]])
+        poly = shapely.Polygon(pts)
+        if d > 0:
+            poly = poly.buffer(-d, join_style="mitre")
+        elif d < 0:
+            poly = poly.buffer(-d, quad_segs=4)
+        if poly.is_empty or poly.geom_type != "Polygon":
+            return None
+        return np.asarray(poly.exterior.coords)[:-1]
 
 
-def _parts(scene: Scene, grasp: int) -> list[_Rect]:
-    """The box's and the robot's footprints at ``grasp`` in the box's frame."""
+def _parts(scene: Scene, grasp: int) -> list[_Body]:
+    """The box's footprint and the holding robot's convex body at ``grasp``, box frame."""
     m = scene.model
-    rx, ry, rh = m.robot_pose((0.0, 0.0, 0.0), grasp)
-    return [_Rect(0.0, 0.0, 0.0, 0.5 * m.object_size[0], 0.5 * m.object_size[1]),
-            _Rect(rx, ry, rh, 0.5 * m.robot_footprint[0], 0.5 * m.robot_footprint[1])]
+    robot = m.robot_pose((0.0, 0.0, 0.0), grasp)
+    box = rectangle_corners((0.0, 0.0, 0.0), m.object_size[0], m.object_size[1])
+    held = shapely.MultiPoint(m.held_corners(robot, grasp)).convex_hull
+    return [_Body(np.array(box, dtype=float)),
+            _Body(np.asarray(held.exterior.coords)[:-1])]
 
 
-def _free_pieces(scene: Scene, parts: list[_Rect], yaw: float, erosion: list[float],
-                 pieces: list[np.ndarray]) -> list[BaseGeometry]:
-    """Connected pieces of the box positions where every eroded part is free at ``yaw``."""
+def _free_pieces(scene: Scene, parts: list[_Body], yaw: float, inside: list[float],
+                 clear: list[float], pieces: list[np.ndarray]) -> list[BaseGeometry]:
+    """Connected pieces of the box positions where every part may be free at ``yaw``.
+
+    ``inside``: per part, the erosion (m) of the body kept inside the bounds; ``clear``: the
+    net offset (m, > 0 erodes, < 0 grows) of the body kept clear of the obstacles.
+    """
     x0, y0, x1, y1 = scene.bounds
     lo, hi = [x0, y0], [x1, y1]
     hulls = []
-    for part, d in zip(parts, erosion, strict=True):
-        e = part.eroded_corners(yaw, d)
-        if e is None:
-            continue
-        # inside the bounds: every corner of the eroded rectangle
-        lo = [max(lo[0], x0 - e[:, 0].min()), max(lo[1], y0 - e[:, 1].min())]
-        hi = [min(hi[0], x1 - e[:, 0].max()), min(hi[1], y1 - e[:, 1].max())]
-        hulls.extend(meeting_hulls(pieces, e))
+    for part, d_in, d_clear in zip(parts, inside, clear, strict=True):
+        e = part.offset_points(yaw, d_in)
+        if e is not None:  # inside the bounds: every vertex of the eroded body
+            lo = [max(lo[0], x0 - e[:, 0].min()), max(lo[1], y0 - e[:, 1].min())]
+            hi = [min(hi[0], x1 - e[:, 0].max()), min(hi[1], y1 - e[:, 1].max())]
+        e = part.offset_points(yaw, d_clear)
+        if e is not None:
+            hulls.extend(meeting_hulls(pieces, e))
     if lo[0] > hi[0] or lo[1] > hi[1]:
         return []
     region: BaseGeometry = shapely.box(lo[0], lo[1], hi[0], hi[1])
@@ -212,7 +234,7 @@ class FreeCover:
 
 
 def free_cover(scene: Scene, *, resolution: float = RESOLUTION,
-               tolerance: float = SWEEP_TOLERANCE,
+               tolerance: float = SWEEP_TOLERANCE, clearance: float = KEEP_CLEARANCE,
                should_stop: Callable[[], bool] | None = None) -> FreeCover | None:
     """The :class:`FreeCover` of ``scene``; ``None`` if ``should_stop`` said stop.
 
@@ -220,6 +242,7 @@ def free_cover(scene: Scene, *, resolution: float = RESOLUTION,
         scene: the scene.
         resolution: largest erosion (m) of the rotation within a yaw bin; sets the bins.
         tolerance: the swept checks' tolerance (m), added to every erosion.
+        clearance: distance (m) the checkers keep every body from the obstacles.
         should_stop: polled once per yaw bin.
     """
     n = _bins(scene, resolution)
@@ -228,16 +251,18 @@ def free_cover(scene: Scene, *, resolution: float = RESOLUTION,
     free: list[list[list[BaseGeometry]]] = [[], []]
     for g in (0, 1):
         parts = _parts(scene, g)
-        erosion = [2.0 * p.reach * math.sin(0.25 * w) + tolerance + ROUND_OFF for p in parts]
+        inside = [2.0 * p.reach * math.sin(0.25 * w) + tolerance + ROUND_OFF for p in parts]
+        clear = [d - clearance for d in inside]
         for b in range(n):
             if should_stop is not None and should_stop():
                 return None
-            free[g].append(_free_pieces(scene, parts, -math.pi + (b + 0.5) * w, erosion, pieces))
+            free[g].append(_free_pieces(scene, parts, -math.pi + (b + 0.5) * w, inside, clear,
+                                        pieces))
     return FreeCover(n, free)
 
 
 def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
-                        tolerance: float = SWEEP_TOLERANCE,
+                        tolerance: float = SWEEP_TOLERANCE, clearance: float = KEEP_CLEARANCE,
                         should_stop: Callable[[], bool] | None = None) -> RegraspBound:
     """Fewest regrasps any plan of ``scene`` needs (see the module docstring: sound).
 
@@ -245,13 +270,14 @@ def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
         scene: the scene.
         resolution: largest erosion (m) of the rotation within a yaw bin; sets the bins.
         tolerance: the swept checks' tolerance (m), added to every erosion.
+        clearance: distance (m) the checkers keep every body from the obstacles.
         should_stop: polled once per yaw bin; when it returns ``True`` the result is unknown.
 
     Returns:
         A :class:`RegraspBound`.
     """
     t0 = time.perf_counter()
-    cover = free_cover(scene, resolution=resolution, tolerance=tolerance,
+    cover = free_cover(scene, resolution=resolution, tolerance=tolerance, clearance=clearance,
                        should_stop=should_stop)
     n = _bins(scene, resolution)
     if cover is None:
@@ -286,9 +312,13 @@ def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
         return [ids[(b, k, c)] for k in range(4) for c in cover.holding(pose, k)]
 
     best = _zero_one_bfs(adj, holding(scene.start), set(holding(scene.goal)))
+    route = None
+    if best is not None:
+        route = shortest_route([g for grasp in cover.free for b in grasp for g in b],
+                               scene.bounds, scene.start, scene.goal)
     seconds = time.perf_counter() - t0
     log.debug("regrasp bound %s over %d yaw bins, %d pieces, %.2f s", best, n, len(ids), seconds)
-    return RegraspBound(best, best is not None, n, len(ids), seconds)
+    return RegraspBound(best, best is not None, n, len(ids), seconds, route)
 
 
 def _zero_one_bfs(adj: list[list[tuple[int, int]]], starts: list[int],

@@ -34,7 +34,7 @@ from pivot_ompl.bench.plots import plot_success, plot_times
 from pivot_ompl.bench.progress import Progress
 from pivot_ompl.bench.summary import Row, format_markdown, format_table, summarize
 from pivot_ompl.errors import InputError
-from pivot_ompl.fileio import read_text
+from pivot_ompl.fileio import file_stem, read_text
 from pivot_ompl.scene import load_scene
 
 log = logging.getLogger(__name__)
@@ -105,10 +105,11 @@ def make_jobs(scenes: Sequence[str | Path], planners: Sequence[str], *, runs: in
     names: dict[str, str] = {}
     for s in scenes:
         scene = load_scene(s)
-        if scene.name in names:
-            raise InputError("SCENE", str(s), f"scene name {scene.name!r} also used by "
-                             f"{names[scene.name]} (names key the logs)")
-        names[scene.name] = str(s)
+        stem = file_stem(scene.name)
+        if stem in names:
+            raise InputError("SCENE", str(s), f"scene name {scene.name!r} (file name "
+                             f"{stem!r}) also used by {names[stem]} (names key the logs)")
+        names[stem] = str(s)
         loaded.append((scene.name, read_text(scene.source, field="SCENE"), str(s)))
     return [Job(name, text, p, seed0 + i, float(time_limit), memory_limit, simplify, src)
             for i in range(runs) for name, text, src in loaded for p in planners]
@@ -239,7 +240,7 @@ def _run(jobs: list[Job], planners: Sequence[str], *, runs: int, time_limit: flo
         exp = experiment_log(name, results, planners, time_limit=time_limit, runs=runs,
                              seed0=seed0, memory_limit=memory_limit, start=start,
                              source=sources[name])
-        logs[name] = exp.write(out / f"{name}.log")
+        logs[name] = exp.write(out / f"{file_stem(name)}.log")
     db = build_database(out / "benchmark.db", list(logs.values()))
     slim = [{k: v for k, v in r.items() if k not in ("setup", "cpuinfo", "enums")}
             for r in results]
@@ -251,6 +252,7 @@ def _run(jobs: list[Job], planners: Sequence[str], *, runs: int, time_limit: flo
     pngs = []
     if plots:
         for name in scene_names:
-            pngs.append(plot_times(results, name, time_limit, out / f"{name}_times.png"))
-            pngs.append(plot_success(results, name, time_limit, out / f"{name}_success.png"))
+            stem = file_stem(name)
+            pngs.append(plot_times(results, name, time_limit, out / f"{stem}_times.png"))
+            pngs.append(plot_success(results, name, time_limit, out / f"{stem}_success.png"))
     return SweepResult(results, rows, table, logs, db, pngs, wall)

@@ -25,7 +25,7 @@ EXIT_OK, EXIT_NO_SOLUTION, EXIT_BAD_INPUT = 0, 1, 2
 #: dependency only hides that verb.
 VERB_MODULES = ("pivot_ompl.cli.steer", "pivot_ompl.cli.plan", "pivot_ompl.cli.check",
                 "pivot_ompl.cli.replay", "pivot_ompl.cli.animate", "pivot_ompl.cli.bench",
-                "pivot_ompl.cli.generate")
+                "pivot_ompl.cli.generate", "pivot_ompl.cli.bound")
 
 
 class _Parser(argparse.ArgumentParser):

@@ -39,6 +39,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="time limit (s; inf: until solved)")
     p.add_argument("--seed", type=integer("--seed", 0, MAX_SEED), default=0,
                    help=f"seed (0..{MAX_SEED})")
+    p.add_argument("--no-bound", action="store_true",
+                   help="skip the scene's lower bounds on regrasps and route (computed once "
+                        "per scene outside --time, then cached)")
     p.add_argument("--out", help="write the pivot-plan/1 JSON here")
     p.add_argument("--plot", help="write the figure (PNG) here")
     p.set_defaults(func=run)
@@ -51,6 +54,25 @@ def _progress(stop: threading.Event, limit: float) -> None:
               file=sys.stderr, flush=True)
 
 
+def regrasps_text(regrasps: int, bound: int | None) -> str:
+    """``"2 regrasps (proven minimum)"``, ``"3 regrasps (at least 2)"`` or ``"3 regrasps"``."""
+    text = f"{regrasps} regrasp{'' if regrasps == 1 else 's'}"
+    if bound is None:
+        return text
+    return f"{text} (proven minimum)" if bound >= regrasps else f"{text} (at least {bound})"
+
+
+def quality_line(q: dict) -> str:
+    """One line of a plan's quality block, its optimality report included."""
+    ratio = q.get("route_ratio")
+    route = f"route {q['route_length']:.1f} m" + (
+        "" if ratio is None else f" ({ratio:.2f} x the shortest bound)")
+    return (f"quality: {regrasps_text(q['regrasps'], q['regrasps_lower_bound'])}, "
+            f"{q['pivots']} pivots ({q['pivots_per_m']:.1f}/m, ideal "
+            f"{q['ideal_pivots_per_m']:.1f}), {route}, walking {q['walking_length']:.1f} m, "
+            f"whole body ~{q['duration_estimate']:.0f} s")
+
+
 def run(args: argparse.Namespace) -> int:
     """Plan, write the plan and the figure."""
     scene = load_scene(args.scene)
@@ -61,7 +83,7 @@ def run(args: argparse.Namespace) -> int:
     th.start()
     try:
         res = plan(scene, planner=args.planner, time_limit=args.time, seed=args.seed,
-                   regrasp_cost=args.regrasp_cost)
+                   regrasp_cost=args.regrasp_cost, bound=not args.no_bound)
     except PlanningError as e:
         stop.set()
         print(f"\npivot-ompl plan: {e}", file=sys.stderr)
@@ -74,11 +96,7 @@ def run(args: argparse.Namespace) -> int:
           f"solve {res.timings['solve']:.2f} s")
     q = res.plan.extra.get("quality")
     if q:
-        bound = q["regrasps_lower_bound"]
-        print(f"quality: {q['pivots_per_m']:.1f} pivots/m (ideal {q['ideal_pivots_per_m']:.1f}) "
-              f"over {q['transfer_length']:.2f} m, {q['regrasps']} regrasps"
-              f"{'' if bound is None else f' (at least {bound})'}, "
-              f"walking {q['walking_length']:.1f} m, whole body ~{q['duration_estimate']:.0f} s")
+        print(quality_line(q))
     if not res.solved:
         if out or fig:
             print("no plan found: nothing written", file=sys.stderr)

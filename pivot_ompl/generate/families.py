@@ -72,7 +72,7 @@ class GeneratorParams:
             snaking through them), ``building``.
     """
 
-    door_width: tuple[float, float] = (1.15, 1.35)
+    door_width: tuple[float, float] = (0.76, 0.84)
     slot_gap: tuple[float, float] = (0.1, 0.12)
     corridor_width: tuple[float, float] = (1.2, 1.4)
     bend_size: tuple[float, float] = (3.0, 3.4)
@@ -169,7 +169,7 @@ def _walls_layout(rng: np.random.Generator, p: GeneratorParams,
         # (which reach the grip points on the box's sides) stay out of the slot
         push = _along(origin, phi, BOX[0] / 2 - HELD_FACE_BACK)
         before = _along(origin, phi, -float(rng.uniform(1.2, 1.6)))
-        after = _along(origin, phi, t + float(rng.uniform(1.0, 1.3)) + 0.4)
+        after = _along(origin, phi, t + float(rng.uniform(1.25, 1.5)) + 0.4)
         approach.append(((before[0], before[1], phi), (push[0], push[1], phi),
                          (after[0], after[1], phi)))
         x = after[0] + float(rng.uniform(1.6, 2.4))

@@ -160,9 +160,9 @@ class RegraspSearch:
         self.graph.multiplex_pending(lambda: False)  # the ends, whatever the time
         sc = self.config.sampling
         if sc.slots:
-            found = slots(self.checker, play=sc.slot_play)
+            found = slots(self.checker, play=sc.slot_play, should_stop=should_stop)
             for q in slot_poses(self.checker, found, spacing=sc.slot_spacing,
-                                approach=sc.slot_approach):
+                                approach=sc.slot_approach, should_stop=should_stop):
                 rm.add(q, "slot")
                 self.stats.slot_nodes += 1
             self.stats.slots = len(found)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import dataclasses
 import json
 import math
 from pathlib import Path
@@ -13,19 +12,10 @@ from factories import make_scene, shipped
 
 from pivot_ompl.analysis.regrasp_bound import free_cover, regrasp_lower_bound
 from pivot_ompl.checking.pivot_checker import PivotChecker
-from pivot_ompl.generate import generate, mirror_scene, rotate_scene
-from pivot_ompl.scene import BoxObstacle, Scene
+from pivot_ompl.generate import GeneratorParams, generate, mirror_scene, rotate_scene
+from pivot_ompl.scene import Scene
 
 GOLDEN = Path(__file__).parents[1] / "data" / "golden" / "seeded_plans.json"
-
-# fig10's robot doors (wall A: y 5.6..6.55, wall B: y 0.45..1.4), closed by a block each
-DOOR_A = BoxObstacle(center=(4.05, 6.075), size=(0.5, 0.95), yaw=0.0, height=2.0)
-DOOR_B = BoxObstacle(center=(7.95, 0.925), size=(0.5, 0.95), yaw=0.0, height=2.0)
-
-
-def with_obstacles(scene: Scene, *extra: BoxObstacle) -> Scene:
-    return dataclasses.replace(scene, obstacles=scene.obstacles + extra)
-
 
 @pytest.fixture(scope="module")
 def fig10() -> Scene:
@@ -70,14 +60,26 @@ def test_most_colliding_states_are_excluded(fig10):
     assert hit > 100 and out > 0.8 * hit
 
 
-def test_a_slot_forces_a_regrasp_per_wall(fig10):
-    """With fig10's doors closed only the slots are left, which the robot cannot pass."""
-    scene = with_obstacles(fig10, DOOR_A, DOOR_B)
+@pytest.mark.parametrize("copy", [None, "mirror", 0.7])
+def test_fig10_needs_two_regrasps(fig10, copy):
+    """The paper's count, proven on the scene and on turned and mirrored copies of it."""
+    scene = fig10 if copy is None else (mirror_scene(fig10, 1.1) if copy == "mirror"
+                                        else rotate_scene(fig10, copy))
     assert regrasp_lower_bound(scene).regrasps == 2
-    # general: the same on a turned and a mirrored copy
-    assert regrasp_lower_bound(rotate_scene(scene, 0.7)).regrasps == 2
-    assert regrasp_lower_bound(mirror_scene(scene, 1.1)).regrasps == 2
-    assert regrasp_lower_bound(with_obstacles(fig10, DOOR_B)).regrasps == 1
+
+
+@pytest.mark.parametrize("walls", [1, 2, 3])
+def test_k_box_only_slots_need_k_regrasps(walls):
+    """Scenes built to force a count (each wall: a box-only slot and a robot-only door)."""
+    gen = generate("walls", 1, params=GeneratorParams(walls=walls))
+    b = regrasp_lower_bound(gen.scene)
+    assert b.regrasps == walls <= gen.witness.regrasps
+
+
+def test_a_wide_door_needs_no_regrasp():
+    """The same walls with doors the held assembly passes: the bound drops to zero."""
+    gen = generate("walls", 1, params=GeneratorParams(walls=2, door_width=(1.15, 1.35)))
+    assert regrasp_lower_bound(gen.scene).regrasps == 0
 
 
 def test_bound_is_at_most_the_regrasps_of_the_seeded_plans():
@@ -90,7 +92,7 @@ def test_bound_is_at_most_the_regrasps_of_the_seeded_plans():
 
 
 @pytest.mark.parametrize(("family", "seed"), [
-    ("walls", 0), ("walls", 1), ("corridor", 0), ("clutter", 0),
+    ("walls", 0), ("walls", 1), ("corridor", 0), ("clutter", 0), ("building", 0),
     pytest.param("walls", 2, marks=pytest.mark.slow),
     pytest.param("corridor", 1, marks=pytest.mark.slow)])
 def test_bound_is_at_most_the_witness_regrasps(family, seed):

@@ -60,7 +60,8 @@ def test_plan_writes_the_quality_block():
     res = plan(make_scene(), planner="regrasp", time_limit=20.0, seed=0)
     assert res.solved
     q = res.plan.extra["quality"]
-    assert q == plan_quality(res.plan, regrasps_lower_bound=q["regrasps_lower_bound"])
+    assert q == plan_quality(res.plan, regrasps_lower_bound=q["regrasps_lower_bound"],
+                             shortest_route=q["shortest_route"])
     assert q["pivots"] == res.pivots > 0 and q["pivots_per_m"] > 0
     # the lower bound on regrasps (open floor: none needed), within the plan's time
     assert q["regrasps_lower_bound"] == 0 <= res.regrasps

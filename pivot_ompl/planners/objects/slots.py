@@ -17,6 +17,7 @@ sides, yaw within a few degrees of the axis) only after thousands of samples.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -65,17 +66,21 @@ def _extent(geom: BaseGeometry, u: np.ndarray) -> tuple[float, float]:
     return float(proj.min()), float(proj.max())
 
 
-def find_passages(scene: Scene, *, min_width: float, max_width: float) -> list[Passage]:
+def find_passages(scene: Scene, *, min_width: float, max_width: float,
+                  should_stop: Callable[[], bool] = lambda: False) -> list[Passage]:
     """Every gap of width in ``[min_width, max_width]`` between two obstacles or sides.
 
     Each pair of obstacles (the room's four sides included) gives at most one passage, at its
     shortest segment. Sides meeting at a corner, and obstacles touching, give none.
+    ``should_stop`` is polled per obstacle: the passages found so far are returned.
     """
     shapes = [obstacle_footprint(o) for o in scene.obstacles]
     shapes += _room_sides(scene.bounds, max(1.0, 2.0 * max_width))
     tree = shapely.STRtree(shapes)
     out: list[Passage] = []
     for i, a in enumerate(shapes):
+        if should_stop():
+            break
         for j in tree.query(a, predicate="dwithin", distance=max_width):
             j = int(j)
             if j <= i:
@@ -117,7 +122,8 @@ def passage_poses(passage: Passage, *, reach: float, spacing: float,
             for t in offsets]
 
 
-def slots(checker: PivotChecker, *, play: float) -> list[Passage]:
+def slots(checker: PivotChecker, *, play: float,
+          should_stop: Callable[[], bool] = lambda: False) -> list[Passage]:
     """The scene's slots: gaps wide enough for the box but not for the walking robot.
 
     A gap counts if it is wider than the box's narrow side (plus the kept clearance on both
@@ -128,15 +134,21 @@ def slots(checker: PivotChecker, *, play: float) -> list[Passage]:
     ahead, behind, half_width = m.walking_extent()
     narrowest = min(ahead + behind, 2.0 * half_width) + 2.0 * clear
     return find_passages(checker.scene, min_width=min(m.object_size[:2]) + 2.0 * clear,
-                         max_width=narrowest + play)
+                         max_width=narrowest + play, should_stop=should_stop)
 
 
 def slot_poses(checker: PivotChecker, passages: list[Passage], *, spacing: float,
-               approach: tuple[float, ...]) -> list[Pose]:
-    """The free box poses along ``passages`` (:func:`passage_poses`, yaw modulo pi)."""
+               approach: tuple[float, ...],
+               should_stop: Callable[[], bool] = lambda: False) -> list[Pose]:
+    """The free box poses along ``passages`` (:func:`passage_poses`, yaw modulo pi).
+
+    ``should_stop`` is polled per passage: the poses found so far are returned.
+    """
     reach = max(checker.model.object_size[:2])
     out: list[Pose] = []
     for passage in passages:
+        if should_stop():
+            break
         for q in passage_poses(passage, reach=reach, spacing=spacing, approach=approach):
             if checker.box_valid(q):
                 out.append(canonical(q))

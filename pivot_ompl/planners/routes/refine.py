@@ -125,19 +125,23 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
     current = pricer.path(phases)
     if not math.isfinite(current):
         return states
-    refused: set[tuple[int, int, tuple[Pose, ...]]] = set()
+    refused: set[tuple[int, int, int, tuple[Pose, ...]]] = set()
     try:
         while not should_stop():
             best = _best_candidate(lattice, pricer, phases, current, refused, should_stop, st)
             if best is None:
                 break
-            i, j, plan = best
-            refused.add((i, j, phases[i].poses))
+            i, j, g, plan = best
+            refused.add((i, j, g, phases[i].poses))
             st.tried += 1
             real = _made_real(checker, lattice, plan, costs, should_stop)
             if real is None:
+                log.debug("phases %d..%d at grasp %d: the checks refuse the route", i, j, g)
                 continue
             cost = pricer.path(real)
+            if cost >= current - 1e-9:
+                log.debug("phases %d..%d at grasp %d: %.0f s, not below %.0f s", i, j, g, cost,
+                          current)
             if cost < current - 1e-9:
                 st.applied += 1
                 st.regrasps_removed += len(phases) - len(real)
@@ -149,31 +153,47 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
     return _states(phases)
 
 
-def _candidates(phases: list[_Phase]) -> list[tuple[int, int]]:
-    """Runs ``i .. j`` whose grasps differ by zero or a half turn."""
-    return [(i, j) for i in range(len(phases)) for j in range(i, len(phases))
-            if (phases[j].grasp - phases[i].grasp) % 2 == 0]
+def _candidates(phases: list[_Phase]) -> list[tuple[int, int, int]]:
+    """Runs ``i .. j`` and the grasp ``g`` to plan each at.
+
+    Runs whose grasps differ by zero or a half turn, at phase ``i``'s grasp; and, since the
+    grasp at the start and at the goal is free, runs from the start planned at phase ``j``'s
+    grasp and runs to the goal planned at phase ``i``'s, whatever their grasps (a regrasp
+    after the start or before the goal that only changed the face is removed).
+    """
+    last = len(phases) - 1
+    out = []
+    for i in range(len(phases)):
+        for j in range(i, len(phases)):
+            gi, gj = phases[i].grasp, phases[j].grasp
+            if (gj - gi) % 2 == 0:
+                out.append((i, j, gi))
+                continue
+            if i == 0:
+                out.append((i, j, gj))
+            if j == last:
+                out.append((i, j, gi))
+    return out
 
 
 def _best_candidate(lattice: TransferLattice, pricer: _Pricer, phases: list[_Phase],
                     current: float, refused: set, should_stop: Stop, st: RefineStats,
-                    ) -> tuple[int, int, list[_Phase | tuple[Pose, Pose, int]]] | None:
+                    ) -> tuple[int, int, int, list[_Phase | _Leg]] | None:
     """The run whose lattice re-plan saves the most (estimated), as a plan to make real.
 
-    A plan is the new phase list where the phases to route are ``(start, end, grasp)``. The
+    A plan is the new phase list where the phases to route are legs (:class:`_Leg`). The
     regrasps a plan keeps are the path's own (a turned phase's regrasp is the same walk
     written in the other frame), so they are priced by the path's walks.
     """
     last = len(phases) - 1
     cost = [pricer.phase(p) for p in phases]
     regrasp = [0.0] + [pricer.regrasp(a, b) for a, b in zip(phases, phases[1:], strict=False)]
-    best: tuple[float, int, int, list] | None = None
-    for i, j in _candidates(phases):
-        if (i, j, phases[i].poses) in refused:
+    best: tuple[float, int, int, int, list] | None = None
+    for i, j, g in _candidates(phases):
+        if (i, j, g, phases[i].poses) in refused:
             continue
         if should_stop():
             raise Interrupted("route refinement")
-        g = phases[i].grasp
         turned = (phases[j].grasp - g) % 4 == 2
         start, end = phases[i].poses[0], phases[j].poses[-1]
         if turned and j < last:
@@ -184,7 +204,14 @@ def _best_candidate(lattice: TransferLattice, pricer: _Pricer, phases: list[_Pha
             continue
         _route, seconds = lattice.route(start, end, g, should_stop=should_stop)
         estimate += seconds + sum(cost[j + 1:]) + sum(regrasp[j + 1:])
-        plan: list = list(phases[:i]) + [(start, end, g)]
+        head = phases[i].poses[:2] if g == phases[i].grasp else ()
+        tail_poses = phases[j].poses[-2:]
+        if turned:
+            tail_poses = tuple(half_turn(q) for q in tail_poses)
+        anchor = tail_poses if (g == phases[j].grasp or turned) else ()
+        if i == j and len(phases[i].poses) < 4:
+            head, anchor = (), ()
+        plan: list = list(phases[:i]) + [_Leg(start, end, g, head, anchor)]
         tail: list = list(phases[j + 1:])
         if turned and tail:
             tail = [p.turned() for p in tail]
@@ -194,27 +221,61 @@ def _best_candidate(lattice: TransferLattice, pricer: _Pricer, phases: list[_Pha
             _route, seconds = lattice.route(lp.poses[0], phases[-1].poses[-1], lp.grasp,
                                             should_stop=should_stop)
             estimate += seconds - cost[last]
-            tail[-1] = (lp.poses[0], phases[-1].poses[-1], lp.grasp)
+            tail[-1] = _Leg(lp.poses[0], phases[-1].poses[-1], lp.grasp,
+                            lp.poses[:2] if len(lp.poses) >= 4 else (), ())
         plan += tail
         saving = current - estimate
         if saving > 1e-9 and (best is None or saving > best[0]):
-            best = (saving, i, j, plan)
-    return None if best is None else (best[1], best[2], best[3])
+            best = (saving, i, j, g, plan)
+    return None if best is None else (best[1], best[2], best[3], best[4])
+
+
+@dataclass(frozen=True)
+class _Leg:
+    """A phase to route on the lattice from ``start`` to ``end`` at ``grasp``.
+
+    ``head`` and ``tail``: the path's own first two and last two poses of the run (certified
+    transfers, written at ``grasp``; empty when they cannot serve). Where the lattice's route
+    cannot be certified at the run's ends (a pose inside a tight slot, say), the leg is
+    routed from ``head``'s second pose to ``tail``'s first and keeps the path's own motions
+    at both ends.
+    """
+
+    start: Pose
+    end: Pose
+    grasp: int
+    head: tuple[Pose, ...]
+    tail: tuple[Pose, ...]
+
+
+def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: _Leg, costs: CostModel,
+               should_stop: Stop) -> list[Pose]:
+    """The leg as a chain of certified transfers (``[]`` if none): whole, else anchored."""
+    tries: list[tuple[tuple[Pose, ...], Pose, Pose, tuple[Pose, ...]]] = [
+        ((), leg.start, leg.end, ())]
+    if leg.head or leg.tail:
+        tries.append((leg.head[:1], leg.head[-1] if leg.head else leg.start,
+                      leg.tail[0] if leg.tail else leg.end, leg.tail[1:]))
+    for before, a, b, after in tries:
+        route, _ = lattice.route(a, b, leg.grasp, should_stop=should_stop)
+        if len(route) < 2:
+            continue
+        chain, _seconds = _shortened(checker, _corners(route), leg.grasp, costs, should_stop)
+        if chain:
+            return [*before, *chain, *after]
+    return []
 
 
 def _made_real(checker: PivotChecker, lattice: TransferLattice, plan: list,
                costs: CostModel, should_stop: Stop) -> list[_Phase] | None:
-    """The plan's routed items as chains of certified transfers; ``None`` if one fails."""
+    """The plan's routed legs as chains of certified transfers; ``None`` if one fails."""
     out: list[_Phase] = []
     for item in plan:
         if isinstance(item, _Phase):
             out.append(item)
             continue
-        start, end, grasp = item
-        route, _ = lattice.route(start, end, grasp, should_stop=should_stop)
-        if len(route) < 2:
-            return None
-        chain, _seconds = _shortened(checker, _corners(route), grasp, costs, should_stop)
+        grasp = item.grasp
+        chain = _leg_chain(checker, lattice, item, costs, should_stop)
         if not chain:
             return None
         if out and out[-1].grasp == grasp:  # a regrasp the run removed: one phase

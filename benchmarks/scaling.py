@@ -1,0 +1,100 @@
+"""How planning time grows with tight passages and with the size of the floor.
+
+Generated scenes, one planning process (this one), one run at a time:
+
+* ``building``: N rooms in a row (``--rooms 1,2,4,8,16``), box-only slots and robot-only doors
+  or wide doors between them (``pivot_ompl.generate`` family ``building``);
+* ``slots``: two walls whose slots leave C a side (``--clearances 0.10,0.06,0.04,0.03``;
+  the generator's ``walls`` family with ``walls=2, slot_clearance=C``).
+
+For each scene and seed: solved or not within ``--time``, solve seconds, regrasps and the
+proven lower bound, and the floor's area. Prints one row per run and the medians per class.
+Targets (issue: scaling): time close to linear in the rooms; slots of 2-6 cm a side solved.
+
+    python benchmarks/scaling.py [--rooms 1,2,4,8] [--clearances 0.1,0.06,0.04]
+        [--seeds 2] [--time 180] [--out results/scaling.json]
+
+Run timing figures under ``flock /tmp/pivot-bench.lock``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+HERE = Path(__file__).resolve()
+
+
+def _scenes(args: argparse.Namespace) -> list[tuple[str, str, Any]]:
+    from pivot_ompl.generate import GeneratorParams, generate
+
+    out = []
+    for n in [int(v) for v in args.rooms.split(",") if v]:
+        for seed in range(args.seeds):
+            gen = generate("building", seed, params=GeneratorParams(rooms=n))
+            out.append(("building", f"rooms={n}", gen.scene))
+    for c in [float(v) for v in args.clearances.split(",") if v]:
+        for seed in range(args.seeds):
+            try:
+                gen = generate("walls", seed, params=GeneratorParams(walls=2, slot_clearance=c))
+            except Exception as e:  # noqa: BLE001 - a layout the generator cannot make
+                print(f"slots clearance={c} seed {seed}: not generated ({e})")
+                continue
+            out.append(("slots", f"clearance={c:g}", gen.scene))
+    return out
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--rooms", default="1,2,4,8")
+    ap.add_argument("--clearances", default="0.1,0.06,0.04,0.03")
+    ap.add_argument("--seeds", type=int, default=2)
+    ap.add_argument("--time", type=float, default=180.0)
+    ap.add_argument("--out", default="results/scaling.json")
+    args = ap.parse_args()
+    sys.path[:0] = [str(HERE.parent)]
+    from common import write_json
+    from ompl import util as ou
+
+    from pivot_ompl.analysis.bound_cache import lower_bound
+    from pivot_ompl.api import plan
+
+    ou.setLogLevel(ou.LOG_WARN)
+    rows = []
+    print(f"{'class':9s} {'param':16s} {'scene':24s} {'area m2':>8} {'solved':>6} {'solve s':>8} "
+          f"{'regr':>4} {'bound':>5} {'bound s':>7}")
+    for cls, param, scene in _scenes(args):
+        t0 = time.perf_counter()
+        b = lower_bound(scene, use_cache=False)
+        bound_s = time.perf_counter() - t0
+        res = plan(scene, time_limit=args.time, seed=0, bound=False)
+        x0, y0, x1, y1 = scene.bounds
+        row = {"class": cls, "param": param, "scene": scene.name, "area": (x1 - x0) * (y1 - y0),
+               "solved": res.solved, "solve": res.timings["solve"],
+               "regrasps": res.regrasps if res.solved else None, "bound": b.regrasps,
+               "bound_s": bound_s}
+        rows.append(row)
+        print(f"{cls:9s} {param:16s} {scene.name:24s} {row['area']:8.0f} "
+              f"{str(res.solved):>6} {row['solve']:8.2f} {str(row['regrasps']):>4} "
+              f"{str(b.regrasps):>5} {bound_s:7.2f}", flush=True)
+    print()
+    groups: dict[tuple[str, str], list[dict]] = {}
+    for r in rows:
+        groups.setdefault((r["class"], r["param"]), []).append(r)
+    table = {}
+    for (cls, param), rs in groups.items():
+        ok = [r for r in rs if r["solved"]]
+        med = statistics.median(r["solve"] for r in rs)
+        table[f"{cls}/{param}"] = {"runs": len(rs), "solved": len(ok), "solve_median": med,
+                                   "at_bound": sum(r["regrasps"] == r["bound"] for r in ok)}
+        print(f"{cls:9s} {param:16s} solved {len(ok)}/{len(rs)}, median solve {med:.2f} s, "
+              f"at the bound {table[f'{cls}/{param}']['at_bound']}/{len(ok)}")
+    write_json({"time_limit": args.time, "rows": rows, "table": table}, args.out)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,89 @@
+"""A lower bound on the length of the box's route: the shortest path through its free cover.
+
+Every configuration a valid plan passes through has its box centre in the projection ``P`` of
+the :class:`~pivot_ompl.analysis.regrasp_bound.FreeCover` (the union, over yaw bins and grasps,
+of the positions where the held assembly may be free): ``P`` over-approximates the free
+positions, so the shortest path from the start's centre to the goal's inside ``P`` is at most
+the length of any plan's box route (regrasps cost nothing here). It is measured on a raster of
+cells of side ``cell`` that meet ``P`` (a continuous path through ``P`` crosses only such cells,
+consecutive ones 8-adjacent, so no passage is lost however narrow), with moves to the 16
+neighbours (one or two cells away, straight, diagonal or a knight's move) from cell centre to
+cell centre. Grid paths stay within 2.7 % of the continuous one plus one cell's diagonal at
+each end; the result is reduced by both (:data:`GRID_SLACK`), so it stays a lower bound.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import shapely
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import dijkstra
+
+from pivot_ompl.se2 import Pose
+
+#: Cells at most on the raster (a larger floor gets larger cells).
+MAX_CELLS = 400_000
+#: Smallest cell side (m).
+MIN_CELL = 0.05
+#: Relative excess of a 16-neighbour grid path over the straight line (1 / cos(pi / 16) - 1,
+#: at most, for the worst direction between two neighbour directions).
+GRID_SLACK = 1.0 / math.cos(math.pi / 16) - 1.0
+
+_MOVES = ((1, 0), (0, 1), (1, 1), (1, -1), (1, 2), (2, 1), (1, -2), (2, -1))
+
+
+def shortest_route(free: list, bounds: tuple[float, float, float, float], start: Pose,
+                   goal: Pose) -> float | None:
+    """Lower bound (m) on the box centre's route from ``start`` to ``goal`` through ``free``.
+
+    Args:
+        free: the cover's pieces (shapely polygons) of every bin and grasp.
+        bounds: the floor ``(xmin, ymin, xmax, ymax)``.
+        start: the box's start pose.
+        goal: the box's goal pose.
+
+    Returns:
+        The bound, or ``None`` when the raster joins no path (start or goal outside ``P``).
+    """
+    x0, y0, x1, y1 = bounds
+    cell = max(MIN_CELL, math.sqrt((x1 - x0) * (y1 - y0) / MAX_CELLS))
+    nx, ny = max(1, math.ceil((x1 - x0) / cell)), max(1, math.ceil((y1 - y0) / cell))
+    region = shapely.union_all(free).buffer(cell * math.sqrt(0.5), quad_segs=2)
+    xs = x0 + (np.arange(nx) + 0.5) * cell
+    ys = y0 + (np.arange(ny) + 0.5) * cell
+    gx, gy = np.meshgrid(xs, ys, indexing="ij")
+    mask = shapely.contains_xy(region, gx, gy)
+    ends = []
+    for p in (start, goal):
+        i = min(nx - 1, max(0, int((p[0] - x0) // cell)))
+        j = min(ny - 1, max(0, int((p[1] - y0) // cell)))
+        if not mask[i, j]:
+            return None
+        ends.append(i * ny + j)
+    index = np.arange(nx * ny).reshape(nx, ny)
+    rows, cols, weights = [], [], []
+    for di, dj in _MOVES:
+        src = (slice(max(0, -di), nx - max(0, di)), slice(max(0, -dj), ny - max(0, dj)))
+        both = mask[src] & _seen(mask, src, di, dj)
+        if abs(di) == 2:  # a knight's move also needs both cells it passes
+            both &= _seen(mask, src, di // 2, 0) & _seen(mask, src, di // 2, dj)
+        elif abs(dj) == 2:
+            both &= _seen(mask, src, 0, dj // 2) & _seen(mask, src, di, dj // 2)
+        ia = index[src][both]
+        rows.append(ia)
+        cols.append(ia + di * ny + dj)
+        weights.append(np.full(ia.shape, cell * math.hypot(di, dj)))
+    r, c, w = np.concatenate(rows), np.concatenate(cols), np.concatenate(weights)
+    graph = coo_matrix((w, (r, c)), shape=(nx * ny, nx * ny)).tocsr()
+    d = float(dijkstra(graph, directed=False, indices=ends[0])[ends[1]])
+    if not math.isfinite(d):
+        return None
+    return max(0.0, d / (1.0 + GRID_SLACK) - 2.0 * cell * math.sqrt(2.0))
+
+
+def _seen(mask: np.ndarray, src: tuple[slice, slice], di: int, dj: int) -> np.ndarray:
+    """``mask`` at the cells ``(di, dj)`` away from those of the block ``src``."""
+    a, b = src
+    return mask[a.start + di:a.stop + di, b.start + dj:b.stop + dj]
