@@ -39,8 +39,11 @@ an over-approximation.
 one piece while its yaw stays in a bin and crosses to the next bin at a shared yaw, so through
 a point common to a piece of ``F(b, k)`` and one of ``F(b +- 1, k)`` (cost 0). A regrasp from
 ``k`` to ``j`` happens at one pose, so in a point common to pieces of ``F(b, k)`` and
-``F(b, j)`` (cost 1). The fewest cost-1 edges from a piece holding the start to a piece holding
-the goal (0-1 breadth-first search) is at most the regrasps of any valid plan. Finer bins
+``F(b, j)`` (cost 1), and only where the walking robot may get from one grasp pose to the
+other round the resting box (:class:`~pivot_ompl.analysis.regrasp_walk.WalkRelaxation`, itself
+a sound relaxation; checked lazily, only for regrasps whose far piece is not reached yet).
+The fewest cost-1 edges from a piece holding the start to a piece holding the goal (a
+breadth-first search by levels) is at most the regrasps of any valid plan. Finer bins
 (``resolution``, the largest erosion) resolve narrower passages; coarser ones are faster and
 still sound. Grasp ``k + 2`` at yaw ``t`` is the same set as grasp ``k`` at ``t + pi``, so only
 grasps 0 and 1 are computed.
@@ -51,7 +54,6 @@ from __future__ import annotations
 import logging
 import math
 import time
-from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -59,7 +61,9 @@ import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
+from pivot_ompl.analysis.regrasp_walk import WalkRelaxation
 from pivot_ompl.analysis.route_bound import shortest_route
+from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose, rectangle_corners, wrap_angle
 from pivot_ompl.validity.certify import SWEEP_TOLERANCE
@@ -263,6 +267,7 @@ def free_cover(scene: Scene, *, resolution: float = RESOLUTION,
 
 def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
                         tolerance: float = SWEEP_TOLERANCE, clearance: float = KEEP_CLEARANCE,
+                        walks: bool = True,
                         should_stop: Callable[[], bool] | None = None) -> RegraspBound:
     """Fewest regrasps any plan of ``scene`` needs (see the module docstring: sound).
 
@@ -271,7 +276,10 @@ def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
         resolution: largest erosion (m) of the rotation within a yaw bin; sets the bins.
         tolerance: the swept checks' tolerance (m), added to every erosion.
         clearance: distance (m) the checkers keep every body from the obstacles.
-        should_stop: polled once per yaw bin; when it returns ``True`` the result is unknown.
+        walks: allow a regrasp only where the walking robot may get round the resting box
+            (:mod:`~pivot_ompl.analysis.regrasp_walk`); ``False``: wherever both grasps fit.
+        should_stop: polled once per yaw bin and per regrasp checked; when it returns
+            ``True`` the result is unknown.
 
     Returns:
         A :class:`RegraspBound`.
@@ -287,58 +295,115 @@ def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
         for k in range(4):
             for c in range(len(cover.pieces(b, k))):
                 ids[(b, k, c)] = len(ids)
-    adj: list[list[tuple[int, int]]] = [[] for _ in ids]
+    nodes = list(ids)
+    graph = _PieceGraph([cover.pieces(b, k)[c].area for b, k, c in nodes])
 
-    def link(b1: int, k1: int, b2: int, k2: int, cost: int) -> None:
+    def link(b1: int, k1: int, b2: int, k2: int, regrasp: bool) -> None:
         ga, gb = cover.pieces(b1, k1), cover.pieces(b2, k2)
         if not ga or not gb:
             return
         ia, ib = shapely.STRtree(gb).query(ga, predicate="intersects")
         for i, j in zip(ia.tolist(), ib.tolist(), strict=True):
             u, v = ids[(b1, k1, i)], ids[(b2, k2, j)]
-            adj[u].append((v, cost))
-            adj[v].append((u, cost))
+            graph.add(u, v, (b1, k1, i, k2, j) if regrasp else None)
 
     for b in range(n):
         if should_stop is not None and should_stop():
             return RegraspBound(None, None, n, len(ids), time.perf_counter() - t0)
         for k in range(4):
-            link(b, k, (b + 1) % n, k, 0)  # a transfer crossing into the next bin
+            link(b, k, (b + 1) % n, k, False)  # a transfer crossing into the next bin
             for j in range(k + 1, 4):
-                link(b, k, b, j, 1)  # a regrasp
+                link(b, k, b, j, True)  # a regrasp
+
+    walk = WalkRelaxation(scene, width=cover.width, tolerance=tolerance,
+                          clearance=clearance) if walks else None
+
+    def allowed(edge: tuple[int, int, int, int, int]) -> bool:
+        if walk is None:
+            return True
+        b, k, i, j, c = edge
+        region = cover.pieces(b, k)[i].intersection(cover.pieces(b, j)[c])
+        return walk.may_regrasp(region, -math.pi + (b + 0.5) * cover.width, k, j)
 
     def holding(pose: Pose) -> list[int]:
         b = cover.bin_of(pose[2])
         return [ids[(b, k, c)] for k in range(4) for c in cover.holding(pose, k)]
 
-    best = _zero_one_bfs(adj, holding(scene.start), set(holding(scene.goal)))
+    try:
+        best, reached = graph.fewest_regrasps(holding(scene.start), set(holding(scene.goal)),
+                                              allowed, should_stop)
+    except Interrupted:
+        return RegraspBound(None, None, n, len(ids), time.perf_counter() - t0)
     route = None
     if best is not None:
-        route = shortest_route([g for grasp in cover.free for b in grasp for g in b],
-                               scene.bounds, scene.start, scene.goal)
+        route = shortest_route([cover.pieces(nodes[u][0], nodes[u][1])[nodes[u][2]]
+                                for u in reached], scene.bounds, scene.start, scene.goal)
     seconds = time.perf_counter() - t0
-    log.debug("regrasp bound %s over %d yaw bins, %d pieces, %.2f s", best, n, len(ids), seconds)
+    log.debug("regrasp bound %s over %d yaw bins, %d pieces, %d walk queries, %.2f s", best, n,
+              len(ids), walk.queries if walk else 0, seconds)
     return RegraspBound(best, best is not None, n, len(ids), seconds, route)
 
 
-def _zero_one_bfs(adj: list[list[tuple[int, int]]], starts: list[int],
-                  goals: set[int]) -> int | None:
-    """Fewest cost-1 edges from any start to any goal; ``None`` if none is reachable."""
-    dist = [math.inf] * len(adj)
-    queue: deque[int] = deque()
-    for s in starts:
-        dist[s] = 0
-        queue.append(s)
-    while queue:
-        u = queue.popleft()
-        if u in goals:
-            return int(dist[u])
-        for v, c in adj[u]:
-            nd = dist[u] + c
-            if nd < dist[v]:
-                dist[v] = nd
-                if c == 0:
-                    queue.appendleft(v)
-                else:
-                    queue.append(v)
-    return None
+class _PieceGraph:
+    """Pieces joined by transfers (free) and regrasps (cost 1, checked lazily)."""
+
+    def __init__(self, areas: list[float]) -> None:
+        self.areas = areas
+        self.zero: list[list[int]] = [[] for _ in areas]
+        self.one: list[list[tuple[int, tuple[int, int, int, int, int]]]] = [
+            [] for _ in areas]
+
+    def add(self, u: int, v: int, regrasp: tuple[int, int, int, int, int] | None) -> None:
+        if regrasp is None:
+            self.zero[u].append(v)
+            self.zero[v].append(u)
+        else:
+            self.one[u].append((v, regrasp))
+            self.one[v].append((u, regrasp))
+
+    def fewest_regrasps(self, starts: list[int], goals: set[int],
+                        allowed: Callable[[tuple[int, int, int, int, int]], bool],
+                        should_stop: Callable[[], bool] | None) -> tuple[int | None, set[int]]:
+        """Fewest allowed regrasps from a start to a goal, and every piece reachable at all.
+
+        Level by level: the pieces reachable with ``d`` regrasps are the free closure of the
+        starts (``d = 0``) or of the regrasps out of level ``d - 1``. A regrasp is checked
+        (``allowed``, the costly part) only when its far piece is not reached yet, the
+        regrasps out of the largest pieces first (the cheapest to allow). ``should_stop``
+        raises :class:`~pivot_ompl.errors.Interrupted`.
+        """
+        level: dict[int, int] = {}
+        best: int | None = None
+        frontier = list(starts)
+        d = 0
+        while frontier:
+            grown = self._closure(frontier, d, level)
+            if best is None and any(u in goals for u in grown):
+                best = d
+            pending = [(v, e) for u in grown for v, e in self.one[u] if v not in level]
+            pending.sort(key=lambda ve: -self.areas[ve[0]])
+            frontier = []
+            for v, e in pending:
+                if should_stop is not None and should_stop():
+                    raise Interrupted("regrasp bound")
+                if v in level:
+                    continue
+                if allowed(e):
+                    frontier.extend(self._closure([v], d + 1, level))
+            d += 1
+        return best, set(level)
+
+    def _closure(self, seeds: list[int], d: int, level: dict[int, int]) -> list[int]:
+        """Mark every piece reachable from ``seeds`` by transfers with level ``d``."""
+        out = []
+        stack = [s for s in seeds if s not in level or level[s] == d]
+        for s in stack:
+            level[s] = d
+        while stack:
+            u = stack.pop()
+            out.append(u)
+            for v in self.zero[u]:
+                if v not in level:
+                    level[v] = d
+                    stack.append(v)
+        return out

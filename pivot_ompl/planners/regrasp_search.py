@@ -111,7 +111,7 @@ class RegraspSearch:
         self.config, self.rng = config, rng
         sc, se = config.sampling, config.search
         self.roadmap = Roadmap()
-        self.sampler = PoseSampler(checker, rng, yaw_range=sc.yaw_range)
+        self.sampler = PoseSampler(checker, rng, yaw_range=sc.yaw_range, start=start)
         self.critical = CriticalConfigurations(checker, self.roadmap, grasps=config.grasps,
                                                spacing=sc.critical_spacing)
         self.visibility = VisibilityRoadmap(

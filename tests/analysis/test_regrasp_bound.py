@@ -112,3 +112,41 @@ def test_open_floor_needs_no_regrasp_and_stopping_gives_unknown():
     assert regrasp_lower_bound(scene).regrasps == 0
     b = regrasp_lower_bound(scene, should_stop=lambda: True)
     assert b.regrasps is None and b.solvable is None
+
+
+def test_a_regrasp_needs_a_walk_round_the_box(fig10):
+    """Door A closed: the robot cannot get round wall A, so no regrasp at slot A helps.
+
+    The relaxation without the walk condition still counts two regrasps; with it, no plan
+    exists (the box alone passes slot A, the robot never follows).
+    """
+    import dataclasses
+
+    from pivot_ompl.scene import BoxObstacle
+
+    door_a = BoxObstacle(center=(3.55, 6.075), size=(0.5, 0.95), yaw=0.0, height=2.0)
+    closed = dataclasses.replace(fig10, obstacles=fig10.obstacles + (door_a,))
+    assert regrasp_lower_bound(closed, walks=False).regrasps == 2
+    b = regrasp_lower_bound(closed)
+    assert b.regrasps is None and b.solvable is False
+
+
+@pytest.mark.parametrize(("family", "seed"), [("walls", 1), ("corridor", 0), ("building", 0)])
+def test_every_real_regrasp_is_allowed_by_the_walk_relaxation(family, seed):
+    """Each regrasp of a witness (a real walk round the resting box) passes the relaxation."""
+    import shapely
+
+    from pivot_ompl.analysis.regrasp_walk import WalkRelaxation
+    from pivot_ompl.planfile import TransitPhase
+
+    gen = generate(family, seed=seed)
+    cover = free_cover(gen.scene)
+    walk = WalkRelaxation(gen.scene, width=cover.width, tolerance=0.002, clearance=0.01)
+    transits = [p for p in gen.witness.phases if isinstance(p, TransitPhase)]
+    assert transits
+    for p in transits:
+        x, y, yaw = p.object_pose
+        b = cover.bin_of(yaw)
+        centre = -math.pi + (b + 0.5) * cover.width
+        region = shapely.Point(x, y).buffer(1e-4)
+        assert walk.may_regrasp(region, centre, p.from_grasp, p.to_grasp), p.object_pose

@@ -35,7 +35,7 @@ from collections.abc import Callable, Iterator
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.graph import UnionFind
-from pivot_ompl.planners.objects.roadmap import Roadmap, canonical_yaw, half_turn
+from pivot_ompl.planners.objects.roadmap import PoseIndex, Roadmap, canonical_yaw, half_turn
 from pivot_ompl.se2 import Pose, wrap_angle
 
 Node = tuple[int, int]  # (object roadmap index, grasp)
@@ -122,7 +122,7 @@ class MultiplexedGraph:
         self.plausibility_tests = 0
         self._components: UnionFind[Node] = UnionFind()  # over candidate edges (never split)
         #: object nodes where grasp 0 or 2 (index 0), 1 or 3 (index 1) is valid
-        self._parity: tuple[list[int], list[int]] = ([], [])
+        self._parity = (PoseIndex(self.roadmap), PoseIndex(self.roadmap))
         self._removed: set[tuple[Node, Node]] = set()
         self._plausible: dict[tuple[Node, Node], bool] = {}
         #: states reachable from a start over edges that passed the cheap test (a superset

@@ -1,7 +1,7 @@
 """Diffusion (the regrasp paper, Section IV): grow the object roadmap towards random targets.
 
 A target is the goal (``goal_bias``), a pose near a critical configuration (``critical_bias``)
-or a uniform pose; the nearest object node is extended towards it along the box's
+or a uniform pose the box may reach; the nearest object node is extended towards it along the box's
 Reeds-Shepp path by at most ``epsilon``, up to the last free pose: the diffusion creeps into
 narrow passages instead of jumping over them.
 """
@@ -50,7 +50,7 @@ class Diffusion:
             c = critical[int(rng.integers(len(critical)))]
             return (c[0] + float(rng.normal(0, 0.3)), c[1] + float(rng.normal(0, 0.3)),
                     c[2] + float(rng.normal(0, 0.5)))
-        return self.sampler.uniform()
+        return self.sampler.reachable()
 
     def extend(self, near: Pose, target: Pose) -> Pose:
         """The last free pose moving from ``near`` towards ``target`` (at most ``epsilon``).

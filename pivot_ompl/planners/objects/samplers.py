@@ -1,13 +1,31 @@
-"""Uniform box poses over the floor: the random source of every sampler of the object roadmap."""
+"""Uniform box poses: the random source of every sampler of the object roadmap.
+
+Two distributions: :meth:`PoseSampler.uniform` over the floor's bounds (the bridge test
+needs poses in collision too), and :meth:`PoseSampler.reachable` over the box centres the
+box could reach from the start at all. A valid box holds the disk of radius half its narrow
+side round its centre, so its centre keeps that far (plus the clearance, less the swept
+checks' tolerance) from every obstacle and inside the bounds; the positions that do, in the
+connected piece holding the start, contain every box position a plan can visit. On a floor
+whose bounds hold much that no plan reaches (a rotated building, rooms closed off) the
+roadmap then grows only where it can serve.
+"""
 
 from __future__ import annotations
 
 from collections.abc import Callable
 
 import numpy as np
+import shapely
+from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.se2 import Pose
+from pivot_ompl.validity.certify import SWEEP_TOLERANCE
+from pivot_ompl.validity.footprints import obstacle_footprint
+
+#: Draws of :meth:`PoseSampler.reachable` rejected in a row before it falls back to
+#: :meth:`PoseSampler.uniform` (a sliver of a region).
+MAX_REJECTS = 200
 
 
 class PoseSampler:
@@ -20,14 +38,48 @@ class PoseSampler:
     """
 
     def __init__(self, checker: PivotChecker, rng: np.random.Generator, *,
-                 yaw_range: float) -> None:
-        """Sample over ``checker``'s floor."""
+                 yaw_range: float, start: Pose | None = None) -> None:
+        """Sample over ``checker``'s floor (:meth:`reachable`: from ``start``)."""
         b = checker.world.bounds
         self.checker = checker
         self.rng = rng
         self.yaw_range = yaw_range
+        self.start = start
         self._lo = (b[0], b[1])
         self._hi = (b[2], b[3])
+        self._region: BaseGeometry | None = None
+        self._region_box: tuple[float, float, float, float] | None = None
+
+    def region(self) -> BaseGeometry | None:
+        """The box centres reachable from the start (module docstring); ``None``: the floor."""
+        if self._region is None and self.start is not None:
+            ck = self.checker
+            r = 0.5 * min(ck.model.object_size[:2])
+            x0, y0, x1, y1 = ck.world.bounds
+            free: BaseGeometry = shapely.box(x0 + r, y0 + r, x1 - r, y1 - r)
+            grow = r + ck.world.clearance - SWEEP_TOLERANCE
+            shapes = [obstacle_footprint(o).buffer(grow, quad_segs=4)
+                      for o in ck.scene.obstacles]
+            if shapes:
+                free = free.difference(shapely.union_all(shapes))
+            here = shapely.Point(self.start[0], self.start[1])
+            parts = [g for g in getattr(free, "geoms", [free]) if g.distance(here) < 1e-6]
+            self._region = parts[0] if parts else shapely.box(x0, y0, x1, y1)
+            shapely.prepare(self._region)
+            self._region_box = self._region.bounds
+        return self._region
+
+    def reachable(self) -> Pose:
+        """A uniform pose whose position may be reached from the start (x, y, then yaw)."""
+        region = self.region()
+        if region is None or self._region_box is None:
+            return self.uniform()
+        x0, y0, x1, y1 = self._region_box
+        for _ in range(MAX_REJECTS):
+            x, y = float(self.rng.uniform(x0, x1)), float(self.rng.uniform(y0, y1))
+            if shapely.contains_xy(region, x, y):
+                return (x, y, float(self.rng.uniform(-self.yaw_range, self.yaw_range)))
+        return self.uniform()
 
     def uniform(self) -> Pose:
         """A uniform pose (x, y, then yaw drawn in that order)."""
@@ -36,7 +88,7 @@ class PoseSampler:
                 float(self.rng.uniform(-self.yaw_range, self.yaw_range)))
 
     def box_valid(self, should_stop: Callable[[], bool], *, attempts: int = 1000) -> Pose | None:
-        """A uniform pose where the box alone is free; ``None`` when ``should_stop`` says so.
+        """A reachable pose where the box alone is free; ``None`` when ``should_stop`` says so.
 
         After ``attempts`` invalid draws the next uniform pose is returned unchecked (the
         visibility test refuses it).
@@ -44,7 +96,7 @@ class PoseSampler:
         for k in range(attempts):
             if k % 50 == 49 and should_stop():
                 return None
-            q = self.uniform()
+            q = self.reachable()
             if self.checker.box_valid(q):
                 return q
-        return self.uniform()
+        return self.reachable()

@@ -1,0 +1,173 @@
+"""Where a regrasp may happen at all: the walk round the resting box, relaxed soundly.
+
+A regrasp from grasp ``k`` to ``j`` with the box resting at ``q`` is a walk of the robot from
+its grasp-``k`` pose to its grasp-``j`` pose, the walking body clear of the obstacles (by the
+checkers' clearance), inside the bounds and clear of the box (the swept checks' tolerance
+aside). :class:`WalkRelaxation` keeps of the walking body only its inscribed disk (radius
+``r``, :meth:`~pivot_ompl.grasp.BoxGraspModel.robot_inradius`: inside the body at any
+heading) and of the box only a *core* that lies inside the box wherever the box may be, and
+asks whether the disk's centre can get from one pose to the other. Every real walk is a walk
+of the relaxation, so "no" proves that no regrasp from ``k`` to ``j`` happens there.
+
+The question is asked of a *region* of box positions in one yaw bin (where the bound's free
+pieces of the two grasps meet). The region is covered by disks of radius ``rho`` round
+sample points; for each sample ``p``:
+
+* the box core is the box at ``(p, t_b)`` eroded by ``rho`` and by the bin's rotation
+  displacement ``D`` (it lies inside the box at any position of the disk and any yaw of the
+  bin, see :mod:`~pivot_ompl.analysis.regrasp_bound`);
+* the robot's grasp poses lie within ``rho`` plus their own rotation displacement of those at
+  ``(p, t_b)``;
+* the disk centre's free space is rasterised: a cell is free when it meets the free set (its
+  centre within half a cell diagonal of it), so a continuous walk crosses only free cells,
+  one after another 8-adjacent; connectivity is then exact on the raster (scipy's labelling).
+
+The region may hold a regrasp only if some sample joins some start cell to some end cell.
+At most :data:`MAX_SAMPLES` samples are tried; when more would be needed the answer is "may"
+(sound, only weaker).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import shapely
+from scipy import ndimage
+from shapely.geometry.base import BaseGeometry
+
+from pivot_ompl.scene import Scene
+from pivot_ompl.se2 import rectangle_corners
+from pivot_ompl.validity.footprints import obstacle_pieces
+
+#: Raster cell of the disk centre's free space (m).
+CELL = 0.1
+#: Spacing of the sample points that cover a region of box positions (m).
+SAMPLE = 0.1
+#: Samples tried per region at most.
+MAX_SAMPLES = 64
+#: Raster cells at most (a larger floor gets larger cells).
+MAX_CELLS = 600_000
+#: Added to every erosion (m): keeps the relaxation on the safe side of round-off.
+ROUND_OFF = 1e-7
+
+_EIGHT = np.ones((3, 3), dtype=bool)
+
+
+class WalkRelaxation:
+    """Whether the walking robot may regrasp with the box resting in a region (see module).
+
+    Args:
+        scene: the scene.
+        width: the yaw bins' width (rad).
+        tolerance: the swept checks' tolerance (m).
+        clearance: what the checkers keep the walking body from the obstacles (m).
+    """
+
+    def __init__(self, scene: Scene, *, width: float, tolerance: float,
+                 clearance: float) -> None:
+        """Rasterise the disk centre's free space (obstacles and bounds only)."""
+        m = self.model = scene.model
+        self.radius = m.robot_inradius()
+        self.turn = 2.0 * math.sin(0.25 * width)  # displacement per metre from the centre
+        box_reach = 0.5 * math.hypot(*m.object_size[:2])
+        self.box_erosion = box_reach * self.turn + tolerance + ROUND_OFF
+        self.box_gap = self.radius - tolerance - ROUND_OFF
+        x0, y0, x1, y1 = scene.bounds
+        self.cell = max(CELL, math.sqrt((x1 - x0) * (y1 - y0) / MAX_CELLS))
+        h = self.cell
+        self.half_diag = h * math.sqrt(0.5)
+        self.origin = (x0, y0)
+        self.shape = (max(1, math.ceil((x1 - x0) / h)), max(1, math.ceil((y1 - y0) / h)))
+        r = self.radius
+        free: BaseGeometry = shapely.box(x0 + r, y0 + r, x1 - r, y1 - r)
+        grow = r + clearance - tolerance - ROUND_OFF
+        pieces = [shapely.Polygon(p).buffer(grow, quad_segs=8)
+                  for p in obstacle_pieces(scene.obstacles)]
+        if pieces:
+            free = free.difference(shapely.union_all(pieces))
+        xs = x0 + (np.arange(self.shape[0]) + 0.5) * h
+        ys = y0 + (np.arange(self.shape[1]) + 0.5) * h
+        self.gx, self.gy = np.meshgrid(xs, ys, indexing="ij")
+        self.free = shapely.contains_xy(free.buffer(self.half_diag, quad_segs=2), self.gx,
+                                        self.gy)
+        self.labels, _ = ndimage.label(self.free, structure=_EIGHT)
+        self.queries = 0
+
+    # -- raster helpers ------------------------------------------------------------------
+    def _window(self, geom: BaseGeometry) -> tuple[slice, slice]:
+        gx0, gy0, gx1, gy1 = geom.bounds
+        (x0, y0), h = self.origin, self.cell
+        i0 = max(0, int((gx0 - x0) / h) - 1)
+        j0 = max(0, int((gy0 - y0) / h) - 1)
+        i1 = min(self.shape[0], int((gx1 - x0) / h) + 2)
+        j1 = min(self.shape[1], int((gy1 - y0) / h) + 2)
+        return slice(i0, max(i0, i1)), slice(j0, max(j0, j1))
+
+    def _cells(self, x: float, y: float, r: float) -> tuple[np.ndarray, np.ndarray]:
+        """Free raster cells meeting the disk of radius ``r`` round ``(x, y)``."""
+        disk = shapely.Point(x, y).buffer(r + self.half_diag, quad_segs=4)
+        wi, wj = self._window(disk)
+        inside = (np.hypot(self.gx[wi, wj] - x, self.gy[wi, wj] - y)
+                  <= r + self.half_diag) & self.free[wi, wj]
+        ii, jj = np.nonzero(inside)
+        return ii + wi.start, jj + wj.start
+
+    # -- the question --------------------------------------------------------------------
+    def may_regrasp(self, region: BaseGeometry, yaw: float, k: int, j: int) -> bool:
+        """Whether a regrasp from ``k`` to ``j`` may happen with the box in ``region``.
+
+        ``region``: box positions (a polygon); ``yaw``: the bin's centre yaw. ``False``
+        proves that it cannot.
+        """
+        self.queries += 1
+        if region.is_empty:
+            return False
+        samples, rho = self._samples(region)
+        if len(samples) > MAX_SAMPLES:
+            return True
+        m = self.model
+        reach = {g: math.hypot(*m.robot_pose((0.0, 0.0, 0.0), g)[:2]) for g in (k, j)}
+        for x, y in samples:
+            q = (x, y, yaw)
+            rk, rj = m.robot_pose(q, k), m.robot_pose(q, j)
+            a = self._cells(rk[0], rk[1], rho + reach[k] * self.turn)
+            b = self._cells(rj[0], rj[1], rho + reach[j] * self.turn)
+            if not len(a[0]) or not len(b[0]):
+                continue
+            common = set(self.labels[a].tolist()) & set(self.labels[b].tolist())
+            if not common:
+                continue  # not even round the obstacles alone
+            core = _eroded_box(q, m.object_size[0], m.object_size[1], self.box_erosion + rho)
+            if core is None:
+                return True  # nothing of the box is certain: it may not block
+            blocked = core.buffer(self.box_gap - self.half_diag, quad_segs=4)
+            mask = self.free.copy()
+            if not blocked.is_empty:
+                wi, wj = self._window(blocked)
+                mask[wi, wj] &= ~shapely.contains_xy(blocked, self.gx[wi, wj], self.gy[wi, wj])
+            labels, _ = ndimage.label(mask, structure=_EIGHT)
+            la = set(labels[a].tolist()) - {0}
+            if la & (set(labels[b].tolist()) - {0}):
+                return True
+        return False
+
+    def _samples(self, region: BaseGeometry) -> tuple[list[tuple[float, float]], float]:
+        """Points whose ``rho``-disks cover ``region``, and ``rho``."""
+        x0, y0, x1, y1 = region.bounds
+        if max(x1 - x0, y1 - y0) <= SAMPLE:
+            return [(0.5 * (x0 + x1), 0.5 * (y0 + y1))], 0.5 * math.hypot(x1 - x0, y1 - y0)
+        rho = SAMPLE * math.sqrt(0.5)
+        xs = np.arange(x0 + 0.5 * SAMPLE, x1 + 0.5 * SAMPLE, SAMPLE)
+        ys = np.arange(y0 + 0.5 * SAMPLE, y1 + 0.5 * SAMPLE, SAMPLE)
+        gx, gy = np.meshgrid(xs, ys, indexing="ij")
+        near = shapely.contains_xy(region.buffer(rho, quad_segs=2), gx, gy)
+        return list(zip(gx[near].tolist(), gy[near].tolist(), strict=True)), rho
+
+
+def _eroded_box(q: tuple[float, float, float], length: float, width: float,
+                d: float) -> BaseGeometry | None:
+    hx, hy = 0.5 * length - d, 0.5 * width - d
+    if hx <= 0 or hy <= 0:
+        return None
+    return shapely.Polygon(rectangle_corners(q, 2 * hx, 2 * hy))
