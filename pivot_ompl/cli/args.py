@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 from collections.abc import Callable, Iterable
 from pathlib import Path
 
-from pivot_ompl.errors import abridge
+from pivot_ompl.errors import InputError, abridge
 from pivot_ompl.fileio import check_output
 
 
@@ -103,3 +104,20 @@ def figure_file(path: str | None, field: str, *,
 
     kinds = sorted(f".{k}" for k in FigureCanvasBase.get_supported_filetypes())
     return output_file(path, field, inputs=inputs, suffixes=kinds)
+
+
+def distinct_outputs(**outputs: Path | None) -> None:
+    """Refuse two output options naming one file (the later write would replace the other).
+
+    Keyword names are the options' names with ``_`` for ``-`` (``plot=...`` is ``--plot``).
+    """
+    seen: dict[Path, str] = {}
+    for name, path in outputs.items():
+        if path is None:
+            continue
+        key = Path(os.path.abspath(path))
+        option = "--" + name.replace("_", "-")
+        if key in seen:
+            raise InputError(option, str(path), f"is also the {seen[key]} file: give each "
+                             "output its own name")
+        seen[key] = option

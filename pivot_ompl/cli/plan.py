@@ -14,7 +14,14 @@ import threading
 import time
 
 from pivot_ompl.api import MAX_SEED, plan
-from pivot_ompl.cli.args import figure_file, integer, non_negative, output_file, time_limit
+from pivot_ompl.cli.args import (
+    distinct_outputs,
+    figure_file,
+    integer,
+    non_negative,
+    output_file,
+    time_limit,
+)
 from pivot_ompl.cost import REGRASP_COST
 from pivot_ompl.errors import PlanningError
 from pivot_ompl.fileio import atomic_output
@@ -78,6 +85,7 @@ def run(args: argparse.Namespace) -> int:
     scene = load_scene(args.scene)
     out = output_file(args.out, "--out", inputs=[scene.source])
     fig = figure_file(args.plot, "--plot", inputs=[scene.source])
+    distinct_outputs(out=out, plot=fig)
     stop = threading.Event()
     th = threading.Thread(target=_progress, args=(stop, args.time), daemon=True)
     th.start()

@@ -140,6 +140,17 @@ def test_plan_refuses_to_overwrite_its_scene(tmp_path, capsys):
     assert scene.read_bytes() == before
 
 
+def test_plan_refuses_one_file_for_plan_and_figure(tmp_path, capsys):
+    """--out and --plot naming one file: refused before planning (the figure would replace
+    the plan), whichever way the path is written."""
+    same = tmp_path / "x.png"
+    same.write_bytes(b"keep")
+    code, _, err = cli(capsys, "plan", scene_with(tmp_path), "--out", same,
+                       "--plot", tmp_path / "." / "x.png", "--time", "1")
+    assert code == 2 and "--plot" in err and "--out" in err
+    assert same.read_bytes() == b"keep"
+
+
 def test_failed_plan_keeps_the_existing_plan(tmp_path, capsys):
     out, fig = tmp_path / "plan.json", tmp_path / "plan.png"
     out.write_text("good plan")
