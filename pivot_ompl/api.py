@@ -39,7 +39,7 @@ MAX_SEED = 2**32 - 2
 #: Least time (s) left after the setup for which the search still starts.
 MIN_SOLVE_TIME = 1e-3
 #: Longest a first computation of a scene's lower bounds may take (s); then they are ``null``.
-BOUND_TIME_LIMIT = 30.0
+BOUND_TIME_LIMIT = 10.0
 
 
 @dataclass

@@ -170,10 +170,13 @@ def check_output(path: str | Path, *, field: str, inputs: Iterable[str | Path] =
     """Validate an output path before any work; return it.
 
     Raises:
-        InputError: ``path`` is a directory, is one of ``inputs``, has a suffix not in
-            ``suffixes`` (when given), or its folder is a file.
+        InputError: ``path`` is a directory, its name is longer than :data:`MAX_NAME`
+            bytes, it is one of ``inputs``, has a suffix not in ``suffixes`` (when given), or
+            its folder is a file.
     """
     p = Path(path)
+    if len(p.name.encode(errors="surrogateescape")) > MAX_NAME:
+        raise InputError(field, str(path), f"file name longer than {MAX_NAME} bytes")
     if not str(path) or p.is_dir() or str(path).endswith(os.sep):
         raise InputError(field, str(path), "is a directory: give a file name")
     allowed = [s.lower() for s in suffixes]
@@ -191,6 +194,8 @@ def check_output(path: str | Path, *, field: str, inputs: Iterable[str | Path] =
     return p
 
 
+#: Longest file name an output may have (bytes; the usual limit of Linux file systems).
+MAX_NAME = 255
 #: Longest file stem :func:`file_stem` makes (bytes; room for suffixes and temporary names
 #: under the usual 255-byte limit of a file name).
 MAX_STEM = 100
@@ -208,6 +213,11 @@ def file_stem(name: str) -> str:
     return stem or "unnamed"
 
 
+def _temporary(p: Path) -> Path:
+    """A short temporary name next to ``p`` with its suffix (never longer than a short name)."""
+    return p.with_name(f".pivot-{uuid.uuid4().hex[:12]}.tmp{p.suffix[:32]}")
+
+
 @contextmanager
 def atomic_output(path: str | Path) -> Iterator[Path]:
     """Yield a temporary path next to ``path``; move it onto ``path`` only on success.
@@ -215,12 +225,29 @@ def atomic_output(path: str | Path) -> Iterator[Path]:
     The temporary name keeps the suffix (writers that infer the format from it work). On an
     exception the temporary file is removed and ``path`` is untouched.
     """
-    p = Path(path)
-    p.parent.mkdir(parents=True, exist_ok=True)
-    tmp = p.with_name(f".{p.stem}.{uuid.uuid4().hex[:8]}.tmp{p.suffix}")
-    try:
+    with atomic_outputs(path) as (tmp,):
         yield tmp
-        os.replace(tmp, p)
+
+
+@contextmanager
+def atomic_outputs(*paths: str | Path) -> Iterator[tuple[Path, ...]]:
+    """Temporary paths next to each of ``paths``, moved into place together on success.
+
+    All or nothing: when the block raises, every temporary file is removed and no target is
+    touched; targets are replaced only after every output has been written.
+    """
+    targets = [Path(p) for p in paths]
+    for p in targets:
+        p.parent.mkdir(parents=True, exist_ok=True)
+    temps = tuple(_temporary(p) for p in targets)
+    try:
+        yield temps
+        for tmp in temps:
+            if not tmp.exists():
+                raise OSError(f"{tmp} was not written")
+        for tmp, p in zip(temps, targets, strict=True):
+            os.replace(tmp, p)
     finally:
-        with suppress(FileNotFoundError):
-            tmp.unlink()
+        for tmp in temps:
+            with suppress(FileNotFoundError):
+                tmp.unlink()

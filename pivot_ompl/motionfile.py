@@ -183,10 +183,13 @@ def _motion_from_arrays(arrays: dict[str, np.ndarray], src: str) -> Motion:
     names = [str(n) for n in np.asarray(arrays["joint_names"]).reshape(-1)]
     names = [n for n in names if n not in _ROOT_NAMES]
     n = len(t)
-    if n == 0:
-        raise InputError("motion.t", [], "must hold at least one sample", source=src)
+    if n < 2:
+        raise InputError("motion.t", t.tolist(), "must hold at least two samples", source=src)
     if not np.all(np.isfinite(t)) or np.any(np.diff(t) < 0):
         raise InputError("motion.t", "...", "must be finite and non-decreasing", source=src)
+    if t[-1] <= t[0]:
+        raise InputError("motion.t", [float(t[0]), float(t[-1])],
+                         "must span a positive duration", source=src)
     if q.ndim != 2 or q.shape[0] != n or q.shape[1] < 7:
         raise InputError("motion.q", list(q.shape), f"must have shape ({n}, 7 + joints)",
                          source=src)
@@ -215,6 +218,8 @@ def _motion_from_arrays(arrays: dict[str, np.ndarray], src: str) -> Motion:
                 raise InputError(f"motion.{key}", str(a.dtype), "must hold numbers", source=src)
             if a.dtype.kind == "f":
                 _finite(a, key, src)
+            if key in CODES:
+                _codes(a, key, src)
             extra[key] = a.astype(bool if key == "holding" else float if key == "tilt" else int)
     if "grip_box" in arrays:
         g = np.asarray(arrays["grip_box"], dtype=float)
@@ -228,6 +233,24 @@ def _motion_from_arrays(arrays: dict[str, np.ndarray], src: str) -> Motion:
     return Motion(t, q, tuple(names), _str(arrays["urdf"]), box,
                   box_size=size, sole_size=sole, scene=scene,  # type: ignore[arg-type]
                   source=src, **extra)
+
+
+#: Per-sample code arrays and their ranges ``(lowest, highest)``; ``None``: no upper end.
+CODES: dict[str, tuple[int, int | None]] = {"support": (0, 2), "phase": (0, None),
+                                            "step": (-1, None), "grasp": (-1, 3),
+                                            "holding": (0, 1)}
+
+
+def _codes(a: np.ndarray, key: str, src: str) -> None:
+    """Refuse a code array with a value that is not a whole number in its range."""
+    lo, hi = CODES[key]
+    v = a.astype(float)
+    bad = np.flatnonzero((v != np.round(v)) | (v < lo) | ((v > hi) if hi is not None else False))
+    if len(bad):
+        k = int(bad[0])
+        where = f"{lo}..{hi}" if hi is not None else f">= {lo}"
+        raise InputError(f"motion.{key}[{k}]", float(v[k]), f"must be a whole number {where}",
+                         source=src)
 
 
 def _lengths(arrays: dict[str, np.ndarray], keys: tuple[str, ...], n: int,

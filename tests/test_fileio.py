@@ -13,6 +13,7 @@ from pivot_ompl.fileio import (
     MAX_NODES,
     MAX_STEM,
     atomic_output,
+    atomic_outputs,
     check_output,
     file_stem,
     load_json,
@@ -116,3 +117,45 @@ def test_bench_keeps_a_hostile_scene_name_inside_out(tmp_path, capsys):
                  "--out", str(out), "--no-progress", "--no-plots", "--workers", "1"]) == 0
     assert victim.read_text() == "keep me"
     assert (out / "_escape.log").is_file()
+
+
+def test_outputs_are_all_or_nothing(tmp_path):
+    a, b = tmp_path / "a.yaml", tmp_path / "b.json"
+    a.write_text("old a")
+    b.write_text("old b")
+    with pytest.raises(RuntimeError), atomic_outputs(a, b) as (ta, tb):
+        ta.write_text("new a")
+        raise RuntimeError("the second output cannot be made")
+    assert a.read_text() == "old a" and b.read_text() == "old b"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.yaml", "b.json"]  # no temps
+    with atomic_outputs(a, b) as (ta, tb):
+        ta.write_text("new a")
+        tb.write_text("new b")
+    assert a.read_text() == "new a" and b.read_text() == "new b"
+
+
+def test_a_failed_generate_keeps_the_existing_scene(tmp_path, monkeypatch):
+    """The witness cannot be written: the scene written before it is not replaced either."""
+    from pivot_ompl.generate import generate, output, write_generated
+
+    gen = generate("clutter", 0)
+    scene_path = tmp_path / f"{gen.scene.name}.yaml"
+    scene_path.write_text("my own scene")
+
+    def broken(*a, **k):
+        raise ValueError("no JSON today")
+
+    monkeypatch.setattr(output.json, "dumps", broken)
+    with pytest.raises(ValueError):
+        write_generated(gen, tmp_path)
+    assert scene_path.read_text() == "my own scene"
+    assert sorted(p.name for p in tmp_path.iterdir()) == [scene_path.name]
+
+
+def test_an_output_name_too_long_is_refused_before_the_work(tmp_path):
+    with pytest.raises(InputError, match="longer than 255 bytes"):
+        check_output(tmp_path / ("p" * 251 + ".json"), field="--out")
+    assert check_output(tmp_path / ("p" * 250 + ".json"), field="--out")  # 255: accepted
+    with atomic_output(tmp_path / ("p" * 250 + ".json")) as tmp:  # the temporary fits too
+        assert len(tmp.name) < 40
+        tmp.write_text("x")

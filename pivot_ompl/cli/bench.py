@@ -11,7 +11,8 @@ import argparse
 import logging
 import sys
 
-from pivot_ompl.cli.args import non_negative, positive
+from pivot_ompl.api import MAX_TIME_LIMIT
+from pivot_ompl.cli.args import non_negative, positive, time_limit
 from pivot_ompl.errors import InputError
 
 log = logging.getLogger(__name__)
@@ -108,8 +109,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--regrasp-cost", type=non_negative("--regrasp-cost"), default=None,
                    metavar="S", help="price of one regrasp (s) for the regrasp planner")
     p.add_argument("--runs", type=_count("--runs", 1), default=50, help="runs per planner")
-    p.add_argument("--time", type=positive("--time"), default=30.0,
-                   help="time limit per run (s)")
+    p.add_argument("--time", type=time_limit("--time"), default=30.0,
+                   help="time limit per run (s; inf or above 1e6 s: 1e6 s, as for plan)")
     p.add_argument("--out", default="results",
                    help="output directory, new or empty unless --overwrite [default: results]")
     p.add_argument("--overwrite", action="store_true",
@@ -148,7 +149,8 @@ def run(args: argparse.Namespace) -> int:
     executor = make_executor(args.executor, scheduler=args.scheduler, workers=args.workers)
     if not log.isEnabledFor(logging.DEBUG):  # Dask's INFO chatter would bury the progress bar
         logging.getLogger("distributed").setLevel(logging.WARNING)
-    res = run_sweep(args.scenes, planners, runs=args.runs, time_limit=args.time, out=args.out,
+    res = run_sweep(args.scenes, planners, runs=args.runs,
+                    time_limit=min(args.time, MAX_TIME_LIMIT), out=args.out,
                     executor=executor, seed0=args.seed0, memory_limit=args.memory,
                     simplify=args.simplify, progress=not args.no_progress,
                     plots=not args.no_plots, overwrite=args.overwrite)

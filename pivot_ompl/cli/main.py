@@ -1,7 +1,7 @@
 """The ``pivot-ompl`` command line: ``pivot-ompl <verb> ...``.
 
 Exit codes for every verb: 0 success, 1 no solution (or a check that fails), 2 bad input
-(the message names the field and the value).
+(the message names the field and the value), 130 interrupted (Ctrl-C).
 """
 
 from __future__ import annotations
@@ -20,6 +20,8 @@ from pivot_ompl.errors import InputError, PivotError
 log = logging.getLogger(__name__)
 
 EXIT_OK, EXIT_NO_SOLUTION, EXIT_BAD_INPUT = 0, 1, 2
+#: Exit code after Ctrl-C (128 + SIGINT, the shells' convention): no output was replaced.
+EXIT_INTERRUPTED = 130
 
 #: Modules defining further verbs: each has ``register(subparsers)``; a missing optional
 #: dependency only hides that verb.
@@ -99,6 +101,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"pivot-ompl {args.verb}: error: {e.filename or ''}: {e.strerror or e}",
               file=sys.stderr)
         return EXIT_BAD_INPUT
+    except KeyboardInterrupt:  # outputs are written atomically: nothing half-written is left
+        print(f"\npivot-ompl {args.verb}: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -7,13 +7,12 @@ existing file.
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 from typing import Any
 
 import yaml
 
+from pivot_ompl.fileio import atomic_output
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Obstacle, Scene
 
 
@@ -47,24 +46,16 @@ def scene_to_dict(scene: Scene) -> dict[str, Any]:
     }
 
 
-def atomic_write(path: str | Path, text: str) -> Path:
-    """Write ``text`` to ``path`` through a temporary file in the same folder, then rename."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w") as f:
-            f.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+def scene_text(scene: Scene, *, comment: str = "") -> str:
+    """``scene`` as YAML text; ``comment`` lines head it."""
+    head = "".join(f"# {line}\n" for line in comment.splitlines())
+    body = yaml.safe_dump(scene_to_dict(scene), sort_keys=False, default_flow_style=None,
+                          width=100)
+    return head + body
 
 
 def write_scene(scene: Scene, path: str | Path, *, comment: str = "") -> Path:
     """Write ``scene`` as YAML to ``path`` (atomically); ``comment`` lines head the file."""
-    head = "".join(f"# {line}\n" for line in comment.splitlines())
-    body = yaml.safe_dump(scene_to_dict(scene), sort_keys=False, default_flow_style=None,
-                          width=100)
-    return atomic_write(path, head + body)
+    with atomic_output(path) as tmp:
+        tmp.write_text(scene_text(scene, comment=comment), encoding="utf-8")
+    return Path(path)

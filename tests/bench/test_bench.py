@@ -390,3 +390,12 @@ def test_a_configured_planner_runs_under_its_own_name_with_its_parameters(tmp_pa
     assert res["planner_name"] == "geometric_RegraspPlanner[search.weight=1.5]"
     assert "search.weight = 1.5" in res["common"]
     assert res["run"]["solved BOOLEAN"] == "1"
+
+
+def test_cli_bench_time_inf_is_the_plan_limit(tmp_path: Path) -> None:
+    """``--time inf`` means "until solved", as for ``plan`` (the 1e6 s limit), not an error."""
+    out = tmp_path / "res"
+    code = cli_main(["bench", str(OPEN), "--planners", "regrasp", "--runs", "1", "--time", "inf",
+                     "--out", str(out), "--workers", "1", "--no-progress", "--no-plots"])
+    assert code == 0
+    assert "1e+06 seconds per run" in (out / "open.log").read_text()

@@ -247,3 +247,20 @@ def test_subprocess_plan_ends_within_its_limit(tmp_path):
     solve = float(r.stdout.split("solve ")[1].split(" s")[0])
     assert solve <= 2.2 + 0.3  # 110 % plus one poll of the termination condition
     assert wall < 2.2 + 30  # start-up (imports, OMPL) included
+
+
+def test_ctrl_c_exits_130_and_keeps_outputs(tmp_path, capsys, monkeypatch):
+    """An interrupted plan: exit 130, the existing plan untouched, no temporary file left."""
+    import pivot_ompl.cli.plan as plan_verb
+
+    out = tmp_path / "plan.json"
+    out.write_text("good plan")
+
+    def interrupted(*a, **k):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(plan_verb, "plan", interrupted)
+    code, _, err = cli(capsys, "plan", scene_file("open"), "--out", out, "--time", "1")
+    assert code == 130 and "interrupted" in err
+    assert out.read_text() == "good plan"
+    assert [p.name for p in tmp_path.iterdir()] == ["plan.json"]
