@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import json
 import os
+import stat
 import uuid
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager, suppress
@@ -37,9 +38,18 @@ def read_text(path: str | Path, *, error: type[InputError] = InputError,
     """The UTF-8 text of ``path`` (at most :data:`MAX_FILE_BYTES`).
 
     Raises:
-        error: unreadable, a directory, too large, or not UTF-8 (naming ``field`` and the path).
+        error: unreadable, a directory or another file that is not a regular one (a FIFO
+            would block), too large, or not UTF-8 (naming ``field`` and the path).
     """
     p = Path(path)
+    try:
+        mode = p.stat().st_mode
+    except OSError as e:
+        raise error(field, str(p), f"cannot be read ({e.strerror or e})") from None
+    if stat.S_ISDIR(mode):
+        raise error(field, str(p), "is a directory, not a file")
+    if not stat.S_ISREG(mode):  # a FIFO, a socket, a device: reading could hang
+        raise error(field, str(p), "is not a regular file")
     try:
         with p.open("rb") as fh:
             data = fh.read(MAX_FILE_BYTES + 1)

@@ -31,6 +31,7 @@ mistake); those outside [-pi, pi] are wrapped into [-pi, pi) on load.
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -352,6 +353,9 @@ def load_scene(path: str | Path) -> Scene:
         SceneError: unreadable file, invalid YAML, unknown key, missing field, wrong type or
             bad value, naming the file, the field and the value.
     """
+    if not isinstance(path, str | os.PathLike):
+        raise InputError("path", type(path).__name__,
+                         "must be a scene file path or a shipped scene's name")
     path = Path(path)
     if not path.exists():
         path = shipped_scenes().get(str(path), path)

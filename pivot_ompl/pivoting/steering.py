@@ -117,6 +117,12 @@ class PivotSteering:
 
     def __post_init__(self) -> None:
         """Validate the parameters and build the OMPL Reeds-Shepp space."""
+        for name in ("turning_radius", "alpha_max"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int | float):
+                raise InputError(name, type(v).__name__, "must be a number")
+        if not isinstance(self.merge, bool):
+            raise InputError("merge", self.merge, "must be True or False")
         if not (self.turning_radius > 0 and math.isfinite(self.turning_radius)):
             raise InputError("turning_radius", self.turning_radius, "must be > 0 m")
         if not (0 < self.alpha_max <= 0.5 * math.pi):

@@ -94,12 +94,27 @@ def top_pose(bounds: Sequence[float], *, height: float = 1.5,
     return CameraPose((cx, cy, 0.0), (cx, cy - 1e-3 * d, d))
 
 
+def _points(points: object) -> np.ndarray:
+    """``points`` as a finite ``(N, 3)`` array (N >= 1), else :class:`InputError`."""
+    try:
+        p = np.asarray(points, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError("points", type(points).__name__, "must be an (N, 3) array of numbers") \
+            from None
+    if p.size == 0 or p.size % 3:
+        raise InputError("points", list(p.shape), "must be an (N, 3) array, N >= 1")
+    p = p.reshape(-1, 3)
+    if not np.all(np.isfinite(p)):
+        raise InputError("points", "NaN or infinity", "must be finite (m)")
+    return p
+
+
 def follow_pose(points: np.ndarray, *, aspect: float = 1.6) -> CameraPose:
     """Robot and box framed from a three-quarter view, with 0.6 m of context around.
 
     ``points`` ``(N, 3)``: points of both (e.g. corners of their bounding boxes, m).
     """
-    p = np.asarray(points, dtype=float).reshape(-1, 3)
+    p = _points(points)
     lo, hi = p.min(axis=0), p.max(axis=0)
     c = 0.5 * (lo + hi)
     ctx = np.array([0.6, 0.6, 0.4])

@@ -264,3 +264,54 @@ def test_ctrl_c_exits_130_and_keeps_outputs(tmp_path, capsys, monkeypatch):
     assert code == 130 and "interrupted" in err
     assert out.read_text() == "good plan"
     assert [p.name for p in tmp_path.iterdir()] == ["plan.json"]
+
+
+def test_a_fifo_as_input_is_refused_at_once(tmp_path):
+    """A named pipe with no writer would block a reader forever: refused, exit 2, at once."""
+    import os
+
+    fifo = tmp_path / "scene.yaml"
+    os.mkfifo(fifo)
+    t0 = time.monotonic()
+    r = subprocess.run([sys.executable, "-m", "pivot_ompl.cli", "check", str(fifo), str(fifo)],
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2 and "not a regular file" in r.stderr
+    assert time.monotonic() - t0 < 30
+
+
+def test_outputs_follow_the_umask(tmp_path, capsys):
+    """Every verb's files get the umask's mode (generate's used to be 0600)."""
+    import os
+    import stat
+
+    old = os.umask(0o022)
+    try:
+        code, _, _ = cli(capsys, "generate", "--family", "clutter", "--seed", "0",
+                         "--out", tmp_path / "g")
+        assert code == 0
+        modes = {stat.S_IMODE(p.stat().st_mode) for p in (tmp_path / "g").iterdir()}
+        assert modes == {0o644}
+    finally:
+        os.umask(old)
+
+
+@pytest.mark.parametrize(("call", "field"), [
+    (lambda: __import__("pivot_ompl").load_scene(3.5), "path"),
+    (lambda: __import__("pivot_ompl").PivotSteering("2", 0.3), "turning_radius"),
+    (lambda: __import__("pivot_ompl").PivotSteering(2.0, None), "alpha_max")])
+def test_api_wrong_types_are_input_errors(call, field):
+    from pivot_ompl.errors import InputError
+
+    with pytest.raises(InputError) as e:
+        call()
+    assert e.value.field == field
+
+
+@pytest.mark.parametrize("points", [[[0.0, 0.0, float("nan")]], [], "abc", [[1.0, 2.0]]])
+def test_a_camera_never_becomes_nan(points):
+    from pivot_ompl.errors import InputError
+    from pivot_ompl.viz.camera import follow_pose
+
+    with pytest.raises(InputError) as e:
+        follow_pose(points)
+    assert e.value.field == "points"
