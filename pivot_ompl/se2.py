@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
+from functools import lru_cache
 
 import numpy as np
 import shapely
@@ -65,26 +66,35 @@ def triangulate(points: Sequence[tuple[float, float]]) -> list[tuple[int, int, i
     adds no vertex, so every triangle's corners are points of the polygon (a repeated point is
     named by its first index). Only flat triangles (doubled area below
     :data:`DEGENERATE_AREA2`) are dropped: the triangles' union is the polygon up to them.
+    The result of the last polygons is kept (collision and floor geometry both ask).
     """
-    pts = np.asarray(points, dtype=float)
+    return list(_triangulated(tuple((float(p[0]), float(p[1])) for p in points)))
+
+
+@lru_cache(maxsize=64)
+def _triangulated(pts_t: tuple[tuple[float, float], ...]) -> tuple[tuple[int, int, int], ...]:
+    pts = np.asarray(pts_t, dtype=float)
     poly = shapely.Polygon(pts)
     if not poly.is_valid:
         poly = shapely.make_valid(poly)
+    tris = shapely.get_parts(shapely.constrained_delaunay_triangles(poly))
+    if len(tris) == 0:
+        return ()
+    corners = shapely.get_coordinates(shapely.get_exterior_ring(tris)).reshape(-1, 4, 2)[:, :3]
     index: dict[tuple[float, float], int] = {}
-    for k, (x, y) in enumerate(pts.tolist()):
-        index.setdefault((x, y), k)
+    for k, xy in enumerate(pts_t):
+        index.setdefault(xy, k)
     out: list[tuple[int, int, int]] = []
-    for tri in getattr(shapely.constrained_delaunay_triangles(poly), "geoms", []):
-        corners = np.asarray(tri.exterior.coords)[:3]
-        ids = [index.get((float(x), float(y)), -1) for x, y in corners]
+    for tri in corners:
+        ids = [index.get((float(x), float(y)), -1) for x, y in tri]
         ids = [k if k >= 0 else int(np.argmin(np.hypot(*(pts - c).T)))
-               for k, c in zip(ids, corners, strict=True)]
+               for k, c in zip(ids, tri, strict=True)]
         a, b, c = (pts[k] for k in ids)
         area2 = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
         if abs(area2) <= DEGENERATE_AREA2:
             continue
         out.append((ids[0], ids[1], ids[2]) if area2 > 0 else (ids[0], ids[2], ids[1]))
-    return out
+    return tuple(out)
 
 
 #: The 16 headings of the floor lattices: the directions of these integer grid vectors,
