@@ -331,11 +331,19 @@ def _check_params(p: GeneratorParams) -> None:
     if p.walls is not None and (isinstance(p.walls, bool) or not isinstance(p.walls, int)
                                 or not 1 <= p.walls <= 64):
         raise InputError("walls", p.walls, "must be a whole number from 1 to 64")
-    if p.slot_clearance is not None and not 0.005 <= p.slot_clearance <= 0.5:
+    if p.slot_clearance is not None and (
+            isinstance(p.slot_clearance, bool) or not isinstance(p.slot_clearance, int | float)
+            or not 0.005 <= p.slot_clearance <= 0.5):
         raise InputError("slot_clearance", p.slot_clearance,
                          "must be from 0.005 m (the kept 1 cm over both sides) to 0.5 m")
     if isinstance(p.rooms, bool) or not isinstance(p.rooms, int) or not 1 <= p.rooms <= 256:
         raise InputError("rooms", p.rooms, "must be a whole number from 1 to 256")
+    for name in ("door_width", "slot_gap", "corridor_width", "bend_size"):
+        r = getattr(p, name)
+        if (not isinstance(r, tuple | list) or len(r) != 2
+                or not all(isinstance(v, int | float) and not isinstance(v, bool)
+                           and math.isfinite(v) and v > 0 for v in r) or r[0] > r[1]):
+            raise InputError(name, r, "must be a range (min, max) of lengths > 0 m")
     if p.layout not in BUILDING_LAYOUTS:
         raise InputError("layout", p.layout, f"must be one of {list(BUILDING_LAYOUTS)}")
 

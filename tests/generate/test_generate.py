@@ -176,7 +176,10 @@ def _slot_widths(scene, plan):
 
 @pytest.mark.parametrize(("params", "field"), [
     (GeneratorParams(walls=0), "walls"), (GeneratorParams(slot_clearance=0.001), "slot_clearance"),
-    (GeneratorParams(rooms=0), "rooms"), (GeneratorParams(layout="ring"), "layout")])
+    (GeneratorParams(rooms=0), "rooms"), (GeneratorParams(layout="ring"), "layout"),
+    (GeneratorParams(slot_clearance="wide"), "slot_clearance"),  # type: ignore[arg-type]
+    (GeneratorParams(door_width=(1.3, 1.1)), "door_width"),
+    (GeneratorParams(slot_gap=("a", 0.1)), "slot_gap")])  # type: ignore[arg-type]
 def test_bad_generator_parameters_name_their_field(params, field):
     with pytest.raises(InputError) as e:
         generate("walls", 0, params=params)
