@@ -16,6 +16,7 @@ from pivot_ompl.analysis.bound_cache import lower_bound
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.base.problem import make_setup
 from pivot_ompl.base.state import read_state
+from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.errors import InputError, PlanningError
 from pivot_ompl.planfile import Plan, plan_quality
 from pivot_ompl.planners import (
@@ -92,7 +93,8 @@ class PlanResult:
 
 def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: float = 30.0,
          seed: int = 0, simplify: bool = False, regrasp_cost: float | None = None,
-         config: RegraspConfig | None = None, bound: bool = True) -> PlanResult:
+         config: RegraspConfig | None = None, bound: bool = True,
+         checker: PivotChecker | None = None, resume: Any = None) -> PlanResult:
     """Plan a pivoting path (with regrasps where needed) for ``scene``.
 
     Args:
@@ -116,6 +118,11 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
             block (:func:`pivot_ompl.analysis.bound_cache.lower_bound`: computed once per
             scene geometry, at most :data:`BOUND_TIME_LIMIT` s, outside ``time_limit``, then
             read from the cache); ``False``: ``null`` there and nothing computed.
+        checker: a :class:`~pivot_ompl.checking.pivot_checker.PivotChecker` of the same scene
+            geometry whose checked motions to reuse (:class:`pivot_ompl.session.PlanningSession`
+            passes its own); by default a new one.
+        resume: the ``search`` of an earlier result with the same ``checker`` and goal: the
+            regrasp planner searches from the new start over its roadmaps (replanning).
 
     Raises:
         PlanningError: ``INVALID_START``/``INVALID_GOAL`` (no grasp valid there).
@@ -132,11 +139,13 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     base = parse_spec(planner)[0]
     if base in OMPL_PLANNERS:
         ou.RNG.setSeed(seed + 1)  # OMPL's seed must be > 0
-    problem = make_setup(scene, seed=seed)
+    problem = make_setup(scene, seed=seed, checker=checker)
     ss = problem.setup
     p = make_planner(planner, problem, seed=seed, config=config)
     if isinstance(p, RegraspPlanner):
         config = p.config
+        if resume is not None and resume.checker is problem.checker:
+            p.last_search = resume
     ss.setPlanner(p)
     ss.setup()
     t1 = time.perf_counter()

@@ -311,6 +311,21 @@ def _robot_defaults(name: str) -> dict[str, Any]:
     return base
 
 
+def obstacles_from_list(items: Any, *, source: str = "", field: str = "obstacles"
+                        ) -> tuple[Obstacle, ...]:
+    """Obstacles written as in a scene file's ``obstacles:`` list, validated the same way.
+
+    Raises:
+        SceneError: a malformed item, naming ``field[i]`` and the value.
+    """
+    r = _Reader(source)
+    if not isinstance(items, list):
+        raise r.fail(field, items, "must be a list")
+    if len(items) > MAX_OBSTACLES:
+        raise r.fail(field, len(items), f"at most {MAX_OBSTACLES} obstacles")
+    return tuple(_obstacle(r, o, f"{field}[{i}]") for i, o in enumerate(items))
+
+
 def _obstacle(r: _Reader, o: Any, f: str) -> Obstacle:
     if not isinstance(o, dict):
         raise r.fail(f, o, "must be a mapping")

@@ -83,18 +83,20 @@ def make_problem(scene: Scene, *, seed: int = 0, grasp_weight: float = GRASP_WEI
 
 
 def make_setup(scene: Scene, *, seed: int = 0, grasp_weight: float = GRASP_WEIGHT,
-               start_grasp: int | None = None, goal_grasp: int | None = None) -> PivotProblem:
+               start_grasp: int | None = None, goal_grasp: int | None = None,
+               checker: PivotChecker | None = None) -> PivotProblem:
     """The :class:`PivotProblem` of ``scene`` with its ``og.SimpleSetup`` (``problem.ss``).
 
     The start states are the start pose with every grasp valid there (or ``start_grasp``
     alone); the goal is a ``GoalStates`` holding the goal pose with every valid grasp (or
-    ``goal_grasp`` alone).
+    ``goal_grasp`` alone). ``checker``: a checker of the same geometry to validate through
+    (its caches of checked motions are reused; a planning session passes its own).
 
     Raises:
         PlanningError: no grasp is valid at the start (``INVALID_START``) or goal
             (``INVALID_GOAL``).
     """
-    problem = make_problem(scene, seed=seed, grasp_weight=grasp_weight)
+    problem = make_problem(scene, seed=seed, grasp_weight=grasp_weight, checker=checker)
     ss = og.SimpleSetup(problem.si)
     ck = problem.checker
     starts = [g for g in range(4) if ck.state_valid(scene.start, g)]

@@ -17,11 +17,12 @@ from pivot_ompl.checking.transfer_check import EdgeResult, TransferCheck
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.pivoting.steering import PivotSequence, PivotSteering
-from pivot_ompl.scene import Scene
+from pivot_ompl.scene import Obstacle, Scene
 from pivot_ompl.se2 import Pose
 from pivot_ompl.transit.planner import INVALID_WALK, WalkPlanner, WalkResult
 from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import CollisionWorld
+from pivot_ompl.validity.footprints import obstacle_footprint
 
 __all__ = ["EdgeResult", "MotionCounters", "PivotChecker"]
 
@@ -171,6 +172,43 @@ class PivotChecker:
             self.counters.invalid += 1
         return res
 
+    # -- a changed scene -------------------------------------------------------------------
+    def adopt(self, old: PivotChecker, *, added: Sequence[Obstacle] = (),
+              removed: Sequence[Obstacle] = ()) -> int:
+        """Take over ``old``'s checked motions that a change of obstacles cannot have changed.
+
+        ``old`` checked the same scene but for ``added`` obstacles it did not have and
+        ``removed`` ones it had (box, robot and bounds the same). A motion found valid stays
+        valid unless the region it sweeps meets an added obstacle (the region: round every
+        pivot of a transfer, the farthest point of box and holding robot from the car plus
+        the half-edge; round every pose of a walk, the walking robot's turning radius; grown
+        by the clearance and the tolerance); one found invalid stays invalid unless an
+        obstacle was removed. Returns how many were taken over.
+        """
+        boxes = [obstacle_footprint(o).bounds for o in added]
+        grow = self.world.clearance + self.tolerance
+        kept = 0
+        for key, res in old._edges.items():
+            if res.valid:
+                reach = self.spin_radius(key[2]) + self.model.edge_half_length(key[2])
+                pts = [res.sequence.start[:2], *(r.pivot for r in res.sequence.rotations)]
+                if _meets(pts, reach + grow, boxes):
+                    continue
+            elif removed:
+                continue
+            self._edges[key] = res
+            kept += 1
+        reach = self.model.robot_radius()
+        for key, walk in old._walks.items():
+            if walk.valid:
+                if _meets([p[:2] for p in walk.robot_path], reach + grow, boxes):
+                    continue
+            elif removed:
+                continue
+            self._walks[key] = walk
+            kept += 1
+        return kept
+
     # -- transit -------------------------------------------------------------------------
     def transit(self, obj: Pose, from_grasp: int, to_grasp: int, *,
                 should_stop: Callable[[], bool] | None = None) -> WalkResult:
@@ -228,3 +266,14 @@ class PivotChecker:
             elif w.held_distance(r, g) <= 0:
                 parts.append(f"grasp {g}: robot collides")
         return "; ".join(parts) or "valid"
+
+
+def _meets(points: Sequence[Sequence[float]], radius: float,
+           boxes: Sequence[tuple[float, float, float, float]]) -> bool:
+    """Whether the bounding box of ``points`` grown by ``radius`` meets one of ``boxes``."""
+    if not boxes or not points:
+        return False
+    xs = [p[0] for p in points]
+    ys = [p[1] for p in points]
+    x0, x1, y0, y1 = min(xs) - radius, max(xs) + radius, min(ys) - radius, max(ys) + radius
+    return any(b[0] <= x1 and x0 <= b[2] and b[1] <= y1 and y0 <= b[3] for b in boxes)

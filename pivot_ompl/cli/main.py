@@ -27,7 +27,7 @@ EXIT_INTERRUPTED = 130
 #: dependency only hides that verb.
 VERB_MODULES = ("pivot_ompl.cli.steer", "pivot_ompl.cli.plan", "pivot_ompl.cli.check",
                 "pivot_ompl.cli.replay", "pivot_ompl.cli.animate", "pivot_ompl.cli.bench",
-                "pivot_ompl.cli.generate", "pivot_ompl.cli.bound")
+                "pivot_ompl.cli.generate", "pivot_ompl.cli.bound", "pivot_ompl.cli.replan")
 
 
 class _Parser(argparse.ArgumentParser):

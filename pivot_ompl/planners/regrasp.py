@@ -26,7 +26,8 @@ class RegraspPlanner(GuardedPlanner):
     The start is the problem's start state (its pose; every valid grasp is a start); the goal
     must be a ``GoalState``/``GoalStates`` (their pose; every valid grasp is a goal). Calling
     ``solve`` again on the same query continues with the roadmaps and caches of the previous
-    calls; ``clear()`` forgets them.
+    calls, and so does a query with a new start and the same goal (replanning, the
+    obstacles unchanged); ``clear()`` forgets them.
 
     Args:
         si: the space information.
@@ -63,10 +64,12 @@ class RegraspPlanner(GuardedPlanner):
             return ob.PlannerStatus(ob.PlannerStatus.INVALID_GOAL)
         t0 = time.perf_counter()
         search = self.last_search
-        if search is None or search.start != s_pose or search.goal != g_pose:
+        if search is None or search.goal != g_pose or search.checker is not checker:
             search = RegraspSearch(checker, s_pose, g_pose, self.config,
                                    np.random.default_rng(self.seed))
             self.last_search = search
+        elif search.start != s_pose:  # a new start: the roadmaps grown so far serve again
+            search.restart(s_pose, lambda: bool(ptc()))
         # else: solving again continues with the same roadmaps and caches (OMPL semantics)
         states = search.run(lambda: bool(ptc()))
         self.stats = asdict(search.stats)

@@ -130,6 +130,7 @@ class RegraspSearch:
         self.lattice: TransferLattice | None = None
         self.refine = RefineStats()
         self._started = False
+        self._goal_node = -1
         self._since = 0  # object nodes multiplexed since the last search
 
     def _near_guards(self, q: Pose, guards: list[int]) -> Iterator[int]:
@@ -166,7 +167,23 @@ class RegraspSearch:
                 rm.add(q, "slot")
                 self.stats.slot_nodes += 1
             self.stats.slots = len(found)
+        self._goal_node = g_i
         self.graph.set_ends(s_i, g_i, should_stop)
+
+    def restart(self, start: Pose, should_stop: Stop) -> None:
+        """Search again from a new start over everything grown so far (replanning).
+
+        The obstacles must be those the roadmaps were grown among (the same checker): the
+        new start is added and multiplexed, and the next :meth:`run` searches the graph as it
+        is, growing it only if no path is found.
+        """
+        self.start = start
+        if not self._started:
+            return
+        s_i = self.roadmap.add(start, "start")
+        self.visibility.adopt_guard(s_i)
+        self.graph.multiplex_pending(lambda: False)
+        self.graph.set_ends(s_i, self._goal_node, should_stop)
 
     def _single_grasp(self, should_stop: Stop) -> list[State]:
         """A regrasp-free path by RRT-Connect at each grasp valid at both ends, or ``[]``.

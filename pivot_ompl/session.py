@@ -1,0 +1,161 @@
+"""Replanning from what the robot sees: a planning session that keeps what it has checked.
+
+A :class:`PlanningSession` plans a scene, then plans again from an observed state: the box
+where it really is (drift, a slip), obstacles that appeared or went. It keeps between calls:
+
+* the checked motions (pivot sequences and walks, :class:`~pivot_ompl.checking.pivot_checker
+  .PivotChecker`'s caches): all of them while the obstacles stay; after a change only those
+  the change cannot have touched (:meth:`~pivot_ompl.checking.pivot_checker.PivotChecker.adopt`:
+  a valid motion whose swept region meets an added obstacle, or an invalid one when an
+  obstacle went, is checked again);
+* while the obstacles stay, the regrasp planner's roadmaps and multiplexed graph: the next
+  search starts from the observed pose over them (it grows them only if they hold no path).
+
+Every plan is checked as a fresh plan would be; only work is saved. Plans start at the
+observed box pose; with ``grasp=k`` (the robot holds the box with grasp ``k``) a plan whose
+first transfer uses another grasp starts with the walk from ``k`` to it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+from collections.abc import Sequence
+from typing import Any
+
+from pivot_ompl.api import PlanResult, plan
+from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.cost import CostModel
+from pivot_ompl.errors import InputError, PlanningError
+from pivot_ompl.grasp import check_grasp
+from pivot_ompl.planfile import TransferPhase, TransitPhase, plan_quality
+from pivot_ompl.planners.config import RegraspConfig
+from pivot_ompl.scene import Obstacle, Scene, check_pose, load_scene, obstacles_from_list
+
+log = logging.getLogger(__name__)
+
+
+class PlanningSession:
+    """Plans of one scene, then plans again from observed states (see the module docstring).
+
+    Args:
+        scene: the scene (a :class:`~pivot_ompl.scene.Scene`, a file or a shipped name).
+        planner: as for :func:`pivot_ompl.api.plan`.
+        config: the regrasp planner's configuration.
+        seed: the default seed of every call.
+        bound: report the lower bounds in the quality block (computed once per scene; a
+            replan's scene is new, so ``False`` by default: replanning stays fast).
+
+    Attributes:
+        scene: the scene as last planned (start at the last observed box pose, obstacles as
+            changed).
+        last: the last result, ``None`` before the first call.
+    """
+
+    def __init__(self, scene: Scene | str, *, planner: str = "regrasp",
+                 config: RegraspConfig | None = None, seed: int = 0,
+                 bound: bool = False) -> None:
+        """A session; nothing is planned yet."""
+        self.scene = scene if isinstance(scene, Scene) else load_scene(scene)
+        self.planner, self.config, self.seed, self.bound = planner, config, seed, bound
+        self.last: PlanResult | None = None
+        self._checker: PivotChecker | None = None
+        self._search: Any = None
+
+    def plan(self, *, time_limit: float = 30.0, seed: int | None = None) -> PlanResult:
+        """Plan the scene from its start (or continue from the last observed state)."""
+        return self._run(self.scene, time_limit, seed, None)
+
+    def replan(self, *, box: Sequence[float], grasp: int | None = None,
+               robot: Sequence[float] | None = None,
+               add_obstacles: Sequence[Obstacle | dict[str, Any]] = (),
+               remove_obstacles: Sequence[Obstacle | int] = (), time_limit: float = 30.0,
+               seed: int | None = None) -> PlanResult:
+        """Plan from the observed state to the goal.
+
+        Args:
+            box: the box's observed pose ``(x, y, yaw)``.
+            grasp: the grasp the robot holds the box with, or ``None`` (the box rests; the
+                plan may start with any grasp).
+            robot: where the robot stands, for ``grasp=None``; recorded in the result's
+                extra field ``observed_robot`` (the plan starts at a grasp pose).
+            add_obstacles: obstacles that appeared (objects or dicts as in a scene file).
+            remove_obstacles: obstacles that went (the scene's objects or their indices).
+            time_limit: as for :func:`pivot_ompl.api.plan` (s).
+            seed: the seed (default the session's).
+
+        Raises:
+            InputError: a bad argument, naming it.
+            PlanningError: the observed pose is in collision (``INVALID_START``).
+        """
+        start = check_pose(list(box), field="box")
+        if grasp is not None:
+            grasp = check_grasp(grasp, field="grasp")
+        if robot is not None:
+            robot = check_pose(list(robot), field="robot")
+        added = obstacles_from_list([o for o in add_obstacles if isinstance(o, dict)],
+                                    field="add_obstacles")
+        added += tuple(o for o in add_obstacles if not isinstance(o, dict))
+        gone = self._removed(remove_obstacles)
+        obstacles = tuple(o for o in self.scene.obstacles if o not in gone) + added
+        scene = dataclasses.replace(self.scene, start=start, obstacles=obstacles)
+        if self._checker is not None and (added or gone):
+            fresh = PivotChecker(scene, seed=self.seed)
+            kept = fresh.adopt(self._checker, added=added, removed=gone)
+            log.info("replanning: %d checked motions kept after the change", kept)
+            self._checker, self._search = fresh, None  # the roadmaps grew among the old ones
+        elif self._checker is not None:
+            self._checker.scene = scene
+        res = self._run(scene, time_limit, seed, grasp)
+        if robot is not None:
+            res.plan.extra["observed_robot"] = list(robot)
+        return res
+
+    def _removed(self, items: Sequence[Obstacle | int]) -> tuple[Obstacle, ...]:
+        out = []
+        for k, o in enumerate(items):
+            if isinstance(o, int) and not isinstance(o, bool):
+                if not 0 <= o < len(self.scene.obstacles):
+                    raise InputError(f"remove_obstacles[{k}]", o,
+                                     f"no obstacle {o} (the scene has "
+                                     f"{len(self.scene.obstacles)})")
+                out.append(self.scene.obstacles[o])
+            elif o in self.scene.obstacles:
+                out.append(o)
+            else:
+                raise InputError(f"remove_obstacles[{k}]", repr(o)[:60],
+                                 "is not an obstacle of the scene")
+        return tuple(out)
+
+    def _run(self, scene: Scene, time_limit: float, seed: int | None,
+             grasp: int | None) -> PlanResult:
+        if self._checker is None:
+            self._checker = PivotChecker(scene, seed=self.seed)
+        res = plan(scene, planner=self.planner, time_limit=time_limit,
+                   seed=self.seed if seed is None else seed, config=self.config,
+                   checker=self._checker, bound=self.bound, resume=self._search)
+        self.scene, self.last = scene, res
+        self._search = res.search
+        if grasp is not None and res.solved:
+            self._hold(res, grasp)
+        return res
+
+    def _hold(self, res: PlanResult, grasp: int) -> None:
+        """Start the plan with the walk from the held grasp to its first transfer's grasp."""
+        phases = res.plan.phases
+        first = next((p for p in phases if isinstance(p, TransferPhase)), None)
+        if first is None or phases[0].type == "transit" or first.grasp == grasp:
+            return
+        assert self._checker is not None  # noqa: S101 - set by _run
+        walk = self._checker.transit(res.plan.start, grasp, first.grasp)
+        if not walk.valid:
+            raise PlanningError("INVALID_START", f"the robot cannot walk from grasp {grasp} to "
+                                f"grasp {first.grasp} round the box at {list(res.plan.start)}")
+        res.plan.phases.insert(0, TransitPhase(grasp, first.grasp, walk.robot_path,
+                                               res.plan.start))
+        q = res.plan.extra.get("quality")
+        if q is not None:  # the block of the plan as it now is
+            res.plan.extra["quality"] = plan_quality(
+                res.plan, regrasps_lower_bound=q["regrasps_lower_bound"],
+                shortest_route=q["shortest_route"], costs=CostModel(regrasp=q["regrasp_cost"]))
+

@@ -1,0 +1,118 @@
+"""Replanning: from the observed box pose, with obstacles that appeared or went."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+from factories import scene_file, shipped
+
+from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.cli.main import main
+from pivot_ompl.errors import InputError, PlanningError
+from pivot_ompl.planfile import TransferPhase
+from pivot_ompl.scene import BoxObstacle, load_scene
+from pivot_ompl.session import PlanningSession
+from pivot_ompl.validity.plan_check import check_plan
+
+
+@pytest.fixture(scope="module")
+def slot_session():
+    s = PlanningSession(shipped("slot"), seed=0)
+    first = s.plan(time_limit=30.0)
+    assert first.solved
+    return s, first
+
+
+def _mid(plan):
+    ph = next(p for p in plan.phases if isinstance(p, TransferPhase))
+    return ph, ph.steps[len(ph.steps) // 2].object
+
+
+def test_replan_from_a_drifted_box_is_a_valid_plan_from_there(slot_session):
+    s, first = slot_session
+    ph, q = _mid(first.plan)
+    drift = (q[0] + 0.05, q[1] - 0.04, q[2] + 0.08)
+    res = s.replan(box=drift, grasp=ph.grasp, time_limit=30.0)
+    assert res.solved
+    assert res.plan.start == pytest.approx(drift)
+    assert s.scene.start == pytest.approx(drift)
+    rep = check_plan(res.plan, s.scene)
+    assert rep.ok, rep.problems
+    p0 = res.plan.phases[0]  # the robot holds grasp ph.grasp: the plan starts from it
+    assert (p0.grasp if isinstance(p0, TransferPhase) else p0.from_grasp) == ph.grasp
+
+
+def test_an_obstacle_on_the_route_is_avoided_and_its_edges_checked_again(slot_session):
+    s, first = slot_session
+    ph, q = _mid(first.plan)
+    base = s.scene
+    old = s._checker
+    assert old is not None and old._edges
+    block = {"type": "box", "center": [q[0] + 0.9, q[1]], "size": [0.3, 0.3], "yaw": 0.0,
+             "height": 1.0}
+    res = s.replan(box=q, grasp=ph.grasp, add_obstacles=[block], time_limit=30.0)
+    assert len(s.scene.obstacles) == len(base.obstacles) + 1
+    if res.solved:
+        assert check_plan(res.plan, s.scene).ok  # a fresh check, with the new obstacle
+    # the motions kept are exactly those whose swept region misses the new obstacle
+    fresh = PivotChecker(s.scene)
+    kept = fresh.adopt(old, added=[s.scene.obstacles[-1]])
+    assert 0 < kept < len(old._edges) + len(old._walks)
+    for key, edge in fresh._edges.items():
+        if edge.valid:
+            assert fresh.transfers.check(fresh.model.car_pose(key[0], key[2]),
+                                         fresh.model.car_pose(key[1], key[2]), key[2],
+                                         with_robot=key[3], should_stop=None).valid
+
+
+def test_removing_an_obstacle_and_bad_arguments(slot_session):
+    s, _ = slot_session
+    n = len(s.scene.obstacles)
+    res = s.replan(box=s.scene.start, remove_obstacles=[n - 1], time_limit=30.0)
+    assert len(s.scene.obstacles) == n - 1 and res.solved
+    with pytest.raises(InputError) as e:
+        s.replan(box=s.scene.start, remove_obstacles=[99])
+    assert e.value.field == "remove_obstacles[0]"
+    with pytest.raises(InputError):
+        s.replan(box=(1.0, 2.0))
+    with pytest.raises(PlanningError):  # the box inside the wall
+        s.replan(box=(4.05, 0.6, 0.0))
+
+
+def test_cli_replan_writes_a_scene_and_plan_that_check_accepts(tmp_path, capsys):
+    old = tmp_path / "old.json"
+    assert main(["plan", str(scene_file("slot")), "--out", str(old), "--time", "30"]) == 0
+    add = tmp_path / "add.yaml"
+    add.write_text("obstacles:\n  - {type: cylinder, center: [2.0, 4.0], radius: 0.2, "
+                   "height: 1.0}\n")
+    new, new_scene = tmp_path / "new.json", tmp_path / "new.yaml"
+    assert main(["replan", str(scene_file("slot")), str(old), "--box", "2.0", "1.5", "0.05",
+                 "--add-obstacles", str(add), "--out", str(new), "--scene-out",
+                 str(new_scene)]) == 0
+    assert main(["check", str(new_scene), str(new)]) == 0
+    scene = load_scene(new_scene)
+    assert scene.start == pytest.approx((2.0, 1.5, 0.05))
+    assert len(scene.obstacles) == len(load_scene(scene_file("slot")).obstacles) + 1
+    assert json.loads(new.read_text())["replanned_from"] == str(old)
+    capsys.readouterr()
+    bad = tmp_path / "bad.json"
+    assert main(["replan", str(scene_file("slot")), str(old), "--box", "4.05", "0.6", "0",
+                 "--out", str(bad), "--scene-out", str(tmp_path / "bad.yaml")]) == 2
+    assert not bad.exists() and not (tmp_path / "bad.yaml").exists()
+    assert "INVALID_START" in capsys.readouterr().err
+
+
+def test_a_drift_replan_searches_the_roadmaps_already_grown():
+    """Obstacles unchanged: the new start joins the old search's roadmaps (no new search)."""
+    s = PlanningSession(shipped("slot"), seed=0)
+    first = s.plan(time_limit=30.0)
+    ph, q = _mid(first.plan)
+    nodes = len(first.search.roadmap)
+    res = s.replan(box=(q[0] + 0.03, q[1], q[2]), grasp=ph.grasp, time_limit=30.0)
+    assert res.solved and res.search is first.search
+    assert len(res.search.roadmap) >= nodes + 1  # the new start, and what growth it needed
+    assert check_plan(res.plan, s.scene).ok
+    moved = s.replan(box=s.scene.start, add_obstacles=[BoxObstacle((7.5, 4.5), (0.2, 0.2),
+                                                                   0.0, 1.0)])
+    assert moved.search is not first.search  # an obstacle changed: the roadmaps start anew
