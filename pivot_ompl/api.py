@@ -28,7 +28,7 @@ from pivot_ompl.planners import (
     make_planner,
     parse_spec,
 )
-from pivot_ompl.scene import Scene, load_scene
+from pivot_ompl.scene import Scene, load_scene, scene_digest
 
 log = logging.getLogger(__name__)
 
@@ -161,7 +161,10 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
         raise PlanningError(name, problem.checker.explain(scene.start))
     if name == "INVALID_GOAL":
         raise PlanningError(name, problem.checker.explain(scene.goal))
-    extra = {"planner": planner, "seed": seed, "time_limit": time_limit}
+    extra: dict[str, Any] = {"planner": planner, "seed": seed, "time_limit": time_limit,
+                             "scene_sha256": scene_digest(scene)}
+    if scene.source and Path(scene.source).is_file():
+        extra["scene_path"] = str(Path(scene.source).resolve())
     if name == "EXACT_SOLUTION" and ss.haveExactSolutionPath():
         if simplify and base in OMPL_PLANNERS:
             ss.simplifySolution()

@@ -30,6 +30,7 @@ mistake); those outside [-pi, pi] are wrapped into [-pi, pi) on load.
 
 from __future__ import annotations
 
+import hashlib
 import math
 import os
 from dataclasses import dataclass, field
@@ -375,6 +376,17 @@ def load_scene(path: str | Path) -> Scene:
     if not path.exists():
         path = shipped_scenes().get(str(path), path)
     return scene_from_dict(load_yaml(path, error=SceneError), source=str(path))
+
+
+def scene_digest(scene: Scene) -> str:
+    """SHA-256 (hex) of what a plan of ``scene`` depends on: its geometry, ends and pivoting.
+
+    Not the name or the file: two files of one scene give one digest, and a plan records it
+    (``scene_sha256``) so that a check against another scene says so first.
+    """
+    text = repr((scene.bounds, scene.obstacles, scene.model, scene.start, scene.goal,
+                 scene.alpha_max, scene.turning_radius, scene.walk))
+    return hashlib.sha256(text.encode()).hexdigest()
 
 
 def check_pose(pose: Any, *, field: str) -> Pose:

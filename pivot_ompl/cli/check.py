@@ -6,7 +6,7 @@ import argparse
 import sys
 
 from pivot_ompl.planfile import load_plan
-from pivot_ompl.scene import load_scene
+from pivot_ompl.scene import load_scene, scene_digest
 from pivot_ompl.validity.plan_check import check_plan
 
 
@@ -23,6 +23,11 @@ def run(args: argparse.Namespace) -> int:
     """Check the plan; print the verdict and the problems."""
     scene = load_scene(args.scene)
     plan = load_plan(args.plan)
+    recorded = plan.extra.get("scene_sha256")
+    if isinstance(recorded, str) and recorded != scene_digest(scene):
+        print(f"note: the plan was made for another scene than {args.scene} (its "
+              f"scene_sha256 {recorded[:12]}... differs from this scene's "
+              f"{scene_digest(scene)[:12]}...)", file=sys.stderr)
     rep = check_plan(plan, scene, collisions=not args.no_collisions)
     for prob in rep.problems[:50]:
         print(f"  {prob}", file=sys.stderr)

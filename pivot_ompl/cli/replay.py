@@ -15,6 +15,7 @@ import argparse
 import logging
 import webbrowser
 from pathlib import Path
+from typing import Any
 
 import meshcat
 
@@ -49,19 +50,32 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
-def find_scene(name: str, explicit: str | None) -> Scene | None:
-    """The scene to draw: ``explicit`` (file or shipped name), else the shipped scene ``name``."""
+def find_scene(name: str, explicit: str | None, *, path: str | None = None) -> Scene | None:
+    """The scene to draw: the first of ``explicit``, ``path`` and the shipped ``name``.
+
+    ``explicit``: a file or shipped name; ``path``: the file the plan was made from (its
+    ``scene_path``), when it is still there.
+    """
     if explicit:
         return load_scene(explicit)
+    if path and Path(path).is_file():
+        log.info("scene %r from %s (the plan's scene_path)", name, path)
+        return load_scene(path)
     if name:
-        path = shipped_scenes().get(name)
-        if path is not None:
-            log.info("scene %r from %s", name, path)
-            return load_scene(path)
+        shipped = shipped_scenes().get(name)
+        if shipped is not None:
+            log.info("scene %r from %s", name, shipped)
+            return load_scene(shipped)
         log.warning("scene %r is not shipped; showing no obstacles (give --scene)", name)
     else:
         log.warning("no scene name and no --scene: showing no obstacles")
     return None
+
+
+def _scene_path(plan: Any) -> str | None:
+    """The ``scene_path`` a plan records, if any."""
+    v = plan.extra.get("scene_path") if plan is not None else None
+    return v if isinstance(v, str) else None
 
 
 def _builder(args: argparse.Namespace):
@@ -77,7 +91,8 @@ def _builder(args: argparse.Namespace):
 
         motion = load_motion(src)
         plan = load_plan(args.plan) if args.plan else None
-        scene = find_scene(motion.scene or (plan.scene if plan else ""), args.scene)
+        scene = find_scene(motion.scene or (plan.scene if plan else ""), args.scene,
+                           path=_scene_path(plan))
 
         def build(vis: meshcat.Visualizer) -> object:
             return show_motion(vis, motion, scene=scene, fps=args.fps, plan=plan,
@@ -89,7 +104,7 @@ def _builder(args: argparse.Namespace):
         from pivot_ompl.viz.plan_view import show_plan
 
         plan = load_plan(src)
-        scene = find_scene(plan.scene, args.scene)
+        scene = find_scene(plan.scene, args.scene, path=_scene_path(plan))
 
         def build(vis: meshcat.Visualizer) -> object:
             return show_plan(vis, scene, plan)
