@@ -48,15 +48,14 @@ from pivot_ompl.errors import InputError
 from pivot_ompl.hrp2 import SOLE_SIZE
 from pivot_ompl.motionfile import DYNAMICS, SUPPORT_DOUBLE, SUPPORT_LEFT, SUPPORT_RIGHT, Motion
 from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
-from pivot_ompl.resources import data_path
 from pivot_ompl.scene import Scene
 from pivot_ompl.wholebody.box import BoxHold, matrix_from_quat, transform
 from pivot_ompl.wholebody.clearance import ClearanceReport, obstacle_clearance
+from pivot_ompl.wholebody.hull import convex_hull
+from pivot_ompl.wholebody.lipm import lipm_zmp
+from pivot_ompl.wholebody.urdf_model import UrdfModel, load_urdf_model
 
 log = logging.getLogger(__name__)
-
-GRAVITY = 9.81
-
 
 @dataclass(frozen=True)
 class CheckResult:
@@ -120,11 +119,10 @@ class _Kinematics:
     velocity: np.ndarray
 
 
-def _kinematics(motion: Motion) -> _Kinematics:
+def _kinematics(motion: Motion, robot: UrdfModel) -> _Kinematics:
     import pinocchio as pin
 
-    path = data_path(motion.urdf, field="motion.urdf")
-    model = pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())
+    model = robot.model
     names = [str(n) for n in model.names[2:]]
     if names != list(motion.joint_names):
         raise InputError("motion.joint_names", motion.joint_names[:3],
@@ -147,26 +145,6 @@ def _kinematics(motion: Motion) -> _Kinematics:
             hands[k][i] = data.oMf[fids[k]].translation
     return _Kinematics(com, feet, hands, model.lowerPositionLimit[7:],
                        model.upperPositionLimit[7:], model.velocityLimit[6:])
-
-
-def _convex_hull(points: np.ndarray) -> np.ndarray:
-    """Counter-clockwise convex hull (monotone chain) of 2-D points."""
-    pts = sorted(map(tuple, points))
-
-    def cross(o, a, b):  # noqa: ANN001, ANN202
-        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-
-    lower: list = []
-    for p in pts:
-        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
-            lower.pop()
-        lower.append(p)
-    upper: list = []
-    for p in reversed(pts):
-        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
-            upper.pop()
-        upper.append(p)
-    return np.array(lower[:-1] + upper[:-1])
 
 
 def _margin(poly: np.ndarray, p: np.ndarray) -> float:
@@ -194,18 +172,6 @@ def _sole_corners(T: np.ndarray, sole: np.ndarray) -> np.ndarray:
     hx, hy = 0.5 * sole[0], 0.5 * sole[1]
     local = np.array([[hx, hy, 0, 1], [-hx, hy, 0, 1], [-hx, -hy, 0, 1], [hx, -hy, 0, 1]])
     return (T @ local.T).T[:, :2]
-
-
-def lipm_zmp(t: np.ndarray, com: np.ndarray) -> np.ndarray:
-    """LIPM ZMP (N x 2) of a CoM trajectory by central second differences (ends copied)."""
-    acc = np.zeros((len(t), 2))
-    dt = np.diff(t)
-    h0, h1 = dt[:-1], dt[1:]
-    c = com[:, :2]
-    acc[1:-1] = 2 * ((c[2:] - c[1:-1]) / h1[:, None] - (c[1:-1] - c[:-2]) / h0[:, None]) \
-        / (h0 + h1)[:, None]
-    acc[0], acc[-1] = acc[1], acc[-2]
-    return c - (com[:, 2:3] / GRAVITY) * acc
 
 
 def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
@@ -299,7 +265,8 @@ def check_motion(motion: Motion, plan: Plan | None = None, *, scene: Scene | Non
     rep.results.append(finite)
     if not finite.passed:  # NaN would make every other check meaningless (or PASS)
         return rep
-    kin = _kinematics(motion)
+    robot = load_urdf_model(motion.urdf)
+    kin = _kinematics(motion, robot)
     t = motion.t
     n = len(t)
 
@@ -320,7 +287,7 @@ def check_motion(motion: Motion, plan: Plan | None = None, *, scene: Scene | Non
             pts.append(_sole_corners(kin.feet["left_foot"][i], sole))
         if s in (SUPPORT_DOUBLE, SUPPORT_RIGHT):
             pts.append(_sole_corners(kin.feet["right_foot"][i], sole))
-        poly = _convex_hull(np.vstack(pts))
+        poly = convex_hull(np.vstack(pts))
         m = _margin(poly, zmp[i])
         if m < worst:
             worst, where, wi = m, f"t = {t[i]:.3f} s, phase {phase[i]}, support {s}", i
@@ -420,9 +387,9 @@ def check_motion(motion: Motion, plan: Plan | None = None, *, scene: Scene | Non
                                    or (rotations == 0 and worst == 0.0), worst,
                                    corner_tolerance, "m", f"{rotations} rotations; {where}", wi))
 
-    rep.results.append(_box_clearance(motion))
+    rep.results.append(_box_clearance(motion, robot))
     if scene is not None:
-        rep.clearance = obstacle_clearance(motion, scene)
+        rep.clearance = obstacle_clearance(motion, scene, robot=robot)
         rep.results.append(_obstacles(rep.clearance, obstacle_tolerance))
     if plan is not None:
         rep.results.append(_box_plan(motion, plan, hold, corner_tolerance))
@@ -496,7 +463,7 @@ def _robot_plan(motion: Motion, plan: Plan, kin: _Kinematics, *, step_tol: float
 CONTACT_LINKS = ("RARM_LINK5", "RARM_LINK6", "LARM_LINK5", "LARM_LINK6")
 
 
-def _box_clearance(motion: Motion, *, samples: int = 2000) -> CheckResult:
+def _box_clearance(motion: Motion, robot: UrdfModel, *, samples: int = 2000) -> CheckResult:
     """Smallest distance between the box and the robot's collision primitives (hands excluded).
 
     Evaluated on at most ``samples`` evenly spread samples.
@@ -504,9 +471,7 @@ def _box_clearance(motion: Motion, *, samples: int = 2000) -> CheckResult:
     import coal
     import pinocchio as pin
 
-    path = data_path(motion.urdf, field="motion.urdf")
-    model = pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())
-    geom = pin.buildGeomFromUrdf(model, str(path), pin.GeometryType.COLLISION)
+    model, geom = robot.model, robot.geom
     data, gdata = model.createData(), geom.createData()
     box_size = motion.box_size
     assert box_size is not None  # required by check_motion

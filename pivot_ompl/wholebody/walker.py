@@ -26,14 +26,13 @@ from pivot_ompl import hrp2
 from pivot_ompl.hrp2 import HALF_SITTING, SOLE_SIZE, urdf_path
 from pivot_ompl.se2 import Pose, wrap_angle
 from pivot_ompl.wholebody.box import rot_z, transform
+from pivot_ompl.wholebody.lipm import omega
 
 log = logging.getLogger(__name__)
 
 #: The sole's corners in its own frame (homogeneous columns).
 _SOLE_CORNERS = np.array([[x, y, 0.0, 1.0] for x in (0.5 * SOLE_SIZE[0], -0.5 * SOLE_SIZE[0])
                           for y in (0.5 * SOLE_SIZE[1], -0.5 * SOLE_SIZE[1])]).T
-
-GRAVITY = 9.81
 
 
 @dataclass(frozen=True)
@@ -101,7 +100,7 @@ class WalkSettings:
     @property
     def omega(self) -> float:
         """LIPM natural frequency sqrt(g / com_height) (1/s)."""
-        return math.sqrt(GRAVITY / self.com_height)
+        return omega(self.com_height)
 
 
 def pose_matrix(x: float, y: float, yaw: float, z: float = 0.0) -> np.ndarray:
