@@ -14,9 +14,9 @@ Timeline of a **transfer phase** (grasp ``k``), each part a segment of solver ti
 4. *untilt* then *release*: the box is set down flat and the hands return to rest.
 
 A **transit phase** walks along the phase's ``robot_path`` (footsteps placed along its
-straight segments, see :meth:`PlacoWalker.path_footsteps`) with the box resting; long walks
-are planned in pieces of
-:attr:`Timing.max_steps` steps, each coming to rest (the LIPM QP grows with its horizon).
+straight segments, see :func:`~pivot_ompl.wholebody.footsteps.path_footsteps`) with the box
+resting; long walks are planned in pieces of :attr:`Timing.max_steps` steps, each coming to
+rest (the LIPM QP grows with its horizon).
 Grip points and the tilt are defined in :mod:`pivot_ompl.wholebody.box`; tasks and the
 lift-off delay that keeps the ZMP inside real support polygons in
 :mod:`pivot_ompl.wholebody.walker`.
@@ -50,7 +50,9 @@ from pivot_ompl.wholebody.box import (
     rotation_about_vertical,
     transform,
 )
-from pivot_ompl.wholebody.walker import PlacoWalker, SolverFailure, WalkSettings, planar
+from pivot_ompl.wholebody.footsteps import planar
+from pivot_ompl.wholebody.settings import WalkSettings
+from pivot_ompl.wholebody.walker import PlacoWalker, SolverFailure
 
 log = logging.getLogger(__name__)
 
@@ -451,7 +453,7 @@ class WholeBodyGenerator:
                     state: dict[str, Any], set_box: Callable[[], None]) -> int:
         """Pivot steps ``j0, j0 + 1, ...`` in one continuous walk; return how many.
 
-        The footsteps of each pivot come from :meth:`PlacoWalker.pivot_footsteps` (two or
+        The footsteps of each pivot come from :func:`.footsteps.pivot_footsteps` (two or
         three steps, the feet alternating across pivots) and the walk is planned in one
         piece of at most :attr:`Timing.pivot_walk_steps` steps, coming to rest only at its
         end. Pivot ``j``'s rotation runs from the middle of the double support that ends
