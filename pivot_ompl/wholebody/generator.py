@@ -34,7 +34,7 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -53,6 +53,9 @@ from pivot_ompl.wholebody.box import (
 from pivot_ompl.wholebody.footsteps import planar
 from pivot_ompl.wholebody.settings import WalkSettings
 from pivot_ompl.wholebody.walker import PlacoWalker, SolverFailure
+
+if TYPE_CHECKING:
+    from pivot_ompl.scene import WalkParameters
 
 log = logging.getLogger(__name__)
 
@@ -550,15 +553,31 @@ def _object_before(phase: TransferPhase, j: int) -> Pose:
     return phase.object_start if j == 0 else phase.steps[j - 1].object
 
 
-def generate_motion(plan: Plan, *, settings: WalkSettings | None = None,
-                    timing: Timing | None = None, tilt: float = DEFAULT_TILT,
+def generate_motion(plan: Plan, *, walk: WalkParameters | None = None,
+                    settings: WalkSettings | None = None, timing: Timing | None = None,
+                    tilt: float = DEFAULT_TILT,
                     progress: Progress | None = None) -> tuple[Motion, GenerationStats]:
     """Generate the whole-body motion of ``plan``; return it with its generation statistics.
 
+    Args:
+        plan: the pivoting plan.
+        walk: the scene's walk model (``Scene.walk``): the footstep limits follow it
+            (:meth:`WalkSettings.from_walk`); HRP-2's when neither it nor ``settings`` is
+            given.
+        settings: walking and solver parameters (instead of ``walk``).
+        timing: segment durations and tolerances.
+        tilt: inclination of the held box about its supporting edge (rad).
+        progress: optional callback ``progress(fraction, label)``.
+
     Raises:
         WholeBodyError: the solver failed or a grip became unreachable (names phase and step).
-        InputError: the plan is inconsistent.
+        InputError: the plan is inconsistent, or both ``walk`` and ``settings`` are given.
     """
+    if walk is not None:
+        if settings is not None:
+            raise InputError("walk", walk, "give the walk model or the settings, not both")
+        settings = WalkSettings.from_walk(walk)
+        log.debug("footstep limits of the scene's walk model: %s", walk)
     gen = WholeBodyGenerator(plan, settings=settings, timing=timing, tilt=tilt,
                              progress=progress)
     motion = gen.run()
