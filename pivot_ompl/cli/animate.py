@@ -1,7 +1,8 @@
 """``pivot-ompl animate`` and ``pivot-ompl check-motion``: whole-body motion from a plan.
 
 * ``pivot-ompl animate PLAN.json --out motion.npz [--scene S]``: generate the HRP-2
-  whole-body motion (progress bar on stderr), check it, write it. Exit 1 with a message naming
+  whole-body motion (progress bar on stderr; footsteps within the scene's ``robot.walk``
+  step limits), check it, write it. Exit 1 with a message naming
   the phase and step when the solver fails or the motion fails its checks (nothing is
   written then).
 * ``pivot-ompl check-motion motion.npz [--plan PLAN.json] [--scene S]``: print the checks'
@@ -70,6 +71,20 @@ def resolve_scene(option: str | None, named: str, *, field: str) -> Scene:
                      "(the obstacles are checked)")
 
 
+def _scene_of(args: argparse.Namespace, named: str) -> Scene | None:
+    """The plan's scene (its walk model sets the footstep limits; its obstacles are checked).
+
+    With ``--no-check`` a plan whose scene is not found is animated with HRP-2's walk model.
+    """
+    try:
+        return resolve_scene(args.scene, named, field="plan.scene")
+    except InputError:
+        if not args.no_check:
+            raise
+        log.info("scene %r not found: HRP-2's walk model", named)
+        return None
+
+
 def _animate(args: argparse.Namespace) -> int:
     from pivot_ompl.planfile import load_plan
     from pivot_ompl.wholebody.generator import generate_motion
@@ -77,10 +92,10 @@ def _animate(args: argparse.Namespace) -> int:
 
     output_file(args.out, "--out", inputs=[args.plan], suffixes=[".npz"])
     plan = load_plan(args.plan)
-    scene = None if args.no_check else resolve_scene(args.scene, plan.scene,
-                                                     field="plan.scene")
+    scene = _scene_of(args, plan.scene)
     bar = None if args.no_progress else ProgressBar("animate")
-    motion, stats = generate_motion(plan, tilt=math.radians(args.tilt_deg), progress=bar)
+    motion, stats = generate_motion(plan, walk=None if scene is None else scene.walk,
+                                    tilt=math.radians(args.tilt_deg), progress=bar)
     print(f"motion: {stats.duration:.2f} s in {stats.compute:.2f} s "
           f"({stats.real_time_factor:.1f}x real time), {stats.ticks} samples, "
           f"max hand error {1000 * stats.max_hand_error:.2f} mm")

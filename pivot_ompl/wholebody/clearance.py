@@ -33,9 +33,9 @@ import numpy as np
 
 from pivot_ompl.errors import InputError
 from pivot_ompl.motionfile import Motion
-from pivot_ompl.resources import data_path
 from pivot_ompl.scene import Scene
 from pivot_ompl.validity.collision import obstacle_objects
+from pivot_ompl.wholebody.urdf_model import UrdfModel, load_urdf_model
 
 log = logging.getLogger(__name__)
 
@@ -159,14 +159,16 @@ def _link_bounds(model, geom, q: np.ndarray) -> list[np.ndarray]:  # noqa: ANN00
     return out
 
 
-def obstacle_clearance(motion: Motion, scene: Scene, *,
-                       exact_below: float = EXACT_BELOW) -> ClearanceReport:
+def obstacle_clearance(motion: Motion, scene: Scene, *, exact_below: float = EXACT_BELOW,
+                       robot: UrdfModel | None = None) -> ClearanceReport:
     """Smallest obstacle clearance of every link geometry and of the box over ``motion``.
 
     Args:
         motion: the whole-body motion (``q``, ``box``, ``box_size`` are read).
         scene: the scene whose obstacles are checked.
         exact_below: below this clearance (m) every sample is measured exactly.
+        robot: the pinocchio model of the motion's URDF (built from ``motion.urdf`` when
+            not given).
 
     Raises:
         InputError: the motion has no box size, or its URDF is not a free-flyer tree of
@@ -188,9 +190,9 @@ def obstacle_clearance(motion: Motion, scene: Scene, *,
         for obj in obstacle_objects(o):
             objects.append(obj)
             owner.append(i)
-    path = data_path(motion.urdf, field="motion.urdf")
-    model = pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())
-    geom = pin.buildGeomFromUrdf(model, str(path), pin.GeometryType.COLLISION)
+    if robot is None:
+        robot = load_urdf_model(motion.urdf)
+    model, geom = robot.model, robot.geom
     names = [o.name for o in geom.geometryObjects] + [BOX]
     links = [model.frames[o.parentFrame].name for o in geom.geometryObjects] + [BOX]
     if not objects or n == 0:

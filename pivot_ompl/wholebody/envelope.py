@@ -27,8 +27,9 @@ import numpy as np
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.motionfile import Motion
 from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
-from pivot_ompl.resources import data_path
 from pivot_ompl.wholebody.box import BoxHold, matrix_from_quat, transform
+from pivot_ompl.wholebody.hull import convex_hull
+from pivot_ompl.wholebody.urdf_model import load_urdf_model
 
 
 @dataclass(frozen=True)
@@ -63,13 +64,6 @@ def _box_rect(model: BoxGraspModel, grasp: int) -> np.ndarray:
     face = 0.5 * model.robot_footprint[0] + model.standoff
     far, ell = face + 2.0 * model.half_extent(grasp), model.edge_half_length(grasp)
     return np.array([(face, -ell), (far, -ell), (far, ell), (face, ell)])
-
-
-def _hull(points: np.ndarray) -> np.ndarray:
-    from scipy.spatial import ConvexHull
-
-    h = ConvexHull(points)
-    return points[h.vertices]  # counter-clockwise in 2-D
 
 
 def _outline_points(g) -> np.ndarray:  # noqa: ANN001 - a coal shape
@@ -132,13 +126,12 @@ def floor_excursion(motion: Motion, plan: Plan, *, stride: int = 10,
     assert motion.tilt is not None  # noqa: S101
     model_g = BoxGraspModel(plan.object_size, plan.robot_footprint, plan.standoff)
     hold = BoxHold(tuple(float(x) for x in motion.box_size))  # type: ignore[arg-type]
-    path = data_path(motion.urdf, field="motion.urdf")
-    model = pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())
-    geom = pin.buildGeomFromUrdf(model, str(path), pin.GeometryType.COLLISION)
+    robot = load_urdf_model(motion.urdf)
+    model, geom = robot.model, robot.geom
     data, gdata = model.createData(), geom.createData()
     local = [_outline_points(obj.geometry) for obj in geom.geometryObjects]
     links = [model.frames[o.parentFrame].name for o in geom.geometryObjects]
-    held = [_hull(np.array(model_g.held_outline(g))) for g in range(4)]
+    held = [convex_hull(np.array(model_g.held_outline(g))) for g in range(4)]
     boxes = [_box_rect(model_g, g) for g in range(4)]
     rect = np.array(model_g.walking_outline())
     paths = {p: _path_poses(ph.robot_path, path_step) for p, ph in enumerate(plan.phases)

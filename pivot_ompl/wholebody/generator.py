@@ -14,9 +14,9 @@ Timeline of a **transfer phase** (grasp ``k``), each part a segment of solver ti
 4. *untilt* then *release*: the box is set down flat and the hands return to rest.
 
 A **transit phase** walks along the phase's ``robot_path`` (footsteps placed along its
-straight segments, see :meth:`PlacoWalker.path_footsteps`) with the box resting; long walks
-are planned in pieces of
-:attr:`Timing.max_steps` steps, each coming to rest (the LIPM QP grows with its horizon).
+straight segments, see :func:`~pivot_ompl.wholebody.footsteps.path_footsteps`) with the box
+resting; long walks are planned in pieces of :attr:`Timing.max_steps` steps, each coming to
+rest (the LIPM QP grows with its horizon).
 Grip points and the tilt are defined in :mod:`pivot_ompl.wholebody.box`; tasks and the
 lift-off delay that keeps the ZMP inside real support polygons in
 :mod:`pivot_ompl.wholebody.walker`.
@@ -34,7 +34,7 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -50,7 +50,12 @@ from pivot_ompl.wholebody.box import (
     rotation_about_vertical,
     transform,
 )
-from pivot_ompl.wholebody.walker import PlacoWalker, SolverFailure, WalkSettings, planar
+from pivot_ompl.wholebody.footsteps import planar
+from pivot_ompl.wholebody.settings import WalkSettings
+from pivot_ompl.wholebody.walker import PlacoWalker, SolverFailure
+
+if TYPE_CHECKING:
+    from pivot_ompl.scene import WalkParameters
 
 log = logging.getLogger(__name__)
 
@@ -451,7 +456,7 @@ class WholeBodyGenerator:
                     state: dict[str, Any], set_box: Callable[[], None]) -> int:
         """Pivot steps ``j0, j0 + 1, ...`` in one continuous walk; return how many.
 
-        The footsteps of each pivot come from :meth:`PlacoWalker.pivot_footsteps` (two or
+        The footsteps of each pivot come from :func:`.footsteps.pivot_footsteps` (two or
         three steps, the feet alternating across pivots) and the walk is planned in one
         piece of at most :attr:`Timing.pivot_walk_steps` steps, coming to rest only at its
         end. Pivot ``j``'s rotation runs from the middle of the double support that ends
@@ -548,15 +553,31 @@ def _object_before(phase: TransferPhase, j: int) -> Pose:
     return phase.object_start if j == 0 else phase.steps[j - 1].object
 
 
-def generate_motion(plan: Plan, *, settings: WalkSettings | None = None,
-                    timing: Timing | None = None, tilt: float = DEFAULT_TILT,
+def generate_motion(plan: Plan, *, walk: WalkParameters | None = None,
+                    settings: WalkSettings | None = None, timing: Timing | None = None,
+                    tilt: float = DEFAULT_TILT,
                     progress: Progress | None = None) -> tuple[Motion, GenerationStats]:
     """Generate the whole-body motion of ``plan``; return it with its generation statistics.
 
+    Args:
+        plan: the pivoting plan.
+        walk: the scene's walk model (``Scene.walk``): the footstep limits follow it
+            (:meth:`WalkSettings.from_walk`); HRP-2's when neither it nor ``settings`` is
+            given.
+        settings: walking and solver parameters (instead of ``walk``).
+        timing: segment durations and tolerances.
+        tilt: inclination of the held box about its supporting edge (rad).
+        progress: optional callback ``progress(fraction, label)``.
+
     Raises:
         WholeBodyError: the solver failed or a grip became unreachable (names phase and step).
-        InputError: the plan is inconsistent.
+        InputError: the plan is inconsistent, or both ``walk`` and ``settings`` are given.
     """
+    if walk is not None:
+        if settings is not None:
+            raise InputError("walk", walk, "give the walk model or the settings, not both")
+        settings = WalkSettings.from_walk(walk)
+        log.debug("footstep limits of the scene's walk model: %s", walk)
     gen = WholeBodyGenerator(plan, settings=settings, timing=timing, tilt=tilt,
                              progress=progress)
     motion = gen.run()

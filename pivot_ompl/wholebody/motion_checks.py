@@ -38,47 +38,40 @@ Every check recomputes what it needs with pinocchio from ``q`` and the URDF name
 from __future__ import annotations
 
 import logging
-import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import cast
 
 import numpy as np
 
 from pivot_ompl.errors import InputError
-from pivot_ompl.hrp2 import SOLE_SIZE
-from pivot_ompl.motionfile import DYNAMICS, SUPPORT_DOUBLE, SUPPORT_LEFT, SUPPORT_RIGHT, Motion
-from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
-from pivot_ompl.resources import data_path
+from pivot_ompl.motionfile import DYNAMICS, Motion
+from pivot_ompl.planfile import Plan
 from pivot_ompl.scene import Scene
-from pivot_ompl.wholebody.box import BoxHold, matrix_from_quat, transform
-from pivot_ompl.wholebody.clearance import ClearanceReport, obstacle_clearance
+from pivot_ompl.wholebody import checks_box, checks_robot
+from pivot_ompl.wholebody.check_context import (
+    CheckContext,
+    CheckResult,
+    Tolerances,
+    kinematics,
+)
+from pivot_ompl.wholebody.clearance import ClearanceReport
+from pivot_ompl.wholebody.lipm import lipm_zmp
+from pivot_ompl.wholebody.urdf_model import load_urdf_model
+
+__all__ = ["CHECKS", "CheckContext", "CheckResult", "MotionReport", "Tolerances",
+           "check_motion", "lipm_zmp"]
 
 log = logging.getLogger(__name__)
 
-GRAVITY = 9.81
+#: A motion check: its result, or ``None`` where it does not apply (no plan, no scene).
+Check = Callable[[CheckContext], CheckResult | None]
 
-
-@dataclass(frozen=True)
-class CheckResult:
-    """One check: its worst value against its limit.
-
-    Attributes:
-        name: check name.
-        passed: whether the motion satisfies it.
-        value: the worst measured value (unit in ``unit``).
-        limit: the threshold.
-        unit: unit of value and limit.
-        detail: where the worst value occurs.
-        index: sample index of the worst value (-1 if not tied to a sample).
-    """
-
-    name: str
-    passed: bool
-    value: float
-    limit: float
-    unit: str
-    detail: str = ""
-    index: int = -1
+#: The checks after ``phase_order`` and ``finite``, in the order of the report.
+CHECKS: tuple[Check, ...] = (
+    checks_robot.com_file, checks_robot.zmp, checks_robot.feet, checks_robot.hands,
+    checks_robot.joint_limits, checks_robot.joint_velocity, checks_robot.joint_accel,
+    checks_box.box_floor, checks_box.pivot_corner, checks_box.box_clearance,
+    checks_box.obstacles, checks_box.box_plan, checks_robot.robot_plan)
 
 
 @dataclass
@@ -108,122 +101,6 @@ class MotionReport:
                          f"{r.value:12.6f} {r.limit:10.4g} {r.unit:4s} {r.detail}")
         lines.append("PASS" if self.passed else "FAIL")
         return "\n".join(lines)
-
-
-@dataclass
-class _Kinematics:
-    com: np.ndarray
-    feet: dict[str, np.ndarray]  # name -> N x 4 x 4
-    hands: dict[str, np.ndarray]  # name -> N x 3
-    lower: np.ndarray
-    upper: np.ndarray
-    velocity: np.ndarray
-
-
-def _kinematics(motion: Motion) -> _Kinematics:
-    import pinocchio as pin
-
-    path = data_path(motion.urdf, field="motion.urdf")
-    model = pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())
-    names = [str(n) for n in model.names[2:]]
-    if names != list(motion.joint_names):
-        raise InputError("motion.joint_names", motion.joint_names[:3],
-                         f"do not match the joints of {motion.urdf}")
-    if motion.q.shape[1] != model.nq:
-        raise InputError("motion.q", motion.q.shape, f"must have {model.nq} columns")
-    data = model.createData()
-    fids = {n: model.getFrameId(n) for n in ("left_foot", "right_foot", "left_hand",
-                                             "right_hand")}
-    n = len(motion.t)
-    com = np.empty((n, 3))
-    feet = {k: np.empty((n, 4, 4)) for k in ("left_foot", "right_foot")}
-    hands = {k: np.empty((n, 3)) for k in ("left_hand", "right_hand")}
-    for i, q in enumerate(motion.q):
-        com[i] = pin.centerOfMass(model, data, q)
-        pin.updateFramePlacements(model, data)
-        for k in feet:
-            feet[k][i] = data.oMf[fids[k]].homogeneous
-        for k in hands:
-            hands[k][i] = data.oMf[fids[k]].translation
-    return _Kinematics(com, feet, hands, model.lowerPositionLimit[7:],
-                       model.upperPositionLimit[7:], model.velocityLimit[6:])
-
-
-def _convex_hull(points: np.ndarray) -> np.ndarray:
-    """Counter-clockwise convex hull (monotone chain) of 2-D points."""
-    pts = sorted(map(tuple, points))
-
-    def cross(o, a, b):  # noqa: ANN001, ANN202
-        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-
-    lower: list = []
-    for p in pts:
-        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
-            lower.pop()
-        lower.append(p)
-    upper: list = []
-    for p in reversed(pts):
-        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
-            upper.pop()
-        upper.append(p)
-    return np.array(lower[:-1] + upper[:-1])
-
-
-def _margin(poly: np.ndarray, p: np.ndarray) -> float:
-    """Signed distance from ``p`` to the boundary of CCW convex ``poly`` (> 0 inside)."""
-    best = math.inf
-    inside = True
-    for a, b in zip(poly, np.roll(poly, -1, axis=0), strict=True):
-        e = b - a
-        n = np.array([-e[1], e[0]]) / np.linalg.norm(e)  # inward normal for CCW
-        d = float(n @ (p - a))
-        inside &= d >= 0
-        best = min(best, d)
-    if inside:
-        return best
-    # outside: Euclidean distance to the polygon, negated
-    dist = math.inf
-    for a, b in zip(poly, np.roll(poly, -1, axis=0), strict=True):
-        e = b - a
-        s = min(1.0, max(0.0, float((p - a) @ e / (e @ e))))
-        dist = min(dist, float(np.linalg.norm(p - (a + s * e))))
-    return -dist
-
-
-def _sole_corners(T: np.ndarray, sole: np.ndarray) -> np.ndarray:
-    hx, hy = 0.5 * sole[0], 0.5 * sole[1]
-    local = np.array([[hx, hy, 0, 1], [-hx, hy, 0, 1], [-hx, -hy, 0, 1], [hx, -hy, 0, 1]])
-    return (T @ local.T).T[:, :2]
-
-
-def lipm_zmp(t: np.ndarray, com: np.ndarray) -> np.ndarray:
-    """LIPM ZMP (N x 2) of a CoM trajectory by central second differences (ends copied)."""
-    acc = np.zeros((len(t), 2))
-    dt = np.diff(t)
-    h0, h1 = dt[:-1], dt[1:]
-    c = com[:, :2]
-    acc[1:-1] = 2 * ((c[2:] - c[1:-1]) / h1[:, None] - (c[1:-1] - c[:-2]) / h0[:, None]) \
-        / (h0 + h1)[:, None]
-    acc[0], acc[-1] = acc[1], acc[-2]
-    return c - (com[:, 2:3] / GRAVITY) * acc
-
-
-def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
-    """Index ranges [a, b) where ``mask`` is true."""
-    out, start = [], None
-    for i, m in enumerate(mask):
-        if m and start is None:
-            start = i
-        elif not m and start is not None:
-            out.append((start, i))
-            start = None
-    if start is not None:
-        out.append((start, len(mask)))
-    return out
-
-
-def _box_T(row: np.ndarray) -> np.ndarray:
-    return transform(matrix_from_quat(row[3:]), row[:3])
 
 
 def _phase_sequence(phase: np.ndarray, n_phases: int | None) -> CheckResult:
@@ -280,303 +157,35 @@ def check_motion(motion: Motion, plan: Plan | None = None, *, scene: Scene | Non
             plan of this motion (phase count, box size).
     """
     motion.require(*DYNAMICS, "box_size")
-    com, support, phase, box_size = motion.com, motion.support, motion.phase, motion.box_size
-    step, holding, grasp = motion.step, motion.holding, motion.grasp
-    assert com is not None and support is not None and phase is not None  # required above
-    assert box_size is not None  # required above
-    assert step is not None and holding is not None and grasp is not None  # Motion defaults
+    phase, box_size = motion.phase, motion.box_size
+    assert phase is not None and box_size is not None  # required above
     if plan is not None:
-        n_phases = int(phase.max()) + 1
-        if len(plan.phases) != n_phases:
-            raise InputError("plan.phases", len(plan.phases),
-                             f"the motion has {n_phases} phases: not the plan it was made from")
-        if not np.allclose(plan.object_size, box_size, atol=1e-9):
-            raise InputError("plan.object_size", plan.object_size,
-                             f"the motion's box is {tuple(box_size)}")
+        _require_plan_of(motion, plan, phase, box_size)
     rep = MotionReport()
     rep.results.append(_phase_sequence(phase, None if plan is None else len(plan.phases)))
     finite = _all_finite(motion)
     rep.results.append(finite)
     if not finite.passed:  # NaN would make every other check meaningless (or PASS)
         return rep
-    kin = _kinematics(motion)
-    t = motion.t
-    n = len(t)
-
-    # com file
-    dev = np.abs(kin.com - com).max(axis=1)
-    d = float(dev.max())
-    rep.results.append(CheckResult("com_file", d < 1e-3, d, 1e-3, "m", "",
-                                   int(np.argmax(dev))))
-
-    # zmp
-    zmp = lipm_zmp(t, kin.com)
-    sole = np.asarray(motion.sole_size or SOLE_SIZE)
-    worst, where, wi = math.inf, "", -1
-    for i in range(n):
-        s = support[i]
-        pts = []
-        if s in (SUPPORT_DOUBLE, SUPPORT_LEFT):
-            pts.append(_sole_corners(kin.feet["left_foot"][i], sole))
-        if s in (SUPPORT_DOUBLE, SUPPORT_RIGHT):
-            pts.append(_sole_corners(kin.feet["right_foot"][i], sole))
-        poly = _convex_hull(np.vstack(pts))
-        m = _margin(poly, zmp[i])
-        if m < worst:
-            worst, where, wi = m, f"t = {t[i]:.3f} s, phase {phase[i]}, support {s}", i
-    rep.results.append(CheckResult("zmp", worst >= zmp_tolerance, worst, zmp_tolerance, "m",
-                                   f"worst at {where}", wi))
-
-    # feet
-    worst, where, wi = 0.0, "", -1
-    for side, code in (("left_foot", SUPPORT_LEFT), ("right_foot", SUPPORT_RIGHT)):
-        T = kin.feet[side]
-        contact = (support == SUPPORT_DOUBLE) | (support == code)
-        for a, b in _runs(contact):
-            p = T[a:b, :3, 3]
-            slide = float(np.linalg.norm(p - p[0], axis=1).max())
-            sink = float(max(0.0, -p[:, 2].min()))
-            x = T[a:b, :3, 0]
-            turn = float(np.linalg.norm(x - x[0], axis=1).max()) * 0.12  # toe displacement
-            v = max(slide, sink, turn)
-            if v > worst:
-                worst, where = v, f"{side} contact t = {t[a]:.3f}..{t[b - 1]:.3f} s"
-                wi = a + int(np.argmax(np.linalg.norm(p - p[0], axis=1)))
-    rep.results.append(CheckResult("feet", worst < foot_tolerance, worst, foot_tolerance, "m",
-                                   where, wi))
-
-    # hands
-    worst, where, wi = 0.0, "", -1
-    for i in np.nonzero(holding)[0]:
-        k = int(grasp[i])
-        B = _box_T(motion.box[i])
-        for h, name in enumerate(("left_hand", "right_hand")):
-            g = B[:3, :3] @ motion.grip_box[k, h] + B[:3, 3]
-            e = float(np.linalg.norm(kin.hands[name][i] - g))
-            if e > worst:
-                worst, where, wi = e, f"{name} t = {t[i]:.3f} s, phase {phase[i]}", i
-    rep.results.append(CheckResult("hands", worst < hand_tolerance, worst, hand_tolerance, "m",
-                                   where, int(wi)))
-
-    # joint limits
-    q = motion.q[:, 7:]
-    over = np.maximum(kin.lower - q, q - kin.upper)
-    worst = float(over.max())
-    si, sj = np.unravel_index(int(np.argmax(over)), over.shape)
-    rep.results.append(CheckResult("joint_limits", worst <= 1e-6, worst, 1e-6, "rad",
-                                   f"{motion.joint_names[sj]} at t = {t[si]:.3f} s", int(si)))
-
-    # joint velocities (finite differences)
-    vel = np.abs(np.diff(q, axis=0)) / np.diff(t)[:, None]
-    ratio = vel / kin.velocity
-    worst = float(ratio.max())
-    si, sj = np.unravel_index(int(np.argmax(ratio)), ratio.shape)
-    rep.results.append(CheckResult("joint_velocity", worst <= 1.0 + 1e-6, worst, 1.0,
-                                   "x", f"{motion.joint_names[sj]} at t = {t[si]:.3f} s "
-                                   "(fraction of its velocity limit)", int(si)))
-
-    # smoothness: joint accelerations (second differences); sustained QP chattering at the
-    # velocity limits shows as ~2 v_max / dt (1200 rad/s^2) at most samples
-    acc = np.abs(q[2:] - 2 * q[1:-1] + q[:-2]) / (motion.dt ** 2)
-    per_sample = acc.max(axis=1)
-    p99 = float(np.percentile(per_sample, 99))
-    si, sj = np.unravel_index(int(np.argmax(acc)), acc.shape)
-    rep.results.append(CheckResult("joint_accel", p99 < accel_limit, p99, accel_limit,
-                                   "r/s2", f"99th percentile; max {acc[si, sj]:.0f} at "
-                                   f"{motion.joint_names[sj]} t = {t[si + 1]:.3f} s",
-                                   int(np.argmax(per_sample)) + 1))
-
-    # box on/above floor, pivot corner fixed
-    hold = BoxHold(cast("tuple[float, float, float]", tuple(float(x) for x in box_size)))
-    corners = np.array([hold.box_corners(_box_T(row)) for row in motion.box])
-    low = float(corners[:, :, 2].min())
-    rep.results.append(CheckResult("box_floor", low > -corner_tolerance, -low,
-                                   corner_tolerance, "m", "deepest corner below the floor",
-                                   int(np.argmin(corners[:, :, 2].min(axis=1)))))
-    key = phase.astype(np.int64) * 100_000 + step
-    worst, where, rotations, wi = 0.0, "", 0, -1
-    for a, b in _runs(step >= 0):
-        # split runs where (phase, step) changes
-        cuts = [a] + [i for i in range(a + 1, b) if key[i] != key[i - 1]] + [b]
-        for c0, c1 in zip(cuts[:-1], cuts[1:], strict=True):
-            rotations += 1
-            cs = corners[c0:c1]
-            bottom = np.argsort(cs[0, :, 2])[:2]
-            moves = [float(np.linalg.norm(cs[:, c] - cs[0, c], axis=1).max()
-                           + np.abs(cs[:, c, 2]).max()) for c in bottom]
-            best = int(bottom[int(np.argmin(moves))])
-            v = min(moves)
-            if plan is not None:
-                ph = plan.phases[int(phase[c0])]
-                if isinstance(ph, TransferPhase) and step[c0] < len(ph.steps):
-                    piv = np.array([*ph.steps[int(step[c0])].pivot, 0.0])
-                    v = max(v, float(np.linalg.norm(cs[:, best] - piv, axis=1).max()))
-                else:
-                    v = math.inf
-            if v > worst:
-                worst, wi = v, c0
-                where = f"phase {phase[c0]} step {step[c0]}"
-    rep.results.append(CheckResult("pivot_corner", worst < corner_tolerance and rotations > 0
-                                   or (rotations == 0 and worst == 0.0), worst,
-                                   corner_tolerance, "m", f"{rotations} rotations; {where}", wi))
-
-    rep.results.append(_box_clearance(motion))
-    if scene is not None:
-        rep.clearance = obstacle_clearance(motion, scene)
-        rep.results.append(_obstacles(rep.clearance, obstacle_tolerance))
-    if plan is not None:
-        rep.results.append(_box_plan(motion, plan, hold, corner_tolerance))
-        rep.results.append(_robot_plan(motion, plan, kin))
+    robot = load_urdf_model(motion.urdf)
+    tol = Tolerances(zmp=zmp_tolerance, foot=foot_tolerance, hand=hand_tolerance,
+                     corner=corner_tolerance, accel=accel_limit, obstacle=obstacle_tolerance)
+    ctx = CheckContext(motion, plan, scene, robot, kinematics(motion, robot), tol)
+    for check in CHECKS:
+        result = check(ctx)
+        if result is not None:
+            rep.results.append(result)
+    rep.clearance = ctx.clearance
     return rep
 
 
-def _obstacles(cl: ClearanceReport, tol: float) -> CheckResult:
-    """The ``obstacles`` check from the clearance report."""
-    w = cl.worst
-    if w is None or math.isinf(w.clearance):
-        return CheckResult("obstacles", True, math.inf, tol, "m", "no obstacle")
-    what = "depth" if w.clearance < 0 else "clearance"
-    return CheckResult("obstacles", w.clearance >= tol, w.clearance, tol, "m",
-                       f"{w.link} {what} {1000 * abs(w.clearance):.1f} mm at t = {w.time:.3f} s"
-                       f" to {w.obstacle}; {cl.queries} queries, {cl.seconds:.1f} s", w.index)
-
-
-def _point_polyline(p: np.ndarray, poly: np.ndarray) -> float:
-    """Distance from 2-D point ``p`` to the polyline ``poly`` (M x 2)."""
-    if len(poly) == 1:
-        return float(np.linalg.norm(p - poly[0]))
-    a, b = poly[:-1], poly[1:]
-    e = b - a
-    L2 = np.maximum((e * e).sum(axis=1), 1e-18)
-    u = np.clip(((p - a) * e).sum(axis=1) / L2, 0.0, 1.0)
-    return float(np.linalg.norm(a + u[:, None] * e - p, axis=1).min())
-
-
-def _robot_plan(motion: Motion, plan: Plan, kin: _Kinematics, *, step_tol: float = 0.01,
-                path_tol: float = 0.03) -> CheckResult:
-    """The robot (sole midpoint, double-support samples) against the plan's robot poses.
-
-    At the end of every pivot step it stands at the step's ``robot`` pose (< 1 cm and
-    0.02 rad); during a transit it stays within 3 cm of the ``robot_path`` polyline.
-    The value is the worst of (step error / 1 cm, path deviation / 3 cm): pass below 1.
-    """
-    phase, support, step = motion.phase, motion.support, motion.step
-    assert phase is not None and support is not None  # required by check_motion
-    assert step is not None  # a Motion default
-    mid = 0.5 * (kin.feet["left_foot"][:, :2, 3] + kin.feet["right_foot"][:, :2, 3])
-    xl, xr = kin.feet["left_foot"][:, :2, 0], kin.feet["right_foot"][:, :2, 0]
-    yaw = np.arctan2(xl[:, 1] + xr[:, 1], xl[:, 0] + xr[:, 0])
-    worst, where, wi = 0.0, "", -1
-    for p, ph in enumerate(plan.phases):
-        idx = np.nonzero((phase == p) & (support == SUPPORT_DOUBLE))[0]
-        if len(idx) == 0:
-            continue
-        if isinstance(ph, TransitPhase):
-            poly = np.array([q[:2] for q in ph.robot_path])
-            for i in idx[:: max(1, len(idx) // 400)]:
-                v = _point_polyline(mid[i], poly) / path_tol
-                if v > worst:
-                    worst, where, wi = v, f"transit phase {p} t = {motion.t[i]:.3f} s", int(i)
-            continue
-        for j, st in enumerate(ph.steps):
-            sel = idx[step[idx] == j]
-            if len(sel) == 0:
-                continue
-            i = int(sel[-1])
-            d = float(np.linalg.norm(mid[i] - np.array(st.robot[:2])))
-            da = abs(math.remainder(float(yaw[i]) - st.robot[2], 2 * math.pi))
-            v = max(d / step_tol, da / 0.02)
-            if v > worst:
-                worst, where, wi = v, f"phase {p} step {j}: {1000 * d:.1f} mm, {da:.3f} rad", i
-    return CheckResult("robot_plan", worst < 1.0, worst, 1.0, "x",
-                       f"step pose / 1 cm, transit deviation / 3 cm; worst {where}", wi)
-
-
-#: Links allowed to touch the box: the hands and fingers.
-CONTACT_LINKS = ("RARM_LINK5", "RARM_LINK6", "LARM_LINK5", "LARM_LINK6")
-
-
-def _box_clearance(motion: Motion, *, samples: int = 2000) -> CheckResult:
-    """Smallest distance between the box and the robot's collision primitives (hands excluded).
-
-    Evaluated on at most ``samples`` evenly spread samples.
-    """
-    import coal
-    import pinocchio as pin
-
-    path = data_path(motion.urdf, field="motion.urdf")
-    model = pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())
-    geom = pin.buildGeomFromUrdf(model, str(path), pin.GeometryType.COLLISION)
-    data, gdata = model.createData(), geom.createData()
-    box_size = motion.box_size
-    assert box_size is not None  # required by check_motion
-    box = coal.Box(*[float(x) for x in box_size])
-    keep = [k for k, g in enumerate(geom.geometryObjects)
-            if not any(g.name.startswith(n) for n in CONTACT_LINKS)]
-    req, res = coal.DistanceRequest(), coal.DistanceResult()
-    worst, where, wi = math.inf, "", -1
-    stride = max(1, len(motion.t) // samples)
-    for i in range(0, len(motion.t), stride):
-        pin.updateGeometryPlacements(model, data, geom, gdata, motion.q[i])
-        Tb = coal.Transform3s(matrix_from_quat(motion.box[i, 3:]), motion.box[i, :3])
-        for k in keep:
-            res.clear()
-            M = gdata.oMg[k]
-            d = coal.distance(geom.geometryObjects[k].geometry,
-                              coal.Transform3s(M.rotation, M.translation), box, Tb, req, res)
-            if d < worst:
-                worst, wi = float(d), i
-                where = f"{geom.geometryObjects[k].name} t = {motion.t[i]:.3f} s"
-    return CheckResult("box_clearance", worst >= 0.0, worst, 0.0, "m",
-                       f"robot (hands excluded) to box, every {stride} samples; {where}", wi)
-
-
-def _box_plan(motion: Motion, plan: Plan, hold: BoxHold, tol: float) -> CheckResult:
-    """Box pose against the plan: at every pivot step's end and throughout transits."""
-    phase, step, tilt = motion.phase, motion.step, motion.tilt
-    assert phase is not None  # required by check_motion
-    assert step is not None and tilt is not None  # Motion defaults
-    worst, where, checked, wi = 0.0, "", 0, -1
-
-    def compare(i: int, T_expected: np.ndarray, label: str) -> None:
-        nonlocal worst, where, checked, wi
-        B = _box_T(motion.box[i])
-        dp = float(np.linalg.norm(B[:3, 3] - T_expected[:3, 3]))
-        cos = (np.trace(B[:3, :3].T @ T_expected[:3, :3]) - 1) / 2
-        da = math.acos(max(-1.0, min(1.0, cos)))
-        v = max(dp, da * tol / 1e-3)  # 1e-3 rad counts as tol
-        checked += 1
-        if v > worst:
-            worst, where, wi = v, label, i
-
-    if int(phase.max()) >= len(plan.phases):
-        return CheckResult("box_plan", False, math.inf, tol, "m",
-                           f"motion has phase {int(phase.max())}, plan has "
-                           f"{len(plan.phases)}")
-    for p, ph in enumerate(plan.phases):
-        idx = np.nonzero(phase == p)[0]
-        if len(idx) == 0:
-            return CheckResult("box_plan", False, math.inf, tol, "m", f"phase {p} missing")
-        if isinstance(ph, TransitPhase):
-            T = hold.T_world_box(hold.T_world_G(ph.object_pose, 0), 0, 0.0)
-            for i in idx[:: max(1, len(idx) // 50)]:
-                compare(int(i), T, f"transit phase {p}")
-            continue
-        k = ph.grasp
-        steps_seen = sorted(set(int(s) for s in step[idx] if s >= 0))
-        if steps_seen != list(range(len(ph.steps))):
-            return CheckResult("box_plan", False, math.inf, tol, "m",
-                               f"phase {p}: motion pivots {len(steps_seen)} times, plan "
-                               f"{len(ph.steps)}")
-        for j, st in enumerate(ph.steps):
-            last = int(idx[step[idx] == j][-1])
-            T = hold.T_world_box(hold.T_world_G(st.object, k), k, float(tilt[last]))
-            compare(last, T, f"phase {p} step {j}")
-        first = int(idx[0])
-        compare(first, hold.T_world_box(hold.T_world_G(ph.object_start, k), k,
-                                        float(tilt[first])), f"phase {p} start")
-        lastp = int(idx[-1])
-        compare(lastp, hold.T_world_box(hold.T_world_G(ph.object_end, k), k,
-                                        float(tilt[lastp])), f"phase {p} end")
-    return CheckResult("box_plan", worst < tol, worst, tol, "m", f"{checked} poses; worst {where}",
-                       wi)
+def _require_plan_of(motion: Motion, plan: Plan, phase: np.ndarray,
+                     box_size: tuple[float, float, float]) -> None:
+    """Raise InputError unless ``plan`` has the motion's phase count and box size."""
+    n_phases = int(phase.max()) + 1
+    if len(plan.phases) != n_phases:
+        raise InputError("plan.phases", len(plan.phases),
+                         f"the motion has {n_phases} phases: not the plan it was made from")
+    if not np.allclose(plan.object_size, box_size, atol=1e-9):
+        raise InputError("plan.object_size", plan.object_size,
+                         f"the motion's box is {tuple(box_size)}")

@@ -14,8 +14,8 @@ from pivot_ompl import hrp2
 from pivot_ompl.motionfile import Motion
 from pivot_ompl.validity.collision import obstacle_objects
 from pivot_ompl.wholebody.box import matrix_from_quat
+from pivot_ompl.wholebody.checks_box import obstacles_result as _obstacles
 from pivot_ompl.wholebody.clearance import BOX, obstacle_clearance
-from pivot_ompl.wholebody.motion_checks import _obstacles
 
 BOX_SIZE = (0.8, 0.6, 1.3)
 

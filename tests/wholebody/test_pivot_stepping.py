@@ -15,8 +15,9 @@ from pivot_ompl.pivoting.transfer import transfer_phase
 from pivot_ompl.planfile import Plan
 from pivot_ompl.se2 import rotate_about
 from pivot_ompl.wholebody import generate_motion
+from pivot_ompl.wholebody.footsteps import relative as _relative
 from pivot_ompl.wholebody.motion_checks import check_motion
-from pivot_ompl.wholebody.walker import PlacoWalker, WalkSettings, _relative
+from pivot_ompl.wholebody.walker import PlacoWalker, WalkSettings
 
 SIZE = (0.8, 0.4, 1.0)
 #: Seconds of motion a pivot step of a straight push may cost (three steps of 0.8 s, and the

@@ -193,7 +193,8 @@ def test_robot_follows_plan_poses(report):
 
 
 def test_path_footsteps_follow_a_sideways_path():
-    from pivot_ompl.wholebody.walker import PlacoWalker, WalkSettings, _relative
+    from pivot_ompl.wholebody.footsteps import relative as _relative
+    from pivot_ompl.wholebody.walker import PlacoWalker, WalkSettings
 
     settings = WalkSettings()
     walker = PlacoWalker(settings, (0.0, 0.0, 0.0))
