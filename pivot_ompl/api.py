@@ -128,10 +128,8 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
         PlanningError: ``INVALID_START``/``INVALID_GOAL`` (no grasp valid there).
         InputError: bad parameters (wrong type or value), naming the parameter.
     """
-    time_limit = _check_arguments(scene, planner, time_limit, seed, simplify)
+    time_limit = _check_arguments(scene, planner, time_limit, seed, simplify, bound)
     config = _check_config(config, regrasp_cost)
-    if not isinstance(bound, bool):
-        raise InputError("bound", bound, "must be True or False")
     started = time.monotonic()  # the time limit counts from here: loading and setup included
     t0 = time.perf_counter()
     if not isinstance(scene, Scene):
@@ -149,49 +147,22 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     ss.setPlanner(p)
     ss.setup()
     t1 = time.perf_counter()
-    left = time_limit - (time.monotonic() - started)
-    if left > MIN_SOLVE_TIME:
-        name = _status_name(ss.solve(left))
-    else:  # the setup used the whole limit
-        log.warning("setup took %.2f s of the %.4g s limit: no time left to solve", t1 - t0,
-                    time_limit)
-        name = "TIMEOUT"
+    name = _solve(ss, time_limit, started)
     t2 = time.perf_counter()
     if name == "INVALID_START":
         raise PlanningError(name, problem.checker.explain(scene.start))
     if name == "INVALID_GOAL":
         raise PlanningError(name, problem.checker.explain(scene.goal))
-    extra: dict[str, Any] = {"planner": planner, "seed": seed, "time_limit": time_limit,
-                             "scene_sha256": scene_digest(scene)}
-    if scene.source and Path(scene.source).is_file():
-        extra["scene_path"] = str(Path(scene.source).resolve())
-    if name == "EXACT_SOLUTION" and ss.haveExactSolutionPath():
-        if simplify and base in OMPL_PLANNERS:
-            ss.simplifySolution()
-        path = ss.getSolutionPath()
-        states = [read_state(path.getState(i)) for i in range(path.getStateCount())]
-        result_plan = path_to_plan(scene, problem.checker, states, extra=extra)
-    else:
-        result_plan = Plan(scene.name, "none", scene.model.object_size,
-                           scene.model.robot_footprint, scene.model.standoff,
-                           scene.alpha_max, scene.start, [], extra)
+    extra = {"planner": planner, "seed": seed, "time_limit": time_limit, **_scene_record(scene)}
+    result_plan = _result_plan(scene, problem, name, extra,
+                               simplify=simplify and base in OMPL_PLANNERS)
     t3 = time.perf_counter()
     timings = {"setup": t1 - t0, "solve": t2 - t1, "convert": t3 - t2}
     result_plan.extra["timings"] = timings
     stats = dict(getattr(p, "stats", {}) or {})
     result_plan.extra["roadmap"] = stats
     if result_plan.phases:
-        regrasps, route = None, None
-        if bound:
-            t4 = time.perf_counter()
-            bound_end = time.monotonic() + BOUND_TIME_LIMIT
-            lb = lower_bound(scene, should_stop=lambda: time.monotonic() > bound_end)
-            timings["bound"] = time.perf_counter() - t4
-            if lb.solvable is False:  # a relaxation of every plan: a bug if it finds none
-                log.warning("the regrasp bound's relaxation finds no path, yet a plan exists")
-            regrasps, route = lb.regrasps, lb.shortest_route
-        result_plan.extra["quality"] = plan_quality(result_plan, regrasps_lower_bound=regrasps,
-                                                    shortest_route=route, costs=config.cost)
+        result_plan.extra["quality"] = _quality(result_plan, scene, config, bound, timings)
     c = problem.checker.counters
     log.info("%s on %s: %s in %.2f s (%d pivots, %d regrasps)", planner, scene.name, name,
              t2 - t1, result_plan.pivots, result_plan.regrasps)
@@ -200,8 +171,55 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
                       getattr(p, "last_search", None))
 
 
+def _scene_record(scene: Scene) -> dict[str, Any]:
+    """What a plan records of its scene: its digest and, planned from a file, its path."""
+    out: dict[str, Any] = {"scene_sha256": scene_digest(scene)}
+    if scene.source and Path(scene.source).is_file():
+        out["scene_path"] = str(Path(scene.source).resolve())
+    return out
+
+
+def _solve(ss: Any, time_limit: float, started: float) -> str:
+    """Solve within what the setup left of the limit; the status's name."""
+    left = time_limit - (time.monotonic() - started)
+    if left > MIN_SOLVE_TIME:
+        return _status_name(ss.solve(left))
+    log.warning("setup took the whole %.4g s limit: no time left to solve", time_limit)
+    return "TIMEOUT"
+
+
+def _result_plan(scene: Scene, problem: Any, status: str, extra: dict[str, Any], *,
+                 simplify: bool) -> Plan:
+    """The solution path as a plan (``status "none"`` and no phases when there is none)."""
+    ss = problem.setup
+    if status == "EXACT_SOLUTION" and ss.haveExactSolutionPath():
+        if simplify:
+            ss.simplifySolution()
+        path = ss.getSolutionPath()
+        states = [read_state(path.getState(i)) for i in range(path.getStateCount())]
+        return path_to_plan(scene, problem.checker, states, extra=extra)
+    return Plan(scene.name, "none", scene.model.object_size, scene.model.robot_footprint,
+                scene.model.standoff, scene.alpha_max, scene.start, [], extra)
+
+
+def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool,
+             timings: dict[str, float]) -> dict[str, Any]:
+    """The quality block, with the scene's lower bounds when ``bound`` (timed as ``bound``)."""
+    regrasps, route = None, None
+    if bound:
+        t0 = time.perf_counter()
+        bound_end = time.monotonic() + BOUND_TIME_LIMIT
+        lb = lower_bound(scene, should_stop=lambda: time.monotonic() > bound_end)
+        timings["bound"] = time.perf_counter() - t0
+        if lb.solvable is False:  # a relaxation of every plan: a bug if it finds none
+            log.warning("the regrasp bound's relaxation finds no path, yet a plan exists")
+        regrasps, route = lb.regrasps, lb.shortest_route
+    return plan_quality(result_plan, regrasps_lower_bound=regrasps, shortest_route=route,
+                        costs=config.cost)
+
+
 def _check_arguments(scene: Any, planner: Any, time_limit: Any, seed: Any,
-                     simplify: Any) -> float:
+                     simplify: Any, bound: Any) -> float:
     """Validate :func:`plan`'s arguments; return the effective time limit (s)."""
     if not isinstance(scene, Scene | str | os.PathLike):
         raise InputError("scene", type(scene).__name__,
@@ -217,6 +235,8 @@ def _check_arguments(scene: Any, planner: Any, time_limit: Any, seed: Any,
         raise InputError("seed", seed, f"must be an integer in [0, {MAX_SEED}]")
     if not isinstance(simplify, bool):
         raise InputError("simplify", simplify, "must be True or False")
+    if not isinstance(bound, bool):
+        raise InputError("bound", bound, "must be True or False")
     return float(min(time_limit, MAX_TIME_LIMIT))
 
 

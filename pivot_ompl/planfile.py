@@ -296,6 +296,23 @@ def _grasp(v: Any, fld: str, src: str) -> int:
     return v
 
 
+def _steps(raw: Any, f: str, src: str) -> list[TransferStep]:
+    """The ``steps`` list of the transfer phase ``f``."""
+    if not isinstance(raw, list):
+        raise PlanFileError(f"{f}.steps", raw, "must be a list", source=src)
+    steps = []
+    for j, st in enumerate(raw):
+        fs = f"{f}.steps[{j}]"
+        if not isinstance(st, dict):
+            raise PlanFileError(fs, st, "must be an object", source=src)
+        steps.append(TransferStep(
+            _vec(st.get("pivot"), 2, f"{fs}.pivot", src),  # type: ignore[arg-type]
+            _num(st.get("angle"), f"{fs}.angle", src),
+            _vec(st.get("object"), 3, f"{fs}.object", src),  # type: ignore[arg-type]
+            _vec(st.get("robot"), 3, f"{fs}.robot", src)))  # type: ignore[arg-type]
+    return steps
+
+
 def plan_from_dict(doc: Any, *, source: str = "") -> Plan:
     """Parse a ``pivot-plan/1`` document.
 
@@ -345,19 +362,7 @@ def plan_from_dict(doc: Any, *, source: str = "") -> Plan:
                 obj = (rs[0] + r * math.cos(h), rs[1] + r * math.sin(h),
                        h - g * 0.5 * math.pi)
                 start = obj
-            steps_raw = ph.get("steps")
-            if not isinstance(steps_raw, list):
-                raise PlanFileError(f"{f}.steps", steps_raw, "must be a list", source=src)
-            steps = []
-            for j, st in enumerate(steps_raw):
-                fs = f"{f}.steps[{j}]"
-                if not isinstance(st, dict):
-                    raise PlanFileError(fs, st, "must be an object", source=src)
-                steps.append(TransferStep(
-                    _vec(st.get("pivot"), 2, f"{fs}.pivot", src),  # type: ignore[arg-type]
-                    _num(st.get("angle"), f"{fs}.angle", src),
-                    _vec(st.get("object"), 3, f"{fs}.object", src),  # type: ignore[arg-type]
-                    _vec(st.get("robot"), 3, f"{fs}.robot", src)))  # type: ignore[arg-type]
+            steps = _steps(ph.get("steps"), f, src)
             rs_raw = ph.get("rs_path", [])
             if not isinstance(rs_raw, list):
                 raise PlanFileError(f"{f}.rs_path", rs_raw, "must be a list of [x, y, yaw]",

@@ -184,6 +184,20 @@ def _sum_hulls(pieces: np.ndarray, bodies: np.ndarray) -> tuple[np.ndarray, np.n
     slot ``(g, s)``, which slots are vertices ``(g, s)``, and which rows are certified
     ``(g,)``.
     """
+    cand, pair, nxt, valid, ok = _sum_candidates(pieces, bodies)
+    rows = np.arange(pieces.shape[0])[:, None]
+    verts = cand[rows, pair]
+    ok &= _certified(pieces, bodies, cand, pair, nxt, valid)
+    return verts, nxt, valid, ok
+
+
+def _sum_candidates(pieces: np.ndarray, bodies: np.ndarray
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The vertex differences and, per slot of the merged edge normals, the hull's vertex.
+
+    Returns the differences ``(g, k m, 2)``, each slot's vertex pair and next slot, which
+    slots are vertices, and which rows have a vertex at all.
+    """
     g, k, m = pieces.shape[0], pieces.shape[1], bodies.shape[1]
     cand = (pieces[:, :, None, :] - bodies[:, None, :, :]).reshape(g, k * m, 2)
     (p, pflip), (q, qflip) = _ccw(pieces), _ccw(-bodies)
@@ -213,6 +227,14 @@ def _sum_hulls(pieces: np.ndarray, bodies: np.ndarray) -> tuple[np.ndarray, np.n
     ok = np.any(valid, axis=1)
     nxt = np.where(ok[:, None], nxt, 0)
     pair = np.where(valid, pair, np.take_along_axis(pair, nxt, axis=1))
+    return cand, pair, nxt, valid, ok
+
+
+def _certified(pieces: np.ndarray, bodies: np.ndarray, cand: np.ndarray, pair: np.ndarray,
+               nxt: np.ndarray, valid: np.ndarray) -> np.ndarray:
+    """Per row: every difference on or left of every edge, the others strictly left."""
+    g, k, m = pieces.shape[0], pieces.shape[1], bodies.shape[1]
+    s = pair.shape[1]
     rows = np.arange(g)[:, None]
     verts = cand[rows, pair]
     a, b = verts, verts[rows, nxt]
@@ -248,8 +270,7 @@ def _sum_hulls(pieces: np.ndarray, bodies: np.ndarray) -> tuple[np.ndarray, np.n
     strict = np.take_along_axis(is_vertex, near.reshape(g, -1), axis=1).reshape(near.shape)
     good = (split > tol[..., None]) | ends \
         | (sure & np.where(strict, det > 0.0, det >= 0.0))
-    ok &= np.all((far & np.all(good, axis=2)) | ~valid, axis=1)
-    return verts, nxt, valid, ok
+    return np.all((far & np.all(good, axis=2)) | ~valid, axis=1)
 
 
 def _edges_of(verts: np.ndarray, nxt: np.ndarray, used: np.ndarray) -> EdgeSet:

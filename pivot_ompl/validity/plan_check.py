@@ -59,20 +59,7 @@ def check_plan(plan: Plan, scene: Scene | None = None, *, collisions: bool = Tru
     if scene is not None:
         model = scene.model
         amax = scene.alpha_max
-        if plan.status != "exact":
-            rep.problems.append(f"plan status is {plan.status!r}, not 'exact': it does not "
-                                "claim to reach the goal")
-        if not _close(plan.start, scene.start):
-            rep.problems.append(f"plan starts at {plan.start}, scene start is {scene.start}")
-        if not _close(plan.object_end, scene.goal):  # exactly, not its half turn
-            rep.problems.append(f"plan ends at {plan.object_end}, scene goal is {scene.goal}")
-        for name, a, b in (("object_size", plan.object_size, model.object_size),
-                           ("robot_footprint", plan.robot_footprint, model.robot_footprint),
-                           ("standoff", (plan.standoff,), (model.standoff,)),
-                           ("alpha_max", (plan.alpha_max,), (amax,))):
-            if any(abs(x - y) > 1e-9 for x, y in zip(a, b, strict=True)):
-                rep.problems.append(f"plan's {name} {list(a)} differs from the scene's "
-                                    f"{list(b)}")
+        _check_scene_match(rep, plan, scene)
     else:
         model = BoxGraspModel(plan.object_size, plan.robot_footprint, plan.standoff, hrp2.HEIGHT)
         amax = plan.alpha_max
@@ -134,6 +121,24 @@ def check_plan(plan: Plan, scene: Scene | None = None, *, collisions: bool = Tru
                                 tolerance)
             robot = path[-1]
     return rep
+
+
+def _check_scene_match(rep: PlanCheckReport, plan: Plan, scene: Scene) -> None:
+    """The plan claims the goal, starts and ends at the scene's poses, with its sizes."""
+    model = scene.model
+    if plan.status != "exact":
+        rep.problems.append(f"plan status is {plan.status!r}, not 'exact': it does not "
+                            "claim to reach the goal")
+    if not _close(plan.start, scene.start):
+        rep.problems.append(f"plan starts at {plan.start}, scene start is {scene.start}")
+    if not _close(plan.object_end, scene.goal):  # exactly, not its half turn
+        rep.problems.append(f"plan ends at {plan.object_end}, scene goal is {scene.goal}")
+    for name, a, b in (("object_size", plan.object_size, model.object_size),
+                       ("robot_footprint", plan.robot_footprint, model.robot_footprint),
+                       ("standoff", (plan.standoff,), (model.standoff,)),
+                       ("alpha_max", (plan.alpha_max,), (scene.alpha_max,))):
+        if any(abs(x - y) > 1e-9 for x, y in zip(a, b, strict=True)):
+            rep.problems.append(f"plan's {name} {list(a)} differs from the scene's {list(b)}")
 
 
 def _rotation_clearance(dist: Callable[[Pose], float], conv: Callable[[Pose, int], Pose],

@@ -151,34 +151,9 @@ def show_motion(vis: meshcat.Visualizer, motion: Motion, *, scene: Scene | None 
     vis["box"].set_transform(box_tf[0])
     robot[model.root].set_transform(root_tf[0])
 
-    anim = AnimationBuilder(vis)
-    tol: dict[str, Any] = {"position_tol": tolerance, "rotation_tol": 0.5 * tolerance}
-    anim.add_transforms("box", t, box_tf, **tol)
-    anim.add_transforms(f"robot/{model.root}", t, root_tf, **tol)
-    for link in model.links:
-        j = model.joints.get(link)
-        if j is None or j.type in ("fixed", "floating", "planar"):
-            continue
-        local = model.local_transforms(link, values[j.name])
-        if j.type == "prismatic":
-            anim.add_transforms(f"robot/{model.node_path(link)}", t, local,
-                                rotation=False, **tol)
-        else:
-            anim.add_transforms(f"robot/{model.node_path(link)}", t, local,
-                                position=False, **tol)
+    anim = _animation(vis, model, t, box_tf, root_tf, values, tolerance)
 
-    feet = foot_links(model)
-    n_steps = 0
-    if feet:
-        fine = resample_indices(motion.t, FOOTSTEP_RATE)
-        full = motion.q[fine]
-        wt = model.world_transforms(pose7_to_matrix(full[:, :7]),
-                                    model.joint_values(full[:, 7:], motion.joint_names), feet)
-        poses = [p for f in feet for p in footsteps(wt[f], motion.t[fine])]
-        n_steps = draw.draw_footsteps(vis["footsteps"], poses, motion.sole_size or SOLE_SIZE,
-                                       opacity=0.6)
-    else:
-        log.warning("no foot link in %s: no footsteps drawn", model.path)
+    n_steps = _draw_footsteps(vis, model, motion)
     n_piv = 0
     if plan is not None:
         n_piv, _ = draw_plan_markers(vis, plan)
@@ -194,6 +169,40 @@ def show_motion(vis: meshcat.Visualizer, motion: Motion, *, scene: Scene | None 
     guide = motion_guide(motion, plan=plan, scene=scene).with_frame(
         frame, max(standing_height(None, scene), float(np.max(q[:, 2])) + 0.8, float(size[2])))
     return ReplayInfo(float(t[-1]), len(t), nodes, n_steps, n_piv, guide)
+
+
+def _animation(vis: meshcat.Visualizer, model: Any, t: Any, box_tf: np.ndarray,
+               root_tf: np.ndarray, values: dict[str, np.ndarray],
+               tolerance: float) -> AnimationBuilder:
+    """The box's, the root's and every moving link's tracks."""
+    anim = AnimationBuilder(vis)
+    tol: dict[str, Any] = {"position_tol": tolerance, "rotation_tol": 0.5 * tolerance}
+    anim.add_transforms("box", t, box_tf, **tol)
+    anim.add_transforms(f"robot/{model.root}", t, root_tf, **tol)
+    for link in model.links:
+        j = model.joints.get(link)
+        if j is None or j.type in ("fixed", "floating", "planar"):
+            continue
+        local = model.local_transforms(link, values[j.name])
+        prismatic = j.type == "prismatic"
+        anim.add_transforms(f"robot/{model.node_path(link)}", t, local,
+                            rotation=not prismatic, position=prismatic, **tol)
+    return anim
+
+
+def _draw_footsteps(vis: meshcat.Visualizer, model: Any, motion: Motion) -> int:
+    """The footsteps of the motion's feet; how many."""
+    feet = foot_links(model)
+    if not feet:
+        log.warning("no foot link in %s: no footsteps drawn", model.path)
+        return 0
+    fine = resample_indices(motion.t, FOOTSTEP_RATE)
+    full = motion.q[fine]
+    wt = model.world_transforms(pose7_to_matrix(full[:, :7]),
+                                model.joint_values(full[:, 7:], motion.joint_names), feet)
+    poses = [p for f in feet for p in footsteps(wt[f], motion.t[fine])]
+    return draw.draw_footsteps(vis["footsteps"], poses, motion.sole_size or SOLE_SIZE,
+                               opacity=0.6)
 
 
 def motion_guide(motion: Motion, *, plan: Plan | None = None,

@@ -35,6 +35,7 @@ from collections.abc import Callable, Iterator
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.graph import UnionFind
+from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.planners.objects.roadmap import PoseIndex, Roadmap, canonical_yaw, half_turn
 from pivot_ompl.se2 import Pose, wrap_angle
 
@@ -57,6 +58,15 @@ def frame_flip(a: Node, b: Node) -> int:
     That is a transfer whose grasps differ: the same car written from the other side.
     """
     return int(a[0] != b[0] and a[1] != b[1])
+
+
+def walk_estimate(model: BoxGraspModel, a: int, b: int) -> float:
+    """Estimated length (m) of the walk from grasp ``a`` to ``b``.
+
+    Quarter circles round the box at the robot's distance.
+    """
+    quarters = min((b - a) % 4, (a - b) % 4)
+    return model.robot_offset(a) * 0.5 * math.pi * quarters
 
 
 def undirected(a: Node, b: Node) -> tuple[Node, Node]:
@@ -220,8 +230,8 @@ class MultiplexedGraph:
                 self._add_turn(i, g)
         for k, a in enumerate(added):  # the regrasping roadmap at this pose
             for b in added[k + 1:]:
-                self.link((i, a), (i, b),
-                          self.costs.regrasp_seconds(self.walk_estimate(a, b)), should_stop)
+                walk = walk_estimate(self.checker.model, a, b)
+                self.link((i, a), (i, b), self.costs.regrasp_seconds(walk), should_stop)
                 self.regrasp_edges += 1
         return len(added)
 
@@ -234,14 +244,6 @@ class MultiplexedGraph:
         j = self.roadmap.add((turned[0], turned[1], yaw), "turn")
         cost = self.costs.spin_estimate(math.pi, self.checker.scene.alpha_max)
         self._turns.setdefault(j, []).append(((i, g), (g + shift) % 4, cost))
-
-    def walk_estimate(self, a: int, b: int) -> float:
-        """Estimated length (m) of the walk from grasp ``a`` to ``b``.
-
-        Quarter circles round the box at the robot's distance.
-        """
-        quarters = min((b - a) % 4, (a - b) % 4)
-        return self.checker.model.robot_offset(a) * 0.5 * math.pi * quarters
 
     def link(self, a: Node, b: Node, cost: float, should_stop: Stop) -> None:
         """Add the candidate edge ``a - b`` (unless removed before); keep the reachable set."""
