@@ -161,6 +161,21 @@ class TransferCheck:
         return not with_robot or \
             w.bounds_margin(m.held_corners(m.robot_from_car(car, grasp), grasp)) >= bulge_r
 
+    @staticmethod
+    def _swept(dist: Callable[[Pose, int], float], base: Pose, rot: Rotation, grasp: int,
+               reach: float, d0: float, tol: float) -> float | None:
+        """The body's clearance at the rotation's end, or ``None`` if its sweep is not free.
+
+        ``dist``: the body's clearance at a car pose; ``reach``: its farthest point from the
+        pivot (a point moves at most ``reach |angle|``); ``d0``: its clearance at ``base``.
+        """
+        def at(s: float) -> float:
+            return dist(rotate_about(base, rot.pivot, s * rot.angle), grasp)
+
+        d1 = dist(rot.car, grasp)
+        ok = certify(at, reach * abs(rot.angle), tolerance=tol, d0=d0, d1=d1).valid
+        return d1 if ok else None
+
     def _rotations(self, prev: Pose, rots: tuple[Rotation, ...], grasp: int, with_robot: bool,
                    db: float, dr: float) -> tuple[str, tuple[float, float]]:
         """``(failure, clearances at the end)``; failure ``""`` when every rotation passes."""
@@ -174,25 +189,13 @@ class TransferCheck:
                                         r_rob * bulge)):
                 return "leaves the bounds", (db, dr)
             if obstacles:
-                base, piv, ang = prev, rot.pivot, rot.angle
-
-                def box_at(s: float, base: Pose = base, piv: tuple[float, float] = piv,
-                           ang: float = ang) -> float:
-                    return self._box_d(rotate_about(base, piv, s * ang), grasp)
-
-                db_end = self._box_d(rot.car, grasp)
-                if not certify(box_at, r_box * abs(ang), tolerance=tol, d0=db,
-                               d1=db_end).valid:
+                db_end = self._swept(self._box_d, prev, rot, grasp, r_box, db, tol)
+                if db_end is None:
                     return "box collides", (db, dr)
                 db = db_end
                 if with_robot:
-                    def rob_at(s: float, base: Pose = base, piv: tuple[float, float] = piv,
-                               ang: float = ang) -> float:
-                        return self._rob_d(rotate_about(base, piv, s * ang), grasp)
-
-                    dr_end = self._rob_d(rot.car, grasp)
-                    if not certify(rob_at, r_rob * abs(ang), tolerance=tol, d0=dr,
-                                   d1=dr_end).valid:
+                    dr_end = self._swept(self._rob_d, prev, rot, grasp, r_rob, dr, tol)
+                    if dr_end is None:
                         return "robot collides", (db, dr)
                     dr = dr_end
             prev = rot.car
