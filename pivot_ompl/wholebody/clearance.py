@@ -174,9 +174,6 @@ def obstacle_clearance(motion: Motion, scene: Scene, *, exact_below: float = EXA
         InputError: the motion has no box size, or its URDF is not a free-flyer tree of
             revolute joints.
     """
-    import coal
-    import pinocchio as pin
-
     t0 = time.perf_counter()
     motion.require("box_size")
     assert motion.box_size is not None  # required above
@@ -184,12 +181,7 @@ def obstacle_clearance(motion: Motion, scene: Scene, *, exact_below: float = EXA
         raise InputError("exact_below", exact_below, "must be a positive length in m")
     n = len(motion.t)
     rep = ClearanceReport(samples=n, exact_below=exact_below)
-    objects: list[coal.CollisionObject] = []
-    owner: list[int] = []
-    for i, o in enumerate(scene.obstacles):
-        for obj in obstacle_objects(o):
-            objects.append(obj)
-            owner.append(i)
+    objects, owner = _obstacle_objects(scene)
     if robot is None:
         robot = load_urdf_model(motion.urdf)
     model, geom = robot.model, robot.geom
@@ -206,73 +198,118 @@ def obstacle_clearance(motion: Motion, scene: Scene, *, exact_below: float = EXA
     bounds = _link_bounds(model, geom, q)
     bounds.append(_cumulative(np.linalg.norm(np.diff(boxes[:, :3], axis=0), axis=1)
                               + _rotation_angles(boxes[:, 3:]) * 0.5 * float(np.linalg.norm(size))))
-    from pivot_ompl.wholebody.box import matrix_from_quat
+    bodies = _Bodies(robot, q, boxes, size)
+    sweep = _sweep(bodies, objects, bounds, exact_below)
+    rep.queries = sweep.queries
+    for b in range(len(bodies.shapes)):  # name the nearest obstacle at each body's worst
+        exact = sweep.seen[b] <= sweep.best[b]
+        i = sweep.seen_i[b] if exact else sweep.best_i[b]
+        k = _nearest(bodies, b, i, objects)
+        rep.bodies.append(BodyClearance(names[b], links[b], min(sweep.best[b], sweep.seen[b]),
+                                        i, float(motion.t[i]), _obstacle_label(scene, owner[k]),
+                                        exact, sweep.seen[b]))
+    rep.seconds = time.perf_counter() - t0
+    log.debug("obstacle clearance: %d queries for %d samples x %d bodies in %.2f s",
+              rep.queries, n, len(bodies.shapes), rep.seconds)
+    return rep
+
+
+def _obstacle_objects(scene: Scene) -> tuple[list, list[int]]:
+    """The scene's coal collision objects and, for each, the index of its obstacle."""
+    objects, owner = [], []
+    for i, o in enumerate(scene.obstacles):
+        for obj in obstacle_objects(o):
+            objects.append(obj)
+            owner.append(i)
+    return objects, owner
+
+
+class _Bodies:
+    """The motion's bodies (every collision geometry, then the box) placed at a sample."""
+
+    def __init__(self, robot: UrdfModel, q: np.ndarray, boxes: np.ndarray,
+                 size: np.ndarray) -> None:
+        import coal
+
+        self.model, self.geom = robot.model, robot.geom
+        self.data, self.gdata = self.model.createData(), self.geom.createData()
+        self.q, self.boxes = q, boxes
+        self.shapes = [o.geometry for o in self.geom.geometryObjects] + [coal.Box(*size)]
+        self.n_geom = len(self.geom.geometryObjects)
+        self._placed = -1
+
+    def transform(self, b: int, i: int):  # noqa: ANN201 - a coal.Transform3s
+        """The frame of body ``b`` at sample ``i``."""
+        import coal
+        import pinocchio as pin
+
+        from pivot_ompl.wholebody.box import matrix_from_quat
+
+        if b < self.n_geom:
+            if self._placed != i:
+                pin.updateGeometryPlacements(self.model, self.data, self.geom, self.gdata,
+                                             self.q[i])
+                self._placed = i
+            M = self.gdata.oMg[b]
+            return coal.Transform3s(M.rotation, M.translation)
+        return coal.Transform3s(matrix_from_quat(self.boxes[i, 3:]), self.boxes[i, :3])
+
+
+@dataclass
+class _Sweep:
+    """Per body, the smallest certified bound (``best``) and measured clearance (``seen``)."""
+
+    best: list[float]
+    best_i: list[int]
+    seen: list[float]
+    seen_i: list[int]
+    queries: int = 0
+
+
+def _sweep(bodies: _Bodies, objects: list, bounds: list[np.ndarray],
+           exact_below: float) -> _Sweep:
+    """Query each body at the samples its displacement bound leaves uncertified."""
+    import coal
 
     manager = coal.DynamicAABBTreeCollisionManager()
     for obj in objects:
         manager.registerObject(obj)
     manager.setup()
     cb = coal.DistanceCallBackDefault()
-    shapes = [o.geometry for o in geom.geometryObjects] + [coal.Box(*size)]
-    bodies = [coal.CollisionObject(s) for s in shapes]
-    data, gdata = model.createData(), geom.createData()
-    n_geom = len(geom.geometryObjects)
-    best = [math.inf] * len(bodies)
-    best_i = [0] * len(bodies)
-    seen = [math.inf] * len(bodies)
-    seen_i = [0] * len(bodies)
-    heap = [(0, b) for b in range(len(bodies))]
-    placed = -1
-    queries = 0
+    objs = [coal.CollisionObject(shape) for shape in bodies.shapes]
+    m, n = len(objs), len(bodies.q)
+    out = _Sweep([math.inf] * m, [0] * m, [math.inf] * m, [0] * m)
+    heap = [(0, b) for b in range(m)]
     while heap:
         i, b = heapq.heappop(heap)
-        if b < n_geom:
-            if placed != i:
-                pin.updateGeometryPlacements(model, data, geom, gdata, q[i])
-                placed = i
-            M = gdata.oMg[b]
-            bodies[b].setTransform(coal.Transform3s(M.rotation, M.translation))
-        else:
-            bodies[b].setTransform(coal.Transform3s(matrix_from_quat(boxes[i, 3:]),
-                                                    boxes[i, :3]))
-        obj = bodies[b]
+        obj = objs[b]
+        obj.setTransform(bodies.transform(b, i))
         obj.computeAABB()
         cb.data.result.clear()
         manager.distance(obj, cb)
         d = float(cb.data.result.min_distance)
-        queries += 1
+        out.queries += 1
         C = bounds[b]
-        nxt = int(np.searchsorted(C, C[i] + d - exact_below, side="left"))
-        nxt = max(nxt, i + 1)
+        nxt = max(int(np.searchsorted(C, C[i] + d - exact_below, side="left")), i + 1)
         low = d if nxt == i + 1 else min(d, d - float(C[nxt - 1] - C[i]))
-        if low < best[b]:
-            best[b], best_i[b] = low, i
-        if d < seen[b]:
-            seen[b], seen_i[b] = d, i
+        if low < out.best[b]:
+            out.best[b], out.best_i[b] = low, i
+        if d < out.seen[b]:
+            out.seen[b], out.seen_i[b] = d, i
         if nxt < n:
             heapq.heappush(heap, (nxt, b))
-    rep.queries = queries
-    # name the nearest obstacle at each body's worst sample
+    return out
+
+
+def _nearest(bodies: _Bodies, b: int, i: int, objects: list) -> int:
+    """Index of the object nearest to body ``b`` at sample ``i``."""
+    import coal
+
     req, res = coal.DistanceRequest(), coal.DistanceResult()
-    for b in range(len(bodies)):
-        exact = seen[b] <= best[b]
-        i = seen_i[b] if exact else best_i[b]
-        if b < n_geom:
-            pin.updateGeometryPlacements(model, data, geom, gdata, q[i])
-            M = gdata.oMg[b]
-            T = coal.Transform3s(M.rotation, M.translation)
-        else:
-            T = coal.Transform3s(matrix_from_quat(boxes[i, 3:]), boxes[i, :3])
-        dists = []
-        for obj in objects:
-            res.clear()
-            dists.append(coal.distance(shapes[b], T, obj.collisionGeometry(), obj.getTransform(),
-                                       req, res))
-        k = int(np.argmin(dists))
-        rep.bodies.append(BodyClearance(names[b], links[b], min(best[b], seen[b]), i,
-                                        float(motion.t[i]), _obstacle_label(scene, owner[k]),
-                                        exact, seen[b]))
-    rep.seconds = time.perf_counter() - t0
-    log.debug("obstacle clearance: %d queries for %d samples x %d bodies in %.2f s",
-              queries, n, len(bodies), rep.seconds)
-    return rep
+    T = bodies.transform(b, i)
+    dists = []
+    for obj in objects:
+        res.clear()
+        dists.append(coal.distance(bodies.shapes[b], T, obj.collisionGeometry(),
+                                   obj.getTransform(), req, res))
+    return int(np.argmin(dists))

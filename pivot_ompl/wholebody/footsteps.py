@@ -132,6 +132,19 @@ def reachable(T_fly: np.ndarray, T_support: np.ndarray, *, left: bool,
     return bool(a.min() >= hy + s.sole_gap and b.min() >= hy + s.sole_gap)
 
 
+def left_flies_first(T_left: np.ndarray, T_right: np.ndarray, target: Pose) -> bool:
+    """Whether a walk from the feet towards robot pose ``target`` starts with the left foot.
+
+    The left foot when the target is to the left of the feet's midpoint (more than 1 mm),
+    or straight ahead or behind and turned left (or not at all).
+    """
+    yaw = planar(T_left)[2]
+    cur = np.linalg.inv(pose_matrix(*planar(0.5 * (T_left + T_right))[:2], yaw))
+    local = cur @ np.array([target[0], target[1], 0.0, 1.0])
+    dyaw = wrap_angle(target[2] - yaw)
+    return bool(local[1] > 1e-3 or (abs(local[1]) <= 1e-3 and dyaw >= 0))
+
+
 def _first_flying_foot(dense: list[Pose]) -> bool:
     """Whether the left foot flies first: the side the path leaves towards (or turns to)."""
     cur = dense[0]
@@ -236,3 +249,12 @@ def pivot_footsteps(path: list[Pose], *, feet: tuple[np.ndarray, np.ndarray],
         if arrived():
             return steps
     return []
+
+
+def chunks(footsteps: list, max_steps: int) -> list[list]:
+    """Split footsteps (led by the two current feet) into walks of at most ``max_steps`` steps.
+
+    Each walk is led by its two current feet and starts and ends at rest.
+    """
+    moves = len(footsteps) - 2
+    return [footsteps[a:min(moves, a + max_steps) + 2] for a in range(0, moves, max_steps)]

@@ -33,25 +33,33 @@ import logging
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from pivot_ompl.errors import InputError, WholeBodyError
-from pivot_ompl.hrp2 import SOLE_SIZE, URDF_RELPATH
 from pivot_ompl.motionfile import Motion
 from pivot_ompl.planfile import Plan, TransferPhase, TransferStep, TransitPhase
 from pivot_ompl.se2 import Pose, rotate_about, wrap_angle
 from pivot_ompl.wholebody.box import (
     DEFAULT_TILT,
     BoxHold,
-    quat_xyzw,
+    rot_y,
     rotation_about_vertical,
     transform,
 )
-from pivot_ompl.wholebody.footsteps import planar
+from pivot_ompl.wholebody.footsteps import chunks
+from pivot_ompl.wholebody.pivot_walk import (
+    chain_pivot_footsteps,
+    check_pivot_steps,
+    object_before,
+    rotation_windows,
+    turn_progress,
+)
+from pivot_ompl.wholebody.recording import GenerationStats, Recorder, Sample
 from pivot_ompl.wholebody.settings import WalkSettings
+from pivot_ompl.wholebody.timeline import Timing, interpolate_frame, min_jerk
 from pivot_ompl.wholebody.walker import PlacoWalker, SolverFailure
 
 if TYPE_CHECKING:
@@ -63,92 +71,18 @@ log = logging.getLogger(__name__)
 Progress = Callable[[float, str], None]
 
 
-@dataclass(frozen=True)
-class Timing:
-    """Durations of the non-walking segments (s) and tolerances.
-
-    Attributes:
-        reach: hands from rest to the grip points.
-        tilt: inclining (and, at the end, setting down) the box.
-        release: hands from the grip points back to rest.
-        settle: standing still before the motion starts.
-        rotate_margin: the rotation of a pivot step starts this long after its segment start
-            and ends this long before its end.
-        min_rotate: duration of a pivot step that needs no footstep.
-        max_hand_error: a hand further than this from its grip point while holding fails (m).
-        max_steps: a transit walk is planned (and comes to rest) every this many steps.
-        follow_feet: a pivot's rotation progress is this share of how far the feet have
-            turned and the rest a minimum-jerk profile over the pivot's time (1: with the
-            feet, which the trunk and the shoulders follow, so that every link stays in the
-            planner's held body; 0 (smoother) let shoulders out by 34 mm on fig10).
-        pivot_walk_steps: pivot steps are walked continuously in walks of at most this
-            many steps (each comes to rest; the LIPM QP grows with the horizon).
-    """
-
-    reach: float = 1.5
-    tilt: float = 1.0
-    release: float = 1.5
-    settle: float = 0.3
-    rotate_margin: float = 0.3
-    min_rotate: float = 1.2
-    max_hand_error: float = 0.01
-    max_steps: int = 20
-    pivot_walk_steps: int = 24
-    follow_feet: float = 1.0
-
-
 @dataclass
-class GenerationStats:
-    """What a generation cost.
+class _HeldBox:
+    """The box while the hands hold it: its grasp frame ``G`` and tilt give its pose."""
 
-    Attributes:
-        duration: seconds of motion produced.
-        compute: wall-clock seconds spent.
-        ticks: solver ticks.
-        max_hand_error: largest hand-to-grip distance while holding (m).
-        max_hand_angle: largest angle between a hand's approach axis and its grip frame's
-            while holding (rad; the hand orientation is a low-weight task).
-    """
+    hold: BoxHold
+    grasp: int
+    G: np.ndarray
+    tilt: float = 0.0
 
-    duration: float = 0.0
-    compute: float = 0.0
-    ticks: int = 0
-    max_hand_error: float = 0.0
-    max_hand_angle: float = 0.0
-
-    @property
-    def real_time_factor(self) -> float:
-        """Seconds of motion per second of compute."""
-        return self.duration / self.compute if self.compute > 0 else math.inf
-
-
-def min_jerk(s: float) -> float:
-    """Minimum-jerk profile on [0, 1] (clipped)."""
-    s = min(1.0, max(0.0, s))
-    return s * s * s * (10.0 - 15.0 * s + 6.0 * s * s)
-
-
-def interpolate_frame(T0: np.ndarray, T1: np.ndarray, s: float) -> np.ndarray:
-    """Frame between ``T0`` (s=0) and ``T1`` (s=1): linear position, geodesic rotation."""
-    import pinocchio as pin
-
-    R = T0[:3, :3] @ pin.exp3(s * pin.log3(T0[:3, :3].T @ T1[:3, :3]))
-    return transform(R, (1 - s) * T0[:3, 3] + s * T1[:3, 3])
-
-
-@dataclass
-class _Recorder:
-    t: list[float] = field(default_factory=list)
-    q: list[np.ndarray] = field(default_factory=list)
-    box: list[np.ndarray] = field(default_factory=list)
-    com: list[np.ndarray] = field(default_factory=list)
-    zmp: list[np.ndarray] = field(default_factory=list)
-    support: list[int] = field(default_factory=list)
-    phase: list[int] = field(default_factory=list)
-    step: list[int] = field(default_factory=list)
-    holding: list[bool] = field(default_factory=list)
-    grasp: list[int] = field(default_factory=list)
-    tilt: list[float] = field(default_factory=list)
+    def T_world_box(self) -> np.ndarray:
+        """The box frame."""
+        return self.hold.T_world_box(self.G, self.grasp, self.tilt)
 
 
 class WholeBodyGenerator:
@@ -175,7 +109,7 @@ class WholeBodyGenerator:
         self.hold = BoxHold(tuple(plan.object_size), tilt=tilt)  # type: ignore[arg-type]
         self.progress = progress
         self.stats = GenerationStats()
-        self._rec = _Recorder()
+        self._rec = Recorder()
         self._t = 0.0
         self._phase = 0
         self._step = -1
@@ -198,7 +132,6 @@ class WholeBodyGenerator:
         except Exception as e:  # pragma: no cover - model/setup failure
             raise WholeBodyError(0, -1, f"cannot set up the PlaCo robot ({e})") from e
         self._box_T = self.hold.T_world_box(self.hold.T_world_G(plan.start, 0), 0, 0.0)
-        self._hands_world: tuple[np.ndarray, np.ndarray] | None = None
         units = sum(len(p.steps) + 2 if isinstance(p, TransferPhase) else 1
                     for p in plan.phases)
         self._units_total, self._units_done = max(units, 1), 0
@@ -214,7 +147,8 @@ class WholeBodyGenerator:
         self.stats.ticks = len(self._rec.t)
         self.stats.duration = self._rec.t[-1] - self._rec.t[0] if self._rec.t else 0.0
         self._report(1.0, "done")
-        return self._motion()
+        names = tuple(str(n) for n in self.walker.robot.model.names[2:])
+        return self._rec.motion(plan, self.hold, names)
 
     # -- bookkeeping --------------------------------------------------------------------
     def _report(self, fraction: float, label: str) -> None:
@@ -235,15 +169,18 @@ class WholeBodyGenerator:
 
     def _grip_hands(self, T_world_G: np.ndarray, grasp: int, tilt: float
                     ) -> tuple[np.ndarray, np.ndarray]:
-        Tt = T_world_G @ transform(self._rot_tilt(tilt), (0.0, 0.0, 0.0))
+        Tt = T_world_G @ transform(rot_y(-tilt), (0.0, 0.0, 0.0))
         left, right = self.hold.T_G_hands(grasp)
         return Tt @ left, Tt @ right
 
-    @staticmethod
-    def _rot_tilt(tilt: float) -> np.ndarray:
-        from pivot_ompl.wholebody.box import rot_y
-
-        return rot_y(-tilt)
+    def _move_box(self, held: _HeldBox, *, G: np.ndarray | None = None,
+                  tilt: float | None = None) -> None:
+        """Set the held box's grasp frame and/or tilt; the recorded box follows."""
+        if G is not None:
+            held.G = G
+        if tilt is not None:
+            held.tilt = tilt
+        self._box_T = held.T_world_box()
 
     # -- one tick -----------------------------------------------------------------------
     def _tick(self, traj, hands: tuple[np.ndarray, np.ndarray], *,  # noqa: ANN001
@@ -253,29 +190,13 @@ class WholeBodyGenerator:
         except SolverFailure as e:
             raise self._fail(f"infeasible QP at t = {self._t:.3f} s ({e})") from e
         if holding:
-            lh, rh = self.walker.hand_frames()
-            err = max(np.linalg.norm(lh[:3, 3] - hands[0][:3, 3]),
-                      np.linalg.norm(rh[:3, 3] - hands[1][:3, 3]))
-            self.stats.max_hand_error = max(self.stats.max_hand_error, float(err))
-            for T, target in zip((lh, rh), hands, strict=True):  # approach axes (hand -z)
-                c = float(np.clip(T[:3, 2] @ target[:3, 2], -1.0, 1.0))
-                self.stats.max_hand_angle = max(self.stats.max_hand_angle, math.acos(c))
+            err = self.stats.note_hands(self.walker.hand_frames(), hands)
             if err > self.timing.max_hand_error:
                 raise self._fail(f"unreachable grip: a hand is {100 * err:.1f} cm from its "
                                  f"grip point at t = {self._t:.3f} s")
-        r = self._rec
-        r.t.append(self._t)
-        r.q.append(self.walker.q())
-        T = self._box_T
-        r.box.append(np.concatenate([T[:3, 3], quat_xyzw(T[:3, :3])]))
-        r.com.append(self.walker.com())
-        r.zmp.append(zmp)
-        r.support.append(support)
-        r.phase.append(self._phase)
-        r.step.append(self._step if holding else -1)
-        r.holding.append(holding)
-        r.grasp.append(grasp if holding else -1)
-        r.tilt.append(tilt)
+        self._rec.record(self._t, self.walker.q(), self._box_T, self.walker.com(),
+                         Sample(support, zmp, self._phase, self._step if holding else -1,
+                                holding, grasp if holding else -1, tilt))
         self._t += self.settings.dt
 
     def _ticks(self, duration: float) -> int:
@@ -320,7 +241,7 @@ class WholeBodyGenerator:
         # a walk moving the box is planned in one piece (its rotation spans it); a transit is
         # cut into walks of at most max_steps steps (the LIPM QP grows with the horizon)
         size = len(footsteps) if each is not None else self.timing.max_steps
-        for chunk in self.walker.chunks(footsteps, size):
+        for chunk in chunks(footsteps, size):
             traj = self.walker.plan_walk(chunk, self._t)
             t0, t1 = traj.t_start, traj.t_end
             m = self.timing.rotate_margin
@@ -343,13 +264,8 @@ class WholeBodyGenerator:
             self._walk_to([phase.robot_start])
         G = hold.T_world_G(obj, k)
         theta = hold.tilt
-        robot_before = phase.robot_start
-        state: dict[str, Any] = {"G": G, "tilt": 0.0}
-
-        def set_box() -> None:
-            self._box_T = hold.T_world_box(state["G"], k, state["tilt"])
-
-        set_box()
+        held = _HeldBox(hold, k, G)
+        self._move_box(held)
         # reach
         start_hands = self._rest_hands()  # the current targets: no jump in the tasks
         goal = self._grip_hands(G, k, 0.0)
@@ -360,68 +276,48 @@ class WholeBodyGenerator:
 
         # tilt
         def tilt_each(s: float) -> None:
-            state["tilt"] = theta * min_jerk(s)
-            set_box()
+            self._move_box(held, tilt=theta * min_jerk(s))
 
         self._stand(tm.tilt, tilt_each, holding=True, grasp=k, tilt_of=lambda s: theta *
-                    min_jerk(s), hands_of=lambda s: self._grip_hands(state["G"], k,
-                                                                       state["tilt"]))
+                    min_jerk(s), hands_of=lambda s: self._grip_hands(held.G, k, held.tilt))
         # pivot steps: the plan is checked first, then walked in continuous walks
-        objs = [obj]
-        for j, step in enumerate(phase.steps):
-            corners = hold.pivot_corners(objs[-1], k)
-            piv = np.array([step.pivot[0], step.pivot[1], 0.0])
-            if min(np.linalg.norm(c - piv) for c in corners) > 1e-4:
-                raise InputError(f"phases[{i}].steps[{j}].pivot", step.pivot,
-                                 "is not an end corner of the supporting edge")
-            R = rotation_about_vertical(step.pivot, step.angle)
-            if np.abs(R @ hold.T_world_G(objs[-1], k) - hold.T_world_G(step.object, k)
-                      ).max() > 1e-4:
-                raise InputError(f"phases[{i}].steps[{j}].object", step.object,
-                                 "is not the previous pose rotated about the pivot")
-            objs.append(step.object)
-        robots = [robot_before, *(st.robot for st in phase.steps)]
+        check_pivot_steps(hold, phase, i)
+        robots = [phase.robot_start, *(st.robot for st in phase.steps)]
         j = 0
         while j < len(phase.steps):
-            n = self._pivot_walk(i, phase, j, robots, state, set_box)
+            n = self._pivot_walk(i, phase, j, robots, held)
             if n == 0:  # no continuous stepping for this pivot: step it alone
-                self._pivot_alone(i, phase, j, robots[j], state, set_box)
+                self._pivot_alone(i, phase, j, robots[j], held)
                 n = 1
             j += n
-            state["G"] = hold.T_world_G(phase.steps[j - 1].object, k)
-            set_box()
+            self._move_box(held, G=hold.T_world_G(phase.steps[j - 1].object, k))
         obj = phase.steps[-1].object if phase.steps else obj
         self._step = -1
 
         # set down, release
         def untilt_each(s: float) -> None:
-            state["tilt"] = theta * (1.0 - min_jerk(s))
-            set_box()
+            self._move_box(held, tilt=theta * (1.0 - min_jerk(s)))
 
         self._stand(tm.tilt, untilt_each, holding=True, grasp=k,
                     tilt_of=lambda s: theta * (1.0 - min_jerk(s)),
-                    hands_of=lambda s: self._grip_hands(state["G"], k, state["tilt"]))
-        grip = self._grip_hands(state["G"], k, 0.0)
+                    hands_of=lambda s: self._grip_hands(held.G, k, held.tilt))
+        grip = self._grip_hands(held.G, k, 0.0)
         self._stand(tm.release, lambda s: None, hands_of=lambda s: (
             interpolate_frame(grip[0], self._rest_hands()[0], min_jerk(s)),
             interpolate_frame(grip[1], self._rest_hands()[1], min_jerk(s))))
         self._unit_done(f"phase {i}: release")
         return obj
 
-    def _pivot_arc(self, before: Pose, step: TransferStep, n: int = 8) -> list[Pose]:
-        """The robot's attached pose turning about the pivot with the box (``n`` pieces)."""
-        return [rotate_about(before, step.pivot, step.angle * u / n) for u in range(n + 1)]
-
-    def _rotation(self, step: TransferStep, G0: np.ndarray, state: dict[str, Any],
-                  set_box: Callable[[], None]) -> Callable[[float], None]:
+    def _rotation(self, step: TransferStep, G0: np.ndarray,
+                  held: _HeldBox) -> Callable[[float], None]:
         """``each(s)``: the box turned by the step's angle times min_jerk(s) from ``G0``."""
         def each(s: float) -> None:
-            state["G"] = rotation_about_vertical(step.pivot, step.angle * min_jerk(s)) @ G0
-            set_box()
+            self._move_box(held, G=rotation_about_vertical(step.pivot,
+                                                           step.angle * min_jerk(s)) @ G0)
         return each
 
     def _pivot_alone(self, i: int, phase: TransferPhase, j: int, before: Pose,
-                     state: dict[str, Any], set_box: Callable[[], None]) -> None:
+                     held: _HeldBox) -> None:
         """Pivot step ``j`` as a walk of its own along its arc (or standing, if no step)."""
         k, theta = phase.grasp, self.hold.tilt
         step = phase.steps[j]
@@ -429,31 +325,13 @@ class WholeBodyGenerator:
         arc = [rotate_about(before, step.pivot, step.angle * u)
                for u in (0.25, 0.5, 0.75)] + [step.robot]
         self._walk_to(arc, holding=True, grasp=k, tilt=theta,
-                      each=self._rotation(step, state["G"], state, set_box),
-                      hands_of=lambda: self._grip_hands(state["G"], k, theta),
+                      each=self._rotation(step, held.G, held),
+                      hands_of=lambda: self._grip_hands(held.G, k, theta),
                       follow_path=True)
         self._unit_done(f"phase {i}: pivot {j + 1}/{len(phase.steps)}")
 
-    def _turn_progress(self, traj, before: Pose, step: TransferStep,  # noqa: ANN001
-                       s: float) -> float:
-        """How far (0..1) the box has turned at this tick of a pivot step.
-
-        A share :attr:`Timing.follow_feet` follows the planned feet: their mean yaw (which
-        the trunk, and so the shoulders, follow) measured from ``before`` towards the step's
-        end; the rest is a minimum-jerk profile over the pivot's time ``s``. A step of
-        (almost) no angle turns in time only.
-        """
-        if abs(step.angle) < 1e-3:
-            return min_jerk(s)
-        left = planar(np.array(traj.get_T_world_left(self._t)))[2]
-        right = planar(np.array(traj.get_T_world_right(self._t)))[2]
-        yaw = left + 0.5 * wrap_angle(right - left)
-        feet = min(1.0, max(0.0, wrap_angle(yaw - before[2]) / step.angle))
-        w = self.timing.follow_feet
-        return w * feet + (1.0 - w) * min_jerk(s)
-
     def _pivot_walk(self, i: int, phase: TransferPhase, j0: int, robots: list[Pose],
-                    state: dict[str, Any], set_box: Callable[[], None]) -> int:
+                    held: _HeldBox) -> int:
         """Pivot steps ``j0, j0 + 1, ...`` in one continuous walk; return how many.
 
         The footsteps of each pivot come from :func:`.footsteps.pivot_footsteps` (two or
@@ -465,41 +343,16 @@ class WholeBodyGenerator:
         rotation starts with its first step). Returns 0 when
         pivot ``j0`` needs no step or cannot be stepped so (the caller steps it alone).
         """
-        walker, tm, hold = self.walker, self.timing, self.hold
+        walker, hold = self.walker, self.hold
         k, theta = phase.grasp, hold.tilt
-        feet = (walker.T_left, walker.T_right)
-        fly: bool | None = None
-        footsteps: list = []
-        last: list[int] = []  # index in footsteps of each pivot's last landing
-        j = j0
-        while j < len(phase.steps):
-            fs = walker.pivot_footsteps(self._pivot_arc(robots[j], phase.steps[j]),
-                                        feet=feet, fly_left=fly)
-            if not fs or (footsteps and len(footsteps) + len(fs) - 4 > tm.pivot_walk_steps):
-                break
-            footsteps = fs if not footsteps else footsteps + fs[2:]
-            last.append(len(footsteps) - 1)
-            left = [np.array(f.frame) for f in fs if str(f.side) == "left"]
-            right = [np.array(f.frame) for f in fs if str(f.side) == "right"]
-            feet = (left[-1], right[-1])
-            fly = str(fs[-1].side) != "left"
-            j += 1
+        footsteps, last = chain_pivot_footsteps(walker, phase, j0, robots,
+                                                max_steps=self.timing.pivot_walk_steps)
         if not last:
             return 0
         t0 = self._t
         traj = walker.plan_walk(footsteps, t0)
-        supports = traj.get_supports()
-        ends = []
-        for n in last:  # the double support after landing footstep n is support 2 (n - 1)
-            a = 2 * (n - 1)
-            t_a = supports[a].t_start
-            t_b = supports[a + 1].t_start if a + 1 < len(supports) else traj.t_end
-            ends.append(int(round((0.5 * (t_a + t_b) - t0) / self.settings.dt)))
+        starts, ends = rotation_windows(traj, last, t0, self.settings.dt)
         total = self._ticks(traj.t_end - t0)
-        # the first rotation waits for the walk's first step (the body does not follow the
-        # box while the CoM shifts in the starting double support)
-        first = int(round((supports[1].t_start - t0) / self.settings.dt))
-        starts = [min(first, ends[0] - 1), *ends[:-1]]
         G0: np.ndarray | None = None
         p, u = 0, 0.0
         for tick in range(total):
@@ -510,16 +363,16 @@ class WholeBodyGenerator:
             step = phase.steps[j0 + p]
             if G0 is None:
                 self._step = j0 + p
-                G0 = hold.T_world_G(_object_before(phase, j0 + p), k)
+                G0 = hold.T_world_G(object_before(phase, j0 + p), k)
                 u = 0.0
             if tick >= ends[p]:
                 u = 1.0
             elif tick > starts[p]:
-                u = max(u, self._turn_progress(traj, robots[j0 + p], step,
-                                               (tick - starts[p]) / (ends[p] - starts[p])))
-            state["G"] = rotation_about_vertical(step.pivot, step.angle * u) @ G0
-            set_box()
-            self._tick(traj, self._grip_hands(state["G"], k, theta), holding=True, grasp=k,
+                u = max(u, turn_progress(traj, self._t, robots[j0 + p], step,
+                                          (tick - starts[p]) / (ends[p] - starts[p]),
+                                          follow_feet=self.timing.follow_feet))
+            self._move_box(held, G=rotation_about_vertical(step.pivot, step.angle * u) @ G0)
+            self._tick(traj, self._grip_hands(held.G, k, theta), holding=True, grasp=k,
                        tilt=theta)
         self._unit_done(f"phase {i}: pivot {j0 + len(last)}/{len(phase.steps)}")
         walker.stand()
@@ -529,28 +382,6 @@ class WholeBodyGenerator:
         self._box_T = self.hold.T_world_box(self.hold.T_world_G(obj, 0), 0, 0.0)
         self._walk_to(list(phase.robot_path), follow_path=True)
         self._unit_done(f"phase {i}: transit")
-
-    # -- output -------------------------------------------------------------------------
-    def _motion(self) -> Motion:
-        r = self._rec
-        names = tuple(str(n) for n in self.walker.robot.model.names[2:])
-        grip = np.zeros((4, 2, 3))
-        for k in range(4):
-            left, right = self.hold.T_box_hands(k)
-            grip[k, 0], grip[k, 1] = left[:3, 3], right[:3, 3]
-        return Motion(
-            t=np.array(r.t), q=np.array(r.q), joint_names=names, urdf=URDF_RELPATH,
-            box=np.array(r.box), com=np.array(r.com), zmp=np.array(r.zmp),
-            support=np.array(r.support, dtype=int), phase=np.array(r.phase, dtype=int),
-            step=np.array(r.step, dtype=int), holding=np.array(r.holding, dtype=bool),
-            grasp=np.array(r.grasp, dtype=int), tilt=np.array(r.tilt),
-            box_size=tuple(float(x) for x in self.plan.object_size),  # type: ignore[arg-type]
-            grip_box=grip, sole_size=SOLE_SIZE, scene=self.plan.scene)
-
-
-def _object_before(phase: TransferPhase, j: int) -> Pose:
-    """Object pose before pivot step ``j`` of ``phase``."""
-    return phase.object_start if j == 0 else phase.steps[j - 1].object
 
 
 def generate_motion(plan: Plan, *, walk: WalkParameters | None = None,

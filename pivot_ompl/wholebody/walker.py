@@ -58,27 +58,7 @@ class PlacoWalker:
         self.settings = s = settings
         robot = placo.HumanoidRobot(str(urdf_path()), placo.Flags.ignore_collisions)
         self.robot = robot
-        P = placo.HumanoidParameters()
-        P.single_support_duration = s.single_support_duration
-        P.single_support_timesteps = s.single_support_timesteps
-        P.double_support_ratio = s.double_support_ratio
-        P.startend_double_support_ratio = s.startend_double_support_ratio
-        P.planned_timesteps = 10_000
-        P.walk_com_height = s.com_height
-        P.walk_foot_height = s.foot_height
-        P.walk_trunk_pitch = 0.0
-        P.walk_foot_rise_ratio = 0.2
-        P.foot_length = SOLE_SIZE[0]
-        P.foot_width = SOLE_SIZE[1]
-        P.feet_spacing = s.feet_spacing
-        P.zmp_margin = s.zmp_margin
-        P.foot_zmp_target_x = 0.0
-        P.foot_zmp_target_y = 0.0
-        P.walk_max_dtheta = s.max_dtheta
-        P.walk_max_dy = s.max_dy
-        P.walk_max_dx_forward = s.max_dx_forward
-        P.walk_max_dx_backward = s.max_dx_backward
-        self.params = P
+        self.params = humanoid_parameters(settings)
 
         solver = placo.KinematicsSolver(robot)
         solver.dt = s.dt
@@ -111,18 +91,35 @@ class PlacoWalker:
         solver.add_regularization_task(1e-6)
 
         self._place(start)
-        T_l = robot.get_T_world_frame("left_hand")
-        T_r = robot.get_T_world_frame("right_hand")
-        self.left_hand = solver.add_frame_task("left_hand", T_l)
+        self._add_hand_tasks()
+        self._settle()
+
+    #: Unrecorded standing time after set-up (s).
+    PRESETTLE = 0.5
+
+    def _add_hand_tasks(self) -> None:
+        """Soft frame tasks of both hands (at their current frames) and between them."""
+        s = self.settings
+        T_l = self.robot.get_T_world_frame("left_hand")
+        T_r = self.robot.get_T_world_frame("right_hand")
+        self.left_hand = self.solver.add_frame_task("left_hand", T_l)
         self.left_hand.configure("left_hand", "soft", s.hand_position_weight,
                                  s.hand_orientation_weight)
-        self.right_hand = solver.add_frame_task("right_hand", T_r)
+        self.right_hand = self.solver.add_frame_task("right_hand", T_r)
         self.right_hand.configure("right_hand", "soft", s.hand_position_weight,
                                   s.hand_orientation_weight)
-        self.hands = solver.add_relative_frame_task("left_hand", "right_hand",
+        self.hands = self.solver.add_relative_frame_task("left_hand", "right_hand",
                                                     np.linalg.inv(T_l) @ T_r)
         self.hands.configure("hands", "soft", s.relative_weight, s.relative_orientation_weight)
-        # settle: the limits and posture tasks move the initial posture a little; let that
+
+    def _settle(self) -> None:
+        """Stand still, unrecorded, until the posture is at rest (see :attr:`PRESETTLE`).
+
+        Also measures :attr:`rest_hands`, the rest hand frames relative to the trunk.
+        """
+        s = self.settings
+        T_l, T_r = self.hand_frames()
+        # the limits and posture tasks move the initial posture a little; let that
         # happen before anything is recorded, then settle again with the rest hand targets
         # that the generator uses (trunk-relative), so the first recorded tick is at rest
         self.stand()
@@ -137,9 +134,6 @@ class PlacoWalker:
             T = self.trunk_frame()
             self.tick(0.0, None, T @ self.rest_hands[0], T @ self.rest_hands[1])
         self.stand()
-
-    #: Unrecorded standing time after set-up (s).
-    PRESETTLE = 0.5
 
     # -- placement ----------------------------------------------------------------------
     def feet_frames(self, pose: Pose) -> tuple[np.ndarray, np.ndarray]:
@@ -212,34 +206,27 @@ class PlacoWalker:
         placo = self._placo
         planner = placo.FootstepsPlannerNaive(self.params)
         T_l, T_r = self.T_left, self.T_right
-        footsteps: list = []
+        steps: list = []
         last_side = None
         for pose in targets:
             want_l, want_r = self.feet_frames(pose)
             if (np.allclose(want_l, T_l, atol=1e-4) and np.allclose(want_r, T_r, atol=1e-4)):
                 continue
-            if last_side is None:
-                cur = self._inv_pose(0.5 * (T_l + T_r), planar(T_l)[2])
-                local = cur @ np.array([pose[0], pose[1], 0.0, 1.0])
-                dyaw = wrap_angle(pose[2] - planar(T_l)[2])
-                left_first = local[1] > 1e-3 or (abs(local[1]) <= 1e-3 and dyaw >= 0)
-                side = placo.HumanoidRobot_Side.left if left_first else \
-                    placo.HumanoidRobot_Side.right
-            else:
-                side = (placo.HumanoidRobot_Side.right if last_side == "left"
-                        else placo.HumanoidRobot_Side.left)
+            left = (footsteps.left_flies_first(T_l, T_r, pose) if last_side is None
+                    else last_side != "left")
+            side = placo.HumanoidRobot_Side.left if left else placo.HumanoidRobot_Side.right
             planner.configure(want_l, want_r)
             fs = list(planner.plan(side, T_l, T_r))
             if len(fs) <= 2:
                 continue
-            footsteps.extend(fs if not footsteps else fs[2:])
+            steps.extend(fs if not steps else fs[2:])
             for f in fs[2:]:
                 if str(f.side) == "left":
                     T_l = np.array(f.frame)
                 else:
                     T_r = np.array(f.frame)
             last_side = str(fs[-1].side)
-        return footsteps if len(footsteps) > 2 else []
+        return steps if len(steps) > 2 else []
 
     def path_footsteps(self, path: list[Pose], *, resolution: float = 0.01,
                        path_tol: float = 0.015) -> list:
@@ -272,19 +259,6 @@ class PlacoWalker:
         f.frame = frame
         return f
 
-    @staticmethod
-    def chunks(footsteps: list, max_steps: int) -> list[list]:
-        """Split footsteps into walks of at most ``max_steps`` steps.
-
-        Each walk is led by its two current feet and starts and ends at rest.
-        """
-        moves = len(footsteps) - 2
-        out = []
-        for a in range(0, moves, max_steps):
-            b = min(moves, a + max_steps)
-            out.append(footsteps[a:b + 2])
-        return out
-
     def plan_walk(self, footsteps: list, t0: float):  # noqa: ANN201 - placo type
         """LIPM/ZMP trajectory of a walk (footsteps led by the two current feet) from ``t0``.
 
@@ -301,11 +275,6 @@ class PlacoWalker:
             else:
                 self.T_right = np.array(f.frame)
         return traj
-
-    @staticmethod
-    def _inv_pose(T: np.ndarray, yaw: float) -> np.ndarray:
-        M = pose_matrix(T[0, 3], T[1, 3], yaw)
-        return np.linalg.inv(M)
 
     # -- one tick -----------------------------------------------------------------------
     def tick(self, t: float, traj, T_left_hand: np.ndarray,  # noqa: ANN001
@@ -373,3 +342,30 @@ class PlacoWalker:
         s = self.settings
         return s.single_support_duration / s.single_support_timesteps + 2.5 * s.dt
 
+
+def humanoid_parameters(settings: WalkSettings):  # noqa: ANN201 - a placo.HumanoidParameters
+    """PlaCo's walk parameters from ``settings`` (HRP-2's sole, no trunk pitch)."""
+    import placo
+
+    s = settings
+    P = placo.HumanoidParameters()
+    P.single_support_duration = s.single_support_duration
+    P.single_support_timesteps = s.single_support_timesteps
+    P.double_support_ratio = s.double_support_ratio
+    P.startend_double_support_ratio = s.startend_double_support_ratio
+    P.planned_timesteps = 10_000
+    P.walk_com_height = s.com_height
+    P.walk_foot_height = s.foot_height
+    P.walk_trunk_pitch = 0.0
+    P.walk_foot_rise_ratio = 0.2
+    P.foot_length = SOLE_SIZE[0]
+    P.foot_width = SOLE_SIZE[1]
+    P.feet_spacing = s.feet_spacing
+    P.zmp_margin = s.zmp_margin
+    P.foot_zmp_target_x = 0.0
+    P.foot_zmp_target_y = 0.0
+    P.walk_max_dtheta = s.max_dtheta
+    P.walk_max_dy = s.max_dy
+    P.walk_max_dx_forward = s.max_dx_forward
+    P.walk_max_dx_backward = s.max_dx_backward
+    return P

@@ -13,7 +13,9 @@ from pivot_ompl.scene import WalkParameters
 from pivot_ompl.se2 import Pose, rotate_about
 from pivot_ompl.wholebody.footsteps import (
     Footstep,
+    chunks,
     feet_frames,
+    left_flies_first,
     path_footsteps,
     pivot_footsteps,
     planar,
@@ -122,3 +124,24 @@ def test_no_pivot_step_when_the_feet_stand_at_the_end():
     s = WalkSettings()
     pose = (1.0, 2.0, 0.3)
     assert pivot_footsteps([pose, pose], feet=feet_frames(pose, s), settings=s) == []
+
+
+@settings(max_examples=30, deadline=None)
+@given(moves=st.integers(1, 60), max_steps=st.integers(1, 25))
+def test_chunks_are_walks_of_at_most_max_steps_led_by_their_current_feet(moves, max_steps):
+    steps = list(range(moves + 2))  # two current feet, then the moves
+    walks = chunks(steps, max_steps)
+    assert all(1 <= len(w) - 2 <= max_steps for w in walks)
+    assert walks[0][:2] == [0, 1]
+    for a, b in zip(walks, walks[1:], strict=False):
+        assert b[:2] == a[-2:]  # a walk starts from the feet the last one ended on
+    assert [m for w in walks for m in w[2:]] == steps[2:]
+
+
+def test_left_foot_leads_towards_the_left_or_a_left_turn():
+    s = WalkSettings()
+    T_l, T_r = feet_frames((0.0, 0.0, 0.0), s)
+    assert left_flies_first(T_l, T_r, (0.0, 0.3, 0.0))
+    assert not left_flies_first(T_l, T_r, (0.0, -0.3, 0.0))
+    assert left_flies_first(T_l, T_r, (0.5, 0.0, 0.2))
+    assert not left_flies_first(T_l, T_r, (0.5, 0.0, -0.2))

@@ -1,0 +1,119 @@
+"""The samples a whole-body generation records, and what the generation cost."""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pivot_ompl.hrp2 import SOLE_SIZE, URDF_RELPATH
+from pivot_ompl.motionfile import Motion
+from pivot_ompl.planfile import Plan
+from pivot_ompl.wholebody.box import BoxHold, quat_xyzw
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class GenerationStats:
+    """What a generation cost.
+
+    Attributes:
+        duration: seconds of motion produced.
+        compute: wall-clock seconds spent.
+        ticks: solver ticks.
+        max_hand_error: largest hand-to-grip distance while holding (m).
+        max_hand_angle: largest angle between a hand's approach axis and its grip frame's
+            while holding (rad; the hand orientation is a low-weight task).
+    """
+
+    duration: float = 0.0
+    compute: float = 0.0
+    ticks: int = 0
+    max_hand_error: float = 0.0
+    max_hand_angle: float = 0.0
+
+    def note_hands(self, frames: tuple[np.ndarray, np.ndarray],
+                   targets: tuple[np.ndarray, np.ndarray]) -> float:
+        """Count the hand frames (left, right) against their grip targets; return the error.
+
+        The error is the larger hand-to-grip distance (m); the approach axes (hand -z) give
+        the angle.
+        """
+        err = max(float(np.linalg.norm(T[:3, 3] - g[:3, 3]))
+                  for T, g in zip(frames, targets, strict=True))
+        self.max_hand_error = max(self.max_hand_error, err)
+        for T, g in zip(frames, targets, strict=True):
+            c = float(np.clip(T[:3, 2] @ g[:3, 2], -1.0, 1.0))
+            self.max_hand_angle = max(self.max_hand_angle, math.acos(c))
+        return err
+
+    @property
+    def real_time_factor(self) -> float:
+        """Seconds of motion per second of compute."""
+        return self.duration / self.compute if self.compute > 0 else math.inf
+
+
+@dataclass(frozen=True)
+class Sample:
+    """What one solver tick records besides the robot's state.
+
+    Attributes:
+        support: support code (0 double, 1 left, 2 right).
+        zmp: planned ZMP (x, y).
+        phase: plan phase index.
+        step: pivot step index while holding (else -1).
+        holding: the hands hold the box.
+        grasp: grasp index while holding (else -1).
+        tilt: box inclination (rad).
+    """
+
+    support: int
+    zmp: np.ndarray
+    phase: int
+    step: int
+    holding: bool
+    grasp: int
+    tilt: float
+
+
+@dataclass
+class Recorder:
+    """Per-sample lists of a motion being generated."""
+
+    t: list[float] = field(default_factory=list)
+    q: list[np.ndarray] = field(default_factory=list)
+    box: list[np.ndarray] = field(default_factory=list)
+    com: list[np.ndarray] = field(default_factory=list)
+    samples: list[Sample] = field(default_factory=list)
+
+    def record(self, t: float, q: np.ndarray, box_T: np.ndarray, com: np.ndarray,
+               sample: Sample) -> None:
+        """Append one tick: time, configuration, box frame (4x4), CoM and the rest."""
+        self.t.append(t)
+        self.q.append(q)
+        self.box.append(np.concatenate([box_T[:3, 3], quat_xyzw(box_T[:3, :3])]))
+        self.com.append(com)
+        self.samples.append(sample)
+
+    def motion(self, plan: Plan, hold: BoxHold, joint_names: tuple[str, ...]) -> Motion:
+        """The recorded motion of ``plan`` (box and grips of ``hold``)."""
+        grip = np.zeros((4, 2, 3))
+        for k in range(4):
+            left, right = hold.T_box_hands(k)
+            grip[k, 0], grip[k, 1] = left[:3, 3], right[:3, 3]
+        ss = self.samples
+        return Motion(
+            t=np.array(self.t), q=np.array(self.q), joint_names=joint_names,
+            urdf=URDF_RELPATH, box=np.array(self.box), com=np.array(self.com),
+            zmp=np.array([s.zmp for s in ss]),
+            support=np.array([s.support for s in ss], dtype=int),
+            phase=np.array([s.phase for s in ss], dtype=int),
+            step=np.array([s.step for s in ss], dtype=int),
+            holding=np.array([s.holding for s in ss], dtype=bool),
+            grasp=np.array([s.grasp for s in ss], dtype=int),
+            tilt=np.array([s.tilt for s in ss]),
+            box_size=tuple(float(x) for x in plan.object_size),  # type: ignore[arg-type]
+            grip_box=grip, sole_size=SOLE_SIZE, scene=plan.scene)

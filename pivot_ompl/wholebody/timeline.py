@@ -1,0 +1,60 @@
+"""Segment durations and tolerances of the whole-body timeline, and its smooth profiles."""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+import numpy as np
+
+from pivot_ompl.wholebody.box import transform
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class Timing:
+    """Durations of the non-walking segments (s) and tolerances.
+
+    Attributes:
+        reach: hands from rest to the grip points.
+        tilt: inclining (and, at the end, setting down) the box.
+        release: hands from the grip points back to rest.
+        settle: standing still before the motion starts.
+        rotate_margin: the rotation of a pivot step starts this long after its segment start
+            and ends this long before its end.
+        min_rotate: duration of a pivot step that needs no footstep.
+        max_hand_error: a hand further than this from its grip point while holding fails (m).
+        max_steps: a transit walk is planned (and comes to rest) every this many steps.
+        follow_feet: a pivot's rotation progress is this share of how far the feet have
+            turned and the rest a minimum-jerk profile over the pivot's time (1: with the
+            feet, which the trunk and the shoulders follow, so that every link stays in the
+            planner's held body; 0 (smoother) let shoulders out by 34 mm on fig10).
+        pivot_walk_steps: pivot steps are walked continuously in walks of at most this
+            many steps (each comes to rest; the LIPM QP grows with the horizon).
+    """
+
+    reach: float = 1.5
+    tilt: float = 1.0
+    release: float = 1.5
+    settle: float = 0.3
+    rotate_margin: float = 0.3
+    min_rotate: float = 1.2
+    max_hand_error: float = 0.01
+    max_steps: int = 20
+    pivot_walk_steps: int = 24
+    follow_feet: float = 1.0
+
+
+def min_jerk(s: float) -> float:
+    """Minimum-jerk profile on [0, 1] (clipped)."""
+    s = min(1.0, max(0.0, s))
+    return s * s * s * (10.0 - 15.0 * s + 6.0 * s * s)
+
+
+def interpolate_frame(T0: np.ndarray, T1: np.ndarray, s: float) -> np.ndarray:
+    """Frame between ``T0`` (s=0) and ``T1`` (s=1): linear position, geodesic rotation."""
+    import pinocchio as pin
+
+    R = T0[:3, :3] @ pin.exp3(s * pin.log3(T0[:3, :3].T @ T1[:3, :3]))
+    return transform(R, (1 - s) * T0[:3, 3] + s * T1[:3, 3])
