@@ -52,7 +52,7 @@ def main() -> None:
                 continue
             plan = res.plan
             t0 = time.perf_counter()
-            motion, stats = generate_motion(plan)
+            motion, stats = generate_motion(plan, walk=scene.walk)
             gen = time.perf_counter() - t0
             rep = obstacle_clearance(motion, scene)
             if args.keep:
