@@ -60,6 +60,8 @@ class WalkSettings:
         foot_dtheta: largest yaw between the two feet (rad; 0.40 rad is split between the
             two hip yaw joints, each limited to 30 deg inward).
         sole_gap: least gap between the two sole rectangles (m).
+        upper_accel: the largest deceleration of an arm, chest or head joint towards its
+            position limit (rad/s², :class:`~pivot_ompl.wholebody.joint_damper.JointDamper`).
     """
 
     dt: float = 0.005
@@ -85,6 +87,7 @@ class WalkSettings:
     foot_dy_in: float = 0.03
     foot_dtheta: float = FOOT_DTHETA
     sole_gap: float = 0.02
+    upper_accel: float = 20.0
 
     @property
     def omega(self) -> float:

@@ -25,6 +25,7 @@ from pivot_ompl.se2 import Pose, wrap_angle
 from pivot_ompl.wholebody import footsteps
 from pivot_ompl.wholebody.box import rot_z
 from pivot_ompl.wholebody.footsteps import planar, pose_matrix
+from pivot_ompl.wholebody.joint_damper import JointDamper
 from pivot_ompl.wholebody.settings import WalkSettings
 
 __all__ = ["PlacoWalker", "SolverFailure", "WalkSettings", "planar", "pose_matrix"]
@@ -89,6 +90,10 @@ class PlacoWalker:
         leg_posture.set_joints(legs)
         leg_posture.configure("leg_posture", "soft", 1e-5)
         solver.add_regularization_task(1e-6)
+        #: the arms, chest and head brake before their limits (they follow the box)
+        upper = [j for j in UPPER_POSTURE if j in robot.joint_names()]
+        self.damper = JointDamper(robot, upper, accel=s.upper_accel, dt=s.dt,
+                                  smooth=[j for j in upper if "ARM" in j])
 
         self._place(start)
         self._add_hand_tasks()
@@ -292,6 +297,7 @@ class PlacoWalker:
             self.tasks.update_tasks_from_trajectory(traj, t)
             held = self._delay_lift_off(traj, t)
         self.robot.update_kinematics()
+        self.damper.apply()
         try:
             self.solver.solve(True)
         except Exception as e:  # placo raises QPError / RuntimeError from C++
