@@ -55,9 +55,15 @@ def plan_figure(plan: Plan, *, scene: Scene | None = None, search: Any = None,
     ax.autoscale_view()
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
-    ax.set_title(title or f"{plan.scene}: {plan.pivots} pivots, {plan.regrasps} regrasps "
-                 f"({plan.status})")
-    ax.legend(loc="upper right", fontsize=7, framealpha=0.85)
+    reached = "reaches the goal" if plan.status == "exact" else f"status {plan.status}"
+    ax.set_title(title or f"{plan.scene}: {plan.pivots} pivots, {plan.regrasps} regrasps, "
+                 f"{reached}")
+    handles, labels = ax.get_legend_handles_labels()
+    order = sorted(range(len(labels)), key=lambda i: (labels[i].startswith("path, grasp"),
+                                                      labels[i]))
+    # beside the floor, never over it (the goal, the labels)
+    ax.legend([handles[i] for i in order], [labels[i] for i in order], loc="upper left",
+              bbox_to_anchor=(1.01, 1.0), fontsize=7, framealpha=0.85)
     return fig
 
 
@@ -92,7 +98,7 @@ def _draw_plan(ax: Any, plan: Plan, model: BoxGraspModel) -> None:
                          zorder=5, label=once("start")))
     end = plan.object_end
     ax.add_patch(Polygon(model.object_corners(end), fill=False, ec="black", lw=2.0, ls="--",
-                         zorder=5, label=once("end")))
+                         zorder=5, label=once("goal")))
     k_rg = 0
     for ph in plan.phases:
         if isinstance(ph, TransferPhase):
@@ -103,9 +109,9 @@ def _draw_plan(ax: Any, plan: Plan, model: BoxGraspModel) -> None:
             poses = [ph.object_start] + [s.object for s in ph.steps]
             cars = [model.car_pose(p, ph.grasp) for p in poses]
             ax.plot([q[0] for q in cars], [q[1] for q in cars], "-", c=c, lw=2.2, zorder=4,
-                    label=once(f"path, grasp {ph.grasp}"))
+                    label=once(f"path, grasp {ph.grasp} (supporting edge's centre)"))
             ax.plot([s.pivot[0] for s in ph.steps], [s.pivot[1] for s in ph.steps], ".", c=c,
-                    ms=4, zorder=4)
+                    ms=4, zorder=4, label=once("pivot corners"))
             length = sum(((b[0] - a[0]) ** 2 + (b[1] - a[1]) ** 2) ** 0.5
                          for a, b in zip(cars, cars[1:], strict=False))
             n = max(2, int(length * FOOTPRINTS_PER_M) + 1)
