@@ -1,4 +1,4 @@
-"""What the benchmark scripts share: writing their figures as JSON."""
+"""What the benchmark scripts share: scenes named on the command line, figures as JSON."""
 
 from __future__ import annotations
 
@@ -26,3 +26,28 @@ def write_json(res: dict[str, Any], out: str | Path) -> Path:
     path.write_text(json.dumps(_finite(res), indent=1, default=float, allow_nan=False) + "\n")
     print(f"written {path}")
     return path
+
+
+def scene_from_spec(spec: str):  # noqa: ANN201 (a Scene of whichever package version runs)
+    """A scene file or shipped scene's name, or ``gen:FAMILY:SEED[:NAME=VALUE...]``.
+
+    The generated form takes ``GeneratorParams`` fields (``gen:walls:1:walls=2``,
+    ``gen:building:0:rooms=3``).
+    """
+    import dataclasses
+
+    from pivot_ompl.generate import GeneratorParams, generate
+    from pivot_ompl.scene import load_scene
+
+    if not spec.startswith("gen:"):
+        return load_scene(spec)
+    _, family, seed, *pairs = spec.split(":")
+    fields = {f.name for f in dataclasses.fields(GeneratorParams)}
+    values: dict[str, Any] = {}
+    for pair in pairs:
+        key, value = pair.split("=", 1)
+        if key not in fields:
+            raise SystemExit(f"{spec}: no generator parameter {key!r}")
+        values[key] = value if key == "layout" else (
+            int(value) if key in ("walls", "rooms") else float(value))
+    return generate(family, int(seed), params=GeneratorParams(**values)).scene

@@ -47,36 +47,19 @@ def variant(name: str):  # noqa: ANN201 (a Scene of whichever package version ru
     The copies are :mod:`pivot_ompl.generate`'s: the old floor kept as walls round it,
     ``mirror`` reflected in the line at 0.3 rad through the room's centre.
     """
+    from common import scene_from_spec
+
     from pivot_ompl.generate import mirror_scene, rotate_scene
     from pivot_ompl.scene import load_scene
 
-    if name.startswith("gen:"):
-        return _generated(name)
+    if name not in ("fig10", "rot30", "mirror"):
+        return scene_from_spec(name)  # a shipped or generated scene
     base = load_scene("fig10")
     if name == "fig10":
         return base
     if name == "rot30":
         return rotate_scene(base, math.radians(30.0), name="fig10_rot30")
-    if name == "mirror":
-        return mirror_scene(base, 0.3, name="fig10_mirror")
-    return load_scene(name)  # a shipped scene
-
-
-def _generated(spec: str):  # noqa: ANN202
-    """``gen:FAMILY:SEED[:NAME=VALUE...]``: a generated scene."""
-    import dataclasses
-
-    from pivot_ompl.generate import GeneratorParams, generate
-
-    _, family, seed, *pairs = spec.split(":")
-    fields = {f.name: f.type for f in dataclasses.fields(GeneratorParams)}
-    values: dict[str, Any] = {}
-    for pair in pairs:
-        key, value = pair.split("=", 1)
-        values[key] = value if key == "layout" else (
-            int(value) if key in ("walls", "rooms") else float(value))
-        assert key in fields, key
-    return generate(family, int(seed), params=GeneratorParams(**values)).scene
+    return mirror_scene(base, 0.3, name="fig10_mirror")
 
 
 # -- worker: plans jobs read from stdin with whichever package is on its path ------------

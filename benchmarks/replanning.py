@@ -28,16 +28,6 @@ from typing import Any
 HERE = Path(__file__).resolve()
 
 
-def _scene(name: str):  # noqa: ANN202
-    from pivot_ompl.generate import GeneratorParams, generate
-    from pivot_ompl.scene import load_scene
-
-    if name.startswith("gen:"):
-        _, family, seed = name.split(":")
-        return generate(family, int(seed), params=GeneratorParams()).scene
-    return load_scene(name)
-
-
 def _points(plan: Any, n: int) -> list[tuple[tuple[float, float, float], int]]:
     from pivot_ompl.planfile import TransferPhase
 
@@ -69,7 +59,7 @@ def main() -> None:
     ap.add_argument("--out", default="results/replanning.json")
     args = ap.parse_args()
     sys.path[:0] = [str(HERE.parent)]
-    from common import write_json
+    from common import scene_from_spec, write_json
     from ompl import util as ou
 
     from pivot_ompl.errors import PlanningError
@@ -78,7 +68,7 @@ def main() -> None:
     ou.setLogLevel(ou.LOG_ERROR)
     rows: list[dict[str, Any]] = []
     for name in args.scenes.split(","):
-        base = _scene(name)
+        base = scene_from_spec(name)
         first = PlanningSession(base, seed=0).plan(time_limit=args.time)
         if not first.solved:
             print(f"{name}: no first plan")

@@ -196,15 +196,18 @@ class Plan:
             doc.setdefault(k, v)
         return doc
 
+    def to_text(self) -> str:
+        """The ``pivot-plan/1`` document as JSON text (full double precision)."""
+        return json.dumps(self.to_dict(), indent=1, allow_nan=False) + "\n"
+
     def to_json(self, path: str | Path) -> Path:
         """Write the plan to ``path`` (full double precision); return the path.
 
         The file is replaced only once completely written (a temporary file moved into place).
         """
         path = Path(path)
-        text = json.dumps(self.to_dict(), indent=1, allow_nan=False) + "\n"
         with atomic_output(path) as tmp:
-            tmp.write_text(text, encoding="utf-8")
+            tmp.write_text(self.to_text(), encoding="utf-8")
         return path
 
 

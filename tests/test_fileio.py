@@ -136,7 +136,8 @@ def test_outputs_are_all_or_nothing(tmp_path):
 
 def test_a_failed_generate_keeps_the_existing_scene(tmp_path, monkeypatch):
     """The witness cannot be written: the scene written before it is not replaced either."""
-    from pivot_ompl.generate import generate, output, write_generated
+    from pivot_ompl.generate import generate, write_generated
+    from pivot_ompl.planfile import Plan
 
     gen = generate("clutter", 0)
     scene_path = tmp_path / f"{gen.scene.name}.yaml"
@@ -145,7 +146,7 @@ def test_a_failed_generate_keeps_the_existing_scene(tmp_path, monkeypatch):
     def broken(*a, **k):
         raise ValueError("no JSON today")
 
-    monkeypatch.setattr(output.json, "dumps", broken)
+    monkeypatch.setattr(Plan, "to_text", broken)
     with pytest.raises(ValueError):
         write_generated(gen, tmp_path)
     assert scene_path.read_text() == "my own scene"

@@ -1,8 +1,9 @@
 """The regrasp lower bound of a scene, computed once: kept in memory and on disk by content.
 
-The bound depends only on the scene's geometry (bounds, obstacles, box and robot sizes, start
-and goal; not its name) and on the relaxation's parameters, so its key is the SHA-256 of those
-(:func:`scene_key`, with :data:`BOUND_VERSION`, which changes whenever the relaxation does).
+The bound depends only on the scene's geometry (not its name) and on the relaxation's
+parameters, so its key is the SHA-256 of those (:func:`scene_key`: the scene's
+:func:`~pivot_ompl.scene.scene_digest` with :data:`BOUND_VERSION`, which changes whenever the
+relaxation does).
 Results live in memory (:data:`MEMORY_ENTRIES` scenes) and as small JSON files under
 ``$XDG_CACHE_HOME/pivot_ompl/bounds`` (``~/.cache`` when unset). ``PIVOT_OMPL_BOUND_CACHE=0``
 turns the disk cache off; an unreadable or foreign cache file is ignored and recomputed.
@@ -22,7 +23,7 @@ from pathlib import Path
 from pivot_ompl.analysis.regrasp_bound import RESOLUTION, RegraspBound, regrasp_lower_bound
 from pivot_ompl.cache import BoundedCache
 from pivot_ompl.fileio import atomic_output
-from pivot_ompl.scene import Scene
+from pivot_ompl.scene import Scene, scene_digest
 
 log = logging.getLogger(__name__)
 
@@ -37,9 +38,8 @@ _memory: BoundedCache[str, RegraspBound] = BoundedCache(MEMORY_ENTRIES)
 
 
 def scene_key(scene: Scene, *, resolution: float = RESOLUTION) -> str:
-    """SHA-256 (hex) of what the bound of ``scene`` depends on."""
-    text = repr((BOUND_VERSION, resolution, scene.bounds, scene.obstacles, scene.model,
-                 scene.start, scene.goal))
+    """SHA-256 (hex) of the relaxation's version and parameters and the scene's digest."""
+    text = f"{BOUND_VERSION}:{resolution!r}:{scene_digest(scene)}"
     return hashlib.sha256(text.encode()).hexdigest()
 
 

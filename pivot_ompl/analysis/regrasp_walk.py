@@ -18,9 +18,10 @@ sample points; for each sample ``p``:
   bin, see :mod:`~pivot_ompl.analysis.regrasp_bound`);
 * the robot's grasp poses lie within ``rho`` plus their own rotation displacement of those at
   ``(p, t_b)``;
-* the disk centre's free space is rasterised: a cell is free when it meets the free set (its
-  centre within half a cell diagonal of it), so a continuous walk crosses only free cells,
-  one after another 8-adjacent; connectivity is then exact on the raster (scipy's labelling).
+* the disk centre's free space is rasterised: a cell is free when it meets the free set
+  (:class:`~pivot_ompl.analysis.raster.FloorRaster`), so a continuous walk crosses only free
+  cells, one after another 8-adjacent; connectivity is then exact on the raster (scipy's
+  labelling).
 
 The region may hold a regrasp only if some sample joins some start cell to some end cell.
 At most :data:`MAX_SAMPLES` samples are tried; when more would be needed the answer is "may"
@@ -36,9 +37,10 @@ import shapely
 from scipy import ndimage
 from shapely.geometry.base import BaseGeometry
 
+from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import rectangle_corners
-from pivot_ompl.validity.footprints import obstacle_pieces
+from pivot_ompl.validity.footprints import disk_clear
 
 #: Raster cell of the disk centre's free space (m).
 CELL = 0.1
@@ -73,43 +75,20 @@ class WalkRelaxation:
         box_reach = 0.5 * math.hypot(*m.object_size[:2])
         self.box_erosion = box_reach * self.turn + tolerance + ROUND_OFF
         self.box_gap = self.radius - tolerance - ROUND_OFF
-        x0, y0, x1, y1 = scene.bounds
-        self.cell = max(CELL, math.sqrt((x1 - x0) * (y1 - y0) / MAX_CELLS))
-        h = self.cell
-        self.half_diag = h * math.sqrt(0.5)
-        self.origin = (x0, y0)
-        self.shape = (max(1, math.ceil((x1 - x0) / h)), max(1, math.ceil((y1 - y0) / h)))
-        r = self.radius
-        free: BaseGeometry = shapely.box(x0 + r, y0 + r, x1 - r, y1 - r)
-        grow = r + clearance - tolerance - ROUND_OFF
-        pieces = [shapely.Polygon(p).buffer(grow, quad_segs=8)
-                  for p in obstacle_pieces(scene.obstacles)]
-        if pieces:
-            free = free.difference(shapely.union_all(pieces))
-        xs = x0 + (np.arange(self.shape[0]) + 0.5) * h
-        ys = y0 + (np.arange(self.shape[1]) + 0.5) * h
-        self.gx, self.gy = np.meshgrid(xs, ys, indexing="ij")
-        self.free = shapely.contains_xy(free.buffer(self.half_diag, quad_segs=2), self.gx,
-                                        self.gy)
+        self.raster = FloorRaster(scene.bounds, min_cell=CELL, max_cells=MAX_CELLS)
+        free = disk_clear(scene.bounds, scene.obstacles, radius=self.radius,
+                          clearance=clearance - tolerance - ROUND_OFF)
+        self.free = self.raster.meeting(free)
         self.labels, _ = ndimage.label(self.free, structure=_EIGHT)
         self.queries = 0
 
     # -- raster helpers ------------------------------------------------------------------
-    def _window(self, geom: BaseGeometry) -> tuple[slice, slice]:
-        gx0, gy0, gx1, gy1 = geom.bounds
-        (x0, y0), h = self.origin, self.cell
-        i0 = max(0, int((gx0 - x0) / h) - 1)
-        j0 = max(0, int((gy0 - y0) / h) - 1)
-        i1 = min(self.shape[0], int((gx1 - x0) / h) + 2)
-        j1 = min(self.shape[1], int((gy1 - y0) / h) + 2)
-        return slice(i0, max(i0, i1)), slice(j0, max(j0, j1))
-
     def _cells(self, x: float, y: float, r: float) -> tuple[np.ndarray, np.ndarray]:
         """Free raster cells meeting the disk of radius ``r`` round ``(x, y)``."""
-        disk = shapely.Point(x, y).buffer(r + self.half_diag, quad_segs=4)
-        wi, wj = self._window(disk)
-        inside = (np.hypot(self.gx[wi, wj] - x, self.gy[wi, wj] - y)
-                  <= r + self.half_diag) & self.free[wi, wj]
+        disk = shapely.Point(x, y).buffer(r + self.raster.half_diag, quad_segs=4)
+        wi, wj = self.raster.window(disk)
+        inside = (np.hypot(self.raster.gx[wi, wj] - x, self.raster.gy[wi, wj] - y)
+                  <= r + self.raster.half_diag) & self.free[wi, wj]
         ii, jj = np.nonzero(inside)
         return ii + wi.start, jj + wj.start
 
@@ -141,11 +120,12 @@ class WalkRelaxation:
             core = _eroded_box(q, m.object_size[0], m.object_size[1], self.box_erosion + rho)
             if core is None:
                 return True  # nothing of the box is certain: it may not block
-            blocked = core.buffer(self.box_gap - self.half_diag, quad_segs=4)
+            blocked = core.buffer(self.box_gap - self.raster.half_diag, quad_segs=4)
             mask = self.free.copy()
             if not blocked.is_empty:
-                wi, wj = self._window(blocked)
-                mask[wi, wj] &= ~shapely.contains_xy(blocked, self.gx[wi, wj], self.gy[wi, wj])
+                wi, wj = self.raster.window(blocked)
+                r = self.raster
+                mask[wi, wj] &= ~shapely.contains_xy(blocked, r.gx[wi, wj], r.gy[wi, wj])
             labels, _ = ndimage.label(mask, structure=_EIGHT)
             la = set(labels[a].tolist()) - {0}
             if la & (set(labels[b].tolist()) - {0}):

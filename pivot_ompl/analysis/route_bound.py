@@ -5,11 +5,11 @@ the :class:`~pivot_ompl.analysis.regrasp_bound.FreeCover` (the union, over yaw b
 of the positions where the held assembly may be free): ``P`` over-approximates the free
 positions, so the shortest path from the start's centre to the goal's inside ``P`` is at most
 the length of any plan's box route (regrasps cost nothing here). It is measured on a raster of
-cells of side ``cell`` that meet ``P`` (a continuous path through ``P`` crosses only such cells,
-consecutive ones 8-adjacent, so no passage is lost however narrow), with moves to the 16
-neighbours (one or two cells away, straight, diagonal or a knight's move) from cell centre to
-cell centre. Grid paths stay within 2.7 % of the continuous one plus one cell's diagonal at
-each end; the result is reduced by both (:data:`GRID_SLACK`), so it stays a lower bound.
+cells of side ``cell`` that meet ``P`` (:class:`~pivot_ompl.analysis.raster.FloorRaster`: no
+passage is lost however narrow), with moves to the 16 neighbours (one or two cells away,
+straight, diagonal or a knight's move) from cell centre to cell centre. Grid paths stay
+within 2.7 % of the continuous one plus one cell's diagonal at each end; the result is
+reduced by both (:data:`GRID_SLACK`), so it stays a lower bound.
 """
 
 from __future__ import annotations
@@ -21,6 +21,7 @@ import shapely
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
+from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.se2 import Pose
 
 #: Cells at most on the raster (a larger floor gets larger cells).
@@ -47,18 +48,12 @@ def shortest_route(free: list, bounds: tuple[float, float, float, float], start:
     Returns:
         The bound, or ``None`` when the raster joins no path (start or goal outside ``P``).
     """
-    x0, y0, x1, y1 = bounds
-    cell = max(MIN_CELL, math.sqrt((x1 - x0) * (y1 - y0) / MAX_CELLS))
-    nx, ny = max(1, math.ceil((x1 - x0) / cell)), max(1, math.ceil((y1 - y0) / cell))
-    region = shapely.union_all(free).buffer(cell * math.sqrt(0.5), quad_segs=2)
-    xs = x0 + (np.arange(nx) + 0.5) * cell
-    ys = y0 + (np.arange(ny) + 0.5) * cell
-    gx, gy = np.meshgrid(xs, ys, indexing="ij")
-    mask = shapely.contains_xy(region, gx, gy)
+    raster = FloorRaster(bounds, min_cell=MIN_CELL, max_cells=MAX_CELLS)
+    cell, (nx, ny) = raster.cell, raster.shape
+    mask = raster.meeting(shapely.union_all(free))
     ends = []
     for p in (start, goal):
-        i = min(nx - 1, max(0, int((p[0] - x0) // cell)))
-        j = min(ny - 1, max(0, int((p[1] - y0) // cell)))
+        i, j = raster.index(p[0], p[1])
         if not mask[i, j]:
             return None
         ends.append(i * ny + j)

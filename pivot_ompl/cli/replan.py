@@ -13,7 +13,6 @@ of ``SCENE``; recorded in the new plan as ``replanned_from``). Exit status as fo
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 
 from pivot_ompl.api import MAX_SEED
@@ -86,11 +85,9 @@ def run(args: argparse.Namespace) -> int:
     new = session.scene
     assert out is not None and scene_out is not None  # noqa: S101 - required options
     res.plan.extra["replanned_from"] = str(args.plan)
-    doc = res.plan.to_dict()
     with atomic_outputs(scene_out, out) as (tmp_scene, tmp_plan):
         tmp_scene.write_text(scene_text(new, comment=f"{new.name} as observed: replanned "
                                                      f"from {args.plan}"), encoding="utf-8")
-        tmp_plan.write_text(json.dumps(doc, indent=1, allow_nan=False) + "\n",
-                            encoding="utf-8")
+        tmp_plan.write_text(res.plan.to_text(), encoding="utf-8")
     print(f"scene written to {scene_out}, plan written to {out}")
     return 0

@@ -16,6 +16,7 @@ the same grid points).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -59,6 +60,19 @@ def obstacle_footprint(obstacle: Obstacle, *, circle_sides: int = CIRCLE_SIDES) 
     if isinstance(obstacle, CylinderObstacle):
         return shapely.Polygon(_inscribed_polygon(obstacle, circle_sides))
     return shapely.Polygon(obstacle.points)
+
+
+def disk_clear(bounds: tuple[float, float, float, float], obstacles: Sequence[Obstacle], *,
+               radius: float, clearance: float) -> BaseGeometry:
+    """Centres of a disk of ``radius`` inside ``bounds`` and ``clearance`` from ``obstacles``.
+
+    A superset of the true set: the obstacles' footprints (cylinders as inscribed polygons)
+    are grown by the polygon of chords of the round offset, which lies inside it.
+    """
+    x0, y0, x1, y1 = bounds
+    free: BaseGeometry = shapely.box(x0 + radius, y0 + radius, x1 - radius, y1 - radius)
+    grown = [obstacle_footprint(o).buffer(radius + clearance, quad_segs=4) for o in obstacles]
+    return free.difference(shapely.union_all(grown)) if grown else free
 
 
 def meeting_hulls(pieces: list[np.ndarray], body: np.ndarray) -> list[BaseGeometry]:

@@ -109,3 +109,38 @@ def test_save_is_atomic(hrp2_arrays, tmp_path, monkeypatch):
         motion.save(out)
     assert out.read_bytes() == b"previous motion"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["m.npz", "out.npz"]
+
+
+# -- values out of range: refused by the reader, naming array and sample ------------------
+def _at(n: int, k: int, value: float, base: float = 0) -> np.ndarray:
+    a = np.full(n, base, dtype=float)
+    a[k] = value
+    return a
+
+
+@pytest.mark.parametrize(("key", "value"), [("support", 3), ("support", -1), ("support", 0.5),
+                                            ("grasp", 4), ("grasp", -2), ("phase", -1),
+                                            ("step", -2), ("holding", 2)])
+def test_out_of_range_codes_are_refused(hrp2_arrays, tmp_path, key, value):
+    n = len(hrp2_arrays["t"])
+    p = save(tmp_path, hrp2_arrays, **{key: _at(n, n // 2, value)})
+    with pytest.raises(InputError) as e:
+        load_motion(p)
+    assert e.value.field == f"motion.{key}[{n // 2}]"
+    assert main(["check-motion", str(p)]) == 2
+
+
+def test_one_sample_or_no_duration_is_refused(hrp2_arrays, tmp_path):
+    one = {k: (v[:1] if isinstance(v, np.ndarray) and v.ndim and len(v) == len(hrp2_arrays["t"])
+               else v) for k, v in hrp2_arrays.items()}
+    with pytest.raises(InputError, match="at least two samples"):
+        load_motion(save(tmp_path, one))
+    frozen = save(tmp_path, hrp2_arrays, t=np.zeros(len(hrp2_arrays["t"])))
+    with pytest.raises(InputError, match="positive duration"):
+        load_motion(frozen)
+    assert main(["check-motion", str(frozen)]) == 2
+
+
+def test_a_valid_motion_still_loads(hrp2_arrays, tmp_path):
+    m = load_motion(save(tmp_path, hrp2_arrays))
+    assert m.duration > 0 and len(m.t) == len(hrp2_arrays["t"])

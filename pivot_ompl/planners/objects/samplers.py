@@ -21,7 +21,7 @@ from shapely.geometry.base import BaseGeometry
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.se2 import Pose
 from pivot_ompl.validity.certify import SWEEP_TOLERANCE
-from pivot_ompl.validity.footprints import obstacle_footprint
+from pivot_ompl.validity.footprints import disk_clear
 
 #: Draws of :meth:`PoseSampler.reachable` rejected in a row before it falls back to
 #: :meth:`PoseSampler.uniform` (a sliver of a region).
@@ -54,14 +54,10 @@ class PoseSampler:
         """The box centres reachable from the start (module docstring); ``None``: the floor."""
         if self._region is None and self.start is not None:
             ck = self.checker
-            r = 0.5 * min(ck.model.object_size[:2])
             x0, y0, x1, y1 = ck.world.bounds
-            free: BaseGeometry = shapely.box(x0 + r, y0 + r, x1 - r, y1 - r)
-            grow = r + ck.world.clearance - SWEEP_TOLERANCE
-            shapes = [obstacle_footprint(o).buffer(grow, quad_segs=4)
-                      for o in ck.scene.obstacles]
-            if shapes:
-                free = free.difference(shapely.union_all(shapes))
+            free = disk_clear(ck.world.bounds, ck.scene.obstacles,
+                              radius=0.5 * min(ck.model.object_size[:2]),
+                              clearance=ck.world.clearance - SWEEP_TOLERANCE)
             here = shapely.Point(self.start[0], self.start[1])
             parts = [g for g in getattr(free, "geoms", [free]) if g.distance(here) < 1e-6]
             self._region = parts[0] if parts else shapely.box(x0, y0, x1, y1)
