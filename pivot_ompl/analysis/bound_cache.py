@@ -28,7 +28,7 @@ from pivot_ompl.scene import Scene, scene_digest
 log = logging.getLogger(__name__)
 
 #: Version of the relaxation: part of every key (a new relaxation never reads old results).
-BOUND_VERSION = 3
+BOUND_VERSION = 4
 #: Scenes whose bound is kept in memory.
 MEMORY_ENTRIES = 64
 #: Environment variable that turns the disk cache off when ``0``.

@@ -39,9 +39,14 @@ class FloorRaster:
         self.gx, self.gy = np.meshgrid(xs, ys, indexing="ij")
 
     def meeting(self, region: BaseGeometry) -> np.ndarray:
-        """The cells that meet ``region`` (a boolean ``shape`` array)."""
-        return shapely.contains_xy(region.buffer(self.half_diag, quad_segs=2), self.gx,
-                                   self.gy)
+        """The cells that meet ``region`` (a boolean ``shape`` array).
+
+        An exact distance test of every centre (GEOS): a buffer of the region would be a
+        polygon of chords inside the round one and miss cells near its corners.
+        """
+        shapely.prepare(region)
+        centres = shapely.points(self.gx.ravel(), self.gy.ravel())
+        return shapely.dwithin(region, centres, self.half_diag).reshape(self.shape)
 
     def index(self, x: float, y: float) -> tuple[int, int]:
         """The cell holding ``(x, y)`` (the nearest one for a point off the floor)."""
