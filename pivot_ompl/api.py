@@ -142,8 +142,7 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     p = make_planner(planner, problem, seed=seed, config=config)
     if isinstance(p, RegraspPlanner):
         config = p.config
-        if resume is not None and resume.checker is problem.checker:
-            p.last_search = resume
+        p.last_search = resume  # the planner keeps it only for this checker and goal
     ss.setPlanner(p)
     ss.setup()
     t1 = time.perf_counter()
