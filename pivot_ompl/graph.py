@@ -24,7 +24,8 @@ def astar(starts: Iterable[N], goals: Collection[N],
         starts: start nodes (cost 0).
         goals: goal nodes (membership tested).
         neighbours: ``n -> [(m, cost), ...]`` with non-negative costs.
-        heuristic: admissible lower bound of the cost from a node to the goals.
+        heuristic: admissible lower bound of the cost from a node to the goals (``inf``:
+            no goal can be reached from it, and it is never queued).
         valid: ``(n, m) -> bool``, if given: the edges ``neighbours`` gives are candidates,
             each checked only when the node it leads to is taken from the queue through it
             (lazy A*: most edges out of an expanded node never are, and are never checked).
@@ -43,8 +44,11 @@ def astar(starts: Iterable[N], goals: Collection[N],
     heap: list[tuple[float, int, float, N, N | None]] = []
     tie = 0
     for s in starts:
+        h = heuristic(s)
+        if h == math.inf:
+            continue
         dist[s] = 0.0
-        heap.append((heuristic(s), tie, 0.0, s, None))
+        heap.append((h, tie, 0.0, s, None))
         tie += 1
     heapq.heapify(heap)
     done: set[N] = set()
@@ -70,10 +74,13 @@ def astar(starts: Iterable[N], goals: Collection[N],
             # edges: every way is queued (the cheapest may fail its check)
             if v in done or nd >= dist.get(v, math.inf):
                 continue
+            h = heuristic(v)
+            if h == math.inf:
+                continue
             if valid is None or (known is not None and known(u, v)):
                 dist[v] = nd
             tie += 1
-            heapq.heappush(heap, (nd + heuristic(v), tie, nd, v, u))
+            heapq.heappush(heap, (nd + h, tie, nd, v, u))
     return []
 
 

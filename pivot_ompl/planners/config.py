@@ -31,7 +31,11 @@ class SamplingConfig:
     Attributes:
         guard_failures: consecutive discarded samples that end the Visibility PRM.
         max_visibility_samples: samples of the Visibility PRM phase at most, before the
-            passage and diffusion phases.
+            passage and diffusion phases, on a floor of up to ``visibility_area`` times as
+            many square metres that the box can reach; a larger floor gets one more sample
+            per ``visibility_area`` (its rooms need guards of their own).
+        visibility_area: reachable floor (m^2) per visibility sample beyond
+            ``max_visibility_samples``.
         guard_radius: a sample is tested for visibility only from guards this near (m,
             pose metric).
         critical_spacing: a critical configuration closer than this (m, pose metric) to a
@@ -57,6 +61,7 @@ class SamplingConfig:
 
     guard_failures: int = 25
     max_visibility_samples: int = 30
+    visibility_area: float = 4.0
     guard_radius: float = 3.0
     critical_spacing: float = 0.4
     slots: bool = True
@@ -191,6 +196,9 @@ class RegraspConfig:
             raise InputError("grasps", self.grasps, "must be grasp indices 0, 1, 2 or 3")
         if self.search.weight < 1.0:
             raise InputError("search.weight", self.search.weight, "must be >= 1")
+        if self.sampling.visibility_area <= 0.0:
+            raise InputError("sampling.visibility_area", self.sampling.visibility_area,
+                             "must be > 0")
         for name in ("search.neighbours", "search.every", "sampling.guard_failures"):
             if self.flat()[name] < 1:
                 raise InputError(name, self.flat()[name], "must be >= 1")

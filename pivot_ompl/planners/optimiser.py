@@ -11,8 +11,9 @@ The optimiser keeps the path's object poses (the *waypoints*, in order) and choo
 which of them to pass through and with which grasp: a layered graph whose nodes are
 ``(waypoint i, grasp g)``, with
 
-* a **transfer** ``(i, g) -> (j, g)`` for every ``j > i`` (a shortcut when ``j > i + 1``,
-  re-steered from scratch: its cost is its rotations' seconds), and
+* a **transfer** ``(i, g) -> (j, g)`` for every ``j > i`` whose box centre lies within
+  ``reach`` of waypoint ``i``'s (:data:`SHORTCUT_REACH`; always ``j = i + 1``): a shortcut
+  when ``j > i + 1``, re-steered from scratch, its cost its rotations' seconds; and
 * a **regrasp** ``(i, g) -> (i, h)`` (cost :meth:`~pivot_ompl.cost.CostModel.regrasp_seconds`).
 
 Dynamic programming over the waypoints (the graph is acyclic but for the regrasps inside a
@@ -20,7 +21,9 @@ layer) gives the cheapest path; edges are checked lazily, only when a cheapest p
 them, with optimistic costs until then (a transfer's
 :meth:`~pivot_ompl.cost.CostModel.transfer_bound`; a walk is at least the straight line); the
 transfers
-of a candidate path are checked before its walks, which cost more. When every edge
+of a candidate path are checked before its walks, which cost more, and the cheap filter of
+every transfer of the path (:meth:`PivotChecker.path_free`) runs before any full check, so
+one round refutes every shortcut of the path that crosses an obstacle. When every edge
 of the cheapest path is checked it is optimal over the waypoints. Until then the best path
 of checked edges is kept, so the result is always valid and never costlier than the input:
 regrasps that serve nothing disappear, chains of regrasps merge, shortcuts replace detours and
@@ -30,12 +33,13 @@ edge checks and passed to them.
 
 from __future__ import annotations
 
-import bisect
 import logging
 import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+
+import numpy as np
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
@@ -52,6 +56,12 @@ State = tuple[Pose, int]
 CHECK_SHARE = 0.2
 #: The smallest budget (motion checks), for paths found with little search.
 MIN_CHECKS = 10
+#: Longest shortcut (m, straight distance between the box's centres at its ends). Every
+#: candidate shortcut of the cheapest optimistic path is refuted or checked one round at a
+#: time, so without a reach the rounds grow with the square of the waypoints (all pairs,
+#: 4600 rounds over 62 waypoints of a 16-room floor, where no shortcut beyond 7 m passed);
+#: a longer straight move is the lattice re-routing's (:mod:`.routes.refine`).
+SHORTCUT_REACH = 8.0
 
 
 @dataclass
@@ -85,20 +95,29 @@ class _Graph:
     poses: list[Pose]
     costs: CostModel
     grasps: tuple[int, ...]
+    reach: float = SHORTCUT_REACH
     nodes: list[list[int]] = field(default_factory=list)  # valid grasps per waypoint
     #: checked costs: ``None`` = invalid
     transfer: dict[tuple[int, int, int], float | None] = field(default_factory=dict)
     walk: dict[tuple[int, int, int], float | None] = field(default_factory=dict)
     _bounds: dict[tuple[str, int, int, int], float] = field(default_factory=dict)
-    _valid_at: dict[int, list[int]] = field(default_factory=dict)
+    #: transfers that passed the cheap filter (not checked in full yet)
+    filtered: set[tuple[int, int, int]] = field(default_factory=set)
+    _later: dict[int, list[list[int]]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         """Valid grasps of every waypoint."""
         ck = self.checker
         self.nodes = [[g for g in self.grasps if ck.state_valid(p, g)] for p in self.poses]
-        #: the waypoints (ascending) where each grasp is valid
-        self._valid_at = {g: [i for i, ns in enumerate(self.nodes) if g in ns]
-                          for g in self.grasps}
+        #: per grasp and waypoint ``i``: the later waypoints (ascending) where the grasp is
+        #: valid and that a transfer from ``i`` may reach
+        xy = np.array([(p[0], p[1]) for p in self.poses], dtype=float).reshape(-1, 2)
+        n = len(xy)
+        near = [np.flatnonzero(np.hypot(*(xy[i + 1:] - xy[i]).T) <= self.reach) + i + 1
+                for i in range(n)]
+        self._later = {g: [[j for j in sorted({*near[i].tolist(), i + 1})
+                            if j < n and g in self.nodes[j]] for i in range(n)]
+                       for g in self.grasps}
 
     def transfer_bound(self, i: int, j: int, g: int) -> float:
         """Fewest seconds that can move the box from waypoint ``i`` to ``j`` at ``g``."""
@@ -156,8 +175,7 @@ class _Graph:
                     break
             for g in layer:  # the transfers, the inner loop of the rounds: kept lean
                 b0 = best[(i, g)]
-                later = self._valid_at[g]
-                for j in later[bisect.bisect_right(later, i):]:
+                for j in self._later[g][i]:
                     key = (i, j, g)
                     if key in checked:
                         c = checked[key]
@@ -228,7 +246,7 @@ def budgeted(should_stop: Callable[[], bool], checker: PivotChecker, *,
 
 def optimise(checker: PivotChecker, states: list[State], *,
              should_stop: Callable[[], bool], costs: CostModel | None = None,
-             grasps: tuple[int, ...] = (0, 1, 2, 3),
+             grasps: tuple[int, ...] = (0, 1, 2, 3), reach: float = SHORTCUT_REACH,
              stats: OptimiseStats | None = None) -> list[State]:
     """The cheapest path over the waypoints of ``states`` found before ``should_stop``.
 
@@ -239,6 +257,8 @@ def optimise(checker: PivotChecker, states: list[State], *,
             them (the pivot steering and the walk search poll it too).
         costs: the cost model (default :class:`~pivot_ompl.cost.CostModel`).
         grasps: the grasps the robot may use.
+        reach: longest shortcut (m, :data:`SHORTCUT_REACH`); the input's own transfers are
+            kept whatever their length.
         stats: filled with what was done, if given.
 
     Returns:
@@ -256,7 +276,8 @@ def optimise(checker: PivotChecker, states: list[State], *,
     st.cost_before = st.cost_after = before
     if not math.isfinite(before) or len(poses) < 2:
         return list(states)
-    graph = _Graph(checker, poses, w, tuple(sorted(set(grasps) | {g for _, g in states})))
+    graph = _Graph(checker, poses, w, tuple(sorted(set(grasps) | {g for _, g in states})),
+                   reach=reach)
     # the input's own edges are checked (cache hits): the DP over checked edges finds it
     for (i, g), (j, h) in zip(given, given[1:], strict=False):
         if g == h:
@@ -294,6 +315,21 @@ def _lazy_rounds(graph: _Graph, stop: Callable[[], bool], st: OptimiseStats) -> 
         if not pending:
             st.optimal = True
             return
+        # a shortcut whose path crosses an obstacle is refused at once: every one of the
+        # path's, before any full check (one round refutes them all)
+        refuted = False
+        for is_transfer, key in pending:
+            if not is_transfer or key in graph.filtered:
+                continue
+            i, j, g = key
+            if ck.path_free(poses[i], poses[j], g):
+                graph.filtered.add(key)
+            else:
+                st.transfers_checked += 1
+                graph.transfer[key] = None
+                refuted = True
+        if refuted:
+            continue
         # the transfers (cheaper) first: a walk is computed only when every transfer of the
         # candidate path holds, as in the search (measured: the optimiser's time -43 %)
         pending.sort(key=lambda e: not e[0])
@@ -304,13 +340,11 @@ def _lazy_rounds(graph: _Graph, stop: Callable[[], bool], st: OptimiseStats) -> 
             if is_transfer:
                 i, j, g = key
                 st.transfers_checked += 1
-                # a shortcut whose path crosses an obstacle is refused at once
-                if ck.path_free(poses[i], poses[j], g):
-                    e = ck.transfer(poses[i], poses[j], g, should_stop=stop)
-                    if stop() and not e.valid:  # interrupted: unknown, not invalid
-                        return
-                    c = graph.costs.rotations(r.angle for r in e.sequence.rotations) \
-                        if e.valid else None
+                e = ck.transfer(poses[i], poses[j], g, should_stop=stop)
+                if stop() and not e.valid:  # interrupted: unknown, not invalid
+                    return
+                c = graph.costs.rotations(r.angle for r in e.sequence.rotations) \
+                    if e.valid else None
                 graph.transfer[key] = c
             else:
                 i, g, h = key

@@ -22,11 +22,13 @@ roadmaps and caches (OMPL's semantics: solving again continues).
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 
 import numpy as np
+import shapely
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planners.config import RegraspConfig
@@ -35,9 +37,9 @@ from pivot_ompl.planners.multiplex.search import PathSearch
 from pivot_ompl.planners.objects.bridge import BridgeTest
 from pivot_ompl.planners.objects.critical import CriticalConfigurations
 from pivot_ompl.planners.objects.diffusion import Diffusion
-from pivot_ompl.planners.objects.roadmap import Roadmap, canonical
+from pivot_ompl.planners.objects.roadmap import PoseIndex, Roadmap, canonical
 from pivot_ompl.planners.objects.samplers import PoseSampler
-from pivot_ompl.planners.objects.slots import slot_poses, slots
+from pivot_ompl.planners.objects.slots import Passage, slot_poses, slots
 from pivot_ompl.planners.objects.visibility import VisibilityRoadmap
 from pivot_ompl.planners.optimiser import budgeted, optimise
 from pivot_ompl.planners.routes.lattice import TransferLattice
@@ -162,13 +164,33 @@ class RegraspSearch:
         sc = self.config.sampling
         if sc.slots:
             found = slots(self.checker, play=sc.slot_play, should_stop=should_stop)
-            for q in slot_poses(self.checker, found, spacing=sc.slot_spacing,
-                                approach=sc.slot_approach, should_stop=should_stop):
-                rm.add(q, "slot")
-                self.stats.slot_nodes += 1
+            self._seed_slots(found, should_stop)
             self.stats.slots = len(found)
         self._goal_node = g_i
         self.graph.set_ends(s_i, g_i, should_stop)
+
+    def _seed_slots(self, found: list[Passage], should_stop: Stop) -> None:
+        """Add the free box poses along the slots that a plan may visit, each once.
+
+        A pose is left out when its position is not among those reachable from the start
+        (:meth:`PoseSampler.region`) or when a pose seeded before lies within half the
+        slot spacing of it (:func:`~.objects.roadmap.pose_metric`): one gap between
+        obstacles made of several pieces is found once per pair of pieces. The narrowest
+        passages go first, so of near-equal poses the one centred in the tightest gap stays.
+        """
+        sc, rm = self.config.sampling, self.roadmap
+        region = self.sampler.region()
+        seeded = PoseIndex(rm)
+        found = sorted(found, key=lambda p: p.width)
+        for q in slot_poses(self.checker, found, spacing=sc.slot_spacing,
+                            approach=sc.slot_approach, should_stop=should_stop):
+            if region is not None and not shapely.contains_xy(region, q[0], q[1]):
+                continue
+            near = seeded.nearest(q, 1)
+            if near and float(rm.distances(near, q)[0]) < 0.5 * sc.slot_spacing:
+                continue
+            seeded.append(rm.add(q, "slot"))
+            self.stats.slot_nodes += 1
 
     def restart(self, start: Pose, should_stop: Stop) -> None:
         """Search again from a new start over everything grown so far (replanning).
@@ -258,8 +280,8 @@ class RegraspSearch:
                 return direct
         path = self.paths.find(should_stop)
         n = 0
-        while not path and not should_stop() and not self.visibility.done and \
-                n < sc.max_visibility_samples:
+        cap = self._visibility_samples()
+        while not path and not should_stop() and not self.visibility.done and n < cap:
             n += 1
             self.visibility.step(should_stop)
             path = self._grown(should_stop)
@@ -273,6 +295,17 @@ class RegraspSearch:
         states = self._optimised(self.graph.express(path), should_stop) if path else []
         self._fill_stats()
         return states
+
+    def _visibility_samples(self) -> int:
+        """Samples of the Visibility PRM phase: more on a floor with more to reach."""
+        sc = self.config.sampling
+        region = self.sampler.region()
+        if region is None:
+            x0, y0, x1, y1 = self.checker.world.bounds
+            area = (x1 - x0) * (y1 - y0)
+        else:
+            area = float(region.area)
+        return max(sc.max_visibility_samples, math.ceil(area / sc.visibility_area))
 
     def _optimised(self, states: list[State], should_stop: Stop) -> list[State]:
         """The path's phases re-planned on the lattice, then the path optimiser.

@@ -125,3 +125,17 @@ def test_walks_are_computed_only_for_paths_whose_transfers_hold():
     out = optimise(ck, states, should_stop=lambda: False)
     assert out == states
     assert set(walks) == {(mid, 0, 1)}
+
+
+def test_no_shortcut_beyond_the_reach():
+    """Shortcuts span at most ``reach`` between the box's centres; the input's own transfers
+    stay whatever their length (open floor: with the default reach it goes straight)."""
+    _scene, ck, states = _zigzag_with_regrasps()
+    out = optimise(ck, states, should_stop=lambda: False, reach=2.0)
+    own = {(a[0], b[0]) for a, b in zip(states, states[1:], strict=False)}
+    for a, b in zip(out, out[1:], strict=False):
+        if a[1] == b[1] and (a[0], b[0]) not in own:
+            assert math.dist(a[0][:2], b[0][:2]) <= 2.0
+    assert path_cost(ck, out, CostModel()) <= path_cost(ck, states, CostModel())
+    straight = optimise(ck, states, should_stop=lambda: False)
+    assert len(straight) == 2  # 5 m apart: one shortcut within the default reach

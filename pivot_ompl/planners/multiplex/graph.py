@@ -30,6 +30,7 @@ rule (:meth:`MultiplexedGraph.successor`) and writes a path in the start's frame
 from __future__ import annotations
 
 import math
+from collections import deque
 from collections.abc import Callable, Iterator
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
@@ -95,6 +96,8 @@ class MultiplexedGraph:
         start_nodes, goal_nodes: the manipulation nodes at the start and goal poses.
         multiplexed: object nodes (by index, from 0) already multiplexed.
         regrasp_edges, plausibility_tests: counts.
+        links: candidate edges linked so far (a version of the graph: removals and cost
+            changes do not count).
     """
 
     adj: dict[Node, dict[Node, float]]
@@ -104,6 +107,7 @@ class MultiplexedGraph:
     multiplexed: int
     regrasp_edges: int
     plausibility_tests: int
+    links: int
 
     def __init__(self, checker: PivotChecker, roadmap: Roadmap, *, grasps: tuple[int, ...],
                  neighbours: int, connect_radius: float, costs: CostModel,
@@ -130,6 +134,7 @@ class MultiplexedGraph:
         self.turn_edges = 0
         self.regrasp_edges = 0
         self.plausibility_tests = 0
+        self.links = 0
         self._components: UnionFind[Node] = UnionFind()  # over candidate edges (never split)
         #: object nodes where grasp 0 or 2 (index 0), 1 or 3 (index 1) is valid
         self._parity = (PoseIndex(self.roadmap), PoseIndex(self.roadmap))
@@ -251,6 +256,7 @@ class MultiplexedGraph:
             return
         self.adj[a][b] = cost
         self.adj[b][a] = cost
+        self.links += 1
         self._components.union(a, b)
         reach = self._reach
         if reach is None:
@@ -337,6 +343,38 @@ class MultiplexedGraph:
                     continue
                 reach.add(sv)
                 stack.append(sv)
+
+    def regrasps_to_go(self, should_stop: Stop) -> dict[Node, int] | None:
+        """Fewest regrasps from each node to a goal node, over edges passing the cheap test.
+
+        A breadth-first search from the goal nodes with transfers costing 0 and regrasps 1
+        (the graph is undirected); a transfer is tested (cached) only when it would lower its
+        far node's count. Frame parity is ignored. Every path of the graph from a node to the
+        goal makes at least that many regrasps, and edges removed later only raise the
+        counts, so the numbers stay lower bounds until new edges are linked; a node without
+        a number has no path to the goal. ``None`` when ``should_stop`` said stop (polled
+        every 256 nodes).
+        """
+        level: dict[Node, int] = dict.fromkeys(self.goal_nodes, 0)
+        queue = deque(self.goal_nodes)
+        steps = 0
+        while queue:
+            steps += 1
+            if steps % 256 == 0 and should_stop():
+                return None
+            u = queue.popleft()
+            d = level[u]
+            for v in list(self.adj[u]):
+                transfer = is_transfer(u, v)
+                dv = d + (not transfer)
+                if dv >= level.get(v, math.inf) or (transfer and not self.plausible(u, v)):
+                    continue
+                level[v] = dv
+                if transfer:
+                    queue.appendleft(v)
+                else:
+                    queue.append(v)
+        return level
 
     def maybe_connected(self) -> bool:
         """Whether the goal (in the start's frame) may be reached from the start.

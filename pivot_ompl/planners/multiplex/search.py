@@ -64,19 +64,33 @@ class PathSearch:
         self._h: dict[int, float] = {}
         self._slack = max(checker.model.object_size[:2])
         self._rate = min(graph.push_rate.values())
+        #: the cheapest regrasp (s) and the fewest regrasps from each node to the goal
+        #: (:meth:`MultiplexedGraph.regrasps_to_go`), as of ``graph.links == _levels_at``
+        self._regrasp = graph.costs.regrasp_seconds(0.0)
+        self._levels: dict[Node, int] = {}
+        self._levels_at = -1
         #: edges checked valid, as the plan writes them: ``(state, state)`` in path order
         self._checked: set[tuple[tuple[Pose, int], tuple[Pose, int]]] = set()
 
-    def heuristic(self, i: int) -> float:
-        """The weighted heuristic of object node ``i``."""
+    def heuristic(self, node: Node) -> float:
+        """The weighted heuristic of ``node``: its transfers' and its regrasps' least cost.
+
+        The box's straight distance to the goal less the largest car offset at the fastest
+        grasp's seconds per metre (inflated by ``weight``), plus the fewest regrasps to the
+        goal at the cheapest regrasp's cost; ``inf`` where the goal cannot be reached. At
+        most ``weight`` times a lower bound: a path found costs at most ``weight`` times the
+        cheapest over the plausible edges.
+        """
+        level = self._levels.get(node)
+        if level is None:
+            return math.inf
+        i = node[0]
         v = self._h.get(i)
         if v is None:
             q = self.graph.roadmap.poses[i]
             v = self._h[i] = self.weight * self._rate * max(
                 0.0, math.hypot(q[0] - self.goal[0], q[1] - self.goal[1]) - self._slack)
-        return v
-
-
+        return v + self._regrasp * level
 
     def cheapest(self, should_stop: Stop) -> list[Node]:
         """Lazy weighted A* from a start node to a goal node; ``[]`` if there is none.
@@ -85,12 +99,17 @@ class PathSearch:
             Interrupted: ``should_stop()`` became true.
         """
         g = self.graph
+        if self._levels_at != g.links:
+            levels = g.regrasps_to_go(should_stop)
+            if levels is None:
+                raise Interrupted("regrasps to go")
+            self._levels, self._levels_at = levels, g.links
 
         def valid(u: State, v: State) -> bool:
             return not is_transfer(u[0], v[0]) or g.plausible(u[0], v[0])
 
         states = astar([(s, 0) for s in g.start_nodes], {(n, 0) for n in g.goal_nodes},
-                       g.successors, lambda s: self.heuristic(s[0][0]), valid=valid,
+                       g.successors, lambda s: self.heuristic(s[0]), valid=valid,
                        known=lambda u, v: g.known_plausible(u[0], v[0]),
                        should_stop=should_stop, poll_every=POLL_EVERY)
         return [s[0] for s in states]

@@ -1,0 +1,77 @@
+"""The regrasp search's focus: slot poses seeded once where a plan may use them, and the
+search's heuristic counting the regrasps still needed (a lower bound over the graph)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import shapely
+from factories import shipped
+
+from pivot_ompl.base.problem import make_problem
+from pivot_ompl.generate import GeneratorParams, generate
+from pivot_ompl.planners.config import RegraspConfig
+from pivot_ompl.planners.multiplex.graph import is_transfer
+from pivot_ompl.planners.objects.roadmap import pose_metric
+from pivot_ompl.planners.objects.slots import slot_poses, slots
+from pivot_ompl.planners.regrasp_search import RegraspSearch
+
+
+def _search(scene, seed=0):
+    ck = make_problem(scene).checker
+    return ck, RegraspSearch(ck, scene.start, scene.goal, RegraspConfig(),
+                             np.random.default_rng(seed))
+
+
+def test_slot_poses_are_seeded_once_and_only_where_the_box_can_get():
+    # a turned building: walls made of several pieces (each gap found once per pair of
+    # pieces) and floor outside the building that no plan reaches
+    scene = generate("building", 0, params=GeneratorParams(rooms=4)).scene
+    ck, search = _search(scene)
+    search.prepare(lambda: False)
+    rm = search.roadmap
+    seeded = rm.of_kind("slot")
+    assert seeded
+    region = search.sampler.region()
+    assert region is not None
+    arr = np.array([rm.poses[i] for i in seeded])
+    for k, i in enumerate(seeded):
+        assert shapely.contains_xy(region, *rm.poses[i][:2])
+        d = pose_metric(np.delete(arr, k, axis=0), rm.poses[i])
+        assert d.min() >= 0.5 * RegraspConfig().sampling.slot_spacing - 1e-9
+    every = slot_poses(ck, slots(ck, play=RegraspConfig().sampling.slot_play),
+                       spacing=0.2, approach=RegraspConfig().sampling.slot_approach)
+    assert len(seeded) < len(every)  # duplicates and unreachable poses left out
+
+
+def test_regrasps_to_go_is_consistent_and_the_heuristic_admissible():
+    scene = shipped("fig10")
+    _ck, search = _search(scene)
+    search.prepare(lambda: False)
+    for _ in range(40):
+        search.visibility.step(lambda: False)
+    search.graph.multiplex_pending(lambda: False)
+    g = search.graph
+    level = g.regrasps_to_go(lambda: False)
+    assert level is not None
+    assert all(level[n] == 0 for n in g.goal_nodes)
+    for u, nbrs in g.adj.items():
+        if u not in level:
+            continue
+        for v in nbrs:
+            if is_transfer(u, v):
+                if g.known_plausible(u, v):  # tested: joined, so the same count
+                    assert level.get(v) == level[u]
+            else:
+                assert v in level and abs(level[v] - level[u]) <= 1
+    path = search.paths.cheapest(lambda: False)
+    assert path, "fig10's graph joins start and goal after 40 visibility samples"
+    cost = sum(g.adj[a][b] for a, b in zip(path, path[1:], strict=False))
+    h = search.paths.heuristic(path[0])
+    assert math.isfinite(h) and h <= search.config.search.weight * cost + 1e-6
+    regrasps = sum(not is_transfer(a, b) for a, b in zip(path, path[1:], strict=False))
+    assert level[path[0]] <= regrasps
+    for k, node in enumerate(path):  # counted on the rest of the path
+        rest = sum(not is_transfer(a, b) for a, b in zip(path[k:], path[k + 1:], strict=False))
+        assert level[node] <= rest
