@@ -6,8 +6,8 @@
   the phase and step when the solver fails or the motion fails its checks (nothing is
   written then).
 * ``pivot-ompl check-motion motion.npz [--plan PLAN.json] [--scene S]``: print the checks'
-  margins and every link's obstacle clearance; exit 0 when all pass, 1 when one fails, 2 on
-  bad input.
+  margins, every link's obstacle clearance and every joint's speed and acceleration peaks;
+  exit 0 when all pass, 1 when one fails, 2 on bad input.
 
 Both check every link and the box against the scene's obstacles. The scene is ``--scene``
 (a file or a shipped scene's name), else the scene the plan or motion names (its ``scene``
@@ -128,6 +128,9 @@ def _check(args: argparse.Namespace) -> int:
     if report.clearance is not None:
         print(f"obstacle clearance per link (scene {scene.name}):")
         print(report.clearance.table())
+    if report.peaks is not None:
+        print("joint speed and acceleration peaks over the whole motion:")
+        print(report.peaks.table())
     print(report.table())
     return 0 if report.passed else 1
 

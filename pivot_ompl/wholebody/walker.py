@@ -102,8 +102,10 @@ class PlacoWalker:
         self._add_hand_tasks()
         self._settle()
 
-    #: Unrecorded standing time after set-up (s).
-    PRESETTLE = 0.5
+    #: Unrecorded standing time after set-up, twice (s). The head and arms, whose speed
+    #: changes are bounded, take about 0.9 s to come to rest after the hand targets are set
+    #: (at 0.5 s the first recorded second still had them swinging at up to 1.2 rad/s).
+    PRESETTLE = 1.0
 
     def _add_hand_tasks(self) -> None:
         """Soft frame tasks of both hands (at their current frames) and between them."""
