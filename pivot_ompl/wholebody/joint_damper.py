@@ -20,6 +20,8 @@ import math
 from collections.abc import Iterable
 from typing import Any
 
+import numpy as np
+
 
 def braking_step(distance: float, delta: float) -> float:
     """The longest step towards a limit ``distance`` away that still stops at the limit.
@@ -28,31 +30,40 @@ def braking_step(distance: float, delta: float) -> float:
     (``accel dt²``) and takes the step ``s`` now covers ``s + (s - delta) + (s - 2 delta) +
     ...`` before it stands: with ``n = floor(s / delta)`` further steps, ``(n + 1) s - delta
     n (n + 1) / 2``. Returns the largest ``s`` with that at most ``distance`` (0 at the
-    limit; ``distance`` when one step reaches it within ``delta``).
+    limit): ``s = distance / (n + 1) + delta n / 2``, which lies in ``[n delta, (n + 1)
+    delta)`` exactly when ``n (n + 1) <= 2 distance / delta < (n + 1) (n + 2)``.
     """
     if distance <= 0.0:
         return 0.0
     if delta <= 0.0:
         return distance
-    # continuous estimate of the number of further braking ticks, then the exact piece
-    n = max(0, int(math.sqrt(2.0 * distance / delta)) - 1)
-    while True:
-        s = (distance + delta * n * (n + 1) / 2.0) / (n + 1)
-        if s < (n + 1) * delta or s <= 0.0:
-            if s >= n * delta:
-                return s
-            n -= 1  # the estimate overshot the piece
-        else:
-            n += 1
-        if n < 0:  # pragma: no cover - unreachable for distance > 0
-            return 0.0
+    x = 2.0 * distance / delta
+    n = math.floor(0.5 * (math.sqrt(1.0 + 4.0 * x) - 1.0))
+    if n * (n + 1) > x:  # round-off of the square root, either way
+        n -= 1
+    elif (n + 1) * (n + 2) <= x:
+        n += 1
+    return distance / (n + 1) + 0.5 * delta * n
+
+
+def braking_steps(distance: np.ndarray, delta: float) -> np.ndarray:
+    """:func:`braking_step` of every element of ``distance`` (``delta`` > 0).
+
+    The piece ``n`` from the square root is not corrected for round-off: the step is
+    continuous in ``distance`` across pieces, so a neighbouring piece's formula differs from
+    the exact step by the round-off only.
+    """
+    d = np.maximum(distance, 0.0)
+    n = np.floor(0.5 * np.sqrt(1.0 + (8.0 / delta) * d) - 0.5)
+    return d / (n + 1.0) + (0.5 * delta) * n
 
 
 class JointDamper:
     """Per-tick position limits that make the given joints brake before their limits.
 
     Args:
-        robot: the PlaCo ``RobotWrapper`` (its joint limits are narrowed and restored).
+        robot: the PlaCo ``RobotWrapper`` (its model's joint limits are narrowed and
+            restored; its ``state.q`` read).
         joints: the joints to damp (their URDF limits are read once).
         accel: the largest acceleration while braking, and of the ``smooth`` joints at any
             time (rad/s²).
@@ -62,28 +73,47 @@ class JointDamper:
 
     def __init__(self, robot: Any, joints: Iterable[str], *, accel: float, dt: float,
                  smooth: Iterable[str] = ()) -> None:
-        """Read the joints' limits."""
+        """Read the joints' limits and their places in the configuration."""
         self.robot, self.accel, self.dt = robot, accel, dt
-        self.limits = {j: tuple(float(v) for v in robot.get_joint_limits(j)) for j in joints}
+        model = robot.model
+        names = list(joints)
+        self._iq = np.array([model.joints[model.getJointId(j)].idx_q for j in names],
+                            dtype=int)
+        self._lo = np.array(model.lowerPositionLimit)[self._iq]
+        self._hi = np.array(model.upperPositionLimit)[self._iq]
+        self.limits = {j: (float(a), float(b))
+                       for j, a, b in zip(names, self._lo, self._hi, strict=True)}
         self.smooth = {j for j in smooth if j in self.limits}
-        self._last: dict[str, float] = {}
+        self._smooth = np.array([j in self.smooth for j in names], dtype=bool)
+        self._any_smooth, self._all_smooth = bool(self._smooth.any()), bool(self._smooth.all())
+        self._last: np.ndarray | None = None
 
     def apply(self) -> None:
         """Set this tick's limits from the joints' current positions (and last ones)."""
         delta = self.accel * self.dt * self.dt
-        for name, (lo, hi) in self.limits.items():
-            q = float(self.robot.get_joint(name))
-            low = max(lo, min(q, q - braking_step(q - lo, delta)))
-            high = min(hi, max(q, q + braking_step(hi - q, delta)))
-            prev = self._last.get(name)
-            if name in self.smooth and prev is not None:
-                coast = q + (q - prev)  # where the joint goes at its present speed
-                low = min(max(low, coast - delta), high)
-                high = max(min(high, coast + delta), low)
-            self._last[name] = q
-            self.robot.set_joint_limits(name, low, high)
+        robot, lo, hi, n = self.robot, self._lo, self._hi, len(self._lo)
+        q = np.asarray(robot.state.q)[self._iq]
+        step = braking_steps(np.concatenate((q - lo, hi - q)), delta)
+        low = np.maximum(lo, q - step[:n])
+        high = np.minimum(hi, q + step[n:])
+        last, s = self._last, self._smooth
+        if last is not None and self._any_smooth:
+            coast = 2.0 * q - last  # where each joint goes at its present speed
+            low_s = np.minimum(np.maximum(low, coast - delta), high)
+            high_s = np.maximum(np.minimum(high, coast + delta), low_s)
+            if self._all_smooth:
+                low, high = low_s, high_s
+            else:
+                low, high = np.where(s, low_s, low), np.where(s, high_s, high)
+        self._last = q
+        self._set(low, high)
 
     def restore(self) -> None:
         """Put the URDF limits back."""
-        for name, (lo, hi) in self.limits.items():
-            self.robot.set_joint_limits(name, lo, hi)
+        self._set(self._lo, self._hi)
+
+    def _set(self, low: np.ndarray, high: np.ndarray) -> None:
+        model = self.robot.model
+        lower, upper = np.array(model.lowerPositionLimit), np.array(model.upperPositionLimit)
+        lower[self._iq], upper[self._iq] = low, high
+        model.lowerPositionLimit, model.upperPositionLimit = lower, upper

@@ -296,7 +296,11 @@ class PlacoWalker:
         """
         self.left_hand.T_world_frame = T_left_hand
         self.right_hand.T_world_frame = T_right_hand
-        self.hands.T_a_b = np.linalg.inv(T_left_hand) @ T_right_hand
+        R, p = T_left_hand[:3, :3], T_left_hand[:3, 3]
+        rel = np.eye(4)  # inverse of the rigid left frame, times the right one
+        rel[:3, :3] = R.T @ T_right_hand[:3, :3]
+        rel[:3, 3] = R.T @ (T_right_hand[:3, 3] - p)
+        self.hands.T_a_b = rel
         held = False
         if traj is not None:
             self.tasks.update_tasks_from_trajectory(traj, t)

@@ -2,28 +2,40 @@
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from pivot_ompl.wholebody.joint_damper import JointDamper, braking_step
+from pivot_ompl.wholebody.joint_damper import JointDamper, braking_step, braking_steps
 
 
 class _Robot:
-    """The two methods of PlaCo's RobotWrapper the damper uses, for one joint."""
+    """What the damper reads of PlaCo's RobotWrapper (``model`` limits, ``state.q``), one joint."""
+
+    class _Joint:
+        idx_q = 0
 
     def __init__(self, q: float, lo: float, hi: float) -> None:
-        self.q, self.urdf, self.lim = q, (lo, hi), (lo, hi)
+        self.urdf = (lo, hi)
+        self.model = SimpleNamespace(lowerPositionLimit=np.array([lo]),
+                                     upperPositionLimit=np.array([hi]),
+                                     joints=[None, self._Joint()], getJointId=lambda name: 1)
+        self.state = SimpleNamespace(q=np.array([q]))
 
-    def get_joint_limits(self, name: str) -> np.ndarray:
-        return np.array(self.urdf)
+    @property
+    def q(self) -> float:
+        return float(self.state.q[0])
 
-    def get_joint(self, name: str) -> float:
-        return self.q
+    @q.setter
+    def q(self, value: float) -> None:
+        self.state.q = np.array([value])
 
-    def set_joint_limits(self, name: str, lo: float, hi: float) -> None:
-        self.lim = (lo, hi)
+    @property
+    def lim(self) -> tuple[float, float]:
+        return float(self.model.lowerPositionLimit[0]), float(self.model.upperPositionLimit[0])
 
 
 def _drive(robot: _Robot, damper: JointDamper, targets: list[float]) -> np.ndarray:
@@ -53,6 +65,14 @@ def test_the_braking_step_is_the_longest_that_still_stops(distance, delta):
     assert _covered(s, delta) <= distance + 1e-9  # stops at the limit
     if s < distance:  # and no longer step does (braking no harder than needed)
         assert _covered(s + 1e-6 * delta + 1e-12, delta) > distance - 1e-9
+
+
+def test_the_array_braking_steps_are_the_exact_ones():
+    rng = np.random.default_rng(0)
+    d = np.concatenate(([0.0, -0.1, 1e-12], rng.uniform(0.0, 2.0, 500),
+                        [k * (k + 1) * 2.5e-4 for k in range(50)]))  # piece boundaries
+    exact = np.array([braking_step(x, 5e-4) for x in d])
+    assert np.allclose(braking_steps(d, 5e-4), exact, rtol=1e-9, atol=1e-15)
 
 
 @pytest.mark.parametrize("smooth", [False, True])
