@@ -18,7 +18,7 @@ from pivot_ompl.wholebody.clearance import ClearanceReport
 from pivot_ompl.wholebody.urdf_model import UrdfModel
 
 if TYPE_CHECKING:
-    from pivot_ompl.wholebody.checks_peaks import JointPeaks
+    from pivot_ompl.wholebody.joint_peaks import JointPeaks
 
 log = logging.getLogger(__name__)
 

@@ -58,8 +58,13 @@ from pivot_ompl.wholebody.check_context import (
     Tolerances,
     kinematics,
 )
-from pivot_ompl.wholebody.checks_peaks import JointPeaks
 from pivot_ompl.wholebody.clearance import ClearanceReport
+from pivot_ompl.wholebody.joint_peaks import (
+    ACCEL_LIMIT,
+    BOX_ANGULAR_ACCEL_LIMIT,
+    UPPER_ACCEL_LIMIT,
+    JointPeaks,
+)
 from pivot_ompl.wholebody.lipm import lipm_zmp
 from pivot_ompl.wholebody.urdf_model import load_urdf_model
 
@@ -142,9 +147,9 @@ def _all_finite(motion: Motion) -> CheckResult:
 def check_motion(motion: Motion, plan: Plan | None = None, *, scene: Scene | None = None,
                  zmp_tolerance: float = 0.0, foot_tolerance: float = 1e-3,
                  hand_tolerance: float = 0.01, corner_tolerance: float = 1e-3,
-                 upper_accel_limit: float = checks_peaks.UPPER_ACCEL_LIMIT,
-                 accel_limit: float = checks_peaks.ACCEL_LIMIT,
-                 box_accel_limit: float = checks_peaks.BOX_ANGULAR_ACCEL_LIMIT,
+                 upper_accel_limit: float = UPPER_ACCEL_LIMIT,
+                 accel_limit: float = ACCEL_LIMIT,
+                 box_accel_limit: float = BOX_ANGULAR_ACCEL_LIMIT,
                  obstacle_tolerance: float = 0.01) -> MotionReport:
     """Run every check on ``motion`` (and against ``plan`` when given).
 

@@ -3,7 +3,8 @@
 Tasks (PlaCo ``KinematicsSolver``, one QP per tick of :attr:`WalkSettings.dt`):
 
 * feet and CoM -- **hard** (``WalkTasks`` with ``scaled = False``), tracking the LIPM/ZMP walk
-  pattern generator's trajectory, or fixed targets while standing;
+  pattern generator's trajectory, or fixed targets while standing; the swing foot's target
+  is :class:`~pivot_ompl.wholebody.swing.SwingFoot`'s (held down, then a minimum-jerk swing);
 * trunk orientation -- soft, from the walk trajectory (yaw between the feet);
 * both hands -- soft frame tasks (position weight 1, low orientation weight) tracking targets
   given every tick, plus a soft hand-to-hand relative frame task;
@@ -27,7 +28,7 @@ from pivot_ompl.wholebody.box import rot_z
 from pivot_ompl.wholebody.footsteps import planar, pose_matrix
 from pivot_ompl.wholebody.joint_damper import JointDamper
 from pivot_ompl.wholebody.settings import WalkSettings
-from pivot_ompl.wholebody.timeline import min_jerk_swing
+from pivot_ompl.wholebody.swing import SwingFoot
 
 __all__ = ["PlacoWalker", "SolverFailure", "WalkSettings", "planar", "pose_matrix"]
 
@@ -58,7 +59,7 @@ class PlacoWalker:
 
         self._placo = placo
         self.settings = s = settings
-        self._swing: tuple | None = None  # (trajectory, (t0, side), lift-off, landing frames)
+        self.swing = SwingFoot(s)
         placo.seed(s.seed)  # PlaCo's own pseudo-random generator: the same motion every run
         robot = placo.HumanoidRobot(str(urdf_path()), placo.Flags.ignore_collisions)
         self.robot = robot
@@ -304,7 +305,7 @@ class PlacoWalker:
         held = False
         if traj is not None:
             self.tasks.update_tasks_from_trajectory(traj, t)
-            held = self._delay_lift_off(traj, t)
+            held = self.swing.update(traj, t, self.tasks)
         self.robot.update_kinematics()
         self.damper.apply()
         try:
@@ -325,44 +326,6 @@ class PlacoWalker:
         if held:
             return 0, zmp
         return (1 if side == "left" else 2), zmp
-
-    def _delay_lift_off(self, traj, t: float) -> bool:  # noqa: ANN001
-        """Hold the swing foot down for :attr:`lift_off_delay`, then swing it minimum-jerk.
-
-        The pattern generator constrains the ZMP only at its LIPM samples: it reaches the new
-        support foot one sample after the double support ends. Holding the swing foot down
-        meanwhile keeps that ZMP transfer inside a real double support polygon. The swing
-        then runs over the rest of the single support from the foot's frame at its start to
-        its landing frame on :func:`~pivot_ompl.wholebody.timeline.min_jerk_swing` (speed and
-        acceleration zero at lift-off and touch-down), not on PlaCo's swing trajectory, a
-        cubic whose acceleration jumps at lift-off (the knees' peak acceleration).
-        Returns whether the swing foot is held (both feet in contact).
-        """
-        if traj.support_is_both(t):
-            return False
-        t0, t1 = traj.get_part_t_start(t), traj.get_part_t_end(t)
-        delay = self.lift_off_delay
-        if t1 - t0 <= 2 * delay:
-            delay = 0.0
-        swing = "right" if str(traj.support_side(t)) == "left" else "left"
-        key = (t0, swing)
-        if self._swing is None or self._swing[0] is not traj or self._swing[1] != key:
-            get = traj.get_T_world_right if swing == "right" else traj.get_T_world_left
-            self._swing = (traj, key, np.array(get(t0)), np.array(get(t1)))
-        _, _, T0, T1 = self._swing
-        task = self.tasks.right_foot_task if swing == "right" else self.tasks.left_foot_task
-        if t - t0 < delay:
-            task.T_world_frame = T0
-            return True
-        s = (t - t0 - delay) / (t1 - t0 - delay)
-        task.T_world_frame = min_jerk_swing(T0, T1, s, self.settings.foot_height)
-        return False
-
-    @property
-    def lift_off_delay(self) -> float:
-        """Time the swing foot stays down after a single support starts (s)."""
-        s = self.settings
-        return s.single_support_duration / s.single_support_timesteps + 2.5 * s.dt
 
 
 def humanoid_parameters(settings: WalkSettings):  # noqa: ANN201 - a placo.HumanoidParameters
