@@ -37,8 +37,7 @@ from pivot_ompl.errors import InputError, PlanningError
 from pivot_ompl.grasp import check_grasp
 from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase, plan_quality
 from pivot_ompl.planners.config import RegraspConfig
-from pivot_ompl.planners.optimiser import optimise
-from pivot_ompl.planners.repair import State, repair_route, route_of, stored_route
+from pivot_ompl.planners.repair import State, polish, repair_route, route_of, stored_route
 from pivot_ompl.scene import Obstacle, Scene, check_pose, load_scene, obstacles_from_list
 
 log = logging.getLogger(__name__)
@@ -151,12 +150,7 @@ class PlanningSession:
         if rep is None:
             return None
         cfg = self.config or RegraspConfig()
-        states = rep.states
-        if cfg.optimiser.enabled:  # shortcuts and regrasps as a fresh plan's path gets them
-            c = checker.counters
-            limit = c.valid + c.invalid + max(cfg.optimiser.min_checks, len(states))
-            states = optimise(checker, states, should_stop=lambda: stop() or
-                              c.valid + c.invalid > limit, costs=cfg.cost, grasps=cfg.grasps)
+        states = polish(checker, rep.states, cfg, should_stop=stop)
         if grasp is not None and states[0][1] != grasp:  # the robot walks to the route's grasp
             if not checker.transit(box, grasp, states[0][1], should_stop=stop).valid:
                 return None

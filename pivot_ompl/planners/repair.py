@@ -35,6 +35,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.planners.config import RegraspConfig
+from pivot_ompl.planners.optimiser import optimise
+from pivot_ompl.planners.routes.lattice import TransferLattice
+from pivot_ompl.planners.routes.refine import refine
 from pivot_ompl.planners.single_grasp import SingleGraspConnect
 from pivot_ompl.se2 import Pose
 
@@ -55,6 +59,10 @@ DETOUR_SPACING = 0.75
 DETOUR_TARGETS = 3
 #: Motion checks of each short search (RRT-Connect at one grasp).
 DETOUR_CHECKS = 60
+#: Motion checks (cache hits free) the polish of a repaired route may compute per state of it,
+#: for the lattice re-routing and then the optimiser each (at least the optimiser's
+#: ``min_checks``).
+POLISH_CHECKS_PER_STATE = 4
 #: A join point this close (m and rad) to the observed pose is the observed pose itself.
 SAME_POSE = 1e-9
 
@@ -241,3 +249,29 @@ def _joined(checker: PivotChecker, route: Sequence[State], box: Pose, poses: Seq
     log.info("route repaired: joined edge %d at %.2f through %d poses (%d checks)", p.edge,
              p.t, len(poses), tried)
     return RouteRepair(states, p.edge, tried, len(route) - 1 - max(nxt, 0))
+
+
+def polish(checker: PivotChecker, states: list[State], config: RegraspConfig, *,
+           should_stop: Stop, checks_per_state: int = POLISH_CHECKS_PER_STATE,
+           lattice: bool = False) -> list[State]:
+    """A repaired route improved as a found path is: lattice re-routing, then the optimiser.
+
+    The same steps and cost model as the regrasp planner's (:mod:`.routes.refine`,
+    :mod:`.optimiser`; as ``config.optimiser`` enables them), each within a budget of
+    ``checks_per_state`` motion checks per state of ``states`` (cache hits free): valid,
+    same ends, never costlier than ``states``.
+    """
+    cfg = config.optimiser
+    if not cfg.enabled:
+        return states
+    c = checker.counters
+
+    def budget() -> Stop:
+        limit = c.valid + c.invalid + max(cfg.min_checks, checks_per_state * len(states))
+        return lambda: should_stop() or c.valid + c.invalid > limit
+
+    if cfg.routes and lattice:
+        states = refine(checker, TransferLattice(checker, config.cost), states,
+                        costs=config.cost, should_stop=budget())
+    return optimise(checker, states, should_stop=budget(), costs=config.cost,
+                    grasps=config.grasps)
