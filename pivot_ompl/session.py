@@ -9,7 +9,8 @@ where it really is (drift, a slip), obstacles that appeared or went. It keeps be
   a valid motion whose swept region meets an added obstacle, or an invalid one when an
   obstacle went, is checked again);
 * while the obstacles stay, the regrasp planner's roadmaps and multiplexed graph: the next
-  search starts from the observed pose over them (it grows them only if they hold no path);
+  search starts from the observed pose over them (it grows them only if they hold no path;
+  when that finds nothing in half the time left, a new search gets the rest);
 * the route of the plan being executed (the last plan, or ``executing=``, a plan file's
   ``route`` field): a replan first repairs it locally from the observed state
   (:func:`~pivot_ompl.planners.repair.repair_route`: a checked transfer from the observed pose
@@ -41,6 +42,9 @@ from pivot_ompl.planners.repair import State, polish, repair_route, route_of, st
 from pivot_ompl.scene import Obstacle, Scene, check_pose, load_scene, obstacles_from_list
 
 log = logging.getLogger(__name__)
+
+#: Least time (s) for which a search still starts after a failed repair or resumed search.
+MIN_SEARCH_TIME = 0.05
 
 
 class PlanningSession:
@@ -121,9 +125,11 @@ class PlanningSession:
             self._checker, self._search = fresh, None  # the roadmaps grew among the old ones
         elif self._checker is not None:
             self._checker.scene = scene
+        started = time.monotonic()
         res = self._repaired(scene, start, grasp, time_limit, seed)
         if res is None:
-            res = self._run(scene, time_limit, seed, grasp)
+            res = self._run(scene, max(MIN_SEARCH_TIME, time_limit - (time.monotonic() - started)),
+                            seed, grasp)
         if robot is not None:
             res.plan.extra["observed_robot"] = list(robot)
         return res
@@ -193,9 +199,18 @@ class PlanningSession:
              grasp: int | None) -> PlanResult:
         if self._checker is None:
             self._checker = PivotChecker(scene, seed=self.seed)
-        res = plan(scene, planner=self.planner, time_limit=time_limit,
-                   seed=self.seed if seed is None else seed, config=self.config,
-                   checker=self._checker, bound=self.bound, resume=self._search)
+        end = time.monotonic() + time_limit
+        kw: dict[str, Any] = {"planner": self.planner, "config": self.config,
+                              "seed": self.seed if seed is None else seed,
+                              "checker": self._checker, "bound": self.bound}
+        resumed = self._search is not None
+        res = plan(scene, time_limit=time_limit / 2 if resumed else time_limit,
+                   resume=self._search, **kw)
+        left = end - time.monotonic()
+        if resumed and not res.solved and left > MIN_SEARCH_TIME:
+            # the old roadmaps hold no path in half the time: a new search (checks kept)
+            log.info("replanning: the resumed search failed; a new one for %.1f s", left)
+            res = plan(scene, time_limit=left, resume=None, **kw)
         self._search = res.search
         self._adopt(scene, res, grasp)
         return res
