@@ -28,6 +28,7 @@ from pivot_ompl.planners import (
     make_planner,
     parse_spec,
 )
+from pivot_ompl.planners.repair import State, stored_route
 from pivot_ompl.scene import Scene, load_scene, scene_digest
 
 log = logging.getLogger(__name__)
@@ -170,6 +171,31 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
                       getattr(p, "last_search", None))
 
 
+def plan_from_route(scene: Scene, checker: PivotChecker, states: list[State], *,
+                    planner: str, seed: int, time_limit: float, timings: dict[str, float],
+                    stats: dict[str, Any], config: RegraspConfig | None = None,
+                    bound: bool = False, search: Any = None) -> PlanResult:
+    """A solved :class:`PlanResult` of a route found without OMPL's ``solve`` (a repair).
+
+    The plan is written from ``checker``'s checks of the route's edges as :func:`plan`
+    writes a solution path (an invalid edge raises :class:`PlanningError`), with the same
+    extra fields and quality block; ``timings`` gets ``convert``.
+    """
+    t0 = time.perf_counter()
+    extra = {"planner": planner, "seed": seed, "time_limit": time_limit,
+             **_scene_record(scene), "route": stored_route(states)}
+    result_plan = path_to_plan(scene, checker, states, extra=extra)
+    timings["convert"] = time.perf_counter() - t0
+    result_plan.extra["timings"] = timings
+    result_plan.extra["roadmap"] = stats
+    result_plan.extra["quality"] = _quality(result_plan, scene, config or RegraspConfig(),
+                                            bound, timings)
+    c = checker.counters
+    return PlanResult("EXACT_SOLUTION", result_plan, planner, seed, time_limit, timings, stats,
+                      {"valid": c.valid, "invalid": c.invalid, "cache_hits": c.cache_hits},
+                      search)
+
+
 def _scene_record(scene: Scene) -> dict[str, Any]:
     """What a plan records of its scene: its digest and, planned from a file, its path."""
     out: dict[str, Any] = {"scene_sha256": scene_digest(scene)}
@@ -196,7 +222,8 @@ def _result_plan(scene: Scene, problem: Any, status: str, extra: dict[str, Any],
             ss.simplifySolution()
         path = ss.getSolutionPath()
         states = [read_state(path.getState(i)) for i in range(path.getStateCount())]
-        return path_to_plan(scene, problem.checker, states, extra=extra)
+        return path_to_plan(scene, problem.checker, states,
+                            extra={**extra, "route": stored_route(states)})
     return Plan(scene.name, "none", scene.model.object_size, scene.model.robot_footprint,
                 scene.model.standoff, scene.alpha_max, scene.start, [], extra)
 

@@ -69,7 +69,7 @@ def run(args: argparse.Namespace) -> int:
         added = doc["obstacles"]
         if not isinstance(added, list):
             raise InputError("--add-obstacles", args.add_obstacles, "obstacles must be a list")
-    session = PlanningSession(scene, seed=args.seed)
+    session = PlanningSession(scene, seed=args.seed, executing=old)
     try:
         res = session.replan(box=args.box, grasp=args.grasp, robot=args.robot,
                              add_obstacles=added, remove_obstacles=list(args.remove_obstacles),

@@ -1,7 +1,9 @@
 """The ``replay`` verb: meshcat replay of a plan or a whole-body motion.
 
-``pivot-ompl replay PLAN.json|MOTION.npz [--scene S] [--plan P] [--html F] [--serve]
-[--open]``.
+``pivot-ompl replay PLAN.json|MOTION.npz [--scene S] [--plan P] [--before OLD.json]
+[--html F] [--serve] [--open]``. ``--before OLD.json`` with a plan made by ``replan``: the old
+plan up to the drift (its step nearest the new plan's start), then the new plan, with a
+chapter at the switch.
 Without ``--html`` or ``--serve`` the replay is written next to the input
 (``<input>.html``). The scene comes from ``--scene`` or from the plan's/motion's scene name
 (``scenes/<name>.yaml`` under the repository root); without one no obstacle is drawn (a
@@ -38,6 +40,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument("--scene", help="scene YAML (default: scenes/<plan's scene>.yaml)")
     p.add_argument("--plan", help="with a motion: the plan it executes (draws its Reeds-Shepp "
                    "paths and pivot points; its scene name is used)")
+    p.add_argument("--before", metavar="OLD.json",
+                   help="with a replanned plan: the plan it replaced; replays OLD up to the "
+                        "drift, then the new plan (a chapter at the switch)")
     p.add_argument("--html", help="write one self-contained offline HTML file here")
     p.add_argument("--serve", action="store_true",
                    help="start a live meshcat viewer, print its URL, stop on Ctrl-C")
@@ -89,6 +94,8 @@ def _builder(args: argparse.Namespace):
         from pivot_ompl.motionfile import load_motion
         from pivot_ompl.viz.motion_view import show_motion
 
+        if args.before:
+            raise InputError("--before", args.before, "only goes with a plan (.json) input")
         motion = load_motion(src)
         plan = load_plan(args.plan) if args.plan else None
         scene = find_scene(motion.scene or (plan.scene if plan else ""), args.scene,
@@ -101,19 +108,22 @@ def _builder(args: argparse.Namespace):
         for opt, value in (("--plan", args.plan), ("--urdf", args.urdf)):
             if value:
                 raise InputError(opt, value, "only goes with a motion (.npz) input")
-        from pivot_ompl.viz.plan_view import show_plan
+        from pivot_ompl.viz.plan_view import show_plan, show_replanned
 
         plan = load_plan(src)
         scene = find_scene(plan.scene, args.scene, path=_scene_path(plan))
+        before = load_plan(args.before) if args.before else None
 
         def build(vis: meshcat.Visualizer) -> object:
+            if before is not None:
+                return show_replanned(vis, scene, before, plan)
             return show_plan(vis, scene, plan)
     return build, f"pivot-ompl replay: {src.name}"
 
 
 def run(args: argparse.Namespace) -> int:
     """Run ``replay``; returns the exit code (0 ok, 1 failure; bad input raises)."""
-    inputs = [args.input, args.plan, args.scene, args.urdf]
+    inputs = [args.input, args.plan, args.scene, args.urdf, args.before]
     html = output_file(args.html, "--html", inputs=inputs, suffixes=[".html", ".htm"])
     build, title = _builder(args)
     if args.serve:
