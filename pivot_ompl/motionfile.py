@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 
 from pivot_ompl.errors import InputError
-from pivot_ompl.fileio import atomic_output
+from pivot_ompl.fileio import atomic_output, regular_file
 
 FORMAT = "pivot-motion/1"
 REQUIRED = ("t", "q", "joint_names", "urdf", "box")
@@ -138,9 +138,10 @@ def load_motion(path: str | Path) -> Motion:
     """Read and check a motion ``.npz`` file (each array read once).
 
     Raises:
-        InputError: unreadable file, missing key or inconsistent shapes (naming the key).
+        InputError: not a path to a regular file, unreadable file, missing key or inconsistent
+            shapes (naming the key).
     """
-    path = Path(path)
+    path = regular_file(path, field="motion")
     src = str(path)
     try:
         data = np.load(path, allow_pickle=False)

@@ -24,7 +24,7 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING, TextIO
 
-from pivot_ompl.cli.args import finite, output_file
+from pivot_ompl.cli.args import finite, output_files
 from pivot_ompl.errors import InputError, WholeBodyError
 
 if TYPE_CHECKING:
@@ -93,7 +93,7 @@ def _animate(args: argparse.Namespace) -> int:
     from pivot_ompl.wholebody.generator import generate_motion
     from pivot_ompl.wholebody.motion_checks import check_motion
 
-    output_file(args.out, "--out", inputs=[args.plan], suffixes=[".npz"])
+    output_files([args.plan], suffixes={"out": [".npz"]}, out=args.out)
     plan = load_plan(args.plan)
     scene = _scene_of(args, plan.scene)
     bar = None if args.no_progress else ProgressBar("animate")
