@@ -54,16 +54,22 @@ def non_negative(name: str) -> Callable[[str], float]:
 
 
 def time_limit(name: str = "--time") -> Callable[[str], float]:
-    """An argparse type for a time limit (s): a number > 0, ``inf`` allowed (no NaN)."""
+    """An argparse type for a time limit (s): the API's one contract (``check_time_limit``).
+
+    A number > 0; ``inf`` and anything above 1e6 s is the largest limit (1e6 s); no NaN.
+    """
 
     def conv(text: str) -> float:
+        from pivot_ompl.api import check_time_limit
+
         try:
             v = float(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"{name} = {abridge(text)}: not a number") from None
-        if math.isnan(v) or v <= 0:
-            raise argparse.ArgumentTypeError(f"{name} = {abridge(text)}: must be > 0 s")
-        return v
+        try:
+            return check_time_limit(v, name)
+        except InputError as e:
+            raise argparse.ArgumentTypeError(f"{name} = {abridge(text)}: {e.reason}") from None
 
     return conv
 

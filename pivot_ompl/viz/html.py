@@ -155,7 +155,7 @@ def write_html(vis: meshcat.Visualizer, path: str | Path, *,
         InputError: ``vis`` is not backed by a :class:`RecordingWindow`.
     """
     t0 = time.perf_counter()
-    window = vis.window
+    window = getattr(vis, "window", None)
     if not isinstance(window, RecordingWindow):
         raise InputError("vis", type(window).__name__,
                          "offline export needs a recording visualizer "
