@@ -253,17 +253,30 @@ def _check_arguments(scene: Any, planner: Any, time_limit: Any, seed: Any,
     if not isinstance(planner, str):
         raise InputError("planner", planner, f"unknown planner (known: {sorted(PLANNERS)})")
     check_planner_name(planner)  # unknown or refused planners (prm) say why
-    if isinstance(time_limit, bool) or not isinstance(time_limit, int | float):
-        raise InputError("time_limit", time_limit, "must be a number of seconds")
-    if math.isnan(time_limit) or time_limit <= 0:
-        raise InputError("time_limit", time_limit, "must be > 0 s")
+    limit = check_time_limit(time_limit)
     if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= MAX_SEED:
         raise InputError("seed", seed, f"must be an integer in [0, {MAX_SEED}]")
     if not isinstance(simplify, bool):
         raise InputError("simplify", simplify, "must be True or False")
     if not isinstance(bound, bool):
         raise InputError("bound", bound, "must be True or False")
-    return float(min(time_limit, MAX_TIME_LIMIT))
+    return limit
+
+
+def check_time_limit(value: Any, field: str = "time_limit") -> float:
+    """The one time-limit contract of every verb and API call: the limit (s) to use.
+
+    A number > 0; ``math.inf`` and anything above :data:`MAX_TIME_LIMIT` is
+    :data:`MAX_TIME_LIMIT`.
+
+    Raises:
+        InputError: not a number, NaN, or not > 0 (naming ``field``).
+    """
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise InputError(field, value, "must be a number of seconds")
+    if math.isnan(value) or value <= 0:
+        raise InputError(field, value, "must be > 0 s")
+    return float(min(value, MAX_TIME_LIMIT))
 
 
 def _check_config(config: Any, regrasp_cost: Any) -> RegraspConfig:

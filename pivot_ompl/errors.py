@@ -26,6 +26,16 @@ def abridge(value: Any) -> str:
         return f"<{type(value).__name__}>"
 
 
+def require_type(value: Any, kinds: type | tuple[type, ...], field: str, what: str) -> None:
+    """Raise :class:`InputError` naming ``field`` unless ``value`` is one of ``kinds``.
+
+    ``what`` says what is expected (``"a Scene"``); ``bool`` never passes for a number.
+    """
+    numbers = kinds in (int, float) or (isinstance(kinds, tuple) and set(kinds) <= {int, float})
+    if not isinstance(value, kinds) or (numbers and isinstance(value, bool)):
+        raise InputError(field, type(value).__name__, f"must be {what}")
+
+
 class PivotError(Exception):
     """Base class of every error raised by pivot_ompl."""
 

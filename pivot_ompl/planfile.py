@@ -57,7 +57,7 @@ from typing import Any
 
 from pivot_ompl.cost import CostModel, DurationModel
 from pivot_ompl.errors import PlanFileError
-from pivot_ompl.fileio import atomic_output, load_json
+from pivot_ompl.fileio import atomic_output, input_path, load_json
 from pivot_ompl.se2 import Pose
 
 FORMAT = "pivot-plan/1"
@@ -401,7 +401,7 @@ def load_plan(path: str | Path) -> Plan:
     """Read a ``pivot-plan/1`` file.
 
     Raises:
-        PlanFileError: unreadable file, invalid JSON or a malformed field.
+        PlanFileError: not a path, unreadable file, invalid JSON or a malformed field.
     """
-    path = Path(path)
+    path = input_path(path, error=PlanFileError)
     return plan_from_dict(load_json(path, error=PlanFileError), source=str(path))

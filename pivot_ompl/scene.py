@@ -32,7 +32,6 @@ from __future__ import annotations
 
 import hashlib
 import math
-import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -42,7 +41,7 @@ import shapely.validation
 
 from pivot_ompl import hrp2
 from pivot_ompl.errors import InputError, SceneError
-from pivot_ompl.fileio import load_yaml
+from pivot_ompl.fileio import input_path, load_yaml
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.resources import shipped_scenes
 from pivot_ompl.se2 import Pose, wrap_angle
@@ -369,10 +368,7 @@ def load_scene(path: str | Path) -> Scene:
         SceneError: unreadable file, invalid YAML, unknown key, missing field, wrong type or
             bad value, naming the file, the field and the value.
     """
-    if not isinstance(path, str | os.PathLike):
-        raise InputError("path", type(path).__name__,
-                         "must be a scene file path or a shipped scene's name")
-    path = Path(path)
+    path = input_path(path)
     if not path.exists():
         path = shipped_scenes().get(str(path), path)
     return scene_from_dict(load_yaml(path, error=SceneError), source=str(path))

@@ -24,7 +24,7 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING, TextIO
 
-from pivot_ompl.cli.args import finite, output_file
+from pivot_ompl.cli.args import finite, output_files
 from pivot_ompl.errors import InputError, WholeBodyError
 
 if TYPE_CHECKING:
@@ -56,11 +56,17 @@ class ProgressBar:
         self.stream.flush()
 
 
-def resolve_scene(option: str | None, named: str, *, field: str) -> Scene:
-    """The scene to check obstacles against: ``--scene``, else the file's ``scene`` name.
+def resolve_scene(option: str | None, named: str, *, field: str,
+                  path: str | None = None) -> Scene:
+    """The scene to check obstacles against (``--scene``, recorded file, shipped name).
+
+    ``--scene`` first, else the scene file a plan records (``path``, its ``scene_path``),
+    else the shipped scene of the file's ``scene`` name.
+
+    A name read from a file never becomes a path: ``"../x.yaml"`` is no shipped scene.
 
     Raises:
-        InputError: no scene given and the file's name is neither a shipped scene nor a file.
+        InputError: no scene given, no recorded file, and the name is not a shipped scene.
         SceneError: the scene file is invalid.
     """
     from pivot_ompl.resources import shipped_scenes
@@ -68,19 +74,22 @@ def resolve_scene(option: str | None, named: str, *, field: str) -> Scene:
 
     if option:
         return load_scene(option)
-    if named and (named in shipped_scenes() or Path(named).is_file()):
-        return load_scene(named)
-    raise InputError(field, named, "is not a shipped scene or a file: pass --scene FILE "
+    if path and Path(path).is_file():
+        return load_scene(path)
+    shipped = shipped_scenes().get(named) if named else None
+    if shipped is not None:
+        return load_scene(shipped)
+    raise InputError(field, named, "is not a shipped scene: pass --scene FILE "
                      "(the obstacles are checked)")
 
 
-def _scene_of(args: argparse.Namespace, named: str) -> Scene | None:
+def _scene_of(args: argparse.Namespace, named: str, recorded: str | None) -> Scene | None:
     """The plan's scene (its walk model sets the footstep limits; its obstacles are checked).
 
     With ``--no-check`` a plan whose scene is not found is animated with HRP-2's walk model.
     """
     try:
-        return resolve_scene(args.scene, named, field="plan.scene")
+        return resolve_scene(args.scene, named, field="plan.scene", path=recorded)
     except InputError:
         if not args.no_check:
             raise
@@ -93,9 +102,10 @@ def _animate(args: argparse.Namespace) -> int:
     from pivot_ompl.wholebody.generator import generate_motion
     from pivot_ompl.wholebody.motion_checks import check_motion
 
-    output_file(args.out, "--out", inputs=[args.plan], suffixes=[".npz"])
+    output_files([args.plan], suffixes={"out": [".npz"]}, out=args.out)
     plan = load_plan(args.plan)
-    scene = _scene_of(args, plan.scene)
+    recorded = plan.extra.get("scene_path")
+    scene = _scene_of(args, plan.scene, recorded if isinstance(recorded, str) else None)
     bar = None if args.no_progress else ProgressBar("animate")
     if not MIN_TICK <= args.tick <= MAX_TICK:
         raise InputError("--tick", args.tick, f"must be in [{MIN_TICK}, {MAX_TICK}] s")

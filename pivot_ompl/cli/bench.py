@@ -11,7 +11,6 @@ import argparse
 import logging
 import sys
 
-from pivot_ompl.api import MAX_TIME_LIMIT
 from pivot_ompl.cli.args import non_negative, positive, time_limit
 from pivot_ompl.errors import InputError
 
@@ -150,7 +149,7 @@ def run(args: argparse.Namespace) -> int:
     if not log.isEnabledFor(logging.DEBUG):  # Dask's INFO chatter would bury the progress bar
         logging.getLogger("distributed").setLevel(logging.WARNING)
     res = run_sweep(args.scenes, planners, runs=args.runs,
-                    time_limit=min(args.time, MAX_TIME_LIMIT), out=args.out,
+                    time_limit=args.time, out=args.out,
                     executor=executor, seed0=args.seed0, memory_limit=args.memory,
                     simplify=args.simplify, progress=not args.no_progress,
                     plots=not args.no_plots, overwrite=args.overwrite)

@@ -77,7 +77,30 @@ def _ompl_log_level(level: str) -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the CLI; return the exit code."""
+    """Run the CLI; return the exit code.
+
+    Ctrl-C at any moment (imports included) prints one line and returns
+    :data:`EXIT_INTERRUPTED`: outputs are written atomically, so nothing half-written is left
+    and no existing file was replaced.
+    """
+    try:
+        return _run(argv)
+    except KeyboardInterrupt:
+        verb = _verb_of(sys.argv[1:] if argv is None else argv)
+        print(f"pivot-ompl{' ' + verb if verb else ''}: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+
+
+def _verb_of(argv: Sequence[str]) -> str:
+    """The verb of a command line, or ``""`` (for a message when parsing did not end)."""
+    words = [str(a) for a in argv]
+    for i, word in enumerate(words):
+        if not word.startswith("-") and not (i and words[i - 1] == "--log-level"):
+            return word
+    return ""
+
+
+def _run(argv: Sequence[str] | None) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
@@ -101,9 +124,6 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"pivot-ompl {args.verb}: error: {e.filename or ''}: {e.strerror or e}",
               file=sys.stderr)
         return EXIT_BAD_INPUT
-    except KeyboardInterrupt:  # outputs are written atomically: nothing half-written is left
-        print(f"\npivot-ompl {args.verb}: interrupted", file=sys.stderr)
-        return EXIT_INTERRUPTED
 
 
 if __name__ == "__main__":  # pragma: no cover

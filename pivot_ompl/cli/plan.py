@@ -14,17 +14,10 @@ import threading
 import time
 
 from pivot_ompl.api import MAX_SEED, plan
-from pivot_ompl.cli.args import (
-    distinct_outputs,
-    figure_file,
-    integer,
-    non_negative,
-    output_file,
-    time_limit,
-)
+from pivot_ompl.cli.args import integer, non_negative, output_files, time_limit
 from pivot_ompl.cost import REGRASP_COST
 from pivot_ompl.errors import PlanningError
-from pivot_ompl.fileio import atomic_output
+from pivot_ompl.fileio import atomic_outputs
 from pivot_ompl.planners import PLANNERS, REFUSED
 from pivot_ompl.scene import load_scene
 
@@ -83,9 +76,7 @@ def quality_line(q: dict) -> str:
 def run(args: argparse.Namespace) -> int:
     """Plan, write the plan and the figure."""
     scene = load_scene(args.scene)
-    out = output_file(args.out, "--out", inputs=[scene.source])
-    fig = figure_file(args.plot, "--plot", inputs=[scene.source])
-    distinct_outputs(out=out, plot=fig)
+    out, fig = output_files([scene.source], figures=["plot"], out=args.out, plot=args.plot)
     stop = threading.Event()
     th = threading.Thread(target=_progress, args=(stop, args.time), daemon=True)
     th.start()
@@ -109,12 +100,14 @@ def run(args: argparse.Namespace) -> int:
         if out or fig:
             print("no plan found: nothing written", file=sys.stderr)
         return 1
+    with atomic_outputs(out, fig) as (tmp_out, tmp_fig):  # both or neither
+        if tmp_out:
+            tmp_out.write_text(res.plan.to_text(), encoding="utf-8")
+        if tmp_fig:
+            from pivot_ompl.viz.plan_figure import plot_plan
+            plot_plan(res.plan, tmp_fig, scene=scene, search=res.search)
     if out:
-        res.to_json(out)
         print(f"plan written to {out}")
     if fig:
-        from pivot_ompl.viz.plan_figure import plot_plan
-        with atomic_output(fig) as tmp:
-            plot_plan(res.plan, tmp, scene=scene, search=res.search)
         print(f"figure written to {fig}")
     return 0

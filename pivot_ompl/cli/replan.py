@@ -16,7 +16,7 @@ import argparse
 import sys
 
 from pivot_ompl.api import MAX_SEED
-from pivot_ompl.cli.args import distinct_outputs, finite, integer, output_file, time_limit
+from pivot_ompl.cli.args import finite, integer, output_files, time_limit
 from pivot_ompl.errors import InputError, PlanningError
 from pivot_ompl.fileio import atomic_outputs, load_yaml
 from pivot_ompl.generate.sceneio import scene_text
@@ -57,9 +57,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("PLAN", args.plan, f"is a plan of scene {old.scene!r}, not of "
                          f"{scene.name!r}")
     inputs = [scene.source, args.plan] + ([args.add_obstacles] if args.add_obstacles else [])
-    out = output_file(args.out, "--out", inputs=inputs)
-    scene_out = output_file(args.scene_out, "--scene-out", inputs=inputs)
-    distinct_outputs(out=out, scene_out=scene_out)
+    out, scene_out = output_files(inputs, out=args.out, scene_out=args.scene_out)
     added = []
     if args.add_obstacles:
         doc = load_yaml(args.add_obstacles)
@@ -86,6 +84,7 @@ def run(args: argparse.Namespace) -> int:
     assert out is not None and scene_out is not None  # noqa: S101 - required options
     res.plan.extra["replanned_from"] = str(args.plan)
     with atomic_outputs(scene_out, out) as (tmp_scene, tmp_plan):
+        assert tmp_scene is not None and tmp_plan is not None  # noqa: S101 - both given
         tmp_scene.write_text(scene_text(new, comment=f"{new.name} as observed: replanned "
                                                      f"from {args.plan}"), encoding="utf-8")
         tmp_plan.write_text(res.plan.to_text(), encoding="utf-8")

@@ -21,8 +21,9 @@ from typing import Any
 
 import meshcat
 
-from pivot_ompl.cli.args import output_file, positive
+from pivot_ompl.cli.args import output_file, output_files, positive
 from pivot_ompl.errors import InputError
+from pivot_ompl.fileio import regular_file
 from pivot_ompl.planfile import load_plan
 from pivot_ompl.resources import shipped_scenes
 from pivot_ompl.scene import Scene, load_scene
@@ -85,9 +86,7 @@ def _scene_path(plan: Any) -> str | None:
 
 def _builder(args: argparse.Namespace):
     """Load the input and return ``(build(vis), title)``."""
-    src = Path(args.input)
-    if not src.is_file():
-        raise InputError("input", str(src), "file not found")
+    src = regular_file(args.input, field="input")  # a FIFO would block the reader
     if not 0 < args.fps <= 1000:
         raise InputError("--fps", args.fps, "must be in (0, 1000] keys per second")
     if src.suffix.lower() == ".npz":
@@ -124,7 +123,7 @@ def _builder(args: argparse.Namespace):
 def run(args: argparse.Namespace) -> int:
     """Run ``replay``; returns the exit code (0 ok, 1 failure; bad input raises)."""
     inputs = [args.input, args.plan, args.scene, args.urdf, args.before]
-    html = output_file(args.html, "--html", inputs=inputs, suffixes=[".html", ".htm"])
+    (html,) = output_files(inputs, suffixes={"html": [".html", ".htm"]}, html=args.html)
     build, title = _builder(args)
     if args.serve:
         from pivot_ompl.viz.serve import serve

@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from pivot_ompl.errors import InputError
+from pivot_ompl.errors import InputError, require_type
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
 from pivot_ompl.scene import Scene
@@ -143,8 +143,14 @@ def narrowest_steps(plan: Plan, scene: Scene) -> dict[int, tuple[int, float]]:
     Clearance (m) of the box and of the robot's bounding box to the scene's obstacles after
     each rotation (coal distances); phases are keyed by their index in ``plan.phases``.
     Empty when the scene has no obstacle.
+
+    Raises:
+        InputError: ``plan`` is not a Plan or ``scene`` not a Scene.
     """
     from pivot_ompl.validity.collision import CollisionWorld
+
+    require_type(plan, Plan, "plan", "a Plan (load_plan)")
+    require_type(scene, Scene, "scene", "a Scene (load_scene)")
 
     if not scene.obstacles:
         return {}

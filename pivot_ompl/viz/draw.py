@@ -9,11 +9,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
+from typing import Any
 
 import meshcat
 import meshcat.geometry as g
 import numpy as np
 
+from pivot_ompl.errors import InputError, require_type
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Obstacle, PolygonObstacle, Scene
 from pivot_ompl.se2 import Pose
@@ -36,6 +38,23 @@ def _lambert(color: int, *, opacity: float = 1.0) -> g.MeshLambertMaterial:
 #: Nodes a replay owns; cleared before a new replay is drawn into the same visualizer.
 REPLAY_NODES = ("floor", "obstacles", "box", "robot", "rs_path", "walks", "pivots",
                 "footsteps", "zmp")
+
+
+def check_view(vis: Any = None, *, scene: Any = None, require_vis: bool = True,
+               **values: tuple[Any, type]) -> None:
+    """Check a view helper's arguments (an InputError naming the argument, not a crash).
+
+    ``vis`` must be a visualizer (anything indexable by node name, as ``meshcat.Visualizer``
+    and :func:`~pivot_ompl.viz.recording_visualizer`); ``scene`` a Scene or ``None``;
+    ``values`` maps further argument names to ``(value, expected class)``.
+    """
+    if require_vis and not callable(getattr(vis, "__getitem__", None)):
+        raise InputError("vis", type(vis).__name__, "must be a meshcat Visualizer (or "
+                         "pivot_ompl.viz.recording_visualizer())")
+    if scene is not None:
+        require_type(scene, Scene, "scene", "a Scene (load_scene) or None")
+    for name, (value, kind) in values.items():
+        require_type(value, kind, name, f"a {kind.__name__}")
 
 
 def clear(vis: meshcat.Visualizer, names: Sequence[str] = REPLAY_NODES) -> None:

@@ -123,6 +123,9 @@ def show_motion(vis: meshcat.Visualizer, motion: Motion, *, scene: Scene | None 
         play: start playing once loaded.
         camera: aim the default camera at the floor.
     """
+    draw.check_view(vis, scene=scene, motion=(motion, Motion))
+    if plan is not None:
+        draw.check_view(vis, plan=(plan, Plan))
     model = load_robot(resolve_urdf(motion, urdf))
     size = object_size or motion.object_size or (
         scene.model.object_size if scene is not None else None)
@@ -213,6 +216,7 @@ def motion_guide(motion: Motion, *, plan: Plan | None = None,
     ``phase`` array has one label, ``"motion"``; a plan that does not match the motion's
     phases is ignored with a warning.
     """
+    draw.check_view(scene=scene, require_vis=False, motion=(motion, Motion))
     t = motion.t - motion.t[0] if len(motion.t) else motion.t
     if motion.phase is None:
         return ReplayGuide(motion.duration, (Chapter(0.0, "start", "moment"),),

@@ -65,6 +65,7 @@ def show_scene(vis: meshcat.Visualizer, scene: Scene | None, *,
                bounds: tuple[float, float, float, float] | None = None,
                camera: bool = True) -> ReplayInfo:
     """Draw the floor and the obstacles of ``scene`` (or only a floor over ``bounds``)."""
+    draw.check_view(vis, scene=scene)
     draw.clear(vis, ("floor", "obstacles"))
     draw.draw_scene(vis, scene, bounds=bounds)
     b = scene.bounds if scene is not None else bounds
@@ -123,6 +124,7 @@ def show_plan(vis: meshcat.Visualizer, scene: Scene | None, plan: Plan, *,
     (``footsteps/<j>``), transit walks (``walks/<i>``). Animated: ``box`` (inclined towards
     the robot while pivoting) and ``robot`` (footprint plate and translucent volume).
     """
+    draw.check_view(vis, scene=scene, plan=(plan, Plan))
     model = BoxGraspModel(plan.object_size, plan.robot_footprint, plan.standoff,
                           scene.model.robot_height if scene is not None else hrp2.HEIGHT)
     bounds = None if scene is not None else plan_bounds(plan)
