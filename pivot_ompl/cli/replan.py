@@ -21,7 +21,7 @@ from pivot_ompl.errors import InputError, PlanningError
 from pivot_ompl.fileio import atomic_outputs, load_yaml
 from pivot_ompl.generate.sceneio import scene_text
 from pivot_ompl.planfile import load_plan
-from pivot_ompl.scene import load_scene
+from pivot_ompl.scene import load_scene, scene_digest
 from pivot_ompl.session import PlanningSession
 
 
@@ -85,9 +85,10 @@ def run(args: argparse.Namespace) -> int:
     new = session.scene
     assert out is not None and scene_out is not None  # noqa: S101 - required options
     res.plan.extra["replanned_from"] = str(args.plan)
+    res.plan.extra.update(scene_path=str(scene_out.resolve()), scene_sha256=scene_digest(new))
     with atomic_outputs(scene_out, out) as (tmp_scene, tmp_plan):
         tmp_scene.write_text(scene_text(new, comment=f"{new.name} as observed: replanned "
                                                      f"from {args.plan}"), encoding="utf-8")
-        tmp_plan.write_text(res.plan.to_text(), encoding="utf-8")
+        tmp_plan.write_text(res.plan.to_text(folder=out.parent), encoding="utf-8")
     print(f"scene written to {scene_out}, plan written to {out}")
     return 0
