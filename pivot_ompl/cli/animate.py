@@ -11,8 +11,7 @@
 
 Both check every link and the box against the scene's obstacles. The scene is ``--scene``
 (a file or a shipped scene's name), else the one the plan or motion records (its
-``scene_path`` file, else the shipped scene of its name, :mod:`pivot_ompl.cli.scenes`);
-otherwise exit 2.
+``scene_path`` file, else the shipped scene of its name); otherwise exit 2.
 """
 
 from __future__ import annotations
@@ -116,10 +115,12 @@ def _check(args: argparse.Namespace) -> int:
     scene = require_scene(record, args.scene, field="motion.scene")
     report = check_motion(motion, plan, scene=scene)
     if report.clearance is not None:
-        print(f"obstacle clearance per link (scene {scene.name}):")
+        print(f"obstacle clearance per link (scene {scene.name}; smallest distance in m over "
+              "the motion, at time t, to the nearest obstacle):")
         print(report.clearance.table())
     if report.peaks is not None:
-        print("joint speed and acceleration peaks over the whole motion:")
+        print("joint speed and acceleration peaks over the whole motion (|v| rad/s, |a| "
+              "rad/s², each passes at or below its limit; at t: when):")
         print(report.peaks.table())
     print(report.table())
     return 0 if report.passed else 1

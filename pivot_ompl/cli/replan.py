@@ -17,6 +17,7 @@ import sys
 
 from pivot_ompl.api import MAX_SEED
 from pivot_ompl.cli.args import distinct_outputs, finite, integer, output_file, time_limit
+from pivot_ompl.cli.plan import result_line
 from pivot_ompl.errors import InputError, PlanningError
 from pivot_ompl.fileio import atomic_outputs, load_yaml
 from pivot_ompl.generate.sceneio import scene_text
@@ -28,7 +29,7 @@ from pivot_ompl.session import PlanningSession
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``replan`` verb."""
     p = sub.add_parser("replan", help="plan again from an observed box pose and obstacles")
-    p.add_argument("scene", help="scene YAML file (or a shipped scene's name)")
+    p.add_argument("scene", help="scene file (YAML) or shipped scene's name")
     p.add_argument("plan", help="the pivot-plan/1 plan being executed")
     p.add_argument("--box", nargs=3, required=True, metavar=("X", "Y", "YAW"),
                    type=finite("--box"), help="observed box pose (m, m, rad)")
@@ -77,8 +78,7 @@ def run(args: argparse.Namespace) -> int:
     except PlanningError as e:
         print(f"pivot-ompl replan: {e}", file=sys.stderr)
         return 2
-    print(f"{res.status}: {res.pivots} pivots, {res.regrasps} regrasps, "
-          f"solve {res.timings['solve']:.2f} s")
+    print(result_line(res))
     if not res.solved:
         print("no plan found: nothing written", file=sys.stderr)
         return 1

@@ -4,7 +4,7 @@
 [--open]``.
 Without ``--html`` or ``--serve`` the replay is written next to the input
 (``<input>.html``). The scene is ``--scene``, else the one the plan or motion records (its
-``scene_path`` file, else the shipped scene of its name, :mod:`pivot_ompl.cli.scenes`);
+``scene_path`` file, else the shipped scene of its name);
 without one no obstacle is drawn (a warning says so). The HTML file is never one of the
 inputs (exit 2) and is written through a temporary file.
 """

@@ -20,6 +20,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.patches import Circle, Polygon  # noqa: E402
 
+from pivot_ompl.errors import counted  # noqa: E402
 from pivot_ompl.grasp import BoxGraspModel  # noqa: E402
 from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase  # noqa: E402
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Scene  # noqa: E402
@@ -56,8 +57,8 @@ def plan_figure(plan: Plan, *, scene: Scene | None = None, search: Any = None,
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     reached = "reaches the goal" if plan.status == "exact" else f"status {plan.status}"
-    ax.set_title(title or f"{plan.scene}: {plan.pivots} pivots, {plan.regrasps} regrasps, "
-                 f"{reached}")
+    ax.set_title(title or f"{plan.scene}: {counted(plan.pivots, 'pivot')}, "
+                 f"{counted(plan.regrasps, 'regrasp')}, {reached}")
     handles, labels = ax.get_legend_handles_labels()
     order = sorted(range(len(labels)), key=lambda i: (labels[i].startswith("path, grasp"),
                                                       labels[i]))

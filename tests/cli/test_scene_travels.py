@@ -88,7 +88,7 @@ def test_every_verb_finds_the_plans_scene(own_plan, tmp_path, capsys):
         (work / "scenes" / "mine.yaml").resolve())
     capsys.readouterr()
     assert main(["check-motion", str(work / "plans" / "m.npz")]) in (0, 1)
-    assert "(scene mine)" in capsys.readouterr().out
+    assert "(scene mine;" in capsys.readouterr().out
 
 
 def test_a_scene_gone_is_named_with_the_shipped_ones(own_plan, tmp_path, capsys, caplog):
