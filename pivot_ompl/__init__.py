@@ -52,6 +52,11 @@ def __getattr__(name: str) -> Any:
     raise AttributeError(f"module 'pivot_ompl' has no attribute {name!r}")
 
 
+def __dir__() -> list[str]:
+    """The module's names with the lazy ones (``dir()`` and tab completion list them)."""
+    return sorted({*globals(), *_LAZY})
+
+
 __all__ = [
     "BoxGraspModel", "InputError", "PivotError", "PivotProblem", "PivotSequence",
     "PivotSteering", "Plan", "PlanFileError", "PlanResult", "PlanningError", "Scene",

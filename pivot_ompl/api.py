@@ -17,7 +17,7 @@ from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.base.problem import make_setup
 from pivot_ompl.base.state import read_state
 from pivot_ompl.checking.pivot_checker import PivotChecker
-from pivot_ompl.errors import InputError, PlanningError
+from pivot_ompl.errors import InputError, PlanningError, counted
 from pivot_ompl.planfile import Plan, plan_quality
 from pivot_ompl.planners import (
     OMPL_PLANNERS,
@@ -32,6 +32,10 @@ from pivot_ompl.planners.repair import State, stored_route
 from pivot_ompl.scene import Scene, load_scene, scene_digest
 
 log = logging.getLogger(__name__)
+
+# OMPL's own log (its Info and Debug lines on every solve) is quiet by default; show it with
+# ompl.util.setLogLevel(ompl.util.LogLevel.LOG_INFO) or `pivot-ompl --log-level DEBUG`.
+ou.setLogLevel(ou.LogLevel.LOG_WARN)
 
 #: Largest effective time limit (s, 11.6 days): a larger one (or ``inf``) means "until solved"
 #: in practice and is clamped to this, which OMPL's clock still represents.
@@ -88,7 +92,15 @@ class PlanResult:
         return self.plan.regrasps
 
     def to_json(self, path: str | Path) -> Path:
-        """Write the plan as ``pivot-plan/1`` (with planner, seed, timings as extra fields)."""
+        """Write the plan as ``pivot-plan/1`` (with planner, seed, timings as extra fields).
+
+        Raises:
+            PlanningError: the result does not reach the goal (``TIMEOUT``, OMPL's
+                ``APPROXIMATE_SOLUTION``...): nothing is written, such a path is not a plan.
+        """
+        if not self.solved:
+            raise PlanningError(self.status, "no plan reaches the goal, nothing written "
+                                "(an approximate path is not a plan)")
         return self.plan.to_json(path)
 
 
@@ -137,7 +149,7 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
         scene = load_scene(scene)
     base = parse_spec(planner)[0]
     if base in OMPL_PLANNERS:
-        ou.RNG.setSeed(seed + 1)  # OMPL's seed must be > 0
+        seed_ompl(seed)
     problem = make_setup(scene, seed=seed, checker=checker)
     ss = problem.setup
     p = make_planner(planner, problem, seed=seed, config=config)
@@ -164,8 +176,8 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     if result_plan.phases:
         result_plan.extra["quality"] = _quality(result_plan, scene, config, bound, timings)
     c = problem.checker.counters
-    log.info("%s on %s: %s in %.2f s (%d pivots, %d regrasps)", planner, scene.name, name,
-             t2 - t1, result_plan.pivots, result_plan.regrasps)
+    log.info("%s on %s: %s in %.2f s (%s, %s)", planner, scene.name, name, t2 - t1,
+             counted(result_plan.pivots, "pivot"), counted(result_plan.regrasps, "regrasp"))
     return PlanResult(name, result_plan, planner, seed, time_limit, timings, stats,
                       {"valid": c.valid, "invalid": c.invalid, "cache_hits": c.cache_hits},
                       getattr(p, "last_search", None))
@@ -194,6 +206,22 @@ def plan_from_route(scene: Scene, checker: PivotChecker, states: list[State], *,
     return PlanResult("EXACT_SOLUTION", result_plan, planner, seed, time_limit, timings, stats,
                       {"valid": c.valid, "invalid": c.invalid, "cache_hits": c.cache_hits},
                       search)
+
+
+def seed_ompl(seed: int) -> None:
+    """Seed OMPL's generator of random seeds with ``seed + 1`` (OMPL's seed must be > 0).
+
+    Every OMPL random generator made afterwards (a planner's, a sampler's) draws its own seed
+    from it, so each seeded plan is reproducible, the second one in a process too: OMPL's
+    "random number generation already started" error for a second seed is silenced, it
+    holds only for generators made before.
+    """
+    level = ou.getLogLevel()
+    ou.setLogLevel(ou.LogLevel.LOG_NONE)
+    try:
+        ou.RNG.setSeed(seed + 1)
+    finally:
+        ou.setLogLevel(level)
 
 
 def _scene_record(scene: Scene) -> dict[str, Any]:

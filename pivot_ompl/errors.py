@@ -16,6 +16,11 @@ _REPR.maxlist = _REPR.maxtuple = _REPR.maxdict = _REPR.maxset = 6
 _REPR.maxlevel = 3
 
 
+def counted(n: int, noun: str, plural: str = "") -> str:
+    """``"1 regrasp"``, ``"2 regrasps"``: ``n`` and ``noun``, plural (``noun + "s"``) unless 1."""
+    return f"{n} {noun if n == 1 else plural or noun + 's'}"
+
+
 def abridge(value: Any) -> str:
     """A short ``repr`` of ``value`` for a message (long numbers, strings, lists abridged)."""
     try:

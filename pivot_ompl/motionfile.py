@@ -24,11 +24,15 @@ in its phase, -1 otherwise); ``holding`` (N bool, both hands on the grip points)
 (N, -1 when not holding); ``tilt`` (N, rad); ``box_size`` (or ``object_size``) (3,) box size
 (w, d, h); ``grip_box`` (4 x 2 x 3: grip points in the box frame per grasp, left then right);
 ``sole_size`` (2,) sole length and width (m); ``scene`` () scene name (``check-motion``
-loads it to check the obstacles, unless given ``--scene``). Other keys are ignored.
+loads it to check the obstacles, unless given ``--scene``); ``scene_path`` () the scene file,
+relative to the motion file's folder, and ``scene_sha256`` () its
+:func:`~pivot_ompl.scene.scene_digest` (both copied from the plan by ``animate``; in memory
+:attr:`Motion.scene_path` is absolute). Other keys are ignored.
 """
 
 from __future__ import annotations
 
+import os
 import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -72,6 +76,8 @@ class Motion:
     grip_box: np.ndarray = field(default_factory=lambda: np.zeros((4, 2, 3)))
     sole_size: tuple[float, float] | None = None
     scene: str = ""
+    scene_path: str = ""
+    scene_sha256: str = ""
     source: str = field(default="", compare=False)
 
     def __post_init__(self) -> None:
@@ -130,8 +136,20 @@ class Motion:
             arrays["sole_size"] = np.array(self.sole_size)
         if self.scene:
             arrays["scene"] = np.array(self.scene)
+        if self.scene_path:
+            arrays["scene_path"] = np.array(_relative(self.scene_path, path.parent))
+        if self.scene_sha256:
+            arrays["scene_sha256"] = np.array(self.scene_sha256)
         with atomic_output(path) as tmp, tmp.open("wb") as fh:
             np.savez_compressed(fh, **arrays)
+        return path
+
+
+def _relative(path: str, folder: Path) -> str:
+    """``path`` relative to ``folder`` (absolute when it cannot be, another drive)."""
+    try:
+        return Path(os.path.relpath(Path(path).resolve(), folder.resolve())).as_posix()
+    except ValueError:
         return path
 
 
@@ -236,8 +254,13 @@ def _motion_from_arrays(arrays: dict[str, np.ndarray], src: str) -> Motion:
     if "zmp" in extra:
         _coordinates(extra["zmp"], "zmp", src)
     scene = _str(arrays["scene"]) if "scene" in arrays else ""
+    scene_path = _str(arrays["scene_path"]) if "scene_path" in arrays else ""
+    if scene_path:
+        scene_path = os.path.normpath(Path(src).resolve().parent / scene_path)
+    digest = _str(arrays["scene_sha256"]) if "scene_sha256" in arrays else ""
     return Motion(t, q, tuple(names), _str(arrays["urdf"]), box,
                   box_size=size, sole_size=sole, scene=scene,  # type: ignore[arg-type]
+                  scene_path=scene_path, scene_sha256=digest,
                   source=src, **extra)
 
 

@@ -365,12 +365,17 @@ def load_scene(path: str | Path) -> Scene:
     """Read and validate a scene file, or the shipped scene of that name (``"fig10"``).
 
     Raises:
-        SceneError: unreadable file, invalid YAML, unknown key, missing field, wrong type or
-            bad value, naming the file, the field and the value.
+        SceneError: no such file nor shipped scene (the shipped ones are listed), unreadable
+            file, invalid YAML, unknown key, missing field, wrong type or bad value, naming
+            the file, the field and the value.
     """
     path = input_path(path)
     if not path.exists():
-        path = shipped_scenes().get(str(path), path)
+        shipped = shipped_scenes()
+        if str(path) not in shipped:
+            raise SceneError("path", str(path), "no such file, nor a shipped scene's name "
+                             f"(shipped: {', '.join(shipped)})")
+        path = shipped[str(path)]
     return scene_from_dict(load_yaml(path, error=SceneError), source=str(path))
 
 

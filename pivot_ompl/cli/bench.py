@@ -96,7 +96,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         "bench", help="benchmark planners on scenes (OMPL log, database, table, plots)",
         description="Benchmark planners on scenes: an OMPL log per scene, the "
                     "ompl_benchmark_statistics database, a summary table and PNG plots.")
-    p.add_argument("scenes", nargs="+", metavar="SCENE", help="scene YAML files")
+    p.add_argument("scenes", nargs="+", metavar="SCENE",
+                   help="scene files or shipped scenes' names")
     p.add_argument("--planners", default=DEFAULT_PLANNERS,
                    help="comma-separated planner names (or module:factory) "
                         f"[default: {DEFAULT_PLANNERS}]")

@@ -11,7 +11,7 @@ import argparse
 import dataclasses
 
 from pivot_ompl.cli.args import positive
-from pivot_ompl.errors import InputError
+from pivot_ompl.errors import InputError, counted
 from pivot_ompl.generate import FAMILIES, GeneratorParams, generate, write_all_generated
 from pivot_ompl.generate.families import BUILDING_LAYOUTS
 
@@ -64,8 +64,9 @@ def run(args: argparse.Namespace) -> int:
             for seed in range(args.seed, args.seed + int(args.count))]
     for gen, (scene_path, plan_path) in zip(gens, write_all_generated(gens, args.out),
                                             strict=True):
-        print(f"{scene_path} ({len(gen.scene.obstacles)} obstacles), witness {plan_path} "
-              f"({gen.witness.pivots} pivots, {gen.witness.regrasps} regrasps)")
+        print(f"{scene_path} ({counted(len(gen.scene.obstacles), 'obstacle')}), witness "
+              f"{plan_path} ({counted(gen.witness.pivots, 'pivot')}, "
+              f"{counted(gen.witness.regrasps, 'regrasp')})")
     return 0
 
 

@@ -5,10 +5,10 @@
 plan up to the drift (its step nearest the new plan's start), then the new plan, with a
 chapter at the switch.
 Without ``--html`` or ``--serve`` the replay is written next to the input
-(``<input>.html``). The scene comes from ``--scene`` or from the plan's/motion's scene name
-(``scenes/<name>.yaml`` under the repository root); without one no obstacle is drawn (a
-warning says so). The HTML file is never one of the inputs (exit 2) and is written through a
-temporary file.
+(``<input>.html``). The scene is ``--scene``, else the one the plan or motion records (its
+``scene_path`` file, else the shipped scene of its name);
+without one no obstacle is drawn (a warning says so). The HTML file is never one of the
+inputs (exit 2) and is written through a temporary file.
 """
 
 from __future__ import annotations
@@ -17,16 +17,15 @@ import argparse
 import logging
 import webbrowser
 from pathlib import Path
-from typing import Any
 
 import meshcat
 
 from pivot_ompl.cli.args import output_file, output_files, positive
+from pivot_ompl.cli.scenes import SceneRecord, find_scene, missing_text
 from pivot_ompl.errors import InputError
 from pivot_ompl.fileio import regular_file
 from pivot_ompl.planfile import load_plan
-from pivot_ompl.resources import shipped_scenes
-from pivot_ompl.scene import Scene, load_scene
+from pivot_ompl.scene import Scene
 
 log = logging.getLogger(__name__)
 
@@ -38,7 +37,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "replay", help="meshcat replay of a plan or a whole-body motion (HTML or live)",
         description=__doc__.splitlines()[0])
     p.add_argument("input", help="a pivot-plan/1 JSON file or a motion .npz")
-    p.add_argument("--scene", help="scene YAML (default: scenes/<plan's scene>.yaml)")
+    p.add_argument("--scene", help="scene file or shipped scene's name (default: the scene "
+                   "the plan or motion records: its scene_path, else its shipped name)")
     p.add_argument("--plan", help="with a motion: the plan it executes (draws its Reeds-Shepp "
                    "paths and pivot points; its scene name is used)")
     p.add_argument("--before", metavar="OLD.json",
@@ -56,32 +56,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
-def find_scene(name: str, explicit: str | None, *, path: str | None = None) -> Scene | None:
-    """The scene to draw: the first of ``explicit``, ``path`` and the shipped ``name``.
-
-    ``explicit``: a file or shipped name; ``path``: the file the plan was made from (its
-    ``scene_path``), when it is still there.
-    """
-    if explicit:
-        return load_scene(explicit)
-    if path and Path(path).is_file():
-        log.info("scene %r from %s (the plan's scene_path)", name, path)
-        return load_scene(path)
-    if name:
-        shipped = shipped_scenes().get(name)
-        if shipped is not None:
-            log.info("scene %r from %s", name, shipped)
-            return load_scene(shipped)
-        log.warning("scene %r is not shipped; showing no obstacles (give --scene)", name)
-    else:
-        log.warning("no scene name and no --scene: showing no obstacles")
-    return None
-
-
-def _scene_path(plan: Any) -> str | None:
-    """The ``scene_path`` a plan records, if any."""
-    v = plan.extra.get("scene_path") if plan is not None else None
-    return v if isinstance(v, str) else None
+def _scene(record: SceneRecord, given: str | None) -> Scene | None:
+    """The scene to draw (:func:`pivot_ompl.cli.scenes.find_scene`); none: a warning."""
+    scene = find_scene(record, given)
+    if scene is None:
+        log.warning("no obstacles drawn: the %s's scene %r: %s", record.kind, record.name,
+                    missing_text(record))
+    return scene
 
 
 def _builder(args: argparse.Namespace):
@@ -97,8 +78,8 @@ def _builder(args: argparse.Namespace):
             raise InputError("--before", args.before, "only goes with a plan (.json) input")
         motion = load_motion(src)
         plan = load_plan(args.plan) if args.plan else None
-        scene = find_scene(motion.scene or (plan.scene if plan else ""), args.scene,
-                           path=_scene_path(plan))
+        scene = _scene(SceneRecord.of(motion, "motion").merged(SceneRecord.of(plan)),
+                       args.scene)
 
         def build(vis: meshcat.Visualizer) -> object:
             return show_motion(vis, motion, scene=scene, fps=args.fps, plan=plan,
@@ -110,7 +91,7 @@ def _builder(args: argparse.Namespace):
         from pivot_ompl.viz.plan_view import show_plan, show_replanned
 
         plan = load_plan(src)
-        scene = find_scene(plan.scene, args.scene, path=_scene_path(plan))
+        scene = _scene(SceneRecord.of(plan), args.scene)
         before = load_plan(args.before) if args.before else None
 
         def build(vis: meshcat.Visualizer) -> object:

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
-from pivot_ompl.errors import InputError, require_type
+from pivot_ompl.errors import InputError, counted, require_type
 from pivot_ompl.generate.building import building_layout
 from pivot_ompl.generate.layout import (
     BOX,
@@ -380,8 +380,8 @@ def generate(family: str, seed: int, *, params: GeneratorParams | None = None) -
             states = [(f.pose(q), f.grasp(g)) for q, g in states]
         w = build_witness(scene, states)
         if w.plan is not None:
-            log.info("%s seed %d: layout %d holds (%d regrasps)", family, seed, attempt,
-                     w.plan.regrasps)
+            log.info("%s seed %d: layout %d holds (%s)", family, seed, attempt,
+                     counted(w.plan.regrasps, "regrasp"))
             w.plan.extra["family"] = family
             w.plan.extra["seed"] = seed
             return Generated(scene, w.plan, family, seed, attempt)

@@ -31,6 +31,32 @@ FOOTSTEP_COLOR = 0x3050a0
 FLOOR_THICKNESS = 0.01  # m, top face at z = 0
 
 
+def css_colour(color: int) -> str:
+    """``0xRRGGBB`` as the page's ``#rrggbb``."""
+    return f"#{color:06x}"
+
+
+#: What each shape of a replay is (the page's legend panel), by node.
+LEGEND_TEXT = {
+    "obstacles": (OBSTACLE_COLOR, "obstacles"),
+    "box": (BOX_COLOR, "the box, leaning on its supporting edge while pivoted"),
+    "robot_volume": (ROBOT_COLOR, "the robot: its footprint plate and bounding volume"),
+    "robot_urdf": (0xa0a8b8, "the robot drawn from its URDF's visual shapes (HRP-2's: "
+                             "boxes and cylinders, not its real meshes)"),
+    "rs_path": (PATH_COLOR, "line: the Reeds-Shepp path of the supporting edge's centre"),
+    "walks": (ROBOT_COLOR, "line: a regrasp walk of the robot's centre"),
+    "pivots": (PIVOT_COLOR, "spheres: the pivot corners (where the box turns)"),
+    "footprints": (FOOTSTEP_COLOR, "rectangles: where the robot stands (footprint)"),
+    "footsteps": (FOOTSTEP_COLOR, "rectangles: footsteps (soles)"),
+    "zmp": (PIVOT_COLOR, "zigzag line: the planned ZMP, swaying over each support foot"),
+}
+
+
+def legend(keys: Iterable[str]) -> list[list[str]]:
+    """The legend entries ``[colour, text]`` of the drawn ``keys`` (of :data:`LEGEND_TEXT`)."""
+    return [[css_colour(LEGEND_TEXT[k][0]), LEGEND_TEXT[k][1]] for k in keys]
+
+
 def _lambert(color: int, *, opacity: float = 1.0) -> g.MeshLambertMaterial:
     return g.MeshLambertMaterial(color=color, opacity=opacity)
 

@@ -18,7 +18,7 @@ import meshcat
 import numpy as np
 
 from pivot_ompl.motionfile import Motion
-from pivot_ompl.planfile import Plan
+from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
 from pivot_ompl.resources import data_path
 from pivot_ompl.scene import DEFAULT_OBJECT_SIZE, Scene
 from pivot_ompl.viz import draw
@@ -171,6 +171,17 @@ def show_motion(vis: meshcat.Visualizer, motion: Motion, *, scene: Scene | None 
     assert frame is not None  # noqa: S101 - for mypy: bounds is set without a scene
     guide = motion_guide(motion, plan=plan, scene=scene).with_frame(
         frame, max(standing_height(None, scene), float(np.max(q[:, 2])) + 0.8, float(size[2])))
+    drawn = ["box", "robot_urdf"]
+    if scene is not None and scene.obstacles:
+        drawn.insert(0, "obstacles")
+    if plan is not None:
+        drawn += [k for k in ("rs_path", "walks") if any(
+            (isinstance(ph, TransferPhase) and len(ph.rs_path) >= 2) if k == "rs_path" else
+            isinstance(ph, TransitPhase) for ph in plan.phases)]
+        drawn += ["pivots"] if n_piv else []
+    drawn += (["footsteps"] if n_steps else []) + (
+        ["zmp"] if motion.zmp is not None and len(motion.zmp) > 1 else [])
+    guide.extra["legend"] = draw.legend(drawn)
     return ReplayInfo(float(t[-1]), len(t), nodes, n_steps, n_piv, guide)
 
 

@@ -149,6 +149,8 @@ def show_plan(vis: meshcat.Visualizer, scene: Scene | None, plan: Plan, *,
         anim.send(play=play)
     guide = replay_guide(kf.times, kf.phase, kf.step, plan=plan, scene=scene).with_frame(
         scene.bounds if scene is not None else plan_bounds(plan), standing_height(model, scene))
+    entry = {"robot": "robot_volume", "footsteps": "footprints"}  # node -> legend entry
+    guide.extra["legend"] = draw.legend(entry.get(n, n) for n in nodes if n != "floor")
     log.info("plan replay: %d phases, %d pivots, %.1f s", len(plan.phases), n_piv, kf.duration)
     return ReplayInfo(kf.duration, len(kf.times), tuple(nodes), n_feet, n_piv, guide)
 

@@ -57,7 +57,13 @@ def test_plan_chapters_one_per_phase_with_counts(plan):
         # the chapter starts at the phase's first key
         assert c.time == pytest.approx(kf.times[kf.phase.index(c.phase)])
         assert g.chapter_at(c.time + 1e-6) == c
-    assert g.chapters[0].title == "start" and g.chapters[-1].title == "goal reached"
+    # the first transfer starts at once: it is the first chapter, no "start" beside it at 0:00
+    assert g.chapters[0].kind == "transfer" and g.chapters[0].time == kf.times[0]
+    assert all(c.title != "start" for c in g.chapters)
+    assert g.chapters[-1].title == "goal reached" and g.chapter_at(kf.duration) is not None
+    # at the end the label names the goal and the last chapter is the goal's
+    assert g.label_at(kf.duration) == (f"goal reached · {plan.pivots} pivots, "
+                                       f"{plan.regrasps} regrasp")
     assert g.chapters[-1].time == pytest.approx(kf.duration)
     times = [c.time for c in g.chapters]
     assert times == sorted(times)
@@ -72,6 +78,8 @@ def test_labels_count_pivots_up_to_the_total(plan):
         if m:
             assert int(m.group(3)) == plan.pivots
             nums.append(int(m.group(2)))
+        elif t == kf.duration:
+            assert text.startswith("goal reached · ")
         else:
             assert text.startswith("regrasp 1/1 · walk")
         assert g.label_at(t) == text
@@ -144,6 +152,22 @@ def test_show_plan_returns_the_guide_with_the_frame(plan, scene):
     assert info.guide.height >= max(o.height for o in scene.obstacles)
     js = info.guide.to_json()
     assert len(js["chapters"]) == len(info.guide.chapters) and js["bounds"] == list(scene.bounds)
+
+
+def test_the_replay_legend_explains_every_shape_drawn(plan, scene):
+    from pivot_ompl.viz import draw
+
+    info = show_plan(recording_visualizer(), scene, plan)
+    legend = info.guide.to_json()["legend"]
+    drawn = set(info.nodes) - {"floor"}
+    assert len(legend) == len(drawn) >= 6  # one entry per kind of shape, none for absent ones
+    texts = " | ".join(text for _, text in legend)
+    for word in ("obstacles", "box", "robot", "Reeds-Shepp", "regrasp walk", "pivot corners",
+                 "where the robot stands"):
+        assert word in texts, word
+    colours = {c for c, _ in legend}
+    assert draw.css_colour(draw.PIVOT_COLOR) in colours and all(
+        re.fullmatch(r"#[0-9a-f]{6}", c) for c in colours)
 
 
 def _project(pose, pts, aspect=1.6):
