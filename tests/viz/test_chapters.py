@@ -277,3 +277,62 @@ def test_failed_export_keeps_the_existing_file(tmp_path, plan, scene):
     assert not (tmp_path / "replay.html.part").exists()
     write_html(vis, out, guide=info.guide)
     assert "PIVOT_REPLAY" in out.read_text()
+
+
+def _crowded_plan():
+    """The sample plan with four regrasps round one resting box: their labels crowd one spot."""
+    import dataclasses
+
+    from pivot_ompl.grasp import BoxGraspModel
+
+    base = sample_plan()
+    first = base.phases[0]
+    model = BoxGraspModel(base.object_size, base.robot_footprint, base.standoff)
+    obj = first.object_end
+    walks = []
+    for k in range(4):
+        a, b = model.robot_pose(obj, k), model.robot_pose(obj, (k + 1) % 4)
+        mid = (0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), a[2])
+        walks.append(TransitPhase(k, (k + 1) % 4, (a, mid, b), obj))
+    return dataclasses.replace(base, phases=[first, *walks])
+
+
+def test_plan_figure_labels_never_overlap():
+    import matplotlib.pyplot as plt
+
+    from pivot_ompl.viz.labels import text_box
+
+    fig = plan_figure(_crowded_plan())
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    boxes = [text_box(t, renderer) for t in fig.axes[0].texts if t.get_text()]
+    plt.close(fig)
+    assert len(boxes) == 8  # four regrasps, four walks
+    for i, a in enumerate(boxes):
+        for b in boxes[i + 1:]:
+            assert not a.overlaps(b), (a, b)
+
+
+def test_plan_figure_explains_every_marker_beside_the_floor(plan, scene):
+    import matplotlib.pyplot as plt
+
+    fig = plan_figure(plan, scene=scene)
+    ax = fig.axes[0]
+    legend = ax.get_legend()
+    names = [t.get_text() for t in legend.get_texts()]
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    legend_box = legend.get_window_extent(renderer)
+    axes_box = ax.get_window_extent(renderer)
+    centre = [ln for ln in ax.lines if ln.get_label() == "box centre, grasp 0"]
+    plt.close(fig)
+    for name in ("start", "goal", "pivot corners", "box footprint on the way",
+                 "robot's stance as it grasps", "regrasp walk", "regrasp position",
+                 "box centre, grasp 0", "box centre, grasp 1"):
+        assert name in names
+    assert names.index("box centre, grasp 0") < names.index("box centre, grasp 1")
+    assert legend_box.x0 >= axes_box.x1  # beside the floor, never over the goal
+    first = plan.phases[0]
+    xs, ys = centre[0].get_data()
+    assert (xs[0], ys[0]) == pytest.approx(first.object_start[:2])
+    assert (xs[-1], ys[-1]) == pytest.approx(first.steps[-1].object[:2])
