@@ -171,6 +171,13 @@ def show_motion(vis: meshcat.Visualizer, motion: Motion, *, scene: Scene | None 
     assert frame is not None  # noqa: S101 - for mypy: bounds is set without a scene
     guide = motion_guide(motion, plan=plan, scene=scene).with_frame(
         frame, max(standing_height(None, scene), float(np.max(q[:, 2])) + 0.8, float(size[2])))
+    guide.extra["legend"] = draw.legend(_drawn(motion, scene, plan, n_piv, n_steps))
+    return ReplayInfo(float(t[-1]), len(t), nodes, n_steps, n_piv, guide)
+
+
+def _drawn(motion: Motion, scene: Scene | None, plan: Plan | None, n_piv: int,
+           n_steps: int) -> list[str]:
+    """The kinds of shape a motion replay draws (:func:`draw.legend` explains each)."""
     drawn = ["box", "robot_urdf"]
     if scene is not None and scene.obstacles:
         drawn.insert(0, "obstacles")
@@ -179,10 +186,8 @@ def show_motion(vis: meshcat.Visualizer, motion: Motion, *, scene: Scene | None 
             (isinstance(ph, TransferPhase) and len(ph.rs_path) >= 2) if k == "rs_path" else
             isinstance(ph, TransitPhase) for ph in plan.phases)]
         drawn += ["pivots"] if n_piv else []
-    drawn += (["footsteps"] if n_steps else []) + (
+    return drawn + (["footsteps"] if n_steps else []) + (
         ["zmp"] if motion.zmp is not None and len(motion.zmp) > 1 else [])
-    guide.extra["legend"] = draw.legend(drawn)
-    return ReplayInfo(float(t[-1]), len(t), nodes, n_steps, n_piv, guide)
 
 
 def _animation(vis: meshcat.Visualizer, model: Any, t: Any, box_tf: np.ndarray,
