@@ -73,13 +73,17 @@ def _scaling_rows(d: dict) -> list[tuple[str, str]]:
 
 
 def _replanning_rows(d: dict) -> list[tuple[str, str]]:
+    """One row per (scene, event): the warm session and the plan file against a fresh plan."""
     out = []
     for key, r in d["table"].items():
-        scene, event = key.split("/")
+        scene, event = key.split("/", 1)  # events such as "drift 5cm/5deg" hold a slash
+        w, c, f = r["warm"], r["cli"], r["fresh"]
         out.append((f"replanning: {scene}, {event}",
-                    f"warm {r['warm_median_s']:.2f} s ({r['warm_ok']}/{r['runs']} ok) vs fresh "
-                    f"{r['fresh_median_s']:.2f} s ({r['fresh_ok']}/{r['runs']}); ratio "
-                    f"{r['ratio']:.2f}; regrasps {r['warm_regrasps']} vs {r['fresh_regrasps']}"))
+                    f"warm {w['median_s']:.2f} s ({w['ok']}/{r['runs']} ok, "
+                    f"{w['ratio']:.2f} of fresh); plan file solve {c['median_solve_s']:.2f} s "
+                    f"({c['ok']}/{r['runs']}, {c['solve_ratio']:.2f} of fresh); fresh "
+                    f"{f['median_s']:.2f} s ({f['ok']}/{r['runs']}); regrasps "
+                    f"{w['median_regrasps']} / {c['median_regrasps']} / {f['median_regrasps']}"))
     return out
 
 
@@ -170,8 +174,9 @@ def _fig10_plan(out: Path) -> Path:
     return plan
 
 
-def run(out: Path, only: set[str] | None) -> str:
-    """Run the steps, return the Markdown table."""
+def run(out: Path, only: set[str] | None, *, reuse: bool = False) -> str:
+    """Run the steps, return the Markdown table (``reuse``: read a step's JSON left in
+    ``out`` by an earlier run instead of running it again)."""
     out.mkdir(parents=True, exist_ok=True)
     lines = ["| what | measured | command |", "|---|---|---|"]
     plan: Path | None = None
@@ -184,12 +189,15 @@ def run(out: Path, only: set[str] | None) -> str:
             plan = plan or _fig10_plan(out)
             args = tuple(str(plan) if a == "{fig10_plan}" else a for a in args)
         cmd = [PY, str(TREE / step.script), *args, "--out", str(target)]
-        t0 = time.perf_counter()
-        print(f"[{step.name}] {' '.join(cmd[1:])}", flush=True)
-        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
-        print(f"[{step.name}] {time.perf_counter() - t0:.0f} s", flush=True)
-        data = json.loads(((target / "regrasp_table.json") if step.out_is_dir
-                           else target).read_text())
+        result = (target / "regrasp_table.json") if step.out_is_dir else target
+        if reuse and result.is_file():
+            print(f"[{step.name}] reused {result}", flush=True)
+        else:
+            t0 = time.perf_counter()
+            print(f"[{step.name}] {' '.join(cmd[1:])}", flush=True)
+            subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+            print(f"[{step.name}] {time.perf_counter() - t0:.0f} s", flush=True)
+        data = json.loads(result.read_text())
         shown = " ".join(a if a != str(plan) else "PLAN" for a in args)
         for what, measured in step.rows(data):
             lines.append(f"| {what} | {measured} | `python benchmarks/{step.script} {shown}` |")
@@ -201,11 +209,13 @@ def main() -> None:
     ap.add_argument("--out", type=Path, default=Path("results/figures"))
     ap.add_argument("--only", default="", help="comma-separated step names: "
                     + ",".join(s.name for s in STEPS))
+    ap.add_argument("--reuse", action="store_true",
+                    help="read the JSON a step left in --out instead of running it again")
     args = ap.parse_args()
     only = {s for s in args.only.split(",") if s} or None
     t0 = time.perf_counter()
     with _machine_lock():
-        table = run(args.out, only)
+        table = run(args.out, only, reuse=args.reuse)
     (args.out / "figures.md").write_text(table)
     print(table)
     print(f"{time.perf_counter() - t0:.0f} s; written {args.out}/figures.md")

@@ -1,0 +1,34 @@
+"""benchmarks/figures.py turns each script's JSON into table rows."""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _figures():
+    spec = importlib.util.spec_from_file_location("bench_figures",
+                                                  ROOT / "benchmarks" / "figures.py")
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod  # its dataclasses look their module up
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def _method(median_s: float, ok: int, regrasps: int) -> dict:
+    return {"ok": ok, "checked": ok, "median_s": median_s, "median_solve_s": median_s,
+            "median_cost": 600.0, "median_regrasps": regrasps, "repaired": ok,
+            "ratio": median_s / 0.7, "solve_ratio": median_s / 0.7}
+
+
+def test_replanning_rows_read_the_three_way_table_with_slashes_in_event_names():
+    table = {"fig10/drift 5cm/5deg": {"runs": 3, "warm": _method(0.03, 3, 1),
+                                      "cli": _method(0.09, 3, 1), "fresh": _method(0.7, 3, 1)}}
+    rows = _figures()._replanning_rows({"time_limit": 10.0, "rows": [], "table": table})
+    ((what, measured),) = rows
+    assert what == "replanning: fig10, drift 5cm/5deg"
+    assert "warm 0.03 s (3/3 ok, 0.04 of fresh)" in measured
+    assert "plan file solve 0.09 s (3/3, 0.13 of fresh)" in measured
