@@ -127,3 +127,12 @@ def test_generated_witness_records_its_scene(tmp_path, capsys):
     assert main(["check", str(witness)]) == 0
     assert "note:" not in capsys.readouterr().err
     assert "walls_1" not in shipped_scenes()
+
+
+def test_python_dash_m_runs_the_command_line():
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-m", "pivot_ompl", "plan", "--help"],
+                         capture_output=True, text=True, check=False)
+    assert out.returncode == 0 and "usage: pivot-ompl plan" in out.stdout
