@@ -65,11 +65,17 @@ def _scaling_rows(d: dict) -> list[tuple[str, str]]:
     out = []
     for key, r in d["table"].items():
         cls, param = key.split("/")
-        what = (f"scaling: {param.replace('rooms=', '')} rooms in a row" if cls == "building"
+        rooms = param.replace("rooms=", "")
+        what = (f"scaling: {rooms} room{'' if rooms == '1' else 's'} in a row" if cls == "building"
                 else f"tight slots: {param.replace('clearance=', '')} m a side")
         out.append((what, f"solved {r['solved']}/{r['runs']}; median {r['solve_median']:.2f} s, "
                           f"p95 {r['solve_p95']:.2f} s"))
     return out
+
+
+def _count(x: float | None) -> str:
+    """A median count as read: ``2``, ``1.5``, ``–`` when no run solved."""
+    return "–" if x is None else f"{x:g}"
 
 
 def _replanning_rows(d: dict) -> list[tuple[str, str]]:
@@ -83,7 +89,7 @@ def _replanning_rows(d: dict) -> list[tuple[str, str]]:
                     f"{w['ratio']:.2f} of fresh); plan file solve {c['median_solve_s']:.2f} s "
                     f"({c['ok']}/{r['runs']}, {c['solve_ratio']:.2f} of fresh); fresh "
                     f"{f['median_s']:.2f} s ({f['ok']}/{r['runs']}); regrasps "
-                    f"{w['median_regrasps']} / {c['median_regrasps']} / {f['median_regrasps']}"))
+                    + " / ".join(_count(m["median_regrasps"]) for m in (w, c, f))))
     return out
 
 
