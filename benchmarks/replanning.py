@@ -14,7 +14,10 @@ the plan passes ``check`` against the changed scene, regrasps and cost (the qual
 medians to the fresh plan's.
 
     python benchmarks/replanning.py [--scenes fig10,slot,gen:walls:1] [--points 10] [--time 30]
-        [--out results/replanning.json]
+        [--events drift,dropped,removed] [--out results/replanning.json]
+
+``--events`` keeps the event kinds whose names contain one of the words (a long run split in
+shorter ones).
 
 Run timing figures under ``flock /tmp/pivot-bench.lock``.
 """
@@ -79,6 +82,7 @@ def main() -> None:
     ap.add_argument("--scenes", default="fig10,slot,gen:walls:1")
     ap.add_argument("--points", type=int, default=10)
     ap.add_argument("--time", type=float, default=30.0)
+    ap.add_argument("--events", default="", help="comma-separated words; default: all events")
     ap.add_argument("--out", default="results/replanning.json")
     args = ap.parse_args()
     sys.path[:0] = [str(HERE.parent)]
@@ -91,6 +95,7 @@ def main() -> None:
 
     ou.setLogLevel(ou.LOG_ERROR)
     rows: list[dict[str, Any]] = []
+    words = [w for w in args.events.split(",") if w]
     for name in args.scenes.split(","):
         base = scene_from_spec(name)
         first = PlanningSession(base, seed=0).plan(time_limit=args.time)
@@ -100,6 +105,8 @@ def main() -> None:
         executed = plan_from_dict(json.loads(first.plan.to_text()))  # as the CLI reads it
         for q, grasp in _points(first.plan, args.points):
             for kind, ev in _events(q).items():
+                if words and not any(w in kind for w in words):
+                    continue
                 session = PlanningSession(base, seed=0)
                 session.plan(time_limit=args.time)  # the session that executes the plan
                 kw: dict[str, Any] = {"box": ev["box"], "grasp": grasp, "time_limit": args.time,

@@ -97,7 +97,8 @@ class PlanningSession:
             grasp: the grasp the robot holds the box with, or ``None`` (the box rests; the
                 plan may start with any grasp).
             robot: where the robot stands, for ``grasp=None``; recorded in the result's
-                extra field ``observed_robot`` (the plan starts at a grasp pose).
+                extra field ``observed_robot`` (the plan starts at a grasp pose; its
+                whole-body motion starts at ``robot`` and walks to it).
             add_obstacles: obstacles that appeared (objects or dicts as in a scene file).
             remove_obstacles: obstacles that went (the scene's objects or their indices).
             time_limit: as for :func:`pivot_ompl.api.plan` (s).

@@ -17,6 +17,10 @@ A **transit phase** walks along the phase's ``robot_path`` (footsteps placed alo
 straight segments, see :func:`~pivot_ompl.wholebody.footsteps.path_footsteps`) with the box
 resting; long walks are planned in pieces of :attr:`Timing.max_steps` steps, each coming to
 rest (the LIPM QP grows with its horizon).
+A replanned plan whose robot was observed away from the box (its ``observed_robot`` field,
+``replan`` with the box at rest) starts there: the robot settles at the observed pose, then
+walks (PlaCo's footstep planner, as to a transfer start off the robot's pose) to the plan's
+first stance.
 Grip points and the tilt are defined in :mod:`pivot_ompl.wholebody.box`; tasks and the
 lift-off delay that keeps the ZMP inside real support polygons in
 :mod:`pivot_ompl.wholebody.walker`.
@@ -127,9 +131,10 @@ class WholeBodyGenerator:
         plan = self.plan
         first = plan.phases[0]
         start = first.robot_start if isinstance(first, TransferPhase) else first.robot_path[0]
+        observed = observed_robot(plan)
         self._phase, self._step = 0, -1
         try:
-            self.walker = PlacoWalker(self.settings, start)
+            self.walker = PlacoWalker(self.settings, observed or start)
         except Exception as e:  # pragma: no cover - model/setup failure
             raise WholeBodyError(0, -1, f"cannot set up the PlaCo robot ({e})") from e
         self._box_T = self.hold.T_world_box(self.hold.T_world_G(plan.start, 0), 0, 0.0)
@@ -137,6 +142,10 @@ class WholeBodyGenerator:
                     for p in plan.phases)
         self._units_total, self._units_done = max(units, 1), 0
         self._stand(self.timing.settle, lambda s: None)
+        if observed is not None and (math.dist(observed[:2], start[:2]) > 0.01
+                                     or abs(wrap_angle(observed[2] - start[2])) > 0.01):
+            log.info("walking from the observed robot pose to the plan's first stance")
+            self._walk_to([start])
         obj = plan.start
         for i, phase in enumerate(plan.phases):
             self._phase, self._step = i, -1
@@ -383,6 +392,22 @@ class WholeBodyGenerator:
         self._box_T = self.hold.T_world_box(self.hold.T_world_G(obj, 0), 0, 0.0)
         self._walk_to(list(phase.robot_path), follow_path=True)
         self._unit_done(f"phase {i}: transit")
+
+
+def observed_robot(plan: Plan) -> Pose | None:
+    """Where the robot was observed standing (a replanned plan's ``observed_robot``), or ``None``.
+
+    Raises:
+        InputError: the field is not three finite numbers.
+    """
+    raw = plan.extra.get("observed_robot")
+    if raw is None:
+        return None
+    if not (isinstance(raw, list) and len(raw) == 3
+            and all(isinstance(v, int | float) and not isinstance(v, bool)
+                    and math.isfinite(v) for v in raw)):
+        raise InputError("observed_robot", raw, "must be [x, y, yaw], three finite numbers")
+    return (float(raw[0]), float(raw[1]), float(raw[2]))
 
 
 def generate_motion(plan: Plan, *, walk: WalkParameters | None = None,

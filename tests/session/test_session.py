@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 
 import pytest
@@ -116,3 +117,39 @@ def test_a_drift_replan_searches_the_roadmaps_already_grown():
     moved = s.replan(box=s.scene.start, add_obstacles=[BoxObstacle((7.5, 4.5), (0.2, 0.2),
                                                                    0.0, 1.0)])
     assert moved.search is not first.search  # an obstacle changed: the roadmaps start anew
+
+
+def test_a_failed_repair_and_a_failed_resumed_search_leave_a_new_search_the_rest(monkeypatch):
+    """A resumed search that finds nothing in half the time left gives way to a new search.
+
+    Regression: a warm fig10 drift replan failed in its whole limit over the old roadmaps
+    where a fresh search took 1.3 s; and the search after a failed repair was given the
+    whole limit again.
+    """
+    import time
+
+    import pivot_ompl.session as session_mod
+
+    s = PlanningSession(shipped("slot"), seed=0)
+    first = s.plan(time_limit=30.0)
+    ph, q = _mid(first.plan)
+    real_plan, calls = session_mod.plan, []
+
+    def slow_repair(*args, **kwargs):
+        time.sleep(0.3)  # a repair that spends time and finds nothing
+        return None
+
+    def plan_where_resuming_fails(scene, *, time_limit, resume, **kw):
+        calls.append((time_limit, resume is not None, time.monotonic() + time_limit))
+        res = real_plan(scene, time_limit=time_limit, resume=resume, **kw)
+        return dataclasses.replace(res, status="TIMEOUT") if resume is not None else res
+
+    monkeypatch.setattr(session_mod, "repair_route", slow_repair)
+    monkeypatch.setattr(session_mod, "plan", plan_where_resuming_fails)
+    limit = 20.0
+    deadline = time.monotonic() + limit
+    res = s.replan(box=(q[0] + 0.03, q[1], q[2]), grasp=ph.grasp, time_limit=limit)
+    assert res.solved and check_plan(res.plan, s.scene).ok
+    assert [resumed for _, resumed, _ in calls] == [True, False]
+    assert calls[0][0] <= (limit - 0.3) / 2 + 1e-6  # half of what the repair left
+    assert all(end <= deadline + 1e-3 for _, _, end in calls)  # both within the replan's limit
