@@ -53,38 +53,47 @@ def rectangle_corners(pose: Pose, length: float, width: float) -> list[tuple[flo
     return place_points(pose, ((hx, hy), (-hx, hy), (-hx, -hy), (hx, -hy)))
 
 
-#: Doubled area (m^2) below which a triangle of :func:`triangulate` is flat (round-off of a
-#: rotated collinear triple; a flat prism crashes coal's convex hull).
+#: Doubled area (m^2) at or below which a triangle of :func:`triangulate` is flat (round-off
+#: of a rotated collinear triple): it has no area, but it may be all that is left of a spike
+#: of the polygon that is thinner than round-off.
 DEGENERATE_AREA2 = 1e-12
 
 
-def triangulate(points: Sequence[tuple[float, float]]) -> list[tuple[int, int, int]]:
-    """Triangles (CCW vertex indices into ``points``) that cover a simple polygon exactly.
+def triangulate(points: Sequence[tuple[float, float]], *, flat: bool = False
+                ) -> list[tuple[int, int, int]]:
+    """Triangles (vertex indices into ``points``) that cover a simple polygon exactly.
 
     Either orientation; repeated consecutive vertices, collinear runs and very thin parts
     are fine. GEOS's constrained Delaunay triangulation (``shapely``) of the polygon, which
     adds no vertex, so every triangle's corners are points of the polygon (a repeated point is
-    named by its first index). Only flat triangles (doubled area below
-    :data:`DEGENERATE_AREA2`) are dropped: the triangles' union is the polygon up to them.
+    named by its first index). Triangles with area are counter-clockwise; flat ones (doubled
+    area at most :data:`DEGENERATE_AREA2`) are left out unless ``flat``: without them the
+    triangles' union is the polygon up to parts thinner than round-off (their area sums to the
+    polygon's), with them every point of the polygon, spikes included, is in a triangle (what
+    a collision check needs: a spike 1e-13 m wide still stops the box).
     The result of the last polygons is kept (collision and floor geometry both ask).
     """
-    return list(_triangulated(tuple((float(p[0]), float(p[1])) for p in points)))
+    tris, flats = _triangulated(tuple((float(p[0]), float(p[1])) for p in points))
+    return [*tris, *flats] if flat else list(tris)
 
 
 @lru_cache(maxsize=64)
-def _triangulated(pts_t: tuple[tuple[float, float], ...]) -> tuple[tuple[int, int, int], ...]:
+def _triangulated(pts_t: tuple[tuple[float, float], ...]
+                  ) -> tuple[tuple[tuple[int, int, int], ...], tuple[tuple[int, int, int], ...]]:
+    """(Triangles with area, counter-clockwise; flat triangles) of :func:`triangulate`."""
     pts = np.asarray(pts_t, dtype=float)
     poly = shapely.Polygon(pts)
     if not poly.is_valid:
         poly = shapely.make_valid(poly)
     tris = shapely.get_parts(shapely.constrained_delaunay_triangles(poly))
     if len(tris) == 0:
-        return ()
+        return (), ()
     corners = shapely.get_coordinates(shapely.get_exterior_ring(tris)).reshape(-1, 4, 2)[:, :3]
     index: dict[tuple[float, float], int] = {}
     for k, xy in enumerate(pts_t):
         index.setdefault(xy, k)
     out: list[tuple[int, int, int]] = []
+    flats: list[tuple[int, int, int]] = []
     for tri in corners:
         ids = [index.get((float(x), float(y)), -1) for x, y in tri]
         ids = [k if k >= 0 else int(np.argmin(np.hypot(*(pts - c).T)))
@@ -92,9 +101,10 @@ def _triangulated(pts_t: tuple[tuple[float, float], ...]) -> tuple[tuple[int, in
         a, b, c = (pts[k] for k in ids)
         area2 = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
         if abs(area2) <= DEGENERATE_AREA2:
-            continue
-        out.append((ids[0], ids[1], ids[2]) if area2 > 0 else (ids[0], ids[2], ids[1]))
-    return tuple(out)
+            flats.append((ids[0], ids[1], ids[2]))
+        else:
+            out.append((ids[0], ids[1], ids[2]) if area2 > 0 else (ids[0], ids[2], ids[1]))
+    return tuple(out), tuple(flats)
 
 
 #: The 16 headings of the floor lattices: the directions of these integer grid vectors,

@@ -1,8 +1,10 @@
 """Collision and clearance with coal: obstacles as prisms, the box and the robot as boxes.
 
 Obstacles are vertical prisms standing on the floor: a box obstacle is a ``coal.Box``, a
-cylinder a ``coal.Cylinder``, a polygon is triangulated (ear clipping, so non-convex polygons
-work) into convex triangular prisms (``coal.Convex``). All obstacles live in one
+cylinder a ``coal.Cylinder``, a polygon is triangulated (GEOS's constrained Delaunay
+triangulation, :func:`~pivot_ompl.se2.triangulate`, so non-convex polygons work) into
+triangular prisms (``coal.Convex`` built from their faces, flat triangles of spikes thinner than
+round-off included: a polygon collides exactly as shapely draws it). All obstacles live in one
 ``DynamicAABBTreeCollisionManager`` so a query costs one call. The box is its 3-D shape standing
 on the floor. The robot has two bodies:
 
@@ -58,6 +60,25 @@ def _prism(points: list[tuple[float, float]], height: float) -> coal.Convex:
     return coal.Convex.convexHull(verts, False, "")
 
 
+#: Faces of a triangular prism over the corners 0, 1, 2 (bottom) and 3, 4, 5 (top).
+_TRIANGLE_PRISM_FACES = ((0, 2, 1), (3, 4, 5), (0, 1, 4), (0, 4, 3), (1, 2, 5), (1, 5, 4),
+                         (2, 0, 3), (2, 3, 5))
+
+
+def _triangle_prism(corners: list[tuple[float, float]], height: float) -> coal.Convex:
+    """The prism over a triangle, built from its faces: no convex hull (qhull crashed the
+    process on triangles thinner than about 1e-8 m), and a flat triangle is a flat prism that
+    coal still measures exactly."""
+    verts = coal.StdVec_Vec3s()
+    for z in (0.0, height):
+        for x, y in corners:
+            verts.append(np.array([x, y, z]))
+    faces = coal.StdVec_Triangle()
+    for f in _TRIANGLE_PRISM_FACES:
+        faces.append(coal.Triangle(*f))
+    return coal.Convex(verts, faces)
+
+
 def obstacle_objects(obstacle: Obstacle) -> list[coal.CollisionObject]:
     """The coal collision objects of one obstacle (several for a non-convex polygon)."""
     if isinstance(obstacle, BoxObstacle):
@@ -70,9 +91,10 @@ def obstacle_objects(obstacle: Obstacle) -> list[coal.CollisionObject]:
                                                        0.5 * obstacle.height))]
     if isinstance(obstacle, PolygonObstacle):
         out = []
-        for a, b, c in triangulate(obstacle.points):
+        for a, b, c in triangulate(obstacle.points, flat=True):
             tri = [obstacle.points[a], obstacle.points[b], obstacle.points[c]]
-            out.append(coal.CollisionObject(_prism(tri, obstacle.height), coal.Transform3s()))
+            out.append(coal.CollisionObject(_triangle_prism(tri, obstacle.height),
+                                            coal.Transform3s()))
         return out
     raise TypeError(f"unknown obstacle {obstacle!r}")
 
