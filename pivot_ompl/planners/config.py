@@ -85,8 +85,9 @@ class SearchConfig:
     Attributes:
         neighbours: candidate transfer edges per new manipulation node.
         connect_radius: candidate edges are not longer than this (m, Reeds-Shepp length).
-        weight: inflation of the search's heuristic (weighted A*: a path at most this
-            factor costlier than the graph's cheapest, found expanding far fewer nodes).
+        weight: inflation of the search's heuristic, the exact cost to go over the graph's
+            plausible edges (weighted A*: a path at most this factor costlier than the
+            graph's cheapest; 1.1 breaks the ties of equal-cost plateaus, which 1.0 expands).
         every: the roadmap's growth searches after this many new object nodes gave
             manipulation nodes (a search is skipped at no cost while the candidate graph
             cannot join start and goal).
@@ -99,7 +100,7 @@ class SearchConfig:
 
     neighbours: int = 10
     connect_radius: float = 3.5
-    weight: float = 2.0
+    weight: float = 1.1
     every: int = 16
     turns: bool = True
     turn_margin: float = 0.05

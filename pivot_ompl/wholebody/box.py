@@ -59,9 +59,10 @@ def rot_y(a: float) -> np.ndarray:
 
 def transform(R: np.ndarray, p) -> np.ndarray:  # noqa: ANN001
     """4x4 homogeneous transform from rotation ``R`` and translation ``p``."""
-    T = np.eye(4)
+    T = np.zeros((4, 4))  # not np.eye: this runs several times a solver tick
     T[:3, :3] = R
     T[:3, 3] = p
+    T[3, 3] = 1.0
     return T
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import logging
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import cast
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
@@ -16,6 +16,9 @@ from pivot_ompl.scene import Scene
 from pivot_ompl.wholebody.box import BoxHold, matrix_from_quat, transform
 from pivot_ompl.wholebody.clearance import ClearanceReport
 from pivot_ompl.wholebody.urdf_model import UrdfModel
+
+if TYPE_CHECKING:
+    from pivot_ompl.wholebody.joint_peaks import JointPeaks
 
 log = logging.getLogger(__name__)
 
@@ -51,7 +54,10 @@ class Tolerances:
     foot: float = 1e-3
     hand: float = 0.01
     corner: float = 1e-3
-    accel: float = 100.0
+    #: acceleration limits (rad/s²): arm, chest and head joints, other joints, held box
+    upper_accel: float = 30.0
+    accel: float = 50.0
+    box_accel: float = 5.0
     obstacle: float = 0.01
 
 
@@ -142,6 +148,7 @@ class CheckContext:
         kin: the motion's kinematics.
         tol: the checks' limits.
         clearance: obstacle clearance per link, once the obstacle check has run.
+        peaks: every joint's largest speed and acceleration, once a peak check has run.
     """
 
     motion: Motion
@@ -151,6 +158,7 @@ class CheckContext:
     kin: Kinematics
     tol: Tolerances = field(default_factory=Tolerances)
     clearance: ClearanceReport | None = None
+    peaks: JointPeaks | None = None
 
     def array(self, name: str) -> np.ndarray:
         """A required per-sample array of the motion (``support``, ``phase``, ...)."""

@@ -123,37 +123,6 @@ def joint_limits(ctx: CheckContext) -> CheckResult:
                        f"{motion.joint_names[sj]} at t = {motion.t[si]:.3f} s", int(si))
 
 
-def joint_velocity(ctx: CheckContext) -> CheckResult:
-    """Finite-difference joint speeds within the URDF velocity limits."""
-    motion, t = ctx.motion, ctx.motion.t
-    q = motion.q[:, 7:]
-    ratio = np.abs(np.diff(q, axis=0)) / np.diff(t)[:, None] / ctx.kin.velocity
-    worst = float(ratio.max())
-    si, sj = np.unravel_index(int(np.argmax(ratio)), ratio.shape)
-    return CheckResult("joint_velocity", worst <= 1.0 + 1e-6, worst, 1.0,
-                       "x", f"{motion.joint_names[sj]} at t = {t[si]:.3f} s "
-                       "(fraction of its velocity limit)", int(si))
-
-
-def joint_accel(ctx: CheckContext) -> CheckResult:
-    """No chattering: the 99th percentile of the largest joint acceleration is bounded.
-
-    Sustained QP chattering at the velocity limits shows as ~2 v_max / dt (1200 rad/s^2)
-    at most samples.
-    """
-    motion = ctx.motion
-    q = motion.q[:, 7:]
-    acc = np.abs(q[2:] - 2 * q[1:-1] + q[:-2]) / (motion.dt ** 2)
-    per_sample = acc.max(axis=1)
-    p99 = float(np.percentile(per_sample, 99))
-    si, sj = np.unravel_index(int(np.argmax(acc)), acc.shape)
-    limit = ctx.tol.accel
-    return CheckResult("joint_accel", p99 < limit, p99, limit,
-                       "r/s2", f"99th percentile; max {acc[si, sj]:.0f} at "
-                       f"{motion.joint_names[sj]} t = {motion.t[si + 1]:.3f} s",
-                       int(np.argmax(per_sample)) + 1)
-
-
 def _point_polyline(p: np.ndarray, poly: np.ndarray) -> float:
     """Distance from 2-D point ``p`` to the polyline ``poly`` (M x 2)."""
     if len(poly) == 1:

@@ -29,6 +29,7 @@ The box's weight is not modelled (kinematic generation; the CoM is the robot's o
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 import time
@@ -386,7 +387,7 @@ class WholeBodyGenerator:
 
 def generate_motion(plan: Plan, *, walk: WalkParameters | None = None,
                     settings: WalkSettings | None = None, timing: Timing | None = None,
-                    tilt: float = DEFAULT_TILT,
+                    tilt: float = DEFAULT_TILT, dt: float | None = None,
                     progress: Progress | None = None) -> tuple[Motion, GenerationStats]:
     """Generate the whole-body motion of ``plan``; return it with its generation statistics.
 
@@ -398,6 +399,8 @@ def generate_motion(plan: Plan, *, walk: WalkParameters | None = None,
         settings: walking and solver parameters (instead of ``walk``).
         timing: segment durations and tolerances.
         tilt: inclination of the held box about its supporting edge (rad).
+        dt: the solver tick and sampling period (s), instead of the settings' (5 ms):
+            10 ms generates about twice as fast.
         progress: optional callback ``progress(fraction, label)``.
 
     Raises:
@@ -409,6 +412,10 @@ def generate_motion(plan: Plan, *, walk: WalkParameters | None = None,
             raise InputError("walk", walk, "give the walk model or the settings, not both")
         settings = WalkSettings.from_walk(walk)
         log.debug("footstep limits of the scene's walk model: %s", walk)
+    if dt is not None:
+        if not (math.isfinite(dt) and dt > 0.0):
+            raise InputError("dt", dt, "must be a finite tick > 0 s")
+        settings = dataclasses.replace(settings or WalkSettings(), dt=dt)
     gen = WholeBodyGenerator(plan, settings=settings, timing=timing, tilt=tilt,
                              progress=progress)
     motion = gen.run()

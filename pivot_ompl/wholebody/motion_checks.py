@@ -12,13 +12,17 @@ Every check recomputes what it needs with pinocchio from ``q`` and the URDF name
 * ``hands`` -- while ``holding``, each hand frame is within 1 cm of its grip point on the box
   (``box`` pose x ``grip_box``).
 * ``joint_limits`` -- every joint within its URDF limits (1e-6 rad slack).
-* ``joint_velocity`` -- finite-difference joint speeds within the URDF velocity limits
-  (value: worst fraction of the limit).
+* ``joint_velocity`` -- every joint's largest finite-difference speed over the whole motion
+  within its URDF velocity limit (value: worst fraction of the limit; the joint and the
+  time named).
 * ``pivot_corner`` -- during each pivot rotation one bottom corner of the box's supporting edge
   stays fixed (< 1 mm) on the floor; with a plan, at the step's ``pivot``.
-* ``joint_accel`` -- no chattering: the 99th percentile over samples of the largest joint
-  acceleration (second differences) below 100 rad/s^2 (the maximum is reported; single-tick
-  peaks occur where a joint reaches a position limit).
+* ``joint_accel`` -- every joint's largest acceleration (second differences) over the whole
+  motion within its limit: 30 rad/s^2 for the arms, chest and head, which only follow the
+  box, 50 rad/s^2 for the legs (value: worst fraction of the limit; the joint and the time
+  named). ``MotionReport.peaks`` holds every joint's peaks
+  (:mod:`pivot_ompl.wholebody.checks_peaks`).
+* ``box_accel`` -- the box's angular acceleration while the hands hold it below 5 rad/s^2.
 * ``box_clearance`` -- the robot's collision primitives, hands and fingers excluded, never
   penetrate the box (checked on about 2000 evenly spread samples).
 * ``box_floor`` -- no box corner below the floor (> -1 mm).
@@ -47,7 +51,7 @@ from pivot_ompl.errors import InputError
 from pivot_ompl.motionfile import DYNAMICS, Motion
 from pivot_ompl.planfile import Plan
 from pivot_ompl.scene import Scene
-from pivot_ompl.wholebody import checks_box, checks_robot
+from pivot_ompl.wholebody import checks_box, checks_peaks, checks_robot
 from pivot_ompl.wholebody.check_context import (
     CheckContext,
     CheckResult,
@@ -55,6 +59,12 @@ from pivot_ompl.wholebody.check_context import (
     kinematics,
 )
 from pivot_ompl.wholebody.clearance import ClearanceReport
+from pivot_ompl.wholebody.joint_peaks import (
+    ACCEL_LIMIT,
+    BOX_ANGULAR_ACCEL_LIMIT,
+    UPPER_ACCEL_LIMIT,
+    JointPeaks,
+)
 from pivot_ompl.wholebody.lipm import lipm_zmp
 from pivot_ompl.wholebody.urdf_model import load_urdf_model
 
@@ -69,8 +79,8 @@ Check = Callable[[CheckContext], CheckResult | None]
 #: The checks after ``phase_order`` and ``finite``, in the order of the report.
 CHECKS: tuple[Check, ...] = (
     checks_robot.com_file, checks_robot.zmp, checks_robot.feet, checks_robot.hands,
-    checks_robot.joint_limits, checks_robot.joint_velocity, checks_robot.joint_accel,
-    checks_box.box_floor, checks_box.pivot_corner, checks_box.box_clearance,
+    checks_robot.joint_limits, checks_peaks.joint_velocity, checks_peaks.joint_accel,
+    checks_peaks.box_accel, checks_box.box_floor, checks_box.pivot_corner, checks_box.box_clearance,
     checks_box.obstacles, checks_box.box_plan, checks_robot.robot_plan)
 
 
@@ -81,6 +91,8 @@ class MotionReport:
     results: list[CheckResult] = field(default_factory=list)
     #: Obstacle clearance per link and of the box (with a scene).
     clearance: ClearanceReport | None = None
+    #: Every joint's largest speed and acceleration.
+    peaks: JointPeaks | None = None
 
     @property
     def passed(self) -> bool:
@@ -135,7 +147,9 @@ def _all_finite(motion: Motion) -> CheckResult:
 def check_motion(motion: Motion, plan: Plan | None = None, *, scene: Scene | None = None,
                  zmp_tolerance: float = 0.0, foot_tolerance: float = 1e-3,
                  hand_tolerance: float = 0.01, corner_tolerance: float = 1e-3,
-                 accel_limit: float = 100.0,
+                 upper_accel_limit: float = UPPER_ACCEL_LIMIT,
+                 accel_limit: float = ACCEL_LIMIT,
+                 box_accel_limit: float = BOX_ANGULAR_ACCEL_LIMIT,
                  obstacle_tolerance: float = 0.01) -> MotionReport:
     """Run every check on ``motion`` (and against ``plan`` when given).
 
@@ -147,7 +161,9 @@ def check_motion(motion: Motion, plan: Plan | None = None, *, scene: Scene | Non
         foot_tolerance: feet slide/sink limit (m).
         hand_tolerance: hand-to-grip limit (m).
         corner_tolerance: pivot corner / box pose limit (m).
-        accel_limit: limit of the 99th percentile of the largest joint acceleration (rad/s^2).
+        upper_accel_limit: largest acceleration of an arm, chest or head joint (rad/s^2).
+        accel_limit: largest acceleration of any other joint (rad/s^2).
+        box_accel_limit: largest angular acceleration of the held box (rad/s^2).
         scene: the scene of the motion: enables the ``obstacles`` check.
         obstacle_tolerance: smallest accepted clearance of a link or the box to an
             obstacle (m).
@@ -169,13 +185,15 @@ def check_motion(motion: Motion, plan: Plan | None = None, *, scene: Scene | Non
         return rep
     robot = load_urdf_model(motion.urdf)
     tol = Tolerances(zmp=zmp_tolerance, foot=foot_tolerance, hand=hand_tolerance,
-                     corner=corner_tolerance, accel=accel_limit, obstacle=obstacle_tolerance)
+                     corner=corner_tolerance, upper_accel=upper_accel_limit, accel=accel_limit,
+                     box_accel=box_accel_limit, obstacle=obstacle_tolerance)
     ctx = CheckContext(motion, plan, scene, robot, kinematics(motion, robot), tol)
     for check in CHECKS:
         result = check(ctx)
         if result is not None:
             rep.results.append(result)
     rep.clearance = ctx.clearance
+    rep.peaks = ctx.peaks
     return rep
 
 

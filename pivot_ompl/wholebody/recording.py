@@ -42,12 +42,11 @@ class GenerationStats:
         The error is the larger hand-to-grip distance (m); the approach axes (hand -z) give
         the angle.
         """
-        err = max(float(np.linalg.norm(T[:3, 3] - g[:3, 3]))
-                  for T, g in zip(frames, targets, strict=True))
+        (Tl, Tr), (gl, gr) = frames, targets
+        err = math.sqrt(max(float(d @ d) for d in (Tl[:3, 3] - gl[:3, 3], Tr[:3, 3] - gr[:3, 3])))
         self.max_hand_error = max(self.max_hand_error, err)
-        for T, g in zip(frames, targets, strict=True):
-            c = float(np.clip(T[:3, 2] @ g[:3, 2], -1.0, 1.0))
-            self.max_hand_angle = max(self.max_hand_angle, math.acos(c))
+        c = min(float(Tl[:3, 2] @ gl[:3, 2]), float(Tr[:3, 2] @ gr[:3, 2]))
+        self.max_hand_angle = max(self.max_hand_angle, math.acos(max(-1.0, min(1.0, c))))
         return err
 
     @property

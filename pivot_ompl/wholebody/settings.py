@@ -60,8 +60,12 @@ class WalkSettings:
         foot_dtheta: largest yaw between the two feet (rad; 0.40 rad is split between the
             two hip yaw joints, each limited to 30 deg inward).
         sole_gap: least gap between the two sole rectangles (m).
-        upper_accel: the largest deceleration of an arm, chest or head joint towards its
-            position limit (rad/s², :class:`~pivot_ompl.wholebody.joint_damper.JointDamper`).
+        upper_accel: the largest acceleration of an arm, chest or head joint (these only
+            follow the box): every change of their speed, braking before a position limit
+            included, is bounded by it (rad/s²,
+            :class:`~pivot_ompl.wholebody.joint_damper.JointDamper`).
+        seed: seed of PlaCo's own pseudo-random generator (``placo.seed``), set when the
+            robot is set up, so that a plan gives the same motion on every run.
     """
 
     dt: float = 0.005
@@ -88,6 +92,7 @@ class WalkSettings:
     foot_dtheta: float = FOOT_DTHETA
     sole_gap: float = 0.02
     upper_accel: float = 20.0
+    seed: int = 1
 
     @property
     def omega(self) -> float:

@@ -58,3 +58,16 @@ def interpolate_frame(T0: np.ndarray, T1: np.ndarray, s: float) -> np.ndarray:
 
     R = T0[:3, :3] @ pin.exp3(s * pin.log3(T0[:3, :3].T @ T1[:3, :3]))
     return transform(R, (1 - s) * T0[:3, 3] + s * T1[:3, 3])
+
+
+def min_jerk_swing(T0: np.ndarray, T1: np.ndarray, s: float, height: float) -> np.ndarray:
+    """A swing foot's frame at progress ``s`` in [0, 1] from lift-off ``T0`` to landing ``T1``.
+
+    Position and rotation follow :func:`min_jerk` (:func:`interpolate_frame`); the foot rises
+    by ``height * 64 s³ (1 - s)³`` (``height`` at mid-swing). Speed and acceleration are zero
+    at both ends, so the leg starts and ends its swing without a jump of acceleration.
+    """
+    s = min(1.0, max(0.0, s))
+    T = interpolate_frame(T0, T1, min_jerk(s))
+    T[2, 3] += height * 64.0 * (s * (1.0 - s)) ** 3
+    return T

@@ -3,7 +3,8 @@
 Tasks (PlaCo ``KinematicsSolver``, one QP per tick of :attr:`WalkSettings.dt`):
 
 * feet and CoM -- **hard** (``WalkTasks`` with ``scaled = False``), tracking the LIPM/ZMP walk
-  pattern generator's trajectory, or fixed targets while standing;
+  pattern generator's trajectory, or fixed targets while standing; the swing foot's target
+  is :class:`~pivot_ompl.wholebody.swing.SwingFoot`'s (held down, then a minimum-jerk swing);
 * trunk orientation -- soft, from the walk trajectory (yaw between the feet);
 * both hands -- soft frame tasks (position weight 1, low orientation weight) tracking targets
   given every tick, plus a soft hand-to-hand relative frame task;
@@ -27,6 +28,7 @@ from pivot_ompl.wholebody.box import rot_z
 from pivot_ompl.wholebody.footsteps import planar, pose_matrix
 from pivot_ompl.wholebody.joint_damper import JointDamper
 from pivot_ompl.wholebody.settings import WalkSettings
+from pivot_ompl.wholebody.swing import SwingFoot
 
 __all__ = ["PlacoWalker", "SolverFailure", "WalkSettings", "planar", "pose_matrix"]
 
@@ -57,6 +59,8 @@ class PlacoWalker:
 
         self._placo = placo
         self.settings = s = settings
+        self.swing = SwingFoot(s)
+        placo.seed(s.seed)  # PlaCo's own pseudo-random generator: the same motion every run
         robot = placo.HumanoidRobot(str(urdf_path()), placo.Flags.ignore_collisions)
         self.robot = robot
         self.params = humanoid_parameters(settings)
@@ -90,17 +94,19 @@ class PlacoWalker:
         leg_posture.set_joints(legs)
         leg_posture.configure("leg_posture", "soft", 1e-5)
         solver.add_regularization_task(1e-6)
-        #: the arms, chest and head brake before their limits (they follow the box)
+        #: the arms, chest and head, which only follow the box, brake before their limits
+        #: and change their speed by at most ``upper_accel`` a second at any time
         upper = [j for j in UPPER_POSTURE if j in robot.joint_names()]
-        self.damper = JointDamper(robot, upper, accel=s.upper_accel, dt=s.dt,
-                                  smooth=[j for j in upper if "ARM" in j])
+        self.damper = JointDamper(robot, upper, accel=s.upper_accel, dt=s.dt, smooth=upper)
 
         self._place(start)
         self._add_hand_tasks()
         self._settle()
 
-    #: Unrecorded standing time after set-up (s).
-    PRESETTLE = 0.5
+    #: Unrecorded standing time after set-up, twice (s). The head and arms, whose speed
+    #: changes are bounded, take about 0.9 s to come to rest after the hand targets are set
+    #: (at 0.5 s the first recorded second still had them swinging at up to 1.2 rad/s).
+    PRESETTLE = 1.0
 
     def _add_hand_tasks(self) -> None:
         """Soft frame tasks of both hands (at their current frames) and between them."""
@@ -291,11 +297,15 @@ class PlacoWalker:
         """
         self.left_hand.T_world_frame = T_left_hand
         self.right_hand.T_world_frame = T_right_hand
-        self.hands.T_a_b = np.linalg.inv(T_left_hand) @ T_right_hand
+        R, p = T_left_hand[:3, :3], T_left_hand[:3, 3]
+        rel = np.eye(4)  # inverse of the rigid left frame, times the right one
+        rel[:3, :3] = R.T @ T_right_hand[:3, :3]
+        rel[:3, 3] = R.T @ (T_right_hand[:3, 3] - p)
+        self.hands.T_a_b = rel
         held = False
         if traj is not None:
             self.tasks.update_tasks_from_trajectory(traj, t)
-            held = self._delay_lift_off(traj, t)
+            held = self.swing.update(traj, t, self.tasks)
         self.robot.update_kinematics()
         self.damper.apply()
         try:
@@ -316,37 +326,6 @@ class PlacoWalker:
         if held:
             return 0, zmp
         return (1 if side == "left" else 2), zmp
-
-    def _delay_lift_off(self, traj, t: float) -> bool:  # noqa: ANN001
-        """Hold the swing foot down for :attr:`lift_off_delay` after a single support starts.
-
-        The swing trajectory is then played time-compressed into the rest of the support.
-        The pattern generator constrains the ZMP only at its LIPM samples: it reaches the new
-        support foot one sample after the double support ends. Holding the swing foot down
-        meanwhile keeps that ZMP transfer inside a real double support polygon.
-        Returns whether the swing foot is held (both feet in contact).
-        """
-        if traj.support_is_both(t):
-            return False
-        t0, t1 = traj.get_part_t_start(t), traj.get_part_t_end(t)
-        delay = self.lift_off_delay
-        if t1 - t0 <= 2 * delay:
-            return False
-        swing = "right" if str(traj.support_side(t)) == "left" else "left"
-        if t - t0 < delay:
-            tau, held = t0, True
-        else:
-            tau, held = t0 + (t - t0 - delay) * (t1 - t0) / (t1 - t0 - delay), False
-        T = traj.get_T_world_right(tau) if swing == "right" else traj.get_T_world_left(tau)
-        task = self.tasks.right_foot_task if swing == "right" else self.tasks.left_foot_task
-        task.T_world_frame = T
-        return held
-
-    @property
-    def lift_off_delay(self) -> float:
-        """Time the swing foot stays down after a single support starts (s)."""
-        s = self.settings
-        return s.single_support_duration / s.single_support_timesteps + 2.5 * s.dt
 
 
 def humanoid_parameters(settings: WalkSettings):  # noqa: ANN201 - a placo.HumanoidParameters

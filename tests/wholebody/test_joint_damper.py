@@ -2,26 +2,40 @@
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
-from pivot_ompl.wholebody.joint_damper import JointDamper
+from pivot_ompl.wholebody.joint_damper import JointDamper, braking_step, braking_steps
 
 
 class _Robot:
-    """The two methods of PlaCo's RobotWrapper the damper uses, for one joint."""
+    """What the damper reads of PlaCo's RobotWrapper (``model`` limits, ``state.q``), one joint."""
+
+    class _Joint:
+        idx_q = 0
 
     def __init__(self, q: float, lo: float, hi: float) -> None:
-        self.q, self.urdf, self.lim = q, (lo, hi), (lo, hi)
+        self.urdf = (lo, hi)
+        self.model = SimpleNamespace(lowerPositionLimit=np.array([lo]),
+                                     upperPositionLimit=np.array([hi]),
+                                     joints=[None, self._Joint()], getJointId=lambda name: 1)
+        self.state = SimpleNamespace(q=np.array([q]))
 
-    def get_joint_limits(self, name: str) -> np.ndarray:
-        return np.array(self.urdf)
+    @property
+    def q(self) -> float:
+        return float(self.state.q[0])
 
-    def get_joint(self, name: str) -> float:
-        return self.q
+    @q.setter
+    def q(self, value: float) -> None:
+        self.state.q = np.array([value])
 
-    def set_joint_limits(self, name: str, lo: float, hi: float) -> None:
-        self.lim = (lo, hi)
+    @property
+    def lim(self) -> tuple[float, float]:
+        return float(self.model.lowerPositionLimit[0]), float(self.model.upperPositionLimit[0])
 
 
 def _drive(robot: _Robot, damper: JointDamper, targets: list[float]) -> np.ndarray:
@@ -36,16 +50,42 @@ def _drive(robot: _Robot, damper: JointDamper, targets: list[float]) -> np.ndarr
     return np.array(qs)
 
 
+def _covered(step: float, delta: float) -> float:
+    """Distance a joint covers taking ``step`` now, then steps shorter by ``delta`` each tick."""
+    total = 0.0
+    while step > 0.0:
+        total, step = total + step, step - delta
+    return total
+
+
+@given(st.floats(0.0, 2.0), st.floats(1e-6, 1e-2))
+def test_the_braking_step_is_the_longest_that_still_stops(distance, delta):
+    s = braking_step(distance, delta)
+    assert 0.0 <= s <= distance
+    assert _covered(s, delta) <= distance + 1e-9  # stops at the limit
+    if s < distance:  # and no longer step does (braking no harder than needed)
+        assert _covered(s + 1e-6 * delta + 1e-12, delta) > distance - 1e-9
+
+
+def test_the_array_braking_steps_are_the_exact_ones():
+    rng = np.random.default_rng(0)
+    d = np.concatenate(([0.0, -0.1, 1e-12], rng.uniform(0.0, 2.0, 500),
+                        [k * (k + 1) * 2.5e-4 for k in range(50)]))  # piece boundaries
+    exact = np.array([braking_step(x, 5e-4) for x in d])
+    assert np.allclose(braking_steps(d, 5e-4), exact, rtol=1e-9, atol=1e-15)
+
+
 @pytest.mark.parametrize("smooth", [False, True])
 def test_a_joint_thrown_at_its_limit_brakes_within_the_bound(smooth):
     dt, a = 0.005, 20.0
     robot = _Robot(0.3, -0.1745, 1.0)
     damper = JointDamper(robot, ["J"], accel=a, dt=dt, smooth=["J"] if smooth else [])
     q = _drive(robot, damper, [-1.0] * 400)  # pulled far beyond the lower limit
-    assert q.min() >= -0.1745 - 1e-12 and q[-1] == pytest.approx(-0.1745, abs=1e-3)
+    assert q.min() >= -0.1745 - 1e-12 and q[-1] == pytest.approx(-0.1745, abs=1e-12)
+    assert np.all(np.diff(q) <= 1e-15)  # straight to the limit: no overshoot, no bounce
     acc = np.diff(q, 2) / dt**2
     braking = acc[acc > 0]  # slowing down towards the limit
-    assert braking.max() <= 2 * a + 1e-6
+    assert braking.max() <= a * (1 + 1e-9)
 
 
 def test_a_smooth_joint_leaves_its_limit_gently():
@@ -53,12 +93,47 @@ def test_a_smooth_joint_leaves_its_limit_gently():
     dt, a = 0.005, 20.0
     robot = _Robot(-0.1745, -0.1745, 1.0)
     damper = JointDamper(robot, ["J"], accel=a, dt=dt, smooth=["J"])
-    q = _drive(robot, damper, [-1.0] * 20 + [1.0] * 200)
+    q = _drive(robot, damper, [-1.0] * 20 + [1.0] * 200 + [-1.0] * 200)
     acc = np.diff(q, 2) / dt**2
-    assert np.abs(acc).max() <= 2 * a + 1e-6
+    assert np.abs(acc).max() <= a * (1 + 1e-9)
     plain = JointDamper(_Robot(-0.1745, -0.1745, 1.0), ["J"], accel=a, dt=dt)
     q2 = _drive(plain.robot, plain, [-1.0] * 20 + [1.0] * 200)
     assert np.abs(np.diff(q2, 2) / dt**2).max() > 10 * a  # without it: a jump
+
+
+def test_on_a_model_joint_the_damper_keeps_its_bound():
+    """HRP-2's left shoulder roll in PlaCo's QP, pulled past one limit, then the other."""
+    placo = pytest.importorskip("placo")
+    from pivot_ompl.hrp2 import urdf_path
+
+    dt, a, joint = 0.005, 20.0, "LARM_JOINT1"
+    robot = placo.RobotWrapper(str(urdf_path()), placo.Flags.ignore_collisions)
+    solver = placo.KinematicsSolver(robot)
+    solver.dt = dt
+    solver.mask_fbase(True)
+    solver.enable_velocity_limits(True)
+    solver.enable_joint_limits(True)
+    task = solver.add_joints_task()
+    task.set_joints({joint: 3.0})
+    task.configure("pull", "soft", 1.0)
+    lo, hi = (float(v) for v in robot.get_joint_limits(joint))
+    damper = JointDamper(robot, [joint], accel=a, dt=dt, smooth=[joint])
+    q = [robot.get_joint(joint)]
+    for k in range(600):
+        if k == 300:
+            task.set_joints({joint: -3.0})
+        robot.update_kinematics()
+        damper.apply()
+        solver.solve(True)
+        q.append(robot.get_joint(joint))
+    damper.restore()
+    qs = np.array(q)
+    acc = np.abs(np.diff(qs, 2)) / dt**2
+    assert acc.max() <= a * (1 + 1e-6)
+    assert qs[300] == pytest.approx(hi, abs=1e-9) and qs[-1] == pytest.approx(lo, abs=1e-9)
+    assert np.all(np.diff(qs[:301]) >= -1e-12)  # reaches the limit without a bounce
+    assert np.abs(np.diff(qs) / dt).max() > 2.0  # and it did move fast in between
+    assert tuple(robot.get_joint_limits(joint)) == pytest.approx((lo, hi))
 
 
 def test_the_urdf_limits_come_back():

@@ -88,12 +88,22 @@ def test_animate_passes_the_scene_walk_model(tmp_path, monkeypatch):
     plan = _push(0.3).to_json(tmp_path / "plan.json")
     seen = []
 
-    def fake(plan, *, walk=None, **kwargs):  # noqa: ANN001, ANN003, ANN202
-        seen.append(walk)
+    def fake(plan, *, walk=None, dt=None, **kwargs):  # noqa: ANN001, ANN003, ANN202
+        seen.append((walk, dt))
         raise InputError("test", 0, "stop after the walk model is seen")
 
     monkeypatch.setattr(generator, "generate_motion", fake)
-    code = main(["animate", str(plan), "--out", str(tmp_path / "m.npz"), "--scene", str(scene),
-                 "--no-progress"])
-    assert code == 2 and len(seen) == 1
-    assert (seen[0].step_forward, seen[0].step_turn) == (0.1, 0.2)
+    args = ["animate", str(plan), "--out", str(tmp_path / "m.npz"), "--scene", str(scene),
+            "--no-progress"]
+    assert main(args) == 2 and len(seen) == 1
+    walk, dt = seen[0]
+    assert (walk.step_forward, walk.step_turn) == (0.1, 0.2) and dt == 0.005
+    assert main([*args, "--tick", "0.01"]) == 2 and seen[-1][1] == 0.01
+    assert main([*args, "--tick", "0.05"]) == 2 and len(seen) == 2  # refused before the work
+
+
+def test_a_longer_tick_samples_the_motion_at_it():
+    motion, stats = generator.generate_motion(_push(0.3), dt=0.01)
+    assert motion.dt == pytest.approx(0.01) and stats.ticks == len(motion.t)
+    with pytest.raises(InputError, match="tick"):
+        generator.generate_motion(_push(0.3), dt=0.0)

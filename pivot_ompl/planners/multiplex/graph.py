@@ -30,7 +30,6 @@ rule (:meth:`MultiplexedGraph.successor`) and writes a path in the start's frame
 from __future__ import annotations
 
 import math
-from collections import deque
 from collections.abc import Callable, Iterator
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
@@ -343,38 +342,6 @@ class MultiplexedGraph:
                     continue
                 reach.add(sv)
                 stack.append(sv)
-
-    def regrasps_to_go(self, should_stop: Stop) -> dict[Node, int] | None:
-        """Fewest regrasps from each node to a goal node, over edges passing the cheap test.
-
-        A breadth-first search from the goal nodes with transfers costing 0 and regrasps 1
-        (the graph is undirected); a transfer is tested (cached) only when it would lower its
-        far node's count. Frame parity is ignored. Every path of the graph from a node to the
-        goal makes at least that many regrasps, and edges removed later only raise the
-        counts, so the numbers stay lower bounds until new edges are linked; a node without
-        a number has no path to the goal. ``None`` when ``should_stop`` said stop (polled
-        every 256 nodes).
-        """
-        level: dict[Node, int] = dict.fromkeys(self.goal_nodes, 0)
-        queue = deque(self.goal_nodes)
-        steps = 0
-        while queue:
-            steps += 1
-            if steps % 256 == 0 and should_stop():
-                return None
-            u = queue.popleft()
-            d = level[u]
-            for v in list(self.adj[u]):
-                transfer = is_transfer(u, v)
-                dv = d + (not transfer)
-                if dv >= level.get(v, math.inf) or (transfer and not self.plausible(u, v)):
-                    continue
-                level[v] = dv
-                if transfer:
-                    queue.appendleft(v)
-                else:
-                    queue.append(v)
-        return level
 
     def maybe_connected(self) -> bool:
         """Whether the goal (in the start's frame) may be reached from the start.

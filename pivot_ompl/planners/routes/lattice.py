@@ -71,6 +71,7 @@ class TransferLattice:
         self.expansions = 0
         self._routes: dict[tuple[Pose, Pose, int], tuple[list[Pose], float]] = {}
         self._labels: dict[int, np.ndarray] = {}
+        self._grids: dict[tuple[int, int], bytes] = {}
 
     def car(self, s: State) -> Pose:
         """The car pose of lattice state ``s``."""
@@ -112,7 +113,6 @@ class TransferLattice:
         if not {label(u) for u in starts} & {label(u) for u in goals}:
             return [], math.inf
         rate = self._push[grasp]
-        grids: dict[int, object] = {}
         nx, ny = self.field.nx, self.field.ny
         steps, turns, spin = self._steps, self._turns, self._spin
         counter = [0]
@@ -120,10 +120,7 @@ class TransferLattice:
         def free(ix: int, iy: int, k: int) -> bool:
             if not (0 <= ix < nx and 0 <= iy < ny):
                 return False
-            grid = grids.get(k)
-            if grid is None:
-                grid = grids[k] = self.field.fits(parity, k, should_stop=should_stop).tolist()
-            return grid[ix][iy]  # type: ignore[index]
+            return bool(self._grid(parity, k, should_stop)[ix * ny + iy])
 
         def neighbours(u: State) -> Iterator[tuple[State, float]]:
             if u == _START:
@@ -169,8 +166,21 @@ class TransferLattice:
         poses = [start] + [m.object_from_car(self.car(s), grasp) for s in states[1:-1]] + [goal]
         return poses, self._cost(states, starts, goals, rate)
 
+    def _grid(self, parity: int, k: int, should_stop: Callable[[], bool] | None) -> bytes:
+        """The field's ``fits(parity, k)`` as bytes, row-major (kept: cheap to index)."""
+        key = (parity, k)
+        grid = self._grids.get(key)
+        if grid is None:
+            grid = self._grids[key] = np.ascontiguousarray(
+                self.field.fits(parity, k, should_stop=should_stop), dtype=np.uint8).tobytes()
+        return grid
+
     def _components(self, parity: int, should_stop: Callable[[], bool] | None) -> np.ndarray:
-        """Connected component of every lattice state of ``parity`` (kept)."""
+        """Connected component of every lattice state of ``parity``, ``-1`` where not free.
+
+        Kept. The graph holds the free states only, so its size follows the free floor, not
+        the bounds' rectangle (a turned row of rooms fills a small part of it).
+        """
         labels = self._labels.get(parity)
         if labels is not None:
             return labels
@@ -179,7 +189,11 @@ class TransferLattice:
         fits = np.stack([f.fits(parity, k, should_stop=should_stop)
                          for k in range(2 * nh)])  # (2 nh, nx, ny)
         state = fits[0::2]  # at each heading
-        ix, iy = np.meshgrid(np.arange(nx), np.arange(ny), indexing="ij")
+        n = nx * ny * nh
+        ident = np.full(n, -1, dtype=np.int64)  # free state -> graph node
+        free = np.flatnonzero(np.moveaxis(state, 0, -1).reshape(-1))
+        ident[free] = np.arange(len(free))
+        ix, iy = np.nonzero(state.any(axis=0))  # cells free at some heading
         rows, cols = [], []
 
         def index(x: np.ndarray, y: np.ndarray, h: int) -> np.ndarray:
@@ -188,18 +202,20 @@ class TransferLattice:
         for h, (vx, vy) in enumerate(HEADING_VECTORS):
             jx, jy = ix + vx, iy + vy
             inside = (jx >= 0) & (jx < nx) & (jy >= 0) & (jy < ny)
-            ok = inside & state[h]
+            ok = inside & state[h][ix, iy]
             ok[inside] &= state[h][jx[inside], jy[inside]]
             rows.append(index(ix[ok], iy[ok], h))
             cols.append(index(jx[ok], jy[ok], h))
             h2 = (h + 1) % nh
-            ok = state[h] & state[h2] & fits[2 * h + 1]
+            ok = state[h][ix, iy] & state[h2][ix, iy] & fits[2 * h + 1][ix, iy]
             rows.append(index(ix[ok], iy[ok], h))
             cols.append(index(ix[ok], iy[ok], h2))
-        n = nx * ny * nh
-        r, c = np.concatenate(rows), np.concatenate(cols)
-        graph = coo_matrix((np.ones(len(r), dtype=np.int8), (r, c)), shape=(n, n)).tocsr()
-        _, labels = connected_components(graph, directed=False)
+        r, c = ident[np.concatenate(rows)], ident[np.concatenate(cols)]
+        m = len(free)
+        graph = coo_matrix((np.ones(len(r), dtype=np.int8), (r, c)), shape=(m, m)).tocsr()
+        _, sub = connected_components(graph, directed=False)
+        labels = np.full(n, -1, dtype=np.int32)
+        labels[free] = sub
         self._labels[parity] = labels
         return labels
 
