@@ -26,7 +26,7 @@ from pivot_ompl.cost import REGRASP_COST
 from pivot_ompl.errors import PlanningError
 from pivot_ompl.fileio import atomic_output
 from pivot_ompl.planners import PLANNERS, REFUSED
-from pivot_ompl.scene import load_scene
+from pivot_ompl.scene import scene_path
 
 log = logging.getLogger(__name__)
 
@@ -81,16 +81,16 @@ def quality_line(q: dict) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Plan, write the plan and the figure."""
-    scene = load_scene(args.scene)
-    out = output_file(args.out, "--out", inputs=[scene.source])
-    fig = figure_file(args.plot, "--plot", inputs=[scene.source])
+    """Plan, write the plan and the figure (``--time`` covers reading the scene too)."""
+    source = scene_path(args.scene)
+    out = output_file(args.out, "--out", inputs=[source])
+    fig = figure_file(args.plot, "--plot", inputs=[source])
     distinct_outputs(out=out, plot=fig)
     stop = threading.Event()
     th = threading.Thread(target=_progress, args=(stop, args.time), daemon=True)
     th.start()
     try:
-        res = plan(scene, planner=args.planner, time_limit=args.time, seed=args.seed,
+        res = plan(source, planner=args.planner, time_limit=args.time, seed=args.seed,
                    regrasp_cost=args.regrasp_cost, bound=not args.no_bound)
     except PlanningError as e:
         stop.set()
@@ -115,6 +115,6 @@ def run(args: argparse.Namespace) -> int:
     if fig:
         from pivot_ompl.viz.plan_figure import plot_plan
         with atomic_output(fig) as tmp:
-            plot_plan(res.plan, tmp, scene=scene, search=res.search)
+            plot_plan(res.plan, tmp, scene=res.scene, search=res.search)
         print(f"figure written to {fig}")
     return 0
