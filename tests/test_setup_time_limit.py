@@ -160,3 +160,44 @@ def test_a_stop_condition_that_never_fires_changes_nothing():
     b = CollisionWorld.from_scene(scene, should_stop=lambda: False)
     for q in [(3.5, 3.0, 0.0), (2.0, 3.0, 0.3), (5.5, 1.0, 1.0)]:
         assert a.box_distance(q) == b.box_distance(q)
+
+
+# --- the walking floor field of a many-point polygon polls while it is summed ------------
+
+def _polygon_scene(n: int):
+    return make_scene(bounds=[0.0, 0.0, 20.0, 20.0], start=[2.0, 2.0, 0.0],
+                      goal=[18.0, 18.0, 0.0],
+                      obstacles=[{"type": "polygon", "height": 1.0,
+                                  "points": _star(n, 10.0, 10.0)}])
+
+
+def test_summing_pieces_and_bodies_polls_and_batches_change_nothing(monkeypatch):
+    """meeting_edges of thousands of pairs polls between batches; the batches' edges are
+    the ones summed all at once."""
+    from pivot_ompl.validity import footprints
+
+    rng = np.random.default_rng(3)
+    pieces = [rng.uniform(-1, 1, (3, 2)) for _ in range(3000)]
+    body = np.array([[-0.3, -0.2], [0.3, -0.2], [0.3, 0.2], [-0.3, 0.2]])
+    bodies = [body] * len(pieces)
+    calls = []
+    with pytest.raises(Interrupted):
+        footprints.meeting_edges(pieces, bodies,
+                                 should_stop=lambda: calls.append(1) or len(calls) > 2)
+    assert len(calls) == 3
+    batched = footprints.meeting_edges(pieces, bodies, should_stop=lambda: False)
+    monkeypatch.setattr(footprints, "MEETING_BATCH", 10**9)
+    whole = footprints.meeting_edges(pieces, bodies)
+    for a, b in zip(batched.__dict__.values(), whole.__dict__.values(), strict=True):
+        assert np.array_equal(a, b)
+
+
+def test_the_walking_floor_field_polls_within_a_block_of_yaws():
+    """A 10 000-point polygon: one block of yaws took 7 s, polled only before it."""
+    checker = PivotChecker(_polygon_scene(10_000))
+    field = checker.walker.field
+    calls = []
+    with pytest.raises(Interrupted):
+        field.static_open(should_stop=lambda: calls.append(1) or len(calls) > 3)
+    assert field.yaws_done == 0 and len(calls) == 4  # stopped inside the first block
+

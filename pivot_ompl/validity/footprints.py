@@ -16,13 +16,14 @@ the same grid points).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
+from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Obstacle, PolygonObstacle
 from pivot_ompl.se2 import rectangle_corners, triangulate
 
@@ -39,8 +40,10 @@ def _inscribed_polygon(cylinder: CylinderObstacle, sides: int) -> np.ndarray:
 
 def _convex_outlines(obstacles: Sequence[Obstacle], circle_sides: int
                      ) -> dict[int, np.ndarray]:
-    """Index -> vertex array of every box (its corners) and cylinder (its inscribed polygon),
-    computed for all of them at once (100 000 obstacles one at a time took 1.3 s)."""
+    """Index -> vertex array of every box (its corners) and cylinder (its inscribed polygon).
+
+    Computed for all of them at once (100 000 obstacles one at a time took 1.3 s).
+    """
     out: dict[int, np.ndarray] = {}
     boxes = [(i, o) for i, o in enumerate(obstacles) if isinstance(o, BoxObstacle)]
     if boxes:
@@ -90,14 +93,14 @@ def obstacle_footprints(obstacles: Sequence[Obstacle], *, circle_sides: int = CI
                         ) -> list[BaseGeometry]:
     """:func:`obstacle_footprint` of every obstacle, boxes and cylinders built at once."""
     convex = _convex_outlines(obstacles, circle_sides)
-    out: list[BaseGeometry] = [shapely.Polygon(o.points) if i not in convex else None
-                               for i, o in enumerate(obstacles)]  # type: ignore[misc]
+    built: dict[int, BaseGeometry] = {i: shapely.Polygon(o.points)
+                                      for i, o in enumerate(obstacles)
+                                      if isinstance(o, PolygonObstacle)}
     for n in {len(v) for v in convex.values()}:
         idx = [i for i, v in convex.items() if len(v) == n]
         polys = shapely.polygons(np.stack([convex[i] for i in idx]))
-        for i, g in zip(idx, polys, strict=True):
-            out[i] = g
-    return out
+        built.update(zip(idx, polys, strict=True))
+    return [built[i] for i in range(len(obstacles))]
 
 
 #: Polygons with more points than this are not grown by :func:`disk_clear` (GEOS took 5.8 s to
@@ -372,13 +375,23 @@ def _geos_edges(hulls: list[BaseGeometry]) -> EdgeSet:
     return EdgeSet(start, end, used, bounds)
 
 
-def meeting_edges(pieces: list[np.ndarray], bodies: list[np.ndarray]) -> EdgeSet:
+#: (piece, body) pairs :func:`meeting_edges` sums between two polls of its ``should_stop``
+#: (about 40 ms of work with the walking body's 20 vertices).
+MEETING_BATCH = 512
+
+
+def meeting_edges(pieces: list[np.ndarray], bodies: list[np.ndarray], *,
+                  should_stop: Callable[[], bool] | None = None) -> EdgeSet:
     """:func:`meeting_hulls` as edges, for many (piece, body) pairs at once (vectorised).
 
     ``pieces[i]`` meets ``bodies[i]`` (each a convex polygon's vertices, ``body`` relative to
     the reference point). The same polygons as the convex hulls of ``piece - body`` (exactly:
     the same vertices, see :func:`_sum_hulls`; a pair whose hull cannot be certified, e.g.
-    with differences on an edge's line, falls back to the convex hull geometry).
+    with differences on an edge's line, falls back to the convex hull geometry). Linear in
+    the pairs, summed :data:`MEETING_BATCH` at a time.
+
+    Raises:
+        Interrupted: ``should_stop()`` became true (polled before every batch).
     """
     n = len(pieces)
     if n == 0:
@@ -387,17 +400,26 @@ def meeting_edges(pieces: list[np.ndarray], bodies: list[np.ndarray]) -> EdgeSet
     groups: dict[tuple[int, int], list[int]] = {}
     for i in range(n):
         groups.setdefault((len(pieces[i]), len(bodies[i])), []).append(i)
+    batches = [idx[b0:b0 + MEETING_BATCH] for idx in groups.values()
+               for b0 in range(0, len(idx), MEETING_BATCH)]
     parts: list[tuple[list[int], EdgeSet]] = []
     failed: list[int] = []
-    for idx in groups.values():
+    for idx in batches:
+        if should_stop is not None and should_stop():
+            raise Interrupted("summing obstacle pieces and bodies")
         verts, nxt, used, ok = _sum_hulls(np.stack([pieces[i] for i in idx]),
                                           np.stack([bodies[i] for i in idx]))
         good = np.flatnonzero(ok)
         if len(good):
             parts.append(([idx[i] for i in good], _edges_of(verts[good], nxt[good], used[good])))
         failed.extend(idx[i] for i in np.flatnonzero(~ok))
+    hulls: list[BaseGeometry] = []
+    for f0 in range(0, len(failed), MEETING_BATCH):  # GEOS, one pair at a time
+        if should_stop is not None and should_stop():
+            raise Interrupted("summing obstacle pieces and bodies")
+        hulls.extend(meeting_hulls([pieces[i]], bodies[i])[0]
+                     for i in failed[f0:f0 + MEETING_BATCH])
     if failed:
-        hulls = [meeting_hulls([pieces[i]], bodies[i])[0] for i in failed]
         parts.append((failed, _geos_edges(hulls)))
     e = max(part.start.shape[1] for _, part in parts)
     start, end = np.zeros((n, e, 2)), np.zeros((n, e, 2))
