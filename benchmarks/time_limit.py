@@ -16,7 +16,8 @@ through ``plan(path)`` and through ``pivot-ompl plan path --out EXISTING`` (whic
 the existing file as it was): a table of the wall time and its overshoot of the limit
 (target: within +-5 %)::
 
-    python benchmarks/time_limit.py --largest [--limits 2,10] [--out results/time_limit_largest.json]
+    python benchmarks/time_limit.py --largest [--limits 2,10] \
+        [--out results/time_limit_largest.json]
 """
 
 from __future__ import annotations

@@ -187,9 +187,11 @@ UNWIND_SHARE = 0.1
 
 
 def parse_deadline(deadline: float) -> Callable[[], bool]:
-    """The ``should_stop`` of a parse (:func:`load_yaml`) that must be over by ``deadline``
-    (``time.monotonic()`` s): true once the time left is less than freeing what it built
-    takes (:data:`UNWIND_SHARE` of the time since this call)."""
+    """The ``should_stop`` of a parse (:func:`load_yaml`) that must be over by ``deadline``.
+
+    ``deadline`` is a ``time.monotonic()`` time; the stop is true once the time left is less
+    than freeing what the parse built takes (:data:`UNWIND_SHARE` of the time since this call).
+    """
     started = time.monotonic()
 
     def should_stop() -> bool:

@@ -121,8 +121,10 @@ def _triangulated(pts: np.ndarray, should_stop: Callable[[], bool] | None
 
 
 def _first_indices(pts: np.ndarray, xy: np.ndarray) -> np.ndarray:
-    """For each row of ``xy``, the first index of that point in ``pts`` (the nearest point
-    when none is equal: a corner moved by ``make_valid``)."""
+    """For each row of ``xy``, the first index of that point in ``pts``.
+
+    The nearest point when none is equal (a corner moved by ``make_valid``).
+    """
     keys = np.ascontiguousarray(pts).view([("x", float), ("y", float)]).ravel()
     unique, first = np.unique(keys, return_index=True)
     wanted = np.ascontiguousarray(xy, dtype=float).view(keys.dtype).ravel()

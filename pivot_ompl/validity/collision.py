@@ -68,9 +68,11 @@ _TRIANGLE_PRISM_FACES = ((0, 2, 1), (3, 4, 5), (0, 1, 4), (0, 4, 3), (1, 2, 5), 
 
 
 def _triangle_prism(corners: list[tuple[float, float]], height: float) -> coal.Convex:
-    """The prism over a triangle, built from its faces: no convex hull (qhull crashed the
-    process on triangles thinner than about 1e-8 m), and a flat triangle is a flat prism that
-    coal still measures exactly."""
+    """The prism over a triangle, built from its faces.
+
+    No convex hull (qhull crashed the process on triangles thinner than about 1e-8 m), and a
+    flat triangle is a flat prism that coal still measures exactly.
+    """
     verts = coal.StdVec_Vec3s()
     for z in (0.0, height):
         for x, y in corners:

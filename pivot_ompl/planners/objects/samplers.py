@@ -56,8 +56,11 @@ class PoseSampler:
         self._region_box: tuple[float, float, float, float] | None = None
 
     def region(self) -> BaseGeometry | None:
-        """The box centres reachable from the start (module docstring); ``None``: the floor
-        (no start, or obstacles of more than :data:`REGION_MAX_VERTICES` vertices)."""
+        """The box centres reachable from the start (module docstring); ``None``: the floor.
+
+        The floor when there is no start, or obstacles of more than
+        :data:`REGION_MAX_VERTICES` vertices.
+        """
         if not self._region_done and self.start is not None:
             self._region_done = True
             ck = self.checker
