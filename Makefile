@@ -5,7 +5,7 @@ VENV   ?= .venv
 BIN    := $(VENV)/bin
 OUT    ?= out
 
-.PHONY: venv demo test lint bench clean
+.PHONY: venv demo test lint figures bench clean
 
 $(BIN)/pivot-ompl: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -33,10 +33,12 @@ lint: venv
 	$(BIN)/mypy
 	$(BIN)/lint-imports
 
-bench: venv
-	$(BIN)/python benchmarks/steering.py --out results/steering.json
-	$(BIN)/python benchmarks/validation.py --out results/validation.json
-	$(BIN)/python benchmarks/regrasp.py --runs 100 --time 30 --out results/regrasp.json
+# The README's table of current figures (about ten minutes on a 2-core machine, one planning
+# process at a time): results/figures/figures.md
+figures: venv
+	PIVOT_BENCH_LOCK=/tmp/pivot-bench.lock $(BIN)/python benchmarks/figures.py --out results/figures
+
+bench: figures
 
 clean:
 	rm -rf $(VENV) $(OUT)

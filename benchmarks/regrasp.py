@@ -20,6 +20,7 @@ import math
 import statistics
 from pathlib import Path
 
+from pivot_ompl.bench.executors import LocalExecutor
 from pivot_ompl.bench.summary import exact
 from pivot_ompl.bench.sweep import run_sweep
 
@@ -43,10 +44,13 @@ def main() -> None:
     ap.add_argument("--time", type=float, default=30.0)
     ap.add_argument("--planners", default="regrasp,rrtconnect,kpiece1")
     ap.add_argument("--out", default="results/regrasp")
+    ap.add_argument("--workers", type=int, default=None,
+                    help="planning processes at a time (default: the usable cores)")
     args = ap.parse_args()
     planners = args.planners.split(",")
+    executor = LocalExecutor(args.workers) if args.workers else None
     sweep = run_sweep([args.scene], planners, runs=args.runs, time_limit=args.time,
-                      out=args.out, overwrite=True)
+                      out=args.out, executor=executor, overwrite=True)
     rows = {r.planner: r for r in sweep.rows}
     ours = rows.get("regrasp")
     lines = [f"{'planner':<12} {'success':>8} {'median s':>9} {'p95 s':>8} {'mean s':>8} "

@@ -4,10 +4,14 @@ Along the plan of each scene (``--scenes``: fig10, slot, a generated walls scene
 ``--points`` points of its execution (pivot steps spread over its transfers): the box drifted
 (5 cm and 5 deg, then 15 cm and 15 deg), an obstacle dropped on the route ahead (a 0.3 m
 block 1 m further along), an obstacle removed (the scene's last). For each event: the replan
-of a :class:`pivot_ompl.session.PlanningSession` that planned the scene (its roadmaps and
-checked motions kept) and that of a fresh session on the same changed scene, one after the
-other (both start with the grasp the robot holds): success, seconds, regrasps and pivots of
-both. Prints one row per event kind and scene (medians) and the ratio of the medians.
+of a :class:`pivot_ompl.session.PlanningSession` that planned the scene (its roadmaps, checked
+motions and route kept: *warm*), that of a new session given only the plan being executed, as
+read from its file (what ``pivot-ompl replan`` does in a new process: *cli*), and that of a
+fresh session that searches from scratch (``repair=False``: *fresh*), one after the other on
+the same changed scene (all start with the grasp the robot holds): success, seconds, whether
+the plan passes ``check`` against the changed scene, regrasps and cost (the quality block's
+``cost``) of each. Prints one row per event kind and scene (medians) and the ratios of the
+medians to the fresh plan's.
 
     python benchmarks/replanning.py [--scenes fig10,slot,gen:walls:1] [--points 10] [--time 30]
         [--out results/replanning.json]
@@ -18,6 +22,7 @@ Run timing figures under ``flock /tmp/pivot-bench.lock``.
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import statistics
 import sys
@@ -51,6 +56,24 @@ def _events(q: tuple[float, float, float]) -> dict[str, dict[str, Any]]:
     }
 
 
+MODES = ("warm", "cli", "fresh")
+
+
+def _run(row: dict[str, Any], mode: str, session: Any, kw: dict[str, Any]) -> None:
+    """Time one replan; record success, the check on the changed scene, regrasps and cost."""
+    from pivot_ompl.validity.plan_check import check_plan
+
+    t0 = time.perf_counter()
+    res = session.replan(**kw)
+    row[mode + "_s"] = time.perf_counter() - t0
+    q = res.plan.extra.get("quality") or {}
+    row.update({mode + "_ok": res.solved, mode + "_solve_s": res.timings.get("solve", math.nan),
+                mode + "_check": res.solved and check_plan(res.plan, session.scene).ok,
+                mode + "_regrasps": res.regrasps, mode + "_pivots": res.pivots,
+                mode + "_cost": q.get("cost", math.nan),
+                mode + "_repaired": bool(res.roadmap.get("repaired"))})
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--scenes", default="fig10,slot,gen:walls:1")
@@ -63,6 +86,7 @@ def main() -> None:
     from ompl import util as ou
 
     from pivot_ompl.errors import PlanningError
+    from pivot_ompl.planfile import plan_from_dict
     from pivot_ompl.session import PlanningSession
 
     ou.setLogLevel(ou.LOG_ERROR)
@@ -73,49 +97,58 @@ def main() -> None:
         if not first.solved:
             print(f"{name}: no first plan")
             continue
+        executed = plan_from_dict(json.loads(first.plan.to_text()))  # as the CLI reads it
         for q, grasp in _points(first.plan, args.points):
             for kind, ev in _events(q).items():
                 session = PlanningSession(base, seed=0)
                 session.plan(time_limit=args.time)  # the session that executes the plan
-                kw: dict[str, Any] = {"box": ev["box"], "grasp": grasp,
+                kw: dict[str, Any] = {"box": ev["box"], "grasp": grasp, "time_limit": args.time,
                                       "add_obstacles": ev.get("add_obstacles", ())}
                 if ev.get("remove"):
                     kw["remove_obstacles"] = [len(base.obstacles) - 1]
                 row: dict[str, Any] = {"scene": name, "event": kind}
                 try:
-                    t0 = time.perf_counter()
-                    warm = session.replan(time_limit=args.time, **kw)
-                    row.update(warm_s=time.perf_counter() - t0, warm_ok=warm.solved,
-                               warm_regrasps=warm.regrasps, warm_pivots=warm.pivots)
-                    t0 = time.perf_counter()
-                    cold = PlanningSession(session.scene, seed=0).replan(
-                        box=ev["box"], grasp=grasp, time_limit=args.time)
-                    row.update(fresh_s=time.perf_counter() - t0, fresh_ok=cold.solved,
-                               fresh_regrasps=cold.regrasps, fresh_pivots=cold.pivots)
+                    _run(row, "warm", session, kw)
+                    _run(row, "cli", PlanningSession(base, seed=0, executing=executed), kw)
+                    _run(row, "fresh", PlanningSession(session.scene, seed=0, repair=False),
+                         {"box": ev["box"], "grasp": grasp, "time_limit": args.time})
                 except PlanningError as e:  # the observed pose collides
                     row.update(error=str(e)[:80])
                 rows.append(row)
-                print(f"{name:10s} {kind:18s} " + (
-                    f"warm {row['warm_s']:.2f} s ({row['warm_ok']}) fresh {row['fresh_s']:.2f} s"
-                    f" ({row['fresh_ok']})" if "error" not in row else row["error"]), flush=True)
-    print()
+                print(f"{name:10s} {kind:18s} " + (" ".join(
+                    f"{m} {row[m + '_s']:.2f} s ({row[m + '_ok']}, {row[m + '_cost']:.0f})"
+                    for m in MODES) if "error" not in row else row["error"]), flush=True)
+    print("\n| scene | event | runs | fresh ok | fresh s | warm s (ratio) | cli solve s (ratio) "
+          "| ok/checked warm cli | repaired warm cli | cost fresh warm cli |")
     table = {}
     keys = sorted({(r["scene"], r["event"]) for r in rows})
     for sc, ev in keys:
         rs = [r for r in rows if r["scene"] == sc and r["event"] == ev and "error" not in r]
         if not rs:
             continue
-        w = statistics.median(r["warm_s"] for r in rs)
-        f = statistics.median(r["fresh_s"] for r in rs)
-        t = {"runs": len(rs), "warm_ok": sum(r["warm_ok"] for r in rs),
-             "fresh_ok": sum(r["fresh_ok"] for r in rs), "warm_median_s": w,
-             "fresh_median_s": f, "ratio": w / f if f > 0 else math.nan,
-             "warm_regrasps": statistics.median(r["warm_regrasps"] for r in rs),
-             "fresh_regrasps": statistics.median(r["fresh_regrasps"] for r in rs)}
+        t: dict[str, Any] = {"runs": len(rs)}
+        for m in MODES:
+            ok = [r for r in rs if r[m + "_ok"]]
+            t[m] = {"ok": len(ok), "checked": sum(r[m + "_check"] for r in ok),
+                    "median_s": statistics.median(r[m + "_s"] for r in rs),
+                    "median_solve_s": statistics.median(r[m + "_solve_s"] for r in rs),
+                    "median_cost": statistics.median(r[m + "_cost"] for r in ok) if ok
+                    else math.nan,
+                    "median_regrasps": statistics.median(r[m + "_regrasps"] for r in ok) if ok
+                    else math.nan,
+                    "repaired": sum(r[m + "_repaired"] for r in rs)}
+        f = t["fresh"]
+        for m in ("warm", "cli"):
+            t[m]["ratio"] = t[m]["median_s"] / f["median_s"] if f["median_s"] > 0 else math.nan
+            t[m]["solve_ratio"] = (t[m]["median_solve_s"] / f["median_solve_s"]
+                                   if f["median_solve_s"] > 0 else math.nan)
         table[f"{sc}/{ev}"] = t
-        print(f"{sc:10s} {ev:18s} runs {len(rs):2d}  warm {w:5.2f} s ({t['warm_ok']} ok)  "
-              f"fresh {f:5.2f} s ({t['fresh_ok']} ok)  ratio {t['ratio']:.2f}  regrasps "
-              f"{t['warm_regrasps']:.0f} vs {t['fresh_regrasps']:.0f}")
+        w, c = t["warm"], t["cli"]
+        print(f"| {sc} | {ev} | {len(rs)} | {f['ok']} | {f['median_s']:.2f} | "
+              f"{w['median_s']:.2f} ({w['ratio']:.2f}) | {c['median_solve_s']:.2f} "
+              f"({c['solve_ratio']:.2f}) | {w['ok']}/{w['checked']} {c['ok']}/{c['checked']} | "
+              f"{w['repaired']} {c['repaired']} | {f['median_cost']:.0f} {w['median_cost']:.0f} "
+              f"{c['median_cost']:.0f} |")
     write_json({"time_limit": args.time, "rows": rows, "table": table}, args.out)
 
 

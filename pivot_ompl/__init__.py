@@ -4,8 +4,8 @@ The public API (see the README): :func:`load_scene` and :func:`load_plan` (the f
 contracts), :func:`plan` (plan a scene, :class:`PlanResult`), :func:`make_setup` (the OMPL
 problem object, :class:`PivotProblem`), :class:`PivotSteering` (Reeds-Shepp paths to pivot
 rotations), :class:`BoxGraspModel` (the grasp conventions), the plan dataclasses and the
-:class:`PivotError` exception family. OMPL is imported on first use of :func:`plan`,
-:func:`make_setup` or :class:`PivotSteering`.
+:class:`PivotError` exception family. Every name but the exceptions is imported on first use
+(OMPL on first use of :func:`plan`, :func:`make_setup` or :class:`PivotSteering`).
 """
 
 from __future__ import annotations
@@ -22,29 +22,39 @@ from pivot_ompl.errors import (
     UnreachableError,
     WholeBodyError,
 )
-from pivot_ompl.grasp import BoxGraspModel
-from pivot_ompl.planfile import Plan, TransferPhase, TransferStep, TransitPhase, load_plan
-from pivot_ompl.scene import Scene, load_scene
 
 if TYPE_CHECKING:
     from pivot_ompl.api import PlanResult, plan
     from pivot_ompl.base.problem import PivotProblem, make_setup
+    from pivot_ompl.grasp import BoxGraspModel
     from pivot_ompl.pivoting.steering import PivotSequence, PivotSteering
+    from pivot_ompl.planfile import Plan, TransferPhase, TransferStep, TransitPhase, load_plan
+    from pivot_ompl.scene import Scene, load_scene
 
-#: Name -> module of the names imported on first use (they need OMPL).
-_LAZY = {"plan": "pivot_ompl.api", "PlanResult": "pivot_ompl.api",
+#: Name -> module of the names imported on first use: importing the package (the command
+#: line's first step) costs almost nothing and is never interrupted half-way by a Ctrl-C.
+_LAZY = {"BoxGraspModel": "pivot_ompl.grasp", "Plan": "pivot_ompl.planfile",
+         "TransferPhase": "pivot_ompl.planfile", "TransferStep": "pivot_ompl.planfile",
+         "TransitPhase": "pivot_ompl.planfile", "load_plan": "pivot_ompl.planfile",
+         "Scene": "pivot_ompl.scene", "load_scene": "pivot_ompl.scene",
+"plan": "pivot_ompl.api", "PlanResult": "pivot_ompl.api",
          "make_setup": "pivot_ompl.base.problem", "PivotProblem": "pivot_ompl.base.problem",
          "PivotSteering": "pivot_ompl.pivoting.steering",
          "PivotSequence": "pivot_ompl.pivoting.steering"}
 
 
 def __getattr__(name: str) -> Any:
-    """Import the OMPL-backed names on first use."""
+    """Import the public names on first use (those of the API and steering need OMPL)."""
     if name in _LAZY:
         import importlib
 
         return getattr(importlib.import_module(_LAZY[name]), name)
     raise AttributeError(f"module 'pivot_ompl' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    """The module's names with the lazy ones (``dir()`` and tab completion list them)."""
+    return sorted({*globals(), *_LAZY})
 
 
 __all__ = [

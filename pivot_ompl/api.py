@@ -17,7 +17,7 @@ from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.base.problem import make_setup
 from pivot_ompl.base.state import read_state
 from pivot_ompl.checking.pivot_checker import PivotChecker
-from pivot_ompl.errors import InputError, Interrupted, PlanningError
+from pivot_ompl.errors import InputError, Interrupted, PlanningError, counted
 from pivot_ompl.planfile import Plan, plan_quality
 from pivot_ompl.planners import (
     OMPL_PLANNERS,
@@ -28,9 +28,14 @@ from pivot_ompl.planners import (
     make_planner,
     parse_spec,
 )
+from pivot_ompl.planners.repair import State, stored_route
 from pivot_ompl.scene import Scene, load_scene, scene_digest
 
 log = logging.getLogger(__name__)
+
+# OMPL's own log (its Info and Debug lines on every solve) is quiet by default; show it with
+# ompl.util.setLogLevel(ompl.util.LogLevel.LOG_INFO) or `pivot-ompl --log-level DEBUG`.
+ou.setLogLevel(ou.LogLevel.LOG_WARN)
 
 #: Largest effective time limit (s, 11.6 days): a larger one (or ``inf``) means "until solved"
 #: in practice and is clamped to this, which OMPL's clock still represents.
@@ -90,7 +95,15 @@ class PlanResult:
         return self.plan.regrasps
 
     def to_json(self, path: str | Path) -> Path:
-        """Write the plan as ``pivot-plan/1`` (with planner, seed, timings as extra fields)."""
+        """Write the plan as ``pivot-plan/1`` (with planner, seed, timings as extra fields).
+
+        Raises:
+            PlanningError: the result does not reach the goal (``TIMEOUT``, OMPL's
+                ``APPROXIMATE_SOLUTION``...): nothing is written, such a path is not a plan.
+        """
+        if not self.solved:
+            raise PlanningError(self.status, "no plan reaches the goal, nothing written "
+                                "(an approximate path is not a plan)")
         return self.plan.to_json(path)
 
 
@@ -145,7 +158,7 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
             scene = load_scene(scene, deadline=deadline)
         base = parse_spec(planner)[0]
         if base in OMPL_PLANNERS:
-            ou.RNG.setSeed(seed + 1)  # OMPL's seed must be > 0
+            seed_ompl(seed)
         problem = make_setup(scene, seed=seed, checker=checker, should_stop=out_of_time)
     except Interrupted as e:
         return _stopped_in_setup(scene, planner, seed, time_limit, e.what,
@@ -175,8 +188,8 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     if result_plan.phases:
         result_plan.extra["quality"] = _quality(result_plan, scene, config, bound, timings)
     c = problem.checker.counters
-    log.info("%s on %s: %s in %.2f s (%d pivots, %d regrasps)", planner, scene.name, name,
-             t2 - t1, result_plan.pivots, result_plan.regrasps)
+    log.info("%s on %s: %s in %.2f s (%s, %s)", planner, scene.name, name, t2 - t1,
+             counted(result_plan.pivots, "pivot"), counted(result_plan.regrasps, "regrasp"))
     return PlanResult(name, result_plan, planner, seed, time_limit, timings, stats,
                       {"valid": c.valid, "invalid": c.invalid, "cache_hits": c.cache_hits},
                       getattr(p, "last_search", None), scene)
@@ -197,6 +210,47 @@ def _stopped_in_setup(scene: Scene | str | os.PathLike, planner: str, seed: int,
     timings = {"setup": spent, "solve": 0.0, "convert": 0.0}
     return PlanResult("TIMEOUT", empty, planner, seed, time_limit, timings,
                       scene=scene if isinstance(scene, Scene) else None)
+
+
+def plan_from_route(scene: Scene, checker: PivotChecker, states: list[State], *,
+                    planner: str, seed: int, time_limit: float, timings: dict[str, float],
+                    stats: dict[str, Any], config: RegraspConfig | None = None,
+                    bound: bool = False, search: Any = None) -> PlanResult:
+    """A solved :class:`PlanResult` of a route found without OMPL's ``solve`` (a repair).
+
+    The plan is written from ``checker``'s checks of the route's edges as :func:`plan`
+    writes a solution path (an invalid edge raises :class:`PlanningError`), with the same
+    extra fields and quality block; ``timings`` gets ``convert``.
+    """
+    t0 = time.perf_counter()
+    extra = {"planner": planner, "seed": seed, "time_limit": time_limit,
+             **_scene_record(scene), "route": stored_route(states)}
+    result_plan = path_to_plan(scene, checker, states, extra=extra)
+    timings["convert"] = time.perf_counter() - t0
+    result_plan.extra["timings"] = timings
+    result_plan.extra["roadmap"] = stats
+    result_plan.extra["quality"] = _quality(result_plan, scene, config or RegraspConfig(),
+                                            bound, timings)
+    c = checker.counters
+    return PlanResult("EXACT_SOLUTION", result_plan, planner, seed, time_limit, timings, stats,
+                      {"valid": c.valid, "invalid": c.invalid, "cache_hits": c.cache_hits},
+                      search)
+
+
+def seed_ompl(seed: int) -> None:
+    """Seed OMPL's generator of random seeds with ``seed + 1`` (OMPL's seed must be > 0).
+
+    Every OMPL random generator made afterwards (a planner's, a sampler's) draws its own seed
+    from it, so each seeded plan is reproducible, the second one in a process too: OMPL's
+    "random number generation already started" error for a second seed is silenced, it
+    holds only for generators made before.
+    """
+    level = ou.getLogLevel()
+    ou.setLogLevel(ou.LogLevel.LOG_NONE)
+    try:
+        ou.RNG.setSeed(seed + 1)
+    finally:
+        ou.setLogLevel(level)
 
 
 def _scene_record(scene: Scene) -> dict[str, Any]:
@@ -225,7 +279,8 @@ def _result_plan(scene: Scene, problem: Any, status: str, extra: dict[str, Any],
             ss.simplifySolution()
         path = ss.getSolutionPath()
         states = [read_state(path.getState(i)) for i in range(path.getStateCount())]
-        return path_to_plan(scene, problem.checker, states, extra=extra)
+        return path_to_plan(scene, problem.checker, states,
+                            extra={**extra, "route": stored_route(states)})
     return Plan(scene.name, "none", scene.model.object_size, scene.model.robot_footprint,
                 scene.model.standoff, scene.alpha_max, scene.start, [], extra)
 
@@ -255,17 +310,30 @@ def _check_arguments(scene: Any, planner: Any, time_limit: Any, seed: Any,
     if not isinstance(planner, str):
         raise InputError("planner", planner, f"unknown planner (known: {sorted(PLANNERS)})")
     check_planner_name(planner)  # unknown or refused planners (prm) say why
-    if isinstance(time_limit, bool) or not isinstance(time_limit, int | float):
-        raise InputError("time_limit", time_limit, "must be a number of seconds")
-    if math.isnan(time_limit) or time_limit <= 0:
-        raise InputError("time_limit", time_limit, "must be > 0 s")
+    limit = check_time_limit(time_limit)
     if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= MAX_SEED:
         raise InputError("seed", seed, f"must be an integer in [0, {MAX_SEED}]")
     if not isinstance(simplify, bool):
         raise InputError("simplify", simplify, "must be True or False")
     if not isinstance(bound, bool):
         raise InputError("bound", bound, "must be True or False")
-    return float(min(time_limit, MAX_TIME_LIMIT))
+    return limit
+
+
+def check_time_limit(value: Any, field: str = "time_limit") -> float:
+    """The one time-limit contract of every verb and API call: the limit (s) to use.
+
+    A number > 0; ``math.inf`` and anything above :data:`MAX_TIME_LIMIT` is
+    :data:`MAX_TIME_LIMIT`.
+
+    Raises:
+        InputError: not a number, NaN, or not > 0 (naming ``field``).
+    """
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise InputError(field, value, "must be a number of seconds")
+    if math.isnan(value) or value <= 0:
+        raise InputError(field, value, "must be > 0 s")
+    return float(min(value, MAX_TIME_LIMIT))
 
 
 def _check_config(config: Any, regrasp_cost: Any) -> RegraspConfig:

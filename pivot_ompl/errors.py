@@ -16,6 +16,11 @@ _REPR.maxlist = _REPR.maxtuple = _REPR.maxdict = _REPR.maxset = 6
 _REPR.maxlevel = 3
 
 
+def counted(n: int, noun: str, plural: str = "") -> str:
+    """``"1 regrasp"``, ``"2 regrasps"``: ``n`` and ``noun``, plural (``noun + "s"``) unless 1."""
+    return f"{n} {noun if n == 1 else plural or noun + 's'}"
+
+
 def abridge(value: Any) -> str:
     """A short ``repr`` of ``value`` for a message (long numbers, strings, lists abridged)."""
     try:
@@ -24,6 +29,16 @@ def abridge(value: Any) -> str:
         if isinstance(value, int):
             return f"<integer of {value.bit_length()} bits>"
         return f"<{type(value).__name__}>"
+
+
+def require_type(value: Any, kinds: type | tuple[type, ...], field: str, what: str) -> None:
+    """Raise :class:`InputError` naming ``field`` unless ``value`` is one of ``kinds``.
+
+    ``what`` says what is expected (``"a Scene"``); ``bool`` never passes for a number.
+    """
+    numbers = kinds in (int, float) or (isinstance(kinds, tuple) and set(kinds) <= {int, float})
+    if not isinstance(value, kinds) or (numbers and isinstance(value, bool)):
+        raise InputError(field, type(value).__name__, f"must be {what}")
 
 
 class PivotError(Exception):

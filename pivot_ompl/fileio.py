@@ -6,14 +6,21 @@ laughs" file is refused in milliseconds), nesting deeper than the parser's recur
 integers too long for a float refused. Every failure is an :class:`~pivot_ompl.errors.InputError`
 of the caller's kind naming the file.
 
-Writing: :func:`atomic_output` yields a temporary path next to the target; the target is
-replaced (``os.replace``) only when the ``with`` block succeeds, so a failed run never destroys
-an existing file. :func:`check_output` refuses, before any work, a target that is a directory,
-that is one of the run's input files, or whose folder cannot be created.
+Every input is first a path (``str`` or ``os.PathLike``) to a regular file
+(:func:`regular_file`): a FIFO, a socket or a device is refused at once, never read (reading
+could block forever).
+
+Writing: :func:`atomic_outputs` yields a short temporary path next to each target; the targets
+are replaced (``os.replace``) only when the ``with`` block succeeds, so a failed or interrupted
+run never destroys an existing file and a run's outputs are written all or nothing. Files are
+created with the process's umask (no mode of their own). :func:`check_output` refuses, before
+any work, a target that is a directory, that is one of the run's input files, whose names are
+too long for its file system, or whose folder is a file.
 """
 
 from __future__ import annotations
 
+import errno
 import gc
 import itertools
 import json
@@ -37,23 +44,47 @@ MAX_FILE_BYTES = 64 * 1024 * 1024
 MAX_NODES = 8_000_000
 
 
-def read_text(path: str | Path, *, error: type[InputError] = InputError,
-              field: str = "path") -> str:
-    """The UTF-8 text of ``path`` (at most :data:`MAX_FILE_BYTES`).
+def input_path(path: Any, *, error: type[InputError] = InputError,
+               field: str = "path") -> Path:
+    """``path`` as a :class:`~pathlib.Path` when it is a ``str`` or ``os.PathLike``.
 
     Raises:
-        error: unreadable, a directory or another file that is not a regular one (a FIFO
-            would block), too large, or not UTF-8 (naming ``field`` and the path).
+        error: any other type (naming ``field`` and the type).
     """
-    p = Path(path)
+    if not isinstance(path, str | os.PathLike) or isinstance(path, bytes):
+        raise error(field, type(path).__name__, "must be a file path (str or os.PathLike)")
+    return Path(path)
+
+
+def regular_file(path: Any, *, error: type[InputError] = InputError,
+                 field: str = "path") -> Path:
+    """``path`` once checked to be an existing regular file (never opened).
+
+    Raises:
+        error: not a path, missing or unreadable, a directory, or another file that is not a
+            regular one (a FIFO, a socket or a device: reading it could block forever).
+    """
+    p = input_path(path, error=error, field=field)
     try:
         mode = p.stat().st_mode
     except OSError as e:
         raise error(field, str(p), f"cannot be read ({e.strerror or e})") from None
     if stat.S_ISDIR(mode):
         raise error(field, str(p), "is a directory, not a file")
-    if not stat.S_ISREG(mode):  # a FIFO, a socket, a device: reading could hang
+    if not stat.S_ISREG(mode):
         raise error(field, str(p), "is not a regular file")
+    return p
+
+
+def read_text(path: str | Path, *, error: type[InputError] = InputError,
+              field: str = "path") -> str:
+    """The UTF-8 text of ``path`` (at most :data:`MAX_FILE_BYTES`).
+
+    Raises:
+        error: not a path, unreadable, not a regular file (see :func:`regular_file`), too
+            large, or not UTF-8 (naming ``field`` and the path).
+    """
+    p = regular_file(path, error=error, field=field)
     try:
         with p.open("rb") as fh:
             data = fh.read(MAX_FILE_BYTES + 1)
@@ -266,13 +297,13 @@ def check_output(path: str | Path, *, field: str, inputs: Iterable[str | Path] =
     """Validate an output path before any work; return it.
 
     Raises:
-        InputError: ``path`` is a directory, its name is longer than :data:`MAX_NAME`
-            bytes, it is one of ``inputs``, has a suffix not in ``suffixes`` (when given), or
-            its folder is a file.
+        InputError: ``path`` is not a path or is a directory, a name in it is longer than its
+            file system allows (:data:`MAX_NAME` bytes where it cannot be asked) or the
+            whole path longer than :data:`MAX_PATH` bytes, it is one of ``inputs``, has a
+            suffix not in ``suffixes`` (when given), or its folder is a file.
     """
-    p = Path(path)
-    if len(p.name.encode(errors="surrogateescape")) > MAX_NAME:
-        raise InputError(field, str(path), f"file name longer than {MAX_NAME} bytes")
+    p = input_path(path, field=field)
+    _within_name_limits(p, field)
     if not str(path) or p.is_dir() or str(path).endswith(os.sep):
         raise InputError(field, str(path), "is a directory: give a file name")
     allowed = [s.lower() for s in suffixes]
@@ -290,8 +321,38 @@ def check_output(path: str | Path, *, field: str, inputs: Iterable[str | Path] =
     return p
 
 
-#: Longest file name an output may have (bytes; the usual limit of Linux file systems).
+#: Longest file name an output may have (bytes) where the file system cannot be asked (the
+#: usual limit of Linux file systems).
 MAX_NAME = 255
+#: Longest output path (bytes, the usual ``PATH_MAX`` of Linux).
+MAX_PATH = 4095
+
+
+def _name_max(p: Path) -> int:
+    """The longest file name (bytes) of the file system of ``p``'s nearest existing folder."""
+    for folder in (p.parent, *p.parents):
+        try:  # a folder name too long for the system is not an existing folder either
+            if folder.is_dir():
+                return min(MAX_NAME, int(os.pathconf(folder, "PC_NAME_MAX")))
+        except (OSError, ValueError):
+            continue
+    return MAX_NAME
+
+
+def _within_name_limits(p: Path, field: str) -> None:
+    """Refuse ``p`` when one of its names, or itself, is too long to be created.
+
+    Checked before any work (the temporary names of :func:`atomic_outputs` are short).
+    """
+    text = str(p).encode(errors="surrogateescape")
+    if len(os.path.abspath(p).encode(errors="surrogateescape")) > MAX_PATH:
+        raise InputError(field, str(p), f"path longer than {MAX_PATH} bytes")
+    limit = _name_max(p)
+    for part in p.parts:
+        if len(part.encode(errors="surrogateescape")) > limit:
+            what = "file" if part == p.name else "folder"
+            raise InputError(field, text.decode(errors="replace"),
+                             f"{what} name longer than {limit} bytes: {part[:40]}...")
 #: Longest file stem :func:`file_stem` makes (bytes; room for suffixes and temporary names
 #: under the usual 255-byte limit of a file name).
 MAX_STEM = 100
@@ -322,28 +383,51 @@ def atomic_output(path: str | Path) -> Iterator[Path]:
     exception the temporary file is removed and ``path`` is untouched.
     """
     with atomic_outputs(path) as (tmp,):
+        assert tmp is not None  # noqa: S101 - for mypy
         yield tmp
 
 
 @contextmanager
-def atomic_outputs(*paths: str | Path) -> Iterator[tuple[Path, ...]]:
+def atomic_outputs(*paths: str | Path | None) -> Iterator[tuple[Path | None, ...]]:
     """Temporary paths next to each of ``paths``, moved into place together on success.
 
-    All or nothing: when the block raises, every temporary file is removed and no target is
-    touched; targets are replaced only after every output has been written.
+    All or nothing: when the block raises (an error, Ctrl-C), every temporary file is removed
+    and no target is touched; targets are replaced only after every output has been written.
+    ``None`` among ``paths`` (an output not asked for) yields ``None``. An ``OSError`` about a
+    temporary file names its target instead (the user's file, not ``.pivot-*.tmp``).
+
+    Raises:
+        InputError: two of ``paths`` name one file.
     """
-    targets = [Path(p) for p in paths]
+    targets = [None if p is None else Path(p) for p in paths]
+    seen: set[str] = set()
     for p in targets:
-        p.parent.mkdir(parents=True, exist_ok=True)
-    temps = tuple(_temporary(p) for p in targets)
+        if p is None:
+            continue
+        key = os.path.abspath(p)
+        if key in seen:
+            raise InputError("output", str(p), "is named twice among one run's outputs")
+        seen.add(key)
+    for p in targets:
+        if p is not None:
+            p.parent.mkdir(parents=True, exist_ok=True)
+    temps = tuple(None if p is None else _temporary(p) for p in targets)
+    names = {str(t): str(p) for t, p in zip(temps, targets, strict=True) if t is not None}
     try:
         yield temps
         for tmp in temps:
-            if not tmp.exists():
-                raise OSError(f"{tmp} was not written")
+            if tmp is not None and not tmp.exists():
+                raise OSError(errno.ENOENT, "was not written", str(tmp))
         for tmp, p in zip(temps, targets, strict=True):
-            os.replace(tmp, p)
+            if tmp is not None and p is not None:
+                os.replace(tmp, p)
+    except OSError as e:
+        if str(e.filename) in names or str(e.filename2) in names:
+            raise OSError(e.errno, e.strerror or str(e),
+                          names.get(str(e.filename), e.filename)) from None
+        raise
     finally:
         for tmp in temps:
-            with suppress(FileNotFoundError):
-                tmp.unlink()
+            if tmp is not None:
+                with suppress(FileNotFoundError):
+                    tmp.unlink()

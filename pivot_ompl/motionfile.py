@@ -2,12 +2,17 @@
 
 Required arrays (N samples)::
 
-    t            (N,)      time (s), finite and non-decreasing
+    t            (N,)      time (s), N >= 2, increasing by at least 1e-6 s a sample
     q            (N, nq)   pinocchio configuration of the URDF with a free-flyer root
-                           ([x, y, z, qx, qy, qz, qw, joints...])
+                           ([x, y, z, qx, qy, qz, qw, joints...]; unit quaternion)
     joint_names  (nq - 7,) names of the joint entries of q, in order
     urdf         ()        the shipped URDF, relative to the data folder (robots/hrp2/hrp2.urdf)
-    box          (N, 7)    box centre xyz + quaternion xyzw (T_world_box)
+    box          (N, 7)    box centre xyz + unit quaternion xyzw (T_world_box)
+
+Positions are within +-1e4 m; the box's sides within [0.05, 20] m and the soles' within
+[1e-3, 1] m; codes (``support``, ``grasp``, ...) within their ranges (:data:`CODES`). A
+value out of range is an :class:`~pivot_ompl.errors.InputError` naming the array, the sample
+and the value, so that the checks never meet one.
 
 Written by the generator and required by ``check-motion`` (optional for a replay)::
 
@@ -19,11 +24,15 @@ in its phase, -1 otherwise); ``holding`` (N bool, both hands on the grip points)
 (N, -1 when not holding); ``tilt`` (N, rad); ``box_size`` (or ``object_size``) (3,) box size
 (w, d, h); ``grip_box`` (4 x 2 x 3: grip points in the box frame per grasp, left then right);
 ``sole_size`` (2,) sole length and width (m); ``scene`` () scene name (``check-motion``
-loads it to check the obstacles, unless given ``--scene``). Other keys are ignored.
+loads it to check the obstacles, unless given ``--scene``); ``scene_path`` () the scene file,
+relative to the motion file's folder, and ``scene_sha256`` () its
+:func:`~pivot_ompl.scene.scene_digest` (both copied from the plan by ``animate``; in memory
+:attr:`Motion.scene_path` is absolute). Other keys are ignored.
 """
 
 from __future__ import annotations
 
+import os
 import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -32,7 +41,7 @@ from typing import Any
 import numpy as np
 
 from pivot_ompl.errors import InputError
-from pivot_ompl.fileio import atomic_output
+from pivot_ompl.fileio import atomic_output, regular_file
 
 FORMAT = "pivot-motion/1"
 REQUIRED = ("t", "q", "joint_names", "urdf", "box")
@@ -67,6 +76,8 @@ class Motion:
     grip_box: np.ndarray = field(default_factory=lambda: np.zeros((4, 2, 3)))
     sole_size: tuple[float, float] | None = None
     scene: str = ""
+    scene_path: str = ""
+    scene_sha256: str = ""
     source: str = field(default="", compare=False)
 
     def __post_init__(self) -> None:
@@ -125,8 +136,20 @@ class Motion:
             arrays["sole_size"] = np.array(self.sole_size)
         if self.scene:
             arrays["scene"] = np.array(self.scene)
+        if self.scene_path:
+            arrays["scene_path"] = np.array(_relative(self.scene_path, path.parent))
+        if self.scene_sha256:
+            arrays["scene_sha256"] = np.array(self.scene_sha256)
         with atomic_output(path) as tmp, tmp.open("wb") as fh:
             np.savez_compressed(fh, **arrays)
+        return path
+
+
+def _relative(path: str, folder: Path) -> str:
+    """``path`` relative to ``folder`` (absolute when it cannot be, another drive)."""
+    try:
+        return Path(os.path.relpath(Path(path).resolve(), folder.resolve())).as_posix()
+    except ValueError:
         return path
 
 
@@ -138,9 +161,10 @@ def load_motion(path: str | Path) -> Motion:
     """Read and check a motion ``.npz`` file (each array read once).
 
     Raises:
-        InputError: unreadable file, missing key or inconsistent shapes (naming the key).
+        InputError: not a path to a regular file, unreadable file, missing key or inconsistent
+            shapes (naming the key).
     """
-    path = Path(path)
+    path = regular_file(path, field="motion")
     src = str(path)
     try:
         data = np.load(path, allow_pickle=False)
@@ -183,13 +207,7 @@ def _motion_from_arrays(arrays: dict[str, np.ndarray], src: str) -> Motion:
     names = [str(n) for n in np.asarray(arrays["joint_names"]).reshape(-1)]
     names = [n for n in names if n not in _ROOT_NAMES]
     n = len(t)
-    if n < 2:
-        raise InputError("motion.t", t.tolist(), "must hold at least two samples", source=src)
-    if not np.all(np.isfinite(t)) or np.any(np.diff(t) < 0):
-        raise InputError("motion.t", "...", "must be finite and non-decreasing", source=src)
-    if t[-1] <= t[0]:
-        raise InputError("motion.t", [float(t[0]), float(t[-1])],
-                         "must span a positive duration", source=src)
+    _times(t, src)
     if q.ndim != 2 or q.shape[0] != n or q.shape[1] < 7:
         raise InputError("motion.q", list(q.shape), f"must have shape ({n}, 7 + joints)",
                          source=src)
@@ -200,6 +218,8 @@ def _motion_from_arrays(arrays: dict[str, np.ndarray], src: str) -> Motion:
         raise InputError("motion.box", list(box.shape), f"must have shape ({n}, 7)", source=src)
     _finite(q, "q", src)
     _finite(box, "box", src)
+    _pose_range(q, "q", src)
+    _pose_range(box, "box", src)
     extra: dict[str, Any] = {}
     for key, shape in (("com", (n, 3)), ("zmp", (n, 2))):
         if key in arrays:
@@ -229,10 +249,66 @@ def _motion_from_arrays(arrays: dict[str, np.ndarray], src: str) -> Motion:
         extra["grip_box"] = g
     size = _lengths(arrays, ("box_size", "object_size"), 3, src)
     sole = _lengths(arrays, ("sole_size",), 2, src)
+    if "com" in extra:
+        _coordinates(extra["com"], "com", src)
+    if "zmp" in extra:
+        _coordinates(extra["zmp"], "zmp", src)
     scene = _str(arrays["scene"]) if "scene" in arrays else ""
+    scene_path = _str(arrays["scene_path"]) if "scene_path" in arrays else ""
+    if scene_path:
+        scene_path = os.path.normpath(Path(src).resolve().parent / scene_path)
+    digest = _str(arrays["scene_sha256"]) if "scene_sha256" in arrays else ""
     return Motion(t, q, tuple(names), _str(arrays["urdf"]), box,
                   box_size=size, sole_size=sole, scene=scene,  # type: ignore[arg-type]
+                  scene_path=scene_path, scene_sha256=digest,
                   source=src, **extra)
+
+
+#: Largest |coordinate| of a position in a motion (m), the scene files' limit.
+MAX_COORD = 1.0e4
+#: Smallest time step between two samples (s): the checks differentiate twice.
+MIN_STEP = 1e-6
+#: Largest |deviation| of a quaternion's norm from 1.
+QUATERNION_TOLERANCE = 1e-3
+#: Lengths of the box and the soles (m): the scene files' box limits, soles 1 mm to 1 m.
+LENGTH_RANGE = {"box_size": (0.05, 20.0), "object_size": (0.05, 20.0), "sole_size": (1e-3, 1.0)}
+
+
+def _times(t: np.ndarray, src: str) -> None:
+    """Refuse times that are not at least two finite, increasing samples."""
+    if len(t) < 2:
+        raise InputError("motion.t", t.tolist(), "must hold at least two samples", source=src)
+    _finite(t, "t", src)
+    if t[-1] <= t[0]:
+        raise InputError("motion.t", [float(t[0]), float(t[-1])],
+                         "must span a positive duration", source=src)
+    bad = np.flatnonzero(np.diff(t) < MIN_STEP)
+    if len(bad):
+        k = int(bad[0]) + 1
+        raise InputError(f"motion.t[{k}]", float(t[k]), f"must be at least {MIN_STEP:g} s after "
+                         f"the sample before ({float(t[k - 1])!r} s): times increase",
+                         source=src)
+
+
+def _coordinates(a: np.ndarray, key: str, src: str) -> None:
+    """Refuse a position beyond +-:data:`MAX_COORD` m."""
+    bad = np.flatnonzero((np.abs(a) > MAX_COORD).any(axis=1))
+    if len(bad):
+        k = int(bad[0])
+        raise InputError(f"motion.{key}[{k}]", a[k].tolist(),
+                         f"coordinates must be within +-{MAX_COORD:g} m", source=src)
+
+
+def _pose_range(a: np.ndarray, key: str, src: str) -> None:
+    """Refuse poses (position, quaternion xyzw first) far away or with a non-unit quaternion."""
+    _coordinates(a[:, :3], key, src)
+    norm = np.linalg.norm(a[:, 3:7], axis=1)
+    bad = np.flatnonzero(np.abs(norm - 1.0) > QUATERNION_TOLERANCE)
+    if len(bad):
+        k = int(bad[0])
+        raise InputError(f"motion.{key}[{k}]", a[k, 3:7].tolist(),
+                         f"columns 3..6 must be a unit quaternion (norm {float(norm[k]):.6g})",
+                         source=src)
 
 
 #: Per-sample code arrays and their ranges ``(lowest, highest)``; ``None``: no upper end.
@@ -261,8 +337,9 @@ def _lengths(arrays: dict[str, np.ndarray], keys: tuple[str, ...], n: int,
             s = np.asarray(arrays[key], dtype=float).reshape(-1)
             if s.shape == (n,) and np.all(s == 0):
                 continue
-            if s.shape != (n,) or not np.all(s > 0) or not np.all(np.isfinite(s)):
-                raise InputError(f"motion.{key}", s.tolist(), f"must be {n} positive lengths (m)",
-                                 source=src)
+            lo, hi = LENGTH_RANGE[key]
+            if s.shape != (n,) or not np.all((s >= lo) & (s <= hi)):
+                raise InputError(f"motion.{key}", s.tolist(),
+                                 f"must be {n} lengths in [{lo:g}, {hi:g}] m", source=src)
             return tuple(float(x) for x in s)
     return None

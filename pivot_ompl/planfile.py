@@ -43,6 +43,13 @@ gait's stride: the zigzag within it is not route), ``shortest_route`` a proven l
 any plan's route (:mod:`pivot_ompl.analysis.route_bound`) and ``route_ratio`` their ratio (how
 far the route is from the shortest; ``null`` when either is unknown).
 
+Optional extra fields ``scene_path`` and ``scene_sha256`` (written by ``plan``, ``steer``,
+``replan`` and ``generate``; plans without them load as before): the scene file the plan was
+made from, relative to the plan file's folder (an absolute path is read as it is), and the
+scene's :func:`~pivot_ompl.scene.scene_digest`. In memory :attr:`Plan.extra` holds the path
+absolute: :meth:`Plan.to_json` writes it relative to the new file, :func:`load_plan` resolves
+it against the file read.
+
 Reading is strict (:mod:`pivot_ompl.fileio`): UTF-8, no duplicate key, no ``NaN``; every number
 must be finite and within +-:data:`MAX_VALUE` (metres or radians), else :class:`PlanFileError`.
 """
@@ -51,13 +58,14 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from pivot_ompl.cost import CostModel, DurationModel
 from pivot_ompl.errors import PlanFileError
-from pivot_ompl.fileio import atomic_output, load_json
+from pivot_ompl.fileio import atomic_output, input_path, load_json
 from pivot_ompl.se2 import Pose
 
 FORMAT = "pivot-plan/1"
@@ -196,18 +204,31 @@ class Plan:
             doc.setdefault(k, v)
         return doc
 
-    def to_text(self) -> str:
-        """The ``pivot-plan/1`` document as JSON text (full double precision)."""
-        return json.dumps(self.to_dict(), indent=1, allow_nan=False) + "\n"
+    def to_text(self, *, folder: str | Path | None = None) -> str:
+        """The ``pivot-plan/1`` document as JSON text (full double precision).
+
+        ``folder``: where the text will be written; ``scene_path`` is then written relative
+        to it (the plan and its scene can move together).
+        """
+        doc = self.to_dict()
+        scene_path = doc.get("scene_path")
+        if folder is not None and isinstance(scene_path, str) and os.path.isabs(scene_path):
+            try:
+                doc["scene_path"] = Path(os.path.relpath(scene_path,
+                                                         Path(folder).resolve())).as_posix()
+            except ValueError:  # another drive (Windows): keep it absolute
+                pass
+        return json.dumps(doc, indent=1, allow_nan=False) + "\n"
 
     def to_json(self, path: str | Path) -> Path:
         """Write the plan to ``path`` (full double precision); return the path.
 
-        The file is replaced only once completely written (a temporary file moved into place).
+        ``scene_path`` is written relative to the plan file's folder. The file is replaced
+        only once completely written (a temporary file moved into place).
         """
         path = Path(path)
         with atomic_output(path) as tmp:
-            tmp.write_text(self.to_text(), encoding="utf-8")
+            tmp.write_text(self.to_text(folder=path.parent), encoding="utf-8")
         return path
 
 
@@ -401,7 +422,13 @@ def load_plan(path: str | Path) -> Plan:
     """Read a ``pivot-plan/1`` file.
 
     Raises:
-        PlanFileError: unreadable file, invalid JSON or a malformed field.
+        PlanFileError: not a path, unreadable file, invalid JSON or a malformed field.
     """
-    path = Path(path)
-    return plan_from_dict(load_json(path, error=PlanFileError), source=str(path))
+    path = input_path(path, error=PlanFileError)
+    plan = plan_from_dict(load_json(path, error=PlanFileError), source=str(path))
+    scene_path = plan.extra.get("scene_path")
+    if scene_path is not None and not isinstance(scene_path, str):
+        raise PlanFileError("scene_path", scene_path, "must be a path (text)", source=str(path))
+    if scene_path:
+        plan.extra["scene_path"] = os.path.normpath(path.resolve().parent / scene_path)
+    return plan

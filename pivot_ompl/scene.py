@@ -32,7 +32,6 @@ from __future__ import annotations
 
 import hashlib
 import math
-import os
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -44,7 +43,7 @@ import shapely.validation
 
 from pivot_ompl import hrp2
 from pivot_ompl.errors import InputError, Interrupted, SceneError
-from pivot_ompl.fileio import load_yaml, parse_deadline
+from pivot_ompl.fileio import input_path, load_yaml, parse_deadline
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.resources import shipped_scenes
 from pivot_ompl.se2 import Pose, wrap_angle
@@ -380,21 +379,26 @@ def scene_path(path: str | Path) -> Path:
     """The file :func:`load_scene` reads: ``path``, or the shipped scene of that name.
 
     Raises:
-        InputError: ``path`` is neither a string nor a path.
+        InputError: ``path`` is neither a ``str`` nor an ``os.PathLike``.
+        SceneError: no such file nor shipped scene (the shipped ones are listed).
     """
-    if not isinstance(path, str | os.PathLike):
-        raise InputError("path", type(path).__name__,
-                         "must be a scene file path or a shipped scene's name")
-    path = Path(path)
-    return path if path.exists() else shipped_scenes().get(str(path), path)
+    path = input_path(path)
+    if not path.exists():
+        shipped = shipped_scenes()
+        if str(path) not in shipped:
+            raise SceneError("path", str(path), "no such file, nor a shipped scene's name "
+                             f"(shipped: {', '.join(shipped)})")
+        path = shipped[str(path)]
+    return path
 
 
 def load_scene(path: str | Path, *, deadline: float | None = None) -> Scene:
     """Read and validate a scene file, or the shipped scene of that name (``"fig10"``).
 
     Raises:
-        SceneError: unreadable file, invalid YAML, unknown key, missing field, wrong type or
-            bad value, naming the file, the field and the value.
+        SceneError: no such file nor shipped scene (the shipped ones are listed), unreadable
+            file, invalid YAML, unknown key, missing field, wrong type or bad value, naming
+            the file, the field and the value.
         Interrupted: ``deadline`` (``time.monotonic()`` s, a time limit) came while the file
             was parsed (stopped early enough to have freed what was parsed by then,
             :func:`~pivot_ompl.fileio.parse_deadline`) or its obstacles read.

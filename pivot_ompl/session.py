@@ -9,7 +9,14 @@ where it really is (drift, a slip), obstacles that appeared or went. It keeps be
   a valid motion whose swept region meets an added obstacle, or an invalid one when an
   obstacle went, is checked again);
 * while the obstacles stay, the regrasp planner's roadmaps and multiplexed graph: the next
-  search starts from the observed pose over them (it grows them only if they hold no path).
+  search starts from the observed pose over them (it grows them only if they hold no path;
+  when that finds nothing in half the time left, a new search gets the rest);
+* the route of the plan being executed (the last plan, or ``executing=``, a plan file's
+  ``route`` field): a replan first repairs it locally from the observed state
+  (:func:`~pivot_ompl.planners.repair.repair_route`: a checked transfer from the observed pose
+  to the nearest point of the route it can reach directly, ahead of what a change made
+  invalid, then the rest of the route, every edge checked against the scene as it is now),
+  and searches only when no such repair exists.
 
 Every plan is checked as a fresh plan would be; only work is saved. Plans start at the
 observed box pose; with ``grasp=k`` (the robot holds the box with grasp ``k``) a plan whose
@@ -20,19 +27,24 @@ from __future__ import annotations
 
 import dataclasses
 import logging
+import time
 from collections.abc import Sequence
 from typing import Any
 
-from pivot_ompl.api import PlanResult, plan
+from pivot_ompl.api import PlanResult, plan, plan_from_route
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import InputError, PlanningError
 from pivot_ompl.grasp import check_grasp
-from pivot_ompl.planfile import TransferPhase, TransitPhase, plan_quality
+from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase, plan_quality
 from pivot_ompl.planners.config import RegraspConfig
+from pivot_ompl.planners.repair import State, polish, repair_route, route_of, stored_route
 from pivot_ompl.scene import Obstacle, Scene, check_pose, load_scene, obstacles_from_list
 
 log = logging.getLogger(__name__)
+
+#: Least time (s) for which a search still starts after a failed repair or resumed search.
+MIN_SEARCH_TIME = 0.05
 
 
 class PlanningSession:
@@ -45,6 +57,10 @@ class PlanningSession:
         seed: the default seed of every call.
         bound: report the lower bounds in the quality block (computed once per scene; a
             replan's scene is new, so ``False`` by default: replanning stays fast).
+        executing: the plan being executed, made for ``scene`` (a new process replanning a
+            plan file): the first replan repairs its ``route``; by default the session's
+            last plan's.
+        repair: repair the route before searching (``False``: every replan searches).
 
     Attributes:
         scene: the scene as last planned (start at the last observed box pose, obstacles as
@@ -54,11 +70,14 @@ class PlanningSession:
 
     def __init__(self, scene: Scene | str, *, planner: str = "regrasp",
                  config: RegraspConfig | None = None, seed: int = 0,
-                 bound: bool = False) -> None:
+                 bound: bool = False, executing: Plan | None = None,
+                 repair: bool = True) -> None:
         """A session; nothing is planned yet."""
         self.scene = scene if isinstance(scene, Scene) else load_scene(scene)
         self.planner, self.config, self.seed, self.bound = planner, config, seed, bound
+        self.repair = repair
         self.last: PlanResult | None = None
+        self._route: list[State] = _route_of_plan(executing) if executing is not None else []
         self._checker: PivotChecker | None = None
         self._search: Any = None
 
@@ -106,10 +125,59 @@ class PlanningSession:
             self._checker, self._search = fresh, None  # the roadmaps grew among the old ones
         elif self._checker is not None:
             self._checker.scene = scene
-        res = self._run(scene, time_limit, seed, grasp)
+        started = time.monotonic()
+        res = self._repaired(scene, start, grasp, time_limit, seed)
+        if res is None:
+            res = self._run(scene, max(MIN_SEARCH_TIME, time_limit - (time.monotonic() - started)),
+                            seed, grasp)
         if robot is not None:
             res.plan.extra["observed_robot"] = list(robot)
         return res
+
+    def _repaired(self, scene: Scene, box: tuple[float, float, float], grasp: int | None,
+                  time_limit: float, seed: int | None) -> PlanResult | None:
+        """The route being executed repaired from ``box`` as a result, or ``None``."""
+        if not self.repair or not self._route or \
+                max(abs(a - b) for a, b in zip(self._route[-1][0], scene.goal, strict=True)) > 1e-9:
+            return None  # no route, or one to another goal
+        if self._checker is None:
+            self._checker = PivotChecker(scene, seed=self.seed)
+        checker = self._checker
+        checker.scene = scene
+        if not checker.box_valid(box):
+            return None  # the search reports the invalid start
+        t0 = time.perf_counter()
+        deadline = time.monotonic() + time_limit / 2  # the rest for a search if it fails
+        def stop() -> bool:
+            return time.monotonic() > deadline
+
+        rep = repair_route(checker, self._route, box, grasp, should_stop=stop,
+                           seed=self.seed if seed is None else seed)
+        if rep is None:
+            return None
+        cfg = self.config or RegraspConfig()
+        states = polish(checker, rep.states, cfg, should_stop=stop)
+        if grasp is not None and states[0][1] != grasp:  # the robot walks to the route's grasp
+            if not checker.transit(box, grasp, states[0][1], should_stop=stop).valid:
+                return None
+            states = [(box, grasp), *states]
+        t1 = time.perf_counter()
+        stats = {"repaired": True, "joined_edge": rep.joined, "join_edges_tried": rep.tried,
+                 "kept_edges": rep.kept_edges, "time": t1 - t0}
+        res = plan_from_route(scene, checker, states, planner=self.planner,
+                              seed=self.seed if seed is None else seed, time_limit=time_limit,
+                              timings={"setup": 0.0, "solve": t1 - t0}, stats=stats,
+                              config=self.config, bound=self.bound, search=self._search)
+        self._adopt(scene, res, grasp)
+        return res
+
+    def _adopt(self, scene: Scene, res: PlanResult, grasp: int | None) -> None:
+        """Take ``res`` as the last plan (its route to repair next)."""
+        self.scene, self.last = scene, res
+        if res.solved:
+            self._route = _route_of_plan(res.plan)
+            if grasp is not None:
+                self._hold(res, grasp)
 
     def _removed(self, items: Sequence[Obstacle | int]) -> tuple[Obstacle, ...]:
         out = []
@@ -131,13 +199,20 @@ class PlanningSession:
              grasp: int | None) -> PlanResult:
         if self._checker is None:
             self._checker = PivotChecker(scene, seed=self.seed)
-        res = plan(scene, planner=self.planner, time_limit=time_limit,
-                   seed=self.seed if seed is None else seed, config=self.config,
-                   checker=self._checker, bound=self.bound, resume=self._search)
-        self.scene, self.last = scene, res
+        end = time.monotonic() + time_limit
+        kw: dict[str, Any] = {"planner": self.planner, "config": self.config,
+                              "seed": self.seed if seed is None else seed,
+                              "checker": self._checker, "bound": self.bound}
+        resumed = self._search is not None
+        res = plan(scene, time_limit=time_limit / 2 if resumed else time_limit,
+                   resume=self._search, **kw)
+        left = end - time.monotonic()
+        if resumed and not res.solved and left > MIN_SEARCH_TIME:
+            # the old roadmaps hold no path in half the time: a new search (checks kept)
+            log.info("replanning: the resumed search failed; a new one for %.1f s", left)
+            res = plan(scene, time_limit=left, resume=None, **kw)
         self._search = res.search
-        if grasp is not None and res.solved:
-            self._hold(res, grasp)
+        self._adopt(scene, res, grasp)
         return res
 
     def _hold(self, res: PlanResult, grasp: int) -> None:
@@ -153,9 +228,23 @@ class PlanningSession:
                                 f"grasp {first.grasp} round the box at {list(res.plan.start)}")
         res.plan.phases.insert(0, TransitPhase(grasp, first.grasp, walk.robot_path,
                                                res.plan.start))
+        self._route.insert(0, (res.plan.start, grasp))
+        res.plan.extra["route"] = stored_route(self._route)
         q = res.plan.extra.get("quality")
         if q is not None:  # the block of the plan as it now is
             res.plan.extra["quality"] = plan_quality(
                 res.plan, regrasps_lower_bound=q["regrasps_lower_bound"],
                 shortest_route=q["shortest_route"], costs=CostModel(regrasp=q["regrasp_cost"]))
 
+
+
+def _route_of_plan(p: Plan) -> list[State]:
+    """A plan's route (its ``route`` field), ``[]`` for a plan without one."""
+    raw = p.extra.get("route")
+    if not isinstance(raw, list) or len(raw) < 2:
+        return []
+    try:
+        return route_of(raw)
+    except (TypeError, ValueError, IndexError):
+        log.warning("the plan's route field is malformed: not repaired")
+        return []

@@ -80,7 +80,8 @@ def make_jobs(scenes: Sequence[str | Path], planners: Sequence[str], *, runs: in
 
     Raises:
         InputError: a scene that does not load, a duplicate scene name, an unknown planner,
-            ``runs < 1``, ``time_limit <= 0``, ``seed0 < 0``.
+            ``runs < 1``, a time limit refused by ``api.check_time_limit``, ``seed0 < 0``
+            (``math.inf`` is the largest limit, as for ``plan``).
     """
     if not scenes:
         raise InputError("SCENE", [], "give at least one scene file")
@@ -88,8 +89,9 @@ def make_jobs(scenes: Sequence[str | Path], planners: Sequence[str], *, runs: in
         raise InputError("--planners", "", "give at least one planner")
     if isinstance(runs, bool) or not isinstance(runs, int) or runs < 1:
         raise InputError("--runs", runs, "must be an integer >= 1")
-    if not (time_limit > 0) or time_limit == float("inf"):
-        raise InputError("--time", time_limit, "must be a finite number > 0 s")
+    from pivot_ompl.api import check_time_limit  # OMPL only when jobs are made
+
+    time_limit = check_time_limit(time_limit, "--time")  # plan's contract: inf is the largest
     if isinstance(seed0, bool) or not isinstance(seed0, int) or seed0 < 0:
         raise InputError("--seed0", seed0, "must be an integer >= 0")
     if not (memory_limit > 0):

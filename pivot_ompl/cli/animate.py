@@ -10,8 +10,8 @@
   exit 0 when all pass, 1 when one fails, 2 on bad input.
 
 Both check every link and the box against the scene's obstacles. The scene is ``--scene``
-(a file or a shipped scene's name), else the scene the plan or motion names (its ``scene``
-field) when that is a shipped scene's name or a readable file; otherwise exit 2.
+(a file or a shipped scene's name), else the one the plan or motion records (its
+``scene_path`` file, else the shipped scene of its name); otherwise exit 2.
 """
 
 from __future__ import annotations
@@ -21,10 +21,10 @@ import logging
 import math
 import sys
 import time
-from pathlib import Path
 from typing import TYPE_CHECKING, TextIO
 
-from pivot_ompl.cli.args import finite, output_file
+from pivot_ompl.cli.args import finite, output_files
+from pivot_ompl.cli.scenes import SceneRecord, require_scene
 from pivot_ompl.errors import InputError, WholeBodyError
 
 if TYPE_CHECKING:
@@ -56,35 +56,17 @@ class ProgressBar:
         self.stream.flush()
 
 
-def resolve_scene(option: str | None, named: str, *, field: str) -> Scene:
-    """The scene to check obstacles against: ``--scene``, else the file's ``scene`` name.
-
-    Raises:
-        InputError: no scene given and the file's name is neither a shipped scene nor a file.
-        SceneError: the scene file is invalid.
-    """
-    from pivot_ompl.resources import shipped_scenes
-    from pivot_ompl.scene import load_scene
-
-    if option:
-        return load_scene(option)
-    if named and (named in shipped_scenes() or Path(named).is_file()):
-        return load_scene(named)
-    raise InputError(field, named, "is not a shipped scene or a file: pass --scene FILE "
-                     "(the obstacles are checked)")
-
-
-def _scene_of(args: argparse.Namespace, named: str) -> Scene | None:
+def _scene_of(args: argparse.Namespace, record: SceneRecord) -> Scene | None:
     """The plan's scene (its walk model sets the footstep limits; its obstacles are checked).
 
     With ``--no-check`` a plan whose scene is not found is animated with HRP-2's walk model.
     """
     try:
-        return resolve_scene(args.scene, named, field="plan.scene")
+        return require_scene(record, args.scene, field="plan.scene")
     except InputError:
         if not args.no_check:
             raise
-        log.info("scene %r not found: HRP-2's walk model", named)
+        log.info("scene %r not found: HRP-2's walk model", record.name)
         return None
 
 
@@ -93,9 +75,9 @@ def _animate(args: argparse.Namespace) -> int:
     from pivot_ompl.wholebody.generator import generate_motion
     from pivot_ompl.wholebody.motion_checks import check_motion
 
-    output_file(args.out, "--out", inputs=[args.plan], suffixes=[".npz"])
+    output_files([args.plan], suffixes={"out": [".npz"]}, out=args.out)
     plan = load_plan(args.plan)
-    scene = _scene_of(args, plan.scene)
+    scene = _scene_of(args, SceneRecord.of(plan))
     bar = None if args.no_progress else ProgressBar("animate")
     if not MIN_TICK <= args.tick <= MAX_TICK:
         raise InputError("--tick", args.tick, f"must be in [{MIN_TICK}, {MAX_TICK}] s")
@@ -129,13 +111,16 @@ def _check(args: argparse.Namespace) -> int:
 
     motion = load_motion(args.motion)
     plan = load_plan(args.plan) if args.plan else None
-    scene = resolve_scene(args.scene, motion.scene, field="motion.scene")
+    record = SceneRecord.of(motion, "motion").merged(SceneRecord.of(plan))
+    scene = require_scene(record, args.scene, field="motion.scene")
     report = check_motion(motion, plan, scene=scene)
     if report.clearance is not None:
-        print(f"obstacle clearance per link (scene {scene.name}):")
+        print(f"obstacle clearance per link (scene {scene.name}; smallest distance in m over "
+              "the motion, at time t, to the nearest obstacle):")
         print(report.clearance.table())
     if report.peaks is not None:
-        print("joint speed and acceleration peaks over the whole motion:")
+        print("joint speed and acceleration peaks over the whole motion (|v| rad/s, |a| "
+              "rad/s², each passes at or below its limit; at t: when):")
         print(report.peaks.table())
     print(report.table())
     return 0 if report.passed else 1

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 
 from pivot_ompl.errors import InputError, abridge
@@ -54,16 +54,22 @@ def non_negative(name: str) -> Callable[[str], float]:
 
 
 def time_limit(name: str = "--time") -> Callable[[str], float]:
-    """An argparse type for a time limit (s): a number > 0, ``inf`` allowed (no NaN)."""
+    """An argparse type for a time limit (s): the API's one contract (``check_time_limit``).
+
+    A number > 0; ``inf`` and anything above 1e6 s is the largest limit (1e6 s); no NaN.
+    """
 
     def conv(text: str) -> float:
+        from pivot_ompl.api import check_time_limit
+
         try:
             v = float(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"{name} = {abridge(text)}: not a number") from None
-        if math.isnan(v) or v <= 0:
-            raise argparse.ArgumentTypeError(f"{name} = {abridge(text)}: must be > 0 s")
-        return v
+        try:
+            return check_time_limit(v, name)
+        except InputError as e:
+            raise argparse.ArgumentTypeError(f"{name} = {abridge(text)}: {e.reason}") from None
 
     return conv
 
@@ -104,6 +110,33 @@ def figure_file(path: str | None, field: str, *,
 
     kinds = sorted(f".{k}" for k in FigureCanvasBase.get_supported_filetypes())
     return output_file(path, field, inputs=inputs, suffixes=kinds)
+
+
+def output_files(inputs: Iterable[str | Path | None] = (), *,
+                 figures: Iterable[str] = (), suffixes: Mapping[str, Iterable[str]] | None = None,
+                 **paths: str | None) -> tuple[Path | None, ...]:
+    """Check every output option of a verb before any work; the paths in the order given.
+
+    Keyword names are the options' names with ``_`` for ``-`` (``plot=args.plot`` is
+    ``--plot``); options not given are ``None``. Each is checked by :func:`output_file`
+    (against ``inputs``; the options in ``figures`` must have an extension matplotlib
+    writes, those in ``suffixes`` one of theirs), then all of them by
+    :func:`distinct_outputs`. Write them together with ``fileio.atomic_outputs``.
+
+    Raises:
+        InputError: a bad output, or two options naming one file.
+    """
+    figs, kinds = set(figures), dict(suffixes or {})
+    checked: dict[str, Path | None] = {}
+    for name, path in paths.items():
+        option = "--" + name.replace("_", "-")
+        if name in figs:
+            checked[name] = figure_file(path, option, inputs=inputs)
+        else:
+            checked[name] = output_file(path, option, inputs=inputs,
+                                        suffixes=kinds.get(name, ()))
+    distinct_outputs(**checked)
+    return tuple(checked.values())
 
 
 def distinct_outputs(**outputs: Path | None) -> None:

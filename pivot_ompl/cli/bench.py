@@ -11,7 +11,6 @@ import argparse
 import logging
 import sys
 
-from pivot_ompl.api import MAX_TIME_LIMIT
 from pivot_ompl.cli.args import non_negative, positive, time_limit
 from pivot_ompl.errors import InputError
 
@@ -97,7 +96,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         "bench", help="benchmark planners on scenes (OMPL log, database, table, plots)",
         description="Benchmark planners on scenes: an OMPL log per scene, the "
                     "ompl_benchmark_statistics database, a summary table and PNG plots.")
-    p.add_argument("scenes", nargs="+", metavar="SCENE", help="scene YAML files")
+    p.add_argument("scenes", nargs="+", metavar="SCENE",
+                   help="scene files or shipped scenes' names")
     p.add_argument("--planners", default=DEFAULT_PLANNERS,
                    help="comma-separated planner names (or module:factory) "
                         f"[default: {DEFAULT_PLANNERS}]")
@@ -150,7 +150,7 @@ def run(args: argparse.Namespace) -> int:
     if not log.isEnabledFor(logging.DEBUG):  # Dask's INFO chatter would bury the progress bar
         logging.getLogger("distributed").setLevel(logging.WARNING)
     res = run_sweep(args.scenes, planners, runs=args.runs,
-                    time_limit=min(args.time, MAX_TIME_LIMIT), out=args.out,
+                    time_limit=args.time, out=args.out,
                     executor=executor, seed0=args.seed0, memory_limit=args.memory,
                     simplify=args.simplify, progress=not args.no_progress,
                     plots=not args.no_plots, overwrite=args.overwrite)

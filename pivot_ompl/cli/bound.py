@@ -20,7 +20,7 @@ from pivot_ompl.scene import load_scene
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``bound`` verb."""
     p = sub.add_parser("bound", help="prove the fewest regrasps any plan of a scene needs")
-    p.add_argument("scene", help="scene YAML file")
+    p.add_argument("scene", help="scene file (YAML) or shipped scene's name, e.g. fig10")
     p.add_argument("--time", type=time_limit("--time"), default=60.0,
                    help="time limit of a computation (s; default 60)")
     p.add_argument("--no-cache", action="store_true",

@@ -1,7 +1,8 @@
 """``pivot-ompl generate --family F --seed N --out DIR``: a scene and its witness plan.
 
 Writes ``DIR/<name>.yaml`` and ``DIR/<name>.witness.json`` (a ``pivot-plan/1`` plan that
-passes ``pivot-ompl check``). Exit status: 0 written, 2 bad input.
+passes ``pivot-ompl check``) for each seed, all or nothing: every scene is generated before any
+file is written. Exit status: 0 written, 2 bad input.
 """
 
 from __future__ import annotations
@@ -10,8 +11,8 @@ import argparse
 import dataclasses
 
 from pivot_ompl.cli.args import positive
-from pivot_ompl.errors import InputError
-from pivot_ompl.generate import FAMILIES, GeneratorParams, generate, write_generated
+from pivot_ompl.errors import InputError, counted
+from pivot_ompl.generate import FAMILIES, GeneratorParams, generate, write_all_generated
 from pivot_ompl.generate.families import BUILDING_LAYOUTS
 
 
@@ -58,9 +59,27 @@ def run(args: argparse.Namespace) -> int:
         if lo > hi:
             raise InputError("--door-width", list(args.door_width), "must be MIN <= MAX")
         params = dataclasses.replace(params, door_width=(lo, hi))
-    for seed in range(args.seed, args.seed + int(args.count)):
-        gen = generate(args.family, seed, params=params)
-        scene_path, plan_path = write_generated(gen, args.out)
-        print(f"{scene_path} ({len(gen.scene.obstacles)} obstacles), witness {plan_path} "
-              f"({gen.witness.pivots} pivots, {gen.witness.regrasps} regrasps)")
+    check_out_dir(args.out)
+    gens = [generate(args.family, seed, params=params)
+            for seed in range(args.seed, args.seed + int(args.count))]
+    for gen, (scene_path, plan_path) in zip(gens, write_all_generated(gens, args.out),
+                                            strict=True):
+        print(f"{scene_path} ({counted(len(gen.scene.obstacles), 'obstacle')}), witness "
+              f"{plan_path} ({counted(gen.witness.pivots, 'pivot')}, "
+              f"{counted(gen.witness.regrasps, 'regrasp')})")
     return 0
+
+
+def check_out_dir(path: str) -> None:
+    """Refuse, before the work, an ``--out`` folder that cannot hold the files.
+
+    Raises:
+        InputError: ``path`` is a file, a name in it too long, or a folder in it a file.
+    """
+    from pathlib import Path
+
+    from pivot_ompl.fileio import check_output
+
+    check_output(Path(path) / "x.yaml", field="--out")  # names first: exists() could fail
+    if Path(path).exists() and not Path(path).is_dir():
+        raise InputError("--out", path, "is a file: give a folder")

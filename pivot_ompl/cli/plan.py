@@ -13,19 +13,12 @@ import sys
 import threading
 import time
 
-from pivot_ompl.api import MAX_SEED, plan
-from pivot_ompl.cli.args import (
-    distinct_outputs,
-    figure_file,
-    integer,
-    non_negative,
-    output_file,
-    time_limit,
-)
+from pivot_ompl.api import MAX_SEED, PlanResult, plan
+from pivot_ompl.cli.args import integer, non_negative, output_files, time_limit
 from pivot_ompl.cost import REGRASP_COST
-from pivot_ompl.errors import PlanningError
-from pivot_ompl.fileio import atomic_output
-from pivot_ompl.planners import PLANNERS, REFUSED
+from pivot_ompl.errors import PlanningError, counted
+from pivot_ompl.fileio import atomic_outputs
+from pivot_ompl.planners import PLANNERS
 from pivot_ompl.scene import scene_path
 
 log = logging.getLogger(__name__)
@@ -34,23 +27,23 @@ log = logging.getLogger(__name__)
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``plan`` verb."""
     p = sub.add_parser("plan", help="plan a pivoting path with regrasps for a scene")
-    p.add_argument("scene", help="scene YAML file")
+    p.add_argument("scene", help="scene file (YAML) or shipped scene's name, e.g. fig10")
     p.add_argument("--planner", default="regrasp",
-                   help=f"planner: one of {', '.join(sorted(PLANNERS))}, or the regrasp "
-                        "planner with parameters, e.g. 'regrasp[search.weight=1.5]' "
-                        f"({', '.join(sorted(REFUSED))}: refused with the reason, exit 2)")
+                   help=f"planner: one of {', '.join(sorted(PLANNERS))}, "
+                        "or the regrasp planner with parameters, e.g. "
+                        "'regrasp[search.weight=1.5]'")
     p.add_argument("--regrasp-cost", type=non_negative("--regrasp-cost"), default=None,
                    metavar="S", help="price of one regrasp on top of its execution seconds "
                                      f"(s, >= 0; default {REGRASP_COST:g})")
     p.add_argument("--time", type=time_limit("--time"), default=30.0,
-                   help="time limit (s; inf: until solved)")
+                   help="time limit (s) of loading, setup and search; inf: until solved")
     p.add_argument("--seed", type=integer("--seed", 0, MAX_SEED), default=0,
                    help=f"seed (0..{MAX_SEED})")
     p.add_argument("--no-bound", action="store_true",
                    help="skip the scene's lower bounds on regrasps and route (computed once "
                         "per scene outside --time, then cached)")
     p.add_argument("--out", help="write the pivot-plan/1 JSON here")
-    p.add_argument("--plot", help="write the figure (PNG) here")
+    p.add_argument("--plot", help="write the plan figure here (.png, .svg, .pdf...)")
     p.set_defaults(func=run)
 
 
@@ -62,11 +55,26 @@ def _progress(stop: threading.Event, limit: float) -> None:
 
 
 def regrasps_text(regrasps: int, bound: int | None) -> str:
-    """``"2 regrasps (proven minimum)"``, ``"3 regrasps (at least 2)"`` or ``"3 regrasps"``."""
-    text = f"{regrasps} regrasp{'' if regrasps == 1 else 's'}"
-    if bound is None:
+    """``"2 regrasps (proven minimum)"``, ``"3 regrasps (at least 2)"`` or ``"3 regrasps"``.
+
+    A bound of 0 under a plan with regrasps proves nothing and is not shown.
+    """
+    text = counted(regrasps, "regrasp")
+    if bound is None or bound <= 0 < regrasps:  # "at least 0" says nothing
         return text
     return f"{text} (proven minimum)" if bound >= regrasps else f"{text} (at least {bound})"
+
+
+def result_line(res: PlanResult) -> str:
+    """``EXACT_SOLUTION: 221 pivots, 1 regrasp, solve 0.82 s`` or what was not found."""
+    solve = f"solve {res.timings['solve']:.2f} s"
+    if res.solved:
+        return (f"{res.status}: {counted(res.pivots, 'pivot')}, "
+                f"{counted(res.regrasps, 'regrasp')}, {solve}")
+    if res.status == "APPROXIMATE_SOLUTION":
+        return (f"{res.status}: the planner's closest path does not reach the goal, "
+                f"no plan ({solve} of {res.time_limit:g} s)")
+    return f"{res.status}: no plan reaches the goal ({solve} of {res.time_limit:g} s)"
 
 
 def quality_line(q: dict) -> str:
@@ -75,7 +83,7 @@ def quality_line(q: dict) -> str:
     route = f"route {q['route_length']:.1f} m" + (
         "" if ratio is None else f" ({ratio:.2f} x the shortest bound)")
     return (f"quality: {regrasps_text(q['regrasps'], q['regrasps_lower_bound'])}, "
-            f"{q['pivots']} pivots ({q['pivots_per_m']:.1f}/m, ideal "
+            f"{counted(q['pivots'], 'pivot')} ({q['pivots_per_m']:.1f}/m, ideal "
             f"{q['ideal_pivots_per_m']:.1f}), {route}, walking {q['walking_length']:.1f} m, "
             f"whole body ~{q['duration_estimate']:.0f} s")
 
@@ -83,9 +91,7 @@ def quality_line(q: dict) -> str:
 def run(args: argparse.Namespace) -> int:
     """Plan, write the plan and the figure (``--time`` covers reading the scene too)."""
     source = scene_path(args.scene)
-    out = output_file(args.out, "--out", inputs=[source])
-    fig = figure_file(args.plot, "--plot", inputs=[source])
-    distinct_outputs(out=out, plot=fig)
+    out, fig = output_files([source], figures=["plot"], out=args.out, plot=args.plot)
     stop = threading.Event()
     th = threading.Thread(target=_progress, args=(stop, args.time), daemon=True)
     th.start()
@@ -100,8 +106,7 @@ def run(args: argparse.Namespace) -> int:
         stop.set()
         th.join()
         print(file=sys.stderr)
-    print(f"{res.status}: {res.pivots} pivots, {res.regrasps} regrasps, "
-          f"solve {res.timings['solve']:.2f} s")
+    print(result_line(res))
     q = res.plan.extra.get("quality")
     if q:
         print(quality_line(q))
@@ -109,12 +114,14 @@ def run(args: argparse.Namespace) -> int:
         if out or fig:
             print("no plan found: nothing written", file=sys.stderr)
         return 1
+    with atomic_outputs(out, fig) as (tmp_out, tmp_fig):  # both or neither
+        if tmp_out and out:
+            tmp_out.write_text(res.plan.to_text(folder=out.parent), encoding="utf-8")
+        if tmp_fig:
+            from pivot_ompl.viz.plan_figure import plot_plan
+            plot_plan(res.plan, tmp_fig, scene=res.scene, search=res.search)
     if out:
-        res.to_json(out)
         print(f"plan written to {out}")
     if fig:
-        from pivot_ompl.viz.plan_figure import plot_plan
-        with atomic_output(fig) as tmp:
-            plot_plan(res.plan, tmp, scene=res.scene, search=res.search)
         print(f"figure written to {fig}")
     return 0

@@ -16,19 +16,20 @@ import argparse
 import sys
 
 from pivot_ompl.api import MAX_SEED
-from pivot_ompl.cli.args import distinct_outputs, finite, integer, output_file, time_limit
+from pivot_ompl.cli.args import finite, integer, output_files, time_limit
+from pivot_ompl.cli.plan import result_line
 from pivot_ompl.errors import InputError, PlanningError
 from pivot_ompl.fileio import atomic_outputs, load_yaml
 from pivot_ompl.generate.sceneio import scene_text
 from pivot_ompl.planfile import load_plan
-from pivot_ompl.scene import load_scene
+from pivot_ompl.scene import load_scene, scene_digest
 from pivot_ompl.session import PlanningSession
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``replan`` verb."""
     p = sub.add_parser("replan", help="plan again from an observed box pose and obstacles")
-    p.add_argument("scene", help="scene YAML file (or a shipped scene's name)")
+    p.add_argument("scene", help="scene file (YAML) or shipped scene's name")
     p.add_argument("plan", help="the pivot-plan/1 plan being executed")
     p.add_argument("--box", nargs=3, required=True, metavar=("X", "Y", "YAW"),
                    type=finite("--box"), help="observed box pose (m, m, rad)")
@@ -57,9 +58,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("PLAN", args.plan, f"is a plan of scene {old.scene!r}, not of "
                          f"{scene.name!r}")
     inputs = [scene.source, args.plan] + ([args.add_obstacles] if args.add_obstacles else [])
-    out = output_file(args.out, "--out", inputs=inputs)
-    scene_out = output_file(args.scene_out, "--scene-out", inputs=inputs)
-    distinct_outputs(out=out, scene_out=scene_out)
+    out, scene_out = output_files(inputs, out=args.out, scene_out=args.scene_out)
     added = []
     if args.add_obstacles:
         doc = load_yaml(args.add_obstacles)
@@ -69,7 +68,7 @@ def run(args: argparse.Namespace) -> int:
         added = doc["obstacles"]
         if not isinstance(added, list):
             raise InputError("--add-obstacles", args.add_obstacles, "obstacles must be a list")
-    session = PlanningSession(scene, seed=args.seed)
+    session = PlanningSession(scene, seed=args.seed, executing=old)
     try:
         res = session.replan(box=args.box, grasp=args.grasp, robot=args.robot,
                              add_obstacles=added, remove_obstacles=list(args.remove_obstacles),
@@ -77,17 +76,18 @@ def run(args: argparse.Namespace) -> int:
     except PlanningError as e:
         print(f"pivot-ompl replan: {e}", file=sys.stderr)
         return 2
-    print(f"{res.status}: {res.pivots} pivots, {res.regrasps} regrasps, "
-          f"solve {res.timings['solve']:.2f} s")
+    print(result_line(res))
     if not res.solved:
         print("no plan found: nothing written", file=sys.stderr)
         return 1
     new = session.scene
     assert out is not None and scene_out is not None  # noqa: S101 - required options
     res.plan.extra["replanned_from"] = str(args.plan)
+    res.plan.extra.update(scene_path=str(scene_out.resolve()), scene_sha256=scene_digest(new))
     with atomic_outputs(scene_out, out) as (tmp_scene, tmp_plan):
+        assert tmp_scene is not None and tmp_plan is not None  # noqa: S101 - both given
         tmp_scene.write_text(scene_text(new, comment=f"{new.name} as observed: replanned "
                                                      f"from {args.plan}"), encoding="utf-8")
-        tmp_plan.write_text(res.plan.to_text(), encoding="utf-8")
+        tmp_plan.write_text(res.plan.to_text(folder=out.parent), encoding="utf-8")
     print(f"scene written to {scene_out}, plan written to {out}")
     return 0

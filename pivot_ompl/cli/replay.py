@@ -1,12 +1,14 @@
 """The ``replay`` verb: meshcat replay of a plan or a whole-body motion.
 
-``pivot-ompl replay PLAN.json|MOTION.npz [--scene S] [--plan P] [--html F] [--serve]
-[--open]``.
+``pivot-ompl replay PLAN.json|MOTION.npz [--scene S] [--plan P] [--before OLD.json]
+[--html F] [--serve] [--open]``. ``--before OLD.json`` with a plan made by ``replan``: the old
+plan up to the drift (its step nearest the new plan's start), then the new plan, with a
+chapter at the switch.
 Without ``--html`` or ``--serve`` the replay is written next to the input
-(``<input>.html``). The scene comes from ``--scene`` or from the plan's/motion's scene name
-(``scenes/<name>.yaml`` under the repository root); without one no obstacle is drawn (a
-warning says so). The HTML file is never one of the inputs (exit 2) and is written through a
-temporary file.
+(``<input>.html``). The scene is ``--scene``, else the one the plan or motion records (its
+``scene_path`` file, else the shipped scene of its name);
+without one no obstacle is drawn (a warning says so). The HTML file is never one of the
+inputs (exit 2) and is written through a temporary file.
 """
 
 from __future__ import annotations
@@ -15,15 +17,15 @@ import argparse
 import logging
 import webbrowser
 from pathlib import Path
-from typing import Any
 
 import meshcat
 
-from pivot_ompl.cli.args import output_file, positive
+from pivot_ompl.cli.args import output_file, output_files, positive
+from pivot_ompl.cli.scenes import SceneRecord, find_scene, missing_text
 from pivot_ompl.errors import InputError
+from pivot_ompl.fileio import regular_file
 from pivot_ompl.planfile import load_plan
-from pivot_ompl.resources import shipped_scenes
-from pivot_ompl.scene import Scene, load_scene
+from pivot_ompl.scene import Scene
 
 log = logging.getLogger(__name__)
 
@@ -35,9 +37,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "replay", help="meshcat replay of a plan or a whole-body motion (HTML or live)",
         description=__doc__.splitlines()[0])
     p.add_argument("input", help="a pivot-plan/1 JSON file or a motion .npz")
-    p.add_argument("--scene", help="scene YAML (default: scenes/<plan's scene>.yaml)")
+    p.add_argument("--scene", help="scene file or shipped scene's name (default: the scene "
+                   "the plan or motion records: its scene_path, else its shipped name)")
     p.add_argument("--plan", help="with a motion: the plan it executes (draws its Reeds-Shepp "
                    "paths and pivot points; its scene name is used)")
+    p.add_argument("--before", metavar="OLD.json",
+                   help="with a replanned plan: the plan it replaced; replays OLD up to the "
+                        "drift, then the new plan (a chapter at the switch)")
     p.add_argument("--html", help="write one self-contained offline HTML file here")
     p.add_argument("--serve", action="store_true",
                    help="start a live meshcat viewer, print its URL, stop on Ctrl-C")
@@ -50,49 +56,30 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
-def find_scene(name: str, explicit: str | None, *, path: str | None = None) -> Scene | None:
-    """The scene to draw: the first of ``explicit``, ``path`` and the shipped ``name``.
-
-    ``explicit``: a file or shipped name; ``path``: the file the plan was made from (its
-    ``scene_path``), when it is still there.
-    """
-    if explicit:
-        return load_scene(explicit)
-    if path and Path(path).is_file():
-        log.info("scene %r from %s (the plan's scene_path)", name, path)
-        return load_scene(path)
-    if name:
-        shipped = shipped_scenes().get(name)
-        if shipped is not None:
-            log.info("scene %r from %s", name, shipped)
-            return load_scene(shipped)
-        log.warning("scene %r is not shipped; showing no obstacles (give --scene)", name)
-    else:
-        log.warning("no scene name and no --scene: showing no obstacles")
-    return None
-
-
-def _scene_path(plan: Any) -> str | None:
-    """The ``scene_path`` a plan records, if any."""
-    v = plan.extra.get("scene_path") if plan is not None else None
-    return v if isinstance(v, str) else None
+def _scene(record: SceneRecord, given: str | None) -> Scene | None:
+    """The scene to draw (:func:`pivot_ompl.cli.scenes.find_scene`); none: a warning."""
+    scene = find_scene(record, given)
+    if scene is None:
+        log.warning("no obstacles drawn: the %s's scene %r: %s", record.kind, record.name,
+                    missing_text(record))
+    return scene
 
 
 def _builder(args: argparse.Namespace):
     """Load the input and return ``(build(vis), title)``."""
-    src = Path(args.input)
-    if not src.is_file():
-        raise InputError("input", str(src), "file not found")
+    src = regular_file(args.input, field="input")  # a FIFO would block the reader
     if not 0 < args.fps <= 1000:
         raise InputError("--fps", args.fps, "must be in (0, 1000] keys per second")
     if src.suffix.lower() == ".npz":
         from pivot_ompl.motionfile import load_motion
         from pivot_ompl.viz.motion_view import show_motion
 
+        if args.before:
+            raise InputError("--before", args.before, "only goes with a plan (.json) input")
         motion = load_motion(src)
         plan = load_plan(args.plan) if args.plan else None
-        scene = find_scene(motion.scene or (plan.scene if plan else ""), args.scene,
-                           path=_scene_path(plan))
+        scene = _scene(SceneRecord.of(motion, "motion").merged(SceneRecord.of(plan)),
+                       args.scene)
 
         def build(vis: meshcat.Visualizer) -> object:
             return show_motion(vis, motion, scene=scene, fps=args.fps, plan=plan,
@@ -101,20 +88,23 @@ def _builder(args: argparse.Namespace):
         for opt, value in (("--plan", args.plan), ("--urdf", args.urdf)):
             if value:
                 raise InputError(opt, value, "only goes with a motion (.npz) input")
-        from pivot_ompl.viz.plan_view import show_plan
+        from pivot_ompl.viz.plan_view import show_plan, show_replanned
 
         plan = load_plan(src)
-        scene = find_scene(plan.scene, args.scene, path=_scene_path(plan))
+        scene = _scene(SceneRecord.of(plan), args.scene)
+        before = load_plan(args.before) if args.before else None
 
         def build(vis: meshcat.Visualizer) -> object:
+            if before is not None:
+                return show_replanned(vis, scene, before, plan)
             return show_plan(vis, scene, plan)
     return build, f"pivot-ompl replay: {src.name}"
 
 
 def run(args: argparse.Namespace) -> int:
     """Run ``replay``; returns the exit code (0 ok, 1 failure; bad input raises)."""
-    inputs = [args.input, args.plan, args.scene, args.urdf]
-    html = output_file(args.html, "--html", inputs=inputs, suffixes=[".html", ".htm"])
+    inputs = [args.input, args.plan, args.scene, args.urdf, args.before]
+    (html,) = output_files(inputs, suffixes={"html": [".html", ".htm"]}, html=args.html)
     build, title = _builder(args)
     if args.serve:
         from pivot_ompl.viz.serve import serve

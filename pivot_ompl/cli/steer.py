@@ -11,9 +11,9 @@ import argparse
 import logging
 import time
 
-from pivot_ompl.cli.args import figure_file, finite, integer, output_file, time_limit
+from pivot_ompl.cli.args import finite, integer, output_files, time_limit
 from pivot_ompl.errors import Interrupted
-from pivot_ompl.fileio import atomic_output
+from pivot_ompl.fileio import atomic_outputs
 from pivot_ompl.grasp import check_grasp
 from pivot_ompl.pivoting.steering import PivotSteering
 from pivot_ompl.pivoting.transfer import RS_PLOT_STEP, steps_of
@@ -54,8 +54,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         base = default_scene(start=start, goal=goal)
         name = "steer"
-    out = output_file(args.out, "--out", inputs=[base.source])
-    fig = figure_file(args.plot, "--plot", inputs=[base.source])
+    out, fig = output_files([base.source], figures=["plot"], out=args.out, plot=args.plot)
     steering = PivotSteering(turning_radius=base.turning_radius, alpha_max=base.alpha_max)
     m = base.model
     deadline = time.monotonic() + min(args.time, 1e6)
@@ -74,12 +73,14 @@ def run(args: argparse.Namespace) -> int:
     print(f"{len(phase.steps)} pivot rotations, max |angle| "
           f"{max((abs(s.angle) for s in phase.steps), default=0.0):.6f} rad, "
           f"end {list(plan.object_end)}")
+    with atomic_outputs(out, fig) as (tmp_out, tmp_fig):  # both or neither
+        if tmp_out:
+            tmp_out.write_text(plan.to_text(), encoding="utf-8")
+        if tmp_fig:
+            from pivot_ompl.viz.plan_figure import plot_plan
+            plot_plan(plan, tmp_fig, title=f"steer {list(start)} -> {list(goal)}")
     if out:
-        plan.to_json(out)
         print(f"plan written to {out}")
     if fig:
-        from pivot_ompl.viz.plan_figure import plot_plan
-        with atomic_output(fig) as tmp:
-            plot_plan(plan, tmp, title=f"steer {list(start)} -> {list(goal)}")
         print(f"figure written to {fig}")
     return 0

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
-from pivot_ompl.errors import InputError
+from pivot_ompl.errors import InputError, counted, require_type
 from pivot_ompl.generate.building import building_layout
 from pivot_ompl.generate.layout import (
     BOX,
@@ -352,12 +352,16 @@ def generate(family: str, seed: int, *, params: GeneratorParams | None = None) -
     """A scene of ``family`` and its witness plan, deterministic for ``seed``.
 
     Raises:
-        InputError: unknown family, bad seed, or no valid layout within ``params.attempts``.
+        InputError: a family that is not a known name, a bad seed, ``params`` not a
+            :class:`GeneratorParams`, or no valid layout within ``params.attempts``.
     """
+    require_type(family, str, "family", f"a family name (one of {sorted(FAMILIES)})")
     if family not in FAMILIES:
         raise InputError("family", family, f"unknown family (known: {sorted(FAMILIES)})")
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise InputError("seed", seed, "must be a non-negative integer")
+    if params is not None:
+        require_type(params, GeneratorParams, "params", "a GeneratorParams or None")
     p = params or GeneratorParams()
     _check_params(p)
     rng = np.random.default_rng([seed, _STREAM[family]])
@@ -376,8 +380,8 @@ def generate(family: str, seed: int, *, params: GeneratorParams | None = None) -
             states = [(f.pose(q), f.grasp(g)) for q, g in states]
         w = build_witness(scene, states)
         if w.plan is not None:
-            log.info("%s seed %d: layout %d holds (%d regrasps)", family, seed, attempt,
-                     w.plan.regrasps)
+            log.info("%s seed %d: layout %d holds (%s)", family, seed, attempt,
+                     counted(w.plan.regrasps, "regrasp"))
             w.plan.extra["family"] = family
             w.plan.extra["seed"] = seed
             return Generated(scene, w.plan, family, seed, attempt)

@@ -5,10 +5,11 @@ phase it belongs to and the pivot step being rotated in that phase (``-1`` betwe
 rotations). :func:`replay_guide` turns those tags into
 
 * **chapters**: one per phase (``transfer k/T · 18 pivots``, ``regrasp k/R · walk 3.2 m``)
-  plus key moments (the start, each phase's narrowest passage, the goal reached), each with
-  the replay time to seek to;
+  plus key moments (the start when no phase starts at once, each phase's narrowest passage,
+  the goal reached), each with the replay time to seek to;
 * **marks**: the label shown on screen from a time on (``transfer 3/5 · pivot 41/84``),
-  one per change of phase or pivot.
+  one per change of phase or pivot, and the end's (``goal reached · 84 pivots, 1 regrasp``)
+  at the last sample.
 
 The HTML overlay (:mod:`pivot_ompl.viz.overlay`) reads the guide as JSON; notebooks can use
 :meth:`ReplayGuide.label_at` and :attr:`ReplayGuide.chapters` directly.
@@ -24,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from pivot_ompl.errors import InputError
+from pivot_ompl.errors import InputError, counted, require_type
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
 from pivot_ompl.scene import Scene
@@ -143,8 +144,14 @@ def narrowest_steps(plan: Plan, scene: Scene) -> dict[int, tuple[int, float]]:
     Clearance (m) of the box and of the robot's bounding box to the scene's obstacles after
     each rotation (coal distances); phases are keyed by their index in ``plan.phases``.
     Empty when the scene has no obstacle.
+
+    Raises:
+        InputError: ``plan`` is not a Plan or ``scene`` not a Scene.
     """
     from pivot_ompl.validity.collision import CollisionWorld
+
+    require_type(plan, Plan, "plan", "a Plan (load_plan)")
+    require_type(scene, Scene, "scene", "a Scene (load_scene)")
 
     if not scene.obstacles:
         return {}
@@ -225,8 +232,14 @@ def replay_guide(times: Sequence[float] | np.ndarray, phase: Sequence[int] | np.
                 done = before[p] + s + 1
         else:
             marks.append((ti, prefixes[p]))
-    chapters.append(Chapter(float(t[-1]), "goal reached" if plan is not None
-                            and plan.status == "exact" else "end", "moment"))
+    end = "goal reached" if plan is not None and plan.status == "exact" else "end"
+    chapters.append(Chapter(float(t[-1]), end, "moment"))
+    if plan is not None and end == "goal reached":
+        end = (f"goal reached · {counted(plan.pivots, 'pivot')}, "
+               f"{counted(plan.regrasps, 'regrasp')}")
+    marks.append((float(t[-1]), end))  # the label at the end names the end
+    if any(c.kind != "moment" and c.time <= t[0] for c in chapters):
+        chapters = chapters[1:]  # the first phase starts at once: no separate "start"
     chapters.sort(key=lambda c: (c.time, KINDS.index(c.kind) if c.kind != "moment" else -1))
     return ReplayGuide(float(t[-1]), tuple(chapters), tuple(marks))
 

@@ -9,11 +9,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
+from typing import Any
 
 import meshcat
 import meshcat.geometry as g
 import numpy as np
 
+from pivot_ompl.errors import InputError, require_type
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Obstacle, PolygonObstacle, Scene
 from pivot_ompl.se2 import Pose
@@ -29,6 +31,32 @@ FOOTSTEP_COLOR = 0x3050a0
 FLOOR_THICKNESS = 0.01  # m, top face at z = 0
 
 
+def css_colour(color: int) -> str:
+    """``0xRRGGBB`` as the page's ``#rrggbb``."""
+    return f"#{color:06x}"
+
+
+#: What each shape of a replay is (the page's legend panel), by node.
+LEGEND_TEXT = {
+    "obstacles": (OBSTACLE_COLOR, "obstacles"),
+    "box": (BOX_COLOR, "the box, leaning on its supporting edge while pivoted"),
+    "robot_volume": (ROBOT_COLOR, "the robot: its footprint plate and bounding volume"),
+    "robot_urdf": (0xa0a8b8, "the robot drawn from its URDF's visual shapes (HRP-2's: "
+                             "boxes and cylinders, not its real meshes)"),
+    "rs_path": (PATH_COLOR, "line: the Reeds-Shepp path of the supporting edge's centre"),
+    "walks": (ROBOT_COLOR, "line: a regrasp walk of the robot's centre"),
+    "pivots": (PIVOT_COLOR, "spheres: the pivot corners (where the box turns)"),
+    "footprints": (FOOTSTEP_COLOR, "rectangles: where the robot stands (footprint)"),
+    "footsteps": (FOOTSTEP_COLOR, "rectangles: footsteps (soles)"),
+    "zmp": (PIVOT_COLOR, "zigzag line: the planned ZMP, swaying over each support foot"),
+}
+
+
+def legend(keys: Iterable[str]) -> list[list[str]]:
+    """The legend entries ``[colour, text]`` of the drawn ``keys`` (of :data:`LEGEND_TEXT`)."""
+    return [[css_colour(LEGEND_TEXT[k][0]), LEGEND_TEXT[k][1]] for k in keys]
+
+
 def _lambert(color: int, *, opacity: float = 1.0) -> g.MeshLambertMaterial:
     return g.MeshLambertMaterial(color=color, opacity=opacity)
 
@@ -36,6 +64,23 @@ def _lambert(color: int, *, opacity: float = 1.0) -> g.MeshLambertMaterial:
 #: Nodes a replay owns; cleared before a new replay is drawn into the same visualizer.
 REPLAY_NODES = ("floor", "obstacles", "box", "robot", "rs_path", "walks", "pivots",
                 "footsteps", "zmp")
+
+
+def check_view(vis: Any = None, *, scene: Any = None, require_vis: bool = True,
+               **values: tuple[Any, type]) -> None:
+    """Check a view helper's arguments (an InputError naming the argument, not a crash).
+
+    ``vis`` must be a visualizer (anything indexable by node name, as ``meshcat.Visualizer``
+    and :func:`~pivot_ompl.viz.recording_visualizer`); ``scene`` a Scene or ``None``;
+    ``values`` maps further argument names to ``(value, expected class)``.
+    """
+    if require_vis and not callable(getattr(vis, "__getitem__", None)):
+        raise InputError("vis", type(vis).__name__, "must be a meshcat Visualizer (or "
+                         "pivot_ompl.viz.recording_visualizer())")
+    if scene is not None:
+        require_type(scene, Scene, "scene", "a Scene (load_scene) or None")
+    for name, (value, kind) in values.items():
+        require_type(value, kind, name, f"a {kind.__name__}")
 
 
 def clear(vis: meshcat.Visualizer, names: Sequence[str] = REPLAY_NODES) -> None:

@@ -24,6 +24,7 @@ from pathlib import Path
 import meshcat
 
 from pivot_ompl.errors import InputError
+from pivot_ompl.fileio import atomic_output, input_path
 from pivot_ompl.viz.chapters import ReplayGuide
 from pivot_ompl.viz.overlay import overlay_script
 from pivot_ompl.viz.recorder import RecordingWindow
@@ -154,20 +155,15 @@ def write_html(vis: meshcat.Visualizer, path: str | Path, *,
         InputError: ``vis`` is not backed by a :class:`RecordingWindow`.
     """
     t0 = time.perf_counter()
-    window = vis.window
+    window = getattr(vis, "window", None)
     if not isinstance(window, RecordingWindow):
         raise InputError("vis", type(window).__name__,
                          "offline export needs a recording visualizer "
                          "(pivot_ompl.viz.recording_visualizer())")
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
+    path = input_path(path, field="path")
     n = len(window.commands())
-    tmp = path.with_name(path.name + ".part")
-    try:
+    with atomic_output(path) as tmp:
         tmp.write_text(html_text(window, title=title, guide=guide), encoding="utf-8")
-        tmp.replace(path)
-    finally:
-        tmp.unlink(missing_ok=True)
     out = HtmlExport(path, path.stat().st_size, time.perf_counter() - t0, n)
     log.info("wrote %s (%.1f MB, %d commands) in %.2f s", path, out.size_bytes / 1e6, n,
              out.seconds)

@@ -18,7 +18,7 @@ import meshcat
 import numpy as np
 
 from pivot_ompl.motionfile import Motion
-from pivot_ompl.planfile import Plan
+from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
 from pivot_ompl.resources import data_path
 from pivot_ompl.scene import DEFAULT_OBJECT_SIZE, Scene
 from pivot_ompl.viz import draw
@@ -123,6 +123,9 @@ def show_motion(vis: meshcat.Visualizer, motion: Motion, *, scene: Scene | None 
         play: start playing once loaded.
         camera: aim the default camera at the floor.
     """
+    draw.check_view(vis, scene=scene, motion=(motion, Motion))
+    if plan is not None:
+        draw.check_view(vis, plan=(plan, Plan))
     model = load_robot(resolve_urdf(motion, urdf))
     size = object_size or motion.object_size or (
         scene.model.object_size if scene is not None else None)
@@ -168,7 +171,23 @@ def show_motion(vis: meshcat.Visualizer, motion: Motion, *, scene: Scene | None 
     assert frame is not None  # noqa: S101 - for mypy: bounds is set without a scene
     guide = motion_guide(motion, plan=plan, scene=scene).with_frame(
         frame, max(standing_height(None, scene), float(np.max(q[:, 2])) + 0.8, float(size[2])))
+    guide.extra["legend"] = draw.legend(_drawn(motion, scene, plan, n_piv, n_steps))
     return ReplayInfo(float(t[-1]), len(t), nodes, n_steps, n_piv, guide)
+
+
+def _drawn(motion: Motion, scene: Scene | None, plan: Plan | None, n_piv: int,
+           n_steps: int) -> list[str]:
+    """The kinds of shape a motion replay draws (:func:`draw.legend` explains each)."""
+    drawn = ["box", "robot_urdf"]
+    if scene is not None and scene.obstacles:
+        drawn.insert(0, "obstacles")
+    if plan is not None:
+        drawn += [k for k in ("rs_path", "walks") if any(
+            (isinstance(ph, TransferPhase) and len(ph.rs_path) >= 2) if k == "rs_path" else
+            isinstance(ph, TransitPhase) for ph in plan.phases)]
+        drawn += ["pivots"] if n_piv else []
+    return drawn + (["footsteps"] if n_steps else []) + (
+        ["zmp"] if motion.zmp is not None and len(motion.zmp) > 1 else [])
 
 
 def _animation(vis: meshcat.Visualizer, model: Any, t: Any, box_tf: np.ndarray,
@@ -213,6 +232,7 @@ def motion_guide(motion: Motion, *, plan: Plan | None = None,
     ``phase`` array has one label, ``"motion"``; a plan that does not match the motion's
     phases is ignored with a warning.
     """
+    draw.check_view(scene=scene, require_vis=False, motion=(motion, Motion))
     t = motion.t - motion.t[0] if len(motion.t) else motion.t
     if motion.phase is None:
         return ReplayGuide(motion.duration, (Chapter(0.0, "start", "moment"),),

@@ -10,7 +10,12 @@ A small script block (no dependency beyond meshcat's viewer bundle, which export
   drawn translucent;
 * **playback**: play/pause, speeds 1×, 5×, 20×, 50× (the animation mixer's time scale), the
   time, and the on-screen label of the current phase and pivot;
-* **chapters**: a list of the phases and key moments; clicking one seeks there.
+* **chapters**: a list of the phases and key moments (closed on load, ``c`` opens it; the
+  current one highlighted, the goal's at the end); clicking one seeks there;
+* **legend**: what each shape and colour is (``cfg.legend``: ``[colour, text]`` pairs), at
+  the bottom right (``l`` hides it).
+
+In *follow* the subject is robot and box, and the robot alone during a regrasp walk.
 
 ``window.replayUI`` exposes ``seek(t)``, ``setSpeed(s)``, ``setView(name)``, ``label()``,
 ``time()`` and ``state`` for tests and for the curious (browser console).
@@ -34,14 +39,20 @@ CSS = """
   border-radius: 6px; pointer-events: none; }
 #pr-label small { display: block; font-weight: 400; font-size: 13px; opacity: .85; }
 #pr-chapters { position: absolute; left: 12px; top: 78px; max-height: calc(100vh - 150px);
-  z-index: 10; width: 290px; overflow-y: auto; font: 13px/1.35 system-ui, sans-serif;
-  background: rgba(255, 255, 255, .82); border-radius: 6px; padding: 4px 0; }
-#pr-chapters.pr-hidden { display: none; }
-#pr-chapters div { padding: 3px 10px; cursor: pointer; white-space: nowrap;
-  overflow: hidden; text-overflow: ellipsis; }
+  z-index: 10; width: 300px; overflow-y: auto; font: 13px/1.35 system-ui, sans-serif;
+  background: rgba(255, 255, 255, .88); border-radius: 6px; padding: 4px 0; }
+#pr-chapters.pr-hidden, #pr-legend.pr-hidden { display: none; }
+#pr-chapters div { padding: 3px 10px 3px 68px; text-indent: -58px; cursor: pointer;
+  white-space: normal; overflow-wrap: anywhere; }
+#pr-legend { position: absolute; right: 12px; bottom: 60px; z-index: 10; max-width: 300px;
+  font: 12px/1.35 system-ui, sans-serif; background: rgba(255, 255, 255, .88);
+  border-radius: 6px; padding: 6px 10px; }
+#pr-legend div { margin: 2px 0; }
+#pr-legend i { display: inline-block; width: 12px; height: 12px; margin-right: 6px;
+  vertical-align: -2px; border-radius: 2px; }
 #pr-chapters div:hover { background: #dde6f3; }
 #pr-chapters div.pr-current { background: #2f5d9a; color: #fff; }
-#pr-chapters div.pr-moment { padding-left: 24px; color: #8a3b12; }
+#pr-chapters div.pr-moment { padding-left: 82px; color: #8a3b12; }
 #pr-chapters div.pr-moment.pr-current { color: #fff; }
 #pr-chapters span { display: inline-block; width: 58px; opacity: .7;
   font-variant-numeric: tabular-nums; }
@@ -61,7 +72,7 @@ JS = r"""
   const V = window.viewer, T = MeshCat.THREE;
   const FOV = %(fov)s, DIR = new T.Vector3(%(dir)s).normalize();
   const state = { view: "overview", follow: true, speed: 1, glide: null, lastSubject: null,
-                  chapter: -1, faded: new Set(), userMoved: false };
+                  chapter: -1, faded: new Set(), userMoved: false, walking: false };
   const marks = cfg.marks || [], chapters = cfg.chapters || [];
   const markTimes = marks.map(m => m[0]);
 
@@ -82,11 +93,14 @@ JS = r"""
     const m = Math.floor(t / 60), s = t - 60 * m;
     return m + ":" + (s < 10 ? "0" : "") + s.toFixed(1);
   }
+  // Times are compared within 1 ms: the guide's are rounded to 0.1 ms, the animation's are
+  // single precision (at the end of a long replay they fall short of the last mark).
+  const EPS = 1e-3;
   function lastBefore(arr, t) {  // index of the last element <= t (binary search)
     let lo = 0, hi = arr.length - 1, best = -1;
     while (lo <= hi) {
       const mid = (lo + hi) >> 1;
-      if (arr[mid] <= t + 1e-6) { best = mid; lo = mid + 1; } else hi = mid - 1;
+      if (arr[mid] <= t + EPS) { best = mid; lo = mid + 1; } else hi = mid - 1;
     }
     return best;
   }
@@ -160,9 +174,14 @@ JS = r"""
     c.z = 0;
     return { target: c, eye: new T.Vector3(c.x, c.y - 1e-3 * d, d) };
   }
+  function walkingAt(t) {  // in a regrasp walk the robot alone is the subject
+    let kind = "";
+    for (const c of chapters) if (c.kind !== "moment" && c.time <= t + EPS) kind = c.kind;
+    return kind === "regrasp";
+  }
   function subjectBox() {
     const box = new T.Box3();
-    for (const k of ["robot", "box"]) {
+    for (const k of (state.walking ? ["robot"] : ["robot", "box"])) {
       const n = node("meshcat/" + k);
       if (n) box.union(sceneBoxOf(n.object));
     }
@@ -221,7 +240,15 @@ JS = r"""
   // ---- page elements -----------------------------------------------------------------
   const pane = document.getElementById("meshcat-pane") || document.body;
   const lab = document.createElement("div"); lab.id = "pr-label"; pane.appendChild(lab);
-  const list = document.createElement("div"); list.id = "pr-chapters"; pane.appendChild(list);
+  const list = document.createElement("div"); list.id = "pr-chapters";
+  list.className = "pr-hidden"; pane.appendChild(list);  // closed until asked for (c)
+  const legend = document.createElement("div"); legend.id = "pr-legend"; pane.appendChild(legend);
+  for (const [colour, text] of cfg.legend || []) {
+    const d = document.createElement("div"), sw = document.createElement("i");
+    sw.style.background = colour; d.appendChild(sw); d.appendChild(document.createTextNode(text));
+    legend.appendChild(d);
+  }
+  if (!(cfg.legend || []).length) legend.classList.add("pr-hidden");
   const bar = document.createElement("div"); bar.id = "pr-bar"; pane.appendChild(bar);
   const buttons = {};
   function button(key, text, title, fn) {
@@ -244,6 +271,8 @@ JS = r"""
          () => setView(state.view === "top" ? (state.follow ? "follow" : "overview") : "top"));
   button("chapters", "chapters", "show or hide the chapter list (c)",
          () => list.classList.toggle("pr-hidden"));
+  button("legend", "legend", "show or hide what the shapes and colours are (l)",
+         () => legend.classList.toggle("pr-hidden"));
   chapters.forEach((c, i) => {
     const d = document.createElement("div");
     d.className = "pr-" + c.kind; d.dataset.index = i;
@@ -308,6 +337,7 @@ JS = r"""
     else if (k === "o") setView("overview");
     else if (k === "t") buttons.top.click();
     else if (k === "c") buttons.chapters.click();
+    else if (k === "l") buttons.legend.click();
   });
 
   // ---- per frame ---------------------------------------------------------------------
@@ -322,12 +352,20 @@ JS = r"""
     if (html !== lastLabel) { lab.innerHTML = html; lastLabel = html; }
     lab.dataset.label = text;
     let cur = -1;
-    for (let i = 0; i < chapters.length; i++) if (chapters[i].time <= t + 1e-6) cur = i;
+    for (let i = 0; i < chapters.length; i++) if (chapters[i].time <= t + EPS) cur = i;
     if (cur !== state.chapter) {
       const old = list.querySelector(".pr-current"); if (old) old.classList.remove("pr-current");
       const el = list.children[cur];
       if (el) { el.classList.add("pr-current"); el.scrollIntoView({ block: "nearest" }); }
       state.chapter = cur;
+    }
+    const walking = walkingAt(t);
+    if (walking !== state.walking) {  // the subject changes: frame the new one
+      state.walking = walking;
+      if (state.view === "follow") {
+        const b = subjectBox(); if (b) { const p = followPose(b); glideTo(p.target, p.eye, 0.6); }
+      }
+      state.lastSubject = null;
     }
     if (state.glide) {
       const g = state.glide, s = Math.min(1, (performance.now() - g.t0) / g.dur);

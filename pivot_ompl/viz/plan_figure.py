@@ -2,10 +2,12 @@
 
 The planner's roadmap faint in the background (object roadmap grey, per-grasp manipulation
 edges in the grasp's colour, critical configurations as small crosses); the plan on top: the
-object path (the supporting edge's centre) in the grasp's colour with the box footprints
-along it, the pivot points, the Reeds-Shepp path dotted; regrasps labelled where the box
-rests (``regrasp k: grasp i→j``) and their walks drawn and labelled with their length;
-start and goal footprints marked.
+box centre's path in the grasp's colour with the box footprints along it, the pivot corners
+(dots), the robot's stance where each transfer starts (dashed rectangle), the Reeds-Shepp
+path of the supporting edge's centre dotted; regrasps labelled where the box rests
+(``regrasp k: grasp i→j``) and their walks drawn and labelled with their length; start and
+goal footprints marked. Every marker has a legend entry; the legend stands beside the floor
+and no two labels overlap (:mod:`pivot_ompl.viz.labels`).
 """
 
 from __future__ import annotations
@@ -20,10 +22,12 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.patches import Circle, Polygon  # noqa: E402
 
+from pivot_ompl.errors import counted  # noqa: E402
 from pivot_ompl.grasp import BoxGraspModel  # noqa: E402
 from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase  # noqa: E402
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Scene  # noqa: E402
 from pivot_ompl.se2 import rectangle_corners  # noqa: E402
+from pivot_ompl.viz.labels import Label, place_labels  # noqa: E402
 
 GRASP_COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:purple")
 WALK_COLOUR = "tab:red"
@@ -50,20 +54,21 @@ def plan_figure(plan: Plan, *, scene: Scene | None = None, search: Any = None,
                 ax.add_patch(Polygon(o.points, fc="0.55", ec="0.3", zorder=2))
     if search is not None:
         _draw_roadmaps(ax, search)
-    _draw_plan(ax, plan, model)
+    labels = _draw_plan(ax, plan, model)
     ax.set_aspect("equal")
     ax.autoscale_view()
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     reached = "reaches the goal" if plan.status == "exact" else f"status {plan.status}"
-    ax.set_title(title or f"{plan.scene}: {plan.pivots} pivots, {plan.regrasps} regrasps, "
-                 f"{reached}")
-    handles, labels = ax.get_legend_handles_labels()
-    order = sorted(range(len(labels)), key=lambda i: (labels[i].startswith("path, grasp"),
-                                                      labels[i]))
+    ax.set_title(title or f"{plan.scene}: {counted(plan.pivots, 'pivot')}, "
+                 f"{counted(plan.regrasps, 'regrasp')}, {reached}")
+    handles, names = ax.get_legend_handles_labels()
+    order = sorted(range(len(names)), key=lambda i: (names[i].startswith("box centre, grasp"),
+                                                     names[i]))
     # beside the floor, never over it (the goal, the labels)
-    ax.legend([handles[i] for i in order], [labels[i] for i in order], loc="upper left",
+    ax.legend([handles[i] for i in order], [names[i] for i in order], loc="upper left",
               bbox_to_anchor=(1.01, 1.0), fontsize=7, framealpha=0.85)
+    place_labels(fig, ax, labels)
     return fig
 
 
@@ -78,14 +83,9 @@ def plot_plan(plan: Plan, path: str | Path, *, scene: Scene | None = None,
     return path
 
 
-def _label(ax: Any, xy: tuple[float, float], text: str, colour: str) -> None:
-    ax.annotate(text, xy, xytext=(8, 8), textcoords="offset points", fontsize=8, color=colour,
-                fontweight="bold", zorder=6,
-                bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": colour, "alpha": 0.85},
-                arrowprops={"arrowstyle": "-", "color": colour, "lw": 0.8})
-
-
-def _draw_plan(ax: Any, plan: Plan, model: BoxGraspModel) -> None:
+def _draw_plan(ax: Any, plan: Plan, model: BoxGraspModel) -> list[Label]:
+    """Draw the plan's phases; the regrasp and walk labels to place once the limits are set."""
+    labels: list[Label] = []
     seen: set[str] = set()
 
     def once(label: str) -> str:
@@ -105,22 +105,22 @@ def _draw_plan(ax: Any, plan: Plan, model: BoxGraspModel) -> None:
             c = GRASP_COLOURS[ph.grasp]
             if ph.rs_path:
                 ax.plot([p[0] for p in ph.rs_path], [p[1] for p in ph.rs_path], ":", c="k",
-                        lw=0.8, zorder=3, label=once("Reeds-Shepp path"))
+                        lw=0.8, zorder=3, label=once("Reeds-Shepp path (supporting edge's centre)"))
             poses = [ph.object_start] + [s.object for s in ph.steps]
-            cars = [model.car_pose(p, ph.grasp) for p in poses]
-            ax.plot([q[0] for q in cars], [q[1] for q in cars], "-", c=c, lw=2.2, zorder=4,
-                    label=once(f"path, grasp {ph.grasp} (supporting edge's centre)"))
+            ax.plot([p[0] for p in poses], [p[1] for p in poses], "-", c=c, lw=1.6, zorder=4,
+                    label=once(f"box centre, grasp {ph.grasp}"))
             ax.plot([s.pivot[0] for s in ph.steps], [s.pivot[1] for s in ph.steps], ".", c=c,
                     ms=4, zorder=4, label=once("pivot corners"))
             length = sum(((b[0] - a[0]) ** 2 + (b[1] - a[1]) ** 2) ** 0.5
-                         for a, b in zip(cars, cars[1:], strict=False))
+                         for a, b in zip(poses, poses[1:], strict=False))
             n = max(2, int(length * FOOTPRINTS_PER_M) + 1)
             idx = sorted({round(i * (len(poses) - 1) / (n - 1)) for i in range(n)})
             for i in idx:
                 ax.add_patch(Polygon(model.object_corners(poses[i]), fc=c, alpha=0.18, ec=c,
-                                     lw=1.0, zorder=4))
-            ax.add_patch(Polygon(model.robot_corners(ph.robot_start), fill=False, ec=c,
-                                 ls="--", lw=0.9, zorder=4))
+                                     lw=1.0, zorder=4, label=once("box footprint on the way")))
+            ax.add_patch(Polygon(model.robot_corners(ph.robot_start), fill=False, ec="0.2",
+                                 ls="--", lw=0.9, zorder=4,
+                                 label=once("robot's stance as it grasps")))
         elif isinstance(ph, TransitPhase):
             k_rg += 1
             xs, ys = [p[0] for p in ph.robot_path], [p[1] for p in ph.robot_path]
@@ -131,10 +131,13 @@ def _draw_plan(ax: Any, plan: Plan, model: BoxGraspModel) -> None:
             o = ph.object_pose
             ax.plot([o[0]], [o[1]], "o", mfc="white", mec=WALK_COLOUR, ms=7, mew=2, zorder=6,
                     label=once("regrasp position"))
-            _label(ax, (o[0], o[1]), f"regrasp {k_rg}: grasp {ph.from_grasp}→{ph.to_grasp}",
-                   WALK_COLOUR)
+            labels.append(Label((o[0], o[1]),
+                                f"regrasp {k_rg}: grasp {ph.from_grasp}→{ph.to_grasp}",
+                                WALK_COLOUR))
             mid = ph.robot_path[len(ph.robot_path) // 2]
-            _label(ax, (mid[0], mid[1]), f"walk {k_rg}: {ph.length:.1f} m", WALK_COLOUR)
+            labels.append(Label((mid[0], mid[1]), f"walk {k_rg}: {ph.length:.1f} m",
+                                WALK_COLOUR))
+    return labels
 
 
 def _draw_roadmaps(ax: Any, search: Any) -> None:

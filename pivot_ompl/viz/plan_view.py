@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 from collections.abc import Iterable, Sequence
@@ -18,7 +19,7 @@ from pivot_ompl.se2 import Pose
 from pivot_ompl.viz import draw
 from pivot_ompl.viz.animation import AnimationBuilder
 from pivot_ompl.viz.camera import frame_scene
-from pivot_ompl.viz.chapters import ReplayGuide, replay_guide, standing_height
+from pivot_ompl.viz.chapters import Chapter, ReplayGuide, replay_guide, standing_height
 from pivot_ompl.viz.timeline import ReplayTiming, plan_keyframes
 
 log = logging.getLogger(__name__)
@@ -64,6 +65,7 @@ def show_scene(vis: meshcat.Visualizer, scene: Scene | None, *,
                bounds: tuple[float, float, float, float] | None = None,
                camera: bool = True) -> ReplayInfo:
     """Draw the floor and the obstacles of ``scene`` (or only a floor over ``bounds``)."""
+    draw.check_view(vis, scene=scene)
     draw.clear(vis, ("floor", "obstacles"))
     draw.draw_scene(vis, scene, bounds=bounds)
     b = scene.bounds if scene is not None else bounds
@@ -122,6 +124,7 @@ def show_plan(vis: meshcat.Visualizer, scene: Scene | None, plan: Plan, *,
     (``footsteps/<j>``), transit walks (``walks/<i>``). Animated: ``box`` (inclined towards
     the robot while pivoting) and ``robot`` (footprint plate and translucent volume).
     """
+    draw.check_view(vis, scene=scene, plan=(plan, Plan))
     model = BoxGraspModel(plan.object_size, plan.robot_footprint, plan.standoff,
                           scene.model.robot_height if scene is not None else hrp2.HEIGHT)
     bounds = None if scene is not None else plan_bounds(plan)
@@ -146,6 +149,8 @@ def show_plan(vis: meshcat.Visualizer, scene: Scene | None, plan: Plan, *,
         anim.send(play=play)
     guide = replay_guide(kf.times, kf.phase, kf.step, plan=plan, scene=scene).with_frame(
         scene.bounds if scene is not None else plan_bounds(plan), standing_height(model, scene))
+    entry = {"robot": "robot_volume", "footsteps": "footprints"}  # node -> legend entry
+    guide.extra["legend"] = draw.legend(entry.get(n, n) for n in nodes if n != "floor")
     log.info("plan replay: %d phases, %d pivots, %.1f s", len(plan.phases), n_piv, kf.duration)
     return ReplayInfo(kf.duration, len(kf.times), tuple(nodes), n_feet, n_piv, guide)
 
@@ -176,3 +181,55 @@ def show_roadmap(vis: meshcat.Visualizer, nodes: Sequence[Sequence[float]],
     segs = [(nodes[a], nodes[b]) for a, b in edges]
     draw.draw_segments(base["edges"], segs, color=color, z=0.025)
     return ReplayInfo(0.0, 0, (f"roadmap/{name}",))
+
+
+def replanned_plan(old: Plan, new: Plan) -> tuple[Plan, int]:
+    """``old`` up to the drift, then ``new``: one plan to replay, and ``new``'s first phase.
+
+    ``old`` is cut after its pivot step (or phase start) whose box centre is nearest
+    ``new``'s start, the observed pose: the replay shows the old plan executed up to there,
+    the box where it was observed (the drift as a jump), then the new plan. The result has
+    ``new``'s geometry, status and extra fields; its transfers cut short lose their
+    ``rs_path``.
+    """
+    best: tuple[float, int, int] | None = None  # (distance, phase, steps kept)
+    for i, ph in enumerate(old.phases):
+        if not isinstance(ph, TransferPhase):
+            continue
+        poses = [ph.object_start, *(s.object for s in ph.steps)]
+        for k, q in enumerate(poses):
+            d = math.hypot(q[0] - new.start[0], q[1] - new.start[1])
+            if best is None or d < best[0]:
+                best = (d, i, k)
+    kept: list[TransferPhase | TransitPhase] = []
+    if best is not None:
+        _, i, k = best
+        kept = list(old.phases[:i])
+        ph = old.phases[i]
+        assert isinstance(ph, TransferPhase)  # noqa: S101 - chosen above
+        if k:
+            kept.append(TransferPhase(ph.grasp, ph.robot_start, ph.steps[:k], ph.object_start))
+    both = Plan(new.scene, new.status, new.object_size, new.robot_footprint, new.standoff,
+                new.alpha_max, old.start, [*kept, *new.phases], dict(new.extra))
+    return both, len(kept)
+
+
+def show_replanned(vis: meshcat.Visualizer, scene: Scene | None, old: Plan, new: Plan, *,
+                   timing: ReplayTiming | None = None, play: bool = True) -> ReplayInfo:
+    """Replay ``old`` up to the drift and ``new`` after it, a chapter at the switch.
+
+    ``scene`` is the scene as observed (``new``'s): its obstacles are drawn throughout.
+    """
+    both, switch = replanned_plan(old, new)
+    info = show_plan(vis, scene, both, timing=timing, play=play)
+    guide = info.guide
+    if guide is None or switch >= len(both.phases):
+        return info
+    at = next((c.time for c in guide.chapters if c.phase == switch and c.kind != "moment"),
+              guide.duration)
+    x, y, yaw = new.start
+    chapters = sorted([*guide.chapters, Chapter(at, f"replanned · the box observed at "
+                                                    f"({x:.2f}, {y:.2f}, {yaw:.2f})",
+                                                "moment", switch)],
+                      key=lambda c: c.time)
+    return dataclasses.replace(info, guide=dataclasses.replace(guide, chapters=tuple(chapters)))

@@ -1,8 +1,18 @@
 """Every joint's largest speed and acceleration over a motion, and their limits.
 
 Speeds are first differences of ``q`` over the sample period, accelerations second
-differences (the motion's own samples; nothing is filtered). The limits are justified in the
-README (*Whole-body checks*); :mod:`pivot_ompl.wholebody.checks_peaks` judges a motion by them.
+differences (the motion's own samples; nothing is filtered).
+:mod:`pivot_ompl.wholebody.checks_peaks` judges a motion by the limits below.
+
+Why these limits: an acceleration costs torque. The joint-space inertia of HRP-2's model
+(``pin.crba``, largest diagonal over the holding samples of the fig10 demo) times the limit
+is at most 9.3 N·m at a shoulder at 30 rad/s² (RARM_JOINT0, 0.31 kg·m²: 15 % of its 60 N·m)
+and 29 N·m at the chest yaw (0.97 kg·m²: 73 % of its 40 N·m, the tightest, and why the upper
+body is held to 30 and generated at 20), 0.3 N·m at the neck; at 50 rad/s² a swinging leg's
+knee costs 17 N·m and its hip pitch and roll 60 N·m of 100 N·m, leaving the rest for the
+weight the stance leg carries. The efforts are the URDF's (from the HRP-2 fact sheet, which
+calls them placeholders, not AIST ratings); the box, which rests on the floor and is pushed,
+not carried, is not in the model.
 """
 
 from __future__ import annotations

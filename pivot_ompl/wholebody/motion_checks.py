@@ -106,13 +106,28 @@ class MotionReport:
         raise KeyError(name)
 
     def table(self) -> str:
-        """A printable table of the results."""
-        lines = [f"{'check':14s} {'result':6s} {'worst':>12s} {'limit':>10s}  detail"]
+        """A printable table of the results, its columns and units explained below it."""
+        lines = [f"{'check':14s} {'result':6s} {'worst':>12s} {'passes':>6s} {'limit':>10s} "
+                 f"{'unit':4s}  detail"]
         for r in self.results:
+            sense = ">=" if r.name in AT_LEAST else "<="
             lines.append(f"{r.name:14s} {'PASS' if r.passed else 'FAIL':6s} "
-                         f"{r.value:12.6f} {r.limit:10.4g} {r.unit:4s} {r.detail}")
+                         f"{r.value:12.6f} {sense:>6s} {r.limit:10.4g} {r.unit:4s}  {r.detail}")
         lines.append("PASS" if self.passed else "FAIL")
+        lines.extend(TABLE_LEGEND)
         return "\n".join(lines)
+
+
+#: Checks whose worst value is a margin: they pass at or above their limit (the others at or
+#: below it).
+AT_LEAST = frozenset({"zmp", "obstacles", "box_clearance"})
+#: What the columns and units of :meth:`MotionReport.table` mean.
+TABLE_LEGEND = (
+    "worst: the motion's worst value of the check (its smallest margin or largest error); "
+    "passes: worst >= or <= limit;",
+    "units: m metres, rad radians, smp samples, x ratio to the joint's own limit "
+    "(1 = at the limit), r/s2 rad/s²; detail: where the worst value is.",
+)
 
 
 def _phase_sequence(phase: np.ndarray, n_phases: int | None) -> CheckResult:

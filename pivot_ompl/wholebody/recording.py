@@ -115,4 +115,11 @@ class Recorder:
             grasp=np.array([s.grasp for s in ss], dtype=int),
             tilt=np.array([s.tilt for s in ss]),
             box_size=tuple(float(x) for x in plan.object_size),  # type: ignore[arg-type]
-            grip_box=grip, sole_size=SOLE_SIZE, scene=plan.scene)
+            grip_box=grip, sole_size=SOLE_SIZE, scene=plan.scene,
+            scene_path=_text(plan.extra.get("scene_path")),
+            scene_sha256=_text(plan.extra.get("scene_sha256")))
+
+
+def _text(value: object) -> str:
+    """A plan's text field, ``""`` when absent or not text."""
+    return value if isinstance(value, str) else ""

@@ -104,8 +104,8 @@ def test_cli_replan_writes_a_scene_and_plan_that_check_accepts(tmp_path, capsys)
 
 
 def test_a_drift_replan_searches_the_roadmaps_already_grown():
-    """Obstacles unchanged: the new start joins the old search's roadmaps (no new search)."""
-    s = PlanningSession(shipped("slot"), seed=0)
+    """Obstacles unchanged, no route repair: the new start joins the old search's roadmaps."""
+    s = PlanningSession(shipped("slot"), seed=0, repair=False)
     first = s.plan(time_limit=30.0)
     ph, q = _mid(first.plan)
     nodes = len(first.search.roadmap)

@@ -399,6 +399,16 @@ def _viewport(browser: Chromium, width: int = 1280, height: int = 800) -> None:
                  {"width": width, "height": height, "deviceScaleFactor": 1, "mobile": False})
 
 
+#: Horizontal distance (m) from the camera's target to the robot's centre.
+TARGET_FROM_ROBOT = """(() => { const T = MeshCat.THREE; viewer.scene.updateMatrixWorld(true);
+  const inv = viewer.scene.matrixWorld.clone().invert();
+  const tgt = viewer.controls.target.clone().applyMatrix4(viewer.camera.parent.matrixWorld)
+    .applyMatrix4(inv);
+  const c = new T.Box3().setFromObject(__node('meshcat/robot').object).applyMatrix4(inv)
+    .getCenter(new T.Vector3());
+  return Math.hypot(tgt.x - c.x, tgt.y - c.y); })()"""
+
+
 def _settle(browser: Chromium) -> None:
     browser.wait_for("__settled()", timeout=20)
     browser.evaluate("__frame()")
@@ -453,6 +463,20 @@ def test_replay_controls_in_chromium(browser, tmp_path):
     frac = browser.evaluate("__projectedFraction('meshcat/robot')")
     browser.screenshot(ARTIFACTS / "controls_follow_after_load.png")
     assert frac >= 0.05, f"robot covers {frac:.3f} of the viewport"
+    # the chapter list is closed on load and opens with its button, every title whole
+    hidden = "getComputedStyle(document.getElementById('%s')).display === 'none'"
+    assert browser.evaluate(hidden % "pr-chapters") is True
+    browser.evaluate("document.querySelector('[data-key=chapters]').click(); true")
+    browser.evaluate("__frame()")
+    assert browser.evaluate(hidden % "pr-chapters") is False
+    assert browser.evaluate("Array.from(document.querySelectorAll('#pr-chapters div'))"
+                            ".every(d => d.scrollWidth <= d.clientWidth + 1)")
+    # the legend panel, shown on load: one line per kind of shape drawn
+    assert browser.evaluate(hidden % "pr-legend") is False
+    legend = browser.evaluate("Array.from(document.querySelectorAll('#pr-legend div'))"
+                              ".map(d => d.textContent)")
+    assert legend == [text for _, text in info.guide.extra["legend"]] and len(legend) >= 6
+    browser.screenshot(ARTIFACTS / "controls_chapters_and_legend.png")
 
     # speed: 20x advances the animation time about 20 times as fast as 1x
     browser.evaluate("replayUI.seek(0); replayUI.setSpeed(1); true")
@@ -482,6 +506,10 @@ def test_replay_controls_in_chromium(browser, tmp_path):
     assert browser.evaluate("document.querySelector('#pr-chapters .pr-current').textContent"
                             ).find("regrasp") >= 0
     browser.screenshot(ARTIFACTS / "controls_regrasp_chapter.png")
+    # following a regrasp walk frames the robot alone (the box rests behind it)
+    assert browser.evaluate("replayUI.state.view") == "follow"
+    assert browser.evaluate("replayUI.state.walking") is True
+    assert browser.evaluate(TARGET_FROM_ROBOT) < 0.05
     browser.evaluate("Array.from(document.querySelectorAll('#pr-chapters div'))"
                      ".find(d => d.textContent.includes('transfer 2/2')).click(); true")
     browser.evaluate("__frame()")
@@ -489,6 +517,16 @@ def test_replay_controls_in_chromium(browser, tmp_path):
     expected = info.guide.label_at(t2)  # the page shows what the Python guide computes
     assert expected.startswith("transfer 2/2 · pivot ") and "/" in expected
     assert _label(browser).startswith(expected)
+    assert browser.evaluate("replayUI.state.walking") is False  # robot and box again
+    assert browser.evaluate(TARGET_FROM_ROBOT) > 0.2
+    # at the end: the goal's chapter highlighted and the label names the goal
+    browser.evaluate("replayUI.seek(viewer.animator.duration); true")
+    browser.evaluate("__frame()")
+    assert _label(browser).startswith("goal reached · ")
+    assert "goal reached" in browser.evaluate(
+        "document.querySelector('#pr-chapters .pr-current').textContent")
+    browser.screenshot(ARTIFACTS / "controls_goal.png")
+    browser.evaluate("replayUI.setView('follow'); true")
 
     # an obstacle between the camera and the robot is drawn translucent, others stay opaque
     browser.evaluate("""(() => { const T = MeshCat.THREE;

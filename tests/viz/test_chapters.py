@@ -57,7 +57,13 @@ def test_plan_chapters_one_per_phase_with_counts(plan):
         # the chapter starts at the phase's first key
         assert c.time == pytest.approx(kf.times[kf.phase.index(c.phase)])
         assert g.chapter_at(c.time + 1e-6) == c
-    assert g.chapters[0].title == "start" and g.chapters[-1].title == "goal reached"
+    # the first transfer starts at once: it is the first chapter, no "start" beside it at 0:00
+    assert g.chapters[0].kind == "transfer" and g.chapters[0].time == kf.times[0]
+    assert all(c.title != "start" for c in g.chapters)
+    assert g.chapters[-1].title == "goal reached" and g.chapter_at(kf.duration) is not None
+    # at the end the label names the goal and the last chapter is the goal's
+    assert g.label_at(kf.duration) == (f"goal reached · {plan.pivots} pivots, "
+                                       f"{plan.regrasps} regrasp")
     assert g.chapters[-1].time == pytest.approx(kf.duration)
     times = [c.time for c in g.chapters]
     assert times == sorted(times)
@@ -72,6 +78,8 @@ def test_labels_count_pivots_up_to_the_total(plan):
         if m:
             assert int(m.group(3)) == plan.pivots
             nums.append(int(m.group(2)))
+        elif t == kf.duration:
+            assert text.startswith("goal reached · ")
         else:
             assert text.startswith("regrasp 1/1 · walk")
         assert g.label_at(t) == text
@@ -144,6 +152,22 @@ def test_show_plan_returns_the_guide_with_the_frame(plan, scene):
     assert info.guide.height >= max(o.height for o in scene.obstacles)
     js = info.guide.to_json()
     assert len(js["chapters"]) == len(info.guide.chapters) and js["bounds"] == list(scene.bounds)
+
+
+def test_the_replay_legend_explains_every_shape_drawn(plan, scene):
+    from pivot_ompl.viz import draw
+
+    info = show_plan(recording_visualizer(), scene, plan)
+    legend = info.guide.to_json()["legend"]
+    drawn = set(info.nodes) - {"floor"}
+    assert len(legend) == len(drawn) >= 6  # one entry per kind of shape, none for absent ones
+    texts = " | ".join(text for _, text in legend)
+    for word in ("obstacles", "box", "robot", "Reeds-Shepp", "regrasp walk", "pivot corners",
+                 "where the robot stands"):
+        assert word in texts, word
+    colours = {c for c, _ in legend}
+    assert draw.css_colour(draw.PIVOT_COLOR) in colours and all(
+        re.fullmatch(r"#[0-9a-f]{6}", c) for c in colours)
 
 
 def _project(pose, pts, aspect=1.6):
@@ -253,3 +277,62 @@ def test_failed_export_keeps_the_existing_file(tmp_path, plan, scene):
     assert not (tmp_path / "replay.html.part").exists()
     write_html(vis, out, guide=info.guide)
     assert "PIVOT_REPLAY" in out.read_text()
+
+
+def _crowded_plan():
+    """The sample plan with four regrasps round one resting box: their labels crowd one spot."""
+    import dataclasses
+
+    from pivot_ompl.grasp import BoxGraspModel
+
+    base = sample_plan()
+    first = base.phases[0]
+    model = BoxGraspModel(base.object_size, base.robot_footprint, base.standoff)
+    obj = first.object_end
+    walks = []
+    for k in range(4):
+        a, b = model.robot_pose(obj, k), model.robot_pose(obj, (k + 1) % 4)
+        mid = (0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), a[2])
+        walks.append(TransitPhase(k, (k + 1) % 4, (a, mid, b), obj))
+    return dataclasses.replace(base, phases=[first, *walks])
+
+
+def test_plan_figure_labels_never_overlap():
+    import matplotlib.pyplot as plt
+
+    from pivot_ompl.viz.labels import text_box
+
+    fig = plan_figure(_crowded_plan())
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    boxes = [text_box(t, renderer) for t in fig.axes[0].texts if t.get_text()]
+    plt.close(fig)
+    assert len(boxes) == 8  # four regrasps, four walks
+    for i, a in enumerate(boxes):
+        for b in boxes[i + 1:]:
+            assert not a.overlaps(b), (a, b)
+
+
+def test_plan_figure_explains_every_marker_beside_the_floor(plan, scene):
+    import matplotlib.pyplot as plt
+
+    fig = plan_figure(plan, scene=scene)
+    ax = fig.axes[0]
+    legend = ax.get_legend()
+    names = [t.get_text() for t in legend.get_texts()]
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    legend_box = legend.get_window_extent(renderer)
+    axes_box = ax.get_window_extent(renderer)
+    centre = [ln for ln in ax.lines if ln.get_label() == "box centre, grasp 0"]
+    plt.close(fig)
+    for name in ("start", "goal", "pivot corners", "box footprint on the way",
+                 "robot's stance as it grasps", "regrasp walk", "regrasp position",
+                 "box centre, grasp 0", "box centre, grasp 1"):
+        assert name in names
+    assert names.index("box centre, grasp 0") < names.index("box centre, grasp 1")
+    assert legend_box.x0 >= axes_box.x1  # beside the floor, never over the goal
+    first = plan.phases[0]
+    xs, ys = centre[0].get_data()
+    assert (xs[0], ys[0]) == pytest.approx(first.object_start[:2])
+    assert (xs[-1], ys[-1]) == pytest.approx(first.steps[-1].object[:2])

@@ -412,9 +412,9 @@ def test_cli_replay_warns_without_scene(samples, tmp_path, caplog):
 
 
 def test_cli_replay_finds_scene_by_name(samples, tmp_path, monkeypatch, capsys):
-    import pivot_ompl.cli.replay as replay_cli
+    import pivot_ompl.cli.scenes as scenes_cli
 
-    monkeypatch.setattr(replay_cli, "shipped_scenes", lambda: {"sample": samples.scene})
+    monkeypatch.setattr(scenes_cli, "shipped_scenes", lambda: {"sample": samples.scene})
     vis = recording_visualizer()
     monkeypatch.setattr("pivot_ompl.viz.recorder.recording_visualizer", lambda **k: vis)
     assert cli_main(["replay", str(samples.plan), "--html", str(tmp_path / "x.html")]) == 0

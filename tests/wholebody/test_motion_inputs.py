@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -11,6 +12,7 @@ from pivot_ompl.cli.main import main
 from pivot_ompl.errors import InputError
 from pivot_ompl.motionfile import load_motion
 from pivot_ompl.resources import urdf_path
+from pivot_ompl.scene import load_scene
 from pivot_ompl.viz.samples import write_urdf_motion
 from pivot_ompl.wholebody.motion_checks import check_motion
 
@@ -144,3 +146,22 @@ def test_one_sample_or_no_duration_is_refused(hrp2_arrays, tmp_path):
 def test_a_valid_motion_still_loads(hrp2_arrays, tmp_path):
     m = load_motion(save(tmp_path, hrp2_arrays))
     assert m.duration > 0 and len(m.t) == len(hrp2_arrays["t"])
+
+
+def test_the_check_table_says_which_way_each_check_passes(hrp2_arrays, tmp_path):
+    n = len(hrp2_arrays["t"])
+    rep = check_motion(load_motion(save(tmp_path, hrp2_arrays, phase=np.full(n, 999))),
+                       scene=load_scene("open"))
+    lines = rep.table().splitlines()
+    assert "passes" in lines[0] and "limit" in lines[0]
+    rows = {line.split()[0]: line.split() for line in lines[1:1 + len(rep.results)]}
+    assert any(not r.passed for r in rep.results) and any(r.passed for r in rep.results)
+    for r in rep.results:
+        sense = rows[r.name][3]
+        assert sense in (">=", "<=")
+        if math.isfinite(r.value):
+            holds = r.value >= r.limit if sense == ">=" else r.value <= r.limit
+            assert holds == r.passed, (r.name, r.value, sense, r.limit)
+    legend = "\n".join(lines[1 + len(rep.results):])
+    for unit in {r.unit for r in rep.results}:
+        assert f"{unit} " in legend, unit  # every unit shown is explained

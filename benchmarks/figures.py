@@ -1,0 +1,215 @@
+"""The README's table of current figures, made by one command (``make figures``).
+
+Runs the benchmark scripts one after another (one planning process at a time, sized for the
+project's 2-core machine: about ten minutes), each writing its JSON into ``--out``, then prints
+one Markdown table, each row naming the script and arguments that produced it, and writes it
+to ``<out>/figures.md``. Usage::
+
+    python benchmarks/figures.py [--out results/figures] [--only plan_quality,scaling,...]
+
+Set ``PIVOT_BENCH_LOCK`` to a file to hold it (``flock``) while the table is made, so that two
+measuring runs never share the machine.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import fcntl
+import json
+import os
+import subprocess
+import sys
+import time
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+TREE = Path(__file__).resolve().parent
+PY = sys.executable
+
+#: Scenes of the plan-quality rows: fig10, two copies of it, the other shipped scenes.
+QUALITY_SCENES = "fig10,rot30,mirror,slot,door,t_junction,corridor,cluttered_room"
+
+
+@dataclass(frozen=True)
+class Step:
+    """One benchmark script run and how its JSON becomes rows ``(what, measured)``."""
+
+    name: str
+    script: str
+    args: tuple[str, ...]
+    rows: Callable[[Any], list[tuple[str, str]]]
+    out_is_dir: bool = False
+
+
+def _pct(x: float) -> str:
+    return f"{100 * x:.0f} %"
+
+
+def _quality_rows(d: dict) -> list[tuple[str, str]]:
+    out = []
+    for key, r in d["table"].items():
+        scene = key.split("/")[0]
+        out.append((f"plan quality: {scene}",
+                    f"{_pct(r['success'])} solved; regrasps {r['regrasps_median']} "
+                    f"(bound {r['bound_median']}, at the bound in {_pct(r['at_bound'])}); "
+                    f"{r['pivots_median']} pivots; route {r['route_ratio_median']:.2f} × "
+                    f"the bound; solve {r['solve_median']:.2f} s; whole body "
+                    f"~{r['duration_median']:.0f} s"))
+    return out
+
+
+def _scaling_rows(d: dict) -> list[tuple[str, str]]:
+    out = []
+    for key, r in d["table"].items():
+        cls, param = key.split("/")
+        what = (f"scaling: {param.replace('rooms=', '')} rooms in a row" if cls == "building"
+                else f"tight slots: {param.replace('clearance=', '')} m a side")
+        out.append((what, f"solved {r['solved']}/{r['runs']}; median {r['solve_median']:.2f} s, "
+                          f"p95 {r['solve_p95']:.2f} s"))
+    return out
+
+
+def _replanning_rows(d: dict) -> list[tuple[str, str]]:
+    out = []
+    for key, r in d["table"].items():
+        scene, event = key.split("/")
+        out.append((f"replanning: {scene}, {event}",
+                    f"warm {r['warm_median_s']:.2f} s ({r['warm_ok']}/{r['runs']} ok) vs fresh "
+                    f"{r['fresh_median_s']:.2f} s ({r['fresh_ok']}/{r['runs']}); ratio "
+                    f"{r['ratio']:.2f}; regrasps {r['warm_regrasps']} vs {r['fresh_regrasps']}"))
+    return out
+
+
+def _time_limit_rows(d: dict) -> list[tuple[str, str]]:
+    worst = max((r["max_ratio"] for r in d["rows"] if r["max_ratio"] is not None), default=0.0)
+    outs = sum(r["timeouts"] for r in d["rows"])
+    return [(f"time limit {d['time_limit']:g} s, shipped scenes, {d['seeds']} seeds",
+             f"wall time at most {worst:.2f} × the limit; {outs} runs ended as TIMEOUT")]
+
+
+def _steering_rows(d: dict) -> list[tuple[str, str]]:
+    push = ", ".join(f"l = {k} m {v:.1f} (ideal {d['ideal_per_m'][k]:.1f})"
+                     for k, v in d["straight_push_per_m"].items())
+    return [(f"Reeds–Shepp to pivots, {d['pairs']} pairs 0.1–6 m",
+             f"median {d['median_ms']:.2f} ms, p95 {d['p95_ms']:.2f} ms; "
+             f"{d['rotations_per_m']:.1f} rotations/m"),
+            ("straight 8 m push, rotations per metre", push)]
+
+
+def _validation_rows(d: dict) -> list[tuple[str, str]]:
+    return [(f"{d['scene']} state and motion checks",
+             f"{d['state_checks_per_s'] / 1000:.0f} k states/s; "
+             f"{d['motion_checks_per_s']:.0f} motions/s ({_pct(d['coal_fraction'])} in coal)")]
+
+
+def _walking_rows(d: dict) -> list[tuple[str, str]]:
+    out = [(f"transit query: {r['scene']}",
+            f"median {r['median_ms']:.1f} ms, p95 {r['p95_ms']:.1f} ms, {r['queries']} queries")
+           for r in d["transit"]]
+    return out
+
+
+def _versus_ompl_rows(d: dict) -> list[tuple[str, str]]:
+    cells = [f"{r['planner']} {_pct(r['success'])} solved, median {r['median_time']:.2f} s"
+             for r in d["rows"]]
+    return [(f"{Path(d['scene']).stem}, {d['runs']} runs of {d['time_limit']:g} s: ours and "
+             "OMPL's on the same space", "; ".join(cells)
+             + " (OMPL's planners cannot change grasp)")]
+
+
+def _wholebody_rows(d: dict) -> list[tuple[str, str]]:
+    return [(f"whole-body motion of the fig10 plan ({d['motion_duration_s']:.0f} s)",
+             f"{d['real_time_factor']:.1f}× real time; ZMP margin "
+             f"{1000 * d['worst_zmp_margin_m']:.0f} mm; hand error "
+             f"{1000 * d['max_hand_error_m']:.2f} mm; checks "
+             f"{'pass' if d['checks_passed'] else 'FAIL'}")]
+
+
+STEPS = (
+    Step("plan_quality", "plan_quality.py",
+         ("--seeds", "5", "--time", "30", "--scenes", QUALITY_SCENES), _quality_rows),
+    Step("scaling", "scaling.py", ("--rooms", "1,4,8,16", "--clearances", "0.1,0.05,0.03",
+                                   "--seeds", "2", "--time", "60", "--no-bound"),
+         _scaling_rows),
+    Step("replanning", "replanning.py", ("--points", "3", "--time", "10",
+                                         "--scenes", "fig10,slot"), _replanning_rows),
+    Step("time_limit", "time_limit.py", ("--seeds", "3"), _time_limit_rows),
+    Step("steering", "steering.py", ("--pairs", "300"), _steering_rows),
+    Step("validation", "validation.py", ("--n", "500"), _validation_rows),
+    Step("walking", "walking.py", ("--poses", "10", "--runs", "0",
+                                   "--walk-scenes", "door,t_junction,fig10"), _walking_rows),
+    Step("versus_ompl", "regrasp.py", ("--planners", "regrasp,rrtconnect,kpiece1", "--runs",
+                                       "3", "--time", "10", "--workers", "1"),
+         _versus_ompl_rows, out_is_dir=True),
+    Step("wholebody", "wholebody.py", ("{fig10_plan}",), _wholebody_rows),
+)
+
+
+@contextlib.contextmanager
+def _machine_lock() -> Iterator[None]:
+    """Hold ``$PIVOT_BENCH_LOCK`` (``flock``) when it is set."""
+    path = os.environ.get("PIVOT_BENCH_LOCK")
+    if not path:
+        yield
+        return
+    with open(path, "a") as f:
+        fcntl.flock(f, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(f, fcntl.LOCK_UN)
+
+
+def _fig10_plan(out: Path) -> Path:
+    plan = out / "fig10_plan.json"
+    subprocess.run([PY, "-m", "pivot_ompl", "plan", "fig10", "--time", "60", "--seed", "0",
+                    "--out", str(plan)], check=True, stdout=subprocess.DEVNULL)
+    return plan
+
+
+def run(out: Path, only: set[str] | None) -> str:
+    """Run the steps, return the Markdown table."""
+    out.mkdir(parents=True, exist_ok=True)
+    lines = ["| what | measured | command |", "|---|---|---|"]
+    plan: Path | None = None
+    for step in STEPS:
+        if only and step.name not in only:
+            continue
+        target = out / (step.name if step.out_is_dir else f"{step.name}.json")
+        args = step.args
+        if "{fig10_plan}" in args:
+            plan = plan or _fig10_plan(out)
+            args = tuple(str(plan) if a == "{fig10_plan}" else a for a in args)
+        cmd = [PY, str(TREE / step.script), *args, "--out", str(target)]
+        t0 = time.perf_counter()
+        print(f"[{step.name}] {' '.join(cmd[1:])}", flush=True)
+        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+        print(f"[{step.name}] {time.perf_counter() - t0:.0f} s", flush=True)
+        data = json.loads(((target / "regrasp_table.json") if step.out_is_dir
+                           else target).read_text())
+        shown = " ".join(a if a != str(plan) else "PLAN" for a in args)
+        for what, measured in step.rows(data):
+            lines.append(f"| {what} | {measured} | `python benchmarks/{step.script} {shown}` |")
+    return "\n".join(lines) + "\n"
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", type=Path, default=Path("results/figures"))
+    ap.add_argument("--only", default="", help="comma-separated step names: "
+                    + ",".join(s.name for s in STEPS))
+    args = ap.parse_args()
+    only = {s for s in args.only.split(",") if s} or None
+    t0 = time.perf_counter()
+    with _machine_lock():
+        table = run(args.out, only)
+    (args.out / "figures.md").write_text(table)
+    print(table)
+    print(f"{time.perf_counter() - t0:.0f} s; written {args.out}/figures.md")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,113 @@
+"""Local repair of a plan's route from an observed state (seeded slot plan)."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+
+import pytest
+from factories import shipped
+
+from pivot_ompl.base.path_conversion import path_to_plan
+from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.planfile import TransferPhase, plan_from_dict
+from pivot_ompl.planners.repair import join_points, repair_route, route_of
+from pivot_ompl.scene import BoxObstacle
+from pivot_ompl.session import PlanningSession
+from pivot_ompl.validity.plan_check import check_plan
+
+
+@pytest.fixture(scope="module")
+def slot_plan():
+    res = PlanningSession(shipped("slot"), seed=0).plan(time_limit=30.0)
+    assert res.solved
+    return plan_from_dict(json.loads(res.plan.to_text()))  # as a new process reads it
+
+
+def _drifted(plan, share, metres, degrees):
+    steps = [(st.object, ph.grasp) for ph in plan.phases if isinstance(ph, TransferPhase)
+             for st in ph.steps]
+    q, g = steps[int(share * (len(steps) - 1))]
+    c, s = math.cos(q[2]), math.sin(q[2])
+    return (q[0] + metres * c, q[1] + metres * s, q[2] + math.radians(degrees)), g
+
+
+def test_the_route_field_is_the_path_the_plan_was_made_of(slot_plan):
+    route = route_of(slot_plan.extra["route"])
+    assert route[0][0] == pytest.approx(slot_plan.start)
+    assert route[-1][0] == pytest.approx(shipped("slot").goal)
+    ck = PivotChecker(shipped("slot"))
+    again = path_to_plan(shipped("slot"), ck, route)
+    assert again.pivots == slot_plan.pivots and again.regrasps == slot_plan.regrasps
+    pts = join_points(ck, route)
+    assert [p.along for p in pts] == sorted(p.along for p in pts)
+
+
+@pytest.mark.parametrize(("share", "metres", "degrees"), [(0.3, 0.05, 5.0), (0.8, 0.15, 15.0),
+                                                         (0.4, -0.04, -3.0)])
+def test_a_drift_is_repaired_into_a_plan_that_checks_and_arrives_exactly(
+        slot_plan, share, metres, degrees):
+    box, grasp = _drifted(slot_plan, share, metres, degrees)
+    scene = dataclasses.replace(shipped("slot"), start=box)
+    ck = PivotChecker(scene)
+    rep = repair_route(ck, route_of(slot_plan.extra["route"]), box, grasp)
+    assert rep is not None
+    assert rep.states[0] == (box, rep.states[0][1])
+    assert rep.states[-1][0] == scene.goal  # the route's own end: exact arrival
+    new = path_to_plan(scene, ck, rep.states)
+    report = check_plan(new, scene)  # the independent checker, on the observed scene
+    assert report.ok, report.problems
+    assert new.start == box
+
+
+def test_a_new_process_replans_by_repair_without_a_search(slot_plan):
+    box, grasp = _drifted(slot_plan, 0.5, 0.05, 5.0)
+    s = PlanningSession(shipped("slot"), seed=0, executing=slot_plan)
+    res = s.replan(box=box, grasp=grasp, time_limit=30.0)
+    assert res.solved and res.roadmap["repaired"] and res.search is None
+    assert check_plan(res.plan, s.scene).ok
+    assert res.plan.start == box and s.scene.start == box
+    box, grasp = _drifted(res.plan, 0.5, 0.03, 2.0)
+    again = s.replan(box=box, grasp=grasp)  # from its own route
+    assert again.roadmap["repaired"] and check_plan(again.plan, s.scene).ok
+
+
+def test_an_obstacle_on_the_route_ahead_is_never_kept(slot_plan):
+    route = route_of(slot_plan.extra["route"])
+    (qa, g), (qb, _) = route[-2], route[-1]  # the last transfer edge
+    mid = ((qa[0] + qb[0]) / 2, (qa[1] + qb[1]) / 2)
+    block = BoxObstacle(mid, (0.3, 0.3), 0.0, 1.0)
+    box, grasp = _drifted(slot_plan, 0.2, 0.05, 5.0)
+    base = shipped("slot")
+    scene = dataclasses.replace(base, start=box, obstacles=base.obstacles + (block,))
+    ck = PivotChecker(scene)
+    assert not ck.transfer(qa, qb, g).valid  # the change does cut the old route
+    rep = repair_route(ck, route, box, grasp, seed=0)
+    if rep is not None:  # a detour round the block, or nothing
+        assert check_plan(path_to_plan(scene, ck, rep.states), scene).ok
+    s = PlanningSession(base, seed=0, executing=slot_plan)
+    res = s.replan(box=box, grasp=grasp, add_obstacles=[block], time_limit=30.0)
+    if res.solved:
+        assert check_plan(res.plan, s.scene).ok
+
+
+def test_only_the_edges_a_new_obstacle_touches_are_checked_again(slot_plan):
+    """A warm session keeps the route's untouched edges: the repair finds them cached."""
+    s = PlanningSession(shipped("slot"), seed=0)
+    first = s.plan(time_limit=30.0)
+    route = route_of(first.plan.extra["route"])
+    far = BoxObstacle((7.7, 4.7), (0.2, 0.2), 0.0, 1.0)  # a corner away from every edge
+    box, grasp = _drifted(first.plan, 0.5, 0.05, 5.0)
+    old = s._checker
+    res = s.replan(box=box, grasp=grasp, add_obstacles=[far], time_limit=30.0)
+    assert res.roadmap.get("repaired") and check_plan(res.plan, s.scene).ok
+    assert s._checker is not old
+    kept = [k for k in old._edges if k in s._checker._edges and old._edges[k].valid]
+    edges = [(a[0], b[0], a[1], True) for a, b in zip(route, route[1:], strict=False)
+             if a[1] == b[1]]
+    assert all(e in kept for e in edges)  # the far obstacle touches none of them
+    near = BoxObstacle((5.3, 1.5), (0.2, 0.2), 0.0, 1.0)
+    fresh = PivotChecker(s.scene)
+    fresh.adopt(s._checker, added=[near])
+    assert (route[-2][0], route[-1][0], route[-1][1], True) not in fresh._edges
