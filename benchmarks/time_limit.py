@@ -8,6 +8,16 @@ within 105 % of the limit. Run under ``flock /tmp/pivot-bench.lock``::
 
     python benchmarks/time_limit.py [--time 0.5] [--seeds 10] [--planner regrasp]
         [--scenes fig10,slot] [--out results/time_limit.json]
+
+``--largest`` (issue 28): the largest documented scenes, written as files and planned from
+the file so that reading counts (one 10 000-point polygon, six of them, 5000 cylinders,
+100 000 boxes and cylinders on a 200 m floor), at each limit of ``--limits`` (default 2,10),
+through ``plan(path)`` and through ``pivot-ompl plan path --out EXISTING`` (which must leave
+the existing file as it was): a table of the wall time and its overshoot of the limit
+(target: within +-5 %)::
+
+    python benchmarks/time_limit.py --largest [--limits 2,10] \
+        [--out results/time_limit_largest.json]
 """
 
 from __future__ import annotations
@@ -37,9 +47,130 @@ def worker(scene: str, planner: str, seeds: int, limit: float) -> None:
                           "wall": wall}), flush=True)
 
 
+def largest_scenes(folder: Path) -> dict[str, Path]:
+    """The largest documented scenes (README, *Files*), written into ``folder``."""
+    import yaml
+
+    rng = np.random.default_rng(0)
+
+    def star(n: int, cx: float, cy: float, r0: float, r1: float) -> list[list[float]]:
+        a = np.sort(rng.uniform(0, 2 * math.pi, n))
+        r = rng.uniform(r0, r1, n)
+        return [[float(cx + q * math.cos(t)), float(cy + q * math.sin(t))]
+                for t, q in zip(a, r, strict=True)]
+
+    def many(n: int, side: float) -> list[dict]:
+        obs: list[dict] = []
+        while len(obs) < n:
+            x, y = (float(v) for v in rng.uniform(0.5, side - 0.5, 2))
+            if math.hypot(x - 5, y - 5) < 4 or math.hypot(x - side + 5, y - side + 5) < 4:
+                continue
+            c = [round(x, 3), round(y, 3)]
+            obs.append({"type": "cylinder", "center": c, "radius": 0.1, "height": 1.0}
+                       if len(obs) % 2 else
+                       {"type": "box", "center": c, "size": [0.2, 0.2], "yaw": 0.3,
+                        "height": 1.0})
+        return obs
+
+    box = {"object": {"size": [0.8, 0.4, 1.0]}}
+    docs = {
+        "polygon_10k": dict(box, bounds=[0, 0, 20, 20], start=[2, 2, 0], goal=[18, 18, 0],
+                            obstacles=[{"type": "polygon", "points": star(10_000, 10, 10, 3, 5),
+                                        "height": 1.0}]),
+        "polygons_6x10k": dict(box, bounds=[0, 0, 30, 20], start=[1, 1, 0], goal=[29, 19, 0],
+                               obstacles=[{"type": "polygon", "height": 1.0,
+                                           "points": star(10_000, 5 + 10 * (i % 3),
+                                                          6 + 8 * (i // 3), 2, 3.5)}
+                                          for i in range(6)]),
+        "cylinders_5k": dict(box, bounds=[0, 0, 40, 40], start=[5, 5, 0], goal=[35, 35, 0],
+                             obstacles=many(5000, 40)),
+        "obstacles_100k": dict(box, bounds=[0, 0, 200, 200], start=[5, 5, 0],
+                               goal=[195, 195, 0], obstacles=many(100_000, 200)),
+    }
+    out = {}
+    for name, doc in docs.items():
+        out[name] = folder / f"{name}.yaml"
+        out[name].write_text(yaml.safe_dump({"name": name, **doc}))
+    return out
+
+
+def largest_worker(entry: str, path: str, limit: float) -> None:
+    """One run of ``plan(path)`` (``api``) or of ``pivot-ompl plan path --out EXISTING``
+    (``cli``, in this process after its imports: the limit covers the verb's work, not the
+    interpreter's start), printed as one JSON line."""
+    import tempfile
+
+    from pivot_ompl.api import plan
+    from pivot_ompl.cli.main import build_parser
+    from pivot_ompl.cli.main import main as cli
+
+    build_parser()  # imports every verb's module once
+    if entry == "api":
+        t0 = time.perf_counter()
+        r = plan(path, time_limit=limit, seed=0, bound=False)
+        wall = time.perf_counter() - t0
+        print(json.dumps({"status": r.status, "wall": wall, "setup": r.timings["setup"],
+                          "stopped": r.plan.extra.get("stopped")}), flush=True)
+        return
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "plan.json"
+        out.write_text("an existing file\n")
+        t0 = time.perf_counter()
+        code = cli(["plan", path, "--time", str(limit), "--no-bound", "--out", str(out)])
+        wall = time.perf_counter() - t0
+        kept = out.read_text() == "an existing file\n"
+    print(json.dumps({"status": f"exit {code}", "wall": wall, "kept": kept}), flush=True)
+
+
+def largest(limits: list[float], out: str) -> None:
+    """The table of ``--largest``: every scene class, entry and limit in a fresh process."""
+    import tempfile
+
+    sys.path.insert(0, str(TREE))
+    from common import write_json
+
+    rows = []
+    print(f"{'scene class':<16} {'entry':<5} {'limit s':>7} {'wall s':>7} {'overshoot':>9}  "
+          f"result")
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, path in largest_scenes(Path(tmp)).items():
+            for limit in limits:
+                for entry in ("api", "cli"):
+                    p = subprocess.run([sys.executable, str(Path(__file__).resolve()),
+                                        "--largest-worker", entry, str(path), str(limit)],
+                                       capture_output=True, text=True,
+                                       timeout=limit * 3 + 120)
+                    got = [json.loads(ln) for ln in p.stdout.splitlines()
+                           if ln.startswith("{")]
+                    if not got:
+                        print(f"{name:<16} {entry:<5} {limit:>7.3g} failed: {p.stderr[-300:]}")
+                        continue
+                    r = {"scene": name, "entry": entry, "limit": limit, **got[0],
+                         "overshoot": got[0]["wall"] / limit - 1.0}
+                    rows.append(r)
+                    detail = (f"{r['status']}, stopped in {r['stopped'] or 'the search'}"
+                              if entry == "api" else
+                              f"{r['status']}, existing --out "
+                              f"{'kept' if r['kept'] else 'REPLACED'}")
+                    print(f"{name:<16} {entry:<5} {limit:>7.3g} {r['wall']:>7.2f} "
+                          f"{100 * r['overshoot']:>+8.1f}%  {detail}", flush=True)
+    write_json({"limits": limits, "rows": rows}, out)
+
+
 def main() -> None:
     if len(sys.argv) > 1 and sys.argv[1] == "--worker":
         worker(sys.argv[2], sys.argv[3], int(sys.argv[4]), float(sys.argv[5]))
+        return
+    if len(sys.argv) > 1 and sys.argv[1] == "--largest-worker":
+        largest_worker(sys.argv[2], sys.argv[3], float(sys.argv[4]))
+        return
+    if "--largest" in sys.argv:
+        ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+        ap.add_argument("--largest", action="store_true")
+        ap.add_argument("--limits", default="2,10")
+        ap.add_argument("--out", default="results/time_limit_largest.json")
+        args = ap.parse_args()
+        largest([float(v) for v in args.limits.split(",")], args.out)
         return
     sys.path.insert(0, str(TREE))
     from common import write_json

@@ -17,7 +17,7 @@ from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.base.problem import make_setup
 from pivot_ompl.base.state import read_state
 from pivot_ompl.checking.pivot_checker import PivotChecker
-from pivot_ompl.errors import InputError, PlanningError, counted
+from pivot_ompl.errors import InputError, Interrupted, PlanningError, counted
 from pivot_ompl.planfile import Plan, plan_quality
 from pivot_ompl.planners import (
     OMPL_PLANNERS,
@@ -64,6 +64,8 @@ class PlanResult:
         roadmap: planner figures (roadmap sizes, critical configurations...), if any.
         motion_checks: counts of valid and invalid motions and cache hits.
         search: the regrasp planner's roadmaps (for plotting), ``None`` for other planners.
+        scene: the scene planned (read from its file when :func:`plan` was given a path;
+            ``None`` when the time limit ran out while it was read).
     """
 
     status: str
@@ -75,6 +77,7 @@ class PlanResult:
     roadmap: dict[str, Any] = field(default_factory=dict)
     motion_checks: dict[str, int] = field(default_factory=dict)
     search: Any = field(default=None, repr=False)
+    scene: Scene | None = field(default=None, repr=False)
 
     @property
     def solved(self) -> bool:
@@ -145,12 +148,21 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     config = _check_config(config, regrasp_cost)
     started = time.monotonic()  # the time limit counts from here: loading and setup included
     t0 = time.perf_counter()
-    if not isinstance(scene, Scene):
-        scene = load_scene(scene)
-    base = parse_spec(planner)[0]
-    if base in OMPL_PLANNERS:
-        seed_ompl(seed)
-    problem = make_setup(scene, seed=seed, checker=checker)
+    deadline = started + time_limit
+
+    def out_of_time() -> bool:
+        return time.monotonic() >= deadline
+
+    try:
+        if not isinstance(scene, Scene):
+            scene = load_scene(scene, deadline=deadline)
+        base = parse_spec(planner)[0]
+        if base in OMPL_PLANNERS:
+            seed_ompl(seed)
+        problem = make_setup(scene, seed=seed, checker=checker, should_stop=out_of_time)
+    except Interrupted as e:
+        return _stopped_in_setup(scene, planner, seed, time_limit, e.what,
+                                 time.perf_counter() - t0)
     ss = problem.setup
     p = make_planner(planner, problem, seed=seed, config=config)
     if isinstance(p, RegraspPlanner):
@@ -180,7 +192,24 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
              counted(result_plan.pivots, "pivot"), counted(result_plan.regrasps, "regrasp"))
     return PlanResult(name, result_plan, planner, seed, time_limit, timings, stats,
                       {"valid": c.valid, "invalid": c.invalid, "cache_hits": c.cache_hits},
-                      getattr(p, "last_search", None))
+                      getattr(p, "last_search", None), scene)
+
+
+def _stopped_in_setup(scene: Scene | str | os.PathLike, planner: str, seed: int,
+                      time_limit: float, what: str, spent: float) -> PlanResult:
+    """The ``TIMEOUT`` result of a time limit reached before the search (``what`` stopped)."""
+    log.warning("the %.4g s limit ran out while %s: no search", time_limit, what)
+    extra = {"planner": planner, "seed": seed, "time_limit": time_limit, "stopped": what}
+    if isinstance(scene, Scene):
+        m = scene.model
+        empty = Plan(scene.name, "none", m.object_size, m.robot_footprint, m.standoff,
+                     scene.alpha_max, scene.start, [], extra)
+    else:  # stopped while reading the scene: nothing of it is known
+        empty = Plan(Path(scene).stem, "none", (0.0, 0.0, 0.0), (0.0, 0.0), 0.0, 0.0,
+                     (0.0, 0.0, 0.0), [], extra)
+    timings = {"setup": spent, "solve": 0.0, "convert": 0.0}
+    return PlanResult("TIMEOUT", empty, planner, seed, time_limit, timings,
+                      scene=scene if isinstance(scene, Scene) else None)
 
 
 def plan_from_route(scene: Scene, checker: PivotChecker, states: list[State], *,

@@ -8,6 +8,7 @@ long as any of its OMPL objects is used.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -67,11 +68,16 @@ class PivotProblem:
 
 
 def make_problem(scene: Scene, *, seed: int = 0, grasp_weight: float = GRASP_WEIGHT,
-                 checker: PivotChecker | None = None) -> PivotProblem:
-    """Build the space, space information, validity checker and motion validator of a scene."""
+                 checker: PivotChecker | None = None,
+                 should_stop: Callable[[], bool] | None = None) -> PivotProblem:
+    """Build the space, space information, validity checker and motion validator of a scene.
+
+    Raises:
+        Interrupted: ``should_stop()`` became true while the checker was built.
+    """
+    checker = checker or PivotChecker(scene, seed=seed, should_stop=should_stop)
     space = make_space(scene, grasp_weight=grasp_weight)
     si = ob.SpaceInformation(space)
-    checker = checker or PivotChecker(scene, seed=seed)
     validity = PivotValidityChecker(si, checker)
     motion = PivotMotionValidator(si, checker)
     si.setStateValidityChecker(validity)
@@ -84,7 +90,8 @@ def make_problem(scene: Scene, *, seed: int = 0, grasp_weight: float = GRASP_WEI
 
 def make_setup(scene: Scene, *, seed: int = 0, grasp_weight: float = GRASP_WEIGHT,
                start_grasp: int | None = None, goal_grasp: int | None = None,
-               checker: PivotChecker | None = None) -> PivotProblem:
+               checker: PivotChecker | None = None,
+               should_stop: Callable[[], bool] | None = None) -> PivotProblem:
     """The :class:`PivotProblem` of ``scene`` with its ``og.SimpleSetup`` (``problem.ss``).
 
     The start states are the start pose with every grasp valid there (or ``start_grasp``
@@ -92,11 +99,15 @@ def make_setup(scene: Scene, *, seed: int = 0, grasp_weight: float = GRASP_WEIGH
     ``goal_grasp`` alone). ``checker``: a checker of the same geometry to validate through
     (its caches of checked motions are reused; a planning session passes its own).
 
+    ``should_stop``: polled while the checker's collision world is built (a time limit).
+
     Raises:
         PlanningError: no grasp is valid at the start (``INVALID_START``) or goal
             (``INVALID_GOAL``).
+        Interrupted: ``should_stop()`` became true.
     """
-    problem = make_problem(scene, seed=seed, grasp_weight=grasp_weight, checker=checker)
+    problem = make_problem(scene, seed=seed, grasp_weight=grasp_weight, checker=checker,
+                           should_stop=should_stop)
     ss = og.SimpleSetup(problem.si)
     ck = problem.checker
     starts = [g for g in range(4) if ck.state_valid(scene.start, g)]

@@ -71,12 +71,16 @@ class PivotChecker:
     transfers: TransferCheck
     counters: MotionCounters
 
-    def __init__(self, scene: Scene, *, seed: int = 0, tolerance: float = SWEEP_TOLERANCE
-                 ) -> None:
-        """Build the collision world, the steering method and the walk planner."""
+    def __init__(self, scene: Scene, *, seed: int = 0, tolerance: float = SWEEP_TOLERANCE,
+                 should_stop: Callable[[], bool] | None = None) -> None:
+        """Build the collision world, the steering method and the walk planner.
+
+        Raises:
+            Interrupted: ``should_stop()`` became true while the world was built.
+        """
         self.scene, self.seed, self.tolerance = scene, seed, tolerance
         self.model = scene.model
-        self.world = CollisionWorld.from_scene(scene)
+        self.world = CollisionWorld.from_scene(scene, should_stop=should_stop)
         self.steering = PivotSteering(turning_radius=scene.turning_radius,
                                       alpha_max=scene.alpha_max)
         self.walker = WalkPlanner(scene.model, self.world, scene.walk, tolerance=tolerance)

@@ -19,7 +19,7 @@ from pivot_ompl.cost import REGRASP_COST
 from pivot_ompl.errors import PlanningError, counted
 from pivot_ompl.fileio import atomic_outputs
 from pivot_ompl.planners import PLANNERS
-from pivot_ompl.scene import load_scene
+from pivot_ompl.scene import scene_path
 
 log = logging.getLogger(__name__)
 
@@ -89,14 +89,14 @@ def quality_line(q: dict) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Plan, write the plan and the figure."""
-    scene = load_scene(args.scene)
-    out, fig = output_files([scene.source], figures=["plot"], out=args.out, plot=args.plot)
+    """Plan, write the plan and the figure (``--time`` covers reading the scene too)."""
+    source = scene_path(args.scene)
+    out, fig = output_files([source], figures=["plot"], out=args.out, plot=args.plot)
     stop = threading.Event()
     th = threading.Thread(target=_progress, args=(stop, args.time), daemon=True)
     th.start()
     try:
-        res = plan(scene, planner=args.planner, time_limit=args.time, seed=args.seed,
+        res = plan(source, planner=args.planner, time_limit=args.time, seed=args.seed,
                    regrasp_cost=args.regrasp_cost, bound=not args.no_bound)
     except PlanningError as e:
         stop.set()
@@ -119,7 +119,7 @@ def run(args: argparse.Namespace) -> int:
             tmp_out.write_text(res.plan.to_text(folder=out.parent), encoding="utf-8")
         if tmp_fig:
             from pivot_ompl.viz.plan_figure import plot_plan
-            plot_plan(res.plan, tmp_fig, scene=scene, search=res.search)
+            plot_plan(res.plan, tmp_fig, scene=res.scene, search=res.search)
     if out:
         print(f"plan written to {out}")
     if fig:

@@ -182,8 +182,10 @@ class RegraspSearch:
         region = self.sampler.region()
         seeded = PoseIndex(rm)
         found = sorted(found, key=lambda p: p.width)
-        for q in slot_poses(self.checker, found, spacing=sc.slot_spacing,
-                            approach=sc.slot_approach, should_stop=should_stop):
+        for k, q in enumerate(slot_poses(self.checker, found, spacing=sc.slot_spacing,
+                                         approach=sc.slot_approach, should_stop=should_stop)):
+            if k % 64 == 63 and should_stop():  # thousands of slot poses on large floors
+                break
             if region is not None and not shapely.contains_xy(region, q[0], q[1]):
                 continue
             near = seeded.nearest(q, 1)

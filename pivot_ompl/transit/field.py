@@ -145,7 +145,7 @@ class FloorField:
                 if should_stop is not None and should_stop():
                     raise Interrupted("walking floor field")
                 k1 = min(len(OPEN_YAWS), k0 + YAW_CHUNK)
-                for fits in self.fits_range(k0, k1):
+                for fits in self.fits_range(k0, k1, should_stop):
                     ok |= fits
                 self.yaws_done = k1
             chunk = max(1, GRAPH_CHUNK // self.ny)  # grid rows per poll
@@ -191,13 +191,19 @@ class FloorField:
         """
         return self.fits_range(k, k + 1)[0]
 
-    def fits_range(self, k0: int, k1: int) -> list[np.ndarray]:
-        """:meth:`fits_index` of ``k0 .. k1 - 1``, those not kept yet computed together."""
+    def fits_range(self, k0: int, k1: int, should_stop: Callable[[], bool] | None = None
+                   ) -> list[np.ndarray]:
+        """:meth:`fits_index` of ``k0 .. k1 - 1``, those not kept yet computed together.
+
+        Raises:
+            Interrupted: ``should_stop()`` became true (polled while the obstacle pieces and
+                the body are summed, :func:`~pivot_ompl.validity.footprints.meeting_edges`).
+        """
         todo = [k for k in range(k0, k1) if k not in self._fits]
         if todo:
             xs, ys = self.grid_x[:, 0], self.grid_y[0, :]
             n = len(self.pieces)
-            meets = grid_union(self._static_edges(todo), xs, ys,
+            meets = grid_union(self._static_edges(todo, should_stop), xs, ys,
                                groups=np.repeat(np.arange(len(todo)), n), n_groups=len(todo)) \
                 if n else np.zeros((len(todo), self.nx, self.ny), dtype=bool)
             b = self.world.bounds
@@ -211,7 +217,8 @@ class FloorField:
                 self._fits[k] = inside & ~hit
         return [self._fits[k] for k in range(k0, k1)]
 
-    def _static_edges(self, yaws: list[int]) -> EdgeSet:
+    def _static_edges(self, yaws: list[int], should_stop: Callable[[], bool] | None = None
+                      ) -> EdgeSet:
         """Where the grown body meets each obstacle piece, at the yaws ``OPEN_YAWS[k]``.
 
         Polygon ``j * len(pieces) + i``: piece ``i`` at yaw ``OPEN_YAWS[yaws[j]]`` (summed at
@@ -224,7 +231,7 @@ class FloorField:
             c, s = math.cos(OPEN_YAWS[k]), math.sin(OPEN_YAWS[k])
             body = self.grown_outline @ np.array([[c, -s], [s, c]]).T
             bodies.extend([body] * len(self.pieces))
-        return meeting_edges(self.pieces * len(yaws), bodies)
+        return meeting_edges(self.pieces * len(yaws), bodies, should_stop=should_stop)
 
     def open_with_box(self, obj: Pose,
                       should_stop: Callable[[], bool] | None = None) -> np.ndarray:

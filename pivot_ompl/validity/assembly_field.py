@@ -103,17 +103,18 @@ class AssemblyField:
         At grasp parity ``parity`` and yaw ``FIELD_YAWS[k]``.
 
         Raises:
-            Interrupted: ``should_stop()`` said stop before it was computed.
+            Interrupted: ``should_stop()`` said stop before or while it was computed.
         """
         key = (parity % 2, k % len(FIELD_YAWS))
         v = self._fits.get(key)
         if v is None:
             if should_stop is not None and should_stop():
                 raise Interrupted("assembly field")
-            v = self._fits[key] = self._compute(*key)
+            v = self._fits[key] = self._compute(*key, should_stop)
         return v
 
-    def _compute(self, parity: int, k: int) -> np.ndarray:
+    def _compute(self, parity: int, k: int, should_stop: Callable[[], bool] | None
+                 ) -> np.ndarray:
         yaw = FIELD_YAWS[k]
         c, s = math.cos(yaw), math.sin(yaw)
         rot = np.array([[c, -s], [s, c]]).T
@@ -126,7 +127,8 @@ class AssemblyField:
         if n:
             bodies = [body @ rot for body in self._bodies[parity]]
             edges = meeting_edges(self._pieces * len(bodies),
-                                  [bd for bd in bodies for _ in range(n)])
+                                  [bd for bd in bodies for _ in range(n)],
+                                  should_stop=should_stop)
             hit = grid_union(edges, xs, ys, groups=np.zeros(n * len(bodies), dtype=int),
                              n_groups=1)[0]
             ok &= ~hit

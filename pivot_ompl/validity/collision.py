@@ -1,8 +1,10 @@
 """Collision and clearance with coal: obstacles as prisms, the box and the robot as boxes.
 
 Obstacles are vertical prisms standing on the floor: a box obstacle is a ``coal.Box``, a
-cylinder a ``coal.Cylinder``, a polygon is triangulated (ear clipping, so non-convex polygons
-work) into convex triangular prisms (``coal.Convex``). All obstacles live in one
+cylinder a ``coal.Cylinder``, a polygon is triangulated (GEOS's constrained Delaunay
+triangulation, :func:`~pivot_ompl.se2.triangulate`, so non-convex polygons work) into
+triangular prisms (``coal.Convex`` built from their faces, flat triangles of spikes thinner than
+round-off included: a polygon collides exactly as shapely draws it). All obstacles live in one
 ``DynamicAABBTreeCollisionManager`` so a query costs one call. The box is its 3-D shape standing
 on the floor. The robot has two bodies:
 
@@ -18,11 +20,13 @@ on the floor. The robot has two bodies:
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import coal
 import numpy as np
 
+from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Obstacle, PolygonObstacle, Scene
 from pivot_ompl.se2 import Pose, triangulate
@@ -58,8 +62,39 @@ def _prism(points: list[tuple[float, float]], height: float) -> coal.Convex:
     return coal.Convex.convexHull(verts, False, "")
 
 
-def obstacle_objects(obstacle: Obstacle) -> list[coal.CollisionObject]:
-    """The coal collision objects of one obstacle (several for a non-convex polygon)."""
+#: Faces of a triangular prism over the corners 0, 1, 2 (bottom) and 3, 4, 5 (top).
+_TRIANGLE_PRISM_FACES = ((0, 2, 1), (3, 4, 5), (0, 1, 4), (0, 4, 3), (1, 2, 5), (1, 5, 4),
+                         (2, 0, 3), (2, 3, 5))
+
+
+def _triangle_prism(corners: list[tuple[float, float]], height: float) -> coal.Convex:
+    """The prism over a triangle, built from its faces.
+
+    No convex hull (qhull crashed the process on triangles thinner than about 1e-8 m), and a
+    flat triangle is a flat prism that coal still measures exactly.
+    """
+    verts = coal.StdVec_Vec3s()
+    for z in (0.0, height):
+        for x, y in corners:
+            verts.append(np.array([x, y, z]))
+    faces = coal.StdVec_Triangle()
+    for f in _TRIANGLE_PRISM_FACES:
+        faces.append(coal.Triangle(*f))
+    return coal.Convex(verts, faces)
+
+
+#: Triangles of a polygon built between two polls of ``should_stop``.
+POLL_TRIANGLES = 500
+
+
+def obstacle_objects(obstacle: Obstacle, should_stop: Callable[[], bool] | None = None
+                     ) -> list[coal.CollisionObject]:
+    """The coal collision objects of one obstacle (several for a non-convex polygon).
+
+    Raises:
+        Interrupted: ``should_stop()`` became true (polled while a polygon is triangulated
+            and every :data:`POLL_TRIANGLES` of its triangles).
+    """
     if isinstance(obstacle, BoxObstacle):
         shape = coal.Box(obstacle.size[0], obstacle.size[1], obstacle.height)
         return [coal.CollisionObject(shape, _transform(*obstacle.center, obstacle.yaw,
@@ -70,9 +105,14 @@ def obstacle_objects(obstacle: Obstacle) -> list[coal.CollisionObject]:
                                                        0.5 * obstacle.height))]
     if isinstance(obstacle, PolygonObstacle):
         out = []
-        for a, b, c in triangulate(obstacle.points):
+        tris = triangulate(obstacle.points, flat=True, should_stop=should_stop)
+        for k, (a, b, c) in enumerate(tris):
+            if should_stop is not None and k % POLL_TRIANGLES == POLL_TRIANGLES - 1 \
+                    and should_stop():
+                raise Interrupted("building the collision world")
             tri = [obstacle.points[a], obstacle.points[b], obstacle.points[c]]
-            out.append(coal.CollisionObject(_prism(tri, obstacle.height), coal.Transform3s()))
+            out.append(coal.CollisionObject(_triangle_prism(tri, obstacle.height),
+                                            coal.Transform3s()))
         return out
     raise TypeError(f"unknown obstacle {obstacle!r}")
 
@@ -126,18 +166,33 @@ class CollisionWorld:
         self.queries = 0
 
     @classmethod
-    def from_scene(cls, scene: Scene, *, clearance: float = KEEP_CLEARANCE) -> CollisionWorld:
-        """Build the world of a scene (bodies keep ``clearance`` m from obstacles)."""
+    def from_scene(cls, scene: Scene, *, clearance: float = KEEP_CLEARANCE,
+                   should_stop: Callable[[], bool] | None = None) -> CollisionWorld:
+        """Build the world of a scene (bodies keep ``clearance`` m from obstacles).
+
+        Raises:
+            Interrupted: ``should_stop()`` became true (polled before every obstacle and
+                while a polygon is built, :func:`obstacle_objects`).
+        """
         world = cls(scene.model, scene.bounds, clearance)
         for o in scene.obstacles:
-            world.add_obstacle(o)
+            if should_stop is not None and should_stop():
+                raise Interrupted("building the collision world")
+            world.add_obstacle(o, should_stop)
         world.setup()
         return world
 
-    def add_obstacle(self, obstacle: Obstacle) -> None:
-        """Add a static obstacle (call :meth:`setup` after the last one)."""
+    def add_obstacle(self, obstacle: Obstacle,
+                     should_stop: Callable[[], bool] | None = None) -> None:
+        """Add a static obstacle (call :meth:`setup` after the last one).
+
+        Raises:
+            Interrupted: ``should_stop()`` became true (:func:`obstacle_objects`); the
+                obstacle is not added.
+        """
+        objects = obstacle_objects(obstacle, should_stop)
         self.obstacles.append(obstacle)
-        for obj in obstacle_objects(obstacle):
+        for obj in objects:
             self._objects.append(obj)
             self._manager.registerObject(obj)
 

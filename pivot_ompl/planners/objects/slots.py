@@ -28,7 +28,7 @@ from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planners.objects.roadmap import canonical
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose
-from pivot_ompl.validity.footprints import obstacle_footprint
+from pivot_ompl.validity.footprints import obstacle_footprints
 
 
 @dataclass(frozen=True)
@@ -74,7 +74,7 @@ def find_passages(scene: Scene, *, min_width: float, max_width: float,
     shortest segment. Sides meeting at a corner, and obstacles touching, give none.
     ``should_stop`` is polled per obstacle: the passages found so far are returned.
     """
-    shapes = [obstacle_footprint(o) for o in scene.obstacles]
+    shapes = obstacle_footprints(scene.obstacles)
     shapes += _room_sides(scene.bounds, max(1.0, 2.0 * max_width))
     tree = shapely.STRtree(shapes)
     out: list[Passage] = []
