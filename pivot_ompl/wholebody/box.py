@@ -82,6 +82,15 @@ def quat_xyzw(R: np.ndarray) -> np.ndarray:
     return -q if q[3] < 0 else q
 
 
+def quats_xyzw(R: np.ndarray) -> np.ndarray:
+    """:func:`quat_xyzw` of each rotation matrix of ``R`` (N x 3 x 3): N x 4, w >= 0."""
+    from scipy.spatial.transform import Rotation
+
+    q = Rotation.from_matrix(np.asarray(R, dtype=float)).as_quat()  # x, y, z, w
+    q[q[:, 3] < 0] *= -1.0
+    return q
+
+
 def matrix_from_quat(q: np.ndarray) -> np.ndarray:
     """Rotation matrix of a quaternion (x, y, z, w)."""
     import pinocchio as pin
