@@ -97,17 +97,26 @@ class JointDamper:
         self._damped = np.array([j in damp for j in names], dtype=bool)
         self._any_smooth, self._all_smooth = bool(self._smooth.any()), bool(self._smooth.all())
         self._last: np.ndarray | None = None
+        # per-tick work on the damped joints only, the others bounded by their speed alone
+        di = np.nonzero(self._damped)[0]
+        self._di, self._lo_hi = di, np.concatenate((-self._lo[di], self._hi[di]))
+        self._sign = np.concatenate((np.ones(len(di)), -np.ones(len(di))))
+        self._lower, self._upper = self._lower_all.copy(), self._upper_all.copy()
 
     def apply(self) -> None:
         """Set this tick's limits from the joints' current positions (and last ones)."""
         delta = self.accel * self.dt * self.dt
-        robot, lo, hi, n = self.robot, self._lo, self._hi, len(self._lo)
-        q = np.asarray(robot.state.q)[self._iq]
-        step = braking_steps(np.concatenate((q - lo, hi - q)), delta)
-        room = np.concatenate((hi - lo, hi - lo))  # undamped joints: no braking
-        step = np.where(np.concatenate((self._damped, self._damped)), step, room)
-        low = np.maximum(lo, q - np.minimum(step[:n], self._step_max))
-        high = np.minimum(hi, q + np.minimum(step[n:], self._step_max))
+        q = np.asarray(self.robot.state.q)[self._iq]
+        nd = len(self._di)
+        down, up = self._step_max.copy(), self._step_max.copy()
+        if nd:
+            qd = q[self._di]
+            # distances to the lower and upper limits, then the braking steps
+            brake = braking_steps(self._sign * np.concatenate((qd, qd)) + self._lo_hi, delta)
+            down[self._di] = np.minimum(down[self._di], brake[:nd])
+            up[self._di] = np.minimum(up[self._di], brake[nd:])
+        low = np.maximum(self._lo, q - down)
+        high = np.minimum(self._hi, q + up)
         last, s = self._last, self._smooth
         if last is not None and self._any_smooth:
             coast = 2.0 * q - last  # where each joint goes at its present speed
@@ -126,6 +135,5 @@ class JointDamper:
 
     def _set(self, low: np.ndarray, high: np.ndarray) -> None:
         model = self.robot.model
-        lower, upper = self._lower_all.copy(), self._upper_all.copy()
-        lower[self._iq], upper[self._iq] = low, high
-        model.lowerPositionLimit, model.upperPositionLimit = lower, upper
+        self._lower[self._iq], self._upper[self._iq] = low, high  # the other entries: URDF's
+        model.lowerPositionLimit, model.upperPositionLimit = self._lower, self._upper
