@@ -63,3 +63,18 @@ def test_labels_and_support() -> None:
     """Labels repeat the tick before; a sample between double and single support is single."""
     assert sample_labels(np.array([0, 0, 1]), 2).tolist() == [0, 0, 0, 0, 1]
     assert sample_support(np.array([0, 1, 1, 0, 2]), 2).tolist() == [0, 1, 1, 1, 1, 1, 0, 2, 2]
+
+
+def test_batch_quaternions_match_the_single_ones() -> None:
+    """``quats_xyzw`` (recording, vectorised) equals ``quat_xyzw`` matrix by matrix."""
+    from pivot_ompl.wholebody.box import quat_xyzw, quats_xyzw, rot_y, rot_z
+
+    rng = np.random.default_rng(3)
+    A = rng.normal(size=(300, 3, 3))
+    Rs = [np.linalg.qr(a)[0] * np.sign(np.linalg.det(np.linalg.qr(a)[0])) for a in A]
+    Rs += [np.eye(3), rot_z(np.pi), rot_y(np.pi), rot_z(3.0) @ rot_y(-0.087)]
+    q = quats_xyzw(np.array(Rs))
+    ref = np.array([quat_xyzw(R) for R in Rs])
+    assert np.all(q[:, 3] >= 0)
+    assert np.allclose(np.minimum(np.abs(q - ref).max(1), np.abs(q + ref).max(1)), 0,
+                       atol=1e-12)
