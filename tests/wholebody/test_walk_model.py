@@ -100,6 +100,8 @@ def test_animate_passes_the_scene_walk_model(tmp_path, monkeypatch):
     assert (walk.step_forward, walk.step_turn) == (0.1, 0.2) and dt == 0.005
     assert main([*args, "--tick", "0.01"]) == 2 and seen[-1][1] == 0.01
     assert main([*args, "--tick", "0.05"]) == 2 and len(seen) == 2  # refused before the work
+    assert main([*args, "--substeps", "9"]) == 2 and len(seen) == 2
+    assert main([*args, "--substeps", "0"]) == 2 and len(seen) == 2
 
 
 def test_a_longer_tick_samples_the_motion_at_it():
