@@ -68,6 +68,7 @@ def run(plan_path: Path | None, *, repeat: int, motion_out: Path | None) -> dict
         motion, stats = generate_motion(plan)
         runs.append({"duration_s": stats.duration, "compute_s": stats.compute,
                      "real_time_factor": stats.real_time_factor, "ticks": stats.ticks,
+                     "samples": stats.samples,
                      "max_hand_error_m": stats.max_hand_error})
     assert motion is not None
     t0 = time.perf_counter()

@@ -1,8 +1,10 @@
 """``pivot-ompl animate`` and ``pivot-ompl check-motion``: whole-body motion from a plan.
 
-* ``pivot-ompl animate PLAN.json --out motion.npz [--scene S] [--tick DT]``: generate the
+* ``pivot-ompl animate PLAN.json --out motion.npz [--scene S] [--tick DT] [--substeps N]``:
+  generate the
   HRP-2 whole-body motion (progress bar on stderr; footsteps within the scene's
-  ``robot.walk`` step limits; one QP every ``DT`` s, 5 ms by default), check it, write
+  ``robot.walk`` step limits; one sample every ``DT`` s, 5 ms by default, and one QP every
+  ``--substeps`` samples, 2 by default), check it, write
   it. Exit 1 with a message naming the phase and step when the solver fails or the motion
   fails its checks (nothing is written then).
 * ``pivot-ompl check-motion motion.npz [--plan PLAN.json] [--scene S]``: print the checks'
@@ -32,8 +34,10 @@ if TYPE_CHECKING:
 
 log = logging.getLogger(__name__)
 
-#: Solver ticks ``animate --tick`` accepts (s): the motion is sampled at the tick.
+#: Sampling periods ``animate --tick`` accepts (s).
 MIN_TICK, MAX_TICK = 0.002, 0.01
+#: Largest ``animate --substeps`` (samples per solver tick).
+MAX_SUBSTEPS = 4
 
 
 class ProgressBar:
@@ -81,11 +85,14 @@ def _animate(args: argparse.Namespace) -> int:
     bar = None if args.no_progress else ProgressBar("animate")
     if not MIN_TICK <= args.tick <= MAX_TICK:
         raise InputError("--tick", args.tick, f"must be in [{MIN_TICK}, {MAX_TICK}] s")
+    if not 1 <= args.substeps <= MAX_SUBSTEPS:
+        raise InputError("--substeps", args.substeps, f"must be in [1, {MAX_SUBSTEPS}]")
     motion, stats = generate_motion(plan, walk=None if scene is None else scene.walk,
-                                    dt=args.tick, tilt=math.radians(args.tilt_deg),
-                                    progress=bar)
+                                    dt=args.tick, substeps=args.substeps,
+                                    tilt=math.radians(args.tilt_deg), progress=bar)
     print(f"motion: {stats.duration:.2f} s in {stats.compute:.2f} s "
-          f"({stats.real_time_factor:.1f}x real time), {stats.ticks} samples, "
+          f"({stats.real_time_factor:.1f}x real time), {stats.samples} samples "
+          f"({stats.ticks} solver ticks), "
           f"max hand error {1000 * stats.max_hand_error:.2f} mm")
     if not args.no_check:
         report = check_motion(motion, plan, scene=scene)
@@ -138,8 +145,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help="scene whose obstacles are checked (file or shipped name; default: "
                         "the plan's scene)")
     p.add_argument("--tick", type=finite("--tick"), default=0.005,
-                   help="solver tick and sampling period of the motion (s, 0.002-0.01; "
-                        "0.01 generates about twice as fast)")
+                   help="sampling period of the motion (s, 0.002-0.01)")
+    p.add_argument("--substeps", type=int, default=2,
+                   help="samples per solver tick (1-4; default 2: one QP every 2 samples, "
+                        "the samples between blended; 1: one QP per sample)")
     p.add_argument("--no-check", action="store_true", help="skip the motion checks")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=_animate)

@@ -26,6 +26,7 @@ Grip points (both hands on the held face)
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -82,6 +83,32 @@ def quat_xyzw(R: np.ndarray) -> np.ndarray:
     return -q if q[3] < 0 else q
 
 
+def quats_xyzw(R: np.ndarray) -> np.ndarray:
+    """:func:`quat_xyzw` of each rotation matrix of ``R`` (N x 3 x 3): N x 4, w >= 0.
+
+    Shepperd's method: from the largest of ``4 w², 4 x², 4 y², 4 z²`` (no square root of a
+    small number), vectorised.
+    """
+    R = np.asarray(R, dtype=float).reshape(-1, 3, 3)
+    r00, r11, r22 = R[:, 0, 0], R[:, 1, 1], R[:, 2, 2]
+    a, b = R[:, 2, 1] - R[:, 1, 2], R[:, 0, 2] - R[:, 2, 0]
+    c = R[:, 1, 0] - R[:, 0, 1]
+    d, e = R[:, 1, 0] + R[:, 0, 1], R[:, 0, 2] + R[:, 2, 0]
+    f = R[:, 2, 1] + R[:, 1, 2]
+    big = np.stack((1 + r00 + r11 + r22, 1 + r00 - r11 - r22, 1 - r00 + r11 - r22,
+                    1 - r00 - r11 + r22), axis=1)  # 4 w², 4 x², 4 y², 4 z²
+    k = np.argmax(big, axis=1)
+    s = np.sqrt(np.maximum(big[np.arange(len(R)), k], 1e-300))
+    cands = np.stack((np.stack((a, b, c, s * s), axis=1),  # x y z w, times s
+                      np.stack((s * s, d, e, a), axis=1),
+                      np.stack((d, s * s, f, b), axis=1),
+                      np.stack((e, f, s * s, c), axis=1)), axis=1)
+    q = cands[np.arange(len(R)), k] / s[:, None]
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    q[q[:, 3] < 0] *= -1.0
+    return q
+
+
 def matrix_from_quat(q: np.ndarray) -> np.ndarray:
     """Rotation matrix of a quaternion (x, y, z, w)."""
     import pinocchio as pin
@@ -123,7 +150,10 @@ class BoxHold:
         return transform(rot_z(h), (obj[0] - r * math.cos(h), obj[1] - r * math.sin(h), 0.0))
 
     def T_G_box(self, grasp: int, tilt: float) -> np.ndarray:
-        """Box centre in the grasp frame for an inclination ``tilt`` (rad)."""
+        """Box centre in the grasp frame for an inclination ``tilt`` (rad; read-only, cached)."""
+        return _T_G_box(self, grasp, tilt)
+
+    def _T_G_box(self, grasp: int, tilt: float) -> np.ndarray:
         inner = transform(rot_z(-grasp * 0.5 * math.pi),
                           (self.half_extent(grasp), 0.0, 0.5 * self.size[2]))
         return transform(rot_y(-tilt), (0.0, 0.0, 0.0)) @ inner
@@ -133,7 +163,10 @@ class BoxHold:
         return T_world_G @ self.T_G_box(grasp, tilt)
 
     def T_G_hands(self, grasp: int) -> tuple[np.ndarray, np.ndarray]:
-        """Grip frames ``(left, right)`` in the tilted grasp frame."""
+        """Grip frames ``(left, right)`` in the tilted grasp frame (read-only, cached)."""
+        return _T_G_hands(self, grasp)
+
+    def _T_G_hands(self, grasp: int) -> tuple[np.ndarray, np.ndarray]:
         zg = min(self.grip_height, self.size[2] - GRIP_TOP)
         yg = min(self.grip_spacing, self.edge_half_length(grasp) - GRIP_EDGE)
         R = rot_y(-0.5 * math.pi)
@@ -159,3 +192,21 @@ class BoxHold:
         h = 0.5 * np.asarray(self.size)
         signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
         return (T_world_box[:3, :3] @ (signs * h).T).T + T_world_box[:3, 3]
+
+
+def _read_only(T: np.ndarray) -> np.ndarray:
+    T.flags.writeable = False
+    return T
+
+
+@functools.lru_cache(maxsize=512)
+def _T_G_box(hold: BoxHold, grasp: int, tilt: float) -> np.ndarray:
+    """:meth:`BoxHold.T_G_box`, computed once per (hold, grasp, tilt): it runs every tick."""
+    return _read_only(hold._T_G_box(grasp, tilt))
+
+
+@functools.lru_cache(maxsize=64)
+def _T_G_hands(hold: BoxHold, grasp: int) -> tuple[np.ndarray, np.ndarray]:
+    """:meth:`BoxHold.T_G_hands`, computed once per (hold, grasp)."""
+    left, right = hold._T_G_hands(grasp)
+    return _read_only(left), _read_only(right)

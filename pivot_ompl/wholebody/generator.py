@@ -153,12 +153,13 @@ class WholeBodyGenerator:
                 obj = self._transfer(i, phase)
             else:
                 self._transit(i, phase, obj)
-        self.stats.compute = time.perf_counter() - t_wall
-        self.stats.ticks = len(self._rec.t)
-        self.stats.duration = self._rec.t[-1] - self._rec.t[0] if self._rec.t else 0.0
         self._report(1.0, "done")
         names = tuple(str(n) for n in self.walker.robot.model.names[2:])
-        return self._rec.motion(plan, self.hold, names)
+        motion = self._rec.motion(plan, self.hold, names, substeps=self.settings.substeps)
+        self.stats.compute = time.perf_counter() - t_wall
+        self.stats.ticks, self.stats.samples = len(self._rec.t), len(motion.t)
+        self.stats.duration = float(motion.t[-1] - motion.t[0])
+        return motion
 
     # -- bookkeeping --------------------------------------------------------------------
     def _report(self, fraction: float, label: str) -> None:
@@ -207,10 +208,10 @@ class WholeBodyGenerator:
         self._rec.record(self._t, self.walker.q(), self._box_T, self.walker.com(),
                          Sample(support, zmp, self._phase, self._step if holding else -1,
                                 holding, grasp if holding else -1, tilt))
-        self._t += self.settings.dt
+        self._t += self.settings.solver_dt
 
     def _ticks(self, duration: float) -> int:
-        return max(1, int(round(duration / self.settings.dt)))
+        return max(1, int(round(duration / self.settings.solver_dt)))
 
     def _stand(self, duration: float, each: Callable[[float], None], *, holding: bool = False,
                grasp: int = -1, tilt_of: Callable[[float], float] | None = None,
@@ -361,7 +362,7 @@ class WholeBodyGenerator:
             return 0
         t0 = self._t
         traj = walker.plan_walk(footsteps, t0)
-        starts, ends = rotation_windows(traj, last, t0, self.settings.dt)
+        starts, ends = rotation_windows(traj, last, t0, self.settings.solver_dt)
         total = self._ticks(traj.t_end - t0)
         G0: np.ndarray | None = None
         p, u = 0, 0.0
@@ -413,6 +414,7 @@ def observed_robot(plan: Plan) -> Pose | None:
 def generate_motion(plan: Plan, *, walk: WalkParameters | None = None,
                     settings: WalkSettings | None = None, timing: Timing | None = None,
                     tilt: float = DEFAULT_TILT, dt: float | None = None,
+                    substeps: int | None = None,
                     progress: Progress | None = None) -> tuple[Motion, GenerationStats]:
     """Generate the whole-body motion of ``plan``; return it with its generation statistics.
 
@@ -424,8 +426,9 @@ def generate_motion(plan: Plan, *, walk: WalkParameters | None = None,
         settings: walking and solver parameters (instead of ``walk``).
         timing: segment durations and tolerances.
         tilt: inclination of the held box about its supporting edge (rad).
-        dt: the solver tick and sampling period (s), instead of the settings' (5 ms):
-            10 ms generates about twice as fast.
+        dt: the sampling period of the motion (s), instead of the settings' (5 ms).
+        substeps: samples per solver tick, instead of the settings' (2: one QP every
+            10 ms; 1: one QP per sample).
         progress: optional callback ``progress(fraction, label)``.
 
     Raises:
@@ -441,6 +444,10 @@ def generate_motion(plan: Plan, *, walk: WalkParameters | None = None,
         if not (math.isfinite(dt) and dt > 0.0):
             raise InputError("dt", dt, "must be a finite tick > 0 s")
         settings = dataclasses.replace(settings or WalkSettings(), dt=dt)
+    if substeps is not None:
+        if isinstance(substeps, bool) or not isinstance(substeps, int) or not 1 <= substeps <= 8:
+            raise InputError("substeps", substeps, "must be an integer in [1, 8]")
+        settings = dataclasses.replace(settings or WalkSettings(), substeps=substeps)
     gen = WholeBodyGenerator(plan, settings=settings, timing=timing, tilt=tilt,
                              progress=progress)
     motion = gen.run()

@@ -61,41 +61,62 @@ def braking_steps(distance: np.ndarray, delta: float) -> np.ndarray:
 class JointDamper:
     """Per-tick position limits that make the given joints brake before their limits.
 
+    The bounds also hold every joint's speed within its URDF velocity limit (a step of at
+    most ``velocity limit * dt``), so that the solver needs no velocity constraints of its
+    own: the same feasible steps with half the inequality rows.
+
     Args:
         robot: the PlaCo ``RobotWrapper`` (its model's joint limits are narrowed and
             restored; its ``state.q`` read).
-        joints: the joints to damp (their URDF limits are read once).
+        joints: the joints bounded each tick (their URDF limits are read once).
         accel: the largest acceleration while braking, and of the ``smooth`` joints at any
             time (rad/s²).
         dt: the tick (s).
         smooth: the joints whose every change of speed is bounded by ``accel``.
+        damped: the joints that brake before their position limits (default: ``joints``).
     """
 
     def __init__(self, robot: Any, joints: Iterable[str], *, accel: float, dt: float,
-                 smooth: Iterable[str] = ()) -> None:
+                 smooth: Iterable[str] = (), damped: Iterable[str] | None = None) -> None:
         """Read the joints' limits and their places in the configuration."""
         self.robot, self.accel, self.dt = robot, accel, dt
         model = robot.model
         names = list(joints)
         self._iq = np.array([model.joints[model.getJointId(j)].idx_q for j in names],
                             dtype=int)
-        self._lo = np.array(model.lowerPositionLimit)[self._iq]
-        self._hi = np.array(model.upperPositionLimit)[self._iq]
+        iv = np.array([model.joints[model.getJointId(j)].idx_v for j in names], dtype=int)
+        self._lower_all = np.array(model.lowerPositionLimit, dtype=float)
+        self._upper_all = np.array(model.upperPositionLimit, dtype=float)
+        self._lo, self._hi = self._lower_all[self._iq], self._upper_all[self._iq]
+        self._step_max = np.array(model.velocityLimit, dtype=float)[iv] * dt
         self.limits = {j: (float(a), float(b))
                        for j, a, b in zip(names, self._lo, self._hi, strict=True)}
         self.smooth = {j for j in smooth if j in self.limits}
+        damp = set(names if damped is None else damped)
         self._smooth = np.array([j in self.smooth for j in names], dtype=bool)
+        self._damped = np.array([j in damp for j in names], dtype=bool)
         self._any_smooth, self._all_smooth = bool(self._smooth.any()), bool(self._smooth.all())
         self._last: np.ndarray | None = None
+        # per-tick work on the damped joints only, the others bounded by their speed alone
+        di = np.nonzero(self._damped)[0]
+        self._di, self._lo_hi = di, np.concatenate((-self._lo[di], self._hi[di]))
+        self._sign = np.concatenate((np.ones(len(di)), -np.ones(len(di))))
+        self._lower, self._upper = self._lower_all.copy(), self._upper_all.copy()
 
     def apply(self) -> None:
         """Set this tick's limits from the joints' current positions (and last ones)."""
         delta = self.accel * self.dt * self.dt
-        robot, lo, hi, n = self.robot, self._lo, self._hi, len(self._lo)
-        q = np.asarray(robot.state.q)[self._iq]
-        step = braking_steps(np.concatenate((q - lo, hi - q)), delta)
-        low = np.maximum(lo, q - step[:n])
-        high = np.minimum(hi, q + step[n:])
+        q = np.asarray(self.robot.state.q)[self._iq]
+        nd = len(self._di)
+        down, up = self._step_max.copy(), self._step_max.copy()
+        if nd:
+            qd = q[self._di]
+            # distances to the lower and upper limits, then the braking steps
+            brake = braking_steps(self._sign * np.concatenate((qd, qd)) + self._lo_hi, delta)
+            down[self._di] = np.minimum(down[self._di], brake[:nd])
+            up[self._di] = np.minimum(up[self._di], brake[nd:])
+        low = np.maximum(self._lo, q - down)
+        high = np.minimum(self._hi, q + up)
         last, s = self._last, self._smooth
         if last is not None and self._any_smooth:
             coast = 2.0 * q - last  # where each joint goes at its present speed
@@ -114,6 +135,5 @@ class JointDamper:
 
     def _set(self, low: np.ndarray, high: np.ndarray) -> None:
         model = self.robot.model
-        lower, upper = np.array(model.lowerPositionLimit), np.array(model.upperPositionLimit)
-        lower[self._iq], upper[self._iq] = low, high
-        model.lowerPositionLimit, model.upperPositionLimit = lower, upper
+        self._lower[self._iq], self._upper[self._iq] = low, high  # the other entries: URDF's
+        model.lowerPositionLimit, model.upperPositionLimit = self._lower, self._upper

@@ -11,7 +11,8 @@ import numpy as np
 from pivot_ompl.hrp2 import SOLE_SIZE, URDF_RELPATH
 from pivot_ompl.motionfile import Motion
 from pivot_ompl.planfile import Plan
-from pivot_ompl.wholebody.box import BoxHold, quat_xyzw
+from pivot_ompl.wholebody.blend import blend, blend_quaternions, sample_labels, sample_support
+from pivot_ompl.wholebody.box import BoxHold, quats_xyzw
 
 log = logging.getLogger(__name__)
 
@@ -24,6 +25,7 @@ class GenerationStats:
         duration: seconds of motion produced.
         compute: wall-clock seconds spent.
         ticks: solver ticks.
+        samples: motion samples (``substeps`` per tick, see :mod:`.blend`).
         max_hand_error: largest hand-to-grip distance while holding (m).
         max_hand_angle: largest angle between a hand's approach axis and its grip frame's
             while holding (rad; the hand orientation is a low-weight task).
@@ -32,6 +34,7 @@ class GenerationStats:
     duration: float = 0.0
     compute: float = 0.0
     ticks: int = 0
+    samples: int = 0
     max_hand_error: float = 0.0
     max_hand_angle: float = 0.0
 
@@ -80,7 +83,7 @@ class Sample:
 
 @dataclass
 class Recorder:
-    """Per-sample lists of a motion being generated."""
+    """Per-tick lists of a motion being generated (the solver's ticks, the blend's knots)."""
 
     t: list[float] = field(default_factory=list)
     q: list[np.ndarray] = field(default_factory=list)
@@ -93,27 +96,48 @@ class Recorder:
         """Append one tick: time, configuration, box frame (4x4), CoM and the rest."""
         self.t.append(t)
         self.q.append(q)
-        self.box.append(np.concatenate([box_T[:3, 3], quat_xyzw(box_T[:3, :3])]))
+        self.box.append(box_T[:3, :].copy())
         self.com.append(com)
         self.samples.append(sample)
 
-    def motion(self, plan: Plan, hold: BoxHold, joint_names: tuple[str, ...]) -> Motion:
-        """The recorded motion of ``plan`` (box and grips of ``hold``)."""
+    def motion(self, plan: Plan, hold: BoxHold, joint_names: tuple[str, ...], *,
+               substeps: int = 1) -> Motion:
+        """The recorded motion of ``plan`` (box and grips of ``hold``), ``substeps`` samples a tick.
+
+        Configurations, box poses, CoM, planned ZMP and tilt are blended between the ticks
+        (:func:`~pivot_ompl.wholebody.blend.blend`); labels and support codes follow
+        :func:`~pivot_ompl.wholebody.blend.sample_labels` and
+        :func:`~pivot_ompl.wholebody.blend.sample_support`.
+        """
         grip = np.zeros((4, 2, 3))
         for k in range(4):
             left, right = hold.T_box_hands(k)
             grip[k, 0], grip[k, 1] = left[:3, 3], right[:3, 3]
-        ss = self.samples
+        ss, m = self.samples, max(1, substeps)
+        t = np.array(self.t)
+        if m > 1 and len(t) > 1:
+            t = np.append((t[:-1, None] + np.diff(t)[:, None] * (np.arange(m) / m)).ravel(),
+                          t[-1])
+        q = np.array(self.q)
+        q = np.hstack((blend(q[:, :3], m), blend_quaternions(q[:, 3:7], m),
+                       blend(q[:, 7:], m)))
+        frames = np.array(self.box)
+        box = np.hstack((blend(frames[:, :, 3], m),
+                         blend_quaternions(quats_xyzw(frames[:, :, :3]), m, positive_w=True)))
+
+        def labels(values: list, dtype: type) -> np.ndarray:
+            return sample_labels(np.array(values, dtype=dtype), m)
+
         return Motion(
-            t=np.array(self.t), q=np.array(self.q), joint_names=joint_names,
-            urdf=URDF_RELPATH, box=np.array(self.box), com=np.array(self.com),
-            zmp=np.array([s.zmp for s in ss]),
-            support=np.array([s.support for s in ss], dtype=int),
-            phase=np.array([s.phase for s in ss], dtype=int),
-            step=np.array([s.step for s in ss], dtype=int),
-            holding=np.array([s.holding for s in ss], dtype=bool),
-            grasp=np.array([s.grasp for s in ss], dtype=int),
-            tilt=np.array([s.tilt for s in ss]),
+            t=t, q=q, joint_names=joint_names,
+            urdf=URDF_RELPATH, box=box, com=blend(np.array(self.com), m),
+            zmp=blend(np.array([s.zmp for s in ss]), m),
+            support=sample_support(np.array([s.support for s in ss], dtype=int), m),
+            phase=labels([s.phase for s in ss], int),
+            step=labels([s.step for s in ss], int),
+            holding=labels([s.holding for s in ss], bool),
+            grasp=labels([s.grasp for s in ss], int),
+            tilt=blend(np.array([s.tilt for s in ss]), m),
             box_size=tuple(float(x) for x in plan.object_size),  # type: ignore[arg-type]
             grip_box=grip, sole_size=SOLE_SIZE, scene=plan.scene,
             scene_path=_text(plan.extra.get("scene_path")),

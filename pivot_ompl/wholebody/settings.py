@@ -27,7 +27,11 @@ class WalkSettings:
     """Walking and solver parameters (SI units).
 
     Attributes:
-        dt: solver tick and motion sampling period (s).
+        dt: motion sampling period (s).
+        substeps: samples per solver tick: one QP every ``substeps * dt``
+            (:attr:`solver_dt`); the samples between are those of the quadratic B-spline of
+            the solver's configurations (:mod:`pivot_ompl.wholebody.blend`). 1: one QP per
+            sample.
         single_support_duration: duration of a step's single support (s).
         single_support_timesteps: LIPM samples per single support.
         double_support_ratio: double support duration / single support duration (0.14 s
@@ -69,6 +73,7 @@ class WalkSettings:
     """
 
     dt: float = 0.005
+    substeps: int = 2
     single_support_duration: float = 0.7
     single_support_timesteps: int = 14
     double_support_ratio: float = 0.2
@@ -93,6 +98,11 @@ class WalkSettings:
     sole_gap: float = 0.02
     upper_accel: float = 20.0
     seed: int = 1
+
+    @property
+    def solver_dt(self) -> float:
+        """Solver tick: ``substeps * dt`` (s)."""
+        return self.substeps * self.dt
 
     @property
     def omega(self) -> float:

@@ -39,7 +39,7 @@ class SwingFoot:
     def lift_off_delay(self) -> float:
         """Time the swing foot stays down after a single support starts (s)."""
         s = self.settings
-        return s.single_support_duration / s.single_support_timesteps + 2.5 * s.dt
+        return s.single_support_duration / s.single_support_timesteps + 2.5 * s.solver_dt
 
     def update(self, traj: Any, t: float, tasks: Any) -> bool:
         """Set the swing foot's target in PlaCo's ``WalkTasks`` at time ``t`` of ``traj``.

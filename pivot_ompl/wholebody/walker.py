@@ -1,6 +1,6 @@
 """PlaCo whole-body controller for HRP-2: walk pattern generator, kinematics solver and tasks.
 
-Tasks (PlaCo ``KinematicsSolver``, one QP per tick of :attr:`WalkSettings.dt`):
+Tasks (PlaCo ``KinematicsSolver``, one QP per tick of :attr:`WalkSettings.solver_dt`):
 
 * feet and CoM -- **hard** (``WalkTasks`` with ``scaled = False``), tracking the LIPM/ZMP walk
   pattern generator's trajectory, or fixed targets while standing; the swing foot's target
@@ -9,7 +9,9 @@ Tasks (PlaCo ``KinematicsSolver``, one QP per tick of :attr:`WalkSettings.dt`):
 * both hands -- soft frame tasks (position weight 1, low orientation weight) tracking targets
   given every tick, plus a soft hand-to-hand relative frame task;
 * posture -- a weak joints task towards half-sitting with bent elbows; a small regularisation;
-* joint position and velocity limits -- solver constraints.
+* joint position and velocity limits -- one pair of bounds per joint on the QP's step
+  (:class:`~pivot_ompl.wholebody.joint_damper.JointDamper`: position limits narrowed to
+  the velocity limit times the tick, and to braking and acceleration bounds).
 
 Robot pose convention: the plan's robot pose (centre of the floor bounding box, heading) is the
 midpoint of the two sole centres, shifted :attr:`WalkSettings.foot_offset` along the heading.
@@ -66,7 +68,7 @@ class PlacoWalker:
         self.params = humanoid_parameters(settings)
 
         solver = placo.KinematicsSolver(robot)
-        solver.dt = s.dt
+        solver.dt = s.solver_dt
         self.solver = solver
         tasks = placo.WalkTasks()
         tasks.scaled = False
@@ -83,7 +85,9 @@ class PlacoWalker:
                            ("right_foot", tasks.right_foot_task)):
             task.configure(name, "hard", 1.0, 1.0)
         tasks.com_task.configure("com", "hard", 1.0)
-        solver.enable_velocity_limits(True)
+        # the velocity limits are in the damper's per-tick position bounds (the same
+        # feasible steps, half the QP's inequality rows)
+        solver.enable_velocity_limits(False)
         solver.enable_joint_limits(True)
 
         posture = solver.add_joints_task()
@@ -97,7 +101,8 @@ class PlacoWalker:
         #: the arms, chest and head, which only follow the box, brake before their limits
         #: and change their speed by at most ``upper_accel`` a second at any time
         upper = [j for j in UPPER_POSTURE if j in robot.joint_names()]
-        self.damper = JointDamper(robot, upper, accel=s.upper_accel, dt=s.dt, smooth=upper)
+        self.damper = JointDamper(robot, list(robot.joint_names()), accel=s.upper_accel,
+                                  dt=s.solver_dt, smooth=upper, damped=upper)
 
         self._place(start)
         self._add_hand_tasks()
@@ -119,9 +124,18 @@ class PlacoWalker:
         self.right_hand = self.solver.add_frame_task("right_hand", T_r)
         self.right_hand.configure("right_hand", "soft", s.hand_position_weight,
                                   s.hand_orientation_weight)
-        self.hands = self.solver.add_relative_frame_task("left_hand", "right_hand",
-                                                    np.linalg.inv(T_l) @ T_r)
-        self.hands.configure("hands", "soft", s.relative_weight, s.relative_orientation_weight)
+        rel = np.linalg.inv(T_l) @ T_r
+        #: the hand-to-hand task: position only when its orientation weight is 0 (a task of
+        #: weight 0 changes nothing in the QP but costs its rows every tick)
+        self._relative_frame = s.relative_orientation_weight > 0.0
+        if self._relative_frame:
+            self.hands = self.solver.add_relative_frame_task("left_hand", "right_hand", rel)
+            self.hands.configure("hands", "soft", s.relative_weight,
+                                 s.relative_orientation_weight)
+        else:
+            self.hands = self.solver.add_relative_position_task("left_hand", "right_hand",
+                                                                rel[:3, 3])
+            self.hands.configure("hands", "soft", s.relative_weight)
 
     def _settle(self) -> None:
         """Stand still, unrecorded, until the posture is at rest (see :attr:`PRESETTLE`).
@@ -134,7 +148,7 @@ class PlacoWalker:
         # happen before anything is recorded, then settle again with the rest hand targets
         # that the generator uses (trunk-relative), so the first recorded tick is at rest
         self.stand()
-        n = int(round(self.PRESETTLE / s.dt))
+        n = int(round(self.PRESETTLE / s.solver_dt))
         for _ in range(n):
             self.tick(0.0, None, T_l, T_r)
         T_trunk_inv = np.linalg.inv(self.trunk_frame())
@@ -298,10 +312,13 @@ class PlacoWalker:
         self.left_hand.T_world_frame = T_left_hand
         self.right_hand.T_world_frame = T_right_hand
         R, p = T_left_hand[:3, :3], T_left_hand[:3, 3]
-        rel = np.eye(4)  # inverse of the rigid left frame, times the right one
-        rel[:3, :3] = R.T @ T_right_hand[:3, :3]
-        rel[:3, 3] = R.T @ (T_right_hand[:3, 3] - p)
-        self.hands.T_a_b = rel
+        if self._relative_frame:
+            rel = np.eye(4)  # inverse of the rigid left frame, times the right one
+            rel[:3, :3] = R.T @ T_right_hand[:3, :3]
+            rel[:3, 3] = R.T @ (T_right_hand[:3, 3] - p)
+            self.hands.T_a_b = rel
+        else:
+            self.hands.target = R.T @ (T_right_hand[:3, 3] - p)
         held = False
         if traj is not None:
             self.tasks.update_tasks_from_trajectory(traj, t)

@@ -158,7 +158,8 @@ def argv_for(verb: str, f: dict[str, str]) -> st.SearchStrategy[list[str]]:
         "check": ["--no-collisions"],
         "check-motion": ["--plan"],
         "replay": ["--scene", "--plan", "--html", "--urdf", "--fps"],
-        "animate": ["--out", "--tilt-deg", "--tick", "--no-check", "--no-progress"],
+        "animate": ["--out", "--tilt-deg", "--tick", "--substeps", "--no-check",
+                    "--no-progress"],
         "bench": ["--planners", "--runs", "--workers", "--seed0", "--out", "--memory"],
     }[verb]
     token = st.one_of(st.sampled_from(opts), st.sampled_from(inputs), st.sampled_from(outputs),

@@ -17,11 +17,13 @@ class _Robot:
 
     class _Joint:
         idx_q = 0
+        idx_v = 0
 
-    def __init__(self, q: float, lo: float, hi: float) -> None:
+    def __init__(self, q: float, lo: float, hi: float, speed: float = 1e3) -> None:
         self.urdf = (lo, hi)
         self.model = SimpleNamespace(lowerPositionLimit=np.array([lo]),
                                      upperPositionLimit=np.array([hi]),
+                                     velocityLimit=np.array([speed]),
                                      joints=[None, self._Joint()], getJointId=lambda name: 1)
         self.state = SimpleNamespace(q=np.array([q]))
 
@@ -143,3 +145,12 @@ def test_the_urdf_limits_come_back():
     assert robot.lim != (-1.0, 1.0)
     damper.restore()
     assert robot.lim == (-1.0, 1.0)
+
+
+@pytest.mark.parametrize("damped", [True, False])
+def test_the_bounds_hold_the_velocity_limit(damped: bool) -> None:
+    """Far from its limits a joint may move at most its velocity limit times the tick."""
+    robot = _Robot(0.0, -2.0, 2.0, speed=3.0)
+    damper = JointDamper(robot, ["J"], accel=20.0, dt=0.01, damped=["J"] if damped else [])
+    damper.apply()
+    assert robot.lim == pytest.approx((-0.03, 0.03))

@@ -100,10 +100,24 @@ def test_animate_passes_the_scene_walk_model(tmp_path, monkeypatch):
     assert (walk.step_forward, walk.step_turn) == (0.1, 0.2) and dt == 0.005
     assert main([*args, "--tick", "0.01"]) == 2 and seen[-1][1] == 0.01
     assert main([*args, "--tick", "0.05"]) == 2 and len(seen) == 2  # refused before the work
+    assert main([*args, "--substeps", "9"]) == 2 and len(seen) == 2
+    assert main([*args, "--substeps", "0"]) == 2 and len(seen) == 2
 
 
 def test_a_longer_tick_samples_the_motion_at_it():
     motion, stats = generator.generate_motion(_push(0.3), dt=0.01)
-    assert motion.dt == pytest.approx(0.01) and stats.ticks == len(motion.t)
+    assert motion.dt == pytest.approx(0.01) and stats.samples == len(motion.t)
+    assert stats.samples == 2 * (stats.ticks - 1) + 1  # one QP every two samples
     with pytest.raises(InputError, match="tick"):
         generator.generate_motion(_push(0.3), dt=0.0)
+
+
+def test_one_qp_per_sample_on_request():
+    """``substeps=1``: every sample is a solver configuration; same duration as with 2."""
+    one, s1 = generator.generate_motion(_push(0.3), dt=0.01, substeps=1)
+    two, s2 = generator.generate_motion(_push(0.3), dt=0.01)
+    assert s1.ticks == len(one.t) and one.dt == pytest.approx(0.01)
+    assert abs(s1.duration - s2.duration) <= 0.05 * s1.duration
+    for bad in (0, 9, 1.5, True):
+        with pytest.raises(InputError, match="substeps"):
+            generator.generate_motion(_push(0.3), substeps=bad)
