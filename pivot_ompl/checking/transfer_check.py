@@ -1,14 +1,33 @@
 """A transfer edge checked: its pivot sequence inside the bounds and certified collision-free.
 
 The steering (:class:`~pivot_ompl.pivoting.steering.PivotSteering`) cuts the car's
-Reeds-Shepp path into pieces, each solved by up to three rotations. Rotation by rotation, the
-box and the robot must stay inside the bounds (their farthest points bulge out by
-``r (1 - cos(alpha/2))`` mid-rotation) and their swept volumes must be certified free
-(:func:`~pivot_ompl.validity.certify.certify`: a point moves at most ``r |alpha|``). Where a
-piece fails, that piece alone (the same stretch of the path, from the pose reached) is
-converted again with the rotation bound reduced in half-octave steps
-(:data:`REFINE_FACTORS`) down to ``alpha_max / 8``: smaller rotations hug the path (the
-topological property); the rest of the edge keeps full rotations.
+Reeds-Shepp path into pieces, each solved by up to three rotations that end exactly on the
+path. Rotation by rotation, the box and the robot must stay inside the bounds (their farthest
+points bulge out by ``r (1 - cos(alpha/2))`` mid-rotation) and their swept volumes must be
+certified free (:func:`~pivot_ompl.validity.certify.certify`: a point moves at most
+``r |alpha|``, ``r`` the body's reach from the pivot corner).
+
+Where a piece fails, that piece alone (the same stretch of the path, from the pose reached)
+is converted again; the rest of the edge keeps full rotations:
+
+1. with the rotation bound reduced in half-octave steps (:data:`REFINE_FACTORS`) while it
+   stays above the bound the clearance gives (below): a few large rotations get round an
+   obstacle that only a rotation's bulge touched;
+2. else **sub-piece by sub-piece, with the bound chosen from the clearance** ``c`` (beyond
+   the kept clearance, the bounds' margin included) that the box and the robot have at the
+   sub-piece's start, which is a pose of the path: first ``alpha = c / r`` (no rotation moves
+   a point farther than ``c``: through a slot with ``c`` of slack the box's yaw swings by
+   about ``alpha / 2``, so its far corners sweep ``depth sin(alpha / 2) < c / 2`` sideways),
+   then :data:`SAFE_SHARE` of it, which cannot fail: three rotations move no point farther
+   than ``3 r alpha < c``.
+
+Completeness (resolution ``c_min = max(tolerance, MIN_CLEARANCE)``): a Reeds-Shepp path
+whose bodies keep at least ``c_min`` beyond the kept clearance at every pose (and inside the
+bounds) is converted into a valid pivot sequence: every sub-piece starts on the path with
+``c >= c_min``, so its bound ``SAFE_SHARE c_min / r`` is positive, and its rotations are
+certified by the clearance alone (no tolerance used). A path that comes closer than ``c_min``
+at a sub-piece's start is reported as such. Step 1 only shortens the work; it may accept a
+rotation with the sweep check's ``tolerance``.
 """
 
 from __future__ import annotations
@@ -25,8 +44,17 @@ from pivot_ompl.validity.certify import certify
 from pivot_ompl.validity.collision import CollisionWorld
 
 #: A failing piece is converted again with the rotation bound times each of these factors
-#: in turn (half-octave steps down to alpha_max/8): the largest rotations that pass are kept.
+#: in turn (half-octave steps down to alpha_max/8) while the bound stays above the one the
+#: clearance gives: the largest rotations that pass are kept.
 REFINE_FACTORS = tuple(2.0 ** (-0.5 * k) for k in range(1, 7))
+
+#: Share of the clearance bound ``c / r`` that certainly passes (three rotations of it move
+#: no point farther than ``0.9 c``).
+SAFE_SHARE = 0.3
+
+#: Least clearance (m, beyond the kept one) a path must keep to be converted sub-piece by
+#: sub-piece (at least the sweep check's tolerance): the resolution of the refinement.
+MIN_CLEARANCE = 0.001
 
 
 @dataclass(frozen=True)
@@ -128,24 +156,75 @@ class TransferCheck:
     def _refine(self, ca: Pose, cb: Pose, piece: Piece, grasp: int, with_robot: bool,
                 db: float, dr: float, should_stop: Callable[[], bool] | None,
                 ) -> tuple[list[Rotation], str, tuple[float, float]]:
-        """The piece converted again with smaller rotation bounds until its rotations pass.
+        """The piece converted again with smaller rotations until they pass (module docstring).
 
         Returns the rotations, ``""`` (or the last failure) and the end clearances.
         """
         steering = self.steering
         ell = self.model.edge_half_length(grasp)
-        why, ends = "no refinement", (db, dr)
-        fine: list[Rotation] = []
+        by_clearance, _ = self._clearance_bound(piece.start, grasp, with_robot, db, dr)
         for factor in REFINE_FACTORS:
-            fine = []
+            alpha = steering.alpha_max * factor
+            if alpha <= by_clearance:
+                break
+            fine: list[Rotation] = []
             for sub in steering.iter_pieces(ca, cb, half_length=ell, should_stop=should_stop,
                                             span=(piece.t0, piece.t1), origin=piece.start,
-                                            alpha_max=steering.alpha_max * factor):
+                                            alpha_max=alpha):
                 fine.extend(sub.rotations)
             why, ends = self._rotations(piece.start, tuple(fine), grasp, with_robot, db, dr)
             if not why:
-                break
-        return fine, why, ends
+                return fine, "", ends
+        return self._by_clearance(ca, cb, piece, grasp, with_robot, (db, dr), should_stop)
+
+    def _by_clearance(self, ca: Pose, cb: Pose, piece: Piece, grasp: int, with_robot: bool,
+                      clear: tuple[float, float], should_stop: Callable[[], bool] | None,
+                      ) -> tuple[list[Rotation], str, tuple[float, float]]:
+        """The piece's stretch, sub-piece by sub-piece, each bounded by its start's clearance.
+
+        Returns the rotations, ``""`` (or the failure) and the end clearances.
+        """
+        steering = self.steering
+        ell = self.model.edge_half_length(grasp)
+        t, current = piece.t0, piece.start
+        fine: list[Rotation] = []
+        floor = max(self.tolerance, MIN_CLEARANCE)
+        while t < piece.t1:
+            bound, least = self._clearance_bound(current, grasp, with_robot, *clear)
+            if least < floor:
+                return fine, f"path within {least:.4f} m of an obstacle or side", clear
+            why = "no sub-piece"
+            for share in (1.0, SAFE_SHARE):
+                pieces = steering.iter_pieces(ca, cb, half_length=ell, should_stop=should_stop,
+                                              span=(t, piece.t1), origin=current,
+                                              alpha_max=share * bound)
+                sub = next(pieces)
+                pieces.close()
+                why, ends = self._rotations(current, sub.rotations, grasp, with_robot, *clear)
+                if not why:
+                    break
+            if why:
+                return fine, why, clear
+            fine.extend(sub.rotations)
+            current = sub.rotations[-1].car if sub.rotations else current
+            t, clear = sub.t1, ends
+        return fine, "", clear
+
+    def _clearance_bound(self, car: Pose, grasp: int, with_robot: bool, db: float,
+                         dr: float) -> tuple[float, float]:
+        """``(min(alpha_max, c / r), c)``, least over the bodies at ``car``.
+
+        ``c``: the clearance ``db`` or ``dr``, or the bounds' margin where it is smaller;
+        ``r``: the body's reach from a pivot corner.
+        """
+        m, w = self.model, self.world
+        r_box, r_rob = self._reach[grasp]
+        least = min(db, w.bounds_margin(m.object_corners(m.object_from_car(car, grasp))))
+        bound = least / r_box
+        if with_robot:
+            c_rob = min(dr, w.bounds_margin(m.held_corners(m.robot_from_car(car, grasp), grasp)))
+            bound, least = min(bound, c_rob / r_rob), min(least, c_rob)
+        return max(0.0, min(self.steering.alpha_max, bound)), least
 
     def _box_d(self, car: Pose, grasp: int) -> float:
         return self.world.box_distance(self.model.object_from_car(car, grasp))

@@ -184,3 +184,12 @@ def test_bad_generator_parameters_name_their_field(params, field):
     with pytest.raises(InputError) as e:
         generate("walls", 0, params=params)
     assert e.value.field == field
+
+
+def test_walls_with_two_centimetre_slots_have_a_valid_witness():
+    """Slots with 2 cm a side (1 cm of slack after the kept 1 cm): the witness pivots the box
+    through with rotations bounded by the clearance (they used to be halved and collide)."""
+    gen = generate("walls", 0, params=GeneratorParams(walls=2, slot_clearance=0.02))
+    rep = check_plan(gen.witness, gen.scene)
+    assert rep.ok, rep.problems
+    assert gen.witness.regrasps >= 2
