@@ -325,7 +325,7 @@ class RegraspSearch:
 
         if cfg.routes:
             if self.lattice is None:
-                self.lattice = TransferLattice(ck, costs)
+                self.lattice = TransferLattice(ck, costs, region=self.sampler.region())
             t2 = time.perf_counter()
             states = refine(ck, self.lattice, states, costs=costs,
                             should_stop=budget(cfg.route_share), stats=self.refine)

@@ -66,12 +66,35 @@ def _extent(geom: BaseGeometry, u: np.ndarray) -> tuple[float, float]:
     return float(proj.min()), float(proj.max())
 
 
+#: Length (m) cut off both ends of a gap's shortest segment before testing what lies across it
+#: (its ends touch the two obstacles, and the pieces adjoining them).
+_SEGMENT_TRIM = 1e-4
+
+
+def _blocked(shapes: list[BaseGeometry], tree: shapely.STRtree, a: tuple[float, float],
+             b: tuple[float, float], pair: tuple[int, int]) -> bool:
+    """Whether a third obstacle's interior meets the segment ``a - b`` joining the pair."""
+    ax, ay = a
+    bx, by = b
+    d = math.hypot(bx - ax, by - ay)
+    if d <= 2.0 * _SEGMENT_TRIM:
+        return False
+    t = _SEGMENT_TRIM / d
+    seg = shapely.LineString([(ax + t * (bx - ax), ay + t * (by - ay)),
+                              (bx - t * (bx - ax), by - t * (by - ay))])
+    return any(int(k) not in pair and shapely.relate_pattern(shapes[int(k)], seg, "T********")
+               for k in tree.query(seg, predicate="intersects"))
+
+
 def find_passages(scene: Scene, *, min_width: float, max_width: float,
                   should_stop: Callable[[], bool] = lambda: False) -> list[Passage]:
     """Every gap of width in ``[min_width, max_width]`` between two obstacles or sides.
 
     Each pair of obstacles (the room's four sides included) gives at most one passage, at its
-    shortest segment. Sides meeting at a corner, and obstacles touching, give none.
+    shortest segment, if no third obstacle lies across that segment (a gap with something in
+    it is the gaps on either side of that thing: an obstacle made of thin pieces otherwise
+    gives one passage per pair of pieces facing each other across the gap, thousands on a
+    large floor). Sides meeting at a corner, and obstacles touching, give none.
     ``should_stop`` is polled per obstacle: the passages found so far are returned.
     """
     shapes = obstacle_footprints(scene.obstacles)
@@ -90,6 +113,8 @@ def find_passages(scene: Scene, *, min_width: float, max_width: float,
             if not min_width <= width <= max_width:
                 continue
             (ax, ay), (bx, by) = shapely.shortest_line(a, b).coords
+            if _blocked(shapes, tree, (ax, ay), (bx, by), (i, j)):
+                continue
             axis = math.atan2(by - ay, bx - ax) + 0.5 * math.pi
             u = np.array([math.cos(axis), math.sin(axis)])
             lo_a, hi_a = _extent(a, u)

@@ -25,8 +25,10 @@ import math
 from collections.abc import Callable, Iterator
 
 import numpy as np
+import shapely
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
+from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
@@ -51,12 +53,22 @@ class TransferLattice:
         max_expansions: states expanded before a query gives up.
         weight: inflation of the A* heuristic (a route costs at most this factor more than
             the lattice's cheapest).
+        region: the box centres a plan may visit (e.g.
+            :meth:`~pivot_ompl.planners.objects.samplers.PoseSampler.region`), or ``None``
+            for the whole floor: the lattice then holds only the car positions within the
+            box's half extent (and one cell) of it. Routes are complete at the lattice's
+            resolution over those states; the rest of the bounds' rectangle (e.g. the open
+            corners round a turned building, which grow with the square of its length)
+            costs nothing.
     """
 
     def __init__(self, checker: PivotChecker, costs: CostModel, *, resolution: float = 0.1,
-                 max_expansions: int = 200_000, weight: float = 1.0) -> None:
-        """A lattice over the checker's floor."""
+                 max_expansions: int = 200_000, weight: float = 1.0,
+                 region: BaseGeometry | None = None) -> None:
+        """A lattice over the checker's floor (within reach of ``region``)."""
         self.checker, self.costs = checker, costs
+        self.region = region
+        self._mask: np.ndarray | None = None
         self.resolution, self.max_expansions, self.weight = resolution, max_expansions, weight
         self.field = AssemblyField(checker.model, checker.world, resolution)
         alpha = checker.scene.alpha_max
@@ -70,7 +82,7 @@ class TransferLattice:
                        for h in range(N_HEADINGS)]
         self.expansions = 0
         self._routes: dict[tuple[Pose, Pose, int], tuple[list[Pose], float]] = {}
-        self._labels: dict[int, np.ndarray] = {}
+        self._labels: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         self._grids: dict[tuple[int, int], bytes] = {}
 
     def car(self, s: State) -> Pose:
@@ -104,11 +116,12 @@ class TransferLattice:
         goals = self._attach(cb, parity, grasp)
         if not starts or not goals:
             return [], math.inf
-        labels = self._components(parity, should_stop)
+        cell_ids, labels = self._components(parity, should_stop)
         ny = self.field.ny
 
         def label(u: State) -> int:
-            return int(labels[(u[0] * ny + u[1]) * N_HEADINGS + u[2]])
+            cid = int(cell_ids[u[0] * ny + u[1]])
+            return -1 if cid < 0 else int(labels[cid * N_HEADINGS + u[2]])
 
         if not {label(u) for u in starts} & {label(u) for u in goals}:
             return [], math.inf
@@ -172,52 +185,77 @@ class TransferLattice:
         grid = self._grids.get(key)
         if grid is None:
             grid = self._grids[key] = np.ascontiguousarray(
-                self.field.fits(parity, k, should_stop=should_stop), dtype=np.uint8).tobytes()
+                self._fits(parity, k, should_stop), dtype=np.uint8).tobytes()
         return grid
 
-    def _components(self, parity: int, should_stop: Callable[[], bool] | None) -> np.ndarray:
-        """Connected component of every lattice state of ``parity``, ``-1`` where not free.
+    def _fits(self, parity: int, k: int,
+              should_stop: Callable[[], bool] | None) -> np.ndarray:
+        """The field's ``fits(parity, k)`` within the lattice's region, ``(nx, ny)``."""
+        fits = self.field.fits(parity, k, should_stop=should_stop)
+        return fits if self.region is None else fits & self.in_region()
 
-        Kept. The graph holds the free states only, so its size follows the free floor, not
-        the bounds' rectangle (a turned row of rooms fills a small part of it).
+    def in_region(self) -> np.ndarray:
+        """The grid positions the lattice holds (``(nx, ny)`` booleans, kept)."""
+        if self._mask is None:
+            f, m = self.field, self.checker.model
+            if self.region is None:
+                self._mask = np.ones((f.nx, f.ny), dtype=bool)
+            else:
+                reach = max(m.half_extent(g) for g in range(4)) + 1.5 * self.resolution
+                near = self.region.buffer(reach, quad_segs=4)
+                x0, y0 = f.position(0, 0)
+                xs = x0 + self.resolution * np.arange(f.nx)
+                ys = y0 + self.resolution * np.arange(f.ny)
+                self._mask = shapely.contains_xy(near, xs[:, None], ys[None, :])
+        return self._mask
+
+    def _components(self, parity: int,
+                    should_stop: Callable[[], bool] | None) -> tuple[np.ndarray, np.ndarray]:
+        """Connected component of every lattice state of ``parity`` (kept).
+
+        Returned as ``(cell_ids, labels)``: ``cell_ids[ix * ny + iy]`` numbers the cells free
+        at some heading (``-1`` elsewhere), and ``labels[cell_id * N_HEADINGS + h]`` is the
+        component of state ``(ix, iy, h)``, ``-1`` where it is not free. Every array but
+        ``cell_ids`` follows the free floor, not the bounds' rectangle (a turned row of rooms
+        fills a small part of it, and the rectangle grows with the square of its length).
         """
-        labels = self._labels.get(parity)
-        if labels is not None:
-            return labels
+        hit = self._labels.get(parity)
+        if hit is not None:
+            return hit
         f = self.field
         nx, ny, nh = f.nx, f.ny, N_HEADINGS
-        fits = np.stack([f.fits(parity, k, should_stop=should_stop)
-                         for k in range(2 * nh)])  # (2 nh, nx, ny)
-        state = fits[0::2]  # at each heading
-        n = nx * ny * nh
-        ident = np.full(n, -1, dtype=np.int64)  # free state -> graph node
-        free = np.flatnonzero(np.moveaxis(state, 0, -1).reshape(-1))
-        ident[free] = np.arange(len(free))
-        ix, iy = np.nonzero(state.any(axis=0))  # cells free at some heading
+        fits = [self._fits(parity, k, should_stop).reshape(-1) for k in range(2 * nh)]
+        any_free = np.zeros(nx * ny, dtype=bool)
+        for h in range(nh):
+            any_free |= fits[2 * h]
+        cells = np.flatnonzero(any_free)
+        cell_ids = np.full(nx * ny, -1, dtype=np.int64)
+        cell_ids[cells] = np.arange(len(cells))
+        ix, iy = np.divmod(cells, ny)
+        state = [fits[2 * h][cells] for h in range(nh)]  # free at heading h, per free cell
         rows, cols = [], []
-
-        def index(x: np.ndarray, y: np.ndarray, h: int) -> np.ndarray:
-            return (x * ny + y) * nh + h
-
+        here = np.arange(len(cells)) * nh
         for h, (vx, vy) in enumerate(HEADING_VECTORS):
             jx, jy = ix + vx, iy + vy
             inside = (jx >= 0) & (jx < nx) & (jy >= 0) & (jy < ny)
-            ok = inside & state[h][ix, iy]
-            ok[inside] &= state[h][jx[inside], jy[inside]]
-            rows.append(index(ix[ok], iy[ok], h))
-            cols.append(index(jx[ok], jy[ok], h))
+            there = np.full(len(cells), -1, dtype=np.int64)
+            there[inside] = cell_ids[jx[inside] * ny + jy[inside]]
+            ok = state[h] & (there >= 0)
+            ok[ok] &= state[h][there[ok]]
+            rows.append(here[ok] + h)
+            cols.append(there[ok] * nh + h)
             h2 = (h + 1) % nh
-            ok = state[h][ix, iy] & state[h2][ix, iy] & fits[2 * h + 1][ix, iy]
-            rows.append(index(ix[ok], iy[ok], h))
-            cols.append(index(ix[ok], iy[ok], h2))
-        r, c = ident[np.concatenate(rows)], ident[np.concatenate(cols)]
-        m = len(free)
+            ok = state[h] & state[h2] & fits[2 * h + 1][cells]
+            rows.append(here[ok] + h)
+            cols.append(here[ok] + h2)
+        r, c = np.concatenate(rows), np.concatenate(cols)
+        m = len(cells) * nh
         graph = coo_matrix((np.ones(len(r), dtype=np.int8), (r, c)), shape=(m, m)).tocsr()
         _, sub = connected_components(graph, directed=False)
-        labels = np.full(n, -1, dtype=np.int32)
-        labels[free] = sub
-        self._labels[parity] = labels
-        return labels
+        labels = sub.astype(np.int32)
+        labels[~np.stack(state, axis=1).reshape(-1)] = -1
+        self._labels[parity] = (cell_ids, labels)
+        return cell_ids, labels
 
     def _cost(self, states: list[State], starts: dict[State, float],
               goals: dict[State, float], rate: float) -> float:
@@ -243,7 +281,8 @@ class TransferLattice:
                 if math.hypot(ix - fx, iy - fy) > 1.5:
                     continue
                 for h in near:
-                    if not self.field.state_fits(ix, iy, 2 * h, parity):
+                    if not self.field.state_fits(ix, iy, 2 * h, parity) or \
+                            not self.in_region()[ix, iy]:
                         continue
                     x, y = self.field.position(ix, iy)
                     d = math.hypot(x - car[0], y - car[1])
