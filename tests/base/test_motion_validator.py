@@ -87,8 +87,8 @@ def test_pivot_clipping_a_corner_is_rejected_though_ends_are_free():
         rep = check_plan(path_to_plan(clipped.scene, clipped.checker, [(a, 0), (b, 0)]),
                          clipped.scene)
         assert rep.ok, rep.problems
-    else:
-        assert "collides" in res.reason
+    else:  # rejected for the pillar: met, or nearer than the clearance-bounded rotations allow
+        assert "collides" in res.reason or "of an obstacle" in res.reason, res.reason
 
 
 def _outside(pt, obj, m, margin=0.03):

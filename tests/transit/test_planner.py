@@ -77,22 +77,25 @@ def test_walk_search_honours_the_termination_condition():
 
 def test_an_interrupted_floor_field_resumes_where_it_stopped():
     from pivot_ompl.errors import Interrupted
-    from pivot_ompl.transit.field import GRAPH_CHUNK, OPEN_YAWS, YAW_CHUNK
+    from pivot_ompl.transit.field import OPEN_YAWS, YAW_CHUNK
 
     scene = shipped("fig10")
     field = PivotChecker(scene, seed=0).walker.field
-    polls = iter(range(100))
     with pytest.raises(Interrupted):
-        field.static_open(lambda: next(polls) >= 3)
+        field.static_open(lambda: field.yaws_done >= 3 * YAW_CHUNK)
     assert field.yaws_done == 3 * YAW_CHUNK < len(OPEN_YAWS)
-    seen = []
-    built = field.static_open(lambda: seen.append(1) or False)
-    chunks = -(-field.nx // max(1, GRAPH_CHUNK // field.ny))
-    yaw_chunks = -(-(len(OPEN_YAWS) - 3 * YAW_CHUNK) // YAW_CHUNK)
-    assert len(seen) == yaw_chunks + chunks  # none done again
+    asked = []
+    orig = field._static_edges
+
+    def counted(yaws, should_stop=None):  # noqa: ANN001, ANN202
+        asked.extend(yaws)
+        return orig(yaws, should_stop)
+
+    field._static_edges = counted
+    built = field.static_open(lambda: False)
+    assert asked == list(range(3 * YAW_CHUNK, len(OPEN_YAWS)))  # none summed again
     fresh = PivotChecker(scene, seed=0).walker.field.static_open()
     assert np.array_equal(built, fresh)
-
 
 
 def test_the_floor_field_sums_footprints_a_block_of_yaws_between_polls(monkeypatch):
@@ -106,14 +109,14 @@ def test_the_floor_field_sums_footprints_a_block_of_yaws_between_polls(monkeypat
     summed = []
     orig = walk_field.meeting_edges
 
-    def counted(pieces, bodies):  # noqa: ANN001, ANN202
+    def counted(pieces, bodies, **kw):  # noqa: ANN001, ANN003, ANN202
         summed.append(len(pieces))
-        return orig(pieces, bodies)
+        return orig(pieces, bodies, **kw)
 
     monkeypatch.setattr(walk_field, "meeting_edges", counted)
     polls = iter(range(100))
     with pytest.raises(Interrupted):
-        field.static_open(lambda: next(polls) >= 1)
+        field.static_open(lambda: next(polls) >= 1 and field.yaws_done > 0)
     assert summed == [YAW_CHUNK * len(field.pieces)]
 
 # -- free walking: doors and corridors narrower than the turning disk ----------------------

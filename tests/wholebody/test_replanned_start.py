@@ -32,9 +32,9 @@ def _first_sample(plan):
     with pytest.raises(_Stop):
         gen.run()
     rec = gen._rec
-    x, y, _, qx, qy, qz, qw = rec.box[0]
-    assert abs(qx) < 1e-9 and abs(qy) < 1e-9  # resting flat
-    box = (float(x), float(y), 2.0 * math.atan2(qz, qw))
+    frame = rec.box[0]  # the box's frame, rows of [R | p]
+    assert np.allclose(frame[2, :3], (0.0, 0.0, 1.0), atol=1e-9)  # resting flat
+    box = (float(frame[0, 3]), float(frame[1, 3]), math.atan2(frame[1, 0], frame[0, 0]))
     model = pin.buildModelFromUrdf(str(data_path(URDF_RELPATH, field="urdf")),
                                    pin.JointModelFreeFlyer())
     data = model.createData()
