@@ -163,20 +163,13 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     except Interrupted as e:
         return _stopped_in_setup(scene, planner, seed, time_limit, e.what,
                                  time.perf_counter() - t0)
-    ss = problem.setup
-    p = make_planner(planner, problem, seed=seed, config=config)
-    if isinstance(p, RegraspPlanner):
-        config = p.config
-        p.last_search = resume  # the planner keeps it only for this checker and goal
-    ss.setPlanner(p)
-    ss.setup()
+    p, config = _planner_for(problem, planner, seed=seed, config=config, resume=resume)
     t1 = time.perf_counter()
-    name = _solve(ss, time_limit, started)
+    name = _solve(problem.setup, time_limit, started)
     t2 = time.perf_counter()
-    if name == "INVALID_START":
-        raise PlanningError(name, problem.checker.explain(scene.start))
-    if name == "INVALID_GOAL":
-        raise PlanningError(name, problem.checker.explain(scene.goal))
+    if name in ("INVALID_START", "INVALID_GOAL"):
+        pose = scene.start if name == "INVALID_START" else scene.goal
+        raise PlanningError(name, problem.checker.explain(pose))
     extra = {"planner": planner, "seed": seed, "time_limit": time_limit, **_scene_record(scene)}
     result_plan = _result_plan(scene, problem, name, extra,
                                simplify=simplify and base in OMPL_PLANNERS)
@@ -193,6 +186,18 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     return PlanResult(name, result_plan, planner, seed, time_limit, timings, stats,
                       {"valid": c.valid, "invalid": c.invalid, "cache_hits": c.cache_hits},
                       getattr(p, "last_search", None), scene)
+
+
+def _planner_for(problem: Any, planner: str, *, seed: int, config: RegraspConfig,
+                 resume: Any) -> tuple[Any, RegraspConfig]:
+    """The planner named ``planner`` set up on ``problem``, and the configuration it uses."""
+    p = make_planner(planner, problem, seed=seed, config=config)
+    if isinstance(p, RegraspPlanner):
+        config = p.config
+        p.last_search = resume  # the planner keeps it only for this checker and goal
+    problem.setup.setPlanner(p)
+    problem.setup.setup()
+    return p, config
 
 
 def _stopped_in_setup(scene: Scene | str | os.PathLike, planner: str, seed: int,

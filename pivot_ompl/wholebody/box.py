@@ -166,6 +166,13 @@ class BoxHold:
         """Grip frames ``(left, right)`` in the tilted grasp frame (read-only, cached)."""
         return _T_G_hands(self, grasp)
 
+    def T_world_hands(self, T_world_G: np.ndarray, grasp: int, tilt: float
+                      ) -> tuple[np.ndarray, np.ndarray]:
+        """Grip frames ``(left, right)`` in the world: grasp frame ``T_world_G``, tilt (rad)."""
+        Tt = T_world_G @ transform(rot_y(-tilt), (0.0, 0.0, 0.0))
+        left, right = self.T_G_hands(grasp)
+        return Tt @ left, Tt @ right
+
     def _T_G_hands(self, grasp: int) -> tuple[np.ndarray, np.ndarray]:
         zg = min(self.grip_height, self.size[2] - GRIP_TOP)
         yg = min(self.grip_spacing, self.edge_half_length(grasp) - GRIP_EDGE)

@@ -50,9 +50,7 @@ from pivot_ompl.se2 import Pose, rotate_about, wrap_angle
 from pivot_ompl.wholebody.box import (
     DEFAULT_TILT,
     BoxHold,
-    rot_y,
     rotation_about_vertical,
-    transform,
 )
 from pivot_ompl.wholebody.footsteps import chunks
 from pivot_ompl.wholebody.pivot_walk import (
@@ -178,12 +176,6 @@ class WholeBodyGenerator:
         T = self.walker.trunk_frame()
         return T @ self.walker.rest_hands[0], T @ self.walker.rest_hands[1]
 
-    def _grip_hands(self, T_world_G: np.ndarray, grasp: int, tilt: float
-                    ) -> tuple[np.ndarray, np.ndarray]:
-        Tt = T_world_G @ transform(rot_y(-tilt), (0.0, 0.0, 0.0))
-        left, right = self.hold.T_G_hands(grasp)
-        return Tt @ left, Tt @ right
-
     def _move_box(self, held: _HeldBox, *, G: np.ndarray | None = None,
                   tilt: float | None = None) -> None:
         """Set the held box's grasp frame and/or tilt; the recorded box follows."""
@@ -279,7 +271,7 @@ class WholeBodyGenerator:
         self._move_box(held)
         # reach
         start_hands = self._rest_hands()  # the current targets: no jump in the tasks
-        goal = self._grip_hands(G, k, 0.0)
+        goal = self.hold.T_world_hands(G, k, 0.0)
         self._stand(tm.reach, lambda s: None, hands_of=lambda s: (
             interpolate_frame(start_hands[0], goal[0], min_jerk(s)),
             interpolate_frame(start_hands[1], goal[1], min_jerk(s))))
@@ -290,7 +282,7 @@ class WholeBodyGenerator:
             self._move_box(held, tilt=theta * min_jerk(s))
 
         self._stand(tm.tilt, tilt_each, holding=True, grasp=k, tilt_of=lambda s: theta *
-                    min_jerk(s), hands_of=lambda s: self._grip_hands(held.G, k, held.tilt))
+                    min_jerk(s), hands_of=lambda s: self.hold.T_world_hands(held.G, k, held.tilt))
         # pivot steps: the plan is checked first, then walked in continuous walks
         check_pivot_steps(hold, phase, i)
         robots = [phase.robot_start, *(st.robot for st in phase.steps)]
@@ -311,8 +303,8 @@ class WholeBodyGenerator:
 
         self._stand(tm.tilt, untilt_each, holding=True, grasp=k,
                     tilt_of=lambda s: theta * (1.0 - min_jerk(s)),
-                    hands_of=lambda s: self._grip_hands(held.G, k, held.tilt))
-        grip = self._grip_hands(held.G, k, 0.0)
+                    hands_of=lambda s: self.hold.T_world_hands(held.G, k, held.tilt))
+        grip = self.hold.T_world_hands(held.G, k, 0.0)
         self._stand(tm.release, lambda s: None, hands_of=lambda s: (
             interpolate_frame(grip[0], self._rest_hands()[0], min_jerk(s)),
             interpolate_frame(grip[1], self._rest_hands()[1], min_jerk(s))))
@@ -337,7 +329,7 @@ class WholeBodyGenerator:
                for u in (0.25, 0.5, 0.75)] + [step.robot]
         self._walk_to(arc, holding=True, grasp=k, tilt=theta,
                       each=self._rotation(step, held.G, held),
-                      hands_of=lambda: self._grip_hands(held.G, k, theta),
+                      hands_of=lambda: self.hold.T_world_hands(held.G, k, theta),
                       follow_path=True)
         self._unit_done(f"phase {i}: pivot {j + 1}/{len(phase.steps)}")
 
@@ -383,7 +375,7 @@ class WholeBodyGenerator:
                                           (tick - starts[p]) / (ends[p] - starts[p]),
                                           follow_feet=self.timing.follow_feet))
             self._move_box(held, G=rotation_about_vertical(step.pivot, step.angle * u) @ G0)
-            self._tick(traj, self._grip_hands(held.G, k, theta), holding=True, grasp=k,
+            self._tick(traj, self.hold.T_world_hands(held.G, k, theta), holding=True, grasp=k,
                        tilt=theta)
         self._unit_done(f"phase {i}: pivot {j0 + len(last)}/{len(phase.steps)}")
         walker.stand()
