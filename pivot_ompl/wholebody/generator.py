@@ -63,6 +63,7 @@ from pivot_ompl.wholebody.pivot_walk import (
 from pivot_ompl.wholebody.recording import GenerationStats, Recorder, Sample
 from pivot_ompl.wholebody.settings import WalkSettings
 from pivot_ompl.wholebody.timeline import Timing, interpolate_frame, min_jerk
+from pivot_ompl.wholebody.walk_windows import WindowedWalk
 from pivot_ompl.wholebody.walker import PlacoWalker, SolverFailure
 
 if TYPE_CHECKING:
@@ -186,10 +187,10 @@ class WholeBodyGenerator:
         self._box_T = held.T_world_box()
 
     # -- one tick -----------------------------------------------------------------------
-    def _tick(self, traj, hands: tuple[np.ndarray, np.ndarray], *,  # noqa: ANN001
+    def _tick(self, walk: WindowedWalk | None, hands: tuple[np.ndarray, np.ndarray], *,
               holding: bool, grasp: int, tilt: float) -> None:
         try:
-            support, zmp = self.walker.tick(self._t, traj, hands[0], hands[1])
+            support, zmp = self.walker.tick(self._t, walk, hands[0], hands[1])
         except SolverFailure as e:
             raise self._fail(f"infeasible QP at t = {self._t:.3f} s ({e})") from e
         if holding:

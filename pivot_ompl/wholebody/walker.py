@@ -31,6 +31,7 @@ from pivot_ompl.wholebody.footsteps import planar, pose_matrix
 from pivot_ompl.wholebody.joint_damper import JointDamper
 from pivot_ompl.wholebody.settings import WalkSettings
 from pivot_ompl.wholebody.swing import SwingFoot
+from pivot_ompl.wholebody.walk_windows import WindowedWalk
 
 __all__ = ["PlacoWalker", "SolverFailure", "WalkSettings", "planar", "pose_matrix"]
 
@@ -284,7 +285,7 @@ class PlacoWalker:
         f.frame = frame
         return f
 
-    def plan_walk(self, footsteps: list, t0: float):  # noqa: ANN201 - placo type
+    def plan_walk(self, footsteps: list, t0: float) -> WindowedWalk:
         """LIPM/ZMP trajectory of a walk (footsteps led by the two current feet) from ``t0``.
 
         The commanded feet become the walk's final feet.
@@ -293,7 +294,7 @@ class PlacoWalker:
         supports = placo.FootstepsPlanner.make_supports(footsteps, t0, True,
                                                         self.params.has_double_support(), True)
         wpg = placo.WalkPatternGenerator(self.robot, self.params)
-        traj = wpg.plan(supports, self.com(), t0)
+        traj = WindowedWalk(wpg, supports, self.com(), t0)
         for f in footsteps[-2:]:
             if str(f.side) == "left":
                 self.T_left = np.array(f.frame)
@@ -302,7 +303,7 @@ class PlacoWalker:
         return traj
 
     # -- one tick -----------------------------------------------------------------------
-    def tick(self, t: float, traj, T_left_hand: np.ndarray,  # noqa: ANN001
+    def tick(self, t: float, walk: WindowedWalk | None, T_left_hand: np.ndarray,
              T_right_hand: np.ndarray) -> tuple[int, np.ndarray]:
         """Solve one tick at time ``t``; return (support code, planned ZMP xy).
 
@@ -320,6 +321,7 @@ class PlacoWalker:
         else:
             self.hands.target = R.T @ (T_right_hand[:3, 3] - p)
         held = False
+        traj = walk.at(t) if walk is not None else None
         if traj is not None:
             self.tasks.update_tasks_from_trajectory(traj, t)
             held = self.swing.update(traj, t, self.tasks)
