@@ -16,7 +16,7 @@ Timeline of a **transfer phase** (grasp ``k``), each part a segment of solver ti
 A **transit phase** walks along the phase's ``robot_path`` (footsteps placed along its
 straight segments, see :func:`~pivot_ompl.wholebody.footsteps.path_footsteps`) with the box
 resting; long walks are planned in pieces of :attr:`Timing.max_steps` steps, each coming to
-rest (the LIPM QP grows with its horizon).
+rest (each piece's CoM planned in windows of supports, :mod:`.walk_windows`).
 A replanned plan whose robot was observed away from the box (its ``observed_robot`` field,
 ``replan`` with the box at rest) starts there: the robot settles at the observed pose, then
 walks (PlaCo's footstep planner, as to a transfer start off the robot's pose) to the plan's
@@ -243,7 +243,7 @@ class WholeBodyGenerator:
                             hands_of=(lambda s: hands_of()) if hands_of else None)
             return
         # a walk moving the box is planned in one piece (its rotation spans it); a transit is
-        # cut into walks of at most max_steps steps (the LIPM QP grows with the horizon)
+        # cut into walks of at most max_steps steps, each coming to rest
         size = len(footsteps) if each is not None else self.timing.max_steps
         for chunk in chunks(footsteps, size):
             traj = self.walker.plan_walk(chunk, self._t)

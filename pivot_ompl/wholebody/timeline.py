@@ -31,7 +31,8 @@ class Timing:
             feet, which the trunk and the shoulders follow, so that every link stays in the
             planner's held body; 0 (smoother) let shoulders out by 34 mm on fig10).
         pivot_walk_steps: pivot steps are walked continuously in walks of at most this
-            many steps (each comes to rest; the LIPM QP grows with the horizon).
+            many steps (each comes to rest; its CoM planned in windows of supports,
+            :mod:`~pivot_ompl.wholebody.walk_windows`).
     """
 
     reach: float = 1.5
