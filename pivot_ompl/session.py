@@ -33,6 +33,7 @@ from typing import Any
 
 from pivot_ompl.api import PlanResult, plan, plan_from_route
 from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.checking.stored import StoredMotions, stored_motions
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import InputError, PlanningError
 from pivot_ompl.grasp import check_grasp
@@ -78,6 +79,8 @@ class PlanningSession:
         self.repair = repair
         self.last: PlanResult | None = None
         self._route: list[State] = _route_of_plan(executing) if executing is not None else []
+        self._stored = stored_motions(executing, self._route) if self._route and \
+            executing is not None else StoredMotions()
         self._checker: PivotChecker | None = None
         self._search: Any = None
 
@@ -120,7 +123,7 @@ class PlanningSession:
         obstacles = tuple(o for o in self.scene.obstacles if o not in gone) + added
         scene = dataclasses.replace(self.scene, start=start, obstacles=obstacles)
         if self._checker is not None and (added or gone):
-            fresh = PivotChecker(scene, seed=self.seed)
+            fresh = self._new_checker(scene)
             kept = fresh.adopt(self._checker, added=added, removed=gone)
             log.info("replanning: %d checked motions kept after the change", kept)
             self._checker, self._search = fresh, None  # the roadmaps grew among the old ones
@@ -142,7 +145,7 @@ class PlanningSession:
                 max(abs(a - b) for a, b in zip(self._route[-1][0], scene.goal, strict=True)) > 1e-9:
             return None  # no route, or one to another goal
         if self._checker is None:
-            self._checker = PivotChecker(scene, seed=self.seed)
+            self._checker = self._new_checker(scene)
         checker = self._checker
         checker.scene = scene
         if not checker.box_valid(box):
@@ -172,6 +175,12 @@ class PlanningSession:
         self._adopt(scene, res, grasp)
         return res
 
+    def _new_checker(self, scene: Scene) -> PivotChecker:
+        """A checker of ``scene`` offered the executed plan file's motions (checked on use)."""
+        checker = PivotChecker(scene, seed=self.seed)
+        checker.offer(self._stored)
+        return checker
+
     def _adopt(self, scene: Scene, res: PlanResult, grasp: int | None) -> None:
         """Take ``res`` as the last plan (its route to repair next)."""
         self.scene, self.last = scene, res
@@ -199,7 +208,7 @@ class PlanningSession:
     def _run(self, scene: Scene, time_limit: float, seed: int | None,
              grasp: int | None) -> PlanResult:
         if self._checker is None:
-            self._checker = PivotChecker(scene, seed=self.seed)
+            self._checker = self._new_checker(scene)
         end = time.monotonic() + time_limit
         kw: dict[str, Any] = {"planner": self.planner, "config": self.config,
                               "seed": self.seed if seed is None else seed,
