@@ -16,7 +16,11 @@ where it really is (drift, a slip), obstacles that appeared or went. It keeps be
   (:func:`~pivot_ompl.planners.repair.repair_route`: a checked transfer from the observed pose
   to the nearest point of the route it can reach directly, ahead of what a change made
   invalid, then the rest of the route, every edge checked against the scene as it is now),
-  and searches only when no such repair exists.
+  and searches only when no such repair exists; the repaired route's own states and a few
+  after them are polished (the rest was polished when it was planned);
+* from a plan file (``executing=``), its stored motions: each edge's pivot rotations and each
+  walk, offered to the checker (:mod:`pivot_ompl.checking.stored`), which uses one only
+  after it passes the checker's own checks against the scene as it is now.
 
 Every plan is checked as a fresh plan would be; only work is saved. Plans start at the
 observed box pose; with ``grasp=k`` (the robot holds the box with grasp ``k``) a plan whose
@@ -160,7 +164,8 @@ class PlanningSession:
         if rep is None:
             return None
         cfg = self.config or RegraspConfig()
-        states = polish(checker, rep.states, cfg, should_stop=stop)
+        states = polish(checker, rep.states, cfg, should_stop=stop,
+                        new=len(rep.states) - rep.kept_edges)
         if grasp is not None and states[0][1] != grasp:  # the robot walks to the route's grasp
             if not checker.transit(box, grasp, states[0][1], should_stop=stop).valid:
                 return None
