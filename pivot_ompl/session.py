@@ -164,12 +164,14 @@ class PlanningSession:
         if rep is None:
             return None
         cfg = self.config or RegraspConfig()
-        states = polish(checker, rep.states, cfg, should_stop=stop,
-                        new=len(rep.states) - rep.kept_edges)
+        states, new = rep.states, len(rep.states) - rep.kept_edges
         if grasp is not None and states[0][1] != grasp:  # the robot walks to the route's grasp
             if not checker.transit(box, grasp, states[0][1], should_stop=stop).valid:
                 return None
-            states = [(box, grasp), *states]
+            states, new = [(box, grasp), *states], new + 1
+        # the polish starts with the held grasp: a walk to another is priced, not added after
+        states = polish(checker, states, cfg, should_stop=stop, new=new,
+                        held=grasp is not None)
         t1 = time.perf_counter()
         stats = {"repaired": True, "joined_edge": rep.joined, "join_edges_tried": rep.tried,
                  "kept_edges": rep.kept_edges, "time": t1 - t0}

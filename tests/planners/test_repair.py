@@ -113,16 +113,20 @@ def test_only_the_edges_a_new_obstacle_touches_are_checked_again(slot_plan):
     assert (route[-2][0], route[-1][0], route[-1][1], True) not in fresh._edges
 
 
-def test_a_path_that_goes_on_keeps_its_last_grasp_through_the_optimiser(slot_plan):
+def test_the_optimiser_keeps_a_held_first_grasp_and_the_last_grasp_of_a_part(slot_plan):
     from pivot_ompl.planners.optimiser import optimise
 
     route = route_of(slot_plan.extra["route"])
     k = next(i for i in range(len(route) - 1) if route[i][1] != route[i + 1][1])
-    head = route[:k + 2]  # ends with a walk: useless alone, needed by what follows it
     ck = PivotChecker(shipped("slot"))
+    head = route[:k + 2]  # ends with a walk: useless alone, needed by what follows it
     assert optimise(ck, head, should_stop=lambda: False)[-1] != head[-1]  # dropped alone
     kept = optimise(ck, head, should_stop=lambda: False, end_grasp=True)
     assert kept[-1] == head[-1] and kept[0][0] == head[0][0]
+    tail = route[k:]  # starts with a walk: the robot holds the box with the grasp before it
+    assert optimise(ck, tail, should_stop=lambda: False)[0] != tail[0]  # skipped, unpriced
+    held = optimise(ck, tail, should_stop=lambda: False, start_grasp=True)
+    assert held[0] == tail[0] and held[-1][0] == tail[-1][0]
 
 
 def test_the_polish_of_a_repair_reworks_its_own_states_and_keeps_the_old_route(slot_plan,
