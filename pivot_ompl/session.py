@@ -164,14 +164,15 @@ class PlanningSession:
         if rep is None:
             return None
         cfg = self.config or RegraspConfig()
-        states, new = rep.states, len(rep.states) - rep.kept_edges
+        # a route that starts with the held grasp is polished from it (a walk to another is
+        # priced, not added after); one that starts with another from any (a walk is needed)
+        states = polish(checker, rep.states, cfg, should_stop=stop,
+                        new=len(rep.states) - rep.kept_edges,
+                        held=grasp is not None and rep.states[0][1] == grasp)
         if grasp is not None and states[0][1] != grasp:  # the robot walks to the route's grasp
             if not checker.transit(box, grasp, states[0][1], should_stop=stop).valid:
                 return None
-            states, new = [(box, grasp), *states], new + 1
-        # the polish starts with the held grasp: a walk to another is priced, not added after
-        states = polish(checker, states, cfg, should_stop=stop, new=new,
-                        held=grasp is not None)
+            states = [(box, grasp), *states]
         t1 = time.perf_counter()
         stats = {"repaired": True, "joined_edge": rep.joined, "join_edges_tried": rep.tried,
                  "kept_edges": rep.kept_edges, "time": t1 - t0}
