@@ -16,7 +16,11 @@ where it really is (drift, a slip), obstacles that appeared or went. It keeps be
   (:func:`~pivot_ompl.planners.repair.repair_route`: a checked transfer from the observed pose
   to the nearest point of the route it can reach directly, ahead of what a change made
   invalid, then the rest of the route, every edge checked against the scene as it is now),
-  and searches only when no such repair exists.
+  and searches only when no such repair exists; the repaired route's own states and a few
+  after them are polished (the rest was polished when it was planned);
+* from a plan file (``executing=``), its stored motions: each edge's pivot rotations and each
+  walk, offered to the checker (:mod:`pivot_ompl.checking.stored`), which uses one only
+  after it passes the checker's own checks against the scene as it is now.
 
 Every plan is checked as a fresh plan would be; only work is saved. Plans start at the
 observed box pose; with ``grasp=k`` (the robot holds the box with grasp ``k``) a plan whose
@@ -33,6 +37,7 @@ from typing import Any
 
 from pivot_ompl.api import PlanResult, plan, plan_from_route
 from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.checking.stored import StoredMotions, stored_motions
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import InputError, PlanningError
 from pivot_ompl.grasp import check_grasp
@@ -78,6 +83,8 @@ class PlanningSession:
         self.repair = repair
         self.last: PlanResult | None = None
         self._route: list[State] = _route_of_plan(executing) if executing is not None else []
+        self._stored = stored_motions(executing, self._route) if self._route and \
+            executing is not None else StoredMotions()
         self._checker: PivotChecker | None = None
         self._search: Any = None
 
@@ -120,7 +127,7 @@ class PlanningSession:
         obstacles = tuple(o for o in self.scene.obstacles if o not in gone) + added
         scene = dataclasses.replace(self.scene, start=start, obstacles=obstacles)
         if self._checker is not None and (added or gone):
-            fresh = PivotChecker(scene, seed=self.seed)
+            fresh = self._new_checker(scene)
             kept = fresh.adopt(self._checker, added=added, removed=gone)
             log.info("replanning: %d checked motions kept after the change", kept)
             self._checker, self._search = fresh, None  # the roadmaps grew among the old ones
@@ -142,7 +149,7 @@ class PlanningSession:
                 max(abs(a - b) for a, b in zip(self._route[-1][0], scene.goal, strict=True)) > 1e-9:
             return None  # no route, or one to another goal
         if self._checker is None:
-            self._checker = PivotChecker(scene, seed=self.seed)
+            self._checker = self._new_checker(scene)
         checker = self._checker
         checker.scene = scene
         if not checker.box_valid(box):
@@ -157,7 +164,11 @@ class PlanningSession:
         if rep is None:
             return None
         cfg = self.config or RegraspConfig()
-        states = polish(checker, rep.states, cfg, should_stop=stop)
+        # a route that starts with the held grasp is polished from it (a walk to another is
+        # priced, not added after); one that starts with another from any (a walk is needed)
+        states = polish(checker, rep.states, cfg, should_stop=stop,
+                        new=len(rep.states) - rep.kept_edges,
+                        held=grasp is not None and rep.states[0][1] == grasp)
         if grasp is not None and states[0][1] != grasp:  # the robot walks to the route's grasp
             if not checker.transit(box, grasp, states[0][1], should_stop=stop).valid:
                 return None
@@ -171,6 +182,12 @@ class PlanningSession:
                               config=self.config, bound=self.bound, search=self._search)
         self._adopt(scene, res, grasp)
         return res
+
+    def _new_checker(self, scene: Scene) -> PivotChecker:
+        """A checker of ``scene`` offered the executed plan file's motions (checked on use)."""
+        checker = PivotChecker(scene, seed=self.seed)
+        checker.offer(self._stored)
+        return checker
 
     def _adopt(self, scene: Scene, res: PlanResult, grasp: int | None) -> None:
         """Take ``res`` as the last plan (its route to repair next)."""
@@ -199,7 +216,7 @@ class PlanningSession:
     def _run(self, scene: Scene, time_limit: float, seed: int | None,
              grasp: int | None) -> PlanResult:
         if self._checker is None:
-            self._checker = PivotChecker(scene, seed=self.seed)
+            self._checker = self._new_checker(scene)
         end = time.monotonic() + time_limit
         kw: dict[str, Any] = {"planner": self.planner, "config": self.config,
                               "seed": self.seed if seed is None else seed,

@@ -13,6 +13,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
+from pivot_ompl.checking.stored import StoredMotions, stored_rotations, stored_walk
 from pivot_ompl.checking.transfer_check import EdgeResult, TransferCheck
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import BoxGraspModel
@@ -87,6 +88,7 @@ class PivotChecker:
         self.counters = MotionCounters()
         self._edges: dict[tuple, EdgeResult] = {}
         self._walks: dict[tuple, WalkResult] = {}
+        self._offered = StoredMotions()
         self.transfers = TransferCheck(self.model, self.world, self.steering,
                                        tolerance=tolerance, refined=self._count_refined)
 
@@ -152,11 +154,22 @@ class PivotChecker:
         cached (a later call checks it).
         """
         m = self.model
+
+        def compute() -> EdgeResult:
+            ca, cb = m.car_pose(obj_a, grasp), m.car_pose(obj_b, grasp)
+            offered = self._offered.transfers.get((obj_a, obj_b, grasp)) if with_robot \
+                else None
+            if offered is not None:
+                rots = stored_rotations(m, ca, cb, offered, grasp,
+                                        alpha_max=self.steering.alpha_max)
+                res = self.transfers.check_given(ca, cb, rots, grasp) if rots else None
+                if res is not None and res.valid:
+                    return res
+            return self.transfers.check(ca, cb, grasp, with_robot=with_robot,
+                                        should_stop=should_stop)
+
         try:
-            return self._cached(self._edges, (obj_a, obj_b, grasp, with_robot),
-                                lambda: self.transfers.check(
-                                    m.car_pose(obj_a, grasp), m.car_pose(obj_b, grasp), grasp,
-                                    with_robot=with_robot, should_stop=should_stop))
+            return self._cached(self._edges, (obj_a, obj_b, grasp, with_robot), compute)
         except Interrupted:
             length = self.steering.paths.distance(obj_a, obj_b)
             return EdgeResult(False, PivotSequence(obj_a, obj_b, (), length, 0), length,
@@ -177,6 +190,15 @@ class PivotChecker:
         return res
 
     # -- a changed scene -------------------------------------------------------------------
+    def offer(self, stored: StoredMotions) -> None:
+        """Motions made earlier (a plan file's), tried first when their edges are first asked.
+
+        An offered motion is checked as this checker checks its own (see
+        :mod:`pivot_ompl.checking.stored`); it is the edge's result only if it passes, else
+        the edge is computed as without it.
+        """
+        self._offered = stored
+
     def adopt(self, old: PivotChecker, *, added: Sequence[Obstacle] = (),
               removed: Sequence[Obstacle] = ()) -> int:
         """Take over ``old``'s checked motions that a change of obstacles cannot have changed.
@@ -220,10 +242,18 @@ class PivotChecker:
 
         A walk whose search ``should_stop`` stops is invalid and not cached.
         """
+        def compute() -> WalkResult:
+            offered = self._offered.walks.get((obj, from_grasp, to_grasp))
+            if offered is not None:
+                w = self.walker
+                res = stored_walk(w.clearance, self.model, w.walk, obj, from_grasp, to_grasp,
+                                  offered)
+                if res is not None:
+                    return res
+            return self.walker.plan(obj, from_grasp, to_grasp, should_stop=should_stop)
+
         try:
-            return self._cached(self._walks, (obj, from_grasp, to_grasp),
-                                lambda: self.walker.plan(obj, from_grasp, to_grasp,
-                                                         should_stop=should_stop))
+            return self._cached(self._walks, (obj, from_grasp, to_grasp), compute)
         except Interrupted:
             return INVALID_WALK
 

@@ -153,6 +153,27 @@ class TransferCheck:
             steering.append_merged(merged, r)
         return EdgeResult(True, PivotSequence(ca, cb, tuple(merged), length, 0), length)
 
+    def check_given(self, ca: Pose, cb: Pose, rotations: tuple[Rotation, ...],
+                    grasp: int) -> EdgeResult:
+        """Given rotations (made earlier) from car pose ``ca`` to ``cb``, checked.
+
+        Checked as :meth:`check` checks its own, against the scene as it is now: rotation by
+        rotation, the box and the robot inside the bounds and their sweeps certified. The
+        rotations must chain from ``ca`` (each about a pivot corner of the car it
+        starts from, within the rotation bound) and end at ``cb``: the caller makes sure.
+        """
+        length = self.steering.paths.distance(ca, cb)
+        db = dr = math.inf
+        why = ""
+        if self.world.has_obstacles:
+            db, dr = self._box_d(ca, grasp), self._rob_d(ca, grasp)
+            why = "collides at the start" if db <= 0 or dr <= 0 else ""
+        if not why:
+            why, _ = self._rotations(ca, rotations, grasp, True, db, dr)
+        if why:
+            return EdgeResult(False, PivotSequence(ca, cb, (), length, 0), length, why)
+        return EdgeResult(True, PivotSequence(ca, cb, rotations, length, 0), length)
+
     def _refine(self, ca: Pose, cb: Pose, piece: Piece, grasp: int, with_robot: bool,
                 db: float, dr: float, should_stop: Callable[[], bool] | None,
                 ) -> tuple[list[Rotation], str, tuple[float, float]]:

@@ -96,6 +96,8 @@ class _Graph:
     costs: CostModel
     grasps: tuple[int, ...]
     reach: float = SHORTCUT_REACH
+    end_grasp: int | None = None  # the grasp the path must end with (``None``: any)
+    start_grasp: int | None = None  # the grasp the path must start with (``None``: any)
     nodes: list[list[int]] = field(default_factory=list)  # valid grasps per waypoint
     #: checked costs: ``None`` = invalid
     transfer: dict[tuple[int, int, int], float | None] = field(default_factory=dict)
@@ -109,6 +111,10 @@ class _Graph:
         """Valid grasps of every waypoint."""
         ck = self.checker
         self.nodes = [[g for g in self.grasps if ck.state_valid(p, g)] for p in self.poses]
+        if self.end_grasp is not None:
+            self.nodes[-1] = [g for g in self.nodes[-1] if g == self.end_grasp]
+        if self.start_grasp is not None:
+            self.nodes[0] = [g for g in self.nodes[0] if g == self.start_grasp]
         #: per grasp and waypoint ``i``: the later waypoints (ascending) where the grasp is
         #: valid and that a transfer from ``i`` may reach
         xy = np.array([(p[0], p[1]) for p in self.poses], dtype=float).reshape(-1, 2)
@@ -247,7 +253,8 @@ def budgeted(should_stop: Callable[[], bool], checker: PivotChecker, *,
 def optimise(checker: PivotChecker, states: list[State], *,
              should_stop: Callable[[], bool], costs: CostModel | None = None,
              grasps: tuple[int, ...] = (0, 1, 2, 3), reach: float = SHORTCUT_REACH,
-             stats: OptimiseStats | None = None) -> list[State]:
+             stats: OptimiseStats | None = None, start_grasp: bool = False,
+             end_grasp: bool = False) -> list[State]:
     """The cheapest path over the waypoints of ``states`` found before ``should_stop``.
 
     Args:
@@ -260,6 +267,10 @@ def optimise(checker: PivotChecker, states: list[State], *,
         reach: longest shortcut (m, :data:`SHORTCUT_REACH`); the input's own transfers are
             kept whatever their length.
         stats: filled with what was done, if given.
+        start_grasp: the path starts with the grasp ``states`` starts with (the robot holds
+            the box with it: a walk to another is priced); by default with any.
+        end_grasp: the path ends with the grasp ``states`` ends with (a part of a longer
+            path, which goes on from there); by default with any.
 
     Returns:
         A valid path from the same start pose to the same goal pose, never costlier than
@@ -277,7 +288,8 @@ def optimise(checker: PivotChecker, states: list[State], *,
     if not math.isfinite(before) or len(poses) < 2:
         return list(states)
     graph = _Graph(checker, poses, w, tuple(sorted(set(grasps) | {g for _, g in states})),
-                   reach=reach)
+                   reach=reach, end_grasp=states[-1][1] if end_grasp else None,
+                   start_grasp=states[0][1] if start_grasp else None)
     # the input's own edges are checked (cache hits): the DP over checked edges finds it
     for (i, g), (j, h) in zip(given, given[1:], strict=False):
         if g == h:

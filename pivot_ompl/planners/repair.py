@@ -63,6 +63,9 @@ DETOUR_CHECKS = 60
 #: for the lattice re-routing and then the optimiser each (at least the optimiser's
 #: ``min_checks``).
 POLISH_CHECKS_PER_STATE = 4
+#: Old route states after the repair's own that the polish of a repaired route reworks (the
+#: rest of the route was polished when it was planned, and is kept as it is).
+POLISH_KEPT = 4
 #: A join point this close (m and rad) to the observed pose is the observed pose itself.
 SAME_POSE = 1e-9
 
@@ -253,17 +256,36 @@ def _joined(checker: PivotChecker, route: Sequence[State], box: Pose, poses: Seq
 
 def polish(checker: PivotChecker, states: list[State], config: RegraspConfig, *,
            should_stop: Stop, checks_per_state: int = POLISH_CHECKS_PER_STATE,
-           lattice: bool = False) -> list[State]:
+           lattice: bool = False, new: int | None = None, kept: int = POLISH_KEPT,
+           held: bool = False) -> list[State]:
     """A repaired route improved as a found path is: lattice re-routing, then the optimiser.
 
     The same steps and cost model as the regrasp planner's (:mod:`.routes.refine`,
     :mod:`.optimiser`; as ``config.optimiser`` enables them), each within a budget of
-    ``checks_per_state`` motion checks per state of ``states`` (cache hits free): valid,
-    same ends, never costlier than ``states``.
+    ``checks_per_state`` motion checks per state polished (cache hits free): valid, same
+    ends, never costlier than ``states``. With ``new`` (the repair's own states, first in
+    ``states``; the rest is the old route, polished when it was planned), only the first
+    ``new + kept`` states are polished, to the same last state, grasp included; the rest is
+    kept as it is. ``held``: the robot holds the box with the first state's grasp (the path
+    starts with it; a walk to another is priced).
     """
     cfg = config.optimiser
     if not cfg.enabled:
         return states
+    head = len(states) if new is None else min(len(states), new + kept)
+    if head < len(states):
+        part = _polished(checker, states[:head], config, should_stop, checks_per_state,
+                         lattice, (held, True))
+        return (part if part[-1] == states[head - 1] else states[:head]) + states[head:]
+    return _polished(checker, states, config, should_stop, checks_per_state, lattice,
+                     (held, False))
+
+
+def _polished(checker: PivotChecker, states: list[State], config: RegraspConfig,
+              should_stop: Stop, checks_per_state: int, lattice: bool,
+              fixed: tuple[bool, bool]) -> list[State]:
+    """:func:`polish` of all of ``states``; ``fixed``: from their first, to their last grasp."""
+    cfg = config.optimiser
     c = checker.counters
 
     def budget() -> Stop:
@@ -274,4 +296,4 @@ def polish(checker: PivotChecker, states: list[State], config: RegraspConfig, *,
         states = refine(checker, TransferLattice(checker, config.cost), states,
                         costs=config.cost, should_stop=budget())
     return optimise(checker, states, should_stop=budget(), costs=config.cost,
-                    grasps=config.grasps)
+                    grasps=config.grasps, start_grasp=fixed[0], end_grasp=fixed[1])

@@ -153,3 +153,28 @@ def test_a_failed_repair_and_a_failed_resumed_search_leave_a_new_search_the_rest
     assert [resumed for _, resumed, _ in calls] == [True, False]
     assert calls[0][0] <= (limit - 0.3) / 2 + 1e-6  # half of what the repair left
     assert all(end <= deadline + 1e-3 for _, _, end in calls)  # both within the replan's limit
+
+
+def test_a_new_process_replanning_a_plan_file_reuses_its_checked_walk(monkeypatch):
+    from pivot_ompl.planfile import TransitPhase, plan_from_dict
+    from pivot_ompl.transit.planner import WalkPlanner
+
+    first = PlanningSession(shipped("slot"), seed=0).plan(time_limit=30.0)
+    old = plan_from_dict(json.loads(first.plan.to_text()))  # as the verb reads it
+    ph, q = _mid(old)
+    planned = []
+    real = WalkPlanner.plan
+
+    def spy(self, *args, **kwargs):
+        planned.append(args)
+        return real(self, *args, **kwargs)
+
+    monkeypatch.setattr(WalkPlanner, "plan", spy)
+    s = PlanningSession(shipped("slot"), seed=0, executing=old)
+    res = s.replan(box=(q[0] + 0.03, q[1], q[2]), grasp=ph.grasp, time_limit=30.0)
+    assert res.solved and res.roadmap.get("repaired")
+    assert check_plan(res.plan, s.scene).ok
+    walks = [p.robot_path for p in res.plan.phases if isinstance(p, TransitPhase)]
+    assert walks and walks[-1] == next(p.robot_path for p in old.phases
+                                       if isinstance(p, TransitPhase))
+    assert not planned  # the stored walk passed the checks: not planned again
