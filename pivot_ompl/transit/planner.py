@@ -17,8 +17,9 @@ a robot narrower than a door walks through it forward or sideways.
   guided by ``hypot(D, turn_cost * heading error)`` (weighted by ``floor_inflation``), where
   ``D`` is the shortest floor distance to the goal round the obstacles and the resting box
   (:meth:`~pivot_ompl.transit.field.FloorField.distances`, over the grid positions
-  where the walking body fits at one of 32 yaws), a lower bound of every walk's length; every
-  motion costs at least ``hypot(length, turn_cost * turn)``
+  where the walking body fits at one of 32 yaws; exact as far as the walk needs,
+  :meth:`WalkPlanner.floor_distances`, a lower bound beyond), a lower bound of every walk's
+  length; every motion costs at least ``hypot(length, turn_cost * turn)``
   (:func:`~.lattice.motion_cost`). Where ``D`` is infinite no walk exists. A search
   past ``quick_expansions`` states (a tight spot, where that guide, blind to the headings,
   fills every heading of the cells near the goal) is made again guided by the cost-to-go of
