@@ -92,6 +92,8 @@ class TransferCheck:
         self.tolerance = tolerance
         self._refined = refined
         self._reach: dict[int, tuple[float, float]] = {}
+        #: per grasp, the farthest corner (m) of the box and of the holding robot from the car
+        self._spread: dict[int, tuple[float, float]] = {}
         for g in range(4):
             car = (0.0, 0.0, 0.0)
             a = model.pivots(car, g)[LEFT]
@@ -99,6 +101,8 @@ class TransferCheck:
             rob = model.held_corners(model.robot_from_car(car, g), g)
             self._reach[g] = (max(math.hypot(x - a[0], y - a[1]) for x, y in box),
                               max(math.hypot(x - a[0], y - a[1]) for x, y in rob))
+            self._spread[g] = (max(math.hypot(x, y) for x, y in box),
+                               max(math.hypot(x, y) for x, y in rob))
 
     def reach(self, grasp: int) -> tuple[float, float]:
         """Farthest points (m) of the box and of the holding robot from a pivot corner."""
@@ -255,7 +259,18 @@ class TransferCheck:
 
     def _in_bounds(self, car: Pose, grasp: int, with_robot: bool, bulge_b: float,
                    bulge_r: float) -> bool:
+        """Whether the box's (and robot's) corners at ``car`` keep the bulges from the sides.
+
+        Accepted at once when the car keeps a body's farthest corner (:attr:`_spread`) plus
+        its bulge from every side (a corner is no farther from a side than that); else the
+        corners are placed and measured.
+        """
         m, w = self.model, self.world
+        x0, y0, x1, y1 = w.bounds
+        margin = min(car[0] - x0, x1 - car[0], car[1] - y0, y1 - car[1])
+        s_box, s_rob = self._spread[grasp]
+        if margin - s_box >= bulge_b and (not with_robot or margin - s_rob >= bulge_r):
+            return True
         if w.bounds_margin(m.object_corners(m.object_from_car(car, grasp))) < bulge_b:
             return False
         return not with_robot or \

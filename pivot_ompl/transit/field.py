@@ -26,7 +26,11 @@ walk: an admissible heuristic that knows the obstacles, and a proof that no walk
 is infinite. Testing the body itself, not only its inscribed disk, closes the gaps the robot
 cannot pass at any heading (a slot only the box fits through): without that, a walk whose only
 way lies through such a gap is refused only after the lattice search has expanded every state
-it can reach (seconds).
+it can reach (seconds). The Dijkstra runs over the connected component of the goals in the
+open grid's graph (the components computed once per scene; the open floor outside a turned
+building, say, costs a query nothing) and, given a ``limit``, settles only the positions
+within it: complete (exact) within the limit, a lower bound (the limit) beyond it, ``inf``
+only where no walk exists. The resting box's part is computed in the window it can close.
 
 The obstacles' part is built once per scene, vectorised (numpy), a block of yaws at a time
 between polls of the termination condition: at each yaw, the positions where the body (grown
@@ -48,7 +52,7 @@ from collections.abc import Callable
 import numpy as np
 import shapely
 from scipy.sparse import csr_matrix
-from scipy.sparse.csgraph import dijkstra
+from scipy.sparse.csgraph import connected_components, dijkstra
 
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import BoxGraspModel
@@ -111,6 +115,8 @@ class FloorField:
         #: per index into :data:`OPEN_YAWS` (as far as built), where the walking body fits
         self._fits: dict[int, np.ndarray] = {}
         self._lattice: csr_matrix | None = None
+        self._components: np.ndarray | None = None
+        self._graphs: dict[tuple[int, ...], tuple[np.ndarray, csr_matrix]] = {}
         self._partial: np.ndarray | None = None
         self.yaws_done = self.rows_done = 0
         b = world.bounds
@@ -158,31 +164,38 @@ class FloorField:
         return self._open
 
     def _add_rows(self, ok: np.ndarray, i0: int, i1: int) -> None:
-        """The grid graph's edges from grid rows ``i0:i1``, into a CSR matrix built directly.
+        """The grid graph's edges from the open positions of grid rows ``i0:i1`` (CSR).
 
-        Every position has one slot per heading vector (16, in :data:`HEADING_VECTORS`
-        order): the edge to the position that vector away, of its length when both ends are
-        open, ``inf`` otherwise (no edge; an outside target points back at the position
-        itself). No COO-to-CSR conversion (a sort): a query only closes the resting box's
-        positions (in place, restored after). Built a block of rows at a time, as the memory
-        it fills costs time on a large floor.
+        The graph follows the open floor, not the bounds' rectangle (a turned row of rooms
+        fills a small part of it, and the rectangle grows with the square of its length):
+        its nodes are the open positions in grid order (:attr:`_cells`: their flat grid
+        indices). Every node has one slot per heading vector (16, in
+        :data:`HEADING_VECTORS` order): the edge to the position that vector away, of its
+        length when that position is open too, ``inf`` otherwise (no edge; it then points
+        back at the node itself). Built directly in CSR form (no sort), a block of rows at a
+        time; a query only closes the resting box's positions (in place, restored after).
         """
-        nx, ny, nd = self.nx, self.ny, len(HEADING_VECTORS)
+        ny, nd = self.ny, len(HEADING_VECTORS)
         if i0 == 0:
-            self._indices = np.empty((nx * ny, nd), dtype=np.int32)
-            self._weights = np.empty((nx * ny, nd))
-            self._indptr = np.arange(0, nd * nx * ny + 1, nd, dtype=np.int64)
-        ix, iy = np.arange(i0, i1)[:, None, None], np.arange(ny)[None, :, None]
+            self._cells = np.flatnonzero(ok.ravel())
+            self._node = np.full(self.nx * ny, -1, dtype=np.int64)
+            self._node[self._cells] = np.arange(len(self._cells))
+            m = len(self._cells)
+            self._indices = np.empty((m, nd), dtype=np.int32)
+            self._weights = np.empty((m, nd))
+            kind = np.int32 if nd * m < 2 ** 31 else np.int64
+            self._indptr = np.arange(0, nd * m + 1, nd, dtype=kind)
+        lo, hi = np.searchsorted(self._cells, [i0 * ny, i1 * ny])
+        ix, iy = np.divmod(self._cells[lo:hi], ny)
         v = np.asarray(HEADING_VECTORS)
-        tx, ty = ix + v[None, None, :, 0], iy + v[None, None, :, 1]
-        inside = (tx >= 0) & (tx < nx) & (ty >= 0) & (ty < ny)
-        target = np.where(inside, tx * ny + ty, ix * ny + iy).reshape(-1, nd)
-        rows = slice(i0 * ny, i1 * ny)
-        self._indices[rows] = target
-        flat = ok.ravel()
-        both = inside.reshape(-1, nd) & flat[rows, None] & flat[target]
+        tx, ty = ix[:, None] + v[None, :, 0], iy[:, None] + v[None, :, 1]
+        inside = (tx >= 0) & (tx < self.nx) & (ty >= 0) & (ty < ny)
+        there = np.where(inside, self._node[np.where(inside, tx * ny + ty, 0)], -1)
+        both = there >= 0
+        here = np.arange(lo, hi)[:, None]
+        self._indices[lo:hi] = np.where(both, there, here)
         lengths = self.resolution * np.hypot(v[:, 0], v[:, 1])
-        self._weights[rows] = np.where(both, lengths[None, :], np.inf)
+        self._weights[lo:hi] = np.where(both, lengths[None, :], np.inf)
 
     def fits_index(self, k: int) -> np.ndarray:
         """Grid positions where the walking body at yaw ``OPEN_YAWS[k]`` fits (kept).
@@ -233,40 +246,143 @@ class FloorField:
             bodies.extend([body] * len(self.pieces))
         return meeting_edges(self.pieces * len(yaws), bodies, should_stop=should_stop)
 
-    def open_with_box(self, obj: Pose,
-                      should_stop: Callable[[], bool] | None = None) -> np.ndarray:
-        """Open positions with the box resting at ``obj``."""
-        ok = self.static_open(should_stop)
+    def box_reach(self) -> float:
+        """Farthest (m) from the resting box's centre a position the box closes can lie.
+
+        The box's half diagonal plus the inscribed radius and the box margin: a position
+        farther than that from the centre is at least ``radius + box_margin`` from the box.
+        """
+        w, d = self.model.object_size[0], self.model.object_size[1]
+        return 0.5 * math.hypot(w, d) + self.radius + self.box_margin
+
+    def _box_window(self, obj: Pose) -> tuple[slice, slice]:
+        """The grid rows and columns within :meth:`box_reach` of ``obj``'s centre."""
+        b, res, r = self.world.bounds, self.resolution, self.box_reach()
+        i0 = max(0, math.floor((obj[0] - r - b[0]) / res))
+        i1 = min(self.nx, math.ceil((obj[0] + r - b[0]) / res) + 1)
+        j0 = max(0, math.floor((obj[1] - r - b[1]) / res))
+        j1 = min(self.ny, math.ceil((obj[1] + r - b[1]) / res) + 1)
+        return slice(i0, max(i0, i1)), slice(j0, max(j0, j1))
+
+    def box_closes(self, obj: Pose) -> np.ndarray:
+        """Grid positions the box resting at ``obj`` closes, ``(nx, ny)`` booleans.
+
+        Those whose inscribed disk comes within ``box_margin`` of the box; computed only in
+        the window within :meth:`box_reach` of its centre (nothing farther is closed).
+        """
+        out = np.zeros(self.nx * self.ny, dtype=bool)
+        out[self._box_closed(obj)] = True
+        return out.reshape(self.nx, self.ny)
+
+    def _box_closed(self, obj: Pose) -> np.ndarray:
+        """Flat grid indices of :meth:`box_closes` (from its window alone)."""
+        wx, wy = self._box_window(obj)
         c, s = math.cos(obj[2]), math.sin(obj[2])
-        ex, ey = self.grid_x - obj[0], self.grid_y - obj[1]
+        ex, ey = self.grid_x[wx, wy] - obj[0], self.grid_y[wx, wy] - obj[1]
         lx = np.abs(c * ex + s * ey) - 0.5 * self.model.object_size[0]
         ly = np.abs(-s * ex + c * ey) - 0.5 * self.model.object_size[1]
         d = np.hypot(np.maximum(lx, 0.0), np.maximum(ly, 0.0))
-        return ok & (d > self.radius + self.box_margin)
+        ix, iy = np.nonzero(d <= self.radius + self.box_margin)
+        return (ix + wx.start) * self.ny + iy + wy.start
+
+    def open_with_box(self, obj: Pose,
+                      should_stop: Callable[[], bool] | None = None) -> np.ndarray:
+        """Open positions with the box resting at ``obj``."""
+        return self.static_open(should_stop) & ~self.box_closes(obj)
 
     def distances(self, obj: Pose, goals: list[tuple[int, int]],
-                  should_stop: Callable[[], bool] | None = None) -> np.ndarray:
+                  should_stop: Callable[[], bool] | None = None, *,
+                  limit: float = math.inf) -> np.ndarray:
         """Shortest open-grid distance (m) of every position to the nearest of ``goals``.
 
-        ``inf``: unreachable. With the box resting at ``obj``; shape ``(nx, ny)``.
+        With the box resting at ``obj``; shape ``(nx, ny)``. Exact at every position whose
+        distance is at most ``limit``: the Dijkstra settles only those (its cost follows
+        the floor within ``limit`` of the goals, not the whole floor). The others hold
+        ``inf`` when they are unreachable for certain (``limit`` is ``inf``, or the
+        Dijkstra settled every position it could reach before the limit), else ``limit``:
+        a lower bound of their distance (larger, or unreachable).
         """
-        static = self.static_open(should_stop)
-        closed = np.nonzero((static & ~self.open_with_box(obj, should_stop)).ravel())[0]
-        nd, ny = len(HEADING_VECTORS), self.ny
-        slots = [(closed[:, None] * nd + np.arange(nd)[None, :]).ravel()]  # edges out
-        cx, cy = closed // ny, closed % ny
+        self.static_open(should_stop)
+        ny, nd = self.ny, len(HEADING_VECTORS)
+        flat = np.asarray([ix * ny + iy for ix, iy in goals], dtype=np.int64)
+        out = np.full(self.nx * ny, np.inf)
+        open_goals = self._node[flat][self._node[flat] >= 0]
+        if len(open_goals):
+            cells, graph = self._component_graph(open_goals)
+            cut = self._box_cut(obj, cells)
+            if should_stop is not None and should_stop():
+                raise Interrupted("walking floor field")
+            sources = np.searchsorted(cells, flat[self._node[flat] >= 0])
+            saved = graph.data[cut]
+            graph.data[cut] = np.inf
+            try:
+                dist = np.asarray(dijkstra(graph, directed=True, min_only=True, limit=limit,
+                                           indices=sources))
+                if math.isfinite(limit) and _has_frontier(graph, dist, nd):
+                    dist[np.isinf(dist)] = limit
+            finally:
+                graph.data[cut] = saved
+            out[cells] = dist
+        out[flat] = 0.0  # a goal that is not open is its own distance 0 away
+        return out.reshape(self.nx, self.ny)
+
+    def _box_cut(self, obj: Pose, cells: np.ndarray) -> np.ndarray:
+        """The entries of a component's graph (over ``cells``) the box at ``obj`` closes.
+
+        The edges out of and into the open positions of ``cells`` the box closes.
+        """
+        ny, nd = self.ny, len(HEADING_VECTORS)
+        closed = self._box_closed(obj)
+        local = np.searchsorted(cells, closed)
+        hit = (local < len(cells)) & (cells[np.minimum(local, len(cells) - 1)] == closed)
+        closed, local = closed[hit], local[hit]
+        slots = [(local[:, None] * nd + np.arange(nd)[None, :]).ravel()]  # edges out
+        cx, cy = np.divmod(closed, ny)
         for d, (vx, vy) in enumerate(HEADING_VECTORS):  # edges in: from the position -v away
             sx, sy = cx - vx, cy - vy
             inside = (sx >= 0) & (sx < self.nx) & (sy >= 0) & (sy < ny)
-            slots.append((sx[inside] * ny + sy[inside]) * nd + d)
-        cut = np.concatenate(slots)
-        if should_stop is not None and should_stop():
-            raise Interrupted("walking floor field")
-        n = self.nx * ny
-        g = csr_matrix((self._weights.reshape(-1), self._indices.reshape(-1), self._indptr),
-                       shape=(n, n), copy=False)
-        dist = _dijkstra_closing(g, cut, [ix * ny + iy for ix, iy in goals])
-        return dist.reshape(self.nx, self.ny)
+            src = sx[inside] * ny + sy[inside]
+            k = np.searchsorted(cells, src)
+            ok = (k < len(cells)) & (cells[np.minimum(k, len(cells) - 1)] == src)
+            slots.append(k[ok] * nd + d)
+        return np.concatenate(slots)
+
+    def _component_graph(self, nodes: np.ndarray) -> tuple[np.ndarray, csr_matrix]:
+        """The grid graph restricted to the components of ``nodes`` (open-graph nodes).
+
+        Returns the components' positions (flat grid indices, sorted) and their graph, its
+        node ``k`` the position ``cells[k]`` (kept per set of components). A walk never
+        leaves the component it starts in: the floor outside it costs a query nothing
+        (outside a turned building, say, the bounds' rectangle is open floor too).
+        """
+        labels = self._labels()
+        key = tuple(sorted({int(v) for v in labels[nodes]}))
+        hit = self._graphs.get(key)
+        if hit is None:
+            nd = len(HEADING_VECTORS)
+            members = np.flatnonzero(np.isin(labels, key))
+            local = np.full(len(self._cells), -1, dtype=np.int64)
+            local[members] = np.arange(len(members))
+            idx = self._indices[members]
+            sub = np.where(local[idx] >= 0, local[idx], np.arange(len(members))[:, None])
+            graph = csr_matrix((self._weights[members].reshape(-1),
+                                sub.reshape(-1).astype(np.int32),
+                                np.arange(0, nd * len(members) + 1, nd, dtype=np.int64)),
+                               shape=(len(members), len(members)))
+            hit = self._graphs[key] = (self._cells[members], graph)
+        return hit
+
+    def _labels(self) -> np.ndarray:
+        """Connected component of every node of the open grid's graph (computed once)."""
+        if self._components is None:
+            n = len(self._cells)
+            graph = csr_matrix(
+                (self._weights.reshape(-1), self._indices.reshape(-1), self._indptr),
+                shape=(n, n), copy=False)
+            finite = csr_matrix((np.isfinite(graph.data).astype(np.int8), graph.indices,
+                                 graph.indptr), shape=(n, n))
+            self._components = connected_components(finite, directed=False)[1]
+        return self._components
 
     def lattice_costs(self, obj: Pose, goals: list[tuple[int, int, int]],
                       prims: tuple[tuple[Primitive, ...], ...],
@@ -365,15 +481,31 @@ class FloorField:
         return list(meets)
 
 
-def _dijkstra_closing(graph: csr_matrix, cut: np.ndarray, sources: list) -> np.ndarray:
+def _has_frontier(graph: csr_matrix, dist: np.ndarray, slots: int) -> bool:
+    """Whether an open edge of ``graph`` leads from a settled node to one not settled.
+
+    ``graph`` has ``slots`` entries a row (the floor grid's); ``dist``: a Dijkstra's
+    distances, ``inf`` where it settled nothing. Without such an edge the settled nodes are
+    every node the sources reach.
+    """
+    settled = np.flatnonzero(np.isfinite(dist))
+    entries = (settled[:, None] * slots + np.arange(slots)[None, :]).ravel()
+    open_ = np.isfinite(graph.data[entries])
+    return bool(np.isinf(dist[graph.indices[entries[open_]]]).any())
+
+
+def _dijkstra_closing(graph: csr_matrix, cut: np.ndarray, sources: list, *,
+                      limit: float = math.inf) -> np.ndarray:
     """Distances from the nearest of ``sources`` over ``graph``, its entries ``cut`` closed.
 
     The entries (the resting box's part of a query) are closed in place in the graph built
-    once per scene, and restored after.
+    once per scene, and restored after. Nodes farther than ``limit`` are not settled
+    (``inf``).
     """
     saved = graph.data[cut]
     graph.data[cut] = np.inf
     try:
-        return np.asarray(dijkstra(graph, directed=True, indices=sources, min_only=True))
+        return np.asarray(dijkstra(graph, directed=True, indices=sources, min_only=True,
+                                   limit=limit))
     finally:
         graph.data[cut] = saved

@@ -17,8 +17,9 @@ a robot narrower than a door walks through it forward or sideways.
   guided by ``hypot(D, turn_cost * heading error)`` (weighted by ``floor_inflation``), where
   ``D`` is the shortest floor distance to the goal round the obstacles and the resting box
   (:meth:`~pivot_ompl.transit.field.FloorField.distances`, over the grid positions
-  where the walking body fits at one of 32 yaws), a lower bound of every walk's length; every
-  motion costs at least ``hypot(length, turn_cost * turn)``
+  where the walking body fits at one of 32 yaws; exact as far as the walk needs,
+  :meth:`WalkPlanner.floor_distances`, a lower bound beyond), a lower bound of every walk's
+  length; every motion costs at least ``hypot(length, turn_cost * turn)``
   (:func:`~.lattice.motion_cost`). Where ``D`` is infinite no walk exists. A search
   past ``quick_expansions`` states (a tight spot, where that guide, blind to the headings,
   fills every heading of the cells near the goal) is made again guided by the cost-to-go of
@@ -157,7 +158,8 @@ class WalkPlanner:
                                        box_cache=box_cache)
         self.smoother = WalkSmoother(self.clearance, self.walk, resolution=resolution)
         self.field = FloorField(model, world, resolution, box_margin)
-        self._distances: BoundedCache[tuple, np.ndarray] = BoundedCache(4 * box_cache)
+        self._distances: BoundedCache[tuple, tuple[float, np.ndarray]] = BoundedCache(
+            4 * box_cache)
         #: a float per lattice state each, rarely asked again
         self._lattice: BoundedCache[tuple, np.ndarray] = BoundedCache(4)
 
@@ -211,7 +213,7 @@ class WalkPlanner:
         walk that needs more is searched again guided by the lattice's cost-to-go.
         """
         lattice = self._nx * self._ny * N_HEADINGS <= self.max_field_states
-        dist = self.floor_distances(obj, goals, should_stop=should_stop)
+        dist = self.floor_distances(obj, goals, starts=starts, should_stop=should_stop)
         eps, tc = self.floor_inflation, self.walk.turn_cost
 
         def floor_closed(ix: int, iy: int, h: int) -> bool:  # no walk from there
@@ -287,16 +289,43 @@ class WalkPlanner:
             self.expansions += counter[0]
 
     def floor_distances(self, obj: Pose, goals: dict[State, float], *,
+                        starts: dict[State, float] | None = None,
                         should_stop: Stop = None) -> np.ndarray:
-        """:meth:`FloorField.distances` to the goal states' positions (cached)."""
+        """:meth:`FloorField.distances` to the goal states' positions (cached).
+
+        Without ``starts``: over the whole floor (exact everywhere, ``inf`` where no walk
+        exists). With them: within a limit that grows until it is at least
+        ``floor_inflation`` times the nearest start's distance (exact there), first
+        ``floor_inflation`` times the straight distance between the ends plus half a circle
+        round the box (:meth:`FloorField.box_reach`), then doubled while no start is
+        settled: a walk round the box pays for the floor near it, not for the whole floor.
+        Farther positions hold the limit, a lower bound; ``inf`` still means no walk.
+        """
         cells = tuple(sorted({(s[0], s[1]) for s in goals}))
+        key = (obj, cells)
+        hit = self._distances.get(key)
+        limit = math.inf if starts is None else self._first_limit(starts, goals)
+        if hit is not None:
+            limit = max(limit, hit[0])
+        while True:
+            if hit is None or hit[0] < limit:
+                if should_stop is not None and should_stop():  # tens of ms in C
+                    raise Interrupted("walk planning")
+                hit = self._distances.put(key, (limit, self.field.distances(
+                    obj, list(cells), should_stop, limit=limit)))
+            limit, dist = hit
+            if starts is None or math.isinf(limit):
+                return dist
+            near = min(float(dist[s[0], s[1]]) for s in starts)
+            if math.isinf(near) or self.floor_inflation * near <= limit:
+                return dist
+            limit = self.floor_inflation * near if near < limit else 2.0 * limit
 
-        def compute() -> np.ndarray:
-            if should_stop is not None and should_stop():  # tens of ms in C
-                raise Interrupted("walk planning")
-            return self.field.distances(obj, list(cells), should_stop)
-
-        return self._distances.get_or_compute((obj, cells), compute)
+    def _first_limit(self, starts: dict[State, float], goals: dict[State, float]) -> float:
+        """``floor_inflation`` times (the straight distance + half a circle round the box)."""
+        res = self.resolution
+        straight = min(math.hypot(a[0] - b[0], a[1] - b[1]) for a in starts for b in goals)
+        return self.floor_inflation * (res * straight + math.pi * self.field.box_reach())
 
     def lattice_costs(self, obj: Pose, goals: dict[State, float], *,
                       should_stop: Stop = None) -> np.ndarray:

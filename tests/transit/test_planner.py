@@ -466,3 +466,23 @@ def test_the_walk_search_certifies_only_the_motions_it_takes(monkeypatch):
     assert walk.valid and walk.length > 9.0  # round through the door
     assert 100 < wp.expansions and len(calls) < 2 * wp.expansions
     assert walk_problems(ck.scene, obj, 0, 2, walk) == []
+
+
+def test_the_walks_floor_distances_grow_their_limit_until_the_start_is_exact():
+    # round the wall, the walk is far longer than the first limit (the straight distance
+    # plus half a circle round the box, inflated): the limit grows until the start is settled
+    scene = shipped("t_junction")
+    obj = SLOT_POSES["t_junction"]
+    ck, g1, g2, walk = _walk_round(scene, obj)
+    wp = ck.walker
+    m = scene.model
+    starts = wp.attach(m.robot_pose(obj, g1), obj, leaving=True)
+    goals = wp.attach(m.robot_pose(obj, g2), obj, leaving=False)
+    whole = wp.field.distances(obj, sorted({(s[0], s[1]) for s in goals}))
+    near = min(float(whole[s[0], s[1]]) for s in starts)
+    assert wp._first_limit(starts, goals) < near < math.inf
+    dist = wp.floor_distances(obj, goals, starts=starts)
+    assert min(float(dist[s[0], s[1]]) for s in starts) == pytest.approx(near)
+    assert np.all(dist <= whole + 1e-9)  # a lower bound everywhere
+    limit, _ = wp._distances.get((obj, tuple(sorted({(s[0], s[1]) for s in goals}))))
+    assert wp.floor_inflation * near <= limit < math.inf  # not the whole floor
