@@ -37,14 +37,14 @@ def blend(knots: np.ndarray, m: int) -> np.ndarray:
     K = len(P)
     pad = np.concatenate((P[:1], P, P[-1:]))  # pad[c + 1] is knot c
     out = np.empty((m * (K - 1) + 1, *P.shape[1:]))
-    for j in range(m):
-        ks = np.arange(K if j == 0 else K - 1)
+    for j in range(m):  # samples m k + j, k = 0, 1, ..., n - 1
+        n = K if j == 0 else K - 1
         if 2 * j <= m:  # on the parabola centred on knot k
-            c, u = ks, j / m + 0.5
+            c, u = 0, j / m + 0.5
         else:  # on the next one, centred on knot k + 1
-            c, u = ks + 1, j / m - 0.5
+            c, u = 1, j / m - 0.5
         a, b, d = _weights(u)
-        out[m * ks + j] = a * pad[c] + b * pad[c + 1] + d * pad[c + 2]
+        out[j::m] = a * pad[c:c + n] + b * pad[c + 1:c + 1 + n] + d * pad[c + 2:c + 2 + n]
     return out
 
 

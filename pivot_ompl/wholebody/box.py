@@ -69,9 +69,10 @@ def transform(R: np.ndarray, p) -> np.ndarray:  # noqa: ANN001
 
 def rotation_about_vertical(pivot: tuple[float, float], angle: float) -> np.ndarray:
     """4x4 world rotation by ``angle`` (rad, CCW) about the vertical through ``pivot``."""
-    R = rot_z(angle)
-    p = np.array([pivot[0], pivot[1], 0.0])
-    return transform(R, p - R @ p)
+    c, s = math.cos(angle), math.sin(angle)
+    x, y = pivot
+    return np.array([[c, -s, 0.0, x - c * x + s * y], [s, c, 0.0, y - s * x - c * y],
+                     [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
 
 
 def quat_xyzw(R: np.ndarray) -> np.ndarray:
@@ -169,9 +170,8 @@ class BoxHold:
     def T_world_hands(self, T_world_G: np.ndarray, grasp: int, tilt: float
                       ) -> tuple[np.ndarray, np.ndarray]:
         """Grip frames ``(left, right)`` in the world: grasp frame ``T_world_G``, tilt (rad)."""
-        Tt = T_world_G @ transform(rot_y(-tilt), (0.0, 0.0, 0.0))
-        left, right = self.T_G_hands(grasp)
-        return Tt @ left, Tt @ right
+        left, right = _T_tilted_hands(self, grasp, tilt)
+        return T_world_G @ left, T_world_G @ right
 
     def _T_G_hands(self, grasp: int) -> tuple[np.ndarray, np.ndarray]:
         zg = min(self.grip_height, self.size[2] - GRIP_TOP)
@@ -210,6 +210,14 @@ def _read_only(T: np.ndarray) -> np.ndarray:
 def _T_G_box(hold: BoxHold, grasp: int, tilt: float) -> np.ndarray:
     """:meth:`BoxHold.T_G_box`, computed once per (hold, grasp, tilt): it runs every tick."""
     return _read_only(hold._T_G_box(grasp, tilt))
+
+
+@functools.lru_cache(maxsize=512)
+def _T_tilted_hands(hold: BoxHold, grasp: int, tilt: float) -> tuple[np.ndarray, np.ndarray]:
+    """The grip frames in the untilted grasp frame at ``tilt``, once per (hold, grasp, tilt)."""
+    Tt = transform(rot_y(-tilt), (0.0, 0.0, 0.0))
+    left, right = hold.T_G_hands(grasp)
+    return _read_only(Tt @ left), _read_only(Tt @ right)
 
 
 @functools.lru_cache(maxsize=64)

@@ -58,12 +58,34 @@ def braking_steps(distance: np.ndarray, delta: float) -> np.ndarray:
     return d / (n + 1.0) + (0.5 * delta) * n
 
 
+def braking_distance(step: np.ndarray, delta: np.ndarray | float) -> np.ndarray:
+    """The distance a joint covers before it stands from the step ``step`` (``delta`` > 0).
+
+    The inverse of :func:`braking_step` at ``step``: ``(n + 1) step - delta n (n + 1) / 2``
+    with ``n = floor(step / delta)``. From a limit at least this far away, the braking step
+    is at least ``step`` (:func:`braking_step` grows with the distance).
+    """
+    n = np.floor(step / delta)
+    return (n + 1.0) * step - 0.5 * delta * n * (n + 1.0)
+
+
+#: ``accel dt²`` standing for "no braking": the braking step of a distance is the distance
+#: (:func:`braking_step` with one piece, ``n = 0``, for every distance of a joint's range).
+_NO_BRAKING = 1e30
+
+
 class JointDamper:
     """Per-tick position limits that make the given joints brake before their limits.
 
     The bounds also hold every joint's speed within its URDF velocity limit (a step of at
     most ``velocity limit * dt``), so that the solver needs no velocity constraints of its
     own: the same feasible steps with half the inequality rows.
+
+    Each tick's work is a few operations on one vector of ``2 n`` entries, the negated
+    lower and the upper bounds of the ``n`` joints side by side: a joint's step towards a
+    limit is :func:`braking_steps` of its distance to the limit capped at
+    :func:`braking_distance` of its speed's step (beyond which the speed bounds it), with
+    ``accel dt²`` so large for the joints that do not brake that the step is the distance.
 
     Args:
         robot: the PlaCo ``RobotWrapper`` (its model's joint limits are narrowed and
@@ -82,52 +104,54 @@ class JointDamper:
         self.robot, self.accel, self.dt = robot, accel, dt
         model = robot.model
         names = list(joints)
-        self._iq = np.array([model.joints[model.getJointId(j)].idx_q for j in names],
-                            dtype=int)
+        iq = np.array([model.joints[model.getJointId(j)].idx_q for j in names], dtype=int)
         iv = np.array([model.joints[model.getJointId(j)].idx_v for j in names], dtype=int)
-        self._lower_all = np.array(model.lowerPositionLimit, dtype=float)
-        self._upper_all = np.array(model.upperPositionLimit, dtype=float)
-        self._lo, self._hi = self._lower_all[self._iq], self._upper_all[self._iq]
-        self._step_max = np.array(model.velocityLimit, dtype=float)[iv] * dt
+        # the joints' places in q, a slice when they are consecutive (cheaper to index)
+        self._q_at: slice | np.ndarray = iq
+        if len(iq) and np.array_equal(iq, np.arange(iq[0], iq[0] + len(iq))):
+            self._q_at = slice(int(iq[0]), int(iq[0]) + len(iq))
+        lower_all = np.array(model.lowerPositionLimit, dtype=float)
+        upper_all = np.array(model.upperPositionLimit, dtype=float)
+        self._lo, self._hi = lower_all[iq], upper_all[iq]
         self.limits = {j: (float(a), float(b))
                        for j, a, b in zip(names, self._lo, self._hi, strict=True)}
         self.smooth = {j for j in smooth if j in self.limits}
         damp = set(names if damped is None else damped)
-        self._smooth = np.array([j in self.smooth for j in names], dtype=bool)
-        self._damped = np.array([j in damp for j in names], dtype=bool)
-        self._any_smooth, self._all_smooth = bool(self._smooth.any()), bool(self._smooth.all())
+        delta = accel * dt * dt
+        self._n = len(names)
+        # the stacked vectors: entry i bounds joint i from below (negated), n + i from above
+        step = np.tile(np.array(model.velocityLimit, dtype=float)[iv] * dt, 2)
+        d = np.tile([delta if j in damp and delta > 0.0 else _NO_BRAKING for j in names], 2)
+        self._lim = np.concatenate((-self._lo, self._hi))
+        self._cap = braking_distance(step, d)
+        self._c1, self._half_d = 2.0 / d, 0.5 * d
+        self._coast_d = np.tile([delta if j in self.smooth else np.inf for j in names], 2)
+        self._any_smooth = bool(self.smooth)
         self._last: np.ndarray | None = None
-        # per-tick work on the damped joints only, the others bounded by their speed alone
-        di = np.nonzero(self._damped)[0]
-        self._di, self._lo_hi = di, np.concatenate((-self._lo[di], self._hi[di]))
-        self._sign = np.concatenate((np.ones(len(di)), -np.ones(len(di))))
-        self._lower, self._upper = self._lower_all.copy(), self._upper_all.copy()
+        self._lower, self._upper = lower_all, upper_all
 
     def apply(self) -> None:
         """Set this tick's limits from the joints' current positions (and last ones)."""
-        delta = self.accel * self.dt * self.dt
-        q = np.asarray(self.robot.state.q)[self._iq]
-        nd = len(self._di)
-        down, up = self._step_max.copy(), self._step_max.copy()
-        if nd:
-            qd = q[self._di]
-            # distances to the lower and upper limits, then the braking steps
-            brake = braking_steps(self._sign * np.concatenate((qd, qd)) + self._lo_hi, delta)
-            down[self._di] = np.minimum(down[self._di], brake[:nd])
-            up[self._di] = np.minimum(up[self._di], brake[nd:])
-        low = np.maximum(self._lo, q - down)
-        high = np.minimum(self._hi, q + up)
-        last, s = self._last, self._smooth
+        n = self._n
+        q = np.asarray(self.robot.state.q)[self._q_at]
+        s = np.concatenate((-q, q))
+        d = self._lim - s  # the distances to the limits, capped where the speed bounds
+        np.minimum(d, self._cap, out=d)
+        np.maximum(d, 0.0, out=d)
+        k = np.sqrt(self._c1 * d + 0.25)  # the piece of braking_steps: n = floor(k - 1/2)
+        k -= 0.5
+        np.floor(k, out=k)
+        b = s + (d / (k + 1.0) + self._half_d * k)  # [-low, high]
+        np.minimum(b, self._lim, out=b)
+        last = self._last
         if last is not None and self._any_smooth:
-            coast = 2.0 * q - last  # where each joint goes at its present speed
-            low_s = np.minimum(np.maximum(low, coast - delta), high)
-            high_s = np.maximum(np.minimum(high, coast + delta), low_s)
-            if self._all_smooth:
-                low, high = low_s, high_s
-            else:
-                low, high = np.where(s, low_s, low), np.where(s, high_s, high)
-        self._last = q
-        self._set(low, high)
+            # within accel dt² of where each smooth joint goes at its present speed
+            t = np.minimum(b, (2.0 * s - last) + self._coast_d)
+            np.maximum(t[:n], -b[n:], out=t[:n])  # low <= high
+            np.maximum(t[n:], -t[:n], out=t[n:])
+            b = t
+        self._last = s
+        self._set(-b[:n], b[n:])
 
     def restore(self) -> None:
         """Put the URDF limits back."""
@@ -135,5 +159,5 @@ class JointDamper:
 
     def _set(self, low: np.ndarray, high: np.ndarray) -> None:
         model = self.robot.model
-        self._lower[self._iq], self._upper[self._iq] = low, high  # the other entries: URDF's
+        self._lower[self._q_at], self._upper[self._q_at] = low, high  # the others: URDF's
         model.lowerPositionLimit, model.upperPositionLimit = self._lower, self._upper

@@ -53,12 +53,42 @@ def min_jerk(s: float) -> float:
     return s * s * s * (10.0 - 15.0 * s + 6.0 * s * s)
 
 
+class FramePath:
+    """The frames from ``T0`` (s=0) to ``T1`` (s=1): linear position, geodesic rotation.
+
+    The rotation's logarithm is taken once, so that each frame costs one exponential.
+    """
+
+    def __init__(self, T0: np.ndarray, T1: np.ndarray) -> None:
+        import pinocchio as pin
+
+        self._exp3 = pin.exp3
+        self._R0, self._p0 = T0[:3, :3].copy(), T0[:3, 3].copy()
+        self._w = pin.log3(T0[:3, :3].T @ T1[:3, :3])
+        self._dp = T1[:3, 3] - T0[:3, 3]
+
+    def at(self, s: float) -> np.ndarray:
+        """The frame at progress ``s`` (not clipped)."""
+        return transform(self._R0 @ self._exp3(s * self._w), self._p0 + s * self._dp)
+
+
 def interpolate_frame(T0: np.ndarray, T1: np.ndarray, s: float) -> np.ndarray:
     """Frame between ``T0`` (s=0) and ``T1`` (s=1): linear position, geodesic rotation."""
-    import pinocchio as pin
+    return FramePath(T0, T1).at(s)
 
-    R = T0[:3, :3] @ pin.exp3(s * pin.log3(T0[:3, :3].T @ T1[:3, :3]))
-    return transform(R, (1 - s) * T0[:3, 3] + s * T1[:3, 3])
+
+class MinJerkSwing:
+    """A swing foot's frames from lift-off ``T0`` to landing ``T1`` (:func:`min_jerk_swing`)."""
+
+    def __init__(self, T0: np.ndarray, T1: np.ndarray, height: float) -> None:
+        self._path, self._height = FramePath(T0, T1), height
+
+    def at(self, s: float) -> np.ndarray:
+        """The foot's frame at progress ``s`` in [0, 1] (clipped)."""
+        s = min(1.0, max(0.0, s))
+        T = self._path.at(min_jerk(s))
+        T[2, 3] += self._height * 64.0 * (s * (1.0 - s)) ** 3
+        return T
 
 
 def min_jerk_swing(T0: np.ndarray, T1: np.ndarray, s: float, height: float) -> np.ndarray:
@@ -68,7 +98,4 @@ def min_jerk_swing(T0: np.ndarray, T1: np.ndarray, s: float, height: float) -> n
     by ``height * 64 s³ (1 - s)³`` (``height`` at mid-swing). Speed and acceleration are zero
     at both ends, so the leg starts and ends its swing without a jump of acceleration.
     """
-    s = min(1.0, max(0.0, s))
-    T = interpolate_frame(T0, T1, min_jerk(s))
-    T[2, 3] += height * 64.0 * (s * (1.0 - s)) ** 3
-    return T
+    return MinJerkSwing(T0, T1, height).at(s)

@@ -29,9 +29,12 @@ log = logging.getLogger(__name__)
 
 #: Supports planned in one QP and supports kept of each. A walk's supports alternate
 #: double (even indices) and single (odd): a window starts and ends with a double support
-#: (an odd count), 17 supports being 8 steps, about 6.7 s at HRP-2's step timing.
-WINDOW = 17
-COMMIT = 8
+#: (an odd count), 9 supports being 4 steps, about 3.5 s at HRP-2's step timing; each kept
+#: support has at least 5 supports of preview, 2 steps and 3 double supports (1.8 s, six
+#: times the LIPM's time constant). The smallest window is the cheapest: a window's QP
+#: costs the cube of its length, and there are ``1 / commit`` as many.
+WINDOW = 9
+COMMIT = 4
 
 
 class WindowedWalk:

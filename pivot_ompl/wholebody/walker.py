@@ -325,7 +325,7 @@ class PlacoWalker:
         if traj is not None:
             self.tasks.update_tasks_from_trajectory(traj, t)
             held = self.swing.update(traj, t, self.tasks)
-        self.robot.update_kinematics()
+        # the kinematics are up to date: set-up and every tick end with update_kinematics
         self.damper.apply()
         try:
             self.solver.solve(True)

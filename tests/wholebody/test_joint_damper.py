@@ -154,3 +154,62 @@ def test_the_bounds_hold_the_velocity_limit(damped: bool) -> None:
     damper = JointDamper(robot, ["J"], accel=20.0, dt=0.01, damped=["J"] if damped else [])
     damper.apply()
     assert robot.lim == pytest.approx((-0.03, 0.03))
+
+
+class _Robots:
+    """Several joints after a floating base (q index 7 + i), as PlaCo's model has them."""
+
+    def __init__(self, lo: np.ndarray, hi: np.ndarray, speed: np.ndarray) -> None:
+        n = len(lo)
+        self.model = SimpleNamespace(
+            lowerPositionLimit=np.concatenate((np.full(7, -1e9), lo)),
+            upperPositionLimit=np.concatenate((np.full(7, 1e9), hi)),
+            velocityLimit=np.concatenate((np.zeros(6), speed)),
+            joints=[None] + [SimpleNamespace(idx_q=7 + i, idx_v=6 + i) for i in range(n)],
+            getJointId=lambda name: 1 + int(name[1:]))
+        self.state = SimpleNamespace(q=np.zeros(7 + n))
+
+
+def _reference_bounds(q, last, lo, hi, step, delta, damped, smooth):
+    """One joint's bounds from the scalar rules (the damper's docstring), joint by joint."""
+    down = min(step, braking_step(q - lo, delta)) if damped else step
+    up = min(step, braking_step(hi - q, delta)) if damped else step
+    low, high = max(lo, q - down), min(hi, q + up)
+    if smooth and last is not None:
+        coast = 2.0 * q - last
+        low = min(max(low, coast - delta), high)
+        high = max(min(high, coast + delta), low)
+    return low, high
+
+
+@given(st.integers(0, 2**32 - 1))
+def test_every_joint_gets_the_bounds_of_the_scalar_rules(seed):
+    """Joints of every kind (damped or not, smooth or not), near and far from their limits."""
+    rng = np.random.default_rng(seed)
+    n, dt, a = 12, 0.01, 20.0
+    lo = rng.uniform(-2.0, -0.1, n)
+    hi = rng.uniform(0.1, 2.0, n)
+    speed = rng.uniform(0.5, 4.0, n)
+    robot = _Robots(lo, hi, speed)
+    names = [f"J{i}" for i in range(n)]
+    damped = [j for j in names if rng.random() < 0.6]
+    smooth = [j for j in damped if rng.random() < 0.7] + [j for j in names if rng.random() < 0.1]
+    damper = JointDamper(robot, names, accel=a, dt=dt, smooth=smooth, damped=damped)
+    last = None
+    for _ in range(3):
+        # near a limit (within its braking distance), at it, or anywhere in the range
+        q = np.where(rng.random(n) < 0.5, np.where(rng.random(n) < 0.5, lo, hi)
+                     + rng.uniform(-0.3, 0.3, n), rng.uniform(lo, hi))
+        q = np.clip(q, lo, hi)
+        robot.state.q = np.concatenate((np.zeros(7), q))
+        damper.apply()
+        got_lo = robot.model.lowerPositionLimit[7:]
+        got_hi = robot.model.upperPositionLimit[7:]
+        for i, j in enumerate(names):
+            want = _reference_bounds(q[i], None if last is None else last[i], lo[i], hi[i],
+                                     speed[i] * dt, a * dt * dt, j in damped, j in smooth)
+            assert (got_lo[i], got_hi[i]) == pytest.approx(want, abs=1e-12), j
+        assert np.all(robot.model.lowerPositionLimit[:7] == -1e9)  # the base untouched
+        last = q
+    damper.restore()
+    assert np.array_equal(robot.model.lowerPositionLimit[7:], lo)
