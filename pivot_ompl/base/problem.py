@@ -116,6 +116,9 @@ def make_setup(scene: Scene, *, seed: int = 0, grasp_weight: float = GRASP_WEIGH
         starts = [g for g in starts if g == start_grasp]
     if goal_grasp is not None:
         goals = [g for g in goals if g == goal_grasp]
+    if not starts and start_grasp is not None:
+        raise PlanningError("INVALID_START", f"the held grasp {start_grasp} is not valid at "
+                            f"start {list(scene.start)}: " + ck.explain(scene.start))
     if not starts:
         raise PlanningError("INVALID_START", f"no valid grasp at start {list(scene.start)}: "
                             + ck.explain(scene.start))
