@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import pytest
@@ -24,6 +25,31 @@ DROPPED = Path(__file__).parent.parent / "data" / "replan" / "walls_held_grasp_2
 def _first_grasp(p: Plan) -> int:
     first = p.phases[0]
     return first.from_grasp if isinstance(first, TransitPhase) else first.grasp
+
+
+#: A box pose in the slot (on a plan's route) where a route from scratch starts with grasp 0,
+#: and the robot holding the box with grasp 1, 2 or 3 cannot walk round it to grasp 0.
+IN_SLOT = (5.423318141951605, 1.418120927274195, 0.19634954084936096)
+
+
+def test_in_the_slot_a_route_from_scratch_starts_with_grasp_0_the_others_cannot_walk_to():
+    scene = dataclasses.replace(shipped("slot"), start=IN_SLOT)
+    scratch = plan(scene, time_limit=30.0, seed=0, bound=False)
+    assert scratch.solved and _first_grasp(scratch.plan) == 0
+    ck = PivotChecker(scene)
+    for held in (1, 2, 3):
+        assert ck.state_valid(IN_SLOT, held)
+        assert not ck.transit(IN_SLOT, held, 0).valid
+
+
+@pytest.mark.parametrize("held", [1, 2, 3])
+def test_a_replan_holding_grasp_k_starts_with_k_where_a_route_from_scratch_does_not(held):
+    scene = dataclasses.replace(shipped("slot"), start=IN_SLOT)
+    res = PlanningSession(scene, seed=0, repair=False).replan(box=IN_SLOT, grasp=held,
+                                                              time_limit=30.0)
+    assert res.solved
+    assert _first_grasp(res.plan) == held
+    assert check_plan(res.plan, scene).ok
 
 
 def test_a_held_grasp_the_dropped_block_meets_is_reported_as_such():
