@@ -155,7 +155,8 @@ class PlanningSession:
             self._checker = self._new_checker(scene)
         checker = self._checker
         checker.scene = scene
-        if not checker.box_valid(box):
+        if not checker.box_valid(box) or (grasp is not None and
+                                          not checker.state_valid(box, grasp)):
             return None  # the search reports the invalid start
         t0 = time.perf_counter()
         deadline = time.monotonic() + time_limit / 2  # the rest for a search if it fails
