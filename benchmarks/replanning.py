@@ -113,7 +113,6 @@ def main() -> None:
 
     ou.setLogLevel(ou.LOG_ERROR)
     rows: list[dict[str, Any]] = []
-    words = [w for w in args.events.split(",") if w]
     for name in args.scenes.split(","):
         base = scene_from_spec(name)
         first = PlanningSession(base, seed=0).plan(time_limit=args.time)
@@ -123,7 +122,7 @@ def main() -> None:
         executed = plan_from_dict(json.loads(first.plan.to_text()))  # as the CLI reads it
         for q, grasp in _points(first.plan, args.points):
             for kind, ev in _events(base, q, grasp).items():
-                if words and not any(w in kind for w in words):
+                if args.events and not any(w and w in kind for w in args.events.split(",")):
                     continue
                 session = PlanningSession(base, seed=0)
                 session.plan(time_limit=args.time)  # the session that executes the plan
@@ -175,9 +174,7 @@ def main() -> None:
               f"{w['repaired']} {c['repaired']} | {f['median_cost']:.0f} {w['median_cost']:.0f} "
               f"{c['median_cost']:.0f} |")
     errors = _error_kinds(rows)
-    print("errors by kind: " + (", ".join(f"{k} {n}" for k, n in errors.items()) or "none"))
-    write_json({"time_limit": args.time, "rows": rows, "table": table, "errors": errors},
-               args.out)
+    write_json({"time_limit": args.time, "rows": rows, "table": table, "errors": errors}, args.out)
 
 
 #: Error kinds of the rows, by the words of their messages (the first that matches).
@@ -187,12 +184,13 @@ ERROR_KINDS = (("box or every grasp in collision", "no valid grasp at start"),
 
 
 def _error_kinds(rows: list[dict[str, Any]]) -> dict[str, int]:
-    """How many rows ended in each kind of error (:data:`ERROR_KINDS`, else ``other``)."""
+    """How many rows ended in each kind of error (:data:`ERROR_KINDS`, else ``other``), printed."""
     out: dict[str, int] = {}
     for r in rows:
         if "error" in r:
             kind = next((k for k, words in ERROR_KINDS if words in r["error"]), "other")
             out[kind] = out.get(kind, 0) + 1
+    print("errors by kind: " + (", ".join(f"{k} {n}" for k, n in out.items()) or "none"))
     return out
 
 

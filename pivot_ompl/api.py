@@ -141,34 +141,26 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
             passes its own); by default a new one.
         resume: the ``search`` of an earlier result with the same ``checker`` and goal: the
             regrasp planner searches from the new start over its roadmaps (replanning).
-        start_grasp: the grasp the robot holds the box with at the start (0 to 3): every
-            plan starts with it (its first transfer, or a walk from it to another grasp,
-            priced and checked as any regrasp); ``None``: any grasp valid at the start.
+        start_grasp: the grasp held at the start (0 to 3): every plan starts with it, other
+            grasps reached by walks from it priced as any regrasp; ``None``: any valid grasp.
 
     Raises:
-        PlanningError: ``INVALID_START``/``INVALID_GOAL`` (no grasp valid there; with
-            ``start_grasp``, that grasp not valid at the start).
+        PlanningError: ``INVALID_START``/``INVALID_GOAL`` (no grasp there, or not ``start_grasp``).
         InputError: bad parameters (wrong type or value), naming the parameter.
     """
-    time_limit = _check_arguments(scene, planner, time_limit, seed, simplify, bound)
-    if start_grasp is not None:
-        start_grasp = check_grasp(start_grasp, field="start_grasp")
+    time_limit = _check_arguments(scene, planner, time_limit, seed, simplify, bound, start_grasp)
     config = _check_config(config, regrasp_cost)
     started = time.monotonic()  # the time limit counts from here: loading and setup included
     t0 = time.perf_counter()
     deadline = started + time_limit
-
-    def out_of_time() -> bool:
-        return time.monotonic() >= deadline
-
     try:
         if not isinstance(scene, Scene):
             scene = load_scene(scene, deadline=deadline)
         base = parse_spec(planner)[0]
         if base in OMPL_PLANNERS:
             seed_ompl(seed)
-        problem = make_setup(scene, seed=seed, checker=checker, should_stop=out_of_time,
-                             start_grasp=start_grasp)
+        problem = make_setup(scene, seed=seed, checker=checker, start_grasp=start_grasp,
+                             should_stop=lambda: time.monotonic() >= deadline)
     except Interrupted as e:
         return _stopped_in_setup(scene, planner, seed, time_limit, e.what,
                                  time.perf_counter() - t0)
@@ -318,7 +310,7 @@ def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool
 
 
 def _check_arguments(scene: Any, planner: Any, time_limit: Any, seed: Any,
-                     simplify: Any, bound: Any) -> float:
+                     simplify: Any, bound: Any, start_grasp: Any) -> float:
     """Validate :func:`plan`'s arguments; return the effective time limit (s)."""
     if not isinstance(scene, Scene | str | os.PathLike):
         raise InputError("scene", type(scene).__name__,
@@ -333,6 +325,8 @@ def _check_arguments(scene: Any, planner: Any, time_limit: Any, seed: Any,
         raise InputError("simplify", simplify, "must be True or False")
     if not isinstance(bound, bool):
         raise InputError("bound", bound, "must be True or False")
+    if start_grasp is not None:
+        check_grasp(start_grasp, field="start_grasp")
     return limit
 
 

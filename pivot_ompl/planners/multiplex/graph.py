@@ -275,13 +275,10 @@ class MultiplexedGraph:
                  start_grasp: int | None = None) -> None:
         """Set the start and goal object nodes (both multiplexed).
 
-        Their manipulation nodes (at the start only ``(start, start_grasp)`` when given: the
-        robot holds the box with that grasp, the others are reached by the regrasp edges at
-        the start, walks priced and checked as any), the direct edge at each grasp valid at
-        both (always tried first), and the reachable set.
+        Their manipulation nodes (at the start only ``(start, start_grasp)`` if given), the
+        direct edge at each grasp valid at both (always tried first), and the reachable set.
         """
-        self.start_nodes = [n for n in self.adj if n[0] == start
-                            and (start_grasp is None or n[1] == start_grasp)]
+        self.start_nodes = [n for n in self.adj if n[0] == start and start_grasp in (None, n[1])]
         self.goal_nodes = {n for n in self.adj if n[0] == goal}
         m, rs = self.checker.model, self.checker.steering.paths
         qs, qg = self.roadmap.poses[start], self.roadmap.poses[goal]
