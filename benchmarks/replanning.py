@@ -3,7 +3,9 @@
 Along the plan of each scene (``--scenes``: fig10, slot, a generated walls scene), at
 ``--points`` points of its execution (pivot steps spread over its transfers): the box drifted
 (5 cm and 5 deg, then 15 cm and 15 deg), an obstacle dropped on the route ahead (a 0.3 m
-block 1 m further along), an obstacle removed (the scene's last). For each event: the replan
+block 1 m ahead of the box along its heading, or further, :data:`DROP_AHEAD`, where it meets
+neither the box nor the robot holding it: a block is not dropped on the robot; none when it
+meets them everywhere), an obstacle removed (the scene's last). For each event: the replan
 of a :class:`pivot_ompl.session.PlanningSession` that planned the scene (its roadmaps, checked
 motions and route kept: *warm*), that of a new session given only the plan being executed, as
 read from its file (what ``pivot-ompl replan`` does in a new process: *cli*), and that of a
@@ -46,17 +48,33 @@ def _points(plan: Any, n: int) -> list[tuple[tuple[float, float, float], int]]:
     return [steps[int(k * (len(steps) - 1) / max(1, n - 1))] for k in range(n)]
 
 
-def _events(q: tuple[float, float, float]) -> dict[str, dict[str, Any]]:
+#: Distances (m) ahead of the box along its heading where the dropped block is tried, in order.
+DROP_AHEAD = (1.0, 1.25, 1.5, 1.75, 2.0)
+
+
+def _events(scene: Any, q: tuple[float, float, float], grasp: int) -> dict[str, dict[str, Any]]:
+    """The events at ``q`` (the robot holding the box with ``grasp``), by name."""
+    import dataclasses
+
+    from pivot_ompl.checking.pivot_checker import PivotChecker
+    from pivot_ompl.scene import obstacles_from_list
+
     x, y, t = q
     c, s = math.cos(t), math.sin(t)
-    return {
+    out: dict[str, dict[str, Any]] = {
         "drift 5cm/5deg": {"box": (x + 0.05 * c, y + 0.05 * s, t + math.radians(5))},
         "drift 15cm/15deg": {"box": (x + 0.15 * c, y + 0.15 * s, t + math.radians(15))},
-        "obstacle dropped": {"box": q, "add_obstacles": [{
-            "type": "box", "center": [x + 1.0 * c, y + 1.0 * s], "size": [0.3, 0.3],
-            "yaw": 0.0, "height": 1.0}]},
-        "obstacle removed": {"box": q, "remove": True},
     }
+    for d in DROP_AHEAD:  # the first block clear of the box and the robot holding it
+        block = {"type": "box", "center": [x + d * c, y + d * s], "size": [0.3, 0.3],
+                 "yaw": 0.0, "height": 1.0}
+        added = obstacles_from_list([block], field="add_obstacles")
+        if PivotChecker(dataclasses.replace(scene, obstacles=scene.obstacles + added)
+                        ).state_valid(q, grasp):
+            out["obstacle dropped"] = {"box": q, "add_obstacles": [block]}
+            break
+    out["obstacle removed"] = {"box": q, "remove": True}
+    return out
 
 
 MODES = ("warm", "cli", "fresh")
@@ -95,7 +113,6 @@ def main() -> None:
 
     ou.setLogLevel(ou.LOG_ERROR)
     rows: list[dict[str, Any]] = []
-    words = [w for w in args.events.split(",") if w]
     for name in args.scenes.split(","):
         base = scene_from_spec(name)
         first = PlanningSession(base, seed=0).plan(time_limit=args.time)
@@ -104,8 +121,8 @@ def main() -> None:
             continue
         executed = plan_from_dict(json.loads(first.plan.to_text()))  # as the CLI reads it
         for q, grasp in _points(first.plan, args.points):
-            for kind, ev in _events(q).items():
-                if words and not any(w in kind for w in words):
+            for kind, ev in _events(base, q, grasp).items():
+                if args.events and not any(w and w in kind for w in args.events.split(",")):
                     continue
                 session = PlanningSession(base, seed=0)
                 session.plan(time_limit=args.time)  # the session that executes the plan
@@ -156,7 +173,25 @@ def main() -> None:
               f"({c['solve_ratio']:.2f}) | {w['ok']}/{w['checked']} {c['ok']}/{c['checked']} | "
               f"{w['repaired']} {c['repaired']} | {f['median_cost']:.0f} {w['median_cost']:.0f} "
               f"{c['median_cost']:.0f} |")
-    write_json({"time_limit": args.time, "rows": rows, "table": table}, args.out)
+    errors = _error_kinds(rows)
+    write_json({"time_limit": args.time, "rows": rows, "table": table, "errors": errors}, args.out)
+
+
+#: Error kinds of the rows, by the words of their messages (the first that matches).
+ERROR_KINDS = (("box or every grasp in collision", "no valid grasp at start"),
+               ("held grasp in collision", "held grasp"),
+               ("no walk from the held grasp", "cannot walk"))
+
+
+def _error_kinds(rows: list[dict[str, Any]]) -> dict[str, int]:
+    """How many rows ended in each kind of error (:data:`ERROR_KINDS`, else ``other``), printed."""
+    out: dict[str, int] = {}
+    for r in rows:
+        if "error" in r:
+            kind = next((k for k, words in ERROR_KINDS if words in r["error"]), "other")
+            out[kind] = out.get(kind, 0) + 1
+    print("errors by kind: " + (", ".join(f"{k} {n}" for k, n in out.items()) or "none"))
+    return out
 
 
 if __name__ == "__main__":

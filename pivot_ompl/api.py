@@ -18,6 +18,7 @@ from pivot_ompl.base.problem import make_setup
 from pivot_ompl.base.state import read_state
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.errors import InputError, Interrupted, PlanningError, counted
+from pivot_ompl.grasp import check_grasp
 from pivot_ompl.planfile import Plan, plan_quality
 from pivot_ompl.planners import (
     OMPL_PLANNERS,
@@ -110,7 +111,8 @@ class PlanResult:
 def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: float = 30.0,
          seed: int = 0, simplify: bool = False, regrasp_cost: float | None = None,
          config: RegraspConfig | None = None, bound: bool = True,
-         checker: PivotChecker | None = None, resume: Any = None) -> PlanResult:
+         checker: PivotChecker | None = None, resume: Any = None,
+         start_grasp: int | None = None) -> PlanResult:
     """Plan a pivoting path (with regrasps where needed) for ``scene``.
 
     Args:
@@ -139,31 +141,31 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
             passes its own); by default a new one.
         resume: the ``search`` of an earlier result with the same ``checker`` and goal: the
             regrasp planner searches from the new start over its roadmaps (replanning).
+        start_grasp: the grasp held at the start (0 to 3): every plan starts with it, other
+            grasps reached by walks from it priced as any regrasp; ``None``: any valid grasp.
 
     Raises:
-        PlanningError: ``INVALID_START``/``INVALID_GOAL`` (no grasp valid there).
+        PlanningError: ``INVALID_START``/``INVALID_GOAL`` (no grasp there, or not ``start_grasp``).
         InputError: bad parameters (wrong type or value), naming the parameter.
     """
-    time_limit = _check_arguments(scene, planner, time_limit, seed, simplify, bound)
+    time_limit = _check_arguments(scene, planner, time_limit, seed, simplify, bound, start_grasp)
     config = _check_config(config, regrasp_cost)
     started = time.monotonic()  # the time limit counts from here: loading and setup included
     t0 = time.perf_counter()
     deadline = started + time_limit
-
-    def out_of_time() -> bool:
-        return time.monotonic() >= deadline
-
     try:
         if not isinstance(scene, Scene):
             scene = load_scene(scene, deadline=deadline)
         base = parse_spec(planner)[0]
         if base in OMPL_PLANNERS:
             seed_ompl(seed)
-        problem = make_setup(scene, seed=seed, checker=checker, should_stop=out_of_time)
+        problem = make_setup(scene, seed=seed, checker=checker, start_grasp=start_grasp,
+                             should_stop=lambda: time.monotonic() >= deadline)
     except Interrupted as e:
         return _stopped_in_setup(scene, planner, seed, time_limit, e.what,
                                  time.perf_counter() - t0)
-    p, config = _planner_for(problem, planner, seed=seed, config=config, resume=resume)
+    p, config = _planner_for(problem, planner, seed=seed, config=config, resume=resume,
+                             start_grasp=start_grasp)
     t1 = time.perf_counter()
     name = _solve(problem.setup, time_limit, started)
     t2 = time.perf_counter()
@@ -189,11 +191,12 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
 
 
 def _planner_for(problem: Any, planner: str, *, seed: int, config: RegraspConfig,
-                 resume: Any) -> tuple[Any, RegraspConfig]:
+                 resume: Any, start_grasp: int | None) -> tuple[Any, RegraspConfig]:
     """The planner named ``planner`` set up on ``problem``, and the configuration it uses."""
     p = make_planner(planner, problem, seed=seed, config=config)
     if isinstance(p, RegraspPlanner):
         config = p.config
+        p.start_grasp = start_grasp
         p.last_search = resume  # the planner keeps it only for this checker and goal
     problem.setup.setPlanner(p)
     problem.setup.setup()
@@ -307,7 +310,7 @@ def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool
 
 
 def _check_arguments(scene: Any, planner: Any, time_limit: Any, seed: Any,
-                     simplify: Any, bound: Any) -> float:
+                     simplify: Any, bound: Any, start_grasp: Any) -> float:
     """Validate :func:`plan`'s arguments; return the effective time limit (s)."""
     if not isinstance(scene, Scene | str | os.PathLike):
         raise InputError("scene", type(scene).__name__,
@@ -322,6 +325,8 @@ def _check_arguments(scene: Any, planner: Any, time_limit: Any, seed: Any,
         raise InputError("simplify", simplify, "must be True or False")
     if not isinstance(bound, bool):
         raise InputError("bound", bound, "must be True or False")
+    if start_grasp is not None:
+        check_grasp(start_grasp, field="start_grasp")
     return limit
 
 

@@ -23,8 +23,11 @@ where it really is (drift, a slip), obstacles that appeared or went. It keeps be
   after it passes the checker's own checks against the scene as it is now.
 
 Every plan is checked as a fresh plan would be; only work is saved. Plans start at the
-observed box pose; with ``grasp=k`` (the robot holds the box with grasp ``k``) a plan whose
-first transfer uses another grasp starts with the walk from ``k`` to it.
+observed box pose; with ``grasp=k`` (the robot holds the box with grasp ``k``) every plan
+starts with grasp ``k``: the search starts from ``(box, k)`` alone (``start_grasp`` of
+:func:`~pivot_ompl.api.plan`; other grasps are reached by walks from it, priced and checked
+as any regrasp), and a repaired route that joins the old one at another grasp starts with
+the walk from ``k`` to it and is polished from ``k``.
 """
 
 from __future__ import annotations
@@ -38,12 +41,11 @@ from typing import Any
 from pivot_ompl.api import PlanResult, plan, plan_from_route
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.checking.stored import StoredMotions, stored_motions
-from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import InputError, PlanningError
 from pivot_ompl.grasp import check_grasp
-from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase, plan_quality
+from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
 from pivot_ompl.planners.config import RegraspConfig
-from pivot_ompl.planners.repair import State, polish, repair_route, route_of, stored_route
+from pivot_ompl.planners.repair import State, polish, repair_route, route_of
 from pivot_ompl.scene import Obstacle, Scene, check_pose, load_scene, obstacles_from_list
 
 log = logging.getLogger(__name__)
@@ -113,7 +115,8 @@ class PlanningSession:
 
         Raises:
             InputError: a bad argument, naming it.
-            PlanningError: the observed pose is in collision (``INVALID_START``).
+            PlanningError: the observed pose is in collision, or the held grasp is not valid
+                there (``INVALID_START``).
         """
         start = check_pose(list(box), field="box")
         if grasp is not None:
@@ -152,7 +155,8 @@ class PlanningSession:
             self._checker = self._new_checker(scene)
         checker = self._checker
         checker.scene = scene
-        if not checker.box_valid(box):
+        if not checker.box_valid(box) or (grasp is not None and
+                                          not checker.state_valid(box, grasp)):
             return None  # the search reports the invalid start
         t0 = time.perf_counter()
         deadline = time.monotonic() + time_limit / 2  # the rest for a search if it fails
@@ -163,16 +167,14 @@ class PlanningSession:
                            seed=self.seed if seed is None else seed)
         if rep is None:
             return None
-        cfg = self.config or RegraspConfig()
-        # a route that starts with the held grasp is polished from it (a walk to another is
-        # priced, not added after); one that starts with another from any (a walk is needed)
-        states = polish(checker, rep.states, cfg, should_stop=stop,
-                        new=len(rep.states) - rep.kept_edges,
-                        held=grasp is not None and rep.states[0][1] == grasp)
+        states, new = rep.states, len(rep.states) - rep.kept_edges
         if grasp is not None and states[0][1] != grasp:  # the robot walks to the route's grasp
             if not checker.transit(box, grasp, states[0][1], should_stop=stop).valid:
                 return None
-            states = [(box, grasp), *states]
+            states, new = [(box, grasp), *states], new + 1
+        # polished from the held grasp (a walk to another is priced as any), else from any
+        states = polish(checker, states, self.config or RegraspConfig(), should_stop=stop,
+                        new=new, held=grasp is not None)
         t1 = time.perf_counter()
         stats = {"repaired": True, "joined_edge": rep.joined, "join_edges_tried": rep.tried,
                  "kept_edges": rep.kept_edges, "time": t1 - t0}
@@ -180,7 +182,7 @@ class PlanningSession:
                               seed=self.seed if seed is None else seed, time_limit=time_limit,
                               timings={"setup": 0.0, "solve": t1 - t0}, stats=stats,
                               config=self.config, bound=self.bound, search=self._search)
-        self._adopt(scene, res, grasp)
+        self._adopt(scene, res)
         return res
 
     def _new_checker(self, scene: Scene) -> PivotChecker:
@@ -189,13 +191,11 @@ class PlanningSession:
         checker.offer(self._stored)
         return checker
 
-    def _adopt(self, scene: Scene, res: PlanResult, grasp: int | None) -> None:
+    def _adopt(self, scene: Scene, res: PlanResult) -> None:
         """Take ``res`` as the last plan (its route to repair next)."""
         self.scene, self.last = scene, res
         if res.solved:
             self._route = _route_of_plan(res.plan)
-            if grasp is not None:
-                self._hold(res, grasp)
 
     def _removed(self, items: Sequence[Obstacle | int]) -> tuple[Obstacle, ...]:
         out = []
@@ -220,7 +220,8 @@ class PlanningSession:
         end = time.monotonic() + time_limit
         kw: dict[str, Any] = {"planner": self.planner, "config": self.config,
                               "seed": self.seed if seed is None else seed,
-                              "checker": self._checker, "bound": self.bound}
+                              "checker": self._checker, "bound": self.bound,
+                              "start_grasp": grasp}
         resumed = self._search is not None
         res = plan(scene, time_limit=time_limit / 2 if resumed else time_limit,
                    resume=self._search, **kw)
@@ -230,30 +231,24 @@ class PlanningSession:
             log.info("replanning: the resumed search failed; a new one for %.1f s", left)
             res = plan(scene, time_limit=left, resume=None, **kw)
         self._search = res.search
-        self._adopt(scene, res, grasp)
+        if res.solved and grasp is not None:
+            _check_held(res.plan, grasp)
+        self._adopt(scene, res)
         return res
 
-    def _hold(self, res: PlanResult, grasp: int) -> None:
-        """Start the plan with the walk from the held grasp to its first transfer's grasp."""
-        phases = res.plan.phases
-        first = next((p for p in phases if isinstance(p, TransferPhase)), None)
-        if first is None or phases[0].type == "transit" or first.grasp == grasp:
-            return
-        assert self._checker is not None  # noqa: S101 - set by _run
-        walk = self._checker.transit(res.plan.start, grasp, first.grasp)
-        if not walk.valid:
-            raise PlanningError("INVALID_START", f"the robot cannot walk from grasp {grasp} to "
-                                f"grasp {first.grasp} round the box at {list(res.plan.start)}")
-        res.plan.phases.insert(0, TransitPhase(grasp, first.grasp, walk.robot_path,
-                                               res.plan.start))
-        self._route.insert(0, (res.plan.start, grasp))
-        res.plan.extra["route"] = stored_route(self._route)
-        q = res.plan.extra.get("quality")
-        if q is not None:  # the block of the plan as it now is
-            res.plan.extra["quality"] = plan_quality(
-                res.plan, regrasps_lower_bound=q["regrasps_lower_bound"],
-                shortest_route=q["shortest_route"], costs=CostModel(regrasp=q["regrasp_cost"]))
 
+def _check_held(p: Plan, grasp: int) -> None:
+    """Raise unless plan ``p`` starts with grasp ``grasp`` (its first phase's grasp).
+
+    Raises:
+        PlanningError: ``INVALID_START``, naming the plan's first grasp.
+    """
+    first = p.phases[0] if p.phases else None
+    held = first.from_grasp if isinstance(first, TransitPhase) else \
+        first.grasp if isinstance(first, TransferPhase) else grasp
+    if held != grasp:
+        raise PlanningError("INVALID_START", f"the plan starts with grasp {held}, not with the "
+                            f"held grasp {grasp}")
 
 
 def _route_of_plan(p: Plan) -> list[State]:

@@ -102,7 +102,8 @@ def make_setup(scene: Scene, *, seed: int = 0, grasp_weight: float = GRASP_WEIGH
     ``should_stop``: polled while the checker's collision world is built (a time limit).
 
     Raises:
-        PlanningError: no grasp is valid at the start (``INVALID_START``) or goal
+        PlanningError: no grasp is valid at the start, or the box is free there but not the
+            robot holding it with ``start_grasp`` (``INVALID_START``), or none at the goal
             (``INVALID_GOAL``).
         Interrupted: ``should_stop()`` became true.
     """
@@ -112,16 +113,19 @@ def make_setup(scene: Scene, *, seed: int = 0, grasp_weight: float = GRASP_WEIGH
     ck = problem.checker
     starts = [g for g in range(4) if ck.state_valid(scene.start, g)]
     goals = [g for g in range(4) if ck.state_valid(scene.goal, g)]
-    if start_grasp is not None:
-        starts = [g for g in starts if g == start_grasp]
+    held = [g for g in starts if g == start_grasp] if start_grasp is not None else starts
     if goal_grasp is not None:
         goals = [g for g in goals if g == goal_grasp]
+    if starts and not held:  # the box is free, the robot holding it with that grasp is not
+        raise PlanningError("INVALID_START", f"the held grasp {start_grasp} is not valid at "
+                            f"start {list(scene.start)}: " + ck.explain(scene.start))
     if not starts:
         raise PlanningError("INVALID_START", f"no valid grasp at start {list(scene.start)}: "
                             + ck.explain(scene.start))
     if not goals:
         raise PlanningError("INVALID_GOAL", f"no valid grasp at goal {list(scene.goal)}: "
                             + ck.explain(scene.goal))
+    starts = held
     for g in starts:
         ss.addStartState(problem.alloc(scene.start, g))
     goal = ob.GoalStates(problem.si)

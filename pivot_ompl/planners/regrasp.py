@@ -23,8 +23,9 @@ class RegraspPlanner(GuardedPlanner):
     """Visibility PRM on the box, manipulation and regrasping roadmaps multiplexed, diffusion.
 
     A thin adapter: the algorithm is :class:`~pivot_ompl.planners.regrasp_search.RegraspSearch`.
-    The start is the problem's start state (its pose; every valid grasp is a start); the goal
-    must be a ``GoalState``/``GoalStates`` (their pose; every valid grasp is a goal). Calling
+    The start is the problem's start state (its pose; every valid grasp is a start, or
+    ``start_grasp`` alone when set: the robot holds the box with it); the goal must be a
+    ``GoalState``/``GoalStates`` (their pose; every valid grasp is a goal). Calling
     ``solve`` again on the same query continues with the roadmaps and caches of the previous
     calls, and so does a query with a new start and the same goal (replanning, the
     obstacles unchanged); ``clear()`` forgets them.
@@ -36,6 +37,10 @@ class RegraspPlanner(GuardedPlanner):
         seed: seed of the planner's generator (runs are deterministic for a seed).
         config: the planner's configuration (:class:`~pivot_ompl.planners.config.RegraspConfig`).
         name: the planner's name in OMPL (benchmark logs tell configurations apart by it).
+
+    Attributes:
+        start_grasp: the grasp every path starts with (other grasps at the start are reached
+            by walks, priced and checked as any regrasp); ``None``: any valid grasp.
     """
 
     def __init__(self, si: ob.SpaceInformation, checker: PivotChecker, *, seed: int = 0,
@@ -46,6 +51,7 @@ class RegraspPlanner(GuardedPlanner):
         self.checker = checker
         self.seed = seed
         self.last_search: RegraspSearch | None = None
+        self.start_grasp: int | None = None
         self.stats: dict[str, Any] = {}
 
     def clear(self) -> None:  # noqa: D102
@@ -58,7 +64,8 @@ class RegraspPlanner(GuardedPlanner):
         s_pose, _ = read_state(start)
         g_pose, _ = read_state(goal)
         grasps = self.config.grasps
-        if not any(checker.state_valid(s_pose, g) for g in grasps):
+        held = self.start_grasp
+        if not any(checker.state_valid(s_pose, g) for g in grasps if held in (None, g)):
             return ob.PlannerStatus(ob.PlannerStatus.INVALID_START)
         if not any(checker.state_valid(g_pose, g) for g in grasps):
             return ob.PlannerStatus(ob.PlannerStatus.INVALID_GOAL)
@@ -66,10 +73,11 @@ class RegraspPlanner(GuardedPlanner):
         search = self.last_search
         if search is None or search.goal != g_pose or search.checker is not checker:
             search = RegraspSearch(checker, s_pose, g_pose, self.config,
-                                   np.random.default_rng(self.seed))
+                                   np.random.default_rng(self.seed), start_grasp=held)
             self.last_search = search
-        elif search.start != s_pose:  # a new start: the roadmaps grown so far serve again
-            search.restart(s_pose, lambda: bool(ptc()))
+        elif search.start != s_pose or search.start_grasp != held:
+            # a new start: the roadmaps grown so far serve again
+            search.restart(s_pose, lambda: bool(ptc()), start_grasp=held)
         # else: solving again continues with the same roadmaps and caches (OMPL semantics)
         states = search.run(lambda: bool(ptc()))
         self.stats = asdict(search.stats)

@@ -89,6 +89,9 @@ class RegraspSearch:
         start, goal: object poses.
         config: the planner's configuration.
         rng: random generator (the only source of randomness).
+        start_grasp: the grasp the robot holds the box with at the start: every path starts
+            with it (a walk from it to another grasp at the start is a regrasp edge, priced
+            and checked as any); ``None``: any grasp valid at the start.
 
     Attributes:
         roadmap: the object roadmap.
@@ -107,9 +110,10 @@ class RegraspSearch:
     stats: RegraspStats
 
     def __init__(self, checker: PivotChecker, start: Pose, goal: Pose, config: RegraspConfig,
-                 rng: np.random.Generator) -> None:
+                 rng: np.random.Generator, *, start_grasp: int | None = None) -> None:
         """The parts, empty."""
         self.checker, self.start, self.goal = checker, start, goal
+        self.start_grasp = start_grasp
         self.config, self.rng = config, rng
         sc, se = config.sampling, config.search
         self.roadmap = Roadmap()
@@ -167,7 +171,7 @@ class RegraspSearch:
             self._seed_slots(found, should_stop)
             self.stats.slots = len(found)
         self._goal_node = g_i
-        self.graph.set_ends(s_i, g_i, should_stop)
+        self.graph.set_ends(s_i, g_i, should_stop, start_grasp=self.start_grasp)
 
     def _seed_slots(self, found: list[Passage], should_stop: Stop) -> None:
         """Add the free box poses along the slots that a plan may visit, each once.
@@ -194,20 +198,20 @@ class RegraspSearch:
             seeded.append(rm.add(q, "slot"))
             self.stats.slot_nodes += 1
 
-    def restart(self, start: Pose, should_stop: Stop) -> None:
+    def restart(self, start: Pose, should_stop: Stop, *, start_grasp: int | None = None) -> None:
         """Search again from a new start over everything grown so far (replanning).
 
         The obstacles must be those the roadmaps were grown among (the same checker): the
         new start is added and multiplexed, and the next :meth:`run` searches the graph as it
-        is, growing it only if no path is found.
+        is, growing it only if no path is found. ``start_grasp``: as for the constructor.
         """
-        self.start = start
+        self.start, self.start_grasp = start, start_grasp
         if not self._started:
             return
         s_i = self.roadmap.add(start, "start")
         self.visibility.adopt_guard(s_i)
         self.graph.multiplex_pending(lambda: False)
-        self.graph.set_ends(s_i, self._goal_node, should_stop)
+        self.graph.set_ends(s_i, self._goal_node, should_stop, start_grasp=start_grasp)
 
     def _single_grasp(self, should_stop: Stop) -> list[State]:
         """A regrasp-free path by RRT-Connect at each grasp valid at both ends, or ``[]``.
@@ -217,7 +221,8 @@ class RegraspSearch:
         """
         ck, cfg = self.checker, self.config.single_grasp
         grasps = [g for g in self.config.grasps if ck.state_valid(self.start, g)
-                  and ck.state_valid(self.goal, g)]
+                  and ck.state_valid(self.goal, g)
+                  and self.start_grasp in (None, g)]
         if cfg.checks <= 0 or not grasps:
             return []
         t0 = time.perf_counter()
@@ -319,6 +324,7 @@ class RegraspSearch:
             return states
         t1 = time.perf_counter()
         ck, costs = self.checker, self.config.cost
+        held = self.start_grasp is not None  # the path keeps its first grasp
 
         def budget(share: float = cfg.check_share) -> Stop:
             return budgeted(should_stop, ck, share=share, minimum=cfg.min_checks)
@@ -328,10 +334,11 @@ class RegraspSearch:
                 self.lattice = TransferLattice(ck, costs, region=self.sampler.region())
             t2 = time.perf_counter()
             states = refine(ck, self.lattice, states, costs=costs,
-                            should_stop=budget(cfg.route_share), stats=self.refine)
+                            should_stop=budget(cfg.route_share), stats=self.refine,
+                            start_grasp=held)
             self.stats.time_routes += time.perf_counter() - t2
         states = optimise(ck, states, grasps=self.config.grasps, should_stop=budget(),
-                          costs=costs)
+                          costs=costs, start_grasp=held)
         self.stats.time_optimise += time.perf_counter() - t1
         return states
 

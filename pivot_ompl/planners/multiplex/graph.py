@@ -271,13 +271,14 @@ class MultiplexedGraph:
             if self._reach is None:
                 return
 
-    def set_ends(self, start: int, goal: int, should_stop: Stop) -> None:
+    def set_ends(self, start: int, goal: int, should_stop: Stop, *,
+                 start_grasp: int | None = None) -> None:
         """Set the start and goal object nodes (both multiplexed).
 
-        Their manipulation nodes, the direct edge at each grasp valid at both (always tried
-        first), and the reachable set.
+        Their manipulation nodes (at the start only ``(start, start_grasp)`` if given), the
+        direct edge at each grasp valid at both (always tried first), and the reachable set.
         """
-        self.start_nodes = [n for n in self.adj if n[0] == start]
+        self.start_nodes = [n for n in self.adj if n[0] == start and start_grasp in (None, n[1])]
         self.goal_nodes = {n for n in self.adj if n[0] == goal}
         m, rs = self.checker.model, self.checker.steering.paths
         qs, qg = self.roadmap.poses[start], self.roadmap.poses[goal]

@@ -111,11 +111,12 @@ class _Pricer:
 
 def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State], *,
            costs: CostModel, should_stop: Stop, stats: RefineStats | None = None,
-           ) -> list[State]:
+           start_grasp: bool = False) -> list[State]:
     """``states`` with runs of phases re-planned on the lattice (see the module docstring).
 
     Stopped by ``should_stop`` (polled between lattice queries and checks), it returns the
-    best path it has: valid, never costlier than ``states``.
+    best path it has: valid, never costlier than ``states``. ``start_grasp``: the path keeps
+    the grasp ``states`` starts with (the robot holds the box with it).
     """
     st = stats if stats is not None else RefineStats()
     pricer = _Pricer(checker, costs)
@@ -128,7 +129,8 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
     refused: set[tuple[int, int, int, tuple[Pose, ...]]] = set()
     try:
         while not should_stop():
-            best = _best_candidate(lattice, pricer, phases, current, refused, should_stop, st)
+            best = _best_candidate(lattice, pricer, phases, current, refused, should_stop, st,
+                                   start_grasp)
             if best is None:
                 break
             i, j, g, plan = best
@@ -153,13 +155,14 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
     return _states(phases)
 
 
-def _candidates(phases: list[_Phase]) -> list[tuple[int, int, int]]:
+def _candidates(phases: list[_Phase], start_grasp: bool = False) -> list[tuple[int, int, int]]:
     """Runs ``i .. j`` and the grasp ``g`` to plan each at.
 
     Runs whose grasps differ by zero or a half turn, at phase ``i``'s grasp; and, since the
-    grasp at the start and at the goal is free, runs from the start planned at phase ``j``'s
-    grasp and runs to the goal planned at phase ``i``'s, whatever their grasps (a regrasp
-    after the start or before the goal that only changed the face is removed).
+    grasp at the start (unless ``start_grasp``: it is the one held) and at the goal is free,
+    runs from the start planned at phase ``j``'s grasp and runs to the goal planned at phase
+    ``i``'s, whatever their grasps (a regrasp after the start or before the goal that only
+    changed the face is removed).
     """
     last = len(phases) - 1
     out = []
@@ -169,7 +172,7 @@ def _candidates(phases: list[_Phase]) -> list[tuple[int, int, int]]:
             if (gj - gi) % 2 == 0:
                 out.append((i, j, gi))
                 continue
-            if i == 0:
+            if i == 0 and not start_grasp:
                 out.append((i, j, gj))
             if j == last:
                 out.append((i, j, gi))
@@ -178,8 +181,10 @@ def _candidates(phases: list[_Phase]) -> list[tuple[int, int, int]]:
 
 def _best_candidate(lattice: TransferLattice, pricer: _Pricer, phases: list[_Phase],
                     current: float, refused: set, should_stop: Stop, st: RefineStats,
-                    ) -> tuple[int, int, int, list[_Phase | _Leg]] | None:
+                    start_grasp: bool = False) -> tuple[int, int, int, list[_Phase | _Leg]] | None:
     """The run whose lattice re-plan saves the most (estimated), as a plan to make real.
+
+    ``start_grasp``: the plan keeps the first phase's grasp (:func:`_candidates`).
 
     A plan is the new phase list where the phases to route are legs (:class:`_Leg`). The
     regrasps a plan keeps are the path's own (a turned phase's regrasp is the same walk
@@ -189,7 +194,7 @@ def _best_candidate(lattice: TransferLattice, pricer: _Pricer, phases: list[_Pha
     cost = [pricer.phase(p) for p in phases]
     regrasp = [0.0] + [pricer.regrasp(a, b) for a, b in zip(phases, phases[1:], strict=False)]
     best: tuple[float, int, int, int, list] | None = None
-    for i, j, g in _candidates(phases):
+    for i, j, g in _candidates(phases, start_grasp):
         if (i, j, g, phases[i].poses) in refused:
             continue
         if should_stop():
