@@ -38,6 +38,7 @@ import time
 from collections.abc import Sequence
 from typing import Any
 
+from pivot_ompl.analysis.bound_cache import lower_bound
 from pivot_ompl.api import PlanResult, plan, plan_from_route
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.checking.stored import StoredMotions, stored_motions
@@ -52,6 +53,9 @@ log = logging.getLogger(__name__)
 
 #: Least time (s) for which a search still starts after a failed repair or resumed search.
 MIN_SEARCH_TIME = 0.05
+#: Share of a replan's time kept, after added obstacles, to prove that no plan exists when
+#: the search finds none (:func:`_proved_infeasible`).
+PROOF_SHARE = 0.25
 
 
 class PlanningSession:
@@ -110,7 +114,9 @@ class PlanningSession:
                 whole-body motion starts at ``robot`` and walks to it).
             add_obstacles: obstacles that appeared (objects or dicts as in a scene file).
             remove_obstacles: obstacles that went (the scene's objects or their indices).
-            time_limit: as for :func:`pivot_ompl.api.plan` (s).
+            time_limit: as for :func:`pivot_ompl.api.plan` (s). After ``add_obstacles``, a
+                search that finds no plan leaves :data:`PROOF_SHARE` of it to prove that none
+                exists: the result's status is then ``INFEASIBLE``.
             seed: the seed (default the session's).
 
         Raises:
@@ -139,8 +145,14 @@ class PlanningSession:
         started = time.monotonic()
         res = self._repaired(scene, start, grasp, time_limit, seed)
         if res is None:
-            res = self._run(scene, max(MIN_SEARCH_TIME, time_limit - (time.monotonic() - started)),
-                            seed, grasp)
+            left = max(MIN_SEARCH_TIME, time_limit - (time.monotonic() - started))
+            if not added:
+                res = self._run(scene, left, seed, grasp)
+            else:  # a change that may leave no plan: the rest of the time to prove it
+                res = self._run(scene, max(MIN_SEARCH_TIME, (1.0 - PROOF_SHARE) * left), seed,
+                                grasp)
+                if not res.solved:
+                    res = _proved_infeasible(scene, res, deadline=started + time_limit)
         if robot is not None:
             res.plan.extra["observed_robot"] = list(robot)
         return res
@@ -249,6 +261,23 @@ def _check_held(p: Plan, grasp: int) -> None:
     if held != grasp:
         raise PlanningError("INVALID_START", f"the plan starts with grasp {held}, not with the "
                             f"held grasp {grasp}")
+
+
+def _proved_infeasible(scene: Scene, res: PlanResult, *, deadline: float) -> PlanResult:
+    """``res`` marked ``INFEASIBLE`` when the regrasp bound's relaxation proves no plan exists.
+
+    The relaxation (:func:`~pivot_ompl.analysis.bound_cache.lower_bound`) admits every plan
+    from any grasp, so when it joins no start to the goal no plan exists, from the held grasp
+    or any other. It runs until ``deadline`` (``time.monotonic()``); stopped, or finding a
+    path, it leaves ``res`` as it is.
+    """
+    bound = lower_bound(scene, should_stop=lambda: time.monotonic() > deadline)
+    if bound.solvable is not False:
+        return res
+    log.info("replanning: no plan exists (the regrasp bound's relaxation finds no path, %.2f s)",
+             bound.seconds)
+    res.plan.extra["no_plan"] = "the regrasp bound's relaxation joins no start to the goal"
+    return dataclasses.replace(res, status="INFEASIBLE")
 
 
 def _route_of_plan(p: Plan) -> list[State]:

@@ -78,7 +78,9 @@ def run(args: argparse.Namespace) -> int:
         return 2
     print(result_line(res))
     if not res.solved:
-        print("no plan found: nothing written", file=sys.stderr)
+        why = ("no plan exists (the regrasp bound's relaxation joins no start to the goal)"
+               if res.status == "INFEASIBLE" else "no plan found")
+        print(f"{why}: nothing written", file=sys.stderr)
         return 1
     new = session.scene
     assert out is not None and scene_out is not None  # noqa: S101 - required options

@@ -178,3 +178,41 @@ def test_a_new_process_replanning_a_plan_file_reuses_its_checked_walk(monkeypatc
     assert walks and walks[-1] == next(p.robot_path for p in old.phases
                                        if isinstance(p, TransitPhase))
     assert not planned  # the stored walk passed the checks: not planned again
+
+
+def test_a_change_that_leaves_no_plan_is_proved_within_the_time_limit():
+    """Obstacles closing slot's slot and its door: the wall spans the floor, no plan exists."""
+    import time
+
+    s = PlanningSession(shipped("slot"), seed=0)
+    assert s.plan(time_limit=30.0).solved
+    closing = [{"type": "box", "center": [4.05, 1.5], "size": [0.5, 0.62], "height": 2.0},
+               {"type": "box", "center": [4.05, 4.525], "size": [0.5, 0.95], "height": 2.0}]
+    t0 = time.monotonic()
+    res = s.replan(box=s.scene.start, add_obstacles=closing, time_limit=4.0)
+    spent = time.monotonic() - t0
+    assert res.status == "INFEASIBLE" and not res.solved
+    assert "relaxation" in res.plan.extra["no_plan"]
+    assert spent < 4.0 + 1.0  # the proof within the limit (its share of it)
+    # a change that leaves a plan is not called infeasible: the slot alone closed, the door open
+    s2 = PlanningSession(shipped("slot"), seed=0)
+    assert s2.plan(time_limit=30.0).solved
+    res2 = s2.replan(box=s2.scene.start, add_obstacles=closing[:1], time_limit=4.0)
+    assert res2.status != "INFEASIBLE"
+
+
+def test_cli_replan_says_when_a_change_leaves_no_plan(tmp_path, capsys):
+    old = tmp_path / "old.json"
+    assert main(["plan", str(scene_file("slot")), "--out", str(old), "--time", "30"]) == 0
+    add = tmp_path / "add.yaml"  # the slot and the door closed: the wall spans the floor
+    add.write_text("obstacles:\n"
+                   "  - {type: box, center: [4.05, 1.5], size: [0.5, 0.62], height: 2.0}\n"
+                   "  - {type: box, center: [4.05, 4.525], size: [0.5, 0.95], height: 2.0}\n")
+    new, new_scene = tmp_path / "new.json", tmp_path / "new.yaml"
+    capsys.readouterr()
+    assert main(["replan", str(scene_file("slot")), str(old), "--box", "1.5", "1.5", "0.0",
+                 "--add-obstacles", str(add), "--time", "4", "--out", str(new),
+                 "--scene-out", str(new_scene)]) == 1
+    out = capsys.readouterr()
+    assert "INFEASIBLE" in out.out and "no plan exists" in out.err
+    assert not new.exists() and not new_scene.exists()
