@@ -128,13 +128,14 @@ def _candidates_within(start: Pose, goal: Pose, ell: float,
         # direction from the first end to the other end: h - pi/2 for A, h + pi/2 for B
         psi0 = start[2] - sign * 0.5 * math.pi
         dpsi = goal[2] - start[2]
-        if d < 1e-12:  # (nearly) a pure rotation about the first end: one or two halves
+        cands = []
+        if d < IK_VERIFY_TOL:  # (nearly) a pure rotation about the first end: one or two
+            # halves, which arrive within d of the goal (the verification's tolerance)
             cands = [(wrap_angle(dpsi), 0.0, 0.0), (0.5 * wrap_angle(dpsi), 0.0,
                                                     0.5 * wrap_angle(dpsi))]
-        else:
+        if d >= 1e-12:
             half = math.asin(min(1.0, d / (4.0 * ell)))
             bearing = math.atan2(dy, dx)
-            cands = []
             for a2 in (2.0 * half, -2.0 * half):
                 a = bearing - 0.5 * a2 + (0.5 * math.pi if a2 > 0 else -0.5 * math.pi)
                 a1 = wrap_angle(a - psi0)

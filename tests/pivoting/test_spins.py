@@ -42,3 +42,34 @@ def test_spin_path_interpolates_the_heading_the_short_way():
     assert paths.distance(a, b) == SPIN_RADIUS * abs(wrap_angle(b[2] - a[2]))
     assert not paths.is_spin(a, (1.0 + 1e-6, 2.0, -3.0))  # elsewhere: Reeds-Shepp
     assert not paths.is_spin(a, a)
+
+
+@settings(max_examples=80, deadline=None)
+@given(exponent=st.floats(-13.0, -6.0), sign=st.sampled_from([1.0, -1.0]),
+       grasp=st.integers(0, 3))
+def test_a_box_turned_by_nanoradians_about_its_centre_is_steered(exponent, sign, grasp):
+    """The box turned in place by a hair: its car moves by nanometres along the edge (the
+    direction only the rotations' bracket reaches) and turns; still a transfer, arriving."""
+    from factories import make_scene
+
+    from pivot_ompl.checking.pivot_checker import PivotChecker
+
+    turn = 10.0**exponent  # 1e-13 to 1e-6 rad, as many of each decade
+    checker = PivotChecker(make_scene(bounds=[-10.0, -10.0, 10.0, 10.0]))
+    edge = checker.transfer((0.0, 0.0, 0.0), (0.0, 0.0, sign * turn), grasp)
+    assert edge.valid
+    goal = checker.model.car_pose((0.0, 0.0, sign * turn), grasp)
+    end = edge.sequence.rotations[-1].car if edge.sequence.rotations else \
+        checker.model.car_pose((0.0, 0.0, 0.0), grasp)
+    assert math.hypot(end[0] - goal[0], end[1] - goal[1]) < 2e-9
+    assert abs(wrap_angle(end[2] - goal[2])) < 1e-9
+
+
+def test_a_box_turned_by_picoradians_about_its_centre_is_steered():
+    """The car of grasp 0 (0.4 m from the box centre) turned by 2.5e-11 rad: the example found."""
+    steering = PivotSteering(turning_radius=2.0, alpha_max=AMAX)
+    yaw = 2.5292362992002202e-11
+    goal = (-0.4 * math.cos(yaw), -0.4 * math.sin(yaw), yaw)
+    seq = steering.convert((-0.4, 0.0, 0.0), goal, half_length=0.2)
+    end = seq.rotations[-1].car if seq.rotations else (-0.4, 0.0, 0.0)
+    assert math.hypot(end[0] - goal[0], end[1] - goal[1]) < 1e-9
