@@ -46,8 +46,8 @@ def braking_step(distance: float, delta: float) -> float:
     return distance / (n + 1) + 0.5 * delta * n
 
 
-def braking_steps(distance: np.ndarray, delta: float) -> np.ndarray:
-    """:func:`braking_step` of every element of ``distance`` (``delta`` > 0).
+def braking_steps(distance: np.ndarray, delta: np.ndarray | float) -> np.ndarray:
+    """:func:`braking_step` of every element of ``distance`` (``delta`` > 0, one or per element).
 
     The piece ``n`` from the square root is not corrected for round-off: the step is
     continuous in ``distance`` across pieces, so a neighbouring piece's formula differs from
@@ -124,7 +124,7 @@ class JointDamper:
         d = np.tile([delta if j in damp and delta > 0.0 else _NO_BRAKING for j in names], 2)
         self._lim = np.concatenate((-self._lo, self._hi))
         self._cap = braking_distance(step, d)
-        self._c1, self._half_d = 2.0 / d, 0.5 * d
+        self._delta = d
         self._coast_d = np.tile([delta if j in self.smooth else np.inf for j in names], 2)
         self._any_smooth = bool(self.smooth)
         self._last: np.ndarray | None = None
@@ -135,13 +135,9 @@ class JointDamper:
         n = self._n
         q = np.asarray(self.robot.state.q)[self._q_at]
         s = np.concatenate((-q, q))
-        d = self._lim - s  # the distances to the limits, capped where the speed bounds
-        np.minimum(d, self._cap, out=d)
-        np.maximum(d, 0.0, out=d)
-        k = np.sqrt(self._c1 * d + 0.25)  # the piece of braking_steps: n = floor(k - 1/2)
-        k -= 0.5
-        np.floor(k, out=k)
-        b = s + (d / (k + 1.0) + self._half_d * k)  # [-low, high]
+        # the distances to the limits, capped where the speed bounds
+        d = np.minimum(self._lim - s, self._cap)
+        b = s + braking_steps(d, self._delta)  # [-low, high]
         np.minimum(b, self._lim, out=b)
         last = self._last
         if last is not None and self._any_smooth:
