@@ -94,13 +94,18 @@ def building_layout(rng: np.random.Generator, *, rooms: int, layout: str,
 
 
 def _north(a: tuple[int, int], b: tuple[int, int], last: State, free: list[Rect]) -> list[State]:
-    """From the corner room ``a`` north into ``b`` through a wide door (grasp 1 pushes +y)."""
+    """From the corner room ``a`` north into ``b`` through a wide door (grasp 1 pushes +y).
+
+    The box is pushed straight along the row to the door's axis (at the height it entered
+    the room by), the robot walks round to its south face, and pushes it straight north
+    through the door.
+    """
     x0, y0 = _origin(*a)
     xc = x0 + ROOM / 2
     yw = y0 + ROOM_DEPTH
     free.append((xc - WIDE_DOOR / 2, yw, xc + WIDE_DOOR / 2, yw + WALL))
-    mid = (xc, y0 + ROOM_DEPTH / 2, 0.0)
-    return [(mid, last[1]), (mid, 1), ((xc, yw + WALL + ROOM_DEPTH / 2, 0.0), 1)]
+    turn = (xc, last[0][1], 0.0)
+    return [(turn, last[1]), (turn, 1), ((xc, yw + WALL + ROOM_DEPTH / 2, 0.0), 1)]
 
 
 def _along_row(a: tuple[int, int], b: tuple[int, int], east: bool, slot: bool, gap: float,

@@ -133,9 +133,14 @@ def test_several_walls_or_bends_occur(family, seeds):
     assert max(generate(family, s).witness.regrasps for s in seeds) >= 2
 
 
-@pytest.mark.parametrize(("rooms", "layout"), [(1, "row"), (3, "row"), (4, "grid")])
+@pytest.mark.parametrize(("rooms", "layout"), [(1, "row"), (3, "row"), (4, "grid"), (16, "grid")])
 def test_building_floors_grow_with_their_rooms(rooms, layout):
-    """A building of N rooms: its witness passes the check and the floor holds N rooms."""
+    """A building of N rooms: its witness passes the check and the floor holds N rooms.
+
+    Regression (16 in a grid): the push north at a corner started with a sideways shift from
+    where the box entered the room, which the pivoting car could not make: 95 % of the
+    layouts were refused and seed 0 had none in 60 attempts.
+    """
     gen = generate("building", 0, params=GeneratorParams(rooms=rooms, layout=layout))
     rep = check_plan(gen.witness, gen.scene)
     assert rep.ok, rep.problems
