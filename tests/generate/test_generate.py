@@ -184,6 +184,8 @@ def _slot_widths(scene, plan):
     (GeneratorParams(rooms=0), "rooms"), (GeneratorParams(layout="ring"), "layout"),
     (GeneratorParams(slot_clearance="wide"), "slot_clearance"),  # type: ignore[arg-type]
     (GeneratorParams(door_width=(1.3, 1.1)), "door_width"),
+    (GeneratorParams(wide_doors=(1.3, 1.1)), "wide_doors"),
+    (GeneratorParams(wide_doors=(1.0, 3.0)), "wide_doors"),
     (GeneratorParams(slot_gap=("a", 0.1)), "slot_gap")])  # type: ignore[arg-type]
 def test_bad_generator_parameters_name_their_field(params, field):
     with pytest.raises(InputError) as e:
@@ -198,3 +200,32 @@ def test_walls_with_two_centimetre_slots_have_a_valid_witness():
     rep = check_plan(gen.witness, gen.scene)
     assert rep.ok, rep.problems
     assert gen.witness.regrasps >= 2
+
+
+def test_wide_doors_give_every_row_wall_a_door_of_that_width_off_its_middle():
+    """``wide_doors``: every wall along the row a door robot and box pass together, its width
+    in the range, its centre within WIDE_SHIFT of the wall's middle; the witness holds."""
+    from pivot_ompl.generate.building import ROOM_DEPTH, WALL, WIDE_SHIFT, _origin
+    from pivot_ompl.planners.objects.slots import find_passages
+
+    for seed in range(3):
+        gen = generate("building", seed, params=GeneratorParams(rooms=4, wide_doors=(0.95, 1.3),
+                                                                rotate=False))
+        rep = check_plan(gen.witness, gen.scene)
+        assert rep.ok, rep.problems
+        assert gen.witness.regrasps == 0
+        walls = shapely.union_all([shapely.Polygon(p)
+                                   for p in obstacle_pieces(gen.scene.obstacles)])
+        found = [p for p in find_passages(gen.scene, min_width=0.9, max_width=1.35)
+                 if not walls.intersects(shapely.Point(p.center))]  # the open gaps
+        offsets = []
+        for i in range(1, 4):
+            x0, y0 = _origin(i, 0)
+            in_wall = [p for p in found if abs(p.center[0] - (x0 - 0.5 * WALL)) < 1e-6
+                       and abs(p.length - WALL) < 1e-6]
+            assert in_wall, (seed, i, found)
+            door = min(in_wall, key=lambda p: p.width)  # the wall's pieces pair up several ways
+            assert 0.95 - 1e-9 <= door.width <= 1.3 + 1e-9
+            offsets.append(door.center[1] - (y0 + 0.5 * ROOM_DEPTH))
+        assert all(abs(d) <= WIDE_SHIFT + 1e-9 for d in offsets)
+        assert max(abs(d) for d in offsets) > 0.05  # off the middle: the doors do not line up
