@@ -229,3 +229,38 @@ def test_wide_doors_give_every_row_wall_a_door_of_that_width_off_its_middle():
             offsets.append(door.center[1] - (y0 + 0.5 * ROOM_DEPTH))
         assert all(abs(d) <= WIDE_SHIFT + 1e-9 for d in offsets)
         assert max(abs(d) for d in offsets) > 0.05  # off the middle: the doors do not line up
+
+
+@settings(max_examples=40, deadline=None)
+@given(rects=st.lists(st.tuples(st.integers(0, 9), st.integers(0, 9), st.integers(1, 4),
+                                st.integers(1, 4)), min_size=1, max_size=8))
+def test_free_complement_covers_exactly_the_rest_of_the_bounds(rects):
+    """The boxes cover the bounds less the free rectangles, overlap nowhere, and no two of
+    the same x extent touch one above the other (they would have been one box)."""
+    from pivot_ompl.generate.layout import free_complement
+
+    bounds = (0.0, 0.0, 12.0, 12.0)
+    free = [(0.5 * x, 0.5 * y, 0.5 * (x + w), 0.5 * (y + h)) for x, y, w, h in rects]
+    boxes = free_complement(bounds, free)
+    polys = [shapely.box(b.center[0] - 0.5 * b.size[0], b.center[1] - 0.5 * b.size[1],
+                         b.center[0] + 0.5 * b.size[0], b.center[1] + 0.5 * b.size[1])
+             for b in boxes]
+    want = shapely.box(*bounds).difference(shapely.union_all([shapely.box(*r) for r in free]))
+    got = shapely.union_all(polys)
+    assert got.symmetric_difference(want).area < 1e-9
+    assert sum(p.area for p in polys) == pytest.approx(want.area, abs=1e-9)  # no overlaps
+    ext = {}
+    for p in polys:
+        x0, y0, x1, y1 = p.bounds
+        ext.setdefault((x0, x1), []).append((y0, y1))
+    for spans in ext.values():
+        tops = {y1 for _, y1 in spans}
+        assert not any(y0 in tops for y0, _ in spans)
+
+
+def test_a_building_holds_a_few_boxes_per_room():
+    """Regression: each wall was cut into a slice per distinct height of any door or slot on
+    the floor (823 boxes for 32 rooms); now one box per solid stretch of wall."""
+    for rooms in (4, 32):
+        gen = generate("building", 0, params=GeneratorParams(rooms=rooms, rotate=False))
+        assert len(gen.scene.obstacles) <= 3 * rooms + 8, len(gen.scene.obstacles)
