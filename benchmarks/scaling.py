@@ -5,16 +5,21 @@ Generated scenes, one planning process (this one), one run at a time:
 * ``building``: N rooms in a row (``--rooms 1,2,4,8,16``), box-only slots and robot-only doors
   or wide doors between them (``pivot_ompl.generate`` family ``building``);
 * ``slots``: two walls whose slots leave C a side (``--clearances 0.10,0.06,0.04,0.03``;
-  the generator's ``walls`` family with ``walls=2, slot_clearance=C``).
+  the generator's ``walls`` family with ``walls=2, slot_clearance=C``);
+* ``doors``: ``--door-rooms`` rooms in a row (default 6), every wall a door robot and box pass
+  together, W wide and off the wall's middle (``--doors 0.95,1.1,1.3``; ``building`` with
+  ``wide_doors=(W, W)``): doors narrower than the disk the held assembly sweeps turning.
 
 For each scene and seed: solved or not within ``--time``, solve seconds, regrasps and the
 proven lower bound (``--no-bound``: not computed), and the floor's area. Prints one row per
 run, then success, median and 95th percentile per class; ``--plot`` draws solve time against
-rooms and against slot clearance (median line, p95 dashed, unsolved runs at the limit).
+rooms, against slot clearance and against door width (median line, p95 dashed, unsolved runs
+at the limit).
 Targets (issue: scaling): time close to linear in the rooms; slots of 2-6 cm a side solved.
 
     python benchmarks/scaling.py [--rooms 1,2,4,8] [--clearances 0.1,0.06,0.04]
-        [--seeds 2] [--time 180] [--no-bound] [--out results/scaling.json]
+        [--doors 0.95,1.1,1.3] [--door-rooms 6] [--seeds 2] [--time 180] [--no-bound]
+        [--out results/scaling.json]
         [--plot results/scaling.png]
 
 Run timing figures under ``flock /tmp/pivot-bench.lock``.
@@ -40,6 +45,11 @@ def _scenes(args: argparse.Namespace) -> list[tuple[str, str, Any]]:
         for seed in range(args.seeds):
             gen = generate("building", seed, params=GeneratorParams(rooms=n))
             out.append(("building", f"rooms={n}", gen.scene))
+    for w in [float(v) for v in args.doors.split(",") if v]:
+        for seed in range(args.seeds):
+            gen = generate("building", seed, params=GeneratorParams(rooms=args.door_rooms,
+                                                                    wide_doors=(w, w)))
+            out.append(("doors", f"width={w:g}", gen.scene))
     for c in [float(v) for v in args.clearances.split(",") if v]:
         for seed in range(args.seeds):
             try:
@@ -55,6 +65,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rooms", default="1,2,4,8")
     ap.add_argument("--clearances", default="0.1,0.06,0.04,0.03")
+    ap.add_argument("--doors", default="", help="door widths (m) of the doors class")
+    ap.add_argument("--door-rooms", type=int, default=6)
     ap.add_argument("--seeds", type=int, default=2)
     ap.add_argument("--time", type=float, default=180.0)
     ap.add_argument("--no-bound", action="store_true", help="skip the lower bounds")
@@ -115,15 +127,16 @@ def _percentile(values: list[float], q: float) -> float:
 
 
 def _plot(table: dict[str, dict[str, Any]], path: str, limit: float) -> None:
-    """Solve time against rooms and against slot clearance: median and p95 per class."""
+    """Solve time against rooms, slot clearance and door width: median and p95 per class."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4))
     for ax, cls, label in ((axes[0], "building", "rooms in a row"),
-                           (axes[1], "slots", "slot clearance a side (m)")):
+                           (axes[1], "slots", "slot clearance a side (m)"),
+                           (axes[2], "doors", "door width (m), every wall")):
         pts = sorted((float(k.split("=")[1]), v) for k, v in table.items()
                      if k.startswith(cls + "/"))
         if not pts:

@@ -36,6 +36,10 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="number of rooms (building; default 4)")
     p.add_argument("--layout", choices=BUILDING_LAYOUTS, default="row",
                    help="rooms in a row or a grid (building; default row)")
+    p.add_argument("--wide-doors", type=positive("--wide-doors"), nargs=2,
+                   metavar=("MIN", "MAX"),
+                   help="every wall along a row a door robot and box pass together, of a "
+                        "width in MIN-MAX (m), off the wall's middle (building)")
     p.set_defaults(func=run)
 
 
@@ -59,6 +63,11 @@ def run(args: argparse.Namespace) -> int:
         if lo > hi:
             raise InputError("--door-width", list(args.door_width), "must be MIN <= MAX")
         params = dataclasses.replace(params, door_width=(lo, hi))
+    if args.wide_doors:
+        lo, hi = args.wide_doors
+        if lo > hi:
+            raise InputError("--wide-doors", list(args.wide_doors), "must be MIN <= MAX")
+        params = dataclasses.replace(params, wide_doors=(lo, hi))
     check_out_dir(args.out)
     gens = [generate(args.family, seed, params=params)
             for seed in range(args.seed, args.seed + int(args.count))]

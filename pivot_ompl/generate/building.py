@@ -4,10 +4,13 @@ Rooms are ``ROOM`` (x) by ``ROOM_DEPTH`` (y) rectangles on a grid, separated by 
 ``WALL`` thick. The route visits every room: along the row, or snaking through the grid (east
 along the first row, north, west along the next, ...). Each wall the route crosses has:
 
-* going along a row, with probability ``1 - wide_share``, a **slot** only the box fits through
+* going along a row, with probability ``1 - WIDE_SHARE``, a **slot** only the box fits through
   (the box's 0.4 m side plus ``slot_clearance`` a side, or ``slot_gap``'s range) and a robot
   **door** narrower than the holding robot (``ROBOT_DOOR``: the robot walks through it sideways
-  alone), else a **wide door** where robot and box pass together;
+  alone), else a **wide door** in the middle where robot and box pass together; with
+  ``wide_doors`` (a range of widths) every such wall has a wide door of a width in that range,
+  its centre up to ``WIDE_SHIFT`` from the middle (doors narrower than the disk the held
+  assembly sweeps turning: it must line up with each one);
 * going north, a wide door.
 
 Every other wall is solid. The witness pushes the box from room to room: through a wide door
@@ -36,6 +39,10 @@ ROOM, ROOM_DEPTH, WALL = 4.25, 4.5, 0.3
 ROBOT_DOOR, WIDE_DOOR = 0.82, 1.7
 #: Share of the row walls with a wide door instead of a slot.
 WIDE_SHARE = 0.3
+#: With ``wide_doors`` given: the largest offset (m) of a door's centre from its wall's middle,
+#: and the widest door (m) that leaves 0.3 m of wall at either end.
+WIDE_SHIFT = 0.6
+MAX_WIDE_DOOR = ROOM_DEPTH - 2.0 * (WIDE_SHIFT + 0.3)
 #: Distances (m) of the slot's and the robot door's axes from a room's near side.
 SLOT_Y, DOOR_Y = 1.2, ROOM_DEPTH - 1.0
 
@@ -58,7 +65,8 @@ def _cells(rooms: int, layout: str) -> list[tuple[int, int]]:
 
 def building_layout(rng: np.random.Generator, *, rooms: int, layout: str,
                     slot_gap: tuple[float, float], slot_clearance: float | None,
-                    seed: int) -> tuple[Scene, list[State]]:
+                    seed: int, wide_doors: tuple[float, float] | None = None
+                    ) -> tuple[Scene, list[State]]:
     """A building floor and the witness's chain of ``(object pose, grasp)`` states."""
     cells = _cells(rooms, layout)
     nx = max(i for i, _ in cells) + 1
@@ -77,10 +85,15 @@ def building_layout(rng: np.random.Generator, *, rooms: int, layout: str,
             states += _north(a, b, states[-1], free)
         else:
             east = b[0] > a[0]
-            slot = rng.uniform() >= WIDE_SHARE
-            gap = slot_clearance if slot_clearance is not None else \
-                float(rng.uniform(*slot_gap))
-            states += _along_row(a, b, east, slot, gap, states[-1], free)
+            door = (WIDE_DOOR, 0.0)
+            if wide_doors is None:
+                slot = rng.uniform() >= WIDE_SHARE
+                gap = slot_clearance if slot_clearance is not None else \
+                    float(rng.uniform(*slot_gap))
+            else:
+                slot, gap = False, 0.0
+                door = (float(rng.uniform(*wide_doors)), float(rng.uniform(-1.0, 1.0)) * WIDE_SHIFT)
+            states += _along_row(a, b, east, slot, gap, states[-1], free, door=door)
     xl, yl = _origin(*cells[-1])
     east = len(cells) < 2 or cells[-1][0] >= cells[-2][0]
     g = states[-1][1]
@@ -94,18 +107,27 @@ def building_layout(rng: np.random.Generator, *, rooms: int, layout: str,
 
 
 def _north(a: tuple[int, int], b: tuple[int, int], last: State, free: list[Rect]) -> list[State]:
-    """From the corner room ``a`` north into ``b`` through a wide door (grasp 1 pushes +y)."""
+    """From the corner room ``a`` north into ``b`` through a wide door (grasp 1 pushes +y).
+
+    The box is pushed straight along the row to the door's axis (at the height it entered
+    the room by), the robot walks round to its south face, and pushes it straight north
+    through the door.
+    """
     x0, y0 = _origin(*a)
     xc = x0 + ROOM / 2
     yw = y0 + ROOM_DEPTH
     free.append((xc - WIDE_DOOR / 2, yw, xc + WIDE_DOOR / 2, yw + WALL))
-    mid = (xc, y0 + ROOM_DEPTH / 2, 0.0)
-    return [(mid, last[1]), (mid, 1), ((xc, yw + WALL + ROOM_DEPTH / 2, 0.0), 1)]
+    turn = (xc, last[0][1], 0.0)
+    return [(turn, last[1]), (turn, 1), ((xc, yw + WALL + ROOM_DEPTH / 2, 0.0), 1)]
 
 
 def _along_row(a: tuple[int, int], b: tuple[int, int], east: bool, slot: bool, gap: float,
-               last: State, free: list[Rect]) -> list[State]:
-    """From room ``a`` into its neighbour ``b`` along the row."""
+               last: State, free: list[Rect], *,
+               door: tuple[float, float] = (WIDE_DOOR, 0.0)) -> list[State]:
+    """From room ``a`` into its neighbour ``b`` along the row.
+
+    ``door``: the wide door's width and its centre's offset from the wall's middle (m).
+    """
     x0, y0 = _origin(*a)
     xw = x0 + ROOM if east else x0 - WALL  # the wall's west face
     s = 1.0 if east else -1.0
@@ -116,8 +138,9 @@ def _along_row(a: tuple[int, int], b: tuple[int, int], east: bool, slot: bool, g
     if last[1] != push_g:  # turn the push: regrasp at the last pose
         out.append((last[0], push_g))
     if not slot:
-        yc = y0 + ROOM_DEPTH / 2
-        free.append((xw, yc - WIDE_DOOR / 2, xw + WALL, yc + WIDE_DOOR / 2))
+        width, shift = door
+        yc = y0 + ROOM_DEPTH / 2 + shift
+        free.append((xw, yc - width / 2, xw + WALL, yc + width / 2))
         out += [((near - s * 1.3, yc, 0.0), push_g), ((far + s * 1.3, yc, 0.0), push_g)]
         return out
     ys, yd = y0 + SLOT_Y, y0 + DOOR_Y

@@ -29,7 +29,7 @@ import numpy as np
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.errors import InputError, counted, require_type
-from pivot_ompl.generate.building import building_layout
+from pivot_ompl.generate.building import MAX_WIDE_DOOR, building_layout
 from pivot_ompl.generate.layout import (
     BOX,
     HELD_FACE_BACK,
@@ -70,6 +70,10 @@ class GeneratorParams:
         rooms: number of rooms (``building``).
         layout: ``"row"`` (rooms in a row) or ``"grid"`` (rooms in a grid, the route
             snaking through them), ``building``.
+        wide_doors: range of widths (m) of the doors robot and box pass together
+            (``building``): every wall along a row gets one, its centre at random within
+            :data:`~pivot_ompl.generate.building.WIDE_SHIFT` of the wall's middle; ``None``:
+            30 % of those walls get a 1.7 m door in the middle, the others a slot.
     """
 
     door_width: tuple[float, float] = (0.76, 0.84)
@@ -83,6 +87,7 @@ class GeneratorParams:
     slot_clearance: float | None = None
     rooms: int = 4
     layout: str = "row"
+    wide_doors: tuple[float, float] | None = None
 
 
 @dataclass(frozen=True)
@@ -314,7 +319,7 @@ Layout = Callable[[np.random.Generator, GeneratorParams, int], tuple[Scene, list
 def _building(rng: np.random.Generator, p: GeneratorParams,
               seed: int) -> tuple[Scene, list[State]]:
     return building_layout(rng, rooms=p.rooms, layout=p.layout, slot_gap=p.slot_gap,
-                           slot_clearance=p.slot_clearance, seed=seed)
+                           slot_clearance=p.slot_clearance, wide_doors=p.wide_doors, seed=seed)
 
 
 FAMILIES: dict[str, Layout] = {"walls": _walls_layout, "corridor": _corridor_layout,
@@ -344,6 +349,14 @@ def _check_params(p: GeneratorParams) -> None:
                 or not all(isinstance(v, int | float) and not isinstance(v, bool)
                            and math.isfinite(v) and v > 0 for v in r) or r[0] > r[1]):
             raise InputError(name, r, "must be a range (min, max) of lengths > 0 m")
+    if p.wide_doors is not None:
+        r = p.wide_doors
+        if (not isinstance(r, tuple | list) or len(r) != 2
+                or not all(isinstance(v, int | float) and not isinstance(v, bool)
+                           and math.isfinite(v) for v in r)
+                or not 0.0 < r[0] <= r[1] <= MAX_WIDE_DOOR):
+            raise InputError("wide_doors", r, "must be a range (min, max) of widths in "
+                             f"(0, {MAX_WIDE_DOOR:g}] m")
     if p.layout not in BUILDING_LAYOUTS:
         raise InputError("layout", p.layout, f"must be one of {list(BUILDING_LAYOUTS)}")
 

@@ -40,24 +40,44 @@ def uniform(rng: np.random.Generator, r: tuple[float, float]) -> float:
 
 def free_complement(bounds: tuple[float, float, float, float],
                      free: list[tuple[float, float, float, float]]) -> list[Obstacle]:
-    """Axis-aligned boxes covering ``bounds`` less the union of the ``free`` rectangles."""
+    """Axis-aligned boxes covering ``bounds`` less the union of the ``free`` rectangles.
+
+    The cells between the rectangles' coordinates are joined into runs along x, and a run
+    into the one below it when both span the same x: a wall is one box per solid stretch,
+    however many other rectangles' edges cross its height (otherwise a floor of N rooms
+    holds of the order of N^2 pieces, each a slice of a wall).
+    """
     xs = sorted({bounds[0], bounds[2], *(r[0] for r in free), *(r[2] for r in free)})
     ys = sorted({bounds[1], bounds[3], *(r[1] for r in free), *(r[3] for r in free)})
-    out: list[Obstacle] = []
+    boxes: list[tuple[float, float, float, float]] = []
+    open_runs: dict[tuple[float, float], float] = {}  # x extent -> the y it starts at
     for j in range(len(ys) - 1):
         y0, y1 = ys[j], ys[j + 1]
-        run: float | None = None
-        for i in range(len(xs)):
-            blocked = False
-            if i < len(xs) - 1:
-                cx, cy = 0.5 * (xs[i] + xs[i + 1]), 0.5 * (y0 + y1)
-                blocked = not any(r[0] <= cx <= r[2] and r[1] <= cy <= r[3] for r in free)
-            if blocked and run is None:
-                run = xs[i]
-            elif not blocked and run is not None:
-                out.append(BoxObstacle((0.5 * (run + xs[i]), 0.5 * (y0 + y1)),
-                                       (xs[i] - run, y1 - y0), 0.0, WALL_HEIGHT))
-                run = None
+        runs = set(_blocked_runs(xs, 0.5 * (y0 + y1), free))
+        for xr in [r for r in open_runs if r not in runs]:
+            boxes.append((xr[0], open_runs.pop(xr), xr[1], y0))
+        for xr in runs:
+            open_runs.setdefault(xr, y0)
+    boxes += [(xr[0], ys0, xr[1], ys[-1]) for xr, ys0 in open_runs.items()]
+    return [BoxObstacle((0.5 * (a + c), 0.5 * (b + d)), (c - a, d - b), 0.0, WALL_HEIGHT)
+            for a, b, c, d in sorted(boxes, key=lambda r: (r[1], r[0]))]
+
+
+def _blocked_runs(xs: list[float], cy: float,
+                  free: list[tuple[float, float, float, float]]) -> list[tuple[float, float]]:
+    """The x intervals of the cells at height ``cy`` that no ``free`` rectangle holds."""
+    out: list[tuple[float, float]] = []
+    run: float | None = None
+    for i in range(len(xs)):
+        blocked = False
+        if i < len(xs) - 1:
+            cx = 0.5 * (xs[i] + xs[i + 1])
+            blocked = not any(r[0] <= cx <= r[2] and r[1] <= cy <= r[3] for r in free)
+        if blocked and run is None:
+            run = xs[i]
+        elif not blocked and run is not None:
+            out.append((run, xs[i]))
+            run = None
     return out
 
 

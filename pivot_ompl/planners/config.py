@@ -47,6 +47,10 @@ class SamplingConfig:
         slot_spacing: spacing (m) of the seeded poses along a slot.
         slot_approach: distances (m) beyond the slot's ends (and the box's length) of the
             seeded poses from which the box is pushed in or pulled out.
+        doors: seed the roadmap with box poses along the scene's doors (gaps the held
+            assembly passes but cannot turn in: :func:`~pivot_ompl.planners.objects.slots.doors`).
+        door_play: the play (m) beyond the assembly's turning disk up to which a gap counts
+            as a door.
         bridge_rounds: rounds of (up to 100) bridge tests before the diffusion.
         bridge_bias: probability that a diffusion iteration is a bridge test instead.
         bridge_sigma: standard deviation (m) of the bridge test's second sample.
@@ -68,6 +72,8 @@ class SamplingConfig:
     slot_play: float = 0.1
     slot_spacing: float = 0.2
     slot_approach: tuple[float, ...] = (0.4, 0.7, 1.2)
+    doors: bool = True
+    door_play: float = 0.5
     bridge_rounds: int = 60
     bridge_bias: float = 0.3
     bridge_sigma: float = 0.5
@@ -197,9 +203,9 @@ class RegraspConfig:
             raise InputError("grasps", self.grasps, "must be grasp indices 0, 1, 2 or 3")
         if self.search.weight < 1.0:
             raise InputError("search.weight", self.search.weight, "must be >= 1")
-        if self.sampling.visibility_area <= 0.0:
-            raise InputError("sampling.visibility_area", self.sampling.visibility_area,
-                             "must be > 0")
+        for name in ("sampling.visibility_area", "sampling.slot_spacing"):
+            if self.flat()[name] <= 0.0:
+                raise InputError(name, self.flat()[name], "must be > 0")
         for name in ("search.neighbours", "search.every", "sampling.guard_failures"):
             if self.flat()[name] < 1:
                 raise InputError(name, self.flat()[name], "must be >= 1")

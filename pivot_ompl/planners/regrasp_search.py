@@ -39,7 +39,7 @@ from pivot_ompl.planners.objects.critical import CriticalConfigurations
 from pivot_ompl.planners.objects.diffusion import Diffusion
 from pivot_ompl.planners.objects.roadmap import PoseIndex, Roadmap, canonical
 from pivot_ompl.planners.objects.samplers import PoseSampler
-from pivot_ompl.planners.objects.slots import Passage, slot_poses, slots
+from pivot_ompl.planners.objects.slots import door_poses, doors, slot_poses, slots
 from pivot_ompl.planners.objects.visibility import VisibilityRoadmap
 from pivot_ompl.planners.optimiser import budgeted, optimise
 from pivot_ompl.planners.routes.lattice import TransferLattice
@@ -63,6 +63,8 @@ class RegraspStats:
     passage_nodes: int = 0
     slots: int = 0
     slot_nodes: int = 0
+    doors: int = 0
+    door_nodes: int = 0
     manipulation_nodes: dict[int, int] = field(default_factory=dict)
     regrasp_edges: int = 0
     turn_edges: int = 0
@@ -138,6 +140,7 @@ class RegraspSearch:
         self._started = False
         self._goal_node = -1
         self._since = 0  # object nodes multiplexed since the last search
+        self._seeded = PoseIndex(self.roadmap)  # the passage poses seeded
 
     def _near_guards(self, q: Pose, guards: list[int]) -> Iterator[int]:
         """The guards within ``guard_radius`` of ``q``, nearest first."""
@@ -165,38 +168,50 @@ class RegraspSearch:
         self.visibility.adopt_guard(s_i)
         self.visibility.adopt_guard(g_i)
         self.graph.multiplex_pending(lambda: False)  # the ends, whatever the time
-        sc = self.config.sampling
+        sc, ck = self.config.sampling, self.checker
         if sc.slots:
-            found = slots(self.checker, play=sc.slot_play, should_stop=should_stop)
-            self._seed_slots(found, should_stop)
+            found = sorted(slots(ck, play=sc.slot_play, should_stop=should_stop),
+                           key=lambda p: p.width)
             self.stats.slots = len(found)
+            self.stats.slot_nodes += self._seed(
+                slot_poses(ck, found, spacing=sc.slot_spacing, approach=sc.slot_approach,
+                           should_stop=should_stop), "slot", sc.slot_spacing, should_stop)
+        if sc.doors:
+            found = sorted(doors(ck, play=sc.door_play, should_stop=should_stop),
+                           key=lambda p: p.width)
+            self.stats.doors = len(found)
+            self.stats.door_nodes += self._seed(
+                door_poses(ck, found, should_stop=should_stop), "door", sc.slot_spacing,
+                should_stop)
         self._goal_node = g_i
         self.graph.set_ends(s_i, g_i, should_stop, start_grasp=self.start_grasp)
 
-    def _seed_slots(self, found: list[Passage], should_stop: Stop) -> None:
-        """Add the free box poses along the slots that a plan may visit, each once.
+    def _seed(self, poses: Iterator[Pose] | list[Pose], kind: str, spacing: float,
+              should_stop: Stop) -> int:
+        """Add the free box poses along passages that a plan may visit, each once.
 
         A pose is left out when its position is not among those reachable from the start
         (:meth:`PoseSampler.region`) or when a pose seeded before lies within half the
-        slot spacing of it (:func:`~.objects.roadmap.pose_metric`): one gap between
-        obstacles made of several pieces is found once per pair of pieces. The narrowest
-        passages go first, so of near-equal poses the one centred in the tightest gap stays.
+        ``spacing`` of it (:func:`~.objects.roadmap.pose_metric`): one gap between obstacles
+        made of several pieces is found once per pair of pieces. Passages come narrowest
+        first, so of near-equal poses the one centred in the tightest gap stays. Returns
+        the number added (of ``kind``).
         """
-        sc, rm = self.config.sampling, self.roadmap
+        rm = self.roadmap
         region = self.sampler.region()
-        seeded = PoseIndex(rm)
-        found = sorted(found, key=lambda p: p.width)
-        for k, q in enumerate(slot_poses(self.checker, found, spacing=sc.slot_spacing,
-                                         approach=sc.slot_approach, should_stop=should_stop)):
-            if k % 64 == 63 and should_stop():  # thousands of slot poses on large floors
+        seeded = self._seeded
+        added = 0
+        for k, q in enumerate(poses):
+            if k % 64 == 63 and should_stop():  # thousands of passage poses on large floors
                 break
             if region is not None and not shapely.contains_xy(region, q[0], q[1]):
                 continue
             near = seeded.nearest(q, 1)
-            if near and float(rm.distances(near, q)[0]) < 0.5 * sc.slot_spacing:
+            if near and float(rm.distances(near, q)[0]) < 0.5 * spacing:
                 continue
-            seeded.append(rm.add(q, "slot"))
-            self.stats.slot_nodes += 1
+            seeded.append(rm.add(q, kind))
+            added += 1
+        return added
 
     def restart(self, start: Pose, should_stop: Stop, *, start_grasp: int | None = None) -> None:
         """Search again from a new start over everything grown so far (replanning).

@@ -315,3 +315,12 @@ def test_a_camera_never_becomes_nan(points):
     with pytest.raises(InputError) as e:
         follow_pose(points)
     assert e.value.field == "points"
+
+
+@pytest.mark.parametrize(("args", "flag"), [(["1.2", "1.0"], "--wide-doors"),
+                                            (["1.0", "9"], "wide_doors")])
+def test_generate_names_a_bad_wide_door_range(tmp_path, capsys, args, flag):
+    code, _, err = cli(capsys, "generate", "--family", "building", "--wide-doors", *args,
+                       "--out", tmp_path / "g")
+    assert code == 2 and flag in err, err
+    assert not (tmp_path / "g").exists()

@@ -8,10 +8,18 @@ through a thick wall is centred in the wall whatever the segment's ends. Everyth
 the obstacles' own footprints (shapely's exact distances), so a rotated, mirrored or
 unfamiliar layout gives its own passages: no direction of the world is preferred.
 
-The regrasp planner seeds its object roadmap with box poses along the passages too narrow for
-the walking robot (:func:`slot_poses`): the slots only the box passes, where the robot must
-let go of it and walk round. Sampling finds such a pose (box within a few centimetres of both
-sides, yaw within a few degrees of the axis) only after thousands of samples.
+The regrasp planner seeds its object roadmap with box poses along two kinds of passage:
+
+* **slots** (:func:`slots`, :func:`slot_poses`), too narrow for the walking robot: only the
+  box passes, the robot lets go of it and walks round. Sampling finds such a pose (box within
+  a few centimetres of both sides, yaw within a few degrees of the axis) only after thousands
+  of samples;
+* **doors** (:func:`doors`, :func:`door_poses`), wide enough for the held assembly (box and
+  robot) but narrower than the disk it sweeps turning: robot and box pass together, pushed
+  or pulled straight along the door's axis. Random poses line the assembly up with such a door
+  rarely (a 1.7 m door in a wall: hundreds of diffusion steps per door on a floor of many
+  rooms); the seeded ones do it by construction, a straight push from a pose wholly before the
+  door to one wholly past it.
 """
 
 from __future__ import annotations
@@ -28,6 +36,7 @@ from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planners.objects.roadmap import canonical
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose
+from pivot_ompl.validity.assembly_field import assembly_bodies
 from pivot_ompl.validity.footprints import obstacle_footprints
 
 
@@ -177,4 +186,75 @@ def slot_poses(checker: PivotChecker, passages: list[Passage], *, spacing: float
         for q in passage_poses(passage, reach=reach, spacing=spacing, approach=approach):
             if checker.box_valid(q):
                 out.append(canonical(q))
+    return out
+
+
+@dataclass(frozen=True)
+class AssemblyExtent:
+    """The held assembly's size in the frame of its car (the grasps' widest).
+
+    Attributes:
+        width: its least width across the car's heading, over the grasps (m): a gap
+            narrower (less the kept clearance) lets no held assembly through.
+        radius: the radius of the disk it sweeps turning about its car, the grasps' largest
+            (m): a gap wider than that diameter is no narrow passage for it.
+        reach: how far it extends along the heading from the box's centre, either way, the
+            grasps' largest (m): a box centre that far past a passage has the whole assembly
+            through.
+    """
+
+    width: float
+    radius: float
+    reach: float
+
+
+def assembly_extent(checker: PivotChecker) -> AssemblyExtent:
+    """The held assembly's :class:`AssemblyExtent` for the checker's model."""
+    m = checker.model
+    widths, radii, reaches = [], [], []
+    for g in range(4):
+        pts = np.concatenate(assembly_bodies(m, g, 0.0))
+        widths.append(float(np.ptp(pts[:, 1])))
+        radii.append(float(np.hypot(pts[:, 0], pts[:, 1]).max()))
+        reaches.append(float(np.abs(pts[:, 0] - m.half_extent(g)).max()))
+    return AssemblyExtent(min(widths), max(radii), max(reaches))
+
+
+def doors(checker: PivotChecker, *, play: float,
+          should_stop: Callable[[], bool] = lambda: False) -> list[Passage]:
+    """The scene's doors: gaps the held assembly passes but cannot turn in.
+
+    Wider than the assembly's least width and narrower than the disk it sweeps turning
+    (:func:`assembly_extent`), both plus the kept clearance on both sides, plus ``play``:
+    a gap a little wider than the disk still holds an assembly crossing it to a narrow
+    range of yaws.
+    """
+    ext, clear = assembly_extent(checker), checker.world.clearance
+    return find_passages(checker.scene, min_width=ext.width + 2.0 * clear,
+                         max_width=2.0 * (ext.radius + clear) + play, should_stop=should_stop)
+
+
+def door_poses(checker: PivotChecker, passages: list[Passage], *,
+               should_stop: Callable[[], bool] = lambda: False) -> list[Pose]:
+    """The free box poses on the doors' axes from which the assembly passes straight through.
+
+    Per door, box centres on its axis at its centre and as far beyond its ends as the
+    assembly reaches (:func:`assembly_extent`): the outer two hold the whole assembly on
+    either side, and each is one straight push or pull from the centre. At both yaws square
+    to each other (each grasp pushes along the axis at one of them); yaw modulo pi.
+    ``should_stop`` is polled per door: the poses found so far are returned.
+    """
+    reach = assembly_extent(checker).reach
+    out: list[Pose] = []
+    for passage in passages:
+        if should_stop():
+            break
+        cx, cy = passage.center
+        c, s = math.cos(passage.axis), math.sin(passage.axis)
+        half = 0.5 * passage.length + reach
+        for yaw in (passage.axis, passage.axis + 0.5 * math.pi):
+            for t in (-half, 0.0, half):
+                q = (cx + t * c, cy + t * s, yaw)
+                if checker.box_valid(q):
+                    out.append(canonical(q))
     return out
