@@ -11,11 +11,15 @@ in the turned frame (the same motions), and its last phase, which must end at th
 given, is routed again from there. ``i == j`` re-routes one phase.
 
 Candidates are priced with the lattice's seconds (:class:`~pivot_ompl.cost.CostModel`) against
-the path's real ones; the most promising is then made real: each new route shortened into the
-cheapest chain of certified transfers between its poses (each pose joined to the poses 1, 2,
-4, ... further on and to the end, found lazily). A candidate whose real cost is not lower, or
-that the exact checks refuse somewhere, is dropped. The result is always a valid path, never
-costlier than the input; the optimiser afterwards may still shortcut it.
+the path's real ones, by branch and bound: every run gets an optimistic saving from the
+lattice's admissible bound (no search), and only the runs whose bound could beat the best
+saving found so far are routed (a route asked again is free), so each round chooses the run
+that routing every run would choose. The most promising is then made real: each new route
+shortened into the cheapest chain of certified transfers between its poses (each pose joined
+to the poses 1, 2, 4, ... further on and to the end, found lazily). A candidate whose real
+cost is not lower, or that the exact checks refuse somewhere, is dropped. The result is
+always a valid path, never costlier than the input; the optimiser afterwards may still
+shortcut it.
 """
 
 from __future__ import annotations
