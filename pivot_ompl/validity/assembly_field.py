@@ -14,8 +14,10 @@ cylinder by its inscribed polygon: the shapes are *inside* the true grown ones, 
 position the exact checks accept is never closed). The positions where a body meets an
 obstacle piece are convex hulls of vertex differences
 (:func:`~pivot_ompl.validity.footprints.meeting_edges`), rasterised together
-(:func:`~pivot_ompl.validity.footprints.grid_union`). A guide for route planning, not a
-certificate: motions are certified by the pivot checker.
+(:func:`~pivot_ompl.validity.footprints.grid_union`), the sums without their certificate
+(:func:`~pivot_ompl.validity.footprints.meeting_edges`, ``certify=False``: the same regions
+to rounding). A guide for route planning, not a certificate: motions are certified by the
+pivot checker.
 """
 
 from __future__ import annotations
@@ -128,7 +130,7 @@ class AssemblyField:
             bodies = [body @ rot for body in self._bodies[parity]]
             edges = meeting_edges(self._pieces * len(bodies),
                                   [bd for bd in bodies for _ in range(n)],
-                                  should_stop=should_stop)
+                                  should_stop=should_stop, certify=False)
             hit = grid_union(edges, xs, ys, groups=np.zeros(n * len(bodies), dtype=int),
                              n_groups=1)[0]
             ok &= ~hit

@@ -127,3 +127,41 @@ def test_grid_union_leaves_out_grid_points_on_the_edges():
         want[g][cols, rows] = inside
     assert np.array_equal(got, want)
     assert np.array_equal(np.argwhere(got[0]), [[i, j] for i in range(4, 11) for j in range(4, 9)])
+
+
+def _with_a_repeated_vertex(piece: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    k = int(rng.integers(len(piece)))
+    return np.insert(piece, k, piece[k], axis=0)
+
+
+@given(seed=st.integers(0, 100_000), tilt=st.floats(0.0, 1e-6))
+@settings(max_examples=150, deadline=None)
+def test_meeting_edges_without_certificate_rasterise_as_the_certified(seed, tilt):
+    rng = np.random.default_rng(seed)
+    pieces = [_random_piece(rng) for _ in range(int(rng.integers(1, 6)))]
+    pieces = [_with_a_repeated_vertex(p, rng) if rng.random() < 0.3 else p for p in pieces]
+    body = shapely.Polygon([(-0.2, -0.3), (0.3, -0.3), (0.3, 0.3), (-0.2, 0.3)])
+    body = np.asarray(body.buffer(0.05, quad_segs=int(rng.integers(0, 3))).exterior.coords)[:-1]
+    yaw = [math.pi / 2 * int(rng.integers(4)) + tilt, math.pi / 8 * int(rng.integers(16)),
+           float(rng.uniform(0, 6.3))][rng.integers(3)]
+    turned = body @ np.array([[math.cos(yaw), -math.sin(yaw)], [math.sin(yaw), math.cos(yaw)]]).T
+    res = float(rng.choice([0.025, 0.05, 0.1]))
+    xs = -3.0 + res * np.arange(int(6.0 / res))
+    ys = -3.1 + res * np.arange(int(6.3 / res))
+    bodies = [turned] * len(pieces)
+    want = grid_union(meeting_edges(pieces, bodies), xs, ys)
+    got = grid_union(meeting_edges(pieces, bodies, certify=False), xs, ys)
+    assert np.array_equal(got, want)
+
+
+def test_meeting_edges_without_certificate_refuse_a_vanishing_edge():
+    # a rectangle with its last vertex twice: the zero-length edge has no normal, and the
+    # merged normals alone would put the sum's vertices in the wrong order
+    piece = np.array([[1.0, 1.0], [2.5, 1.0], [2.5, 2.0], [1.0, 2.0], [1.0, 2.0]])
+    square = np.array([[-0.25, -0.25], [0.25, -0.25], [0.25, 0.25], [-0.25, 0.25]])
+    xs = ys = np.arange(16) * 0.25
+    for yaw in (0.0, 0.3, math.pi / 4):
+        c, s = math.cos(yaw), math.sin(yaw)
+        body = square @ np.array([[c, -s], [s, c]]).T
+        got = grid_union(meeting_edges([piece], [body], certify=False), xs, ys)
+        assert np.array_equal(got, grid_union(meeting_edges([piece], [body]), xs, ys))

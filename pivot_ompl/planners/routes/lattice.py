@@ -107,6 +107,18 @@ class TransferLattice:
             self._routes[key] = hit
         return hit
 
+    def lower_bound(self, start: Pose, goal: Pose, grasp: int) -> float:
+        """A cost no lattice route from ``start`` to ``goal`` at ``grasp`` is below (s).
+
+        The straight distance between the two cars at the push rate plus the heading between
+        them at the spin rate: every route's joins and pushes move its car that far, and its
+        joins and turns turn it that much. No search, no field.
+        """
+        m = self.checker.model
+        ca, cb = m.car_pose(start, grasp), m.car_pose(goal, grasp)
+        return (self._push[grasp] * math.hypot(cb[0] - ca[0], cb[1] - ca[1])
+                + self._spin * abs(wrap_angle(cb[2] - ca[2])))
+
     def _route(self, start: Pose, goal: Pose, grasp: int,
                should_stop: Callable[[], bool] | None) -> tuple[list[Pose], float]:
         m = self.checker.model

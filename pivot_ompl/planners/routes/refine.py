@@ -11,11 +11,15 @@ in the turned frame (the same motions), and its last phase, which must end at th
 given, is routed again from there. ``i == j`` re-routes one phase.
 
 Candidates are priced with the lattice's seconds (:class:`~pivot_ompl.cost.CostModel`) against
-the path's real ones; the most promising is then made real: each new route shortened into the
-cheapest chain of certified transfers between its poses (each pose joined to the poses 1, 2,
-4, ... further on and to the end, found lazily). A candidate whose real cost is not lower, or
-that the exact checks refuse somewhere, is dropped. The result is always a valid path, never
-costlier than the input; the optimiser afterwards may still shortcut it.
+the path's real ones, by branch and bound: every run gets an optimistic saving from the
+lattice's admissible bound (no search), and only the runs whose bound could beat the best
+saving found so far are routed (a route asked again is free), so each round chooses the run
+that routing every run would choose. The most promising is then made real: each new route
+shortened into the cheapest chain of certified transfers between its poses (each pose joined
+to the poses 1, 2, 4, ... further on and to the end, found lazily). A candidate whose real
+cost is not lower, or that the exact checks refuse somewhere, is dropped. The result is
+always a valid path, never costlier than the input; the optimiser afterwards may still
+shortcut it.
 """
 
 from __future__ import annotations
@@ -46,7 +50,8 @@ class RefineStats:
     """What :func:`refine` did.
 
     Attributes:
-        candidates: runs of phases priced on the lattice.
+        candidates: runs of phases routed on the lattice (those whose bound could beat the
+            best saving, :func:`_best_candidate`).
         tried: candidates made real (their routes checked).
         applied: candidates that made the path cheaper.
         regrasps_removed: regrasps replaced by turns.
@@ -189,50 +194,110 @@ def _best_candidate(lattice: TransferLattice, pricer: _Pricer, phases: list[_Pha
     A plan is the new phase list where the phases to route are legs (:class:`_Leg`). The
     regrasps a plan keeps are the path's own (a turned phase's regrasp is the same walk
     written in the other frame), so they are priced by the path's walks.
+
+    Branch and bound: every run gets an optimistic saving from the lattice's admissible
+    bound (:meth:`~.lattice.TransferLattice.lower_bound`, no search), and runs are routed in
+    the order of that bound until the best saving found is above the next bound. The run
+    chosen is the one pricing every run would choose (ties to the earlier run of
+    :func:`_candidates`), at the cost of routing only the runs that could beat it.
     """
-    last = len(phases) - 1
     cost = [pricer.phase(p) for p in phases]
     regrasp = [0.0] + [pricer.regrasp(a, b) for a, b in zip(phases, phases[1:], strict=False)]
-    best: tuple[float, int, int, int, list] | None = None
-    for i, j, g in _candidates(phases, start_grasp):
-        if (i, j, g, phases[i].poses) in refused:
-            continue
+    bounds = _bounds(lattice, phases, cost, regrasp, current, refused, start_grasp)
+    best: tuple[float, int, int, int, int, list] | None = None
+    for optimistic, idx, i, j, g in bounds:
+        if best is not None and optimistic < best[0] - _BOUND_SLACK:
+            break
         if should_stop():
             raise Interrupted("route refinement")
+        st.candidates += 1
+        priced = _priced(lattice, phases, cost, regrasp, current, (i, j, g), should_stop)
+        if priced is None:
+            continue
+        saving, plan = priced
+        if saving > 1e-9 and (best is None or saving > best[0]
+                              or (saving == best[0] and idx < best[1])):
+            best = (saving, idx, i, j, g, plan)
+    return None if best is None else (best[2], best[3], best[4], best[5])
+
+
+#: Seconds of rounding the optimistic savings may be off by (they are summed in another
+#: order than the estimates): a run is routed unless its bound is this much below the best.
+_BOUND_SLACK = 1e-6
+
+
+def _bounds(lattice: TransferLattice, phases: list[_Phase], cost: list[float],
+            regrasp: list[float], current: float, refused: set,
+            start_grasp: bool) -> list[tuple[float, int, int, int, int]]:
+    """``(optimistic saving, index, i, j, g)`` of the runs that may save, best first.
+
+    The optimistic saving is ``current`` less the run's estimate with every lattice route
+    replaced by its lower bound; runs whose bound saves nothing are left out.
+    """
+    last = len(phases) - 1
+    before = [0.0]
+    for k in range(last + 1):
+        before.append(before[-1] + cost[k] + (regrasp[k + 1] if k < last else 0.0))
+    after = [0.0] * (last + 2)
+    for k in range(last, -1, -1):
+        after[k] = after[k + 1] + cost[k] + regrasp[k]
+    out = []
+    for idx, (i, j, g) in enumerate(_candidates(phases, start_grasp)):
+        if (i, j, g, phases[i].poses) in refused:
+            continue
         turned = (phases[j].grasp - g) % 4 == 2
         start, end = phases[i].poses[0], phases[j].poses[-1]
         if turned and j < last:
             end = half_turn(end)
-        st.candidates += 1
-        estimate = sum(cost[:i]) + sum(regrasp[1:i + 1])
-        if estimate >= current:
-            continue
-        _route, seconds = lattice.route(start, end, g, should_stop=should_stop)
-        estimate += seconds + sum(cost[j + 1:]) + sum(regrasp[j + 1:])
-        head = phases[i].poses[:2] if g == phases[i].grasp else ()
-        tail_poses = phases[j].poses[-2:]
-        if turned:
-            tail_poses = tuple(half_turn(q) for q in tail_poses)
-        anchor = tail_poses if (g == phases[j].grasp or turned) else ()
-        if i == j and len(phases[i].poses) < 4:
-            head, anchor = (), ()
-        plan: list = list(phases[:i]) + [_Leg(start, end, g, head, anchor)]
-        tail: list = list(phases[j + 1:])
-        if turned and tail:
-            tail = [p.turned() for p in tail]
-            lp = tail[-1]
-            if estimate - cost[last] >= current:
-                continue
-            _route, seconds = lattice.route(lp.poses[0], phases[-1].poses[-1], lp.grasp,
-                                            should_stop=should_stop)
-            estimate += seconds - cost[last]
-            tail[-1] = _Leg(lp.poses[0], phases[-1].poses[-1], lp.grasp,
-                            lp.poses[:2] if len(lp.poses) >= 4 else (), ())
-        plan += tail
-        saving = current - estimate
-        if saving > 1e-9 and (best is None or saving > best[0]):
-            best = (saving, i, j, g, plan)
-    return None if best is None else (best[1], best[2], best[3], best[4])
+        low = before[i] + lattice.lower_bound(start, end, g) + after[j + 1]
+        if turned and j < last:
+            lp = phases[last].turned()
+            low += lattice.lower_bound(lp.poses[0], phases[-1].poses[-1], lp.grasp) - cost[last]
+        if current - low > 1e-9:
+            out.append((current - low, idx, i, j, g))
+    out.sort(key=lambda b: (-b[0], b[1]))
+    return out
+
+
+def _priced(lattice: TransferLattice, phases: list[_Phase], cost: list[float],
+            regrasp: list[float], current: float, run: tuple[int, int, int],
+            should_stop: Stop) -> tuple[float, list] | None:
+    """The estimated saving of re-planning ``run = (i, j, g)`` and its plan (``None``: none).
+
+    Estimated with the lattice's routes (:func:`_best_candidate`).
+    """
+    i, j, g = run
+    last = len(phases) - 1
+    turned = (phases[j].grasp - g) % 4 == 2
+    start, end = phases[i].poses[0], phases[j].poses[-1]
+    if turned and j < last:
+        end = half_turn(end)
+    estimate = sum(cost[:i]) + sum(regrasp[1:i + 1])
+    if estimate >= current:
+        return None
+    _route, seconds = lattice.route(start, end, g, should_stop=should_stop)
+    estimate += seconds + sum(cost[j + 1:]) + sum(regrasp[j + 1:])
+    head = phases[i].poses[:2] if g == phases[i].grasp else ()
+    tail_poses = phases[j].poses[-2:]
+    if turned:
+        tail_poses = tuple(half_turn(q) for q in tail_poses)
+    anchor = tail_poses if (g == phases[j].grasp or turned) else ()
+    if i == j and len(phases[i].poses) < 4:
+        head, anchor = (), ()
+    plan: list = list(phases[:i]) + [_Leg(start, end, g, head, anchor)]
+    tail: list = list(phases[j + 1:])
+    if turned and tail:
+        tail = [p.turned() for p in tail]
+        lp = tail[-1]
+        if estimate - cost[last] >= current:
+            return None
+        _route, seconds = lattice.route(lp.poses[0], phases[-1].poses[-1], lp.grasp,
+                                        should_stop=should_stop)
+        estimate += seconds - cost[last]
+        tail[-1] = _Leg(lp.poses[0], phases[-1].poses[-1], lp.grasp,
+                        lp.poses[:2] if len(lp.poses) >= 4 else (), ())
+    plan += tail
+    return current - estimate, plan
 
 
 @dataclass(frozen=True)
