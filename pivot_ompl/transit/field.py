@@ -51,6 +51,7 @@ from collections.abc import Callable
 
 import numpy as np
 import shapely
+from scipy import ndimage
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import connected_components, dijkstra
 
@@ -373,15 +374,29 @@ class FloorField:
         return hit
 
     def _labels(self) -> np.ndarray:
-        """Connected component of every node of the open grid's graph (computed once)."""
+        """Connected component of every node of the open grid's graph (computed once).
+
+        The components of the open positions joined by the 8 unit moves (image labelling),
+        merged where a move of :data:`HEADING_VECTORS` two cells long joins two of them: the
+        graph's edges are exactly those moves between open positions.
+        """
         if self._components is None:
-            n = len(self._cells)
-            graph = csr_matrix(
-                (self._weights.reshape(-1), self._indices.reshape(-1), self._indptr),
-                shape=(n, n), copy=False)
-            finite = csr_matrix((np.isfinite(graph.data).astype(np.int8), graph.indices,
-                                 graph.indptr), shape=(n, n))
-            self._components = connected_components(finite, directed=False)[1]
+            assert self._open is not None
+            image, _ = ndimage.label(self._open, structure=np.ones((3, 3), dtype=bool))
+            pairs = []
+            for vx, vy in HEADING_VECTORS:
+                if abs(vx) + abs(vy) != 3 or vx < 0:  # the knight moves, one way each
+                    continue
+                a = image[:self.nx - vx, max(0, -vy):self.ny - max(0, vy)]  # p
+                b = image[vx:, max(0, vy):self.ny + min(0, vy)]  # p + (vx, vy)
+                join = (a > 0) & (b > 0) & (a != b)
+                pairs.append(np.stack([a[join], b[join]]))
+            n = int(image.max()) + 1
+            ab = np.concatenate(pairs, axis=1) if pairs else np.zeros((2, 0), dtype=np.int64)
+            merged = connected_components(
+                csr_matrix((np.ones(ab.shape[1], dtype=np.int8), (ab[0], ab[1])), shape=(n, n)),
+                directed=False)[1]
+            self._components = merged[image.ravel()[self._cells]]
         return self._components
 
     def lattice_costs(self, obj: Pose, goals: list[tuple[int, int, int]],

@@ -83,9 +83,9 @@ class MultiplexedGraph:
         grasps: the grasps the robot may use.
         neighbours: candidate transfer edges per new manipulation node.
         connect_radius: longest candidate transfer edge (m, Reeds-Shepp length of its car).
-        costs: the edges' costs (s): a transfer's estimated from its Reeds-Shepp length, a
-            regrasp's from its walk's estimated length (a search replaces both by the real
-            ones as it checks them).
+        costs: the edges' costs (s): a transfer's estimated from its Reeds-Shepp length (the
+            search keeps it, :mod:`~.search`), a regrasp's from its walk's estimated length
+            (the search replaces it by the real walk's once checked).
         turns: add turn edges (:data:`SearchConfig.turns`), keeping ``turn_margin`` (m) free
             round the disk a turn sweeps.
 
