@@ -66,8 +66,12 @@ def _scaling_rows(d: dict) -> list[tuple[str, str]]:
     for key, r in d["table"].items():
         cls, param = key.split("/")
         rooms = param.replace("rooms=", "")
-        what = (f"scaling: {rooms} room{'' if rooms == '1' else 's'} in a row" if cls == "building"
-                else f"tight slots: {param.replace('clearance=', '')} m a side")
+        if cls == "building":
+            what = f"scaling: {rooms} room{'' if rooms == '1' else 's'} in a row"
+        elif cls == "doors":
+            what = f"doors: 6 rooms, every wall a {param.replace('width=', '')} m door"
+        else:
+            what = f"tight slots: {param.replace('clearance=', '')} m a side"
         out.append((what, f"solved {r['solved']}/{r['runs']}; median {r['solve_median']:.2f} s, "
                           f"p95 {r['solve_p95']:.2f} s"))
     return out
@@ -141,8 +145,9 @@ def _wholebody_rows(d: dict) -> list[tuple[str, str]]:
 STEPS = (
     Step("plan_quality", "plan_quality.py",
          ("--seeds", "5", "--time", "30", "--scenes", QUALITY_SCENES), _quality_rows),
-    Step("scaling", "scaling.py", ("--rooms", "1,4,8,16", "--clearances", "0.1,0.05,0.03",
-                                   "--seeds", "2", "--time", "60", "--no-bound"),
+    Step("scaling", "scaling.py", ("--rooms", "1,4,8,16,32", "--clearances", "0.1,0.05,0.03",
+                                   "--doors", "0.95,1.3", "--seeds", "2", "--time", "60",
+                                   "--no-bound"),
          _scaling_rows),
     Step("replanning", "replanning.py", ("--points", "3", "--time", "10",
                                          "--scenes", "fig10,slot"), _replanning_rows),
