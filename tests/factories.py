@@ -89,3 +89,16 @@ def walk_problems(scene: Scene, obj, g1: int, g2: int, walk) -> list[str]:  # no
                  TransitPhase(g1, g2, walk.robot_path, obj),
                  TransferPhase(g2, m.robot_pose(obj, g2), (), obj)])
     return [p for p in check_plan(plan, scene).problems if "scene" not in p]
+
+
+def two_rooms(door: float) -> Scene:
+    """Two 4 x 4.5 m rooms joined by one door ``door`` m wide in the 0.3 m wall between them
+    (its west face at x = 4.3, the door centred at y = 2.55)."""
+    from pivot_ompl.generate.layout import free_complement
+    from pivot_ompl.generate.layout import make_scene as layout_scene
+
+    bounds = (0.0, 0.0, 8.9, 5.1)
+    free = [(0.3, 0.3, 4.3, 4.8), (4.6, 0.3, 8.6, 4.8),
+            (4.3, 2.55 - 0.5 * door, 4.6, 2.55 + 0.5 * door)]
+    return layout_scene("two_rooms", bounds, free_complement(bounds, free), (2.0, 2.55, 0.0),
+                        (7.0, 2.55, 0.0))

@@ -4,32 +4,19 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 import pytest
+from factories import two_rooms
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.generate import RigidMap, rotate_scene
-from pivot_ompl.generate.layout import free_complement, make_scene
-from pivot_ompl.planners.config import RegraspConfig, SamplingConfig
+from pivot_ompl.planners.config import SamplingConfig
 from pivot_ompl.planners.objects.slots import assembly_extent, door_poses, doors
-from pivot_ompl.planners.regrasp_search import RegraspSearch
-from pivot_ompl.scene import Scene
 
 #: Two 4 x 4.5 m rooms and the 0.3 m wall between them (its west face at x = 4.3).
 WALL_X, WALL, DEPTH = 4.3, 0.3, 4.5
 PLAY = SamplingConfig().door_play
-
-
-def _two_rooms(door: float) -> Scene:
-    """Two rooms joined by one door ``door`` m wide, centred in the wall."""
-    bounds = (0.0, 0.0, 8.9, DEPTH + 0.6)
-    yc = 0.3 + 0.5 * DEPTH
-    free = [(0.3, 0.3, WALL_X, 0.3 + DEPTH), (WALL_X + WALL, 0.3, 8.6, 0.3 + DEPTH),
-            (WALL_X, yc - 0.5 * door, WALL_X + WALL, yc + 0.5 * door)]
-    return make_scene("two_rooms", bounds, free_complement(bounds, free), (2.0, yc, 0.0),
-                      (7.0, yc, 0.0))
 
 
 def _door_centre() -> tuple[float, float]:
@@ -37,7 +24,7 @@ def _door_centre() -> tuple[float, float]:
 
 
 def test_a_door_is_wider_than_the_assembly_and_narrower_than_its_turning_disk():
-    ck = PivotChecker(_two_rooms(1.7), seed=0)
+    ck = PivotChecker(two_rooms(1.7), seed=0)
     ext = assembly_extent(ck)
     clear = ck.world.clearance
     assert ext.width > 0.8 and ext.radius > 0.5 * ext.width and ext.reach > ext.width
@@ -47,7 +34,7 @@ def test_a_door_is_wider_than_the_assembly_and_narrower_than_its_turning_disk():
     assert found[0].length == pytest.approx(WALL)
     assert abs(math.remainder(found[0].axis, math.pi)) < 1e-9  # the wall's normal
     for width in (ext.width + 2 * clear - 0.02, 2 * (ext.radius + clear) + PLAY + 0.02):
-        ck = PivotChecker(_two_rooms(width), seed=0)
+        ck = PivotChecker(two_rooms(width), seed=0)
         assert not [p for p in doors(ck, play=PLAY)
                     if math.dist(p.center, _door_centre()) < 1e-6], width
 
@@ -57,7 +44,7 @@ def test_a_door_is_wider_than_the_assembly_and_narrower_than_its_turning_disk():
 def test_the_assembly_passes_a_door_straight_between_its_seeded_poses(angle, width):
     # at any rotation: the outer poses hold the whole assembly on either side of the wall and
     # at some grasp both straight pushes through the centre pose pass the exact checks
-    scene = _two_rooms(width)
+    scene = two_rooms(width)
     centre = (0.5 * (scene.bounds[0] + scene.bounds[2]), 0.5 * (scene.bounds[1] + scene.bounds[3]))
     copy = rotate_scene(scene, angle)
     f = RigidMap(angle, centre, False)
@@ -76,20 +63,3 @@ def test_the_assembly_passes_a_door_straight_between_its_seeded_poses(angle, wid
                     ck.transfer(a, mid, g).valid and ck.transfer(mid, b, g).valid:
                 through += 1
     assert through >= 2  # pushed and pulled
-
-
-def test_the_planner_seeds_its_roadmap_along_the_doors():
-    scene = _two_rooms(1.7)
-    ck = PivotChecker(scene, seed=0)
-    search = RegraspSearch(ck, scene.start, scene.goal, RegraspConfig(),
-                           np.random.default_rng(0))
-    search.prepare(lambda: False)
-    assert search.stats.doors >= 1
-    seeded = [search.roadmap[i] for i in search.roadmap.of_kind("door")]
-    assert len(seeded) == search.stats.door_nodes >= 6
-    assert all(ck.box_valid(q) for q in seeded)
-    off = RegraspSearch(ck, scene.start, scene.goal,
-                        RegraspConfig(sampling=SamplingConfig(doors=False)),
-                        np.random.default_rng(0))
-    off.prepare(lambda: False)
-    assert not off.roadmap.of_kind("door")

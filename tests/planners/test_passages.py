@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from factories import shipped
+from factories import shipped, two_rooms
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -69,18 +69,20 @@ def test_each_slot_gets_a_seeded_node_where_the_box_can_be_let_go():
         assert both, slot
 
 
-def test_the_planner_seeds_its_roadmap_along_the_slots():
-    scene = shipped("fig10")
+@pytest.mark.parametrize(("kind", "scene", "count", "least"), [
+    ("slot", lambda: shipped("fig10"), 2, 21), ("door", lambda: two_rooms(1.7), 1, 6)])
+def test_the_planner_seeds_its_roadmap_along_the_slots_and_doors(kind, scene, count, least):
+    scene = scene()
     ck = PivotChecker(scene, seed=0)
     search = RegraspSearch(ck, scene.start, scene.goal, RegraspConfig(),
                            np.random.default_rng(0))
     search.prepare(lambda: False)
-    assert search.stats.slots == 2
-    seeded = [search.roadmap[i] for i in search.roadmap.of_kind("slot")]
-    assert len(seeded) == search.stats.slot_nodes > 20
+    assert getattr(search.stats, f"{kind}s") >= count
+    seeded = [search.roadmap[i] for i in search.roadmap.of_kind(kind)]
+    assert len(seeded) == getattr(search.stats, f"{kind}_nodes") >= least
     assert all(ck.box_valid(q) for q in seeded)
     off = RegraspSearch(ck, scene.start, scene.goal,
-                        RegraspConfig(sampling=SamplingConfig(slots=False)),
+                        RegraspConfig(sampling=SamplingConfig(**{f"{kind}s": False})),
                         np.random.default_rng(0))
     off.prepare(lambda: False)
-    assert not off.roadmap.of_kind("slot")
+    assert not off.roadmap.of_kind(kind)
