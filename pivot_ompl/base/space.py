@@ -33,12 +33,15 @@ STATESPACE_DISTANCE_BOUND = 1 << 5
 STATESPACE_RESPECT_BOUNDS = 1 << 6
 STATESPACE_ENFORCE_BOUNDS_NO_OP = 1 << 7
 STATESPACE_SERIALIZATION = 1 << 8
-#: The checks OMPL runs for Reeds-Shepp spaces: all but interpolation (relaxed as OMPL's own
-#: ``ReedsSheppStateSpace::sanityChecks`` does), with ``eps = 0.1``.
+#: The checks OMPL runs for Reeds-Shepp spaces, relaxed as OMPL's own
+#: ``ReedsSheppStateSpace::sanityChecks`` does (no interpolation check, ``eps = 0.1``), and
+#: without the distance bound: it compares random pairs' distances with the space's maximum
+#: extent plus ``eps``, and OMPL's Reeds-Shepp extent is an estimate that some pairs exceed
+#: (by up to 1.5 % on ``slot``: the check failed 2 runs in 1000 on ``cluttered_room``); the
+#: bound is tested on seeded pairs with that tolerance instead.
 SANITY_FLAGS = (STATESPACE_DISTANCE_DIFFERENT_STATES | STATESPACE_DISTANCE_SYMMETRIC
-                | STATESPACE_TRIANGLE_INEQUALITY | STATESPACE_DISTANCE_BOUND
-                | STATESPACE_RESPECT_BOUNDS | STATESPACE_ENFORCE_BOUNDS_NO_OP
-                | STATESPACE_SERIALIZATION)
+                | STATESPACE_TRIANGLE_INEQUALITY | STATESPACE_RESPECT_BOUNDS
+                | STATESPACE_ENFORCE_BOUNDS_NO_OP | STATESPACE_SERIALIZATION)
 
 
 def sanity_checks(space: ob.StateSpace) -> None:
