@@ -34,6 +34,22 @@ def make_scene(**overrides) -> Scene:
     return scene_from_dict(doc, source="<test>")
 
 
+def sliced(obstacles, pieces: int) -> list:  # noqa: ANN001
+    """Every box of ``obstacles`` cut across its long side into ``pieces`` boxes (one floor)."""
+    import dataclasses
+
+    out = []
+    for o in obstacles:
+        (cx, cy), (sx, sy), yaw = o.center, o.size, o.yaw
+        long_x = sx >= sy
+        ux, uy = (math.cos(yaw), math.sin(yaw)) if long_x else (-math.sin(yaw), math.cos(yaw))
+        for k in range(pieces):
+            t = ((k + 0.5) / pieces - 0.5) * (sx if long_x else sy)
+            size = (sx / pieces, sy) if long_x else (sx, sy / pieces)
+            out.append(dataclasses.replace(o, center=(cx + t * ux, cy + t * uy), size=size))
+    return out
+
+
 def rotated_scene_doc(doc: dict, angle: float, about: tuple[float, float] = (0.0, 0.0)) -> dict:
     """A scene document with every coordinate rotated by ``angle`` (rad) about ``about``.
 

@@ -69,6 +69,7 @@ from pivot_ompl.se2 import Pose, rectangle_corners, wrap_angle
 from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
 from pivot_ompl.validity.footprints import meeting_hulls, obstacle_pieces
+from pivot_ompl.validity.merge import merge_boxes
 
 log = logging.getLogger(__name__)
 
@@ -247,11 +248,15 @@ def free_cover(scene: Scene, *, resolution: float = RESOLUTION,
         resolution: largest erosion (m) of the rotation within a yaw bin; sets the bins.
         tolerance: the swept checks' tolerance (m), added to every erosion.
         clearance: distance (m) the checkers keep every body from the obstacles.
-        should_stop: polled once per yaw bin.
+        should_stop: polled once per yaw bin (and while the boxes are merged, the pieces
+            being the obstacles with touching boxes merged: :func:`merge_boxes`).
     """
     n = _bins(scene, resolution)
     w = 2.0 * math.pi / n
-    pieces = obstacle_pieces(scene.obstacles)
+    try:
+        pieces = obstacle_pieces(merge_boxes(scene.obstacles, should_stop=should_stop))
+    except Interrupted:
+        return None
     free: list[list[list[BaseGeometry]]] = [[], []]
     for g in (0, 1):
         parts = _parts(scene, g)

@@ -41,6 +41,7 @@ from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import rectangle_corners
 from pivot_ompl.validity.footprints import disk_clear
+from pivot_ompl.validity.merge import merge_boxes
 
 #: Raster cell of the disk centre's free space (m).
 CELL = 0.1
@@ -76,7 +77,7 @@ class WalkRelaxation:
         self.box_erosion = box_reach * self.turn + tolerance + ROUND_OFF
         self.box_gap = self.radius - tolerance - ROUND_OFF
         self.raster = FloorRaster(scene.bounds, min_cell=CELL, max_cells=MAX_CELLS)
-        free = disk_clear(scene.bounds, scene.obstacles, radius=self.radius,
+        free = disk_clear(scene.bounds, merge_boxes(scene.obstacles), radius=self.radius,
                           clearance=clearance - tolerance - ROUND_OFF)
         self.free = self.raster.meeting(free)
         self.labels, _ = ndimage.label(self.free, structure=_EIGHT)

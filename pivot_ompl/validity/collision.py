@@ -30,6 +30,7 @@ from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Obstacle, PolygonObstacle, Scene
 from pivot_ompl.se2 import Pose, triangulate
+from pivot_ompl.validity.merge import merge_boxes
 
 #: Distance (m) the planner's bodies keep from obstacles: the whole-body motion's links and
 #: box then keep >= 1 cm (the ``obstacles`` check of ``check-motion``).
@@ -156,7 +157,8 @@ class CollisionWorld:
         self._disk = coal.CollisionObject(self._disk_shape)
         self._disks: dict[float, coal.CollisionObject] = {}
         self._objects: list[coal.CollisionObject] = []
-        #: the static obstacles added (:meth:`add_obstacle`), as the scene gives them
+        #: the static obstacles added (:meth:`add_obstacle`); from :meth:`from_scene`, the
+        #: scene's obstacles with touching boxes merged
         self.obstacles: list[Obstacle] = []
         self._manager = coal.DynamicAABBTreeCollisionManager()
         self._dcb = coal.DistanceCallBackDefault()
@@ -170,12 +172,18 @@ class CollisionWorld:
                    should_stop: Callable[[], bool] | None = None) -> CollisionWorld:
         """Build the world of a scene (bodies keep ``clearance`` m from obstacles).
 
+        The world holds the scene's obstacles with touching boxes merged
+        (:func:`~pivot_ompl.validity.merge.merge_boxes`: the same floor in fewer pieces, so a
+        query near a wall cut into many boxes meets one): :attr:`obstacles` is that list, not
+        ``scene.obstacles`` (whose indices reports name). Distances to the free side are the
+        same either way; a penetration depth may be deeper in a merged box.
+
         Raises:
-            Interrupted: ``should_stop()`` became true (polled before every obstacle and
-                while a polygon is built, :func:`obstacle_objects`).
+            Interrupted: ``should_stop()`` became true (polled while the boxes are merged,
+                before every obstacle and while a polygon is built, :func:`obstacle_objects`).
         """
         world = cls(scene.model, scene.bounds, clearance)
-        for o in scene.obstacles:
+        for o in merge_boxes(scene.obstacles, should_stop=should_stop):
             if should_stop is not None and should_stop():
                 raise Interrupted("building the collision world")
             world.add_obstacle(o, should_stop)

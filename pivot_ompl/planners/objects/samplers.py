@@ -64,10 +64,10 @@ class PoseSampler:
         if not self._region_done and self.start is not None:
             self._region_done = True
             ck = self.checker
-            if region_vertices(ck.scene.obstacles) > REGION_MAX_VERTICES:
+            if region_vertices(ck.world.obstacles) > REGION_MAX_VERTICES:
                 return None
             x0, y0, x1, y1 = ck.world.bounds
-            free = disk_clear(ck.world.bounds, ck.scene.obstacles,
+            free = disk_clear(ck.world.bounds, ck.world.obstacles,
                               radius=0.5 * min(ck.model.object_size[:2]),
                               clearance=ck.world.clearance - SWEEP_TOLERANCE)
             here = shapely.Point(self.start[0], self.start[1])

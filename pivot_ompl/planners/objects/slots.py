@@ -38,6 +38,7 @@ from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose
 from pivot_ompl.validity.assembly_field import assembly_bodies
 from pivot_ompl.validity.footprints import obstacle_footprints
+from pivot_ompl.validity.merge import merge_boxes
 
 
 @dataclass(frozen=True)
@@ -103,10 +104,11 @@ def find_passages(scene: Scene, *, min_width: float, max_width: float,
     shortest segment, if no third obstacle lies across that segment (a gap with something in
     it is the gaps on either side of that thing: an obstacle made of thin pieces otherwise
     gives one passage per pair of pieces facing each other across the gap, thousands on a
-    large floor). Sides meeting at a corner, and obstacles touching, give none.
+    large floor; boxes touching along a whole side count as one, :func:`merge_boxes`). Sides
+    meeting at a corner, and obstacles touching, give none.
     ``should_stop`` is polled per obstacle: the passages found so far are returned.
     """
-    shapes = obstacle_footprints(scene.obstacles)
+    shapes = obstacle_footprints(merge_boxes(scene.obstacles))
     shapes += _room_sides(scene.bounds, max(1.0, 2.0 * max_width))
     tree = shapely.STRtree(shapes)
     out: list[Passage] = []
