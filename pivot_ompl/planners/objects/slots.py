@@ -25,7 +25,7 @@ The regrasp planner seeds its object roadmap with box poses along two kinds of p
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -34,7 +34,7 @@ from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planners.objects.roadmap import canonical
-from pivot_ompl.scene import Scene
+from pivot_ompl.scene import Obstacle, Scene
 from pivot_ompl.se2 import Pose
 from pivot_ompl.validity.assembly_field import assembly_bodies
 from pivot_ompl.validity.footprints import obstacle_footprints
@@ -97,7 +97,8 @@ def _blocked(shapes: list[BaseGeometry], tree: shapely.STRtree, a: tuple[float, 
 
 
 def find_passages(scene: Scene, *, min_width: float, max_width: float,
-                  should_stop: Callable[[], bool] = lambda: False) -> list[Passage]:
+                  should_stop: Callable[[], bool] = lambda: False,
+                  obstacles: Sequence[Obstacle] | None = None) -> list[Passage]:
     """Every gap of width in ``[min_width, max_width]`` between two obstacles or sides.
 
     Each pair of obstacles (the room's four sides included) gives at most one passage, at its
@@ -107,8 +108,11 @@ def find_passages(scene: Scene, *, min_width: float, max_width: float,
     large floor; boxes touching along a whole side count as one, :func:`merge_boxes`). Sides
     meeting at a corner, and obstacles touching, give none.
     ``should_stop`` is polled per obstacle: the passages found so far are returned.
+    ``obstacles``: the scene's with touching boxes merged already (a collision world's
+    :attr:`~pivot_ompl.validity.collision.CollisionWorld.obstacles`); ``None``: merged here.
     """
-    shapes = obstacle_footprints(merge_boxes(scene.obstacles))
+    merged = merge_boxes(scene.obstacles) if obstacles is None else obstacles
+    shapes = obstacle_footprints(merged)
     shapes += _room_sides(scene.bounds, max(1.0, 2.0 * max_width))
     tree = shapely.STRtree(shapes)
     out: list[Passage] = []
@@ -169,7 +173,8 @@ def slots(checker: PivotChecker, *, play: float,
     m, clear = checker.model, checker.world.clearance
     ahead, behind, half_width = m.walking_extent()
     narrowest = min(ahead + behind, 2.0 * half_width) + 2.0 * clear
-    return find_passages(checker.scene, min_width=min(m.object_size[:2]) + 2.0 * clear,
+    return find_passages(checker.scene, obstacles=checker.world.obstacles,
+                         min_width=min(m.object_size[:2]) + 2.0 * clear,
                          max_width=narrowest + play, should_stop=should_stop)
 
 
@@ -232,7 +237,8 @@ def doors(checker: PivotChecker, *, play: float,
     range of yaws.
     """
     ext, clear = assembly_extent(checker), checker.world.clearance
-    return find_passages(checker.scene, min_width=ext.width + 2.0 * clear,
+    return find_passages(checker.scene, obstacles=checker.world.obstacles,
+                         min_width=ext.width + 2.0 * clear,
                          max_width=2.0 * (ext.radius + clear) + play, should_stop=should_stop)
 
 
