@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -140,7 +140,6 @@ class RegraspSearch:
         self._started = False
         self._goal_node = -1
         self._since = 0  # object nodes multiplexed since the last search
-        self._seeded = PoseIndex(self.roadmap)  # the passage poses seeded
 
     def _near_guards(self, q: Pose, guards: list[int]) -> Iterator[int]:
         """The guards within ``guard_radius`` of ``q``, nearest first."""
@@ -169,37 +168,38 @@ class RegraspSearch:
         self.visibility.adopt_guard(g_i)
         self.graph.multiplex_pending(lambda: False)  # the ends, whatever the time
         sc, ck = self.config.sampling, self.checker
+        seeded = PoseIndex(rm)  # the passage poses seeded, slots' and doors' alike
         if sc.slots:
             found = sorted(slots(ck, play=sc.slot_play, should_stop=should_stop),
                            key=lambda p: p.width)
             self.stats.slots = len(found)
             self.stats.slot_nodes += self._seed(
                 slot_poses(ck, found, spacing=sc.slot_spacing, approach=sc.slot_approach,
-                           should_stop=should_stop), "slot", sc.slot_spacing, should_stop)
+                           should_stop=should_stop), "slot", sc.slot_spacing, seeded, should_stop)
         if sc.doors:
             found = sorted(doors(ck, play=sc.door_play, should_stop=should_stop),
                            key=lambda p: p.width)
             self.stats.doors = len(found)
             self.stats.door_nodes += self._seed(
                 door_poses(ck, found, should_stop=should_stop), "door", sc.slot_spacing,
-                should_stop)
+                seeded, should_stop)
         self._goal_node = g_i
         self.graph.set_ends(s_i, g_i, should_stop, start_grasp=self.start_grasp)
 
-    def _seed(self, poses: Iterator[Pose] | list[Pose], kind: str, spacing: float,
+    def _seed(self, poses: Iterable[Pose], kind: str, spacing: float, seeded: PoseIndex,
               should_stop: Stop) -> int:
         """Add the free box poses along passages that a plan may visit, each once.
 
         A pose is left out when its position is not among those reachable from the start
-        (:meth:`PoseSampler.region`) or when a pose seeded before lies within half the
-        ``spacing`` of it (:func:`~.objects.roadmap.pose_metric`): one gap between obstacles
-        made of several pieces is found once per pair of pieces. Passages come narrowest
+        (:meth:`PoseSampler.region`) or when a pose seeded before (``seeded``, which gets
+        the poses added) lies within half the ``spacing`` of it
+        (:func:`~.objects.roadmap.pose_metric`): one gap between obstacles made of several
+        pieces is found once per pair of pieces. Passages come narrowest
         first, so of near-equal poses the one centred in the tightest gap stays. Returns
         the number added (of ``kind``).
         """
         rm = self.roadmap
         region = self.sampler.region()
-        seeded = self._seeded
         added = 0
         for k, q in enumerate(poses):
             if k % 64 == 63 and should_stop():  # thousands of passage poses on large floors
