@@ -59,15 +59,9 @@ def run(args: argparse.Namespace) -> int:
                              rooms=4 if args.rooms is None else int(args.rooms),
                              layout=args.layout)
     if args.door_width:
-        lo, hi = args.door_width
-        if lo > hi:
-            raise InputError("--door-width", list(args.door_width), "must be MIN <= MAX")
-        params = dataclasses.replace(params, door_width=(lo, hi))
+        params = dataclasses.replace(params, door_width=_range(args.door_width, "--door-width"))
     if args.wide_doors:
-        lo, hi = args.wide_doors
-        if lo > hi:
-            raise InputError("--wide-doors", list(args.wide_doors), "must be MIN <= MAX")
-        params = dataclasses.replace(params, wide_doors=(lo, hi))
+        params = dataclasses.replace(params, wide_doors=_range(args.wide_doors, "--wide-doors"))
     check_out_dir(args.out)
     gens = [generate(args.family, seed, params=params)
             for seed in range(args.seed, args.seed + int(args.count))]
@@ -77,6 +71,14 @@ def run(args: argparse.Namespace) -> int:
               f"{plan_path} ({counted(gen.witness.pivots, 'pivot')}, "
               f"{counted(gen.witness.regrasps, 'regrasp')})")
     return 0
+
+
+def _range(value: list[float], flag: str) -> tuple[float, float]:
+    """``MIN MAX`` of a range flag as a tuple (:class:`InputError` unless MIN <= MAX)."""
+    lo, hi = value
+    if lo > hi:
+        raise InputError(flag, list(value), "must be MIN <= MAX")
+    return lo, hi
 
 
 def check_out_dir(path: str) -> None:

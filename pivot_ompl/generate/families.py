@@ -343,20 +343,16 @@ def _check_params(p: GeneratorParams) -> None:
                          "must be from 0.005 m (the kept 1 cm over both sides) to 0.5 m")
     if isinstance(p.rooms, bool) or not isinstance(p.rooms, int) or not 1 <= p.rooms <= 256:
         raise InputError("rooms", p.rooms, "must be a whole number from 1 to 256")
-    for name in ("door_width", "slot_gap", "corridor_width", "bend_size"):
+    ranges = ("door_width", "slot_gap", "corridor_width", "bend_size")
+    for name in ranges + (("wide_doors",) if p.wide_doors is not None else ()):
         r = getattr(p, name)
         if (not isinstance(r, tuple | list) or len(r) != 2
                 or not all(isinstance(v, int | float) and not isinstance(v, bool)
                            and math.isfinite(v) and v > 0 for v in r) or r[0] > r[1]):
             raise InputError(name, r, "must be a range (min, max) of lengths > 0 m")
-    if p.wide_doors is not None:
-        r = p.wide_doors
-        if (not isinstance(r, tuple | list) or len(r) != 2
-                or not all(isinstance(v, int | float) and not isinstance(v, bool)
-                           and math.isfinite(v) for v in r)
-                or not 0.0 < r[0] <= r[1] <= MAX_WIDE_DOOR):
-            raise InputError("wide_doors", r, "must be a range (min, max) of widths in "
-                             f"(0, {MAX_WIDE_DOOR:g}] m")
+    if p.wide_doors is not None and p.wide_doors[1] > MAX_WIDE_DOOR:
+        raise InputError("wide_doors", p.wide_doors,
+                         f"must be widths of at most {MAX_WIDE_DOOR:g} m")
     if p.layout not in BUILDING_LAYOUTS:
         raise InputError("layout", p.layout, f"must be one of {list(BUILDING_LAYOUTS)}")
 
