@@ -226,6 +226,19 @@ def _best_candidate(lattice: TransferLattice, pricer: _Pricer, phases: list[_Pha
 _BOUND_SLACK = 1e-6
 
 
+def _run_ends(phases: list[_Phase], i: int, j: int, g: int) -> tuple[bool, Pose, Pose]:
+    """Whether the run ``i .. j`` planned at grasp ``g`` ends half turned, and its route's ends.
+
+    A half-turned run that is not the last ends at its last pose's half turn (the rest of
+    the path is written in the turned frame).
+    """
+    turned = (phases[j].grasp - g) % 4 == 2
+    start, end = phases[i].poses[0], phases[j].poses[-1]
+    if turned and j < len(phases) - 1:
+        end = half_turn(end)
+    return turned, start, end
+
+
 def _bounds(lattice: TransferLattice, phases: list[_Phase], cost: list[float],
             regrasp: list[float], current: float, refused: set,
             start_grasp: bool) -> list[tuple[float, int, int, int, int]]:
@@ -245,10 +258,7 @@ def _bounds(lattice: TransferLattice, phases: list[_Phase], cost: list[float],
     for idx, (i, j, g) in enumerate(_candidates(phases, start_grasp)):
         if (i, j, g, phases[i].poses) in refused:
             continue
-        turned = (phases[j].grasp - g) % 4 == 2
-        start, end = phases[i].poses[0], phases[j].poses[-1]
-        if turned and j < last:
-            end = half_turn(end)
+        turned, start, end = _run_ends(phases, i, j, g)
         low = before[i] + lattice.lower_bound(start, end, g) + after[j + 1]
         if turned and j < last:
             lp = phases[last].turned()
@@ -268,10 +278,7 @@ def _priced(lattice: TransferLattice, phases: list[_Phase], cost: list[float],
     """
     i, j, g = run
     last = len(phases) - 1
-    turned = (phases[j].grasp - g) % 4 == 2
-    start, end = phases[i].poses[0], phases[j].poses[-1]
-    if turned and j < last:
-        end = half_turn(end)
+    turned, start, end = _run_ends(phases, i, j, g)
     estimate = sum(cost[:i]) + sum(regrasp[1:i + 1])
     if estimate >= current:
         return None
