@@ -206,19 +206,15 @@ def load_yaml(path: str | Path, *, error: type[InputError] = InputError,
         raise error("<document>", src, f"is not valid YAML ({_short(e)})", source=src) from None
     collecting = gc.isenabled()
     gc.disable()
-    doc, stopped = None, False
     try:
-        doc = _parse(loader, src, error, should_stop)
+        return _parse(loader, src, error, should_stop)
     except Interrupted:
-        stopped = True  # raised again below, once its traceback no longer holds the nodes
+        pass  # raised again below, once its traceback no longer holds the nodes
     finally:
         _release(loader)
-        del loader
         if collecting:
             gc.enable()
-    if stopped:
-        raise Interrupted("reading the scene")
-    return doc
+    raise Interrupted("reading the scene")
 
 
 def _release(loader: _StrictLoader) -> None:
