@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass, field
+from typing import Protocol
 
 #: Default price of one regrasp (s), beyond its execution time. A release and re-grasp is the
 #: riskiest moment of the task on a real humanoid: the box is set down and tilted again, the
@@ -25,6 +26,22 @@ from dataclasses import dataclass, field
 #: pivoting (a half turn of robot and box in place costs about one) for one regrasp less, and
 #: never adds a regrasp to save less. ``--regrasp-cost`` sets it per plan.
 REGRASP_COST = 300.0
+
+
+class _Turn(Protocol):
+    """A pivot rotation, as far as its price is concerned."""
+
+    @property
+    def angle(self) -> float:
+        """Signed rotation angle (rad)."""
+
+
+class _Turns(Protocol):
+    """A pivot sequence, as far as its price is concerned."""
+
+    @property
+    def rotations(self) -> Iterable[_Turn]:
+        """The rotations in order."""
 
 
 @dataclass(frozen=True)
@@ -54,6 +71,16 @@ class DurationModel:
     per_transit: float = 2.3
     per_walk_m: float = 10.1
 
+    def seconds(self, *, transfers: int, pivots: int, turned: float, transits: int,
+                walked: float) -> float:
+        """Seconds of a plan of ``transfers`` and ``transits`` phases.
+
+        ``pivots`` rotations turning ``turned`` rad in all, ``walked`` m walked alone.
+        """
+        return (self.per_transfer * transfers + self.per_pivot * pivots
+                + self.per_radian * turned + self.per_transit * transits
+                + self.per_walk_m * walked)
+
 
 @dataclass(frozen=True)
 class CostModel:
@@ -76,6 +103,14 @@ class CostModel:
             n += 1
             turned += abs(a)
         return d.per_pivot * n + d.per_radian * turned
+
+    def sequence(self, sequence: _Turns) -> float:
+        """Seconds of a transfer's pivot sequence (:meth:`rotations` of its angles)."""
+        return self.rotations(r.angle for r in sequence.rotations)
+
+    def plan_cost(self, seconds: float, regrasps: int) -> float:
+        """The cost of a plan of ``seconds`` of execution and ``regrasps`` regrasps (s)."""
+        return seconds + self.regrasp * regrasps
 
     def push_rate(self, half_length: float, alpha_max: float) -> float:
         """Seconds per metre of a straight push by full alternating rotations.

@@ -273,8 +273,8 @@ def plan_quality(plan: Plan, *, regrasps_lower_bound: int | None = None,
         route += sum(math.hypot(b[0] - a[0], b[1] - a[1])
                      for a, b in zip(stride, stride[1:], strict=False))
     pivots = plan.pivots
-    seconds = (d.per_transfer * transfers + d.per_pivot * pivots + d.per_radian * turned
-               + d.per_transit * transits + d.per_walk_m * walking)
+    seconds = d.seconds(transfers=transfers, pivots=pivots, turned=turned, transits=transits,
+                        walked=walking)
     return {
         "pivots": pivots,
         "transfer_length": length,
@@ -285,7 +285,7 @@ def plan_quality(plan: Plan, *, regrasps_lower_bound: int | None = None,
         "walking_length": walking,
         "duration_estimate": seconds,
         "regrasp_cost": costs.regrasp,
-        "cost": seconds + costs.regrasp * plan.regrasps,
+        "cost": costs.plan_cost(seconds, plan.regrasps),
         "route_length": route,
         "shortest_route": shortest_route,
         "route_ratio": route / shortest_route if shortest_route else None,

@@ -121,17 +121,17 @@ def test_the_optimiser_keeps_a_held_first_grasp_and_the_last_grasp_of_a_part(slo
     ck = PivotChecker(shipped("slot"))
     head = route[:k + 2]  # ends with a walk: useless alone, needed by what follows it
     assert optimise(ck, head, should_stop=lambda: False)[-1] != head[-1]  # dropped alone
-    kept = optimise(ck, head, should_stop=lambda: False, end_grasp=True)
+    kept = optimise(ck, head, should_stop=lambda: False, end_grasp=head[-1][1])
     assert kept[-1] == head[-1] and kept[0][0] == head[0][0]
     tail = route[k:]  # starts with a walk: the robot holds the box with the grasp before it
     assert optimise(ck, tail, should_stop=lambda: False)[0] != tail[0]  # skipped, unpriced
-    held = optimise(ck, tail, should_stop=lambda: False, start_grasp=True)
+    held = optimise(ck, tail, should_stop=lambda: False, start_grasp=tail[0][1])
     assert held[0] == tail[0] and held[-1][0] == tail[-1][0]
 
 
 def test_the_polish_of_a_repair_reworks_its_own_states_and_keeps_the_old_route(slot_plan,
                                                                                monkeypatch):
-    from pivot_ompl.planners import repair
+    from pivot_ompl.planners import improve, repair
     from pivot_ompl.planners.config import RegraspConfig
 
     box, grasp = _drifted(slot_plan, 0.1, 0.05, 5.0)
@@ -141,16 +141,17 @@ def test_the_polish_of_a_repair_reworks_its_own_states_and_keeps_the_old_route(s
     assert rep is not None
     new = len(rep.states) - rep.kept_edges
     seen = []
-    real = repair.optimise
+    real = improve.optimise
 
     def spy(checker, states, **kw):
         seen.append((list(states), kw["end_grasp"]))
         return real(checker, states, **kw)
 
-    monkeypatch.setattr(repair, "optimise", spy)
+    monkeypatch.setattr(improve, "optimise", spy)
     out = repair.polish(ck, rep.states, RegraspConfig(), should_stop=lambda: False, new=new,
                         kept=0)
-    assert seen == [(rep.states[:new], True)]  # the old route's rest was polished before
+    # the old route's rest was polished before
+    assert seen == [(rep.states[:new], rep.states[new - 1][1])]
     tail = rep.states[new - 1:]  # from the head's last state (grasp included) on
     assert out[0] == rep.states[0] and out[-len(tail):] == tail
     assert check_plan(path_to_plan(scene, ck, out), scene).ok
