@@ -19,7 +19,7 @@ from pivot_ompl.base.state import read_state
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.errors import InputError, Interrupted, PlanningError, counted
 from pivot_ompl.grasp import check_grasp
-from pivot_ompl.planfile import Plan, plan_quality
+from pivot_ompl.planfile import Plan
 from pivot_ompl.planners import (
     OMPL_PLANNERS,
     PLANNERS,
@@ -32,6 +32,7 @@ from pivot_ompl.planners import (
 )
 from pivot_ompl.planners.regrasp_search import RegraspSearch
 from pivot_ompl.planners.repair import State, stored_route
+from pivot_ompl.quality import plan_quality
 from pivot_ompl.scene import Scene, load_scene, scene_digest
 
 log = logging.getLogger(__name__)
