@@ -174,10 +174,11 @@ class PlanningSession:
         def stop() -> bool:
             return time.monotonic() > deadline
 
-        rep = repair_route(checker, self._route, box, grasp, should_stop=stop,
-                           seed=self.seed if seed is None else seed)
-        if rep is None:
+        found = repair_route(checker, self._route, box, grasp, should_stop=stop,
+                             seed=self.seed if seed is None else seed)
+        if found.path is None:  # none, or the half of the time ran out: the search's turn
             return None
+        rep = found.path
         states, new = rep.states, len(rep.states) - rep.kept_edges
         config = self.config or RegraspConfig()
         if grasp is not None and states[0][1] != grasp:  # the robot walks to the route's grasp

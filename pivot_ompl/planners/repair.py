@@ -21,7 +21,7 @@ When the box is observed off the route (a drift, a slip) or the obstacles change
    (:class:`~pivot_ompl.planners.single_grasp.SingleGraspConnect`, :data:`DETOUR_CHECKS`
    motion checks) to each of a few join points further on gives the detour.
 
-It gives up (``None``) when no join point qualifies: the caller plans afresh. No edge is kept
+It gives up (``INVALID``) when no join point qualifies: the caller plans afresh. No edge is kept
 unchecked against the current obstacles, and the route ends where it ended (the goal).
 """
 
@@ -47,6 +47,7 @@ log = logging.getLogger(__name__)
 
 State = tuple[Pose, int]
 Stop = Callable[[], bool]
+STOPPED: Found[RouteRepair] = Found(Status.STOPPED)
 
 #: Spacing (m) of the join points along a route's transfer edges (car's Reeds-Shepp path).
 JOIN_STEP = 0.25
@@ -137,7 +138,7 @@ def join_points(checker: PivotChecker, route: Sequence[State], *,
 def repair_route(checker: PivotChecker, route: Sequence[State], box: Pose,
                  grasp: int | None = None, *, should_stop: Stop | None = None,
                  ahead: float = JOIN_AHEAD, seed: int = 0,
-                 detour_checks: int = DETOUR_CHECKS) -> RouteRepair | None:
+                 detour_checks: int = DETOUR_CHECKS) -> Found[RouteRepair]:
     """The route repaired from the box observed at ``box`` (see the module docstring).
 
     Args:
@@ -146,19 +147,20 @@ def repair_route(checker: PivotChecker, route: Sequence[State], box: Pose,
         box: the observed object pose.
         grasp: the grasp the robot holds the box with: join points at it are preferred
             (the nearest is sought among them when the route has any); ``None``: any.
-        should_stop: polled between checks; stopping gives ``None``.
+        should_stop: polled between checks and passed to them.
         ahead: how far along the route past the nearest join point joins are tried (m).
         seed: seed of the short searches' generator.
         detour_checks: motion checks of each short search.
 
     Returns:
-        The repaired route, or ``None`` when no join point qualifies.
+        ``VALID`` with the repaired route; ``INVALID`` when no join point qualifies (or
+        the box is not free at ``box``); ``STOPPED``.
     """
     stop = should_stop or (lambda: False)
     evaluate = Evaluator(checker, CostModel())
     route = list(route)
     if len(route) < 2 or not checker.box_valid(box):
-        return None
+        return Found(Status.INVALID)
     points = join_points(checker, route)
     m, paths = checker.model, checker.steering.paths
     held = [p for p in points if p.grasp == grasp] if grasp is not None else []
@@ -172,10 +174,10 @@ def repair_route(checker: PivotChecker, route: Sequence[State], box: Pose,
     last_invalid = first - 1
     for i in range(max(0, first), len(route) - 1):
         if stop():
-            return None
+            return STOPPED
         status = evaluate.step(route[i], route[i + 1], should_stop=stop).status
         if status is Status.STOPPED:
-            return None
+            return STOPPED
         if status is Status.INVALID:
             last_invalid = i
     past = [p for p in points if p.along >= nearest.along and p.edge >= last_invalid]
@@ -184,7 +186,7 @@ def repair_route(checker: PivotChecker, route: Sequence[State], box: Pose,
     refused: list[JoinPoint] = []
     for p in ahead_of:  # direct joins, nearest first, those the cheap filter passes
         if stop():
-            return None
+            return STOPPED
         at_join = gap(p) <= SAME_POSE
         if not at_join and not checker.path_free(box, p.pose, p.grasp):
             refused.append(p)
@@ -192,33 +194,33 @@ def repair_route(checker: PivotChecker, route: Sequence[State], box: Pose,
         tried += 1
         rep = _joined(evaluate, route, box, [box, p.pose], p, stop, tried, at_join)
         if rep.status is not Status.INVALID:
-            return rep.path
+            return rep
     behind = [p for p in reversed(points) if nearest.along - ahead <= p.along < nearest.along
               and p.edge >= last_invalid]
     for p in refused[:REFUSED_CHECKED] + behind[:REFUSED_CHECKED]:
         # the filter may refuse an edge that passes; a box stuck ahead may have to back up
         if stop():
-            return None
+            return STOPPED
         tried += 1
         rep = _joined(evaluate, route, box, [box, p.pose], p, stop, tried, False)
         if rep.status is not Status.INVALID:
-            return rep.path
+            return rep
     rng = np.random.default_rng(seed)
     for p in _detour_targets(ahead_of):  # short searches at the route's grasp
         if stop():
-            return None
+            return STOPPED
         rrt = SingleGraspConnect(checker, box, p.pose, p.grasp, rng)
         found = rrt.run(detour_checks, stop)
         tried += rrt.checks
         if found.status is Status.STOPPED:
-            return None
+            return STOPPED
         if found.path is not None:
             rep = _joined(evaluate, route, box, found.path, p, stop, tried, False)
             if rep.status is not Status.INVALID:
-                return rep.path
+                return rep
     log.info("route not repaired: no join point within %.1f m (%d join edges checked, "
              "last invalid edge %d)", ahead, tried, last_invalid)
-    return None
+    return Found(Status.INVALID)
 
 
 def _detour_targets(points: Sequence[JoinPoint]) -> list[JoinPoint]:
