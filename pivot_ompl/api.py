@@ -190,7 +190,7 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
              counted(result_plan.pivots, "pivot"), counted(result_plan.regrasps, "regrasp"))
     return PlanResult(name, result_plan, planner, seed, time_limit, timings, stats,
                       {"valid": c.valid, "invalid": c.invalid, "cache_hits": c.cache_hits},
-                      getattr(p, "last_search", None), scene)
+                      p.last_search if isinstance(p, RegraspPlanner) else None, scene)
 
 
 def _planner_for(problem: Any, planner: str, *, seed: int, config: RegraspConfig,
