@@ -24,7 +24,7 @@ a robot narrower than a door walks through it forward or sideways.
   past ``quick_expansions`` states (a tight spot, where that guide, blind to the headings,
   fills every heading of the cells near the goal) is made again guided by the cost-to-go of
   the lattice relaxed to its states
-  (:meth:`~pivot_ompl.transit.field.FloorField.lattice_costs`: the same motions and
+  (:meth:`~pivot_ompl.transit.lattice_field.LatticeField.costs`: the same motions and
   costs, a state free when the walking body at its heading fits there and does not meet the
   grown box, motions' sweeps not checked; one Dijkstra, scipy), weighted by ``inflation``: it
   knows where the robot can stand at which heading, and where it is infinite no walk exists,
