@@ -3,9 +3,9 @@
 For fig10 and its copies (``scene_copy``: ``rot37``, ``mir20`` by default), times
 ``FloorField.static_open`` (the obstacles' part, once per planning run) and
 ``FloorGrid.meets_box`` (the resting box's part, per lattice-field query) with the numpy
-route (``footprints.meeting_edges`` + ``grid_union``) and with the shapely route it replaced
+route (``minkowski.meeting_edges`` + ``rasters.grid_union``) and with the shapely route it replaced
 (:func:`reference_fits`, :func:`reference_meets_box`: shapely convex hulls of vertex
-differences, each rasterised by ``footprints.grid_inside``), side by side: CPU time
+differences, each rasterised by ``rasters.grid_inside``), side by side: CPU time
 (``process_time``), best of ``--repeat`` fresh fields (old and new alternated), and whether
 the booleans are equal.
 
@@ -30,7 +30,8 @@ from pivot_ompl.se2 import Pose, rectangle_corners
 from pivot_ompl.transit.field import OPEN_YAWS, FloorField
 from pivot_ompl.transit.floor_grid import FloorGrid
 from pivot_ompl.transit.lattice import HEADING_YAWS
-from pivot_ompl.validity.footprints import grid_inside, meeting_hulls
+from pivot_ompl.validity.footprints import meeting_hulls
+from pivot_ompl.validity.rasters import grid_inside
 
 
 def reference_fits(f: FloorGrid, yaw: float) -> np.ndarray:

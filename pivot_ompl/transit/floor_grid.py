@@ -7,9 +7,9 @@ the bounds and clear of the obstacles grown by the kept clearance.
 
 The obstacles' part is vectorised (numpy), a block of yaws at a time: at each yaw, the
 positions where the body (grown by the kept clearance) meets an obstacle are the convex hulls
-of vertex differences (:func:`~pivot_ompl.validity.footprints.meeting_edges`, the same hulls
+of vertex differences (:func:`~pivot_ompl.validity.minkowski.meeting_edges`, the same hulls
 as shapely's :func:`~pivot_ompl.validity.footprints.meeting_hulls`; rasterised together by
-:func:`~pivot_ompl.validity.footprints.grid_union`), computed for polygons *inside* the true
+:func:`~pivot_ompl.validity.rasters.grid_union`), computed for polygons *inside* the true
 shapes (a cylinder's inscribed polygon, the clearance's rounded corners by chords), so a
 position is never closed where the exact checks would let the body stand.
 
@@ -32,7 +32,9 @@ from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.se2 import Pose, rectangle_corners
 from pivot_ompl.transit.lattice import HEADING_YAWS
 from pivot_ompl.validity.collision import CollisionWorld
-from pivot_ompl.validity.footprints import EdgeSet, grid_union, meeting_edges, obstacle_pieces
+from pivot_ompl.validity.footprints import obstacle_pieces
+from pivot_ompl.validity.minkowski import EdgeSet, meeting_edges
+from pivot_ompl.validity.rasters import grid_union
 
 #: Yaws at which a grid position may hold the walking body: the 16 lattice headings and the
 #: yaws half-way between neighbouring ones (a step that turns while walking passes a grid
@@ -121,7 +123,7 @@ class FloorGrid:
 
         Raises:
             Interrupted: ``should_stop()`` became true (polled while the obstacle pieces and
-                the body are summed, :func:`~pivot_ompl.validity.footprints.meeting_edges`).
+                the body are summed, :func:`~pivot_ompl.validity.minkowski.meeting_edges`).
         """
         todo = [k for k in range(k0, k1) if k not in self._fits]
         if todo:
