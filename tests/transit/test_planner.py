@@ -474,9 +474,10 @@ def test_the_walks_floor_distances_grow_their_limit_until_the_start_is_exact():
     goals = wp.attach(m.robot_pose(obj, g2), obj, leaving=False)
     whole = wp.field.distances(obj, sorted({(s[0], s[1]) for s in goals}))
     near = min(float(whole[s[0], s[1]]) for s in starts)
-    assert wp._first_limit(starts, goals) < near < math.inf
+    assert wp.first_limit(starts, goals) < near < math.inf
     dist = wp.floor_distances(obj, goals, starts=starts)
     assert min(float(dist[s[0], s[1]]) for s in starts) == pytest.approx(near)
     assert np.all(dist <= whole + 1e-9)  # a lower bound everywhere
-    limit, _ = wp._distances.get((obj, tuple(sorted({(s[0], s[1]) for s in goals}))))
+    limit = wp.cached_limit(obj, goals)
+    assert limit is not None
     assert wp.floor_inflation * near <= limit < math.inf  # not the whole floor

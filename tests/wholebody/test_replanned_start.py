@@ -65,7 +65,7 @@ def test_a_replanned_motion_starts_at_the_observed_box_and_the_held_grasp(sessio
     assert res.solved
     got_box, got_robot = _first_sample(res.plan)
     assert _close(got_box, box), (got_box, box)
-    m = s._checker.model  # the scene's grasp geometry
+    m = s.scene.model  # the scene's grasp geometry
     assert _close(got_robot, m.robot_pose(box, grasp)), (got_robot, m.robot_pose(box, grasp))
 
 
