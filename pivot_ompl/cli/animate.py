@@ -76,7 +76,7 @@ def plan_scene(args: argparse.Namespace, record: SceneRecord) -> Scene | None:
 
 def _animate(args: argparse.Namespace) -> int:
     from pivot_ompl.planfile import load_plan
-    from pivot_ompl.wholebody.generator import generate_motion
+    from pivot_ompl.wholebody.motion import generate_motion
     from pivot_ompl.wholebody.motion_checks import check_motion
 
     output_files([args.plan], suffixes={"out": [".npz"]}, out=args.out)
