@@ -89,6 +89,11 @@ class _HeldBox:
         return self.hold.T_world_box(self.G, self.grasp, self.tilt)
 
 
+def _ticks(duration: float, dt: float) -> int:
+    """Solver ticks of ``duration`` (s) at ``dt`` (s) a tick, at least one."""
+    return max(1, int(round(duration / dt)))
+
+
 class WholeBodyGenerator:
     """Turns a plan into a :class:`Motion` (see the module docstring).
 
@@ -203,12 +208,9 @@ class WholeBodyGenerator:
                 raise self._fail(f"unreachable grip: a hand is {100 * err:.1f} cm from its "
                                  f"grip point at t = {self._t:.3f} s")
         self.recorder.record(self._t, self.walker.q(), self._box_T, self.walker.com(),
-                         Sample(support, zmp, self._phase, self._step if holding else -1,
-                                holding, grasp if holding else -1, tilt))
+                             Sample(support, zmp, self._phase, self._step if holding else -1,
+                                    holding, grasp if holding else -1, tilt))
         self._t += self.settings.solver_dt
-
-    def _ticks(self, duration: float) -> int:
-        return max(1, int(round(duration / self.settings.solver_dt)))
 
     def _stand(self, duration: float, each: Callable[[float], None], *, holding: bool = False,
                grasp: int = -1, tilt_of: Callable[[float], float] | None = None,
@@ -216,7 +218,7 @@ class WholeBodyGenerator:
                ) -> None:
         """Stand still for ``duration``; ``each(s)`` updates the box for progress s in [0, 1]."""
         self.walker.stand()
-        n = self._ticks(duration)
+        n = _ticks(duration, self.settings.solver_dt)
         for i in range(n):
             s = (i + 1) / n
             each(s)
@@ -253,7 +255,7 @@ class WholeBodyGenerator:
             traj = self.walker.plan_walk(chunk, self._t)
             t0, t1 = traj.t_start, traj.t_end
             m = self.timing.rotate_margin
-            n = self._ticks(t1 - t0)
+            n = _ticks(t1 - t0, self.settings.solver_dt)
             for _ in range(n):
                 if each is not None:
                     each(((self._t - t0) - m) / max(t1 - t0 - 2 * m, 1e-6))
@@ -360,7 +362,7 @@ class WholeBodyGenerator:
         t0 = self._t
         traj = walker.plan_walk(footsteps, t0)
         starts, ends = rotation_windows(traj, last, t0, self.settings.solver_dt)
-        total = self._ticks(traj.t_end - t0)
+        total = _ticks(traj.t_end - t0, self.settings.solver_dt)
         G0: np.ndarray | None = None
         p, u = 0, 0.0
         for tick in range(total):
