@@ -94,6 +94,7 @@ def parameter_table(width: int = 100) -> str:
     """``--param help``: every sweepable parameter with its default and range, and what it is."""
     import textwrap
 
+    from pivot_ompl.cli.main import plain
     from pivot_ompl.planners.config import parameters
 
     params = parameters()
@@ -107,7 +108,7 @@ def parameter_table(width: int = 100) -> str:
             "grasp indices 0 1 2 3" if p.range is None else str(p.range)
         lines.append(f"{p.name:<{name_w}}  {_shown(p.default):<{default_w}}  {rng}")
         if p.doc:
-            lines.extend(textwrap.wrap(p.doc, width, initial_indent=" " * 4,
+            lines.extend(textwrap.wrap(plain(p.doc), width, initial_indent=" " * 4,
                                        subsequent_indent=" " * 4))
     return "\n".join(lines) + "\n"
 

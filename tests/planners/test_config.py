@@ -101,4 +101,6 @@ def test_bench_param_help_lists_every_sweepable_parameter(capsys):
         if isinstance(value, float):
             assert f"{value:g}" in line
     assert "search.weight" in out and "[1, inf)" in out
+    for markup in ("``", ":mod:", ":func:", ":data:"):
+        assert markup not in out
     assert main(["bench"]) == 2  # a sweep still needs a scene
