@@ -2,7 +2,7 @@
 
 Two uses, both relaxations that must never forbid what the exact (coal) checks allow:
 the lower bound on regrasps (:mod:`pivot_ompl.analysis.regrasp_bound`) and the walking floor
-field (:mod:`pivot_ompl.transit.field`). So the pieces are *subsets* of the obstacles
+field (:mod:`pivot_ompl.transit.floor_grid`). So the pieces are *subsets* of the obstacles
 (a cylinder by its inscribed polygon), and a body's forbidden positions are computed exactly
 for those pieces (Minkowski sums of convex polygons: convex hulls of vertex differences).
 
