@@ -70,3 +70,28 @@ def test_the_examples_of_a_page_run(page: Path, tmp_path: Path):
         assert res.returncode == 0, (f"{page.name} ```{lang} block failed "
                                      f"({res.returncode}):\n{code}\n{res.stdout[-2000:]}"
                                      f"\n{res.stderr[-3000:]}")
+
+
+def _slug(heading: str) -> str:
+    """A heading's anchor as GitHub and myst-parser make it."""
+    text = re.sub(r"[^\w\- ]", "", heading.strip().lower())
+    return text.replace(" ", "-")
+
+
+LINK = re.compile(r"\]\((?P<target>[^)\s]+)\)")
+
+
+def test_the_links_of_the_pages_reach_files_and_headings():
+    for page in PAGES:
+        text = BLOCK.sub("", page.read_text(encoding="utf-8"))
+        for m in LINK.finditer(text):
+            target = m.group("target")
+            if re.match(r"[a-z]+:", target):
+                continue  # a web address
+            path, _, anchor = target.partition("#")
+            dest = (page.parent / path).resolve() if path else page
+            assert dest.exists(), f"{page.name}: link to a missing file: {target}"
+            if anchor:
+                heads = re.findall(r"^#+ (.+)$", BLOCK.sub("", dest.read_text(encoding="utf-8")),
+                                   re.M)
+                assert anchor in {_slug(h) for h in heads}, f"{page.name}: no heading #{anchor}"
