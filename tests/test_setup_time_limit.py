@@ -104,7 +104,7 @@ def test_cli_timeout_in_setup_keeps_an_existing_output(big_file, tmp_path, capsy
     t0 = time.perf_counter()
     code = main(["plan", str(big_file), "--time", "0.2", "--no-bound", "--out", str(out)])
     assert time.perf_counter() - t0 < 0.4
-    assert code == 1  # README: exit 1, stopped by the time limit
+    assert code == 1  # docs/cli.md: exit 1, stopped by the time limit
     assert out.read_text() == "kept\n"
     assert capsys.readouterr().out.startswith("TIMEOUT")
 

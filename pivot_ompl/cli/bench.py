@@ -1,4 +1,4 @@
-"""``pivot-ompl bench SCENE... --planners regrasp,rrtconnect --runs 50 --time 30 --out results/``.
+"""``pivot-ompl bench SCENE [...] --planners regrasp,rrtconnect --runs 50 --time 30 --out DIR``.
 
 Writes an OMPL benchmark log per scene, the ``ompl_benchmark_statistics`` database, the
 summary table (also printed) and PNG plots into ``--out``. Exit codes: 0 every run went
