@@ -120,7 +120,8 @@ def _ask(proc: subprocess.Popen, job: str) -> dict[str, Any]:
 
 
 def _summary(rows: list[dict[str, Any]]) -> dict[str, Any]:
-    from pivot_ompl.planfile import plan_from_dict, plan_quality
+    from pivot_ompl.planfile import plan_from_dict
+    from pivot_ompl.quality import plan_quality
 
     ok = [r for r in rows if r["solved"]]
 

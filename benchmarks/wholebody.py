@@ -12,7 +12,7 @@ Prints and writes (JSON) the real-time factor of generation (seconds of motion p
 compute; target >= 5), the worst ZMP margin and the largest hand-to-grip error, together with
 every check of the motion; and where the motion's seconds go (per pivot step, transfer
 remainder, transit; :mod:`pivot_ompl.wholebody.durations`) with the
-``planfile.DurationModel`` fitted to them, beside the plan's ``duration_estimate``.
+``cost.DurationModel`` fitted to them, beside the plan's ``duration_estimate``.
 """
 
 from __future__ import annotations
@@ -28,7 +28,8 @@ from pathlib import Path
 
 from common import write_json
 
-from pivot_ompl.planfile import load_plan, plan_quality
+from pivot_ompl.planfile import load_plan
+from pivot_ompl.quality import plan_quality
 from pivot_ompl.wholebody import generate_motion
 from pivot_ompl.wholebody.durations import duration_breakdown, fit_duration_model
 from pivot_ompl.wholebody.motion_checks import check_motion

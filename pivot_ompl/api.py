@@ -19,17 +19,20 @@ from pivot_ompl.base.state import read_state
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.errors import InputError, Interrupted, PlanningError, counted
 from pivot_ompl.grasp import check_grasp
-from pivot_ompl.planfile import Plan, plan_quality
+from pivot_ompl.planfile import Plan
 from pivot_ompl.planners import (
     OMPL_PLANNERS,
     PLANNERS,
     RegraspConfig,
     RegraspPlanner,
+    Resume,
     check_planner_name,
     make_planner,
     parse_spec,
 )
+from pivot_ompl.planners.regrasp_search import RegraspSearch
 from pivot_ompl.planners.repair import State, stored_route
+from pivot_ompl.quality import plan_quality
 from pivot_ompl.scene import Scene, load_scene, scene_digest
 
 log = logging.getLogger(__name__)
@@ -77,7 +80,7 @@ class PlanResult:
     timings: dict[str, float] = field(default_factory=dict)
     roadmap: dict[str, Any] = field(default_factory=dict)
     motion_checks: dict[str, int] = field(default_factory=dict)
-    search: Any = field(default=None, repr=False)
+    search: RegraspSearch | None = field(default=None, repr=False)
     scene: Scene | None = field(default=None, repr=False)
 
     @property
@@ -111,7 +114,7 @@ class PlanResult:
 def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: float = 30.0,
          seed: int = 0, simplify: bool = False, regrasp_cost: float | None = None,
          config: RegraspConfig | None = None, bound: bool = True,
-         checker: PivotChecker | None = None, resume: Any = None,
+         checker: PivotChecker | None = None, resume: RegraspSearch | None = None,
          start_grasp: int | None = None) -> PlanResult:
     """Plan a pivoting path (with regrasps where needed) for ``scene``.
 
@@ -164,8 +167,8 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     except Interrupted as e:
         return _stopped_in_setup(scene, planner, seed, time_limit, e.what,
                                  time.perf_counter() - t0)
-    p, config = _planner_for(problem, planner, seed=seed, config=config, resume=resume,
-                             start_grasp=start_grasp)
+    p, config = _planner_for(problem, planner, seed=seed, config=config,
+                             resume=Resume(start_grasp, resume))
     t1 = time.perf_counter()
     name = _solve(problem.setup, time_limit, started)
     t2 = time.perf_counter()
@@ -187,17 +190,19 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
              counted(result_plan.pivots, "pivot"), counted(result_plan.regrasps, "regrasp"))
     return PlanResult(name, result_plan, planner, seed, time_limit, timings, stats,
                       {"valid": c.valid, "invalid": c.invalid, "cache_hits": c.cache_hits},
-                      getattr(p, "last_search", None), scene)
+                      p.last_search if isinstance(p, RegraspPlanner) else None, scene)
 
 
 def _planner_for(problem: Any, planner: str, *, seed: int, config: RegraspConfig,
-                 resume: Any, start_grasp: int | None) -> tuple[Any, RegraspConfig]:
-    """The planner named ``planner`` set up on ``problem``, and the configuration it uses."""
-    p = make_planner(planner, problem, seed=seed, config=config)
+                 resume: Resume) -> tuple[Any, RegraspConfig]:
+    """The planner named ``planner`` set up on ``problem``, and the configuration it uses.
+
+    The regrasp planner starts from ``resume`` (it keeps the search only for this checker
+    and goal).
+    """
+    p = make_planner(planner, problem, seed=seed, config=config, resume=resume)
     if isinstance(p, RegraspPlanner):
         config = p.config
-        p.start_grasp = start_grasp
-        p.last_search = resume  # the planner keeps it only for this checker and goal
     problem.setup.setPlanner(p)
     problem.setup.setup()
     return p, config
@@ -223,7 +228,7 @@ def _stopped_in_setup(scene: Scene | str | os.PathLike, planner: str, seed: int,
 def plan_from_route(scene: Scene, checker: PivotChecker, states: list[State], *,
                     planner: str, seed: int, time_limit: float, timings: dict[str, float],
                     stats: dict[str, Any], config: RegraspConfig | None = None,
-                    bound: bool = False, search: Any = None) -> PlanResult:
+                    bound: bool = False, search: RegraspSearch | None = None) -> PlanResult:
     """A solved :class:`PlanResult` of a route found without OMPL's ``solve`` (a repair).
 
     The plan is written from ``checker``'s checks of the route's edges as :func:`plan`

@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass, field
+from typing import Protocol
 
 #: Default price of one regrasp (s), beyond its execution time. A release and re-grasp is the
 #: riskiest moment of the task on a real humanoid: the box is set down and tilted again, the
@@ -27,17 +28,38 @@ from dataclasses import dataclass, field
 REGRASP_COST = 300.0
 
 
+class _Turn(Protocol):
+    """A pivot rotation, as far as its price is concerned."""
+
+    @property
+    def angle(self) -> float:
+        """Signed rotation angle (rad)."""
+
+
+class _Turns(Protocol):
+    """A pivot sequence, as far as its price is concerned."""
+
+    @property
+    def rotations(self) -> Iterable[_Turn]:
+        """The rotations in order."""
+
+
 @dataclass(frozen=True)
 class DurationModel:
     """Seconds of whole-body motion per plan element (the HRP-2 generator's defaults).
 
-    Fitted by :func:`pivot_ompl.wholebody.durations.fit_duration_model` (least squares per
-    pivot step and per transit, the transfer remainder's mean) to a motion of the fig10 demo
-    plan made by :mod:`pivot_ompl.wholebody` with its default timing and walking settings; the
-    fit gives that motion's duration back. The robot walks the pivot steps of a transfer
-    continuously, two or three steps a pivot, so a rotation costs mostly by itself and
-    little by its angle; a metre walked alone costs 10 s because the planned walks are often
-    sideways or backward.
+    The defaults are produced by ``python benchmarks/duration_model.py`` (scenes ``fig10``,
+    ``slot`` and ``door``, seed 0; rounded to 0.1 s): it plans the scenes, makes their motions
+    with :mod:`pivot_ompl.wholebody` (default timing, the scene's walk model) and fits
+    :func:`pivot_ompl.wholebody.durations.fit_duration_model` (least squares per pivot step
+    and per transit, the transfer remainder's mean) to the three motions at once.
+    ``tests/wholebody/test_duration_model.py`` holds each plan's estimate within 5 % of its
+    motion (fig10 734.5 s for 728.8 s, slot 301.2 for 311.2, door 552.1 for 557.8). The
+    robot walks the pivot steps of a transfer continuously, two or three steps a pivot, so a
+    rotation costs mostly by itself and little by its angle; a metre walked alone costs 10 s
+    because the planned walks are often sideways or backward. Pivots that move the robot
+    farther than its step (a deeper box: the 0.6 m of ``corridor``) take a step more, which
+    the model does not see (``corridor``'s motion is 268 s, its estimate 244 s).
 
     Attributes:
         per_transfer: a transfer phase's fixed part: reaching, tilting, setting down,
@@ -49,10 +71,20 @@ class DurationModel:
     """
 
     per_transfer: float = 5.1
-    per_pivot: float = 2.0
-    per_radian: float = 2.4
-    per_transit: float = 2.3
-    per_walk_m: float = 10.1
+    per_pivot: float = 2.3
+    per_radian: float = 0.7
+    per_transit: float = 0.2
+    per_walk_m: float = 10.3
+
+    def seconds(self, *, transfers: int, pivots: int, turned: float, transits: int,
+                walked: float) -> float:
+        """Seconds of a plan of ``transfers`` and ``transits`` phases.
+
+        ``pivots`` rotations turning ``turned`` rad in all, ``walked`` m walked alone.
+        """
+        return (self.per_transfer * transfers + self.per_pivot * pivots
+                + self.per_radian * turned + self.per_transit * transits
+                + self.per_walk_m * walked)
 
 
 @dataclass(frozen=True)
@@ -76,6 +108,14 @@ class CostModel:
             n += 1
             turned += abs(a)
         return d.per_pivot * n + d.per_radian * turned
+
+    def sequence(self, sequence: _Turns) -> float:
+        """Seconds of a transfer's pivot sequence (:meth:`rotations` of its angles)."""
+        return self.rotations(r.angle for r in sequence.rotations)
+
+    def plan_cost(self, seconds: float, regrasps: int) -> float:
+        """The cost of a plan of ``seconds`` of execution and ``regrasps`` regrasps (s)."""
+        return seconds + self.regrasp * regrasps
 
     def push_rate(self, half_length: float, alpha_max: float) -> float:
         """Seconds per metre of a straight push by full alternating rotations.

@@ -46,6 +46,8 @@ from pivot_ompl.errors import InputError, PlanningError
 from pivot_ompl.grasp import check_grasp
 from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
 from pivot_ompl.planners.config import RegraspConfig
+from pivot_ompl.planners.evaluation import Evaluator
+from pivot_ompl.planners.regrasp_search import RegraspSearch
 from pivot_ompl.planners.repair import State, polish, repair_route, route_of
 from pivot_ompl.scene import Obstacle, Scene, check_pose, load_scene, obstacles_from_list
 
@@ -92,7 +94,7 @@ class PlanningSession:
         self._stored = stored_motions(executing, self._route) if self._route and \
             executing is not None else StoredMotions()
         self._checker: PivotChecker | None = None
-        self._search: Any = None
+        self._search: RegraspSearch | None = None
 
     def plan(self, *, time_limit: float = 30.0, seed: int | None = None) -> PlanResult:
         """Plan the scene from its start (or continue from the last observed state)."""
@@ -140,8 +142,6 @@ class PlanningSession:
             kept = fresh.adopt(self._checker, added=added, removed=gone)
             log.info("replanning: %d checked motions kept after the change", kept)
             self._checker, self._search = fresh, None  # the roadmaps grew among the old ones
-        elif self._checker is not None:
-            self._checker.scene = scene
         started = time.monotonic()
         res = self._repaired(scene, start, grasp, time_limit, seed)
         if res is None:
@@ -165,8 +165,7 @@ class PlanningSession:
             return None  # no route, or one to another goal
         if self._checker is None:
             self._checker = self._new_checker(scene)
-        checker = self._checker
-        checker.scene = scene
+        checker = self._checker  # the scene's geometry: only its start differs
         if not checker.box_valid(box) or (grasp is not None and
                                           not checker.state_valid(box, grasp)):
             return None  # the search reports the invalid start
@@ -175,18 +174,21 @@ class PlanningSession:
         def stop() -> bool:
             return time.monotonic() > deadline
 
-        rep = repair_route(checker, self._route, box, grasp, should_stop=stop,
-                           seed=self.seed if seed is None else seed)
-        if rep is None:
+        found = repair_route(checker, self._route, box, grasp, should_stop=stop,
+                             seed=self.seed if seed is None else seed)
+        if found.path is None:  # none, or the half of the time ran out: the search's turn
             return None
+        rep = found.path
         states, new = rep.states, len(rep.states) - rep.kept_edges
+        config = self.config or RegraspConfig()
         if grasp is not None and states[0][1] != grasp:  # the robot walks to the route's grasp
-            if not checker.transit(box, grasp, states[0][1], should_stop=stop).valid:
+            walk = Evaluator(checker, config.cost).walk(box, grasp, states[0][1],
+                                                       should_stop=stop)
+            if not walk.valid:  # invalid, or stopped: the search gets the rest of the time
                 return None
             states, new = [(box, grasp), *states], new + 1
         # polished from the held grasp (a walk to another is priced as any), else from any
-        states = polish(checker, states, self.config or RegraspConfig(), should_stop=stop,
-                        new=new, held=grasp is not None)
+        states = polish(checker, states, config, should_stop=stop, new=new, start_grasp=grasp)
         t1 = time.perf_counter()
         stats = {"repaired": True, "joined_edge": rep.joined, "join_edges_tried": rep.tried,
                  "kept_edges": rep.kept_edges, "time": t1 - t0}

@@ -149,7 +149,7 @@ def run_extras(scene: Any, problem: Any, planner: Any, seed: int | None = None) 
     from pivot_ompl.base.path_conversion import path_to_plan
     from pivot_ompl.base.state import read_state
     from pivot_ompl.errors import PivotError
-    from pivot_ompl.planfile import plan_quality
+    from pivot_ompl.quality import plan_quality
 
     vals: dict[str, Any] = {}
     if seed is not None:

@@ -15,12 +15,11 @@ from typing import Any
 
 from pivot_ompl.checking.stored import StoredMotions, stored_rotations, stored_walk
 from pivot_ompl.checking.transfer_check import EdgeResult, TransferCheck
-from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import BoxGraspModel
-from pivot_ompl.pivoting.steering import PivotSequence, PivotSteering
+from pivot_ompl.pivoting.steering import PivotSteering
 from pivot_ompl.scene import Obstacle, Scene
 from pivot_ompl.se2 import Pose
-from pivot_ompl.transit.planner import INVALID_WALK, WalkPlanner, WalkResult
+from pivot_ompl.transit.planner import WalkPlanner, WalkResult
 from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import CollisionWorld
 from pivot_ompl.validity.footprints import obstacle_footprint
@@ -48,7 +47,10 @@ class PivotChecker:
     """States, transfer edges and transit walks of one scene, with their caches.
 
     Args:
-        scene: the planning problem.
+        scene: the geometry checked (obstacles, bounds, box, robot, steering); a checker
+            serves every problem on it, whatever their start (a replan from an observed
+            pose keeps the checker and its caches). A change of obstacles needs a new
+            checker (:meth:`adopt` takes over what it can).
         seed: kept for callers that record it (the checks are deterministic).
         tolerance: swept-check tolerance (m): no point of a body moves farther than this
             between two certified samples.
@@ -150,8 +152,13 @@ class PivotChecker:
 
         With ``with_robot=False`` only the box is checked (the object roadmap of the
         Visibility PRM, where the robot is considered separately). ``should_stop`` is polled
-        by the steering once per path piece; an edge whose check it stops is invalid and not
-        cached (a later call checks it).
+        by the steering once per path piece.
+
+        Raises:
+            Interrupted: ``should_stop()`` stopped the check before it knew: the edge is
+                neither valid nor invalid, and nothing is cached (a later call checks it).
+                The planners ask through :class:`~pivot_ompl.planners.evaluation.Evaluator`,
+                which answers ``STOPPED``.
         """
         m = self.model
 
@@ -168,12 +175,7 @@ class PivotChecker:
             return self.transfers.check(ca, cb, grasp, with_robot=with_robot,
                                         should_stop=should_stop)
 
-        try:
-            return self._cached(self._edges, (obj_a, obj_b, grasp, with_robot), compute)
-        except Interrupted:
-            length = self.steering.paths.distance(obj_a, obj_b)
-            return EdgeResult(False, PivotSequence(obj_a, obj_b, (), length, 0), length,
-                              "interrupted by the termination condition")
+        return self._cached(self._edges, (obj_a, obj_b, grasp, with_robot), compute)
 
     def _cached(self, cache: dict, key: tuple, compute: Callable[[], Any]) -> Any:
         """A motion result from ``cache``, or computed, stored and counted."""
@@ -240,7 +242,9 @@ class PivotChecker:
                 should_stop: Callable[[], bool] | None = None) -> WalkResult:
         """The robot's walk between two grasps of the box resting at ``obj`` (cached).
 
-        A walk whose search ``should_stop`` stops is invalid and not cached.
+        Raises:
+            Interrupted: ``should_stop()`` stopped the walk's search before it knew (nothing
+                cached; see :meth:`transfer`).
         """
         def compute() -> WalkResult:
             offered = self._offered.walks.get((obj, from_grasp, to_grasp))
@@ -252,10 +256,7 @@ class PivotChecker:
                     return res
             return self.walker.plan(obj, from_grasp, to_grasp, should_stop=should_stop)
 
-        try:
-            return self._cached(self._walks, (obj, from_grasp, to_grasp), compute)
-        except Interrupted:
-            return INVALID_WALK
+        return self._cached(self._walks, (obj, from_grasp, to_grasp), compute)
 
     def spin_radius(self, grasp: int) -> float:
         """Farthest point (m) of the box and the holding robot from the car at ``grasp``."""

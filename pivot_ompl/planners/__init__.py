@@ -17,9 +17,9 @@ from pivot_ompl.planners.registry import (
     parse_spec,
     planner_spec,
 )
-from pivot_ompl.planners.regrasp import RegraspPlanner
+from pivot_ompl.planners.regrasp import RegraspPlanner, Resume
 from pivot_ompl.planners.visprm import VisibilityPRM
 
 __all__ = ["OMPL_PLANNERS", "PLANNERS", "REFUSED", "Allocator", "RegraspConfig",
-           "RegraspPlanner", "VisibilityPRM", "check_planner_name", "make_planner", "parse_spec",
-           "planner_spec"]
+           "RegraspPlanner", "Resume", "VisibilityPRM", "check_planner_name", "make_planner",
+           "parse_spec", "planner_spec"]

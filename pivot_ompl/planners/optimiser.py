@@ -43,6 +43,7 @@ import numpy as np
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
+from pivot_ompl.planners.evaluation import Evaluator, Found, Status, lazy_search
 from pivot_ompl.se2 import Pose, wrap_angle
 
 log = logging.getLogger(__name__)
@@ -220,41 +221,11 @@ def _waypoints(states: list[State]) -> tuple[list[Pose], list[tuple[int, int]]]:
     return poses, nodes
 
 
-def path_cost(checker: PivotChecker, states: list[State], costs: CostModel) -> float:
-    """Cost of a path (s, :class:`~pivot_ompl.cost.CostModel`); ``inf`` if an edge is invalid."""
-    total = 0.0
-    for (pa, ga), (pb, gb) in zip(states, states[1:], strict=False):
-        if ga == gb:
-            e = checker.transfer(pa, pb, ga)
-            if not e.valid:
-                return math.inf
-            total += costs.rotations(r.angle for r in e.sequence.rotations)
-        else:
-            w = checker.transit(pa, ga, gb)
-            if not w.valid or pa != pb:
-                return math.inf
-            total += costs.regrasp_seconds(w.length)
-    return total
-
-
-def budgeted(should_stop: Callable[[], bool], checker: PivotChecker, *,
-             share: float = CHECK_SHARE, minimum: int = MIN_CHECKS) -> Callable[[], bool]:
-    """``should_stop``, or ``share`` x the motion checks done so far computed from now on.
-
-    Counts, not seconds: the optimisation of a seeded run is the same on any machine. At
-    least ``minimum`` checks are allowed.
-    """
-    c = checker.counters
-    start = c.valid + c.invalid
-    limit = max(minimum, share * start)
-    return lambda: should_stop() or (c.valid + c.invalid - start) > limit
-
-
 def optimise(checker: PivotChecker, states: list[State], *,
              should_stop: Callable[[], bool], costs: CostModel | None = None,
              grasps: tuple[int, ...] = (0, 1, 2, 3), reach: float = SHORTCUT_REACH,
-             stats: OptimiseStats | None = None, start_grasp: bool = False,
-             end_grasp: bool = False) -> list[State]:
+             stats: OptimiseStats | None = None, start_grasp: int | None = None,
+             end_grasp: int | None = None) -> list[State]:
     """The cheapest path over the waypoints of ``states`` found before ``should_stop``.
 
     Args:
@@ -267,10 +238,10 @@ def optimise(checker: PivotChecker, states: list[State], *,
         reach: longest shortcut (m, :data:`SHORTCUT_REACH`); the input's own transfers are
             kept whatever their length.
         stats: filled with what was done, if given.
-        start_grasp: the path starts with the grasp ``states`` starts with (the robot holds
-            the box with it: a walk to another is priced); by default with any.
-        end_grasp: the path ends with the grasp ``states`` ends with (a part of a longer
-            path, which goes on from there); by default with any.
+        start_grasp: the grasp the path starts with (the robot holds the box with it: a
+            walk to another is priced); ``None``: any.
+        end_grasp: the grasp the path ends with (a part of a longer path, which goes on
+            from there); ``None``: any.
 
     Returns:
         A valid path from the same start pose to the same goal pose, never costlier than
@@ -283,21 +254,20 @@ def optimise(checker: PivotChecker, states: list[State], *,
         return list(states)
     poses, given = _waypoints(states)
     st.waypoints = len(poses)
-    before = path_cost(checker, states, w)
+    evaluate = Evaluator(checker, w)
+    before = evaluate.path(states).cost
     st.cost_before = st.cost_after = before
     if not math.isfinite(before) or len(poses) < 2:
         return list(states)
     graph = _Graph(checker, poses, w, tuple(sorted(set(grasps) | {g for _, g in states})),
-                   reach=reach, end_grasp=states[-1][1] if end_grasp else None,
-                   start_grasp=states[0][1] if start_grasp else None)
+                   reach=reach, end_grasp=end_grasp, start_grasp=start_grasp)
     # the input's own edges are checked (cache hits): the DP over checked edges finds it
     for (i, g), (j, h) in zip(given, given[1:], strict=False):
         if g == h:
-            graph.transfer[(i, j, g)] = w.rotations(
-                r.angle for r in checker.transfer(poses[i], poses[j], g).sequence.rotations)
+            graph.transfer[(i, j, g)] = evaluate.transfer(poses[i], poses[j], g).cost
         else:
-            graph.walk[(i, g, h)] = w.regrasp_seconds(checker.transit(poses[i], g, h).length)
-    _lazy_rounds(graph, should_stop, st)
+            graph.walk[(i, g, h)] = evaluate.walk(poses[i], g, h).cost
+    _lazy_rounds(graph, evaluate, should_stop, st)
     cost, nodes = graph.cheapest(optimistic=False)
     result = list(states)
     if nodes and cost < before - 1e-9:
@@ -311,62 +281,68 @@ def optimise(checker: PivotChecker, states: list[State], *,
     return result
 
 
-def _lazy_rounds(graph: _Graph, stop: Callable[[], bool], st: OptimiseStats) -> None:
+def _lazy_rounds(graph: _Graph, evaluate: Evaluator, stop: Callable[[], bool],
+                 st: OptimiseStats) -> None:
     """Cheapest optimistic path, check its unchecked edges, repeat until all are checked."""
-    ck = graph.checker
-    poses = graph.poses
-    while not stop():
-        st.rounds += 1
-        _cost, nodes = graph.cheapest(optimistic=True)
-        pending = []
-        for (i, g), (j, h) in zip(nodes, nodes[1:], strict=False):
-            key = (i, j, g) if g == h else (i, g, h)
-            table = graph.transfer if g == h else graph.walk
-            if key not in table:
-                pending.append((g == h, key))
-        if not pending:
-            st.optimal = True
-            return
-        # a shortcut whose path crosses an obstacle is refused at once: every one of the
-        # path's, before any full check (one round refutes them all)
-        refuted = False
-        for is_transfer, key in pending:
-            if not is_transfer or key in graph.filtered:
-                continue
-            i, j, g = key
-            if ck.path_free(poses[i], poses[j], g):
-                graph.filtered.add(key)
-            else:
-                st.transfers_checked += 1
-                graph.transfer[key] = None
-                refuted = True
-        if refuted:
-            continue
-        # the transfers (cheaper) first: a walk is computed only when every transfer of the
-        # candidate path holds, as in the search (measured: the optimiser's time -43 %)
-        pending.sort(key=lambda e: not e[0])
-        for is_transfer, key in pending:
-            if stop():
-                return
-            c: float | None = None
-            if is_transfer:
-                i, j, g = key
-                st.transfers_checked += 1
-                e = ck.transfer(poses[i], poses[j], g, should_stop=stop)
-                if stop() and not e.valid:  # interrupted: unknown, not invalid
-                    return
-                c = graph.costs.rotations(r.angle for r in e.sequence.rotations) \
-                    if e.valid else None
-                graph.transfer[key] = c
-            else:
-                i, g, h = key
-                st.walks_checked += 1
-                walk = ck.transit(poses[i], g, h, should_stop=stop)
-                if stop() and not walk.valid:  # interrupted: unknown, not invalid
-                    return
-                if walk.valid:
-                    c = graph.costs.regrasp_seconds(walk.length)
-                graph.walk[key] = c
-            if c is None:
-                break  # the path is broken: find the next cheapest
 
+    def cheapest() -> Found[list[tuple[int, int]]]:
+        st.rounds += 1
+        return Found(Status.VALID, graph.cheapest(optimistic=True)[1])
+
+    lazy_search(cheapest, lambda nodes: _check_round(graph, evaluate, nodes, stop, st), stop)
+
+
+def _check_round(graph: _Graph, evaluate: Evaluator, nodes: list[tuple[int, int]],
+                 stop: Callable[[], bool], st: OptimiseStats) -> Status:
+    """Check the unchecked edges of the cheapest optimistic path ``nodes``.
+
+    ``VALID`` when every edge was checked already (the path is optimal), ``INVALID`` when
+    edges were checked (the next round searches over what they cost), ``STOPPED``.
+    """
+    poses = graph.poses
+    pending = []
+    for (i, g), (j, h) in zip(nodes, nodes[1:], strict=False):
+        key = (i, j, g) if g == h else (i, g, h)
+        table = graph.transfer if g == h else graph.walk
+        if key not in table:
+            pending.append((g == h, key))
+    if not pending:
+        st.optimal = True
+        return Status.VALID
+    # a shortcut whose path crosses an obstacle is refused at once: every one of the
+    # path's, before any full check (one round refutes them all)
+    refuted = False
+    for is_transfer, key in pending:
+        if not is_transfer or key in graph.filtered:
+            continue
+        i, j, g = key
+        if graph.checker.path_free(poses[i], poses[j], g):
+            graph.filtered.add(key)
+        else:
+            st.transfers_checked += 1
+            graph.transfer[key] = None
+            refuted = True
+    if refuted:
+        return Status.INVALID
+    # the transfers (cheaper) first: a walk is computed only when every transfer of the
+    # candidate path holds, as in the search (measured: the optimiser's time -43 %)
+    pending.sort(key=lambda e: not e[0])
+    for is_transfer, key in pending:
+        if stop():
+            return Status.STOPPED
+        if is_transfer:
+            i, j, g = key
+            st.transfers_checked += 1
+            e = evaluate.transfer(poses[i], poses[j], g, should_stop=stop)
+            table = graph.transfer
+        else:
+            i, g, h = key
+            st.walks_checked += 1
+            e = evaluate.walk(poses[i], g, h, should_stop=stop)
+            table = graph.walk
+        if e.status is Status.STOPPED:
+            return e.status
+        table[key] = e.cost if e.valid else None
+        if not e.valid:
+            break  # the path is broken: find the next cheapest
+    return Status.INVALID

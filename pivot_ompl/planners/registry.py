@@ -18,7 +18,7 @@ from ompl import geometric as og
 from pivot_ompl.base.problem import PivotProblem
 from pivot_ompl.errors import InputError
 from pivot_ompl.planners.config import RegraspConfig
-from pivot_ompl.planners.regrasp import RegraspPlanner
+from pivot_ompl.planners.regrasp import RegraspPlanner, Resume
 from pivot_ompl.planners.visprm import VisibilityPRM
 
 #: An allocator: ``(problem, seed) -> planner`` on ``problem.si``.
@@ -87,10 +87,12 @@ def planner_spec(name: str, values: dict[str, object]) -> str:
 
 
 def make_planner(name: str, problem: PivotProblem, *, seed: int = 0,
-                 config: RegraspConfig | None = None) -> ob.Planner:
+                 config: RegraspConfig | None = None, resume: Resume | None = None
+                 ) -> ob.Planner:
     """Allocate planner ``name`` (a spec, see the module docstring) on ``problem``.
 
-    ``config``: the regrasp planner's base configuration, which a spec's values override.
+    ``config``: the regrasp planner's base configuration, which a spec's values override;
+    ``resume``: the held grasp and the earlier search the regrasp planner starts from.
 
     Raises:
         InputError: unknown or refused planner name, bad parameters (the message says why).
@@ -99,7 +101,8 @@ def make_planner(name: str, problem: PivotProblem, *, seed: int = 0,
     if base == "regrasp":
         cfg = (config or RegraspConfig()).with_values(values)
         label = "RegraspPlanner" + (name[len(base):] if values else "")
-        return RegraspPlanner(problem.si, problem.checker, seed=seed, config=cfg, name=label)
+        return RegraspPlanner(problem.si, problem.checker, seed=seed, config=cfg, name=label,
+                              resume=resume)
     return PLANNERS[base](problem, seed)
 
 

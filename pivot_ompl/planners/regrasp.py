@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import logging
 import time
-from dataclasses import asdict
+from dataclasses import asdict, dataclass
 from typing import Any
 
 import numpy as np
@@ -17,6 +17,22 @@ from pivot_ompl.planners.guarded import GuardedPlanner, states_to_path
 from pivot_ompl.planners.regrasp_search import RegraspSearch
 
 log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class Resume:
+    """What a (re)plan starts from, passed to :class:`RegraspPlanner` when it is made.
+
+    Attributes:
+        start_grasp: the grasp the robot holds the box with at the start: every path starts
+            with it (other grasps at the start are reached by walks, priced and checked as
+            any regrasp); ``None``: any valid grasp.
+        search: an earlier search with the same checker and goal, whose roadmaps and caches
+            serve again from the new start (replanning); ``None``: a new search.
+    """
+
+    start_grasp: int | None = None
+    search: RegraspSearch | None = None
 
 
 class RegraspPlanner(GuardedPlanner):
@@ -37,21 +53,24 @@ class RegraspPlanner(GuardedPlanner):
         seed: seed of the planner's generator (runs are deterministic for a seed).
         config: the planner's configuration (:class:`~pivot_ompl.planners.config.RegraspConfig`).
         name: the planner's name in OMPL (benchmark logs tell configurations apart by it).
+        resume: the held grasp and the earlier search to continue (:class:`Resume`).
 
     Attributes:
-        start_grasp: the grasp every path starts with (other grasps at the start are reached
-            by walks, priced and checked as any regrasp); ``None``: any valid grasp.
+        start_grasp: the grasp every path starts with (:attr:`Resume.start_grasp`).
+        last_search: the search of the last ``solve`` (the one to resume first).
     """
 
     def __init__(self, si: ob.SpaceInformation, checker: PivotChecker, *, seed: int = 0,
-                 config: RegraspConfig | None = None, name: str = "RegraspPlanner") -> None:
+                 config: RegraspConfig | None = None, name: str = "RegraspPlanner",
+                 resume: Resume | None = None) -> None:
         """Create the planner."""
         super().__init__(si, name)
+        r = resume or Resume()
         self.config = config or RegraspConfig()
         self.checker = checker
         self.seed = seed
-        self.last_search: RegraspSearch | None = None
-        self.start_grasp: int | None = None
+        self.last_search: RegraspSearch | None = r.search
+        self.start_grasp: int | None = r.start_grasp
         self.stats: dict[str, Any] = {}
 
     def clear(self) -> None:  # noqa: D102

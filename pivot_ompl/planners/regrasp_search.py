@@ -32,6 +32,8 @@ import shapely
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planners.config import RegraspConfig
+from pivot_ompl.planners.evaluation import Found, Status
+from pivot_ompl.planners.improve import Budget, ImproveStats, improve
 from pivot_ompl.planners.multiplex.graph import MultiplexedGraph, Node
 from pivot_ompl.planners.multiplex.search import PathSearch
 from pivot_ompl.planners.objects.bridge import BridgeTest
@@ -41,14 +43,19 @@ from pivot_ompl.planners.objects.roadmap import PoseIndex, Roadmap, canonical
 from pivot_ompl.planners.objects.samplers import PoseSampler
 from pivot_ompl.planners.objects.slots import door_poses, doors, slot_poses, slots
 from pivot_ompl.planners.objects.visibility import VisibilityRoadmap
-from pivot_ompl.planners.optimiser import budgeted, optimise
 from pivot_ompl.planners.routes.lattice import TransferLattice
-from pivot_ompl.planners.routes.refine import RefineStats, refine
 from pivot_ompl.planners.single_grasp import SingleGraspConnect
 from pivot_ompl.se2 import Pose
 
 Stop = Callable[[], bool]
 State = tuple[Pose, int]
+#: No path yet: the roadmaps must grow before a search can find one.
+NOT_YET: Found[list[Node]] = Found(Status.INVALID)
+
+
+def _searching(found: Found[list[Node]], should_stop: Stop) -> bool:
+    """The search goes on: no path yet, and time left."""
+    return found.status is Status.INVALID and not should_stop()
 
 
 @dataclass
@@ -136,7 +143,7 @@ class RegraspSearch:
         self.paths = PathSearch(checker, self.graph, goal, weight=se.weight)
         self.stats = RegraspStats()
         self.lattice: TransferLattice | None = None
-        self.refine = RefineStats()
+        self.improved = ImproveStats()
         self._started = False
         self._goal_node = -1
         self._since = 0  # object nodes multiplexed since the last search
@@ -246,35 +253,35 @@ class RegraspSearch:
         try:
             for g in grasps:
                 rrt = SingleGraspConnect(ck, self.start, self.goal, g, rng, step=cfg.step)
-                poses = rrt.run(share, should_stop)
+                found = rrt.run(share, should_stop)
                 self.stats.single_grasp_checks += rrt.checks
-                if poses:
+                if found.path is not None:
                     self.stats.single_grasp_solved = True
-                    return [(q, g) for q in poses]
+                    return [(q, g) for q in found.path]
             return []
         finally:
             self.stats.time_single_grasp += time.perf_counter() - t0
 
-    def _grown(self, should_stop: Stop) -> list[Node]:
+    def _grown(self, should_stop: Stop) -> Found[list[Node]]:
         """Multiplex the new object nodes; search every ``search.every`` that gave some."""
         self._since += self.graph.multiplex_pending(should_stop)[1]
         if self._since < self.config.search.every:
-            return []
+            return NOT_YET
         self._since = 0
         return self.paths.find(should_stop)
 
-    def _bridge(self, should_stop: Stop) -> list[Node]:
+    def _bridge(self, should_stop: Stop) -> Found[list[Node]]:
         """One round of bridge tests; the passage's nodes added and searched at once."""
         nodes = self.bridge.passage(should_stop)
         if not nodes:
-            return []
+            return NOT_YET
         self.stats.passage_nodes += 1
         for q in nodes:
             self.roadmap.add(q, "passage")
         return self.paths.find(should_stop) if self.graph.multiplex_pending(should_stop)[0] \
-            else []
+            else NOT_YET
 
-    def _diffuse(self, should_stop: Stop) -> list[Node]:
+    def _diffuse(self, should_stop: Stop) -> Found[list[Node]]:
         """One diffusion step (or a bridge test, with probability ``bridge_bias``)."""
         if self.rng.uniform() < self.config.sampling.bridge_bias:
             return self._bridge(should_stop)
@@ -283,7 +290,7 @@ class RegraspSearch:
         near = rm.poses[rm.nearest(q, 1)[0]]
         qn = self.diffusion.extend(near, q)
         if qn == near:
-            return []
+            return NOT_YET
         rm.add(canonical(qn), "diffusion")
         self.stats.diffusion_nodes += 1
         return self._grown(should_stop)
@@ -300,21 +307,22 @@ class RegraspSearch:
                 direct = self._optimised(direct, should_stop)
                 self._fill_stats()
                 return direct
-        path = self.paths.find(should_stop)
+        found = self.paths.find(should_stop)
         n = 0
         cap = self._visibility_samples()
-        while not path and not should_stop() and not self.visibility.done and n < cap:
+        while _searching(found, should_stop) and not self.visibility.done and n < cap:
             n += 1
             self.visibility.step(should_stop)
-            path = self._grown(should_stop)
+            found = self._grown(should_stop)
         self.stats.time_visibility += time.perf_counter() - t0
         for _ in range(sc.bridge_rounds if self.stats.passage_nodes == 0 else 0):
-            if path or should_stop():
+            if not _searching(found, should_stop):
                 break
-            path = self._bridge(should_stop)
-        while not path and not should_stop():
-            path = self._diffuse(should_stop)
-        states = self._optimised(self.graph.express(path), should_stop) if path else []
+            found = self._bridge(should_stop)
+        while _searching(found, should_stop):
+            found = self._diffuse(should_stop)
+        states = self._optimised(self.graph.express(found.path), should_stop) \
+            if found.path else []
         self._fill_stats()
         return states
 
@@ -330,30 +338,24 @@ class RegraspSearch:
         return max(sc.max_visibility_samples, math.ceil(area / sc.visibility_area))
 
     def _optimised(self, states: list[State], should_stop: Stop) -> list[State]:
-        """The path's phases re-planned on the lattice, then the path optimiser.
+        """The path improved (:func:`~.improve.improve`) from the held grasp, if any.
 
-        Each within its budget of motion checks (a share of those planning made).
+        Each step within its budget of motion checks (a share of those planning made).
         """
         cfg = self.config.optimiser
         if not cfg.enabled:
             return states
         t1 = time.perf_counter()
-        ck, costs = self.checker, self.config.cost
-        held = self.start_grasp is not None  # the path keeps its first grasp
-
-        def budget(share: float = cfg.check_share) -> Stop:
-            return budgeted(should_stop, ck, share=share, minimum=cfg.min_checks)
-
-        if cfg.routes:
-            if self.lattice is None:
-                self.lattice = TransferLattice(ck, costs, region=self.sampler.region())
-            t2 = time.perf_counter()
-            states = refine(ck, self.lattice, states, costs=costs,
-                            should_stop=budget(cfg.route_share), stats=self.refine,
-                            start_grasp=held)
-            self.stats.time_routes += time.perf_counter() - t2
-        states = optimise(ck, states, grasps=self.config.grasps, should_stop=budget(),
-                          costs=costs, start_grasp=held)
+        if cfg.routes and self.lattice is None:
+            self.lattice = TransferLattice(self.checker, self.config.cost,
+                                           region=self.sampler.region())
+        routes_before = self.improved.routes_seconds
+        states = improve(self.checker, states, self.config, should_stop=should_stop,
+                         routes=Budget(share=cfg.route_share, minimum=cfg.min_checks),
+                         optimiser=Budget(share=cfg.check_share, minimum=cfg.min_checks),
+                         start_grasp=self.start_grasp, lattice=self.lattice,
+                         stats=self.improved)
+        self.stats.time_routes += self.improved.routes_seconds - routes_before
         self.stats.time_optimise += time.perf_counter() - t1
         return states
 
@@ -371,5 +373,5 @@ class RegraspSearch:
         s.edges_checked = self.paths.edges_checked
         s.edges_invalid = self.paths.edges_invalid
         s.time_search = self.paths.seconds
-        s.refined = self.refine.applied
-        s.regrasps_turned = self.refine.regrasps_removed
+        s.refined = self.improved.refine.applied
+        s.regrasps_turned = self.improved.refine.regrasps_removed

@@ -21,7 +21,7 @@ When the box is observed off the route (a drift, a slip) or the obstacles change
    (:class:`~pivot_ompl.planners.single_grasp.SingleGraspConnect`, :data:`DETOUR_CHECKS`
    motion checks) to each of a few join points further on gives the detour.
 
-It gives up (``None``) when no join point qualifies: the caller plans afresh. No edge is kept
+It gives up (``INVALID``) when no join point qualifies: the caller plans afresh. No edge is kept
 unchecked against the current obstacles, and the route ends where it ended (the goal).
 """
 
@@ -35,10 +35,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.cost import CostModel
 from pivot_ompl.planners.config import RegraspConfig
-from pivot_ompl.planners.optimiser import optimise
+from pivot_ompl.planners.evaluation import Evaluator, Found, Status
+from pivot_ompl.planners.improve import Budget, improve
 from pivot_ompl.planners.routes.lattice import TransferLattice
-from pivot_ompl.planners.routes.refine import refine
 from pivot_ompl.planners.single_grasp import SingleGraspConnect
 from pivot_ompl.se2 import Pose
 
@@ -46,6 +47,7 @@ log = logging.getLogger(__name__)
 
 State = tuple[Pose, int]
 Stop = Callable[[], bool]
+STOPPED: Found[RouteRepair] = Found(Status.STOPPED)
 
 #: Spacing (m) of the join points along a route's transfer edges (car's Reeds-Shepp path).
 JOIN_STEP = 0.25
@@ -133,16 +135,10 @@ def join_points(checker: PivotChecker, route: Sequence[State], *,
     return out
 
 
-def _edge_valid(checker: PivotChecker, a: State, b: State, stop: Stop | None) -> bool:
-    if a[1] != b[1]:
-        return checker.transit(a[0], a[1], b[1], should_stop=stop).valid
-    return checker.transfer(a[0], b[0], a[1], should_stop=stop).valid
-
-
 def repair_route(checker: PivotChecker, route: Sequence[State], box: Pose,
                  grasp: int | None = None, *, should_stop: Stop | None = None,
                  ahead: float = JOIN_AHEAD, seed: int = 0,
-                 detour_checks: int = DETOUR_CHECKS) -> RouteRepair | None:
+                 detour_checks: int = DETOUR_CHECKS) -> Found[RouteRepair]:
     """The route repaired from the box observed at ``box`` (see the module docstring).
 
     Args:
@@ -151,18 +147,20 @@ def repair_route(checker: PivotChecker, route: Sequence[State], box: Pose,
         box: the observed object pose.
         grasp: the grasp the robot holds the box with: join points at it are preferred
             (the nearest is sought among them when the route has any); ``None``: any.
-        should_stop: polled between checks; stopping gives ``None``.
+        should_stop: polled between checks and passed to them.
         ahead: how far along the route past the nearest join point joins are tried (m).
         seed: seed of the short searches' generator.
         detour_checks: motion checks of each short search.
 
     Returns:
-        The repaired route, or ``None`` when no join point qualifies.
+        ``VALID`` with the repaired route; ``INVALID`` when no join point qualifies (or
+        the box is not free at ``box``); ``STOPPED``.
     """
     stop = should_stop or (lambda: False)
+    evaluate = Evaluator(checker, CostModel())
     route = list(route)
     if len(route) < 2 or not checker.box_valid(box):
-        return None
+        return Found(Status.INVALID)
     points = join_points(checker, route)
     m, paths = checker.model, checker.steering.paths
     held = [p for p in points if p.grasp == grasp] if grasp is not None else []
@@ -176,8 +174,11 @@ def repair_route(checker: PivotChecker, route: Sequence[State], box: Pose,
     last_invalid = first - 1
     for i in range(max(0, first), len(route) - 1):
         if stop():
-            return None
-        if not _edge_valid(checker, route[i], route[i + 1], stop):
+            return STOPPED
+        status = evaluate.step(route[i], route[i + 1], should_stop=stop).status
+        if status is Status.STOPPED:
+            return STOPPED
+        if status is Status.INVALID:
             last_invalid = i
     past = [p for p in points if p.along >= nearest.along and p.edge >= last_invalid]
     ahead_of = [p for p in past if p.along <= past[0].along + ahead] if past else []
@@ -185,39 +186,41 @@ def repair_route(checker: PivotChecker, route: Sequence[State], box: Pose,
     refused: list[JoinPoint] = []
     for p in ahead_of:  # direct joins, nearest first, those the cheap filter passes
         if stop():
-            return None
+            return STOPPED
         at_join = gap(p) <= SAME_POSE
         if not at_join and not checker.path_free(box, p.pose, p.grasp):
             refused.append(p)
             continue
         tried += 1
-        rep = _joined(checker, route, box, [box, p.pose], p, stop, tried, at_join)
-        if rep is not None:
+        rep = _joined(evaluate, route, box, [box, p.pose], p, stop, tried, at_join)
+        if rep.status is not Status.INVALID:
             return rep
     behind = [p for p in reversed(points) if nearest.along - ahead <= p.along < nearest.along
               and p.edge >= last_invalid]
     for p in refused[:REFUSED_CHECKED] + behind[:REFUSED_CHECKED]:
         # the filter may refuse an edge that passes; a box stuck ahead may have to back up
         if stop():
-            return None
+            return STOPPED
         tried += 1
-        rep = _joined(checker, route, box, [box, p.pose], p, stop, tried, False)
-        if rep is not None:
+        rep = _joined(evaluate, route, box, [box, p.pose], p, stop, tried, False)
+        if rep.status is not Status.INVALID:
             return rep
     rng = np.random.default_rng(seed)
     for p in _detour_targets(ahead_of):  # short searches at the route's grasp
         if stop():
-            return None
+            return STOPPED
         rrt = SingleGraspConnect(checker, box, p.pose, p.grasp, rng)
-        poses = rrt.run(detour_checks, stop)
+        found = rrt.run(detour_checks, stop)
         tried += rrt.checks
-        if poses:
-            rep = _joined(checker, route, box, poses, p, stop, tried, False)
-            if rep is not None:
+        if found.status is Status.STOPPED:
+            return STOPPED
+        if found.path is not None:
+            rep = _joined(evaluate, route, box, found.path, p, stop, tried, False)
+            if rep.status is not Status.INVALID:
                 return rep
     log.info("route not repaired: no join point within %.1f m (%d join edges checked, "
              "last invalid edge %d)", ahead, tried, last_invalid)
-    return None
+    return Found(Status.INVALID)
 
 
 def _detour_targets(points: Sequence[JoinPoint]) -> list[JoinPoint]:
@@ -229,71 +232,60 @@ def _detour_targets(points: Sequence[JoinPoint]) -> list[JoinPoint]:
     return out[1:DETOUR_TARGETS + 1] if len(out) > 1 else out
 
 
-def _joined(checker: PivotChecker, route: Sequence[State], box: Pose, poses: Sequence[Pose],
-            p: JoinPoint, stop: Stop, tried: int, at_join: bool) -> RouteRepair | None:
-    """The route joined at ``p`` through ``poses`` (box first, ``p.pose`` last), or ``None``.
+def _joined(evaluate: Evaluator, route: Sequence[State], box: Pose, poses: Sequence[Pose],
+            p: JoinPoint, stop: Stop, tried: int, at_join: bool) -> Found[RouteRepair]:
+    """The route joined at ``p`` through ``poses`` (box first, ``p.pose`` last).
 
-    Every edge of ``poses`` and the rest of ``p``'s edge are checked; ``at_join``: the box is
-    at the join point already (no join edge).
+    Every edge of ``poses`` and the rest of ``p``'s edge are checked (``INVALID`` when one
+    fails, ``STOPPED``); ``at_join``: the box is at the join point already (no join edge).
     """
     g = p.grasp
-    if not checker.state_valid(p.pose, g):
-        return None
+    if not evaluate.checker.state_valid(p.pose, g):
+        return Found(Status.INVALID)
     states: list[State] = [(box, g)]
     if not at_join:
         for a, b in zip(poses, poses[1:], strict=False):
-            if not checker.transfer(a, b, g, should_stop=stop).valid:
-                return None
+            status = evaluate.transfer(a, b, g, should_stop=stop).status
+            if status is not Status.VALID:
+                return Found(status)
             states.append((b, g))
     nxt = p.edge + 1
-    if p.t < 1.0 and not _edge_valid(checker, states[-1], route[nxt], stop):
-        return None
+    if p.t < 1.0:
+        status = evaluate.step(states[-1], route[nxt], should_stop=stop).status
+        if status is not Status.VALID:
+            return Found(status)
     states.extend(route[nxt + 1:] if p.t >= 1.0 else route[nxt:])
     log.info("route repaired: joined edge %d at %.2f through %d poses (%d checks)", p.edge,
              p.t, len(poses), tried)
-    return RouteRepair(states, p.edge, tried, len(route) - 1 - max(nxt, 0))
+    return Found(Status.VALID, RouteRepair(states, p.edge, tried, len(route) - 1 - max(nxt, 0)))
 
 
 def polish(checker: PivotChecker, states: list[State], config: RegraspConfig, *,
            should_stop: Stop, checks_per_state: int = POLISH_CHECKS_PER_STATE,
            lattice: bool = False, new: int | None = None, kept: int = POLISH_KEPT,
-           held: bool = False) -> list[State]:
-    """A repaired route improved as a found path is: lattice re-routing, then the optimiser.
+           start_grasp: int | None = None) -> list[State]:
+    """A repaired route improved as a found path is (:func:`~.improve.improve`).
 
-    The same steps and cost model as the regrasp planner's (:mod:`.routes.refine`,
-    :mod:`.optimiser`; as ``config.optimiser`` enables them), each within a budget of
-    ``checks_per_state`` motion checks per state polished (cache hits free): valid, same
-    ends, never costlier than ``states``. With ``new`` (the repair's own states, first in
-    ``states``; the rest is the old route, polished when it was planned), only the first
-    ``new + kept`` states are polished, to the same last state, grasp included; the rest is
-    kept as it is. ``held``: the robot holds the box with the first state's grasp (the path
-    starts with it; a walk to another is priced).
+    The same steps and cost model as the regrasp planner's (lattice re-routing when
+    ``lattice``, then the optimiser; as ``config.optimiser`` enables them), each within a
+    budget of ``checks_per_state`` motion checks per state polished (cache hits free):
+    valid, same ends, never costlier than ``states``. With ``new`` (the repair's own states,
+    first in ``states``; the rest is the old route, polished when it was planned), only the
+    first ``new + kept`` states are polished, to the same last state, grasp included; the
+    rest is kept as it is. ``start_grasp``: the grasp the robot holds the box with
+    (``states`` starts with it, and so does the result; a walk to another is priced);
+    ``None``: any.
     """
     cfg = config.optimiser
     if not cfg.enabled:
         return states
     head = len(states) if new is None else min(len(states), new + kept)
+    budget = Budget(per_state=checks_per_state, minimum=cfg.min_checks)
+    grid = TransferLattice(checker, config.cost) if lattice and cfg.routes else None
+    part = improve(checker, states[:head], config, should_stop=should_stop, routes=budget,
+                   optimiser=budget, start_grasp=start_grasp,
+                   end_grasp=states[head - 1][1] if head < len(states) else None,
+                   lattice=grid)
     if head < len(states):
-        part = _polished(checker, states[:head], config, should_stop, checks_per_state,
-                         lattice, (held, True))
         return (part if part[-1] == states[head - 1] else states[:head]) + states[head:]
-    return _polished(checker, states, config, should_stop, checks_per_state, lattice,
-                     (held, False))
-
-
-def _polished(checker: PivotChecker, states: list[State], config: RegraspConfig,
-              should_stop: Stop, checks_per_state: int, lattice: bool,
-              fixed: tuple[bool, bool]) -> list[State]:
-    """:func:`polish` of all of ``states``; ``fixed``: from their first, to their last grasp."""
-    cfg = config.optimiser
-    c = checker.counters
-
-    def budget() -> Stop:
-        limit = c.valid + c.invalid + max(cfg.min_checks, checks_per_state * len(states))
-        return lambda: should_stop() or c.valid + c.invalid > limit
-
-    if cfg.routes and lattice:
-        states = refine(checker, TransferLattice(checker, config.cost), states,
-                        costs=config.cost, should_stop=budget())
-    return optimise(checker, states, should_stop=budget(), costs=config.cost,
-                    grasps=config.grasps, start_grasp=fixed[0], end_grasp=fixed[1])
+    return part

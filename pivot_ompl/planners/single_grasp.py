@@ -23,6 +23,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.cost import CostModel
+from pivot_ompl.planners.evaluation import Evaluator, Found, Status
 from pivot_ompl.planners.objects.roadmap import YAW_WEIGHT
 from pivot_ompl.se2 import Pose
 
@@ -83,25 +85,30 @@ class SingleGraspConnect:
     rng: np.random.Generator
     step: float = 1.5
     checks: int = field(default=0, init=False)
+    _evaluate: Evaluator = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         b = self.checker.world.bounds
         self._lo, self._hi = (b[0], b[1]), (b[2], b[3])
         self._a = _Tree(self.start, towards_root=False)
         self._b = _Tree(self.goal, towards_root=True)
+        self._evaluate = Evaluator(self.checker, CostModel())
 
     def _edge(self, tree: _Tree, near: Pose, new: Pose, should_stop: Callable[[], bool]
-              ) -> bool:
+              ) -> Status:
         """Check the transfer between ``near`` (in ``tree``) and ``new`` as the plan will."""
         self.checks += 1
         a, b = (new, near) if tree.towards_root else (near, new)
-        ck = self.checker
-        return ck.path_free(a, b, self.grasp) and \
-            ck.transfer(a, b, self.grasp, should_stop=should_stop).valid
+        if not self.checker.path_free(a, b, self.grasp):
+            return Status.INVALID
+        return self._evaluate.transfer(a, b, self.grasp, should_stop=should_stop).status
 
     def _extend(self, tree: _Tree, target: Pose, should_stop: Callable[[], bool]
                 ) -> tuple[str, int]:
-        """One step of ``tree`` towards ``target``: ``("reached" | "advanced" | "trapped", i)``."""
+        """One step of ``tree`` towards ``target``.
+
+        ``("reached" | "advanced" | "trapped" | "stopped", i)``.
+        """
         ck, g = self.checker, self.grasp
         m, rs = ck.model, ck.steering.paths
         i = tree.nearest(target)
@@ -113,34 +120,46 @@ class SingleGraspConnect:
         else:
             new = m.object_from_car(rs.interpolate(ca, cb, self.step / d), g)
             status = "advanced"
-        if new == near or not ck.state_valid(new, g) or \
-                not self._edge(tree, near, new, should_stop):
+        if new == near or not ck.state_valid(new, g):
             return "trapped", i
+        edge = self._edge(tree, near, new, should_stop)
+        if edge is not Status.VALID:
+            return ("stopped" if edge is Status.STOPPED else "trapped"), i
         return status, tree.add(new, i)
 
-    def run(self, budget: int, should_stop: Callable[[], bool]) -> list[Pose]:
-        """Grow until the trees meet (the path's object poses) or ``budget`` checks; ``[]``.
+    def run(self, budget: int, should_stop: Callable[[], bool]) -> Found[list[Pose]]:
+        """Grow until the trees meet or ``budget`` checks.
 
-        Calling it again continues with the same trees.
+        ``VALID`` with the path's object poses; ``INVALID`` when the budget ran out first;
+        ``STOPPED``. Calling it again continues with the same trees.
         """
         a, b = self._a, self._b
-        if self.checks == 0 and self._edge(a, self.start, self.goal, should_stop):  # direct
-            return [self.start, self.goal]
-        while self.checks < budget and not should_stop():
+        if self.checks == 0:  # direct
+            direct = self._edge(a, self.start, self.goal, should_stop)
+            if direct is not Status.INVALID:
+                return Found(direct, [self.start, self.goal] if direct is Status.VALID
+                             else None)
+        while self.checks < budget:
+            if should_stop():
+                return Found(Status.STOPPED)
             q = (float(self.rng.uniform(self._lo[0], self._hi[0])),
                  float(self.rng.uniform(self._lo[1], self._hi[1])),
                  float(self.rng.uniform(-math.pi, math.pi)))
             status, i = self._extend(a, q, should_stop)
+            if status == "stopped":
+                return Found(Status.STOPPED)
             if status != "trapped":
                 new = a.poses[i]
                 while self.checks < budget and not should_stop():  # connect b to the new node
                     status_b, j = self._extend(b, new, should_stop)
                     if status_b == "reached":
-                        return self._path(a, i, b, j)
+                        return Found(Status.VALID, self._path(a, i, b, j))
+                    if status_b == "stopped":
+                        return Found(Status.STOPPED)
                     if status_b == "trapped":
                         break
             a, b = b, a
-        return []
+        return Found(Status.INVALID)
 
     def _path(self, a: _Tree, i: int, b: _Tree, j: int) -> list[Pose]:
         """The start-to-goal poses when node ``i`` of ``a`` and ``j`` of ``b`` coincide."""

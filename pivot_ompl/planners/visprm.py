@@ -20,6 +20,7 @@ import numpy as np
 from ompl import base as ob
 
 from pivot_ompl.base.state import read_state, write_state
+from pivot_ompl.planners.evaluation import Status
 from pivot_ompl.planners.guarded import GuardedPlanner, states_to_path
 from pivot_ompl.planners.objects.roadmap import Roadmap
 from pivot_ompl.planners.objects.visibility import VisibilityRoadmap
@@ -97,10 +98,10 @@ class VisibilityPRM(GuardedPlanner):
                 if should_stop():  # a scene with little free space must not run past it
                     return None
 
-        def visible(p: State, q: State, should_stop: Callable[[], bool]) -> bool:
+        def visible(p: State, q: State, should_stop: Callable[[], bool]) -> Status:
             write_state(a, *p)
-            write_state(b, *q)
-            return bool(si.checkMotion(a, b))
+            write_state(b, *q)  # OMPL's motion check runs to its end: never stopped
+            return Status.VALID if si.checkMotion(a, b) else Status.INVALID
 
         store = StateRoadmap()
 
@@ -122,7 +123,8 @@ class VisibilityPRM(GuardedPlanner):
             if kind == "guard":  # regrasp links at the guard's pose
                 q, g = store[i]
                 for g2 in range(4):
-                    if g2 != g and valid((q, g2)) and visible((q, g), (q, g2), stop):
+                    if g2 != g and valid((q, g2)) \
+                            and visible((q, g), (q, g2), stop) is Status.VALID:
                         store.connect(i, vis.add_guard((q, g2)))
         self.stats = {"guards": len(vis.guards), "nodes": len(store.grasps),
                       "samples": samples, "failures": vis.failures,

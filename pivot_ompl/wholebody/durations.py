@@ -1,4 +1,4 @@
-"""Where a motion's seconds go, and the :class:`~pivot_ompl.planfile.DurationModel` it implies.
+"""Where a motion's seconds go, and the :class:`~pivot_ompl.cost.DurationModel` it implies.
 
 :func:`duration_breakdown` splits a generated motion by plan element from its own ``phase``
 and ``step`` labels: each pivot step's seconds (the ticks labelled with it, from the middle of
@@ -12,13 +12,15 @@ coefficients kept non-negative), ``per_transfer`` the mean remainder.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from pivot_ompl.cost import DurationModel
 from pivot_ompl.errors import InputError
 from pivot_ompl.motionfile import Motion
-from pivot_ompl.planfile import DurationModel, Plan, TransferPhase, TransitPhase
+from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
 
 
 @dataclass
@@ -67,6 +69,19 @@ def duration_breakdown(motion: Motion, plan: Plan) -> DurationBreakdown:
         for st, n in zip(ph.steps, counts, strict=False):
             out.pivots.append((abs(st.angle), float(n) * dt))
         out.transfer_rest.append(seconds - float(counts.sum()) * dt)
+    return out
+
+
+def pooled(breakdowns: Sequence[DurationBreakdown]) -> DurationBreakdown:
+    """The breakdowns of several motions as one (their elements together, totals summed).
+
+    :func:`fit_duration_model` of it fits one model to every motion at once.
+    """
+    out = DurationBreakdown(total=sum(b.total for b in breakdowns))
+    for b in breakdowns:
+        out.pivots += b.pivots
+        out.transfer_rest += b.transfer_rest
+        out.transits += b.transits
     return out
 
 

@@ -25,9 +25,10 @@ def test_steering_polls_its_stop_condition():
     assert len(calls) == 4
 
 
-def test_an_interrupted_edge_is_invalid_and_not_cached():
+def test_an_interrupted_edge_is_neither_valid_nor_invalid_and_not_cached():
     ck = PivotChecker(make_scene(), seed=0)
     a, b = (1.5, 3.0, 0.0), (6.0, 3.0, 0.0)
-    res = ck.transfer(a, b, 0, should_stop=lambda: True)
-    assert not res.valid and "interrupted" in res.reason
+    with pytest.raises(Interrupted):
+        ck.transfer(a, b, 0, should_stop=lambda: True)
+    assert ck.counters.valid + ck.counters.invalid == 0
     assert ck.transfer(a, b, 0).valid

@@ -10,6 +10,7 @@ from pivot_ompl.base.problem import make_setup
 from pivot_ompl.cli.main import main
 from pivot_ompl.errors import InputError
 from pivot_ompl.planners import RegraspPlanner, make_planner
+from pivot_ompl.planners.evaluation import Found, Status
 from pivot_ompl.planners.objects.roadmap import canonical_yaw, pose_metric
 
 
@@ -188,7 +189,8 @@ def test_goal_joined_only_by_implausible_edges_skips_the_search():
     g = search.graph
     s, goal = g.start_nodes[0], next(iter(g.goal_nodes))
     assert not g.maybe_connected()
-    assert search.paths.find(lambda: False) == [] and search.paths.searches == 0
+    assert search.paths.find(lambda: False) == Found(Status.INVALID)
+    assert search.paths.searches == 0
     assert g.removed(s, goal)  # the cheap test removed the direct edge
 
 

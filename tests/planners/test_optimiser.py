@@ -11,7 +11,8 @@ from factories import make_scene, shipped
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.base.problem import make_problem
 from pivot_ompl.cost import CostModel, DurationModel
-from pivot_ompl.planners.optimiser import OptimiseStats, optimise, path_cost
+from pivot_ompl.planners.evaluation import Evaluator
+from pivot_ompl.planners.optimiser import OptimiseStats, optimise
 from pivot_ompl.validity.plan_check import check_plan
 
 START, GOAL = (1.5, 3.0, 0.0), (6.5, 3.0, 0.0)
@@ -26,7 +27,7 @@ def _zigzag_with_regrasps():
     w1, w2, w3 = (2.5, 4.2, 0.5), (4.0, 1.8, -0.4), (5.2, 4.0, 0.3)
     states = [(START, 0), (w1, 0), (w1, 1), (w1, 0), (w2, 0), (w2, 2), (w2, 3), (w3, 3),
               (GOAL, 3)]
-    assert math.isfinite(path_cost(ck, states, CostModel())), "the input must be valid"
+    assert math.isfinite(Evaluator(ck, CostModel()).path(states).cost), "the input must be valid"
     return scene, ck, states
 
 
@@ -39,7 +40,7 @@ def test_optimiser_cuts_pivots_and_regrasps_and_stays_valid():
     w = CostModel()
     stats = OptimiseStats()
     out = optimise(ck, states, should_stop=lambda: False, costs=w, stats=stats)
-    before, after = path_cost(ck, states, w), path_cost(ck, out, w)
+    before, after = Evaluator(ck, w).path(states).cost, Evaluator(ck, w).path(out).cost
     assert after <= before and stats.cost_after == after and stats.optimal
     # open floor: one straight push at one grasp, the waste and every regrasp gone
     assert _regrasps(out) == 0 and len(out) == 2
@@ -72,7 +73,7 @@ def test_grasp_is_chosen_by_the_cost():
     cheap = optimise(ck, states, should_stop=lambda: False, costs=free)
     moving = {a_[1] for a_, b_ in zip(cheap, cheap[1:], strict=False) if a_[1] == b_[1]}
     assert moving <= {1, 3}  # the push, no sideways manoeuvre
-    assert path_cost(ck, cheap, free) < 0.5 * path_cost(ck, states, free)
+    assert Evaluator(ck, free).path(cheap).cost < 0.5 * Evaluator(ck, free).path(states).cost
     assert check_plan(path_to_plan(scene, ck, cheap), scene).ok
     # a regrasp priced above the pivots it saves is not taken (start at grasp 0 only)
     ck2 = make_problem(scene).checker
@@ -89,7 +90,7 @@ def test_termination_condition_is_honoured():
     assert time.perf_counter() - t0 < 0.5
     # no new edge is checked; the input's own edges still allow dropping the round trip
     assert stats.transfers_checked == stats.walks_checked == 0 and stats.rounds == 0
-    assert path_cost(ck, out, CostModel()) <= path_cost(ck, states, CostModel())
+    assert Evaluator(ck, CostModel()).path(out).cost <= Evaluator(ck, CostModel()).path(states).cost
     calls = []
 
     def stop():
@@ -97,8 +98,8 @@ def test_termination_condition_is_honoured():
         return len(calls) > 3
 
     out = optimise(ck, states, should_stop=stop)
-    assert math.isfinite(path_cost(ck, out, CostModel()))
-    assert path_cost(ck, out, CostModel()) <= path_cost(ck, states, CostModel())
+    assert math.isfinite(Evaluator(ck, CostModel()).path(out).cost)
+    assert Evaluator(ck, CostModel()).path(out).cost <= Evaluator(ck, CostModel()).path(states).cost
 
 
 def test_walks_are_computed_only_for_paths_whose_transfers_hold():
@@ -117,9 +118,9 @@ def test_walks_are_computed_only_for_paths_whose_transfers_hold():
         res = transfer(a, b, g, **kw)
         return res if (a, b, g) in own else dataclasses.replace(res, valid=False)
 
-    def logged(obj, g, h):
+    def logged(obj, g, h, **kw):
         walks.append((obj, g, h))
-        return transit(obj, g, h)
+        return transit(obj, g, h, **kw)
 
     ck.transfer, ck.transit = only_own, logged
     out = optimise(ck, states, should_stop=lambda: False)
@@ -136,6 +137,6 @@ def test_no_shortcut_beyond_the_reach():
     for a, b in zip(out, out[1:], strict=False):
         if a[1] == b[1] and (a[0], b[0]) not in own:
             assert math.dist(a[0][:2], b[0][:2]) <= 2.0
-    assert path_cost(ck, out, CostModel()) <= path_cost(ck, states, CostModel())
+    assert Evaluator(ck, CostModel()).path(out).cost <= Evaluator(ck, CostModel()).path(states).cost
     straight = optimise(ck, states, should_stop=lambda: False)
     assert len(straight) == 2  # 5 m apart: one shortcut within the default reach

@@ -162,5 +162,8 @@ def test_a_visibility_edge_through_a_wall_costs_no_pivot_check():
     scene = shipped("fig10")
     checker = PivotChecker(scene)
     critical = CriticalConfigurations(checker, Roadmap(), grasps=(0, 1, 2, 3), spacing=0.4)
-    assert not critical.box_visible((2.5, 3.0, 0.0), (5.5, 3.0, 0.0), lambda: False)  # wall A
+    from pivot_ompl.planners.evaluation import Status
+
+    wall_a = critical.box_visible((2.5, 3.0, 0.0), (5.5, 3.0, 0.0), lambda: False)
+    assert wall_a is Status.INVALID
     assert checker.counters.valid + checker.counters.invalid == 0

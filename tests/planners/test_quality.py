@@ -10,7 +10,9 @@ from factories import make_scene
 
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.base.problem import make_problem
-from pivot_ompl.planfile import DurationModel, load_plan, plan_from_dict, plan_quality
+from pivot_ompl.cost import DurationModel
+from pivot_ompl.planfile import load_plan, plan_from_dict
+from pivot_ompl.quality import plan_quality
 
 
 @pytest.fixture(scope="module")

@@ -9,7 +9,7 @@ from factories import make_scene
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
-from pivot_ompl.planners.optimiser import path_cost
+from pivot_ompl.planners.evaluation import Evaluator
 from pivot_ompl.planners.routes.lattice import TransferLattice
 from pivot_ompl.planners.routes.refine import (
     RefineStats,
@@ -83,12 +83,12 @@ def test_routing_only_the_runs_that_may_win_picks_what_pricing_every_run_picks()
     for grasps in ([0, 2, 0, 2], [0, 1, 2, 3, 0], [3, 1, 0, 2, 0], [2, 0, 1, 3, 1, 0]):
         ck = PivotChecker(scene)
         path = _zigzag(ck, grasps)
-        assert math.isfinite(path_cost(ck, path, COSTS)), grasps
+        assert math.isfinite(Evaluator(ck, COSTS).path(path).cost), grasps
         lattice, pricer = TransferLattice(ck, COSTS), _Pricer(ck, COSTS)
         phases = _phases(path)
         current = pricer.path(phases)
         refused: set = set()
-        for start_grasp in (False, True):
+        for start_grasp in (None, path[0][1]):
             for _ in range(4):  # as refine does: the best refused, then the next
                 st = RefineStats()
                 got = _best_candidate(lattice, pricer, phases, current, refused, lambda: False,

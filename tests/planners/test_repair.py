@@ -12,6 +12,7 @@ from factories import shipped
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planfile import TransferPhase, plan_from_dict
+from pivot_ompl.planners.evaluation import Found, Status
 from pivot_ompl.planners.repair import join_points, repair_route, route_of
 from pivot_ompl.scene import BoxObstacle
 from pivot_ompl.session import PlanningSession
@@ -51,7 +52,7 @@ def test_a_drift_is_repaired_into_a_plan_that_checks_and_arrives_exactly(
     box, grasp = _drifted(slot_plan, share, metres, degrees)
     scene = dataclasses.replace(shipped("slot"), start=box)
     ck = PivotChecker(scene)
-    rep = repair_route(ck, route_of(slot_plan.extra["route"]), box, grasp)
+    rep = repair_route(ck, route_of(slot_plan.extra["route"]), box, grasp).path
     assert rep is not None
     assert rep.states[0] == (box, rep.states[0][1])
     assert rep.states[-1][0] == scene.goal  # the route's own end: exact arrival
@@ -83,7 +84,7 @@ def test_an_obstacle_on_the_route_ahead_is_never_kept(slot_plan):
     scene = dataclasses.replace(base, start=box, obstacles=base.obstacles + (block,))
     ck = PivotChecker(scene)
     assert not ck.transfer(qa, qb, g).valid  # the change does cut the old route
-    rep = repair_route(ck, route, box, grasp, seed=0)
+    rep = repair_route(ck, route, box, grasp, seed=0).path
     if rep is not None:  # a detour round the block, or nothing
         assert check_plan(path_to_plan(scene, ck, rep.states), scene).ok
     s = PlanningSession(base, seed=0, executing=slot_plan)
@@ -121,36 +122,47 @@ def test_the_optimiser_keeps_a_held_first_grasp_and_the_last_grasp_of_a_part(slo
     ck = PivotChecker(shipped("slot"))
     head = route[:k + 2]  # ends with a walk: useless alone, needed by what follows it
     assert optimise(ck, head, should_stop=lambda: False)[-1] != head[-1]  # dropped alone
-    kept = optimise(ck, head, should_stop=lambda: False, end_grasp=True)
+    kept = optimise(ck, head, should_stop=lambda: False, end_grasp=head[-1][1])
     assert kept[-1] == head[-1] and kept[0][0] == head[0][0]
     tail = route[k:]  # starts with a walk: the robot holds the box with the grasp before it
     assert optimise(ck, tail, should_stop=lambda: False)[0] != tail[0]  # skipped, unpriced
-    held = optimise(ck, tail, should_stop=lambda: False, start_grasp=True)
+    held = optimise(ck, tail, should_stop=lambda: False, start_grasp=tail[0][1])
     assert held[0] == tail[0] and held[-1][0] == tail[-1][0]
 
 
 def test_the_polish_of_a_repair_reworks_its_own_states_and_keeps_the_old_route(slot_plan,
                                                                                monkeypatch):
-    from pivot_ompl.planners import repair
+    from pivot_ompl.planners import improve, repair
     from pivot_ompl.planners.config import RegraspConfig
 
     box, grasp = _drifted(slot_plan, 0.1, 0.05, 5.0)
     scene = dataclasses.replace(shipped("slot"), start=box)
     ck = PivotChecker(scene)
-    rep = repair_route(ck, route_of(slot_plan.extra["route"]), box, grasp)
+    rep = repair_route(ck, route_of(slot_plan.extra["route"]), box, grasp).path
     assert rep is not None
     new = len(rep.states) - rep.kept_edges
     seen = []
-    real = repair.optimise
+    real = improve.optimise
 
     def spy(checker, states, **kw):
         seen.append((list(states), kw["end_grasp"]))
         return real(checker, states, **kw)
 
-    monkeypatch.setattr(repair, "optimise", spy)
+    monkeypatch.setattr(improve, "optimise", spy)
     out = repair.polish(ck, rep.states, RegraspConfig(), should_stop=lambda: False, new=new,
                         kept=0)
-    assert seen == [(rep.states[:new], True)]  # the old route's rest was polished before
+    # the old route's rest was polished before
+    assert seen == [(rep.states[:new], rep.states[new - 1][1])]
     tail = rep.states[new - 1:]  # from the head's last state (grasp included) on
     assert out[0] == rep.states[0] and out[-len(tail):] == tail
     assert check_plan(path_to_plan(scene, ck, out), scene).ok
+
+
+def test_a_stopped_repair_says_so_and_a_box_off_the_floor_finds_no_join(slot_plan):
+    box, grasp = _drifted(slot_plan, 0.1, 0.05, 5.0)
+    ck = PivotChecker(dataclasses.replace(shipped("slot"), start=box))
+    route = route_of(slot_plan.extra["route"])
+    assert repair_route(ck, route, box, grasp, should_stop=lambda: True) == \
+        Found(Status.STOPPED)
+    assert repair_route(ck, route, (4.05, 0.595, 0.0), None) == Found(Status.INVALID)  # wall
+    assert repair_route(ck, route, box, grasp).status is Status.VALID

@@ -11,7 +11,7 @@ from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.planners.config import RegraspConfig, SearchConfig
-from pivot_ompl.planners.optimiser import path_cost
+from pivot_ompl.planners.evaluation import Evaluator
 from pivot_ompl.planners.regrasp_search import RegraspSearch
 from pivot_ompl.planners.routes.lattice import TransferLattice
 from pivot_ompl.planners.routes.refine import RefineStats, refine
@@ -68,7 +68,7 @@ def _wasteful(ck, grasps):
         a, b = b, a
         path += [(a, g)]
     path += [(ck.scene.goal, grasps[-1])]
-    assert math.isfinite(path_cost(ck, path, COSTS)), path
+    assert math.isfinite(Evaluator(ck, COSTS).path(path).cost), path
     return path
 
 
@@ -81,7 +81,7 @@ def test_regrasps_that_serve_nothing_become_turns_or_go():
         out = refine(ck, TransferLattice(ck, COSTS), path, costs=COSTS,
                      should_stop=lambda: False, stats=stats)
         regrasps = sum(1 for x, y in zip(out, out[1:], strict=False) if x[1] != y[1])
-        assert path_cost(ck, out, COSTS) < path_cost(ck, path, COSTS)
+        assert Evaluator(ck, COSTS).path(out).cost < Evaluator(ck, COSTS).path(path).cost
         assert out[0][0] == scene.start and out[-1][0] == scene.goal  # the goal as given
         # the grasps at the start and at the goal are free: a quarter turn goes too
         assert regrasps == 0, grasps
@@ -101,7 +101,7 @@ def test_refinement_is_never_costlier_and_stops_at_once():
     same = refine(ck, lattice, path, costs=COSTS, should_stop=lambda: True)
     assert same == path
     out = refine(ck, lattice, path, costs=COSTS, should_stop=lambda: False)
-    assert path_cost(ck, out, COSTS) <= path_cost(ck, path, COSTS)
+    assert Evaluator(ck, COSTS).path(out).cost <= Evaluator(ck, COSTS).path(path).cost
     assert check_plan(path_to_plan(scene, ck, out), scene).ok
 
 

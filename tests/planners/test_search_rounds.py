@@ -18,6 +18,7 @@ from factories import shipped
 
 from pivot_ompl.base.problem import make_problem
 from pivot_ompl.planners.config import RegraspConfig
+from pivot_ompl.planners.evaluation import Status
 from pivot_ompl.planners.multiplex.graph import is_transfer
 from pivot_ompl.planners.multiplex.search import PathSearch, cost_to_go
 from pivot_ompl.planners.regrasp_search import RegraspSearch
@@ -94,7 +95,7 @@ def test_checks_keep_the_transfers_estimates_and_a_re_search_is_the_cheapest_at_
     estimates = {(a, b): c for a, nbrs in g.adj.items() for b, c in nbrs.items()
                  if is_transfer(a, b)}
     paths = PathSearch(search.checker, g, search.goal, weight=1.0)
-    assert paths.find(NEVER)
+    assert paths.find(NEVER).status is Status.VALID
     assert paths.edges_checked > 0
     for a, nbrs in g.adj.items():
         for b, c in nbrs.items():
@@ -106,8 +107,9 @@ def test_checks_keep_the_transfers_estimates_and_a_re_search_is_the_cheapest_at_
 
 def test_the_path_found_passes_every_full_check():
     search = _grown()
-    path = search.paths.find(NEVER)
-    assert path
+    found = search.paths.find(NEVER)
+    assert found.status is Status.VALID and found.path
+    path = found.path
     ck, g = search.checker, search.graph
     states = g.express(path)
     for a, b, (pa, ga), (pb, gb) in zip(path, path[1:], states, states[1:], strict=False):

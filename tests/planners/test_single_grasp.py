@@ -7,6 +7,7 @@ from factories import shipped
 
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.planners.evaluation import Found, Status
 from pivot_ompl.planners.single_grasp import SingleGraspConnect
 from pivot_ompl.validity.plan_check import check_plan
 
@@ -15,7 +16,9 @@ def test_connects_the_cluttered_room_with_one_grasp():
     scene = shipped("cluttered_room")
     checker = PivotChecker(scene)
     rrt = SingleGraspConnect(checker, scene.start, scene.goal, 0, np.random.default_rng(0))
-    poses = rrt.run(200, lambda: False)
+    found = rrt.run(200, lambda: False)
+    assert found.status is Status.VALID and found.path is not None
+    poses = found.path
     assert poses[0] == scene.start and poses[-1] == scene.goal and len(poses) > 2
     before = checker.counters.valid + checker.counters.invalid
     plan = path_to_plan(scene, checker, [(q, 0) for q in poses])
@@ -28,9 +31,10 @@ def test_stops_at_its_budget_where_a_regrasp_is_needed():
     scene = shipped("fig10")
     rrt = SingleGraspConnect(PivotChecker(scene), scene.start, scene.goal, 0,
                              np.random.default_rng(0))
-    assert rrt.run(15, lambda: False) == []
+    assert rrt.run(15, lambda: False) == Found(Status.INVALID)  # the budget ran out
     assert rrt.checks == 15
-    assert rrt.run(20, lambda: True) == [] and rrt.checks == 15  # the condition stops it
+    # the condition stops it: said as such, not as a failure
+    assert rrt.run(20, lambda: True) == Found(Status.STOPPED) and rrt.checks == 15
 
 
 def test_an_extension_through_an_obstacle_costs_no_pivot_check():
@@ -38,6 +42,6 @@ def test_an_extension_through_an_obstacle_costs_no_pivot_check():
     scene = shipped("fig10")
     checker = PivotChecker(scene)
     rrt = SingleGraspConnect(checker, scene.start, scene.goal, 0, np.random.default_rng(0))
-    assert rrt.run(1, lambda: False) == [] and rrt.checks == 1
+    assert rrt.run(1, lambda: False).status is Status.INVALID and rrt.checks == 1
     assert checker.counters.valid + checker.counters.invalid == 0
 

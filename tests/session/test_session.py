@@ -12,6 +12,7 @@ from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cli.main import main
 from pivot_ompl.errors import InputError, PlanningError
 from pivot_ompl.planfile import TransferPhase
+from pivot_ompl.planners.evaluation import Found, Status
 from pivot_ompl.scene import BoxObstacle, load_scene
 from pivot_ompl.session import PlanningSession
 from pivot_ompl.validity.plan_check import check_plan
@@ -137,7 +138,7 @@ def test_a_failed_repair_and_a_failed_resumed_search_leave_a_new_search_the_rest
 
     def slow_repair(*args, **kwargs):
         time.sleep(0.3)  # a repair that spends time and finds nothing
-        return None
+        return Found(Status.INVALID)
 
     def plan_where_resuming_fails(scene, *, time_limit, resume, **kw):
         calls.append((time_limit, resume is not None, time.monotonic() + time_limit))

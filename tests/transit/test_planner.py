@@ -52,7 +52,7 @@ def test_walk_search_honours_the_termination_condition():
     """A large floor's field takes a second: the walk stops at the limit and resumes later."""
     import time
 
-    from pivot_ompl.transit.planner import INVALID_WALK
+    from pivot_ompl.errors import Interrupted
 
     # 601 x 601 grid positions (the field's build polls once per yaw and per graph direction)
     scene = make_scene(bounds=[0.0, 0.0, 60.0, 60.0], start=[30.0, 30.0, 0.0],
@@ -65,13 +65,14 @@ def test_walk_search_honours_the_termination_condition():
     for _ in range(2):
         deadline = time.monotonic() + 0.02
         t0 = time.monotonic()
-        assert ck.transit(scene.start, 0, 2,
-                          should_stop=lambda d=deadline: time.monotonic() > d) is INVALID_WALK
+        with pytest.raises(Interrupted):  # stopped: neither valid nor invalid
+            ck.transit(scene.start, 0, 2, should_stop=lambda d=deadline: time.monotonic() > d)
         assert time.monotonic() - t0 < 1.0
         progress.append(field.yaws_done + field.rows_done)
     assert progress[0] < progress[1] < progress[2]  # kept between calls, not rebuilt
     before = ck.counters.valid + ck.counters.invalid
-    assert ck.transit(scene.start, 0, 2, should_stop=lambda: True) is INVALID_WALK
+    with pytest.raises(Interrupted):
+        ck.transit(scene.start, 0, 2, should_stop=lambda: True)
     assert ck.counters.valid + ck.counters.invalid == before  # interrupted: not cached
 
 

@@ -106,7 +106,7 @@ def test_a_straight_push_passes_every_check(push):
 
 
 def test_breakdown_accounts_for_every_second_and_the_fit_for_the_total(push):
-    from pivot_ompl.planfile import plan_quality
+    from pivot_ompl.quality import plan_quality
     from pivot_ompl.wholebody.durations import duration_breakdown, fit_duration_model
 
     plan, motion, _ = push
@@ -120,7 +120,7 @@ def test_breakdown_accounts_for_every_second_and_the_fit_for_the_total(push):
 
 
 def test_the_plans_duration_estimate_is_honest_for_a_straight_push(push):
-    from pivot_ompl.planfile import plan_quality
+    from pivot_ompl.quality import plan_quality
 
     plan, motion, _ = push
     estimate = plan_quality(plan)["duration_estimate"]

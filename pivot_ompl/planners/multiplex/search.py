@@ -34,6 +34,7 @@ from collections.abc import Callable
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.graph import astar
+from pivot_ompl.planners.evaluation import Evaluator, Found, Status, lazy_search
 from pivot_ompl.planners.multiplex.graph import MultiplexedGraph, Node, State, is_transfer
 from pivot_ompl.se2 import Pose
 
@@ -89,6 +90,7 @@ class PathSearch:
         weight: inflation of the heuristic (weighted A*).
 
     Attributes:
+        evaluate: the checks and prices of the edges (:class:`~.evaluation.Evaluator`).
         searches, edges_checked, edges_invalid: counts.
         seconds: time spent in :meth:`find` (s).
     """
@@ -102,6 +104,7 @@ class PathSearch:
                  weight: float) -> None:
         """A search over ``graph``."""
         self.checker = checker
+        self.evaluate = Evaluator(checker, graph.costs)
         self.graph = graph
         self.goal = goal
         self.weight = weight
@@ -145,29 +148,34 @@ class PathSearch:
                        should_stop=should_stop, poll_every=POLL_EVERY)
         return [s[0] for s in states]
 
-    def find(self, should_stop: Stop) -> list[Node]:
-        """A path whose every edge passes its full check; ``[]`` if none yet (or stopped)."""
+    def find(self, should_stop: Stop) -> Found[list[Node]]:
+        """A path whose every edge passes its full check.
+
+        ``VALID`` with the path; ``INVALID`` when the graph has none yet; ``STOPPED``.
+        """
         g = self.graph
         if not g.maybe_connected():
-            return []
+            return Found(Status.INVALID)
         t0 = time.perf_counter()
         try:
-            while not should_stop():
-                self.searches += 1
-                try:
-                    path = self.cheapest(should_stop)
-                except Interrupted:
-                    return []
-                if not path:
-                    g.compute_reach(should_stop)
-                    return []
-                if self._check(path, should_stop):
-                    return path
-            return []
+            found = lazy_search(lambda: self._searched(should_stop),
+                                lambda path: self._check(path, should_stop), should_stop)
+            if found.status is Status.INVALID:
+                g.compute_reach(should_stop)
+            return found
         finally:
             self.seconds += time.perf_counter() - t0
 
-    def _check(self, path: list[Node], should_stop: Stop) -> bool:
+    def _searched(self, should_stop: Stop) -> Found[list[Node]]:
+        """One search (:meth:`cheapest`) as a :class:`Found`."""
+        self.searches += 1
+        try:
+            path = self.cheapest(should_stop)
+        except Interrupted:
+            return Found(Status.STOPPED)
+        return Found(Status.VALID, path) if path else Found(Status.INVALID)
+
+    def _check(self, path: list[Node], should_stop: Stop) -> Status:
         """Check ``path``'s transfers, then its walks; remove the first failures."""
         states = self.graph.express(path)
         pairs = list(zip(path, path[1:], states, states[1:], strict=False))
@@ -177,20 +185,21 @@ class PathSearch:
                 if is_transfer(a, b) == walks:
                     continue
                 if should_stop():
-                    return False
-                if not self._edge_valid(a, b, sa, sb, should_stop):
-                    if should_stop():  # interrupted: unknown, not invalid
-                        return False
+                    return Status.STOPPED
+                status = self._edge(a, b, sa, sb, should_stop)
+                if status is Status.STOPPED:
+                    return status
+                if status is Status.INVALID:
                     self.graph.remove(a, b)
                     ok = False
                     if walks:
                         break
             if not ok:
-                return False
-        return True
+                return Status.INVALID
+        return Status.VALID
 
-    def _edge_valid(self, a: Node, b: Node, sa: tuple[Pose, int], sb: tuple[Pose, int],
-                    should_stop: Stop) -> bool:
+    def _edge(self, a: Node, b: Node, sa: tuple[Pose, int], sb: tuple[Pose, int],
+              should_stop: Stop) -> Status:
         """Check the edge ``a -> b`` of a path, written as the states ``sa -> sb``.
 
         A pivot sequence depends on its direction, and a pose and its half turn differ by
@@ -199,24 +208,23 @@ class PathSearch:
         """
         g = self.graph
         if g.removed(a, b):
-            return False
+            return Status.INVALID
         if (sa, sb) in self._checked:
-            return True
+            return Status.VALID
         (pa, ga), (pb, gb) = sa, sb
-        ck = self.checker
-        costs = g.costs
         if is_transfer(a, b):
-            v = g.plausible(a, b)
-            if v:
-                edge = ck.transfer(pa, pb, ga, should_stop=should_stop)
-                v = edge.valid
+            status = Status.INVALID
+            if g.plausible(a, b):
+                status = self.evaluate.transfer(pa, pb, ga, should_stop=should_stop).status
         else:
-            walk = ck.transit(pa, ga, gb, should_stop=should_stop)
-            v = walk.valid
-            if v:  # the real walk replaces the estimate
-                g.set_cost(a, b, costs.regrasp_seconds(walk.length))
-        if v:
+            walk = self.evaluate.walk(pa, ga, gb, should_stop=should_stop)
+            status = walk.status
+            if walk.valid:  # the real walk replaces the estimate
+                g.set_cost(a, b, walk.cost)
+        if status is Status.STOPPED:
+            return status
+        if status is Status.VALID:
             self._checked.add((sa, sb))
         self.edges_checked += 1
-        self.edges_invalid += not v
-        return v
+        self.edges_invalid += status is Status.INVALID
+        return status

@@ -11,7 +11,9 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.cost import CostModel
 from pivot_ompl.pivoting.steering import PivotSequence
+from pivot_ompl.planners.evaluation import Evaluator, Status
 from pivot_ompl.planners.objects.roadmap import Roadmap, canonical
 from pivot_ompl.se2 import Pose
 
@@ -35,25 +37,25 @@ class CriticalConfigurations:
                  spacing: float) -> None:
         """None recorded yet."""
         self.checker = checker
+        self.evaluate = Evaluator(checker, CostModel())
         self.roadmap = roadmap
         self.grasps = grasps
         self.spacing = spacing
         self.indices = []
 
-    def box_visible(self, a: Pose, b: Pose, should_stop: Callable[[], bool]) -> bool:
-        """The object roadmap's visibility: the box alone pivots from ``a`` to ``b``.
+    def box_visible(self, a: Pose, b: Pose, should_stop: Callable[[], bool]) -> Status:
+        """The object roadmap's visibility: whether the box alone pivots from ``a`` to ``b``.
 
-        The critical configurations along a visible edge are recorded. The box's cheap test
-        along the path runs first.
+        ``VALID``: it does, and the critical configurations along the edge are recorded;
+        ``INVALID``: it does not; ``STOPPED``: the check was stopped first (no wall between
+        them is known). The box's cheap test along the path runs first.
         """
-        ck = self.checker
-        if not ck.path_free(a, b, 0, with_robot=False):
-            return False
-        edge = ck.transfer(a, b, 0, with_robot=False, should_stop=should_stop)
-        if not edge.valid:
-            return False
-        self.record(edge.sequence)
-        return True
+        if not self.checker.path_free(a, b, 0, with_robot=False):
+            return Status.INVALID
+        e = self.evaluate.transfer(a, b, 0, with_robot=False, should_stop=should_stop)
+        if e.valid and e.edge is not None:
+            self.record(e.edge.sequence)
+        return e.status
 
     def record(self, sequence: PivotSequence) -> None:
         """Record the critical configurations along a box-only pivot sequence."""

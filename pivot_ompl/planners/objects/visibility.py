@@ -15,6 +15,8 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable
 from typing import Generic, Protocol, TypeVar
 
+from pivot_ompl.planners.evaluation import Status
+
 C = TypeVar("C")
 Stop = Callable[[], bool]
 
@@ -46,8 +48,8 @@ class VisibilityRoadmap(Generic[C]):
         store: where the nodes go (other nodes may live there too).
         sample: ``should_stop -> configuration`` (a valid random one), or ``None`` when
             stopped.
-        visible: ``(a, b, should_stop) -> bool``: the local path between two configurations
-            is valid.
+        visible: ``(a, b, should_stop) -> Status``: whether the local path between two
+            configurations is valid (:class:`~pivot_ompl.planners.evaluation.Status`).
         candidates: ``(q, guards) -> guard indices`` to test for visibility from ``q``, in the
             order they are tested (e.g. the nearest within a radius, or those of ``q``'s grasp).
         max_failures: consecutive discarded samples that end the construction.
@@ -61,7 +63,7 @@ class VisibilityRoadmap(Generic[C]):
     failures: int
 
     def __init__(self, store: RoadmapStore[C], *, sample: Callable[[Stop], C | None],
-                 visible: Callable[[C, C, Stop], bool],
+                 visible: Callable[[C, C, Stop], Status],
                  candidates: Callable[[C, list[int]], Iterable[int]],
                  max_failures: int) -> None:
         """An empty roadmap over ``store``."""
@@ -99,7 +101,12 @@ class VisibilityRoadmap(Generic[C]):
             if should_stop():
                 return "stopped", -1
             comp = store.component(g)
-            if comp not in seen and self.visible(store[g], q, should_stop):
+            if comp in seen:
+                continue
+            status = self.visible(store[g], q, should_stop)
+            if status is Status.STOPPED:  # not known: the sample is neither guard nor connector
+                return "stopped", -1
+            if status is Status.VALID:
                 seen[comp] = g
         if not seen:
             self.failures = 0

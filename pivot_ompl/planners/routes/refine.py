@@ -32,17 +32,16 @@ from dataclasses import dataclass
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
+from pivot_ompl.planners.evaluation import Evaluator, Status
 from pivot_ompl.planners.objects.roadmap import half_turn
+from pivot_ompl.planners.routes.chain import corners, shortened
 from pivot_ompl.planners.routes.lattice import TransferLattice
-from pivot_ompl.se2 import Pose, wrap_angle
+from pivot_ompl.se2 import Pose
 
 log = logging.getLogger(__name__)
 
 State = tuple[Pose, int]
 Stop = Callable[[], bool]
-
-#: Along a straight run of a lattice route, a pose is kept every this many lattice motions.
-RUN_SPACING = 6
 
 
 @dataclass
@@ -94,20 +93,13 @@ class _Pricer:
     """Real seconds of phases and regrasps (the checker's caches make repeats free)."""
 
     def __init__(self, checker: PivotChecker, costs: CostModel) -> None:
-        self.checker, self.costs = checker, costs
+        self.evaluate = Evaluator(checker, costs)
 
     def phase(self, p: _Phase) -> float:
-        total = 0.0
-        for a, b in zip(p.poses, p.poses[1:], strict=False):
-            e = self.checker.transfer(a, b, p.grasp)
-            if not e.valid:
-                return math.inf
-            total += self.costs.rotations(r.angle for r in e.sequence.rotations)
-        return total
+        return self.evaluate.path([(q, p.grasp) for q in p.poses]).cost
 
     def regrasp(self, a: _Phase, b: _Phase) -> float:
-        w = self.checker.transit(a.poses[-1], a.grasp, b.grasp)
-        return self.costs.regrasp_seconds(w.length) if w.valid else math.inf
+        return self.evaluate.walk(a.poses[-1], a.grasp, b.grasp).cost
 
     def path(self, phases: list[_Phase]) -> float:
         return sum(self.phase(p) for p in phases) + sum(
@@ -116,12 +108,13 @@ class _Pricer:
 
 def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State], *,
            costs: CostModel, should_stop: Stop, stats: RefineStats | None = None,
-           start_grasp: bool = False) -> list[State]:
+           start_grasp: int | None = None) -> list[State]:
     """``states`` with runs of phases re-planned on the lattice (see the module docstring).
 
     Stopped by ``should_stop`` (polled between lattice queries and checks), it returns the
-    best path it has: valid, never costlier than ``states``. ``start_grasp``: the path keeps
-    the grasp ``states`` starts with (the robot holds the box with it).
+    best path it has: valid, never costlier than ``states``. ``start_grasp``: the grasp the
+    robot holds the box with (``states`` starts with it, and so does the result); ``None``:
+    the first grasp is free.
     """
     st = stats if stats is not None else RefineStats()
     pricer = _Pricer(checker, costs)
@@ -160,11 +153,12 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
     return _states(phases)
 
 
-def _candidates(phases: list[_Phase], start_grasp: bool = False) -> list[tuple[int, int, int]]:
+def _candidates(phases: list[_Phase], start_grasp: int | None = None
+                ) -> list[tuple[int, int, int]]:
     """Runs ``i .. j`` and the grasp ``g`` to plan each at.
 
     Runs whose grasps differ by zero or a half turn, at phase ``i``'s grasp; and, since the
-    grasp at the start (unless ``start_grasp``: it is the one held) and at the goal is free,
+    grasp at the start (unless ``start_grasp`` is held) and at the goal is free,
     runs from the start planned at phase ``j``'s grasp and runs to the goal planned at phase
     ``i``'s, whatever their grasps (a regrasp after the start or before the goal that only
     changed the face is removed).
@@ -177,7 +171,7 @@ def _candidates(phases: list[_Phase], start_grasp: bool = False) -> list[tuple[i
             if (gj - gi) % 2 == 0:
                 out.append((i, j, gi))
                 continue
-            if i == 0 and not start_grasp:
+            if i == 0 and start_grasp is None:
                 out.append((i, j, gj))
             if j == last:
                 out.append((i, j, gi))
@@ -186,7 +180,8 @@ def _candidates(phases: list[_Phase], start_grasp: bool = False) -> list[tuple[i
 
 def _best_candidate(lattice: TransferLattice, pricer: _Pricer, phases: list[_Phase],
                     current: float, refused: set, should_stop: Stop, st: RefineStats,
-                    start_grasp: bool = False) -> tuple[int, int, int, list[_Phase | _Leg]] | None:
+                    start_grasp: int | None = None
+                    ) -> tuple[int, int, int, list[_Phase | _Leg]] | None:
     """The run whose lattice re-plan saves the most (estimated), as a plan to make real.
 
     ``start_grasp``: the plan keeps the first phase's grasp (:func:`_candidates`).
@@ -241,7 +236,7 @@ def _run_ends(phases: list[_Phase], i: int, j: int, g: int) -> tuple[bool, Pose,
 
 def _bounds(lattice: TransferLattice, phases: list[_Phase], cost: list[float],
             regrasp: list[float], current: float, refused: set,
-            start_grasp: bool) -> list[tuple[float, int, int, int, int]]:
+            start_grasp: int | None) -> list[tuple[float, int, int, int, int]]:
     """``(optimistic saving, index, i, j, g)`` of the runs that may save, best first.
 
     The optimistic saving is ``current`` less the run's estimate with every lattice route
@@ -337,9 +332,11 @@ def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: _Leg, costs
         route, _ = lattice.route(a, b, leg.grasp, should_stop=should_stop)
         if len(route) < 2:
             continue
-        chain, _seconds = _shortened(checker, _corners(route), leg.grasp, costs, should_stop)
-        if chain:
-            return [*before, *chain, *after]
+        found = shortened(Evaluator(checker, costs), corners(route), leg.grasp, should_stop)
+        if found.status is Status.STOPPED:
+            raise Interrupted("route refinement")
+        if found.path is not None:
+            return [*before, *found.path[0], *after]
     return []
 
 
@@ -360,84 +357,3 @@ def _made_real(checker: PivotChecker, lattice: TransferLattice, plan: list,
         else:
             out.append(_Phase(grasp, tuple(chain)))
     return out
-
-
-def _corners(route: list[Pose]) -> list[Pose]:
-    """The route's poses worth joining by transfers.
-
-    Its ends, the poses where it starts or stops turning, and every :data:`RUN_SPACING` th
-    pose of a long straight run.
-    """
-    if len(route) < 3:
-        return route
-    keep = [0]
-    for k in range(1, len(route) - 1):
-        a, b, c = route[k - 1], route[k], route[k + 1]
-        turning_in = abs(b[2] - a[2]) > 1e-9
-        turning_out = abs(c[2] - b[2]) > 1e-9
-        if turning_in != turning_out or k - keep[-1] >= RUN_SPACING:
-            keep.append(k)
-    keep.append(len(route) - 1)
-    return [route[k] for k in keep]
-
-
-def _shortened(checker: PivotChecker, route: list[Pose], grasp: int, costs: CostModel,
-               should_stop: Stop) -> tuple[list[Pose], float]:
-    """The cheapest chain of certified transfers along the route; ``([], inf)`` if none.
-
-    Candidate transfers join route pose ``i`` to ``i + 1, i + 2, i + 4, ...`` and to the
-    end. Lazily: the cheapest chain by estimated costs (a transfer's reference path length
-    at the push rate, :meth:`~pivot_ompl.cost.CostModel.transfer_estimate`, a turn's
-    :meth:`~pivot_ompl.cost.CostModel.spin_estimate`, until it is checked), its unchecked
-    transfers checked (the cheap test first), again until every transfer of it is checked.
-    """
-    n = len(route)
-    m, alpha = checker.model, checker.scene.alpha_max
-    ell = m.edge_half_length(grasp)
-    cars = [m.car_pose(q, grasp) for q in route]
-    paths = checker.steering.paths
-    ends = {i: sorted({min(n - 1, i + (1 << k)) for k in range(n.bit_length() + 1)} - {i})
-            for i in range(n - 1)}
-    checked: dict[tuple[int, int], float] = {}
-
-    def estimate(i: int, j: int) -> float:
-        a, b = cars[i], cars[j]
-        if paths.is_spin(a, b):
-            return costs.spin_estimate(wrap_angle(b[2] - a[2]), alpha)
-        return costs.transfer_estimate(paths.distance(a, b), ell, alpha)
-
-    while True:
-        best = [math.inf] * n
-        back = [-1] * n
-        best[0] = 0.0
-        for i in range(n - 1):  # a DAG: the route's order
-            if not math.isfinite(best[i]):
-                continue
-            for j in ends[i]:
-                c = checked.get((i, j))
-                v = best[i] + (estimate(i, j) if c is None else c)
-                if v < best[j]:
-                    best[j], back[j] = v, i
-        if not math.isfinite(best[-1]):
-            return [], math.inf
-        chain = [n - 1]
-        while chain[-1] != 0:
-            chain.append(back[chain[-1]])
-        chain.reverse()
-        pending = [(i, j) for i, j in zip(chain, chain[1:], strict=False)
-                   if (i, j) not in checked]
-        if not pending:
-            return [route[i] for i in chain], best[-1]
-        for i, j in pending:
-            if should_stop():
-                raise Interrupted("route refinement")
-            c = math.inf
-            if j == i + 1 or checker.path_free(route[i], route[j], grasp):
-                e = checker.transfer(route[i], route[j], grasp, should_stop=should_stop)
-                if e.valid:
-                    c = costs.rotations(r.angle for r in e.sequence.rotations)
-                elif should_stop():
-                    raise Interrupted("route refinement")
-            checked[(i, j)] = c
-            if not math.isfinite(c):
-                break

@@ -1,0 +1,114 @@
+"""A lattice route made real: the cheapest chain of certified transfers between its poses.
+
+The transfer lattice (:mod:`.lattice`) routes the held assembly by pushes, pulls and turns in
+place; its many short motions would each cost a pivot sequence of their own. :func:`corners`
+keeps the route's poses worth joining, and :func:`shortened` joins them by the cheapest chain
+of transfers that pass their checks (:class:`~pivot_ompl.planners.evaluation.Evaluator`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+from pivot_ompl.planners.evaluation import Evaluator, Found, Status, lazy_search
+from pivot_ompl.se2 import Pose, wrap_angle
+
+Stop = Callable[[], bool]
+
+#: Along a straight run of a lattice route, a pose is kept every this many lattice motions.
+RUN_SPACING = 6
+
+
+def corners(route: list[Pose]) -> list[Pose]:
+    """The route's poses worth joining by transfers.
+
+    Its ends, the poses where it starts or stops turning, and every :data:`RUN_SPACING` th
+    pose of a long straight run.
+    """
+    if len(route) < 3:
+        return route
+    keep = [0]
+    for k in range(1, len(route) - 1):
+        a, b, c = route[k - 1], route[k], route[k + 1]
+        turning_in = abs(b[2] - a[2]) > 1e-9
+        turning_out = abs(c[2] - b[2]) > 1e-9
+        if turning_in != turning_out or k - keep[-1] >= RUN_SPACING:
+            keep.append(k)
+    keep.append(len(route) - 1)
+    return [route[k] for k in keep]
+
+
+def shortened(evaluate: Evaluator, route: list[Pose], grasp: int,
+              should_stop: Stop) -> Found[tuple[list[Pose], float]]:
+    """The cheapest chain of certified transfers along the route, with its cost (s).
+
+    ``VALID`` with the chain, ``INVALID`` when there is none, ``STOPPED``. Candidate
+    transfers join route pose ``i`` to ``i + 1, i + 2, i + 4, ...`` and to the end. Lazily
+    (:func:`~pivot_ompl.planners.evaluation.lazy_search`): the cheapest chain by estimated
+    costs (a transfer's reference path length at the push rate,
+    :meth:`~pivot_ompl.cost.CostModel.transfer_estimate`, a turn's
+    :meth:`~pivot_ompl.cost.CostModel.spin_estimate`, until it is checked), its unchecked
+    transfers checked (the cheap test first), again until every transfer of it is checked.
+    ``should_stop`` is polled before every check.
+    """
+    checker, costs = evaluate.checker, evaluate.costs
+    n = len(route)
+    m, alpha = checker.model, checker.scene.alpha_max
+    ell = m.edge_half_length(grasp)
+    cars = [m.car_pose(q, grasp) for q in route]
+    paths = checker.steering.paths
+    ends = {i: sorted({min(n - 1, i + (1 << k)) for k in range(n.bit_length() + 1)} - {i})
+            for i in range(n - 1)}
+    checked: dict[tuple[int, int], float] = {}
+
+    def estimate(i: int, j: int) -> float:
+        a, b = cars[i], cars[j]
+        if paths.is_spin(a, b):
+            return costs.spin_estimate(wrap_angle(b[2] - a[2]), alpha)
+        return costs.transfer_estimate(paths.distance(a, b), ell, alpha)
+
+    def cheapest() -> Found[tuple[list[int], float]]:
+        best = [math.inf] * n
+        back = [-1] * n
+        best[0] = 0.0
+        for i in range(n - 1):  # a DAG: the route's order
+            if not math.isfinite(best[i]):
+                continue
+            for j in ends[i]:
+                c = checked.get((i, j))
+                v = best[i] + (estimate(i, j) if c is None else c)
+                if v < best[j]:
+                    best[j], back[j] = v, i
+        if not math.isfinite(best[-1]):
+            return Found(Status.INVALID)
+        chain = [n - 1]
+        while chain[-1] != 0:
+            chain.append(back[chain[-1]])
+        return Found(Status.VALID, (chain[::-1], best[-1]))
+
+    def check(found: tuple[list[int], float]) -> Status:
+        chain = found[0]
+        pending = [(i, j) for i, j in zip(chain, chain[1:], strict=False)
+                   if (i, j) not in checked]
+        for i, j in pending:
+            if should_stop():
+                return Status.STOPPED
+            c = math.inf
+            if j == i + 1 or checker.path_free(route[i], route[j], grasp):
+                e = evaluate.transfer(route[i], route[j], grasp, should_stop=should_stop)
+                if e.status is Status.STOPPED:
+                    return e.status
+                c = e.cost
+            checked[(i, j)] = c
+            if not math.isfinite(c):
+                break
+        return Status.INVALID if pending else Status.VALID
+
+    # the checks poll ``should_stop``: a chain whose every transfer is checked is returned
+    # even when the time is up
+    found = lazy_search(cheapest, check, lambda: False)
+    if found.path is None:
+        return Found(found.status)
+    chain, cost = found.path
+    return Found(Status.VALID, ([route[i] for i in chain], cost))
