@@ -39,7 +39,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--name", help="scene name (default: the map file's name)")
     p.add_argument("--clean", action="append", default=[], metavar="OP[=VALUE]",
                    help="clean the map before boxing it; repeatable: specks[=AREA] frees "
-                   "groups of blocked cells of at most AREA m2 off the image border (default "
+                   "groups of blocked cells of at most AREA m2 clear of the floor area's edge "
+                   "(default "
                    f"{CLEAN_DEFAULTS['specks']:g}); streaks[=LENGTH] frees one-cell-wide lines "
                    "held at most at one end, of at most LENGTH m (default "
                    f"{CLEAN_DEFAULTS['streaks']:g})")
