@@ -40,7 +40,7 @@ def test_a_wall_is_one_box_however_long():
     assert len(cell_rectangles(blocked)) == 3
 
 
-@settings(max_examples=25, deadline=None)
+@settings(max_examples=15, deadline=None)
 @given(st.integers(0, 2**32 - 1), st.sampled_from([0.05, 0.1, 0.25]),
        st.floats(-50, 50), st.floats(-50, 50))
 def test_every_cell_lands_where_the_map_frame_puts_it(tmp_path_factory, seed, res, ox, oy):
@@ -182,6 +182,13 @@ def test_an_image_that_is_not_one_or_too_large_is_refused_before_decoding(tmp_pa
     (tmp_path / "map.pgm").write_bytes(b"not an image")
     with pytest.raises(MapError, match="cannot be read as an image"):
         scene_from_map(path, start=(3, 2, 0), goal=(3, 2, 0))
+
+
+def test_a_16_bit_image_is_refused_naming_its_mode(tmp_path):
+    path = write_map(tmp_path, room().astype(np.uint16) * 257, fmt="png")
+    with pytest.raises(MapError, match="8-bit") as e:
+        scene_from_map(path, start=(3, 2, 0), goal=(3, 2, 0))
+    assert e.value.field == "image"
 
 
 @pytest.mark.parametrize("start, message", [((0.35, 2.0, 0.0), "leaves the map's free area"),
