@@ -2,8 +2,9 @@
 
 :func:`scene_from_map` and :func:`import_map` (:mod:`~pivot_ompl.maps.importer`) read a map
 (:mod:`~pivot_ompl.maps.mapfile`, :mod:`~pivot_ompl.maps.occupancy`), optionally clean it
-(:mod:`~pivot_ompl.maps.cleaning`) and cover its obstacle cells with few boxes
-(:mod:`~pivot_ompl.maps.rectangles`). See ``docs/maps.md``.
+(:mod:`~pivot_ompl.maps.cleaning`), cover its obstacle cells with few boxes
+(:mod:`~pivot_ompl.maps.rectangles`) and place them in the map frame
+(:mod:`~pivot_ompl.maps.placement`). See ``docs/maps.md``.
 """
 
 from pivot_ompl.maps.cleaning import CleaningReport, MapCleaning

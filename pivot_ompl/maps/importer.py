@@ -4,10 +4,10 @@ The scene keeps the map's frame: its coordinates are those a user reads in RViz 
 (``origin`` places the image's lower-left pixel), and the start and goal are given in it.
 The floor area (``bounds``) is the smallest rectangle of whole cells holding every free
 cell; every other cell inside it (occupied or unknown, see :mod:`~pivot_ompl.maps.occupancy`)
-is covered by axis-aligned box obstacles, exact to the cell and few
-(:mod:`~pivot_ompl.maps.rectangles`), after the optional cleaning
-(:mod:`~pivot_ompl.maps.cleaning`). What was read and done is returned as header lines for
-the scene file (:attr:`MapImport.header`).
+is covered by box obstacles, exact to the cell and few (:mod:`~pivot_ompl.maps.rectangles`),
+after the optional cleaning (:mod:`~pivot_ompl.maps.cleaning`); a map whose origin has a yaw
+is turned by it (:mod:`~pivot_ompl.maps.placement`). What was read and done is returned as
+header lines for the scene file (:attr:`MapImport.header`).
 """
 
 from __future__ import annotations
@@ -19,31 +19,19 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import shapely
 
 from pivot_ompl.errors import MapError, counted
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.maps.cleaning import CleaningReport, MapCleaning, clean_blocked
 from pivot_ompl.maps.mapfile import MapFile, read_map_yaml
 from pivot_ompl.maps.occupancy import free_cells
+from pivot_ompl.maps.placement import ImageFrame, check_pose
 from pivot_ompl.maps.rectangles import cell_rectangles
-from pivot_ompl.scene import (
-    MAX_EXTENT,
-    MAX_OBSTACLES,
-    MAX_SIZE,
-    MIN_SIZE,
-    BoxObstacle,
-    Scene,
-    check_pose,
-    scene_from_dict,
-)
-from pivot_ompl.se2 import Pose
+from pivot_ompl.scene import MAX_EXTENT, MAX_OBSTACLES, MAX_SIZE, MIN_SIZE, Scene, scene_from_dict
+from pivot_ompl.scene import check_pose as scene_pose
 
 logger = logging.getLogger(__name__)
 
-#: Decimals kept of a cell edge's coordinate (m): far below any resolution, it only drops
-#: the round-off of ``origin + index * resolution``.
-DIGITS = 9
 #: Height of the walls (m) unless given.
 DEFAULT_HEIGHT = 2.0
 #: The box unless given: the regrasp paper's Fig. 10 box (m), its 0.4 m side passing slots.
@@ -92,7 +80,8 @@ class MapImport:
         return "\n".join([
             f"Imported from the ROS map_server map {m.path.name} by pivot-ompl import-map.",
             f"source: image {m.image.name} ({w} x {h} px, sha256 {self.image_sha256[:16]}...), "
-            f"resolution {m.resolution:g} m/px, origin [{m.origin[0]:g}, {m.origin[1]:g}, 0], "
+            f"resolution {m.resolution:g} m/px, origin [{m.origin[0]:g}, {m.origin[1]:g}, "
+            f"{m.yaw:g}], "
             f"mode {m.mode}, negate {int(m.negate)}, occupied_thresh {m.occupied_thresh:g}, "
             f"free_thresh {m.free_thresh:g}",
             f"reading: free cells are floor, occupied and unknown cells are obstacles; "
@@ -103,11 +92,6 @@ class MapImport:
             "cleaning: " + ("; ".join(parts) if parts else "none"),
             "frame: the map's (poses as read in RViz on this map)",
         ])
-
-
-def _tidy(v: float) -> float:
-    """A cell edge's coordinate rounded to :data:`DIGITS` decimals (no 5.699999999999999)."""
-    return round(v, DIGITS)
 
 
 def _sha256(path: Path) -> str:
@@ -125,31 +109,6 @@ def _crop(free: np.ndarray, src: str, image: str) -> tuple[int, int, int, int]:
                        "and the thresholds)", source=src)
     cols = np.flatnonzero(free.any(axis=0))
     return int(rows[0]), int(cols[0]), int(rows[-1]) + 1, int(cols[-1]) + 1
-
-
-def _check_pose(pose: Pose, fld: str, model: BoxGraspModel,
-                bounds: tuple[float, float, float, float], boxes: list[BoxObstacle]) -> None:
-    """Refuse a pose whose box footprint leaves the map's free area or overlaps an obstacle."""
-    corners = model.object_corners(pose)
-    b = bounds
-    if any(not (b[0] - 1e-9 <= x <= b[2] + 1e-9 and b[1] - 1e-9 <= y <= b[3] + 1e-9)
-           for x, y in corners):
-        raise MapError(fld, list(pose), "the box leaves the map's free area "
-                       f"(x {b[0]:g}..{b[2]:g}, y {b[1]:g}..{b[3]:g} m in the map frame)")
-    if not boxes:
-        return
-    poly = shapely.Polygon(corners)
-    lo = np.array([(o.center[0] - 0.5 * o.size[0], o.center[1] - 0.5 * o.size[1])
-                   for o in boxes])
-    hi = np.array([(o.center[0] + 0.5 * o.size[0], o.center[1] + 0.5 * o.size[1])
-                   for o in boxes])
-    rects = shapely.box(lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1])
-    for i in shapely.STRtree(rects).query(poly, predicate="intersects"):
-        if shapely.intersection(poly, rects[i]).area > 1e-12:
-            o = boxes[int(i)]
-            raise MapError(fld, list(pose), "the box overlaps an occupied or unknown cell of "
-                           f"the map (an obstacle at x {o.center[0]:g}, y {o.center[1]:g} m, "
-                           f"{o.size[0]:g} x {o.size[1]:g} m)")
 
 
 def _check_sizes(height: float, box: Sequence[float]) -> tuple[float, float, float]:
@@ -193,20 +152,19 @@ def import_map(map_file: str | Path, *, start: Sequence[float], goal: Sequence[f
     for fld, v in (("cleaning.specks", cleaning.specks), ("cleaning.streaks", cleaning.streaks)):
         if not (isinstance(v, int | float) and not isinstance(v, bool) and 0 <= v < 1e6):
             raise MapError(fld, v, "must be a number >= 0")
-    start_pose = check_pose(start, field="start")
-    goal_pose = check_pose(goal, field="goal")
+    start_pose = scene_pose(start, field="start")
+    goal_pose = scene_pose(goal, field="goal")
     mapfile = read_map_yaml(map_file)
     src, res = str(mapfile.path), mapfile.resolution
     free = free_cells(mapfile)
     image_h, image_w = free.shape
     r0, c0, r1, c1 = _crop(free, src, mapfile.image.name)
-    x0 = _tidy(mapfile.origin[0] + c0 * res)
-    x1 = _tidy(mapfile.origin[0] + c1 * res)
-    y0 = _tidy(mapfile.origin[1] + (image_h - r1) * res)
-    y1 = _tidy(mapfile.origin[1] + (image_h - r0) * res)
-    if max(x1 - x0, y1 - y0) > MAX_EXTENT:
+    frame = ImageFrame(mapfile.origin, mapfile.yaw, res, image_h)
+    bounds, outside = frame.floor((r0, c0, r1, c1), float(height))
+    width, depth = bounds[2] - bounds[0], bounds[3] - bounds[1]
+    if max(width, depth) > MAX_EXTENT:
         raise MapError("image", f"{mapfile.image.name} ({image_w} x {image_h} px)",
-                       f"its free area is {x1 - x0:.1f} x {y1 - y0:.1f} m: a scene is at most "
+                       f"its free area spans {width:.1f} x {depth:.1f} m: a scene is at most "
                        f"{MAX_EXTENT:g} m on a side", source=src)
     blocked = ~free[r0:r1, c0:c1]
     del free
@@ -219,20 +177,16 @@ def import_map(map_file: str | Path, *, start: Sequence[float], goal: Sequence[f
         raise MapError("image", mapfile.image.name, f"gives {len(rects)} boxes, more than a "
                        f"scene's {MAX_OBSTACLES}: clean it (--clean specks, streaks)",
                        source=src)
-    rows_top = np.round(y1 - rects[:, [0, 2]] * res, DIGITS)  # image rows grow downwards
-    cols = np.round(x0 + rects[:, [1, 3]] * res, DIGITS)
-    boxes = [BoxObstacle((0.5 * (cx0 + cx1), 0.5 * (yt + yb)), (cx1 - cx0, yt - yb), 0.0,
-                         float(height))
-             for (yt, yb), (cx0, cx1) in zip(rows_top.tolist(), cols.tolist(), strict=True)]
+    boxes = frame.boxes(frame.local_rectangles(rects, (r0, c0, r1, c1)), float(height))
+    boxes += outside
     if name is None:
         stem = mapfile.path.stem
         name = mapfile.path.parent.name if stem == "map" and mapfile.path.parent.name else stem
     if not isinstance(name, str) or not name:
         raise MapError("name", name, "must be a non-empty string")
-    bounds = (x0, y0, x1, y1)
     model = BoxGraspModel(size)
-    _check_pose(start_pose, "start", model, bounds, boxes)
-    _check_pose(goal_pose, "goal", model, bounds, boxes)
+    check_pose(start_pose, "start", model, bounds, boxes)
+    check_pose(goal_pose, "goal", model, bounds, boxes)
     doc = {"name": name, "bounds": list(bounds), "object": {"size": list(size)},
            "start": list(start_pose), "goal": list(goal_pose)}
     base = scene_from_dict(doc, source=src)

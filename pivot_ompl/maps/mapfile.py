@@ -12,10 +12,9 @@ Format (written by ``map_saver`` and read by ROS 1 ``map_server`` and Nav2's
     mode: trinary               # optional: trinary (default), scale or raw
 
 ``negate``, ``occupied_thresh`` and ``free_thresh`` default to 0, 0.65 and 0.196 (the values
-``map_saver`` writes) when absent. Other keys are ignored (a warning names them). A rotated
-map (``origin[2]`` not 0) is refused: the scene's obstacles would be boxes turned by that
-yaw inside a floor area that the map does not cover, and most ROS consumers (``amcl``,
-``costmap_2d``) ignore that yaw too; rotate the image instead.
+``map_saver`` writes) when absent. Other keys are ignored (a warning names them). The yaw of
+``origin`` turns the image about its lower-left corner, as RViz shows it (several ROS
+consumers, ``amcl`` and ``costmap_2d`` among them, ignore it).
 """
 
 from __future__ import annotations
@@ -51,11 +50,12 @@ class MapFile:
         image: the image file (resolved against the YAML file's folder).
         resolution: metres per pixel.
         origin: map-frame ``(x, y)`` of the lower-left corner of the image's lower-left
-            pixel (m); the yaw is 0 (others are refused).
+            pixel (m).
         negate: white is occupied.
         occupied_thresh: occupancy above it is occupied (in [0, 1]).
         free_thresh: occupancy below it is free (in [0, 1], below ``occupied_thresh``).
         mode: ``"trinary"``, ``"scale"`` or ``"raw"``.
+        yaw: the image's rotation in the map frame (rad, ``origin[2]``).
     """
 
     path: Path
@@ -66,6 +66,7 @@ class MapFile:
     occupied_thresh: float
     free_thresh: float
     mode: str
+    yaw: float = 0.0
 
 
 def _finite(v: Any, key: str, source: str) -> float:
@@ -95,7 +96,7 @@ def read_map_yaml(path: str | Path) -> MapFile:
 
     Raises:
         MapError: unreadable or invalid YAML, a missing or wrong field (naming it and its
-            value), a rotated origin, a missing image file.
+            value), a missing image file.
     """
     p = regular_file(input_path(path, error=MapError, field="map"), error=MapError,
                      field="map")
@@ -121,7 +122,7 @@ def read_map_yaml(path: str | Path) -> MapFile:
         raise MapError("image", image, f"{e.reason} (looked for {image_path})",
                        source=src) from None
     resolution = _number(doc, "resolution", src, MIN_RESOLUTION, MAX_RESOLUTION)
-    origin = _origin(doc["origin"], src)
+    *origin, yaw = _origin(doc["origin"], src)
     negate = doc["negate"]
     if negate not in (0, 1) or isinstance(negate, float):
         raise MapError("negate", negate, "must be 0 or 1", source=src)
@@ -133,17 +134,15 @@ def read_map_yaml(path: str | Path) -> MapFile:
     mode = doc["mode"]
     if mode not in MODES:
         raise MapError("mode", mode, f"must be one of {', '.join(MODES)}", source=src)
-    return MapFile(p, image_path, resolution, origin, bool(negate), occupied, free, mode)
+    return MapFile(p, image_path, resolution, (origin[0], origin[1]), bool(negate), occupied,
+                   free, mode, yaw)
 
 
-def _origin(v: Any, src: str) -> tuple[float, float]:
+def _origin(v: Any, src: str) -> tuple[float, float, float]:
     if not isinstance(v, list) or len(v) != 3:
         raise MapError("origin", v, "must be a list of 3 numbers [x, y, yaw]", source=src)
     x, y, yaw = (_finite(c, f"origin[{i}]", src) for i, c in enumerate(v))
     for i, c in enumerate((x, y)):
         if abs(c) > MAX_ORIGIN:
             raise MapError(f"origin[{i}]", c, f"must be within +-{MAX_ORIGIN:g} m", source=src)
-    if yaw != 0:
-        raise MapError("origin[2]", yaw, "a rotated map is not supported (its yaw must be "
-                       "0): rotate the image and give the yaw 0", source=src)
-    return x, y
+    return x, y, yaw

@@ -17,9 +17,13 @@ from pivot_ompl.maps.rectangles import cell_rectangles
 
 
 def covered(scene, x: float, y: float) -> int:
-    """How many of the scene's boxes hold the point (x, y)."""
-    return sum(abs(x - o.center[0]) < 0.5 * o.size[0] and abs(y - o.center[1]) < 0.5 * o.size[1]
-               for o in scene.obstacles)
+    """How many of the scene's boxes hold the point (x, y) (boxes of any yaw)."""
+    n = 0
+    for o in scene.obstacles:
+        c, s = math.cos(o.yaw), math.sin(o.yaw)
+        dx, dy = x - o.center[0], y - o.center[1]
+        n += abs(c * dx + s * dy) < 0.5 * o.size[0] and abs(-s * dx + c * dy) < 0.5 * o.size[1]
+    return n
 
 
 @settings(max_examples=60, deadline=None)
@@ -63,6 +67,42 @@ def test_every_cell_lands_where_the_map_frame_puts_it(tmp_path_factory, seed, re
             x, y = ox + (c + 0.5) * res, oy + (h - r - 0.5) * res  # row 0 is the top
             assert covered(scene, x, y) == (0 if px[r, c] == FREE else 1), (r, c)
     assert result.blocked_cells == int(np.count_nonzero(px[3:-3, 3:-3] != FREE))
+
+
+@settings(max_examples=15, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.floats(-math.pi, math.pi), st.floats(-20, 20),
+       st.floats(-20, 20))
+def test_a_rotated_map_turns_every_cell_and_blocks_what_the_image_does_not_cover(
+        tmp_path_factory, seed, yaw, ox, oy):
+    rng = np.random.default_rng(seed)
+    res = 0.1
+    px = room(30, 20)
+    inner = rng.random((14, 24)) < 0.15
+    px[3:-3, 3:-3][inner] = OCCUPIED
+    px[9:11, 14:16] = FREE
+    folder = tmp_path_factory.mktemp("map")
+    path = write_map(folder, px, resolution=res, origin=(ox, oy, yaw))
+    h = px.shape[0]
+    c, s = math.cos(yaw), math.sin(yaw)
+
+    def to_map(u, v):  # image frame (m) -> map frame
+        return ox + c * u - s * v, oy + s * u + c * v
+
+    centre = to_map(15 * res, (h - 10) * res)
+    scene = scene_from_map(path, start=(*centre, 0.0), goal=(*centre, 0.0),
+                           box=(0.05, 0.05, 1))
+    for r in range(3, h - 3):
+        for col in range(3, 27):
+            x, y = to_map((col + 0.5) * res, (h - r - 0.5) * res)
+            assert (covered(scene, x, y) == 0) == (px[r, col] == FREE), (r, col)
+    b = scene.bounds
+    for x, y in rng.uniform((b[0], b[1]), (b[2], b[3]), size=(300, 2)):
+        u, v = c * (x - ox) + s * (y - oy), -s * (x - ox) + c * (y - oy)  # map -> image
+        col, r = math.floor(u / res), h - 1 - math.floor(v / res)
+        inside = 3 <= r < h - 3 and 3 <= col < 27
+        if abs(u / res - round(u / res)) < 1e-6 or abs(v / res - round(v / res)) < 1e-6:
+            continue  # on a cell edge
+        assert (covered(scene, x, y) == 0) == (inside and px[r, col] == FREE), (x, y)
 
 
 @pytest.mark.parametrize("value, free", [(254, True), (206, True), (205, False), (100, False),
@@ -159,7 +199,8 @@ def test_specks_and_streaks_are_cleaned_as_documented(tmp_path):
     (lambda t: t.replace("resolution: 0.1", "resolution: fine"), "resolution"),
     (lambda t: t.replace("resolution: 0.1", "resolution: 0"), "resolution"),
     (lambda t: t.replace("origin: [0.0, 0.0, 0.0]", "origin: [.nan, 0, 0]"), "origin[0]"),
-    (lambda t: t.replace("origin: [0.0, 0.0, 0.0]", "origin: [0, 0, 0.3]"), "origin[2]"),
+    (lambda t: t.replace("origin: [0.0, 0.0, 0.0]", "origin: [0, 0, .inf]"), "origin[2]"),
+    (lambda t: t.replace("origin: [0.0, 0.0, 0.0]", "origin: [2.0e4, 0, 0]"), "origin[0]"),
     (lambda t: t.replace("origin: [0.0, 0.0, 0.0]", "origin: 3"), "origin"),
     (lambda t: t + "mode: fancy\n", "mode"),
     (lambda t: t.replace("image: map.pgm\n", ""), "image"),
