@@ -18,8 +18,8 @@ from pivot_ompl.generate.sceneio import write_scene
 from pivot_ompl.maps import MapCleaning, import_map
 from pivot_ompl.maps.importer import DEFAULT_BOX, DEFAULT_HEIGHT
 
-#: Values of a bare ``--clean specks`` (m²) and ``--clean streaks`` (m).
-CLEAN_DEFAULTS = {"specks": 0.02, "streaks": 0.5}
+#: Values of a bare ``--clean specks`` (m²), ``--clean streaks`` and ``--clean gaps`` (m).
+CLEAN_DEFAULTS = {"specks": 0.02, "streaks": 0.5, "gaps": 0.2}
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -43,7 +43,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    "(default "
                    f"{CLEAN_DEFAULTS['specks']:g}); streaks[=LENGTH] frees one-cell-wide lines "
                    "held at most at one end, of at most LENGTH m (default "
-                   f"{CLEAN_DEFAULTS['streaks']:g})")
+                   f"{CLEAN_DEFAULTS['streaks']:g}); gaps[=WIDTH] blocks free cells no free "
+                   "square of side WIDTH m holds: laser rays into unseen space (default "
+                   f"{CLEAN_DEFAULTS['gaps']:g})")
     p.set_defaults(func=run)
 
 

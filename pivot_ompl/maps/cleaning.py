@@ -17,7 +17,16 @@ the reverse); the counts of what each removed go into the scene's header:
   one-cell-thick wall's free end (a door jamb) is also such a line: on maps whose walls are
   one cell thick, ``L`` must stay below the shortest wall stub that matters.
 
-Both use :mod:`scipy.ndimage` (labelling and binary morphology).
+- **gaps** (width ``W`` m): the reverse, on the free cells, before the floor area is cut:
+  a free cell that no free square of ``W / resolution`` cells a side (rounded down; below 2
+  nothing is done) holds is made blocked: the fans of free rays a laser leaves through doors
+  and glass into unseen space, and free slivers between obstacles. The floor area shrinks to
+  what remains and the boxes get fewer (the Willow Garage map at 0.3 m: 5314 boxes to 3642).
+  No body narrower than ``W`` is lost, with one exception: a box's corner can no longer poke
+  into such a gap, and a gap running at 45 degrees closes below ``W * sqrt(2)``. Keep ``W``
+  below the box's and the robot's smallest side.
+
+All three use :mod:`scipy.ndimage` (labelling and binary morphology).
 """
 
 from __future__ import annotations
@@ -42,10 +51,12 @@ class MapCleaning:
     Attributes:
         specks: largest area (m²) of a group of blocked cells made free.
         streaks: longest one-cell-wide dangling line (m) made free.
+        gaps: free cells held by no free square of this side (m) are made blocked.
     """
 
     specks: float = 0.0
     streaks: float = 0.0
+    gaps: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -57,12 +68,14 @@ class CleaningReport:
         speck_cells: their cells.
         streaks: lines removed as streaks.
         streak_cells: their cells.
+        gap_cells: free cells made blocked as gaps.
     """
 
     specks: int = 0
     speck_cells: int = 0
     streaks: int = 0
     streak_cells: int = 0
+    gap_cells: int = 0
 
 
 def _remove_specks(blocked: np.ndarray, max_cells: int) -> tuple[int, int]:
@@ -99,6 +112,23 @@ def _remove_streaks(blocked: np.ndarray, max_cells: int) -> tuple[int, int]:
     gone = streak[labels]
     blocked[gone] = False
     return int(np.count_nonzero(streak)), int(np.count_nonzero(gone))
+
+
+def close_gaps(free: np.ndarray, width: float, resolution: float) -> int:
+    """Block the free cells of ``free`` no free square of side ``width`` (m) holds (in place).
+
+    Returns:
+        how many cells were made blocked (0 when ``width`` is below two cells).
+    """
+    side = int(width / resolution + 1e-9)
+    if side < 2:
+        return 0
+    kept = ndimage.binary_opening(free, structure=np.ones((side, side), dtype=bool))
+    closed = int(np.count_nonzero(free)) - int(np.count_nonzero(kept))
+    free[...] = kept
+    if closed:
+        logger.info("closed %d free cells in gaps narrower than %g m", closed, width)
+    return closed
 
 
 def clean_blocked(blocked: np.ndarray, cleaning: MapCleaning, resolution: float

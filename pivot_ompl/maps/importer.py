@@ -12,6 +12,7 @@ header lines for the scene file (:attr:`MapImport.header`).
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import logging
 from collections.abc import Sequence
@@ -22,7 +23,7 @@ import numpy as np
 
 from pivot_ompl.errors import MapError, counted
 from pivot_ompl.grasp import BoxGraspModel
-from pivot_ompl.maps.cleaning import CleaningReport, MapCleaning, clean_blocked
+from pivot_ompl.maps.cleaning import CleaningReport, MapCleaning, clean_blocked, close_gaps
 from pivot_ompl.maps.mapfile import MapFile, read_map_yaml
 from pivot_ompl.maps.occupancy import free_cells
 from pivot_ompl.maps.placement import ImageFrame, check_pose
@@ -77,6 +78,9 @@ class MapImport:
         if c.streaks > 0:
             parts.append(f"dangling one-cell lines of at most {c.streaks:g} m made free "
                          f"({k.streaks} lines, {k.streak_cells} cells)")
+        if c.gaps > 0:
+            parts.append(f"free gaps narrower than {c.gaps:g} m made blocked "
+                         f"({k.gap_cells} cells)")
         return "\n".join([
             f"Imported from the ROS map_server map {m.path.name} by pivot-ompl import-map.",
             f"source: image {m.image.name} ({w} x {h} px, sha256 {self.image_sha256[:16]}...), "
@@ -105,8 +109,8 @@ def _sha256(path: Path) -> str:
 def _crop(free: np.ndarray, src: str, image: str) -> tuple[int, int, int, int]:
     rows = np.flatnonzero(free.any(axis=1))
     if rows.size == 0:
-        raise MapError("image", image, "has no free cell (nothing to plan on: check negate "
-                       "and the thresholds)", source=src)
+        raise MapError("image", image, "has no free cell (nothing to plan on: check negate, "
+                       "the thresholds and the cleaning of gaps)", source=src)
     cols = np.flatnonzero(free.any(axis=0))
     return int(rows[0]), int(cols[0]), int(rows[-1]) + 1, int(cols[-1]) + 1
 
@@ -149,7 +153,8 @@ def import_map(map_file: str | Path, *, start: Sequence[float], goal: Sequence[f
     """
     cleaning = MapCleaning() if cleaning is None else cleaning
     size = _check_sizes(height, box)
-    for fld, v in (("cleaning.specks", cleaning.specks), ("cleaning.streaks", cleaning.streaks)):
+    for fld, v in (("cleaning.specks", cleaning.specks), ("cleaning.streaks", cleaning.streaks),
+                   ("cleaning.gaps", cleaning.gaps)):
         if not (isinstance(v, int | float) and not isinstance(v, bool) and 0 <= v < 1e6):
             raise MapError(fld, v, "must be a number >= 0")
     start_pose = scene_pose(start, field="start")
@@ -158,6 +163,7 @@ def import_map(map_file: str | Path, *, start: Sequence[float], goal: Sequence[f
     src, res = str(mapfile.path), mapfile.resolution
     free = free_cells(mapfile)
     image_h, image_w = free.shape
+    gap_cells = close_gaps(free, cleaning.gaps, res) if cleaning.gaps > 0 else 0
     r0, c0, r1, c1 = _crop(free, src, mapfile.image.name)
     frame = ImageFrame(mapfile.origin, mapfile.yaw, res, image_h)
     bounds, outside = frame.floor((r0, c0, r1, c1), float(height))
@@ -168,7 +174,7 @@ def import_map(map_file: str | Path, *, start: Sequence[float], goal: Sequence[f
                        f"{MAX_EXTENT:g} m on a side", source=src)
     blocked = ~free[r0:r1, c0:c1]
     del free
-    report = clean_blocked(blocked, cleaning, res)
+    report = dataclasses.replace(clean_blocked(blocked, cleaning, res), gap_cells=gap_cells)
     rects = cell_rectangles(blocked)
     n_blocked = int(np.count_nonzero(blocked))
     n_free = blocked.size - n_blocked

@@ -191,6 +191,26 @@ def test_specks_and_streaks_are_cleaned_as_documented(tmp_path):
     assert "specks of at most 0.05 m2 made free (1 groups, 4 cells)" in cleaned.header
 
 
+def test_gaps_close_one_cell_rays_and_the_floor_area_shrinks_to_what_remains(tmp_path):
+    px = room()
+    px[0:3, 30] = FREE  # a ray through the top wall to the image's edge
+    px[10, 10:20] = OCCUPIED
+    px[11, 10:20] = FREE
+    px[12, 10:20] = OCCUPIED  # a one-cell free sliver between two walls
+    path = write_map(tmp_path, px)
+    pose = (3.0, 2.0, 0.0)
+    plain = import_map(path, start=pose, goal=pose)
+    assert plain.scene.bounds[3] == pytest.approx(4.0)
+    cleaned = import_map(path, start=pose, goal=pose, cleaning=MapCleaning(gaps=0.2))
+    assert cleaned.scene.bounds == pytest.approx((0.3, 0.3, 5.7, 3.7))
+    assert cleaned.cleaned.gap_cells == 3 + 10
+    assert covered(cleaned.scene, 1.45, 2.85) == 1 and covered(plain.scene, 1.45, 2.85) == 0
+    assert "free gaps narrower than 0.2 m made blocked (13 cells)" in cleaned.header
+    # below two cells a side nothing is done
+    same = import_map(path, start=pose, goal=pose, cleaning=MapCleaning(gaps=0.15))
+    assert same.cleaned.gap_cells == 0 and same.scene.bounds == plain.scene.bounds
+
+
 @pytest.mark.parametrize("edit, field", [
     (lambda t: t.replace("image: map.pgm", "image: nowhere.pgm"), "image"),
     (lambda t: t.replace("free_thresh: 0.196", "free_thresh: 0.9"), "free_thresh"),
