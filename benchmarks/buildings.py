@@ -14,6 +14,7 @@ Usage::
 
     python benchmarks/buildings.py                      # 20 seeds, --time 60
     python benchmarks/buildings.py --seeds 3 --maps aws_small_house,nav2_depot
+    python benchmarks/buildings.py --table results/buildings/buildings.json
 
 Set ``PIVOT_BENCH_LOCK`` to a file (``/tmp/pivot-bench.lock``) to hold it (``flock``) during
 each planning run, so that two measuring scripts never share the cores. Outputs go to
@@ -127,7 +128,7 @@ def plan_once(scene: str, seed: int, limit: float, out: Path) -> dict[str, Any]:
         proc.returncode = os.waitstatus_to_exitcode(status)
     run: dict[str, Any] = {"seed": seed, "code": proc.returncode, "wall": wall,
                            "peak_mb": usage.ru_maxrss / 1024.0,
-                           "message": err.strip().splitlines()[-1:] if err.strip() else []}
+                           "message": err.replace("\r", "\n").strip().splitlines()[-1:]}
     if proc.returncode == 0 and plan_path.exists():
         doc = json.loads(plan_path.read_text())
         q = doc.get("quality", {})
@@ -159,14 +160,25 @@ def summary_row(m: CorpusMap, info: dict[str, Any], runs: list[dict[str, Any]]) 
     return (f"| {m.name} | {m.kind} | {info['width']:.1f} x {info['depth']:.1f} "
             f"({info['resolution']:g}) | {info['boxes']} | {len(ok)}/{len(runs)} | "
             f"{_fmt(_median([r['wall'] for r in ok]))} | "
+            f"{_fmt(_median([r['solve'] for r in ok if r.get('solve') is not None]))} | "
             f"{_fmt(_median([float(g) for g in grasps]), '.0f')} | {bound_text} | "
             f"{_fmt(_median(ratios), '.2f')} | "
             f"{max(r['peak_mb'] for r in runs):.0f} |")
 
 
-HEADER = ("| map | kind | floor m (m/px) | boxes | solved | median time s | median regrasps "
-          "| regrasps = bound | median route ratio | peak memory MB |\n"
-          "|---|---|---|---|---|---|---|---|---|---|")
+HEADER = ("| map | kind | floor m (m/px) | boxes | solved | median time s | median solve s "
+          "| median regrasps | regrasps = bound | median route ratio | peak memory MB |\n"
+          "|---|---|---|---|---|---|---|---|---|---|---|")
+
+
+def table(record: dict[str, Any], command: str) -> str:
+    """The Markdown table of a run's record (``buildings.json``'s ``maps``)."""
+    by_name = {m.name: m for m in CORPUS}
+    rows = [summary_row(by_name[name], info, info["runs"]) for name, info in record.items()
+            if name in by_name]
+    return (f"{HEADER}\n" + "\n".join(rows) + f"\n\n`{command}`; {os.cpu_count()} cores; "
+            "time: the whole `pivot-ompl plan` process (start-up, the bound's share, search, "
+            "writing); solve: the search alone.\n")
 
 
 def main() -> None:
@@ -176,7 +188,14 @@ def main() -> None:
     p.add_argument("--time", type=float, default=60.0, help="plan's --time (s; default 60)")
     p.add_argument("--maps", help="comma-separated names (default: the whole corpus)")
     p.add_argument("--out", default=str(ROOT / "results" / "buildings"), help="output folder")
+    p.add_argument("--table", metavar="JSON", help="only print the table of a run's "
+                   "buildings.json")
     args = p.parse_args()
+    if args.table:
+        doc = json.loads(Path(args.table).read_text())
+        print(table(doc["maps"], f"python benchmarks/buildings.py --seeds {doc['seeds']} "
+                    f"--time {doc['time']:g}"))
+        return
     names = {m.name for m in CORPUS}
     chosen = CORPUS if not args.maps else tuple(m for m in CORPUS
                                                  if m.name in args.maps.split(","))
@@ -185,7 +204,7 @@ def main() -> None:
         raise SystemExit(f"--maps: unknown {sorted(unknown)} (known: {sorted(names)})")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    rows, record = [], {}
+    record = {}
     for m in chosen:
         info = import_corpus_map(m, out)
         runs = []
@@ -195,14 +214,11 @@ def main() -> None:
             print(f"{m.name} seed {seed}: code {run['code']}, {run['wall']:.1f} s, "
                   f"{run.get('regrasps')} regrasps (bound {run.get('bound')}), "
                   f"{run['peak_mb']:.0f} MB", file=sys.stderr, flush=True)
-        rows.append(summary_row(m, info, runs))
         record[m.name] = {"map": m.map, "start": m.start, "goal": m.goal, "clean": m.clean,
                           **info, "runs": runs}
-    table = "\n".join([HEADER, *rows])
     command = (f"python benchmarks/buildings.py --seeds {args.seeds} --time {args.time:g}"
                + (f" --maps {args.maps}" if args.maps else ""))
-    text = (f"{table}\n\n`{command}`; {os.cpu_count()} cores; times are whole `pivot-ompl "
-            "plan` processes.\n")
+    text = table(record, command)
     (out / "buildings.md").write_text(text)
     (out / "buildings.json").write_text(json.dumps(
         {"seeds": args.seeds, "time": args.time, "maps": record}, indent=1) + "\n")

@@ -38,12 +38,12 @@ def test_every_corpus_map_imports_at_its_start_and_goal(tmp_path, name):
 
 def test_a_row_counts_solved_runs_and_plans_at_their_bound():
     mod = _buildings()
-    runs = [{"solved": True, "wall": 3.0, "regrasps": 1, "bound": 1, "route_ratio": 1.2,
-             "peak_mb": 300.0},
-            {"solved": True, "wall": 5.0, "regrasps": 2, "bound": 1, "route_ratio": 1.4,
-             "peak_mb": 350.0},
+    runs = [{"solved": True, "wall": 3.0, "solve": 1.0, "regrasps": 1, "bound": 1,
+             "route_ratio": 1.2, "peak_mb": 300.0},
+            {"solved": True, "wall": 5.0, "solve": 2.0, "regrasps": 2, "bound": 1,
+             "route_ratio": 1.4, "peak_mb": 350.0},
             {"solved": False, "wall": 61.0, "peak_mb": 500.0}]
     info = {"width": 10.0, "depth": 5.0, "resolution": 0.05, "boxes": 42}
     row = mod.summary_row(mod.CORPUS[0], info, runs)
     cells = [c.strip() for c in row.strip("|").split("|")]
-    assert cells[3:] == ["42", "2/3", "4.0", "2", "1/2 at bound 1", "1.30", "500"]
+    assert cells[3:] == ["42", "2/3", "4.0", "1.5", "2", "1/2 at bound 1", "1.30", "500"]
