@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pivot_ompl.errors import MapError, counted
+from pivot_ompl.errors import MapError, counted, require_type
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.maps.cleaning import CleaningReport, MapCleaning, clean_blocked, close_gaps
 from pivot_ompl.maps.mapfile import MapFile, read_map_yaml
@@ -152,6 +152,7 @@ def import_map(map_file: str | Path, *, start: Sequence[float], goal: Sequence[f
         InputError: a bad pose, height, box size or name.
     """
     cleaning = MapCleaning() if cleaning is None else cleaning
+    require_type(cleaning, MapCleaning, "cleaning", "a MapCleaning")
     size = _check_sizes(height, box)
     for fld, v in (("cleaning.specks", cleaning.specks), ("cleaning.streaks", cleaning.streaks),
                    ("cleaning.gaps", cleaning.gaps)):
@@ -179,10 +180,10 @@ def import_map(map_file: str | Path, *, start: Sequence[float], goal: Sequence[f
     n_blocked = int(np.count_nonzero(blocked))
     n_free = blocked.size - n_blocked
     del blocked
-    if len(rects) > MAX_OBSTACLES:
-        raise MapError("image", mapfile.image.name, f"gives {len(rects)} boxes, more than a "
-                       f"scene's {MAX_OBSTACLES}: clean it (--clean specks, streaks)",
-                       source=src)
+    if len(rects) + len(outside) > MAX_OBSTACLES:
+        raise MapError("image", mapfile.image.name, f"gives {len(rects) + len(outside)} boxes, "
+                       f"more than a scene's {MAX_OBSTACLES}: clean it (--clean specks, "
+                       "streaks, gaps)", source=src)
     boxes = frame.boxes(frame.local_rectangles(rects, (r0, c0, r1, c1)), float(height))
     boxes += outside
     if name is None:
