@@ -1,7 +1,8 @@
 """pivot_ompl: pivoting manipulation and regrasp planning for a humanoid robot on OMPL.
 
 The public API (see docs/python-api.md): :func:`load_scene` and :func:`load_plan` (the file
-contracts), :func:`plan` (plan a scene, :class:`PlanResult`), :func:`make_setup` (the OMPL
+contracts), :func:`scene_from_map` and :func:`import_map` (a ROS map_server map as a scene,
+docs/maps.md), :func:`plan` (plan a scene, :class:`PlanResult`), :func:`make_setup` (the OMPL
 problem object, :class:`PivotProblem`), :class:`PivotSteering` (Reeds-Shepp paths to pivot
 rotations), :class:`BoxGraspModel` (the grasp conventions), the plan dataclasses and the
 :class:`PivotError` exception family. Every name but the exceptions is imported on first use
@@ -14,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 from pivot_ompl.errors import (
     InputError,
+    MapError,
     PivotError,
     PlanFileError,
     PlanningError,
@@ -27,6 +29,7 @@ if TYPE_CHECKING:
     from pivot_ompl.api import PlanResult, plan
     from pivot_ompl.base.problem import PivotProblem, make_setup
     from pivot_ompl.grasp import BoxGraspModel
+    from pivot_ompl.maps import MapCleaning, MapImport, import_map, scene_from_map
     from pivot_ompl.pivoting.steering import PivotSequence, PivotSteering
     from pivot_ompl.planfile import Plan, TransferPhase, TransferStep, TransitPhase, load_plan
     from pivot_ompl.scene import Scene, load_scene
@@ -37,7 +40,9 @@ _LAZY = {"BoxGraspModel": "pivot_ompl.grasp", "Plan": "pivot_ompl.planfile",
          "TransferPhase": "pivot_ompl.planfile", "TransferStep": "pivot_ompl.planfile",
          "TransitPhase": "pivot_ompl.planfile", "load_plan": "pivot_ompl.planfile",
          "Scene": "pivot_ompl.scene", "load_scene": "pivot_ompl.scene",
-"plan": "pivot_ompl.api", "PlanResult": "pivot_ompl.api",
+         "MapCleaning": "pivot_ompl.maps", "MapImport": "pivot_ompl.maps",
+         "import_map": "pivot_ompl.maps", "scene_from_map": "pivot_ompl.maps",
+         "plan": "pivot_ompl.api", "PlanResult": "pivot_ompl.api",
          "make_setup": "pivot_ompl.base.problem", "PivotProblem": "pivot_ompl.base.problem",
          "PivotSteering": "pivot_ompl.pivoting.steering",
          "PivotSequence": "pivot_ompl.pivoting.steering"}
@@ -58,9 +63,10 @@ def __dir__() -> list[str]:
 
 
 __all__ = [
-    "BoxGraspModel", "InputError", "PivotError", "PivotProblem", "PivotSequence",
-    "PivotSteering", "Plan", "PlanFileError", "PlanResult", "PlanningError", "Scene",
-    "SceneError", "SteeringError", "TransferPhase", "TransferStep", "TransitPhase",
-    "UnreachableError", "WholeBodyError", "load_plan", "load_scene", "make_setup", "plan",
+    "BoxGraspModel", "InputError", "MapCleaning", "MapError", "MapImport", "PivotError",
+    "PivotProblem", "PivotSequence", "PivotSteering", "Plan", "PlanFileError", "PlanResult",
+    "PlanningError", "Scene", "SceneError", "SteeringError", "TransferPhase", "TransferStep",
+    "TransitPhase", "UnreachableError", "WholeBodyError", "import_map", "load_plan",
+    "load_scene", "make_setup", "plan", "scene_from_map",
 ]
 __version__ = "0.4.0.dev0"

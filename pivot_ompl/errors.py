@@ -67,6 +67,10 @@ class SceneError(InputError):
     """A scene file is invalid (unknown key, missing field, wrong type, bad value)."""
 
 
+class MapError(InputError):
+    """A ROS ``map_server`` map (its YAML or its image) cannot be imported as a scene."""
+
+
 class PlanFileError(InputError):
     """A ``pivot-plan/1`` file is malformed (not a validity verdict: see ``PlanCheckReport``)."""
 

@@ -37,6 +37,9 @@ def test_wheel_installs_and_runs_outside_the_source_tree(tmp_path):
     assert "pivot_ompl/data/robots/hrp2/hrp2.urdf" in names
     assert "pivot_ompl/data/scenes/fig10.yaml" in names
     assert "pivot_ompl/viz/overlay.js" in names  # the replay page's controls
+    for example in ("aws_small_house/map.png", "aws_bookstore/map.pgm",
+                    "aws_small_warehouse/map_rotated.png", "aws_small_house/PROVENANCE.md"):
+        assert f"pivot_ompl/data/scenes/maps/{example}" in names
     subprocess.run([sys.executable, "-m", "pip", "install", "--quiet", "--no-deps",
                     "--target", str(site), str(wheel)], check=True, timeout=600)
     env = {**os.environ, "PYTHONPATH": str(site)}

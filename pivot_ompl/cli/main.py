@@ -28,7 +28,8 @@ EXIT_INTERRUPTED = 130
 #: dependency only hides that verb.
 VERB_MODULES = ("pivot_ompl.cli.steer", "pivot_ompl.cli.plan", "pivot_ompl.cli.check",
                 "pivot_ompl.cli.replay", "pivot_ompl.cli.animate", "pivot_ompl.cli.bench",
-                "pivot_ompl.cli.generate", "pivot_ompl.cli.bound", "pivot_ompl.cli.replan")
+                "pivot_ompl.cli.generate", "pivot_ompl.cli.bound", "pivot_ompl.cli.replan",
+                "pivot_ompl.cli.import_map")
 
 
 #: The exit codes, as every verb's help ends.
@@ -49,6 +50,8 @@ EXAMPLES: dict[str, tuple[str, ...]] = {
               "--out results/",),
     "generate": ("pivot-ompl generate --family walls --walls 2 --seed 1 --out my_scenes",),
     "bound": ("pivot-ompl bound fig10",),
+    "import-map": ("pivot-ompl import-map my_floor.yaml --out floor.yaml --start 1 2 0 "
+                   "--goal 8 3 1.57 --clean specks",),
     "replan": ("pivot-ompl replan slot plan.json --box 3.0 1.6 0.1 --out new.json "
                "--scene-out new.yaml",),
 }

@@ -1,0 +1,229 @@
+"""Plan on real building maps: the corpus of ROS map_server maps, N seeds each.
+
+Every map of :data:`CORPUS` (public maps: AWS RoboMaker worlds, TurtleBot3, Nav2, the Willow
+Garage office; provenance and licence in each map's ``PROVENANCE.md``) is imported with
+``pivot_ompl.import_map`` at its start and goal, then planned by ``pivot-ompl plan`` in a fresh
+process per seed (``--time``, default 60 s). Per map the Markdown table gives: the floor area
+and its boxes, runs solved, the median wall time of a run (the whole ``plan`` command:
+import of the scene, bound, search, conversion), the regrasps against the proven bound the
+plan carries (``regrasps_lower_bound``; "-" when the bound was not proven within ``plan``'s
+share of the limit), the median route ratio (route length over the proven shortest route)
+and the peak memory of a run (``ru_maxrss`` of the child process, from ``os.wait4``).
+
+Usage::
+
+    python benchmarks/buildings.py                      # 20 seeds, --time 60
+    python benchmarks/buildings.py --seeds 3 --maps aws_small_house,nav2_depot
+    python benchmarks/buildings.py --table results/buildings/buildings.json
+
+Set ``PIVOT_BENCH_LOCK`` to a file (``/tmp/pivot-bench.lock``) to hold it (``flock``) during
+each planning run, so that two measuring scripts never share the cores. Outputs go to
+``--out`` (default ``results/buildings``): the scenes, the plans, ``buildings.json`` and
+``buildings.md``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import fcntl
+import json
+import math
+import os
+import statistics
+import subprocess
+import sys
+import time
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parents[1]
+HALF_PI = 0.5 * math.pi
+
+
+@dataclass(frozen=True)
+class CorpusMap:
+    """A map of the corpus and the task planned on it.
+
+    Attributes:
+        name: the scene's name.
+        map: the map's YAML file, relative to the repository.
+        kind: what the map shows.
+        start, goal: the box's poses in the map frame (m, rad).
+        clean: ``MapCleaning`` fields (m², m), none by default.
+    """
+
+    name: str
+    map: str
+    kind: str
+    start: tuple[float, float, float]
+    goal: tuple[float, float, float]
+    clean: dict[str, float] = field(default_factory=dict)
+
+
+CORPUS = (
+    CorpusMap("aws_small_house", "scenes/maps/aws_small_house/map.yaml",
+              "house (simulated, SLAM map)", (-6.0, -3.0, 0.0), (7.0, -1.0, HALF_PI)),
+    CorpusMap("aws_bookstore", "scenes/maps/aws_bookstore/map.yaml",
+              "bookstore (simulated, SLAM map)", (-2.3, 5.4, 0.0), (2.6, -3.1, HALF_PI)),
+    CorpusMap("aws_small_warehouse", "scenes/maps/aws_small_warehouse/map.yaml",
+              "small warehouse (simulated, SLAM map)", (-4.5, -7.8, HALF_PI), (0.6, 6.4, 0.0)),
+    CorpusMap("turtlebot3_world", "benchmarks/maps/turtlebot3_world/map.yaml",
+              "TurtleBot3 arena (simulated, SLAM map)", (0.0, -1.9, 0.0), (0.0, 1.9, 0.0)),
+    CorpusMap("nav2_depot", "benchmarks/maps/nav2_depot/depot.yaml",
+              "depot (simulated, SLAM map)", (-4.0, 0.0, 0.0), (20.0, 0.0, 0.0)),
+    CorpusMap("nav2_warehouse", "benchmarks/maps/nav2_warehouse/warehouse.yaml",
+              "warehouse (simulated, SLAM map)", (-12.0, -20.0, HALF_PI), (0.0, 22.0, 0.0)),
+    CorpusMap("willow_garage_2010",
+              "benchmarks/maps/willow_garage_2010/willow-2010-02-18-0.10.yaml",
+              "office (real robot's SLAM map)", (17.4, 16.4, 0.0), (49.0, 40.4, HALF_PI),
+              {"specks": 0.02}),
+)
+
+
+@contextlib.contextmanager
+def machine_lock() -> Iterator[None]:
+    """Hold ``$PIVOT_BENCH_LOCK`` (``flock``) when it is set."""
+    path = os.environ.get("PIVOT_BENCH_LOCK")
+    if not path:
+        yield
+        return
+    with open(path, "a") as fh:
+        fcntl.flock(fh, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(fh, fcntl.LOCK_UN)
+
+
+def import_corpus_map(m: CorpusMap, out: Path) -> dict[str, Any]:
+    """Import ``m`` as ``out/<name>.yaml``; its size and boxes."""
+    from pivot_ompl import MapCleaning, import_map
+    from pivot_ompl.generate.sceneio import write_scene
+
+    result = import_map(ROOT / m.map, start=m.start, goal=m.goal, name=m.name,
+                        cleaning=MapCleaning(**m.clean))
+    path = write_scene(result.scene, out / f"{m.name}.yaml", comment=result.header)
+    b = result.scene.bounds
+    return {"scene": str(path), "width": b[2] - b[0], "depth": b[3] - b[1],
+            "boxes": len(result.scene.obstacles), "resolution": result.map.resolution}
+
+
+def plan_once(scene: str, seed: int, limit: float, out: Path) -> dict[str, Any]:
+    """One ``pivot-ompl plan`` in a fresh process: exit code, wall time, peak memory, plan."""
+    plan_path = out / f"{Path(scene).stem}.seed{seed}.json"
+    plan_path.unlink(missing_ok=True)
+    cmd = [sys.executable, "-m", "pivot_ompl.cli", "plan", scene, "--time", str(limit),
+           "--seed", str(seed), "--out", str(plan_path)]
+    with machine_lock():
+        t0 = time.perf_counter()
+        proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                                text=True)
+        assert proc.stderr is not None
+        err = proc.stderr.read()
+        _, status, usage = os.wait4(proc.pid, 0)
+        wall = time.perf_counter() - t0
+        proc.returncode = os.waitstatus_to_exitcode(status)
+    run: dict[str, Any] = {"seed": seed, "code": proc.returncode, "wall": wall,
+                           "peak_mb": usage.ru_maxrss / 1024.0,
+                           "message": err.replace("\r", "\n").strip().splitlines()[-1:]}
+    if proc.returncode == 0 and plan_path.exists():
+        doc = json.loads(plan_path.read_text())
+        q = doc.get("quality", {})
+        run.update(solved=doc.get("status") == "exact", regrasps=q.get("regrasps"),
+                   bound=q.get("regrasps_lower_bound"), route_ratio=q.get("route_ratio"),
+                   solve=doc.get("timings", {}).get("solve"))
+    else:
+        run["solved"] = False
+    return run
+
+
+def _median(xs: list[float]) -> float | None:
+    return statistics.median(xs) if xs else None
+
+
+def _fmt(x: float | None, spec: str = ".1f") -> str:
+    return "-" if x is None else format(x, spec)
+
+
+def summary_row(m: CorpusMap, info: dict[str, Any], runs: list[dict[str, Any]]) -> str:
+    """One Markdown row of the table."""
+    ok = [r for r in runs if r["solved"]]
+    grasps = [r["regrasps"] for r in ok if r.get("regrasps") is not None]
+    bounds = [r for r in ok if r.get("bound") is not None]
+    at_bound = sum(r["regrasps"] == r["bound"] for r in bounds)
+    bound_text = (f"{at_bound}/{len(bounds)} at bound {min(r['bound'] for r in bounds)}"
+                  if bounds else f"- (0/{len(ok)} carry one)")
+    ratios = [r["route_ratio"] for r in ok if r.get("route_ratio") is not None]
+    return (f"| {m.name} | {m.kind} | {info['width']:.1f} x {info['depth']:.1f} "
+            f"({info['resolution']:g}) | {info['boxes']} | {len(ok)}/{len(runs)} | "
+            f"{_fmt(_median([r['wall'] for r in ok]))} | "
+            f"{_fmt(_median([r['solve'] for r in ok if r.get('solve') is not None]))} | "
+            f"{_fmt(_median([float(g) for g in grasps]), '.0f')} | {bound_text} | "
+            f"{_fmt(_median(ratios), '.2f')} | "
+            f"{max(r['peak_mb'] for r in runs):.0f} |")
+
+
+HEADER = ("| map | kind | floor m (m/px) | boxes | solved | median time s | median solve s "
+          "| median regrasps | regrasps = bound | median route ratio | peak memory MB |\n"
+          "|---|---|---|---|---|---|---|---|---|---|---|")
+
+
+def table(record: dict[str, Any], command: str) -> str:
+    """The Markdown table of a run's record (``buildings.json``'s ``maps``)."""
+    by_name = {m.name: m for m in CORPUS}
+    rows = [summary_row(by_name[name], info, info["runs"]) for name, info in record.items()
+            if name in by_name]
+    return (f"{HEADER}\n" + "\n".join(rows) + f"\n\n`{command}`; {os.cpu_count()} cores; "
+            "time: the whole `pivot-ompl plan` process (start-up, the bound's share, search, "
+            "writing); solve: the search alone.\n")
+
+
+def main() -> None:
+    """Run the corpus and print the table."""
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--seeds", type=int, default=20, help="seeds 0..N-1 per map (default 20)")
+    p.add_argument("--time", type=float, default=60.0, help="plan's --time (s; default 60)")
+    p.add_argument("--maps", help="comma-separated names (default: the whole corpus)")
+    p.add_argument("--out", default=str(ROOT / "results" / "buildings"), help="output folder")
+    p.add_argument("--table", metavar="JSON", help="only print the table of a run's "
+                   "buildings.json")
+    args = p.parse_args()
+    if args.table:
+        doc = json.loads(Path(args.table).read_text())
+        print(table(doc["maps"], f"python benchmarks/buildings.py --seeds {doc['seeds']} "
+                    f"--time {doc['time']:g}"))
+        return
+    names = {m.name for m in CORPUS}
+    chosen = CORPUS if not args.maps else tuple(m for m in CORPUS
+                                                 if m.name in args.maps.split(","))
+    unknown = set(args.maps.split(",")) - names if args.maps else set()
+    if unknown:
+        raise SystemExit(f"--maps: unknown {sorted(unknown)} (known: {sorted(names)})")
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    record = {}
+    for m in chosen:
+        info = import_corpus_map(m, out)
+        runs = []
+        for seed in range(args.seeds):
+            run = plan_once(info["scene"], seed, args.time, out)
+            runs.append(run)
+            print(f"{m.name} seed {seed}: code {run['code']}, {run['wall']:.1f} s, "
+                  f"{run.get('regrasps')} regrasps (bound {run.get('bound')}), "
+                  f"{run['peak_mb']:.0f} MB", file=sys.stderr, flush=True)
+        record[m.name] = {"map": m.map, "start": m.start, "goal": m.goal, "clean": m.clean,
+                          **info, "runs": runs}
+    command = (f"python benchmarks/buildings.py --seeds {args.seeds} --time {args.time:g}"
+               + (f" --maps {args.maps}" if args.maps else ""))
+    text = table(record, command)
+    (out / "buildings.md").write_text(text)
+    (out / "buildings.json").write_text(json.dumps(
+        {"seeds": args.seeds, "time": args.time, "maps": record}, indent=1) + "\n")
+    print(text)
+
+
+if __name__ == "__main__":
+    main()
