@@ -14,6 +14,7 @@ The scene is ``--scene``, else the one the plan records.
 from __future__ import annotations
 
 import argparse
+import math
 
 from pivot_ompl.api import MAX_SEED
 from pivot_ompl.cli.args import integer, output_files, positive, time_limit
@@ -38,8 +39,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="replan from the observed box whenever it rests off the plan")
     p.add_argument("--seed", type=integer("--seed", 0, MAX_SEED), default=0,
                    help=f"seed of random perturbations and replans (0..{MAX_SEED})")
-    p.add_argument("--time", type=time_limit("--time"), default=float("inf"),
-                   help="wall-clock limit of the run (s; default: none)")
+    p.add_argument("--time", type=time_limit("--time"), default=None,
+                   help="wall-clock limit of the run (s; none by default)")
     p.set_defaults(func=run)
 
 
@@ -55,7 +56,8 @@ def run(args: argparse.Namespace) -> int:
     scene = require_scene(SceneRecord.of(plan), args.scene, field="plan.scene")
     report = simulate(plan, args.motion, scene=scene, friction=args.friction,
                       box_mass=args.box_mass, perturb=args.perturb, replan=args.replan,
-                      seed=args.seed, time_limit=args.time)
+                      seed=args.seed,
+                      time_limit=math.inf if args.time is None else args.time)
     report.plan = str(args.plan)
     assert out is not None  # noqa: S101 - a required option
     report.to_json(out)
