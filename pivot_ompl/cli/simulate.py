@@ -7,7 +7,8 @@ contacts. Writes the report JSON (``pivot-physics/1``: box error against the pla
 friction each pivot needed, hand force peaks, obstacle contacts, replans) and prints a
 one-line summary. ``--perturb`` (repeatable): ``slip``, ``slip:N``, ``slip@K:DX,DY[,DYAW]``,
 ``patch:X,Y,R,MU``, ``mass:DX,DY,DZ``; ``--replan`` replans from the observed box whenever it
-rests off the plan. Exit 0 goal reached, 1 not reached (or the time limit), 2 bad input.
+rests off the plan; ``--html`` writes a replay of the run (the simulated box beside the planned
+one, a chapter per replan). Exit 0 goal reached, 1 not reached (or the time limit), 2 bad input.
 The scene is ``--scene``, else the one the plan records.
 """
 
@@ -39,6 +40,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="replan from the observed box whenever it rests off the plan")
     p.add_argument("--seed", type=integer("--seed", 0, MAX_SEED), default=0,
                    help=f"seed of random perturbations and replans (0..{MAX_SEED})")
+    p.add_argument("--html", help="also write an HTML replay of the run here (the simulated "
+                   "box beside the planned one, a chapter per replan)")
     p.add_argument("--time", type=time_limit("--time"), default=None,
                    help="wall-clock limit of the run (s; none by default)")
     p.set_defaults(func=run)
@@ -50,7 +53,9 @@ def run(args: argparse.Namespace) -> int:
     from pivot_ompl.physics.backend import mujoco
     from pivot_ompl.planfile import load_plan
 
-    (out,) = output_files([args.plan, args.motion], suffixes={"out": [".json"]}, out=args.out)
+    out, html = output_files([args.plan, args.motion, args.scene],
+                             suffixes={"out": [".json"], "html": [".html", ".htm"]},
+                             out=args.out, html=args.html)
     mujoco()  # a missing extra is bad input, said before any work
     plan = load_plan(args.plan)
     scene = require_scene(SceneRecord.of(plan), args.scene, field="plan.scene")
@@ -63,4 +68,8 @@ def run(args: argparse.Namespace) -> int:
     report.to_json(out)
     print(report.summary())
     print(f"report written to {out}")
+    if html is not None:
+        from pivot_ompl.physics.replay import write_replay
+
+        print(f"replay written to {write_replay(report, html, scene=scene)}")
     return 0 if report.reached_goal else 1

@@ -55,12 +55,22 @@ class LoopSettings:
 
 @dataclass
 class LoopOutcome:
-    """What :func:`run_loop` did: its status, the trace, the replans, the wall time simulating."""
+    """What :func:`run_loop` did.
+
+    Attributes:
+        status: as :attr:`~pivot_ompl.physics.report.SimulationReport.status`.
+        trace: the samples recorded.
+        replans: the replans, in order.
+        sim_wall: wall time spent simulating (s).
+        segments: ``(motion, first, last)``: the samples of each motion simulated, in order
+            (the trace's samples, motion by motion).
+    """
 
     status: str
     trace: RunTrace
     replans: list[ReplanRecord] = field(default_factory=list)
     sim_wall: float = 0.0
+    segments: list[tuple[Motion, int, int]] = field(default_factory=list)
 
 
 def robot_pose(motion: Motion, i: int) -> tuple[float, float, float]:
@@ -98,6 +108,8 @@ def run_loop(sim: Simulator, plan: Plan, motion: Motion, scene: Scene, settings:
             t0 = time.perf_counter()
             done = sim.follow(drive, out.trace, start=start, end=r, should_stop=should_stop)
             out.sim_wall += time.perf_counter() - t0
+            if done >= start:
+                out.segments.append((motion, start, done))
             if done < r:
                 out.status = "time_limit"
                 return out

@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from pivot_ompl.fileio import atomic_output
+from pivot_ompl.motionfile import Motion
 from pivot_ompl.physics.loop import PivotRecord
 
 FORMAT = "pivot-physics/1"
@@ -73,6 +74,8 @@ class SimulationReport:
         scene, plan, motion: where the run came from.
         trace: the per-sample arrays (not written to JSON): ``t``, ``sim_pos``,
             ``sim_yaw``, ``sim_quat`` (w x y z), ``plan_pos``, ``plan_yaw``.
+        segments: ``(motion, first, last)`` of each stretch of motion simulated, in order
+            (not written to JSON; :func:`pivot_ompl.physics.replay.run_motion` joins them).
     """
 
     status: str
@@ -100,6 +103,7 @@ class SimulationReport:
     plan: str = ""
     motion: str = ""
     trace: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
+    segments: list[tuple[Motion, int, int]] = field(default_factory=list, repr=False)
 
     @property
     def real_time_factor(self) -> float:
@@ -109,10 +113,10 @@ class SimulationReport:
     def to_dict(self) -> dict[str, Any]:
         """The report as JSON-ready data (no trace)."""
         doc: dict[str, Any] = {"format": FORMAT}
-        for k, v in asdict(self).items():
-            if k == "trace":
-                continue
-            doc[k] = v
+        for f in fields(self):
+            if f.name not in ("trace", "segments"):
+                doc[f.name] = getattr(self, f.name)
+        doc["replans"] = [asdict(r) for r in self.replans]
         doc["replan_count"] = len(self.replans)
         doc["real_time_factor"] = self.real_time_factor
         doc["pivots"] = [_pivot(p) for p in self.pivots]

@@ -121,6 +121,6 @@ def simulate(plan: Plan | str | Path, motion: Motion | str | Path, *,
                            for t, k, dep in out.trace.obstacle_contacts],
         replans=out.replans, pivots=pivots, simulated_s=sim.time, wall_s=out.sim_wall,
         seed=int(seed), perturbations=perturbations.specs, scene=sc.name, plan=plan_src,
-        motion=motion_src, trace=a)
+        motion=motion_src, trace=a, segments=out.segments)
     log.debug("%s", report.summary())
     return report

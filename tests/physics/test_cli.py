@@ -54,3 +54,15 @@ def test_bad_input_exits_2_and_keeps_the_old_report(short_run, tmp_path, extra):
         raise SystemExit(main(argv))
     assert e.value.code == 2
     assert out.read_text() == "old"
+
+
+def test_html_replay_of_a_replanned_run(short_run, tmp_path, capsys):
+    scene = _scene_file(short_run, tmp_path)
+    out, html = tmp_path / "report.json", tmp_path / "run.html"
+    rc = main(["simulate", str(short_run[1]), "--motion", str(short_run[2]), "--scene", scene,
+               "--out", str(out), "--perturb", "slip@1:0.06,0", "--replan", "--html",
+               str(html)])
+    assert rc == 0
+    text = html.read_text()
+    replans = json.loads(out.read_text())["replans"]
+    assert replans and "replan 1" in text and "the box as simulated" in text
