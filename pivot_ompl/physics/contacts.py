@@ -22,20 +22,37 @@ CORNER_RADIUS = 0.03
 LIMIT_SHARE = 0.98
 
 
-def box_contacts(pm: PhysicsModel) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The box's contacts now: positions (K x 3), world force on the box (K x 3), other geom.
+@dataclass(frozen=True)
+class BoxContacts:
+    """The box's contacts at one instant (K of them).
 
-    The force is the one the other geom (floor, obstacle) exerts on the box.
+    Attributes:
+        pos: contact points (K x 3).
+        force: world force the other geom (floor, obstacle) exerts on the box (K x 3, N).
+        other: the other geom's index (K,).
+        depth: penetration (K,, m; negative: a gap within the contact margin).
     """
+
+    pos: np.ndarray
+    force: np.ndarray
+    other: np.ndarray
+    depth: np.ndarray
+
+
+_NONE = BoxContacts(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, dtype=int), np.zeros(0))
+
+
+def box_contacts(pm: PhysicsModel) -> BoxContacts:
+    """The box's contacts now."""
     d = pm.data
     n = int(d.ncon)
     if n == 0:
-        return np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, dtype=int)
+        return _NONE
     con = d.contact
     geom = np.asarray(con.geom[:n])
     mine = (geom == pm.box_geom).any(axis=1) & (np.asarray(con.efc_address[:n]) >= 0)
     if not mine.any():
-        return np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, dtype=int)
+        return _NONE
     idx = np.flatnonzero(mine)
     addr = np.asarray(con.efc_address[:n])[idx]
     dim = np.asarray(con.dim[:n])[idx]
@@ -49,7 +66,8 @@ def box_contacts(pm: PhysicsModel) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     g1, g2 = geom[idx, 0], geom[idx, 1]
     sign = np.where(g2 == pm.box_geom, 1.0, -1.0)
     other = np.where(g2 == pm.box_geom, g1, g2)
-    return np.asarray(con.pos[:n])[idx], world * sign[:, None], other
+    return BoxContacts(np.asarray(con.pos[:n])[idx], world * sign[:, None], other,
+                       -np.asarray(con.dist[:n])[idx])
 
 
 def corner_force(pos: np.ndarray, force: np.ndarray, corner: np.ndarray) -> np.ndarray:

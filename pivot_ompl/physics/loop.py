@@ -26,6 +26,8 @@ log = logging.getLogger(__name__)
 
 #: Samples between two polls of ``should_stop``.
 POLL_SAMPLES = 200
+#: Contacts with one obstacle less than this apart (s) are one touch.
+TOUCH_GAP = 0.5
 #: Share of the box's weight below which a corner's force ratio is not counted.
 MIN_NORMAL_SHARE = 0.05
 
@@ -78,7 +80,8 @@ class RunTrace:
         sim_quat: the simulated box orientation (w x y z).
         hand_force_max: the largest weld force per hand (N).
         pivots: the rotations done.
-        obstacle_contacts: (time, obstacle index, penetration m) of each first touch.
+        obstacle_contacts: the box's touches of obstacles: ``[start, end, obstacle index,
+            deepest penetration m]`` (contacts less than :data:`TOUCH_GAP` s apart are one).
     """
 
     t: list[np.ndarray] = field(default_factory=list)
@@ -88,7 +91,15 @@ class RunTrace:
     plan_yaw: list[np.ndarray] = field(default_factory=list)
     hand_force_max: list[float] = field(default_factory=lambda: [0.0, 0.0])
     pivots: list[PivotRecord] = field(default_factory=list)
-    obstacle_contacts: list[tuple[float, int, float]] = field(default_factory=list)
+    obstacle_contacts: list[list[float]] = field(default_factory=list)
+
+    def touch(self, t: float, obstacle: int, depth: float) -> None:
+        """Count a contact with ``obstacle`` at ``t``: a new touch, or the last one going on."""
+        for c in reversed(self.obstacle_contacts):
+            if int(c[2]) == obstacle and t - c[1] <= TOUCH_GAP:
+                c[1], c[3] = t, max(c[3], depth)
+                return
+        self.obstacle_contacts.append([t, t, float(obstacle), max(depth, 0.0)])
 
     def arrays(self) -> dict[str, np.ndarray]:
         """The per-sample arrays concatenated: t, sim_pos, sim_yaw, sim_quat, plan_pos, plan_yaw."""
@@ -196,7 +207,6 @@ class Simulator:
         sim_pos, sim_quat = np.zeros((n, 3)), np.zeros((n, 4))
         seg, meas, rec_slip = None, None, None
         obstacles = np.array(sorted(pm.obstacle_geoms), dtype=int)
-        touching: set[int] = set()
         b = pm.box_body
         done = start - 1
         for j, i in enumerate(range(start, end + 1)):
@@ -227,18 +237,16 @@ class Simulator:
                 trace.hand_force_max[0] = max(trace.hand_force_max[0], fl)
                 trace.hand_force_max[1] = max(trace.hand_force_max[1], fr)
             if seg is not None or len(obstacles):
-                pos, force, other = box_contacts(pm)
+                con = box_contacts(pm)
                 if len(obstacles):
-                    hit = set(int(g) for g in other if g in pm.obstacle_geoms)
-                    for g in hit - touching:
-                        depth = float(-min(d.contact.dist[:d.ncon]))
-                        trace.obstacle_contacts.append(
-                            (float(t0 + drive.t[i]), pm.obstacle_geoms[g], max(depth, 0.0)))
-                    touching = hit
+                    for g, depth in zip(con.other, con.depth, strict=True):
+                        if int(g) in pm.obstacle_geoms:
+                            trace.touch(float(t0 + drive.t[i]), pm.obstacle_geoms[int(g)],
+                                        float(depth))
                 if seg is not None and meas is not None:
                     R = d.xmat[b].reshape(3, 3)
                     corner = R @ seg.corner + d.xpos[b]
-                    meas.add(corner, corner_force(pos, force, corner))
+                    meas.add(corner, corner_force(con.pos, con.force, corner))
                     if i == seg.end:
                         trace.pivots.append(PivotRecord(
                             self.pivot_count, seg.phase, seg.step,

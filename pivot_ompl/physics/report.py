@@ -65,7 +65,8 @@ class SimulationReport:
             half its loaded time at the friction limit; ``slipping_pivots``: those whose
             corner moved more than :data:`SLIP_LIMIT`.
         hand_force_peak_n: the largest force of each hand (left, right; N).
-        obstacle_contacts: each first touch of an obstacle: ``{time, obstacle, depth_m}``.
+        obstacle_contacts: each touch of an obstacle by the box: ``{start, end, obstacle,
+            depth_m}`` (times in s, the obstacle's index in the scene, deepest penetration).
         replans: the closed loop's replans, in order.
         pivots: every simulated rotation.
         simulated_s, wall_s: the run's simulated and wall time (s); ``real_time_factor``

@@ -117,8 +117,8 @@ def simulate(plan: Plan | str | Path, motion: Motion | str | Path, *,
         pivots_at_limit=sum(1 for p in pivots if p.at_limit > 0.5),
         slipping_pivots=sum(1 for p in pivots if p.corner_slip > SLIP_LIMIT),
         hand_force_peak_n=(out.trace.hand_force_max[0], out.trace.hand_force_max[1]),
-        obstacle_contacts=[{"time": t, "obstacle": k, "depth_m": dep}
-                           for t, k, dep in out.trace.obstacle_contacts],
+        obstacle_contacts=[{"start": a, "end": b, "obstacle": int(k), "depth_m": dep}
+                           for a, b, k, dep in out.trace.obstacle_contacts],
         replans=out.replans, pivots=pivots, simulated_s=sim.time, wall_s=out.sim_wall,
         seed=int(seed), perturbations=perturbations.specs, scene=sc.name, plan=plan_src,
         motion=motion_src, trace=a, segments=out.segments)

@@ -111,6 +111,10 @@ def test_an_obstacle_on_the_route_is_touched(short_run):
     r = simulate(plan_file, motion_file, scene=blocked)
     assert r.obstacle_contacts
     assert {c["obstacle"] for c in r.obstacle_contacts} == {len(scene.obstacles)}
+    for c in r.obstacle_contacts:
+        assert c["start"] <= c["end"] and c["depth_m"] >= 0.0
+    starts = [c["start"] for c in r.obstacle_contacts]
+    assert starts == sorted(starts)
 
 
 def test_report_json(nominal, tmp_path):
