@@ -94,8 +94,13 @@ def goal_error(sim: Simulator, goal: tuple[float, float, float]) -> tuple[float,
 
 
 def run_loop(sim: Simulator, plan: Plan, motion: Motion, scene: Scene, settings: LoopSettings,
-             *, should_stop: Callable[[], bool]) -> LoopOutcome:
-    """Simulate ``motion`` (of ``plan``), replanning as :class:`LoopSettings` say."""
+             *, should_stop: Callable[[], bool],
+             time_left: Callable[[], float] = lambda: math.inf) -> LoopOutcome:
+    """Simulate ``motion`` (of ``plan``), replanning as :class:`LoopSettings` say.
+
+    ``should_stop`` is polled while simulating and after each replan; a replan plans for at
+    most ``time_left()`` seconds (the whole-body generation of its plan is not interrupted).
+    """
     out = LoopOutcome("done", RunTrace())
     drive = drive_signals(motion)
     sim.place_box(drive.box_pos[0], np.r_[motion.box[0, 6], motion.box[0, 3:6]])
@@ -133,8 +138,12 @@ def run_loop(sim: Simulator, plan: Plan, motion: Motion, scene: Scene, settings:
                 from pivot_ompl.session import PlanningSession
 
                 session = PlanningSession(scene, seed=settings.seed, executing=plan)
-            new = _replan(session, sim, motion, r, err, yerr, settings, out)
+            new = _replan(session, sim, motion, r, err, yerr, settings, out,
+                          min(settings.replan_time, max(0.05, time_left())))
             if new is None:
+                return out
+            if should_stop():
+                out.status = "time_limit"
                 return out
             plan, motion = new
             drive = drive_signals(motion)
@@ -145,7 +154,8 @@ def run_loop(sim: Simulator, plan: Plan, motion: Motion, scene: Scene, settings:
 
 
 def _replan(session: object, sim: Simulator, motion: Motion, r: int, err: float, yerr: float,
-            settings: LoopSettings, out: LoopOutcome) -> tuple[Plan, Motion] | None:
+            settings: LoopSettings, out: LoopOutcome,
+            limit: float) -> tuple[Plan, Motion] | None:
     """Replan from the box as observed and generate the new plan's motion (None: failed)."""
     from pivot_ompl.wholebody.generator import generate_motion
 
@@ -156,7 +166,7 @@ def _replan(session: object, sim: Simulator, motion: Motion, r: int, err: float,
     t0 = time.perf_counter()
     try:
         res = session.replan(box=observed, robot=robot,  # type: ignore[attr-defined]
-                             time_limit=settings.replan_time, seed=settings.seed)
+                             time_limit=limit, seed=settings.seed)
     except PivotError as e:
         log.warning("replanning failed: %s", e)
         out.status = "replan_failed"

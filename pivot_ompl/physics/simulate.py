@@ -97,7 +97,8 @@ def simulate(plan: Plan | str | Path, motion: Motion | str | Path, *,
     base = settings or LoopSettings()
     loop = LoopSettings(**{**base.__dict__, "replan": bool(replan), "seed": int(seed)})
     out = run_loop(sim, plan, motion, sc, loop,
-                   should_stop=lambda: time.monotonic() > deadline)
+                   should_stop=lambda: time.monotonic() > deadline,
+                   time_left=lambda: deadline - time.monotonic())
     a = out.trace.arrays()
     err = np.linalg.norm(a["sim_pos"] - a["plan_pos"], axis=1) if len(a["t"]) else np.zeros(1)
     yerr = (np.abs(wrap(a["sim_yaw"] - a["plan_yaw"])) if len(a["t"]) else np.zeros(1))
