@@ -2,7 +2,21 @@
 
 from __future__ import annotations
 
+import importlib.util
+import os
+
 import pytest
+
+#: Set (CI does) to make a missing MuJoCo fail the physics tests instead of skipping them.
+REQUIRE_ENV = "PIVOT_OMPL_REQUIRE_PHYSICS"
+
+
+def pytest_collection_modifyitems(config, items):
+    if importlib.util.find_spec("mujoco") is not None:
+        return
+    if os.environ.get(REQUIRE_ENV) == "1":
+        raise pytest.UsageError(f"{REQUIRE_ENV}=1 but mujoco is not installed: "
+                                "pip install -e '.[physics]'")
 
 SCENE = {"name": "physics_short", "bounds": [-2.0, -2.0, 3.0, 2.0],
          "object": {"size": [0.8, 0.6, 1.3]}, "start": [0.0, 0.0, 0.0],
