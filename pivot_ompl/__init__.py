@@ -4,7 +4,8 @@ The public API (see the README): :func:`load_scene` and :func:`load_plan` (the f
 contracts), :func:`plan` (plan a scene, :class:`PlanResult`), :func:`make_setup` (the OMPL
 problem object, :class:`PivotProblem`), :class:`PivotSteering` (Reeds-Shepp paths to pivot
 rotations), :class:`BoxGraspModel` (the grasp conventions), the plan dataclasses and the
-:class:`PivotError` exception family. Every name but the exceptions is imported on first use
+:class:`PivotError` exception family; :func:`simulate` (physics in the loop, the ``physics``
+extra: :class:`SimulationReport`). Every name but the exceptions is imported on first use
 (OMPL on first use of :func:`plan`, :func:`make_setup` or :class:`PivotSteering`).
 """
 
@@ -27,6 +28,8 @@ if TYPE_CHECKING:
     from pivot_ompl.api import PlanResult, plan
     from pivot_ompl.base.problem import PivotProblem, make_setup
     from pivot_ompl.grasp import BoxGraspModel
+    from pivot_ompl.physics.report import SimulationReport
+    from pivot_ompl.physics.simulate import simulate
     from pivot_ompl.pivoting.steering import PivotSequence, PivotSteering
     from pivot_ompl.planfile import Plan, TransferPhase, TransferStep, TransitPhase, load_plan
     from pivot_ompl.scene import Scene, load_scene
@@ -40,7 +43,9 @@ _LAZY = {"BoxGraspModel": "pivot_ompl.grasp", "Plan": "pivot_ompl.planfile",
 "plan": "pivot_ompl.api", "PlanResult": "pivot_ompl.api",
          "make_setup": "pivot_ompl.base.problem", "PivotProblem": "pivot_ompl.base.problem",
          "PivotSteering": "pivot_ompl.pivoting.steering",
-         "PivotSequence": "pivot_ompl.pivoting.steering"}
+         "PivotSequence": "pivot_ompl.pivoting.steering",
+         "simulate": "pivot_ompl.physics.simulate",
+         "SimulationReport": "pivot_ompl.physics.report"}
 
 
 def __getattr__(name: str) -> Any:
@@ -60,7 +65,8 @@ def __dir__() -> list[str]:
 __all__ = [
     "BoxGraspModel", "InputError", "PivotError", "PivotProblem", "PivotSequence",
     "PivotSteering", "Plan", "PlanFileError", "PlanResult", "PlanningError", "Scene",
-    "SceneError", "SteeringError", "TransferPhase", "TransferStep", "TransitPhase",
-    "UnreachableError", "WholeBodyError", "load_plan", "load_scene", "make_setup", "plan",
+    "SceneError", "SimulationReport", "SteeringError", "TransferPhase", "TransferStep",
+    "TransitPhase", "UnreachableError", "WholeBodyError", "load_plan", "load_scene",
+    "make_setup", "plan", "simulate",
 ]
 __version__ = "0.1.0"
