@@ -43,3 +43,13 @@ def test_an_empty_run_has_no_replay(replanned):
 
     with pytest.raises(InputError):
         run_motion(dataclasses.replace(replanned, segments=[]))
+
+
+def test_show_motion_refuses_a_simulated_box_of_another_length(replanned):
+    from pivot_ompl.viz.motion_view import show_motion
+    from pivot_ompl.viz.recorder import recording_visualizer
+
+    m = run_motion(replanned)
+    with pytest.raises(InputError) as e:
+        show_motion(recording_visualizer(), m, sim_box=sim_box_poses(replanned)[:-1])
+    assert e.value.field == "sim_box"
