@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 import time
@@ -95,7 +96,7 @@ def simulate(plan: Plan | str | Path, motion: Motion | str | Path, *,
                      com_offset=perturbations.com_offset)
     sim = Simulator(pm, perturbations=perturbations)
     base = settings or LoopSettings()
-    loop = LoopSettings(**{**base.__dict__, "replan": bool(replan), "seed": int(seed)})
+    loop = dataclasses.replace(base, replan=bool(replan), seed=int(seed))
     out = run_loop(sim, plan, motion, sc, loop,
                    should_stop=lambda: time.monotonic() > deadline,
                    time_left=lambda: deadline - time.monotonic())

@@ -158,3 +158,10 @@ def test_missing_mujoco_is_an_input_error(monkeypatch, short_run):
     monkeypatch.setitem(sys.modules, "mujoco", None)
     with pytest.raises(InputError, match="physics"):
         mujoco()
+
+
+def test_no_replan_budget_ends_the_run_exhausted(short_run):
+    scene, plan_file, motion_file = short_run
+    r = simulate(plan_file, motion_file, scene=scene, perturb=["slip@1:0.06,0.0"],
+                 replan=True, settings=LoopSettings(max_replans=0))
+    assert r.status == "replans_exhausted" and not r.reached_goal and r.replans == []
