@@ -5,12 +5,12 @@ VENV   ?= .venv
 BIN    := $(VENV)/bin
 OUT    ?= out
 
-.PHONY: venv demo test lint figures bench clean
+.PHONY: venv demo test lint docs figures bench clean
 
 $(BIN)/pivot-ompl: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/pip install --quiet --upgrade pip
-	$(BIN)/pip install --quiet -e ".[dev,dask,physics]"
+	$(BIN)/pip install --quiet -e ".[dev,dask,docs,physics]"
 	touch $@
 
 venv: $(BIN)/pivot-ompl
@@ -33,12 +33,20 @@ lint: venv
 	$(BIN)/mypy
 	$(BIN)/lint-imports
 
-# The README's table of current figures (about ten minutes on a 2-core machine, one planning
-# process at a time): results/figures/figures.md
+# The documentation as HTML in build/docs: docs/*.md and the API reference generated from the
+# docstrings (docs/api/, not kept); any warning is an error
+docs: venv
+	rm -rf build/docs docs/api
+	$(BIN)/sphinx-build -W --keep-going -q -b html docs build/docs
+	@echo "docs: $(abspath build/docs/index.html)"
+
+# The table of current figures, docs/figures.md (one planning process at a time; the page
+# says how long its run took); the scripts' JSON in results/figures
 figures: venv
-	PIVOT_BENCH_LOCK=/tmp/pivot-bench.lock $(BIN)/python benchmarks/figures.py --out results/figures
+	PIVOT_BENCH_LOCK=/tmp/pivot-bench.lock $(BIN)/python benchmarks/figures.py \
+	    --out results/figures --page docs/figures.md
 
 bench: figures
 
 clean:
-	rm -rf $(VENV) $(OUT)
+	rm -rf $(VENV) $(OUT) build/docs docs/api

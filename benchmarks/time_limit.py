@@ -48,7 +48,7 @@ def worker(scene: str, planner: str, seeds: int, limit: float) -> None:
 
 
 def largest_scenes(folder: Path) -> dict[str, Path]:
-    """The largest documented scenes (README, *Files*), written into ``folder``."""
+    """The largest documented scenes (docs/scene-format.md), written into ``folder``."""
     import yaml
 
     rng = np.random.default_rng(0)

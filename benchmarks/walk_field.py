@@ -2,10 +2,10 @@
 
 For fig10 and its copies (``scene_copy``: ``rot37``, ``mir20`` by default), times
 ``FloorField.static_open`` (the obstacles' part, once per planning run) and
-``FloorField.meets_box`` (the resting box's part, per lattice-field query) with the numpy
-route (``footprints.meeting_edges`` + ``grid_union``) and with the shapely route it replaced
+``FloorGrid.meets_box`` (the resting box's part, per lattice-field query) with the numpy
+route (``minkowski.meeting_edges`` + ``rasters.grid_union``) and with the shapely route it replaced
 (:func:`reference_fits`, :func:`reference_meets_box`: shapely convex hulls of vertex
-differences, each rasterised by ``footprints.grid_inside``), side by side: CPU time
+differences, each rasterised by ``rasters.grid_inside``), side by side: CPU time
 (``process_time``), best of ``--repeat`` fresh fields (old and new alternated), and whether
 the booleans are equal.
 
@@ -28,12 +28,14 @@ from walk_queries import scene_copy
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.se2 import Pose, rectangle_corners
 from pivot_ompl.transit.field import OPEN_YAWS, FloorField
+from pivot_ompl.transit.floor_grid import FloorGrid
 from pivot_ompl.transit.lattice import HEADING_YAWS
-from pivot_ompl.validity.footprints import grid_inside, meeting_hulls
+from pivot_ompl.validity.footprints import meeting_hulls
+from pivot_ompl.validity.rasters import grid_inside
 
 
-def reference_fits(f: FloorField, yaw: float) -> np.ndarray:
-    """``FloorField.fits_index`` of ``yaw`` by the shapely route (the code before the
+def reference_fits(f: FloorGrid, yaw: float) -> np.ndarray:
+    """``FloorGrid.fits_index`` of ``yaw`` by the shapely route (the code before the
     numpy one)."""
     c, s = math.cos(yaw), math.sin(yaw)
     rot = np.array([[c, -s], [s, c]])
@@ -48,8 +50,8 @@ def reference_fits(f: FloorField, yaw: float) -> np.ndarray:
     return ok
 
 
-def reference_meets_box(f: FloorField, obj: Pose) -> list[np.ndarray]:
-    """``FloorField.meets_box`` by the shapely route (the code before the numpy one)."""
+def reference_meets_box(f: FloorGrid, obj: Pose) -> list[np.ndarray]:
+    """``FloorGrid.meets_box`` by the shapely route (the code before the numpy one)."""
     box = shapely.Polygon(rectangle_corners(obj, f.model.object_size[0], f.model.object_size[1]))
     if f.box_margin > 0:
         box = box.buffer(f.box_margin, quad_segs=4)
@@ -73,11 +75,13 @@ def reference_meets_box(f: FloorField, obj: Pose) -> list[np.ndarray]:
 
 def fresh_field(template: FloorField, old: bool) -> FloorField:
     """A new field of ``template``'s scene, on the shapely route if ``old``."""
-    f = FloorField(template.model, template.world, template.resolution, template.box_margin)
+    g = template.grid
+    f = FloorField(g.model, g.world, g.resolution, g.box_margin)
     if old:
-        f.fits_range = lambda k0, k1: [  # type: ignore[method-assign]
-            reference_fits(f, OPEN_YAWS[k]) for k in range(k0, k1)]
-        f.meets_box = lambda obj: reference_meets_box(f, obj)  # type: ignore[method-assign]
+        f.grid.fits_range = lambda k0, k1, *_: [  # type: ignore[method-assign]
+            reference_fits(f.grid, OPEN_YAWS[k]) for k in range(k0, k1)]
+        f.grid.meets_box = lambda obj: reference_meets_box(  # type: ignore[method-assign]
+            f.grid, obj)
     return f
 
 
@@ -104,13 +108,14 @@ def main() -> None:
         scene = scene_copy(a.scene, copy)
         template = PivotChecker(scene).walker.field
         objs = [scene.start, scene.goal]
-        row: dict[str, object] = {"copy": copy or "orig", "grid": [template.nx, template.ny]}
+        row: dict[str, object] = {"copy": copy or "orig",
+                                  "grid": [template.grid.nx, template.grid.ny]}
         static = best_of(a.repeat, {
             route: (lambda t=template, old=route == "old": fresh_field(t, old).static_open())
             for route in ("old", "new")})
         fields = {route: fresh_field(template, route == "old") for route in ("old", "new")}
         box = best_of(a.repeat, {
-            route: (lambda f=f, objs=objs: [f.meets_box(o) for o in objs])
+            route: (lambda f=f, objs=objs: [f.grid.meets_box(o) for o in objs])
             for route, f in fields.items()})
         results = {}
         for route in ("old", "new"):
@@ -123,7 +128,7 @@ def main() -> None:
             for x, y in zip(a_, b_, strict=True))
         row["static_speedup"] = row["static_open_old_ms"] / row["static_open_new_ms"]
         row["meets_box_speedup"] = row["meets_box_old_ms"] / row["meets_box_new_ms"]
-        print(f"{row['copy']:>6} grid {template.nx}x{template.ny}: static_open "
+        print(f"{row['copy']:>6} grid {template.grid.nx}x{template.grid.ny}: static_open "
               f"{row['static_open_old_ms']:.1f} -> {row['static_open_new_ms']:.1f} ms "
               f"(x{row['static_speedup']:.2f}), meets_box {row['meets_box_old_ms']:.2f} -> "
               f"{row['meets_box_new_ms']:.2f} ms (x{row['meets_box_speedup']:.2f}), "

@@ -1,6 +1,6 @@
 """pivot_ompl: pivoting manipulation and regrasp planning for a humanoid robot on OMPL.
 
-The public API (see the README): :func:`load_scene` and :func:`load_plan` (the file
+The public API (see docs/python-api.md): :func:`load_scene` and :func:`load_plan` (the file
 contracts), :func:`plan` (plan a scene, :class:`PlanResult`), :func:`make_setup` (the OMPL
 problem object, :class:`PivotProblem`), :class:`PivotSteering` (Reeds-Shepp paths to pivot
 rotations), :class:`BoxGraspModel` (the grasp conventions), the plan dataclasses and the
@@ -69,4 +69,4 @@ __all__ = [
     "TransitPhase", "UnreachableError", "WholeBodyError", "load_plan", "load_scene",
     "make_setup", "plan", "simulate",
 ]
-__version__ = "0.1.0"
+__version__ = "0.4.0.dev0"

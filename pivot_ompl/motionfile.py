@@ -264,11 +264,11 @@ def _motion_from_arrays(arrays: dict[str, np.ndarray], src: str) -> Motion:
                   source=src, **extra)
 
 
-#: Largest |coordinate| of a position in a motion (m), the scene files' limit.
+#: Largest ``|coordinate|`` of a position in a motion (m), the scene files' limit.
 MAX_COORD = 1.0e4
 #: Smallest time step between two samples (s): the checks differentiate twice.
 MIN_STEP = 1e-6
-#: Largest |deviation| of a quaternion's norm from 1.
+#: Largest ``|deviation|`` of a quaternion's norm from 1.
 QUATERNION_TOLERANCE = 1e-3
 #: Lengths of the box and the soles (m): the scene files' box limits, soles 1 mm to 1 m.
 LENGTH_RANGE = {"box_size": (0.05, 20.0), "object_size": (0.05, 20.0), "sole_size": (1e-3, 1.0)}

@@ -6,10 +6,12 @@ import heapq
 import math
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from pivot_ompl.graph import UnionFind, astar
+from pivot_ompl.errors import Interrupted
+from pivot_ompl.graph import UnionFind, astar, distances
 
 
 def random_graph(n: int, p: float, seed: int) -> dict[int, list[tuple[int, float]]]:
@@ -156,3 +158,47 @@ def test_lazy_astar_checks_only_the_edges_it_takes_from_the_queue():
                  valid=valid)
     assert len(path) == 30
     assert len(checked) <= 2 * len(path)  # eager: 8 per expanded node
+
+
+def all_distances(adj, starts, usable) -> dict[int, float]:
+    """Every node's cost from the nearest start over the edges ``usable(u, v)`` (brute force)."""
+    dist = dict.fromkeys(starts, 0.0)
+    for _ in range(len(adj)):  # Bellman-Ford
+        for u, d in list(dist.items()):
+            for v, c in adj[u]:
+                if usable(u, v) and d + c < dist.get(v, math.inf):
+                    dist[v] = d + c
+    return dist
+
+
+@given(seed=st.integers(0, 10_000), n=st.integers(2, 25), p=st.floats(0.05, 0.5),
+       lazy=st.booleans())
+@settings(max_examples=150, deadline=None)
+def test_distances_are_every_nodes_cheapest_cost_over_the_edges_that_pass(seed, n, p, lazy):
+    adj = random_graph(n, p, seed)
+    bad = {(u, v) for u in adj for v, _ in adj[u] if (u * 31 + v * 17 + seed) % 5 == 0}
+    checked = []
+
+    def valid(u, v):  # noqa: ANN001, ANN202
+        checked.append((u, v))
+        return (u, v) not in bad
+
+    starts = [0, n // 3]
+    if lazy:
+        got = distances(starts, lambda u: adj[u], valid=valid)
+        want = all_distances(adj, starts, lambda u, v: (u, v) not in bad)
+        assert len(checked) <= sum(len(e) for e in adj.values())
+    else:
+        got = distances(starts, lambda u: adj[u])
+        want = all_distances(adj, starts, lambda u, v: True)
+    assert got.keys() == want.keys()
+    assert all(math.isclose(got[k], want[k], abs_tol=1e-12) for k in want)
+
+
+def test_distances_poll_the_stop_every_so_many_nodes():
+    adj = random_graph(60, 0.3, 1)
+    polls = []
+    with pytest.raises(Interrupted):
+        distances([0], lambda u: adj[u], should_stop=lambda: polls.append(1) or len(polls) > 2,
+                  poll_every=5)
+    assert len(polls) == 3

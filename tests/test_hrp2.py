@@ -160,7 +160,7 @@ def test_walking_envelope_holds_every_link_in_half_sitting():
     ``tests/wholebody`` measures on motions.
     """
 
-    from pivot_ompl.wholebody.envelope import _outline_points
+    from pivot_ompl.wholebody.envelope import outline_points
 
     model = hrp2.load_pinocchio_model()
     geom = pin.buildGeomFromUrdf(model, str(hrp2.urdf_path()), pin.GeometryType.COLLISION)
@@ -169,7 +169,7 @@ def test_walking_envelope_holds_every_link_in_half_sitting():
     pin.updateGeometryPlacements(model, data, geom, gdata)
     mid = 0.5 * (data.oMf[model.getFrameId("left_foot")].translation
                  + data.oMf[model.getFrameId("right_foot")].translation)
-    pts = np.vstack([(M.rotation @ _outline_points(o.geometry).T).T + M.translation - mid
+    pts = np.vstack([(M.rotation @ outline_points(o.geometry).T).T + M.translation - mid
                      for o, M in zip(geom.geometryObjects, gdata.oMg, strict=True)])
     ahead, behind, side = hrp2.WALK_ENVELOPE
     assert pts[:, 0].max() > 0.5 * hrp2.FOOTPRINT[0]  # the footprint alone would not do

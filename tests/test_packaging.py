@@ -36,6 +36,7 @@ def test_wheel_installs_and_runs_outside_the_source_tree(tmp_path):
     names = zipfile.ZipFile(wheel).namelist()
     assert "pivot_ompl/data/robots/hrp2/hrp2.urdf" in names
     assert "pivot_ompl/data/scenes/fig10.yaml" in names
+    assert "pivot_ompl/viz/overlay.js" in names  # the replay page's controls
     subprocess.run([sys.executable, "-m", "pip", "install", "--quiet", "--no-deps",
                     "--target", str(site), str(wheel)], check=True, timeout=600)
     env = {**os.environ, "PYTHONPATH": str(site)}

@@ -104,7 +104,7 @@ def test_cli_timeout_in_setup_keeps_an_existing_output(big_file, tmp_path, capsy
     t0 = time.perf_counter()
     code = main(["plan", str(big_file), "--time", "0.2", "--no-bound", "--out", str(out)])
     assert time.perf_counter() - t0 < 0.4
-    assert code == 1  # README: exit 1, stopped by the time limit
+    assert code == 1  # docs/cli.md: exit 1, stopped by the time limit
     assert out.read_text() == "kept\n"
     assert capsys.readouterr().out.startswith("TIMEOUT")
 
@@ -217,7 +217,7 @@ def _polygon_scene(n: int):
 def test_summing_pieces_and_bodies_polls_and_batches_change_nothing(monkeypatch):
     """meeting_edges of thousands of pairs polls between batches; the batches' edges are
     the ones summed all at once."""
-    from pivot_ompl.validity import footprints
+    from pivot_ompl.validity import minkowski
 
     rng = np.random.default_rng(3)
     pieces = [rng.uniform(-1, 1, (3, 2)) for _ in range(3000)]
@@ -225,12 +225,12 @@ def test_summing_pieces_and_bodies_polls_and_batches_change_nothing(monkeypatch)
     bodies = [body] * len(pieces)
     calls = []
     with pytest.raises(Interrupted):
-        footprints.meeting_edges(pieces, bodies,
-                                 should_stop=lambda: calls.append(1) or len(calls) > 2)
+        minkowski.meeting_edges(pieces, bodies,
+                                should_stop=lambda: calls.append(1) or len(calls) > 2)
     assert len(calls) == 3
-    batched = footprints.meeting_edges(pieces, bodies, should_stop=lambda: False)
-    monkeypatch.setattr(footprints, "MEETING_BATCH", 10**9)
-    whole = footprints.meeting_edges(pieces, bodies)
+    batched = minkowski.meeting_edges(pieces, bodies, should_stop=lambda: False)
+    monkeypatch.setattr(minkowski, "MEETING_BATCH", 10**9)
+    whole = minkowski.meeting_edges(pieces, bodies)
     for a, b in zip(batched.__dict__.values(), whole.__dict__.values(), strict=True):
         assert np.array_equal(a, b)
 

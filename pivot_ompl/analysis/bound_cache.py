@@ -37,6 +37,11 @@ CACHE_ENV = "PIVOT_OMPL_BOUND_CACHE"
 _memory: BoundedCache[str, RegraspBound] = BoundedCache(MEMORY_ENTRIES)
 
 
+def clear_memory() -> None:
+    """Forget the bounds kept in memory (the disk cache stays): the next ask reads or computes."""
+    _memory.clear()
+
+
 def scene_key(scene: Scene, *, resolution: float = RESOLUTION) -> str:
     """SHA-256 (hex) of the relaxation's version and parameters and the scene's digest."""
     text = f"{BOUND_VERSION}:{resolution!r}:{scene_digest(scene)}"

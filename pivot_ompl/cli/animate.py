@@ -60,7 +60,7 @@ class ProgressBar:
         self.stream.flush()
 
 
-def _scene_of(args: argparse.Namespace, record: SceneRecord) -> Scene | None:
+def plan_scene(args: argparse.Namespace, record: SceneRecord) -> Scene | None:
     """The plan's scene (its walk model sets the footstep limits; its obstacles are checked).
 
     With ``--no-check`` a plan whose scene is not found is animated with HRP-2's walk model.
@@ -76,12 +76,12 @@ def _scene_of(args: argparse.Namespace, record: SceneRecord) -> Scene | None:
 
 def _animate(args: argparse.Namespace) -> int:
     from pivot_ompl.planfile import load_plan
-    from pivot_ompl.wholebody.generator import generate_motion
+    from pivot_ompl.wholebody.motion import generate_motion
     from pivot_ompl.wholebody.motion_checks import check_motion
 
     output_files([args.plan], suffixes={"out": [".npz"]}, out=args.out)
     plan = load_plan(args.plan)
-    scene = _scene_of(args, SceneRecord.of(plan))
+    scene = plan_scene(args, SceneRecord.of(plan))
     bar = None if args.no_progress else ProgressBar("animate")
     if not MIN_TICK <= args.tick <= MAX_TICK:
         raise InputError("--tick", args.tick, f"must be in [{MIN_TICK}, {MAX_TICK}] s")

@@ -1,4 +1,4 @@
-"""``pivot-ompl bench SCENE... --planners regrasp,rrtconnect --runs 50 --time 30 --out results/``.
+"""``pivot-ompl bench SCENE [...] --planners regrasp,rrtconnect --runs 50 --time 30 --out DIR``.
 
 Writes an OMPL benchmark log per scene, the ``ompl_benchmark_statistics`` database, the
 summary table (also printed) and PNG plots into ``--out``. Exit codes: 0 every run went
@@ -90,14 +90,46 @@ def expand_params(planners: list[str], params: list[str], *,
     return out
 
 
+def parameter_table(width: int = 100) -> str:
+    """``--param help``: every sweepable parameter with its default and range, and what it is."""
+    import textwrap
+
+    from pivot_ompl.cli.main import plain
+    from pivot_ompl.planners.config import parameters
+
+    params = parameters()
+    name_w = max(len(p.name) for p in params)
+    default_w = max(len(_shown(p.default)) for p in params)
+    lines = ["Parameters of the regrasp planner: --param NAME=V1,V2 sweeps NAME over the "
+             "values (a tuple: V1 V2 in one value; a flag: true or false).",
+             f"{'NAME':<{name_w}}  {'DEFAULT':<{default_w}}  RANGE"]
+    for p in params:
+        rng = "true or false" if isinstance(p.default, bool) else \
+            "grasp indices 0 1 2 3" if p.range is None else str(p.range)
+        lines.append(f"{p.name:<{name_w}}  {_shown(p.default):<{default_w}}  {rng}")
+        if p.doc:
+            lines.extend(textwrap.wrap(plain(p.doc), width, initial_indent=" " * 4,
+                                       subsequent_indent=" " * 4))
+    return "\n".join(lines) + "\n"
+
+
+def _shown(value: object) -> str:
+    """A default as ``--param`` takes it (a tuple's items space-separated)."""
+    if isinstance(value, tuple):
+        return " ".join(_shown(v) for v in value)
+    if isinstance(value, bool):
+        return str(value).lower()
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``bench`` verb."""
     p = sub.add_parser(
         "bench", help="benchmark planners on scenes (OMPL log, database, table, plots)",
         description="Benchmark planners on scenes: an OMPL log per scene, the "
                     "ompl_benchmark_statistics database, a summary table and PNG plots.")
-    p.add_argument("scenes", nargs="+", metavar="SCENE",
-                   help="scene files or shipped scenes' names")
+    p.add_argument("scenes", nargs="*", metavar="SCENE",
+                   help="scene files or shipped scenes' names (at least one)")
     p.add_argument("--planners", default=DEFAULT_PLANNERS,
                    help="comma-separated planner names (or module:factory) "
                         f"[default: {DEFAULT_PLANNERS}]")
@@ -105,7 +137,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="sweep a parameter of the regrasp planner (a dotted name of "
                         "RegraspConfig, e.g. search.weight=1.5,2): one planner "
                         "configuration per value, each under its own name; repeat for a "
-                        "grid of configurations")
+                        "grid of configurations; --param help lists the parameters with "
+                        "their defaults and ranges")
     p.add_argument("--regrasp-cost", type=non_negative("--regrasp-cost"), default=None,
                    metavar="S", help="price of one regrasp (s) for the regrasp planner")
     p.add_argument("--runs", type=_count("--runs", 1), default=50, help="runs per planner")
@@ -133,9 +166,15 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run the sweep; print the table and where the outputs are."""
+    """Run the sweep; print the table and where the outputs are (``--param help``: list)."""
     from pivot_ompl.bench.executors import make_executor
     from pivot_ompl.bench.sweep import run_sweep
+
+    if "help" in (p.strip() for p in args.param):
+        sys.stdout.write(parameter_table())
+        return 0
+    if not args.scenes:
+        raise InputError("SCENE", [], "give at least one scene file or shipped scene's name")
 
     planners = [p.strip() for p in _split_specs(args.planners) if p.strip()]
     if not planners:

@@ -47,7 +47,8 @@ MAX_WIDE_DOOR = ROOM_DEPTH - 2.0 * (WIDE_SHIFT + 0.3)
 SLOT_Y, DOOR_Y = 1.2, ROOM_DEPTH - 1.0
 
 
-def _origin(i: int, j: int) -> tuple[float, float]:
+def room_origin(i: int, j: int) -> tuple[float, float]:
+    """The lower-left inner corner (m) of the room in column ``i`` and row ``j``."""
     return (WALL + i * (ROOM + WALL), WALL + j * (ROOM_DEPTH + WALL))
 
 
@@ -74,9 +75,9 @@ def building_layout(rng: np.random.Generator, *, rooms: int, layout: str,
     bounds = (0.0, 0.0, WALL + nx * (ROOM + WALL), WALL + ny * (ROOM_DEPTH + WALL))
     free: list[Rect] = []
     for i, j in cells:
-        x0, y0 = _origin(i, j)
+        x0, y0 = room_origin(i, j)
         free.append((x0, y0, x0 + ROOM, y0 + ROOM_DEPTH))
-    x0, y0 = _origin(*cells[0])
+    x0, y0 = room_origin(*cells[0])
     start = (x0 + 1.0 + float(rng.uniform(0.0, 0.4)), y0 + SLOT_Y + float(rng.uniform(-0.2, 0.6)),
              float(rng.uniform(-0.3, 0.3)))
     states: list[State] = [(start, 0)]
@@ -94,7 +95,7 @@ def building_layout(rng: np.random.Generator, *, rooms: int, layout: str,
                 slot, gap = False, 0.0
                 door = (float(rng.uniform(*wide_doors)), float(rng.uniform(-1.0, 1.0)) * WIDE_SHIFT)
             states += _along_row(a, b, east, slot, gap, states[-1], free, door=door)
-    xl, yl = _origin(*cells[-1])
+    xl, yl = room_origin(*cells[-1])
     east = len(cells) < 2 or cells[-1][0] >= cells[-2][0]
     g = states[-1][1]
     goal_x = xl + ROOM - 1.2 if east else xl + 1.2
@@ -113,7 +114,7 @@ def _north(a: tuple[int, int], b: tuple[int, int], last: State, free: list[Rect]
     the room by), the robot walks round to its south face, and pushes it straight north
     through the door.
     """
-    x0, y0 = _origin(*a)
+    x0, y0 = room_origin(*a)
     xc = x0 + ROOM / 2
     yw = y0 + ROOM_DEPTH
     free.append((xc - WIDE_DOOR / 2, yw, xc + WIDE_DOOR / 2, yw + WALL))
@@ -128,7 +129,7 @@ def _along_row(a: tuple[int, int], b: tuple[int, int], east: bool, slot: bool, g
 
     ``door``: the wide door's width and its centre's offset from the wall's middle (m).
     """
-    x0, y0 = _origin(*a)
+    x0, y0 = room_origin(*a)
     xw = x0 + ROOM if east else x0 - WALL  # the wall's west face
     s = 1.0 if east else -1.0
     push_g, pull_g = (0, 2) if east else (2, 0)

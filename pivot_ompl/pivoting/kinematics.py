@@ -163,7 +163,7 @@ def _candidates_within(start: Pose, goal: Pose, ell: float,
     return found
 
 
-def _chord_distance(px: float, py: float, start: Pose, goal: Pose) -> float:
+def chord_distance(px: float, py: float, start: Pose, goal: Pose) -> float:
     """Distance (m) of the point ``(px, py)`` to the segment from ``start`` to ``goal``."""
     ux, uy = goal[0] - start[0], goal[1] - start[1]
     vx, vy = px - start[0], py - start[1]
@@ -227,7 +227,7 @@ def solve_piece(start: Pose, goal: Pose, ell: float, alpha_max: float, *,
                 x, y, h = px + c * dx - s_ * dy, py + s_ * dx + c * dy, h + a
                 rots.append(Rotation(end, (px, py), a, (x, y, h)))
                 if bounded:  # an arc is within its ends' distance plus its sagitta
-                    d = _chord_distance(x, y, start, goal)
+                    d = chord_distance(x, y, start, goal)
                     worst = max(worst, max(prev, d) + ell * (1.0 - math.cos(0.5 * a)))
                     prev = d
             sign = -sign

@@ -11,17 +11,26 @@ Every leaf has a dotted name (``search.weight``, ``cost.regrasp``,
 ``sampling.slot_spacing``...), listed by :meth:`RegraspConfig.flat` and set by
 :meth:`RegraspConfig.with_values`: what ``pivot-ompl bench --param NAME=V1,V2`` sweeps (OMPL
 2.0.1's Python binding cannot declare planner parameters: ``Planner.params()`` raises a
-conversion error).
+conversion error). Each numeric leaf declares its range beside its default, as OMPL's
+``declareParam`` does (:func:`~pivot_ompl.params.knob`: the range in the field's
+``metadata``); :meth:`RegraspConfig.validate` reads it there, and :func:`parameters` lists
+every leaf with its default, range and description (``pivot-ompl bench --param help``).
 """
 
 from __future__ import annotations
 
+import inspect
 import math
+from collections.abc import Iterator
 from dataclasses import dataclass, field, fields, is_dataclass, replace
 from typing import Any
 
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import InputError
+from pivot_ompl.params import Range, check_value, knob, range_of
+
+#: The grasp indices (one per side of the box).
+GRASPS = (0, 1, 2, 3)
 
 
 @dataclass(frozen=True)
@@ -63,25 +72,25 @@ class SamplingConfig:
             yaw modulo pi whatever the range: the box's half-turn symmetry).
     """
 
-    guard_failures: int = 25
-    max_visibility_samples: int = 30
-    visibility_area: float = 4.0
-    guard_radius: float = 3.0
-    critical_spacing: float = 0.4
+    guard_failures: int = knob(25, low=1)
+    max_visibility_samples: int = knob(30)
+    visibility_area: float = knob(4.0, low_open=True)
+    guard_radius: float = knob(3.0)
+    critical_spacing: float = knob(0.4)
     slots: bool = True
-    slot_play: float = 0.1
-    slot_spacing: float = 0.2
-    slot_approach: tuple[float, ...] = (0.4, 0.7, 1.2)
+    slot_play: float = knob(0.1)
+    slot_spacing: float = knob(0.2, low_open=True)
+    slot_approach: tuple[float, ...] = knob((0.4, 0.7, 1.2))
     doors: bool = True
-    door_play: float = 0.5
-    bridge_rounds: int = 60
-    bridge_bias: float = 0.3
-    bridge_sigma: float = 0.5
-    passage_steps: tuple[float, ...] = (0.5, 1.0, 1.5, 2.0)
-    epsilon: float = 1.0
-    critical_bias: float = 0.25
-    goal_bias: float = 0.05
-    yaw_range: float = math.pi
+    door_play: float = knob(0.5)
+    bridge_rounds: int = knob(60)
+    bridge_bias: float = knob(0.3, high=1.0)
+    bridge_sigma: float = knob(0.5)
+    passage_steps: tuple[float, ...] = knob((0.5, 1.0, 1.5, 2.0))
+    epsilon: float = knob(1.0)
+    critical_bias: float = knob(0.25, high=1.0)
+    goal_bias: float = knob(0.05, high=1.0)
+    yaw_range: float = knob(math.pi)
 
 
 @dataclass(frozen=True)
@@ -104,12 +113,12 @@ class SearchConfig:
         turn_margin: room (m) a turn needs beyond the disk the assembly sweeps.
     """
 
-    neighbours: int = 10
-    connect_radius: float = 3.5
-    weight: float = 1.1
-    every: int = 16
+    neighbours: int = knob(10, low=1)
+    connect_radius: float = knob(3.5)
+    weight: float = knob(1.1, low=1.0)
+    every: int = knob(16, low=1)
     turns: bool = True
-    turn_margin: float = 0.05
+    turn_margin: float = knob(0.05)
 
 
 @dataclass(frozen=True)
@@ -122,8 +131,8 @@ class SingleGraspConfig:
         step: its longest extension (m of the car's Reeds-Shepp path).
     """
 
-    checks: int = 80
-    step: float = 1.5
+    checks: int = knob(80)
+    step: float = knob(1.5)
 
 
 @dataclass(frozen=True)
@@ -143,10 +152,10 @@ class OptimiserConfig:
     """
 
     enabled: bool = True
-    check_share: float = 0.2
-    min_checks: int = 10
+    check_share: float = knob(0.2)
+    min_checks: int = knob(10)
     routes: bool = True
-    route_share: float = 1.0
+    route_share: float = knob(1.0)
 
 
 @dataclass(frozen=True)
@@ -163,7 +172,7 @@ class RegraspConfig:
             plus a price per regrasp (``cost.regrasp``, s).
     """
 
-    grasps: tuple[int, ...] = (0, 1, 2, 3)
+    grasps: tuple[int, ...] = GRASPS
     sampling: SamplingConfig = field(default_factory=SamplingConfig)
     search: SearchConfig = field(default_factory=SearchConfig)
     single_grasp: SingleGraspConfig = field(default_factory=SingleGraspConfig)
@@ -172,7 +181,7 @@ class RegraspConfig:
 
     def flat(self) -> dict[str, Any]:
         """Every leaf by dotted name (``"search.weight": 2.0``...), in declaration order."""
-        return _flatten(self, "")
+        return {name: v for name, v, _ in _leaves(self, "")}
 
     def with_values(self, values: dict[str, Any]) -> RegraspConfig:
         """A copy with the leaves named in ``values`` replaced (dotted names).
@@ -191,35 +200,88 @@ class RegraspConfig:
         return out
 
     def validate(self) -> None:
-        """Raise :class:`InputError` naming the first leaf whose value is out of range."""
-        for name, v in self.flat().items():
-            if isinstance(v, bool):
-                continue
-            vals = v if isinstance(v, tuple) else (v,)
-            for x in vals:
-                if isinstance(x, int | float) and not (math.isfinite(x) and x >= 0):
-                    raise InputError(name, v, "must be finite and >= 0")
-        if not self.grasps or any(g not in (0, 1, 2, 3) for g in self.grasps):
+        """Raise :class:`InputError` naming the first leaf whose value is out of its range.
+
+        The ranges are the fields' own (:func:`~pivot_ompl.params.knob` metadata; a field
+        declared without one: finite and ``>= 0``); every leaf is first checked to be finite
+        and ``>= 0``, then the grasps, then each leaf against its range.
+        """
+        leaves = list(_leaves(self, ""))
+        for name, v, rng in leaves:
+            check_value(name, v, rng, floor_only=True)
+        if not self.grasps or any(g not in GRASPS for g in self.grasps):
             raise InputError("grasps", self.grasps, "must be grasp indices 0, 1, 2 or 3")
-        if self.search.weight < 1.0:
-            raise InputError("search.weight", self.search.weight, "must be >= 1")
-        for name in ("sampling.visibility_area", "sampling.slot_spacing"):
-            if self.flat()[name] <= 0.0:
-                raise InputError(name, self.flat()[name], "must be > 0")
-        for name in ("search.neighbours", "search.every", "sampling.guard_failures"):
-            if self.flat()[name] < 1:
-                raise InputError(name, self.flat()[name], "must be >= 1")
+        for name, v, rng in leaves:
+            check_value(name, v, rng)
 
 
-def _flatten(obj: Any, prefix: str) -> dict[str, Any]:
-    out: dict[str, Any] = {}
+@dataclass(frozen=True)
+class Parameter:
+    """One leaf of :class:`RegraspConfig`, as ``pivot-ompl bench --param help`` lists it.
+
+    Attributes:
+        name: the dotted name (``search.weight``).
+        default: the default value.
+        range: the values it may take (``None``: a flag, true or false; for ``grasps``, the
+            grasp indices).
+        doc: what it is (from its class's docstring).
+    """
+
+    name: str
+    default: Any
+    range: Range | None
+    doc: str
+
+
+def parameters() -> list[Parameter]:
+    """Every parameter of :class:`RegraspConfig` with its default and range, in order."""
+    out = []
+    for name, v, rng in _leaves(RegraspConfig(), ""):
+        owner, leaf = _owner(name)
+        doc = _attribute_docs(type(owner)).get(leaf, "")
+        out.append(Parameter(name, v, None if isinstance(v, bool) or name == "grasps"
+                             else rng, doc))
+    return out
+
+
+def _owner(name: str) -> tuple[Any, str]:
+    """The default dataclass holding the leaf ``name``, and the leaf's own name."""
+    obj: Any = RegraspConfig()
+    *groups, leaf = name.split(".")
+    for g in groups:
+        obj = getattr(obj, g)
+    return obj, leaf
+
+
+def _attribute_docs(cls: type) -> dict[str, str]:
+    """The ``Attributes:`` entries of ``cls``'s docstring, one line each."""
+    docs: dict[str, str] = {}
+    lines = (inspect.getdoc(cls) or "").splitlines()
+    if "Attributes:" not in lines:
+        return docs
+    current = None
+    for line in lines[lines.index("Attributes:") + 1:]:
+        if not line.strip():
+            break
+        if line.startswith("    ") and not line.startswith("     ") and ":" in line:
+            names, text = line.strip().split(":", 1)
+            current = [n.strip() for n in names.split(",")]
+            for n in current:
+                docs[n] = text.strip()
+        elif current:
+            for n in current:
+                docs[n] += " " + line.strip()
+    return docs
+
+
+def _leaves(obj: Any, prefix: str) -> Iterator[tuple[str, Any, Range]]:
+    """Every leaf of ``obj`` by dotted name, with its value and range, in declaration order."""
     for f in fields(obj):
         v = getattr(obj, f.name)
         if is_dataclass(v):
-            out.update(_flatten(v, f"{prefix}{f.name}."))
+            yield from _leaves(v, f"{prefix}{f.name}.")
         else:
-            out[f"{prefix}{f.name}"] = v
-    return out
+            yield f"{prefix}{f.name}", v, range_of(f.metadata)
 
 
 def _replace_leaf(obj: Any, path: list[str], value: Any, name: str) -> Any:
@@ -266,5 +328,5 @@ def _leaf_names() -> list[str]:
     return list(RegraspConfig().flat())
 
 
-__all__ = ["OptimiserConfig", "RegraspConfig", "SamplingConfig", "SearchConfig",
-           "SingleGraspConfig"]
+__all__ = ["OptimiserConfig", "Parameter", "RegraspConfig", "SamplingConfig", "SearchConfig",
+           "SingleGraspConfig", "parameters"]

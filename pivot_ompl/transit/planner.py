@@ -24,7 +24,7 @@ a robot narrower than a door walks through it forward or sideways.
   past ``quick_expansions`` states (a tight spot, where that guide, blind to the headings,
   fills every heading of the cells near the goal) is made again guided by the cost-to-go of
   the lattice relaxed to its states
-  (:meth:`~pivot_ompl.transit.field.FloorField.lattice_costs`: the same motions and
+  (:meth:`~pivot_ompl.transit.lattice_field.LatticeField.costs`: the same motions and
   costs, a state free when the walking body at its heading fits there and does not meet the
   grown box, motions' sweeps not checked; one Dijkstra, scipy), weighted by ``inflation``: it
   knows where the robot can stand at which heading, and where it is infinite no walk exists,
@@ -304,7 +304,7 @@ class WalkPlanner:
         cells = tuple(sorted({(s[0], s[1]) for s in goals}))
         key = (obj, cells)
         hit = self._distances.get(key)
-        limit = math.inf if starts is None else self._first_limit(starts, goals)
+        limit = math.inf if starts is None else self.first_limit(starts, goals)
         if hit is not None:
             limit = max(limit, hit[0])
         while True:
@@ -321,7 +321,16 @@ class WalkPlanner:
                 return dist
             limit = self.floor_inflation * near if near < limit else 2.0 * limit
 
-    def _first_limit(self, starts: dict[State, float], goals: dict[State, float]) -> float:
+    def cached_limit(self, obj: Pose, goals: dict[State, float]) -> float | None:
+        """The limit of the cached :meth:`floor_distances` to ``goals``' positions, if any.
+
+        The box resting at ``obj``; ``None`` when none is cached, ``inf`` when the whole
+        floor's are.
+        """
+        hit = self._distances.get((obj, tuple(sorted({(s[0], s[1]) for s in goals}))))
+        return None if hit is None else hit[0]
+
+    def first_limit(self, starts: dict[State, float], goals: dict[State, float]) -> float:
         """``floor_inflation`` times (the straight distance + half a circle round the box)."""
         res = self.resolution
         straight = min(math.hypot(a[0] - b[0], a[1] - b[1]) for a in starts for b in goals)

@@ -13,9 +13,9 @@ obstacles grown by the kept clearance (the clearance's rounded corners by chords
 cylinder by its inscribed polygon: the shapes are *inside* the true grown ones, so a
 position the exact checks accept is never closed). The positions where a body meets an
 obstacle piece are convex hulls of vertex differences
-(:func:`~pivot_ompl.validity.footprints.meeting_edges`), rasterised together
-(:func:`~pivot_ompl.validity.footprints.grid_union`), the sums without their certificate
-(:func:`~pivot_ompl.validity.footprints.meeting_edges`, ``certify=False``: the same regions
+(:func:`~pivot_ompl.validity.minkowski.meeting_edges`), rasterised together
+(:func:`~pivot_ompl.validity.rasters.grid_union`), the sums without their certificate
+(:func:`~pivot_ompl.validity.minkowski.meeting_edges`, ``certify=False``: the same regions
 to rounding). A guide for route planning, not a certificate: motions are certified by the
 pivot checker.
 """
@@ -33,7 +33,9 @@ from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.se2 import GRID_HEADING_YAWS as HEADING_YAWS
 from pivot_ompl.se2 import Pose
 from pivot_ompl.validity.collision import CollisionWorld
-from pivot_ompl.validity.footprints import grid_union, meeting_edges, obstacle_pieces
+from pivot_ompl.validity.footprints import obstacle_pieces
+from pivot_ompl.validity.minkowski import meeting_edges
+from pivot_ompl.validity.rasters import grid_union
 
 #: The field's yaws: the 16 headings and the 16 half-way yaws, in that order interleaved
 #: (index ``2 h`` is heading ``h``, ``2 h + 1`` half-way to heading ``h + 1``).

@@ -42,7 +42,11 @@ _ROTATION = np.eye(3)
 _TRANSLATION = np.zeros(3)
 
 
-def _transform(x: float, y: float, yaw: float, z: float) -> coal.Transform3s:
+def placement(x: float, y: float, yaw: float, z: float) -> coal.Transform3s:
+    """The placement at ``(x, y, z)`` (m) turned by ``yaw`` (rad) about the vertical.
+
+    Filled through scratch arrays, copied by coal: every placement is its own.
+    """
     c, s = math.cos(yaw), math.sin(yaw)
     r, t = _ROTATION, _TRANSLATION
     r[0, 0] = c
@@ -98,11 +102,11 @@ def obstacle_objects(obstacle: Obstacle, should_stop: Callable[[], bool] | None 
     """
     if isinstance(obstacle, BoxObstacle):
         shape = coal.Box(obstacle.size[0], obstacle.size[1], obstacle.height)
-        return [coal.CollisionObject(shape, _transform(*obstacle.center, obstacle.yaw,
+        return [coal.CollisionObject(shape, placement(*obstacle.center, obstacle.yaw,
                                                        0.5 * obstacle.height))]
     if isinstance(obstacle, CylinderObstacle):
         shape = coal.Cylinder(obstacle.radius, obstacle.height)
-        return [coal.CollisionObject(shape, _transform(*obstacle.center, 0.0,
+        return [coal.CollisionObject(shape, placement(*obstacle.center, 0.0,
                                                        0.5 * obstacle.height))]
     if isinstance(obstacle, PolygonObstacle):
         out = []
@@ -226,7 +230,7 @@ class CollisionWorld:
 
     def box_distance(self, obj: Pose) -> float:
         """Distance (m) from the box at object pose ``obj`` to the nearest obstacle (<= 0: hit)."""
-        self._box.setTransform(_transform(obj[0], obj[1], obj[2], 0.5 * self.model.object_size[2]))
+        self._box.setTransform(placement(obj[0], obj[1], obj[2], 0.5 * self.model.object_size[2]))
         return self._distance(self._box)
 
     def robot_distance(self, robot: Pose) -> float:
@@ -239,7 +243,7 @@ class CollisionWorld:
 
     def _robot_transform(self, robot: Pose) -> coal.Transform3s:
         a = self._robot_ahead
-        return _transform(robot[0] + a * math.cos(robot[2]), robot[1] + a * math.sin(robot[2]),
+        return placement(robot[0] + a * math.cos(robot[2]), robot[1] + a * math.sin(robot[2]),
                           robot[2], 0.5 * self.model.robot_height)
 
     def held_distance(self, robot: Pose, grasp: int) -> float:
@@ -249,7 +253,7 @@ class CollisionWorld:
         overhang (the box itself is :meth:`box_distance`); <= 0: hit.
         """
         obj = self._held[grasp]
-        obj.setTransform(_transform(robot[0], robot[1], robot[2], 0.0))
+        obj.setTransform(placement(robot[0], robot[1], robot[2], 0.0))
         return self._distance(obj)
 
     def robot_box_distance(self, robot: Pose, obj: Pose) -> float:
@@ -258,7 +262,7 @@ class CollisionWorld:
         self._res.clear()
         return coal.distance(self._robot_shape, self._robot_transform(robot),
                              self._box_shape,
-                             _transform(obj[0], obj[1], obj[2], 0.5 * self.model.object_size[2]),
+                             placement(obj[0], obj[1], obj[2], 0.5 * self.model.object_size[2]),
                              self._req, self._res)
 
     def turning_disk_distance(self, x: float, y: float) -> float:
@@ -266,16 +270,16 @@ class CollisionWorld:
 
         The disk is centred at ``(x, y)``.
         """
-        self._disk.setTransform(_transform(x, y, 0.0, 0.5 * self.model.robot_height))
+        self._disk.setTransform(placement(x, y, 0.0, 0.5 * self.model.robot_height))
         return self._distance(self._disk)
 
     def turning_disk_box_distance(self, x: float, y: float, obj: Pose) -> float:
         """Clearance (m) between that disk and the box resting at object pose ``obj``."""
         self.queries += 1
         self._res.clear()
-        return coal.distance(self._disk_shape, _transform(x, y, 0.0, 0.5 * self.model.robot_height),
+        return coal.distance(self._disk_shape, placement(x, y, 0.0, 0.5 * self.model.robot_height),
                              self._box_shape,
-                             _transform(obj[0], obj[1], obj[2], 0.5 * self.model.object_size[2]),
+                             placement(obj[0], obj[1], obj[2], 0.5 * self.model.object_size[2]),
                              self._req, self._res)
 
     def disk_distance(self, x: float, y: float, radius: float) -> float:
@@ -287,7 +291,7 @@ class CollisionWorld:
         if obj is None:
             obj = coal.CollisionObject(coal.Cylinder(radius, self.model.robot_height))
             self._disks[radius] = obj
-        obj.setTransform(_transform(x, y, 0.0, 0.5 * self.model.robot_height))
+        obj.setTransform(placement(x, y, 0.0, 0.5 * self.model.robot_height))
         return self._distance(obj)
 
     # -- bounds ------------------------------------------------------------------------

@@ -25,8 +25,8 @@ from pivot_ompl.wholebody.generator import (
            GenerationStats,
            Timing,
            WholeBodyGenerator,
-           generate_motion,
 )
+from pivot_ompl.wholebody.motion import generate_motion
 from pivot_ompl.wholebody.motion_checks import CheckResult, MotionReport, check_motion
 from pivot_ompl.wholebody.walker import WalkSettings
 

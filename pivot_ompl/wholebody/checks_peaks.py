@@ -5,8 +5,7 @@ the maximum over the whole motion, never a percentile, and name the sample where
 Speeds are first differences of ``q`` over the sample period, accelerations second
 differences (the motion's own samples; nothing is filtered).
 
-Limits (:mod:`pivot_ompl.wholebody.joint_peaks`; the README's *Whole-body checks* gives the
-torques behind them):
+Limits (:mod:`pivot_ompl.wholebody.joint_peaks` gives the torques behind them):
 
 * speed: each joint's URDF velocity limit;
 * acceleration: 30 rad/s² for the arm, chest and head joints, which only follow the box,

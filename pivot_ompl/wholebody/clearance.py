@@ -19,6 +19,10 @@ sample where the accumulated bound reaches ``d - exact_below``; the samples in b
 certified to keep more than ``exact_below`` of clearance. So every sample where a body comes
 closer than ``exact_below`` is measured exactly, and the reported minimum per body is exact
 when below ``exact_below`` and otherwise a proven lower bound.
+
+The bodies' next queries wait in a priority queue (:mod:`heapq`) keyed by sample index: an
+event queue that walks the samples forward in time, not a search of a graph (no costs, no
+paths), so it is not :func:`pivot_ompl.graph.astar`, the package's one graph search.
 """
 
 from __future__ import annotations

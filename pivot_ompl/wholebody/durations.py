@@ -27,7 +27,7 @@ class DurationBreakdown:
 
     Attributes:
         total: the motion's duration (s).
-        pivots: (|angle| (rad), seconds) of every pivot step, in plan order.
+        pivots: (``|angle|`` (rad), seconds) of every pivot step, in plan order.
         transfer_rest: seconds of each transfer phase outside its pivot steps.
         transits: (length (m), seconds) of every transit phase.
     """

@@ -66,7 +66,7 @@ def _box_rect(model: BoxGraspModel, grasp: int) -> np.ndarray:
     return np.array([(face, -ell), (far, -ell), (far, ell), (face, ell)])
 
 
-def _outline_points(g) -> np.ndarray:  # noqa: ANN001 - a coal shape
+def outline_points(g) -> np.ndarray:  # noqa: ANN001 - a coal shape
     """Points (in the shape's frame) whose convex hull is the shape (a cylinder: 24-gons)."""
     import coal
 
@@ -129,7 +129,7 @@ def floor_excursion(motion: Motion, plan: Plan, *, stride: int = 10,
     robot = load_urdf_model(motion.urdf)
     model, geom = robot.model, robot.geom
     data, gdata = model.createData(), geom.createData()
-    local = [_outline_points(obj.geometry) for obj in geom.geometryObjects]
+    local = [outline_points(obj.geometry) for obj in geom.geometryObjects]
     links = [model.frames[o.parentFrame].name for o in geom.geometryObjects]
     held = [convex_hull(np.array(model_g.held_outline(g))) for g in range(4)]
     boxes = [_box_rect(model_g, g) for g in range(4)]

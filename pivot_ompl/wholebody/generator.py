@@ -33,7 +33,6 @@ The box's weight is not modelled (kinematic generation; the CoM is the robot's o
 
 from __future__ import annotations
 
-import dataclasses
 import logging
 import math
 import time
@@ -60,6 +59,7 @@ from pivot_ompl.wholebody.pivot_walk import (
     rotation_windows,
     turn_progress,
 )
+from pivot_ompl.wholebody.plan_start import observed_robot
 from pivot_ompl.wholebody.recording import GenerationStats, Recorder, Sample
 from pivot_ompl.wholebody.settings import WalkSettings
 from pivot_ompl.wholebody.timeline import Timing, interpolate_frame, min_jerk
@@ -67,7 +67,7 @@ from pivot_ompl.wholebody.walk_windows import WindowedWalk
 from pivot_ompl.wholebody.walker import PlacoWalker, SolverFailure
 
 if TYPE_CHECKING:
-    from pivot_ompl.scene import WalkParameters
+    pass
 
 log = logging.getLogger(__name__)
 
@@ -89,6 +89,11 @@ class _HeldBox:
         return self.hold.T_world_box(self.G, self.grasp, self.tilt)
 
 
+def _ticks(duration: float, dt: float) -> int:
+    """Solver ticks of ``duration`` (s) at ``dt`` (s) a tick, at least one."""
+    return max(1, int(round(duration / dt)))
+
+
 class WholeBodyGenerator:
     """Turns a plan into a :class:`Motion` (see the module docstring).
 
@@ -98,6 +103,10 @@ class WholeBodyGenerator:
         timing: segment durations and tolerances.
         tilt: inclination of the held box about its supporting edge (rad).
         progress: optional callback ``progress(fraction, label)``.
+
+    Attributes:
+        recorder: the samples recorded so far (:class:`~.recording.Recorder`).
+        stats: the generation's statistics.
     """
 
     def __init__(self, plan: Plan, *, settings: WalkSettings | None = None,
@@ -113,7 +122,7 @@ class WholeBodyGenerator:
         self.hold = BoxHold(tuple(plan.object_size), tilt=tilt)  # type: ignore[arg-type]
         self.progress = progress
         self.stats = GenerationStats()
-        self._rec = Recorder()
+        self.recorder = Recorder()
         self._t = 0.0
         self._phase = 0
         self._step = -1
@@ -154,9 +163,9 @@ class WholeBodyGenerator:
                 self._transit(i, phase, obj)
         self._report(1.0, "done")
         names = tuple(str(n) for n in self.walker.robot.model.names[2:])
-        motion = self._rec.motion(plan, self.hold, names, substeps=self.settings.substeps)
+        motion = self.recorder.motion(plan, self.hold, names, substeps=self.settings.substeps)
         self.stats.compute = time.perf_counter() - t_wall
-        self.stats.ticks, self.stats.samples = len(self._rec.t), len(motion.t)
+        self.stats.ticks, self.stats.samples = len(self.recorder.t), len(motion.t)
         self.stats.duration = float(motion.t[-1] - motion.t[0])
         return motion
 
@@ -198,13 +207,10 @@ class WholeBodyGenerator:
             if err > self.timing.max_hand_error:
                 raise self._fail(f"unreachable grip: a hand is {100 * err:.1f} cm from its "
                                  f"grip point at t = {self._t:.3f} s")
-        self._rec.record(self._t, self.walker.q(), self._box_T, self.walker.com(),
-                         Sample(support, zmp, self._phase, self._step if holding else -1,
-                                holding, grasp if holding else -1, tilt))
+        self.recorder.record(self._t, self.walker.q(), self._box_T, self.walker.com(),
+                             Sample(support, zmp, self._phase, self._step if holding else -1,
+                                    holding, grasp if holding else -1, tilt))
         self._t += self.settings.solver_dt
-
-    def _ticks(self, duration: float) -> int:
-        return max(1, int(round(duration / self.settings.solver_dt)))
 
     def _stand(self, duration: float, each: Callable[[float], None], *, holding: bool = False,
                grasp: int = -1, tilt_of: Callable[[float], float] | None = None,
@@ -212,7 +218,7 @@ class WholeBodyGenerator:
                ) -> None:
         """Stand still for ``duration``; ``each(s)`` updates the box for progress s in [0, 1]."""
         self.walker.stand()
-        n = self._ticks(duration)
+        n = _ticks(duration, self.settings.solver_dt)
         for i in range(n):
             s = (i + 1) / n
             each(s)
@@ -249,7 +255,7 @@ class WholeBodyGenerator:
             traj = self.walker.plan_walk(chunk, self._t)
             t0, t1 = traj.t_start, traj.t_end
             m = self.timing.rotate_margin
-            n = self._ticks(t1 - t0)
+            n = _ticks(t1 - t0, self.settings.solver_dt)
             for _ in range(n):
                 if each is not None:
                     each(((self._t - t0) - m) / max(t1 - t0 - 2 * m, 1e-6))
@@ -356,7 +362,7 @@ class WholeBodyGenerator:
         t0 = self._t
         traj = walker.plan_walk(footsteps, t0)
         starts, ends = rotation_windows(traj, last, t0, self.settings.solver_dt)
-        total = self._ticks(traj.t_end - t0)
+        total = _ticks(traj.t_end - t0, self.settings.solver_dt)
         G0: np.ndarray | None = None
         p, u = 0, 0.0
         for tick in range(total):
@@ -386,62 +392,3 @@ class WholeBodyGenerator:
         self._box_T = self.hold.T_world_box(self.hold.T_world_G(obj, 0), 0, 0.0)
         self._walk_to(list(phase.robot_path), follow_path=True)
         self._unit_done(f"phase {i}: transit")
-
-
-def observed_robot(plan: Plan) -> Pose | None:
-    """Where the robot was observed standing (a replanned plan's ``observed_robot``), or ``None``.
-
-    Raises:
-        InputError: the field is not three finite numbers.
-    """
-    raw = plan.extra.get("observed_robot")
-    if raw is None:
-        return None
-    if not (isinstance(raw, list) and len(raw) == 3
-            and all(isinstance(v, int | float) and not isinstance(v, bool)
-                    and math.isfinite(v) for v in raw)):
-        raise InputError("observed_robot", raw, "must be [x, y, yaw], three finite numbers")
-    return (float(raw[0]), float(raw[1]), float(raw[2]))
-
-
-def generate_motion(plan: Plan, *, walk: WalkParameters | None = None,
-                    settings: WalkSettings | None = None, timing: Timing | None = None,
-                    tilt: float = DEFAULT_TILT, dt: float | None = None,
-                    substeps: int | None = None,
-                    progress: Progress | None = None) -> tuple[Motion, GenerationStats]:
-    """Generate the whole-body motion of ``plan``; return it with its generation statistics.
-
-    Args:
-        plan: the pivoting plan.
-        walk: the scene's walk model (``Scene.walk``): the footstep limits follow it
-            (:meth:`WalkSettings.from_walk`); HRP-2's when neither it nor ``settings`` is
-            given.
-        settings: walking and solver parameters (instead of ``walk``).
-        timing: segment durations and tolerances.
-        tilt: inclination of the held box about its supporting edge (rad).
-        dt: the sampling period of the motion (s), instead of the settings' (5 ms).
-        substeps: samples per solver tick, instead of the settings' (2: one QP every
-            10 ms; 1: one QP per sample).
-        progress: optional callback ``progress(fraction, label)``.
-
-    Raises:
-        WholeBodyError: the solver failed or a grip became unreachable (names phase and step).
-        InputError: the plan is inconsistent, or both ``walk`` and ``settings`` are given.
-    """
-    if walk is not None:
-        if settings is not None:
-            raise InputError("walk", walk, "give the walk model or the settings, not both")
-        settings = WalkSettings.from_walk(walk)
-        log.debug("footstep limits of the scene's walk model: %s", walk)
-    if dt is not None:
-        if not (math.isfinite(dt) and dt > 0.0):
-            raise InputError("dt", dt, "must be a finite tick > 0 s")
-        settings = dataclasses.replace(settings or WalkSettings(), dt=dt)
-    if substeps is not None:
-        if isinstance(substeps, bool) or not isinstance(substeps, int) or not 1 <= substeps <= 8:
-            raise InputError("substeps", substeps, "must be an integer in [1, 8]")
-        settings = dataclasses.replace(settings or WalkSettings(), substeps=substeps)
-    gen = WholeBodyGenerator(plan, settings=settings, timing=timing, tilt=tilt,
-                             progress=progress)
-    motion = gen.run()
-    return motion, gen.stats

@@ -48,10 +48,10 @@ class JointPeak:
 
     Attributes:
         joint: the joint's name.
-        velocity: largest |speed| (rad/s), at time ``velocity_time`` (s, the later sample of
+        velocity: largest ``|speed|`` (rad/s), at time ``velocity_time`` (s, the later sample of
             the difference).
         velocity_limit: its URDF velocity limit (rad/s).
-        accel: largest |acceleration| (rad/s²), at time ``accel_time`` (s, the middle
+        accel: largest ``|acceleration|`` (rad/s²), at time ``accel_time`` (s, the middle
             sample of the second difference).
         accel_limit: its acceleration limit (rad/s²).
     """

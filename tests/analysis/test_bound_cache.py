@@ -19,7 +19,7 @@ from pivot_ompl.scene import BoxObstacle
 def fresh(monkeypatch, tmp_path):
     """An empty memory cache and disk cache folder."""
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
-    monkeypatch.setattr(bound_cache, "_memory", bound_cache.BoundedCache(4))
+    bound_cache.clear_memory()
     return tmp_path
 
 
@@ -41,7 +41,7 @@ def test_computed_once_then_read(fresh, monkeypatch):
     monkeypatch.setattr(bound_cache, "regrasp_lower_bound",
                         lambda *a, **k: calls.append(1) or first)
     assert lower_bound(scene) == first  # memory
-    monkeypatch.setattr(bound_cache, "_memory", bound_cache.BoundedCache(4))
+    bound_cache.clear_memory()
     assert lower_bound(scene) == first  # disk
     assert not calls
     lower_bound(scene, use_cache=False)
@@ -55,7 +55,7 @@ def test_disk_cache_off_corrupt_and_stopped(fresh, monkeypatch):
     lower_bound(scene)
     assert not path.exists()
     monkeypatch.delenv(bound_cache.CACHE_ENV)
-    monkeypatch.setattr(bound_cache, "_memory", bound_cache.BoundedCache(4))
+    bound_cache.clear_memory()
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text("{not json")
     assert lower_bound(scene).regrasps == 0  # a corrupt file is recomputed

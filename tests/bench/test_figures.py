@@ -32,3 +32,11 @@ def test_replanning_rows_read_the_three_way_table_with_slashes_in_event_names():
     assert what == "replanning: fig10, drift 5cm/5deg"
     assert "warm 0.03 s (3/3 ok, 0.04 of fresh)" in measured
     assert "plan file solve 0.09 s (3/3, 0.13 of fresh)" in measured
+
+
+def test_the_figures_page_holds_the_table_and_how_long_its_run_took():
+    table = "| what | measured | command |\n|---|---|---|\n| a | b | `c` |\n"
+    page = _figures().page(table, minutes=7.4, partial=False)
+    assert page.startswith("# Figures\n") and page.endswith(table)
+    assert "This run took 7 min." in page and "`--only`" not in page
+    assert "`--only`" in _figures().page(table, minutes=1, partial=True)

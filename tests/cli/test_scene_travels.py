@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from factories import scene_file
 
-from pivot_ompl.cli.animate import _scene_of
+from pivot_ompl.cli.animate import plan_scene
 from pivot_ompl.cli.main import main
 from pivot_ompl.cli.scenes import SceneRecord, find_scene
 from pivot_ompl.errors import InputError
@@ -74,7 +74,7 @@ def test_every_verb_finds_the_plans_scene(own_plan, tmp_path, capsys):
     assert main(["replay", str(plan_path), "--html", str(html)]) == 0
     assert "showing no obstacles" not in capsys.readouterr().err
     args = argparse.Namespace(scene=None, no_check=False)
-    assert _scene_of(args, SceneRecord.of(load_plan(plan_path))).name == "mine"  # animate
+    assert plan_scene(args, SceneRecord.of(load_plan(plan_path))).name == "mine"  # animate
     motion = write_urdf_motion(tmp_path / "m", urdf_path(), duration=0.3)
     with np.load(motion) as d:
         arrays = {k: d[k] for k in d.files}
@@ -99,7 +99,7 @@ def test_a_scene_gone_is_named_with_the_shipped_ones(own_plan, tmp_path, capsys,
     err = capsys.readouterr().err
     assert "mine.yaml is gone" in err and "fig10" in err and "--scene" in err
     with pytest.raises(InputError, match="is gone"):
-        _scene_of(argparse.Namespace(scene=None, no_check=False),
+        plan_scene(argparse.Namespace(scene=None, no_check=False),
                   SceneRecord.of(load_plan(plan_path)))
     assert main(["replay", plan_path, "--html", str(tmp_path / "r.html")]) == 0
     assert "no obstacles drawn: the plan's scene 'mine': its file" in caplog.text

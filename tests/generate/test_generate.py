@@ -205,7 +205,7 @@ def test_walls_with_two_centimetre_slots_have_a_valid_witness():
 def test_wide_doors_give_every_row_wall_a_door_of_that_width_off_its_middle():
     """``wide_doors``: every wall along the row a door robot and box pass together, its width
     in the range, its centre within WIDE_SHIFT of the wall's middle; the witness holds."""
-    from pivot_ompl.generate.building import ROOM_DEPTH, WALL, WIDE_SHIFT, _origin
+    from pivot_ompl.generate.building import ROOM_DEPTH, WALL, WIDE_SHIFT, room_origin
     from pivot_ompl.planners.objects.slots import find_passages
 
     for seed in range(3):
@@ -220,7 +220,7 @@ def test_wide_doors_give_every_row_wall_a_door_of_that_width_off_its_middle():
                  if not walls.intersects(shapely.Point(p.center))]  # the open gaps
         offsets = []
         for i in range(1, 4):
-            x0, y0 = _origin(i, 0)
+            x0, y0 = room_origin(i, 0)
             in_wall = [p for p in found if abs(p.center[0] - (x0 - 0.5 * WALL)) < 1e-6
                        and abs(p.length - WALL) < 1e-6]
             assert in_wall, (seed, i, found)

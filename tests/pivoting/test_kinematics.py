@@ -204,7 +204,7 @@ def test_pieces_stay_near_their_chord(steering):
         for p in steering.iter_pieces(a, b, half_length=ELL):
             s = (p.t1 - p.t0) * length
             for r in p.rotations:
-                assert kin._chord_distance(r.car[0], r.car[1], p.start, p.target) <= \
+                assert kin.chord_distance(r.car[0], r.car[1], p.start, p.target) <= \
                     DEVIATION_RATIO * s + 1e-9
 
 

@@ -26,7 +26,7 @@ from walk_queries import scene_copy  # noqa: E402
 
 
 def _assert_field_as_reference(scene, objs) -> None:
-    f = PivotChecker(scene).walker.field
+    f = PivotChecker(scene).walker.field.grid
     for k, yaw in enumerate(OPEN_YAWS):
         assert np.array_equal(f.fits_index(k), reference_fits(f, yaw)), (scene.name, k)
     for obj in objs:

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.transit.floor_graph import open_components
 from pivot_ompl.transit.lattice import HEADING_VECTORS
 from tests.factories import shipped
 
@@ -45,12 +46,10 @@ def _same_partition(a: np.ndarray, b: np.ndarray) -> bool:
 
 @pytest.mark.parametrize("density", [0.2, 0.35, 0.5])
 def test_components_are_those_of_the_heading_moves_on_random_floors(density):
-    field = PivotChecker(shipped("corridor")).walker.field
-    field.static_open()
+    grid = PivotChecker(shipped("corridor")).walker.field.grid
     rng = np.random.default_rng(int(density * 100))
-    mask = rng.uniform(size=(field.nx, field.ny)) < density  # many knight-move-only joins
-    field._open, field._cells, field._components = mask, np.flatnonzero(mask.ravel()), None
-    got = field._labels()
+    mask = rng.uniform(size=(grid.nx, grid.ny)) < density  # many knight-move-only joins
+    got = open_components(mask)
     want = _reference(mask)
     assert len(got) == len(want)
     assert _same_partition(got, want)
@@ -59,4 +58,5 @@ def test_components_are_those_of_the_heading_moves_on_random_floors(density):
 def test_components_of_a_shipped_floor_are_the_graphs():
     field = PivotChecker(shipped("fig10")).walker.field
     mask = field.static_open()
-    assert _same_partition(field._labels(), _reference(mask))
+    assert field.graph is not None
+    assert _same_partition(field.graph.labels(), _reference(mask))

@@ -24,7 +24,7 @@ from tests.factories import shipped
 
 def _reference(field, obj, goals) -> np.ndarray:
     ok = field.open_with_box(obj).ravel()
-    nx, ny = field.nx, field.ny
+    nx, ny = field.grid.nx, field.grid.ny
     ix, iy = np.divmod(np.arange(nx * ny), ny)
     rows, cols, w = [], [], []
     for vx, vy in HEADING_VECTORS:
@@ -35,7 +35,7 @@ def _reference(field, obj, goals) -> np.ndarray:
         both = ok[src] & ok[dst]
         rows.append(src[both])
         cols.append(dst[both])
-        w.append(np.full(both.sum(), field.resolution * math.hypot(vx, vy)))
+        w.append(np.full(both.sum(), field.grid.resolution * math.hypot(vx, vy)))
     g = coo_matrix((np.concatenate(w), (np.concatenate(rows), np.concatenate(cols))),
                    shape=(nx * ny, nx * ny)).tocsr()
     d = dijkstra(g, directed=True, indices=[x * ny + y for x, y in goals], min_only=True)
@@ -43,7 +43,7 @@ def _reference(field, obj, goals) -> np.ndarray:
 
 
 def _cell(field, x, y):
-    b, res = field.world.bounds, field.resolution
+    b, res = field.grid.world.bounds, field.grid.resolution
     return round((x - b[0]) / res), round((y - b[1]) / res)
 
 
@@ -100,7 +100,9 @@ def test_the_dijkstra_runs_over_the_goals_component_not_the_open_floor_outside()
     goal = _cell(field, *scene.model.robot_pose(obj, 1)[:2])
     want = _reference(field, obj, [goal])
     field.distances(obj, [goal])
-    (cells, graph), = field._graphs.values()
+    goal_node = field.graph.node[[goal[0] * field.grid.ny + goal[1]]]
+    cells, graph = field.graph.component_graph(goal_node)
+    assert field.stats.searched_positions == len(cells)  # the query ran over that component
     reached = np.flatnonzero(np.isfinite(want).ravel())
     assert np.isin(reached, cells).all()  # the component holds every position reached
     assert len(cells) < field.static_open().sum()  # the open floor outside is left out

@@ -84,16 +84,10 @@ def test_an_interrupted_floor_field_resumes_where_it_stopped():
     with pytest.raises(Interrupted):
         field.static_open(lambda: field.yaws_done >= 3 * YAW_CHUNK)
     assert field.yaws_done == 3 * YAW_CHUNK < len(OPEN_YAWS)
-    asked = []
-    orig = field._static_edges
-
-    def counted(yaws, should_stop=None):  # noqa: ANN001, ANN202
-        asked.extend(yaws)
-        return orig(yaws, should_stop)
-
-    field._static_edges = counted
+    assert field.grid.stats.yaws_summed == 3 * YAW_CHUNK
     built = field.static_open(lambda: False)
-    assert asked == list(range(3 * YAW_CHUNK, len(OPEN_YAWS)))  # none summed again
+    assert field.yaws_done == len(OPEN_YAWS)
+    assert field.grid.stats.yaws_summed == len(OPEN_YAWS)  # none summed again
     fresh = PivotChecker(scene, seed=0).walker.field.static_open()
     assert np.array_equal(built, fresh)
 
@@ -102,22 +96,22 @@ def test_the_floor_field_sums_footprints_a_block_of_yaws_between_polls(monkeypat
     # regression: the footprints of all 32 yaws were summed in one call before the first
     # block was rasterised, past the next poll: fig10 at a 0.5 s limit ended 30 ms late
     from pivot_ompl.errors import Interrupted
-    from pivot_ompl.transit import field as walk_field
+    from pivot_ompl.transit import floor_grid
     from pivot_ompl.transit.field import YAW_CHUNK
 
     field = PivotChecker(shipped("fig10"), seed=0).walker.field
     summed = []
-    orig = walk_field.meeting_edges
+    orig = floor_grid.meeting_edges
 
     def counted(pieces, bodies, **kw):  # noqa: ANN001, ANN003, ANN202
         summed.append(len(pieces))
         return orig(pieces, bodies, **kw)
 
-    monkeypatch.setattr(walk_field, "meeting_edges", counted)
+    monkeypatch.setattr(floor_grid, "meeting_edges", counted)
     polls = iter(range(100))
     with pytest.raises(Interrupted):
         field.static_open(lambda: next(polls) >= 1 and field.yaws_done > 0)
-    assert summed == [YAW_CHUNK * len(field.pieces)]
+    assert summed == [YAW_CHUNK * len(field.grid.pieces)]
 
 # -- free walking: doors and corridors narrower than the turning disk ----------------------
 # (box resting in the wall's slot, the robot walks round from one side to the other)
@@ -280,7 +274,7 @@ def test_every_free_lattice_state_lies_on_an_open_floor_position(name):
     w, m = wp.world, scene.model
     tested = 0
     for _ in range(4000):
-        ix, iy = int(rng.integers(wp.field.nx)), int(rng.integers(wp.field.ny))
+        ix, iy = int(rng.integers(wp.field.grid.nx)), int(rng.integers(wp.field.grid.ny))
         x, y = wp.clearance.pose((ix, iy, 0))[:2]
         yaw = OPEN_YAWS[int(rng.integers(len(OPEN_YAWS)))]
         if w.bounds_margin(m.robot_corners((x, y, yaw))) > 0 and \
@@ -351,7 +345,7 @@ def test_every_free_lattice_state_is_free_in_the_lattice_relaxation(name):
 
     scene = shipped(name)
     wp = PivotChecker(scene, seed=0).walker
-    f = wp.field
+    f = wp.field.grid
     rng = np.random.default_rng(11)
     tested = near_box = 0
     for _ in range(6):
@@ -480,9 +474,10 @@ def test_the_walks_floor_distances_grow_their_limit_until_the_start_is_exact():
     goals = wp.attach(m.robot_pose(obj, g2), obj, leaving=False)
     whole = wp.field.distances(obj, sorted({(s[0], s[1]) for s in goals}))
     near = min(float(whole[s[0], s[1]]) for s in starts)
-    assert wp._first_limit(starts, goals) < near < math.inf
+    assert wp.first_limit(starts, goals) < near < math.inf
     dist = wp.floor_distances(obj, goals, starts=starts)
     assert min(float(dist[s[0], s[1]]) for s in starts) == pytest.approx(near)
     assert np.all(dist <= whole + 1e-9)  # a lower bound everywhere
-    limit, _ = wp._distances.get((obj, tuple(sorted({(s[0], s[1]) for s in goals}))))
+    limit = wp.cached_limit(obj, goals)
+    assert limit is not None
     assert wp.floor_inflation * near <= limit < math.inf  # not the whole floor

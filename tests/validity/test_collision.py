@@ -117,11 +117,11 @@ def test_walking_body_reaches_as_far_as_the_knees(monkeypatch):
 
 
 def test_transforms_do_not_share_the_scratch_arrays():
-    """``_transform`` fills scratch arrays: each transform must keep its own copy."""
-    from pivot_ompl.validity.collision import _transform
+    """``placement`` fills scratch arrays: each transform must keep its own copy."""
+    from pivot_ompl.validity.collision import placement
 
-    a = _transform(1.0, 2.0, 0.3, 0.5)
-    b = _transform(-4.0, 7.0, -1.2, 0.1)
+    a = placement(1.0, 2.0, 0.3, 0.5)
+    b = placement(-4.0, 7.0, -1.2, 0.1)
     assert a.getTranslation().tolist() == [1.0, 2.0, 0.5]
     assert a.getRotation()[0, 0] == math.cos(0.3) and a.getRotation()[1, 0] == math.sin(0.3)
     assert b.getTranslation().tolist() == [-4.0, 7.0, 0.1]

@@ -9,7 +9,9 @@ import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from pivot_ompl.validity.footprints import grid_inside, grid_union, meeting_edges, meeting_hulls
+from pivot_ompl.validity.footprints import meeting_hulls
+from pivot_ompl.validity.minkowski import meeting_edges
+from pivot_ompl.validity.rasters import grid_inside, grid_union
 
 
 @given(seed=st.integers(0, 100_000), k=st.integers(3, 12), clockwise=st.booleans())

@@ -31,7 +31,7 @@ def _first_sample(plan):
     gen = WholeBodyGenerator(plan, progress=stop)
     with pytest.raises(_Stop):
         gen.run()
-    rec = gen._rec
+    rec = gen.recorder
     frame = rec.box[0]  # the box's frame, rows of [R | p]
     assert np.allclose(frame[2, :3], (0.0, 0.0, 1.0), atol=1e-9)  # resting flat
     box = (float(frame[0, 3]), float(frame[1, 3]), math.atan2(frame[1, 0], frame[0, 0]))
@@ -65,7 +65,7 @@ def test_a_replanned_motion_starts_at_the_observed_box_and_the_held_grasp(sessio
     assert res.solved
     got_box, got_robot = _first_sample(res.plan)
     assert _close(got_box, box), (got_box, box)
-    m = s._checker.model  # the scene's grasp geometry
+    m = s.scene.model  # the scene's grasp geometry
     assert _close(got_robot, m.robot_pose(box, grasp)), (got_robot, m.robot_pose(box, grasp))
 
 
@@ -84,7 +84,7 @@ def test_a_replanned_motion_with_the_box_at_rest_starts_where_the_robot_stood(se
 def test_a_malformed_observed_robot_is_named(bad):
     from pivot_ompl.errors import InputError
     from pivot_ompl.planfile import Plan
-    from pivot_ompl.wholebody.generator import observed_robot
+    from pivot_ompl.wholebody.plan_start import observed_robot
 
     p = Plan("t", "exact", (0.4, 0.4, 0.4), (0.4, 0.7), 0.25, math.pi / 8, (0.0, 0.0, 0.0), [],
              extra={"observed_robot": bad})

@@ -17,7 +17,7 @@ from pivot_ompl.pivoting.transfer import transfer_phase
 from pivot_ompl.planfile import Plan
 from pivot_ompl.scene import WalkParameters
 from pivot_ompl.se2 import Pose
-from pivot_ompl.wholebody import generator
+from pivot_ompl.wholebody import motion as whole_body
 from pivot_ompl.wholebody.footsteps import planar, relative
 from pivot_ompl.wholebody.settings import WalkSettings
 
@@ -59,7 +59,7 @@ def _robot_pose(left: Pose, right: Pose) -> Pose:
 
 @pytest.mark.parametrize("forward", [0.15, 0.10])
 def test_pivot_walk_steps_keep_within_the_scene_forward_limit(forward):
-    motion, _ = generator.generate_motion(_push(0.6), walk=WalkParameters(step_forward=forward))
+    motion, _ = whole_body.generate_motion(_push(0.6), walk=WalkParameters(step_forward=forward))
     stances = _double_supports(motion)
     landings, poses = [], [_robot_pose(*stances[0])]
     for before, after in zip(stances, stances[1:], strict=False):
@@ -76,7 +76,7 @@ def test_pivot_walk_steps_keep_within_the_scene_forward_limit(forward):
 
 def test_walk_model_or_settings_not_both():
     with pytest.raises(InputError, match="not both"):
-        generator.generate_motion(_push(0.3), walk=WalkParameters(), settings=WalkSettings())
+        whole_body.generate_motion(_push(0.3), walk=WalkParameters(), settings=WalkSettings())
 
 
 def test_animate_passes_the_scene_walk_model(tmp_path, monkeypatch):
@@ -92,7 +92,7 @@ def test_animate_passes_the_scene_walk_model(tmp_path, monkeypatch):
         seen.append((walk, dt))
         raise InputError("test", 0, "stop after the walk model is seen")
 
-    monkeypatch.setattr(generator, "generate_motion", fake)
+    monkeypatch.setattr(whole_body, "generate_motion", fake)
     args = ["animate", str(plan), "--out", str(tmp_path / "m.npz"), "--scene", str(scene),
             "--no-progress"]
     assert main(args) == 2 and len(seen) == 1
@@ -105,19 +105,19 @@ def test_animate_passes_the_scene_walk_model(tmp_path, monkeypatch):
 
 
 def test_a_longer_tick_samples_the_motion_at_it():
-    motion, stats = generator.generate_motion(_push(0.3), dt=0.01)
+    motion, stats = whole_body.generate_motion(_push(0.3), dt=0.01)
     assert motion.dt == pytest.approx(0.01) and stats.samples == len(motion.t)
     assert stats.samples == 2 * (stats.ticks - 1) + 1  # one QP every two samples
     with pytest.raises(InputError, match="tick"):
-        generator.generate_motion(_push(0.3), dt=0.0)
+        whole_body.generate_motion(_push(0.3), dt=0.0)
 
 
 def test_one_qp_per_sample_on_request():
     """``substeps=1``: every sample is a solver configuration; same duration as with 2."""
-    one, s1 = generator.generate_motion(_push(0.3), dt=0.01, substeps=1)
-    two, s2 = generator.generate_motion(_push(0.3), dt=0.01)
+    one, s1 = whole_body.generate_motion(_push(0.3), dt=0.01, substeps=1)
+    two, s2 = whole_body.generate_motion(_push(0.3), dt=0.01)
     assert s1.ticks == len(one.t) and one.dt == pytest.approx(0.01)
     assert abs(s1.duration - s2.duration) <= 0.05 * s1.duration
     for bad in (0, 9, 1.5, True):
         with pytest.raises(InputError, match="substeps"):
-            generator.generate_motion(_push(0.3), substeps=bad)
+            whole_body.generate_motion(_push(0.3), substeps=bad)

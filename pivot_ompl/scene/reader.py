@@ -1,41 +1,12 @@
-"""Scene files (``scenes/*.yaml``): the floor area, the box, the robot, obstacles, start, goal.
+"""Scene documents read and validated: every error names the file, the field and the value.
 
-Format (a contract for users and outside tools)::
-
-    name: two-rooms
-    bounds: [xmin, ymin, xmax, ymax]          # floor area every footprint stays in (m)
-    object: {size: [w, d, h]}                  # box, w along its local x
-    robot: {model: hrp2, footprint: [depth, width], standoff: s,
-            walk: {step_forward: 0.15, step_backward: 0.08, step_lateral: 0.06,
-                   step_turn: 0.25, side_cost: 2.5, back_cost: 1.875, turn_cost: 0.6}}
-    pivot: {alpha_max: 0.39269908169872414, turning_radius: 2.0}   # optional
-    obstacles:                                 # static vertical prisms standing on the floor
-      - {type: box, center: [x, y], size: [sx, sy], yaw: 0.0, height: 1.0}
-      - {type: cylinder, center: [x, y], radius: r, height: 1.0}
-      - {type: polygon, points: [[x, y], ...], height: 1.0}
-    start: [x, y, yaw]                         # object poses
-    goal: [x, y, yaw]
-
-Lengths in metres, angles in radians. Every error names the file, the field and the value.
-
-Limits (a scene outside them has no sensible plan; it is refused with the field named):
-coordinates within +-:data:`MAX_COORD` m, the floor area at most :data:`MAX_EXTENT` m on a side,
-box and footprint sides within [:data:`MIN_SIZE`, :data:`MAX_SIZE`] m, ``alpha_max`` within
-[:data:`MIN_ALPHA_MAX`, pi/2] rad, ``turning_radius`` within [:data:`MIN_TURNING_RADIUS`,
-:data:`MAX_TURNING_RADIUS`] m, at most :data:`MAX_OBSTACLES` obstacles and
-:data:`MAX_POLYGON_POINTS` points per polygon; a polygon must be simple (no self-intersection).
-Yaw angles must lie within [-2 pi, 2 pi] (larger magnitudes are refused: degrees given by
-mistake); those outside [-pi, pi] are wrapped into [-pi, pi) on load.
+See :mod:`pivot_ompl.scene` for the format and its limits.
 """
 
 from __future__ import annotations
 
-import hashlib
 import math
-import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import shapely.geometry
@@ -43,126 +14,28 @@ import shapely.validation
 
 from pivot_ompl import hrp2
 from pivot_ompl.errors import InputError, Interrupted, SceneError
-from pivot_ompl.fileio import input_path, load_yaml, parse_deadline
 from pivot_ompl.grasp import BoxGraspModel
-from pivot_ompl.resources import shipped_scenes
+from pivot_ompl.scene.model import (
+    DEFAULT_ALPHA_MAX,
+    DEFAULT_TURNING_RADIUS,
+    MAX_COORD,
+    MAX_EXTENT,
+    MAX_OBSTACLES,
+    MAX_POLYGON_POINTS,
+    MAX_SIZE,
+    MAX_TURNING_RADIUS,
+    MAX_YAW,
+    MIN_ALPHA_MAX,
+    MIN_SIZE,
+    MIN_TURNING_RADIUS,
+    BoxObstacle,
+    CylinderObstacle,
+    Obstacle,
+    PolygonObstacle,
+    Scene,
+    WalkParameters,
+)
 from pivot_ompl.se2 import Pose, wrap_angle
-
-#: The controllability paper's set-up (Section V): box width (local x), depth, height (m).
-DEFAULT_OBJECT_SIZE = (0.8, 0.6, 1.3)
-#: Reeds-Shepp turning radius (m).
-DEFAULT_TURNING_RADIUS = 2.0
-#: Bound on each pivot rotation (rad): pi/8 = 22.5 deg.
-DEFAULT_ALPHA_MAX = math.pi / 8
-
-#: Largest coordinate magnitude (m): far below where doubles lose the 1e-6 m pose tolerance.
-MAX_COORD = 1.0e4
-#: Largest side of the floor area (m): the regrasping grid (0.1 m) stays within 4 M cells.
-MAX_EXTENT = 200.0
-#: Smallest and largest side of the box and of the robot's footprint (m).
-MIN_SIZE, MAX_SIZE = 0.05, 20.0
-#: Smallest bound on a pivot rotation (rad): below it a metre takes thousands of rotations.
-MIN_ALPHA_MAX = 0.01
-#: Range of the Reeds-Shepp turning radius (m).
-MIN_TURNING_RADIUS, MAX_TURNING_RADIUS = 0.1, 1000.0
-#: Most obstacles, and most points of one polygon.
-MAX_OBSTACLES, MAX_POLYGON_POINTS = 100_000, 10_000
-#: Largest accepted yaw magnitude (rad) before wrapping (2 pi, with round-off).
-MAX_YAW = 2.0 * math.pi + 1e-9
-
-
-@dataclass(frozen=True)
-class BoxObstacle:
-    """A box prism: centre (m), size (m) along its local axes, yaw (rad), height (m)."""
-
-    center: tuple[float, float]
-    size: tuple[float, float]
-    yaw: float
-    height: float
-    type = "box"
-
-
-@dataclass(frozen=True)
-class CylinderObstacle:
-    """A vertical cylinder: centre (m), radius (m), height (m)."""
-
-    center: tuple[float, float]
-    radius: float
-    height: float
-    type = "cylinder"
-
-
-@dataclass(frozen=True)
-class PolygonObstacle:
-    """A prism over a simple polygon (possibly non-convex), vertices in order (m)."""
-
-    points: tuple[tuple[float, float], ...]
-    height: float
-    type = "polygon"
-
-
-Obstacle = BoxObstacle | CylinderObstacle | PolygonObstacle
-
-
-@dataclass(frozen=True)
-class WalkParameters:
-    """How the robot walks alone (the scene's ``robot.walk`` block; HRP-2 defaults).
-
-    A walk's cost is in metres of forward walking: it is proportional to the number of steps
-    the walk takes, so by default the costs follow from the step limits.
-
-    Attributes:
-        step_forward, step_backward, step_lateral: longest step of the sole midpoint
-            forward, backward and sideways (m).
-        step_turn: largest yaw change of one step (rad).
-        side_cost: cost of one metre walked sideways, per metre walked forward (>= 1).
-        back_cost: same for walking backward (>= 1).
-        turn_cost: cost of turning, metres of forward walking per radian (>= 0).
-    """
-
-    step_forward: float = hrp2.STEP_FORWARD
-    step_backward: float = hrp2.STEP_BACKWARD
-    step_lateral: float = hrp2.STEP_LATERAL
-    step_turn: float = hrp2.STEP_TURN
-    side_cost: float = hrp2.STEP_FORWARD / hrp2.STEP_LATERAL
-    back_cost: float = hrp2.STEP_FORWARD / hrp2.STEP_BACKWARD
-    turn_cost: float = hrp2.STEP_FORWARD / hrp2.STEP_TURN
-
-    @property
-    def turning_radius(self) -> float:
-        """Smallest radius of a forward walk turning at every step (m)."""
-        return self.step_forward / self.step_turn
-
-
-@dataclass(frozen=True)
-class Scene:
-    """A planning problem.
-
-    Attributes:
-        name: scene name.
-        bounds: ``(xmin, ymin, xmax, ymax)`` of the floor area (m).
-        model: box and robot geometry (:class:`~pivot_ompl.grasp.BoxGraspModel`).
-        robot_model: robot model name (``"hrp2"``).
-        walk: how the robot walks alone (step limits, walking costs).
-        alpha_max: bound on each pivot rotation (rad).
-        turning_radius: Reeds-Shepp turning radius (m).
-        obstacles: static prisms.
-        start, goal: object poses.
-        source: the file it was read from, or ``""``.
-    """
-
-    name: str
-    bounds: tuple[float, float, float, float]
-    model: BoxGraspModel
-    start: Pose
-    goal: Pose
-    obstacles: tuple[Obstacle, ...] = ()
-    alpha_max: float = DEFAULT_ALPHA_MAX
-    turning_radius: float = DEFAULT_TURNING_RADIUS
-    robot_model: str = "hrp2"
-    source: str = field(default="", compare=False)
-    walk: WalkParameters = field(default_factory=WalkParameters)
-
 
 ROBOT_MODELS = {"hrp2": {"footprint": hrp2.FOOTPRINT, "standoff": hrp2.STANDOFF,
                          "height": hrp2.HEIGHT}}
@@ -375,53 +248,6 @@ def _obstacle(r: _Reader, o: Any, f: str, should_stop: Callable[[], bool] | None
     raise r.fail(f"{f}.type", kind, "must be 'box', 'cylinder' or 'polygon'")
 
 
-def scene_path(path: str | Path) -> Path:
-    """The file :func:`load_scene` reads: ``path``, or the shipped scene of that name.
-
-    Raises:
-        InputError: ``path`` is neither a ``str`` nor an ``os.PathLike``.
-        SceneError: no such file nor shipped scene (the shipped ones are listed).
-    """
-    path = input_path(path)
-    if not path.exists():
-        shipped = shipped_scenes()
-        if str(path) not in shipped:
-            raise SceneError("path", str(path), "no such file, nor a shipped scene's name "
-                             f"(shipped: {', '.join(shipped)})")
-        path = shipped[str(path)]
-    return path
-
-
-def load_scene(path: str | Path, *, deadline: float | None = None) -> Scene:
-    """Read and validate a scene file, or the shipped scene of that name (``"fig10"``).
-
-    Raises:
-        SceneError: no such file nor shipped scene (the shipped ones are listed), unreadable
-            file, invalid YAML, unknown key, missing field, wrong type or bad value, naming
-            the file, the field and the value.
-        Interrupted: ``deadline`` (``time.monotonic()`` s, a time limit) came while the file
-            was parsed (stopped early enough to have freed what was parsed by then,
-            :func:`~pivot_ompl.fileio.parse_deadline`) or its obstacles read.
-    """
-    path = scene_path(path)
-    if deadline is None:
-        return scene_from_dict(load_yaml(path, error=SceneError), source=str(path))
-    doc = load_yaml(path, error=SceneError, should_stop=parse_deadline(deadline))
-    return scene_from_dict(doc, source=str(path),
-                           should_stop=lambda: time.monotonic() >= deadline)
-
-
-def scene_digest(scene: Scene) -> str:
-    """SHA-256 (hex) of what a plan of ``scene`` depends on: its geometry, ends and pivoting.
-
-    Not the name or the file: two files of one scene give one digest, and a plan records it
-    (``scene_sha256``) so that a check against another scene says so first.
-    """
-    text = repr((scene.bounds, scene.obstacles, scene.model, scene.start, scene.goal,
-                 scene.alpha_max, scene.turning_radius, scene.walk))
-    return hashlib.sha256(text.encode()).hexdigest()
-
-
 def check_pose(pose: Any, *, field: str) -> Pose:
     """An object pose given outside a scene file (``--start``), under the scene file's rules.
 
@@ -432,13 +258,3 @@ def check_pose(pose: Any, *, field: str) -> Pose:
         return _Reader("").pose(list(pose) if isinstance(pose, tuple) else pose, field)
     except SceneError as e:
         raise InputError(e.field, e.value, e.reason) from None
-
-
-def default_scene(*, start: Pose = (0.0, 0.0, 0.0), goal: Pose = (0.0, 0.0, 0.0),
-                  margin: float = 5.0) -> Scene:
-    """The paper's obstacle-free set-up around ``start`` and ``goal`` (bounds with a margin)."""
-    xs = (start[0], goal[0])
-    ys = (start[1], goal[1])
-    model = BoxGraspModel(DEFAULT_OBJECT_SIZE)
-    return Scene("free", (min(xs) - margin, min(ys) - margin, max(xs) + margin,
-                          max(ys) + margin), model, start, goal)

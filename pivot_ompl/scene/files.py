@@ -1,0 +1,60 @@
+"""Scene files on disk: a path or a shipped scene's name, loaded within a deadline, digested."""
+
+from __future__ import annotations
+
+import hashlib
+import time
+from pathlib import Path
+
+from pivot_ompl.errors import SceneError
+from pivot_ompl.fileio import input_path, load_yaml, parse_deadline
+from pivot_ompl.resources import shipped_scenes
+from pivot_ompl.scene.model import Scene
+from pivot_ompl.scene.reader import scene_from_dict
+
+
+def scene_path(path: str | Path) -> Path:
+    """The file :func:`load_scene` reads: ``path``, or the shipped scene of that name.
+
+    Raises:
+        InputError: ``path`` is neither a ``str`` nor an ``os.PathLike``.
+        SceneError: no such file nor shipped scene (the shipped ones are listed).
+    """
+    path = input_path(path)
+    if not path.exists():
+        shipped = shipped_scenes()
+        if str(path) not in shipped:
+            raise SceneError("path", str(path), "no such file, nor a shipped scene's name "
+                             f"(shipped: {', '.join(shipped)})")
+        path = shipped[str(path)]
+    return path
+
+
+def load_scene(path: str | Path, *, deadline: float | None = None) -> Scene:
+    """Read and validate a scene file, or the shipped scene of that name (``"fig10"``).
+
+    Raises:
+        SceneError: no such file nor shipped scene (the shipped ones are listed), unreadable
+            file, invalid YAML, unknown key, missing field, wrong type or bad value, naming
+            the file, the field and the value.
+        Interrupted: ``deadline`` (``time.monotonic()`` s, a time limit) came while the file
+            was parsed (stopped early enough to have freed what was parsed by then,
+            :func:`~pivot_ompl.fileio.parse_deadline`) or its obstacles read.
+    """
+    path = scene_path(path)
+    if deadline is None:
+        return scene_from_dict(load_yaml(path, error=SceneError), source=str(path))
+    doc = load_yaml(path, error=SceneError, should_stop=parse_deadline(deadline))
+    return scene_from_dict(doc, source=str(path),
+                           should_stop=lambda: time.monotonic() >= deadline)
+
+
+def scene_digest(scene: Scene) -> str:
+    """SHA-256 (hex) of what a plan of ``scene`` depends on: its geometry, ends and pivoting.
+
+    Not the name or the file: two files of one scene give one digest, and a plan records it
+    (``scene_sha256``) so that a check against another scene says so first.
+    """
+    text = repr((scene.bounds, scene.obstacles, scene.model, scene.start, scene.goal,
+                 scene.alpha_max, scene.turning_radius, scene.walk))
+    return hashlib.sha256(text.encode()).hexdigest()

@@ -1,0 +1,216 @@
+"""The floor field's grid layer: where the walking body fits, and what the resting box closes.
+
+The grid is the walk lattice's (:mod:`pivot_ompl.transit.lattice`): positions ``resolution``
+apart over the scene's bounds. At each of :data:`OPEN_YAWS` (the 16 headings and the 16 yaws
+half-way between neighbours) a position *fits* the walking body when the body there is inside
+the bounds and clear of the obstacles grown by the kept clearance.
+
+The obstacles' part is vectorised (numpy), a block of yaws at a time: at each yaw, the
+positions where the body (grown by the kept clearance) meets an obstacle are the convex hulls
+of vertex differences (:func:`~pivot_ompl.validity.minkowski.meeting_edges`, the same hulls
+as shapely's :func:`~pivot_ompl.validity.footprints.meeting_hulls`; rasterised together by
+:func:`~pivot_ompl.validity.rasters.grid_union`), computed for polygons *inside* the true
+shapes (a cylinder's inscribed polygon, the clearance's rounded corners by chords), so a
+position is never closed where the exact checks would let the body stand.
+
+The resting box's part is computed per query, in the window it can close: the positions whose
+inscribed disk comes within ``box_margin`` of the box (:meth:`FloorGrid.box_closes`, the floor
+distances'), and per heading the positions where the body meets the box grown by the margin
+(:meth:`FloorGrid.meets_box`, the lattice costs', its rounded corners by chords).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+
+from pivot_ompl.grasp import BoxGraspModel
+from pivot_ompl.se2 import Pose, rectangle_corners
+from pivot_ompl.transit.lattice import HEADING_YAWS
+from pivot_ompl.validity.collision import CollisionWorld
+from pivot_ompl.validity.footprints import obstacle_pieces
+from pivot_ompl.validity.minkowski import EdgeSet, meeting_edges
+from pivot_ompl.validity.rasters import grid_union
+
+#: Yaws at which a grid position may hold the walking body: the 16 lattice headings and the
+#: yaws half-way between neighbouring ones (a step that turns while walking passes a grid
+#: position with its yaw half-way).
+OPEN_YAWS: tuple[float, ...] = tuple(sorted(
+    {*HEADING_YAWS, *(a + 0.5 * ((b - a + math.pi) % (2 * math.pi) - math.pi)
+                      for a, b in zip(HEADING_YAWS, HEADING_YAWS[1:] + HEADING_YAWS[:1],
+                                      strict=True))}))
+
+
+@dataclass
+class GridStats:
+    """What a :class:`FloorGrid` has computed so far.
+
+    Attributes:
+        yaws_summed: yaw layers whose obstacle footprints were summed (each at most once:
+            a layer is kept once built).
+    """
+
+    yaws_summed: int = 0
+
+
+def _turned(points: np.ndarray, yaw: float) -> np.ndarray:
+    """``points`` (rows of x, y) turned by ``yaw`` about the origin."""
+    c, s = math.cos(yaw), math.sin(yaw)
+    return points @ np.array([[c, -s], [s, c]]).T
+
+
+class FloorGrid:
+    """Grid positions, where the walking body fits at each yaw, what the resting box closes.
+
+    Args:
+        model: box and robot geometry.
+        world: the static obstacles.
+        resolution: grid spacing (m), the lattice's.
+        box_margin: clearance kept from the resting box (m).
+
+    Attributes:
+        nx, ny: grid size.
+        radius: the walking body's inscribed radius (m).
+        pieces: the obstacles' convex pieces (:func:`~pivot_ompl.validity.footprints.
+            obstacle_pieces`).
+        grid_x, grid_y: the grid positions' coordinates (m), ``(nx, ny)`` arrays.
+        outline: the walking body's corners relative to the robot pose at yaw 0 (m).
+        grown_outline: that outline grown by the kept clearance (chords inside the rounded
+            corners).
+        stats: what was computed so far (:class:`GridStats`).
+    """
+
+    nx: int
+    ny: int
+    radius: float
+    pieces: list[np.ndarray]
+
+    def __init__(self, model: BoxGraspModel, world: CollisionWorld, resolution: float,
+                 box_margin: float) -> None:
+        """Grid size, the inscribed radius, the walking body's outlines, obstacle pieces."""
+        self.model, self.world = model, world
+        self.resolution, self.box_margin = resolution, box_margin
+        self.stats = GridStats()
+        #: per index into :data:`OPEN_YAWS` (as far as built), where the walking body fits
+        self._fits: dict[int, np.ndarray] = {}
+        b = world.bounds
+        self.nx = int(math.floor((b[2] - b[0]) / resolution)) + 1
+        self.ny = int(math.floor((b[3] - b[1]) / resolution)) + 1
+        self.radius = model.robot_inradius()
+        xs = b[0] + resolution * np.arange(self.nx)
+        ys = b[1] + resolution * np.arange(self.ny)
+        self.grid_x, self.grid_y = np.meshgrid(xs, ys, indexing="ij")
+        self.outline = np.array(model.walking_outline())
+        grown = shapely.Polygon(self.outline).buffer(world.clearance, quad_segs=4) \
+            if world.clearance > 0 else shapely.Polygon(self.outline)
+        self.grown_outline = np.asarray(grown.exterior.coords)[:-1]
+        self.pieces = obstacle_pieces(world.obstacles)
+
+    def fits_index(self, k: int) -> np.ndarray:
+        """Grid positions where the walking body at yaw ``OPEN_YAWS[k]`` fits (kept).
+
+        Inside the bounds and clear of the obstacles grown by the clearance.
+        """
+        return self.fits_range(k, k + 1)[0]
+
+    def fits_range(self, k0: int, k1: int, should_stop: Callable[[], bool] | None = None
+                   ) -> list[np.ndarray]:
+        """:meth:`fits_index` of ``k0 .. k1 - 1``, those not kept yet computed together.
+
+        Raises:
+            Interrupted: ``should_stop()`` became true (polled while the obstacle pieces and
+                the body are summed, :func:`~pivot_ompl.validity.minkowski.meeting_edges`).
+        """
+        todo = [k for k in range(k0, k1) if k not in self._fits]
+        if todo:
+            xs, ys = self.grid_x[:, 0], self.grid_y[0, :]
+            n = len(self.pieces)
+            meets = grid_union(self._static_edges(todo, should_stop), xs, ys,
+                               groups=np.repeat(np.arange(len(todo)), n), n_groups=len(todo)) \
+                if n else np.zeros((len(todo), self.nx, self.ny), dtype=bool)
+            b = self.world.bounds
+            for k, hit in zip(todo, meets, strict=True):
+                corners = _turned(self.outline, OPEN_YAWS[k])
+                inside = ((xs + corners[:, 0].min() > b[0])
+                          & (xs + corners[:, 0].max() < b[2]))[:, None] \
+                    & ((ys + corners[:, 1].min() > b[1])
+                       & (ys + corners[:, 1].max() < b[3]))[None, :]
+                self._fits[k] = inside & ~hit
+        return [self._fits[k] for k in range(k0, k1)]
+
+    def _static_edges(self, yaws: list[int], should_stop: Callable[[], bool] | None = None
+                      ) -> EdgeSet:
+        """Where the grown body meets each obstacle piece, at the yaws ``OPEN_YAWS[k]``.
+
+        Polygon ``j * len(pieces) + i``: piece ``i`` at yaw ``OPEN_YAWS[yaws[j]]`` (summed at
+        once, vectorised). Only the yaws asked for: the floor field asks a block at a time,
+        polling the termination condition between blocks (all 32 yaws at once ran past a
+        0.5 s limit by 30 ms on fig10).
+        """
+        bodies = []
+        for k in yaws:
+            bodies.extend([_turned(self.grown_outline, OPEN_YAWS[k])] * len(self.pieces))
+        edges = meeting_edges(self.pieces * len(yaws), bodies, should_stop=should_stop)
+        self.stats.yaws_summed += len(yaws)
+        return edges
+
+    def box_reach(self) -> float:
+        """Farthest (m) from the resting box's centre a position the box closes can lie.
+
+        The box's half diagonal plus the inscribed radius and the box margin: a position
+        farther than that from the centre is at least ``radius + box_margin`` from the box.
+        """
+        w, d = self.model.object_size[0], self.model.object_size[1]
+        return 0.5 * math.hypot(w, d) + self.radius + self.box_margin
+
+    def _box_window(self, obj: Pose) -> tuple[slice, slice]:
+        """The grid rows and columns within :meth:`box_reach` of ``obj``'s centre."""
+        b, res, r = self.world.bounds, self.resolution, self.box_reach()
+        i0 = max(0, math.floor((obj[0] - r - b[0]) / res))
+        i1 = min(self.nx, math.ceil((obj[0] + r - b[0]) / res) + 1)
+        j0 = max(0, math.floor((obj[1] - r - b[1]) / res))
+        j1 = min(self.ny, math.ceil((obj[1] + r - b[1]) / res) + 1)
+        return slice(i0, max(i0, i1)), slice(j0, max(j0, j1))
+
+    def box_closes(self, obj: Pose) -> np.ndarray:
+        """Grid positions the box resting at ``obj`` closes, ``(nx, ny)`` booleans.
+
+        Those whose inscribed disk comes within ``box_margin`` of the box; computed only in
+        the window within :meth:`box_reach` of its centre (nothing farther is closed).
+        """
+        out = np.zeros(self.nx * self.ny, dtype=bool)
+        out[self.box_closed(obj)] = True
+        return out.reshape(self.nx, self.ny)
+
+    def box_closed(self, obj: Pose) -> np.ndarray:
+        """Flat grid indices of :meth:`box_closes` (from its window alone)."""
+        wx, wy = self._box_window(obj)
+        c, s = math.cos(obj[2]), math.sin(obj[2])
+        ex, ey = self.grid_x[wx, wy] - obj[0], self.grid_y[wx, wy] - obj[1]
+        lx = np.abs(c * ex + s * ey) - 0.5 * self.model.object_size[0]
+        ly = np.abs(-s * ex + c * ey) - 0.5 * self.model.object_size[1]
+        d = np.hypot(np.maximum(lx, 0.0), np.maximum(ly, 0.0))
+        ix, iy = np.nonzero(d <= self.radius + self.box_margin)
+        return (ix + wx.start) * self.ny + iy + wy.start
+
+    def meets_box(self, obj: Pose) -> list[np.ndarray]:
+        """Per heading, the grid positions where the walking body meets the grown box.
+
+        The box resting at ``obj`` grown by ``box_margin``: a polygon inside the rounded
+        grown box; ``(nx, ny)`` booleans for each of the ``N_HEADINGS`` headings.
+        """
+        w, d = self.model.object_size[0], self.model.object_size[1]
+        box = shapely.Polygon(rectangle_corners(obj, w, d))
+        if self.box_margin > 0:
+            box = box.buffer(self.box_margin, quad_segs=4)
+        pts = np.asarray(box.exterior.coords)[:-1]
+        # the Minkowski sums of the box and the turned body
+        bodies = [_turned(self.outline, yaw) for yaw in HEADING_YAWS]
+        edges = meeting_edges([pts] * len(bodies), bodies)
+        meets = grid_union(edges, self.grid_x[:, 0], self.grid_y[0, :],
+                           groups=np.arange(len(bodies)), n_groups=len(bodies))
+        return list(meets)
