@@ -157,7 +157,7 @@ def _replan(session: object, sim: Simulator, motion: Motion, r: int, err: float,
             settings: LoopSettings, out: LoopOutcome,
             limit: float) -> tuple[Plan, Motion] | None:
     """Replan from the box as observed and generate the new plan's motion (None: failed)."""
-    from pivot_ompl.wholebody.generator import generate_motion
+    from pivot_ompl.wholebody import generate_motion
 
     observed = sim.planar_pose()
     robot = robot_pose(motion, r)
