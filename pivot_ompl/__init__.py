@@ -5,7 +5,8 @@ contracts), :func:`scene_from_map` and :func:`import_map` (a ROS map_server map 
 docs/maps.md), :func:`plan` (plan a scene, :class:`PlanResult`), :func:`make_setup` (the OMPL
 problem object, :class:`PivotProblem`), :class:`PivotSteering` (Reeds-Shepp paths to pivot
 rotations), :class:`BoxGraspModel` (the grasp conventions), the plan dataclasses and the
-:class:`PivotError` exception family. Every name but the exceptions is imported on first use
+:class:`PivotError` exception family; :func:`simulate` (physics in the loop, the ``physics``
+extra: :class:`SimulationReport`). Every name but the exceptions is imported on first use
 (OMPL on first use of :func:`plan`, :func:`make_setup` or :class:`PivotSteering`).
 """
 
@@ -30,6 +31,8 @@ if TYPE_CHECKING:
     from pivot_ompl.base.problem import PivotProblem, make_setup
     from pivot_ompl.grasp import BoxGraspModel
     from pivot_ompl.maps import MapCleaning, MapImport, import_map, scene_from_map
+    from pivot_ompl.physics.report import SimulationReport
+    from pivot_ompl.physics.simulate import simulate
     from pivot_ompl.pivoting.steering import PivotSequence, PivotSteering
     from pivot_ompl.planfile import Plan, TransferPhase, TransferStep, TransitPhase, load_plan
     from pivot_ompl.scene import Scene, load_scene
@@ -45,7 +48,9 @@ _LAZY = {"BoxGraspModel": "pivot_ompl.grasp", "Plan": "pivot_ompl.planfile",
          "plan": "pivot_ompl.api", "PlanResult": "pivot_ompl.api",
          "make_setup": "pivot_ompl.base.problem", "PivotProblem": "pivot_ompl.base.problem",
          "PivotSteering": "pivot_ompl.pivoting.steering",
-         "PivotSequence": "pivot_ompl.pivoting.steering"}
+         "PivotSequence": "pivot_ompl.pivoting.steering",
+         "simulate": "pivot_ompl.physics.simulate",
+         "SimulationReport": "pivot_ompl.physics.report"}
 
 
 def __getattr__(name: str) -> Any:
@@ -65,8 +70,8 @@ def __dir__() -> list[str]:
 __all__ = [
     "BoxGraspModel", "InputError", "MapCleaning", "MapError", "MapImport", "PivotError",
     "PivotProblem", "PivotSequence", "PivotSteering", "Plan", "PlanFileError", "PlanResult",
-    "PlanningError", "Scene", "SceneError", "SteeringError", "TransferPhase", "TransferStep",
-    "TransitPhase", "UnreachableError", "WholeBodyError", "import_map", "load_plan",
-    "load_scene", "make_setup", "plan", "scene_from_map",
+    "PlanningError", "Scene", "SceneError", "SimulationReport", "SteeringError",
+    "TransferPhase", "TransferStep", "TransitPhase", "UnreachableError", "WholeBodyError",
+    "import_map", "load_plan", "load_scene", "make_setup", "plan", "scene_from_map", "simulate",
 ]
 __version__ = "0.4.0.dev0"

@@ -29,7 +29,7 @@ EXIT_INTERRUPTED = 130
 VERB_MODULES = ("pivot_ompl.cli.steer", "pivot_ompl.cli.plan", "pivot_ompl.cli.check",
                 "pivot_ompl.cli.replay", "pivot_ompl.cli.animate", "pivot_ompl.cli.bench",
                 "pivot_ompl.cli.generate", "pivot_ompl.cli.bound", "pivot_ompl.cli.replan",
-                "pivot_ompl.cli.import_map")
+                "pivot_ompl.cli.import_map", "pivot_ompl.cli.simulate")
 
 
 #: The exit codes, as every verb's help ends.
@@ -54,6 +54,9 @@ EXAMPLES: dict[str, tuple[str, ...]] = {
                    "--goal 8 3 1.57 --clean specks",),
     "replan": ("pivot-ompl replan slot plan.json --box 3.0 1.6 0.1 --out new.json "
                "--scene-out new.yaml",),
+    "simulate": ("pivot-ompl simulate plan.json --motion motion.npz --out report.json",
+                 "pivot-ompl simulate plan.json --motion motion.npz --out report.json "
+                 "--perturb slip --replan --seed 3"),
 }
 
 

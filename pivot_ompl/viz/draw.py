@@ -24,6 +24,7 @@ from pivot_ompl.viz.shapes import axis_angle, planar, prism_mesh, translation
 FLOOR_COLOR = 0xd8d8d0
 OBSTACLE_COLOR = 0x8a6f5a
 BOX_COLOR = 0xc8a060
+SIM_BOX_COLOR = 0x40a0c0
 ROBOT_COLOR = 0x4f7fbf
 PATH_COLOR = 0x20a040
 PIVOT_COLOR = 0xd03030
@@ -40,6 +41,7 @@ def css_colour(color: int) -> str:
 LEGEND_TEXT = {
     "obstacles": (OBSTACLE_COLOR, "obstacles"),
     "box": (BOX_COLOR, "the box, leaning on its supporting edge while pivoted"),
+    "sim_box": (SIM_BOX_COLOR, "translucent: the box as simulated (physics), beside the plan's"),
     "robot_volume": (ROBOT_COLOR, "the robot: its footprint plate and bounding volume"),
     "robot_urdf": (0xa0a8b8, "the robot drawn from its URDF's visual shapes (HRP-2's: "
                              "boxes and cylinders, not its real meshes)"),
@@ -63,7 +65,7 @@ def _lambert(color: int, *, opacity: float = 1.0) -> g.MeshLambertMaterial:
 
 #: Nodes a replay owns; cleared before a new replay is drawn into the same visualizer.
 REPLAY_NODES = ("floor", "obstacles", "box", "robot", "rs_path", "walks", "pivots",
-                "footsteps", "zmp")
+                "footsteps", "zmp", "sim_box")
 
 
 def check_view(vis: Any = None, *, scene: Any = None, require_vis: bool = True,
@@ -131,6 +133,11 @@ def draw_scene(vis: meshcat.Visualizer, scene: Scene | None, *,
 def draw_box(vis: meshcat.Visualizer, size: Sequence[float]) -> None:
     """The manipulated box ``(w, d, h)`` centred on its node's origin."""
     vis.set_object(g.Box(list(size)), _lambert(BOX_COLOR))
+
+
+def draw_sim_box(vis: meshcat.Visualizer, size: Sequence[float]) -> None:
+    """The simulated box ``(w, d, h)``, translucent, centred on its node's origin."""
+    vis.set_object(g.Box(list(size)), _lambert(SIM_BOX_COLOR, opacity=0.55))
 
 
 def draw_robot_volume(vis: meshcat.Visualizer, model: BoxGraspModel) -> None:

@@ -17,6 +17,7 @@ from typing import Any
 import meshcat
 import numpy as np
 
+from pivot_ompl.errors import InputError
 from pivot_ompl.motionfile import Motion
 from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
 from pivot_ompl.resources import data_path
@@ -106,7 +107,7 @@ def show_motion(vis: meshcat.Visualizer, motion: Motion, *, scene: Scene | None 
                 object_size: tuple[float, float, float] | None = None,
                 urdf: str | Path | None = None, fps: float = 25.0,
                 tolerance: float = 1e-3, plan: Plan | None = None, play: bool = True,
-                camera: bool = True) -> ReplayInfo:
+                camera: bool = True, sim_box: np.ndarray | None = None) -> ReplayInfo:
     """Draw ``scene`` and animate the whole-body ``motion`` (robot links, box, footsteps).
 
     Args:
@@ -122,8 +123,14 @@ def show_motion(vis: meshcat.Visualizer, motion: Motion, *, scene: Scene | None 
         plan: the plan the motion executes: its Reeds-Shepp paths and pivot points are drawn.
         play: start playing once loaded.
         camera: aim the default camera at the floor.
+        sim_box: a second box's pose at each motion sample (N x 7, centre and quaternion
+            x y z w, as ``motion.box``), drawn beside the motion's: the simulated box of
+            ``pivot-ompl simulate``.
     """
     draw.check_view(vis, scene=scene, motion=(motion, Motion))
+    if sim_box is not None and np.shape(sim_box) != np.shape(motion.box):
+        raise InputError("sim_box", list(np.shape(sim_box)),
+                         f"must have the motion's box shape {list(np.shape(motion.box))}")
     if plan is not None:
         draw.check_view(vis, plan=(plan, Plan))
     model = load_robot(resolve_urdf(motion, urdf))
@@ -155,6 +162,12 @@ def show_motion(vis: meshcat.Visualizer, motion: Motion, *, scene: Scene | None 
     robot[model.root].set_transform(root_tf[0])
 
     anim = _animation(vis, model, t, box_tf, root_tf, values, tolerance)
+    if sim_box is not None:
+        sim_tf = pose7_to_matrix(np.asarray(sim_box, dtype=float)[idx])
+        draw.draw_sim_box(vis["sim_box"], size)
+        vis["sim_box"].set_transform(sim_tf[0])
+        anim.add_transforms("sim_box", t, sim_tf, position_tol=tolerance,
+                            rotation_tol=0.5 * tolerance)
 
     n_steps = _draw_footsteps(vis, model, motion)
     n_piv = 0
@@ -166,12 +179,14 @@ def show_motion(vis: meshcat.Visualizer, motion: Motion, *, scene: Scene | None 
         anim.send(play=play)
     log.info("motion replay: %d visuals, %d samples, %d track keys, %.1f s, %d footsteps",
              n_vis, len(t), anim.keys, float(t[-1]), n_steps)
-    nodes = ("floor", "box", "robot") + (("footsteps",) if n_steps else ())
+    nodes = ("floor", "box", "robot") + (("footsteps",) if n_steps else ()) + (
+        ("sim_box",) if sim_box is not None else ())
     frame = scene.bounds if scene is not None else bounds
     assert frame is not None  # noqa: S101 - for mypy: bounds is set without a scene
     guide = motion_guide(motion, plan=plan, scene=scene).with_frame(
         frame, max(standing_height(None, scene), float(np.max(q[:, 2])) + 0.8, float(size[2])))
-    guide.extra["legend"] = draw.legend(_drawn(motion, scene, plan, n_piv, n_steps))
+    guide.extra["legend"] = draw.legend(_drawn(motion, scene, plan, n_piv, n_steps) + (
+        ["sim_box"] if sim_box is not None else []))
     return ReplayInfo(float(t[-1]), len(t), nodes, n_steps, n_piv, guide)
 
 
