@@ -18,6 +18,11 @@ Format (a contract for users and outside tools)::
 
 Lengths in metres, angles in radians. Every error names the file, the field and the value.
 
+``robot.model`` names a humanoid profile (``pivot-ompl robots``: ``hrp2``, the default, or
+``talos``); its footprint, standoff, height and walk model are the defaults of the other
+``robot`` fields. A footprint given is kept where it is larger than the model's own (more
+cautious) and grown to it where smaller; ``walk`` fields given replace the model's.
+
 Limits (a scene outside them has no sensible plan; it is refused with the field named):
 coordinates within +-:data:`MAX_COORD` m, the floor area at most :data:`MAX_EXTENT` m on a side,
 box and footprint sides within [:data:`MIN_SIZE`, :data:`MAX_SIZE`] m, ``alpha_max`` within
@@ -31,6 +36,7 @@ mistake); those outside [-pi, pi] are wrapped into [-pi, pi) on load.
 from __future__ import annotations
 
 import hashlib
+import logging
 import math
 import time
 from collections.abc import Callable
@@ -41,12 +47,14 @@ from typing import Any
 import shapely.geometry
 import shapely.validation
 
-from pivot_ompl import hrp2
 from pivot_ompl.errors import InputError, Interrupted, SceneError
 from pivot_ompl.fileio import input_path, load_yaml, parse_deadline
 from pivot_ompl.grasp import BoxGraspModel
+from pivot_ompl.humanoids import DEFAULT_MODEL, PROFILES, HumanoidProfile, profile_of
 from pivot_ompl.resources import shipped_scenes
 from pivot_ompl.se2 import Pose, wrap_angle
+
+log = logging.getLogger(__name__)
 
 #: The controllability paper's set-up (Section V): box width (local x), depth, height (m).
 DEFAULT_OBJECT_SIZE = (0.8, 0.6, 1.3)
@@ -106,7 +114,9 @@ Obstacle = BoxObstacle | CylinderObstacle | PolygonObstacle
 
 @dataclass(frozen=True)
 class WalkParameters:
-    """How the robot walks alone (the scene's ``robot.walk`` block; HRP-2 defaults).
+    """How the robot walks alone (the scene's ``robot.walk`` block).
+
+    The field defaults are the default model's; a scene's are its model's (:meth:`of_profile`).
 
     A walk's cost is in metres of forward walking: it is proportional to the number of steps
     the walk takes, so by default the costs follow from the step limits.
@@ -120,13 +130,29 @@ class WalkParameters:
         turn_cost: cost of turning, metres of forward walking per radian (>= 0).
     """
 
-    step_forward: float = hrp2.STEP_FORWARD
-    step_backward: float = hrp2.STEP_BACKWARD
-    step_lateral: float = hrp2.STEP_LATERAL
-    step_turn: float = hrp2.STEP_TURN
-    side_cost: float = hrp2.STEP_FORWARD / hrp2.STEP_LATERAL
-    back_cost: float = hrp2.STEP_FORWARD / hrp2.STEP_BACKWARD
-    turn_cost: float = hrp2.STEP_FORWARD / hrp2.STEP_TURN
+    step_forward: float = PROFILES[DEFAULT_MODEL].step_forward
+    step_backward: float = PROFILES[DEFAULT_MODEL].step_backward
+    step_lateral: float = PROFILES[DEFAULT_MODEL].step_lateral
+    step_turn: float = PROFILES[DEFAULT_MODEL].step_turn
+    side_cost: float = step_forward / step_lateral
+    back_cost: float = step_forward / step_backward
+    turn_cost: float = step_forward / step_turn
+
+    @classmethod
+    def of_profile(cls, robot: HumanoidProfile, **given: float) -> WalkParameters:
+        """The walk model of ``robot``'s step limits, with the fields ``given`` replaced.
+
+        Costs not given follow from the step limits (given or the profile's).
+        """
+        steps = {"step_forward": robot.step_forward, "step_backward": robot.step_backward,
+                 "step_lateral": robot.step_lateral, "step_turn": robot.step_turn}
+        steps.update({k: v for k, v in given.items() if k in steps})
+        fwd = steps["step_forward"]
+        costs = {"side_cost": fwd / steps["step_lateral"],
+                 "back_cost": fwd / steps["step_backward"],
+                 "turn_cost": fwd / steps["step_turn"]}
+        costs.update({k: v for k, v in given.items() if k in costs})
+        return cls(**steps, **costs)
 
     @property
     def turning_radius(self) -> float:
@@ -142,7 +168,7 @@ class Scene:
         name: scene name.
         bounds: ``(xmin, ymin, xmax, ymax)`` of the floor area (m).
         model: box and robot geometry (:class:`~pivot_ompl.grasp.BoxGraspModel`).
-        robot_model: robot model name (``"hrp2"``).
+        robot_model: the humanoid's profile name (:mod:`pivot_ompl.humanoids`).
         walk: how the robot walks alone (step limits, walking costs).
         alpha_max: bound on each pivot rotation (rad).
         turning_radius: Reeds-Shepp turning radius (m).
@@ -159,13 +185,13 @@ class Scene:
     obstacles: tuple[Obstacle, ...] = ()
     alpha_max: float = DEFAULT_ALPHA_MAX
     turning_radius: float = DEFAULT_TURNING_RADIUS
-    robot_model: str = "hrp2"
+    robot_model: str = DEFAULT_MODEL
     source: str = field(default="", compare=False)
     walk: WalkParameters = field(default_factory=WalkParameters)
 
 
-ROBOT_MODELS = {"hrp2": {"footprint": hrp2.FOOTPRINT, "standoff": hrp2.STANDOFF,
-                         "height": hrp2.HEIGHT}}
+#: Known robot models (the humanoid profiles' names).
+ROBOT_MODELS = PROFILES
 
 
 class _Reader:
@@ -252,7 +278,7 @@ def scene_from_dict(doc: Any, *, source: str = "",
     size = r.vector(obj["size"], 3, "object.size", positive=True, lo=MIN_SIZE, hi=MAX_SIZE)
     robot = r.mapping(top.get("robot", {}), "robot", set(),
                       {"model", "footprint", "standoff", "walk"})
-    model_name = robot.get("model", "hrp2")
+    model_name = robot.get("model", DEFAULT_MODEL)
     if model_name not in ROBOT_MODELS:
         raise r.fail("robot.model", model_name,
                      f"unknown robot model (known: {sorted(ROBOT_MODELS)})")
@@ -260,9 +286,10 @@ def scene_from_dict(doc: Any, *, source: str = "",
     foot = (r.vector(robot["footprint"], 2, "robot.footprint", positive=True, lo=MIN_SIZE,
                      hi=MAX_SIZE)
             if "footprint" in robot else rm["footprint"])
+    foot = _more_cautious(foot, rm["footprint"], model_name)  # type: ignore[arg-type]
     standoff = (r.number(robot["standoff"], "robot.standoff", nonneg=True, hi=MAX_SIZE)
                 if "standoff" in robot else rm["standoff"])
-    walk = _walk(r, robot.get("walk", {}))
+    walk = _walk(r, robot.get("walk", {}), PROFILES[model_name])
     piv = r.mapping(top.get("pivot", {}), "pivot", set(), {"alpha_max", "turning_radius"})
     alpha_max = r.number(piv.get("alpha_max", DEFAULT_ALPHA_MAX), "pivot.alpha_max",
                          positive=True, lo=MIN_ALPHA_MAX, hi=0.5 * math.pi)
@@ -281,7 +308,8 @@ def scene_from_dict(doc: Any, *, source: str = "",
         if should_stop is not None and should_stop():
             raise Interrupted("reading the scene")
         obstacles.append(_obstacle(r, o, f"obstacles[{i}]", should_stop))
-    model = BoxGraspModel(size, foot, standoff, rm["height"])  # type: ignore[arg-type]
+    model = BoxGraspModel(size, foot, standoff, rm["height"],  # type: ignore[arg-type]
+                          model_name)
     start = r.pose(top["start"], "start")
     goal = r.pose(top["goal"], "goal")
     for fld, pose in (("start", start), ("goal", goal)):
@@ -292,7 +320,7 @@ def scene_from_dict(doc: Any, *, source: str = "",
                  turning, model_name, source, walk=walk)
 
 
-def _walk(r: _Reader, raw: Any) -> WalkParameters:
+def _walk(r: _Reader, raw: Any, robot: HumanoidProfile) -> WalkParameters:
     """The ``robot.walk`` block: step limits (> 0) and walking costs (>= 1; turning >= 0)."""
     names = ("step_forward", "step_backward", "step_lateral", "step_turn", "side_cost",
              "back_cost", "turn_cost")
@@ -308,18 +336,23 @@ def _walk(r: _Reader, raw: Any) -> WalkParameters:
         if k == "step_turn" and v > 0.5 * math.pi:
             raise r.fail(fld, v, "must be <= pi/2 rad")
         out[k] = v
-    return WalkParameters(**out)
+    return WalkParameters.of_profile(robot, **out)
+
+
+def _more_cautious(given: tuple[float, float], own: tuple[float, float],
+                   model: str) -> tuple[float, float]:
+    """A scene's footprint, grown where it is smaller than the robot model's own."""
+    out = (max(given[0], own[0]), max(given[1], own[1]))
+    if out != tuple(given):
+        log.info("robot.footprint %s is smaller than %s's own %s: %s kept", list(given),
+                 model, list(own), list(out))
+    return out
 
 
 def _robot_defaults(name: str) -> dict[str, Any]:
-    """Footprint, standoff and height of a robot model (HRP-2's derive from robots/hrp2)."""
-    base = dict(ROBOT_MODELS[name])
-    if name == "hrp2":
-        try:
-            base.update(hrp2.hrp2_floor_geometry())
-        except ImportError:  # no pinocchio: the preset constants
-            return base
-    return base
+    """Footprint, standoff and height of a robot model (its profile's)."""
+    p = profile_of(name)
+    return {"footprint": p.footprint, "standoff": p.standoff, "height": p.height}
 
 
 def obstacles_from_list(items: Any, *, source: str = "", field: str = "obstacles"

@@ -1,4 +1,4 @@
-"""The ``pivot-ompl`` command line: plan, check and replay HRP-2 pivoting a box with regrasps.
+"""The ``pivot-ompl`` command line: plan, check and replay a humanoid pivoting a box, regrasping.
 
 Exit codes for every verb: 0 success, 1 no solution (or a check that fails), 2 bad input
 (the message names the field and the value), 130 interrupted (Ctrl-C).
@@ -28,7 +28,8 @@ EXIT_INTERRUPTED = 130
 #: dependency only hides that verb.
 VERB_MODULES = ("pivot_ompl.cli.steer", "pivot_ompl.cli.plan", "pivot_ompl.cli.check",
                 "pivot_ompl.cli.replay", "pivot_ompl.cli.animate", "pivot_ompl.cli.bench",
-                "pivot_ompl.cli.generate", "pivot_ompl.cli.bound", "pivot_ompl.cli.replan")
+                "pivot_ompl.cli.generate", "pivot_ompl.cli.bound", "pivot_ompl.cli.replan",
+                "pivot_ompl.cli.robots")
 
 
 #: The exit codes, as every verb's help ends.
@@ -49,6 +50,7 @@ EXAMPLES: dict[str, tuple[str, ...]] = {
               "--out results/",),
     "generate": ("pivot-ompl generate --family walls --walls 2 --seed 1 --out my_scenes",),
     "bound": ("pivot-ompl bound fig10",),
+    "robots": ("pivot-ompl robots", "pivot-ompl robots --json"),
     "replan": ("pivot-ompl replan slot plan.json --box 3.0 1.6 0.1 --out new.json "
                "--scene-out new.yaml",),
 }
