@@ -60,6 +60,9 @@ class HumanoidProfile:
             grippers: the solver never moves them.
         locate_solver_urdf: returns the URDF the whole-body solver loads (kinematics and
             inertias, no geometry: quicker to load), or ``None``: :meth:`urdf_path`'s.
+        repose_upper: set the upper posture again after PlaCo's initial pose (its
+            ``reach_initial_pose`` moves the arms: Talos's shoulder roll from 0.02 to 0.18
+            rad, the arms 6 cm wider). HRP-2's motions are made without it.
         settle_time: unrecorded standing time (s, twice) before a motion starts, for the
             upper body to come to rest from its initial posture.
         upper_accel_limit, leg_accel_limit: joint acceleration limits (rad/s²).
@@ -94,6 +97,7 @@ class HumanoidProfile:
     contact_links: tuple[str, ...]
     fixed_joints: Mapping[str, float] = field(default_factory=dict)
     settle_time: float = 1.0
+    repose_upper: bool = False
     locate_solver_urdf: Callable[[], Path] | None = field(default=None, repr=False,
                                                           compare=False)
     upper_accel_limit: float = 30.0

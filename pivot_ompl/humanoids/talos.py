@@ -41,9 +41,11 @@ __all__ = ["PROFILE", "URDF_NAME"]
 URDF_NAME = "example-robot-data/robots/talos_data/robots/talos_reduced.urdf"
 
 #: Upper-body posture targets that differ from half-sitting (left arm; the right arm mirrors
-#: the first three): upper arms along the body (shoulder yaw 0, roll 0.05 rad) and the
-#: elbows bent 0.5 rad, the arms' narrowest (y +/-0.38 m) with the hands ahead of the hips.
-_ARM_POSTURE = {1: 0.0, 2: 0.05, 3: 0.0, 4: -0.5}
+#: the first three): upper arms along the body (shoulder yaw 0, roll 0.02 rad: the roll's
+#: limit is 0, the arm hanging straight), forearms turned in (upper-arm twist -0.5 rad) and
+#: the elbows bent 0.5 rad: the arms' narrowest (collision meshes within y +/-0.383 m, the
+#: hands at +/-0.20 m) so that the hands and grippers stay inside the walking envelope.
+_ARM_POSTURE = {1: 0.0, 2: 0.02, 3: -0.5, 4: -0.5}
 
 
 @functools.cache
@@ -82,7 +84,7 @@ PROFILE = HumanoidProfile(
     urdf_name=URDF_NAME, locate_urdf=talos_urdf,
     footprint=(0.50, 0.80), standoff=0.25, height=1.76,
     walk_envelope=(0.36, 0.27, 0.46),
-    shoulder_xy=(-0.014, 0.291), shoulder_envelope=0.13, hand_envelope=0.09,
+    shoulder_xy=(-0.014, 0.291), shoulder_envelope=0.22, hand_envelope=0.09,
     step_forward=0.15, step_backward=0.08, step_lateral=0.06, step_turn=0.25,
     sole_size=(0.2208, 0.1344), feet_spacing=0.20, com_height=0.86,
     foot_dy_out=0.18, foot_dtheta=0.40,
@@ -91,7 +93,9 @@ PROFILE = HumanoidProfile(
     upper_prefixes=("arm_", "torso_", "head_", "gripper_"),
     contact_links=("gripper_left", "gripper_right", "wrist_left", "wrist_right",
                    "arm_left_7", "arm_right_7"),
-    fixed_joints={"gripper_left_joint": 0.0, "gripper_right_joint": 0.0}, settle_time=3.0,
+    fixed_joints={"gripper_left_joint": 0.0, "gripper_right_joint": 0.0,
+                  "torso_2_joint": 0.006761},
+    settle_time=3.0, repose_upper=True,
     locate_solver_urdf=talos_solver_urdf,
     sources={
         "footprint": "measured: URDF collision meshes in half-sitting (x -0.199..0.213, "
@@ -100,14 +104,17 @@ PROFILE = HumanoidProfile(
         "height": "URDF: zero pose, sole to top of head 1.756 m",
         "walk_envelope": "measured on whole-body motions (wholebody.envelope)",
         "shoulder_xy": "URDF: arm_*_2_joint in half-sitting",
-        "shoulder_envelope": "URDF: the upper arm's collision mesh, half floor diagonal",
+        "shoulder_envelope": "measured on whole-body motions: the upper arms flare to "
+                             "y +/-0.51 m as the hands hold the box (wholebody.envelope)",
         "hand_envelope": "URDF: the gripper's collision meshes, half floor diagonal",
         "steps": "written down: HRP-2's, checked by check-motion",
         "sole_size": "URDF: foot collision mesh ankle_X_collision.stl",
         "feet_spacing": "written down: HRP-2's 0.20 m (hips 0.17 m apart)",
         "com_height": "measured: 1 cm under the half-sitting CoM (0.877 m)",
         "half_sitting": "SRDF: group state half_sitting",
-        "fixed_joints": "written down: the grippers closed (URDF upper limit 0), never moved",
+        "fixed_joints": "written down: the grippers closed (URDF upper limit 0), never moved; "
+                        "the torso pitch at the SRDF's half-sitting (left free, the chest "
+                        "leaned back 0.14 rad and 6 cm out of the walking envelope)",
         "settle_time": "measured: the arms still swing at 2 rad/s after 1 s, at rest after 3 s",
         "joint limits": "URDF (position, velocity)",
         "accel limits": "written down: HRP-2's 30 / 50 rad/s² (see docs/robots.md)",

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import functools
 import logging
+import math
 import re
 import tempfile
 from importlib import metadata
@@ -41,6 +42,12 @@ SOLE_CENTRE = (-0.00587, 0.0, -0.107)
 #: Grip point below the gripper base (m): between the fingers (the fingertips' joints are
 #: 0.056 m below the base, the fingertips 0.04 m further).
 GRIP_DEPTH = 0.09
+#: Yaw of the hand frames about the gripper's axis (rad): the hand's x axis, which the grips
+#: hold up the box face (:mod:`pivot_ompl.wholebody.box`), is the gripper's -y axis. Of the
+#: quarter turns it is the one whose wrists stay within their limits while the hands hold
+#: the box: at +pi/2 the forearm roll ``arm_*_7_joint`` sits on its limit and the elbows
+#: flare 3 cm further out (measured on the open scene's motion).
+HAND_YAW = -0.5 * math.pi
 
 
 def talos_dir() -> Path:
@@ -72,7 +79,7 @@ def _frames_xml() -> str:
         out.append(f'  <link name="{side}_hand"/>\n  <joint name="{side}_hand_fixed" '
                    f'type="fixed"><parent link="gripper_{side}_base_link"/><child '
                    f'link="{side}_hand"/><origin xyz="0 0 {-GRIP_DEPTH}" '
-                   f'rpy="0 0 1.5707963267948966"/></joint>')
+                   f'rpy="0 0 {HAND_YAW}"/></joint>')
     return "\n".join(out) + "\n"
 
 

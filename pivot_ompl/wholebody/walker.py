@@ -80,6 +80,10 @@ class PlacoWalker:
             robot.set_joint(name, value)
         robot.update_kinematics()
         tasks.reach_initial_pose(np.eye(4), s.feet_spacing, s.com_height, 0.0)
+        if profile.repose_upper:
+            for name, value in profile.upper_posture.items():
+                robot.set_joint(name, value)
+            robot.update_kinematics()
         for name, task in (("left_foot", tasks.left_foot_task),
                            ("right_foot", tasks.right_foot_task)):
             task.configure(name, "hard", 1.0, 1.0)
