@@ -83,7 +83,7 @@ PROFILE = HumanoidProfile(
     title="Talos (PAL Robotics): example-robot-data 6 talos_reduced, Apache-2.0",
     urdf_name=URDF_NAME, locate_urdf=talos_urdf,
     footprint=(0.50, 0.80), standoff=0.25, height=1.76,
-    walk_envelope=(0.36, 0.27, 0.46),
+    walk_envelope=(0.36, 0.27, 0.475),
     shoulder_xy=(-0.014, 0.291), shoulder_envelope=0.22, hand_envelope=0.09,
     step_forward=0.15, step_backward=0.08, step_lateral=0.06, step_turn=0.25,
     sole_size=(0.2208, 0.1344), feet_spacing=0.20, com_height=0.86,
@@ -102,7 +102,8 @@ PROFILE = HumanoidProfile(
                      "y +/-0.38 m), rounded up",
         "standoff": "written down: HRP-2's (grips within reach, checked by the generator)",
         "height": "URDF: zero pose, sole to top of head 1.756 m",
-        "walk_envelope": "measured on whole-body motions (wholebody.envelope)",
+        "walk_envelope": "measured on the fig10 motion (wholebody.envelope): an upper arm "
+                         "14 mm past a 0.46 m side while walking",
         "shoulder_xy": "URDF: arm_*_2_joint in half-sitting",
         "shoulder_envelope": "measured on whole-body motions: the upper arms flare to "
                              "y +/-0.51 m as the hands hold the box (wholebody.envelope)",

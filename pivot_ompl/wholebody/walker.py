@@ -80,9 +80,13 @@ class PlacoWalker:
             robot.set_joint(name, value)
         robot.update_kinematics()
         tasks.reach_initial_pose(np.eye(4), s.feet_spacing, s.com_height, 0.0)
-        if profile.repose_upper:
-            for name, value in profile.upper_posture.items():
-                robot.set_joint(name, value)
+        # PlaCo's initial pose moves every joint: put back those held still (and the upper
+        # posture, where the profile asks)
+        repose = dict(profile.upper_posture) if profile.repose_upper else {}
+        repose.update(profile.fixed_joints)
+        for name, value in repose.items():
+            robot.set_joint(name, value)
+        if repose:
             robot.update_kinematics()
         for name, task in (("left_foot", tasks.left_foot_task),
                            ("right_foot", tasks.right_foot_task)):
