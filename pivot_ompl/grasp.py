@@ -30,7 +30,7 @@ Reeds-Shepp car of a grasp
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from pivot_ompl.errors import InputError
 from pivot_ompl.humanoids import DEFAULT_MODEL, PROFILES, profile_of
@@ -64,14 +64,16 @@ class BoxGraspModel:
         standoff: gap between the held face and the robot's front (m).
         robot_height: height of the robot's bounding volume (m).
         robot_model: the humanoid's profile name (:mod:`pivot_ompl.humanoids`): its
-            walking envelope and shoulders shape the planner's bodies.
+            walking envelope and shoulders shape the planner's bodies (left out of the
+            ``repr``, which digests of HRP-2's scenes were made from:
+            :func:`~pivot_ompl.scene.scene_digest` adds another model).
     """
 
     object_size: tuple[float, float, float]
     robot_footprint: tuple[float, float] = PROFILES[DEFAULT_MODEL].footprint
     standoff: float = PROFILES[DEFAULT_MODEL].standoff
     robot_height: float = PROFILES[DEFAULT_MODEL].height
-    robot_model: str = DEFAULT_MODEL
+    robot_model: str = field(default=DEFAULT_MODEL, repr=False)
 
     def __post_init__(self) -> None:
         """Validate sizes (all strictly positive, standoff non-negative) and the model."""

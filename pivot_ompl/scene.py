@@ -450,8 +450,11 @@ def scene_digest(scene: Scene) -> str:
     Not the name or the file: two files of one scene give one digest, and a plan records it
     (``scene_sha256``) so that a check against another scene says so first.
     """
-    text = repr((scene.bounds, scene.obstacles, scene.model, scene.start, scene.goal,
-                 scene.alpha_max, scene.turning_radius, scene.walk))
+    parts: tuple[Any, ...] = (scene.bounds, scene.obstacles, scene.model, scene.start,
+                              scene.goal, scene.alpha_max, scene.turning_radius, scene.walk)
+    if scene.robot_model != DEFAULT_MODEL:  # the default model's digests are as they were
+        parts += (scene.robot_model,)
+    text = repr(parts)
     return hashlib.sha256(text.encode()).hexdigest()
 
 

@@ -190,3 +190,15 @@ def test_the_robots_verb_lists_every_profile(capsys):
     assert talos["installed"] == "yes" and talos["footprint_m"] == list(TALOS.footprint)
     assert main(["robots"]) == 0
     assert "talos" in capsys.readouterr().out
+
+
+def test_scene_digests_of_the_default_model_are_unchanged_and_name_another():
+    from pivot_ompl.scene import load_scene, scene_digest
+
+    # the digest main recorded for the shipped slot scene before profiles existed
+    assert scene_digest(load_scene("slot")) == (
+        "40a3ce1b7fee06ba2b4ff9462aa5afcc91cad9e8e35bb6449751d90477bf5e51")
+    a = scene_from_dict({**SCENE, "robot": {"model": "talos", "footprint": [0.5, 0.8]}})
+    b = scene_from_dict({**SCENE, "robot": {"model": "hrp2", "footprint": [0.5, 0.8]}})
+    assert a.model.robot_footprint == b.model.robot_footprint
+    assert scene_digest(a) != scene_digest(b)
