@@ -16,8 +16,8 @@ Where each value comes from (``docs/robots.md`` has the table):
   envelope;
 * written down (neither file says them): the step limits and the legs' ranges per step
   (HRP-2's, which Talos's longer legs and wider joint ranges exceed: kept as the cautious
-  choice, and checked by ``check-motion``), the CoM height while walking (1 cm under the
-  half-sitting CoM, 0.877 m, so the knees stay bent), the feet spacing (HRP-2's 0.20 m:
+  choice, and checked by ``check-motion``), the CoM height while walking (1.7 cm under
+  the half-sitting CoM, 0.877 m, so the knees stay bent), the feet spacing (HRP-2's 0.20 m:
   the hips are 0.17 m apart, the soles 0.134 m wide), the acceleration limits (the same
   30 / 50 rad/s² as HRP-2's; ``docs/robots.md`` compares them with Talos's efforts), the
   standoff (HRP-2's: the grips stay within the arms' reach, checked by the generator).
@@ -111,7 +111,7 @@ PROFILE = HumanoidProfile(
         "steps": "written down: HRP-2's, checked by check-motion",
         "sole_size": "URDF: foot collision mesh ankle_X_collision.stl",
         "feet_spacing": "written down: HRP-2's 0.20 m (hips 0.17 m apart)",
-        "com_height": "measured: 1 cm under the half-sitting CoM (0.877 m)",
+        "com_height": "measured: 1.7 cm under the half-sitting CoM (0.877 m)",
         "half_sitting": "SRDF: group state half_sitting",
         "fixed_joints": "written down: the grippers closed (URDF upper limit 0), never moved; "
                         "the torso pitch at the SRDF's half-sitting (left free, the chest "

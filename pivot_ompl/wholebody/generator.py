@@ -1,4 +1,4 @@
-"""Whole-body pivoting motion of HRP-2 from a ``pivot-plan/1`` plan (PlaCo).
+"""Whole-body pivoting motion of the plan's humanoid from a ``pivot-plan/1`` plan (PlaCo).
 
 Timeline of a **transfer phase** (grasp ``k``), each part a segment of solver ticks:
 
