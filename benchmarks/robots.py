@@ -57,9 +57,9 @@ def run_one(scene: Scene, *, time_limit: float, seed: int, motion: bool) -> dict
         row["success"] = False
         return row
     report = check_plan(plan, scene)
-    row.update(plan_valid=report.valid, regrasps=plan.regrasps, pivots=plan.pivots)
-    if not report.valid or not motion:
-        row["success"] = report.valid
+    row.update(plan_valid=report.ok, regrasps=plan.regrasps, pivots=plan.pivots)
+    if not report.ok or not motion:
+        row["success"] = report.ok
         return row
     from pivot_ompl.wholebody import generate_motion
     from pivot_ompl.wholebody.motion_checks import check_motion
