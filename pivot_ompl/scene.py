@@ -36,7 +36,6 @@ mistake); those outside [-pi, pi] are wrapped into [-pi, pi) on load.
 from __future__ import annotations
 
 import hashlib
-import logging
 import math
 import time
 from collections.abc import Callable
@@ -53,8 +52,6 @@ from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.humanoids import DEFAULT_MODEL, PROFILES, HumanoidProfile, profile_of
 from pivot_ompl.resources import shipped_scenes
 from pivot_ompl.se2 import Pose, wrap_angle
-
-log = logging.getLogger(__name__)
 
 #: The controllability paper's set-up (Section V): box width (local x), depth, height (m).
 DEFAULT_OBJECT_SIZE = (0.8, 0.6, 1.3)
@@ -140,19 +137,13 @@ class WalkParameters:
 
     @classmethod
     def of_profile(cls, robot: HumanoidProfile, **given: float) -> WalkParameters:
-        """The walk model of ``robot``'s step limits, with the fields ``given`` replaced.
-
-        Costs not given follow from the step limits (given or the profile's).
-        """
-        steps = {"step_forward": robot.step_forward, "step_backward": robot.step_backward,
-                 "step_lateral": robot.step_lateral, "step_turn": robot.step_turn}
-        steps.update({k: v for k, v in given.items() if k in steps})
-        fwd = steps["step_forward"]
-        costs = {"side_cost": fwd / steps["step_lateral"],
-                 "back_cost": fwd / steps["step_backward"],
-                 "turn_cost": fwd / steps["step_turn"]}
-        costs.update({k: v for k, v in given.items() if k in costs})
-        return cls(**steps, **costs)
+        """``robot``'s step limits with ``given`` fields; costs not given follow the limits."""
+        s = {"step_forward": robot.step_forward, "step_backward": robot.step_backward,
+             "step_lateral": robot.step_lateral, "step_turn": robot.step_turn, **given}
+        f = s["step_forward"]
+        costs = {"side_cost": f / s["step_lateral"], "back_cost": f / s["step_backward"],
+                 "turn_cost": f / s["step_turn"]}
+        return cls(**{**costs, **s})
 
     @property
     def turning_radius(self) -> float:
@@ -286,7 +277,7 @@ def scene_from_dict(doc: Any, *, source: str = "",
     foot = (r.vector(robot["footprint"], 2, "robot.footprint", positive=True, lo=MIN_SIZE,
                      hi=MAX_SIZE)
             if "footprint" in robot else rm["footprint"])
-    foot = _more_cautious(foot, rm["footprint"], model_name)  # type: ignore[arg-type]
+    foot = PROFILES[model_name].cautious_footprint(foot)  # type: ignore[arg-type]
     standoff = (r.number(robot["standoff"], "robot.standoff", nonneg=True, hi=MAX_SIZE)
                 if "standoff" in robot else rm["standoff"])
     walk = _walk(r, robot.get("walk", {}), PROFILES[model_name])
@@ -337,16 +328,6 @@ def _walk(r: _Reader, raw: Any, robot: HumanoidProfile) -> WalkParameters:
             raise r.fail(fld, v, "must be <= pi/2 rad")
         out[k] = v
     return WalkParameters.of_profile(robot, **out)
-
-
-def _more_cautious(given: tuple[float, float], own: tuple[float, float],
-                   model: str) -> tuple[float, float]:
-    """A scene's footprint, grown where it is smaller than the robot model's own."""
-    out = (max(given[0], own[0]), max(given[1], own[1]))
-    if out != tuple(given):
-        log.info("robot.footprint %s is smaller than %s's own %s: %s kept", list(given),
-                 model, list(own), list(out))
-    return out
 
 
 def _robot_defaults(name: str) -> dict[str, Any]:

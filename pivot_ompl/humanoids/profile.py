@@ -14,9 +14,12 @@ lists every field with where each value came from.
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
+
+log = logging.getLogger(__name__)
 
 __all__ = ["FRAMES", "HumanoidProfile"]
 
@@ -108,6 +111,14 @@ class HumanoidProfile:
     def urdf_path(self) -> Path:
         """The URDF file (with :data:`FRAMES`)."""
         return self.locate_urdf()
+
+    def cautious_footprint(self, given: tuple[float, float]) -> tuple[float, float]:
+        """A footprint ``given`` by a scene, grown where it is smaller than the robot's own."""
+        out = (max(given[0], self.footprint[0]), max(given[1], self.footprint[1]))
+        if out != tuple(given):
+            log.info("robot.footprint %s is smaller than %s's own %s: %s kept", list(given),
+                     self.name, list(self.footprint), list(out))
+        return out
 
     def solver_urdf_path(self) -> Path:
         """The URDF the whole-body solver loads (see :attr:`locate_solver_urdf`)."""
