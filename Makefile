@@ -10,7 +10,7 @@ OUT    ?= out
 $(BIN)/pivot-ompl: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/pip install --quiet --upgrade pip
-	$(BIN)/pip install --quiet -e ".[dev,dask,docs,physics]"
+	$(BIN)/pip install --quiet -e ".[dev,dask,docs,physics,talos]"
 	touch $@
 
 venv: $(BIN)/pivot-ompl

@@ -30,10 +30,10 @@ Reeds-Shepp car of a grasp
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
-from pivot_ompl import hrp2
 from pivot_ompl.errors import InputError
+from pivot_ompl.humanoids import DEFAULT_MODEL, PROFILES, profile_of
 from pivot_ompl.se2 import Pose, place_points, rectangle_corners, wrap_angle
 
 GRASPS: tuple[int, ...] = (0, 1, 2, 3)
@@ -63,15 +63,21 @@ class BoxGraspModel:
             along the robot's heading.
         standoff: gap between the held face and the robot's front (m).
         robot_height: height of the robot's bounding volume (m).
+        robot_model: the humanoid's profile name (:mod:`pivot_ompl.humanoids`): its
+            walking envelope and shoulders shape the planner's bodies (left out of the
+            ``repr``, which digests of HRP-2's scenes were made from:
+            :func:`~pivot_ompl.scene.scene_digest` adds another model).
     """
 
     object_size: tuple[float, float, float]
-    robot_footprint: tuple[float, float] = hrp2.FOOTPRINT
-    standoff: float = hrp2.STANDOFF
-    robot_height: float = hrp2.HEIGHT
+    robot_footprint: tuple[float, float] = PROFILES[DEFAULT_MODEL].footprint
+    standoff: float = PROFILES[DEFAULT_MODEL].standoff
+    robot_height: float = PROFILES[DEFAULT_MODEL].height
+    robot_model: str = field(default=DEFAULT_MODEL, repr=False)
 
     def __post_init__(self) -> None:
-        """Validate sizes (all strictly positive, standoff non-negative)."""
+        """Validate sizes (all strictly positive, standoff non-negative) and the model."""
+        profile_of(self.robot_model, field="robot_model")
         for i, v in enumerate(self.object_size):
             if not (v > 0 and math.isfinite(v)):
                 raise InputError(f"object_size[{i}]", v, "must be a positive length in m")
@@ -136,13 +142,14 @@ class BoxGraspModel:
     def walking_extent(self) -> tuple[float, float, float]:
         """The walking body: its reach ``(ahead, behind, half_width)`` from the robot pose (m).
 
-        The footprint, grown to HRP-2's measured walking envelope
-        (:data:`~pivot_ompl.hrp2.WALK_ENVELOPE`: the knees ahead, the chest behind, the
-        shoulders' sway to the sides) where the envelope reaches further: the planner checks a
+        The footprint, grown to the robot's measured walking envelope
+        (:attr:`~pivot_ompl.humanoids.HumanoidProfile.walk_envelope`: the knees ahead, the
+        chest behind, the shoulders' sway to the sides) where the envelope reaches further:
+        the planner checks a
         walking robot as this rectangle x :attr:`robot_height`.
         """
         d, w = 0.5 * self.robot_footprint[0], 0.5 * self.robot_footprint[1]
-        ahead, behind, side = hrp2.WALK_ENVELOPE
+        ahead, behind, side = profile_of(self.robot_model).walk_envelope
         return max(d, ahead), max(d, behind), max(w, side)
 
     def walking_outline(self) -> tuple[tuple[float, float], ...]:
@@ -175,8 +182,8 @@ class BoxGraspModel:
         Two convex floor polygons (vertical prisms up to the robot's height):
 
         * the arms: the convex hull of both shoulders' floor envelopes (squares of half-side
-          :data:`~pivot_ompl.hrp2.SHOULDER_ENVELOPE` round HRP-2's shoulder joints, from the
-          URDF) and both hands' envelopes (half-side :data:`~pivot_ompl.hrp2.HAND_ENVELOPE`
+          ``shoulder_envelope`` round the profile's shoulder joints, from the URDF) and both
+          hands' envelopes (half-side ``hand_envelope``
           round the grip points, ``GRIP_OFFSET`` in front of the held face at lateral offset
           :meth:`grip_lateral`), up to the held face;
         * the inclined box's overhang: tilted by :data:`HOLD_TILT` towards the robot about
@@ -185,8 +192,9 @@ class BoxGraspModel:
         """
         front = 0.5 * self.robot_footprint[0]
         face = front + self.standoff
-        sx, sy = hrp2.SHOULDER_XY
-        a_s, a_h = hrp2.SHOULDER_ENVELOPE, hrp2.HAND_ENVELOPE
+        robot = profile_of(self.robot_model)
+        sx, sy = robot.shoulder_xy
+        a_s, a_h = robot.shoulder_envelope, robot.hand_envelope
         gx, gy = face - GRIP_OFFSET, self.grip_lateral(grasp)
         right = ((sx - a_s, -(sy + a_s)), (sx + a_s, -(sy + a_s)),
                  (gx - a_h, -(gy + a_h)), (face, -(gy + a_h)))

@@ -6,7 +6,8 @@ Required arrays (N samples)::
     q            (N, nq)   pinocchio configuration of the URDF with a free-flyer root
                            ([x, y, z, qx, qy, qz, qw, joints...]; unit quaternion)
     joint_names  (nq - 7,) names of the joint entries of q, in order
-    urdf         ()        the shipped URDF, relative to the data folder (robots/hrp2/hrp2.urdf)
+    urdf         ()        the robot's URDF: a shipped file relative to the data folder
+                           (robots/hrp2/hrp2.urdf), or the name a humanoid profile gives it
     box          (N, 7)    box centre xyz + unit quaternion xyzw (T_world_box)
 
 Positions are within +-1e4 m; the box's sides within [0.05, 20] m and the soles' within
@@ -23,7 +24,10 @@ Optional: ``format`` = ``"pivot-motion/1"``; ``step`` (N, index of the pivot ste
 in its phase, -1 otherwise); ``holding`` (N bool, both hands on the grip points); ``grasp``
 (N, -1 when not holding); ``tilt`` (N, rad); ``box_size`` (or ``object_size``) (3,) box size
 (w, d, h); ``grip_box`` (4 x 2 x 3: grip points in the box frame per grasp, left then right);
-``sole_size`` (2,) sole length and width (m); ``scene`` () scene name (``check-motion``
+``sole_size`` (2,) sole length and width (m); ``robot_model`` () the humanoid profile's name
+(written for every model but the default, HRP-2; a motion without it is the model whose
+profile names its ``urdf``, else HRP-2's: :attr:`Motion.model`); ``scene`` () scene name
+(``check-motion``
 loads it to check the obstacles, unless given ``--scene``); ``scene_path`` () the scene file,
 relative to the motion file's folder, and ``scene_sha256`` () its
 :func:`~pivot_ompl.scene.scene_digest` (both copied from the plan by ``animate``; in memory
@@ -42,6 +46,7 @@ import numpy as np
 
 from pivot_ompl.errors import InputError
 from pivot_ompl.fileio import atomic_output, regular_file
+from pivot_ompl.humanoids import DEFAULT_MODEL, PROFILES, model_of_urdf
 
 FORMAT = "pivot-motion/1"
 REQUIRED = ("t", "q", "joint_names", "urdf", "box")
@@ -79,6 +84,7 @@ class Motion:
     scene_path: str = ""
     scene_sha256: str = ""
     source: str = field(default="", compare=False)
+    robot_model: str = ""
 
     def __post_init__(self) -> None:
         """Fill the per-sample defaults (``step``, ``holding``, ``grasp``, ``tilt``)."""
@@ -97,6 +103,14 @@ class Motion:
     def object_size(self) -> tuple[float, float, float] | None:
         """The box size (w, d, h) in m, or ``None`` when the file does not give it."""
         return self.box_size
+
+    @property
+    def model(self) -> str:
+        """The humanoid's profile name.
+
+        ``robot_model``, else the profile naming ``urdf``, else the default model's.
+        """
+        return self.robot_model or model_of_urdf(self.urdf) or DEFAULT_MODEL
 
     @property
     def duration(self) -> float:
@@ -136,6 +150,8 @@ class Motion:
             arrays["sole_size"] = np.array(self.sole_size)
         if self.scene:
             arrays["scene"] = np.array(self.scene)
+        if self.model != DEFAULT_MODEL:
+            arrays["robot_model"] = np.array(self.model)
         if self.scene_path:
             arrays["scene_path"] = np.array(_relative(self.scene_path, path.parent))
         if self.scene_sha256:
@@ -258,10 +274,14 @@ def _motion_from_arrays(arrays: dict[str, np.ndarray], src: str) -> Motion:
     if scene_path:
         scene_path = os.path.normpath(Path(src).resolve().parent / scene_path)
     digest = _str(arrays["scene_sha256"]) if "scene_sha256" in arrays else ""
+    robot_model = _str(arrays["robot_model"]) if "robot_model" in arrays else ""
+    if robot_model and robot_model not in PROFILES:
+        raise InputError("motion.robot_model", robot_model,
+                         f"unknown robot model (known: {sorted(PROFILES)})", source=src)
     return Motion(t, q, tuple(names), _str(arrays["urdf"]), box,
                   box_size=size, sole_size=sole, scene=scene,  # type: ignore[arg-type]
                   scene_path=scene_path, scene_sha256=digest,
-                  source=src, **extra)
+                  source=src, robot_model=robot_model, **extra)
 
 
 #: Largest ``|coordinate|`` of a position in a motion (m), the scene files' limit.

@@ -22,6 +22,10 @@ Optional extra field ``quality`` (written by ``pivot-ompl plan``; plans without 
 before): the plan's figures and cost, :func:`pivot_ompl.quality.plan_quality` (which says
 what each field means).
 
+Optional field ``robot_model`` (written when the plan is not for the default model, HRP-2;
+plans without it are HRP-2's): the humanoid profile the plan was made for
+(:mod:`pivot_ompl.humanoids`, ``pivot-ompl robots``).
+
 Optional extra fields ``scene_path`` and ``scene_sha256`` (written by ``plan``, ``steer``,
 ``replan`` and ``generate``; plans without them load as before): the scene file the plan was
 made from, relative to the plan file's folder (an absolute path is read as it is), and the
@@ -44,6 +48,7 @@ from typing import Any
 
 from pivot_ompl.errors import PlanFileError
 from pivot_ompl.fileio import atomic_output, input_path, load_json
+from pivot_ompl.humanoids import DEFAULT_MODEL, PROFILES
 from pivot_ompl.se2 import Pose
 
 FORMAT = "pivot-plan/1"
@@ -125,6 +130,8 @@ class Plan:
         start: the object's start pose.
         phases: transfer and transit phases in order.
         extra: further top-level fields (planner, seed, timings...).
+        robot_model: the humanoid the plan is for (its profile's name); written as the
+            optional field ``robot_model`` when it is not the default model's.
     """
 
     scene: str
@@ -136,6 +143,7 @@ class Plan:
     start: Pose
     phases: list[Phase] = field(default_factory=list)
     extra: dict[str, Any] = field(default_factory=dict)
+    robot_model: str = DEFAULT_MODEL
 
     @property
     def pivots(self) -> int:
@@ -178,6 +186,8 @@ class Plan:
             "object_size": list(self.object_size), "robot_footprint": list(self.robot_footprint),
             "standoff": self.standoff, "alpha_max": self.alpha_max,
             "start": list(self.start), "phases": phases}
+        if self.robot_model != DEFAULT_MODEL:
+            doc["robot_model"] = self.robot_model
         for k, v in self.extra.items():
             doc.setdefault(k, v)
         return doc
@@ -281,6 +291,10 @@ def plan_from_dict(doc: Any, *, source: str = "") -> Plan:
     foot = _vec(doc["robot_footprint"], 2, "robot_footprint", src)
     standoff = _num(doc["standoff"], "standoff", src)
     alpha_max = _num(doc["alpha_max"], "alpha_max", src)
+    robot_model = doc.get("robot_model", DEFAULT_MODEL)
+    if robot_model not in PROFILES:
+        raise PlanFileError("robot_model", robot_model,
+                            f"unknown robot model (known: {sorted(PROFILES)})", source=src)
     model = BoxGraspModel(size, foot, standoff)  # type: ignore[arg-type]
     raw = doc["phases"]
     if not isinstance(raw, list):
@@ -330,10 +344,10 @@ def plan_from_dict(doc: Any, *, source: str = "") -> Plan:
     if start is None:
         raise PlanFileError("start", None, "is required when the plan has no phase", source=src)
     known = {"format", "scene", "status", "object_size", "robot_footprint", "standoff",
-             "alpha_max", "start", "phases"}
+             "alpha_max", "start", "phases", "robot_model"}
     extra = {k: v for k, v in doc.items() if k not in known}
     return Plan(str(doc.get("scene", "")), status, size, foot, standoff,  # type: ignore[arg-type]
-                alpha_max, start, phases, extra)
+                alpha_max, start, phases, extra, robot_model)
 
 
 def load_plan(path: str | Path) -> Plan:

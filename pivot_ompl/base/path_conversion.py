@@ -48,4 +48,4 @@ def path_to_plan(scene: Scene, checker: PivotChecker, states: list[tuple[Pose, i
         pose, g = states[0]
         phases.append(TransferPhase(g, m.robot_pose(pose, g), (), pose))
     return Plan(scene.name, status, m.object_size, m.robot_footprint, m.standoff,
-                scene.alpha_max, scene.start, phases, dict(extra or {}))
+                scene.alpha_max, scene.start, phases, dict(extra or {}), scene.robot_model)

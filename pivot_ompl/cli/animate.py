@@ -2,7 +2,7 @@
 
 * ``pivot-ompl animate PLAN.json --out motion.npz [--scene S] [--tick DT] [--substeps N]``:
   generate the
-  HRP-2 whole-body motion (progress bar on stderr; footsteps within the scene's
+  whole-body motion of the plan's robot (progress bar on stderr; footsteps within the scene's
   ``robot.walk`` step limits; one sample every ``DT`` s, 5 ms by default, and one QP every
   ``--substeps`` samples, 2 by default), check it, write
   it. Exit 1 with a message naming the phase and step when the solver fails or the motion
@@ -63,14 +63,15 @@ class ProgressBar:
 def plan_scene(args: argparse.Namespace, record: SceneRecord) -> Scene | None:
     """The plan's scene (its walk model sets the footstep limits; its obstacles are checked).
 
-    With ``--no-check`` a plan whose scene is not found is animated with HRP-2's walk model.
+    With ``--no-check`` a plan whose scene is not found is animated with its robot's walk
+    model (the profile's).
     """
     try:
         return require_scene(record, args.scene, field="plan.scene")
     except InputError:
         if not args.no_check:
             raise
-        log.info("scene %r not found: HRP-2's walk model", record.name)
+        log.info("scene %r not found: the robot profile's walk model", record.name)
         return None
 
 
@@ -135,7 +136,7 @@ def _check(args: argparse.Namespace) -> int:
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add the ``animate`` and ``check-motion`` verbs."""
-    p = subparsers.add_parser("animate", help="HRP-2 whole-body motion (PlaCo) of a plan",
+    p = subparsers.add_parser("animate", help="whole-body motion (PlaCo) of a plan",
                               description=_animate.__doc__ or __doc__.splitlines()[0])
     p.add_argument("plan", help="pivot-plan/1 JSON file")
     p.add_argument("--out", required=True, help="motion file to write (.npz)")

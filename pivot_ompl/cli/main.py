@@ -1,4 +1,4 @@
-"""The ``pivot-ompl`` command line: plan, check and replay HRP-2 pivoting a box with regrasps.
+"""The ``pivot-ompl`` command line: plan, check and replay a humanoid pivoting a box, regrasping.
 
 Exit codes for every verb: 0 success, 1 no solution (or a check that fails), 2 bad input
 (the message names the field and the value), 130 interrupted (Ctrl-C).
@@ -29,7 +29,7 @@ EXIT_INTERRUPTED = 130
 VERB_MODULES = ("pivot_ompl.cli.steer", "pivot_ompl.cli.plan", "pivot_ompl.cli.check",
                 "pivot_ompl.cli.replay", "pivot_ompl.cli.animate", "pivot_ompl.cli.bench",
                 "pivot_ompl.cli.generate", "pivot_ompl.cli.bound", "pivot_ompl.cli.replan",
-                "pivot_ompl.cli.import_map", "pivot_ompl.cli.simulate")
+                "pivot_ompl.cli.import_map", "pivot_ompl.cli.simulate", "pivot_ompl.cli.robots")
 
 
 #: The exit codes, as every verb's help ends.
@@ -52,6 +52,7 @@ EXAMPLES: dict[str, tuple[str, ...]] = {
     "bound": ("pivot-ompl bound fig10",),
     "import-map": ("pivot-ompl import-map my_floor.yaml --out floor.yaml --start 1 2 0 "
                    "--goal 8 3 1.57 --clean specks",),
+    "robots": ("pivot-ompl robots", "pivot-ompl robots --json"),
     "replan": ("pivot-ompl replan slot plan.json --box 3.0 1.6 0.1 --out new.json "
                "--scene-out new.yaml",),
     "simulate": ("pivot-ompl simulate plan.json --motion motion.npz --out report.json",

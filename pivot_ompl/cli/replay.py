@@ -49,8 +49,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                    help="start a live meshcat viewer, print its URL, stop on Ctrl-C")
     p.add_argument("--open", action="store_true", help="open the result in a web browser")
     p.add_argument("--urdf", default=None,
-                   help="robot model of a motion made for another robot (default: the shipped "
-                        "model the motion names)")
+                   help="robot model of a motion made for another robot (default: the model "
+                        "the motion names: a humanoid profile's, see 'pivot-ompl robots')")
     p.add_argument("--fps", type=positive("--fps"), default=25.0,
                    help="animation keys per second of a motion replay (default 25)")
     p.set_defaults(func=run)

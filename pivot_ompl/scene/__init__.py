@@ -18,6 +18,11 @@ Format (a contract for users and outside tools)::
 
 Lengths in metres, angles in radians. Every error names the file, the field and the value.
 
+``robot.model`` names a humanoid profile (``pivot-ompl robots``: ``hrp2``, the default, or
+``talos``); its footprint, standoff, height and walk model are the defaults of the other
+``robot`` fields. A footprint given is kept where it is larger than the model's own (more
+cautious) and grown to it where smaller; ``walk`` fields given replace the model's.
+
 Limits (a scene outside them has no sensible plan; it is refused with the field named):
 coordinates within +-:data:`MAX_COORD` m, the floor area at most :data:`MAX_EXTENT` m on a side,
 box and footprint sides within [:data:`MIN_SIZE`, :data:`MAX_SIZE`] m, ``alpha_max`` within

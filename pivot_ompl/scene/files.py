@@ -5,9 +5,11 @@ from __future__ import annotations
 import hashlib
 import time
 from pathlib import Path
+from typing import Any
 
 from pivot_ompl.errors import SceneError
 from pivot_ompl.fileio import input_path, load_yaml, parse_deadline
+from pivot_ompl.humanoids import DEFAULT_MODEL
 from pivot_ompl.resources import shipped_scenes
 from pivot_ompl.scene.model import Scene
 from pivot_ompl.scene.reader import scene_from_dict
@@ -55,6 +57,9 @@ def scene_digest(scene: Scene) -> str:
     Not the name or the file: two files of one scene give one digest, and a plan records it
     (``scene_sha256``) so that a check against another scene says so first.
     """
-    text = repr((scene.bounds, scene.obstacles, scene.model, scene.start, scene.goal,
-                 scene.alpha_max, scene.turning_radius, scene.walk))
+    parts: tuple[Any, ...] = (scene.bounds, scene.obstacles, scene.model, scene.start,
+                              scene.goal, scene.alpha_max, scene.turning_radius, scene.walk)
+    if scene.robot_model != DEFAULT_MODEL:  # the default model's digests are as they were
+        parts += (scene.robot_model,)
+    text = repr(parts)
     return hashlib.sha256(text.encode()).hexdigest()

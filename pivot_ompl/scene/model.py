@@ -8,8 +8,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from pivot_ompl import hrp2
 from pivot_ompl.grasp import BoxGraspModel
+from pivot_ompl.humanoids import DEFAULT_MODEL, PROFILES, HumanoidProfile
 from pivot_ompl.se2 import Pose
 
 #: The controllability paper's set-up (Section V): box width (local x), depth, height (m).
@@ -84,13 +84,23 @@ class WalkParameters:
         turn_cost: cost of turning, metres of forward walking per radian (>= 0).
     """
 
-    step_forward: float = hrp2.STEP_FORWARD
-    step_backward: float = hrp2.STEP_BACKWARD
-    step_lateral: float = hrp2.STEP_LATERAL
-    step_turn: float = hrp2.STEP_TURN
-    side_cost: float = hrp2.STEP_FORWARD / hrp2.STEP_LATERAL
-    back_cost: float = hrp2.STEP_FORWARD / hrp2.STEP_BACKWARD
-    turn_cost: float = hrp2.STEP_FORWARD / hrp2.STEP_TURN
+    step_forward: float = PROFILES[DEFAULT_MODEL].step_forward
+    step_backward: float = PROFILES[DEFAULT_MODEL].step_backward
+    step_lateral: float = PROFILES[DEFAULT_MODEL].step_lateral
+    step_turn: float = PROFILES[DEFAULT_MODEL].step_turn
+    side_cost: float = step_forward / step_lateral
+    back_cost: float = step_forward / step_backward
+    turn_cost: float = step_forward / step_turn
+
+    @classmethod
+    def of_profile(cls, robot: HumanoidProfile, **given: float) -> WalkParameters:
+        """``robot``'s step limits with ``given`` fields; costs not given follow the limits."""
+        s = {"step_forward": robot.step_forward, "step_backward": robot.step_backward,
+             "step_lateral": robot.step_lateral, "step_turn": robot.step_turn, **given}
+        f = s["step_forward"]
+        costs = {"side_cost": f / s["step_lateral"], "back_cost": f / s["step_backward"],
+                 "turn_cost": f / s["step_turn"]}
+        return cls(**{**costs, **s})
 
     @property
     def turning_radius(self) -> float:
@@ -106,7 +116,7 @@ class Scene:
         name: scene name.
         bounds: ``(xmin, ymin, xmax, ymax)`` of the floor area (m).
         model: box and robot geometry (:class:`~pivot_ompl.grasp.BoxGraspModel`).
-        robot_model: robot model name (``"hrp2"``).
+        robot_model: the humanoid's profile name (:mod:`pivot_ompl.humanoids`).
         walk: how the robot walks alone (step limits, walking costs).
         alpha_max: bound on each pivot rotation (rad).
         turning_radius: Reeds-Shepp turning radius (m).
@@ -123,7 +133,7 @@ class Scene:
     obstacles: tuple[Obstacle, ...] = ()
     alpha_max: float = DEFAULT_ALPHA_MAX
     turning_radius: float = DEFAULT_TURNING_RADIUS
-    robot_model: str = "hrp2"
+    robot_model: str = DEFAULT_MODEL
     source: str = field(default="", compare=False)
     walk: WalkParameters = field(default_factory=WalkParameters)
 

@@ -12,9 +12,9 @@ from typing import Any
 import shapely.geometry
 import shapely.validation
 
-from pivot_ompl import hrp2
 from pivot_ompl.errors import InputError, Interrupted, SceneError
 from pivot_ompl.grasp import BoxGraspModel
+from pivot_ompl.humanoids import DEFAULT_MODEL, PROFILES, HumanoidProfile, profile_of
 from pivot_ompl.scene.model import (
     DEFAULT_ALPHA_MAX,
     DEFAULT_TURNING_RADIUS,
@@ -37,8 +37,8 @@ from pivot_ompl.scene.model import (
 )
 from pivot_ompl.se2 import Pose, wrap_angle
 
-ROBOT_MODELS = {"hrp2": {"footprint": hrp2.FOOTPRINT, "standoff": hrp2.STANDOFF,
-                         "height": hrp2.HEIGHT}}
+#: Known robot models (the humanoid profiles' names).
+ROBOT_MODELS = PROFILES
 
 
 class _Reader:
@@ -125,7 +125,7 @@ def scene_from_dict(doc: Any, *, source: str = "",
     size = r.vector(obj["size"], 3, "object.size", positive=True, lo=MIN_SIZE, hi=MAX_SIZE)
     robot = r.mapping(top.get("robot", {}), "robot", set(),
                       {"model", "footprint", "standoff", "walk"})
-    model_name = robot.get("model", "hrp2")
+    model_name = robot.get("model", DEFAULT_MODEL)
     if model_name not in ROBOT_MODELS:
         raise r.fail("robot.model", model_name,
                      f"unknown robot model (known: {sorted(ROBOT_MODELS)})")
@@ -133,9 +133,10 @@ def scene_from_dict(doc: Any, *, source: str = "",
     foot = (r.vector(robot["footprint"], 2, "robot.footprint", positive=True, lo=MIN_SIZE,
                      hi=MAX_SIZE)
             if "footprint" in robot else rm["footprint"])
+    foot = PROFILES[model_name].cautious_footprint(foot)  # type: ignore[arg-type]
     standoff = (r.number(robot["standoff"], "robot.standoff", nonneg=True, hi=MAX_SIZE)
                 if "standoff" in robot else rm["standoff"])
-    walk = _walk(r, robot.get("walk", {}))
+    walk = _walk(r, robot.get("walk", {}), PROFILES[model_name])
     piv = r.mapping(top.get("pivot", {}), "pivot", set(), {"alpha_max", "turning_radius"})
     alpha_max = r.number(piv.get("alpha_max", DEFAULT_ALPHA_MAX), "pivot.alpha_max",
                          positive=True, lo=MIN_ALPHA_MAX, hi=0.5 * math.pi)
@@ -154,7 +155,8 @@ def scene_from_dict(doc: Any, *, source: str = "",
         if should_stop is not None and should_stop():
             raise Interrupted("reading the scene")
         obstacles.append(_obstacle(r, o, f"obstacles[{i}]", should_stop))
-    model = BoxGraspModel(size, foot, standoff, rm["height"])  # type: ignore[arg-type]
+    model = BoxGraspModel(size, foot, standoff, rm["height"],  # type: ignore[arg-type]
+                          model_name)
     start = r.pose(top["start"], "start")
     goal = r.pose(top["goal"], "goal")
     for fld, pose in (("start", start), ("goal", goal)):
@@ -165,7 +167,7 @@ def scene_from_dict(doc: Any, *, source: str = "",
                  turning, model_name, source, walk=walk)
 
 
-def _walk(r: _Reader, raw: Any) -> WalkParameters:
+def _walk(r: _Reader, raw: Any, robot: HumanoidProfile) -> WalkParameters:
     """The ``robot.walk`` block: step limits (> 0) and walking costs (>= 1; turning >= 0)."""
     names = ("step_forward", "step_backward", "step_lateral", "step_turn", "side_cost",
              "back_cost", "turn_cost")
@@ -181,18 +183,13 @@ def _walk(r: _Reader, raw: Any) -> WalkParameters:
         if k == "step_turn" and v > 0.5 * math.pi:
             raise r.fail(fld, v, "must be <= pi/2 rad")
         out[k] = v
-    return WalkParameters(**out)
+    return WalkParameters.of_profile(robot, **out)
 
 
 def _robot_defaults(name: str) -> dict[str, Any]:
-    """Footprint, standoff and height of a robot model (HRP-2's derive from robots/hrp2)."""
-    base = dict(ROBOT_MODELS[name])
-    if name == "hrp2":
-        try:
-            base.update(hrp2.hrp2_floor_geometry())
-        except ImportError:  # no pinocchio: the preset constants
-            return base
-    return base
+    """Footprint, standoff and height of a robot model (its profile's)."""
+    p = profile_of(name)
+    return {"footprint": p.footprint, "standoff": p.standoff, "height": p.height}
 
 
 def obstacles_from_list(items: Any, *, source: str = "", field: str = "obstacles"

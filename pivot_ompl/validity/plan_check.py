@@ -20,8 +20,8 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from pivot_ompl import hrp2
 from pivot_ompl.grasp import BoxGraspModel
+from pivot_ompl.humanoids import profile_of
 from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose, rotate_about, wrap_angle
@@ -61,7 +61,8 @@ def check_plan(plan: Plan, scene: Scene | None = None, *, collisions: bool = Tru
         amax = scene.alpha_max
         _check_scene_match(rep, plan, scene)
     else:
-        model = BoxGraspModel(plan.object_size, plan.robot_footprint, plan.standoff, hrp2.HEIGHT)
+        model = BoxGraspModel(plan.object_size, plan.robot_footprint, plan.standoff,
+                              profile_of(plan.robot_model).height, plan.robot_model)
         amax = plan.alpha_max
     obj = plan.start
     robot: Pose | None = None
@@ -139,6 +140,9 @@ def _check_scene_match(rep: PlanCheckReport, plan: Plan, scene: Scene) -> None:
                        ("alpha_max", (plan.alpha_max,), (scene.alpha_max,))):
         if any(abs(x - y) > 1e-9 for x, y in zip(a, b, strict=True)):
             rep.problems.append(f"plan's {name} {list(a)} differs from the scene's {list(b)}")
+    if plan.robot_model != scene.robot_model:
+        rep.problems.append(f"plan's robot_model {plan.robot_model!r} differs from the "
+                            f"scene's {scene.robot_model!r}")
 
 
 def _rotation_clearance(dist: Callable[[Pose], float], conv: Callable[[Pose, int], Pose],

@@ -18,9 +18,9 @@ import meshcat
 import numpy as np
 
 from pivot_ompl.errors import InputError
+from pivot_ompl.humanoids import profile_of, urdf_file
 from pivot_ompl.motionfile import Motion
 from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
-from pivot_ompl.resources import data_path
 from pivot_ompl.scene import DEFAULT_OBJECT_SIZE, Scene
 from pivot_ompl.viz import draw
 from pivot_ompl.viz.animation import AnimationBuilder
@@ -32,7 +32,6 @@ from pivot_ompl.viz.urdf_visuals import RobotModel, draw_robot, load_robot
 log = logging.getLogger(__name__)
 
 FOOTSTEP_RATE = 50.0  # Hz, samples used to find resting feet
-SOLE_SIZE = (0.241, 0.138)  # m, HRP-2 sole, for footstep marks when the motion has none
 
 
 def resample_indices(t: np.ndarray, fps: float) -> np.ndarray:
@@ -93,14 +92,15 @@ def footsteps(tf: np.ndarray, t: np.ndarray, *, height_tol: float = 0.01,
 def resolve_urdf(motion: Motion, urdf: str | Path | None = None) -> Path:
     """The URDF to draw.
 
-    ``urdf`` if given, else the shipped model the motion names (``robots/hrp2/hrp2.urdf``).
+    ``urdf`` if given, else the model the motion names: a humanoid profile's URDF or a
+    shipped file (:func:`pivot_ompl.humanoids.urdf_file`).
 
     Raises:
-        InputError: the motion's ``urdf`` is not a shipped file.
+        InputError: the motion's ``urdf`` is neither, or the profile's data is not installed.
     """
     if urdf is not None:
         return Path(urdf)
-    return data_path(motion.urdf, field="motion.urdf")
+    return urdf_file(motion.urdf, field="motion.urdf")
 
 
 def show_motion(vis: meshcat.Visualizer, motion: Motion, *, scene: Scene | None = None,
@@ -235,7 +235,8 @@ def _draw_footsteps(vis: meshcat.Visualizer, model: Any, motion: Motion) -> int:
     wt = model.world_transforms(pose7_to_matrix(full[:, :7]),
                                 model.joint_values(full[:, 7:], motion.joint_names), feet)
     poses = [p for f in feet for p in footsteps(wt[f], motion.t[fine])]
-    return draw.draw_footsteps(vis["footsteps"], poses, motion.sole_size or SOLE_SIZE,
+    sole = motion.sole_size or profile_of(motion.model).sole_size
+    return draw.draw_footsteps(vis["footsteps"], poses, sole,
                                opacity=0.6)
 
 

@@ -11,8 +11,8 @@ from dataclasses import dataclass
 import meshcat
 import numpy as np
 
-from pivot_ompl import hrp2
 from pivot_ompl.grasp import BoxGraspModel
+from pivot_ompl.humanoids import profile_of
 from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose
@@ -126,7 +126,8 @@ def show_plan(vis: meshcat.Visualizer, scene: Scene | None, plan: Plan, *,
     """
     draw.check_view(vis, scene=scene, plan=(plan, Plan))
     model = BoxGraspModel(plan.object_size, plan.robot_footprint, plan.standoff,
-                          scene.model.robot_height if scene is not None else hrp2.HEIGHT)
+                          scene.model.robot_height if scene is not None
+                          else profile_of(plan.robot_model).height, plan.robot_model)
     bounds = None if scene is not None else plan_bounds(plan)
     draw.clear(vis)
     show_scene(vis, scene, bounds=bounds, camera=camera)

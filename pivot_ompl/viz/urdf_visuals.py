@@ -3,7 +3,10 @@
 Read with yourdfpy (no scene graph, no mesh loading by yourdfpy). The meshcat tree mirrors
 the kinematic tree: node ``<prefix>/<root>/<child>/.../<link>`` per link, so a revolute
 joint animates only its child's rotation. Visual geometry is sent as geometry (boxes,
-cylinders, spheres, or triangle meshes read from the URDF's mesh files), never as file refs.
+cylinders, spheres, or triangle meshes read from the URDF's mesh files), never as file refs;
+a mesh of more than :data:`MAX_MESH_FACES` triangles is decimated to that many
+(:mod:`pivot_ompl.viz.decimate`: Talos's 159 k triangles become 59 k, its fig10 replay 1.3 MB
+smaller).
 """
 
 from __future__ import annotations
@@ -20,11 +23,14 @@ import numpy as np
 import yourdfpy
 
 from pivot_ompl.errors import InputError
+from pivot_ompl.viz.decimate import decimate
 from pivot_ompl.viz.shapes import axis_angle
 
 log = logging.getLogger(__name__)
 
 LINK_COLOR = 0xa0a8b8
+#: Most triangles of one link mesh in a replay.
+MAX_MESH_FACES = 2000
 
 
 @dataclass(frozen=True)
@@ -189,7 +195,8 @@ def _mesh_geometry(model: RobotModel, mesh: yourdfpy.Mesh) -> tuple[g.Geometry, 
     if mesh.scale is not None:
         s = np.broadcast_to(np.asarray(mesh.scale, dtype=float), (3,))
         scale[:3, :3] = np.diag(s)
-    return g.TriangularMeshGeometry(tm.vertices, tm.faces), scale
+    vertices, faces = decimate(np.asarray(tm.vertices), np.asarray(tm.faces), MAX_MESH_FACES)
+    return g.TriangularMeshGeometry(vertices, faces), scale
 
 
 def visual_geometry(model: RobotModel, visual: yourdfpy.Visual) -> tuple[g.Geometry, np.ndarray]:

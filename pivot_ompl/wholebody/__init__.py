@@ -1,4 +1,4 @@
-"""Whole-body HRP-2 pivoting motion (PlaCo): generator, motion checks and their parts.
+"""Whole-body pivoting motion of a humanoid (PlaCo): generator, motion checks and their parts.
 
 * :mod:`.box` -- box, grasp-frame and grip-point kinematics (tilt 5 deg, grips on the held face);
 * :mod:`.settings` -- walking and solver parameters, their footstep limits from a scene's walk;

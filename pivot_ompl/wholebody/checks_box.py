@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 
+from pivot_ompl.humanoids import DEFAULT_MODEL, PROFILES, profile_of
 from pivot_ompl.planfile import TransferPhase, TransitPhase
 from pivot_ompl.wholebody.box import matrix_from_quat
 from pivot_ompl.wholebody.check_context import CheckContext, CheckResult, box_T, runs
@@ -81,8 +82,9 @@ def obstacles_result(cl: ClearanceReport, tol: float) -> CheckResult:
                        f" to {w.obstacle}; {cl.queries} queries, {cl.seconds:.1f} s", w.index)
 
 
-#: Links allowed to touch the box: the hands and fingers.
-CONTACT_LINKS = ("RARM_LINK5", "RARM_LINK6", "LARM_LINK5", "LARM_LINK6")
+#: Links allowed to touch the box: the hands and fingers (the default model's; each profile
+#: names its own: :attr:`~pivot_ompl.humanoids.HumanoidProfile.contact_links`).
+CONTACT_LINKS = PROFILES[DEFAULT_MODEL].contact_links
 
 
 def box_clearance(ctx: CheckContext, *, samples: int = 2000) -> CheckResult:
@@ -100,7 +102,7 @@ def box_clearance(ctx: CheckContext, *, samples: int = 2000) -> CheckResult:
     assert box_size is not None  # required by check_motion
     box = coal.Box(*[float(x) for x in box_size])
     keep = [k for k, g in enumerate(geom.geometryObjects)
-            if not any(g.name.startswith(n) for n in CONTACT_LINKS)]
+            if not g.name.startswith(profile_of(motion.model).contact_links)]
     req, res = coal.DistanceRequest(), coal.DistanceResult()
     worst, where, wi = math.inf, "", -1
     stride = max(1, len(motion.t) // samples)

@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from pivot_ompl.hrp2 import SOLE_SIZE
+from pivot_ompl.humanoids import profile_of
 from pivot_ompl.motionfile import SUPPORT_DOUBLE, SUPPORT_LEFT, SUPPORT_RIGHT
 from pivot_ompl.planfile import TransitPhase
 from pivot_ompl.wholebody.check_context import CheckContext, CheckResult, box_T, runs
@@ -58,7 +58,7 @@ def zmp(ctx: CheckContext) -> CheckResult:
     motion, kin, t = ctx.motion, ctx.kin, ctx.motion.t
     support, phase = ctx.array("support"), ctx.array("phase")
     p = lipm_zmp(t, kin.com)
-    sole = np.asarray(motion.sole_size or SOLE_SIZE)
+    sole = np.asarray(motion.sole_size or profile_of(motion.model).sole_size)
     worst, where, wi = math.inf, "", -1
     for i in range(len(t)):
         s = support[i]

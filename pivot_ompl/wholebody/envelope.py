@@ -124,7 +124,8 @@ def floor_excursion(motion: Motion, plan: Plan, *, stride: int = 10,
 
     assert motion.phase is not None and motion.box_size is not None  # noqa: S101
     assert motion.tilt is not None  # noqa: S101
-    model_g = BoxGraspModel(plan.object_size, plan.robot_footprint, plan.standoff)
+    model_g = BoxGraspModel(plan.object_size, plan.robot_footprint, plan.standoff,
+                            robot_model=plan.robot_model)
     hold = BoxHold(tuple(float(x) for x in motion.box_size))  # type: ignore[arg-type]
     robot = load_urdf_model(motion.urdf)
     model, geom = robot.model, robot.geom

@@ -11,22 +11,32 @@ first), as PlaCo's ``make_supports`` expects, and the feet alternate after them.
 
 from __future__ import annotations
 
+import functools
 import logging
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from pivot_ompl.hrp2 import SOLE_SIZE
 from pivot_ompl.se2 import Pose, wrap_angle
 from pivot_ompl.wholebody.box import rot_z, transform
 from pivot_ompl.wholebody.settings import WalkSettings
 
 log = logging.getLogger(__name__)
 
-#: The sole's corners in its own frame (homogeneous columns).
-_SOLE_CORNERS = np.array([[x, y, 0.0, 1.0] for x in (0.5 * SOLE_SIZE[0], -0.5 * SOLE_SIZE[0])
-                          for y in (0.5 * SOLE_SIZE[1], -0.5 * SOLE_SIZE[1])]).T
+def _sole_corners(sole: tuple[float, float]) -> np.ndarray:
+    """The sole's corners in its own frame (homogeneous columns)."""
+    return _corners(float(sole[0]), float(sole[1]))
+
+
+@functools.lru_cache(maxsize=8)
+def _corners(length: float, width: float) -> np.ndarray:
+    out = np.array([[x, y, 0.0, 1.0] for x in (0.5 * length, -0.5 * length)
+                    for y in (0.5 * width, -0.5 * width)]).T
+    out.flags.writeable = False
+    return out
+
+
 #: Most steps :func:`pivot_footsteps` tries before it gives up.
 MAX_PIVOT_STEPS = 8
 
@@ -126,9 +136,11 @@ def reachable(T_fly: np.ndarray, T_support: np.ndarray, *, left: bool,
             return False
     # soles apart: the flying sole's corners beyond the support sole's inner side
     # and the support sole's corners beyond the flying sole's, by the gap
-    hy = 0.5 * SOLE_SIZE[1]
-    a = sign * (rel @ _SOLE_CORNERS)[1]
-    b = -sign * (np.linalg.inv(rel) @ _SOLE_CORNERS)[1]
+    sole = s.profile.sole_size
+    hy = 0.5 * sole[1]
+    corners = _sole_corners(sole)
+    a = sign * (rel @ corners)[1]
+    b = -sign * (np.linalg.inv(rel) @ corners)[1]
     return bool(a.min() >= hy + s.sole_gap and b.min() >= hy + s.sole_gap)
 
 

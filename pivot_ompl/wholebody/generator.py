@@ -1,4 +1,4 @@
-"""Whole-body pivoting motion of HRP-2 from a ``pivot-plan/1`` plan (PlaCo).
+"""Whole-body pivoting motion of the plan's humanoid from a ``pivot-plan/1`` plan (PlaCo).
 
 Timeline of a **transfer phase** (grasp ``k``), each part a segment of solver ticks:
 
@@ -43,6 +43,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from pivot_ompl.errors import InputError, WholeBodyError
+from pivot_ompl.humanoids import profile_of
 from pivot_ompl.motionfile import Motion
 from pivot_ompl.planfile import Plan, TransferPhase, TransferStep, TransitPhase
 from pivot_ompl.se2 import Pose, rotate_about, wrap_angle
@@ -117,7 +118,10 @@ class WholeBodyGenerator:
         if not 0.0 <= tilt < math.radians(20):
             raise InputError("tilt", tilt, "must be in [0, 20 deg)")
         self.plan = plan
-        self.settings = settings or WalkSettings()
+        self.settings = settings or WalkSettings.of(profile_of(plan.robot_model))
+        if self.settings.robot != plan.robot_model:
+            raise InputError("settings.robot", self.settings.robot,
+                             f"the plan is for {plan.robot_model!r}")
         self.timing = timing or Timing()
         self.hold = BoxHold(tuple(plan.object_size), tilt=tilt)  # type: ignore[arg-type]
         self.progress = progress

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pivot_ompl.humanoids import DEFAULT_MODEL, PROFILES, profile_of
 from pivot_ompl.motionfile import Motion
 
 __all__ = ["ACCEL_LIMIT", "BOX_ANGULAR_ACCEL_LIMIT", "UPPER_ACCEL_LIMIT", "UPPER_JOINTS",
@@ -32,14 +33,19 @@ UPPER_ACCEL_LIMIT = 30.0
 ACCEL_LIMIT = 50.0
 #: Largest angular acceleration of the box while the hands hold it (rad/s²).
 BOX_ANGULAR_ACCEL_LIMIT = 5.0
-#: Name prefixes of the joints held to :data:`UPPER_ACCEL_LIMIT`.
-UPPER_JOINTS = ("RARM", "LARM", "CHEST", "HEAD")
+#: Name prefixes of the default model's joints held to :data:`UPPER_ACCEL_LIMIT` (each
+#: profile has its own: :attr:`~pivot_ompl.humanoids.HumanoidProfile.upper_prefixes`).
+UPPER_JOINTS = PROFILES[DEFAULT_MODEL].upper_prefixes
 
 
 def accel_limit_of(joint: str, *, upper: float = UPPER_ACCEL_LIMIT,
-                   other: float = ACCEL_LIMIT) -> float:
-    """The acceleration limit of ``joint`` (rad/s²): ``upper`` for arms, chest and head."""
-    return upper if joint.startswith(UPPER_JOINTS) else other
+                   other: float = ACCEL_LIMIT,
+                   upper_joints: tuple[str, ...] = UPPER_JOINTS) -> float:
+    """The acceleration limit of ``joint`` (rad/s²).
+
+    ``upper`` for arms, chest and head (the joints named by a prefix of ``upper_joints``).
+    """
+    return upper if joint.startswith(upper_joints) else other
 
 
 @dataclass(frozen=True)
@@ -118,6 +124,7 @@ def joint_peaks(motion: Motion, velocity_limits: np.ndarray, *,
         acc = np.abs(np.diff(v, axis=0)) / (0.5 * (dt[1:] + dt[:-1]))[:, None]
     else:
         acc = np.zeros((0, q.shape[1]))
+    upper_joints = profile_of(motion.model, field="motion.robot_model").upper_prefixes
     for j, name in enumerate(motion.joint_names):
         iv = int(np.argmax(vel[:, j])) if len(vel) else -1
         ia = int(np.argmax(acc[:, j])) if len(acc) else -1
@@ -126,5 +133,6 @@ def joint_peaks(motion: Motion, velocity_limits: np.ndarray, *,
             float(vel[iv, j]) if iv >= 0 else 0.0, float(t[iv + 1]) if iv >= 0 else 0.0,
             float(velocity_limits[j]),
             float(acc[ia, j]) if ia >= 0 else 0.0, float(t[ia + 1]) if ia >= 0 else 0.0,
-            accel_limit_of(str(name), upper=upper_accel, other=accel)))
+            accel_limit_of(str(name), upper=upper_accel, other=accel,
+                           upper_joints=upper_joints)))
     return JointPeaks(tuple(out))

@@ -8,6 +8,7 @@ import math
 from typing import TYPE_CHECKING
 
 from pivot_ompl.errors import InputError
+from pivot_ompl.humanoids import profile_of
 from pivot_ompl.motionfile import Motion
 from pivot_ompl.planfile import Plan
 from pivot_ompl.wholebody.box import DEFAULT_TILT
@@ -32,8 +33,8 @@ def generate_motion(plan: Plan, *, walk: WalkParameters | None = None,
     Args:
         plan: the pivoting plan.
         walk: the scene's walk model (``Scene.walk``): the footstep limits follow it
-            (:meth:`WalkSettings.from_walk`); HRP-2's when neither it nor ``settings`` is
-            given.
+            (:meth:`WalkSettings.from_walk`); the plan's robot's when neither it nor
+            ``settings`` is given.
         settings: walking and solver parameters (instead of ``walk``).
         timing: segment durations and tolerances.
         tilt: inclination of the held box about its supporting edge (rad).
@@ -49,16 +50,18 @@ def generate_motion(plan: Plan, *, walk: WalkParameters | None = None,
     if walk is not None:
         if settings is not None:
             raise InputError("walk", walk, "give the walk model or the settings, not both")
-        settings = WalkSettings.from_walk(walk)
+        settings = WalkSettings.from_walk(walk, robot=profile_of(plan.robot_model))
         log.debug("footstep limits of the scene's walk model: %s", walk)
     if dt is not None:
         if not (math.isfinite(dt) and dt > 0.0):
             raise InputError("dt", dt, "must be a finite tick > 0 s")
-        settings = dataclasses.replace(settings or WalkSettings(), dt=dt)
+        settings = dataclasses.replace(settings or WalkSettings.of(profile_of(plan.robot_model)),
+                                       dt=dt)
     if substeps is not None:
         if isinstance(substeps, bool) or not isinstance(substeps, int) or not 1 <= substeps <= 8:
             raise InputError("substeps", substeps, "must be an integer in [1, 8]")
-        settings = dataclasses.replace(settings or WalkSettings(), substeps=substeps)
+        settings = dataclasses.replace(settings or WalkSettings.of(profile_of(plan.robot_model)),
+                                       substeps=substeps)
     gen = WholeBodyGenerator(plan, settings=settings, timing=timing, tilt=tilt,
                              progress=progress)
     motion = gen.run()

@@ -48,6 +48,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pivot_ompl.errors import InputError
+from pivot_ompl.humanoids import profile_of
 from pivot_ompl.motionfile import DYNAMICS, Motion
 from pivot_ompl.planfile import Plan
 from pivot_ompl.scene import Scene
@@ -60,9 +61,7 @@ from pivot_ompl.wholebody.check_context import (
 )
 from pivot_ompl.wholebody.clearance import ClearanceReport
 from pivot_ompl.wholebody.joint_peaks import (
-    ACCEL_LIMIT,
     BOX_ANGULAR_ACCEL_LIMIT,
-    UPPER_ACCEL_LIMIT,
     JointPeaks,
 )
 from pivot_ompl.wholebody.lipm import lipm_zmp
@@ -162,8 +161,8 @@ def _all_finite(motion: Motion) -> CheckResult:
 def check_motion(motion: Motion, plan: Plan | None = None, *, scene: Scene | None = None,
                  zmp_tolerance: float = 0.0, foot_tolerance: float = 1e-3,
                  hand_tolerance: float = 0.01, corner_tolerance: float = 1e-3,
-                 upper_accel_limit: float = UPPER_ACCEL_LIMIT,
-                 accel_limit: float = ACCEL_LIMIT,
+                 upper_accel_limit: float | None = None,
+                 accel_limit: float | None = None,
                  box_accel_limit: float = BOX_ANGULAR_ACCEL_LIMIT,
                  obstacle_tolerance: float = 0.01) -> MotionReport:
     """Run every check on ``motion`` (and against ``plan`` when given).
@@ -176,8 +175,10 @@ def check_motion(motion: Motion, plan: Plan | None = None, *, scene: Scene | Non
         foot_tolerance: feet slide/sink limit (m).
         hand_tolerance: hand-to-grip limit (m).
         corner_tolerance: pivot corner / box pose limit (m).
-        upper_accel_limit: largest acceleration of an arm, chest or head joint (rad/s^2).
-        accel_limit: largest acceleration of any other joint (rad/s^2).
+        upper_accel_limit: largest acceleration of an arm, chest or head joint (rad/s^2;
+            default the motion's robot profile's, :data:`UPPER_ACCEL_LIMIT` for HRP-2).
+        accel_limit: largest acceleration of any other joint (rad/s^2; default the
+            profile's, :data:`ACCEL_LIMIT` for HRP-2).
         box_accel_limit: largest angular acceleration of the held box (rad/s^2).
         scene: the scene of the motion: enables the ``obstacles`` check.
         obstacle_tolerance: smallest accepted clearance of a link or the box to an
@@ -199,6 +200,11 @@ def check_motion(motion: Motion, plan: Plan | None = None, *, scene: Scene | Non
     if not finite.passed:  # NaN would make every other check meaningless (or PASS)
         return rep
     robot = load_urdf_model(motion.urdf)
+    profile = profile_of(motion.model, field="motion.robot_model")
+    if upper_accel_limit is None:
+        upper_accel_limit = profile.upper_accel_limit
+    if accel_limit is None:
+        accel_limit = profile.leg_accel_limit
     tol = Tolerances(zmp=zmp_tolerance, foot=foot_tolerance, hand=hand_tolerance,
                      corner=corner_tolerance, upper_accel=upper_accel_limit, accel=accel_limit,
                      box_accel=box_accel_limit, obstacle=obstacle_tolerance)

@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pivot_ompl.hrp2 import SOLE_SIZE, URDF_RELPATH
+from pivot_ompl.humanoids import DEFAULT_MODEL, profile_of
 from pivot_ompl.motionfile import Motion
 from pivot_ompl.planfile import Plan
 from pivot_ompl.wholebody.blend import blend, blend_quaternions, sample_labels, sample_support
@@ -128,9 +128,11 @@ class Recorder:
         def labels(values: list, dtype: type) -> np.ndarray:
             return sample_labels(np.array(values, dtype=dtype), m)
 
+        robot = profile_of(plan.robot_model)
         return Motion(
             t=t, q=q, joint_names=joint_names,
-            urdf=URDF_RELPATH, box=box, com=blend(np.array(self.com), m),
+            robot_model="" if robot.name == DEFAULT_MODEL else robot.name,
+            urdf=robot.urdf_name, box=box, com=blend(np.array(self.com), m),
             zmp=blend(np.array([s.zmp for s in ss]), m),
             support=sample_support(np.array([s.support for s in ss], dtype=int), m),
             phase=labels([s.phase for s in ss], int),
@@ -139,7 +141,7 @@ class Recorder:
             grasp=labels([s.grasp for s in ss], int),
             tilt=blend(np.array([s.tilt for s in ss]), m),
             box_size=tuple(float(x) for x in plan.object_size),  # type: ignore[arg-type]
-            grip_box=grip, sole_size=SOLE_SIZE, scene=plan.scene,
+            grip_box=grip, sole_size=robot.sole_size, scene=plan.scene,
             scene_path=_text(plan.extra.get("scene_path")),
             scene_sha256=_text(plan.extra.get("scene_sha256")))
 

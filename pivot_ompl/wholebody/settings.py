@@ -6,7 +6,7 @@ import logging
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from pivot_ompl import hrp2
+from pivot_ompl.humanoids import DEFAULT_MODEL, HumanoidProfile, profile_of
 from pivot_ompl.wholebody.lipm import omega
 
 if TYPE_CHECKING:
@@ -14,12 +14,11 @@ if TYPE_CHECKING:
 
 log = logging.getLogger(__name__)
 
-#: How far a foot may land outside its nominal place beside the support foot (m): 9 deg of
-#: hip roll per leg, of HRP-2's 35 deg outward.
-FOOT_DY_OUT = 0.18
-#: Largest yaw between the two feet (rad), split between the two hip yaw joints (each
-#: limited to 30 deg inward).
-FOOT_DTHETA = 0.40
+_DEFAULT = profile_of(DEFAULT_MODEL)
+#: The default model's legs: how far a foot may land outside its nominal place (m) and the
+#: largest yaw between the two feet (rad) (:attr:`HumanoidProfile.foot_dy_out`, ``foot_dtheta``).
+FOOT_DY_OUT = _DEFAULT.foot_dy_out
+FOOT_DTHETA = _DEFAULT.foot_dtheta
 
 
 @dataclass(frozen=True)
@@ -70,6 +69,8 @@ class WalkSettings:
             :class:`~pivot_ompl.wholebody.joint_damper.JointDamper`).
         seed: seed of PlaCo's own pseudo-random generator (``placo.seed``), set when the
             robot is set up, so that a plan gives the same motion on every run.
+        robot: the humanoid's profile name (:mod:`pivot_ompl.humanoids`); the other
+            defaults are the default model's (:meth:`of` takes a profile's).
     """
 
     dt: float = 0.005
@@ -78,13 +79,13 @@ class WalkSettings:
     single_support_timesteps: int = 14
     double_support_ratio: float = 0.2
     startend_double_support_ratio: float = 1.0
-    com_height: float = 0.79
+    com_height: float = _DEFAULT.com_height
     foot_height: float = 0.04
-    feet_spacing: float = 0.20
-    max_dx_forward: float = hrp2.STEP_FORWARD
-    max_dx_backward: float = hrp2.STEP_BACKWARD
-    max_dy: float = hrp2.STEP_LATERAL
-    max_dtheta: float = hrp2.STEP_TURN
+    feet_spacing: float = _DEFAULT.feet_spacing
+    max_dx_forward: float = _DEFAULT.step_forward
+    max_dx_backward: float = _DEFAULT.step_backward
+    max_dy: float = _DEFAULT.step_lateral
+    max_dtheta: float = _DEFAULT.step_turn
     zmp_margin: float = 0.03
     foot_offset: float = 0.0
     hand_position_weight: float = 1000.0
@@ -96,8 +97,26 @@ class WalkSettings:
     foot_dy_in: float = 0.03
     foot_dtheta: float = FOOT_DTHETA
     sole_gap: float = 0.02
-    upper_accel: float = 20.0
+    upper_accel: float = _DEFAULT.upper_accel
     seed: int = 1
+    robot: str = DEFAULT_MODEL
+
+    @property
+    def profile(self) -> HumanoidProfile:
+        """The humanoid's profile."""
+        return profile_of(self.robot, field="settings.robot")
+
+    @classmethod
+    def of(cls, robot: HumanoidProfile, **overrides: Any) -> WalkSettings:
+        """The settings of ``robot`` (its steps, legs, CoM height, feet spacing)."""
+        fields: dict[str, Any] = {
+            "robot": robot.name, "com_height": robot.com_height,
+            "feet_spacing": robot.feet_spacing, "max_dx_forward": robot.step_forward,
+            "max_dx_backward": robot.step_backward, "max_dy": robot.step_lateral,
+            "max_dtheta": robot.step_turn, "foot_dy_out": robot.foot_dy_out,
+            "foot_dtheta": robot.foot_dtheta, "upper_accel": robot.upper_accel}
+        fields.update(overrides)
+        return cls(**fields)
 
     @property
     def solver_dt(self) -> float:
@@ -110,7 +129,8 @@ class WalkSettings:
         return omega(self.com_height)
 
     @classmethod
-    def from_walk(cls, walk: WalkParameters, **overrides: Any) -> WalkSettings:
+    def from_walk(cls, walk: WalkParameters, *, robot: HumanoidProfile | None = None,
+                  **overrides: Any) -> WalkSettings:
         """Settings whose footstep limits follow the scene's walk model ``walk``.
 
         A foot lands at most ``walk.step_forward`` ahead of and ``walk.step_backward``
@@ -118,16 +138,18 @@ class WalkSettings:
         half the flying foot's displacement, advances at most that much per step on a
         straight walk); PlaCo's naive planner gets ``step_lateral`` and ``step_turn``; the
         legs' outward range :attr:`foot_dy_out` and yaw range :attr:`foot_dtheta` shrink in
-        proportion to ``step_lateral`` and ``step_turn`` against HRP-2's
-        (:data:`pivot_ompl.hrp2.STEP_LATERAL`, :data:`~pivot_ompl.hrp2.STEP_TURN`) and never
-        exceed the legs' own (:data:`FOOT_DY_OUT`, :data:`FOOT_DTHETA`). HRP-2's walk model
-        gives the default settings. ``overrides`` set any other field.
+        proportion to ``step_lateral`` and ``step_turn`` against the profile's and never
+        exceed the legs' own (``foot_dy_out``, ``foot_dtheta`` of ``robot``, the default
+        model's when ``None``). The profile's walk model gives its default settings.
+        ``overrides`` set any other field.
         """
-        lateral = min(1.0, walk.step_lateral / hrp2.STEP_LATERAL)
-        turn = min(1.0, walk.step_turn / hrp2.STEP_TURN)
+        robot = robot or _DEFAULT
+        lateral = min(1.0, walk.step_lateral / robot.step_lateral)
+        turn = min(1.0, walk.step_turn / robot.step_turn)
         limits: dict[str, Any] = {
             "max_dx_forward": walk.step_forward, "max_dx_backward": walk.step_backward,
             "max_dy": walk.step_lateral, "max_dtheta": walk.step_turn,
-            "foot_dy_out": FOOT_DY_OUT * lateral, "foot_dtheta": FOOT_DTHETA * turn}
+            "foot_dy_out": robot.foot_dy_out * lateral,
+            "foot_dtheta": robot.foot_dtheta * turn}
         limits.update(overrides)
-        return cls(**limits)
+        return cls.of(robot, **limits)

@@ -6,7 +6,7 @@ import logging
 from dataclasses import dataclass
 from typing import Any
 
-from pivot_ompl.resources import data_path
+from pivot_ompl.humanoids import urdf_file
 
 log = logging.getLogger(__name__)
 
@@ -27,14 +27,16 @@ class UrdfModel:
 
 
 def load_urdf_model(urdf: str, *, field: str = "motion.urdf") -> UrdfModel:
-    """Build the pinocchio model and collision geometry of ``urdf`` (a data path).
+    """Build the pinocchio model and collision geometry of ``urdf``.
+
+    ``urdf`` is a humanoid profile's URDF name, or a shipped file's data path.
 
     Raises:
         InputError: the file is not found (``field`` names where it was given).
     """
     import pinocchio as pin
 
-    path = data_path(urdf, field=field)
+    path = urdf_file(urdf, field=field)
     model = pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())
     geom = pin.buildGeomFromUrdf(model, str(path), pin.GeometryType.COLLISION)
     log.debug("built the pinocchio model of %s: nq %d, %d collision geometries", urdf,

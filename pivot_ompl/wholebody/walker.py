@@ -1,4 +1,6 @@
-"""PlaCo whole-body controller for HRP-2: walk pattern generator, kinematics solver and tasks.
+"""PlaCo whole-body controller of a humanoid: walk pattern generator, kinematics solver, tasks.
+
+The humanoid is the settings' profile (:mod:`pivot_ompl.humanoids`): its model and postures.
 
 Tasks (PlaCo ``KinematicsSolver``, one QP per tick of :attr:`WalkSettings.solver_dt`):
 
@@ -23,7 +25,6 @@ import logging
 
 import numpy as np
 
-from pivot_ompl.hrp2 import HALF_SITTING, SOLE_SIZE, urdf_path
 from pivot_ompl.se2 import Pose, wrap_angle
 from pivot_ompl.wholebody import footsteps
 from pivot_ompl.wholebody.box import rot_z
@@ -37,20 +38,15 @@ __all__ = ["PlacoWalker", "SolverFailure", "WalkSettings", "planar", "pose_matri
 
 log = logging.getLogger(__name__)
 
-#: Posture targets of the upper body: chest and head upright, upper arms slightly inward
-#: (shoulder roll 0.15 rad) and elbows bent 0.9 rad, so that the arms stay inside the 0.70 m
-#: wide floor box while the trunk sways over the feet.
-UPPER_POSTURE = {k: v for k, v in HALF_SITTING.items() if not k.startswith(("RLEG", "LLEG"))}
-UPPER_POSTURE.update({"RARM_JOINT0": 0.15, "LARM_JOINT0": 0.15, "RARM_JOINT1": 0.15,
-                      "LARM_JOINT1": -0.15, "RARM_JOINT3": -0.5, "LARM_JOINT3": -0.5})
-
 
 class SolverFailure(RuntimeError):
     """The QP of one tick failed (infeasible or numerical failure)."""
 
 
 class PlacoWalker:
-    """HRP-2 in PlaCo, stepping one solver tick at a time (see the module docstring).
+    """A humanoid in PlaCo, stepping one solver tick at a time (see the module docstring).
+
+    The robot is ``settings.robot``'s profile: its URDF, half-sitting and upper-body posture.
 
     Args:
         settings: walking and solver parameters.
@@ -64,7 +60,9 @@ class PlacoWalker:
         self.settings = s = settings
         self.swing = SwingFoot(s)
         placo.seed(s.seed)  # PlaCo's own pseudo-random generator: the same motion every run
-        robot = placo.HumanoidRobot(str(urdf_path()), placo.Flags.ignore_collisions)
+        profile = s.profile
+        robot = placo.HumanoidRobot(str(profile.solver_urdf_path()),
+                                    placo.Flags.ignore_collisions)
         self.robot = robot
         self.params = humanoid_parameters(settings)
 
@@ -76,12 +74,20 @@ class PlacoWalker:
         tasks.initialize_tasks(solver, robot)
         self.tasks = tasks
 
-        for name, value in HALF_SITTING.items():
+        for name, value in profile.half_sitting.items():
             robot.set_joint(name, value)
-        for name, value in UPPER_POSTURE.items():
+        for name, value in {**profile.upper_posture, **profile.fixed_joints}.items():
             robot.set_joint(name, value)
         robot.update_kinematics()
         tasks.reach_initial_pose(np.eye(4), s.feet_spacing, s.com_height, 0.0)
+        # PlaCo's initial pose moves every joint: put back those held still (and the upper
+        # posture, where the profile asks)
+        repose = dict(profile.upper_posture) if profile.repose_upper else {}
+        repose.update(profile.fixed_joints)
+        for name, value in repose.items():
+            robot.set_joint(name, value)
+        if repose:
+            robot.update_kinematics()
         for name, task in (("left_foot", tasks.left_foot_task),
                            ("right_foot", tasks.right_foot_task)):
             task.configure(name, "hard", 1.0, 1.0)
@@ -90,18 +96,20 @@ class PlacoWalker:
         # feasible steps, half the QP's inequality rows)
         solver.enable_velocity_limits(False)
         solver.enable_joint_limits(True)
+        for name in profile.fixed_joints:
+            solver.mask_dof(name)
 
         posture = solver.add_joints_task()
-        posture.set_joints(dict(UPPER_POSTURE))
+        posture.set_joints(dict(profile.upper_posture))
         posture.configure("posture", "soft", s.posture_weight)
-        legs = {k: v for k, v in HALF_SITTING.items() if k.startswith(("RLEG", "LLEG"))}
+        legs = profile.leg_posture()
         leg_posture = solver.add_joints_task()
         leg_posture.set_joints(legs)
         leg_posture.configure("leg_posture", "soft", 1e-5)
         solver.add_regularization_task(1e-6)
         #: the arms, chest and head, which only follow the box, brake before their limits
         #: and change their speed by at most ``upper_accel`` a second at any time
-        upper = [j for j in UPPER_POSTURE if j in robot.joint_names()]
+        upper = [j for j in profile.upper_posture if j in robot.joint_names()]
         self.damper = JointDamper(robot, list(robot.joint_names()), accel=s.upper_accel,
                                   dt=s.solver_dt, smooth=upper, damped=upper)
 
@@ -149,7 +157,7 @@ class PlacoWalker:
         # happen before anything is recorded, then settle again with the rest hand targets
         # that the generator uses (trunk-relative), so the first recorded tick is at rest
         self.stand()
-        n = int(round(self.PRESETTLE / s.solver_dt))
+        n = int(round(max(self.PRESETTLE, s.profile.settle_time) / s.solver_dt))
         for _ in range(n):
             self.tick(0.0, None, T_l, T_r)
         T_trunk_inv = np.linalg.inv(self.trunk_frame())
@@ -348,7 +356,7 @@ class PlacoWalker:
 
 
 def humanoid_parameters(settings: WalkSettings):  # noqa: ANN201 - a placo.HumanoidParameters
-    """PlaCo's walk parameters from ``settings`` (HRP-2's sole, no trunk pitch)."""
+    """PlaCo's walk parameters from ``settings`` (the profile's sole, no trunk pitch)."""
     import placo
 
     s = settings
@@ -362,8 +370,7 @@ def humanoid_parameters(settings: WalkSettings):  # noqa: ANN201 - a placo.Human
     P.walk_foot_height = s.foot_height
     P.walk_trunk_pitch = 0.0
     P.walk_foot_rise_ratio = 0.2
-    P.foot_length = SOLE_SIZE[0]
-    P.foot_width = SOLE_SIZE[1]
+    P.foot_length, P.foot_width = s.profile.sole_size
     P.feet_spacing = s.feet_spacing
     P.zmp_margin = s.zmp_margin
     P.foot_zmp_target_x = 0.0

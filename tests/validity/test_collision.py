@@ -102,9 +102,11 @@ def test_walking_body_reaches_as_far_as_the_knees(monkeypatch):
     y = 5.19; the footprint's front (0.20 m ahead) cleared it, a bent knee (0.30 m ahead) was
     75 mm inside.
     """
+    import dataclasses
+
     from factories import shipped
 
-    from pivot_ompl import hrp2
+    from pivot_ompl.humanoids import PROFILES
 
     scene = shipped("fig10_narrow")
     robot = (8.21, 5.40, -0.5 * math.pi)
@@ -112,7 +114,8 @@ def test_walking_body_reaches_as_far_as_the_knees(monkeypatch):
     assert ahead >= 0.30 and behind >= 0.26 and half >= 0.42
     assert CollisionWorld.from_scene(scene).robot_distance(robot) < 0.0
     # the footprint alone (the walking body before) passed the same pose
-    monkeypatch.setattr(hrp2, "WALK_ENVELOPE", (0.0, 0.0, 0.0))
+    monkeypatch.setitem(PROFILES, "hrp2",
+                        dataclasses.replace(PROFILES["hrp2"], walk_envelope=(0.0, 0.0, 0.0)))
     assert CollisionWorld.from_scene(scene).robot_distance(robot) > 0.0
 
 

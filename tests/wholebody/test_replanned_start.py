@@ -22,8 +22,7 @@ def _first_sample(plan):
     """The first sample's box pose and robot pose (generation stopped after one unit)."""
     import pinocchio as pin
 
-    from pivot_ompl.resources import data_path
-    from pivot_ompl.wholebody.recording import URDF_RELPATH
+    from pivot_ompl.resources import URDF_RELPATH, data_path
 
     def stop(fraction, label):
         raise _Stop(label)
