@@ -13,6 +13,7 @@ from typing import Any
 from ompl import util as ou
 
 from pivot_ompl.analysis.bound_cache import lower_bound
+from pivot_ompl.analysis.passage import Passage, explain_no_plan
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.base.problem import make_setup
 from pivot_ompl.base.state import read_state
@@ -47,6 +48,9 @@ MAX_SEED = 2**32 - 2
 MIN_SOLVE_TIME = 1e-3
 #: Longest a first computation of a scene's lower bounds may take (s); then they are ``null``.
 BOUND_TIME_LIMIT = 10.0
+#: Share of the time limit in which the relaxation may prove, before the search, that no plan
+#: exists (then :func:`plan` returns ``INFEASIBLE`` with the reason at once).
+PROOF_SHARE = 0.08
 
 
 @dataclass
@@ -67,6 +71,10 @@ class PlanResult:
         search: the regrasp planner's roadmaps (for plotting), ``None`` for other planners.
         scene: the scene planned (read from its file when :func:`plan` was given a path;
             ``None`` when the time limit ran out while it was read).
+        infeasible_reason: with status ``INFEASIBLE`` (the regrasp bound's relaxation proves
+            that no plan exists), one line saying why: which passage, where, its width, what
+            needs what (:mod:`pivot_ompl.analysis.passage`); ``None`` otherwise.
+        passage: with ``INFEASIBLE``, the passage that blocks every plan, if one does.
     """
 
     status: str
@@ -79,6 +87,8 @@ class PlanResult:
     motion_checks: dict[str, int] = field(default_factory=dict)
     search: Any = field(default=None, repr=False)
     scene: Scene | None = field(default=None, repr=False)
+    infeasible_reason: str | None = None
+    passage: Passage | None = field(default=None, repr=False)
 
     @property
     def solved(self) -> bool:
@@ -164,6 +174,12 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     except Interrupted as e:
         return _stopped_in_setup(scene, planner, seed, time_limit, e.what,
                                  time.perf_counter() - t0)
+    if bound:
+        proof = explain_no_plan(scene, should_stop=lambda: time.monotonic() >= started +
+                                PROOF_SHARE * time_limit)
+        if proof is not None:
+            return _infeasible(scene, planner, seed, time_limit, proof,
+                               time.perf_counter() - t0)
     p, config = _planner_for(problem, planner, seed=seed, config=config, resume=resume,
                              start_grasp=start_grasp)
     t1 = time.perf_counter()
@@ -218,6 +234,23 @@ def _stopped_in_setup(scene: Scene | str | os.PathLike, planner: str, seed: int,
     timings = {"setup": spent, "solve": 0.0, "convert": 0.0}
     return PlanResult("TIMEOUT", empty, planner, seed, time_limit, timings,
                       scene=scene if isinstance(scene, Scene) else None)
+
+
+def _infeasible(scene: Scene, planner: str, seed: int, time_limit: float,
+                proof: tuple[str, Passage | None], spent: float) -> PlanResult:
+    """The ``INFEASIBLE`` result of a scene the relaxation proves has no plan."""
+    reason, passage = proof
+    log.info("%s: no plan exists (proven by the relaxation in %.2f s)", scene.name, spent)
+    extra: dict[str, Any] = {"planner": planner, "seed": seed, "time_limit": time_limit,
+                             **_scene_record(scene), "no_plan": reason}
+    if passage is not None:
+        extra["passage"] = passage.as_dict()
+    m = scene.model
+    empty = Plan(scene.name, "none", m.object_size, m.robot_footprint, m.standoff,
+                 scene.alpha_max, scene.start, [], extra)
+    timings = {"setup": spent, "solve": 0.0, "convert": 0.0}
+    return PlanResult("INFEASIBLE", empty, planner, seed, time_limit, timings, scene=scene,
+                      infeasible_reason=reason, passage=passage)
 
 
 def plan_from_route(scene: Scene, checker: PivotChecker, states: list[State], *,
