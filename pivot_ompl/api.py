@@ -241,15 +241,11 @@ def _infeasible(scene: Scene, planner: str, seed: int, time_limit: float,
     """The ``INFEASIBLE`` result of a scene the relaxation proves has no plan."""
     reason, passage = proof
     log.info("%s: no plan exists (proven by the relaxation in %.2f s)", scene.name, spent)
-    extra: dict[str, Any] = {"planner": planner, "seed": seed, "time_limit": time_limit,
-                             **_scene_record(scene), "no_plan": reason}
-    if passage is not None:
-        extra["passage"] = passage.as_dict()
-    m = scene.model
-    empty = Plan(scene.name, "none", m.object_size, m.robot_footprint, m.standoff,
-                 scene.alpha_max, scene.start, [], extra)
-    timings = {"setup": spent, "solve": 0.0, "convert": 0.0}
-    return PlanResult("INFEASIBLE", empty, planner, seed, time_limit, timings, scene=scene,
+    extra = {"planner": planner, "seed": seed, "time_limit": time_limit, **_scene_record(scene),
+             "no_plan": reason, **({"passage": passage.as_dict()} if passage else {})}
+    empty = _result_plan(scene, None, "INFEASIBLE", extra, simplify=False)
+    return PlanResult("INFEASIBLE", empty, planner, seed, time_limit,
+                      {"setup": spent, "solve": 0.0, "convert": 0.0}, scene=scene,
                       infeasible_reason=reason, passage=passage)
 
 
@@ -314,8 +310,7 @@ def _solve(ss: Any, time_limit: float, started: float) -> str:
 def _result_plan(scene: Scene, problem: Any, status: str, extra: dict[str, Any], *,
                  simplify: bool) -> Plan:
     """The solution path as a plan (``status "none"`` and no phases when there is none)."""
-    ss = problem.setup
-    if status == "EXACT_SOLUTION" and ss.haveExactSolutionPath():
+    if status == "EXACT_SOLUTION" and (ss := problem.setup).haveExactSolutionPath():
         if simplify:
             ss.simplifySolution()
         path = ss.getSolutionPath()
