@@ -48,9 +48,9 @@ MAX_SEED = 2**32 - 2
 MIN_SOLVE_TIME = 1e-3
 #: Longest a first computation of a scene's lower bounds may take (s); then they are ``null``.
 BOUND_TIME_LIMIT = 10.0
-#: Share of the time limit in which the relaxation may prove, before the search, that no plan
-#: exists (then :func:`plan` returns ``INFEASIBLE`` with the reason at once).
-PROOF_SHARE = 0.08
+#: Shares of the time limit: for the relaxation to prove, before the search, that no plan exists
+#: (then ``INFEASIBLE`` at once), and for the lower bounds to run on after the limit's end.
+PROOF_SHARE, BOUND_OVERRUN = 0.08, 0.03
 
 
 @dataclass
@@ -64,8 +64,8 @@ class PlanResult:
         seed: seed used.
         time_limit: time limit (s).
         timings: seconds spent in ``setup``, ``solve``, ``convert`` and (solved plans)
-            ``bound``, fetching or computing the quality block's lower bounds (outside the
-            time limit; once per scene, then cached).
+            ``bound``, fetching or computing the quality block's lower bounds (within the
+            time limit, see :func:`plan`; once per scene, then cached).
         roadmap: planner figures (roadmap sizes, critical configurations...), if any.
         motion_checks: counts of valid and invalid motions and cache hits.
         search: the regrasp planner's roadmaps (for plotting), ``None`` for other planners.
@@ -131,8 +131,8 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
             ``"kpiece1"``...; the names are the keys of ``pivot_ompl.planners.PLANNERS``);
             the regrasp planner's parameters may follow in brackets
             (``"regrasp[search.weight=1.5]"``, :mod:`pivot_ompl.planners.registry`).
-        time_limit: wall-clock limit (s, > 0) of loading, setup and solve together (the
-            lower bounds are outside it, see ``bound``); above :data:`MAX_TIME_LIMIT`
+        time_limit: wall-clock limit (s, > 0) of loading, setup and solve together (and
+            of the lower bounds, see ``bound``); above :data:`MAX_TIME_LIMIT`
             (``math.inf`` included) it is :data:`MAX_TIME_LIMIT`.
         seed: seed of our planners' generator (and of OMPL's RNG for OMPL planners),
             0 to :data:`MAX_SEED`.
@@ -144,8 +144,9 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
             ``cost.regrasp``).
         bound: report the scene's lower bounds on regrasps and route length in the quality
             block (:func:`pivot_ompl.analysis.bound_cache.lower_bound`: computed once per
-            scene geometry, at most :data:`BOUND_TIME_LIMIT` s, outside ``time_limit``, then
-            read from the cache); ``False``: ``null`` there and nothing computed.
+            scene geometry, within ``time_limit`` (what the search left of it, and at most
+            :data:`BOUND_OVERRUN` of it beyond), then read from the cache); ``False``:
+            ``null`` there and nothing computed.
         checker: a :class:`~pivot_ompl.checking.pivot_checker.PivotChecker` of the same scene
             geometry whose checked motions to reuse (:class:`pivot_ompl.session.PlanningSession`
             passes its own); by default a new one.
@@ -197,7 +198,8 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     stats = dict(getattr(p, "stats", {}) or {})
     result_plan.extra["roadmap"] = stats
     if result_plan.phases:
-        result_plan.extra["quality"] = _quality(result_plan, scene, config, bound, timings)
+        result_plan.extra["quality"] = _quality(result_plan, scene, config, bound, timings,
+                                                deadline + BOUND_OVERRUN * time_limit)
     c = problem.checker.counters
     log.info("%s on %s: %s in %.2f s (%s, %s)", planner, scene.name, name, t2 - t1,
              counted(result_plan.pivots, "pivot"), counted(result_plan.regrasps, "regrasp"))
@@ -322,12 +324,12 @@ def _result_plan(scene: Scene, problem: Any, status: str, extra: dict[str, Any],
 
 
 def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool,
-             timings: dict[str, float]) -> dict[str, Any]:
-    """The quality block, with the scene's lower bounds when ``bound`` (timed as ``bound``)."""
+             timings: dict[str, float], end: float = math.inf) -> dict[str, Any]:
+    """The quality block, with the scene's lower bounds (stopped at ``end``) when ``bound``."""
     regrasps, route = None, None
     if bound:
         t0 = time.perf_counter()
-        bound_end = time.monotonic() + BOUND_TIME_LIMIT
+        bound_end = min(end, time.monotonic() + BOUND_TIME_LIMIT)
         lb = lower_bound(scene, should_stop=lambda: time.monotonic() > bound_end)
         timings["bound"] = time.perf_counter() - t0
         if lb.solvable is False:  # a relaxation of every plan: a bug if it finds none

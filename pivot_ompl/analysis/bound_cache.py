@@ -94,7 +94,7 @@ def lower_bound(scene: Scene, *, use_cache: bool = True,
         if hit is not None:
             return hit
     bound = regrasp_lower_bound(scene, should_stop=should_stop)
-    if use_cache and bound.solvable is not None:
+    if use_cache and bound.solvable is not None and bound.complete:
         _memory.put(key, bound)
         if _disk_enabled():
             _write(path, bound)

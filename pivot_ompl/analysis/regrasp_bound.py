@@ -61,6 +61,7 @@ import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
+from pivot_ompl.analysis.piece_graph import PieceGraph
 from pivot_ompl.analysis.regrasp_walk import WalkRelaxation
 from pivot_ompl.analysis.route_bound import shortest_route
 from pivot_ompl.errors import Interrupted
@@ -97,6 +98,8 @@ class RegraspBound:
         seconds: wall-clock time (s).
         shortest_route: lower bound (m) on the box centre's route of any plan
             (:func:`~pivot_ompl.analysis.route_bound.shortest_route`), ``None`` if unknown.
+        complete: every part was computed (``False``: the route bound was stopped by the
+            time limit; such a result is not kept by the cache).
     """
 
     regrasps: int | None
@@ -105,6 +108,7 @@ class RegraspBound:
     pieces: int
     seconds: float
     shortest_route: float | None = None
+    complete: bool = True
 
 
 @dataclass(frozen=True)
@@ -301,7 +305,7 @@ def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
             for c in range(len(cover.pieces(b, k))):
                 ids[(b, k, c)] = len(ids)
     nodes = list(ids)
-    graph = _PieceGraph([cover.pieces(b, k)[c].area for b, k, c in nodes])
+    graph = PieceGraph([cover.pieces(b, k)[c].area for b, k, c in nodes])
 
     def link(b1: int, k1: int, b2: int, k2: int, regrasp: bool) -> None:
         ga, gb = cover.pieces(b1, k1), cover.pieces(b2, k2)
@@ -339,76 +343,15 @@ def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
                                               allowed, should_stop)
     except Interrupted:
         return RegraspBound(None, None, n, len(ids), time.perf_counter() - t0)
-    route = None
+    route, complete = None, True
     if best is not None:
-        route = shortest_route([cover.pieces(nodes[u][0], nodes[u][1])[nodes[u][2]]
-                                for u in reached], scene.bounds, scene.start, scene.goal)
+        try:
+            route = shortest_route([cover.pieces(nodes[u][0], nodes[u][1])[nodes[u][2]]
+                                    for u in reached], scene.bounds, scene.start, scene.goal,
+                                   should_stop=should_stop)
+        except Interrupted:
+            complete = False
     seconds = time.perf_counter() - t0
     log.debug("regrasp bound %s over %d yaw bins, %d pieces, %d walk queries, %.2f s", best, n,
               len(ids), walk.queries if walk else 0, seconds)
-    return RegraspBound(best, best is not None, n, len(ids), seconds, route)
-
-
-class _PieceGraph:
-    """Pieces joined by transfers (free) and regrasps (cost 1, checked lazily)."""
-
-    def __init__(self, areas: list[float]) -> None:
-        self.areas = areas
-        self.zero: list[list[int]] = [[] for _ in areas]
-        self.one: list[list[tuple[int, tuple[int, int, int, int, int]]]] = [
-            [] for _ in areas]
-
-    def add(self, u: int, v: int, regrasp: tuple[int, int, int, int, int] | None) -> None:
-        if regrasp is None:
-            self.zero[u].append(v)
-            self.zero[v].append(u)
-        else:
-            self.one[u].append((v, regrasp))
-            self.one[v].append((u, regrasp))
-
-    def fewest_regrasps(self, starts: list[int], goals: set[int],
-                        allowed: Callable[[tuple[int, int, int, int, int]], bool],
-                        should_stop: Callable[[], bool] | None) -> tuple[int | None, set[int]]:
-        """Fewest allowed regrasps from a start to a goal, and every piece reachable at all.
-
-        Level by level: the pieces reachable with ``d`` regrasps are the free closure of the
-        starts (``d = 0``) or of the regrasps out of level ``d - 1``. A regrasp is checked
-        (``allowed``, the costly part) only when its far piece is not reached yet, the
-        regrasps out of the largest pieces first (the cheapest to allow). ``should_stop``
-        raises :class:`~pivot_ompl.errors.Interrupted`.
-        """
-        level: dict[int, int] = {}
-        best: int | None = None
-        frontier = list(starts)
-        d = 0
-        while frontier:
-            grown = self._closure(frontier, d, level)
-            if best is None and any(u in goals for u in grown):
-                best = d
-            pending = [(v, e) for u in grown for v, e in self.one[u] if v not in level]
-            pending.sort(key=lambda ve: -self.areas[ve[0]])
-            frontier = []
-            for v, e in pending:
-                if should_stop is not None and should_stop():
-                    raise Interrupted("regrasp bound")
-                if v in level:
-                    continue
-                if allowed(e):
-                    frontier.extend(self._closure([v], d + 1, level))
-            d += 1
-        return best, set(level)
-
-    def _closure(self, seeds: list[int], d: int, level: dict[int, int]) -> list[int]:
-        """Mark every piece reachable from ``seeds`` by transfers with level ``d``."""
-        out = []
-        stack = [s for s in seeds if s not in level or level[s] == d]
-        for s in stack:
-            level[s] = d
-        while stack:
-            u = stack.pop()
-            out.append(u)
-            for v in self.zero[u]:
-                if v not in level:
-                    level[v] = d
-                    stack.append(v)
-        return out
+    return RegraspBound(best, best is not None, n, len(ids), seconds, route, complete)

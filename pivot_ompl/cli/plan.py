@@ -42,8 +42,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=integer("--seed", 0, MAX_SEED), default=0,
                    help=f"seed (0..{MAX_SEED})")
     p.add_argument("--no-bound", action="store_true",
-                   help="skip the scene's lower bounds on regrasps and route (computed once "
-                        "per scene outside --time, then cached)")
+                   help="skip the scene's lower bounds on regrasps and route and the proof "
+                        "that no plan exists (computed once per scene within --time, then "
+                        "cached)")
     p.add_argument("--out", help="write the pivot-plan/1 JSON here")
     p.add_argument("--plot", help="write the plan figure here (.png, .svg, .pdf...)")
     p.set_defaults(func=run)

@@ -1,0 +1,81 @@
+"""The regrasp bound's graph: free pieces joined by transfers (free) and regrasps (cost 1).
+
+Used by :func:`~pivot_ompl.analysis.regrasp_bound.regrasp_lower_bound`: the fewest allowed
+regrasps from a start piece to a goal piece, breadth-first by levels, each regrasp checked
+lazily (only when its far piece is not reached yet).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from pivot_ompl.errors import Interrupted
+
+#: A regrasp edge: ``(bin, grasp k, piece i, grasp j, piece c)``.
+Regrasp = tuple[int, int, int, int, int]
+
+
+class PieceGraph:
+    """Pieces joined by transfers (free) and regrasps (cost 1, checked lazily)."""
+
+    def __init__(self, areas: list[float]) -> None:
+        self.areas = areas
+        self.zero: list[list[int]] = [[] for _ in areas]
+        self.one: list[list[tuple[int, Regrasp]]] = [
+            [] for _ in areas]
+
+    def add(self, u: int, v: int, regrasp: Regrasp | None) -> None:
+        """Join pieces ``u`` and ``v``: by a transfer (``regrasp`` ``None``) or a regrasp."""
+        if regrasp is None:
+            self.zero[u].append(v)
+            self.zero[v].append(u)
+        else:
+            self.one[u].append((v, regrasp))
+            self.one[v].append((u, regrasp))
+
+    def fewest_regrasps(self, starts: list[int], goals: set[int],
+                        allowed: Callable[[Regrasp], bool],
+                        should_stop: Callable[[], bool] | None) -> tuple[int | None, set[int]]:
+        """Fewest allowed regrasps from a start to a goal, and every piece reachable at all.
+
+        Level by level: the pieces reachable with ``d`` regrasps are the free closure of the
+        starts (``d = 0``) or of the regrasps out of level ``d - 1``. A regrasp is checked
+        (``allowed``, the costly part) only when its far piece is not reached yet, the
+        regrasps out of the largest pieces first (the cheapest to allow). ``should_stop``
+        raises :class:`~pivot_ompl.errors.Interrupted`.
+        """
+        level: dict[int, int] = {}
+        best: int | None = None
+        frontier = list(starts)
+        d = 0
+        while frontier:
+            grown = self._closure(frontier, d, level)
+            if best is None and any(u in goals for u in grown):
+                best = d
+            pending = [(v, e) for u in grown for v, e in self.one[u] if v not in level]
+            pending.sort(key=lambda ve: -self.areas[ve[0]])
+            frontier = []
+            for v, e in pending:
+                if should_stop is not None and should_stop():
+                    raise Interrupted("regrasp bound")
+                if v in level:
+                    continue
+                if allowed(e):
+                    frontier.extend(self._closure([v], d + 1, level))
+            d += 1
+        return best, set(level)
+
+    def _closure(self, seeds: list[int], d: int, level: dict[int, int]) -> list[int]:
+        """Mark every piece reachable from ``seeds`` by transfers with level ``d``."""
+        out = []
+        stack = [s for s in seeds if s not in level or level[s] == d]
+        for s in stack:
+            level[s] = d
+        while stack:
+            u = stack.pop()
+            out.append(u)
+            for v in self.zero[u]:
+                if v not in level:
+                    level[v] = d
+                    stack.append(v)
+        return out
