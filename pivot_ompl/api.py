@@ -12,8 +12,8 @@ from typing import Any
 
 from ompl import util as ou
 
-from pivot_ompl.analysis.bound_cache import lower_bound
 from pivot_ompl.analysis.passage import Passage, explain_no_plan
+from pivot_ompl.analysis.plan_bounds import plan_bounds
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.base.problem import make_setup
 from pivot_ompl.base.state import read_state
@@ -143,7 +143,7 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
         config: the regrasp planner's configuration (``regrasp_cost`` overrides its
             ``cost.regrasp``).
         bound: report the scene's lower bounds on regrasps and route length in the quality
-            block (:func:`pivot_ompl.analysis.bound_cache.lower_bound`: computed once per
+            block (:func:`pivot_ompl.analysis.plan_bounds.plan_bounds`: computed once per
             scene geometry, within ``time_limit`` (what the search left of it, and at most
             :data:`BOUND_OVERRUN` of it beyond), then read from the cache); ``False``:
             ``null`` there and nothing computed.
@@ -330,11 +330,9 @@ def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool
     if bound:
         t0 = time.perf_counter()
         bound_end = min(end, time.monotonic() + BOUND_TIME_LIMIT)
-        lb = lower_bound(scene, should_stop=lambda: time.monotonic() > bound_end)
+        regrasps, route = plan_bounds(scene, result_plan.regrasps,
+                                      should_stop=lambda: time.monotonic() > bound_end)
         timings["bound"] = time.perf_counter() - t0
-        if lb.solvable is False:  # a relaxation of every plan: a bug if it finds none
-            log.warning("the regrasp bound's relaxation finds no path, yet a plan exists")
-        regrasps, route = lb.regrasps, lb.shortest_route
     return plan_quality(result_plan, regrasps_lower_bound=regrasps, shortest_route=route,
                         costs=config.cost)
 

@@ -62,11 +62,20 @@ def shortest_route(free: list, bounds: tuple[float, float, float, float], start:
             raise Interrupted("the route bound")
 
     raster = FloorRaster(bounds, min_cell=MIN_CELL, max_cells=MAX_CELLS)
-    cell, (nx, ny) = raster.cell, raster.shape
     poll()
     union = shapely.union_all(free)
     poll()
-    mask = raster.meeting(union)
+    return route_on(raster, raster.meeting(union), start, goal, poll=poll)
+
+
+def route_on(raster: FloorRaster, mask: np.ndarray, start: Pose, goal: Pose, *,
+             poll: Callable[[], None] = lambda: None) -> float | None:
+    """Lower bound (m) on a route from ``start`` to ``goal`` through the cells of ``mask``.
+
+    ``mask``: every cell a route's points may lie in (cells that meet the free region, or
+    more), over ``raster``. ``None`` when the cells join no path. ``poll`` may raise to stop.
+    """
+    cell, (nx, ny) = raster.cell, raster.shape
     poll()
     ends = []
     for p in (start, goal):
