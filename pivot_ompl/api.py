@@ -239,12 +239,12 @@ def _stopped_in_setup(scene: Scene | str | os.PathLike, planner: str, seed: int,
 
 
 def _infeasible(scene: Scene, planner: str, seed: int, time_limit: float,
-                proof: tuple[str, Passage | None], spent: float) -> PlanResult:
+                proof: tuple[str, Passage], spent: float) -> PlanResult:
     """The ``INFEASIBLE`` result of a scene the relaxation proves has no plan."""
     reason, passage = proof
     log.info("%s: no plan exists (proven by the relaxation in %.2f s)", scene.name, spent)
     extra = {"planner": planner, "seed": seed, "time_limit": time_limit, **_scene_record(scene),
-             "no_plan": reason, **({"passage": passage.as_dict()} if passage else {})}
+             "no_plan": reason, "passage": passage.as_dict()}
     empty = _result_plan(scene, None, "INFEASIBLE", extra, simplify=False)
     return PlanResult("INFEASIBLE", empty, planner, seed, time_limit,
                       {"setup": spent, "solve": 0.0, "convert": 0.0}, scene=scene,

@@ -215,20 +215,20 @@ def _blocking_passage(scene: Scene, clearance: float,
 
 
 def explain_no_plan(scene: Scene, *, should_stop: Callable[[], bool] | None = None
-                    ) -> tuple[str, Passage | None] | None:
-    """Why ``scene`` has no plan, when the regrasp bound's relaxation proves it has none.
+                    ) -> tuple[str, Passage] | None:
+    """Why ``scene`` has no plan, when a passage blocks it and the relaxation proves it.
 
-    ``None`` when the relaxation joins start and goal, or was stopped by ``should_stop``
-    (nothing is proven then). Otherwise the reason (one line) and the blocking
-    :class:`Passage`, if one passage blocks (else the reason says that none does).
+    First the passage (:func:`blocking_passage`, milliseconds): when the start's and the
+    goal's regions are joined by gaps as wide as the held assembly, no proof is tried (the
+    relaxation is slow on large floors, and the plans it would rule out are rare) and the
+    answer is ``None``. Otherwise the regrasp bound's relaxation runs: when it joins no path
+    no plan exists, and the answer is the passage's reason (one line) and the passage;
+    ``None`` when it joins one or ``should_stop`` stopped it (nothing is proven then).
     """
+    passage = blocking_passage(scene, should_stop=should_stop)
+    if passage is None:
+        return None
     bound = lower_bound(scene, should_stop=should_stop)
     if bound.solvable is not False:
         return None
-    passage = blocking_passage(scene, should_stop=should_stop)
-    if passage is not None:
-        return passage.reason, passage
-    need = assembly_width(scene.model)
-    return (f"no plan: the box and the robot holding it cannot get from start to goal (proven "
-            f"by the relaxation); every passage on the way is at least {need:.2f} m wide, so "
-            f"what is missing is room to turn or to regrasp"), None
+    return passage.reason, passage

@@ -96,3 +96,12 @@ def test_of_two_slots_the_wider_is_the_passage_to_widen():
     walls[2] = {"type": "box", "center": [4.1, 5.0], "size": [0.2, 2.0], "yaw": 0.0, "height": 2}
     p = blocking_passage(make_scene(obstacles=walls))  # the upper slot now 0.50 m
     assert p is not None and p.width == pytest.approx(0.5) and p.center[1] == pytest.approx(3.75)
+
+
+def test_no_proof_is_tried_where_every_way_is_wide_enough():
+    # a large open floor: the relaxation would take seconds; the passage search milliseconds
+    scene = make_scene(bounds=[0.0, 0.0, 60.0, 40.0], start=[3.0, 3.0, 0.0],
+                       goal=[56.0, 36.0, 0.0])
+    t0 = time.perf_counter()
+    assert explain_no_plan(scene) is None
+    assert time.perf_counter() - t0 < 0.5
