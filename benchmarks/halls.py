@@ -55,7 +55,8 @@ def run(scene: Path, limit: float, seed: int, python: str = sys.executable) -> d
         cmd = ["/usr/bin/time", "-f", "TIME %e s %M KB", python, "-m", "pivot_ompl",
                "plan", str(scene), "--time", str(limit), "--seed", str(seed), "--out",
                str(out)]
-        p = subprocess.run(cmd, capture_output=True, text=True, check=False)
+        # run from elsewhere: ``-m`` would import the package of the working folder first
+        p = subprocess.run(cmd, capture_output=True, text=True, check=False, cwd=tmp)
         m = re.search(r"TIME ([\d.]+) s (\d+) KB", p.stderr)
         regrasps = None
         if out.exists():
@@ -82,7 +83,7 @@ def main(argv: list[str] | None = None) -> int:
     for size in (float(s) for s in args.sizes.split(",")):
         path = folder / f"hall_{size:g}m.yaml"
         path.write_text(yaml.safe_dump(hall(size, args.boxes, args.seed), sort_keys=False))
-        r = run(path, args.time, args.seed, args.python)
+        r = run(path.resolve(), args.time, args.seed, args.python)
         print(f"| {size:g} x {size:g} m | {r['status']} | {r['seconds']:.1f} | "
               f"{r['peak_mb']:.0f} | {r['regrasps']} |", flush=True)
     return 0

@@ -105,3 +105,19 @@ def test_no_proof_is_tried_where_every_way_is_wide_enough():
     t0 = time.perf_counter()
     assert explain_no_plan(scene) is None
     assert time.perf_counter() - t0 < 0.5
+
+
+def test_a_wall_of_pieces_with_cracks_still_shows_its_slot():
+    # a SLAM map's wall: boxes 2 cm apart (cracks no body passes), one 0.5 m slot at y 2.0
+    walls = []
+    for lo, hi in ((0.0, 1.75), (2.25, 6.0)):
+        n = round((hi - lo) / 0.25)
+        for k in range(n):
+            y0, y1 = lo + k * (hi - lo) / n, lo + (k + 1) * (hi - lo) / n - 0.02
+            if k == n - 1:
+                y1 = hi
+            walls.append({"type": "box", "center": [4.1, 0.5 * (y0 + y1)],
+                          "size": [0.2, y1 - y0], "yaw": 0.0, "height": 2.0})
+    p = blocking_passage(make_scene(obstacles=walls))
+    assert p is not None and p.width == pytest.approx(0.5)
+    assert p.center == pytest.approx((4.1, 2.0))
