@@ -58,6 +58,8 @@ def disk_route(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
 
     ``None`` when stopped by ``should_stop`` or when the relaxation joins no path.
     """
+    if should_stop is not None and should_stop():
+        return None
     half = 0.5 * min(scene.model.object_size[0], scene.model.object_size[1])
     x0, y0, x1, y1 = scene.bounds
     raster = FloorRaster(scene.bounds, min_cell=MIN_CELL, max_cells=MAX_CELLS)
@@ -69,6 +71,8 @@ def disk_route(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     mask = (gx >= x0 + inner) & (gx <= x1 - inner) & (gy >= y0 + inner) & (gy <= y1 - inner)
     grow = half + clearance - tolerance - ROUND_OFF - raster.half_diag
     pieces = [shapely.Polygon(p) for p in obstacle_pieces(scene.obstacles)]
+    if should_stop is not None and should_stop():
+        return None
     if pieces and grow > 0:
         tree = shapely.STRtree(pieces)
         idx = np.flatnonzero(mask.ravel())
