@@ -39,7 +39,8 @@ def test_the_passage_is_the_slot_with_its_exact_width_and_place(slot_y, slot, pi
     assert p.width == pytest.approx(slot, abs=1e-9)
     assert p.center[0] == pytest.approx(4.1, abs=1e-6)
     assert p.center[1] == pytest.approx(slot_y, abs=1e-6)
-    assert f"{slot:.2f} m" in p.reason and f"({4.1:.2f}, {slot_y:.2f})" in p.reason
+    x, y = p.center
+    assert f"{p.width:.2f} m" in p.reason and f"({x:.2f}, {y:.2f})" in p.reason
     # what needs what: the box passes a slot wider than its short side (and clearance)
     assert ("the box passes" in p.reason) == (slot >= p.box_needs)
 
