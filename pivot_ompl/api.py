@@ -12,7 +12,8 @@ from typing import Any
 
 from ompl import util as ou
 
-from pivot_ompl.analysis.bound_cache import lower_bound
+from pivot_ompl.analysis.passage import Passage, explain_no_plan
+from pivot_ompl.analysis.plan_bounds import plan_bounds
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.base.problem import make_setup
 from pivot_ompl.base.state import read_state
@@ -50,6 +51,9 @@ MAX_SEED = 2**32 - 2
 MIN_SOLVE_TIME = 1e-3
 #: Longest a first computation of a scene's lower bounds may take (s); then they are ``null``.
 BOUND_TIME_LIMIT = 10.0
+#: Shares of the time limit: for the relaxation to prove, before the search, that no plan exists
+#: (then ``INFEASIBLE`` at once), and for the lower bounds to run on after the limit's end.
+PROOF_SHARE, BOUND_OVERRUN = 0.08, 0.03
 
 
 @dataclass
@@ -63,13 +67,17 @@ class PlanResult:
         seed: seed used.
         time_limit: time limit (s).
         timings: seconds spent in ``setup``, ``solve``, ``convert`` and (solved plans)
-            ``bound``, fetching or computing the quality block's lower bounds (outside the
-            time limit; once per scene, then cached).
+            ``bound``, fetching or computing the quality block's lower bounds (within the
+            time limit, see :func:`plan`; once per scene, then cached).
         roadmap: planner figures (roadmap sizes, critical configurations...), if any.
         motion_checks: counts of valid and invalid motions and cache hits.
         search: the regrasp planner's roadmaps (for plotting), ``None`` for other planners.
         scene: the scene planned (read from its file when :func:`plan` was given a path;
             ``None`` when the time limit ran out while it was read).
+        infeasible_reason: with status ``INFEASIBLE`` (the regrasp bound's relaxation proves
+            that no plan exists), one line saying why: which passage, where, its width, what
+            needs what (:mod:`pivot_ompl.analysis.passage`); ``None`` otherwise.
+        passage: with ``INFEASIBLE``, the passage that blocks every plan, if one does.
     """
 
     status: str
@@ -82,6 +90,8 @@ class PlanResult:
     motion_checks: dict[str, int] = field(default_factory=dict)
     search: RegraspSearch | None = field(default=None, repr=False)
     scene: Scene | None = field(default=None, repr=False)
+    infeasible_reason: str | None = None
+    passage: Passage | None = field(default=None, repr=False)
 
     @property
     def solved(self) -> bool:
@@ -124,8 +134,8 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
             ``"kpiece1"``...; the names are the keys of ``pivot_ompl.planners.PLANNERS``);
             the regrasp planner's parameters may follow in brackets
             (``"regrasp[search.weight=1.5]"``, :mod:`pivot_ompl.planners.registry`).
-        time_limit: wall-clock limit (s, > 0) of loading, setup and solve together (the
-            lower bounds are outside it, see ``bound``); above :data:`MAX_TIME_LIMIT`
+        time_limit: wall-clock limit (s, > 0) of loading, setup and solve together (and
+            of the lower bounds, see ``bound``); above :data:`MAX_TIME_LIMIT`
             (``math.inf`` included) it is :data:`MAX_TIME_LIMIT`.
         seed: seed of our planners' generator (and of OMPL's RNG for OMPL planners),
             0 to :data:`MAX_SEED`.
@@ -136,9 +146,10 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
         config: the regrasp planner's configuration (``regrasp_cost`` overrides its
             ``cost.regrasp``).
         bound: report the scene's lower bounds on regrasps and route length in the quality
-            block (:func:`pivot_ompl.analysis.bound_cache.lower_bound`: computed once per
-            scene geometry, at most :data:`BOUND_TIME_LIMIT` s, outside ``time_limit``, then
-            read from the cache); ``False``: ``null`` there and nothing computed.
+            block (:func:`pivot_ompl.analysis.plan_bounds.plan_bounds`: computed once per
+            scene geometry, within ``time_limit`` (what the search left of it, and at most
+            :data:`BOUND_OVERRUN` of it beyond), then read from the cache); ``False``:
+            ``null`` there and nothing computed.
         checker: a :class:`~pivot_ompl.checking.pivot_checker.PivotChecker` of the same scene
             geometry whose checked motions to reuse (:class:`pivot_ompl.session.PlanningSession`
             passes its own); by default a new one.
@@ -167,6 +178,12 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     except Interrupted as e:
         return _stopped_in_setup(scene, planner, seed, time_limit, e.what,
                                  time.perf_counter() - t0)
+    if bound:
+        proof = explain_no_plan(scene, should_stop=lambda: time.monotonic() >= started +
+                                PROOF_SHARE * time_limit)
+        if proof is not None:
+            return _infeasible(scene, planner, seed, time_limit, proof,
+                               time.perf_counter() - t0)
     p, config = _planner_for(problem, planner, seed=seed, config=config,
                              resume=Resume(start_grasp, resume))
     t1 = time.perf_counter()
@@ -184,7 +201,8 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     stats = dict(getattr(p, "stats", {}) or {})
     result_plan.extra["roadmap"] = stats
     if result_plan.phases:
-        result_plan.extra["quality"] = _quality(result_plan, scene, config, bound, timings)
+        result_plan.extra["quality"] = _quality(result_plan, scene, config, bound, timings,
+                                                deadline + BOUND_OVERRUN * time_limit)
     c = problem.checker.counters
     log.info("%s on %s: %s in %.2f s (%s, %s)", planner, scene.name, name, t2 - t1,
              counted(result_plan.pivots, "pivot"), counted(result_plan.regrasps, "regrasp"))
@@ -223,6 +241,19 @@ def _stopped_in_setup(scene: Scene | str | os.PathLike, planner: str, seed: int,
     timings = {"setup": spent, "solve": 0.0, "convert": 0.0}
     return PlanResult("TIMEOUT", empty, planner, seed, time_limit, timings,
                       scene=scene if isinstance(scene, Scene) else None)
+
+
+def _infeasible(scene: Scene, planner: str, seed: int, time_limit: float,
+                proof: tuple[str, Passage], spent: float) -> PlanResult:
+    """The ``INFEASIBLE`` result of a scene the relaxation proves has no plan."""
+    reason, passage = proof
+    log.info("%s: no plan exists (proven by the relaxation in %.2f s)", scene.name, spent)
+    extra = {"planner": planner, "seed": seed, "time_limit": time_limit, **_scene_record(scene),
+             "no_plan": reason, "passage": passage.as_dict()}
+    empty = _result_plan(scene, None, "INFEASIBLE", extra, simplify=False)
+    return PlanResult("INFEASIBLE", empty, planner, seed, time_limit,
+                      {"setup": spent, "solve": 0.0, "convert": 0.0}, scene=scene,
+                      infeasible_reason=reason, passage=passage)
 
 
 def plan_from_route(scene: Scene, checker: PivotChecker, states: list[State], *,
@@ -286,8 +317,7 @@ def _solve(ss: Any, time_limit: float, started: float) -> str:
 def _result_plan(scene: Scene, problem: Any, status: str, extra: dict[str, Any], *,
                  simplify: bool) -> Plan:
     """The solution path as a plan (``status "none"`` and no phases when there is none)."""
-    ss = problem.setup
-    if status == "EXACT_SOLUTION" and ss.haveExactSolutionPath():
+    if status == "EXACT_SOLUTION" and (ss := problem.setup).haveExactSolutionPath():
         if simplify:
             ss.simplifySolution()
         path = ss.getSolutionPath()
@@ -299,17 +329,15 @@ def _result_plan(scene: Scene, problem: Any, status: str, extra: dict[str, Any],
 
 
 def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool,
-             timings: dict[str, float]) -> dict[str, Any]:
-    """The quality block, with the scene's lower bounds when ``bound`` (timed as ``bound``)."""
+             timings: dict[str, float], end: float = math.inf) -> dict[str, Any]:
+    """The quality block, with the scene's lower bounds (stopped at ``end``) when ``bound``."""
     regrasps, route = None, None
     if bound:
         t0 = time.perf_counter()
-        bound_end = time.monotonic() + BOUND_TIME_LIMIT
-        lb = lower_bound(scene, should_stop=lambda: time.monotonic() > bound_end)
+        bound_end = min(end, time.monotonic() + BOUND_TIME_LIMIT)
+        regrasps, route = plan_bounds(scene, result_plan.regrasps,
+                                      should_stop=lambda: time.monotonic() > bound_end)
         timings["bound"] = time.perf_counter() - t0
-        if lb.solvable is False:  # a relaxation of every plan: a bug if it finds none
-            log.warning("the regrasp bound's relaxation finds no path, yet a plan exists")
-        regrasps, route = lb.regrasps, lb.shortest_route
     return plan_quality(result_plan, regrasps_lower_bound=regrasps, shortest_route=route,
                         costs=config.cost)
 

@@ -75,32 +75,39 @@ def _write(path: Path, bound: RegraspBound) -> None:
         log.debug("bound cache not written (%s)", e)
 
 
-def lower_bound(scene: Scene, *, use_cache: bool = True,
+def cached_bound(scene: Scene, *, resolution: float = RESOLUTION) -> RegraspBound | None:
+    """The bound of ``scene`` if a cache (memory, then disk) holds it; nothing is computed."""
+    key = scene_key(scene, resolution=resolution)
+    hit = _memory.get(key)
+    if hit is None and _disk_enabled():
+        hit = _read(cache_dir() / f"{key}.json")
+        if hit is not None:
+            _memory.put(key, hit)
+    return hit
+
+
+def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RESOLUTION,
                 should_stop: Callable[[], bool] | None = None) -> RegraspBound:
     """:func:`~pivot_ompl.analysis.regrasp_bound.regrasp_lower_bound` of ``scene``, cached.
 
     Args:
         scene: the scene.
         use_cache: read and write the caches (memory and disk); ``False`` always computes.
+        resolution: the relaxation's yaw-bin erosion (m; part of the cache's key).
         should_stop: polled by a computation; a stopped result is returned, never kept.
 
     Returns:
         The :class:`~pivot_ompl.analysis.regrasp_bound.RegraspBound` (``seconds`` is the time
         of the computation that produced it, however long ago).
     """
-    key = scene_key(scene)
-    path = cache_dir() / f"{key}.json"
+    key = scene_key(scene, resolution=resolution)
     if use_cache:
-        hit = _memory.get(key)
-        if hit is None and _disk_enabled():
-            hit = _read(path)
-            if hit is not None:
-                _memory.put(key, hit)
+        hit = cached_bound(scene, resolution=resolution)
         if hit is not None:
             return hit
-    bound = regrasp_lower_bound(scene, should_stop=should_stop)
-    if use_cache and bound.solvable is not None:
+    bound = regrasp_lower_bound(scene, resolution=resolution, should_stop=should_stop)
+    if use_cache and bound.solvable is not None and bound.complete:
         _memory.put(key, bound)
         if _disk_enabled():
-            _write(path, bound)
+            _write(cache_dir() / f"{key}.json", bound)
     return bound

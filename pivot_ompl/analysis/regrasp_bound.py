@@ -99,6 +99,8 @@ class RegraspBound:
         seconds: wall-clock time (s).
         shortest_route: lower bound (m) on the box centre's route of any plan
             (:func:`~pivot_ompl.analysis.route_bound.shortest_route`), ``None`` if unknown.
+        complete: every part was computed (``False``: the route bound was stopped by the
+            time limit; such a result is not kept by the cache).
     """
 
     regrasps: int | None
@@ -107,6 +109,7 @@ class RegraspBound:
     pieces: int
     seconds: float
     shortest_route: float | None = None
+    complete: bool = True
 
 
 @dataclass(frozen=True)
@@ -336,11 +339,15 @@ def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
                                               allowed, should_stop)
     except Interrupted:
         return RegraspBound(None, None, n, len(ids), time.perf_counter() - t0)
-    route = None
+    route, complete = None, True
     if best is not None:
-        route = shortest_route([cover.pieces(nodes[u][0], nodes[u][1])[nodes[u][2]]
-                                for u in reached], scene.bounds, scene.start, scene.goal)
+        try:
+            route = shortest_route([cover.pieces(nodes[u][0], nodes[u][1])[nodes[u][2]]
+                                    for u in reached], scene.bounds, scene.start, scene.goal,
+                                   should_stop=should_stop)
+        except Interrupted:
+            complete = False
     seconds = time.perf_counter() - t0
     log.debug("regrasp bound %s over %d yaw bins, %d pieces, %d walk queries, %.2f s", best, n,
               len(ids), walk.queries if walk else 0, seconds)
-    return RegraspBound(best, best is not None, n, len(ids), seconds, route)
+    return RegraspBound(best, best is not None, n, len(ids), seconds, route, complete)

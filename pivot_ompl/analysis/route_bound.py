@@ -15,6 +15,7 @@ reduced by both (:data:`GRID_SLACK`), so it stays a lower bound.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 import shapely
@@ -22,6 +23,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from pivot_ompl.analysis.raster import FloorRaster
+from pivot_ompl.errors import Interrupted
 from pivot_ompl.se2 import Pose
 
 #: Cells at most on the raster (a larger floor gets larger cells).
@@ -36,7 +38,8 @@ _MOVES = ((1, 0), (0, 1), (1, 1), (1, -1), (1, 2), (2, 1), (1, -2), (2, -1))
 
 
 def shortest_route(free: list, bounds: tuple[float, float, float, float], start: Pose,
-                   goal: Pose) -> float | None:
+                   goal: Pose, *, should_stop: Callable[[], bool] | None = None
+                   ) -> float | None:
     """Lower bound (m) on the box centre's route from ``start`` to ``goal`` through ``free``.
 
     Args:
@@ -45,12 +48,35 @@ def shortest_route(free: list, bounds: tuple[float, float, float, float], start:
         start: the box's start pose.
         goal: the box's goal pose.
 
+        should_stop: polled between the steps (the union, the raster, the graph).
+
     Returns:
         The bound, or ``None`` when the raster joins no path (start or goal outside ``P``).
+
+    Raises:
+        Interrupted: ``should_stop()`` said stop.
     """
+
+    def poll() -> None:
+        if should_stop is not None and should_stop():
+            raise Interrupted("the route bound")
+
     raster = FloorRaster(bounds, min_cell=MIN_CELL, max_cells=MAX_CELLS)
+    poll()
+    union = shapely.union_all(free)
+    poll()
+    return route_on(raster, raster.meeting(union), start, goal, poll=poll)
+
+
+def route_on(raster: FloorRaster, mask: np.ndarray, start: Pose, goal: Pose, *,
+             poll: Callable[[], None] = lambda: None) -> float | None:
+    """Lower bound (m) on a route from ``start`` to ``goal`` through the cells of ``mask``.
+
+    ``mask``: every cell a route's points may lie in (cells that meet the free region, or
+    more), over ``raster``. ``None`` when the cells join no path. ``poll`` may raise to stop.
+    """
     cell, (nx, ny) = raster.cell, raster.shape
-    mask = raster.meeting(shapely.union_all(free))
+    poll()
     ends = []
     for p in (start, goal):
         i, j = raster.index(p[0], p[1])
@@ -72,6 +98,7 @@ def shortest_route(free: list, bounds: tuple[float, float, float, float], start:
         weights.append(np.full(ia.shape, cell * math.hypot(di, dj)))
     r, c, w = np.concatenate(rows), np.concatenate(cols), np.concatenate(weights)
     graph = coo_matrix((w, (r, c)), shape=(nx * ny, nx * ny)).tocsr()
+    poll()
     d = float(dijkstra(graph, directed=False, indices=ends[0])[ends[1]])
     if not math.isfinite(d):
         return None

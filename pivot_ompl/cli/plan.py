@@ -2,7 +2,9 @@
 
 Exit status: 0 found, 1 none, 2 bad input. ``--out`` and ``--plot`` are checked before planning
 (not a directory, not the scene file, a known figure extension) and written only when a plan is
-found, each through a temporary file: a failed run leaves existing files as they were.
+found, each through a temporary file: a failed run leaves existing files as they were. One
+exception: when no plan exists (``INFEASIBLE``, proven by the relaxation), ``--plot`` draws the
+scene with the passage that blocks every plan marked.
 """
 
 from __future__ import annotations
@@ -40,8 +42,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=integer("--seed", 0, MAX_SEED), default=0,
                    help=f"seed (0..{MAX_SEED})")
     p.add_argument("--no-bound", action="store_true",
-                   help="skip the scene's lower bounds on regrasps and route (computed once "
-                        "per scene outside --time, then cached)")
+                   help="skip the scene's lower bounds on regrasps and route and the proof "
+                        "that no plan exists (computed once per scene within --time, then "
+                        "cached)")
     p.add_argument("--out", help="write the pivot-plan/1 JSON here")
     p.add_argument("--plot", help="write the plan figure here (.png, .svg, .pdf...)")
     p.set_defaults(func=run)
@@ -71,6 +74,8 @@ def result_line(res: PlanResult) -> str:
     if res.solved:
         return (f"{res.status}: {counted(res.pivots, 'pivot')}, "
                 f"{counted(res.regrasps, 'regrasp')}, {solve}")
+    if getattr(res, "infeasible_reason", None):
+        return f"{res.status}: {res.infeasible_reason} (proven in {res.timings['setup']:.2f} s)"
     if res.status == "APPROXIMATE_SOLUTION":
         return (f"{res.status}: the planner's closest path does not reach the goal, "
                 f"no plan ({solve} of {res.time_limit:g} s)")
@@ -111,7 +116,13 @@ def run(args: argparse.Namespace) -> int:
     if q:
         print(quality_line(q))
     if not res.solved:
-        if out or fig:
+        if fig and res.status == "INFEASIBLE":  # the figure shows why: the passage marked
+            with atomic_outputs(fig) as (tmp_fig,):
+                from pivot_ompl.viz.plan_figure import plot_plan
+                plot_plan(res.plan, tmp_fig or fig, scene=res.scene)
+            print(f"no plan exists: nothing written to --out; figure written to {fig}",
+                  file=sys.stderr)
+        elif out or fig:
             print("no plan found: nothing written", file=sys.stderr)
         return 1
     with atomic_outputs(out, fig) as (tmp_out, tmp_fig):  # both or neither

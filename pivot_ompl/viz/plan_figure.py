@@ -6,7 +6,9 @@ box centre's path in the grasp's colour with the box footprints along it, the pi
 (dots), the robot's stance where each transfer starts (dashed rectangle), the Reeds-Shepp
 path of the supporting edge's centre dotted; regrasps labelled where the box rests
 (``regrasp k: grasp i→j``) and their walks drawn and labelled with their length; start and
-goal footprints marked. Every marker has a legend entry; the legend stands beside the floor
+goal footprints marked; when no plan exists, the passage that blocks every plan (the plan's
+``passage`` field) drawn across its gap, with a dashed circle as wide as the held assembly
+needs. Every marker has a legend entry; the legend stands beside the floor
 and no two labels overlap (:mod:`pivot_ompl.viz.labels`).
 """
 
@@ -31,6 +33,7 @@ from pivot_ompl.viz.labels import Label, place_labels  # noqa: E402
 
 GRASP_COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:purple")
 WALK_COLOUR = "tab:red"
+PASSAGE_COLOUR = "crimson"
 #: Box footprints drawn per metre of object path (at least the ends of each transfer).
 FOOTPRINTS_PER_M = 1.5
 
@@ -54,12 +57,15 @@ def plan_figure(plan: Plan, *, scene: Scene | None = None, search: Any = None,
                 ax.add_patch(Polygon(o.points, fc="0.55", ec="0.3", zorder=2))
     if search is not None:
         _draw_roadmaps(ax, search)
-    labels = _draw_plan(ax, plan, model)
+    labels = _draw_plan(ax, plan, model, goal=scene.goal if scene is not None else None)
+    labels += _draw_passage(ax, plan.extra.get("passage"))
     ax.set_aspect("equal")
     ax.autoscale_view()
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     reached = "reaches the goal" if plan.status == "exact" else f"status {plan.status}"
+    if plan.extra.get("no_plan"):
+        reached = "no plan exists"
     ax.set_title(title or f"{plan.scene}: {counted(plan.pivots, 'pivot')}, "
                  f"{counted(plan.regrasps, 'regrasp')}, {reached}")
     handles, names = ax.get_legend_handles_labels()
@@ -83,8 +89,26 @@ def plot_plan(plan: Plan, path: str | Path, *, scene: Scene | None = None,
     return path
 
 
-def _draw_plan(ax: Any, plan: Plan, model: BoxGraspModel) -> list[Label]:
-    """Draw the plan's phases; the regrasp and walk labels to place once the limits are set."""
+def _draw_passage(ax: Any, passage: Any) -> list[Label]:
+    """Mark the passage that blocks every plan (the plan's ``passage`` field), if any."""
+    if not isinstance(passage, dict) or passage.get("ends") is None:
+        return []
+    (ax_, ay), (bx, by) = passage["ends"]
+    cx, cy = passage["center"]
+    ax.plot([ax_, bx], [ay, by], "-", c=PASSAGE_COLOUR, lw=3.0, zorder=7,
+            label="passage that blocks every plan")
+    ax.add_patch(Circle((cx, cy), 0.5 * passage["assembly_needs"], fill=False,
+                        ec=PASSAGE_COLOUR, lw=1.5, ls="--", zorder=7))
+    return [Label((cx, cy), f"{passage['width']:.2f} m; robot + box need "
+                            f"{passage['assembly_needs']:.2f} m", PASSAGE_COLOUR)]
+
+
+def _draw_plan(ax: Any, plan: Plan, model: BoxGraspModel,
+               goal: Any = None) -> list[Label]:
+    """Draw the plan's phases; the regrasp and walk labels to place once the limits are set.
+
+    ``goal``: the goal pose drawn when the plan has no phases (nothing reaches it).
+    """
     labels: list[Label] = []
     seen: set[str] = set()
 
@@ -96,7 +120,7 @@ def _draw_plan(ax: Any, plan: Plan, model: BoxGraspModel) -> list[Label]:
 
     ax.add_patch(Polygon(model.object_corners(plan.start), fill=False, ec="black", lw=2.0,
                          zorder=5, label=once("start")))
-    end = plan.object_end
+    end = plan.object_end if plan.phases or goal is None else goal
     ax.add_patch(Polygon(model.object_corners(end), fill=False, ec="black", lw=2.0, ls="--",
                          zorder=5, label=once("goal")))
     k_rg = 0

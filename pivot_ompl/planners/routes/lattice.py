@@ -38,6 +38,11 @@ from pivot_ompl.se2 import Pose, wrap_angle
 from pivot_ompl.transit.lattice import HEADING_VECTORS, HEADING_YAWS, N_HEADINGS
 from pivot_ompl.validity.assembly_field import AssemblyField
 
+#: Most grid positions of the lattice (over the bounds' rectangle, as its field): a larger floor
+#: gets a coarser grid, so the field's grids and the components stay within a few hundred MB
+#: (a 200 x 200 m hall at 0.1 m took 9 GB).
+MAX_CELLS = 250_000
+
 State = tuple[int, int, int]
 _START: State = (-1, -1, -1)
 _GOAL: State = (-2, -2, -2)
@@ -49,7 +54,8 @@ class TransferLattice:
     Args:
         checker: the scene's model and world.
         costs: the cost model (seconds).
-        resolution: grid spacing (m).
+        resolution: grid spacing (m); coarser on floors of more than :data:`MAX_CELLS`
+            grid positions (then the spacing that gives that many).
         max_expansions: states expanded before a query gives up.
         weight: inflation of the A* heuristic (a route costs at most this factor more than
             the lattice's cheapest).
@@ -69,6 +75,8 @@ class TransferLattice:
         self.checker, self.costs = checker, costs
         self.region = region
         self._mask: np.ndarray | None = None
+        x0, y0, x1, y1 = checker.world.bounds
+        resolution = max(resolution, math.sqrt((x1 - x0) * (y1 - y0) / MAX_CELLS))
         self.resolution, self.max_expansions, self.weight = resolution, max_expansions, weight
         self.field = AssemblyField(checker.model, checker.world, resolution)
         alpha = checker.scene.alpha_max
@@ -241,16 +249,18 @@ class TransferLattice:
         for h in range(nh):
             any_free |= fits[2 * h]
         cells = np.flatnonzero(any_free)
-        cell_ids = np.full(nx * ny, -1, dtype=np.int64)
-        cell_ids[cells] = np.arange(len(cells))
+        cell_ids = np.full(nx * ny, -1, dtype=np.int32)  # < MAX_CELLS * 16 states
+        cell_ids[cells] = np.arange(len(cells), dtype=np.int32)
         ix, iy = np.divmod(cells, ny)
         state = [fits[2 * h][cells] for h in range(nh)]  # free at heading h, per free cell
         rows, cols = [], []
-        here = np.arange(len(cells)) * nh
+        here = np.arange(len(cells), dtype=np.int32) * nh
         for h, (vx, vy) in enumerate(HEADING_VECTORS):
+            if should_stop is not None and should_stop():
+                raise Interrupted("transfer lattice components")
             jx, jy = ix + vx, iy + vy
             inside = (jx >= 0) & (jx < nx) & (jy >= 0) & (jy < ny)
-            there = np.full(len(cells), -1, dtype=np.int64)
+            there = np.full(len(cells), -1, dtype=np.int32)
             there[inside] = cell_ids[jx[inside] * ny + jy[inside]]
             ok = state[h] & (there >= 0)
             ok[ok] &= state[h][there[ok]]
@@ -261,8 +271,12 @@ class TransferLattice:
             rows.append(here[ok] + h)
             cols.append(here[ok] + h2)
         r, c = np.concatenate(rows), np.concatenate(cols)
+        del rows, cols
         m = len(cells) * nh
         graph = coo_matrix((np.ones(len(r), dtype=np.int8), (r, c)), shape=(m, m)).tocsr()
+        del r, c
+        if should_stop is not None and should_stop():
+            raise Interrupted("transfer lattice components")
         _, sub = connected_components(graph, directed=False)
         labels = sub.astype(np.int32)
         labels[~np.stack(state, axis=1).reshape(-1)] = -1

@@ -1,0 +1,248 @@
+"""Which passage keeps a scene from having a plan: the explanation of a proven infeasibility.
+
+The regrasp bound's relaxation (:mod:`~pivot_ompl.analysis.regrasp_bound`) proves that no
+plan exists; this module says why in terms a person can act on. The floor's obstacles (with
+touching boxes merged, :func:`~pivot_ompl.validity.merge.merge_boxes`) and the floor's edges
+are the walls; a *gap* is the shortest segment between two walls closer than the held
+assembly's width (:func:`assembly_width`: the box and the holding robot together, plus the
+checkers' clearance on both sides). Close every such gap: what remains of the floor falls
+apart into regions the held box can roam. The gaps join those regions; the widest way from
+the start's region to the goal's (the path whose narrowest gap is widest) has one narrowest
+gap, the *passage* reported: no route of the held box avoids a passage at most that wide.
+
+The passage is an explanation, not the proof (the relaxation is): the widths are exact
+(distances between the walls' floor shadows), the held assembly's width is the width of its
+convex outline, which an assembly turning inside a slot might beat by a little.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from shapely.geometry.base import BaseGeometry
+
+from pivot_ompl.analysis.bound_cache import lower_bound
+from pivot_ompl.errors import Interrupted
+from pivot_ompl.grasp import BoxGraspModel
+from pivot_ompl.scene import Scene
+from pivot_ompl.se2 import rectangle_corners
+from pivot_ompl.validity.collision import KEEP_CLEARANCE
+from pivot_ompl.validity.footprints import obstacle_pieces
+from pivot_ompl.validity.merge import merge_boxes
+
+log = logging.getLogger(__name__)
+
+#: Half-thickness (m) of the segment that closes a gap (it must seal it, nothing more).
+SEAL = 1e-6
+#: Most gaps the search closes (their union is not interruptible and grows faster than their
+#: number: 2837 gaps of a 30 x 15 m SLAM map took 17 s); beyond, no passage is reported.
+MAX_GAPS = 1000
+
+
+@dataclass(frozen=True)
+class Passage:
+    """The narrowest passage every route of the held box must take (:func:`blocking_passage`).
+
+    Attributes:
+        center: the gap's midpoint ``(x, y)`` (m, world frame); ``None`` when no gap joins
+            the start's region to the goal's at all (one of them is closed on every side).
+        ends: the gap's two ends on the walls, ``((x, y), (x, y))`` (m); ``None`` with
+            ``center``.
+        width: the gap's width (m); 0 when closed.
+        box_needs: the narrowest gap the box alone may pass (m: its short side plus the
+            clearance on both sides).
+        assembly_needs: the narrowest gap the box and the robot holding it may pass together
+            (m: the width of their convex outline plus the clearance on both sides).
+    """
+
+    center: tuple[float, float] | None
+    ends: tuple[tuple[float, float], tuple[float, float]] | None
+    width: float
+    box_needs: float
+    assembly_needs: float
+
+    @property
+    def reason(self) -> str:
+        """One line a person can act on: which passage, where, its width, what needs what."""
+        if self.center is None:
+            return (f"no plan: no opening joins the start's region to the goal's (the box "
+                    f"and the robot holding it need {self.assembly_needs:.2f} m)")
+        x, y = self.center
+        if self.width >= self.box_needs:
+            return (f"no plan: the slot at ({x:.2f}, {y:.2f}) is {self.width:.2f} m; the box "
+                    f"passes ({self.box_needs:.2f} m) but the robot needs "
+                    f"{self.assembly_needs:.2f} m to follow the box")
+        return (f"no plan: the passage at ({x:.2f}, {y:.2f}) is {self.width:.2f} m; the box "
+                f"needs {self.box_needs:.2f} m (with the robot holding it "
+                f"{self.assembly_needs:.2f} m)")
+
+    def as_dict(self) -> dict[str, object]:
+        """The plan file's ``passage`` field (JSON-ready)."""
+        return {"center": None if self.center is None else list(self.center),
+                "ends": None if self.ends is None else [list(p) for p in self.ends],
+                "width": self.width, "box_needs": self.box_needs,
+                "assembly_needs": self.assembly_needs, "reason": self.reason}
+
+
+def min_width(points: np.ndarray) -> float:
+    """The least width (m) of a point set's convex outline over every direction."""
+    hull = np.asarray(shapely.MultiPoint(points).convex_hull.exterior.coords)
+    best = math.inf
+    for a, b in zip(hull[:-1], hull[1:], strict=True):
+        d = b - a
+        n = math.hypot(d[0], d[1])
+        if n < 1e-12:
+            continue
+        off = np.abs((points[:, 0] - a[0]) * d[1] - (points[:, 1] - a[1]) * d[0]) / n
+        best = min(best, float(off.max()))
+    return best
+
+
+def assembly_width(model: BoxGraspModel, *, clearance: float = KEEP_CLEARANCE) -> float:
+    """Narrowest gap (m) the box and the robot holding it may pass, over the grasps."""
+    box = np.array(rectangle_corners((0.0, 0.0, 0.0), model.object_size[0],
+                                     model.object_size[1]), dtype=float)
+    widths = []
+    for grasp in (0, 1):
+        robot = model.robot_pose((0.0, 0.0, 0.0), grasp)
+        held = np.array(model.held_corners(robot, grasp), dtype=float)
+        widths.append(min_width(np.vstack([box, held])))
+    return min(widths) + 2.0 * clearance
+
+
+def _walls(scene: Scene, thickness: float,
+           should_stop: Callable[[], bool] | None) -> list[BaseGeometry]:
+    """The obstacles' convex floor pieces and four slabs just outside the floor's bounds."""
+    polys = [shapely.Polygon(p) for p in
+             obstacle_pieces(merge_boxes(scene.obstacles, should_stop=should_stop))]
+    x0, y0, x1, y1 = scene.bounds
+    t = thickness
+    polys += [shapely.box(x0 - t, y0 - t, x1 + t, y0), shapely.box(x0 - t, y1, x1 + t, y1 + t),
+              shapely.box(x0 - t, y0, x0, y1), shapely.box(x1, y0, x1 + t, y1)]
+    return polys
+
+
+def _gap_centre(wall_a: BaseGeometry, wall_b: BaseGeometry, width: float
+                ) -> tuple[float, float]:
+    """Centre of the gap between two walls ``width`` apart: of the hull of their facing parts.
+
+    (The shortest segment between two parallel faces sits at one end of the slot; the hull of
+    the parts of each wall within the gap's width of the other spans the whole slot.)
+    """
+    reach = width * (1.0 + 1e-6) + 1e-9
+    near_a = wall_a.intersection(wall_b.buffer(reach, quad_segs=2))
+    near_b = wall_b.intersection(wall_a.buffer(reach, quad_segs=2))
+    c = shapely.union_all([near_a, near_b]).convex_hull.centroid
+    if c.is_empty:  # the facing parts vanished to round-off: the shortest segment's middle
+        c = shapely.shortest_line(wall_a, wall_b).interpolate(0.5, normalized=True)
+    return (float(c.x), float(c.y))
+
+
+def _region_of(regions: list[BaseGeometry], tree: shapely.STRtree,
+               xy: tuple[float, float]) -> int | None:
+    """Index of the region holding (or, off every region, nearest) the point ``xy``."""
+    if not regions:
+        return None
+    return int(tree.nearest(shapely.Point(xy)))
+
+
+def blocking_passage(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
+                     should_stop: Callable[[], bool] | None = None) -> Passage | None:
+    """The narrowest gap on the widest way of the held box from start to goal.
+
+    ``None`` when the start's and goal's regions are joined without any gap narrower than
+    the held assembly (the obstruction is then not one passage: room to turn, to regrasp...),
+    when the floor has more than :data:`MAX_GAPS` such gaps (a cluttered map: not searched)
+    or when ``should_stop`` said stop.
+    """
+    try:
+        return _blocking_passage(scene, clearance, should_stop)
+    except Interrupted:
+        return None
+
+
+def _blocking_passage(scene: Scene, clearance: float,
+                      should_stop: Callable[[], bool] | None) -> Passage | None:
+    model = scene.model
+    need = assembly_width(model, clearance=clearance)
+    box_need = min(model.object_size[0], model.object_size[1]) + 2.0 * clearance
+    walls = _walls(scene, max(1.0, need), should_stop)
+    tree = shapely.STRtree(walls)
+    a, b = tree.query(walls, predicate="dwithin", distance=need)
+    keep = a < b
+    a, b = a[keep], b[keep]
+    lines = shapely.shortest_line(np.asarray(walls, dtype=object)[a],
+                                  np.asarray(walls, dtype=object)[b])
+    widths = shapely.length(lines)
+    gaps = widths > 0.0
+    a, b, lines, widths = a[gaps], b[gaps], lines[gaps], widths[gaps]
+    # a gap whose segment meets a third wall is not needed: that wall's gaps to both ends are
+    # shorter, so closed too, and seal the same way (on cluttered maps most gaps are such)
+    hits = np.bincount(tree.query(lines, predicate="intersects")[0], minlength=len(lines))
+    gaps = hits <= 2
+    a, b, lines, widths = a[gaps], b[gaps], lines[gaps], widths[gaps]
+    if len(lines) > MAX_GAPS:
+        log.debug("passage search skipped: %d gaps (> %d)", len(lines), MAX_GAPS)
+        return None
+    if should_stop is not None and should_stop():
+        raise Interrupted("the passage search")
+    x0, y0, x1, y1 = scene.bounds
+    solid = shapely.union_all(list(walls) + list(shapely.buffer(lines, SEAL)))
+    free = shapely.box(x0, y0, x1, y1).difference(solid)
+    regions = [g for g in getattr(free, "geoms", [free]) if not g.is_empty]
+    if should_stop is not None and should_stop():
+        raise Interrupted("the passage search")
+    rtree = shapely.STRtree(regions)
+    start = _region_of(regions, rtree, (scene.start[0], scene.start[1]))
+    goal = _region_of(regions, rtree, (scene.goal[0], scene.goal[1]))
+    if start is None or goal is None or start == goal:
+        return None
+    touch_gap, touch_region = rtree.query(shapely.buffer(lines, 4.0 * SEAL),
+                                          predicate="intersects")
+    joins: dict[int, list[int]] = {}
+    for g, r in zip(touch_gap.tolist(), touch_region.tolist(), strict=True):
+        joins.setdefault(g, []).append(r)
+    parent = list(range(len(regions)))
+
+    def find(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    for g in sorted(joins, key=lambda g: -widths[g]):  # widest gaps first (maximin path)
+        rs = joins[g]
+        for r in rs[1:]:
+            parent[find(r)] = find(rs[0])
+        if find(start) == find(goal):
+            p, q = shapely.get_coordinates(lines[g])[:2]
+            mid = _gap_centre(walls[a[g]], walls[b[g]], float(widths[g]))
+            log.debug("blocking passage: %.3f m at (%.2f, %.2f)", widths[g], *mid)
+            return Passage(mid, ((float(p[0]), float(p[1])), (float(q[0]), float(q[1]))),
+                           float(widths[g]), box_need, need)
+    return Passage(None, None, 0.0, box_need, need)
+
+
+def explain_no_plan(scene: Scene, *, should_stop: Callable[[], bool] | None = None
+                    ) -> tuple[str, Passage] | None:
+    """Why ``scene`` has no plan, when a passage blocks it and the relaxation proves it.
+
+    First the passage (:func:`blocking_passage`, milliseconds): when the start's and the
+    goal's regions are joined by gaps as wide as the held assembly, no proof is tried (the
+    relaxation is slow on large floors, and the plans it would rule out are rare) and the
+    answer is ``None``. Otherwise the regrasp bound's relaxation runs: when it joins no path
+    no plan exists, and the answer is the passage's reason (one line) and the passage;
+    ``None`` when it joins one or ``should_stop`` stopped it (nothing is proven then).
+    """
+    passage = blocking_passage(scene, should_stop=should_stop)
+    if passage is None:
+        return None
+    bound = lower_bound(scene, should_stop=should_stop)
+    if bound.solvable is not False:
+        return None
+    return passage.reason, passage

@@ -1,0 +1,116 @@
+"""The lower bounds a plan's quality block carries, computed only as exactly as the plan needs.
+
+A plan's ``regrasps_lower_bound`` and ``shortest_route`` (:func:`pivot_ompl.api.plan`) are
+proofs: every plan of the scene needs at least that many regrasps and moves its box at least
+that far. The full relaxation (:mod:`~pivot_ompl.analysis.regrasp_bound`) gives both but is
+slow on large floors; :func:`plan_bounds` asks it only where the answer depends on it:
+
+* a plan without regrasps: no plan needs fewer than 0, whatever the relaxation says (it
+  says 0: this plan exists), so the regrasp bound is 0 at once; the route bound is then the
+  *disk relaxation*'s (:func:`disk_route`) unless the full bound is already known;
+* a plan with regrasps: the relaxation (a coarser one, tried first, lost the narrow
+  passages of the shipped scenes and cost more than it saved).
+
+Every result comes from the bound cache when it holds it
+(:mod:`~pivot_ompl.analysis.bound_cache`).
+
+**The disk relaxation.** At any yaw the box's footprint holds the disk of radius ``b / 2``
+(``b``: its short side) round its centre, and every body is kept ``clearance`` from the
+obstacles but for the swept checks' tolerance: so in every configuration of any plan the
+box's centre is at least ``b / 2 + clearance - tolerance`` from every obstacle piece (subsets
+of the obstacles) and ``b / 2 - tolerance`` inside the bounds. The raster cells
+(:class:`~pivot_ompl.analysis.raster.FloorRaster`) whose centres are within half a cell
+diagonal of such positions hold every box centre of every plan; the cells kept are those
+whose centre is that much less far from the pieces (an STRtree query: no polygon is grown),
+a superset. The shortest path through them
+(:func:`~pivot_ompl.analysis.route_bound.route_on`), and the straight line from start to
+goal, are lower bounds of every plan's box route, however the held assembly turns.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Callable
+
+import numpy as np
+import shapely
+
+from pivot_ompl.analysis.bound_cache import cached_bound, lower_bound
+from pivot_ompl.analysis.raster import FloorRaster
+from pivot_ompl.analysis.route_bound import MAX_CELLS, MIN_CELL, route_on
+from pivot_ompl.errors import Interrupted
+from pivot_ompl.scene import Scene
+from pivot_ompl.validity.certify import SWEEP_TOLERANCE
+from pivot_ompl.validity.collision import KEEP_CLEARANCE
+from pivot_ompl.validity.footprints import obstacle_pieces
+
+log = logging.getLogger(__name__)
+
+#: Added to the disk relaxation's erosions (m): keeps it on the safe side of round-off.
+ROUND_OFF = 1e-7
+
+
+def disk_route(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
+               tolerance: float = SWEEP_TOLERANCE,
+               should_stop: Callable[[], bool] | None = None) -> float | None:
+    """Lower bound (m) on any plan's box route by the disk relaxation (module docstring).
+
+    ``None`` when stopped by ``should_stop`` or when the relaxation joins no path.
+    """
+    if should_stop is not None and should_stop():
+        return None
+    half = 0.5 * min(scene.model.object_size[0], scene.model.object_size[1])
+    x0, y0, x1, y1 = scene.bounds
+    raster = FloorRaster(scene.bounds, min_cell=MIN_CELL, max_cells=MAX_CELLS)
+    # a cell meets the free region if its centre is within half a diagonal of it: it is
+    # then at least ``grow - half_diag`` from every piece and within the shrunk bounds
+    # grown by half a diagonal (keeping every such cell keeps more: still a lower bound)
+    inner = half - tolerance - ROUND_OFF - raster.half_diag
+    gx, gy = raster.gx, raster.gy
+    mask = (gx >= x0 + inner) & (gx <= x1 - inner) & (gy >= y0 + inner) & (gy <= y1 - inner)
+    grow = half + clearance - tolerance - ROUND_OFF - raster.half_diag
+    pieces = [shapely.Polygon(p) for p in obstacle_pieces(scene.obstacles)]
+    if should_stop is not None and should_stop():
+        return None
+    if pieces and grow > 0:
+        tree = shapely.STRtree(pieces)
+        idx = np.flatnonzero(mask.ravel())
+        near = tree.query(shapely.points(gx.ravel()[idx], gy.ravel()[idx]),
+                          predicate="dwithin", distance=grow)[0]
+        flat = mask.ravel()
+        flat[idx[near]] = False
+        mask = flat.reshape(mask.shape)
+    if should_stop is not None and should_stop():
+        return None
+    try:
+        route = route_on(raster, mask, scene.start, scene.goal, poll=_poller(should_stop))
+    except Interrupted:
+        return None
+    # no route is shorter than the straight line either
+    return None if route is None else max(route, math.dist(scene.start[:2], scene.goal[:2]))
+
+
+def _poller(should_stop: Callable[[], bool] | None) -> Callable[[], None]:
+    def poll() -> None:
+        if should_stop is not None and should_stop():
+            raise Interrupted("the disk route bound")
+    return poll
+
+
+def plan_bounds(scene: Scene, regrasps: int, *,
+                should_stop: Callable[[], bool] | None = None
+                ) -> tuple[int | None, float | None]:
+    """``(regrasps_lower_bound, shortest_route)`` for a plan of ``scene`` with ``regrasps``.
+
+    Each ``None`` when not proven before ``should_stop`` said stop (module docstring).
+    """
+    known = cached_bound(scene)
+    if known is not None and known.solvable:
+        return known.regrasps, known.shortest_route
+    if regrasps == 0:
+        return 0, disk_route(scene, should_stop=should_stop)
+    full = lower_bound(scene, should_stop=should_stop)
+    if full.solvable is False:  # a relaxation of every plan: a bug if it finds none
+        log.warning("the regrasp bound's relaxation finds no path, yet a plan exists")
+    return full.regrasps, full.shortest_route

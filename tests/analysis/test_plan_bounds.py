@@ -1,0 +1,75 @@
+"""The plan's bounds: as exact as the plan needs, each a proof (the disk relaxation's route)."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import pytest
+from factories import make_scene, shipped
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from pivot_ompl.analysis.bound_cache import lower_bound
+from pivot_ompl.analysis.plan_bounds import disk_route, plan_bounds
+from pivot_ompl.api import plan
+
+
+def _wall_with_top_gap():
+    """A wall at x = 4 from the floor's bottom edge up to y = 5: the way round is at the top."""
+    return make_scene(obstacles=[{"type": "box", "center": [4.0, 2.5], "size": [0.2, 5.0],
+                                  "yaw": 0.0, "height": 2.0}],
+                      start=[1.5, 1.0, 0.0], goal=[6.5, 1.0, 0.0])
+
+
+def test_the_disk_route_goes_round_the_wall_and_no_further_than_the_shortest_way():
+    r = disk_route(_wall_with_top_gap())
+    # any way passes over the wall's top (x 3.9..4.1, y >= 5): at least this long
+    over = math.dist((1.5, 1.0), (3.9, 5.0)) + 0.2 + math.dist((4.1, 5.0), (6.5, 1.0))
+    # and the box (0.6 m short side) goes this way, its centre 0.21 m from the wall's corners
+    way = [(1.5, 1.0), (3.69, 5.21), (4.31, 5.21), (6.5, 1.0)]
+    length = sum(math.dist(a, b) for a, b in zip(way, way[1:], strict=False))
+    assert r is not None and 0.95 * over <= r <= length
+
+
+@settings(max_examples=15, deadline=None)
+@given(x=st.floats(1.0, 7.0), y=st.floats(1.0, 5.0), gx=st.floats(1.0, 7.0),
+       gy=st.floats(1.0, 5.0))
+def test_on_an_open_floor_the_disk_route_is_the_straight_line(x, y, gx, gy):
+    scene = make_scene(start=[x, y, 0.0], goal=[gx, gy, 1.0])
+    assert disk_route(scene) == pytest.approx(math.dist((x, y), (gx, gy)))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["corridor", "slot", "cluttered_room"])
+def test_no_plan_moves_its_box_less_than_the_disk_route(name):
+    res = plan(shipped(name), time_limit=30.0, seed=0, bound=False)
+    assert res.solved
+    assert disk_route(shipped(name)) <= res.plan.extra["quality"]["route_length"]
+
+
+def test_a_plan_without_regrasps_needs_no_relaxation():
+    scene = shipped("cluttered_room")
+    t0 = time.perf_counter()
+    regrasps, route = plan_bounds(scene, 0)
+    assert regrasps == 0 and route is not None
+    assert time.perf_counter() - t0 < 1.5  # the relaxation takes ~2 s here
+
+
+def test_a_plan_with_regrasps_carries_the_relaxations_bound():
+    scene = shipped("slot")
+    assert plan_bounds(scene, 1) == (1, lower_bound(scene).shortest_route)
+
+
+def test_every_plan_on_a_large_open_floor_carries_its_proof_within_the_limit():
+    scene = make_scene(bounds=[0.0, 0.0, 60.0, 40.0], start=[3.0, 3.0, 0.0],
+                       goal=[56.0, 36.0, 0.0])
+    limit = 8.0
+    t0 = time.monotonic()
+    res = plan(scene, time_limit=limit, seed=0)
+    took = time.monotonic() - t0
+    assert res.solved and took <= 1.05 * limit + 0.2, took
+    q = res.plan.extra["quality"]
+    assert q["regrasps_lower_bound"] == 0 == res.regrasps
+    assert q["shortest_route"] == pytest.approx(math.dist((3.0, 3.0), (56.0, 36.0)))
+    assert q["route_ratio"] is not None and q["route_ratio"] >= 1.0
