@@ -12,7 +12,7 @@ from typing import Any
 
 from ompl import util as ou
 
-from pivot_ompl.analysis.bound_cache import lower_bound
+from pivot_ompl.analysis.bound_cache import forget, lower_bound, refuted_by
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.base.problem import make_setup
 from pivot_ompl.base.state import read_state
@@ -302,9 +302,13 @@ def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool
         bound_end = time.monotonic() + BOUND_TIME_LIMIT
         lb = lower_bound(scene, should_stop=lambda: time.monotonic() > bound_end)
         timings["bound"] = time.perf_counter() - t0
-        if lb.solvable is False:  # a relaxation of every plan: a bug if it finds none
-            log.warning("the regrasp bound's relaxation finds no path, yet a plan exists")
-        regrasps, route = lb.regrasps, lb.shortest_route
+        found = plan_quality(result_plan)
+        if refuted_by(lb, regrasps=found["regrasps"], route=found["route_length"]):
+            log.warning("regrasp bound dropped: this plan refutes it (regrasps %s, route %s)",
+                        lb.regrasps, lb.shortest_route)  # a relaxation of every plan
+            forget(scene)
+        else:
+            regrasps, route = lb.regrasps, lb.shortest_route
     return plan_quality(result_plan, regrasps_lower_bound=regrasps, shortest_route=route,
                         costs=config.cost)
 
