@@ -29,21 +29,22 @@ def _escape(ch: str) -> str:
         f"\\u{code:04x}" if code < 0x10000 else f"\\U{code:08x}")
 
 
-def printable(text: object) -> str:
+def printable(text: object, *, keep: str = "") -> str:
     r"""``text`` (``str()`` of it) safe for a terminal or a log line: one line, no control codes.
 
     Every character of Unicode's "other" categories (controls such as ESC, BEL, NUL,
     newline; format characters such as bidirectional overrides; surrogates, unassigned) and
     the line and paragraph separators is shown as its Python escape (``\x1b``, ``\n``,
     ``\u202e``); a backslash stays as it is; any other text is unchanged. Every print or log
-    of a user's string (a scene's name, a key, a path) goes through it.
+    of a user's string (a scene's name, a key, a path) goes through it. Characters in
+    ``keep`` (``"\n"`` for a whole text of several lines) are left as they are.
     """
     s = text if isinstance(text, str) else str(text)
     if s.isprintable():
         return s
-    return "".join(_escape(c) if (unicodedata.category(c)[0] == "C"
-                                  or unicodedata.category(c) in ("Zl", "Zp")) else c
-                   for c in s)
+    return "".join(_escape(c) if c not in keep and (unicodedata.category(c)[0] == "C"
+                                                   or unicodedata.category(c) in ("Zl", "Zp"))
+                   else c for c in s)
 
 
 def counted(n: int, noun: str, plural: str = "") -> str:

@@ -26,6 +26,7 @@ from pathlib import Path
 from typing import Any
 
 from pivot_ompl.bench.ompl_log import STATUS, fmt_value, parse_log, prop_type
+from pivot_ompl.errors import printable
 
 #: A job process is killed (and its run recorded as ``Crash``) after
 #: ``time_limit * (1 + KILL_FACTOR) + KILL_MARGIN`` seconds (process start, setup, conversion).
@@ -215,7 +216,7 @@ def execute(job: Job) -> JobResult:
         return res
     ss = problem.setup
     planner = allocator(job.planner)(problem, job.seed)
-    bench = ot.Benchmark(ss, job.scene_name)
+    bench = ot.Benchmark(ss, printable(job.scene_name))  # OMPL's log: one line per field
     bench.addPlanner(planner)
     extras: dict[str, str] = {}
     errors: list[str] = []
