@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import json
 import logging
+import math
 import shutil
 import socket
 import time
@@ -87,12 +88,15 @@ def make_jobs(scenes: Sequence[str | Path], planners: Sequence[str], *, runs: in
         raise InputError("--planners", "", "give at least one planner")
     if isinstance(runs, bool) or not isinstance(runs, int) or runs < 1:
         raise InputError("--runs", runs, "must be an integer >= 1")
-    from pivot_ompl.api import check_time_limit  # OMPL only when jobs are made
+    from pivot_ompl.api import MAX_SEED, check_time_limit  # OMPL only when jobs are made
 
     time_limit = check_time_limit(time_limit, "--time")  # plan's contract: inf is the largest
-    if isinstance(seed0, bool) or not isinstance(seed0, int) or seed0 < 0:
-        raise InputError("--seed0", seed0, "must be an integer >= 0")
-    if not (memory_limit > 0):
+    if isinstance(seed0, bool) or not isinstance(seed0, int) or \
+            not 0 <= seed0 <= MAX_SEED - (runs - 1):
+        raise InputError("--seed0", seed0, f"must be an integer in [0, {MAX_SEED - (runs - 1)}]"
+                         f" (run i uses seed0 + i, every seed at most {MAX_SEED})")
+    if isinstance(memory_limit, bool) or not isinstance(memory_limit, int | float) or \
+            not 0 < memory_limit < math.inf:
         raise InputError("memory_limit", memory_limit, "must be > 0 MB")
     if len(set(planners)) != len(planners):
         raise InputError("--planners", ",".join(planners), "lists a planner twice")
