@@ -46,12 +46,14 @@ from pivot_ompl.api import MAX_SEED, PlanResult, check_time_limit, plan, plan_fr
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.checking.stored import StoredMotions, stored_motions
 from pivot_ompl.errors import InputError, PlanningError
-from pivot_ompl.grasp import check_grasp
+from pivot_ompl.grasp import GRASPS, check_grasp
 from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
 from pivot_ompl.planners.config import RegraspConfig
 from pivot_ompl.planners.registry import check_planner_name
 from pivot_ompl.planners.repair import State, polish, repair_route, route_of
 from pivot_ompl.scene import (
+    MAX_COORD,
+    MAX_YAW,
     BoxObstacle,
     CylinderObstacle,
     Obstacle,
@@ -306,12 +308,21 @@ def _route_of_plan(p: Plan) -> list[State]:
     raw = p.extra.get("route")
     if not isinstance(raw, list) or len(raw) < 2:
         return []
-    for i, q in enumerate(raw):
-        field = f"executing.route[{i}]"
-        if not isinstance(q, list | tuple) or len(q) != 4:
-            raise InputError(field, q, "must be [x, y, yaw, grasp]")
-        check_pose(list(q[:3]), field=field)
-        check_grasp(q[3], field=f"{field}[3]")
+    try:  # the whole route at once (200 000 states in 0.1 s); a bad state is then named
+        a = np.array(raw, dtype=float)
+        ok = a.ndim == 2 and a.shape[1] == 4 and bool(
+            np.all(np.abs(a[:, :2]) <= MAX_COORD) and np.all(np.abs(a[:, 2]) <= MAX_YAW)
+            and np.all(np.isin(a[:, 3], GRASPS)))
+        ok = ok and all(type(q[3]) is int for q in raw)
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok:
+        for i, q in enumerate(raw):
+            field = f"executing.route[{i}]"
+            if not isinstance(q, list | tuple) or len(q) != 4:
+                raise InputError(field, q, "must be [x, y, yaw, grasp]")
+            check_pose(list(q[:3]), field=field)
+            check_grasp(q[3], field=f"{field}[3]")
     return route_of(raw)
 
 
