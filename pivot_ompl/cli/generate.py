@@ -36,7 +36,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help=f"scenes of seeds seed, seed+1, ... (default 1, at most {MAX_COUNT})")
     p.add_argument("--time", type=time_limit("--time"), default=math.inf,
                    help="time limit (s) of the whole generation: past it nothing is written "
-                        "and the exit status is 1 (default: none)")
+                        "and the exit status is 1 (default: inf, no limit)")
     p.add_argument("--out", required=True, help="output folder")
     p.add_argument("--door-width", type=positive("--door-width"), nargs=2,
                    metavar=("MIN", "MAX"), help="range of robot door widths (m), walls")
