@@ -17,6 +17,7 @@ from pivot_ompl.analysis.plan_bounds import plan_bounds
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.base.problem import make_setup
 from pivot_ompl.base.state import read_state
+from pivot_ompl.base.status import status_name
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.errors import InputError, Interrupted, PlanningError, counted
 from pivot_ompl.grasp import check_grasp
@@ -234,7 +235,7 @@ def _stopped_in_setup(scene: Scene | str | os.PathLike, planner: str, seed: int,
     if isinstance(scene, Scene):
         m = scene.model
         empty = Plan(scene.name, "none", m.object_size, m.robot_footprint, m.standoff,
-                     scene.alpha_max, scene.start, [], extra)
+                     scene.alpha_max, scene.start, [], extra, robot_model=scene.robot_model)
     else:  # stopped while reading the scene: nothing of it is known
         empty = Plan(Path(scene).stem, "none", (0.0, 0.0, 0.0), (0.0, 0.0), 0.0, 0.0,
                      (0.0, 0.0, 0.0), [], extra)
@@ -309,7 +310,7 @@ def _solve(ss: Any, time_limit: float, started: float) -> str:
     """Solve within what the setup left of the limit; the status's name."""
     left = time_limit - (time.monotonic() - started)
     if left > MIN_SOLVE_TIME:
-        return _status_name(ss.solve(left))
+        return status_name(ss.solve(left))
     log.warning("setup took the whole %.4g s limit: no time left to solve", time_limit)
     return "TIMEOUT"
 
@@ -325,7 +326,8 @@ def _result_plan(scene: Scene, problem: Any, status: str, extra: dict[str, Any],
         return path_to_plan(scene, problem.checker, states,
                             extra={**extra, "route": stored_route(states)})
     return Plan(scene.name, "none", scene.model.object_size, scene.model.robot_footprint,
-                scene.model.standoff, scene.alpha_max, scene.start, [], extra)
+                scene.model.standoff, scene.alpha_max, scene.start, [], extra,
+                robot_model=scene.robot_model)
 
 
 def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool,
@@ -335,7 +337,8 @@ def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool
     if bound:
         t0 = time.perf_counter()
         bound_end = min(end, time.monotonic() + BOUND_TIME_LIMIT)
-        regrasps, route = plan_bounds(scene, result_plan.regrasps,
+        route_length = plan_quality(result_plan)["route_length"]
+        regrasps, route = plan_bounds(scene, result_plan.regrasps, route_length=route_length,
                                       should_stop=lambda: time.monotonic() > bound_end)
         timings["bound"] = time.perf_counter() - t0
     return plan_quality(result_plan, regrasps_lower_bound=regrasps, shortest_route=route,
@@ -392,12 +395,3 @@ def _check_config(config: Any, regrasp_cost: Any) -> RegraspConfig:
         raise InputError("regrasp_cost", regrasp_cost, "must be a number of seconds >= 0")
     return config.with_values({"cost.regrasp": float(regrasp_cost)})
 
-
-def _status_name(status: Any) -> str:
-    s = str(status)
-    names = {"Exact solution": "EXACT_SOLUTION", "Approximate solution": "APPROXIMATE_SOLUTION",
-             "Timeout": "TIMEOUT", "Invalid start": "INVALID_START",
-             "Invalid goal": "INVALID_GOAL", "Crash": "CRASH", "Abort": "ABORT",
-             "Infeasible": "INFEASIBLE", "Unknown status": "UNKNOWN",
-             "Unrecognized goal type": "UNRECOGNIZED_GOAL_TYPE"}
-    return names.get(s, s.upper().replace(" ", "_"))

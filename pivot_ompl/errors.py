@@ -8,12 +8,43 @@ without parsing messages.
 from __future__ import annotations
 
 import reprlib
+import unicodedata
 from typing import Any
 
 _REPR = reprlib.Repr()
 _REPR.maxstring, _REPR.maxother, _REPR.maxlong = 80, 80, 40
 _REPR.maxlist = _REPR.maxtuple = _REPR.maxdict = _REPR.maxset = 6
 _REPR.maxlevel = 3
+
+
+def _escape(ch: str) -> str:
+    code = ord(ch)
+    if ch == "\n":
+        return "\\n"
+    if ch == "\t":
+        return "\\t"
+    if ch == "\r":
+        return "\\r"
+    return f"\\x{code:02x}" if code < 0x100 else (
+        f"\\u{code:04x}" if code < 0x10000 else f"\\U{code:08x}")
+
+
+def printable(text: object, *, keep: str = "") -> str:
+    r"""``text`` (``str()`` of it) safe for a terminal or a log line: one line, no control codes.
+
+    Every character of Unicode's "other" categories (controls such as ESC, BEL, NUL,
+    newline; format characters such as bidirectional overrides; surrogates, unassigned) and
+    the line and paragraph separators is shown as its Python escape (``\x1b``, ``\n``,
+    ``\u202e``); a backslash stays as it is; any other text is unchanged. Every print or log
+    of a user's string (a scene's name, a key, a path) goes through it. Characters in
+    ``keep`` (``"\n"`` for a whole text of several lines) are left as they are.
+    """
+    s = text if isinstance(text, str) else str(text)
+    if s.isprintable():
+        return s
+    return "".join(_escape(c) if c not in keep and (unicodedata.category(c)[0] == "C"
+                                                   or unicodedata.category(c) in ("Zl", "Zp"))
+                   else c for c in s)
 
 
 def counted(n: int, noun: str, plural: str = "") -> str:
@@ -59,8 +90,9 @@ class InputError(PivotError, ValueError):
         self.value = value
         self.reason = reason
         self.source = source
-        where = f"{source}: " if source else ""
-        super().__init__(f"{where}{field} = {abridge(value)}: {reason}")
+        where = f"{printable(source)}: " if source else ""
+        super().__init__(f"{where}{printable(field)} = {printable(abridge(value))}: "
+                         f"{printable(reason)}")
 
 
 class SceneError(InputError):

@@ -53,6 +53,12 @@ GRIP_OFFSET = 0.055
 Polygon = tuple[tuple[float, float], ...]
 
 
+def _length(x: object) -> bool:
+    """Whether ``x`` is a finite real number (not a bool)."""
+    return (not isinstance(x, bool) and isinstance(x, int | float)
+            and math.isfinite(x))
+
+
 @dataclass(frozen=True)
 class BoxGraspModel:
     """Geometry of the box and of the robot's bounding box at each grasp.
@@ -78,14 +84,17 @@ class BoxGraspModel:
     def __post_init__(self) -> None:
         """Validate sizes (all strictly positive, standoff non-negative) and the model."""
         profile_of(self.robot_model, field="robot_model")
-        for i, v in enumerate(self.object_size):
-            if not (v > 0 and math.isfinite(v)):
-                raise InputError(f"object_size[{i}]", v, "must be a positive length in m")
-        for i, v in enumerate(self.robot_footprint):
-            if not (v > 0 and math.isfinite(v)):
-                raise InputError(f"robot_footprint[{i}]", v, "must be a positive length in m")
-        if not (self.standoff >= 0 and math.isfinite(self.standoff)):
-            raise InputError("standoff", self.standoff, "must be a non-negative length in m")
+        for name, n in (("object_size", 3), ("robot_footprint", 2)):
+            v = getattr(self, name)
+            if isinstance(v, str | bytes) or not isinstance(v, tuple | list) or len(v) != n:
+                raise InputError(name, v, f"must be {n} lengths in m")
+            for i, x in enumerate(v):
+                if not _length(x) or x <= 0:
+                    raise InputError(f"{name}[{i}]", x, "must be a positive length in m")
+        for name in ("standoff", "robot_height"):
+            x = getattr(self, name)
+            if not _length(x) or x < 0:
+                raise InputError(name, x, "must be a non-negative length in m")
 
     # -- grasp geometry -------------------------------------------------------------------
     def half_extent(self, grasp: int) -> float:

@@ -92,8 +92,9 @@ def shipped_doc(name: str) -> dict:
 def walk_problems(scene: Scene, obj, g1: int, g2: int, walk) -> list[str]:  # noqa: ANN001
     """What the independent check finds in a walk from grasp ``g1`` to ``g2`` round ``obj``.
 
-    The walk is checked as a plan of its own (a transfer-less grasp at each end); problems
-    that only say the plan's ends are not the scene's start and goal are left out.
+    The walk is checked as a plan of its own (a transfer-less grasp at each end) of the
+    scene with its start and goal at ``obj``; problems that only say the plan's status or
+    sizes differ from the scene's are left out.
     """
     from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
     from pivot_ompl.validity.plan_check import check_plan
@@ -104,7 +105,10 @@ def walk_problems(scene: Scene, obj, g1: int, g2: int, walk) -> list[str]:  # no
                 [TransferPhase(g1, m.robot_pose(obj, g1), (), obj),
                  TransitPhase(g1, g2, walk.robot_path, obj),
                  TransferPhase(g2, m.robot_pose(obj, g2), (), obj)])
-    return [p for p in check_plan(plan, scene).problems if "scene" not in p]
+    import dataclasses
+
+    here = dataclasses.replace(scene, start=obj, goal=obj)  # the check starts at the scene's
+    return [p for p in check_plan(plan, here).problems if "scene" not in p]
 
 
 def two_rooms(door: float) -> Scene:

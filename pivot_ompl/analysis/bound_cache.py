@@ -8,20 +8,36 @@ Results live in memory (:data:`MEMORY_ENTRIES` scenes) and as small JSON files u
 ``$XDG_CACHE_HOME/pivot_ompl/bounds`` (``~/.cache`` when unset). ``PIVOT_OMPL_BOUND_CACHE=0``
 turns the disk cache off; an unreadable or foreign cache file is ignored and recomputed.
 Results stopped by the time limit are never kept.
+
+An entry on disk is a JSON object ``{"format": "pivot-bound/1", "key": <its key>, "bound":
+{...}}`` written with mode 0600. It is used only when it answers the key asked for, reads as
+a small regular file of this user's that no one else may write
+(:func:`~pivot_ompl.cache.read_entry_bytes`: no link, no FIFO, never blocking) and passes
+:func:`bound_problem`, the check every fresh result passes too; any other entry is discarded
+(deleted) with one warning and the bound computed again. A cache that cannot be written only
+costs the time of computing again. A plan that refutes a kept bound (fewer regrasps, a shorter
+route: :func:`refuted_by`) drops it (:func:`forget`).
 """
 
 from __future__ import annotations
 
+import contextlib
+import dataclasses
 import hashlib
 import json
 import logging
+import math
 import os
 from collections.abc import Callable
 from dataclasses import asdict
 from pathlib import Path
+from typing import Any
 
+from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.analysis.regrasp_bound import RESOLUTION, RegraspBound, regrasp_lower_bound
-from pivot_ompl.cache import BoundedCache
+from pivot_ompl.analysis.route_bound import GRID_SLACK, MAX_CELLS, MIN_CELL
+from pivot_ompl.cache import BoundedCache, CacheEntryError, read_entry_bytes
+from pivot_ompl.errors import InputError, printable, require_type
 from pivot_ompl.fileio import atomic_output
 from pivot_ompl.scene import Scene, scene_digest
 
@@ -33,6 +49,12 @@ BOUND_VERSION = 4
 MEMORY_ENTRIES = 64
 #: Environment variable that turns the disk cache off when ``0``.
 CACHE_ENV = "PIVOT_OMPL_BOUND_CACHE"
+#: The ``format`` of a disk entry.
+ENTRY_FORMAT = "pivot-bound/1"
+#: Largest disk entry read (bytes): an entry is about 200.
+MAX_ENTRY_BYTES = 4096
+
+_FIELDS = {f.name for f in dataclasses.fields(RegraspBound)}
 
 _memory: BoundedCache[str, RegraspBound] = BoundedCache(MEMORY_ENTRIES)
 
@@ -58,21 +80,129 @@ def _disk_enabled() -> bool:
     return os.environ.get(CACHE_ENV, "1") != "0"
 
 
-def _read(path: Path) -> RegraspBound | None:
-    try:
-        doc = json.loads(path.read_text())
-        return RegraspBound(**{k: doc[k] for k in ("regrasps", "solvable", "bins", "pieces",
-                                                    "seconds", "shortest_route")})
-    except (OSError, ValueError, KeyError, TypeError):
+def bound_problem(bound: object, scene: Scene) -> str | None:
+    """What makes ``bound`` impossible as a kept bound of ``scene``, or ``None`` when nothing.
+
+    Every result, fresh or read from the disk, passes this before it is kept or used: the
+    types of :class:`~pivot_ompl.analysis.regrasp_bound.RegraspBound`, finite numbers, and
+    ranges: ``solvable`` known, ``regrasps`` an integer >= 0 when solvable (at most the
+    number of pieces: a shortest path passes a piece once) and ``None`` when not,
+    ``shortest_route`` finite, >= 0, at least what the raster can give below the straight
+    line between the box's start and goal, and at most a walk through every raster cell.
+    """
+    if not isinstance(bound, RegraspBound):
+        return "not a regrasp bound"
+
+    def whole(v: object) -> bool:
+        return isinstance(v, int) and not isinstance(v, bool) and v >= 0
+
+    if not isinstance(bound.solvable, bool):
+        return f"solvable = {bound.solvable!r} is not true or false"
+    if not (whole(bound.bins) and bound.bins >= 1 and whole(bound.pieces)):
+        return f"bins = {bound.bins!r}, pieces = {bound.pieces!r} are not counts"
+    if (isinstance(bound.seconds, bool) or not isinstance(bound.seconds, int | float)
+            or not math.isfinite(bound.seconds) or bound.seconds < 0):
+        return f"seconds = {bound.seconds!r} is not a time"
+    if bound.solvable:
+        if not whole(bound.regrasps) or bound.regrasps > bound.pieces:  # type: ignore[operator]
+            return f"regrasps = {bound.regrasps!r} is not a count within the pieces"
+    elif bound.regrasps is not None or bound.shortest_route is not None:
+        return "an unsolvable scene has no regrasp count nor route"
+    route = bound.shortest_route
+    if route is None:
+        return None
+    if isinstance(route, bool) or not isinstance(route, int | float) or not math.isfinite(route):
+        return f"shortest_route = {route!r} is not a finite length"
+    low, high = _route_range(scene)
+    if not low - 1e-9 <= route <= high:
+        return f"shortest_route = {route!r} m is outside [{low:.6g}, {high:.6g}] m"
+    return None
+
+
+def _route_range(scene: Scene) -> tuple[float, float]:
+    """The range a computed :func:`~pivot_ompl.analysis.route_bound.shortest_route` lies in."""
+    raster = FloorRaster(scene.bounds, min_cell=MIN_CELL, max_cells=MAX_CELLS)
+    cell = raster.cell
+    nx, ny = raster.shape
+    straight = math.hypot(scene.goal[0] - scene.start[0], scene.goal[1] - scene.start[1])
+    low = max(0.0, (straight - 2.0 * cell * math.sqrt(2.0)) / (1.0 + GRID_SLACK)
+              - 2.0 * cell * math.sqrt(2.0))
+    return low, nx * ny * cell * math.sqrt(5.0)
+
+
+def refuted_by(bound: RegraspBound, *, regrasps: int, route: float) -> bool:
+    """Whether a valid plan of ``regrasps`` regrasps and a ``route`` m box route refutes ``bound``.
+
+    It does when a bound lies above what the plan achieves, or says "no plan" while one exists.
+    """
+    if bound.solvable is False:
+        return True
+    if bound.regrasps is not None and bound.regrasps > regrasps:
+        return True
+    return (bound.shortest_route is not None
+            and bound.shortest_route > route * (1.0 + 1e-9) + 1e-6)
+
+
+def forget(scene: Scene) -> None:
+    """Drop ``scene``'s kept bound from memory and disk (a plan refuted it)."""
+    key = scene_key(scene)
+    _memory.discard(key)
+    with contextlib.suppress(OSError):
+        (cache_dir() / f"{key}.json").unlink()
+
+
+def _read(path: Path, key: str, scene: Scene) -> RegraspBound | None:
+    """The entry at ``path`` answering ``key``; ``None`` when there is none.
+
+    Raises:
+        CacheEntryError: an entry is there but is not one to use (see the module docstring).
+    """
+    data = read_entry_bytes(path, max_bytes=MAX_ENTRY_BYTES)
+    if data is None:
         return None
 
+    def constant(name: str) -> Any:
+        raise ValueError(f"{name} is not a number")
 
-def _write(path: Path, bound: RegraspBound) -> None:
+    try:
+        doc = json.loads(data.decode("utf-8"), parse_constant=constant)
+    except (ValueError, RecursionError):
+        raise CacheEntryError(path, "is not JSON") from None
+    if not isinstance(doc, dict) or doc.get("format") != ENTRY_FORMAT:
+        raise CacheEntryError(path, f"is not a {ENTRY_FORMAT} entry")
+    if doc.get("key") != key:
+        raise CacheEntryError(path, "answers another key (another scene or relaxation)")
+    raw = doc.get("bound")
+    if not isinstance(raw, dict) or set(raw) != _FIELDS:
+        raise CacheEntryError(path, f"its bound does not hold exactly {sorted(_FIELDS)}")
+    bound = RegraspBound(**raw)
+    problem = bound_problem(bound, scene)
+    if problem is not None:
+        raise CacheEntryError(path, problem)
+    return bound
+
+
+def _write(path: Path, key: str, bound: RegraspBound) -> None:
+    doc = {"format": ENTRY_FORMAT, "key": key, "bound": asdict(bound)}
     try:
         with atomic_output(path) as tmp:
-            tmp.write_text(json.dumps(asdict(bound)))
+            tmp.write_text(json.dumps(doc))
+            os.chmod(tmp, 0o600)  # read back only if no one else may write it
     except OSError as e:  # a read-only home loses the cache, not the bound
         log.debug("bound cache not written (%s)", e)
+
+
+def _disk_hit(path: Path, key: str, scene: Scene) -> RegraspBound | None:
+    """The disk entry of ``key``, or ``None`` (a bad one discarded with one warning)."""
+    try:
+        return _read(path, key, scene)
+    except CacheEntryError as e:
+        log.warning("bound cache entry %s discarded, recomputing: %s", printable(path),
+                    printable(e.reason))
+        with contextlib.suppress(OSError):
+            if not os.path.isdir(path):
+                path.unlink()
+        return None
 
 
 def cached_bound(scene: Scene, *, resolution: float = RESOLUTION) -> RegraspBound | None:
@@ -80,7 +210,7 @@ def cached_bound(scene: Scene, *, resolution: float = RESOLUTION) -> RegraspBoun
     key = scene_key(scene, resolution=resolution)
     hit = _memory.get(key)
     if hit is None and _disk_enabled():
-        hit = _read(cache_dir() / f"{key}.json")
+        hit = _disk_hit(cache_dir() / f"{key}.json", key, scene)
         if hit is not None:
             _memory.put(key, hit)
     return hit
@@ -100,14 +230,24 @@ def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RES
         The :class:`~pivot_ompl.analysis.regrasp_bound.RegraspBound` (``seconds`` is the time
         of the computation that produced it, however long ago).
     """
+    require_type(scene, Scene, "scene", "a Scene (load_scene(...) gives one)")
+    require_type(use_cache, bool, "use_cache", "True or False")
+    if should_stop is not None and not callable(should_stop):
+        raise InputError("should_stop", type(should_stop).__name__, "must be callable or None")
     key = scene_key(scene, resolution=resolution)
     if use_cache:
         hit = cached_bound(scene, resolution=resolution)
         if hit is not None:
             return hit
     bound = regrasp_lower_bound(scene, resolution=resolution, should_stop=should_stop)
-    if use_cache and bound.solvable is not None and bound.complete:
+    if bound.solvable is None or not bound.complete:  # stopped: returned, never kept
+        return bound
+    problem = bound_problem(bound, scene)
+    if problem is not None:  # the relaxation's own result out of range: a bug, never kept
+        log.warning("regrasp bound not kept: %s", problem)
+        return bound
+    if use_cache:
         _memory.put(key, bound)
         if _disk_enabled():
-            _write(cache_dir() / f"{key}.json", bound)
+            _write(cache_dir() / f"{key}.json", key, bound)
     return bound

@@ -36,8 +36,9 @@ from collections.abc import Callable
 import numpy as np
 import shapely
 
-from pivot_ompl.analysis.bound_cache import cached_bound, lower_bound
+from pivot_ompl.analysis.bound_cache import cached_bound, forget, lower_bound, refuted_by
 from pivot_ompl.analysis.raster import FloorRaster
+from pivot_ompl.analysis.regrasp_bound import RegraspBound
 from pivot_ompl.analysis.route_bound import MAX_CELLS, MIN_CELL, route_on
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
@@ -98,19 +99,37 @@ def _poller(should_stop: Callable[[], bool] | None) -> Callable[[], None]:
     return poll
 
 
-def plan_bounds(scene: Scene, regrasps: int, *,
+def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = None,
                 should_stop: Callable[[], bool] | None = None
                 ) -> tuple[int | None, float | None]:
     """``(regrasps_lower_bound, shortest_route)`` for a plan of ``scene`` with ``regrasps``.
 
-    Each ``None`` when not proven before ``should_stop`` said stop (module docstring).
+    Each ``None`` when not proven before ``should_stop`` said stop (module docstring). A
+    relaxation's bound that the plan itself refutes (more regrasps than ``regrasps``, a
+    route longer than ``route_length`` m, or "no plan") is dropped from the caches and not
+    given: a relaxation of every plan cannot lie above a valid one.
     """
     known = cached_bound(scene)
     if known is not None and known.solvable:
-        return known.regrasps, known.shortest_route
+        if not _refuted(known, scene, regrasps, route_length):
+            return known.regrasps, known.shortest_route
     if regrasps == 0:
         return 0, disk_route(scene, should_stop=should_stop)
     full = lower_bound(scene, should_stop=should_stop)
-    if full.solvable is False:  # a relaxation of every plan: a bug if it finds none
-        log.warning("the regrasp bound's relaxation finds no path, yet a plan exists")
+    if full.solvable is None or _refuted(full, scene, regrasps, route_length):
+        return None, None
     return full.regrasps, full.shortest_route
+
+
+def _refuted(bound: RegraspBound, scene: Scene, regrasps: int,
+             route_length: float | None) -> bool:
+    """Whether the plan refutes ``bound`` (then forgotten by the caches, with a warning)."""
+    if bound.solvable is not False and route_length is None:
+        return False
+    if not refuted_by(bound, regrasps=regrasps, route=math.inf if route_length is None
+                      else route_length):
+        return False
+    log.warning("regrasp bound dropped: this plan refutes it (bound %s regrasps, route %s)",
+                bound.regrasps, bound.shortest_route)
+    forget(scene)
+    return True

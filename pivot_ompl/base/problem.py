@@ -8,6 +8,7 @@ long as any of its OMPL objects is used.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -20,7 +21,8 @@ from pivot_ompl.base.space import GRASP_WEIGHT, ensure_projection, make_space
 from pivot_ompl.base.state import write_state
 from pivot_ompl.base.validity_checker import PivotValidityChecker
 from pivot_ompl.checking.pivot_checker import PivotChecker
-from pivot_ompl.errors import PlanningError
+from pivot_ompl.errors import InputError, PlanningError, require_type
+from pivot_ompl.grasp import check_grasp
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose
 
@@ -88,6 +90,24 @@ def make_problem(scene: Scene, *, seed: int = 0, grasp_weight: float = GRASP_WEI
     return problem
 
 
+def _check_setup_arguments(scene: Any, seed: Any, grasp_weight: Any, start_grasp: Any,
+                           goal_grasp: Any, checker: Any, should_stop: Any) -> None:
+    """Validate :func:`make_setup`'s arguments, naming the one at fault."""
+    require_type(scene, Scene, "scene", "a Scene (pivot_ompl.load_scene(name) gives one)")
+    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed < 2**32 - 1:
+        raise InputError("seed", seed, f"must be an integer in [0, {2**32 - 2}]")
+    if isinstance(grasp_weight, bool) or not isinstance(grasp_weight, int | float) or \
+            not 0 <= grasp_weight < math.inf:
+        raise InputError("grasp_weight", grasp_weight, "must be a finite number >= 0")
+    for name, g in (("start_grasp", start_grasp), ("goal_grasp", goal_grasp)):
+        if g is not None:
+            check_grasp(g, field=name)
+    if checker is not None and not isinstance(checker, PivotChecker):
+        raise InputError("checker", type(checker).__name__, "must be a PivotChecker or None")
+    if should_stop is not None and not callable(should_stop):
+        raise InputError("should_stop", type(should_stop).__name__, "must be callable or None")
+
+
 def make_setup(scene: Scene, *, seed: int = 0, grasp_weight: float = GRASP_WEIGHT,
                start_grasp: int | None = None, goal_grasp: int | None = None,
                checker: PivotChecker | None = None,
@@ -107,6 +127,8 @@ def make_setup(scene: Scene, *, seed: int = 0, grasp_weight: float = GRASP_WEIGH
             (``INVALID_GOAL``).
         Interrupted: ``should_stop()`` became true.
     """
+    _check_setup_arguments(scene, seed, grasp_weight, start_grasp, goal_grasp, checker,
+                           should_stop)
     problem = make_problem(scene, seed=seed, grasp_weight=grasp_weight, checker=checker,
                            should_stop=should_stop)
     ss = og.SimpleSetup(problem.si)

@@ -18,6 +18,7 @@ from concurrent.futures import ThreadPoolExecutor, as_completed
 from typing import Any, Protocol
 
 from pivot_ompl.bench.job import Job, JobResult, run_job
+from pivot_ompl.bench.processes import JobProcesses
 from pivot_ompl.errors import InputError
 
 
@@ -48,15 +49,18 @@ class LocalExecutor:
         """Create the executor."""
         self.workers = workers or default_workers()
 
-    def run(self, jobs: Iterable[Job]) -> Iterator[tuple[Job, JobResult]]:  # noqa: D102
+    def run(self, jobs: Iterable[Job]) -> Iterator[tuple[Job, JobResult]]:
+        """Run ``jobs``; stopped (Ctrl-C, SIGTERM, an error), every job process ends at once."""
+        processes = JobProcesses()
         with ThreadPoolExecutor(max_workers=self.workers) as pool:
-            futures = {pool.submit(run_job, job): job for job in jobs}
+            futures = {pool.submit(run_job, job, processes=processes): job for job in jobs}
             try:
                 for fut in as_completed(futures):
                     yield futures[fut], fut.result()
             finally:
                 for fut in futures:
                     fut.cancel()
+                processes.close()  # the running ones killed: the pool's threads end now
 
 
 def _import_distributed() -> Any:

@@ -16,7 +16,6 @@ import importlib
 import json
 import os
 import socket
-import subprocess
 import sys
 import tempfile
 import time
@@ -26,6 +25,8 @@ from pathlib import Path
 from typing import Any
 
 from pivot_ompl.bench.ompl_log import STATUS, fmt_value, parse_log, prop_type
+from pivot_ompl.bench.processes import JobProcesses
+from pivot_ompl.errors import printable
 
 #: A job process is killed (and its run recorded as ``Crash``) after
 #: ``time_limit * (1 + KILL_FACTOR) + KILL_MARGIN`` seconds (process start, setup, conversion).
@@ -215,7 +216,7 @@ def execute(job: Job) -> JobResult:
         return res
     ss = problem.setup
     planner = allocator(job.planner)(problem, job.seed)
-    bench = ot.Benchmark(ss, job.scene_name)
+    bench = ot.Benchmark(ss, printable(job.scene_name))  # OMPL's log: one line per field
     bench.addPlanner(planner)
     extras: dict[str, str] = {}
     errors: list[str] = []
@@ -261,7 +262,8 @@ def execute(job: Job) -> JobResult:
 
 
 def run_job(job: Job, *, python: str | None = None, timeout: float | None = None,
-            env: dict[str, str] | None = None) -> JobResult:
+            env: dict[str, str] | None = None,
+            processes: JobProcesses | None = None) -> JobResult:
     """Run ``job`` in a fresh Python process; a crash or a kill becomes a ``Crash`` run.
 
     Args:
@@ -269,7 +271,13 @@ def run_job(job: Job, *, python: str | None = None, timeout: float | None = None
         python: interpreter (default: this one).
         timeout: seconds before the process is killed (default: :func:`kill_timeout`).
         env: environment of the process (default: this one).
+        processes: the sweep's job processes (its own process group, ended with the sweep);
+            default: a set of this job alone.
+
+    Raises:
+        Interrupted: ``processes`` was closed (the sweep was stopped).
     """
+    processes = processes or JobProcesses()
     timeout = kill_timeout(job.time_limit) if timeout is None else timeout
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="pivot-bench-") as d:
@@ -278,14 +286,12 @@ def run_job(job: Job, *, python: str | None = None, timeout: float | None = None
         cmd = [python or sys.executable, "-m", "pivot_ompl.bench.worker", str(job_path),
                str(res_path)]
         error = None
-        try:
-            proc = subprocess.run(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-                                  stderr=subprocess.PIPE, timeout=timeout, env=env)
-            if not res_path.exists():  # (a crash at interpreter exit after it is harmless)
-                tail = proc.stderr.decode(errors="replace").strip().splitlines()[-5:]
-                error = f"job process exited with code {proc.returncode}: " + " | ".join(tail)
-        except subprocess.TimeoutExpired:
+        code, stderr = processes.run(cmd, timeout=timeout, env=env)
+        if code is None:
             error = f"job process killed after {timeout:.0f} s"
+        elif not res_path.exists():  # (a crash at interpreter exit after it is harmless)
+            tail = stderr.decode(errors="replace").strip().splitlines()[-5:]
+            error = f"job process exited with code {code}: " + " | ".join(tail)
         if error is None:
             return json.loads(res_path.read_text())
     res = _base_result(job)

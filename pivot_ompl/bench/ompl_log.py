@@ -43,6 +43,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from pivot_ompl.errors import printable
+
 #: The status enum line OMPL 2.0.1 writes (value i is the (i+1)-th field).
 STATUS_ENUM = ("status|Unknown status|Invalid start|Invalid goal|Unrecognized goal type|Timeout|"
                "Approximate solution|Exact solution|Crash|Unknown status|Unknown status")
@@ -127,7 +129,7 @@ class ExperimentLog:
         out = io.StringIO()
         w = out.write
         w(f"{self.library} version {self.version}\n")
-        w(f"Experiment {self.name}\n")
+        w(f"Experiment {printable(self.name)}\n")  # a newline in a name would forge lines
         w(f"{len(self.properties)} experiment properties\n")
         for name, typ, value in self.properties:
             w(f"{name} {typ} = {value}\n")

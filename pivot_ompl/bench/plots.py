@@ -4,11 +4,16 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from pivot_ompl.bench.job import JobResult
 from pivot_ompl.bench.summary import exact
+from pivot_ompl.errors import printable
+
+#: Matplotlib settings of every figure: texts are plain (a ``$`` is a dollar sign).
+PLAIN_TEXT: dict[Any, Any] = {"text.parse_math": False}
 
 
 def _by_planner(results: Iterable[JobResult], scene: str) -> dict[str, list[dict[str, str]]]:
@@ -32,6 +37,12 @@ def plot_times(results: Sequence[JobResult], scene: str, time_limit: float,
     import matplotlib
 
     matplotlib.use("Agg")
+    with matplotlib.rc_context(PLAIN_TEXT):  # names drawn as they are, never as mathtext
+        return _plot_times(results, scene, time_limit, path)
+
+
+def _plot_times(results: Sequence[JobResult], scene: str, time_limit: float,
+                path: str | Path) -> Path:
     import matplotlib.pyplot as plt
 
     groups = _by_planner(results, scene)
@@ -49,7 +60,7 @@ def plot_times(results: Sequence[JobResult], scene: str, time_limit: float,
                     color="tab:green" if ok else "tab:red")
     ax.axhline(time_limit, ls="--", color="grey", lw=1, label=f"time limit {time_limit:g} s")
     ax.set_ylabel("solve time (s)")
-    ax.set_title(f"{scene}: solve time (o solved, x not solved)")
+    ax.set_title(f"{printable(scene)}: solve time (o solved, x not solved)")
     ax.legend(loc="best", fontsize=8)
     fig.tight_layout()
     path = Path(path)
@@ -64,6 +75,12 @@ def plot_success(results: Sequence[JobResult], scene: str, time_limit: float,
     import matplotlib
 
     matplotlib.use("Agg")
+    with matplotlib.rc_context(PLAIN_TEXT):  # names drawn as they are, never as mathtext
+        return _plot_success(results, scene, time_limit, path)
+
+
+def _plot_success(results: Sequence[JobResult], scene: str, time_limit: float,
+                  path: str | Path) -> Path:
     import matplotlib.pyplot as plt
 
     groups = _by_planner(results, scene)
@@ -77,7 +94,7 @@ def plot_success(results: Sequence[JobResult], scene: str, time_limit: float,
     ax.set_ylim(-2, 102)
     ax.set_xlabel("time limit (s)")
     ax.set_ylabel("runs solved (%)")
-    ax.set_title(f"{scene}: success against the time limit")
+    ax.set_title(f"{printable(scene)}: success against the time limit")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="lower right")
     fig.tight_layout()

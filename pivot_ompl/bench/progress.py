@@ -6,6 +6,8 @@ import sys
 import time
 from typing import TextIO
 
+from pivot_ompl.errors import printable
+
 
 def _hms(seconds: float) -> str:
     s = int(round(max(0.0, seconds)))
@@ -53,8 +55,9 @@ class Progress:
         """Count ``n`` finished jobs and redraw."""
         self.done += n
         now = time.monotonic()
-        if self.tty:
-            self.stream.write("\r\033[K" + self.line(note))
+        note = printable(note)  # a scene's name: no control character reaches the terminal
+        if self.tty:  # its own control sequence, past an escaping wrapper (cli.terminal)
+            getattr(self.stream, "unescaped", self.stream).write("\r\033[K" + self.line(note))
             self.stream.flush()
         elif now - self._last >= self.period or self.done >= self.total:
             self.stream.write(self.line(note) + "\n")

@@ -10,6 +10,7 @@ import numpy as np
 
 from pivot_ompl.bench.job import JobResult
 from pivot_ompl.bench.ompl_log import STATUS
+from pivot_ompl.errors import printable
 
 
 @dataclass(frozen=True)
@@ -93,7 +94,8 @@ def format_table(rows: Iterable[Row]) -> str:
             "pivots", "regrasps", "length")
     lines = [head]
     for r in rows:
-        lines.append((r.scene, r.planner, str(r.runs), f"{100 * r.success:.0f} %",
+        lines.append((printable(r.scene), printable(r.planner), str(r.runs),
+                      f"{100 * r.success:.0f} %",
                       str(r.crashed), f"{r.median_time:.3f} s", f"{r.p95_time:.3f} s",
                       f"{r.mean_time:.3f} s", _f(r.pivots, ".0f"), _f(r.regrasps, ".0f"),
                       _f(r.length, ".2f")))
@@ -114,7 +116,8 @@ def format_markdown(rows: Iterable[Row]) -> str:
            "| mean time (s) | pivots | regrasps | length |",
            "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for r in rows:
-        out.append(f"| {r.scene} | {r.planner} | {r.runs} | {100 * r.success:.0f} % | "
+        out.append(f"| {printable(r.scene)} | {printable(r.planner)} | {r.runs} | "
+                   f"{100 * r.success:.0f} % | "
                    f"{r.crashed} | {r.median_time:.3f} | {r.p95_time:.3f} | "
                    f"{r.mean_time:.3f} | {_f(r.pivots, '.0f')} | {_f(r.regrasps, '.0f')} | "
                    f"{_f(r.length, '.2f')} |")

@@ -7,17 +7,18 @@ Run ``i`` of every planner uses seed ``seed0 + i``; every run is a fresh process
 seeds give the same results whatever the executor (times aside).
 
 ``out`` must be a new or empty folder, unless ``overwrite``: then the previous sweep's outputs
-are replaced as a whole (no stale log is left) once the new sweep has succeeded. Outputs are
+(the files its ``bench-manifest.json`` lists, unchanged since) are replaced as a whole once the
+new sweep has succeeded; no other file is removed or replaced
+(:mod:`pivot_ompl.bench.manifest`). Outputs are
 first written into a hidden folder inside ``out`` and moved into place at the end, so a failed
 or interrupted sweep leaves the previous results as they were.
 """
 
 from __future__ import annotations
 
-import fnmatch
 import json
 import logging
-import os
+import math
 import shutil
 import socket
 import time
@@ -29,6 +30,7 @@ from pathlib import Path
 from pivot_ompl.bench.database import build_database
 from pivot_ompl.bench.executors import Executor, LocalExecutor
 from pivot_ompl.bench.job import Job, JobResult, allocator
+from pivot_ompl.bench.manifest import MANIFEST, check_names_free, publish
 from pivot_ompl.bench.ompl_log import STATUS_ENUM, ExperimentLog, PlannerResults, fmt_value
 from pivot_ompl.bench.plots import plot_success, plot_times
 from pivot_ompl.bench.progress import Progress
@@ -40,9 +42,6 @@ from pivot_ompl.scene import load_scene
 log = logging.getLogger(__name__)
 
 _SPECS = "Properties of benchmarked planners:\n"
-#: The files a sweep writes into its folder (replaced as a whole with ``overwrite``).
-OUTPUT_PATTERNS = ("*.log", "benchmark.db", "runs.json", "summary.txt", "summary.md",
-                   "*_times.png", "*_success.png")
 
 
 @dataclass
@@ -89,12 +88,15 @@ def make_jobs(scenes: Sequence[str | Path], planners: Sequence[str], *, runs: in
         raise InputError("--planners", "", "give at least one planner")
     if isinstance(runs, bool) or not isinstance(runs, int) or runs < 1:
         raise InputError("--runs", runs, "must be an integer >= 1")
-    from pivot_ompl.api import check_time_limit  # OMPL only when jobs are made
+    from pivot_ompl.api import MAX_SEED, check_time_limit  # OMPL only when jobs are made
 
     time_limit = check_time_limit(time_limit, "--time")  # plan's contract: inf is the largest
-    if isinstance(seed0, bool) or not isinstance(seed0, int) or seed0 < 0:
-        raise InputError("--seed0", seed0, "must be an integer >= 0")
-    if not (memory_limit > 0):
+    if isinstance(seed0, bool) or not isinstance(seed0, int) or \
+            not 0 <= seed0 <= MAX_SEED - (runs - 1):
+        raise InputError("--seed0", seed0, f"must be an integer in [0, {MAX_SEED - (runs - 1)}]"
+                         f" (run i uses seed0 + i, every seed at most {MAX_SEED})")
+    if isinstance(memory_limit, bool) or not isinstance(memory_limit, int | float) or \
+            not 0 < memory_limit < math.inf:
         raise InputError("memory_limit", memory_limit, "must be > 0 MB")
     if len(set(planners)) != len(planners):
         raise InputError("--planners", ",".join(planners), "lists a planner twice")
@@ -166,13 +168,15 @@ def check_out_folder(out: str | Path, *, overwrite: bool = False) -> Path:
     return out
 
 
-def _publish(staging: Path, out: Path) -> None:
-    """Replace the previous sweep's outputs in ``out`` by the files in ``staging``."""
-    for p in out.iterdir():
-        if p.is_file() and any(fnmatch.fnmatch(p.name, pat) for pat in OUTPUT_PATTERNS):
-            p.unlink()
-    for p in staging.iterdir():
-        os.replace(p, out / p.name)
+def output_names(scene_names: Sequence[str], *, plots: bool) -> list[str]:
+    """The names of the files a sweep of ``scene_names`` writes (its manifest included)."""
+    names = ["benchmark.db", "runs.json", "summary.txt", "summary.md", MANIFEST]
+    for name in dict.fromkeys(scene_names):
+        stem = file_stem(name)
+        names.append(f"{stem}.log")
+        if plots:
+            names += [f"{stem}_times.png", f"{stem}_success.png"]
+    return names
 
 
 def _ompl_version() -> str:
@@ -196,6 +200,8 @@ def run_sweep(scenes: Sequence[str | Path], planners: Sequence[str], *, runs: in
     final = check_out_folder(out, overwrite=overwrite)
     jobs = make_jobs(scenes, planners, runs=runs, time_limit=time_limit, seed0=seed0,
                      memory_limit=memory_limit, simplify=simplify)
+    if overwrite and final.is_dir():
+        check_names_free(final, output_names([j.scene_name for j in jobs], plots=plots))
     final.mkdir(parents=True, exist_ok=True)
     staging = final / f".partial-{uuid.uuid4().hex[:8]}"
     staging.mkdir()
@@ -203,7 +209,7 @@ def run_sweep(scenes: Sequence[str | Path], planners: Sequence[str], *, runs: in
         res = _run(jobs, planners, runs=runs, time_limit=time_limit, out=staging,
                    executor=executor, seed0=seed0, memory_limit=memory_limit,
                    progress=progress, plots=plots)
-        _publish(staging, final)
+        publish(staging, final)
     finally:
         shutil.rmtree(staging, ignore_errors=True)
     res.logs = {k: final / p.name for k, p in res.logs.items()}

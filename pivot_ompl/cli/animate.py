@@ -27,7 +27,8 @@ from typing import TYPE_CHECKING, TextIO
 
 from pivot_ompl.cli.args import finite, output_files
 from pivot_ompl.cli.scenes import SceneRecord, require_scene
-from pivot_ompl.errors import InputError, WholeBodyError
+from pivot_ompl.cli.terminal import control_stream
+from pivot_ompl.errors import InputError, WholeBodyError, printable
 
 if TYPE_CHECKING:
     from pivot_ompl.scene import Scene
@@ -53,8 +54,9 @@ class ProgressBar:
         """Redraw with ``fraction`` in [0, 1] done and a status ``text``."""
         n = int(round(self.width * fraction))
         el = time.perf_counter() - self._t0
-        self.stream.write(f"\r{self.label} [{'#' * n}{'.' * (self.width - n)}] "
-                          f"{100 * fraction:5.1f}% {el:6.1f}s {text[:40]:40s}")
+        control_stream(self.stream).write(
+            f"\r{self.label} [{'#' * n}{'.' * (self.width - n)}] "
+            f"{100 * fraction:5.1f}% {el:6.1f}s {printable(text)[:40]:40s}")
         if fraction >= 1.0:
             self.stream.write("\n")
         self.stream.flush()
@@ -123,8 +125,8 @@ def _check(args: argparse.Namespace) -> int:
     scene = require_scene(record, args.scene, field="motion.scene")
     report = check_motion(motion, plan, scene=scene)
     if report.clearance is not None:
-        print(f"obstacle clearance per link (scene {scene.name}; smallest distance in m over "
-              "the motion, at time t, to the nearest obstacle):")
+        print(f"obstacle clearance per link (scene {printable(scene.name)}; smallest distance "
+              "in m over the motion, at time t, to the nearest obstacle):")
         print(report.clearance.table())
     if report.peaks is not None:
         print("joint speed and acceleration peaks over the whole motion (|v| rad/s, |a| "

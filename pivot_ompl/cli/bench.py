@@ -168,6 +168,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run the sweep; print the table and where the outputs are (``--param help``: list)."""
     from pivot_ompl.bench.executors import make_executor
+    from pivot_ompl.bench.processes import terminate_as_interrupt
     from pivot_ompl.bench.sweep import run_sweep
 
     if "help" in (p.strip() for p in args.param):
@@ -188,11 +189,12 @@ def run(args: argparse.Namespace) -> int:
     executor = make_executor(args.executor, scheduler=args.scheduler, workers=args.workers)
     if not log.isEnabledFor(logging.DEBUG):  # Dask's INFO chatter would bury the progress bar
         logging.getLogger("distributed").setLevel(logging.WARNING)
-    res = run_sweep(args.scenes, planners, runs=args.runs,
-                    time_limit=args.time, out=args.out,
-                    executor=executor, seed0=args.seed0, memory_limit=args.memory,
-                    simplify=args.simplify, progress=not args.no_progress,
-                    plots=not args.no_plots, overwrite=args.overwrite)
+    with terminate_as_interrupt():  # SIGTERM cleans up as Ctrl-C does
+        res = run_sweep(args.scenes, planners, runs=args.runs,
+                        time_limit=args.time, out=args.out,
+                        executor=executor, seed0=args.seed0, memory_limit=args.memory,
+                        simplify=args.simplify, progress=not args.no_progress,
+                        plots=not args.no_plots, overwrite=args.overwrite)
     sys.stdout.write(res.table)
     print(f"{len(res.results)} runs in {res.wall:.1f} s; logs: "
           + ", ".join(str(p) for p in res.logs.values()))

@@ -14,6 +14,7 @@ import time
 
 from pivot_ompl.analysis.bound_cache import lower_bound
 from pivot_ompl.cli.args import time_limit
+from pivot_ompl.errors import printable
 from pivot_ompl.scene import load_scene
 
 
@@ -37,14 +38,15 @@ def run(args: argparse.Namespace) -> int:
     took = time.perf_counter() - t0
     where = f"{b.bins} yaw bins, {b.pieces} pieces; {took:.2f} s"
     if b.solvable is None:
-        print(f"{scene.name}: unknown (stopped after {args.time:g} s; {where})")
+        print(f"{printable(scene.name)}: unknown (stopped after {args.time:g} s; {where})")
         return 1
     if b.solvable is False:
-        print(f"{scene.name}: no plan exists (proven: the relaxation joins no path; {where})")
+        print(f"{printable(scene.name)}: no plan exists (proven: the relaxation joins no path; "
+              f"{where})")
         return 1
     n = b.regrasps
     route = ("" if b.shortest_route is None
              else f", a box route of at least {b.shortest_route:.2f} m")
-    print(f"{scene.name}: at least {n} regrasp{'' if n == 1 else 's'}{route} "
+    print(f"{printable(scene.name)}: at least {n} regrasp{'' if n == 1 else 's'}{route} "
           f"(proven; {where})")
     return 0

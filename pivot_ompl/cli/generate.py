@@ -9,11 +9,22 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import math
+import signal
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
+from types import FrameType
 
-from pivot_ompl.cli.args import positive
-from pivot_ompl.errors import InputError, counted
+from pivot_ompl.cli.args import positive, time_limit
+from pivot_ompl.errors import InputError, Interrupted, counted
 from pivot_ompl.generate import FAMILIES, GeneratorParams, generate, write_all_generated
 from pivot_ompl.generate.families import BUILDING_LAYOUTS
+
+#: Most scenes one run generates (each is kept in memory until all are written).
+MAX_COUNT = 10_000
+#: Seconds between two alarms of :func:`time_limited` once its limit has passed.
+REPEAT = 0.05
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -22,7 +33,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--family", required=True, choices=sorted(FAMILIES))
     p.add_argument("--seed", type=int, default=0, help="seed (>= 0)")
     p.add_argument("--count", type=positive("--count"), default=1,
-                   help="scenes of seeds seed, seed+1, ... (default 1)")
+                   help=f"scenes of seeds seed, seed+1, ... (default 1, at most {MAX_COUNT})")
+    p.add_argument("--time", type=time_limit("--time"), default=math.inf,
+                   help="time limit (s) of the whole generation: past it nothing is written "
+                        "and the exit status is 1 (default: inf, no limit)")
     p.add_argument("--out", required=True, help="output folder")
     p.add_argument("--door-width", type=positive("--door-width"), nargs=2,
                    metavar=("MIN", "MAX"), help="range of robot door widths (m), walls")
@@ -49,6 +63,8 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--seed", args.seed, "must be >= 0")
     if int(args.count) != args.count:
         raise InputError("--count", args.count, "must be a whole number")
+    if args.count > MAX_COUNT:
+        raise InputError("--count", args.count, f"at most {MAX_COUNT} scenes in one run")
     for name in ("walls", "rooms"):
         value = getattr(args, name)
         if value is not None and int(value) != value:
@@ -63,8 +79,9 @@ def run(args: argparse.Namespace) -> int:
     if args.wide_doors:
         params = dataclasses.replace(params, wide_doors=_range(args.wide_doors, "--wide-doors"))
     check_out_dir(args.out)
-    gens = [generate(args.family, seed, params=params)
-            for seed in range(args.seed, args.seed + int(args.count))]
+    with time_limited(args.time, "generating the scenes"):
+        gens = [generate(args.family, seed, params=params)
+                for seed in range(args.seed, args.seed + int(args.count))]
     for gen, (scene_path, plan_path) in zip(gens, write_all_generated(gens, args.out),
                                             strict=True):
         print(f"{scene_path} ({counted(len(gen.scene.obstacles), 'obstacle')}), witness "
@@ -94,3 +111,29 @@ def check_out_dir(path: str) -> None:
     check_output(Path(path) / "x.yaml", field="--out")  # names first: exists() could fail
     if Path(path).exists() and not Path(path).is_dir():
         raise InputError("--out", path, "is a file: give a folder")
+
+
+@contextmanager
+def time_limited(seconds: float, what: str) -> Iterator[None]:
+    """Raise :class:`~pivot_ompl.errors.Interrupted` in the block once ``seconds`` have passed.
+
+    A real-time alarm (``SIGALRM``) interrupts the work wherever it is, so no loop of it has
+    to poll; it rings again every :data:`REPEAT` s until the interruption gets out of the work
+    (a library's callback may swallow one). Without an alarm (not the main thread, not POSIX)
+    or with an infinite limit, nothing.
+    """
+    if not math.isfinite(seconds) or not hasattr(signal, "setitimer") or \
+            threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def stop(signum: int, frame: FrameType | None) -> None:
+        raise Interrupted(what)
+
+    previous = signal.signal(signal.SIGALRM, stop)
+    signal.setitimer(signal.ITIMER_REAL, seconds, REPEAT)  # again until it gets through
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0.0)
+        signal.signal(signal.SIGALRM, previous)

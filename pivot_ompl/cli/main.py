@@ -16,7 +16,8 @@ import sys
 from collections.abc import Sequence
 from typing import Any, NoReturn
 
-from pivot_ompl.errors import InputError, PivotError
+from pivot_ompl.cli.terminal import configure_logging, escaped_output
+from pivot_ompl.errors import InputError, PivotError, printable
 
 log = logging.getLogger(__name__)
 
@@ -92,7 +93,7 @@ class _Parser(argparse.ArgumentParser):
         self.print_usage(sys.stderr)
         if len(message) > 300:  # argparse echoes whole values: keep the message short
             message = message[:297] + "..."
-        print(f"{self.prog}: error: {message}", file=sys.stderr)
+        print(f"{self.prog}: error: {printable(message)}", file=sys.stderr)
         raise SystemExit(EXIT_BAD_INPUT)
 
 
@@ -179,12 +180,17 @@ def _run(argv: Sequence[str] | None) -> int:
         args = parser.parse_args(argv)
     except SystemExit as e:  # usage error (2) or --help (0): a code, also for in-process callers
         return e.code if isinstance(e.code, int) else EXIT_BAD_INPUT
-    logging.basicConfig(level=getattr(logging, args.log_level),
-                        format="%(levelname)s %(name)s: %(message)s")
+    configure_logging(getattr(logging, args.log_level))
     logging.getLogger("matplotlib").setLevel(logging.WARNING)
     _ompl_log_level(args.log_level)
     if argv is None:  # a real process, not a test calling main()
         atexit.register(_quiet_exit)
+    with escaped_output():
+        return _verb(args)
+
+
+def _verb(args: argparse.Namespace) -> int:
+    """Run the parsed verb; its errors as exit codes."""
     try:
         return int(args.func(args))
     except InputError as e:

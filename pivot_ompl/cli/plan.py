@@ -17,6 +17,7 @@ import time
 
 from pivot_ompl.api import MAX_SEED, PlanResult, plan
 from pivot_ompl.cli.args import integer, non_negative, output_files, time_limit
+from pivot_ompl.cli.terminal import control_stream
 from pivot_ompl.cost import REGRASP_COST
 from pivot_ompl.errors import PlanningError, counted
 from pivot_ompl.fileio import atomic_outputs
@@ -54,7 +55,7 @@ def _progress(stop: threading.Event, limit: float) -> None:
     t0 = time.monotonic()
     while not stop.wait(1.0):
         print(f"\rplanning... {time.monotonic() - t0:5.1f} s / {limit:.4g} s", end="",
-              file=sys.stderr, flush=True)
+              file=control_stream(sys.stderr), flush=True)
 
 
 def regrasps_text(regrasps: int, bound: int | None) -> str:

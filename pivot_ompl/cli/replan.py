@@ -14,12 +14,13 @@ from __future__ import annotations
 
 import argparse
 import sys
+import time
 
 from pivot_ompl.api import MAX_SEED
 from pivot_ompl.cli.args import finite, integer, output_files, time_limit
 from pivot_ompl.cli.plan import result_line
-from pivot_ompl.errors import InputError, PlanningError
-from pivot_ompl.fileio import atomic_outputs, load_yaml
+from pivot_ompl.errors import InputError, Interrupted, PlanningError
+from pivot_ompl.fileio import atomic_outputs, load_yaml, parse_deadline
 from pivot_ompl.generate.sceneio import scene_text
 from pivot_ompl.planfile import load_plan
 from pivot_ompl.scene import load_scene, scene_digest
@@ -51,8 +52,13 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Replan and write the changed scene and the new plan."""
-    scene = load_scene(args.scene)
+    """Replan and write the changed scene and the new plan.
+
+    ``--time`` counts from the start: reading the scene, the plan and the added obstacles
+    is inside it (a 100 000-obstacle file is stopped, not read to the end).
+    """
+    deadline = time.monotonic() + args.time
+    scene = load_scene(args.scene, deadline=deadline)
     old = load_plan(args.plan)
     if old.scene != scene.name:
         raise InputError("PLAN", args.plan, f"is a plan of scene {old.scene!r}, not of "
@@ -61,7 +67,7 @@ def run(args: argparse.Namespace) -> int:
     out, scene_out = output_files(inputs, out=args.out, scene_out=args.scene_out)
     added = []
     if args.add_obstacles:
-        doc = load_yaml(args.add_obstacles)
+        doc = load_yaml(args.add_obstacles, should_stop=parse_deadline(deadline))
         if not isinstance(doc, dict) or set(doc) != {"obstacles"}:
             raise InputError("--add-obstacles", args.add_obstacles,
                              "must hold one key, obstacles: a list as in a scene file")
@@ -69,10 +75,13 @@ def run(args: argparse.Namespace) -> int:
         if not isinstance(added, list):
             raise InputError("--add-obstacles", args.add_obstacles, "obstacles must be a list")
     session = PlanningSession(scene, seed=args.seed, executing=old)
+    left = deadline - time.monotonic()
+    if left <= 0:
+        raise Interrupted("reading the inputs")
     try:
         res = session.replan(box=args.box, grasp=args.grasp, robot=args.robot,
                              add_obstacles=added, remove_obstacles=list(args.remove_obstacles),
-                             time_limit=args.time)
+                             time_limit=left)
     except PlanningError as e:
         print(f"pivot-ompl replan: {e}", file=sys.stderr)
         return 2

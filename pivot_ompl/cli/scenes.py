@@ -10,12 +10,12 @@ the plan was made for (another digest), a note says so before anything else is p
 from __future__ import annotations
 
 import logging
+import os
 import sys
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
-from pivot_ompl.errors import InputError
+from pivot_ompl.errors import InputError, SceneError
 from pivot_ompl.resources import shipped_scenes
 from pivot_ompl.scene import Scene, load_scene, scene_digest
 
@@ -72,10 +72,10 @@ def find_scene(record: SceneRecord, given: str | Scene | None) -> Scene | None:
         scene = load_scene(given)
         _note_mismatch(record, scene, given)
         return scene
-    if record.path and Path(record.path).is_file():
+    if record.path and os.path.lexists(record.path):
         log.info("scene %r from %s (the %s's scene_path)", record.name, record.path,
                  record.kind)
-        scene = load_scene(record.path)
+        scene = _recorded_scene(record)
         _note_mismatch(record, scene, record.path, recorded=True)
         return scene
     shipped = shipped_scenes().get(record.name) if record.name else None
@@ -85,6 +85,22 @@ def find_scene(record: SceneRecord, given: str | Scene | None) -> Scene | None:
         _note_mismatch(record, scene, record.name)
         return scene
     return None
+
+
+def _recorded_scene(record: SceneRecord) -> Scene:
+    """The scene file a plan or motion names (its ``scene_path``), which must be one.
+
+    The file is named by the plan, not by the user: whatever it holds, no part of it is
+    echoed (a secret file named as a scene gives only "is not a scene file").
+
+    Raises:
+        SceneError: the file is not a regular file, or does not parse as a scene.
+    """
+    try:
+        return load_scene(record.path)
+    except SceneError:
+        raise SceneError("scene_path", record.path, "is not a scene file",
+                         source=f"the {record.kind}") from None
 
 
 def require_scene(record: SceneRecord, given: str | Scene | None, *, field: str) -> Scene:

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import errno
 import os
+import shutil
 import uuid
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager, suppress
@@ -106,6 +107,46 @@ def _temporary(p: Path) -> Path:
     return p.with_name(f".pivot-{uuid.uuid4().hex[:12]}.tmp{p.suffix[:32]}")
 
 
+def _replace_all(moves: list[tuple[Path, Path]]) -> None:
+    """``os.replace`` each ``(temporary, target)``: all, or none of the targets changed.
+
+    A target that is a folder is refused before any move. Each target replaced is first kept
+    as a hard link; when a later move fails, the targets already replaced get their previous
+    content back (or are removed when they were new).
+    """
+    for _, p in moves:
+        if p.is_dir():
+            raise OSError(errno.EISDIR, "Is a directory", str(p))
+    done: list[tuple[Path, Path | None]] = []
+    backups: list[Path] = []
+    try:
+        for tmp, p in moves:
+            backup: Path | None = _temporary(p)
+            try:
+                os.link(p, str(backup))
+            except FileNotFoundError:
+                backup = None  # a new file
+            except OSError:  # no hard links here: a copy
+                shutil.copy2(p, str(backup))
+            if backup is not None:
+                backups.append(backup)
+            os.replace(tmp, p)
+            done.append((p, backup))
+    except BaseException:
+        for p, backup in reversed(done):
+            with suppress(OSError):
+                if backup is None:
+                    p.unlink()
+                else:
+                    os.replace(backup, p)
+        raise
+    finally:
+        for backup in backups:
+            with suppress(FileNotFoundError):
+                backup.unlink()
+
+
+
 @contextmanager
 def atomic_output(path: str | Path) -> Iterator[Path]:
     """Yield a temporary path next to ``path``; move it onto ``path`` only on success.
@@ -149,9 +190,8 @@ def atomic_outputs(*paths: str | Path | None) -> Iterator[tuple[Path | None, ...
         for tmp in temps:
             if tmp is not None and not tmp.exists():
                 raise OSError(errno.ENOENT, "was not written", str(tmp))
-        for tmp, p in zip(temps, targets, strict=True):
-            if tmp is not None and p is not None:
-                os.replace(tmp, p)
+        _replace_all([(t, p) for t, p in zip(temps, targets, strict=True)
+                      if t is not None and p is not None])
     except OSError as e:
         if str(e.filename) in names or str(e.filename2) in names:
             raise OSError(e.errno, e.strerror or str(e),

@@ -13,8 +13,17 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
+from typing import Any
 
-from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Obstacle, PolygonObstacle, Scene
+from pivot_ompl.errors import InputError, require_type
+from pivot_ompl.scene import (
+    MAX_COORD,
+    BoxObstacle,
+    CylinderObstacle,
+    Obstacle,
+    PolygonObstacle,
+    Scene,
+)
 from pivot_ompl.se2 import Pose, wrap_angle
 
 #: Thickness (m) of the walls that keep a transformed copy inside the original floor area.
@@ -104,9 +113,32 @@ def transform_scene(scene: Scene, f: RigidMap, *, name: str) -> Scene:
                                start=pose(scene.start), goal=pose(scene.goal), source="")
 
 
+def _check_transform(scene: Any, angle: Any, angle_field: str, about: Any, name: Any) -> None:
+    """Validate a transform's arguments, naming the one at fault."""
+    require_type(scene, Scene, "scene", "a Scene (pivot_ompl.load_scene(name) gives one)")
+    if isinstance(angle, bool) or not isinstance(angle, int | float) or \
+            not abs(angle) <= 4.0 * math.pi:
+        raise InputError(angle_field, angle, "must be a finite angle within +-4 pi rad")
+    if about is not None:
+        if isinstance(about, str | bytes) or not isinstance(about, tuple | list) or \
+                len(about) != 2:
+            raise InputError("about", about, "must be a point (x, y) or None")
+        for i, v in enumerate(about):
+            if isinstance(v, bool) or not isinstance(v, int | float) or \
+                    not abs(v) <= MAX_COORD:
+                raise InputError(f"about[{i}]", v, f"must be finite, within +-{MAX_COORD:g} m")
+    if name is not None and (not isinstance(name, str) or not name):
+        raise InputError("name", name, "must be a non-empty string or None")
+
+
 def rotate_scene(scene: Scene, angle: float, *, about: tuple[float, float] | None = None,
                  name: str | None = None) -> Scene:
-    """A copy of ``scene`` rotated by ``angle`` (rad) about ``about`` (default: its centre)."""
+    """A copy of ``scene`` rotated by ``angle`` (rad) about ``about`` (default: its centre).
+
+    Raises:
+        InputError: a wrong argument (naming it).
+    """
+    _check_transform(scene, angle, "angle", about, name)
     if about is None:
         about = (0.5 * (scene.bounds[0] + scene.bounds[2]),
                  0.5 * (scene.bounds[1] + scene.bounds[3]))
@@ -116,7 +148,12 @@ def rotate_scene(scene: Scene, angle: float, *, about: tuple[float, float] | Non
 
 def mirror_scene(scene: Scene, axis_angle: float = 0.0, *,
                  about: tuple[float, float] | None = None, name: str | None = None) -> Scene:
-    """A copy of ``scene`` mirrored about the line through ``about`` at ``axis_angle`` (rad)."""
+    """A copy of ``scene`` mirrored about the line through ``about`` at ``axis_angle`` (rad).
+
+    Raises:
+        InputError: a wrong argument (naming it).
+    """
+    _check_transform(scene, axis_angle, "axis_angle", about, name)
     if about is None:
         about = (0.5 * (scene.bounds[0] + scene.bounds[2]),
                  0.5 * (scene.bounds[1] + scene.bounds[3]))

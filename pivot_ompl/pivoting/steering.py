@@ -100,6 +100,38 @@ class PivotSequence:
         return max((abs(r.angle) for r in self.rotations), default=0.0)
 
 
+#: Largest car-pose coordinate magnitude accepted (m).
+MAX_CAR_COORD = 1.0e6
+
+
+def car_pose(value: object, field: str) -> Pose:
+    """``value`` as a car pose ``(x, y, heading)`` of finite numbers.
+
+    Raises:
+        InputError: not a sequence of three numbers, one not finite or beyond
+            :data:`MAX_CAR_COORD` (naming ``field``).
+    """
+    if isinstance(value, str | bytes) or not hasattr(value, "__len__") or \
+            not hasattr(value, "__getitem__"):
+        raise InputError(field, type(value).__name__, "must be a pose (x, y, heading)")
+    if len(value) != 3:
+        raise InputError(field, value, "must be a pose of 3 numbers (x, y, heading)")
+    out = []
+    for i in range(3):
+        v = value[i]
+        if isinstance(v, bool) or not isinstance(v, int | float) and \
+                type(v).__module__ != "numpy":
+            raise InputError(f"{field}[{i}]", v, "must be a number")
+        try:
+            x = float(v)
+        except (TypeError, ValueError, OverflowError):
+            raise InputError(f"{field}[{i}]", v, "must be a number") from None
+        if not abs(x) <= MAX_CAR_COORD:
+            raise InputError(f"{field}[{i}]", v, f"must be finite, within +-{MAX_CAR_COORD:g}")
+        out.append(x)
+    return (out[0], out[1], out[2])
+
+
 @dataclass
 class PivotSteering:
     """Converts Reeds-Shepp paths between car poses into pivot rotations.
@@ -195,10 +227,20 @@ class PivotSteering:
             SteeringError: no piece solvable from some pose (pieces shorter than 2**-40).
             Interrupted: ``should_stop()`` became true.
         """
-        if not (half_length > 0):
+        start, goal = car_pose(start, "start"), car_pose(goal, "goal")
+        origin = None if origin is None else car_pose(origin, "origin")
+        if isinstance(half_length, bool) or not isinstance(half_length, int | float) or \
+                not (0 < half_length < math.inf):
             raise InputError("half_length", half_length, "must be > 0 m")
+        if should_stop is not None and not callable(should_stop):
+            raise InputError("should_stop", type(should_stop).__name__, "must be callable")
+        if (not isinstance(span, tuple | list) or len(span) != 2
+                or not all(isinstance(t, int | float) and not isinstance(t, bool) for t in span)
+                or not 0.0 <= span[0] <= span[1] <= 1.0):
+            raise InputError("span", span, "must be (t0, t1) with 0 <= t0 <= t1 <= 1")
         amax = self.alpha_max if alpha_max is None else alpha_max
-        if not (0 < amax <= self.alpha_max):
+        if isinstance(amax, bool) or not isinstance(amax, int | float) or \
+                not (0 < amax <= self.alpha_max):
             raise InputError("alpha_max", amax, f"must be in (0, {self.alpha_max}] rad")
         rs = self.paths
         ell = half_length

@@ -115,12 +115,18 @@ def stored_route(route: Sequence[State]) -> list[list[float]]:
 
 
 def join_points(checker: PivotChecker, route: Sequence[State], *,
-                step: float = JOIN_STEP) -> list[JoinPoint]:
-    """Points along the route's transfer edges every ``step`` m, in route order."""
+                step: float = JOIN_STEP, should_stop: Stop | None = None) -> list[JoinPoint] | None:
+    """Points along the route's transfer edges every ``step`` m, in route order.
+
+    ``None`` when ``should_stop()`` became true (polled every 256 edges: a route of
+    200 000 states is walked within a time limit).
+    """
     m, paths = checker.model, checker.steering.paths
     out = [JoinPoint(-1, 1.0, route[0][0], route[0][1], 0.0)] if route else []
     along = 0.0
     for i, ((qa, ga), (qb, gb)) in enumerate(zip(route, route[1:], strict=False)):
+        if should_stop is not None and i % 256 == 255 and should_stop():
+            return None
         if ga != gb:  # a walk at one pose: its end is a join point at the new grasp
             out.append(JoinPoint(i, 1.0, qb, gb, along))
             continue
@@ -161,7 +167,9 @@ def repair_route(checker: PivotChecker, route: Sequence[State], box: Pose,
     route = list(route)
     if len(route) < 2 or not checker.box_valid(box):
         return Found(Status.INVALID)
-    points = join_points(checker, route)
+    points = join_points(checker, route, should_stop=stop)
+    if points is None:
+        return Found(Status.STOPPED)
     m, paths = checker.model, checker.steering.paths
     held = [p for p in points if p.grasp == grasp] if grasp is not None else []
 

@@ -41,6 +41,18 @@ from pivot_ompl.se2 import Pose, wrap_angle
 ROBOT_MODELS = PROFILES
 
 
+class KindOf:
+    """Stands for a value in a message by its type alone (``a str``): never its content."""
+
+    def __init__(self, value: Any) -> None:
+        """The stand-in of ``value``."""
+        self.kind = type(value).__name__
+
+    def __repr__(self) -> str:
+        """``a <type>``."""
+        return f"a {self.kind}"
+
+
 class _Reader:
     """Typed field access that raises :class:`SceneError` naming file, field and value."""
 
@@ -51,12 +63,13 @@ class _Reader:
         return SceneError(fld, value, reason, source=self.source)
 
     def mapping(self, d: Any, fld: str, required: set[str], optional: set[str]) -> dict:
-        if not isinstance(d, dict):
-            raise self.fail(fld, d, "must be a mapping")
+        if not isinstance(d, dict):  # its content is not echoed: the file may be no scene
+            raise self.fail(fld or "<document>", KindOf(d), "must be a mapping")
         for k in d:
             if k not in required | optional:
                 name = f"{fld}.{k}" if fld else str(k)
-                raise self.fail(name, d[k], f"unknown key (allowed: {sorted(required | optional)})")
+                raise self.fail(name, KindOf(d[k]),
+                                f"unknown key (allowed: {sorted(required | optional)})")
         for k in sorted(required):
             if k not in d:
                 raise self.fail(f"{fld}.{k}" if fld else k, None, "is required")
@@ -210,7 +223,7 @@ def obstacles_from_list(items: Any, *, source: str = "", field: str = "obstacles
 def _obstacle(r: _Reader, o: Any, f: str, should_stop: Callable[[], bool] | None = None
               ) -> Obstacle:
     if not isinstance(o, dict):
-        raise r.fail(f, o, "must be a mapping")
+        raise r.fail(f, KindOf(o), "must be a mapping")
     kind = o.get("type")
     if kind == "box":
         d = r.mapping(o, f, {"type", "center", "size", "height"}, {"yaw"})

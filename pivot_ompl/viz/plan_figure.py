@@ -24,7 +24,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 from matplotlib.patches import Circle, Polygon  # noqa: E402
 
-from pivot_ompl.errors import counted  # noqa: E402
+from pivot_ompl.errors import counted, printable  # noqa: E402
 from pivot_ompl.grasp import BoxGraspModel  # noqa: E402
 from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase  # noqa: E402
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Scene  # noqa: E402
@@ -40,7 +40,16 @@ FOOTPRINTS_PER_M = 1.5
 
 def plan_figure(plan: Plan, *, scene: Scene | None = None, search: Any = None,
                 title: str = "") -> Figure:
-    """The plan figure (a matplotlib ``Figure``; :func:`plot_plan` writes it to a file)."""
+    """The plan figure (a matplotlib ``Figure``; :func:`plot_plan` writes it to a file).
+
+    Every text is drawn as plain text: a ``$`` in a scene's name is a dollar sign, never
+    mathtext (which would fail on ``$x^$``), and control characters are shown as escapes.
+    """
+    with matplotlib.rc_context({"text.parse_math": False}):
+        return _plan_figure(plan, scene=scene, search=search, title=printable(title))
+
+
+def _plan_figure(plan: Plan, *, scene: Scene | None, search: Any, title: str) -> Figure:
     model = BoxGraspModel(plan.object_size, plan.robot_footprint, plan.standoff)
     fig, ax = plt.subplots(figsize=(11, 7.5))
     if scene is not None:
@@ -66,7 +75,7 @@ def plan_figure(plan: Plan, *, scene: Scene | None = None, search: Any = None,
     reached = "reaches the goal" if plan.status == "exact" else f"status {plan.status}"
     if plan.extra.get("no_plan"):
         reached = "no plan exists"
-    ax.set_title(title or f"{plan.scene}: {counted(plan.pivots, 'pivot')}, "
+    ax.set_title(title or f"{printable(plan.scene)}: {counted(plan.pivots, 'pivot')}, "
                  f"{counted(plan.regrasps, 'regrasp')}, {reached}")
     handles, names = ax.get_legend_handles_labels()
     order = sorted(range(len(names)), key=lambda i: (names[i].startswith("box centre, grasp"),

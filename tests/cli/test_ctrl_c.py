@@ -75,7 +75,7 @@ def _interrupt_when(argv: list[str], ready: str, cwd: Path) -> tuple[int, str]:
 def test_ctrl_c_while_planning_keeps_the_previous_plan(tmp_path):
     out, fig = tmp_path / "plan.json", tmp_path / "plan.png"
     out.write_text("previous plan")
-    code, err = _interrupt_when(["plan", str(scene_file("enclosed")), "--time", "60",
+    code, err = _interrupt_when(["plan", str(scene_file("enclosed")), "--time", "60", "--no-bound",
                                  "--out", str(out), "--plot", str(fig)], "planning...", tmp_path)
     _interrupted_cleanly(code, err, "plan")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["plan.json"]

@@ -1,0 +1,145 @@
+"""Every public entry point validates its arguments (issue 43, class 8).
+
+Each call below is made with valid arguments but one, replaced by a wrong type or value; the
+only exceptions allowed are the project's own (:class:`~pivot_ompl.errors.PivotError`),
+naming the argument.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import pytest
+from factories import shipped
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import pivot_ompl
+from pivot_ompl.analysis.bound_cache import lower_bound
+from pivot_ompl.errors import InputError, PivotError
+from pivot_ompl.generate.transform import mirror_scene, rotate_scene
+from pivot_ompl.planfile import load_plan
+from pivot_ompl.session import PlanningSession
+from pivot_ompl.viz.samples import sample_plan
+
+OPEN = shipped("open")
+STEERING = pivot_ompl.PivotSteering(turning_radius=2.0, alpha_max=0.39)
+
+
+class _Odd:
+    """An object of no expected type."""
+
+    def __repr__(self) -> str:
+        return "<odd>"
+
+
+JUNK = st.one_of(
+    st.none(), st.booleans(), st.integers(-2**70, 2**70), st.sampled_from(
+        [math.nan, math.inf, -math.inf, 1e300, -1e300, -1.0, 0.0, 1e-320]),
+    st.floats(), st.text(max_size=8), st.binary(max_size=4), st.just("fig10"),
+    st.lists(st.floats(), max_size=4), st.lists(st.text(max_size=2), max_size=3),
+    st.dictionaries(st.text(max_size=3), st.integers(), max_size=2), st.just(_Odd()),
+    st.just(()), st.just((1e300, 0.0, 0.0)), st.just([0.0, 0.0]), st.just(object),
+)
+
+
+def _session() -> PlanningSession:
+    return PlanningSession(OPEN, planner="rrtconnect")
+
+
+#: Entry points: a call taking keyword arguments, and valid values of each.
+CALLS: dict[str, tuple[Any, dict[str, Any]]] = {
+    "load_scene": (pivot_ompl.load_scene, {"path": "open"}),
+    "load_plan": (lambda path: load_plan(path), {"path": "/nonexistent/plan.json"}),
+    "plan": (pivot_ompl.plan, {"scene": OPEN, "planner": "rrtconnect", "time_limit": 0.3,
+                               "seed": 0, "simplify": False, "bound": False}),
+    "make_setup": (pivot_ompl.make_setup, {"scene": OPEN, "seed": 0, "grasp_weight": 1.0,
+                                           "start_grasp": None, "goal_grasp": None,
+                                           "checker": None, "should_stop": None}),
+    "PivotSteering": (pivot_ompl.PivotSteering, {"turning_radius": 2.0, "alpha_max": 0.39,
+                                                 "merge": True}),
+    "PivotSteering.convert": (
+        lambda start, goal, half_length, should_stop: STEERING.convert(
+            start, goal, half_length=half_length, should_stop=should_stop),
+        {"start": (0.0, 0.0, 0.0), "goal": (1.0, 0.2, 0.1), "half_length": 0.4,
+         "should_stop": None}),
+    "PivotSteering.iter_rotations": (
+        lambda start, goal, half_length: list(STEERING.iter_rotations(
+            start, goal, half_length=half_length)),
+        {"start": (0.0, 0.0, 0.0), "goal": (1.0, 0.2, 0.1), "half_length": 0.4}),
+    "BoxGraspModel": (pivot_ompl.BoxGraspModel, {"object_size": (0.8, 0.6, 1.3),
+                                                 "robot_footprint": (0.3, 0.6),
+                                                 "standoff": 0.1, "robot_height": 1.5}),
+    "PlanningSession": (PlanningSession, {"scene": OPEN, "planner": "rrtconnect",
+                                          "config": None, "seed": 0, "bound": False,
+                                          "executing": None, "repair": True}),
+    "PlanningSession.plan": (lambda time_limit, seed: _session().plan(
+        time_limit=time_limit, seed=seed), {"time_limit": 0.3, "seed": 0}),
+    "PlanningSession.replan": (
+        lambda **kw: _session().replan(**kw),
+        {"box": OPEN.start, "grasp": None, "robot": None, "add_obstacles": [],
+         "remove_obstacles": [], "time_limit": 0.3, "seed": 0}),
+    "lower_bound": (lower_bound, {"scene": OPEN, "use_cache": True, "should_stop": None}),
+    "rotate_scene": (rotate_scene, {"scene": OPEN, "angle": 0.3, "about": None,
+                                    "name": None}),
+    "mirror_scene": (mirror_scene, {"scene": OPEN, "axis_angle": 0.3, "about": None,
+                                    "name": None}),
+}
+
+
+@pytest.mark.parametrize("entry", sorted(CALLS))
+@settings(max_examples=25, deadline=None, suppress_health_check=list(HealthCheck))
+@given(data=st.data())
+def test_a_wrong_argument_raises_only_the_projects_errors(entry, data):
+    call, good = CALLS[entry]
+    name = data.draw(st.sampled_from(sorted(good)), label="argument")
+    value = data.draw(JUNK, label="value")
+    try:
+        call(**{**good, name: value})
+    except PivotError:
+        pass
+
+
+ISSUE_CASES = [
+    ("replan without a box", lambda: _session().replan(), "box"),
+    ("replan with a negative time limit", lambda: _session().replan(box=OPEN.start,
+                                                                     time_limit=-1), "time_limit"),
+    ("replan with an int obstacle", lambda: _session().replan(box=OPEN.start,
+                                                               add_obstacles=[3]),
+     "add_obstacles[0]"),
+    ("replan with a text of obstacles", lambda: _session().replan(box=OPEN.start,
+                                                                   add_obstacles="box"),
+     "add_obstacles"),
+    ("a path string as executing", lambda: PlanningSession(OPEN, executing="plan.json"),
+     "executing"),
+    ("lower_bound of a name", lambda: lower_bound("fig10"), "scene"),
+    ("make_setup of a name", lambda: pivot_ompl.make_setup("fig10"), "scene"),
+    ("convert of strings", lambda: STEERING.convert("a", "b", half_length=0.4), "start"),
+    ("rotate_scene by nan", lambda: rotate_scene(OPEN, math.nan), "angle"),
+]
+
+
+@pytest.mark.parametrize("what, call, field", ISSUE_CASES, ids=[c[0] for c in ISSUE_CASES])
+def test_the_issues_cases_name_their_argument(what, call, field):
+    with pytest.raises(InputError) as e:
+        call()
+    assert e.value.field == field
+
+
+@pytest.mark.parametrize("route_state", [[1e300, 0.0, 0.0, 0], [1.0, 1.0, 0.0, 7],
+                                         [1.0, 1.0, 0.0], ["a", 1.0, 0.0, 0]])
+def test_a_plan_whose_route_is_out_of_range_is_refused_as_executing(route_state):
+    plan = sample_plan()
+    plan.extra["route"] = [[1.0, 1.0, 0.0, 0], route_state]
+    with pytest.raises(InputError) as e:
+        PlanningSession(OPEN, executing=plan)
+    assert e.value.field.startswith("executing.route[1]")
+
+
+def test_bench_seed0_beyond_the_seeds_is_bad_input(tmp_path, capsys):
+    from pivot_ompl.cli.main import main
+
+    assert main(["bench", "open", "--runs", "1", "--seed0", str(2**33), "--out",
+                 str(tmp_path / "b"), "--planners", "regrasp"]) == 2
+    assert "--seed0" in capsys.readouterr().err

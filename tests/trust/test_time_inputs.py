@@ -1,0 +1,71 @@
+"""Counts, sizes and reading inside the limit (issue 43, class 5)."""
+
+from __future__ import annotations
+
+import json
+import time
+
+import pytest
+
+from pivot_ompl.cli.main import main
+
+
+def test_generate_refuses_a_huge_count_before_any_work(tmp_path, capsys):
+    t0 = time.monotonic()
+    assert main(["generate", "--family", "walls", "--count", "1e9", "--out",
+                 str(tmp_path / "g")]) == 2
+    assert time.monotonic() - t0 < 2.0
+    assert "--count" in capsys.readouterr().err
+    assert not (tmp_path / "g").exists()
+
+
+def test_generate_honours_its_time_limit_and_writes_nothing(tmp_path, capsys):
+    t0 = time.monotonic()
+    code = main(["generate", "--family", "building", "--rooms", "64", "--layout", "grid",
+                 "--time", "1", "--out", str(tmp_path / "g")])
+    took = time.monotonic() - t0
+    assert code == 1 and "stopped" in capsys.readouterr().err
+    assert took < 1.0 + 1.0
+    assert not (tmp_path / "g").exists() or list((tmp_path / "g").iterdir()) == []
+
+
+@pytest.fixture(scope="module")
+def long_route_plan(tmp_path_factory):
+    """A plan of ``open`` whose route holds 200 000 states."""
+    d = tmp_path_factory.mktemp("route")
+    assert main(["plan", "open", "--out", str(d / "p.json"), "--time", "5", "--no-bound"]) == 0
+    doc = json.loads((d / "p.json").read_text())
+    a, b = doc["route"][0], doc["route"][-1]
+    n = 200_000
+    doc["route"] = [[a[0] + (b[0] - a[0]) * i / (n - 1), a[1] + (b[1] - a[1]) * i / (n - 1),
+                     a[2], a[3]] for i in range(n)]
+    (d / "big.json").write_text(json.dumps(doc))
+    return d
+
+
+def test_replan_of_a_long_route_keeps_its_time_limit(long_route_plan, capsys):
+    d = long_route_plan
+    t0 = time.monotonic()
+    code = main(["replan", "open", str(d / "big.json"), "--box", "0", "0", "0", "--time", "2",
+                 "--out", str(d / "n.json"), "--scene-out", str(d / "n.yaml")])
+    took = time.monotonic() - t0
+    assert code in (0, 1)
+    assert took < 2.0 * 1.25 + 0.5, took
+
+
+def test_replan_reads_its_inputs_inside_the_limit(long_route_plan, tmp_path, capsys):
+    obstacles = [{"type": "box", "center": [5.0 + 0.001 * i, 6.5], "size": [0.0005, 0.1],
+                  "height": 1.0} for i in range(100_000)]
+    extra = tmp_path / "add.yaml"
+    import yaml
+
+    extra.write_text(yaml.safe_dump({"obstacles": obstacles}))
+    d = long_route_plan
+    t0 = time.monotonic()
+    code = main(["replan", "open", str(d / "p.json"), "--box", "0", "0", "0", "--time", "1",
+                 "--add-obstacles", str(extra), "--out", str(tmp_path / "n.json"),
+                 "--scene-out", str(tmp_path / "n.yaml")])
+    took = time.monotonic() - t0
+    assert code == 1, capsys.readouterr().err[-500:]
+    assert took < 1.0 + 1.0, took
+    assert not (tmp_path / "n.json").exists()
