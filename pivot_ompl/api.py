@@ -29,6 +29,7 @@ from pivot_ompl.planners import (
     make_planner,
     parse_spec,
 )
+from pivot_ompl.planners.quality import explain_plan
 from pivot_ompl.planners.repair import State, stored_route
 from pivot_ompl.scene import Scene, load_scene, scene_digest
 
@@ -305,8 +306,9 @@ def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool
         if lb.solvable is False:  # a relaxation of every plan: a bug if it finds none
             log.warning("the regrasp bound's relaxation finds no path, yet a plan exists")
         regrasps, route = lb.regrasps, lb.shortest_route
-    return plan_quality(result_plan, regrasps_lower_bound=regrasps, shortest_route=route,
-                        costs=config.cost)
+    q = plan_quality(result_plan, regrasps_lower_bound=regrasps, shortest_route=route,
+                     costs=config.cost)
+    return {**q, **explain_plan(result_plan, scene, q)}
 
 
 def _check_arguments(scene: Any, planner: Any, time_limit: Any, seed: Any,

@@ -19,6 +19,7 @@ from pivot_ompl.cost import REGRASP_COST
 from pivot_ompl.errors import PlanningError, counted
 from pivot_ompl.fileio import atomic_outputs
 from pivot_ompl.planners import PLANNERS
+from pivot_ompl.planners.quality import explain_lines
 from pivot_ompl.scene import scene_path
 
 log = logging.getLogger(__name__)
@@ -110,6 +111,8 @@ def run(args: argparse.Namespace) -> int:
     q = res.plan.extra.get("quality")
     if q:
         print(quality_line(q))
+        for line in explain_lines(q):
+            print(line)
     if not res.solved:
         if out or fig:
             print("no plan found: nothing written", file=sys.stderr)

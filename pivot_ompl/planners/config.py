@@ -149,6 +149,12 @@ class OptimiserConfig:
             optimise again.
         route_share: the re-routing may compute at most this share of the motion checks
             planning made.
+        eliminate: try every regrasp of the optimised path for removal
+            (:mod:`pivot_ompl.planners.eliminate`); a regrasp stays only if it saves cost.
+        eliminate_share: the elimination may compute at most this share of the motion checks
+            planning made (at least ``eliminate_checks``).
+        eliminate_checks: motion checks of each single-grasp re-planning of a stretch, and
+            the elimination's smallest budget.
     """
 
     enabled: bool = True
@@ -156,6 +162,9 @@ class OptimiserConfig:
     min_checks: int = knob(10)
     routes: bool = True
     route_share: float = knob(1.0)
+    eliminate: bool = True
+    eliminate_share: float = knob(0.3)
+    eliminate_checks: int = knob(60)
 
 
 @dataclass(frozen=True)

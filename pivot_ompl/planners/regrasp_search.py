@@ -32,6 +32,7 @@ import shapely
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planners.config import RegraspConfig
+from pivot_ompl.planners.eliminate import EliminationReport, eliminate_regrasps, lattice_router
 from pivot_ompl.planners.multiplex.graph import MultiplexedGraph, Node
 from pivot_ompl.planners.multiplex.search import PathSearch
 from pivot_ompl.planners.objects.bridge import BridgeTest
@@ -137,6 +138,8 @@ class RegraspSearch:
         self.stats = RegraspStats()
         self.lattice: TransferLattice | None = None
         self.refine = RefineStats()
+        #: the last regrasp elimination's report (:mod:`.eliminate`)
+        self.elimination = EliminationReport()
         self._started = False
         self._goal_node = -1
         self._since = 0  # object nodes multiplexed since the last search
@@ -354,6 +357,14 @@ class RegraspSearch:
             self.stats.time_routes += time.perf_counter() - t2
         states = optimise(ck, states, grasps=self.config.grasps, should_stop=budget(),
                           costs=costs, start_grasp=held)
+        if cfg.eliminate:
+            self.elimination = EliminationReport()
+            states = eliminate_regrasps(
+                ck, states, should_stop=budgeted(should_stop, ck, share=cfg.eliminate_share,
+                                                 minimum=cfg.eliminate_checks),
+                rng=self.rng, costs=costs, checks=cfg.eliminate_checks,
+                step=self.config.single_grasp.step, start_grasp=held, report=self.elimination,
+                router=lattice_router(ck, self.lattice, costs) if self.lattice else None)
         self.stats.time_optimise += time.perf_counter() - t1
         return states
 
