@@ -135,6 +135,21 @@ class SingleGraspConfig:
     step: float = knob(1.5)
 
 
+#: The default ``optimiser.quality_share``: the stages' own shares as they are.
+QUALITY_SHARE = 0.6
+
+
+def quality_scale(share: float) -> float:
+    """Factor on every improvement stage's share of checks at ``quality_share = share``.
+
+    ``share / (1 - share)`` improvement checks per check of the search, relative to the
+    default :data:`QUALITY_SHARE` (1 there; 0 at 0; 12.7 at the largest, 0.95).
+    """
+    def ratio(q: float) -> float:
+        return q / (1.0 - q)
+    return ratio(share) / ratio(QUALITY_SHARE)
+
+
 @dataclass(frozen=True)
 class OptimiserConfig:
     """The path optimiser run once on the path found.
@@ -155,6 +170,11 @@ class OptimiserConfig:
             planning made (at least ``eliminate_checks``).
         eliminate_checks: motion checks of each single-grasp re-planning of a stretch, and
             the elimination's smallest budget.
+        quality_share: the share of a run's motion checks spent improving the path found
+            (re-routing, optimiser, elimination): every stage's share above is scaled by
+            :func:`quality_scale` (1 at the default :data:`QUALITY_SHARE`, where the stages
+            together may compute about 1.5 times the search's checks, 60 % of the run's).
+            The time limit still stops everything; see ``docs/quality.md``.
     """
 
     enabled: bool = True
@@ -165,6 +185,7 @@ class OptimiserConfig:
     eliminate: bool = True
     eliminate_share: float = knob(0.3)
     eliminate_checks: int = knob(60)
+    quality_share: float = knob(QUALITY_SHARE, high=0.95)
 
 
 @dataclass(frozen=True)

@@ -31,7 +31,7 @@ import numpy as np
 import shapely
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
-from pivot_ompl.planners.config import RegraspConfig
+from pivot_ompl.planners.config import RegraspConfig, quality_scale
 from pivot_ompl.planners.eliminate import EliminationReport, eliminate_regrasps, lattice_router
 from pivot_ompl.planners.multiplex.graph import MultiplexedGraph, Node
 from pivot_ompl.planners.multiplex.search import PathSearch
@@ -344,8 +344,10 @@ class RegraspSearch:
         ck, costs = self.checker, self.config.cost
         held = self.start_grasp is not None  # the path keeps its first grasp
 
+        scale = quality_scale(cfg.quality_share)  # every stage's share scaled by it
+
         def budget(share: float = cfg.check_share) -> Stop:
-            return budgeted(should_stop, ck, share=share, minimum=cfg.min_checks)
+            return budgeted(should_stop, ck, share=scale * share, minimum=cfg.min_checks)
 
         if cfg.routes:
             if self.lattice is None:
@@ -360,7 +362,8 @@ class RegraspSearch:
         if cfg.eliminate:
             self.elimination = EliminationReport()
             states = eliminate_regrasps(
-                ck, states, should_stop=budgeted(should_stop, ck, share=cfg.eliminate_share,
+                ck, states, should_stop=budgeted(should_stop, ck,
+                                                 share=scale * cfg.eliminate_share,
                                                  minimum=cfg.eliminate_checks),
                 rng=self.rng, costs=costs, checks=cfg.eliminate_checks,
                 step=self.config.single_grasp.step, start_grasp=held, report=self.elimination,
