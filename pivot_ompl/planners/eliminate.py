@@ -9,9 +9,10 @@ it, is re-planned as ONE transfer phase, at the grasp of either side:
    nothing, and the checker's caches make the check cheap), else
 2. along the held assembly's lattice route between the stretch's ends
    (:func:`lattice_router`: :class:`~.routes.lattice.TransferLattice`, certified into a chain
-   of checked transfers as the re-routing does), when a router is given, else
-3. by the single-grasp RRT-Connect (:class:`~.single_grasp.SingleGraspConnect`) between the
-   stretch's ends, within a budget of motion checks.
+   of checked transfers as the re-routing does), when a router is given (a query between
+   the lattice's connected components costs nothing: a forced regrasp is kept cheaply), or
+   else by the single-grasp RRT-Connect (:class:`~.single_grasp.SingleGraspConnect`)
+   between the stretch's ends, within a budget of motion checks.
 
 The candidate path (the regrasps at the stretch's ends joined to the new grasp, or gone when
 the grasps then agree) is priced with the planner's cost model
@@ -160,8 +161,8 @@ def eliminate_regrasps(checker: PivotChecker, states: list[State], *, should_sto
         checks: motion checks each single-grasp search may make.
         step: the single-grasp search's longest extension (m).
         start_grasp: the path must start with the grasp ``states`` starts with.
-        router: re-plans a stretch before the single-grasp search does (e.g.
-            :func:`lattice_router`); ``None``: the search alone.
+        router: re-plans a stretch instead of the single-grasp search (e.g.
+            :func:`lattice_router`); ``None``: the search.
         report: filled with what was done, if given.
 
     Returns:
@@ -211,24 +212,20 @@ def eliminate_regrasps(checker: PivotChecker, states: list[State], *, should_sto
 
 @dataclass(frozen=True)
 class _Search:
-    """How a stretch is re-planned: the router, then RRT-Connect (``checks``, ``step``)."""
+    """How a stretch is re-planned: the router, or RRT-Connect (``checks``, ``step``)."""
 
     rng: np.random.Generator
     checks: int
     step: float
     router: Router | None
 
-    def routes(self, checker: PivotChecker, first: Pose, last: Pose, g: int,
-               should_stop: Stop) -> list[list[Pose]]:
-        """The routes to try in turn (computed lazily, one per iteration)."""
-        out: list[list[Pose]] = []
-        if self.router is not None:
-            out.append(self.router(first, last, g, should_stop))
-        if should_stop():
-            return out
+    def route(self, checker: PivotChecker, first: Pose, last: Pose, g: int,
+              should_stop: Stop) -> list[Pose]:
+        """A single-grasp route from ``first`` to ``last`` at ``g``, or ``[]``."""
+        if self.router is not None:  # the lattice knows the floor: no blind search after it
+            return self.router(first, last, g, should_stop)
         rrt = SingleGraspConnect(checker, first, last, g, self.rng.spawn(1)[0], step=self.step)
-        out.append(rrt.run(self.checks, should_stop))
-        return out
+        return rrt.run(self.checks, should_stop)
 
 
 def _try(checker: PivotChecker, path: list[State], k: int, cost: float, w: CostModel,
@@ -247,16 +244,12 @@ def _try(checker: PivotChecker, path: list[State], k: int, cost: float, w: CostM
         if not (checker.state_valid(first, g) and checker.state_valid(last, g)):
             continue
         rep.tried += 1
-        if all(checker.state_valid(q, g) for q in poses[1:-1]):
-            new = _joined(path[:a], [(q, g) for q in poses], path[b + 1:])
-            c = path_cost(checker, new, w)
-            if c < cost - 1e-9:
-                return (new, c), ""
-            if math.isfinite(c):
-                why = COSTLIER
-        if should_stop():
-            return None, UNTRIED
-        for route in search.routes(checker, first, last, g, should_stop):
+        own = poses if all(checker.state_valid(q, g) for q in poses[1:-1]) else []
+        for make in (lambda: own,  # noqa: B023 (called within the iteration)
+                     lambda: search.route(checker, first, last, g, should_stop)):  # noqa: B023
+            if should_stop():
+                return None, UNTRIED
+            route = make()
             if not route:
                 continue
             new = _joined(path[:a], [(q, g) for q in route], path[b + 1:])
