@@ -170,6 +170,9 @@ class OptimiserConfig:
             planning made (at least ``eliminate_checks``).
         eliminate_checks: motion checks of each single-grasp re-planning of a stretch, and
             the elimination's smallest budget.
+        choose_grasps: route each phase at every other grasp on the lattice and keep the
+            cheapest (:mod:`pivot_ompl.planners.grasp_choice`; needs ``routes``), within
+            ``eliminate_share`` too; off by default until its time is measured.
         quality_share: the share of a run's motion checks spent improving the path found
             (re-routing, optimiser, elimination): every stage's share above is scaled by
             :func:`quality_scale` (1 at the default :data:`QUALITY_SHARE`, where the stages
@@ -185,6 +188,7 @@ class OptimiserConfig:
     eliminate: bool = True
     eliminate_share: float = knob(0.3)
     eliminate_checks: int = knob(60)
+    choose_grasps: bool = False
     quality_share: float = knob(QUALITY_SHARE, high=0.95)
 
 

@@ -33,6 +33,7 @@ import shapely
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planners.config import RegraspConfig, quality_scale
 from pivot_ompl.planners.eliminate import EliminationReport, eliminate_regrasps, lattice_router
+from pivot_ompl.planners.grasp_choice import choose_grasps
 from pivot_ompl.planners.multiplex.graph import MultiplexedGraph, Node
 from pivot_ompl.planners.multiplex.search import PathSearch
 from pivot_ompl.planners.objects.bridge import BridgeTest
@@ -368,6 +369,12 @@ class RegraspSearch:
                 rng=self.rng, costs=costs, checks=cfg.eliminate_checks,
                 step=self.config.single_grasp.step, start_grasp=held, report=self.elimination,
                 router=lattice_router(ck, self.lattice, costs) if self.lattice else None)
+        if cfg.choose_grasps and self.lattice is not None:
+            states = choose_grasps(ck, states, router=lattice_router(ck, self.lattice, costs),
+                                   should_stop=budgeted(should_stop, ck,
+                                                        share=scale * cfg.eliminate_share,
+                                                        minimum=cfg.eliminate_checks),
+                                   grasps=self.config.grasps, costs=costs, start_grasp=held)
         self.stats.time_optimise += time.perf_counter() - t1
         return states
 
