@@ -82,12 +82,13 @@ def worker() -> None:
     ou.setLogLevel(ou.LOG_WARN)
     scenes: dict[str, Any] = {}
     for line in sys.stdin:
-        name, seed_s, limit_s = line.split()
+        name, seed_s, limit_s, *spec = line.split()
         if name not in scenes:
             scenes[name] = variant(name)
         scene = scenes[name]
         try:
-            res = plan(scene, planner="regrasp", time_limit=float(limit_s), seed=int(seed_s))
+            res = plan(scene, planner=spec[0] if spec else "regrasp",
+                       time_limit=float(limit_s), seed=int(seed_s))
         except PivotError as e:  # e.g. a path the conversion refuses: counted, not fatal
             print(json.dumps({"scene": name, "seed": int(seed_s), "solved": False,
                               "solve": 0.0, "optimise": 0.0, "error": str(e)}), flush=True)
@@ -189,6 +190,9 @@ def main() -> None:
     ap.add_argument("--time", type=float, default=30.0)
     ap.add_argument("--scenes", default="fig10,rot30,mirror")
     ap.add_argument("--out", default="results/plan_quality.json")
+    ap.add_argument("--after-planner", default="regrasp",
+                    help="the planner of this checkout, e.g. "
+                         "'regrasp[optimiser.choose_grasps=true]' (no spaces)")
     args = ap.parse_args()
     if args.worker:
         worker()
@@ -208,7 +212,8 @@ def main() -> None:
                 n = args.seeds
             for seed in range(n):
                 for ver, proc in procs.items():  # alternately: the same load for both
-                    r = _ask(proc, f"{name} {seed} {args.time}")
+                    spec = args.after_planner if ver == "after" else "regrasp"
+                    r = _ask(proc, f"{name} {seed} {args.time} {spec}")
                     rows.setdefault((name, ver), []).append(r)
                     print(f"{name:7s} seed {seed:3d} {ver:6s} solved={r['solved']} "
                           f"pivots={r.get('pivots')} regrasps={r.get('regrasps')} "
