@@ -1,9 +1,11 @@
 """Plan quality before/after, side by side: regrasps against the proven bound, route, pivots.
 
-Plans fig10 and rotated / mirrored copies of it (``rot30``: turned by 30 degrees about the
-room's centre, the old bounds kept as walls; ``mirror``: reflected in the line at 0.3 rad
-through the centre; both made by ``pivot_ompl.generate``), any shipped scene by name, and
-generated scenes (``gen:FAMILY:SEED[:NAME=VALUE...]``, e.g. ``gen:walls:1:walls=2``,
+Plans the public-style layouts of ``benchmarks/layouts`` (``hall``: a 15.7 x 10.2 m hall of
+staggered barriers with 1.4-2.0 m gaps, one grasp suffices; ``bugtrap``: the classic bug trap,
+start inside the cup), fig10 and rotated / mirrored copies of it (``rot30``: turned by 30
+degrees about the room's centre, the old bounds kept as walls; ``mirror``: reflected in the
+line at 0.3 rad through the centre; both made by ``pivot_ompl.generate``), any shipped scene
+by name, and generated scenes (``gen:FAMILY:SEED[:NAME=VALUE...]``, e.g. ``gen:walls:1:walls=2``,
 ``gen:building:0:rooms=3``; the values are ``GeneratorParams`` fields) with
 ``RegraspPlanner`` over seeds, with two versions of the package in turn: one worker process
 per version (``--before DIR``, e.g. an export of ``main``, and this checkout), fed the same
@@ -15,10 +17,12 @@ regrasps with its computing time (versions that write it), the share of runs who
 equal the bound, and the median route ratio (box route over the proven shortest route).
 Targets: fig10 and its copies median regrasps = bound = 2, <= 250 pivots; walls, corridor and
 shipped scenes at the bound in >= 90 % of runs; one-grasp scenes 0 regrasps in 100 %; route
-ratio median <= 1.3.
+ratio median <= 1.3; pivot rate (pivots per metre over the ideal rate) <= 1.5 median; cost
+spread across seeds (max / min - 1) <= 10 %.
 
     python benchmarks/plan_quality.py [--before /tmp/base] [--seeds 20] [--time 30]
-        [--scenes fig10,rot30,mirror,slot,gen:walls:1:walls=2] [--out results/plan_quality.json]
+        [--scenes hall,bugtrap,fig10,rot30,mirror,slot,gen:walls:1:walls=2]
+        [--out results/plan_quality.json]
 
 Run timing figures under ``flock /tmp/pivot-bench.lock``.
 """
@@ -37,6 +41,8 @@ from typing import Any
 
 HERE = Path(__file__).resolve()
 ROOT = HERE.parents[1]
+#: the public-style layouts, by name (``NAME.yaml`` in this folder)
+LAYOUTS = HERE.parent / "layouts"
 
 
 # -- scenes ------------------------------------------------------------------------------
@@ -52,6 +58,8 @@ def variant(name: str):  # noqa: ANN201 (a Scene of whichever package version ru
     from pivot_ompl.generate import mirror_scene, rotate_scene
     from pivot_ompl.scene import load_scene
 
+    if (LAYOUTS / f"{name}.yaml").is_file():
+        return load_scene(LAYOUTS / f"{name}.yaml")
     if name not in ("fig10", "rot30", "mirror"):
         return scene_from_spec(name)  # a shipped or generated scene
     base = load_scene("fig10")
@@ -74,12 +82,13 @@ def worker() -> None:
     ou.setLogLevel(ou.LOG_WARN)
     scenes: dict[str, Any] = {}
     for line in sys.stdin:
-        name, seed_s, limit_s = line.split()
+        name, seed_s, limit_s, *spec = line.split()
         if name not in scenes:
             scenes[name] = variant(name)
         scene = scenes[name]
         try:
-            res = plan(scene, planner="regrasp", time_limit=float(limit_s), seed=int(seed_s))
+            res = plan(scene, planner=spec[0] if spec else "regrasp",
+                       time_limit=float(limit_s), seed=int(seed_s))
         except PivotError as e:  # e.g. a path the conversion refuses: counted, not fatal
             print(json.dumps({"scene": name, "seed": int(seed_s), "solved": False,
                               "solve": 0.0, "optimise": 0.0, "error": str(e)}), flush=True)
@@ -130,6 +139,9 @@ def _summary(rows: list[dict[str, Any]]) -> dict[str, Any]:
         return statistics.median(vals) if vals else math.nan
 
     quality = [plan_quality(plan_from_dict(r["plan"])) for r in ok]
+    costs = [q["cost"] for q in quality]
+    rates = [q["pivots_per_m"] / q["ideal_pivots_per_m"] for q in quality
+             if q["ideal_pivots_per_m"] > 0]
     share = [r["optimise"] / r["solve"] for r in ok if r["solve"] > 0]
     return {"runs": len(rows), "success": len(ok) / len(rows) if rows else math.nan,
             "pivots_median": med("pivots"),
@@ -152,7 +164,13 @@ def _summary(rows: list[dict[str, Any]]) -> dict[str, Any]:
             "at_bound": _share([r["regrasps"] == r["bound"] for r in ok
                                 if r.get("bound") is not None]),
             "route_ratio_median": _median([r["route_ratio"] for r in ok
-                                           if r.get("route_ratio") is not None])}
+                                           if r.get("route_ratio") is not None]),
+            "route_ratio_max": max((r["route_ratio"] for r in ok
+                                    if r.get("route_ratio") is not None), default=math.nan),
+            "rate_over_ideal_median": _median(rates),
+            "cost_median": _median(costs),
+            "cost_spread": max(costs) / min(costs) - 1.0 if costs and min(costs) > 0
+            else math.nan}
 
 
 def _share(flags: list[bool]) -> float:
@@ -173,6 +191,9 @@ def main() -> None:
     ap.add_argument("--time", type=float, default=30.0)
     ap.add_argument("--scenes", default="fig10,rot30,mirror")
     ap.add_argument("--out", default="results/plan_quality.json")
+    ap.add_argument("--after-planner", default="regrasp",
+                    help="the planner of this checkout, e.g. "
+                         "'regrasp[optimiser.choose_grasps=true]' (no spaces)")
     args = ap.parse_args()
     if args.worker:
         worker()
@@ -192,7 +213,8 @@ def main() -> None:
                 n = args.seeds
             for seed in range(n):
                 for ver, proc in procs.items():  # alternately: the same load for both
-                    r = _ask(proc, f"{name} {seed} {args.time}")
+                    spec = args.after_planner if ver == "after" else "regrasp"
+                    r = _ask(proc, f"{name} {seed} {args.time} {spec}")
                     rows.setdefault((name, ver), []).append(r)
                     print(f"{name:7s} seed {seed:3d} {ver:6s} solved={r['solved']} "
                           f"pivots={r.get('pivots')} regrasps={r.get('regrasps')} "
@@ -206,7 +228,8 @@ def main() -> None:
     print(f"\n{'scene/version':18s} {'runs':>4} {'ok':>5} {'pivots':>7} {'range':>10} "
           f"{'regr':>5} {'range':>6} {'piv/m':>6} {'walk m':>7} {'solve s':>8} "
           f"{'opt %':>6} {'max %':>6} {'body s':>7} {'checked':>7} {'errors':>6} {'bound':>5} "
-          f"{'bound s':>7} {'at bd':>6} {'route':>6}")
+          f"{'bound s':>7} {'at bd':>6} {'route':>6} {'rt max':>6} {'rate':>5} {'cost':>6} "
+          f"{'spread':>6}")
     for key, t in table.items():
         pr, rr = t["pivots_range"] or [0, 0], t["regrasps_range"] or [0, 0]
         print(f"{key[-18:]:18s} {t['runs']:4d} {100 * t['success']:4.0f}% "
@@ -217,10 +240,13 @@ def main() -> None:
               f"{100 * t['optimise_share_median']:6.1f} {100 * t['optimise_share_max']:6.1f} "
               f"{t['duration_median']:7.0f} {t['checked_ok']:7d} {t['errors']:6d} "
               f"{t['bound_median']:5.1f} {t['bound_s_median']:7.2f} "
-              f"{100 * t['at_bound']:5.0f}% {t['route_ratio_median']:6.2f}")
+              f"{100 * t['at_bound']:5.0f}% {t['route_ratio_median']:6.2f} "
+              f"{t['route_ratio_max']:6.2f} {t['rate_over_ideal_median']:5.2f} "
+              f"{t['cost_median']:6.0f} {100 * t['cost_spread']:5.1f}%")
     print("targets: fig10 and copies: regrasps = bound = 2, <= 250 pivots; walls, corridor, "
           "shipped: at the bound in >= 90 % of runs; one-grasp scenes 0 regrasps; route ratio "
-          "median <= 1.3")
+          "median <= 1.3 (max 1.5); rate (pivots/m over ideal) median <= 1.5; cost spread "
+          "<= 10 %")
     write_json({"seeds": args.seeds, "time_limit": args.time, "versions":
                 {k: str(v) for k, v in versions.items()}, "table": table}, args.out)
 

@@ -32,6 +32,7 @@ from pivot_ompl.planners import (
     make_planner,
     parse_spec,
 )
+from pivot_ompl.planners.explain import explain_plan
 from pivot_ompl.planners.regrasp_search import RegraspSearch
 from pivot_ompl.planners.repair import State, stored_route
 from pivot_ompl.quality import plan_quality
@@ -341,8 +342,9 @@ def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool
         regrasps, route = plan_bounds(scene, result_plan.regrasps, route_length=route_length,
                                       should_stop=lambda: time.monotonic() > bound_end)
         timings["bound"] = time.perf_counter() - t0
-    return plan_quality(result_plan, regrasps_lower_bound=regrasps, shortest_route=route,
-                        costs=config.cost)
+    q = plan_quality(result_plan, regrasps_lower_bound=regrasps, shortest_route=route,
+                     costs=config.cost)
+    return {**q, **explain_plan(result_plan, scene, q)}
 
 
 def _check_arguments(scene: Any, planner: Any, time_limit: Any, seed: Any,

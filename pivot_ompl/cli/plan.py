@@ -19,12 +19,41 @@ from pivot_ompl.api import MAX_SEED, PlanResult, plan
 from pivot_ompl.cli.args import integer, non_negative, output_files, time_limit
 from pivot_ompl.cli.terminal import control_stream
 from pivot_ompl.cost import REGRASP_COST
-from pivot_ompl.errors import PlanningError, counted
+from pivot_ompl.errors import InputError, PlanningError, counted
 from pivot_ompl.fileio import atomic_outputs
 from pivot_ompl.planners import PLANNERS
+from pivot_ompl.planners.explain import explain_lines
+from pivot_ompl.planners.registry import parse_spec, planner_spec
 from pivot_ompl.scene import scene_path
 
 log = logging.getLogger(__name__)
+
+#: The largest ``--quality-share`` (the search keeps a twentieth of the checks at least).
+MAX_QUALITY_SHARE = 0.95
+
+
+def share_of_checks(text: str) -> float:
+    """An argparse type for ``--quality-share``: a number in 0..0.95."""
+    v = non_negative("--quality-share")(text)
+    if v > MAX_QUALITY_SHARE:
+        raise argparse.ArgumentTypeError(f"--quality-share = {text}: must be <= "
+                                         f"{MAX_QUALITY_SHARE:g}")
+    return v
+
+
+def planner_with_share(planner: str, share: float | None) -> str:
+    """``planner`` with ``optimiser.quality_share`` set when ``share`` is given.
+
+    Raises:
+        InputError: a share for a planner other than the regrasp planner.
+    """
+    if share is None:
+        return planner
+    name, values = parse_spec(planner)
+    if name != "regrasp":
+        raise InputError("--quality-share", share, f"applies to the regrasp planner only, "
+                         f"not {name!r}")
+    return planner_spec(name, {**values, "optimiser.quality_share": share})
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -42,6 +71,10 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="time limit (s) of loading, setup and search; inf: until solved")
     p.add_argument("--seed", type=integer("--seed", 0, MAX_SEED), default=0,
                    help=f"seed (0..{MAX_SEED})")
+    p.add_argument("--quality-share", type=share_of_checks, default=None,
+                   help="share (0..0.95) of the run's motion checks spent improving the path "
+                        "found (default 0.6; the regrasp planner's optimiser.quality_share, "
+                        "see docs/quality.md)")
     p.add_argument("--no-bound", action="store_true",
                    help="skip the scene's lower bounds on regrasps and route and the proof "
                         "that no plan exists (computed once per scene within --time, then "
@@ -102,8 +135,9 @@ def run(args: argparse.Namespace) -> int:
     th = threading.Thread(target=_progress, args=(stop, args.time), daemon=True)
     th.start()
     try:
-        res = plan(source, planner=args.planner, time_limit=args.time, seed=args.seed,
-                   regrasp_cost=args.regrasp_cost, bound=not args.no_bound)
+        res = plan(source, planner=planner_with_share(args.planner, args.quality_share),
+                   time_limit=args.time, seed=args.seed, regrasp_cost=args.regrasp_cost,
+                   bound=not args.no_bound)
     except PlanningError as e:
         stop.set()
         print(f"\npivot-ompl plan: {e}", file=sys.stderr)
@@ -116,6 +150,8 @@ def run(args: argparse.Namespace) -> int:
     q = res.plan.extra.get("quality")
     if q:
         print(quality_line(q))
+        for line in explain_lines(q):
+            print(line)
     if not res.solved:
         if fig and res.status == "INFEASIBLE":  # the figure shows why: the passage marked
             with atomic_outputs(fig) as (tmp_fig,):

@@ -135,6 +135,21 @@ class SingleGraspConfig:
     step: float = knob(1.5)
 
 
+#: The default ``optimiser.quality_share``: the stages' own shares as they are.
+QUALITY_SHARE = 0.6
+
+
+def quality_scale(share: float) -> float:
+    """Factor on every improvement stage's share of checks at ``quality_share = share``.
+
+    ``share / (1 - share)`` improvement checks per check of the search, relative to the
+    default :data:`QUALITY_SHARE` (1 there; 0 at 0; 12.7 at the largest, 0.95).
+    """
+    def ratio(q: float) -> float:
+        return q / (1.0 - q)
+    return ratio(share) / ratio(QUALITY_SHARE)
+
+
 @dataclass(frozen=True)
 class OptimiserConfig:
     """The path optimiser run once on the path found.
@@ -149,6 +164,20 @@ class OptimiserConfig:
             optimise again.
         route_share: the re-routing may compute at most this share of the motion checks
             planning made.
+        eliminate: try every regrasp of the optimised path for removal
+            (:mod:`pivot_ompl.planners.eliminate`); a regrasp stays only if it saves cost.
+        eliminate_share: the elimination may compute at most this share of the motion checks
+            planning made (at least ``eliminate_checks``).
+        eliminate_checks: motion checks of each single-grasp re-planning of a stretch, and
+            the elimination's smallest budget.
+        choose_grasps: route each phase at every other grasp on the lattice and keep the
+            cheapest (:mod:`pivot_ompl.planners.grasp_choice`; needs ``routes``), within
+            ``eliminate_share`` too; off by default until its time is measured.
+        quality_share: the share of a run's motion checks spent improving the path found
+            (re-routing, optimiser, elimination): every stage's share above is scaled by
+            :func:`quality_scale` (1 at the default :data:`QUALITY_SHARE`, where the stages
+            together may compute about 1.5 times the search's checks, 60 % of the run's).
+            The time limit still stops everything; see ``docs/quality.md``.
     """
 
     enabled: bool = True
@@ -156,6 +185,11 @@ class OptimiserConfig:
     min_checks: int = knob(10)
     routes: bool = True
     route_share: float = knob(1.0)
+    eliminate: bool = True
+    eliminate_share: float = knob(0.3)
+    eliminate_checks: int = knob(60)
+    choose_grasps: bool = False
+    quality_share: float = knob(QUALITY_SHARE, high=0.95)
 
 
 @dataclass(frozen=True)

@@ -31,8 +31,10 @@ import numpy as np
 import shapely
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
-from pivot_ompl.planners.config import RegraspConfig
+from pivot_ompl.planners.config import RegraspConfig, quality_scale
+from pivot_ompl.planners.eliminate import EliminationReport, eliminate_regrasps, lattice_router
 from pivot_ompl.planners.evaluation import Found, Status
+from pivot_ompl.planners.grasp_choice import choose_grasps
 from pivot_ompl.planners.improve import Budget, ImproveStats, improve
 from pivot_ompl.planners.multiplex.graph import MultiplexedGraph, Node
 from pivot_ompl.planners.multiplex.search import PathSearch
@@ -144,6 +146,8 @@ class RegraspSearch:
         self.stats = RegraspStats()
         self.lattice: TransferLattice | None = None
         self.improved = ImproveStats()
+        #: the last regrasp elimination's report (:mod:`.eliminate`)
+        self.elimination = EliminationReport()
         self._started = False
         self._goal_node = -1
         self._since = 0  # object nodes multiplexed since the last search
@@ -349,13 +353,29 @@ class RegraspSearch:
         if cfg.routes and self.lattice is None:
             self.lattice = TransferLattice(self.checker, self.config.cost,
                                            region=self.sampler.region())
+        scale = quality_scale(cfg.quality_share)  # every step's share scaled by it
         routes_before = self.improved.routes_seconds
         states = improve(self.checker, states, self.config, should_stop=should_stop,
-                         routes=Budget(share=cfg.route_share, minimum=cfg.min_checks),
-                         optimiser=Budget(share=cfg.check_share, minimum=cfg.min_checks),
+                         routes=Budget(share=scale * cfg.route_share, minimum=cfg.min_checks),
+                         optimiser=Budget(share=scale * cfg.check_share,
+                                          minimum=cfg.min_checks),
                          start_grasp=self.start_grasp, lattice=self.lattice,
                          stats=self.improved)
         self.stats.time_routes += self.improved.routes_seconds - routes_before
+        ck, costs = self.checker, self.config.cost
+        router = lattice_router(ck, self.lattice, costs) if self.lattice else None
+        extra = Budget(share=scale * cfg.eliminate_share, minimum=cfg.eliminate_checks)
+        if cfg.eliminate:
+            self.elimination = EliminationReport()
+            states = eliminate_regrasps(
+                ck, states, should_stop=extra.stop(should_stop, ck, states), rng=self.rng,
+                costs=costs, checks=cfg.eliminate_checks, step=self.config.single_grasp.step,
+                start_grasp=self.start_grasp, report=self.elimination, router=router)
+        if cfg.choose_grasps and router is not None:
+            states = choose_grasps(ck, states, router=router,
+                                   should_stop=extra.stop(should_stop, ck, states),
+                                   grasps=self.config.grasps, costs=costs,
+                                   start_grasp=self.start_grasp)
         self.stats.time_optimise += time.perf_counter() - t1
         return states
 

@@ -62,8 +62,11 @@ def test_plan_writes_the_quality_block():
     res = plan(make_scene(), planner="regrasp", time_limit=20.0, seed=0)
     assert res.solved
     q = res.plan.extra["quality"]
-    assert q == plan_quality(res.plan, regrasps_lower_bound=q["regrasps_lower_bound"],
-                             shortest_route=q["shortest_route"])
+    computed = plan_quality(res.plan, regrasps_lower_bound=q["regrasps_lower_bound"],
+                            shortest_route=q["shortest_route"])
+    assert {k: q[k] for k in computed} == computed  # and the explanations (docs/quality.md)
+    assert set(q) - set(computed) == {"pivot_rate_ratio", "regrasps_unforced",
+                                      "regrasp_reasons"}
     assert q["pivots"] == res.pivots > 0 and q["pivots_per_m"] > 0
     # the lower bound on regrasps (open floor: none needed), within the plan's time
     assert q["regrasps_lower_bound"] == 0 <= res.regrasps

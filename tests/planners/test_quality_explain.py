@@ -1,0 +1,62 @@
+"""The quality block's explanations: each regrasp's forcing passage or "not forced", the rate."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+from factories import make_scene, shipped
+
+from pivot_ompl.api import plan
+from pivot_ompl.base.path_conversion import path_to_plan
+from pivot_ompl.base.problem import make_problem
+from pivot_ompl.planfile import load_plan
+from pivot_ompl.planners.explain import explain_lines, explain_plan, regrasp_reasons
+from pivot_ompl.quality import plan_quality
+
+START, MID, GOAL = (1.5, 3.0, 0.0), (3.5, 3.4, 0.2), (6.0, 3.0, 0.0)
+
+
+@pytest.fixture(scope="module")
+def needless():
+    """An open-floor plan with a regrasp nothing forces."""
+    scene = make_scene(start=list(START), goal=list(GOAL), bounds=[-1.0, 0.0, 8.0, 6.0])
+    ck = make_problem(scene).checker
+    return scene, ck, path_to_plan(scene, ck, [(START, 0), (MID, 0), (MID, 2), (GOAL, 2)])
+
+
+def test_a_needless_regrasp_is_reported_not_forced(needless):
+    scene, ck, p = needless
+    reasons = regrasp_reasons(p, ck)
+    assert len(reasons) == 1 == p.regrasps
+    r = reasons[0]
+    assert (r["from_grasp"], r["to_grasp"]) == (0, 2) and not r["forced"]
+    assert r["passage"] is None and r["pose"] == pytest.approx(list(MID))
+    q = plan_quality(p, regrasps_lower_bound=0)
+    extra = explain_plan(p, scene, q, checker=ck)
+    assert extra["regrasps_unforced"] == 1
+    assert extra["pivot_rate_ratio"] == pytest.approx(q["pivots_per_m"]
+                                                      / q["ideal_pivots_per_m"])
+    assert any(line.endswith("not forced") for line in explain_lines({**q, **extra}))
+
+
+def test_the_slot_regrasp_is_forced_by_the_wall_and_written_to_the_file(tmp_path):
+    scene = shipped("slot")
+    res = plan(scene, planner="regrasp", time_limit=60.0, seed=0)
+    assert res.solved and res.regrasps == 1
+    q = res.plan.extra["quality"]
+    (r,) = q["regrasp_reasons"]
+    assert r["forced"] and q["regrasps_unforced"] == 0
+    assert set(r["passage"]["obstacles"]) & {0, 1}  # the slot's walls
+    assert 1.0 <= q["pivot_rate_ratio"] < 3.0
+    path = res.plan.to_json(tmp_path / "slot.json")
+    back = load_plan(path).extra["quality"]
+    assert back["regrasp_reasons"] == json.loads(json.dumps(q["regrasp_reasons"]))
+    assert any("forced by the passage" in line for line in explain_lines(back))
+
+
+def test_a_plan_without_regrasps_explains_no_regrasp():
+    scene = make_scene()
+    res = plan(scene, planner="regrasp", time_limit=30.0, seed=0)
+    q = res.plan.extra["quality"]
+    assert res.regrasps == 0 and q["regrasp_reasons"] == [] and q["regrasps_unforced"] == 0
