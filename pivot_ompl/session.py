@@ -112,6 +112,11 @@ class PlanningSession:
         self._checker: PivotChecker | None = None
         self._search: RegraspSearch | None = None
 
+    @property
+    def checker(self) -> PivotChecker | None:
+        """The checker of the scene planned last (``None`` before a plan); kept for replans."""
+        return self._checker
+
     def plan(self, *, time_limit: float = 30.0, seed: int | None = None) -> PlanResult:
         """Plan the scene from its start (or continue from the last observed state)."""
         time_limit = check_time_limit(time_limit)

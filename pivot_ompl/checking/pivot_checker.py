@@ -9,8 +9,9 @@ from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from types import MappingProxyType
 from typing import Any
 
 from pivot_ompl.checking.stored import StoredMotions, stored_rotations, stored_walk
@@ -93,6 +94,11 @@ class PivotChecker:
         self._offered = StoredMotions()
         self.transfers = TransferCheck(self.model, self.world, self.steering,
                                        tolerance=tolerance, refined=self._count_refined)
+
+    @property
+    def edges(self) -> Mapping[tuple, EdgeResult]:
+        """The transfers checked so far (read-only), by ``(a, b, grasp, with_robot)``."""
+        return MappingProxyType(self._edges)
 
     def _count_refined(self) -> None:
         self.counters.refined_pieces += 1

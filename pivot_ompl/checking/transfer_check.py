@@ -257,7 +257,7 @@ class TransferCheck:
     def _rob_d(self, car: Pose, grasp: int) -> float:
         return self.world.held_distance(self.model.robot_from_car(car, grasp), grasp)
 
-    def _in_bounds(self, car: Pose, grasp: int, with_robot: bool, bulge_b: float,
+    def in_bounds(self, car: Pose, grasp: int, with_robot: bool, bulge_b: float,
                    bulge_r: float) -> bool:
         """Whether the box's (and robot's) corners at ``car`` keep the bulges from the sides.
 
@@ -299,8 +299,8 @@ class TransferCheck:
         tol = self.tolerance
         for rot in rots:
             bulge = 1.0 - math.cos(0.5 * rot.angle)
-            if not (self._in_bounds(prev, grasp, with_robot, r_box * bulge, r_rob * bulge)
-                    and self._in_bounds(rot.car, grasp, with_robot, r_box * bulge,
+            if not (self.in_bounds(prev, grasp, with_robot, r_box * bulge, r_rob * bulge)
+                    and self.in_bounds(rot.car, grasp, with_robot, r_box * bulge,
                                         r_rob * bulge)):
                 return "leaves the bounds", (db, dr)
             if obstacles:

@@ -30,7 +30,7 @@ def test_the_bounds_test_is_the_corners_test_everywhere_on_the_floor():
         with_robot = bool(rng.integers(2))
         bulge_b, bulge_r = (float(v) for v in rng.uniform(0.0, 0.3, 2))
         want = _by_corners(ck, car, g, with_robot, bulge_b, bulge_r)
-        agree += tc._in_bounds(car, g, with_robot, bulge_b, bulge_r) == want
+        agree += tc.in_bounds(car, g, with_robot, bulge_b, bulge_r) == want
         inside += want
     assert agree == 4000
     assert 1000 < inside < 3900  # both answers were asked, near the sides too

@@ -100,18 +100,18 @@ def test_only_the_edges_a_new_obstacle_touches_are_checked_again(slot_plan):
     route = route_of(first.plan.extra["route"])
     far = BoxObstacle((7.7, 4.7), (0.2, 0.2), 0.0, 1.0)  # a corner away from every edge
     box, grasp = _drifted(first.plan, 0.5, 0.05, 5.0)
-    old = s._checker
+    old = s.checker
     res = s.replan(box=box, grasp=grasp, add_obstacles=[far], time_limit=30.0)
     assert res.roadmap.get("repaired") and check_plan(res.plan, s.scene).ok
-    assert s._checker is not old
-    kept = [k for k in old._edges if k in s._checker._edges and old._edges[k].valid]
+    assert s.checker is not old
+    kept = [k for k in old.edges if k in s.checker.edges and old.edges[k].valid]
     edges = [(a[0], b[0], a[1], True) for a, b in zip(route, route[1:], strict=False)
              if a[1] == b[1]]
     assert all(e in kept for e in edges)  # the far obstacle touches none of them
     near = BoxObstacle((5.3, 1.5), (0.2, 0.2), 0.0, 1.0)
     fresh = PivotChecker(s.scene)
-    fresh.adopt(s._checker, added=[near])
-    assert (route[-2][0], route[-1][0], route[-1][1], True) not in fresh._edges
+    fresh.adopt(s.checker, added=[near])
+    assert (route[-2][0], route[-1][0], route[-1][1], True) not in fresh.edges
 
 
 def test_the_optimiser_keeps_a_held_first_grasp_and_the_last_grasp_of_a_part(slot_plan):

@@ -49,8 +49,8 @@ def test_an_obstacle_on_the_route_is_avoided_and_its_edges_checked_again(slot_se
     s, first = slot_session
     ph, q = _mid(first.plan)
     base = s.scene
-    old = s._checker
-    assert old is not None and old._edges
+    old = s.checker
+    assert old is not None and old.edges
     block = {"type": "box", "center": [q[0] + 0.9, q[1]], "size": [0.3, 0.3], "yaw": 0.0,
              "height": 1.0}
     res = s.replan(box=q, grasp=ph.grasp, add_obstacles=[block], time_limit=30.0)
@@ -60,8 +60,8 @@ def test_an_obstacle_on_the_route_is_avoided_and_its_edges_checked_again(slot_se
     # the motions kept are exactly those whose swept region misses the new obstacle
     fresh = PivotChecker(s.scene)
     kept = fresh.adopt(old, added=[s.scene.obstacles[-1]])
-    assert 0 < kept < len(old._edges) + len(old._walks)
-    for key, edge in fresh._edges.items():
+    assert 0 < kept < len(old.edges) + len(old._walks)
+    for key, edge in fresh.edges.items():
         if edge.valid:
             assert fresh.transfers.check(fresh.model.car_pose(key[0], key[2]),
                                          fresh.model.car_pose(key[1], key[2]), key[2],
