@@ -43,8 +43,8 @@ LEGEND_TEXT = {
     "box": (BOX_COLOR, "the box, leaning on its supporting edge while pivoted"),
     "sim_box": (SIM_BOX_COLOR, "translucent: the box as simulated (physics), beside the plan's"),
     "robot_volume": (ROBOT_COLOR, "the robot: its footprint plate and bounding volume"),
-    "robot_urdf": (0xa0a8b8, "the robot drawn from its URDF's visual shapes (HRP-2's: "
-                             "boxes and cylinders, not its real meshes)"),
+    "robot_urdf": (0xa0a8b8, "the robot drawn from its URDF's visual geometry (meshes, "
+                             "decimated, where it has them; HRP-2's are boxes and cylinders)"),
     "rs_path": (PATH_COLOR, "line: the Reeds-Shepp path of the supporting edge's centre"),
     "walks": (ROBOT_COLOR, "line: a regrasp walk of the robot's centre"),
     "pivots": (PIVOT_COLOR, "spheres: the pivot corners (where the box turns)"),
