@@ -159,6 +159,8 @@ class OptimiserConfig:
         check_share: it may compute at most this share of the motion checks planning made
             (a budget of work, not of seconds: a seed gives the same plan on any machine).
         min_checks: the smallest budget (motion checks).
+        shortcut_reach: longest shortcut the optimiser tries (m, between the box's centres;
+            :data:`~pivot_ompl.planners.optimiser.SHORTCUT_REACH`).
         routes: re-route each transfer phase along the held assembly's cheapest lattice
             route where that is cheaper (:mod:`pivot_ompl.planners.routes.refine`), then
             optimise again.
@@ -183,6 +185,7 @@ class OptimiserConfig:
     enabled: bool = True
     check_share: float = knob(0.2)
     min_checks: int = knob(10)
+    shortcut_reach: float = knob(8.0, low_open=True)
     routes: bool = True
     route_share: float = knob(1.0)
     eliminate: bool = True

@@ -97,6 +97,6 @@ def improve(checker: PivotChecker, states: list[State], config: RegraspConfig, *
         st.routes_seconds += time.perf_counter() - t0
     states = optimise(checker, states, should_stop=optimiser.stop(should_stop, checker, states),
                       costs=config.cost, grasps=config.grasps, start_grasp=start_grasp,
-                      end_grasp=end_grasp)
+                      end_grasp=end_grasp, reach=cfg.shortcut_reach)
     st.seconds += time.perf_counter() - t0
     return states

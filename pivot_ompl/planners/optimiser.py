@@ -50,18 +50,12 @@ log = logging.getLogger(__name__)
 
 State = tuple[Pose, int]
 
-#: The optimiser may compute at most this share of the motion checks (transfers and walks,
-#: cache hits free) that planning computed before it: a budget of work, not of wall-clock
-#: time, so that a seed gives the same plan on any machine (the planner's own time limit
-#: still stops it). Edge checks are most of the optimiser's time.
-CHECK_SHARE = 0.2
-#: The smallest budget (motion checks), for paths found with little search.
-MIN_CHECKS = 10
 #: Longest shortcut (m, straight distance between the box's centres at its ends). Every
 #: candidate shortcut of the cheapest optimistic path is refuted or checked one round at a
 #: time, so without a reach the rounds grow with the square of the waypoints (all pairs,
 #: 4600 rounds over 62 waypoints of a 16-room floor, where no shortcut beyond 7 m passed);
-#: a longer straight move is the lattice re-routing's (:mod:`.routes.refine`).
+#: a longer straight move is the lattice re-routing's (:mod:`.routes.refine`). The planner's
+#: value is ``OptimiserConfig.shortcut_reach``.
 SHORTCUT_REACH = 8.0
 
 
