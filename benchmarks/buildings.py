@@ -25,8 +25,6 @@ each planning run, so that two measuring scripts never share the cores. Outputs 
 from __future__ import annotations
 
 import argparse
-import contextlib
-import fcntl
 import json
 import math
 import os
@@ -34,10 +32,13 @@ import statistics
 import subprocess
 import sys
 import time
-from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from common import machine_lock  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 HALF_PI = 0.5 * math.pi
@@ -81,21 +82,6 @@ CORPUS = (
               "office (real robot's SLAM map)", (17.4, 16.4, 0.0), (49.0, 40.4, HALF_PI),
               {"specks": 0.02}),
 )
-
-
-@contextlib.contextmanager
-def machine_lock() -> Iterator[None]:
-    """Hold ``$PIVOT_BENCH_LOCK`` (``flock``) when it is set."""
-    path = os.environ.get("PIVOT_BENCH_LOCK")
-    if not path:
-        yield
-        return
-    with open(path, "a") as fh:
-        fcntl.flock(fh, fcntl.LOCK_EX)
-        try:
-            yield
-        finally:
-            fcntl.flock(fh, fcntl.LOCK_UN)
 
 
 def import_corpus_map(m: CorpusMap, out: Path) -> dict[str, Any]:

@@ -2,8 +2,12 @@
 
 from __future__ import annotations
 
+import contextlib
+import fcntl
 import json
 import math
+import os
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -51,3 +55,18 @@ def scene_from_spec(spec: str):  # noqa: ANN201 (a Scene of whichever package ve
         values[key] = value if key == "layout" else (
             int(value) if key in ("walls", "rooms") else float(value))
     return generate(family, int(seed), params=GeneratorParams(**values)).scene
+
+
+@contextlib.contextmanager
+def machine_lock() -> Iterator[None]:
+    """Hold ``$PIVOT_BENCH_LOCK`` (``flock``) when it is set: one timing run at a time."""
+    path = os.environ.get("PIVOT_BENCH_LOCK")
+    if not path:
+        yield
+        return
+    with open(path, "a") as fh:
+        fcntl.flock(fh, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(fh, fcntl.LOCK_UN)

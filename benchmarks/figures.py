@@ -15,17 +15,19 @@ measuring runs never share the machine.
 from __future__ import annotations
 
 import argparse
-import contextlib
-import fcntl
 import json
 import os
 import subprocess
 import sys
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from common import machine_lock  # noqa: E402
 
 TREE = Path(__file__).resolve().parent
 PAGE = TREE.parent / "docs" / "figures.md"
@@ -165,21 +167,6 @@ STEPS = (
 )
 
 
-@contextlib.contextmanager
-def _machine_lock() -> Iterator[None]:
-    """Hold ``$PIVOT_BENCH_LOCK`` (``flock``) when it is set."""
-    path = os.environ.get("PIVOT_BENCH_LOCK")
-    if not path:
-        yield
-        return
-    with open(path, "a") as f:
-        fcntl.flock(f, fcntl.LOCK_EX)
-        try:
-            yield
-        finally:
-            fcntl.flock(f, fcntl.LOCK_UN)
-
-
 def _fig10_plan(out: Path) -> Path:
     plan = out / "fig10_plan.json"
     subprocess.run([PY, "-m", "pivot_ompl", "plan", "fig10", "--time", "60", "--seed", "0",
@@ -256,7 +243,7 @@ def main() -> None:
     args = ap.parse_args()
     only = {s for s in args.only.split(",") if s} or None
     t0 = time.perf_counter()
-    with _machine_lock():
+    with machine_lock():
         load0 = os.getloadavg()[0]
         table = run(args.out, only, reuse=args.reuse)
         load1 = os.getloadavg()[0]
