@@ -26,14 +26,13 @@ stays on the checked path but round them, and the heuristic stays exact.
 
 from __future__ import annotations
 
-import heapq
 import math
 import time
 from collections.abc import Callable
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.errors import Interrupted
-from pivot_ompl.graph import astar
+from pivot_ompl.graph import astar, distances
 from pivot_ompl.planners.evaluation import Evaluator, Found, Status, lazy_search
 from pivot_ompl.planners.multiplex.graph import MultiplexedGraph, Node, State, is_transfer
 from pivot_ompl.se2 import Pose
@@ -46,9 +45,10 @@ POLL_EVERY = 64
 def cost_to_go(graph: MultiplexedGraph, should_stop: Stop) -> dict[Node, float] | None:
     """The cheapest cost (s) from each node of ``graph`` to a goal, over plausible edges.
 
-    Dijkstra from the goal nodes over the candidate edges at their current costs (the
-    graph is undirected), lazy as the search is: every way to a node is queued untested
-    (only ways through regrasps and transfers already known plausible prune the queue), and
+    Dijkstra (:func:`pivot_ompl.graph.distances`) from the goal nodes over the candidate
+    edges at their current costs (the graph is undirected), lazy as the search is: every way
+    to a node is queued untested (only ways through regrasps and transfers already known
+    plausible prune the queue), and
     a transfer is tested (cached) only when a way through it is taken from the queue to
     settle its far node: about one test per node, for the same distances as a Dijkstra
     testing every edge it relaxes. Frame parity is ignored (a relaxation). Every path of the
@@ -56,28 +56,12 @@ def cost_to_go(graph: MultiplexedGraph, should_stop: Stop) -> dict[Node, float] 
     cost lowered (edges removed later only raise it); a node without a value has no path to
     the goal. ``None`` when ``should_stop`` said stop (polled every 256 nodes).
     """
-    dist: dict[Node, float] = {}
-    best: dict[Node, float] = dict.fromkeys(graph.goal_nodes, 0.0)  # through known edges
-    heap: list[tuple[float, int, Node, Node | None]] = [
-        (0.0, k, n, None) for k, n in enumerate(graph.goal_nodes)]
-    heapq.heapify(heap)
-    tie = len(heap)
-    while heap:
-        if len(dist) % 256 == 255 and should_stop():
-            return None
-        d, _, u, p = heapq.heappop(heap)
-        if u in dist or (p is not None and is_transfer(p, u) and not graph.plausible(p, u)):
-            continue
-        dist[u] = d
-        for v, c in graph.adj[u].items():
-            dv = d + c
-            if v in dist or dv >= best.get(v, math.inf):
-                continue
-            if graph.known_plausible(u, v):
-                best[v] = dv
-            heapq.heappush(heap, (dv, tie, v, u))
-            tie += 1
-    return dist
+    try:
+        return distances(graph.goal_nodes, lambda u: graph.adj[u].items(),
+                         valid=lambda p, u: not is_transfer(p, u) or graph.plausible(p, u),
+                         known=graph.known_plausible, should_stop=should_stop)
+    except Interrupted:
+        return None
 
 
 class PathSearch:
