@@ -2,13 +2,28 @@
 
 from __future__ import annotations
 
+import importlib.util
 import math
+import sys
 from pathlib import Path
+from types import ModuleType
 
 from pivot_ompl.resources import data_root
 from pivot_ompl.scene import Scene, load_scene, scene_from_dict
 
 ROOT = Path(__file__).resolve().parents[1]
+
+
+def benchmark_script(name: str) -> ModuleType:
+    """``benchmarks/<name>.py`` imported as module ``bench_<name>`` (registered in
+    ``sys.modules``: its dataclasses look their module up)."""
+    spec = importlib.util.spec_from_file_location(f"bench_{name}",
+                                                  ROOT / "benchmarks" / f"{name}.py")
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod
+    spec.loader.exec_module(mod)
+    return mod
 SCENES = data_root() / "scenes"
 #: Scenes kept for tests only (e.g. the first fig10, whose exact poses regression tests use).
 TEST_SCENES = Path(__file__).resolve().parent / "data" / "scenes"

@@ -11,7 +11,7 @@ import textwrap
 from pathlib import Path
 
 import pytest
-from factories import ROOT  # noqa: E402
+from factories import ROOT, benchmark_script  # noqa: E402
 
 from pivot_ompl.bench import (
     STATUS,
@@ -333,12 +333,7 @@ def _paper_table(text: str) -> list[dict[str, str]]:
 
 def test_readme_paper_comparison_is_consistent_with_the_benchmark_script() -> None:
     """The paper's row carries the script's figures; our rows are well-formed measurements."""
-    import importlib.util
-
-    spec = importlib.util.spec_from_file_location("bench_regrasp",
-                                                  ROOT / "benchmarks" / "regrasp.py")
-    script = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(script)
+    script = benchmark_script("regrasp")
     rows = _paper_table((ROOT / "benchmarks" / "README.md").read_text())
     (paper,) = [r for r in rows if r["planner"].startswith("regrasp paper")]
     assert float(paper["mean time (s)"]) == script.PAPER["mean_time"]

@@ -2,22 +2,14 @@
 
 from __future__ import annotations
 
-import importlib.util
-import sys
 from pathlib import Path
 
 import pytest
-
-ROOT = Path(__file__).resolve().parents[2]
+from factories import ROOT, benchmark_script
 
 
 def _buildings():
-    spec = importlib.util.spec_from_file_location("bench_buildings",
-                                                  ROOT / "benchmarks" / "buildings.py")
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod  # its dataclasses look their module up
-    spec.loader.exec_module(mod)
-    return mod
+    return benchmark_script("buildings")
 
 
 def test_the_corpus_holds_at_least_six_maps_each_with_its_provenance():

@@ -2,20 +2,11 @@
 
 from __future__ import annotations
 
-import importlib.util
-import sys
-from pathlib import Path
-
-ROOT = Path(__file__).resolve().parents[2]
+from factories import benchmark_script
 
 
 def _figures():
-    spec = importlib.util.spec_from_file_location("bench_figures",
-                                                  ROOT / "benchmarks" / "figures.py")
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod  # its dataclasses look their module up
-    spec.loader.exec_module(mod)
-    return mod
+    return benchmark_script("figures")
 
 
 def _method(median_s: float, ok: int, regrasps: int) -> dict:
