@@ -123,16 +123,24 @@ class SearchConfig:
 
 @dataclass(frozen=True)
 class SingleGraspConfig:
-    """The single-grasp RRT-Connect tried before the multiplexed search.
+    """The regrasp-free tries before the multiplexed search (:mod:`~.direct`).
 
     Attributes:
-        checks: motion checks (transfer edges) it may make, shared by the grasps valid at
-            both start and goal; ``0``: not tried.
+        checks: motion checks (transfer edges) the single-grasp RRT-Connect may make, shared
+            by the grasps valid at both start and goal; ``0``: not tried.
         step: its longest extension (m of the car's Reeds-Shepp path).
+        lattice: where the RRT-Connect found nothing, follow the held assembly's lattice
+            route at each grasp, certified transfer by transfer (found at once on floors of
+            many rooms, where the random trees get lost).
+        lattice_weight: inflation of that route search's heuristic, the floor's way to the
+            goal (a route at most this factor costlier than the lattice's cheapest, found
+            expanding far fewer states; the improve step refines it).
     """
 
     checks: int = knob(80)
     step: float = knob(1.5)
+    lattice: bool = True
+    lattice_weight: float = knob(1.2, low=1.0)
 
 
 #: The default ``optimiser.quality_share``: the stages' own shares as they are.
