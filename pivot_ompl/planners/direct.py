@@ -10,10 +10,12 @@ one if the robot holds the box):
    in the order of their lower bounds (:meth:`~.routes.lattice.TransferLattice.lower_bound`),
    each one's cheapest lattice route until no grasp left can beat the cheapest found, then
    the routes cheapest first, each made real by the cheapest chain of certified transfers
-   along it (:func:`~.routes.chain.shortened`). The lattice follows the connected free space
-   (its components answer at once where start and goal are apart), so on a floor of rooms
-   and passages drawn by thousands of wall pieces it finds the way the random trees get lost
-   looking for.
+   along it (:func:`~.routes.chain.shortened`); a route that is a detour of the floor's way
+   (:meth:`~.routes.lattice.TransferLattice.way_bound`), which the lattice takes where it
+   cannot turn in place, is left to the multiplexed search, whose curves do better. The
+   lattice follows the connected free space (its components answer at once where start and
+   goal are apart), so on a floor of rooms and passages drawn by thousands of wall pieces it
+   finds the way the random trees get lost looking for.
 
 Every transfer of a path returned passed its full check. Both tries poll ``should_stop``.
 """
@@ -79,10 +81,14 @@ def rrt_path(checker: PivotChecker, start: Pose, goal: Pose, *, grasps: list[int
 
 def lattice_path(checker: PivotChecker, lattice: TransferLattice, costs: CostModel,
                  start: Pose, goal: Pose, *, grasps: list[int], weight: float,
-                 should_stop: Stop, stats: DirectStats) -> Found[list[State]]:
+                 detour: float = math.inf, should_stop: Stop,
+                 stats: DirectStats) -> Found[list[State]]:
     """The cheapest certified single-grasp path along a lattice route (module docstring).
 
     A grasp is routed only while its lower bound is below the cheapest route found so far;
+    a route costing more than ``detour`` times the floor's way
+    (:meth:`~.routes.lattice.TransferLattice.way_bound`) is left out (the lattice turns only
+    in place: where that forces a detour, the curves of the multiplexed search do better);
     the routes are made real cheapest first. ``VALID`` with the path's states, ``INVALID``
     when no route of any grasp passes, ``STOPPED``.
     """
@@ -99,7 +105,8 @@ def lattice_path(checker: PivotChecker, lattice: TransferLattice, costs: CostMod
                 poses, cost = lattice.route(start, goal, g, should_stop=should_stop,
                                             guided=True, weight=weight)
                 stats.routes += 1
-                if len(poses) >= 2 and math.isfinite(cost):
+                if len(poses) >= 2 and math.isfinite(cost) and cost <= detour * \
+                        lattice.way_bound(start, goal, g, should_stop=should_stop):
                     routed.append((cost, g, poses))
             if not routed:
                 break
@@ -137,8 +144,8 @@ def direct_path(checker: PivotChecker, start: Pose, goal: Pose, *, grasps: list[
             stats.solved_by = "rrt" if found.path else ""
         if found.status is Status.INVALID and config.lattice:
             found = lattice_path(checker, lattice(), costs, start, goal, grasps=grasps,
-                                 weight=config.lattice_weight, should_stop=should_stop,
-                                 stats=stats)
+                                 weight=config.lattice_weight, detour=config.lattice_detour,
+                                 should_stop=should_stop, stats=stats)
             stats.solved_by = "lattice" if found.path else ""
         return found.path or []
     finally:

@@ -132,3 +132,24 @@ def test_grid_distances_are_the_shortest_ways_over_free_cells(seed):
                         j = cell_ids[jx * ny + jy]
                         dist[k] = min(dist[k], dist[j] + math.hypot(vx, vy))
     assert np.allclose(got, dist)
+
+
+def test_a_lattice_detour_is_left_to_the_search():
+    # the AWS bookstore: the lattice turns only in place, so its routes go round the west
+    # side, 2.2-2.4 times the floor's way; the search's curves take the middle aisle
+    book = scene_from_map(HOUSE.parents[1] / "aws_bookstore" / "map.yaml",
+                          start=(-2.3, 5.4, 0.0), goal=(2.6, -3.1, 0.5 * math.pi))
+    checker = PivotChecker(book)
+    lattice = TransferLattice(checker, CostModel())
+    grasps = _valid_grasps(checker, book)
+
+    def run(detour):
+        return lattice_path(checker, lattice, CostModel(), book.start, book.goal,
+                            grasps=grasps, weight=1.2, detour=detour,
+                            should_stop=lambda: False, stats=DirectStats())
+
+    assert run(math.inf).status is Status.VALID
+    assert run(1.5).status is Status.INVALID
+    g = grasps[0]
+    cost = lattice.route(book.start, book.goal, g, guided=True, weight=1.2)[1]
+    assert cost > 2.0 * lattice.way_bound(book.start, book.goal, g)

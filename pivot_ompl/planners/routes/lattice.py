@@ -124,6 +124,29 @@ class TransferLattice:
             self._routes[key] = hit
         return hit
 
+    def way_bound(self, start: Pose, goal: Pose, grasp: int, *,
+                  should_stop: Callable[[], bool] | None = None) -> float:
+        """The pushes' cost (s) along the floor's way from ``start`` to ``goal`` at ``grasp``.
+
+        The grid distance over positions free at some heading (:func:`~.guide.grid_distances`)
+        at the push rate: no lattice route costs less, and one that costs much more is a
+        detour the lattice takes because it turns only in place; ``inf`` where no way joins
+        them.
+
+        Raises:
+            Interrupted: ``should_stop()`` became true.
+        """
+        m, parity, f = self.checker.model, grasp % 2, self.field
+        starts = self._attach(m.car_pose(start, grasp), parity, grasp)
+        goals = self._attach(m.car_pose(goal, grasp), parity, grasp)
+        if not starts or not goals:
+            return math.inf
+        cell_ids, _ = self._components(parity, should_stop)
+        way = grid_distances(cell_ids, f.nx, f.ny, HEADING_VECTORS,
+                             [cell_ids[u[0] * f.ny + u[1]] for u in goals], should_stop)
+        d = min(float(way[cell_ids[u[0] * f.ny + u[1]]]) for u in starts)
+        return self._push[grasp] * self.resolution * d
+
     def lower_bound(self, start: Pose, goal: Pose, grasp: int) -> float:
         """A cost no lattice route from ``start`` to ``goal`` at ``grasp`` is below (s).
 
