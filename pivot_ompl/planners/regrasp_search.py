@@ -25,7 +25,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Iterable, Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import shapely
@@ -251,10 +251,12 @@ class RegraspSearch:
         ck = self.checker
         grasps = [g for g in self.config.grasps if ck.state_valid(self.start, g)
                   and ck.state_valid(self.goal, g) and self.start_grasp in (None, g)]
-        d = self.direct
-        path = direct_path(ck, self.start, self.goal, grasps=grasps,
-                           config=self.config.single_grasp, costs=self.config.cost, rng=self.rng,
-                           lattice=self._lattice, should_stop=should_stop, stats=d)
+        d, cfg = self.direct, self.config.single_grasp
+        if cfg.lattice and self._area() < cfg.lattice_area:  # the trees' floor: no lattice
+            cfg = replace(cfg, lattice=False)
+        path = direct_path(ck, self.start, self.goal, grasps=grasps, config=cfg,
+                           costs=self.config.cost, rng=self.rng, lattice=self._lattice,
+                           should_stop=should_stop, stats=d)
         s = self.stats
         s.single_grasp_checks, s.single_grasp_solved = d.checks, bool(path)
         s.single_grasp_by, s.time_single_grasp = d.solved_by, d.seconds
@@ -332,16 +334,16 @@ class RegraspSearch:
         self._fill_stats()
         return states
 
+    def _area(self) -> float:
+        """The floor (m^2) the box may reach from the start (the bounds' if not known)."""
+        region = self.sampler.region()
+        x0, y0, x1, y1 = self.checker.world.bounds
+        return (x1 - x0) * (y1 - y0) if region is None else float(region.area)
+
     def _visibility_samples(self) -> int:
         """Samples of the Visibility PRM phase: more on a floor with more to reach."""
         sc = self.config.sampling
-        region = self.sampler.region()
-        if region is None:
-            x0, y0, x1, y1 = self.checker.world.bounds
-            area = (x1 - x0) * (y1 - y0)
-        else:
-            area = float(region.area)
-        return max(sc.max_visibility_samples, math.ceil(area / sc.visibility_area))
+        return max(sc.max_visibility_samples, math.ceil(self._area() / sc.visibility_area))
 
     def _optimised(self, states: list[State], should_stop: Stop) -> list[State]:
         """The path improved (:func:`~.improve.improve`) from the held grasp, if any.

@@ -92,6 +92,10 @@ def test_the_planner_ends_with_the_lattice_route_before_seeding_passages(house):
     off = replace(cfg, single_grasp=replace(cfg.single_grasp, lattice=False))
     res_off = plan(house, time_limit=30.0, seed=0, config=off, bound=False)
     assert res_off.roadmap["single_grasp_by"] == ""
+    # the house's reachable floor is about 120 m^2: below lattice_area, no lattice try
+    small = replace(cfg, single_grasp=replace(cfg.single_grasp, lattice_area=150.0))
+    assert plan(house, time_limit=30.0, seed=0, config=small,
+                bound=False).roadmap["single_grasp_by"] == ""
 
 
 def test_the_guided_route_costs_the_same_and_expands_fewer_states(house):
