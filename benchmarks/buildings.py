@@ -54,6 +54,8 @@ class CorpusMap:
         kind: what the map shows.
         start, goal: the box's poses in the map frame (m, rad).
         clean: ``MapCleaning`` fields (m², m), none by default.
+        note: what is known of the task's feasibility beyond the bound plans carry (printed
+            under the table).
     """
 
     name: str
@@ -62,6 +64,7 @@ class CorpusMap:
     start: tuple[float, float, float]
     goal: tuple[float, float, float]
     clean: dict[str, float] = field(default_factory=dict)
+    note: str = ""
 
 
 CORPUS = (
@@ -72,7 +75,9 @@ CORPUS = (
     CorpusMap("aws_small_warehouse", "scenes/maps/aws_small_warehouse/map.yaml",
               "small warehouse (simulated, SLAM map)", (-4.5, -7.8, HALF_PI), (0.6, 6.4, 0.0)),
     CorpusMap("turtlebot3_world", "benchmarks/maps/turtlebot3_world/map.yaml",
-              "TurtleBot3 arena (simulated, SLAM map)", (0.0, -1.9, 0.0), (0.0, 1.9, 0.0)),
+              "TurtleBot3 arena (simulated, SLAM map)", (0.0, -1.9, 0.0), (0.0, 1.9, 0.0),
+              note="`pivot-ompl bound` proves at least 4 regrasps (the 2 m turning radius "
+              "in a 5 m arena of posts); no plan is known, nor a proof that none exists"),
     CorpusMap("nav2_depot", "benchmarks/maps/nav2_depot/depot.yaml",
               "depot (simulated, SLAM map)", (-4.0, 0.0, 0.0), (20.0, 0.0, 0.0)),
     CorpusMap("nav2_warehouse", "benchmarks/maps/nav2_warehouse/warehouse.yaml",
@@ -80,7 +85,11 @@ CORPUS = (
     CorpusMap("willow_garage_2010",
               "benchmarks/maps/willow_garage_2010/willow-2010-02-18-0.10.yaml",
               "office (real robot's SLAM map)", (17.4, 16.4, 0.0), (49.0, 40.4, HALF_PI),
-              {"specks": 0.02}),
+              {"specks": 0.02},
+              note="start and goal lie in different components of the held assembly's "
+              "lattice (pushes and turns in place) at every grasp, so no single-grasp route "
+              "there; the regrasp bound does not finish within plan's share on 5049 boxes; "
+              "no plan is known"),
 )
 
 
@@ -162,9 +171,12 @@ def table(record: dict[str, Any], command: str) -> str:
     by_name = {m.name: m for m in CORPUS}
     rows = [summary_row(by_name[name], info, info["runs"]) for name, info in record.items()
             if name in by_name]
+    notes = "".join(f"\n- {name}: {by_name[name].note}" for name in record
+                    if name in by_name and by_name[name].note)
     return (f"{HEADER}\n" + "\n".join(rows) + f"\n\n`{command}`; {os.cpu_count()} cores; "
             "time: the whole `pivot-ompl plan` process (start-up, the bound's share, search, "
-            "writing); solve: the search alone.\n")
+            "writing); solve: the search alone.\n" + (f"\nKnown of the tasks:{notes}\n"
+                                                      if notes else ""))
 
 
 def main() -> None:

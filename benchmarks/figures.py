@@ -17,6 +17,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import statistics
 import subprocess
 import sys
 import time
@@ -46,6 +47,8 @@ class Step:
     args: tuple[str, ...]
     rows: Callable[[Any], list[tuple[str, str]]]
     out_is_dir: bool = False
+    #: the JSON a step writing a folder leaves in it
+    result: str = "regrasp_table.json"
 
 
 def _pct(x: float) -> str:
@@ -146,6 +149,28 @@ def _wholebody_rows(d: dict) -> list[tuple[str, str]]:
              f"{'pass' if d['checks_passed'] else 'FAIL'}")]
 
 
+def _buildings_rows(d: dict) -> list[tuple[str, str]]:
+    out = []
+    for name, m in d["maps"].items():
+        runs = m["runs"]
+        ok = [r for r in runs if r["solved"]]
+        what = (f"real map: {name}, {m['width']:.1f} × {m['depth']:.1f} m, "
+                f"{m['boxes']} boxes")
+        text = f"solved {len(ok)}/{len(runs)}"
+        if ok:
+            bounds = [r for r in ok if r.get("bound") is not None]
+            ratios = [r["route_ratio"] for r in ok if r.get("route_ratio") is not None]
+            text += (f"; median {statistics.median(r['wall'] for r in ok):.1f} s (whole "
+                     "process); regrasps "
+                     f"{max(r['regrasps'] for r in ok)}")
+            text += (f" (= bound in {sum(r['regrasps'] == r['bound'] for r in bounds)}"
+                     f"/{len(bounds)})" if bounds else " (no bound proven)")
+            if ratios:
+                text += f"; route {statistics.median(ratios):.2f} × the bound"
+        out.append((what, text + f"; peak {max(r['peak_mb'] for r in runs):.0f} MB"))
+    return out
+
+
 STEPS = (
     Step("plan_quality", "plan_quality.py",
          ("--seeds", "5", "--time", "30", "--scenes", QUALITY_SCENES), _quality_rows),
@@ -164,6 +189,8 @@ STEPS = (
                                        "3", "--time", "10", "--workers", "1"),
          _versus_ompl_rows, out_is_dir=True),
     Step("wholebody", "wholebody.py", ("{fig10_plan}",), _wholebody_rows),
+    Step("buildings", "buildings.py", ("--seeds", "2", "--time", "60"), _buildings_rows,
+         out_is_dir=True, result="buildings.json"),
 )
 
 
@@ -189,13 +216,15 @@ def run(out: Path, only: set[str] | None, *, reuse: bool = False) -> str:
             plan = plan or _fig10_plan(out)
             args = tuple(str(plan) if a == "{fig10_plan}" else a for a in args)
         cmd = [PY, str(TREE / step.script), *args, "--out", str(target)]
-        result = (target / "regrasp_table.json") if step.out_is_dir else target
+        result = (target / step.result) if step.out_is_dir else target
         if reuse and result.is_file():
             print(f"[{step.name}] reused {result}", flush=True)
         else:
             t0 = time.perf_counter()
             print(f"[{step.name}] {' '.join(cmd[1:])}", flush=True)
-            subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+            # the lock is held here for the whole run: a script taking it per run must not wait
+            env = {k: v for k, v in os.environ.items() if k != "PIVOT_BENCH_LOCK"}
+            subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, env=env)
             print(f"[{step.name}] {time.perf_counter() - t0:.0f} s", flush=True)
         data = json.loads(result.read_text())
         shown = " ".join(a if a != str(plan) else "PLAN" for a in args)

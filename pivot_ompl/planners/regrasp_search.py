@@ -2,10 +2,10 @@
 
 :class:`RegraspSearch` orchestrates; each stage is a part of its own:
 
-1. the start and goal, and the scene's **slots** (:mod:`.objects.slots`) seeded into the
+1. the **regrasp-free tries** (:mod:`.direct`: a single-grasp RRT-Connect, then the held
+   assembly's lattice route), which end planning where one grasp suffices;
+2. the start and goal, and the scene's **slots** (:mod:`.objects.slots`) seeded into the
    object roadmap (:class:`~.objects.roadmap.Roadmap`);
-2. a **single-grasp** RRT-Connect (:mod:`.single_grasp`), which ends planning where one grasp
-   suffices;
 3. the **Visibility PRM** on the box alone (:class:`~.objects.visibility.VisibilityRoadmap`),
    recording **critical configurations** (:class:`~.objects.critical.CriticalConfigurations`);
 4. **bridge tests** for narrow passages (:class:`~.objects.bridge.BridgeTest`);
@@ -25,13 +25,14 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Iterable, Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import shapely
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planners.config import RegraspConfig, quality_scale
+from pivot_ompl.planners.direct import DirectStats, direct_path
 from pivot_ompl.planners.eliminate import EliminationReport, eliminate_regrasps, lattice_router
 from pivot_ompl.planners.evaluation import Found, Status
 from pivot_ompl.planners.grasp_choice import choose_grasps
@@ -46,7 +47,6 @@ from pivot_ompl.planners.objects.samplers import PoseSampler
 from pivot_ompl.planners.objects.slots import door_poses, doors, slot_poses, slots
 from pivot_ompl.planners.objects.visibility import VisibilityRoadmap
 from pivot_ompl.planners.routes.lattice import TransferLattice
-from pivot_ompl.planners.single_grasp import SingleGraspConnect
 from pivot_ompl.se2 import Pose
 
 Stop = Callable[[], bool]
@@ -83,6 +83,7 @@ class RegraspStats:
     edges_invalid: int = 0
     single_grasp_checks: int = 0
     single_grasp_solved: bool = False
+    single_grasp_by: str = ""
     time_single_grasp: float = 0.0
     time_visibility: float = 0.0
     time_search: float = 0.0
@@ -148,7 +149,10 @@ class RegraspSearch:
         self.improved = ImproveStats()
         #: the last regrasp elimination's report (:mod:`.eliminate`)
         self.elimination = EliminationReport()
+        #: the regrasp-free tries' figures (:mod:`.direct`)
+        self.direct = DirectStats()
         self._started = False
+        self._tried_direct = False
         self._goal_node = -1
         self._since = 0  # object nodes multiplexed since the last search
 
@@ -240,31 +244,30 @@ class RegraspSearch:
         self.graph.set_ends(s_i, self._goal_node, should_stop, start_grasp=start_grasp)
 
     def _single_grasp(self, should_stop: Stop) -> list[State]:
-        """A regrasp-free path by RRT-Connect at each grasp valid at both ends, or ``[]``.
+        """A regrasp-free path (:func:`~.direct.direct_path`) at the grasps valid at both ends.
 
-        Its own generator (spawned from the planner's, which it leaves as it was) and a
-        budget of motion checks shared by the grasps.
+        The held grasp only, if one is; ``[]`` when there is none.
         """
-        ck, cfg = self.checker, self.config.single_grasp
+        ck = self.checker
         grasps = [g for g in self.config.grasps if ck.state_valid(self.start, g)
-                  and ck.state_valid(self.goal, g)
-                  and self.start_grasp in (None, g)]
-        if cfg.checks <= 0 or not grasps:
-            return []
-        t0 = time.perf_counter()
-        rng = self.rng.spawn(1)[0]
-        share = max(1, cfg.checks // len(grasps))
-        try:
-            for g in grasps:
-                rrt = SingleGraspConnect(ck, self.start, self.goal, g, rng, step=cfg.step)
-                found = rrt.run(share, should_stop)
-                self.stats.single_grasp_checks += rrt.checks
-                if found.path is not None:
-                    self.stats.single_grasp_solved = True
-                    return [(q, g) for q in found.path]
-            return []
-        finally:
-            self.stats.time_single_grasp += time.perf_counter() - t0
+                  and ck.state_valid(self.goal, g) and self.start_grasp in (None, g)]
+        d, cfg = self.direct, self.config.single_grasp
+        if cfg.lattice and self._area() < cfg.lattice_area:  # the trees' floor: no lattice
+            cfg = replace(cfg, lattice=False)
+        path = direct_path(ck, self.start, self.goal, grasps=grasps, config=cfg,
+                           costs=self.config.cost, rng=self.rng, lattice=self._lattice,
+                           should_stop=should_stop, stats=d)
+        s = self.stats
+        s.single_grasp_checks, s.single_grasp_solved = d.checks, bool(path)
+        s.single_grasp_by, s.time_single_grasp = d.solved_by, d.seconds
+        return path
+
+    def _lattice(self) -> TransferLattice:
+        """The held assembly's lattice within the start's reach, made when first asked."""
+        if self.lattice is None:
+            self.lattice = TransferLattice(self.checker, self.config.cost,
+                                           region=self.sampler.region())
+        return self.lattice
 
     def _grown(self, should_stop: Stop) -> Found[list[Node]]:
         """Multiplex the new object nodes; search every ``search.every`` that gave some."""
@@ -304,13 +307,14 @@ class RegraspSearch:
         """Plan; the path as ``(object pose, grasp)`` states, ``[]`` when stopped."""
         sc = self.config.sampling
         t0 = time.perf_counter()
-        if not self._started:
-            self.prepare(should_stop)
+        if not self._started and not self._tried_direct:
+            self._tried_direct = True  # before the passages are seeded: they are not needed
             direct = self._single_grasp(should_stop)
             if direct:
                 direct = self._optimised(direct, should_stop)
                 self._fill_stats()
                 return direct
+        self.prepare(should_stop)
         found = self.paths.find(should_stop)
         n = 0
         cap = self._visibility_samples()
@@ -330,16 +334,16 @@ class RegraspSearch:
         self._fill_stats()
         return states
 
+    def _area(self) -> float:
+        """The floor (m^2) the box may reach from the start (the bounds' if not known)."""
+        region = self.sampler.region()
+        x0, y0, x1, y1 = self.checker.world.bounds
+        return (x1 - x0) * (y1 - y0) if region is None else float(region.area)
+
     def _visibility_samples(self) -> int:
         """Samples of the Visibility PRM phase: more on a floor with more to reach."""
         sc = self.config.sampling
-        region = self.sampler.region()
-        if region is None:
-            x0, y0, x1, y1 = self.checker.world.bounds
-            area = (x1 - x0) * (y1 - y0)
-        else:
-            area = float(region.area)
-        return max(sc.max_visibility_samples, math.ceil(area / sc.visibility_area))
+        return max(sc.max_visibility_samples, math.ceil(self._area() / sc.visibility_area))
 
     def _optimised(self, states: list[State], should_stop: Stop) -> list[State]:
         """The path improved (:func:`~.improve.improve`) from the held grasp, if any.
@@ -350,9 +354,8 @@ class RegraspSearch:
         if not cfg.enabled:
             return states
         t1 = time.perf_counter()
-        if cfg.routes and self.lattice is None:
-            self.lattice = TransferLattice(self.checker, self.config.cost,
-                                           region=self.sampler.region())
+        if cfg.routes:
+            self._lattice()
         scale = quality_scale(cfg.quality_share)  # every step's share scaled by it
         routes_before = self.improved.routes_seconds
         states = improve(self.checker, states, self.config, should_stop=should_stop,

@@ -39,3 +39,16 @@ def test_a_row_counts_solved_runs_and_plans_at_their_bound():
     row = mod.summary_row(mod.CORPUS[0], info, runs)
     cells = [c.strip() for c in row.strip("|").split("|")]
     assert cells[3:] == ["42", "2/3", "4.0", "1.5", "2", "1/2 at bound 1", "1.30", "500"]
+
+
+def test_the_table_says_under_it_what_is_known_of_the_unsolved_tasks():
+    mod = _buildings()
+    info = {"width": 10.0, "depth": 5.0, "resolution": 0.05, "boxes": 42,
+            "runs": [{"solved": False, "wall": 61.0, "peak_mb": 500.0}]}
+    noted = [m for m in mod.CORPUS if m.note]
+    assert noted  # the tasks without a known plan say so
+    text = mod.table({m.name: info for m in mod.CORPUS}, "cmd")
+    assert "Known of the tasks:" in text
+    assert all(f"- {m.name}: {m.note}" in text for m in noted)
+    plain = [m for m in mod.CORPUS if not m.note]
+    assert "Known of the tasks" not in mod.table({plain[0].name: info}, "cmd")

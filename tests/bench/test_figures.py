@@ -31,3 +31,27 @@ def test_the_figures_page_holds_the_table_and_how_long_its_run_took():
     assert page.startswith("# Figures\n") and page.endswith(table)
     assert "This run took 7 min." in page and "`--only`" not in page
     assert "`--only`" in _figures().page(table, minutes=1, partial=True)
+
+
+def _run(seed: int, solved: bool, wall: float, regrasps: int | None = None,
+         bound: int | None = None, ratio: float | None = None) -> dict:
+    return {"seed": seed, "solved": solved, "wall": wall, "peak_mb": 200.0 + seed,
+            "regrasps": regrasps, "bound": bound, "route_ratio": ratio}
+
+
+def test_buildings_rows_give_each_map_its_runs_bound_and_memory():
+    maps = {"house": {"width": 18.75, "depth": 11.2, "boxes": 137,
+                      "runs": [_run(0, True, 1.5, 0, 0, 1.1), _run(1, True, 3.5, 0, 0, 1.2),
+                               _run(2, False, 61.0)]},
+            "arena": {"width": 5.45, "depth": 5.1, "boxes": 157,
+                      "runs": [_run(0, False, 61.2), _run(1, False, 61.1)]}}
+    rows = dict(_figures()._buildings_rows({"seeds": 3, "time": 60.0, "maps": maps}))
+    house = rows["real map: house, 18.8 × 11.2 m, 137 boxes"]
+    assert house.startswith("solved 2/3; median 2.5 s") and "(= bound in 2/2)" in house
+    assert "route 1.15 × the bound" in house and house.endswith("peak 202 MB")
+    assert rows["real map: arena, 5.5 × 5.1 m, 157 boxes"] == "solved 0/2; peak 201 MB"
+
+
+def test_the_buildings_step_reads_the_json_its_script_writes_in_its_folder():
+    step = {s.name: s for s in _figures().STEPS}["buildings"]
+    assert step.out_is_dir and step.result == "buildings.json"

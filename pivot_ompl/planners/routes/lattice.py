@@ -34,6 +34,7 @@ from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.graph import astar
+from pivot_ompl.planners.routes.guide import grid_distances
 from pivot_ompl.se2 import Pose, wrap_angle
 from pivot_ompl.transit.lattice import HEADING_VECTORS, HEADING_YAWS, N_HEADINGS
 from pivot_ompl.validity.assembly_field import AssemblyField
@@ -89,7 +90,8 @@ class TransferLattice:
         self._turns = [abs(wrap_angle(HEADING_YAWS[(h + 1) % N_HEADINGS] - HEADING_YAWS[h]))
                        for h in range(N_HEADINGS)]
         self.expansions = 0
-        self._routes: dict[tuple[Pose, Pose, int], tuple[list[Pose], float]] = {}
+        #: routes by (start, goal, grasp, guided, weight)
+        self._routes: dict[tuple[Pose, Pose, int, bool, float], tuple[list[Pose], float]] = {}
         self._labels: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         self._grids: dict[tuple[int, int], bytes] = {}
 
@@ -99,21 +101,51 @@ class TransferLattice:
         return (x, y, HEADING_YAWS[s[2]])
 
     def route(self, start: Pose, goal: Pose, grasp: int, *,
-              should_stop: Callable[[], bool] | None = None) -> tuple[list[Pose], float]:
+              should_stop: Callable[[], bool] | None = None,
+              guided: bool = False, weight: float | None = None) -> tuple[list[Pose], float]:
         """The cheapest lattice route from ``start`` to ``goal`` at ``grasp``, and its cost.
 
         Object poses, the ends exact (the given poses), and the lattice's seconds; ``([],
         inf)`` when the lattice has no route. Routes are kept (asked again, they are free).
+        ``guided``: the heuristic's distance is the floor's way to the goal
+        (:func:`~.guide.grid_distances`, one Dijkstra over the grid positions per query)
+        instead of the straight line: the same cost, far fewer states expanded across rooms
+        and passages (a route of another shape where several cost the same). ``weight``:
+        the heuristic's inflation for this query (default: the lattice's ``weight``).
 
         Raises:
             Interrupted: ``should_stop()`` became true.
         """
-        key = (start, goal, grasp)
+        weight = self.weight if weight is None else weight
+        key = (start, goal, grasp, guided, weight)
         hit = self._routes.get(key)
         if hit is None:
-            hit = self._route(start, goal, grasp, should_stop)
+            hit = self._route(start, goal, grasp, should_stop, guided, weight)
             self._routes[key] = hit
         return hit
+
+    def way_bound(self, start: Pose, goal: Pose, grasp: int, *,
+                  should_stop: Callable[[], bool] | None = None) -> float:
+        """The pushes' cost (s) along the floor's way from ``start`` to ``goal`` at ``grasp``.
+
+        The grid distance over positions free at some heading (:func:`~.guide.grid_distances`)
+        at the push rate: no lattice route costs less, and one that costs much more is a
+        detour the lattice takes because it turns only in place; ``inf`` where no way joins
+        them.
+
+        Raises:
+            Interrupted: ``should_stop()`` became true.
+        """
+        m, parity, f = self.checker.model, grasp % 2, self.field
+        starts = self._attach(m.car_pose(start, grasp), parity, grasp)
+        goals = self._attach(m.car_pose(goal, grasp), parity, grasp)
+        if not starts or not goals:
+            return math.inf
+        cell_ids, _ = self._components(parity, should_stop)
+        way = grid_distances(cell_ids, f.nx, f.ny, HEADING_VECTORS,
+                             [cell_ids[u[0] * f.ny + u[1]] for u in goals], should_stop)
+        d = min(float(way[cell_ids[u[0] * f.ny + u[1]]]) for u in starts)
+        return self._push[grasp] * self.resolution * d
 
     def lower_bound(self, start: Pose, goal: Pose, grasp: int) -> float:
         """A cost no lattice route from ``start`` to ``goal`` at ``grasp`` is below (s).
@@ -128,7 +160,8 @@ class TransferLattice:
                 + self._spin * abs(wrap_angle(cb[2] - ca[2])))
 
     def _route(self, start: Pose, goal: Pose, grasp: int,
-               should_stop: Callable[[], bool] | None) -> tuple[list[Pose], float]:
+               should_stop: Callable[[], bool] | None,
+               guided: bool, weight: float) -> tuple[list[Pose], float]:
         m = self.checker.model
         ca, cb = m.car_pose(start, grasp), m.car_pose(goal, grasp)
         parity = grasp % 2
@@ -180,15 +213,20 @@ class TransferLattice:
                 yield _GOAL, c
 
         gx, gy, gh = cb
-        weight = self.weight
+        way = None if not guided else self.resolution * grid_distances(
+            cell_ids, nx, ny, HEADING_VECTORS,
+            [cell_ids[u[0] * ny + u[1]] for u in goals], should_stop)
 
         def heuristic(u: State) -> float:
             # pushes move the car without turning it, turns turn it without moving it
             if u[0] < 0:
                 return 0.0
-            x, y = self.field.position(u[0], u[1])
-            return weight * (rate * math.hypot(x - gx, y - gy)
-                             + spin * abs(wrap_angle(HEADING_YAWS[u[2]] - gh)))
+            if way is None:
+                x, y = self.field.position(u[0], u[1])
+                d = math.hypot(x - gx, y - gy)
+            else:  # not below the straight line; inf: no way to the goal from here
+                d = float(way[cell_ids[u[0] * ny + u[1]]])
+            return weight * (rate * d + spin * abs(wrap_angle(HEADING_YAWS[u[2]] - gh)))
 
         try:
             states = astar([_START], {_GOAL}, neighbours, heuristic)
