@@ -256,7 +256,7 @@ class PivotChecker:
             offered = self._offered.walks.get((obj, from_grasp, to_grasp))
             if offered is not None:
                 w = self.walker
-                res = stored_walk(w.clearance, self.model, w.walk, obj, from_grasp, to_grasp,
+                res = stored_walk(w.certifier, self.model, w.walk, obj, from_grasp, to_grasp,
                                   offered)
                 if res is not None:
                     return res
