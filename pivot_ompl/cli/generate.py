@@ -84,10 +84,13 @@ def run(args: argparse.Namespace) -> int:
                              layout=args.layout)
     if args.door_width:
         params = dataclasses.replace(params, door_width=_range(args.door_width, "--door-width"))
-    for flag in ("wide_doors", "side_corridor", "side_door"):
-        if getattr(args, flag):
-            value = _range(getattr(args, flag), "--" + flag.replace("_", "-"))
-            params = dataclasses.replace(params, **{flag: value})
+    if args.wide_doors:
+        params = dataclasses.replace(params, wide_doors=_range(args.wide_doors, "--wide-doors"))
+    if args.side_corridor:
+        params = dataclasses.replace(params, side_corridor=_range(args.side_corridor,
+                                                                  "--side-corridor"))
+    if args.side_door:
+        params = dataclasses.replace(params, side_door=_range(args.side_door, "--side-door"))
     check_out_dir(args.out)
     with time_limited(args.time, "generating the scenes"):
         gens = [generate(args.family, seed, params=params)
