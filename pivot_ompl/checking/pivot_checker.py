@@ -87,7 +87,8 @@ class PivotChecker:
         self.world = CollisionWorld.from_scene(scene, should_stop=should_stop)
         self.steering = PivotSteering(turning_radius=scene.turning_radius,
                                       alpha_max=scene.alpha_max)
-        self.walker = WalkPlanner(scene.model, self.world, scene.walk, tolerance=tolerance)
+        self.walker = WalkPlanner(scene.model, self.world, scene.walk, tolerance=tolerance,
+                                  should_stop=should_stop)
         self.counters = MotionCounters()
         self._edges: dict[tuple, EdgeResult] = {}
         self._walks: dict[tuple, WalkResult] = {}

@@ -16,11 +16,12 @@ A floor whose walls run along the world's axes has frame yaw exactly 0: nothing 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 import numpy as np
 
+from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Obstacle, PolygonObstacle
 from pivot_ompl.se2 import Pose
 from pivot_ompl.validity.collision import CollisionWorld
@@ -49,8 +50,9 @@ def _edges(o: Obstacle) -> Iterable[tuple[float, float]]:
 def wall_yaw(obstacles: Iterable[Obstacle]) -> float:
     """The walls' direction modulo a quarter turn, in ``[-pi/4, pi/4)`` (rad).
 
-    Edge directions (modulo pi/2) are summed by length in bins of :data:`BIN`; the answer is
-    the length-weighted circular mean of the edges in the heaviest bin and its neighbours.
+    Edge directions (modulo pi/2) are summed by length in bins of :data:`BIN`; of the edges
+    in the heaviest bin and its neighbours, the direction most length takes (to 1e-6 rad:
+    parallel walls, to rounding) is the answer.
     Exactly 0.0 when that is within :data:`AXIS_TOLERANCE` of the axes, and for a floor
     without straight edges.
     """
@@ -68,7 +70,14 @@ def wall_yaw(obstacles: Iterable[Obstacle]) -> float:
     hist = np.bincount(bins, weights=wt, minlength=n)
     best = int(np.argmax(hist))
     near = np.isin(bins, [(best - 1) % n, best, (best + 1) % n])
-    z = np.sum(wt[near] * np.exp(4j * a[near]))  # a quarter turn is a full turn of 4 a
+    # of those, the direction most length takes exactly (parallel walls to rounding)
+    exact: dict[float, float] = {}
+    for d, w in zip(a[near].tolist(), wt[near].tolist(), strict=True):
+        key = round(d, 7) % round(quarter, 7)
+        exact[key] = exact.get(key, 0.0) + w
+    top = max(exact, key=lambda k: exact[k])
+    mask = near & (np.abs(((a - top + 0.25 * quarter) % quarter) - 0.25 * quarter) < 1e-6)
+    z = np.sum(wt[mask] * np.exp(4j * a[mask]))  # a quarter turn is a full turn of 4 a
     yaw = float(np.angle(z)) / 4.0
     yaw = (yaw + 0.25 * math.pi) % quarter - 0.25 * math.pi
     return 0.0 if abs(yaw) < AXIS_TOLERANCE else yaw
@@ -113,12 +122,16 @@ class LatticeFrame:
         return PolygonObstacle(tuple(self.into((px, py, 0.0))[:2] for px, py in o.points),
                                o.height)
 
-    def world(self, world: CollisionWorld) -> CollisionWorld:
+    def world(self, world: CollisionWorld, should_stop: Callable[[], bool] | None = None
+              ) -> CollisionWorld:
         """``world`` in the lattice's frame: its obstacles turned, its bounds four walls.
 
         The walls stand just outside the bounds (as far out as the world's kept clearance),
         so the walking body keeps from them what it keeps from the bounds; the frame's
         bounds hold them.
+
+        Raises:
+            Interrupted: ``should_stop()`` became true (polled before every obstacle).
         """
         x0, y0, x1, y1 = world.bounds
         t, k = BOUND_WALL, world.clearance
@@ -132,7 +145,9 @@ class LatticeFrame:
         xs, ys = [c[0] for c in corners], [c[1] for c in corners]
         out = CollisionWorld(world.model, (min(xs), min(ys), max(xs), max(ys)), world.clearance)
         for o in [*world.obstacles, *walls]:
-            out.add_obstacle(self.obstacle(o))
+            if should_stop is not None and should_stop():
+                raise Interrupted("turning the floor to the walk lattice's frame")
+            out.add_obstacle(self.obstacle(o), should_stop)
         out.setup()
         return out
 

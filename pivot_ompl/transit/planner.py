@@ -6,10 +6,8 @@ sideways and backward steps, and turns in place. The walk planner is A* over a s
 resolution: if a walk made of lattice motions exists, it is found. It needs no turning disk:
 a robot narrower than a door walks through it forward or sideways.
 
-* **Turned to the walls** (:mod:`pivot_ompl.transit.frame`): the lattice lies in a frame
-  turned to the floor's walls, so a corridor 1-3 cm wider than the walking body is walked by
-  side-stepping along its axis whatever the floor's angle; walks are mapped back and
-  certified again against the scene's own obstacles and bounds.
+* **Turned to the walls** (:mod:`pivot_ompl.transit.frame`): a corridor 1-3 cm wider than the
+  walking body is side-stepped along at any floor angle; walks are certified in the scene.
 * **Exact ends**: the grasp poses are joined to the nearby lattice states (within
   ``1.5 * resolution``, the two nearest headings) by a short straight motion.
 * **Certified**: every motion is a straight move of the robot's centre with linear yaw,
@@ -108,6 +106,7 @@ class WalkPlanner:
             compute, blind to the robot's heading); past this many expansions it is searched
             again guided by the lattice's cost-to-go (a Dijkstra per query, which pays only for
             the hard walks: turning in a tight spot, or no walk at all).
+        should_stop: polled while the floor is turned to the lattice's frame.
 
     Attributes:
         frame: the lattice's frame (turned to the walls; the identity on a floor whose walls
@@ -134,10 +133,15 @@ class WalkPlanner:
                  box_margin: float = 0.08, tolerance: float = SWEEP_TOLERANCE,
                  max_expansions: int = 60_000, box_cache: int = 16, inflation: float = 1.5,
                  floor_inflation: float = 3.0, max_field_states: int = 1_000_000,
-                 quick_expansions: int = 1500) -> None:
-        """The frame, lattice size, primitives, the parts and the caches."""
+                 quick_expansions: int = 1500, should_stop: Stop = None) -> None:
+        """The frame, lattice size, primitives, the parts and the caches.
+
+        Raises:
+            Interrupted: ``should_stop()`` became true while the floor was turned to the
+                lattice's frame.
+        """
         scene_world, self.frame = world, frame_of(world)
-        world = world if self.frame.identity else self.frame.world(world)
+        world = world if self.frame.identity else self.frame.world(world, should_stop)
         self.model, self.world = model, world
         self.walk = walk if walk is not None else WalkParameters()
         self.resolution, self.box_margin, self.tolerance = resolution, box_margin, tolerance
@@ -192,16 +196,13 @@ class WalkPlanner:
         if f.identity:
             return self._plan_framed(start, goal, obj, should_stop)
         res = self._plan_framed(f.into(start), f.into(goal), f.into(obj), should_stop)
-        if not res.valid:
-            return res
         keys = [start, *(f.out(p) for p in res.robot_path[1:-1]), goal]
-        for a, b in zip(keys, keys[1:], strict=False):
+        for a, b in zip(keys, keys[1:], strict=False) if res.valid else ():
             if should_stop is not None and should_stop():
                 raise Interrupted("walk planning")
-            if not self.certifier.segment_free(a, b, obj):
-                log.debug("walk mapped back from the lattice frame not certified")
+            if not self.certifier.segment_free(a, b, obj):  # the frame rounds the poses
                 return INVALID_WALK
-        return walk_result(keys, self.walk)
+        return walk_result(keys, self.walk) if res.valid else res
 
     def _plan_framed(self, start: Pose, goal: Pose, obj: Pose, should_stop: Stop
                      ) -> WalkResult:
