@@ -72,6 +72,8 @@ from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import CollisionWorld
 
 log = logging.getLogger(__name__)
+#: Bytes the cached floor distances (a float per grid position each) may hold at most.
+DISTANCE_BYTES = 256 * 2**20
 
 __all__ = ["INVALID_WALK", "WalkPlanner", "WalkResult"]
 
@@ -109,12 +111,10 @@ class WalkPlanner:
         should_stop: polled while the floor is turned to the lattice's frame.
 
     Attributes:
-        frame: the lattice's frame (turned to the walls; the identity on a floor whose walls
-            run along the world's axes). ``world``, ``clearance``, ``field`` and the
-            lattice methods (:meth:`attach`, :meth:`floor_distances`, ...) are in it;
-            :meth:`plan` and :meth:`plan_between` take and give scene poses.
-        certifier: the walking robot's clearances in the scene itself (``clearance`` when
-            the frame is the identity): certifies walks given in scene poses.
+        frame: the lattice's frame, turned to the walls. ``world``, ``clearance``, ``field``
+            and the lattice methods (:meth:`attach`, ...) are in it; :meth:`plan` and
+            :meth:`plan_between` take and give scene poses.
+        certifier: the walking robot's clearances in the scene (certifies scene walks).
         clearance: the walking robot's clearances and certified motions.
         smoother: the walks' shortcuts.
         field: the floor's fields (distances, lattice costs).
@@ -161,8 +161,8 @@ class WalkPlanner:
             tolerance=tolerance, box_cache=box_cache)
         self.smoother = WalkSmoother(self.clearance, self.walk, resolution=resolution)
         self.field = FloorField(model, world, resolution, box_margin)
-        self._distances: BoundedCache[tuple, tuple[float, np.ndarray]] = BoundedCache(
-            4 * box_cache)
+        self._distances: BoundedCache[tuple, tuple[float, np.ndarray]] = BoundedCache(max(
+            2, min(4 * box_cache, DISTANCE_BYTES // (8 * self._nx * self._ny))))
         #: a float per lattice state each, rarely asked again
         self._lattice: BoundedCache[tuple, np.ndarray] = BoundedCache(4)
 

@@ -88,3 +88,27 @@ def test_walks_on_a_turned_floor_are_planned_in_its_frame_and_pass_the_check(ang
     assert walk.robot_path[-1] == m.robot_pose(obj, 2)
     assert walk_problems(scene, obj, 0, 2, walk) == []
     assert walk.cost <= 1.25 * walk0.cost  # the grid lies otherwise on the walls: not equal
+
+
+def test_the_cached_floor_distances_hold_at_most_their_byte_budget(monkeypatch):
+    """A whole-floor field per cached query: their number is bounded by DISTANCE_BYTES
+    (at least two kept), so a large floor does not keep 64 of them."""
+    import numpy as np
+
+    from pivot_ompl.transit import planner
+
+    scene = shipped("fig10")
+    probe = PivotChecker(scene).walker
+    per_field = 8 * probe.field.grid.nx * probe.field.grid.ny
+    monkeypatch.setattr(planner, "DISTANCE_BYTES", 3 * per_field)
+    ck = PivotChecker(scene)
+    rng = np.random.default_rng(0)
+    x0, y0, x1, y1 = scene.bounds
+    walks = 0
+    while walks < 8:
+        obj = (float(rng.uniform(x0, x1)), float(rng.uniform(y0, y1)), 0.0)
+        if ck.state_valid(obj, 0) and ck.state_valid(obj, 2):
+            ck.transit(obj, 0, 2)
+            walks += 1
+            assert ck.walker.cached_fields()[0] <= 3
+    assert ck.walker.cached_fields()[0] == 3
