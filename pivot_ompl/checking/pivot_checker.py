@@ -87,7 +87,8 @@ class PivotChecker:
         self.world = CollisionWorld.from_scene(scene, should_stop=should_stop)
         self.steering = PivotSteering(turning_radius=scene.turning_radius,
                                       alpha_max=scene.alpha_max)
-        self.walker = WalkPlanner(scene.model, self.world, scene.walk, tolerance=tolerance)
+        self.walker = WalkPlanner(scene.model, self.world, scene.walk, tolerance=tolerance,
+                                  should_stop=should_stop)
         self.counters = MotionCounters()
         self._edges: dict[tuple, EdgeResult] = {}
         self._walks: dict[tuple, WalkResult] = {}
@@ -256,7 +257,7 @@ class PivotChecker:
             offered = self._offered.walks.get((obj, from_grasp, to_grasp))
             if offered is not None:
                 w = self.walker
-                res = stored_walk(w.clearance, self.model, w.walk, obj, from_grasp, to_grasp,
+                res = stored_walk(w.certifier, self.model, w.walk, obj, from_grasp, to_grasp,
                                   offered)
                 if res is not None:
                     return res

@@ -19,7 +19,7 @@ from types import FrameType
 from pivot_ompl.cli.args import positive, time_limit
 from pivot_ompl.errors import InputError, Interrupted, counted
 from pivot_ompl.generate import FAMILIES, GeneratorParams, generate, write_all_generated
-from pivot_ompl.generate.families import BUILDING_LAYOUTS
+from pivot_ompl.generate.params import BUILDING_LAYOUTS
 
 #: Most scenes one run generates (each is kept in memory until all are written).
 MAX_COUNT = 10_000
@@ -49,11 +49,19 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--rooms", type=positive("--rooms"), metavar="N",
                    help="number of rooms (building; default 4)")
     p.add_argument("--layout", choices=BUILDING_LAYOUTS, default="row",
-                   help="rooms in a row or a grid (building; default row)")
+                   help="rooms in a row or a grid, or in a row with every wall a box-only "
+                        "slot and the robot's way round a corridor (building; default row)")
     p.add_argument("--wide-doors", type=positive("--wide-doors"), nargs=2,
                    metavar=("MIN", "MAX"),
                    help="every wall along a row a door robot and box pass together, of a "
                         "width in MIN-MAX (m), off the wall's middle (building)")
+    p.add_argument("--side-corridor", type=positive("--side-corridor"), nargs=2,
+                   metavar=("MIN", "MAX"),
+                   help="width (m) of the robot's corridor (building --layout corridor; "
+                        "default 0.87 0.89: 1-3 cm wider than the walking body)")
+    p.add_argument("--side-door", type=positive("--side-door"), nargs=2,
+                   metavar=("MIN", "MAX"),
+                   help="width (m) of the doors into that corridor (default 1.0 1.0)")
     p.set_defaults(func=run)
 
 
@@ -78,6 +86,11 @@ def run(args: argparse.Namespace) -> int:
         params = dataclasses.replace(params, door_width=_range(args.door_width, "--door-width"))
     if args.wide_doors:
         params = dataclasses.replace(params, wide_doors=_range(args.wide_doors, "--wide-doors"))
+    if args.side_corridor:
+        params = dataclasses.replace(params, side_corridor=_range(args.side_corridor,
+                                                                  "--side-corridor"))
+    if args.side_door:
+        params = dataclasses.replace(params, side_door=_range(args.side_door, "--side-door"))
     check_out_dir(args.out)
     with time_limited(args.time, "generating the scenes"):
         gens = [generate(args.family, seed, params=params)

@@ -13,6 +13,13 @@ along the first row, north, west along the next, ...). Each wall the route cross
   assembly sweeps turning: it must line up with each one);
 * going north, a wide door.
 
+Layout ``"corridor"`` (rooms in a row): every wall between rooms is a box-only slot and none
+has a robot door; the robot's way round is a **corridor** along the row's north side
+(``side_corridor``: a range of widths, e.g. 0.87-0.89 m, 1-3 cm wider than the 0.86 m
+walking body, which side-steps along it with its 0.6 m depth across), entered from each room
+by a **door** in its north wall (``side_door``: a range of widths, e.g. 1.0 m), its centre
+up to ``SIDE_DOOR_SHIFT`` from the room's middle.
+
 Every other wall is solid. The witness pushes the box from room to room: through a wide door
 in one push; into a slot, then the robot walks round through the door and pulls the box out
 (a regrasp), then walks round the box again to push on (a second one); a regrasp turns the
@@ -45,6 +52,15 @@ WIDE_SHIFT = 0.6
 MAX_WIDE_DOOR = ROOM_DEPTH - 2.0 * (WIDE_SHIFT + 0.3)
 #: Distances (m) of the slot's and the robot door's axes from a room's near side.
 SLOT_Y, DOOR_Y = 1.2, ROOM_DEPTH - 1.0
+#: Layout ``"corridor"``: the largest offset (m) of a door's centre from its room's middle,
+#: and the widest door (m) that leaves 0.3 m of wall at either end.
+SIDE_DOOR_SHIFT = 0.5
+MAX_SIDE_DOOR = ROOM - 2.0 * (SIDE_DOOR_SHIFT + 0.3)
+#: Least distance (m) of the start's centre from the first room's west wall (layout
+#: ``"corridor"``: far enough that the holding robot behind the box clears it at any start yaw).
+START_BACK, START_BACK_CORRIDOR = 1.0, 1.5
+#: Layouts of the family.
+BUILDING_LAYOUTS = ("row", "grid", "corridor")
 
 
 def room_origin(i: int, j: int) -> tuple[float, float]:
@@ -54,7 +70,7 @@ def room_origin(i: int, j: int) -> tuple[float, float]:
 
 def _cells(rooms: int, layout: str) -> list[tuple[int, int]]:
     """The rooms in route order: a row, or a snake through a near-square grid."""
-    if layout == "row":
+    if layout != "grid":
         return [(i, 0) for i in range(rooms)]
     cols = max(1, math.ceil(math.sqrt(rooms)))
     out = []
@@ -66,19 +82,29 @@ def _cells(rooms: int, layout: str) -> list[tuple[int, int]]:
 
 def building_layout(rng: np.random.Generator, *, rooms: int, layout: str,
                     slot_gap: tuple[float, float], slot_clearance: float | None,
-                    seed: int, wide_doors: tuple[float, float] | None = None
+                    seed: int, wide_doors: tuple[float, float] | None = None,
+                    side_corridor: tuple[float, float] = (0.87, 0.89),
+                    side_door: tuple[float, float] = (1.0, 1.0)
                     ) -> tuple[Scene, list[State]]:
-    """A building floor and the witness's chain of ``(object pose, grasp)`` states."""
+    """A building floor and the witness's chain of ``(object pose, grasp)`` states.
+
+    ``side_corridor`` and ``side_door``: ranges of the corridor's and its doors' widths (m),
+    layout ``"corridor"`` only.
+    """
     cells = _cells(rooms, layout)
     nx = max(i for i, _ in cells) + 1
     ny = max(j for _, j in cells) + 1
     bounds = (0.0, 0.0, WALL + nx * (ROOM + WALL), WALL + ny * (ROOM_DEPTH + WALL))
     free: list[Rect] = []
+    corridor = layout == "corridor"
+    if corridor:
+        bounds = _side_corridor(rng, nx, bounds, free, side_corridor, side_door)
     for i, j in cells:
         x0, y0 = room_origin(i, j)
         free.append((x0, y0, x0 + ROOM, y0 + ROOM_DEPTH))
     x0, y0 = room_origin(*cells[0])
-    start = (x0 + 1.0 + float(rng.uniform(0.0, 0.4)), y0 + SLOT_Y + float(rng.uniform(-0.2, 0.6)),
+    back = START_BACK_CORRIDOR if corridor else START_BACK
+    start = (x0 + back + float(rng.uniform(0.0, 0.4)), y0 + SLOT_Y + float(rng.uniform(-0.2, 0.6)),
              float(rng.uniform(-0.3, 0.3)))
     states: list[State] = [(start, 0)]
     for a, b in zip(cells, cells[1:], strict=False):
@@ -87,14 +113,18 @@ def building_layout(rng: np.random.Generator, *, rooms: int, layout: str,
         else:
             east = b[0] > a[0]
             door = (WIDE_DOOR, 0.0)
-            if wide_doors is None:
+            if corridor:
+                slot, gap = True, slot_clearance if slot_clearance is not None else \
+                    float(rng.uniform(*slot_gap))
+            elif wide_doors is None:
                 slot = rng.uniform() >= WIDE_SHARE
                 gap = slot_clearance if slot_clearance is not None else \
                     float(rng.uniform(*slot_gap))
             else:
                 slot, gap = False, 0.0
                 door = (float(rng.uniform(*wide_doors)), float(rng.uniform(-1.0, 1.0)) * WIDE_SHIFT)
-            states += _along_row(a, b, east, slot, gap, states[-1], free, door=door)
+            states += _along_row(a, b, east, slot, gap, states[-1], free, door=door,
+                                 robot_door=not corridor)
     xl, yl = room_origin(*cells[-1])
     east = len(cells) < 2 or cells[-1][0] >= cells[-2][0]
     g = states[-1][1]
@@ -105,6 +135,24 @@ def building_layout(rng: np.random.Generator, *, rooms: int, layout: str,
     obstacles = free_complement(bounds, free)
     name = f"building_{layout}{rooms}_{seed}"
     return make_scene(name, bounds, obstacles, start, goal), states
+
+
+def _side_corridor(rng: np.random.Generator, rooms: int, bounds: Rect, free: list[Rect],
+                   width: tuple[float, float], door: tuple[float, float]) -> Rect:
+    """Lay the robot's corridor north of a row of ``rooms``; return the grown bounds.
+
+    The corridor runs the row's length; each room opens into it by a door in its north wall,
+    of a width in ``door``, its centre within :data:`SIDE_DOOR_SHIFT` of the room's middle.
+    """
+    w = float(rng.uniform(*width))
+    y0 = bounds[3]  # the corridor's south side: the rooms' north wall's north face
+    free.append((WALL, y0, bounds[2] - WALL, y0 + w))
+    for i in range(rooms):
+        x0, _ = room_origin(i, 0)
+        dw = float(rng.uniform(*door))
+        xc = x0 + ROOM / 2 + float(rng.uniform(-1.0, 1.0)) * SIDE_DOOR_SHIFT
+        free.append((xc - dw / 2, y0 - WALL, xc + dw / 2, y0))
+    return (bounds[0], bounds[1], bounds[2], y0 + w + WALL)
 
 
 def _north(a: tuple[int, int], b: tuple[int, int], last: State, free: list[Rect]) -> list[State]:
@@ -124,10 +172,13 @@ def _north(a: tuple[int, int], b: tuple[int, int], last: State, free: list[Rect]
 
 def _along_row(a: tuple[int, int], b: tuple[int, int], east: bool, slot: bool, gap: float,
                last: State, free: list[Rect], *,
-               door: tuple[float, float] = (WIDE_DOOR, 0.0)) -> list[State]:
+               door: tuple[float, float] = (WIDE_DOOR, 0.0), robot_door: bool = True
+               ) -> list[State]:
     """From room ``a`` into its neighbour ``b`` along the row.
 
-    ``door``: the wide door's width and its centre's offset from the wall's middle (m).
+    ``door``: the wide door's width and its centre's offset from the wall's middle (m);
+    ``robot_door``: a slot's wall also has a robot door (else the robot walks round by a
+    way of its own).
     """
     x0, y0 = room_origin(*a)
     xw = x0 + ROOM if east else x0 - WALL  # the wall's west face
@@ -147,7 +198,8 @@ def _along_row(a: tuple[int, int], b: tuple[int, int], east: bool, slot: bool, g
     ys, yd = y0 + SLOT_Y, y0 + DOOR_Y
     half = BOX[1] / 2 + gap
     free.append((xw, ys - half, xw + WALL, ys + half))
-    free.append((xw, yd - ROBOT_DOOR / 2, xw + WALL, yd + ROBOT_DOOR / 2))
+    if robot_door:
+        free.append((xw, yd - ROBOT_DOOR / 2, xw + WALL, yd + ROBOT_DOOR / 2))
     if gap < 0.005:
         raise Retry("slot clearance below the kept 1 cm")
     before = (near - s * 1.4, ys, 0.0)

@@ -29,7 +29,7 @@ import numpy as np
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.errors import InputError, counted, require_type
-from pivot_ompl.generate.building import MAX_WIDE_DOOR, building_layout
+from pivot_ompl.generate.building import building_layout
 from pivot_ompl.generate.layout import (
     BOX,
     HELD_FACE_BACK,
@@ -39,6 +39,7 @@ from pivot_ompl.generate.layout import (
     make_scene,
     uniform,
 )
+from pivot_ompl.generate.params import GeneratorParams, check_params
 from pivot_ompl.generate.transform import RigidMap, transform_scene
 from pivot_ompl.generate.witness import State, build_witness
 from pivot_ompl.planfile import Plan
@@ -50,44 +51,6 @@ log = logging.getLogger(__name__)
 
 #: Clearance kept between clutter and the witness's bodies (m).
 CLUTTER_MARGIN = 0.12
-
-
-@dataclass(frozen=True)
-class GeneratorParams:
-    """Parameters of the generator (lengths in m, angles in rad).
-
-    Attributes:
-        door_width: range of robot door widths (``walls``).
-        slot_gap: range of the gap on each side of the box in a slot.
-        corridor_width: range of corridor widths (``corridor``).
-        bend_size: range of the side of the square at a bend (``corridor``).
-        max_tilt: largest tilt of a wall from the room's cross direction (``walls``).
-        rotate: turn the scene by a random angle (``walls``, ``corridor``).
-        attempts: layouts drawn at most before giving up.
-        walls: number of walls (``walls``; default 1 to 3 at random).
-        slot_clearance: the gap (m) on each side of the box in every slot (``walls`` and
-            ``building``; default ``slot_gap``'s range).
-        rooms: number of rooms (``building``).
-        layout: ``"row"`` (rooms in a row) or ``"grid"`` (rooms in a grid, the route
-            snaking through them), ``building``.
-        wide_doors: range of widths (m) of the doors robot and box pass together
-            (``building``): every wall along a row gets one, its centre at random within
-            :data:`~pivot_ompl.generate.building.WIDE_SHIFT` of the wall's middle; ``None``:
-            30 % of those walls get a 1.7 m door in the middle, the others a slot.
-    """
-
-    door_width: tuple[float, float] = (0.76, 0.84)
-    slot_gap: tuple[float, float] = (0.1, 0.12)
-    corridor_width: tuple[float, float] = (1.2, 1.4)
-    bend_size: tuple[float, float] = (3.0, 3.4)
-    max_tilt: float = 0.3
-    rotate: bool = True
-    attempts: int = 60
-    walls: int | None = None
-    slot_clearance: float | None = None
-    rooms: int = 4
-    layout: str = "row"
-    wide_doors: tuple[float, float] | None = None
 
 
 @dataclass(frozen=True)
@@ -319,7 +282,8 @@ Layout = Callable[[np.random.Generator, GeneratorParams, int], tuple[Scene, list
 def _building(rng: np.random.Generator, p: GeneratorParams,
               seed: int) -> tuple[Scene, list[State]]:
     return building_layout(rng, rooms=p.rooms, layout=p.layout, slot_gap=p.slot_gap,
-                           slot_clearance=p.slot_clearance, wide_doors=p.wide_doors, seed=seed)
+                           slot_clearance=p.slot_clearance, wide_doors=p.wide_doors, seed=seed,
+                           side_corridor=p.side_corridor, side_door=p.side_door)
 
 
 FAMILIES: dict[str, Layout] = {"walls": _walls_layout, "corridor": _corridor_layout,
@@ -327,34 +291,6 @@ FAMILIES: dict[str, Layout] = {"walls": _walls_layout, "corridor": _corridor_lay
 #: Each family's stream of random numbers (fixed: a new family changes no other's scenes).
 _STREAM = {"clutter": 0, "corridor": 1, "walls": 2, "building": 3}
 _ROTATED = {"walls", "corridor", "building"}
-#: Layouts of the ``building`` family.
-BUILDING_LAYOUTS = ("row", "grid")
-
-
-def _check_params(p: GeneratorParams) -> None:
-    """Raise :class:`InputError` for parameters no layout can honour."""
-    if p.walls is not None and (isinstance(p.walls, bool) or not isinstance(p.walls, int)
-                                or not 1 <= p.walls <= 64):
-        raise InputError("walls", p.walls, "must be a whole number from 1 to 64")
-    if p.slot_clearance is not None and (
-            isinstance(p.slot_clearance, bool) or not isinstance(p.slot_clearance, int | float)
-            or not 0.005 <= p.slot_clearance <= 0.5):
-        raise InputError("slot_clearance", p.slot_clearance,
-                         "must be from 0.005 m (the kept 1 cm over both sides) to 0.5 m")
-    if isinstance(p.rooms, bool) or not isinstance(p.rooms, int) or not 1 <= p.rooms <= 256:
-        raise InputError("rooms", p.rooms, "must be a whole number from 1 to 256")
-    ranges = ("door_width", "slot_gap", "corridor_width", "bend_size")
-    for name in ranges + (("wide_doors",) if p.wide_doors is not None else ()):
-        r = getattr(p, name)
-        if (not isinstance(r, tuple | list) or len(r) != 2
-                or not all(isinstance(v, int | float) and not isinstance(v, bool)
-                           and math.isfinite(v) and v > 0 for v in r) or r[0] > r[1]):
-            raise InputError(name, r, "must be a range (min, max) of lengths > 0 m")
-    if p.wide_doors is not None and p.wide_doors[1] > MAX_WIDE_DOOR:
-        raise InputError("wide_doors", p.wide_doors,
-                         f"must be widths of at most {MAX_WIDE_DOOR:g} m")
-    if p.layout not in BUILDING_LAYOUTS:
-        raise InputError("layout", p.layout, f"must be one of {list(BUILDING_LAYOUTS)}")
 
 
 def generate(family: str, seed: int, *, params: GeneratorParams | None = None) -> Generated:
@@ -372,7 +308,7 @@ def generate(family: str, seed: int, *, params: GeneratorParams | None = None) -
     if params is not None:
         require_type(params, GeneratorParams, "params", "a GeneratorParams or None")
     p = params or GeneratorParams()
-    _check_params(p)
+    check_params(p)
     rng = np.random.default_rng([seed, _STREAM[family]])
     reason = ""
     for attempt in range(1, p.attempts + 1):

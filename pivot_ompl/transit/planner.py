@@ -6,6 +6,8 @@ sideways and backward steps, and turns in place. The walk planner is A* over a s
 resolution: if a walk made of lattice motions exists, it is found. It needs no turning disk:
 a robot narrower than a door walks through it forward or sideways.
 
+* **Turned to the walls** (:mod:`pivot_ompl.transit.frame`): a corridor 1-3 cm wider than the
+  walking body is side-stepped along at any floor angle; walks are certified in the scene.
 * **Exact ends**: the grasp poses are joined to the nearby lattice states (within
   ``1.5 * resolution``, the two nearest headings) by a short straight motion.
 * **Certified**: every motion is a straight move of the robot's centre with linear yaw,
@@ -45,7 +47,6 @@ from __future__ import annotations
 import logging
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -57,6 +58,7 @@ from pivot_ompl.scene import WalkParameters
 from pivot_ompl.se2 import Pose, wrap_angle
 from pivot_ompl.transit.clearance import BoxedClearance, State, WalkClearance
 from pivot_ompl.transit.field import FloorField
+from pivot_ompl.transit.frame import LatticeFrame, frame_of
 from pivot_ompl.transit.lattice import (
     HEADING_YAWS,
     N_HEADINGS,
@@ -65,35 +67,19 @@ from pivot_ompl.transit.lattice import (
     primitives,
 )
 from pivot_ompl.transit.smoothing import SmoothMemo, WalkSmoother
+from pivot_ompl.transit.walks import INVALID_WALK, WalkResult, walk_result
 from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import CollisionWorld
 
 log = logging.getLogger(__name__)
+#: Bytes the cached floor distances (a float per grid position each) may hold at most.
+DISTANCE_BYTES = 256 * 2**20
+
+__all__ = ["INVALID_WALK", "WalkPlanner", "WalkResult"]
 
 Stop = Callable[[], bool] | None
 _START: State = (-1, -1, -1)
 _GOAL: State = (-2, -2, -2)
-
-
-@dataclass(frozen=True)
-class WalkResult:
-    """A transit walk.
-
-    Attributes:
-        valid: a collision-free walk was found.
-        robot_path: key poses (straight segments, yaw interpolated linearly between them).
-        length: walking distance of the robot's centre (m).
-        cost: walking cost (m of forward walking: sideways, backward and turning weighted by
-            the scene's ``robot.walk`` costs).
-    """
-
-    valid: bool
-    robot_path: tuple[Pose, ...]
-    length: float
-    cost: float
-
-
-INVALID_WALK = WalkResult(False, (), math.inf, math.inf)
 
 
 class _GiveUp(Exception):
@@ -122,14 +108,21 @@ class WalkPlanner:
             compute, blind to the robot's heading); past this many expansions it is searched
             again guided by the lattice's cost-to-go (a Dijkstra per query, which pays only for
             the hard walks: turning in a tight spot, or no walk at all).
+        should_stop: polled while the floor is turned to the lattice's frame.
 
     Attributes:
+        frame: the lattice's frame, turned to the walls. ``world``, ``clearance``, ``field``
+            and the lattice methods (:meth:`attach`, ...) are in it; :meth:`plan` and
+            :meth:`plan_between` take and give scene poses.
+        certifier: the walking robot's clearances in the scene (certifies scene walks).
         clearance: the walking robot's clearances and certified motions.
         smoother: the walks' shortcuts.
         field: the floor's fields (distances, lattice costs).
         expansions: lattice states expanded so far, over every query.
     """
 
+    frame: LatticeFrame
+    certifier: WalkClearance
     clearance: WalkClearance
     smoother: WalkSmoother
     field: FloorField
@@ -140,8 +133,15 @@ class WalkPlanner:
                  box_margin: float = 0.08, tolerance: float = SWEEP_TOLERANCE,
                  max_expansions: int = 60_000, box_cache: int = 16, inflation: float = 1.5,
                  floor_inflation: float = 3.0, max_field_states: int = 1_000_000,
-                 quick_expansions: int = 1500) -> None:
-        """Lattice size, primitives, the parts and the caches."""
+                 quick_expansions: int = 1500, should_stop: Stop = None) -> None:
+        """The frame, lattice size, primitives, the parts and the caches.
+
+        Raises:
+            Interrupted: ``should_stop()`` became true while the floor was turned to the
+                lattice's frame.
+        """
+        scene_world, self.frame = world, frame_of(world)
+        world = world if self.frame.identity else self.frame.world(world, should_stop)
         self.model, self.world = model, world
         self.walk = walk if walk is not None else WalkParameters()
         self.resolution, self.box_margin, self.tolerance = resolution, box_margin, tolerance
@@ -156,10 +156,13 @@ class WalkPlanner:
         self.clearance = WalkClearance(model, world, resolution=resolution,
                                        box_margin=box_margin, tolerance=tolerance,
                                        box_cache=box_cache)
+        self.certifier = self.clearance if self.frame.identity else WalkClearance(
+            model, scene_world, resolution=resolution, box_margin=box_margin,
+            tolerance=tolerance, box_cache=box_cache)
         self.smoother = WalkSmoother(self.clearance, self.walk, resolution=resolution)
         self.field = FloorField(model, world, resolution, box_margin)
-        self._distances: BoundedCache[tuple, tuple[float, np.ndarray]] = BoundedCache(
-            4 * box_cache)
+        self._distances: BoundedCache[tuple, tuple[float, np.ndarray]] = BoundedCache(max(
+            2, min(4 * box_cache, DISTANCE_BYTES // (8 * self._nx * self._ny))))
         #: a float per lattice state each, rarely asked again
         self._lattice: BoundedCache[tuple, np.ndarray] = BoundedCache(4)
 
@@ -184,9 +187,26 @@ class WalkPlanner:
                      should_stop: Stop = None) -> WalkResult:
         """Walk from robot pose ``start`` to ``goal`` with the box resting at ``obj``.
 
+        Planned in the lattice's frame; the walk mapped back is certified in the scene.
+
         Raises:
             Interrupted: ``should_stop()`` became true.
         """
+        f = self.frame
+        if f.identity:
+            return self._plan_framed(start, goal, obj, should_stop)
+        res = self._plan_framed(f.into(start), f.into(goal), f.into(obj), should_stop)
+        keys = [start, *(f.out(p) for p in res.robot_path[1:-1]), goal]
+        for a, b in zip(keys, keys[1:], strict=False) if res.valid else ():
+            if should_stop is not None and should_stop():
+                raise Interrupted("walk planning")
+            if not self.certifier.segment_free(a, b, obj):  # the frame rounds the poses
+                return INVALID_WALK
+        return walk_result(keys, self.walk) if res.valid else res
+
+    def _plan_framed(self, start: Pose, goal: Pose, obj: Pose, should_stop: Stop
+                     ) -> WalkResult:
+        """:meth:`plan_between` in the lattice's frame."""
         boxed = self.clearance.with_box(obj)
         starts = self.attach(start, obj, leaving=True)
         goals = self.attach(goal, obj, leaving=False)
@@ -202,7 +222,7 @@ class WalkPlanner:
                                                        boxed.box_state(s))
         smooth = self.smoother.smooth
         once = smooth(poses, obj, memo=memo, should_stop=should_stop)
-        return self._result(smooth(once, obj, memo=memo, should_stop=should_stop))
+        return walk_result(smooth(once, obj, memo=memo, should_stop=should_stop), self.walk)
 
     def _lattice_walk(self, starts: dict[State, float], goals: dict[State, float],
                       goal_yaw: float, obj: Pose, boxed: BoxedClearance, should_stop: Stop
@@ -378,16 +398,3 @@ class WalkPlanner:
                     if cl.segment_free(a, z, obj, da=da, db=dz):
                         out[s] = motion_cost(a, z, self.walk)
         return out
-
-    def _result(self, poses: list[Pose]) -> WalkResult:
-        keys = [poses[0]]
-        for p in poses[1:]:
-            last = keys[-1]
-            q = (p[0], p[1], last[2] + wrap_angle(p[2] - last[2]))
-            if abs(q[0] - last[0]) + abs(q[1] - last[1]) + abs(q[2] - last[2]) > 1e-12:
-                keys.append(q)
-        keys[-1] = poses[-1]
-        length = sum(math.hypot(b[0] - a[0], b[1] - a[1])
-                     for a, b in zip(keys, keys[1:], strict=False))
-        cost = sum(motion_cost(a, b, self.walk) for a, b in zip(keys, keys[1:], strict=False))
-        return WalkResult(True, tuple(keys), length, cost)

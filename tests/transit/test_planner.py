@@ -306,9 +306,10 @@ def _lattice_fixture(scene, obj, start, goal, monkeypatch):
     monkeypatch.setattr(type(wp.smoother), "smooth",
                         lambda self, poses, obj, memo=None, should_stop=None: poses)
     walk = wp.plan_between(start, goal, obj)
-    starts = wp.attach(start, obj, leaving=True)
-    goals = wp.attach(goal, obj, leaving=False)
-    return wp, walk, starts, wp.lattice_costs(obj, goals)
+    f = wp.frame  # the lattice's methods take poses in its frame
+    starts = wp.attach(f.into(start), f.into(obj), leaving=True)
+    goals = wp.attach(f.into(goal), f.into(obj), leaving=False)
+    return wp, walk, starts, wp.lattice_costs(f.into(obj), goals)
 
 
 @pytest.mark.parametrize(("name", "angle"), [("fig10", 0.0), ("fig10", 0.65), ("door", -1.1)])
@@ -414,21 +415,24 @@ def test_a_tight_turn_beside_the_box_is_found_with_few_expansions():
     _assert_checked(scene, walk)
 
 
-def test_a_walk_the_lattice_cannot_make_fails_after_the_quick_search():
-    # regression: fig10 mirrored at 20 deg (seed 3's ninth walk): the box resting by a wall,
-    # no lattice walk from one grasp to the other; the floor distance was finite, so the
-    # search expanded every state it could reach (54 k, ~5 s) to fail. Now the floor-guided
-    # search stops at quick_expansions and the lattice's cost-to-go proves at once that no
-    # walk exists
+def test_a_walk_by_turned_walls_is_found_in_their_frame():
+    # regression: fig10 mirrored at 20 deg (seed 3's ninth walk): the box resting by a wall.
+    # On a lattice along the world's axes no walk existed (the search then failed after the
+    # quick search). The lattice now lies in the walls' frame (turned 40 deg): the walk is
+    # found at once, ends exactly at the grasp poses and passes the independent check
     from pivot_ompl.generate import mirror_scene
 
     scene = mirror_scene(shipped("fig10_narrow"), math.radians(20.0))
     wp = PivotChecker(scene, seed=0).walker
+    assert wp.frame.yaw == pytest.approx(math.radians(40.0))
     obj = (7.045387948164916, 3.018113151730951, 0.07624539214062409)
-    start = (6.197857429409817, 2.953367342764553, 0.07624539214062409)
-    goal = (7.094899449139221, 2.3700015785652875, 1.6470417189355206)
-    assert not wp.plan_between(start, goal, obj).valid
-    assert wp.expansions <= wp.quick_expansions + 1
+    m = scene.model
+    g1, g2 = 0, 1
+    start, goal = m.robot_pose(obj, g1), m.robot_pose(obj, g2)
+    walk = wp.plan_between(start, goal, obj)
+    assert walk.valid and wp.expansions <= wp.quick_expansions
+    assert walk.robot_path[0] == start and walk.robot_path[-1] == goal
+    assert walk_problems(scene, obj, g1, g2, walk) == []
 
 
 def test_floors_too_large_for_the_lattice_costs_walk_with_the_floor_distance():
