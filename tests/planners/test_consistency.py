@@ -60,3 +60,17 @@ def test_improvement_floor_is_a_config_field():
     cfg = RegraspConfig().with_values({"optimiser.converge_checks": "800"})
     assert cfg.optimiser.converge_checks == 800
     assert RegraspConfig().optimiser.converge_checks > 0
+
+
+@pytest.mark.slow
+def test_a_whole_path_routed_at_the_opposite_grasp_still_ends_at_the_goal():
+    """Regression: routed at the half-turned grasp, the generated corridor's seed 3 ended at
+    the goal turned by pi (the path's own last poses, half-turned, kept as its tail)."""
+    from pivot_ompl.generate import generate
+    from pivot_ompl.validity.plan_check import check_plan
+
+    scene = generate("corridor", 0).scene
+    res = plan(scene, time_limit=30.0, seed=3, bound=False)
+    assert res.solved
+    report = check_plan(res.plan, scene)
+    assert report.ok, report.problems

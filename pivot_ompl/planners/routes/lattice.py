@@ -23,11 +23,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterator
+from typing import Any
 
 import numpy as np
 import shapely
 from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
+from scipy.sparse.csgraph import connected_components, dijkstra
 from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
@@ -91,6 +92,7 @@ class TransferLattice:
         self.expansions = 0
         self._routes: dict[tuple[Pose, Pose, int], tuple[list[Pose], float]] = {}
         self._labels: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+        self._floors: dict[int, Any] = {}
         self._grids: dict[tuple[int, int], bytes] = {}
 
     def car(self, s: State) -> Pose:
@@ -181,14 +183,16 @@ class TransferLattice:
 
         gx, gy, gh = cb
         weight = self.weight
+        floor = self._floor_distances(parity, goals, should_stop)
 
         def heuristic(u: State) -> float:
-            # pushes move the car without turning it, turns turn it without moving it
+            # pushes move the car without turning it, turns turn it without moving it; the
+            # car moves at least its floor distance to the goal's joins (:meth:`_floor_distances`)
             if u[0] < 0:
                 return 0.0
             x, y = self.field.position(u[0], u[1])
-            return weight * (rate * math.hypot(x - gx, y - gy)
-                             + spin * abs(wrap_angle(HEADING_YAWS[u[2]] - gh)))
+            moved = max(math.hypot(x - gx, y - gy), float(floor[cell_ids[u[0] * ny + u[1]]]))
+            return weight * (rate * moved + spin * abs(wrap_angle(HEADING_YAWS[u[2]] - gh)))
 
         try:
             states = astar([_START], {_GOAL}, neighbours, heuristic)
@@ -282,6 +286,41 @@ class TransferLattice:
         labels[~np.stack(state, axis=1).reshape(-1)] = -1
         self._labels[parity] = (cell_ids, labels)
         return cell_ids, labels
+
+    def _floor_distances(self, parity: int, goals: dict[State, float],
+                         should_stop: Callable[[], bool] | None) -> np.ndarray:
+        """Per free cell (``cell_ids``' numbering), its shortest move to a goal join's cell.
+
+        Over the cells free at some heading, with the lattice's push vectors as moves (both
+        cells free): every push of a lattice route is such a move, so no route from a cell to
+        the goal's joins is shorter (m); the A* heuristic is that distance at the push rate
+        (admissible and consistent, as the straight distance it replaces where larger).
+        """
+        cell_ids, _ = self._components(parity, should_stop)
+        graph = self._floors.get(parity)
+        if graph is None:
+            f = self.field
+            cells = np.flatnonzero(cell_ids >= 0)
+            ix, iy = np.divmod(cells, f.ny)
+            rows, cols, weights = [], [], []
+            for h, (vx, vy) in enumerate(HEADING_VECTORS[:N_HEADINGS // 2]):
+                jx, jy = ix + vx, iy + vy
+                inside = (jx >= 0) & (jx < f.nx) & (jy >= 0) & (jy < f.ny)
+                there = np.full(len(cells), -1, dtype=np.int32)
+                there[inside] = cell_ids[jx[inside] * f.ny + jy[inside]]
+                ok = there >= 0
+                rows.append(cell_ids[cells[ok]])
+                cols.append(there[ok])
+                weights.append(np.full(int(ok.sum()), self._steps[h]))
+            m = len(cells)
+            graph = self._floors[parity] = coo_matrix(
+                (np.concatenate(weights), (np.concatenate(rows), np.concatenate(cols))),
+                shape=(m, m)).tocsr()
+        sources = sorted({int(cell_ids[u[0] * self.field.ny + u[1]]) for u in goals})
+        if should_stop is not None and should_stop():
+            raise Interrupted("transfer lattice floor distances")
+        d = dijkstra(graph, directed=False, indices=sources, min_only=True)
+        return np.append(np.where(np.isfinite(d), d, 0.0), 0.0)  # [-1]: no cell
 
     def _cost(self, states: list[State], starts: dict[State, float],
               goals: dict[State, float], rate: float) -> float:

@@ -136,7 +136,7 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
             refused.add((i, j, g, phases[i].poses))
             st.tried += 1
             real = _made_real(checker, lattice, plan, costs, should_stop)
-            if real is None:
+            if real is None or real[-1].poses[-1] != phases[-1].poses[-1]:
                 log.debug("phases %d..%d at grasp %d: the checks refuse the route", i, j, g)
                 continue
             cost = pricer.path(real)
@@ -285,9 +285,10 @@ def _priced(lattice: TransferLattice, phases: list[_Phase], cost: list[float],
     estimate += seconds + sum(cost[j + 1:]) + sum(regrasp[j + 1:])
     head = phases[i].poses[:2] if g == phases[i].grasp else ()
     tail_poses = phases[j].poses[-2:]
-    if turned:
+    turned_tail = turned and j < last  # a last phase still ends at the goal as given
+    if turned_tail:
         tail_poses = tuple(half_turn(q) for q in tail_poses)
-    anchor = tail_poses if (g == phases[j].grasp or turned) else ()
+    anchor = tail_poses if (g == phases[j].grasp or turned_tail) else ()
     if i == j and len(phases[i].poses) < 4:
         head, anchor = (), ()
     plan: list = list(phases[:i]) + [_Leg(start, end, g, head, anchor)]
