@@ -70,7 +70,9 @@ def _quality_rows(d: dict) -> list[tuple[str, str]]:
 def _route_rows(d: dict) -> list[tuple[str, str]]:
     out = []
     for key, r in d["table"].items():
-        scene = key.rsplit("/", 1)[0]
+        scene, version = key.rsplit("/", 1)
+        if version != "after":  # a run with --before: this checkout's rows only
+            continue
         out.append((f"route quality: {scene} ({r['runs']} seeds)",
                     f"{_pct(r['success'])} solved; regrasps {r['regrasps_median']} (bound "
                     f"{r['bound_median']}, at it in {_pct(r['at_bound'])}); route "

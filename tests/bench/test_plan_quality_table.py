@@ -36,8 +36,8 @@ def test_the_markdown_table_shows_bound_route_rate_and_spread():
 
 
 def test_the_figures_route_rows_carry_the_four_measures():
-    rows = benchmark_script("figures")._route_rows({"table": {"map:aws_small_house/after":
-                                                             _row()}})
+    rows = benchmark_script("figures")._route_rows({"table": {
+        "map:aws_small_house/before": _row(), "map:aws_small_house/after": _row()}})
     ((what, measured),) = rows
     assert what == "route quality: map:aws_small_house (3 seeds)"
     for part in ("at it in 67 %", "1.21 × the bound (worst 1.40)", "pivot rate 1.30",
