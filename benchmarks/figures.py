@@ -36,6 +36,8 @@ PY = sys.executable
 
 #: Scenes of the plan-quality rows: fig10, two copies of it, the other shipped scenes.
 QUALITY_SCENES = "fig10,rot30,mirror,slot,door,t_junction,corridor,cluttered_room"
+#: Scenes of the route-quality rows: the public layouts and the shipped real maps.
+ROUTE_SCENES = "layouts,maps"
 
 
 @dataclass(frozen=True)
@@ -65,6 +67,22 @@ def _quality_rows(d: dict) -> list[tuple[str, str]]:
                     f"{r['pivots_median']} pivots; route {r['route_ratio_median']:.2f} × "
                     f"the bound; solve {r['solve_median']:.2f} s; whole body "
                     f"~{r['duration_median']:.0f} s"))
+    return out
+
+
+def _route_rows(d: dict) -> list[tuple[str, str]]:
+    out = []
+    for key, r in d["table"].items():
+        scene, version = key.rsplit("/", 1)
+        if version != "after":  # a run with --before: this checkout's rows only
+            continue
+        out.append((f"route quality: {scene} ({r['runs']} seeds)",
+                    f"{_pct(r['success'])} solved; regrasps {r['regrasps_median']} (bound "
+                    f"{r['bound_median']}, at it in {_pct(r['at_bound'])}); route "
+                    f"{r['route_ratio_median']:.2f} × the bound (worst "
+                    f"{r['route_ratio_max']:.2f}); pivot rate {r['rate_over_ideal_median']:.2f} "
+                    f"× the ideal; cost spread {_pct(r['cost_spread'])}; solve "
+                    f"{r['solve_median']:.2f} s"))
     return out
 
 
@@ -174,6 +192,8 @@ def _buildings_rows(d: dict) -> list[tuple[str, str]]:
 STEPS = (
     Step("plan_quality", "plan_quality.py",
          ("--seeds", "5", "--time", "30", "--scenes", QUALITY_SCENES), _quality_rows),
+    Step("route_quality", "plan_quality.py",
+         ("--seeds", "3", "--time", "30", "--scenes", ROUTE_SCENES), _route_rows),
     Step("scaling", "scaling.py", ("--rooms", "1,4,8,16,32", "--clearances", "0.1,0.05,0.03",
                                    "--doors", "0.95,1.3", "--seeds", "2", "--time", "60",
                                    "--no-bound"),

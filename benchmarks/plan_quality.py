@@ -5,8 +5,11 @@ staggered barriers with 1.4-2.0 m gaps, one grasp suffices; ``bugtrap``: the cla
 start inside the cup), fig10 and rotated / mirrored copies of it (``rot30``: turned by 30
 degrees about the room's centre, the old bounds kept as walls; ``mirror``: reflected in the
 line at 0.3 rad through the centre; both made by ``pivot_ompl.generate``), any shipped scene
-by name, and generated scenes (``gen:FAMILY:SEED[:NAME=VALUE...]``, e.g. ``gen:walls:1:walls=2``,
-``gen:building:0:rooms=3``; the values are ``GeneratorParams`` fields) with
+by name, generated scenes (``gen:FAMILY:SEED[:NAME=VALUE...]``, e.g. ``gen:walls:1:walls=2``,
+``gen:building:0:rooms=3``; the values are ``GeneratorParams`` fields) and the real-map corpus
+(``map:NAME``, a map of ``benchmarks/buildings.py``'s ``CORPUS`` imported by its
+``import_corpus_map`` at the corpus's start and goal; ``maps`` names the one-grasp maps shipped
+in ``scenes/maps``, ``layouts`` every layout of ``benchmarks/layouts``) with
 ``RegraspPlanner`` over seeds, with two versions of the package in turn: one worker process
 per version (``--before DIR``, e.g. an export of ``main``, and this checkout), fed the same
 (scene, seed) jobs alternately, so both see the same machine. Prints medians per scene and
@@ -21,8 +24,8 @@ ratio median <= 1.3; pivot rate (pivots per metre over the ideal rate) <= 1.5 me
 spread across seeds (max / min - 1) <= 10 %.
 
     python benchmarks/plan_quality.py [--before /tmp/base] [--seeds 20] [--time 30]
-        [--scenes hall,bugtrap,fig10,rot30,mirror,slot,gen:walls:1:walls=2]
-        [--out results/plan_quality.json]
+        [--scenes layouts,fig10,rot30,mirror,slot,gen:walls:1:walls=2,maps]
+        [--out results/plan_quality.json] [--markdown results/plan_quality.md]
 
 Run timing figures under ``flock /tmp/pivot-bench.lock``.
 """
@@ -43,6 +46,36 @@ HERE = Path(__file__).resolve()
 ROOT = HERE.parents[1]
 #: the public-style layouts, by name (``NAME.yaml`` in this folder)
 LAYOUTS = HERE.parent / "layouts"
+#: the corpus maps shipped in ``scenes/maps`` (one grasp solves each of their tasks)
+SHIPPED_MAPS = ("aws_small_house", "aws_bookstore", "aws_small_warehouse")
+#: where ``map:NAME`` scenes are imported to
+MAP_SCENES = ROOT / "results" / "plan_quality_maps"
+
+
+def scene_names(spec: str) -> list[str]:
+    """``--scenes``' names, with ``layouts`` and ``maps`` expanded."""
+    out: list[str] = []
+    for name in filter(None, spec.split(",")):
+        if name == "layouts":
+            out += sorted(p.stem for p in LAYOUTS.glob("*.yaml"))
+        elif name == "maps":
+            out += [f"map:{m}" for m in SHIPPED_MAPS]
+        else:
+            out.append(name)
+    return out
+
+
+def map_scene(name: str):  # noqa: ANN201 (a Scene of whichever package version runs)
+    """The corpus map ``name`` imported as ``benchmarks/buildings.py`` does (its helper)."""
+    from buildings import CORPUS, import_corpus_map
+
+    from pivot_ompl.scene import load_scene
+
+    by_name = {m.name: m for m in CORPUS}
+    if name not in by_name:
+        raise SystemExit(f"map:{name}: not in the corpus (known: {sorted(by_name)})")
+    MAP_SCENES.mkdir(parents=True, exist_ok=True)
+    return load_scene(import_corpus_map(by_name[name], MAP_SCENES)["scene"])
 
 
 # -- scenes ------------------------------------------------------------------------------
@@ -60,6 +93,8 @@ def variant(name: str):  # noqa: ANN201 (a Scene of whichever package version ru
 
     if (LAYOUTS / f"{name}.yaml").is_file():
         return load_scene(LAYOUTS / f"{name}.yaml")
+    if name.startswith("map:"):
+        return map_scene(name[4:])
     if name not in ("fig10", "rot30", "mirror"):
         return scene_from_spec(name)  # a shipped or generated scene
     base = load_scene("fig10")
@@ -173,6 +208,24 @@ def _summary(rows: list[dict[str, Any]]) -> dict[str, Any]:
             else math.nan}
 
 
+def markdown(table: dict[str, dict[str, Any]], command: str) -> str:
+    """The quality table: per scene and version, the four measures of issue 42's targets."""
+    lines = ["| scene | version | runs | regrasps (range) | bound | at bound | route ratio "
+             "(max) | pivot rate / ideal | cost s | spread | solve s |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for key, t in table.items():
+        scene, ver = key.rsplit("/", 1)
+        rr = t["regrasps_range"] or ["-", "-"]
+        lines.append(
+            f"| {scene} | {ver} | {t['runs']} | {t['regrasps_median']:g} ({rr[0]}-{rr[1]}) "
+            f"| {t['bound_median']:g} | {100 * t['at_bound']:.0f} % "
+            f"| {t['route_ratio_median']:.2f} ({t['route_ratio_max']:.2f}) "
+            f"| {t['rate_over_ideal_median']:.2f} | {t['cost_median']:.0f} "
+            f"| {100 * t['cost_spread']:.1f} % | {t['solve_median']:.2f} |")
+    return "\n".join(lines) + f"\n\n`{command}`; medians over the seeds, spread = max / " \
+        "min cost - 1.\n"
+
+
 def _share(flags: list[bool]) -> float:
     return sum(flags) / len(flags) if flags else math.nan
 
@@ -191,6 +244,7 @@ def main() -> None:
     ap.add_argument("--time", type=float, default=30.0)
     ap.add_argument("--scenes", default="fig10,rot30,mirror")
     ap.add_argument("--out", default="results/plan_quality.json")
+    ap.add_argument("--markdown", help="also write the quality table (Markdown) here")
     ap.add_argument("--after-planner", default="regrasp",
                     help="the planner of this checkout, e.g. "
                          "'regrasp[optimiser.choose_grasps=true]' (no spaces)")
@@ -207,7 +261,7 @@ def main() -> None:
     procs = {k: _start(v) for k, v in versions.items()}
     rows: dict[tuple[str, str], list[dict[str, Any]]] = {}
     try:
-        for name in args.scenes.split(","):
+        for name in scene_names(args.scenes):
             n = args.seeds if name == "fig10" else (args.seeds_variants or args.seeds)
             if name.startswith("gen:") or name not in ("fig10", "rot30", "mirror"):
                 n = args.seeds
@@ -247,6 +301,10 @@ def main() -> None:
           "shipped: at the bound in >= 90 % of runs; one-grasp scenes 0 regrasps; route ratio "
           "median <= 1.3 (max 1.5); rate (pivots/m over ideal) median <= 1.5; cost spread "
           "<= 10 %")
+    if args.markdown:
+        md = markdown(table, " ".join(["python benchmarks/plan_quality.py", *sys.argv[1:]]))
+        Path(args.markdown).write_text(md)
+        print(md)
     write_json({"seeds": args.seeds, "time_limit": args.time, "versions":
                 {k: str(v) for k, v in versions.items()}, "table": table}, args.out)
 

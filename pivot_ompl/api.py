@@ -114,8 +114,7 @@ class PlanResult:
         """Write the plan as ``pivot-plan/1`` (with planner, seed, timings as extra fields).
 
         Raises:
-            PlanningError: the result does not reach the goal (``TIMEOUT``, OMPL's
-                ``APPROXIMATE_SOLUTION``...): nothing is written, such a path is not a plan.
+            PlanningError: no path reaches the goal (``TIMEOUT``...): nothing is written.
         """
         if not self.solved:
             raise PlanningError(self.status, "no plan reaches the goal, nothing written "
@@ -188,6 +187,8 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
                                time.perf_counter() - t0)
     p, config = _planner_for(problem, planner, seed=seed, config=config,
                              resume=Resume(start_grasp, resume))
+    if isinstance(p, RegraspPlanner):  # its quality share is one of the solve's limit
+        p.solve_limit = time_limit - (time.monotonic() - started)
     t1 = time.perf_counter()
     name = _solve(problem.setup, time_limit, started)
     t2 = time.perf_counter()

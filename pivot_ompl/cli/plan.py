@@ -72,9 +72,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=integer("--seed", 0, MAX_SEED), default=0,
                    help=f"seed (0..{MAX_SEED})")
     p.add_argument("--quality-share", type=share_of_checks, default=None,
-                   help="share (0..0.95) of the run's motion checks spent improving the path "
-                        "found (default 0.6; the regrasp planner's optimiser.quality_share, "
-                        "see docs/quality.md)")
+                   help="share (0..0.95) of the time limit that improving the path found "
+                        "may take, and the scale of its budgets of motion checks (default "
+                        "0.6; the regrasp planner's optimiser.quality_share, see "
+                        "docs/quality.md)")
     p.add_argument("--no-bound", action="store_true",
                    help="skip the scene's lower bounds on regrasps and route and the proof "
                         "that no plan exists (computed once per scene within --time, then "

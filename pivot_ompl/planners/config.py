@@ -193,11 +193,16 @@ class OptimiserConfig:
         choose_grasps: route each phase at every other grasp on the lattice and keep the
             cheapest (:mod:`pivot_ompl.planners.grasp_choice`; needs ``routes``), within
             ``eliminate_share`` too; off by default until its time is measured.
-        quality_share: the share of a run's motion checks spent improving the path found
-            (re-routing, optimiser, elimination): every stage's share above is scaled by
-            :func:`quality_scale` (1 at the default :data:`QUALITY_SHARE`, where the stages
-            together may compute about 1.5 times the search's checks, 60 % of the run's).
-            The time limit still stops everything; see ``docs/quality.md``.
+        converge_checks: every improvement stage (re-routing, optimiser, elimination) may
+            compute at least this many motion checks (times :func:`quality_scale`), however
+            few the search made: a seed whose search ended early (a direct single-grasp
+            path) is improved as far as one whose search took long. Each stage stops
+            earlier once it has nothing more to gain (no cheaper route, shortcut or removal).
+        quality_share: the share of the solve's time limit that improving the path found may
+            take at most (re-routing, optimiser, elimination together, from the first path
+            found), and the scale of their budgets of motion checks: every stage's share
+            above and ``converge_checks`` are scaled by :func:`quality_scale` (1 at the
+            default :data:`QUALITY_SHARE`). See ``docs/quality.md``.
     """
 
     enabled: bool = True
@@ -210,6 +215,7 @@ class OptimiserConfig:
     eliminate_share: float = knob(0.3)
     eliminate_checks: int = knob(60)
     choose_grasps: bool = False
+    converge_checks: int = knob(500)
     quality_share: float = knob(QUALITY_SHARE, high=0.95)
 
 

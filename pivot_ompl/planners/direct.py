@@ -103,7 +103,7 @@ def lattice_path(checker: PivotChecker, lattice: TransferLattice, costs: CostMod
             while pending and (not routed or bound(pending[0]) < min(routed)[0]):
                 g = pending.pop(0)
                 poses, cost = lattice.route(start, goal, g, should_stop=should_stop,
-                                            guided=True, weight=weight)
+                                            weight=weight)
                 stats.routes += 1
                 if len(poses) >= 2 and math.isfinite(cost) and cost <= detour * \
                         lattice.way_bound(start, goal, g, should_stop=should_stop):

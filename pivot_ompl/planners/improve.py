@@ -22,7 +22,7 @@ from pivot_ompl.planners.routes.lattice import TransferLattice
 from pivot_ompl.planners.routes.refine import RefineStats, refine
 from pivot_ompl.se2 import Pose
 
-__all__ = ["Budget", "ImproveStats", "improve"]
+__all__ = ["Budget", "ImproveStats", "improve", "time_share"]
 
 Stop = Callable[[], bool]
 State = tuple[Pose, int]
@@ -48,6 +48,18 @@ class Budget:
         start = c.valid + c.invalid
         limit = max(self.minimum, self.share * start + self.per_state * len(states))
         return lambda: should_stop() or (c.valid + c.invalid - start) > limit
+
+
+def time_share(should_stop: Stop, share: float, limit: float | None) -> Stop:
+    """``should_stop``, or ``share`` x ``limit`` seconds spent from now (``limit`` in s).
+
+    The improvement of a fresh plan within its share of the solve's time limit
+    (``optimiser.quality_share``); ``limit=None`` (not known): ``should_stop`` alone.
+    """
+    if limit is None:
+        return should_stop
+    end = time.perf_counter() + share * limit
+    return lambda: should_stop() or time.perf_counter() >= end
 
 
 @dataclass
@@ -93,7 +105,7 @@ def improve(checker: PivotChecker, states: list[State], config: RegraspConfig, *
     if cfg.routes and lattice is not None:
         states = refine(checker, lattice, states, costs=config.cost,
                         should_stop=routes.stop(should_stop, checker, states), stats=st.refine,
-                        start_grasp=start_grasp)
+                        start_grasp=start_grasp, grasps=config.grasps)
         st.routes_seconds += time.perf_counter() - t0
     states = optimise(checker, states, should_stop=optimiser.stop(should_stop, checker, states),
                       costs=config.cost, grasps=config.grasps, start_grasp=start_grasp,

@@ -58,6 +58,10 @@ class RegraspPlanner(GuardedPlanner):
     Attributes:
         start_grasp: the grasp every path starts with (:attr:`Resume.start_grasp`).
         last_search: the search of the last ``solve`` (the one to resume first).
+        solve_limit: the time limit (s) of the next ``solve``, when the caller knows it
+            (:func:`pivot_ompl.api.plan` sets it): improving the path found then takes at
+            most ``optimiser.quality_share`` of it; ``None``: only the termination
+            condition stops the improvement.
     """
 
     def __init__(self, si: ob.SpaceInformation, checker: PivotChecker, *, seed: int = 0,
@@ -72,6 +76,7 @@ class RegraspPlanner(GuardedPlanner):
         self.last_search: RegraspSearch | None = r.search
         self.start_grasp: int | None = r.start_grasp
         self.stats: dict[str, Any] = {}
+        self.solve_limit: float | None = None
 
     def clear(self) -> None:  # noqa: D102
         super().clear()
@@ -98,7 +103,7 @@ class RegraspPlanner(GuardedPlanner):
             # a new start: the roadmaps grown so far serve again
             search.restart(s_pose, lambda: bool(ptc()), start_grasp=held)
         # else: solving again continues with the same roadmaps and caches (OMPL semantics)
-        states = search.run(lambda: bool(ptc()))
+        states = search.run(lambda: bool(ptc()), limit=self.solve_limit)
         self.stats = asdict(search.stats)
         self.stats["time"] = time.perf_counter() - t0
         if not states:

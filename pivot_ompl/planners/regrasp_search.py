@@ -36,7 +36,7 @@ from pivot_ompl.planners.direct import DirectStats, direct_path
 from pivot_ompl.planners.eliminate import EliminationReport, eliminate_regrasps, lattice_router
 from pivot_ompl.planners.evaluation import Found, Status
 from pivot_ompl.planners.grasp_choice import choose_grasps
-from pivot_ompl.planners.improve import Budget, ImproveStats, improve
+from pivot_ompl.planners.improve import Budget, ImproveStats, improve, time_share
 from pivot_ompl.planners.multiplex.graph import MultiplexedGraph, Node
 from pivot_ompl.planners.multiplex.search import PathSearch
 from pivot_ompl.planners.objects.bridge import BridgeTest
@@ -147,12 +147,10 @@ class RegraspSearch:
         self.stats = RegraspStats()
         self.lattice: TransferLattice | None = None
         self.improved = ImproveStats()
-        #: the last regrasp elimination's report (:mod:`.eliminate`)
-        self.elimination = EliminationReport()
-        #: the regrasp-free tries' figures (:mod:`.direct`)
-        self.direct = DirectStats()
-        self._started = False
-        self._tried_direct = False
+        self._limit: float | None = None  # the solve's time limit (s), if known
+        self.elimination = EliminationReport()  #: the last regrasp elimination's report
+        self.direct = DirectStats()  #: the regrasp-free tries' figures (:mod:`.direct`)
+        self._started = self._tried_direct = False
         self._goal_node = -1
         self._since = 0  # object nodes multiplexed since the last search
 
@@ -303,10 +301,11 @@ class RegraspSearch:
         return self._grown(should_stop)
 
     # -- the algorithm -------------------------------------------------------------------
-    def run(self, should_stop: Stop) -> list[State]:
-        """Plan; the path as ``(object pose, grasp)`` states, ``[]`` when stopped."""
+    def run(self, should_stop: Stop, *, limit: float | None = None) -> list[State]:
+        """Plan (``limit``: the solve's limit, s, if known); the path, ``[]`` when stopped."""
         sc = self.config.sampling
         t0 = time.perf_counter()
+        self._limit = limit
         if not self._started and not self._tried_direct:
             self._tried_direct = True  # before the passages are seeded: they are not needed
             direct = self._single_grasp(should_stop)
@@ -348,26 +347,27 @@ class RegraspSearch:
     def _optimised(self, states: list[State], should_stop: Stop) -> list[State]:
         """The path improved (:func:`~.improve.improve`) from the held grasp, if any.
 
-        Each step within its budget of motion checks (a share of those planning made).
+        Each step within its budget of checks and the quality share of ``limit`` together.
         """
         cfg = self.config.optimiser
         if not cfg.enabled:
             return states
         t1 = time.perf_counter()
+        should_stop = time_share(should_stop, cfg.quality_share, self._limit)
         if cfg.routes:
             self._lattice()
         scale = quality_scale(cfg.quality_share)  # every step's share scaled by it
+        floor = max(cfg.min_checks, round(scale * cfg.converge_checks))  # however few searched
         routes_before = self.improved.routes_seconds
         states = improve(self.checker, states, self.config, should_stop=should_stop,
-                         routes=Budget(share=scale * cfg.route_share, minimum=cfg.min_checks),
-                         optimiser=Budget(share=scale * cfg.check_share,
-                                          minimum=cfg.min_checks),
+                         routes=Budget(share=scale * cfg.route_share, minimum=floor),
+                         optimiser=Budget(share=scale * cfg.check_share, minimum=floor),
                          start_grasp=self.start_grasp, lattice=self.lattice,
                          stats=self.improved)
         self.stats.time_routes += self.improved.routes_seconds - routes_before
         ck, costs = self.checker, self.config.cost
         router = lattice_router(ck, self.lattice, costs) if self.lattice else None
-        extra = Budget(share=scale * cfg.eliminate_share, minimum=cfg.eliminate_checks)
+        extra = Budget(share=scale * cfg.eliminate_share, minimum=max(cfg.eliminate_checks, floor))
         if cfg.eliminate:
             self.elimination = EliminationReport()
             states = eliminate_regrasps(

@@ -98,10 +98,12 @@ def test_no_regrasp_in_the_hall_one_grasp_solves(eliminate):
     from pivot_ompl.api import plan
 
     # the lattice try off: it finds the regrasp-free plan before the search (tests/planners/
-    # test_direct.py), and this test is about what the elimination does to the search's plan
-    res = plan(HALL, planner=f"regrasp[optimiser.eliminate={str(eliminate).lower()}"
-               ";single_grasp.lattice=false]",
-               time_limit=60.0, seed=2)
+    # test_direct.py), and this test is about what the elimination does to the search's plan;
+    # without elimination the lattice re-routing is off too: it now routes the whole path at
+    # every grasp, which also removes this regrasp
+    spec = "regrasp[single_grasp.lattice=false]" if eliminate else \
+        "regrasp[optimiser.eliminate=false;optimiser.routes=false;single_grasp.lattice=false]"
+    res = plan(HALL, planner=spec, time_limit=60.0, seed=2)
     q = res.plan.extra["quality"]
     assert res.solved and q["regrasps_lower_bound"] == 0
     if eliminate:

@@ -17,7 +17,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable
 
 import numpy as np
-from scipy.sparse import coo_matrix
+from scipy.sparse import coo_matrix, csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from pivot_ompl.errors import Interrupted
@@ -25,10 +25,9 @@ from pivot_ompl.errors import Interrupted
 Stop = Callable[[], bool]
 
 
-def grid_distances(cell_ids: np.ndarray, nx: int, ny: int,
-                   vectors: Iterable[tuple[int, int]], sources: Iterable[int],
-                   should_stop: Stop | None = None) -> np.ndarray:
-    """Distance (grid units) from every free position to the nearest of ``sources``.
+def move_graph(cell_ids: np.ndarray, nx: int, ny: int, vectors: Iterable[tuple[int, int]],
+               should_stop: Stop | None = None) -> csr_matrix:
+    """The free positions joined by ``vectors`` (grid units, lengths as weights), as a matrix.
 
     Args:
         cell_ids: ``cell_ids[ix * ny + iy]`` numbers the free positions (``-1`` elsewhere),
@@ -36,20 +35,13 @@ def grid_distances(cell_ids: np.ndarray, nx: int, ny: int,
         nx: the grid's positions along x.
         ny: the grid's positions along y.
         vectors: the moves ``(dx, dy)`` (grid units; each also taken backwards).
-        sources: cell ids (not positions) of the goal's positions.
-        should_stop: polled between the moves' arrays and before the Dijkstra.
-
-    Returns:
-        One float per cell id; ``inf`` where no source is reached.
+        should_stop: polled between the moves' arrays.
 
     Raises:
         Interrupted: ``should_stop()`` became true.
     """
     cells = np.flatnonzero(cell_ids >= 0)
     n = len(cells)
-    src = sorted(set(int(s) for s in sources))
-    if n == 0 or not src:
-        return np.full(n, np.inf)
     ix, iy = np.divmod(cells, ny)
     here = np.arange(n, dtype=np.int32)
     rows, cols, lengths = [], [], []
@@ -64,8 +56,41 @@ def grid_distances(cell_ids: np.ndarray, nx: int, ny: int,
         rows.append(here[ok])
         cols.append(there[ok])
         lengths.append(np.full(int(ok.sum()), float(np.hypot(vx, vy))))
-    graph = coo_matrix((np.concatenate(lengths), (np.concatenate(rows), np.concatenate(cols))),
-                       shape=(n, n)).tocsr()
+    if not rows:
+        return csr_matrix((n, n))
+    return coo_matrix((np.concatenate(lengths), (np.concatenate(rows), np.concatenate(cols))),
+                      shape=(n, n)).tocsr()
+
+
+def graph_distances(graph: csr_matrix, sources: Iterable[int],
+                    should_stop: Stop | None = None) -> np.ndarray:
+    """Distance over ``graph`` (:func:`move_graph`) from every position to the nearest source.
+
+    Returns:
+        One float per cell id; ``inf`` where no source is reached (everywhere without one).
+
+    Raises:
+        Interrupted: ``should_stop()`` became true.
+    """
+    src = sorted(set(int(s) for s in sources))
+    n = graph.shape[0]
+    if n == 0 or not src:
+        return np.full(n, np.inf)
     if should_stop is not None and should_stop():
         raise Interrupted("grid distances")
     return np.asarray(dijkstra(graph, directed=False, indices=src, min_only=True))
+
+
+def grid_distances(cell_ids: np.ndarray, nx: int, ny: int,
+                   vectors: Iterable[tuple[int, int]], sources: Iterable[int],
+                   should_stop: Stop | None = None) -> np.ndarray:
+    """Distance (grid units) from every free position to the nearest of ``sources``.
+
+    :func:`move_graph` then :func:`graph_distances`; ``sources`` are cell ids (not
+    positions). One float per cell id, ``inf`` where no source is reached.
+
+    Raises:
+        Interrupted: ``should_stop()`` became true.
+    """
+    return graph_distances(move_graph(cell_ids, nx, ny, vectors, should_stop), sources,
+                           should_stop)

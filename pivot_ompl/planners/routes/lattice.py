@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterator
+from typing import Any
 
 import numpy as np
 import shapely
@@ -34,7 +35,7 @@ from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.graph import astar
-from pivot_ompl.planners.routes.guide import grid_distances
+from pivot_ompl.planners.routes.guide import graph_distances, move_graph
 from pivot_ompl.se2 import Pose, wrap_angle
 from pivot_ompl.transit.lattice import HEADING_VECTORS, HEADING_YAWS, N_HEADINGS
 from pivot_ompl.validity.assembly_field import AssemblyField
@@ -90,9 +91,10 @@ class TransferLattice:
         self._turns = [abs(wrap_angle(HEADING_YAWS[(h + 1) % N_HEADINGS] - HEADING_YAWS[h]))
                        for h in range(N_HEADINGS)]
         self.expansions = 0
-        #: routes by (start, goal, grasp, guided, weight)
-        self._routes: dict[tuple[Pose, Pose, int, bool, float], tuple[list[Pose], float]] = {}
+        #: routes by (start, goal, grasp, weight)
+        self._routes: dict[tuple[Pose, Pose, int, float], tuple[list[Pose], float]] = {}
         self._labels: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+        self._floors: dict[int, Any] = {}
         self._grids: dict[tuple[int, int], bytes] = {}
 
     def car(self, s: State) -> Pose:
@@ -102,25 +104,24 @@ class TransferLattice:
 
     def route(self, start: Pose, goal: Pose, grasp: int, *,
               should_stop: Callable[[], bool] | None = None,
-              guided: bool = False, weight: float | None = None) -> tuple[list[Pose], float]:
+              weight: float | None = None) -> tuple[list[Pose], float]:
         """The cheapest lattice route from ``start`` to ``goal`` at ``grasp``, and its cost.
 
         Object poses, the ends exact (the given poses), and the lattice's seconds; ``([],
         inf)`` when the lattice has no route. Routes are kept (asked again, they are free).
-        ``guided``: the heuristic's distance is the floor's way to the goal
-        (:func:`~.guide.grid_distances`, one Dijkstra over the grid positions per query)
-        instead of the straight line: the same cost, far fewer states expanded across rooms
-        and passages (a route of another shape where several cost the same). ``weight``:
+        The heuristic's distance is the floor's way to the goal where longer than the straight
+        line (:meth:`_floor_distances`): far fewer states expanded across rooms and passages.
+        ``weight``:
         the heuristic's inflation for this query (default: the lattice's ``weight``).
 
         Raises:
             Interrupted: ``should_stop()`` became true.
         """
         weight = self.weight if weight is None else weight
-        key = (start, goal, grasp, guided, weight)
+        key = (start, goal, grasp, weight)
         hit = self._routes.get(key)
         if hit is None:
-            hit = self._route(start, goal, grasp, should_stop, guided, weight)
+            hit = self._route(start, goal, grasp, should_stop, weight)
             self._routes[key] = hit
         return hit
 
@@ -128,7 +129,7 @@ class TransferLattice:
                   should_stop: Callable[[], bool] | None = None) -> float:
         """The pushes' cost (s) along the floor's way from ``start`` to ``goal`` at ``grasp``.
 
-        The grid distance over positions free at some heading (:func:`~.guide.grid_distances`)
+        The grid distance over positions free at some heading (:meth:`_floor_distances`)
         at the push rate: no lattice route costs less, and one that costs much more is a
         detour the lattice takes because it turns only in place; ``inf`` where no way joins
         them.
@@ -142,10 +143,9 @@ class TransferLattice:
         if not starts or not goals:
             return math.inf
         cell_ids, _ = self._components(parity, should_stop)
-        way = grid_distances(cell_ids, f.nx, f.ny, HEADING_VECTORS,
-                             [cell_ids[u[0] * f.ny + u[1]] for u in goals], should_stop)
+        way = self._floor_distances(parity, goals, should_stop)
         d = min(float(way[cell_ids[u[0] * f.ny + u[1]]]) for u in starts)
-        return self._push[grasp] * self.resolution * d
+        return self._push[grasp] * d
 
     def lower_bound(self, start: Pose, goal: Pose, grasp: int) -> float:
         """A cost no lattice route from ``start`` to ``goal`` at ``grasp`` is below (s).
@@ -161,7 +161,7 @@ class TransferLattice:
 
     def _route(self, start: Pose, goal: Pose, grasp: int,
                should_stop: Callable[[], bool] | None,
-               guided: bool, weight: float) -> tuple[list[Pose], float]:
+               weight: float) -> tuple[list[Pose], float]:
         m = self.checker.model
         ca, cb = m.car_pose(start, grasp), m.car_pose(goal, grasp)
         parity = grasp % 2
@@ -213,20 +213,17 @@ class TransferLattice:
                 yield _GOAL, c
 
         gx, gy, gh = cb
-        way = None if not guided else self.resolution * grid_distances(
-            cell_ids, nx, ny, HEADING_VECTORS,
-            [cell_ids[u[0] * ny + u[1]] for u in goals], should_stop)
+        way = self._floor_distances(parity, goals, should_stop)
 
         def heuristic(u: State) -> float:
-            # pushes move the car without turning it, turns turn it without moving it
+            # pushes move the car without turning it, turns turn it without moving it; the
+            # car moves at least its floor distance to the goal's joins (:meth:`_floor_distances`)
             if u[0] < 0:
                 return 0.0
-            if way is None:
-                x, y = self.field.position(u[0], u[1])
-                d = math.hypot(x - gx, y - gy)
-            else:  # not below the straight line; inf: no way to the goal from here
-                d = float(way[cell_ids[u[0] * ny + u[1]]])
-            return weight * (rate * d + spin * abs(wrap_angle(HEADING_YAWS[u[2]] - gh)))
+            x, y = self.field.position(u[0], u[1])
+            # not below the straight line; inf: no way to the goal's joins from this cell
+            moved = max(math.hypot(x - gx, y - gy), float(way[cell_ids[u[0] * ny + u[1]]]))
+            return weight * (rate * moved + spin * abs(wrap_angle(HEADING_YAWS[u[2]] - gh)))
 
         try:
             states = astar([_START], {_GOAL}, neighbours, heuristic)
@@ -320,6 +317,26 @@ class TransferLattice:
         labels[~np.stack(state, axis=1).reshape(-1)] = -1
         self._labels[parity] = (cell_ids, labels)
         return cell_ids, labels
+
+    def _floor_distances(self, parity: int, goals: dict[State, float],
+                         should_stop: Callable[[], bool] | None) -> np.ndarray:
+        """Per free cell (``cell_ids``' numbering), its shortest way to a goal join's cell (m).
+
+        Over the cells free at some heading, with the lattice's push vectors as moves
+        (:func:`~.guide.move_graph`, kept per parity): every push of a lattice route is such
+        a move, so no route from a cell to the goal's joins is shorter; at the push rate it is
+        the A* heuristic where it exceeds the straight line (admissible and consistent), and
+        ``inf`` where no way joins the cell to the goal. ``[-1]`` (no cell) is 0.
+        """
+        cell_ids, _ = self._components(parity, should_stop)
+        graph = self._floors.get(parity)
+        if graph is None:
+            graph = self._floors[parity] = move_graph(
+                cell_ids, self.field.nx, self.field.ny, HEADING_VECTORS[:N_HEADINGS // 2],
+                should_stop)
+        ny = self.field.ny
+        d = graph_distances(graph, (cell_ids[u[0] * ny + u[1]] for u in goals), should_stop)
+        return np.append(self.resolution * d, 0.0)
 
     def _cost(self, states: list[State], starts: dict[State, float],
               goals: dict[State, float], rate: float) -> float:

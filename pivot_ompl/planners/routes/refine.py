@@ -108,13 +108,14 @@ class _Pricer:
 
 def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State], *,
            costs: CostModel, should_stop: Stop, stats: RefineStats | None = None,
-           start_grasp: int | None = None) -> list[State]:
+           start_grasp: int | None = None, grasps: tuple[int, ...] = ()) -> list[State]:
     """``states`` with runs of phases re-planned on the lattice (see the module docstring).
 
     Stopped by ``should_stop`` (polled between lattice queries and checks), it returns the
     best path it has: valid, never costlier than ``states``. ``start_grasp``: the grasp the
     robot holds the box with (``states`` starts with it, and so does the result); ``None``:
-    the first grasp is free.
+    the first grasp is free, and the whole path is also routed as one phase at each of
+    ``grasps`` (seeds that found the path at different grasps then meet on the same route).
     """
     st = stats if stats is not None else RefineStats()
     pricer = _Pricer(checker, costs)
@@ -128,14 +129,14 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
     try:
         while not should_stop():
             best = _best_candidate(lattice, pricer, phases, current, refused, should_stop, st,
-                                   start_grasp)
+                                   start_grasp, grasps)
             if best is None:
                 break
             i, j, g, plan = best
             refused.add((i, j, g, phases[i].poses))
             st.tried += 1
             real = _made_real(checker, lattice, plan, costs, should_stop)
-            if real is None:
+            if real is None or real[-1].poses[-1] != phases[-1].poses[-1]:
                 log.debug("phases %d..%d at grasp %d: the checks refuse the route", i, j, g)
                 continue
             cost = pricer.path(real)
@@ -153,15 +154,16 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
     return _states(phases)
 
 
-def _candidates(phases: list[_Phase], start_grasp: int | None = None
-                ) -> list[tuple[int, int, int]]:
+def _candidates(phases: list[_Phase], start_grasp: int | None = None,
+                grasps: tuple[int, ...] = ()) -> list[tuple[int, int, int]]:
     """Runs ``i .. j`` and the grasp ``g`` to plan each at.
 
     Runs whose grasps differ by zero or a half turn, at phase ``i``'s grasp; and, since the
     grasp at the start (unless ``start_grasp`` is held) and at the goal is free,
     runs from the start planned at phase ``j``'s grasp and runs to the goal planned at phase
     ``i``'s, whatever their grasps (a regrasp after the start or before the goal that only
-    changed the face is removed).
+    changed the face is removed); with the start's grasp free, the whole path as one
+    phase at each of ``grasps`` too.
     """
     last = len(phases) - 1
     out = []
@@ -175,12 +177,14 @@ def _candidates(phases: list[_Phase], start_grasp: int | None = None
                 out.append((i, j, gj))
             if j == last:
                 out.append((i, j, gi))
+    if start_grasp is None:
+        out += [(0, last, g) for g in grasps if (0, last, g) not in out]
     return out
 
 
 def _best_candidate(lattice: TransferLattice, pricer: _Pricer, phases: list[_Phase],
                     current: float, refused: set, should_stop: Stop, st: RefineStats,
-                    start_grasp: int | None = None
+                    start_grasp: int | None = None, grasps: tuple[int, ...] = ()
                     ) -> tuple[int, int, int, list[_Phase | _Leg]] | None:
     """The run whose lattice re-plan saves the most (estimated), as a plan to make real.
 
@@ -198,7 +202,7 @@ def _best_candidate(lattice: TransferLattice, pricer: _Pricer, phases: list[_Pha
     """
     cost = [pricer.phase(p) for p in phases]
     regrasp = [0.0] + [pricer.regrasp(a, b) for a, b in zip(phases, phases[1:], strict=False)]
-    bounds = _bounds(lattice, phases, cost, regrasp, current, refused, start_grasp)
+    bounds = _bounds(lattice, phases, cost, regrasp, current, refused, start_grasp, grasps)
     best: tuple[float, int, int, int, int, list] | None = None
     for optimistic, idx, i, j, g in bounds:
         if best is not None and optimistic < best[0] - _BOUND_SLACK:
@@ -235,8 +239,8 @@ def _run_ends(phases: list[_Phase], i: int, j: int, g: int) -> tuple[bool, Pose,
 
 
 def _bounds(lattice: TransferLattice, phases: list[_Phase], cost: list[float],
-            regrasp: list[float], current: float, refused: set,
-            start_grasp: int | None) -> list[tuple[float, int, int, int, int]]:
+            regrasp: list[float], current: float, refused: set, start_grasp: int | None,
+            grasps: tuple[int, ...] = ()) -> list[tuple[float, int, int, int, int]]:
     """``(optimistic saving, index, i, j, g)`` of the runs that may save, best first.
 
     The optimistic saving is ``current`` less the run's estimate with every lattice route
@@ -250,7 +254,7 @@ def _bounds(lattice: TransferLattice, phases: list[_Phase], cost: list[float],
     for k in range(last, -1, -1):
         after[k] = after[k + 1] + cost[k] + regrasp[k]
     out = []
-    for idx, (i, j, g) in enumerate(_candidates(phases, start_grasp)):
+    for idx, (i, j, g) in enumerate(_candidates(phases, start_grasp, grasps)):
         if (i, j, g, phases[i].poses) in refused:
             continue
         turned, start, end = _run_ends(phases, i, j, g)
@@ -281,9 +285,10 @@ def _priced(lattice: TransferLattice, phases: list[_Phase], cost: list[float],
     estimate += seconds + sum(cost[j + 1:]) + sum(regrasp[j + 1:])
     head = phases[i].poses[:2] if g == phases[i].grasp else ()
     tail_poses = phases[j].poses[-2:]
-    if turned:
+    turned_tail = turned and j < last  # a last phase still ends at the goal as given
+    if turned_tail:
         tail_poses = tuple(half_turn(q) for q in tail_poses)
-    anchor = tail_poses if (g == phases[j].grasp or turned) else ()
+    anchor = tail_poses if (g == phases[j].grasp or turned_tail) else ()
     if i == j and len(phases[i].poses) < 4:
         head, anchor = (), ()
     plan: list = list(phases[:i]) + [_Leg(start, end, g, head, anchor)]
