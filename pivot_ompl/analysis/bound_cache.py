@@ -33,11 +33,7 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
-from pivot_ompl.analysis.bound_levels import (
-    EXHAUSTIVE_SECONDS,
-    exhaustive_estimate,
-    scaled_lower_bound,
-)
+from pivot_ompl.analysis.bound_levels import REFINE_SECONDS, may_refine, scaled_lower_bound
 from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.analysis.regrasp_bound import RESOLUTION, RegraspBound
 from pivot_ompl.analysis.route_bound import GRID_SLACK, MAX_CELLS, MIN_CELL
@@ -224,7 +220,7 @@ def cached_bound(scene: Scene, *, resolution: float = RESOLUTION) -> RegraspBoun
 
 
 def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RESOLUTION,
-                target: int | None = None, exhaustive_seconds: float = EXHAUSTIVE_SECONDS,
+                target: int | None = None, refine_seconds: float = REFINE_SECONDS,
                 should_stop: Callable[[], bool] | None = None) -> RegraspBound:
     """:func:`~pivot_ompl.analysis.bound_levels.scaled_lower_bound` of ``scene``, cached.
 
@@ -233,7 +229,7 @@ def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RES
         use_cache: read and write the caches (memory and disk); ``False`` always computes.
         resolution: the relaxation's yaw-bin erosion (m; part of the cache's key).
         target: the regrasps of the plan the bound is to judge (``None``: none).
-        exhaustive_seconds: largest estimated time (s) of the exact polygon relaxation.
+        refine_seconds: largest estimated time (s) of the finer levels together.
         should_stop: polled by a computation; a stopped result is returned, never kept.
 
     Returns:
@@ -250,10 +246,10 @@ def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RES
     if use_cache:
         hit = cached_bound(scene, resolution=resolution)
         if hit is not None and not _refinable(hit, scene, resolution, target,
-                                              exhaustive_seconds):
+                                              refine_seconds):
             return hit
     bound = scaled_lower_bound(scene, resolution=resolution, target=target,
-                               exhaustive_seconds=exhaustive_seconds, should_stop=should_stop)
+                               refine_seconds=refine_seconds, should_stop=should_stop)
     if bound.solvable is None or not bound.complete:  # stopped: returned, never kept
         return bound
     problem = bound_problem(bound, scene)
@@ -268,10 +264,10 @@ def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RES
 
 
 def _refinable(hit: RegraspBound, scene: Scene, resolution: float, target: int | None,
-               exhaustive_seconds: float) -> bool:
-    """Whether the polygons would now refine a kept raster-only result (then computed again)."""
+               refine_seconds: float) -> bool:
+    """Whether a finer level may now refine a kept result (then computed again)."""
     if hit.exhaustive or hit.solvable is not True:
         return False
     if target is not None and hit.regrasps is not None and hit.regrasps >= target:
         return False
-    return exhaustive_estimate(scene, resolution=resolution) <= exhaustive_seconds
+    return may_refine(scene, resolution=resolution, refine_seconds=refine_seconds)

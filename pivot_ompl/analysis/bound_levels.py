@@ -1,20 +1,22 @@
-"""The regrasp bound computed coarse to fine: the raster cover first, the polygons where needed.
+"""The regrasp bound computed coarse to fine: raster covers first, the polygons where needed.
 
-Two sound relaxations of the same problem (:mod:`~pivot_ompl.analysis.raster_bound`, cells;
-:mod:`~pivot_ompl.analysis.regrasp_bound`, exact polygons) give two lower bounds, the
-raster's never above the polygons'. :func:`scaled_lower_bound` runs the raster (a second or
-two on a 1500 m² map of 2000 boxes) and then the polygons only when both hold:
+Sound relaxations of the same problem at several precisions (:mod:`~pivot_ompl.analysis.
+raster_bound` on cells of :data:`CELLS`, coarse to fine; :mod:`~pivot_ompl.analysis.
+regrasp_bound`, exact polygons) each give a lower bound; a coarser one is never above the
+polygons' but may be below it. :func:`scaled_lower_bound` runs the coarsest raster (about a
+second on a 1500 m² map of 2000 boxes), then a finer level only when both hold:
 
-* the answer may depend on them: the raster's bound is below ``target`` (the regrasps of the
-  plan to judge; with no target, always), and the raster did not already prove that no plan
-  exists;
-* they fit: their cost, estimated from the yaw bins and the obstacle pieces
-  (:data:`SECONDS_PER_PIECE` per piece, bin and grasp, measured), is at most
-  ``exhaustive_seconds`` (a small scene's polygons take about a second; a 2000-box map's
-  about four minutes).
+* the answer may depend on it: the bound so far is below ``target`` (the regrasps of the
+  plan to judge; with no target, always), and no level already proved that no plan exists;
+* it fits: the time spent since the first level ended plus its cost, estimated from the
+  floor's cells, the yaw bins and the body's rows of lattice offsets
+  (:data:`SECONDS_PER_CELL_ROW`) or, for the polygons, from the bins and the obstacle pieces
+  (:data:`SECONDS_PER_PIECE`, both measured), is at most ``refine_seconds`` (a small
+  scene's polygons take about a second; a 2000-box map's about four minutes).
 
-The result is the larger of the two bounds (both are proofs), marked ``exhaustive`` when the
-polygons ran to the end.
+The result is the strongest of the levels run (each is a proof), marked ``exhaustive`` when
+the polygons ran to the end. When the polygons fit they run straight after the coarsest
+raster (no finer raster can beat them); otherwise the finer rasters run in turn.
 """
 
 from __future__ import annotations
@@ -25,9 +27,11 @@ import time
 from collections.abc import Callable
 
 from pivot_ompl.analysis.raster_bound import raster_lower_bound
+from pivot_ompl.analysis.raster_cover import floor_raster
 from pivot_ompl.analysis.regrasp_bound import (
     RESOLUTION,
     RegraspBound,
+    held_bodies,
     regrasp_lower_bound,
     yaw_bins,
 )
@@ -35,11 +39,18 @@ from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Scene
 
 log = logging.getLogger(__name__)
 
-#: Largest estimated time (s) of the polygon relaxation run after the raster's.
-EXHAUSTIVE_SECONDS = 2.0
+#: Largest estimated time (s) of the finer levels together (finer rasters, or the polygons).
+REFINE_SECONDS = 2.0
+#: The raster levels' cell sides (m), coarse to fine (a floor over the raster's cell cap
+#: gets larger cells at every level).
+CELLS = (0.1, 0.05, 0.025)
+#: The raster's cost (s) per cell, layer and row of lattice offsets (measured: 0.4-1.2 ns).
+SECONDS_PER_CELL_ROW = 6e-10
+#: Rows' worth of further work per layer (labelling, the joins between pieces).
+ROWS_PER_LAYER = 10
 #: The polygon relaxation's cost (s) per obstacle piece, yaw bin and grasp (measured on fig10,
-#: the house and the Nav2 warehouse maps: 0.22-0.39 ms; the upper end).
-SECONDS_PER_PIECE = 4e-4
+#: the house and the Nav2 warehouse maps: 0.22-0.39 ms).
+SECONDS_PER_PIECE = 3e-4
 
 
 def exhaustive_estimate(scene: Scene, *, resolution: float = RESOLUTION) -> float:
@@ -49,40 +60,82 @@ def exhaustive_estimate(scene: Scene, *, resolution: float = RESOLUTION) -> floa
     return 2 * yaw_bins(scene, resolution) * max(1, pieces) * SECONDS_PER_PIECE
 
 
+def raster_estimate(scene: Scene, cell: float) -> float:
+    """Estimated time (s) of :func:`~pivot_ompl.analysis.raster_bound.raster_lower_bound`."""
+    raster = floor_raster(scene.bounds, cell)
+    bins = yaw_bins(scene, 0.5 * raster.cell)
+    span = max(2.0 * p.reach for g in (0, 1) for p in held_bodies(scene, g))
+    rows = span / raster.cell + ROWS_PER_LAYER
+    return 2 * bins * raster.shape[0] * raster.shape[1] * rows * SECONDS_PER_CELL_ROW
+
+
 def scaled_lower_bound(scene: Scene, *, target: int | None = None,
                        resolution: float = RESOLUTION,
-                       exhaustive_seconds: float = EXHAUSTIVE_SECONDS,
+                       refine_seconds: float = REFINE_SECONDS,
                        should_stop: Callable[[], bool] | None = None) -> RegraspBound:
     """The fewest regrasps any plan of ``scene`` needs, coarse to fine (module docstring).
 
     Args:
         scene: the scene.
-        target: the regrasps of a plan the bound is to judge (the polygons run only when the
-            raster's bound is below it); ``None``: as exact as ``exhaustive_seconds`` allows.
+        target: the regrasps of a plan the bound is to judge (finer levels run only while
+            the bound is below it); ``None``: as exact as the time estimates allow.
         resolution: the polygon relaxation's yaw-bin erosion (m).
-        exhaustive_seconds: largest estimated time (s) of the polygon relaxation
-            (``math.inf``: always run it).
-        should_stop: polled by both relaxations; stopped, the raster's result stands (or
-            unknown when the raster itself was stopped).
+        refine_seconds: largest estimated time (s) of the finer levels together (rasters
+            or polygons; ``math.inf``: run them all).
+        should_stop: polled by every level; stopped, the levels done stand (unknown when
+            the first was stopped).
     """
     t0 = time.perf_counter()
-    fast = raster_lower_bound(scene, should_stop=should_stop)
-    if fast.solvable is None or fast.solvable is False:
-        return fast
-    needed = target is None or (fast.regrasps is not None and fast.regrasps < target)
+    best = raster_lower_bound(scene, cell=CELLS[0], should_stop=should_stop)
+    if best.solvable is None:
+        return best
+    t1 = time.perf_counter()
     estimate = exhaustive_estimate(scene, resolution=resolution)
-    if not needed or estimate > exhaustive_seconds:
-        log.debug("regrasp bound %s from the raster (polygons %s, estimated %.1f s)",
-                  fast.regrasps, "not needed" if not needed else "skipped", estimate)
-        return fast
-    full = regrasp_lower_bound(scene, resolution=resolution, should_stop=should_stop)
-    seconds = time.perf_counter() - t0
-    if full.solvable is None:
-        return dataclasses.replace(fast, seconds=seconds)
-    if full.solvable is False:
-        return dataclasses.replace(full, seconds=seconds)
-    routes = [r for r in (fast.shortest_route, full.shortest_route) if r is not None]
-    return dataclasses.replace(
-        full, regrasps=max(fast.regrasps or 0, full.regrasps or 0), seconds=seconds,
-        shortest_route=max(routes) if routes else None,
-        complete=full.complete and fast.complete)
+    if _wanted(best, target) and estimate <= refine_seconds:
+        full = regrasp_lower_bound(scene, resolution=resolution, should_stop=should_stop)
+        if full.solvable is not None:
+            return dataclasses.replace(_better(full, best), exhaustive=True,
+                                       seconds=time.perf_counter() - t0)
+        return dataclasses.replace(best, seconds=time.perf_counter() - t0)
+    done = floor_raster(scene.bounds, CELLS[0]).cell
+    for cell in CELLS[1:]:
+        if floor_raster(scene.bounds, cell).cell >= done:
+            continue  # a floor too large for finer cells
+        spent = time.perf_counter() - t1
+        if not _wanted(best, target) or spent + raster_estimate(scene, cell) > refine_seconds:
+            break
+        done = floor_raster(scene.bounds, cell).cell
+        finer = raster_lower_bound(scene, cell=cell, should_stop=should_stop)
+        if finer.solvable is None:
+            break
+        best = _better(finer, best)
+    log.debug("regrasp bound %s from the raster (polygons estimated %.1f s)", best.regrasps,
+              estimate)
+    return dataclasses.replace(best, seconds=time.perf_counter() - t0)
+
+
+def may_refine(scene: Scene, *, resolution: float = RESOLUTION,
+               refine_seconds: float = REFINE_SECONDS) -> bool:
+    """Whether a level finer than the coarsest raster fits ``refine_seconds`` on ``scene``."""
+    if exhaustive_estimate(scene, resolution=resolution) <= refine_seconds:
+        return True
+    coarse = floor_raster(scene.bounds, CELLS[0]).cell
+    return any(floor_raster(scene.bounds, c).cell < coarse
+               and raster_estimate(scene, c) <= refine_seconds for c in CELLS[1:])
+
+
+def _wanted(bound: RegraspBound, target: int | None) -> bool:
+    """Whether a finer level may change what the bound says of a plan of ``target``."""
+    if bound.solvable is False:
+        return False
+    return target is None or (bound.regrasps is not None and bound.regrasps < target)
+
+
+def _better(a: RegraspBound, b: RegraspBound) -> RegraspBound:
+    """The stronger of two sound bounds (``a``'s counts), each part the larger."""
+    if a.solvable is False or b.solvable is False:
+        return a if a.solvable is False else b
+    routes = [r for r in (a.shortest_route, b.shortest_route) if r is not None]
+    return dataclasses.replace(a, regrasps=max(a.regrasps or 0, b.regrasps or 0),
+                               shortest_route=max(routes) if routes else None,
+                               complete=a.complete and b.complete)

@@ -25,7 +25,7 @@ import shapely
 
 from pivot_ompl.analysis.piece_graph import PieceGraph
 from pivot_ompl.analysis.raster import FloorRaster
-from pivot_ompl.analysis.raster_cover import EPS, MAX_CELLS, raster_cover
+from pivot_ompl.analysis.raster_cover import EPS, RasterCover, floor_raster, raster_cover
 from pivot_ompl.analysis.regrasp_bound import RegraspBound, yaw_bins
 from pivot_ompl.analysis.regrasp_walk import MAX_SAMPLES, SAMPLE, WalkRelaxation
 from pivot_ompl.analysis.route_bound import route_on
@@ -68,7 +68,7 @@ def raster_lower_bound(scene: Scene, *, cell: float = CELL, resolution: float | 
     cover = raster_cover(scene, cell=cell, resolution=resolution, tolerance=tolerance,
                          clearance=clearance, should_stop=should_stop)
     if cover is None:
-        raster = FloorRaster(scene.bounds, min_cell=cell, max_cells=MAX_CELLS)
+        raster = floor_raster(scene.bounds, cell)
         n = yaw_bins(scene, 0.5 * raster.cell if resolution is None else resolution)
         return _timed(RegraspBound(None, None, n, 0, 0.0, exhaustive=False), t0)
     raster, n, layers = cover.raster, cover.bins, cover.layers
@@ -110,8 +110,7 @@ def raster_lower_bound(scene: Scene, *, cell: float = CELL, resolution: float | 
         if not walks:
             return True
         b, k, i, j, c = edge
-        shared = (layers[layer(b, k)][0] == i) & (layers[layer(b, j)][0] == c)
-        ii, jj = np.nonzero(shared)
+        ii, jj = _shared_cells(cover, layer(b, k), i, layer(b, j), c)
         if len(ii) * raster.cell * raster.cell > WALK_AREA:
             return True
         if not walk:
@@ -126,7 +125,7 @@ def raster_lower_bound(scene: Scene, *, cell: float = CELL, resolution: float | 
 
     try:
         best, reached = graph.fewest_regrasps(holding(scene.start), set(holding(scene.goal)),
-                                              allowed, should_stop)
+                                              allowed, should_stop, check_beyond=False)
     except Interrupted:
         return _timed(unknown, t0)
     route, complete = None, True
@@ -140,6 +139,15 @@ def raster_lower_bound(scene: Scene, *, cell: float = CELL, resolution: float | 
               raster.cell, total, seconds)
     return RegraspBound(best, best is not None, n, total, seconds, route, complete,
                         exhaustive=False)
+
+
+def _shared_cells(cover: RasterCover, la: tuple[int, int], i: int, lb: tuple[int, int],
+                  c: int) -> tuple[np.ndarray, np.ndarray]:
+    """The cells of piece ``i`` of layer ``la`` that are in piece ``c`` of layer ``lb``."""
+    box = cover.extent(la, i)
+    a, b = cover.layers[la][0][box], cover.layers[lb][0][box]
+    ii, jj = np.nonzero((a == i) & (b == c))
+    return ii + box[0].start, jj + box[1].start
 
 
 def _timed(bound: RegraspBound, t0: float) -> RegraspBound:

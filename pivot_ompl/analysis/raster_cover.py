@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import ndimage
@@ -227,6 +227,13 @@ class RasterCover:
     raster: FloorRaster
     bins: int
     layers: dict[tuple[int, int], tuple[np.ndarray, int]]
+    _extents: dict[tuple[int, int], list] = field(default_factory=dict, repr=False)
+
+    def extent(self, layer: tuple[int, int], label: int) -> tuple[slice, slice]:
+        """The block of cells holding piece ``label`` of ``layer`` (``(grasp % 2, bin)``)."""
+        if layer not in self._extents:
+            self._extents[layer] = ndimage.find_objects(self.layers[layer][0])
+        return self._extents[layer][label - 1]
 
     def bin_of(self, yaw: float) -> int:
         """The bin holding ``yaw`` (any angle)."""
@@ -252,6 +259,17 @@ class RasterCover:
         return bool(self.holding(pose, grasp))
 
 
+def floor_raster(bounds: tuple[float, float, float, float], cell: float) -> FloorRaster:
+    """Cells of side ``cell`` over ``bounds``, or a whole multiple of it past :data:`MAX_CELLS`.
+
+    (A map's boxes are exact to its pixels: cells a multiple of the pixel keep their edges.)
+    """
+    x0, y0, x1, y1 = bounds
+    need = math.sqrt((x1 - x0) * (y1 - y0) / MAX_CELLS)
+    side = cell * max(1, math.ceil(need / cell - 1e-9))
+    return FloorRaster(bounds, min_cell=side, max_cells=MAX_CELLS)
+
+
 def raster_cover(scene: Scene, *, cell: float, resolution: float | None = None,
                  tolerance: float = SWEEP_TOLERANCE, clearance: float = KEEP_CLEARANCE,
                  should_stop: Callable[[], bool] | None = None) -> RasterCover | None:
@@ -267,7 +285,7 @@ def raster_cover(scene: Scene, *, cell: float, resolution: float | None = None,
         clearance: distance (m) the checkers keep every body from the obstacles.
         should_stop: polled once per layer (and while the obstacle cells are found).
     """
-    raster = FloorRaster(scene.bounds, min_cell=cell, max_cells=MAX_CELLS)
+    raster = floor_raster(scene.bounds, cell)
     n = yaw_bins(scene, 0.5 * raster.cell if resolution is None else resolution)
     try:
         pieces = obstacle_pieces(merge_boxes(scene.obstacles, should_stop=should_stop))

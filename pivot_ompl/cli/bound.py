@@ -16,7 +16,7 @@ import math
 import time
 
 from pivot_ompl.analysis.bound_cache import lower_bound
-from pivot_ompl.analysis.bound_levels import EXHAUSTIVE_SECONDS
+from pivot_ompl.analysis.bound_levels import REFINE_SECONDS
 from pivot_ompl.cli.args import time_limit
 from pivot_ompl.errors import printable
 from pivot_ompl.scene import load_scene
@@ -42,7 +42,7 @@ def run(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     end = time.monotonic() + args.time
     b = lower_bound(scene, use_cache=not args.no_cache,
-                    exhaustive_seconds=math.inf if args.exhaustive else EXHAUSTIVE_SECONDS,
+                    refine_seconds=math.inf if args.exhaustive else REFINE_SECONDS,
                     should_stop=lambda: time.monotonic() > end)
     took = time.perf_counter() - t0
     how = "polygons" if b.exhaustive else "raster"

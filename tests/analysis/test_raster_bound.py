@@ -133,3 +133,12 @@ def test_a_plan_met_by_the_raster_needs_no_polygons():
 def test_stopping_gives_unknown():
     b = raster_lower_bound(shipped("fig10"), should_stop=lambda: True)
     assert b.solvable is None and b.regrasps is None
+
+
+def test_finer_rasters_run_when_the_polygons_do_not_fit():
+    """fig10 with a 1 s budget: its polygons (about 1.5 s estimated) give way to 5 cm cells."""
+    coarse = raster_lower_bound(shipped("fig10"))
+    b = scaled_lower_bound(shipped("fig10"), refine_seconds=1.0)
+    assert not b.exhaustive and b.bins > coarse.bins
+    assert b.regrasps is not None and coarse.regrasps <= b.regrasps <= 2
+
