@@ -78,10 +78,12 @@ def obstacle_cells(raster: FloorRaster, pieces: list[np.ndarray],
         twice_area = float(np.sum(p[:, 0] * q[:, 1] - q[:, 0] * p[:, 1]))
         if abs(twice_area) < 1e-12:
             continue
-        i0 = max(0, math.ceil((p[:, 0].min() - x0) / h))
-        i1 = min(nx, math.floor((p[:, 0].max() - x0) / h))
-        j0 = max(0, math.ceil((p[:, 1].min() - y0) / h))
-        j1 = min(ny, math.floor((p[:, 1].max() - y0) / h))
+        # candidate cells with a little slack: the corner test below decides (a box edge on a
+        # cell edge is often a hair inside it in floating point)
+        i0 = max(0, math.ceil((p[:, 0].min() - x0) / h - 1e-6))
+        i1 = min(nx, math.floor((p[:, 0].max() - x0) / h + 1e-6))
+        j0 = max(0, math.ceil((p[:, 1].min() - y0) / h - 1e-6))
+        j1 = min(ny, math.floor((p[:, 1].max() - y0) / h + 1e-6))
         if i1 <= i0 or j1 <= j0:
             continue
         xs = x0 + np.arange(i0, i1 + 1) * h

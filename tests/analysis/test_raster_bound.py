@@ -142,3 +142,21 @@ def test_finer_rasters_run_when_the_polygons_do_not_fit():
     assert not b.exhaustive and b.bins > coarse.bins
     assert b.regrasps is not None and coarse.regrasps <= b.regrasps <= 2
 
+
+
+@settings(max_examples=60, deadline=None)
+@given(i=st.integers(0, 150), j=st.integers(0, 150), w=st.integers(1, 40), d=st.integers(1, 40))
+def test_a_box_on_cell_edges_fills_its_cells(i, j, w, d):
+    """A map's box (edges on the pixel grid, so on cell edges): every cell of it is an obstacle
+    cell, whatever the floating point of its centre and size."""
+    from pivot_ompl.analysis.raster_cover import obstacle_cells
+    from pivot_ompl.scene import BoxObstacle
+    from pivot_ompl.validity.footprints import obstacle_pieces
+
+    h = 0.05
+    raster = FloorRaster((0.0, 0.0, 10.0, 10.0), min_cell=h, max_cells=10**6)
+    box = BoxObstacle(center=((i + 0.5 * w) * h, (j + 0.5 * d) * h), size=(w * h, d * h),
+                      yaw=0.0, height=1.0)
+    cells = obstacle_cells(raster, obstacle_pieces([box]))
+    assert cells.sum() == w * d
+    assert cells[i:i + w, j:j + d].all()
