@@ -8,11 +8,12 @@ second on a 1500 m² map of 2000 boxes), then a finer level only when both hold:
 
 * the answer may depend on it: the bound so far is below ``target`` (the regrasps of the
   plan to judge; with no target, always), and no level already proved that no plan exists;
-* it fits: the time spent since the first level ended plus its cost, estimated from the
-  floor's cells, the yaw bins and the body's rows of lattice offsets
+* it fits: the estimated costs of the levels run so far (the coarsest included) and of this
+  one, from the floor's cells, the yaw bins and the body's rows of lattice offsets
   (:data:`SECONDS_PER_CELL_ROW`) or, for the polygons, from the bins and the obstacle pieces
-  (:data:`SECONDS_PER_PIECE`, both measured), is at most ``refine_seconds`` (a small
-  scene's polygons take about a second; a 2000-box map's about four minutes).
+  (:data:`SECONDS_PER_PIECE`, both measured), add up to at most ``refine_seconds`` (a small
+  scene's polygons take about a second; a 2000-box map's about four minutes). Estimates,
+  not clocks: the levels run are the same on a loaded machine.
 
 The result is the strongest of the levels run (each is a proof), marked ``exhaustive`` when
 the polygons ran to the end. When the polygons fit they run straight after the coarsest
@@ -39,7 +40,7 @@ from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Scene
 
 log = logging.getLogger(__name__)
 
-#: Largest estimated time (s) of the finer levels together (finer rasters, or the polygons).
+#: Largest estimated time (s) of all levels run together (a finer one runs only if it fits).
 REFINE_SECONDS = 2.0
 #: The raster levels' cell sides (m), coarse to fine (a floor over the raster's cell cap
 #: gets larger cells at every level).
@@ -80,8 +81,8 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
         target: the regrasps of a plan the bound is to judge (finer levels run only while
             the bound is below it); ``None``: as exact as the time estimates allow.
         resolution: the polygon relaxation's yaw-bin erosion (m).
-        refine_seconds: largest estimated time (s) of the finer levels together (rasters
-            or polygons; ``math.inf``: run them all).
+        refine_seconds: largest estimated time (s) of all levels together (the coarsest
+            always runs; ``math.inf``: run them all).
         should_stop: polled by every level; stopped, the levels done stand (unknown when
             the first was stopped).
     """
@@ -89,9 +90,9 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
     best = raster_lower_bound(scene, cell=CELLS[0], should_stop=should_stop)
     if best.solvable is None:
         return best
-    t1 = time.perf_counter()
+    spent = raster_estimate(scene, CELLS[0])  # estimates, not clocks: the same on any load
     estimate = exhaustive_estimate(scene, resolution=resolution)
-    if _wanted(best, target) and estimate <= refine_seconds:
+    if _wanted(best, target) and spent + estimate <= refine_seconds:
         full = regrasp_lower_bound(scene, resolution=resolution, should_stop=should_stop)
         if full.solvable is not None:
             return dataclasses.replace(_better(full, best), exhaustive=True,
@@ -101,9 +102,9 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
     for cell in CELLS[1:]:
         if floor_raster(scene.bounds, cell).cell >= done:
             continue  # a floor too large for finer cells
-        spent = time.perf_counter() - t1
         if not _wanted(best, target) or spent + raster_estimate(scene, cell) > refine_seconds:
             break
+        spent += raster_estimate(scene, cell)
         done = floor_raster(scene.bounds, cell).cell
         finer = raster_lower_bound(scene, cell=cell, should_stop=should_stop)
         if finer.solvable is None:
