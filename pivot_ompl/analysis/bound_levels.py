@@ -45,8 +45,9 @@ REFINE_SECONDS = 2.0
 #: The raster levels' cell sides (m), coarse to fine (a floor over the raster's cell cap
 #: gets larger cells at every level).
 CELLS = (0.1, 0.05, 0.025)
-#: The raster's cost (s) per cell, layer and row of lattice offsets (measured: 0.4-1.2 ns).
-SECONDS_PER_CELL_ROW = 6e-10
+#: The raster's cost (s) per cell, layer and row of lattice offsets (measured 0.4-1.2 ns;
+#: the upper end, so that a plan's bound stays within about 2 s on the Nav2 warehouse).
+SECONDS_PER_CELL_ROW = 1.2e-9
 #: Rows' worth of further work per layer (labelling, the joins between pieces).
 ROWS_PER_LAYER = 10
 #: The polygon relaxation's cost (s) per obstacle piece, yaw bin and grasp (measured on fig10,
