@@ -33,8 +33,9 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
+from pivot_ompl.analysis.bound_levels import REFINE_SECONDS, may_refine, scaled_lower_bound
 from pivot_ompl.analysis.raster import FloorRaster
-from pivot_ompl.analysis.regrasp_bound import RESOLUTION, RegraspBound, regrasp_lower_bound
+from pivot_ompl.analysis.regrasp_bound import RESOLUTION, RegraspBound
 from pivot_ompl.analysis.route_bound import GRID_SLACK, MAX_CELLS, MIN_CELL
 from pivot_ompl.cache import BoundedCache, CacheEntryError, read_entry_bytes
 from pivot_ompl.errors import InputError, printable, require_type
@@ -44,7 +45,7 @@ from pivot_ompl.scene import Scene, scene_digest
 log = logging.getLogger(__name__)
 
 #: Version of the relaxation: part of every key (a new relaxation never reads old results).
-BOUND_VERSION = 4
+BOUND_VERSION = 5
 #: Scenes whose bound is kept in memory.
 MEMORY_ENTRIES = 64
 #: Environment variable that turns the disk cache off when ``0``.
@@ -98,6 +99,8 @@ def bound_problem(bound: object, scene: Scene) -> str | None:
 
     if not isinstance(bound.solvable, bool):
         return f"solvable = {bound.solvable!r} is not true or false"
+    if not isinstance(bound.complete, bool) or not isinstance(bound.exhaustive, bool):
+        return f"complete = {bound.complete!r}, exhaustive = {bound.exhaustive!r} are not flags"
     if not (whole(bound.bins) and bound.bins >= 1 and whole(bound.pieces)):
         return f"bins = {bound.bins!r}, pieces = {bound.pieces!r} are not counts"
     if (isinstance(bound.seconds, bool) or not isinstance(bound.seconds, int | float)
@@ -217,18 +220,23 @@ def cached_bound(scene: Scene, *, resolution: float = RESOLUTION) -> RegraspBoun
 
 
 def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RESOLUTION,
+                target: int | None = None, refine_seconds: float = REFINE_SECONDS,
                 should_stop: Callable[[], bool] | None = None) -> RegraspBound:
-    """:func:`~pivot_ompl.analysis.regrasp_bound.regrasp_lower_bound` of ``scene``, cached.
+    """:func:`~pivot_ompl.analysis.bound_levels.scaled_lower_bound` of ``scene``, cached.
 
     Args:
         scene: the scene.
         use_cache: read and write the caches (memory and disk); ``False`` always computes.
         resolution: the relaxation's yaw-bin erosion (m; part of the cache's key).
+        target: the regrasps of the plan the bound is to judge (``None``: none).
+        refine_seconds: largest estimated time (s) of the finer levels together.
         should_stop: polled by a computation; a stopped result is returned, never kept.
 
     Returns:
         The :class:`~pivot_ompl.analysis.regrasp_bound.RegraspBound` (``seconds`` is the time
-        of the computation that produced it, however long ago).
+        of the computation that produced it, however long ago). A kept result that the
+        polygons did not refine is computed again when they are now wanted and fit
+        (:func:`~pivot_ompl.analysis.bound_levels.scaled_lower_bound`'s rule).
     """
     require_type(scene, Scene, "scene", "a Scene (load_scene(...) gives one)")
     require_type(use_cache, bool, "use_cache", "True or False")
@@ -237,9 +245,11 @@ def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RES
     key = scene_key(scene, resolution=resolution)
     if use_cache:
         hit = cached_bound(scene, resolution=resolution)
-        if hit is not None:
+        if hit is not None and not _refinable(hit, scene, resolution, target,
+                                              refine_seconds):
             return hit
-    bound = regrasp_lower_bound(scene, resolution=resolution, should_stop=should_stop)
+    bound = scaled_lower_bound(scene, resolution=resolution, target=target,
+                               refine_seconds=refine_seconds, should_stop=should_stop)
     if bound.solvable is None or not bound.complete:  # stopped: returned, never kept
         return bound
     problem = bound_problem(bound, scene)
@@ -251,3 +261,13 @@ def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RES
         if _disk_enabled():
             _write(cache_dir() / f"{key}.json", key, bound)
     return bound
+
+
+def _refinable(hit: RegraspBound, scene: Scene, resolution: float, target: int | None,
+               refine_seconds: float) -> bool:
+    """Whether a finer level may now refine a kept result (then computed again)."""
+    if hit.exhaustive or hit.solvable is not True:
+        return False
+    if target is not None and hit.regrasps is not None and hit.regrasps >= target:
+        return False
+    return may_refine(scene, resolution=resolution, refine_seconds=refine_seconds)

@@ -40,14 +40,17 @@ class PieceGraph:
 
     def fewest_regrasps(self, starts: list[int], goals: set[int],
                         allowed: Callable[[Regrasp], bool],
-                        should_stop: Callable[[], bool] | None) -> tuple[int | None, set[int]]:
+                        should_stop: Callable[[], bool] | None, *,
+                        check_beyond: bool = True) -> tuple[int | None, set[int]]:
         """Fewest allowed regrasps from a start to a goal, and every piece reachable at all.
 
         Level by level: the pieces reachable with ``d`` regrasps are the free closure of the
         starts (``d = 0``) or of the regrasps out of level ``d - 1``. A regrasp is checked
         (``allowed``, the costly part) only when its far piece is not reached yet, the
         regrasps out of the largest pieces first (the cheapest to allow). ``should_stop``
-        raises :class:`~pivot_ompl.errors.Interrupted`.
+        raises :class:`~pivot_ompl.errors.Interrupted`. ``check_beyond`` ``False``: once a
+        goal is reached, later regrasps are taken as allowed unchecked (the reached set then
+        holds more pieces: a route through them is still a lower bound, found sooner).
         """
         level: dict[int, int] = {}
         best: int | None = None
@@ -65,7 +68,7 @@ class PieceGraph:
                     raise Interrupted("regrasp bound")
                 if v in level:
                     continue
-                if allowed(e):
+                if (best is not None and not check_beyond) or allowed(e):
                     frontier.extend(self._closure([v], d + 1, level))
             d += 1
         return best, set(level)

@@ -101,6 +101,8 @@ class RegraspBound:
             (:func:`~pivot_ompl.analysis.route_bound.shortest_route`), ``None`` if unknown.
         complete: every part was computed (``False``: the route bound was stopped by the
             time limit; such a result is not kept by the cache).
+        exhaustive: computed by the exact polygon relaxation (``False``: by a faster one,
+            :mod:`~pivot_ompl.analysis.raster_bound`, sound but possibly lower).
     """
 
     regrasps: int | None
@@ -110,10 +112,11 @@ class RegraspBound:
     seconds: float
     shortest_route: float | None = None
     complete: bool = True
+    exhaustive: bool = True
 
 
 @dataclass(frozen=True)
-class _Body:
+class Body:
     """A convex floor body in the box's frame (its vertices, counter-clockwise)."""
 
     points: np.ndarray
@@ -140,17 +143,17 @@ class _Body:
         return np.asarray(poly.exterior.coords)[:-1]
 
 
-def _parts(scene: Scene, grasp: int) -> list[_Body]:
+def held_bodies(scene: Scene, grasp: int) -> list[Body]:
     """The box's footprint and the holding robot's convex body at ``grasp``, box frame."""
     m = scene.model
     robot = m.robot_pose((0.0, 0.0, 0.0), grasp)
     box = rectangle_corners((0.0, 0.0, 0.0), m.object_size[0], m.object_size[1])
     held = shapely.MultiPoint(m.held_corners(robot, grasp)).convex_hull
-    return [_Body(np.array(box, dtype=float)),
-            _Body(np.asarray(held.exterior.coords)[:-1])]
+    return [Body(np.array(box, dtype=float)),
+            Body(np.asarray(held.exterior.coords)[:-1])]
 
 
-def _free_pieces(scene: Scene, parts: list[_Body], yaw: float, inside: list[float],
+def _free_pieces(scene: Scene, parts: list[Body], yaw: float, inside: list[float],
                  clear: list[float], pieces: list[np.ndarray]) -> list[BaseGeometry]:
     """Connected pieces of the box positions where every part may be free at ``yaw``.
 
@@ -194,9 +197,9 @@ def _merge_touching(geoms: list[BaseGeometry]) -> list[BaseGeometry]:
     return [gs[0] if len(gs) == 1 else shapely.union_all(gs) for gs in groups.values()]
 
 
-def _bins(scene: Scene, resolution: float) -> int:
+def yaw_bins(scene: Scene, resolution: float) -> int:
     """Even number of yaw bins whose rotation erosion is at most ``resolution``."""
-    reach = max(p.reach for g in (0, 1) for p in _parts(scene, g))
+    reach = max(p.reach for g in (0, 1) for p in held_bodies(scene, g))
     w = 4.0 * math.asin(min(1.0, resolution / (2.0 * reach)))
     n = max(8, math.ceil(2.0 * math.pi / w))
     return min(MAX_BINS, n + n % 2)
@@ -251,7 +254,7 @@ def free_cover(scene: Scene, *, resolution: float = RESOLUTION,
         should_stop: polled once per yaw bin (and while the boxes are merged, the pieces
             being the obstacles with touching boxes merged: :func:`merge_boxes`).
     """
-    n = _bins(scene, resolution)
+    n = yaw_bins(scene, resolution)
     w = 2.0 * math.pi / n
     try:
         pieces = obstacle_pieces(merge_boxes(scene.obstacles, should_stop=should_stop))
@@ -259,7 +262,7 @@ def free_cover(scene: Scene, *, resolution: float = RESOLUTION,
         return None
     free: list[list[list[BaseGeometry]]] = [[], []]
     for g in (0, 1):
-        parts = _parts(scene, g)
+        parts = held_bodies(scene, g)
         inside = [2.0 * p.reach * math.sin(0.25 * w) + tolerance + ROUND_OFF for p in parts]
         clear = [d - clearance for d in inside]
         for b in range(n):
@@ -292,7 +295,7 @@ def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
     t0 = time.perf_counter()
     cover = free_cover(scene, resolution=resolution, tolerance=tolerance, clearance=clearance,
                        should_stop=should_stop)
-    n = _bins(scene, resolution)
+    n = yaw_bins(scene, resolution)
     if cover is None:
         return RegraspBound(None, None, n, 0, time.perf_counter() - t0)
     ids: dict[tuple[int, int, int], int] = {}

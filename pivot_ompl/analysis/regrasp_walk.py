@@ -122,16 +122,56 @@ class WalkRelaxation:
             if core is None:
                 return True  # nothing of the box is certain: it may not block
             blocked = core.buffer(self.box_gap - self.raster.half_diag, quad_segs=4)
-            mask = self.free.copy()
-            if not blocked.is_empty:
-                wi, wj = self.raster.window(blocked)
-                r = self.raster
-                mask[wi, wj] &= ~shapely.contains_xy(blocked, r.gx[wi, wj], r.gy[wi, wj])
-            labels, _ = ndimage.label(mask, structure=_EIGHT)
-            la = set(labels[a].tolist()) - {0}
-            if la & (set(labels[b].tolist()) - {0}):
+            if blocked.is_empty or self._joined(blocked, a, b):
                 return True
         return False
+
+    def _joined(self, blocked: BaseGeometry, a: tuple[np.ndarray, np.ndarray],
+                b: tuple[np.ndarray, np.ndarray]) -> bool:
+        """Whether cells ``a`` and ``b`` are joined by free cells not in ``blocked``.
+
+        Labelled first in a window round ``blocked``, ``a`` and ``b`` only: joined there,
+        they are joined. Two of the window's pieces that reach its edge may be joined outside
+        it only if they meet the same piece of the whole free raster there; if none such
+        joins them, they are not joined; if one may, the whole raster is labelled (a way
+        round outside the window might cross ``blocked`` again).
+        """
+        r = self.raster
+        wi, wj = r.window(blocked)
+        nx, ny = r.shape
+        i0 = max(0, min(wi.start, int(a[0].min()), int(b[0].min())) - 1)
+        i1 = min(nx, max(wi.stop, int(a[0].max()) + 1, int(b[0].max()) + 1) + 1)
+        j0 = max(0, min(wj.start, int(a[1].min()), int(b[1].min())) - 1)
+        j1 = min(ny, max(wj.stop, int(a[1].max()) + 1, int(b[1].max()) + 1) + 1)
+        mask = self.free[i0:i1, j0:j1].copy()
+        mask[wi.start - i0:wi.stop - i0, wj.start - j0:wj.stop - j0] &= ~shapely.contains_xy(
+            blocked, r.gx[wi, wj], r.gy[wi, wj])
+        labels, _ = ndimage.label(mask, structure=_EIGHT)
+        edge = np.zeros(mask.shape, dtype=bool)
+        edge[0, :] = edge[-1, :] = edge[:, 0] = edge[:, -1] = True
+        edge &= labels > 0
+        outside = self.labels[i0:i1, j0:j1][edge]
+        parent: dict[int, int] = {}
+
+        def find(v: int) -> int:
+            while parent.get(v, v) != v:
+                v = parent[v]
+            return v
+
+        for inner, whole in set(zip(labels[edge].tolist(), outside.tolist(), strict=True)):
+            ri, ro = find(inner), find(-whole)  # outer pieces keyed negative
+            if ri != ro:
+                parent[ri] = ro
+        la = {v for v in labels[a[0] - i0, a[1] - j0].tolist() if v}
+        lb = {v for v in labels[b[0] - i0, b[1] - j0].tolist() if v}
+        if la & lb:
+            return True
+        if not {find(v) for v in la} & {find(v) for v in lb}:
+            return False
+        whole = self.free.copy()
+        whole[wi, wj] &= ~shapely.contains_xy(blocked, r.gx[wi, wj], r.gy[wi, wj])
+        labels, _ = ndimage.label(whole, structure=_EIGHT)
+        return bool((set(labels[a].tolist()) - {0}) & (set(labels[b].tolist()) - {0}))
 
     def _samples(self, region: BaseGeometry) -> tuple[list[tuple[float, float]], float]:
         """Points whose ``rho``-disks cover ``region``, and ``rho``."""

@@ -2,7 +2,9 @@
 
 Prints the lower bounds on regrasps and on the box's route
 (:mod:`pivot_ompl.analysis.regrasp_bound`, :mod:`pivot_ompl.analysis.route_bound`), computed
-once per scene geometry and cached (``--no-cache`` computes afresh and keeps nothing). Exit
+once per scene geometry and cached (``--no-cache`` computes afresh and keeps nothing): the
+raster relaxation first, the exact polygons when they are estimated to take at most two
+seconds (``--exhaustive``: always; :mod:`pivot_ompl.analysis.bound_levels`). Exit
 status: 0 a bound, 1 none (stopped by ``--time``, or the relaxation proves that no plan
 exists), 2 bad input.
 """
@@ -10,9 +12,11 @@ exists), 2 bad input.
 from __future__ import annotations
 
 import argparse
+import math
 import time
 
 from pivot_ompl.analysis.bound_cache import lower_bound
+from pivot_ompl.analysis.bound_levels import REFINE_SECONDS
 from pivot_ompl.cli.args import time_limit
 from pivot_ompl.errors import printable
 from pivot_ompl.scene import load_scene
@@ -26,6 +30,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="time limit of a computation (s; default 60)")
     p.add_argument("--no-cache", action="store_true",
                    help="compute afresh (neither read nor write the cache)")
+    p.add_argument("--exhaustive", action="store_true",
+                   help="also run the exact polygon relaxation on a large floor (minutes on "
+                        "thousands of boxes; by default only where estimated <= 2 s)")
     p.set_defaults(func=run)
 
 
@@ -34,9 +41,12 @@ def run(args: argparse.Namespace) -> int:
     scene = load_scene(args.scene)
     t0 = time.perf_counter()
     end = time.monotonic() + args.time
-    b = lower_bound(scene, use_cache=not args.no_cache, should_stop=lambda: time.monotonic() > end)
+    b = lower_bound(scene, use_cache=not args.no_cache,
+                    refine_seconds=math.inf if args.exhaustive else REFINE_SECONDS,
+                    should_stop=lambda: time.monotonic() > end)
     took = time.perf_counter() - t0
-    where = f"{b.bins} yaw bins, {b.pieces} pieces; {took:.2f} s"
+    how = "polygons" if b.exhaustive else "raster"
+    where = f"{how}, {b.bins} yaw bins, {b.pieces} pieces; {took:.2f} s"
     if b.solvable is None:
         print(f"{printable(scene.name)}: unknown (stopped after {args.time:g} s; {where})")
         return 1

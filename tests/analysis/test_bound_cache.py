@@ -38,7 +38,7 @@ def test_computed_once_then_read(fresh, monkeypatch):
     assert first.regrasps == 0
     assert (cache_dir() / f"{scene_key(scene)}.json").is_file()
     calls = []
-    monkeypatch.setattr(bound_cache, "regrasp_lower_bound",
+    monkeypatch.setattr(bound_cache, "scaled_lower_bound",
                         lambda *a, **k: calls.append(1) or first)
     assert lower_bound(scene) == first  # memory
     bound_cache.clear_memory()

@@ -1,0 +1,143 @@
+"""The regrasp bound computed coarse to fine: raster covers first, the polygons where needed.
+
+Sound relaxations of the same problem at several precisions (:mod:`~pivot_ompl.analysis.
+raster_bound` on cells of :data:`CELLS`, coarse to fine; :mod:`~pivot_ompl.analysis.
+regrasp_bound`, exact polygons) each give a lower bound; a coarser one is never above the
+polygons' but may be below it. :func:`scaled_lower_bound` runs the coarsest raster (about a
+second on a 1500 m² map of 2000 boxes), then a finer level only when both hold:
+
+* the answer may depend on it: the bound so far is below ``target`` (the regrasps of the
+  plan to judge; with no target, always), and no level already proved that no plan exists;
+* it fits: the estimated costs of the levels run so far (the coarsest included) and of this
+  one, from the floor's cells, the yaw bins and the body's rows of lattice offsets
+  (:data:`SECONDS_PER_CELL_ROW`) or, for the polygons, from the bins and the obstacle pieces
+  (:data:`SECONDS_PER_PIECE`, both measured), add up to at most ``refine_seconds`` (a small
+  scene's polygons take about a second; a 2000-box map's about four minutes). Estimates,
+  not clocks: the levels run are the same on a loaded machine.
+
+The result is the strongest of the levels run (each is a proof), marked ``exhaustive`` when
+the polygons ran to the end. When the polygons fit they run straight after the coarsest
+raster (no finer raster can beat them); otherwise the finer rasters run in turn.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import time
+from collections.abc import Callable
+
+from pivot_ompl.analysis.raster_bound import raster_lower_bound
+from pivot_ompl.analysis.raster_cover import floor_raster
+from pivot_ompl.analysis.regrasp_bound import (
+    RESOLUTION,
+    RegraspBound,
+    held_bodies,
+    regrasp_lower_bound,
+    yaw_bins,
+)
+from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Scene
+
+log = logging.getLogger(__name__)
+
+#: Largest estimated time (s) of all levels run together (a finer one runs only if it fits).
+REFINE_SECONDS = 2.0
+#: The raster levels' cell sides (m), coarse to fine (a floor over the raster's cell cap
+#: gets larger cells at every level).
+CELLS = (0.1, 0.05, 0.025)
+#: The raster's cost (s) per cell, layer and row of lattice offsets (measured 0.4-1.2 ns;
+#: the upper end, so that a plan's bound stays within about 2 s on the Nav2 warehouse).
+SECONDS_PER_CELL_ROW = 1.2e-9
+#: Rows' worth of further work per layer (labelling, the joins between pieces).
+ROWS_PER_LAYER = 10
+#: The polygon relaxation's cost (s) per obstacle piece, yaw bin and grasp (measured on fig10,
+#: the house and the Nav2 warehouse maps: 0.22-0.39 ms).
+SECONDS_PER_PIECE = 3e-4
+
+
+def exhaustive_estimate(scene: Scene, *, resolution: float = RESOLUTION) -> float:
+    """Estimated time (s) of :func:`~pivot_ompl.analysis.regrasp_bound.regrasp_lower_bound`."""
+    pieces = sum(1 if isinstance(o, BoxObstacle | CylinderObstacle) else len(o.points) - 2
+                 for o in scene.obstacles)
+    return 2 * yaw_bins(scene, resolution) * max(1, pieces) * SECONDS_PER_PIECE
+
+
+def raster_estimate(scene: Scene, cell: float) -> float:
+    """Estimated time (s) of :func:`~pivot_ompl.analysis.raster_bound.raster_lower_bound`."""
+    raster = floor_raster(scene.bounds, cell)
+    bins = yaw_bins(scene, 0.5 * raster.cell)
+    span = max(2.0 * p.reach for g in (0, 1) for p in held_bodies(scene, g))
+    rows = span / raster.cell + ROWS_PER_LAYER
+    return 2 * bins * raster.shape[0] * raster.shape[1] * rows * SECONDS_PER_CELL_ROW
+
+
+def scaled_lower_bound(scene: Scene, *, target: int | None = None,
+                       resolution: float = RESOLUTION,
+                       refine_seconds: float = REFINE_SECONDS,
+                       should_stop: Callable[[], bool] | None = None) -> RegraspBound:
+    """The fewest regrasps any plan of ``scene`` needs, coarse to fine (module docstring).
+
+    Args:
+        scene: the scene.
+        target: the regrasps of a plan the bound is to judge (finer levels run only while
+            the bound is below it); ``None``: as exact as the time estimates allow.
+        resolution: the polygon relaxation's yaw-bin erosion (m).
+        refine_seconds: largest estimated time (s) of all levels together (the coarsest
+            always runs; ``math.inf``: run them all).
+        should_stop: polled by every level; stopped, the levels done stand (unknown when
+            the first was stopped).
+    """
+    t0 = time.perf_counter()
+    best = raster_lower_bound(scene, cell=CELLS[0], should_stop=should_stop)
+    if best.solvable is None:
+        return best
+    spent = raster_estimate(scene, CELLS[0])  # estimates, not clocks: the same on any load
+    estimate = exhaustive_estimate(scene, resolution=resolution)
+    if _wanted(best, target) and spent + estimate <= refine_seconds:
+        full = regrasp_lower_bound(scene, resolution=resolution, should_stop=should_stop)
+        if full.solvable is not None:
+            return dataclasses.replace(_better(full, best), exhaustive=True,
+                                       seconds=time.perf_counter() - t0)
+        return dataclasses.replace(best, seconds=time.perf_counter() - t0)
+    done = floor_raster(scene.bounds, CELLS[0]).cell
+    for cell in CELLS[1:]:
+        if floor_raster(scene.bounds, cell).cell >= done:
+            continue  # a floor too large for finer cells
+        if not _wanted(best, target) or spent + raster_estimate(scene, cell) > refine_seconds:
+            break
+        spent += raster_estimate(scene, cell)
+        done = floor_raster(scene.bounds, cell).cell
+        finer = raster_lower_bound(scene, cell=cell, should_stop=should_stop)
+        if finer.solvable is None:
+            break
+        best = _better(finer, best)
+    log.debug("regrasp bound %s from the raster (polygons estimated %.1f s)", best.regrasps,
+              estimate)
+    return dataclasses.replace(best, seconds=time.perf_counter() - t0)
+
+
+def may_refine(scene: Scene, *, resolution: float = RESOLUTION,
+               refine_seconds: float = REFINE_SECONDS) -> bool:
+    """Whether a level finer than the coarsest raster fits ``refine_seconds`` on ``scene``."""
+    if exhaustive_estimate(scene, resolution=resolution) <= refine_seconds:
+        return True
+    coarse = floor_raster(scene.bounds, CELLS[0]).cell
+    return any(floor_raster(scene.bounds, c).cell < coarse
+               and raster_estimate(scene, c) <= refine_seconds for c in CELLS[1:])
+
+
+def _wanted(bound: RegraspBound, target: int | None) -> bool:
+    """Whether a finer level may change what the bound says of a plan of ``target``."""
+    if bound.solvable is False:
+        return False
+    return target is None or (bound.regrasps is not None and bound.regrasps < target)
+
+
+def _better(a: RegraspBound, b: RegraspBound) -> RegraspBound:
+    """The stronger of two sound bounds (``a``'s counts), each part the larger."""
+    if a.solvable is False or b.solvable is False:
+        return a if a.solvable is False else b
+    routes = [r for r in (a.shortest_route, b.shortest_route) if r is not None]
+    return dataclasses.replace(a, regrasps=max(a.regrasps or 0, b.regrasps or 0),
+                               shortest_route=max(routes) if routes else None,
+                               complete=a.complete and b.complete)

@@ -1,0 +1,198 @@
+"""The regrasp and route lower bounds on the raster cover: fast on real floors, still sound.
+
+The relaxation of :mod:`~pivot_ompl.analysis.regrasp_bound` (same yaw bins, bodies, erosions,
+walk condition and search), with each bin's free positions covered by raster cells
+(:mod:`~pivot_ompl.analysis.raster_cover`) instead of exact polygons: nodes are the labelled
+pieces of free cells per bin and grasp; a transfer joins pieces of neighbouring bins that
+share a cell, a regrasp pieces of two grasps in one bin that share a cell (checked by the
+walk relaxation on the shared cells, lazily). Every piece of the polygon cover lies in one
+piece of the raster cover, so every path of the exact relaxation is one here: the result is
+at most the polygons' bound, itself at most any plan's regrasps. The route bound is the
+shortest path (:func:`~pivot_ompl.analysis.route_bound.route_on`) through the cells of every
+reached piece, and never below the straight line.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import math
+import time
+from collections.abc import Callable
+
+import numpy as np
+import shapely
+
+from pivot_ompl.analysis.piece_graph import PieceGraph
+from pivot_ompl.analysis.raster import FloorRaster
+from pivot_ompl.analysis.raster_cover import EPS, RasterCover, floor_raster, raster_cover
+from pivot_ompl.analysis.regrasp_bound import RegraspBound, yaw_bins
+from pivot_ompl.analysis.regrasp_walk import MAX_SAMPLES, SAMPLE, WalkRelaxation
+from pivot_ompl.analysis.route_bound import route_on
+from pivot_ompl.errors import Interrupted
+from pivot_ompl.scene import Scene
+from pivot_ompl.se2 import Pose
+from pivot_ompl.validity.certify import SWEEP_TOLERANCE
+from pivot_ompl.validity.collision import KEEP_CLEARANCE
+
+log = logging.getLogger(__name__)
+
+#: Default cell side (m); a larger floor gets larger cells
+#: (:data:`~pivot_ompl.analysis.raster_cover.MAX_CELLS`).
+CELL = 0.1
+#: A shared region larger than this (m²) is allowed a regrasp without the walk check (which
+#: answers "may" for regions needing more than its samples anyway; a quarter of them cover it).
+WALK_AREA = 4.0 * MAX_SAMPLES * SAMPLE * SAMPLE
+
+
+def raster_lower_bound(scene: Scene, *, cell: float = CELL, resolution: float | None = None,
+                       tolerance: float = SWEEP_TOLERANCE, clearance: float = KEEP_CLEARANCE,
+                       walks: bool = True, should_stop: Callable[[], bool] | None = None
+                       ) -> RegraspBound:
+    """Fewest regrasps any plan of ``scene`` needs, on the raster cover (module docstring).
+
+    Args:
+        scene: the scene.
+        cell: the raster's cell side (m; at least, see :data:`MAX_CELLS`).
+        resolution: largest erosion (m) of the rotation within a yaw bin; default half the
+            cell (the two losses alike).
+        tolerance: the swept checks' tolerance (m).
+        clearance: distance (m) the checkers keep every body from the obstacles.
+        walks: allow a regrasp only where the walking robot may get round the resting box.
+        should_stop: polled once per layer and per regrasp checked.
+
+    Returns:
+        A :class:`~pivot_ompl.analysis.regrasp_bound.RegraspBound` (``exhaustive`` False).
+    """
+    t0 = time.perf_counter()
+    cover = raster_cover(scene, cell=cell, resolution=resolution, tolerance=tolerance,
+                         clearance=clearance, should_stop=should_stop)
+    if cover is None:
+        raster = floor_raster(scene.bounds, cell)
+        n = yaw_bins(scene, 0.5 * raster.cell if resolution is None else resolution)
+        return _timed(RegraspBound(None, None, n, 0, 0.0, exhaustive=False), t0)
+    raster, n, layers = cover.raster, cover.bins, cover.layers
+    unknown = RegraspBound(None, None, n, 0, 0.0, exhaustive=False)
+    half = n // 2
+
+    def layer(b: int, k: int) -> tuple[int, int]:
+        return k % 2, (b + half * (k // 2)) % n
+
+    base: dict[tuple[int, int], int] = {}
+    total = 0
+    for b in range(n):
+        for k in range(4):
+            base[(b, k)] = total
+            total += layers[layer(b, k)][1]
+    graph = PieceGraph(np.ones(total).tolist())
+    memo: dict[tuple[tuple[int, int], tuple[int, int]], tuple[np.ndarray, np.ndarray]] = {}
+
+    def link(b1: int, k1: int, b2: int, k2: int, regrasp: bool) -> None:
+        la, lb = layer(b1, k1), layer(b2, k2)
+        if (la, lb) not in memo:
+            memo[(la, lb)] = _shared(layers[la][0], layers[lb][0])
+        ia, ib = memo[(la, lb)]
+        for i, j in zip(ia.tolist(), ib.tolist(), strict=True):
+            graph.add(base[(b1, k1)] + i - 1, base[(b2, k2)] + j - 1,
+                      (b1, k1, i, k2, j) if regrasp else None)
+
+    for b in range(n):
+        if should_stop is not None and should_stop():
+            return _timed(unknown, t0)
+        for k in range(4):
+            link(b, k, (b + 1) % n, k, False)
+            for j in range(k + 1, 4):
+                link(b, k, b, j, True)
+    width = 2.0 * math.pi / n
+    walk: list[WalkRelaxation] = []
+
+    def allowed(edge: tuple[int, int, int, int, int]) -> bool:
+        if not walks:
+            return True
+        b, k, i, j, c = edge
+        ii, jj = _shared_cells(cover, layer(b, k), i, layer(b, j), c)
+        if len(ii) * raster.cell * raster.cell > WALK_AREA:
+            return True
+        if not walk:
+            walk.append(WalkRelaxation(scene, width=width, tolerance=tolerance,
+                                       clearance=clearance))
+        return walk[0].may_regrasp(_cells_region(raster, ii, jj), -math.pi + (b + 0.5) * width,
+                                   k, j)
+
+    def holding(pose: Pose) -> list[int]:
+        b = cover.bin_of(pose[2])
+        return [base[(b, k)] + c - 1 for k in range(4) for c in cover.holding(pose, k)]
+
+    try:
+        best, reached = graph.fewest_regrasps(holding(scene.start), set(holding(scene.goal)),
+                                              allowed, should_stop, check_beyond=False)
+    except Interrupted:
+        return _timed(unknown, t0)
+    route, complete = None, True
+    if best is not None:
+        try:
+            route = _route(scene, raster, layers, base, reached, n, layer, should_stop)
+        except Interrupted:
+            complete = False
+    seconds = time.perf_counter() - t0
+    log.debug("raster regrasp bound %s: %d bins, cell %.3f m, %d pieces, %.2f s", best, n,
+              raster.cell, total, seconds)
+    return RegraspBound(best, best is not None, n, total, seconds, route, complete,
+                        exhaustive=False)
+
+
+def _shared_cells(cover: RasterCover, la: tuple[int, int], i: int, lb: tuple[int, int],
+                  c: int) -> tuple[np.ndarray, np.ndarray]:
+    """The cells of piece ``i`` of layer ``la`` that are in piece ``c`` of layer ``lb``."""
+    box = cover.extent(la, i)
+    a, b = cover.layers[la][0][box], cover.layers[lb][0][box]
+    ii, jj = np.nonzero((a == i) & (b == c))
+    return ii + box[0].start, jj + box[1].start
+
+
+def _timed(bound: RegraspBound, t0: float) -> RegraspBound:
+    return dataclasses.replace(bound, seconds=time.perf_counter() - t0)
+
+
+def _shared(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The pairs of labels ``(i, j)`` of two layers that share a cell."""
+    both = (a > 0) & (b > 0)
+    m = int(b.max()) + 1
+    keys = np.unique(a[both].astype(np.int64) * m + b[both])
+    return keys // m, keys % m
+
+
+def _cells_region(raster: FloorRaster, ii: np.ndarray, jj: np.ndarray) -> shapely.Geometry:
+    """The union of the cells ``(ii, jj)`` as one polygon (or multi-polygon)."""
+    (x0, y0), h = raster.origin, raster.cell
+    xs, ys = x0 + ii * h, y0 + jj * h
+    return shapely.union_all(shapely.box(xs - EPS, ys - EPS, xs + h + EPS, ys + h + EPS))
+
+
+def _route(scene: Scene, raster: FloorRaster, layers: dict, base: dict, reached: set[int],
+           n: int, layer: Callable[[int, int], tuple[int, int]],
+           should_stop: Callable[[], bool] | None) -> float | None:
+    """Shortest route (m) through the cells of the reached pieces, at least the straight line."""
+    ids = np.array(sorted(reached), dtype=np.int64)
+    keys = sorted(base.items(), key=lambda kv: kv[1])
+    starts = np.array([v for _, v in keys], dtype=np.int64)
+    where = np.searchsorted(starts, ids, side="right") - 1
+    wanted: dict[tuple[int, int], set[int]] = {}
+    for idx, pos in zip(ids.tolist(), where.tolist(), strict=True):
+        (b, k), first = keys[pos]
+        wanted.setdefault(layer(b, k), set()).add(idx - first + 1)
+    mask = np.zeros(raster.shape, dtype=bool)
+    for lay, labels in wanted.items():
+        if should_stop is not None and should_stop():
+            raise Interrupted("the raster route bound")
+        lab = layers[lay][0]
+        mask |= np.isin(lab, np.fromiter(labels, dtype=np.int32)) & (lab > 0)
+
+    def poll() -> None:
+        if should_stop is not None and should_stop():
+            raise Interrupted("the raster route bound")
+
+    route = route_on(raster, mask, scene.start, scene.goal, poll=poll)
+    if route is None:
+        return None
+    return max(route, math.dist(scene.start[:2], scene.goal[:2]))
