@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 from pivot_ompl.errors import InputError
 from pivot_ompl.humanoids import DEFAULT_MODEL, PROFILES, profile_of
@@ -51,6 +52,11 @@ GRIP_EDGE = 0.05
 GRIP_OFFSET = 0.055
 
 Polygon = tuple[tuple[float, float], ...]
+
+#: What a wrong argument raises inside a method of :class:`BoxGraspModel` (turned into the
+#: :class:`InputError` naming it: the methods are the planners' inner loop, so they check
+#: their arguments only when the computation fails, at no cost otherwise).
+_WRONG = (KeyError, TypeError, IndexError, ValueError, OverflowError)
 
 
 def _length(x: object) -> bool:
@@ -80,6 +86,11 @@ class BoxGraspModel:
     standoff: float = PROFILES[DEFAULT_MODEL].standoff
     robot_height: float = PROFILES[DEFAULT_MODEL].height
     robot_model: str = field(default=DEFAULT_MODEL, repr=False)
+    # per-grasp tables, each instance's own (set by __post_init__; not fields)
+    _half: ClassVar[dict[int, float]]
+    _ell: ClassVar[dict[int, float]]
+    _offset: ClassVar[dict[int, float]]
+    _quarter: ClassVar[dict[int, float]]
 
     def __post_init__(self) -> None:
         """Validate sizes (all strictly positive, standoff non-negative) and the model."""
@@ -95,58 +106,117 @@ class BoxGraspModel:
             x = getattr(self, name)
             if not _length(x) or x < 0:
                 raise InputError(name, x, "must be a non-negative length in m")
+        # per grasp, computed as the methods did: a wrong grasp is a missing key
+        half = {g: 0.5 * self.object_size[g % 2] for g in GRASPS}
+        for name, table in (
+                ("_half", half),
+                ("_ell", {g: 0.5 * self.object_size[(g + 1) % 2] for g in GRASPS}),
+                ("_offset", {g: half[g] + self.standoff + 0.5 * self.robot_footprint[0]
+                             for g in GRASPS}),
+                ("_quarter", {g: g * (0.5 * math.pi) for g in GRASPS})):
+            object.__setattr__(self, name, table)
+
+    def _refused(self, **args: object) -> InputError:
+        """The :class:`InputError` naming the first wrong one of a method's ``args``.
+
+        Wrong: a ``grasp`` not a grasp index, another argument not a pose of three finite
+        numbers.
+        """
+        for name, value in args.items():
+            if name == "grasp":
+                try:
+                    check_grasp(value)  # type: ignore[arg-type]
+                except InputError as e:
+                    return e
+            elif not (isinstance(value, tuple | list) and len(value) == 3
+                      and all(_length(x) for x in value)):
+                return InputError(name, value, "must be a pose (x, y, yaw) of finite numbers")
+        name, value = next(iter(args.items()))
+        return InputError(name, value, "is not an argument of this method")
 
     # -- grasp geometry -------------------------------------------------------------------
     def half_extent(self, grasp: int) -> float:
         """Half of the box's extent along the robot's facing direction at ``grasp`` (m)."""
-        return 0.5 * self.object_size[grasp % 2]
+        try:
+            return self._half[grasp]
+        except (KeyError, TypeError) as e:
+            raise self._refused(grasp=grasp) from e
 
     def edge_half_length(self, grasp: int) -> float:
         """Half-length ``l`` of the supporting edge at ``grasp`` (m)."""
-        return 0.5 * self.object_size[(grasp + 1) % 2]
+        try:
+            return self._ell[grasp]
+        except (KeyError, TypeError) as e:
+            raise self._refused(grasp=grasp) from e
 
     def robot_offset(self, grasp: int) -> float:
         """Distance from the box centre to the robot centre at ``grasp`` (m)."""
-        return self.half_extent(grasp) + self.standoff + 0.5 * self.robot_footprint[0]
+        try:
+            return self._offset[grasp]
+        except (KeyError, TypeError) as e:
+            raise self._refused(grasp=grasp) from e
 
     def heading(self, obj: Pose, grasp: int) -> float:
         """The robot's (and the car's) heading at ``grasp`` for object pose ``obj`` (rad)."""
-        return obj[2] + grasp * (0.5 * math.pi)
+        try:
+            return obj[2] + self._quarter[grasp]
+        except _WRONG as e:
+            raise self._refused(obj=obj, grasp=grasp) from e
 
     def robot_pose(self, obj: Pose, grasp: int) -> Pose:
         """``T_world_robot``: the robot's centre and heading for object pose ``obj``."""
-        h = self.heading(obj, grasp)
-        r = self.robot_offset(grasp)
-        return (obj[0] - r * math.cos(h), obj[1] - r * math.sin(h), h)
+        try:
+            h = obj[2] + self._quarter[grasp]
+            r = self._offset[grasp]
+            return (obj[0] - r * math.cos(h), obj[1] - r * math.sin(h), h)
+        except _WRONG as e:
+            raise self._refused(obj=obj, grasp=grasp) from e
 
     def car_pose(self, obj: Pose, grasp: int) -> Pose:
         """The Reeds-Shepp car (supporting-edge centre, robot heading) for ``obj``."""
-        h = self.heading(obj, grasp)
-        r = self.half_extent(grasp)
-        return (obj[0] - r * math.cos(h), obj[1] - r * math.sin(h), h)
+        try:
+            h = obj[2] + self._quarter[grasp]
+            r = self._half[grasp]
+            return (obj[0] - r * math.cos(h), obj[1] - r * math.sin(h), h)
+        except _WRONG as e:
+            raise self._refused(obj=obj, grasp=grasp) from e
 
     def object_from_car(self, car: Pose, grasp: int) -> Pose:
         """Inverse of :meth:`car_pose`: the object pose whose car at ``grasp`` is ``car``."""
-        r = self.half_extent(grasp)
-        h = car[2]
-        return (car[0] + r * math.cos(h), car[1] + r * math.sin(h),
-                wrap_angle(h - grasp * (0.5 * math.pi)))
+        try:
+            r = self._half[grasp]
+            h = car[2]
+            return (car[0] + r * math.cos(h), car[1] + r * math.sin(h),
+                    wrap_angle(h - self._quarter[grasp]))
+        except _WRONG as e:
+            raise self._refused(car=car, grasp=grasp) from e
 
     def robot_from_car(self, car: Pose, grasp: int) -> Pose:
         """The robot pose attached to ``car`` at ``grasp``."""
         r = self.standoff + 0.5 * self.robot_footprint[0]
-        return (car[0] - r * math.cos(car[2]), car[1] - r * math.sin(car[2]), car[2])
+        try:
+            self._half[grasp]  # noqa: B018 - the grasp's check: a wrong one is a missing key
+            return (car[0] - r * math.cos(car[2]), car[1] - r * math.sin(car[2]), car[2])
+        except _WRONG as e:
+            raise self._refused(car=car, grasp=grasp) from e
 
     def pivots(self, car: Pose, grasp: int) -> tuple[tuple[float, float], tuple[float, float]]:
         """World positions of the pivot corners ``(A, B)`` (left, right seen by the robot)."""
-        ell = self.edge_half_length(grasp)
-        nx, ny = -math.sin(car[2]), math.cos(car[2])
-        return ((car[0] + ell * nx, car[1] + ell * ny), (car[0] - ell * nx, car[1] - ell * ny))
+        try:
+            ell = self._ell[grasp]
+            nx, ny = -math.sin(car[2]), math.cos(car[2])
+            return ((car[0] + ell * nx, car[1] + ell * ny),
+                    (car[0] - ell * nx, car[1] - ell * ny))
+        except _WRONG as e:
+            raise self._refused(car=car, grasp=grasp) from e
 
     # -- footprints ----------------------------------------------------------------------
     def object_corners(self, obj: Pose) -> list[tuple[float, float]]:
         """The box footprint's four corners for object pose ``obj``."""
-        return rectangle_corners(obj, self.object_size[0], self.object_size[1])
+        try:
+            return rectangle_corners(obj, self.object_size[0], self.object_size[1])
+        except _WRONG as e:
+            raise self._refused(obj=obj) from e
 
     def walking_extent(self) -> tuple[float, float, float]:
         """The walking body: its reach ``(ahead, behind, half_width)`` from the robot pose (m).
@@ -168,7 +238,10 @@ class BoxGraspModel:
 
     def robot_corners(self, robot: Pose) -> list[tuple[float, float]]:
         """The walking body's four corners on the floor for robot pose ``robot``."""
-        return place_points(robot, self.walking_outline())
+        try:
+            return place_points(robot, self.walking_outline())
+        except _WRONG as e:
+            raise self._refused(robot=robot) from e
 
     def robot_radius(self) -> float:
         """Radius (m) of the disk the walking body sweeps turning in place about its pose."""
@@ -228,7 +301,11 @@ class BoxGraspModel:
 
     def held_corners(self, robot: Pose, grasp: int) -> list[tuple[float, float]]:
         """World floor points of :meth:`held_outline` for the robot at ``robot``."""
-        return place_points(robot, self.held_outline(grasp))
+        outline = self.held_outline(grasp)
+        try:
+            return place_points(robot, outline)
+        except _WRONG as e:
+            raise self._refused(robot=robot) from e
 
 def check_grasp(grasp: int, *, field: str = "grasp") -> int:
     """Return ``grasp`` if it is one of :data:`GRASPS`, else raise :class:`InputError`."""

@@ -46,7 +46,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from pivot_ompl.errors import PlanFileError
+from pivot_ompl.argcheck import guard as _guard
+from pivot_ompl.argcheck import guard_all as _guard_all
+from pivot_ompl.errors import InputError, PlanFileError
 from pivot_ompl.fileio import atomic_output, input_path, load_json
 from pivot_ompl.humanoids import DEFAULT_MODEL, PROFILES
 from pivot_ompl.se2 import Pose
@@ -65,6 +67,11 @@ class TransferStep:
     angle: float
     object: Pose
     robot: Pose
+
+    def __post_init__(self) -> None:
+        """Raise :class:`InputError` naming a field that is not finite numbers."""
+        _guard("TransferStep", pivot=(self.pivot, 2), angle=(self.angle, None),
+               object=(self.object, 3), robot=(self.robot, 3))
 
 
 @dataclass(frozen=True)
@@ -87,6 +94,13 @@ class TransferPhase:
 
     type = "transfer"
 
+    def __post_init__(self) -> None:
+        """Raise :class:`InputError` naming a wrong field."""
+        _guard("TransferPhase", grasp=(self.grasp, -1), robot_start=(self.robot_start, 3),
+               object_start=(self.object_start, 3))
+        _guard_all("TransferPhase", "steps", self.steps, TransferStep)
+        _guard_all("TransferPhase", "rs_path", self.rs_path)
+
     @property
     def object_end(self) -> Pose:
         """Object pose at the end of the phase."""
@@ -108,6 +122,12 @@ class TransitPhase:
     object_pose: Pose
 
     type = "transit"
+
+    def __post_init__(self) -> None:
+        """Raise :class:`InputError` naming a wrong field."""
+        _guard("TransitPhase", from_grasp=(self.from_grasp, -1), to_grasp=(self.to_grasp, -1),
+               object_pose=(self.object_pose, 3))
+        _guard_all("TransitPhase", "robot_path", self.robot_path)
 
     @property
     def length(self) -> float:
@@ -144,6 +164,20 @@ class Plan:
     phases: list[Phase] = field(default_factory=list)
     extra: dict[str, Any] = field(default_factory=dict)
     robot_model: str = DEFAULT_MODEL
+
+    def __post_init__(self) -> None:
+        """Raise :class:`InputError` naming a wrong field (the phases check their own)."""
+        for name in ("scene", "robot_model"):
+            if not isinstance(getattr(self, name), str):
+                raise InputError(f"Plan.{name}", getattr(self, name), "must be a string")
+        if self.status not in STATUSES:
+            raise InputError("Plan.status", self.status, f"must be one of {STATUSES}")
+        _guard("Plan", object_size=(self.object_size, 3), robot_footprint=(
+            self.robot_footprint, 2), standoff=(self.standoff, None), alpha_max=(
+            self.alpha_max, None), start=(self.start, 3))
+        _guard_all("Plan", "phases", self.phases, TransferPhase | TransitPhase)
+        if not isinstance(self.extra, dict):
+            raise InputError("Plan.extra", self.extra, "must be a dict")
 
     @property
     def pivots(self) -> int:

@@ -198,7 +198,8 @@ class PlanningSession:
             return time.monotonic() > deadline
 
         found = repair_route(checker, self._route, box, grasp, should_stop=stop,
-                             seed=self.seed if seed is None else seed)
+                             seed=self.seed if seed is None else seed,
+                             config=(self.config or RegraspConfig()).repair)
         if found.path is None:  # none, or the half of the time ran out: the search's turn
             return None
         rep = found.path

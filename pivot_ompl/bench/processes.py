@@ -65,13 +65,14 @@ class JobProcesses:
             raise Interrupted("the sweep")
         return proc.returncode, err
 
-    def close(self) -> None:
-        """End every running job process group now; start no more."""
+    def close(self) -> int:
+        """End every running job process group now; start no more. The number ended."""
         with self._lock:
             self.closed = True
             running = list(self._running)
         for proc in running:
             _kill(proc)
+        return len(running)
 
 
 def _kill(proc: subprocess.Popen) -> None:

@@ -57,6 +57,8 @@ def urdf_file(urdf: str, *, field: str = "motion.urdf") -> Path:
         InputError: neither (``field`` names where it was given), or the profile's robot data
             is not installed.
     """
+    if not isinstance(urdf, str):
+        raise InputError(field, urdf, "must be a URDF file name")
     model = model_of_urdf(urdf)
     if model is not None:
         return PROFILES[model].urdf_path()

@@ -28,6 +28,7 @@ from typing import Any
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import InputError
 from pivot_ompl.params import Range, check_value, knob, range_of
+from pivot_ompl.planners.repair_config import RepairConfig
 
 #: The grasp indices (one per side of the box).
 GRASPS = (0, 1, 2, 3)
@@ -229,6 +230,7 @@ class RegraspConfig:
         search: the multiplexed graph and its search.
         single_grasp: the regrasp-free try.
         optimiser: the path optimiser.
+        repair: the route repair of a replanning session.
         cost: what the search and the optimiser minimise: seconds of whole-body execution
             plus a price per regrasp (``cost.regrasp``, s).
     """
@@ -238,6 +240,7 @@ class RegraspConfig:
     search: SearchConfig = field(default_factory=SearchConfig)
     single_grasp: SingleGraspConfig = field(default_factory=SingleGraspConfig)
     optimiser: OptimiserConfig = field(default_factory=OptimiserConfig)
+    repair: RepairConfig = field(default_factory=RepairConfig)
     cost: CostModel = field(default_factory=CostModel)
 
     def flat(self) -> dict[str, Any]:
@@ -389,5 +392,5 @@ def _leaf_names() -> list[str]:
     return list(RegraspConfig().flat())
 
 
-__all__ = ["OptimiserConfig", "Parameter", "RegraspConfig", "SamplingConfig", "SearchConfig",
-           "SingleGraspConfig", "parameters"]
+__all__ = ["OptimiserConfig", "Parameter", "RegraspConfig", "RepairConfig", "SamplingConfig",
+           "SearchConfig", "SingleGraspConfig", "parameters"]

@@ -10,6 +10,7 @@ from ompl import base as ob
 from ompl import geometric as og
 
 from pivot_ompl.base.state import write_state
+from pivot_ompl.errors import InputError
 from pivot_ompl.se2 import Pose
 
 log = logging.getLogger(__name__)
@@ -26,6 +27,12 @@ class GuardedPlanner(ob.Planner):
     limit by 16 % when it fell at the end; the planners' data hold no reference cycles
     (measured: nothing to collect after a 15 s solve, and the same peak memory).
     """
+
+    def __init__(self, si: ob.SpaceInformation, name: str) -> None:
+        """The planner on ``si`` (:class:`InputError` naming ``si`` when it is not one)."""
+        if not isinstance(si, ob.SpaceInformation):
+            raise InputError("si", type(si).__name__, "must be an ompl.base.SpaceInformation")
+        super().__init__(si, name)
 
     def clear(self) -> None:  # noqa: D102
         super().clear()

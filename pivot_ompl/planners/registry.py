@@ -63,6 +63,8 @@ def parse_spec(spec: str) -> tuple[str, dict[str, str]]:
     Raises:
         InputError: a malformed spec, or parameters for a planner that takes none.
     """
+    if not isinstance(spec, str):
+        raise InputError("planner", spec, f"must be a planner name (known: {sorted(PLANNERS)})")
     name, bracket, rest = spec.partition("[")
     if not bracket:
         return spec, {}
@@ -80,7 +82,15 @@ def parse_spec(spec: str) -> tuple[str, dict[str, str]]:
 
 
 def planner_spec(name: str, values: dict[str, object]) -> str:
-    """The spec of planner ``name`` with ``values`` (the inverse of :func:`parse_spec`)."""
+    """The spec of planner ``name`` with ``values`` (the inverse of :func:`parse_spec`).
+
+    Raises:
+        InputError: ``name`` is not a string or ``values`` not a mapping of names.
+    """
+    if not isinstance(name, str):
+        raise InputError("name", name, "must be a planner name")
+    if not isinstance(values, dict) or not all(isinstance(k, str) for k in values):
+        raise InputError("values", values, "must map parameter names to values")
     if not values:
         return name
     return name + "[" + ";".join(f"{k}={v}" for k, v in values.items()) + "]"

@@ -8,7 +8,7 @@ When the box is observed off the route (a drift, a slip) or the obstacles change
 1. every edge of the route from the observed pose's nearest point on is checked against the
    scene as it is now (:class:`~pivot_ompl.checking.pivot_checker.PivotChecker`, as a fresh
    plan's edges are; a warm checker answers from its cache);
-2. join points are taken along the route's transfer edges (every :data:`JOIN_STEP` m of their
+2. join points are taken along the route's transfer edges (every ``repair.join_step`` m of their
    Reeds-Shepp paths, and the route's states); the nearest (box centres) to the observed pose
    marks the progress made, and joins are tried from it on, in route order;
 3. the first join point, from the nearest on and at most :data:`JOIN_AHEAD` m further along
@@ -18,7 +18,7 @@ When the box is observed off the route (a drift, a slip) or the obstacles change
    then a few joins the cheap filter refused and a few behind the nearest point (a box that
    slipped into a corner backs up);
 4. when no direct join passes, a short RRT-Connect at the join point's grasp
-   (:class:`~pivot_ompl.planners.single_grasp.SingleGraspConnect`, :data:`DETOUR_CHECKS`
+   (:class:`~pivot_ompl.planners.single_grasp.SingleGraspConnect`, ``repair.detour_checks``
    motion checks) to each of a few join points further on gives the detour.
 
 It gives up (``INVALID``) when no join point qualifies: the caller plans afresh. No edge is kept
@@ -39,6 +39,7 @@ from pivot_ompl.cost import CostModel
 from pivot_ompl.planners.config import RegraspConfig
 from pivot_ompl.planners.evaluation import Evaluator, Found, Status
 from pivot_ompl.planners.improve import Budget, improve
+from pivot_ompl.planners.repair_config import RepairConfig
 from pivot_ompl.planners.routes.lattice import TransferLattice
 from pivot_ompl.planners.single_grasp import SingleGraspConnect
 from pivot_ompl.se2 import Pose
@@ -49,25 +50,11 @@ State = tuple[Pose, int]
 Stop = Callable[[], bool]
 STOPPED: Found[RouteRepair] = Found(Status.STOPPED)
 
-#: Spacing (m) of the join points along a route's transfer edges (car's Reeds-Shepp path).
-JOIN_STEP = 0.25
 #: How far along the route (m) past the nearest join point joins are tried.
 JOIN_AHEAD = 3.0
 #: Direct joins refused by the cheap filter (:meth:`PivotChecker.path_free`) checked anyway,
 #: nearest first.
 REFUSED_CHECKED = 6
-#: Spacing (m along the route) of the join points a short search is tried to, and how many.
-DETOUR_SPACING = 0.75
-DETOUR_TARGETS = 3
-#: Motion checks of each short search (RRT-Connect at one grasp).
-DETOUR_CHECKS = 60
-#: Motion checks (cache hits free) the polish of a repaired route may compute per state of it,
-#: for the lattice re-routing and then the optimiser each (at least the optimiser's
-#: ``min_checks``).
-POLISH_CHECKS_PER_STATE = 4
-#: Old route states after the repair's own that the polish of a repaired route reworks (the
-#: rest of the route was polished when it was planned, and is kept as it is).
-POLISH_KEPT = 4
 #: A join point this close (m and rad) to the observed pose is the observed pose itself.
 SAME_POSE = 1e-9
 
@@ -115,7 +102,8 @@ def stored_route(route: Sequence[State]) -> list[list[float]]:
 
 
 def join_points(checker: PivotChecker, route: Sequence[State], *,
-                step: float = JOIN_STEP, should_stop: Stop | None = None) -> list[JoinPoint] | None:
+                step: float = RepairConfig.join_step,
+                should_stop: Stop | None = None) -> list[JoinPoint] | None:
     """Points along the route's transfer edges every ``step`` m, in route order.
 
     ``None`` when ``should_stop()`` became true (polled every 256 edges: a route of
@@ -144,7 +132,7 @@ def join_points(checker: PivotChecker, route: Sequence[State], *,
 def repair_route(checker: PivotChecker, route: Sequence[State], box: Pose,
                  grasp: int | None = None, *, should_stop: Stop | None = None,
                  ahead: float = JOIN_AHEAD, seed: int = 0,
-                 detour_checks: int = DETOUR_CHECKS) -> Found[RouteRepair]:
+                 config: RepairConfig | None = None) -> Found[RouteRepair]:
     """The route repaired from the box observed at ``box`` (see the module docstring).
 
     Args:
@@ -156,7 +144,7 @@ def repair_route(checker: PivotChecker, route: Sequence[State], box: Pose,
         should_stop: polled between checks and passed to them.
         ahead: how far along the route past the nearest join point joins are tried (m).
         seed: seed of the short searches' generator.
-        detour_checks: motion checks of each short search.
+        config: the repair's parameters (join step, detours; default ``RepairConfig()``).
 
     Returns:
         ``VALID`` with the repaired route; ``INVALID`` when no join point qualifies (or
@@ -167,7 +155,8 @@ def repair_route(checker: PivotChecker, route: Sequence[State], box: Pose,
     route = list(route)
     if len(route) < 2 or not checker.box_valid(box):
         return Found(Status.INVALID)
-    points = join_points(checker, route, should_stop=stop)
+    cfg = config or RepairConfig()
+    points = join_points(checker, route, step=cfg.join_step, should_stop=stop)
     if points is None:
         return Found(Status.STOPPED)
     m, paths = checker.model, checker.steering.paths
@@ -214,11 +203,11 @@ def repair_route(checker: PivotChecker, route: Sequence[State], box: Pose,
         if rep.status is not Status.INVALID:
             return rep
     rng = np.random.default_rng(seed)
-    for p in _detour_targets(ahead_of):  # short searches at the route's grasp
+    for p in _detour_targets(ahead_of, cfg):  # short searches at the route's grasp
         if stop():
             return STOPPED
         rrt = SingleGraspConnect(checker, box, p.pose, p.grasp, rng)
-        found = rrt.run(detour_checks, stop)
+        found = rrt.run(cfg.detour_checks, stop)
         tried += rrt.checks
         if found.status is Status.STOPPED:
             return STOPPED
@@ -231,13 +220,16 @@ def repair_route(checker: PivotChecker, route: Sequence[State], box: Pose,
     return Found(Status.INVALID)
 
 
-def _detour_targets(points: Sequence[JoinPoint]) -> list[JoinPoint]:
-    """Join points :data:`DETOUR_SPACING` m apart along the route from the first of ``points``."""
+def _detour_targets(points: Sequence[JoinPoint], cfg: RepairConfig) -> list[JoinPoint]:
+    """Join points ``cfg.detour_spacing`` m apart along the route after the first of ``points``.
+
+    ``cfg.detour_targets`` of them at most.
+    """
     out: list[JoinPoint] = []
     for p in points:
-        if not out or p.along >= out[-1].along + DETOUR_SPACING:
+        if not out or p.along >= out[-1].along + cfg.detour_spacing:
             out.append(p)
-    return out[1:DETOUR_TARGETS + 1] if len(out) > 1 else out
+    return out[1:cfg.detour_targets + 1] if len(out) > 1 else out
 
 
 def _joined(evaluate: Evaluator, route: Sequence[State], box: Pose, poses: Sequence[Pose],
@@ -269,8 +261,8 @@ def _joined(evaluate: Evaluator, route: Sequence[State], box: Pose, poses: Seque
 
 
 def polish(checker: PivotChecker, states: list[State], config: RegraspConfig, *,
-           should_stop: Stop, checks_per_state: int = POLISH_CHECKS_PER_STATE,
-           lattice: bool = False, new: int | None = None, kept: int = POLISH_KEPT,
+           should_stop: Stop, checks_per_state: int | None = None,
+           lattice: bool = False, new: int | None = None, kept: int | None = None,
            start_grasp: int | None = None) -> list[State]:
     """A repaired route improved as a found path is (:func:`~.improve.improve`).
 
@@ -287,6 +279,10 @@ def polish(checker: PivotChecker, states: list[State], config: RegraspConfig, *,
     cfg = config.optimiser
     if not cfg.enabled:
         return states
+    if checks_per_state is None:
+        checks_per_state = config.repair.polish_checks_per_state
+    if kept is None:
+        kept = config.repair.polish_kept
     head = len(states) if new is None else min(len(states), new + kept)
     budget = Budget(per_state=checks_per_state, minimum=cfg.min_checks)
     grid = TransferLattice(checker, config.cost) if lattice and cfg.routes else None

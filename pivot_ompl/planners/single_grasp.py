@@ -24,6 +24,7 @@ import numpy as np
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
+from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.evaluation import Evaluator, Found, Status
 from pivot_ompl.planners.objects.roadmap import YAW_WEIGHT
 from pivot_ompl.se2 import Pose
@@ -99,8 +100,11 @@ class SingleGraspConnect:
         """Check the transfer between ``near`` (in ``tree``) and ``new`` as the plan will."""
         self.checks += 1
         a, b = (new, near) if tree.towards_root else (near, new)
-        if not self.checker.path_free(a, b, self.grasp):
-            return Status.INVALID
+        try:
+            if not self.checker.path_free(a, b, self.grasp, should_stop=should_stop):
+                return Status.INVALID
+        except Interrupted:
+            return Status.STOPPED
         return self._evaluate.transfer(a, b, self.grasp, should_stop=should_stop).status
 
     def _extend(self, tree: _Tree, target: Pose, should_stop: Callable[[], bool]

@@ -7,7 +7,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-from pivot_ompl.errors import SceneError
+from pivot_ompl.errors import InputError, SceneError
 from pivot_ompl.fileio import input_path, load_yaml, parse_deadline
 from pivot_ompl.humanoids import DEFAULT_MODEL
 from pivot_ompl.resources import shipped_scenes
@@ -56,7 +56,12 @@ def scene_digest(scene: Scene) -> str:
 
     Not the name or the file: two files of one scene give one digest, and a plan records it
     (``scene_sha256``) so that a check against another scene says so first.
+
+    Raises:
+        InputError: ``scene`` is not a :class:`Scene`.
     """
+    if not isinstance(scene, Scene):
+        raise InputError("scene", type(scene).__name__, "must be a Scene")
     parts: tuple[Any, ...] = (scene.bounds, scene.obstacles, scene.model, scene.start,
                               scene.goal, scene.alpha_max, scene.turning_radius, scene.walk)
     if scene.robot_model != DEFAULT_MODEL:  # the default model's digests are as they were
