@@ -90,7 +90,9 @@ def test_the_world_of_a_large_scene_stops_when_told(big_file):
     scene = load_scene(big_file)
     t0 = time.perf_counter()
     res = plan(scene, time_limit=0.05, bound=False)
-    assert time.perf_counter() - t0 < 0.3
+    # about 0.06 s alone; 0.36 s once on a 2-core machine under a load of four; unpolled, the
+    # build takes seconds
+    assert time.perf_counter() - t0 < 0.6
     assert res.status == "TIMEOUT"
     assert res.plan.extra["stopped"] in {"building the collision world",
                                          "triangulating a polygon"}
