@@ -20,7 +20,10 @@ from pivot_ompl.analysis.plan_bounds import disk_route
 from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.analysis.route_bound import route_on
 from pivot_ompl.api import plan
+from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
+from pivot_ompl.planners.routes.lattice import TransferLattice
 
 #: Scheduling slack (s) on a shared machine, on top of the 5 %.
 SLACK = 0.05
@@ -67,3 +70,24 @@ def test_the_route_bounds_graph_search_is_not_started_without_the_time_for_it(ha
     assert disk_route(hall_200, time_left=lambda: 0.01) is None
     # with the time for it, the same answer as without an estimate
     assert disk_route(hall_200, time_left=lambda: math.inf) == disk_route(hall_200)
+
+
+def test_a_lattice_route_across_a_200_m_hall_polls_the_stop_all_along(hall_200):
+    """No step between two polls is long: the whole-floor components come in chunks.
+
+    One ``connected_components`` call over the whole floor left 0.3-0.6 s unpolled.
+    """
+    checker = PivotChecker(hall_200)
+    grasp = next(g for g in range(4) if checker.state_valid(hall_200.start, g)
+                 and checker.state_valid(hall_200.goal, g))
+    lattice = TransferLattice(checker, CostModel())
+    stamps: list[float] = []
+
+    def stop() -> bool:
+        stamps.append(time.perf_counter())
+        return False
+
+    route, cost = lattice.route(hall_200.start, hall_200.goal, grasp, should_stop=stop)
+    assert route and math.isfinite(cost)
+    gaps = [b - a for a, b in zip(stamps, stamps[1:], strict=False)]
+    assert max(gaps) < 0.3, max(gaps)
