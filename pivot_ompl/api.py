@@ -53,9 +53,16 @@ MAX_SEED = 2**32 - 2
 MIN_SOLVE_TIME = 1e-3
 #: Longest a first computation of a scene's lower bounds may take (s); then they are ``null``.
 BOUND_TIME_LIMIT = 10.0
-#: Shares of the time limit: for the relaxation to prove, before the search, that no plan exists
-#: (then ``INFEASIBLE`` at once), and for the lower bounds to run on after the limit's end.
-PROOF_SHARE, BOUND_OVERRUN = 0.08, 0.03
+#: Share of the time limit for the relaxation to prove, before the search, that no plan exists
+#: (then ``INFEASIBLE`` at once).
+PROOF_SHARE = 0.08
+#: Share of the time limit (at most ``FINISH_MAX`` s) kept from the search for the steps after
+#: it: converting the path, the lower bounds, and the caller writing the plan. A limit ``T``
+#: then ends within ``T`` in :func:`plan`, and within ``T + 5 %`` once the plan is written.
+FINISH_SHARE, FINISH_MAX = 0.2, 3.0
+#: Share of the time limit (at most ``WRITE_MAX`` s) kept from the lower bounds for writing
+#: the plan: they stop that long before the limit's end.
+WRITE_SHARE, WRITE_MAX = 0.1, 2.0
 
 
 @dataclass
@@ -148,8 +155,9 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
             ``cost.regrasp``).
         bound: report the scene's lower bounds on regrasps and route length in the quality
             block (:func:`pivot_ompl.analysis.plan_bounds.plan_bounds`: computed once per
-            scene geometry, within ``time_limit`` (what the search left of it, and at most
-            :data:`BOUND_OVERRUN` of it beyond), then read from the cache); ``False``:
+            scene geometry, within ``time_limit`` (what the search left of it, less
+            :data:`WRITE_SHARE` of it kept for writing the plan), then read from the
+            cache); ``False``:
             ``null`` there and nothing computed.
         checker: a :class:`~pivot_ompl.checking.pivot_checker.PivotChecker` of the same scene
             geometry whose checked motions to reuse (:class:`pivot_ompl.session.PlanningSession`
@@ -190,7 +198,8 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     if isinstance(p, RegraspPlanner):  # its quality share is one of the solve's limit
         p.solve_limit = time_limit - (time.monotonic() - started)
     t1 = time.perf_counter()
-    name = _solve(problem.setup, time_limit, started)
+    name = _solve(problem.setup, time_limit - _share(time_limit, FINISH_SHARE, FINISH_MAX),
+                  started)
     t2 = time.perf_counter()
     if name in ("INVALID_START", "INVALID_GOAL"):
         pose = scene.start if name == "INVALID_START" else scene.goal
@@ -205,7 +214,8 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     result_plan.extra["roadmap"] = stats
     if result_plan.phases:
         result_plan.extra["quality"] = _quality(result_plan, scene, config, bound, timings,
-                                                deadline + BOUND_OVERRUN * time_limit)
+                                                deadline - _share(time_limit, WRITE_SHARE,
+                                                                  WRITE_MAX))
     c = problem.checker.counters
     log.info("%s on %s: %s in %.2f s (%s, %s)", planner, scene.name, name, t2 - t1,
              counted(result_plan.pivots, "pivot"), counted(result_plan.regrasps, "regrasp"))
@@ -308,8 +318,13 @@ def _scene_record(scene: Scene) -> dict[str, Any]:
     return out
 
 
+def _share(time_limit: float, share: float, most: float) -> float:
+    """``share`` of ``time_limit`` (s), at most ``most`` s."""
+    return min(share * time_limit, most)
+
+
 def _solve(ss: Any, time_limit: float, started: float) -> str:
-    """Solve within what the setup left of the limit; the status's name."""
+    """Solve within what the setup left of ``time_limit`` (s); the status's name."""
     left = time_limit - (time.monotonic() - started)
     if left > MIN_SOLVE_TIME:
         return status_name(ss.solve(left))
@@ -341,7 +356,8 @@ def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool
         bound_end = min(end, time.monotonic() + BOUND_TIME_LIMIT)
         route_length = plan_quality(result_plan)["route_length"]
         regrasps, route = plan_bounds(scene, result_plan.regrasps, route_length=route_length,
-                                      should_stop=lambda: time.monotonic() > bound_end)
+                                      should_stop=lambda: time.monotonic() > bound_end,
+                                      time_left=lambda: bound_end - time.monotonic())
         timings["bound"] = time.perf_counter() - t0
     q = plan_quality(result_plan, regrasps_lower_bound=regrasps, shortest_route=route,
                      costs=config.cost)

@@ -52,14 +52,19 @@ log = logging.getLogger(__name__)
 
 #: Added to the disk relaxation's erosions (m): keeps it on the safe side of round-off.
 ROUND_OFF = 1e-7
+#: Raster cells per STRtree query of the disk relaxation (the stop polled between them).
+QUERY_CHUNK = 32_768
 
 
 def disk_route(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
                tolerance: float = SWEEP_TOLERANCE,
-               should_stop: Callable[[], bool] | None = None) -> float | None:
+               should_stop: Callable[[], bool] | None = None,
+               time_left: Callable[[], float] | None = None) -> float | None:
     """Lower bound (m) on any plan's box route by the disk relaxation (module docstring).
 
-    ``None`` when stopped by ``should_stop`` or when the relaxation joins no path.
+    ``None`` when stopped by ``should_stop`` or when the relaxation joins no path; also when
+    ``time_left()`` (seconds, if known) is less than the graph search's estimate
+    (:func:`~pivot_ompl.analysis.route_bound.route_on`).
     """
     if should_stop is not None and should_stop():
         return None
@@ -79,15 +84,20 @@ def disk_route(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     if pieces and grow > 0:
         tree = shapely.STRtree(pieces)
         idx = np.flatnonzero(mask.ravel())
-        near = tree.query(shapely.points(gx.ravel()[idx], gy.ravel()[idx]),
-                          predicate="dwithin", distance=grow)[0]
         flat = mask.ravel()
-        flat[idx[near]] = False
+        for a in range(0, len(idx), QUERY_CHUNK):  # the stop polled between the chunks
+            if should_stop is not None and should_stop():
+                return None
+            part = idx[a:a + QUERY_CHUNK]
+            near = tree.query(shapely.points(gx.ravel()[part], gy.ravel()[part]),
+                              predicate="dwithin", distance=grow)[0]
+            flat[part[near]] = False
         mask = flat.reshape(mask.shape)
     if should_stop is not None and should_stop():
         return None
     try:
-        route = route_on(raster, mask, scene.start, scene.goal, poll=_poller(should_stop))
+        route = route_on(raster, mask, scene.start, scene.goal, poll=_poller(should_stop),
+                         time_left=time_left)
     except Interrupted:
         return None
     # no route is shorter than the straight line either
@@ -102,11 +112,13 @@ def _poller(should_stop: Callable[[], bool] | None) -> Callable[[], None]:
 
 
 def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = None,
-                should_stop: Callable[[], bool] | None = None
+                should_stop: Callable[[], bool] | None = None,
+                time_left: Callable[[], float] | None = None
                 ) -> tuple[int | None, float | None]:
     """``(regrasps_lower_bound, shortest_route)`` for a plan of ``scene`` with ``regrasps``.
 
-    Each ``None`` when not proven before ``should_stop`` said stop (module docstring). A
+    Each ``None`` when not proven before ``should_stop`` said stop, or (the disk route)
+    when ``time_left()`` s are too few for its graph search (module docstring). A
     relaxation's bound that the plan itself refutes (more regrasps than ``regrasps``, a
     route longer than ``route_length`` m, or "no plan") is dropped from the caches and not
     given: a relaxation of every plan cannot lie above a valid one.
@@ -117,7 +129,7 @@ def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = Non
                 regrasps == 0 or known.exhaustive or (known.regrasps or 0) >= regrasps):
             return known.regrasps, known.shortest_route
     if regrasps == 0:
-        return 0, disk_route(scene, should_stop=should_stop)
+        return 0, disk_route(scene, should_stop=should_stop, time_left=time_left)
     full = lower_bound(scene, target=regrasps, should_stop=should_stop)
     if full.solvable is None or _refuted(full, scene, regrasps, route_length):
         return None, None

@@ -28,6 +28,9 @@ from pivot_ompl.se2 import Pose
 
 #: Cells at most on the raster (a larger floor gets larger cells).
 MAX_CELLS = 400_000
+#: Estimated seconds per graph edge of the route's graph search (building the graph and
+#: Dijkstra, one call that cannot be stopped): about three times what a 2-core machine takes.
+SECONDS_PER_EDGE = 1.5e-7
 #: Smallest cell side (m).
 MIN_CELL = 0.05
 #: Relative excess of a 16-neighbour grid path over the straight line (1 / cos(pi / 16) - 1,
@@ -69,11 +72,18 @@ def shortest_route(free: list, bounds: tuple[float, float, float, float], start:
 
 
 def route_on(raster: FloorRaster, mask: np.ndarray, start: Pose, goal: Pose, *,
-             poll: Callable[[], None] = lambda: None) -> float | None:
+             poll: Callable[[], None] = lambda: None,
+             time_left: Callable[[], float] | None = None) -> float | None:
     """Lower bound (m) on a route from ``start`` to ``goal`` through the cells of ``mask``.
 
     ``mask``: every cell a route's points may lie in (cells that meet the free region, or
-    more), over ``raster``. ``None`` when the cells join no path. ``poll`` may raise to stop.
+    more), over ``raster``. ``None`` when the cells join no path. ``poll`` may raise to stop
+    (it is called between the steps); ``time_left()``, the seconds left, if known: the graph
+    search (one call that cannot be stopped) is not started when its estimate
+    (:data:`SECONDS_PER_EDGE` a graph edge) exceeds them.
+
+    Raises:
+        Interrupted: stopped by ``poll``, or too little time left for the graph search.
     """
     cell, (nx, ny) = raster.cell, raster.shape
     poll()
@@ -92,11 +102,15 @@ def route_on(raster: FloorRaster, mask: np.ndarray, start: Pose, goal: Pose, *,
             both &= _seen(mask, src, di // 2, 0) & _seen(mask, src, di // 2, dj)
         elif abs(dj) == 2:
             both &= _seen(mask, src, 0, dj // 2) & _seen(mask, src, di, dj // 2)
+        poll()
         ia = index[src][both]
         rows.append(ia)
         cols.append(ia + di * ny + dj)
         weights.append(np.full(ia.shape, cell * math.hypot(di, dj)))
     r, c, w = np.concatenate(rows), np.concatenate(cols), np.concatenate(weights)
+    if time_left is not None and SECONDS_PER_EDGE * len(r) > time_left():
+        raise Interrupted(f"the route bound (its graph search of {len(r)} edges would take "
+                          f"about {SECONDS_PER_EDGE * len(r):.2f} s)")
     graph = coo_matrix((w, (r, c)), shape=(nx * ny, nx * ny)).tocsr()
     poll()
     d = float(dijkstra(graph, directed=False, indices=ends[0])[ends[1]])

@@ -63,6 +63,15 @@ class Generated:
     seed: int
     attempts: int
 
+    def __post_init__(self) -> None:
+        require_type(self.scene, Scene, "Generated.scene", "a Scene")
+        require_type(self.witness, Plan, "Generated.witness", "a Plan")
+        require_type(self.family, str, "Generated.family", "a family name")
+        for name in ("seed", "attempts"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int) or v < 0:
+                raise InputError(f"Generated.{name}", v, "must be a non-negative integer")
+
 
 def _along(p: tuple[float, float], phi: float, d: float, s: float = 0.0) -> tuple[float, float]:
     """Point ``d`` along direction ``phi`` and ``s`` to its left from ``p``."""

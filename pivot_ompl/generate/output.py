@@ -6,8 +6,9 @@ import dataclasses
 from collections.abc import Sequence
 from pathlib import Path
 
-from pivot_ompl.errors import counted
+from pivot_ompl.errors import InputError, counted, require_type
 from pivot_ompl.fileio import atomic_outputs, file_stem
+from pivot_ompl.generate.checks import check_path
 from pivot_ompl.generate.families import Generated
 from pivot_ompl.generate.sceneio import scene_text
 from pivot_ompl.scene import scene_digest
@@ -17,7 +18,11 @@ def write_generated(gen: Generated, out_dir: str | Path) -> tuple[Path, Path]:
     """Write the scene and its witness plan, all or nothing; return both paths.
 
     Neither existing file is replaced unless both new ones were written.
+
+    Raises:
+        InputError: ``gen`` not a :class:`Generated`, ``out_dir`` not a path.
     """
+    require_type(gen, Generated, "gen", "a Generated (pivot_ompl.generate.generate gives one)")
     return write_all_generated([gen], out_dir)[0]
 
 
@@ -28,8 +33,15 @@ def write_all_generated(gens: Sequence[Generated], out_dir: str | Path) -> list[
     ``(scene, witness)`` pair in the order of ``gens``.
 
     Raises:
-        InputError: two of ``gens`` have one file name.
+        InputError: ``gens`` not a sequence of :class:`Generated`, ``out_dir`` not a path,
+            or two of ``gens`` have one file name.
     """
+    if isinstance(gens, str | bytes) or not isinstance(gens, Sequence):
+        raise InputError("gens", gens, "must be a sequence of Generated")
+    for i, gen in enumerate(gens):
+        require_type(gen, Generated, f"gens[{i}]",
+                     "a Generated (pivot_ompl.generate.generate gives one)")
+    check_path(out_dir, "out_dir")
     out = Path(out_dir)
     paths, texts = [], []
     for gen in gens:

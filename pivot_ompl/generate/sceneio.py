@@ -12,7 +12,9 @@ from typing import Any
 
 import yaml
 
+from pivot_ompl.errors import InputError
 from pivot_ompl.fileio import atomic_output
+from pivot_ompl.generate.checks import check_path, check_scene
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Obstacle, Scene
 
 
@@ -29,7 +31,12 @@ def _obstacle_dict(o: Obstacle) -> dict[str, Any]:
 
 
 def scene_to_dict(scene: Scene) -> dict[str, Any]:
-    """The scene YAML document of ``scene`` (see :mod:`pivot_ompl.scene`)."""
+    """The scene YAML document of ``scene`` (see :mod:`pivot_ompl.scene`).
+
+    Raises:
+        InputError: ``scene`` is not a Scene.
+    """
+    check_scene(scene)
     m = scene.model
     return {
         "name": scene.name,
@@ -55,7 +62,15 @@ def scene_text(scene: Scene, *, comment: str = "") -> str:
 
 
 def write_scene(scene: Scene, path: str | Path, *, comment: str = "") -> Path:
-    """Write ``scene`` as YAML to ``path`` (atomically); ``comment`` lines head the file."""
+    """Write ``scene`` as YAML to ``path`` (atomically); ``comment`` lines head the file.
+
+    Raises:
+        InputError: ``scene`` not a Scene, ``path`` not a path, ``comment`` not a string.
+    """
+    check_scene(scene)
+    check_path(path, "path")
+    if not isinstance(comment, str):
+        raise InputError("comment", comment, "must be a string")
     with atomic_output(path) as tmp:
         tmp.write_text(scene_text(scene, comment=comment), encoding="utf-8")
     return Path(path)

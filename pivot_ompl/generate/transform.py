@@ -15,6 +15,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+from pivot_ompl.argcheck import guard
 from pivot_ompl.errors import InputError, require_type
 from pivot_ompl.scene import (
     MAX_COORD,
@@ -67,6 +68,11 @@ class RigidMap:
     about: tuple[float, float]
     mirror: bool = False
 
+    def __post_init__(self) -> None:
+        guard("RigidMap", angle=(self.angle, None), about=(self.about, 2))
+        if not isinstance(self.mirror, bool):
+            raise InputError("RigidMap.mirror", self.mirror, "must be True or False")
+
     def point(self, p: tuple[float, float]) -> tuple[float, float]:
         """The image of a point (m)."""
         a = 2 * self.angle if self.mirror else self.angle
@@ -92,7 +98,16 @@ def _transform(scene: Scene, angle: float, about: tuple[float, float], mirror: b
 
 
 def transform_scene(scene: Scene, f: RigidMap, *, name: str) -> Scene:
-    """The image of ``scene`` under ``f`` (walled in its old floor area, see module doc)."""
+    """The image of ``scene`` under ``f`` (walled in its old floor area, see module doc).
+
+    Raises:
+        InputError: ``scene`` not a Scene, ``f`` not a :class:`RigidMap`, ``name`` not a
+            non-empty string.
+    """
+    require_type(scene, Scene, "scene", "a Scene (pivot_ompl.load_scene(name) gives one)")
+    require_type(f, RigidMap, "f", "a RigidMap")
+    if not isinstance(name, str) or not name:
+        raise InputError("name", name, "must be a non-empty string")
     pt, yaw, pose, mirror = f.point, f.yaw, f.pose, f.mirror
 
     out: list[Obstacle] = []

@@ -11,6 +11,8 @@ from dataclasses import dataclass
 
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.errors import require_type
+from pivot_ompl.generate.checks import check_scene, check_states
 from pivot_ompl.planfile import Plan
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose
@@ -34,7 +36,18 @@ class WitnessCheck:
 
 def build_witness(scene: Scene, states: list[State], *,
                   checker: PivotChecker | None = None) -> WitnessCheck:
-    """Check the chain ``states`` in ``scene``; return its plan or the first failure."""
+    """Check the chain ``states`` in ``scene``; return its plan or the first failure.
+
+    Raises:
+        InputError: ``scene`` not a Scene, ``states`` not a sequence of ``(pose, grasp)``
+            pairs (a pose three finite numbers, a grasp 0..3), ``checker`` not a
+            :class:`PivotChecker` or ``None``.
+    """
+    check_scene(scene)
+    check_states(states)
+    if checker is not None:
+        require_type(checker, PivotChecker, "checker", "a PivotChecker or None")
+    states = [((float(p[0]), float(p[1]), float(p[2])), int(g)) for p, g in states]
     ck = checker or PivotChecker(scene)
     if not states or states[0][0] != scene.start or states[-1][0] != scene.goal:
         return WitnessCheck(None, "the chain must run from the scene's start to its goal")
