@@ -34,7 +34,7 @@ from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.evaluation import Evaluator, Status
 from pivot_ompl.planners.objects.roadmap import half_turn
-from pivot_ompl.planners.routes.chain import corners, shortened
+from pivot_ompl.planners.routes.chain import TOO_DEAR, corners, shortened
 from pivot_ompl.planners.routes.lattice import TransferLattice
 from pivot_ompl.se2 import Pose
 
@@ -135,7 +135,7 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
             i, j, g, plan = best
             refused.add((i, j, g, phases[i].poses))
             st.tried += 1
-            real = _made_real(checker, lattice, plan, costs, should_stop)
+            real = _made_real(checker, lattice, plan, costs, should_stop, pricer, current)
             if real is None or real[-1].poses[-1] != phases[-1].poses[-1]:
                 log.debug("phases %d..%d at grasp %d: the checks refuse the route", i, j, g)
                 continue
@@ -223,6 +223,9 @@ def _best_candidate(lattice: TransferLattice, pricer: _Pricer, phases: list[_Pha
 #: Seconds of rounding the optimistic savings may be off by (they are summed in another
 #: order than the estimates): a run is routed unless its bound is this much below the best.
 _BOUND_SLACK = 1e-6
+#: Seconds above the path's cost a plan's lower bound must reach before it is dropped
+#: unchecked (:func:`_made_real`): sums in another order never drop one the checks keep.
+_CEILING_SLACK = 1e-6
 
 
 def _run_ends(phases: list[_Phase], i: int, j: int, g: int) -> tuple[bool, Pose, Pose]:
@@ -326,8 +329,13 @@ class _Leg:
 
 
 def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: _Leg, costs: CostModel,
-               should_stop: Stop) -> list[Pose]:
-    """The leg as a chain of certified transfers (``[]`` if none): whole, else anchored."""
+               should_stop: Stop, ceiling: float = math.inf) -> tuple[list[Pose], float]:
+    """The leg as a chain of certified transfers, whole, else anchored, and a cost it is not below.
+
+    ``([], inf)`` if there is none, or once its transfers are proven to cost at least
+    ``ceiling`` s (:data:`~.chain.TOO_DEAR`: the plan would not be cheaper, and no anchored
+    try follows, as none follows a whole chain that is too dear).
+    """
     tries: list[tuple[tuple[Pose, ...], Pose, Pose, tuple[Pose, ...]]] = [
         ((), leg.start, leg.end, ())]
     if leg.head or leg.tail:
@@ -337,24 +345,37 @@ def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: _Leg, costs
         route, _ = lattice.route(a, b, leg.grasp, should_stop=should_stop)
         if len(route) < 2:
             continue
-        found = shortened(Evaluator(checker, costs), corners(route), leg.grasp, should_stop)
+        found = shortened(Evaluator(checker, costs), corners(route), leg.grasp, should_stop,
+                          ceiling=ceiling)
         if found.status is Status.STOPPED:
             raise Interrupted("route refinement")
+        if found is TOO_DEAR:
+            return [], math.inf
         if found.path is not None:
-            return [*before, *found.path[0], *after]
-    return []
+            return [*before, *found.path[0], *after], found.path[1]
+    return [], math.inf
 
 
 def _made_real(checker: PivotChecker, lattice: TransferLattice, plan: list,
-               costs: CostModel, should_stop: Stop) -> list[_Phase] | None:
-    """The plan's routed legs as chains of certified transfers; ``None`` if one fails."""
+               costs: CostModel, should_stop: Stop, pricer: _Pricer | None = None,
+               current: float = math.inf) -> list[_Phase] | None:
+    """The plan's routed legs as chains of certified transfers; ``None`` if one fails.
+
+    Also ``None`` as soon as the plan is proven to cost at least ``current`` (priced by
+    ``pricer``; the phases it keeps and the legs made real so far, plus a bound on the leg
+    at hand): the caller would drop it, and its remaining checks are saved.
+    """
     out: list[_Phase] = []
+    spent = 0.0 if pricer is None else sum(pricer.phase(p) for p in plan
+                                           if isinstance(p, _Phase))
     for item in plan:
         if isinstance(item, _Phase):
             out.append(item)
             continue
         grasp = item.grasp
-        chain = _leg_chain(checker, lattice, item, costs, should_stop)
+        chain, cost = _leg_chain(checker, lattice, item, costs, should_stop,
+                                 current + _CEILING_SLACK - spent)
+        spent += cost
         if not chain:
             return None
         if out and out[-1].grasp == grasp:  # a regrasp the run removed: one phase
