@@ -126,6 +126,7 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
     if not math.isfinite(current):
         return states
     refused: set[tuple[int, int, int, tuple[Pose, ...]]] = set()
+    chains = _Chains()  # a route asked again in a later round is made real once
     try:
         while not should_stop():
             best = _best_candidate(lattice, pricer, phases, current, refused, should_stop, st,
@@ -135,7 +136,8 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
             i, j, g, plan = best
             refused.add((i, j, g, phases[i].poses))
             st.tried += 1
-            real = _made_real(checker, lattice, plan, costs, should_stop, pricer, current)
+            real = _made_real(checker, lattice, plan, costs, should_stop, pricer, current,
+                              chains)
             if real is None or real[-1].poses[-1] != phases[-1].poses[-1]:
                 log.debug("phases %d..%d at grasp %d: the checks refuse the route", i, j, g)
                 continue
@@ -328,14 +330,26 @@ class _Leg:
     tail: tuple[Pose, ...]
 
 
+class _Chains(dict):
+    """:func:`~.chain.shortened`'s answers by route ``(start, end, grasp)``, and the ceilings."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.ceilings: dict[tuple[Pose, Pose, int], float] = {}
+
+
 def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: _Leg, costs: CostModel,
-               should_stop: Stop, ceiling: float = math.inf) -> tuple[list[Pose], float]:
+               should_stop: Stop, ceiling: float = math.inf, chains: _Chains | None = None
+               ) -> tuple[list[Pose], float]:
     """The leg as a chain of certified transfers, whole, else anchored, and a cost it is not below.
 
     ``([], inf)`` if there is none, or once its transfers are proven to cost at least
     ``ceiling`` s (:data:`~.chain.TOO_DEAR`: the plan would not be cheaper, and no anchored
-    try follows, as none follows a whole chain that is too dear).
+    try follows, as none follows a whole chain that is too dear). ``chains``: the chains
+    found for routes before (a route's chain is the same whenever asked; one found too dear
+    serves a ceiling not above the one it was found at).
     """
+    known_ceiling = chains.ceilings if chains is not None else {}
     tries: list[tuple[tuple[Pose, ...], Pose, Pose, tuple[Pose, ...]]] = [
         ((), leg.start, leg.end, ())]
     if leg.head or leg.tail:
@@ -345,10 +359,17 @@ def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: _Leg, costs
         route, _ = lattice.route(a, b, leg.grasp, should_stop=should_stop)
         if len(route) < 2:
             continue
-        found = shortened(Evaluator(checker, costs), corners(route), leg.grasp, should_stop,
-                          ceiling=ceiling)
-        if found.status is Status.STOPPED:
-            raise Interrupted("route refinement")
+        key = (a, b, leg.grasp)
+        known = chains.get(key) if chains is not None else None
+        if known is not None and (known is not TOO_DEAR or known_ceiling[key] >= ceiling):
+            found = known  # the same route's chain (a dear one: dearer than asked now)
+        else:
+            found = shortened(Evaluator(checker, costs), corners(route), leg.grasp,
+                              should_stop, ceiling=ceiling)
+            if found.status is Status.STOPPED:
+                raise Interrupted("route refinement")
+            if chains is not None:
+                chains[key], known_ceiling[key] = found, ceiling
         if found is TOO_DEAR:
             return [], math.inf
         if found.path is not None:
@@ -358,12 +379,14 @@ def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: _Leg, costs
 
 def _made_real(checker: PivotChecker, lattice: TransferLattice, plan: list,
                costs: CostModel, should_stop: Stop, pricer: _Pricer | None = None,
-               current: float = math.inf) -> list[_Phase] | None:
+               current: float = math.inf, chains: _Chains | None = None
+               ) -> list[_Phase] | None:
     """The plan's routed legs as chains of certified transfers; ``None`` if one fails.
 
     Also ``None`` as soon as the plan is proven to cost at least ``current`` (priced by
     ``pricer``; the phases it keeps and the legs made real so far, plus a bound on the leg
-    at hand): the caller would drop it, and its remaining checks are saved.
+    at hand): the caller would drop it, and its remaining checks are saved. ``chains``:
+    the routes' chains found before (:func:`_leg_chain`).
     """
     out: list[_Phase] = []
     spent = 0.0 if pricer is None else sum(pricer.phase(p) for p in plan
@@ -374,7 +397,7 @@ def _made_real(checker: PivotChecker, lattice: TransferLattice, plan: list,
             continue
         grasp = item.grasp
         chain, cost = _leg_chain(checker, lattice, item, costs, should_stop,
-                                 current + _CEILING_SLACK - spent)
+                                 current + _CEILING_SLACK - spent, chains)
         spent += cost
         if not chain:
             return None
