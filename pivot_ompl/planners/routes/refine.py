@@ -32,7 +32,7 @@ from dataclasses import dataclass
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
-from pivot_ompl.planners.evaluation import Evaluator, Status
+from pivot_ompl.planners.evaluation import Evaluator, Found, Status
 from pivot_ompl.planners.objects.roadmap import half_turn
 from pivot_ompl.planners.routes.chain import TOO_DEAR, corners, shortened
 from pivot_ompl.planners.routes.lattice import TransferLattice
@@ -126,7 +126,7 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
     if not math.isfinite(current):
         return states
     refused: set[tuple[int, int, int, tuple[Pose, ...]]] = set()
-    chains = _Chains()  # a route asked again in a later round is made real once
+    chains: _Chains = {}  # a route asked again in a later round is made real once
     try:
         while not should_stop():
             best = _best_candidate(lattice, pricer, phases, current, refused, should_stop, st,
@@ -225,8 +225,7 @@ def _best_candidate(lattice: TransferLattice, pricer: _Pricer, phases: list[_Pha
 #: Seconds of rounding the optimistic savings may be off by (they are summed in another
 #: order than the estimates): a run is routed unless its bound is this much below the best.
 _BOUND_SLACK = 1e-6
-#: Seconds above the path's cost a plan's lower bound must reach before it is dropped
-#: unchecked (:func:`_made_real`): sums in another order never drop one the checks keep.
+#: Seconds above the path's cost a plan's bound must reach to drop it (:func:`_made_real`).
 _CEILING_SLACK = 1e-6
 
 
@@ -330,26 +329,19 @@ class _Leg:
     tail: tuple[Pose, ...]
 
 
-class _Chains(dict):
-    """:func:`~.chain.shortened`'s answers by route ``(start, end, grasp)``, and the ceilings."""
-
-    def __init__(self) -> None:
-        super().__init__()
-        self.ceilings: dict[tuple[Pose, Pose, int], float] = {}
+#: :func:`~.chain.shortened`'s answers by route ``(start, end, grasp)``, with their ceilings
+_Chains = dict[tuple[Pose, Pose, int], tuple[Found[tuple[list[Pose], float]], float]]
 
 
 def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: _Leg, costs: CostModel,
                should_stop: Stop, ceiling: float = math.inf, chains: _Chains | None = None
                ) -> tuple[list[Pose], float]:
-    """The leg as a chain of certified transfers, whole, else anchored, and a cost it is not below.
+    """The leg as a chain of certified transfers (whole, else anchored) and its cost.
 
-    ``([], inf)`` if there is none, or once its transfers are proven to cost at least
-    ``ceiling`` s (:data:`~.chain.TOO_DEAR`: the plan would not be cheaper, and no anchored
-    try follows, as none follows a whole chain that is too dear). ``chains``: the chains
-    found for routes before (a route's chain is the same whenever asked; one found too dear
-    serves a ceiling not above the one it was found at).
+    ``([], inf)`` if there is none, or once it is proven to cost at least ``ceiling`` s
+    (:data:`~.chain.TOO_DEAR`; no anchored try follows, as none follows a whole chain too
+    dear). ``chains``: the routes' chains found before (one too dear at a ceiling serves below).
     """
-    known_ceiling = chains.ceilings if chains is not None else {}
     tries: list[tuple[tuple[Pose, ...], Pose, Pose, tuple[Pose, ...]]] = [
         ((), leg.start, leg.end, ())]
     if leg.head or leg.tail:
@@ -360,8 +352,8 @@ def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: _Leg, costs
         if len(route) < 2:
             continue
         key = (a, b, leg.grasp)
-        known = chains.get(key) if chains is not None else None
-        if known is not None and (known is not TOO_DEAR or known_ceiling[key] >= ceiling):
+        known, above = (chains or {}).get(key, (None, -math.inf))
+        if known is not None and (known is not TOO_DEAR or above >= ceiling):
             found = known  # the same route's chain (a dear one: dearer than asked now)
         else:
             found = shortened(Evaluator(checker, costs), corners(route), leg.grasp,
@@ -369,7 +361,7 @@ def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: _Leg, costs
             if found.status is Status.STOPPED:
                 raise Interrupted("route refinement")
             if chains is not None:
-                chains[key], known_ceiling[key] = found, ceiling
+                chains[key] = (found, ceiling)
         if found is TOO_DEAR:
             return [], math.inf
         if found.path is not None:
