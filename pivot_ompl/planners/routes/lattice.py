@@ -185,13 +185,11 @@ class TransferLattice:
 
         grids: list[bytes | None] = [None] * (2 * N_HEADINGS)  # fetched once per query
 
-        def free(ix: int, iy: int, k: int) -> bool:
-            if not (0 <= ix < nx and 0 <= iy < ny):
-                return False
-            grid = grids[k]
-            if grid is None:
-                grid = grids[k] = self._grid(parity, k, should_stop)
-            return bool(grid[ix * ny + iy])
+        def grid(k: int) -> bytes:
+            g = grids[k]
+            if g is None:
+                g = grids[k] = self._grid(parity, k, should_stop)
+            return g
 
         def neighbours(u: State) -> Iterator[tuple[State, float]]:
             if u == _START:
@@ -204,15 +202,17 @@ class TransferLattice:
                 raise Interrupted("transfer lattice")
             ix, iy, h = u
             vx, vy = HEADING_VECTORS[h]
+            pushes = grid(2 * h)
             for sgn in (1, -1):
                 jx, jy = ix + sgn * vx, iy + sgn * vy
-                if free(jx, jy, 2 * h):
+                if 0 <= jx < nx and 0 <= jy < ny and pushes[jx * ny + jy]:
                     yield (jx, jy, h), steps[h] * rate
-            if free(ix, iy, 2 * h + 1) and free(ix, iy, 2 * ((h + 1) % N_HEADINGS)):
-                yield (ix, iy, (h + 1) % N_HEADINGS), turns[h] * spin
-            hb = (h - 1) % N_HEADINGS
-            if free(ix, iy, 2 * hb + 1) and free(ix, iy, 2 * hb):
-                yield (ix, iy, hb), turns[hb] * spin
+            if 0 <= ix < nx and 0 <= iy < ny:
+                at, ha, hb = ix * ny + iy, (h + 1) % N_HEADINGS, (h - 1) % N_HEADINGS
+                if grid(2 * h + 1)[at] and grid(2 * ha)[at]:
+                    yield (ix, iy, ha), turns[h] * spin
+                if grid(2 * hb + 1)[at] and grid(2 * hb)[at]:
+                    yield (ix, iy, hb), turns[hb] * spin
             c = goals.get(u)
             if c is not None:
                 yield _GOAL, c
