@@ -89,11 +89,16 @@ def shortened(evaluate: Evaluator, route: list[Pose], grasp: int,
                     best[j] = min(best[j], best[i] + (floor(i, j) if c is None else c))
         return best[-1]
 
+    estimates: dict[tuple[int, int], float] = {}  # each search round asks them all again
+
     def estimate(i: int, j: int) -> float:
-        a, b = cars[i], cars[j]
-        if paths.is_spin(a, b):
-            return costs.spin_estimate(wrap_angle(b[2] - a[2]), alpha)
-        return costs.transfer_estimate(paths.distance(a, b), ell, alpha)
+        e = estimates.get((i, j))
+        if e is None:
+            a, b = cars[i], cars[j]
+            e = estimates[(i, j)] = costs.spin_estimate(wrap_angle(b[2] - a[2]), alpha) \
+                if paths.is_spin(a, b) else costs.transfer_estimate(paths.distance(a, b), ell,
+                                                                    alpha)
+        return e
 
     def cheapest() -> Found[tuple[list[int], float]]:
         nonlocal over
