@@ -186,10 +186,13 @@ class TransferLattice:
         steps, turns, spin = self._steps, self._turns, self._spin
         counter = [0]
 
-        def free(ix: int, iy: int, k: int) -> bool:
-            if not (0 <= ix < nx and 0 <= iy < ny):
-                return False
-            return bool(self._grid(parity, k, should_stop)[ix * ny + iy])
+        grids: list[bytes | None] = [None] * (2 * N_HEADINGS)  # fetched once per query
+
+        def grid(k: int) -> bytes:
+            g = grids[k]
+            if g is None:
+                g = grids[k] = self._grid(parity, k, should_stop)
+            return g
 
         def neighbours(u: State) -> Iterator[tuple[State, float]]:
             if u == _START:
@@ -202,31 +205,42 @@ class TransferLattice:
                 raise Interrupted("transfer lattice")
             ix, iy, h = u
             vx, vy = HEADING_VECTORS[h]
+            pushes = grid(2 * h)
             for sgn in (1, -1):
                 jx, jy = ix + sgn * vx, iy + sgn * vy
-                if free(jx, jy, 2 * h):
+                if 0 <= jx < nx and 0 <= jy < ny and pushes[jx * ny + jy]:
                     yield (jx, jy, h), steps[h] * rate
-            if free(ix, iy, 2 * h + 1) and free(ix, iy, 2 * ((h + 1) % N_HEADINGS)):
-                yield (ix, iy, (h + 1) % N_HEADINGS), turns[h] * spin
-            hb = (h - 1) % N_HEADINGS
-            if free(ix, iy, 2 * hb + 1) and free(ix, iy, 2 * hb):
-                yield (ix, iy, hb), turns[hb] * spin
+            if 0 <= ix < nx and 0 <= iy < ny:
+                at, ha, hb = ix * ny + iy, (h + 1) % N_HEADINGS, (h - 1) % N_HEADINGS
+                if grid(2 * h + 1)[at] and grid(2 * ha)[at]:
+                    yield (ix, iy, ha), turns[h] * spin
+                if grid(2 * hb + 1)[at] and grid(2 * hb)[at]:
+                    yield (ix, iy, hb), turns[hb] * spin
             c = goals.get(u)
             if c is not None:
                 yield _GOAL, c
 
         gx, gy, gh = cb
         way = self._floor_distances(parity, goals, should_stop)
+        # pushes move the car without turning it, turns turn it without moving it: the
+        # heuristic is a push part per cell (kept, asked for each heading) and a turn part
+        # per heading
+        turning = [spin * abs(wrap_angle(HEADING_YAWS[h] - gh)) for h in range(N_HEADINGS)]
+        pushing: dict[tuple[int, int], float] = {}
 
         def heuristic(u: State) -> float:
-            # pushes move the car without turning it, turns turn it without moving it; the
-            # car moves at least its floor distance to the goal's joins (:meth:`_floor_distances`)
             if u[0] < 0:
                 return 0.0
-            x, y = self.field.position(u[0], u[1])
-            # not below the straight line; inf: no way to the goal's joins from this cell
-            moved = max(math.hypot(x - gx, y - gy), float(way[cell_ids[u[0] * ny + u[1]]]))
-            return weight * (rate * moved + spin * abs(wrap_angle(HEADING_YAWS[u[2]] - gh)))
+            ix, iy, h = u
+            push = pushing.get((ix, iy))
+            if push is None:
+                x, y = self.field.position(ix, iy)
+                # the car moves at least its floor distance to the goal's joins
+                # (:meth:`_floor_distances`), not below the straight line; inf: no way
+                # to the goal's joins from this cell
+                moved = max(math.hypot(x - gx, y - gy), float(way[cell_ids[ix * ny + iy]]))
+                push = pushing[(ix, iy)] = rate * moved
+            return weight * (push + turning[h])
 
         try:
             states = astar([_START], {_GOAL}, neighbours, heuristic)

@@ -32,9 +32,9 @@ from dataclasses import dataclass
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
-from pivot_ompl.planners.evaluation import Evaluator, Status
+from pivot_ompl.planners.evaluation import Evaluator, Found, Status
 from pivot_ompl.planners.objects.roadmap import half_turn
-from pivot_ompl.planners.routes.chain import corners, shortened
+from pivot_ompl.planners.routes.chain import TOO_DEAR, corners, shortened
 from pivot_ompl.planners.routes.lattice import TransferLattice
 from pivot_ompl.se2 import Pose
 
@@ -126,6 +126,7 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
     if not math.isfinite(current):
         return states
     refused: set[tuple[int, int, int, tuple[Pose, ...]]] = set()
+    chains: _Chains = {}  # a route asked again in a later round is made real once
     try:
         while not should_stop():
             best = _best_candidate(lattice, pricer, phases, current, refused, should_stop, st,
@@ -135,7 +136,8 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
             i, j, g, plan = best
             refused.add((i, j, g, phases[i].poses))
             st.tried += 1
-            real = _made_real(checker, lattice, plan, costs, should_stop)
+            real = _made_real(checker, lattice, plan, costs, should_stop, pricer, current,
+                              chains)
             if real is None or real[-1].poses[-1] != phases[-1].poses[-1]:
                 log.debug("phases %d..%d at grasp %d: the checks refuse the route", i, j, g)
                 continue
@@ -223,6 +225,8 @@ def _best_candidate(lattice: TransferLattice, pricer: _Pricer, phases: list[_Pha
 #: Seconds of rounding the optimistic savings may be off by (they are summed in another
 #: order than the estimates): a run is routed unless its bound is this much below the best.
 _BOUND_SLACK = 1e-6
+#: Seconds above the path's cost a plan's bound must reach to drop it (:func:`_made_real`).
+_CEILING_SLACK = 1e-6
 
 
 def _run_ends(phases: list[_Phase], i: int, j: int, g: int) -> tuple[bool, Pose, Pose]:
@@ -325,9 +329,19 @@ class _Leg:
     tail: tuple[Pose, ...]
 
 
+#: :func:`~.chain.shortened`'s answers by route ``(start, end, grasp)``, with their ceilings
+_Chains = dict[tuple[Pose, Pose, int], tuple[Found[tuple[list[Pose], float]], float]]
+
+
 def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: _Leg, costs: CostModel,
-               should_stop: Stop) -> list[Pose]:
-    """The leg as a chain of certified transfers (``[]`` if none): whole, else anchored."""
+               should_stop: Stop, ceiling: float = math.inf, chains: _Chains | None = None
+               ) -> tuple[list[Pose], float]:
+    """The leg as a chain of certified transfers (whole, else anchored) and its cost.
+
+    ``([], inf)`` if there is none, or once it is proven to cost at least ``ceiling`` s
+    (:data:`~.chain.TOO_DEAR`; no anchored try follows, as none follows a whole chain too
+    dear). ``chains``: the routes' chains found before (one too dear at a ceiling serves below).
+    """
     tries: list[tuple[tuple[Pose, ...], Pose, Pose, tuple[Pose, ...]]] = [
         ((), leg.start, leg.end, ())]
     if leg.head or leg.tail:
@@ -337,24 +351,46 @@ def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: _Leg, costs
         route, _ = lattice.route(a, b, leg.grasp, should_stop=should_stop)
         if len(route) < 2:
             continue
-        found = shortened(Evaluator(checker, costs), corners(route), leg.grasp, should_stop)
-        if found.status is Status.STOPPED:
-            raise Interrupted("route refinement")
+        key = (a, b, leg.grasp)
+        known, above = (chains or {}).get(key, (None, -math.inf))
+        if known is not None and (known is not TOO_DEAR or above >= ceiling):
+            found = known  # the same route's chain (a dear one: dearer than asked now)
+        else:
+            found = shortened(Evaluator(checker, costs), corners(route), leg.grasp,
+                              should_stop, ceiling=ceiling)
+            if found.status is Status.STOPPED:
+                raise Interrupted("route refinement")
+            if chains is not None:
+                chains[key] = (found, ceiling)
+        if found is TOO_DEAR:
+            return [], math.inf
         if found.path is not None:
-            return [*before, *found.path[0], *after]
-    return []
+            return [*before, *found.path[0], *after], found.path[1]
+    return [], math.inf
 
 
 def _made_real(checker: PivotChecker, lattice: TransferLattice, plan: list,
-               costs: CostModel, should_stop: Stop) -> list[_Phase] | None:
-    """The plan's routed legs as chains of certified transfers; ``None`` if one fails."""
+               costs: CostModel, should_stop: Stop, pricer: _Pricer | None = None,
+               current: float = math.inf, chains: _Chains | None = None
+               ) -> list[_Phase] | None:
+    """The plan's routed legs as chains of certified transfers; ``None`` if one fails.
+
+    Also ``None`` as soon as the plan is proven to cost at least ``current`` (priced by
+    ``pricer``; the phases it keeps and the legs made real so far, plus a bound on the leg
+    at hand): the caller would drop it, and its remaining checks are saved. ``chains``:
+    the routes' chains found before (:func:`_leg_chain`).
+    """
     out: list[_Phase] = []
+    spent = 0.0 if pricer is None else sum(pricer.phase(p) for p in plan
+                                           if isinstance(p, _Phase))
     for item in plan:
         if isinstance(item, _Phase):
             out.append(item)
             continue
         grasp = item.grasp
-        chain = _leg_chain(checker, lattice, item, costs, should_stop)
+        chain, cost = _leg_chain(checker, lattice, item, costs, should_stop,
+                                 current + _CEILING_SLACK - spent, chains)
+        spent += cost
         if not chain:
             return None
         if out and out[-1].grasp == grasp:  # a regrasp the run removed: one phase
