@@ -73,8 +73,9 @@ class RefineStats:
 
 
 def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State], *,
-           costs: CostModel, should_stop: Stop, stats: RefineStats | None = None,
-           start_grasp: int | None = None, grasps: tuple[int, ...] = ()) -> list[State]:
+           costs: CostModel, should_stop: Stop, run_spacing: int,
+           stats: RefineStats | None = None, start_grasp: int | None = None,
+           grasps: tuple[int, ...] = ()) -> list[State]:
     """``states`` with runs of phases re-planned on the lattice (see the module docstring).
 
     Stopped by ``should_stop`` (polled between lattice queries and checks), it returns the
@@ -82,6 +83,8 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
     robot holds the box with (``states`` starts with it, and so does the result); ``None``:
     the first grasp is free, and the whole path is also routed as one phase at each of
     ``grasps`` (seeds that found the path at different grasps then meet on the same route).
+    ``run_spacing``: along a straight run of a lattice route, a pose is kept to join every
+    this many lattice motions (:func:`~.chain.corners`).
     """
     st = stats if stats is not None else RefineStats()
     pricer = Pricer(checker, costs)
@@ -102,7 +105,7 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
             i, j, g, _saving, plan = best
             refused.add((i, j, g, phases[i].poses))
             st.tried += 1
-            real = _made_real(checker, lattice, plan, costs, should_stop)
+            real = _made_real(checker, lattice, plan, costs, should_stop, run_spacing)
             if real is None or real[-1].poses[-1] != phases[-1].poses[-1]:
                 log.debug("phases %d..%d at grasp %d: the checks refuse the route", i, j, g)
                 continue
@@ -122,7 +125,7 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
 
 
 def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: Leg, costs: CostModel,
-               should_stop: Stop) -> list[Pose]:
+               should_stop: Stop, run_spacing: int) -> list[Pose]:
     """The leg as a chain of certified transfers (``[]`` if none): whole, else anchored."""
     tries: list[tuple[tuple[Pose, ...], Pose, Pose, tuple[Pose, ...]]] = [
         ((), leg.start, leg.end, ())]
@@ -133,7 +136,8 @@ def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: Leg, costs:
         route, _ = lattice.route(a, b, leg.grasp, should_stop=should_stop)
         if len(route) < 2:
             continue
-        found = shortened(Evaluator(checker, costs), corners(route), leg.grasp, should_stop)
+        found = shortened(Evaluator(checker, costs), corners(route, spacing=run_spacing),
+                          leg.grasp, should_stop)
         if found.status is Status.STOPPED:
             raise Interrupted("route refinement")
         if found.path is not None:
@@ -142,7 +146,7 @@ def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: Leg, costs:
 
 
 def _made_real(checker: PivotChecker, lattice: TransferLattice, plan: list,
-               costs: CostModel, should_stop: Stop) -> list[Phase] | None:
+               costs: CostModel, should_stop: Stop, run_spacing: int) -> list[Phase] | None:
     """The plan's routed legs as chains of certified transfers; ``None`` if one fails."""
     out: list[Phase] = []
     for item in plan:
@@ -150,7 +154,7 @@ def _made_real(checker: PivotChecker, lattice: TransferLattice, plan: list,
             out.append(item)
             continue
         grasp = item.grasp
-        chain = _leg_chain(checker, lattice, item, costs, should_stop)
+        chain = _leg_chain(checker, lattice, item, costs, should_stop, run_spacing)
         if not chain:
             return None
         if out and out[-1].grasp == grasp:  # a regrasp the run removed: one phase
