@@ -92,3 +92,15 @@ def test_the_run_spacing_reaches_the_lattice_routes_made_real():
     # fewer poses kept along the straight runs: fewer transfers to certify, another chain
     assert runs["40"].motion_checks["valid"] < runs["6"].motion_checks["valid"]
     assert runs["40"].plan.phases != runs["6"].plan.phases
+
+
+def test_the_run_spacing_reaches_the_re_routing():
+    fig10 = shipped("fig10")
+    checks = {}
+    for spacing in ("6", "40"):
+        cfg = RegraspConfig().with_values({"optimiser.eliminate": "false",
+                                           "optimiser.run_spacing": spacing})
+        res = plan(fig10, time_limit=30.0, seed=0, config=cfg, bound=False)
+        assert res.solved and res.roadmap["refined"] >= 1
+        checks[spacing] = res.motion_checks["valid"]
+    assert checks["40"] < checks["6"]  # the same search; fewer poses joined by the re-routing
