@@ -89,3 +89,13 @@ def test_routing_only_the_runs_that_may_win_picks_what_pricing_every_run_picks()
                 refused |= {got.run}
     assert compared >= 16
     assert pruned < every  # the bound spares routes
+
+
+def test_no_run_is_chosen_on_an_empty_path_or_one_that_fails_its_checks():
+    ck = PivotChecker(make_scene(**CLUTTERED))
+    lattice = TransferLattice(ck, COSTS)
+    through_wall = [(ck.scene.start, 0), ((5.0, 2.0, 0.0), 0), (ck.scene.goal, 0)]
+    assert not math.isfinite(Evaluator(ck, COSTS).path(through_wall).cost)
+    for path in ([], through_wall):
+        got = best_run(ck, lattice, path, costs=COSTS, should_stop=lambda: False)
+        assert (got.run, got.saving, got.routed) == (None, 0.0, 0)

@@ -11,6 +11,7 @@ bound must agree with).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -280,6 +281,7 @@ def best_run(checker: PivotChecker, lattice: TransferLattice, states: list[State
     ``exclude``: runs ``(i, j, g)`` not to choose (refused by the checks). By branch and
     bound (:func:`best_candidate`), or, ``exhaustive``, by routing every run: the same run
     and saving, routing more. ``start_grasp``, ``grasps``: as :func:`~.refine.refine`'s.
+    No run for an empty path or one that fails its checks.
 
     Raises:
         Interrupted: ``should_stop`` said stop.
@@ -287,6 +289,8 @@ def best_run(checker: PivotChecker, lattice: TransferLattice, states: list[State
     pricer = Pricer(checker, costs)
     phases = phases_of(states)
     current = pricer.path(phases)
+    if not phases or not math.isfinite(current):  # as refine: nothing to re-plan
+        return RunRound(None, 0.0, 0)
     refused = {(i, j, g, phases[i].poses) for i, j, g in exclude if 0 <= i < len(phases)}
     if exhaustive:
         return _every_run(lattice, pricer, phases, current, refused, should_stop, start_grasp,
