@@ -1,11 +1,12 @@
 """The regrasp planner's configuration: nested frozen dataclasses, one per stage.
 
 :class:`RegraspConfig` holds the grasps the robot may use, one block per stage of the planner
-(:class:`SamplingConfig`: the object roadmap's visibility, critical configurations, slots,
-bridge tests and diffusion; :class:`SearchConfig`: the multiplexed graph and its lazy search;
-:class:`SingleGraspConfig`: the regrasp-free try; :class:`OptimiserConfig`) and the cost both
-the search and the optimiser minimise (:class:`~pivot_ompl.cost.CostModel`). Units are
-metres, radians and seconds; lengths "in the pose metric" add ``YAW_WEIGHT`` m per radian.
+(:class:`~.sampling_config.SamplingConfig`: the object roadmap's visibility, critical
+configurations, slots, bridge tests and diffusion; :class:`SearchConfig`: the multiplexed
+graph and its lazy search; :class:`SingleGraspConfig`: the regrasp-free try;
+:class:`OptimiserConfig`) and the cost both the search and the optimiser minimise
+(:class:`~pivot_ompl.cost.CostModel`). Units are metres, radians and seconds; lengths "in
+the pose metric" add ``YAW_WEIGHT`` m per radian.
 
 Every leaf has a dotted name (``search.weight``, ``cost.regrasp``,
 ``sampling.slot_spacing``...), listed by :meth:`RegraspConfig.flat` and set by
@@ -20,7 +21,6 @@ every leaf with its default, range and description (``pivot-ompl bench --param h
 from __future__ import annotations
 
 import inspect
-import math
 from collections.abc import Iterator
 from dataclasses import dataclass, field, fields, is_dataclass, replace
 from typing import Any
@@ -29,69 +29,10 @@ from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import InputError
 from pivot_ompl.params import Range, check_value, knob, range_of
 from pivot_ompl.planners.repair_config import RepairConfig
+from pivot_ompl.planners.sampling_config import SamplingConfig
 
 #: The grasp indices (one per side of the box).
 GRASPS = (0, 1, 2, 3)
-
-
-@dataclass(frozen=True)
-class SamplingConfig:
-    """How the object roadmap (the box alone) grows.
-
-    Attributes:
-        guard_failures: consecutive discarded samples that end the Visibility PRM.
-        max_visibility_samples: samples of the Visibility PRM phase at most, before the
-            passage and diffusion phases, on a floor of up to ``visibility_area`` times as
-            many square metres that the box can reach; a larger floor gets one more sample
-            per ``visibility_area`` (its rooms need guards of their own).
-        visibility_area: reachable floor (m^2) per visibility sample beyond
-            ``max_visibility_samples``.
-        guard_radius: a sample is tested for visibility only from guards this near (m,
-            pose metric).
-        critical_spacing: a critical configuration closer than this (m, pose metric) to a
-            recorded one is not recorded again.
-        slots: seed the roadmap with box poses along the scene's slots (gaps wide enough
-            for the box but narrower than the walking robot, where it must let go of the box:
-            :mod:`pivot_ompl.planners.objects.slots`).
-        slot_play: the play (m) beyond which a gap no longer counts as a slot.
-        slot_spacing: spacing (m) of the seeded poses along a slot.
-        slot_approach: distances (m) beyond the slot's ends (and the box's length) of the
-            seeded poses from which the box is pushed in or pulled out.
-        doors: seed the roadmap with box poses along the scene's doors (gaps the held
-            assembly passes but cannot turn in: :func:`~pivot_ompl.planners.objects.slots.doors`).
-        door_play: the play (m) beyond the assembly's turning disk up to which a gap counts
-            as a door.
-        bridge_rounds: rounds of (up to 100) bridge tests before the diffusion.
-        bridge_bias: probability that a diffusion iteration is a bridge test instead.
-        bridge_sigma: standard deviation (m) of the bridge test's second sample.
-        passage_steps: distances (m) of the extensions from a passage node.
-        epsilon: diffusion extension step (m, Reeds-Shepp length of the box's path).
-        critical_bias: probability that a diffusion sample is drawn near a critical
-            configuration.
-        goal_bias: probability that a diffusion sample is the goal pose.
-        yaw_range: sampled yaws lie in ``[-yaw_range, yaw_range)`` (neighbours are found with
-            yaw modulo pi whatever the range: the box's half-turn symmetry).
-    """
-
-    guard_failures: int = knob(25, low=1)
-    max_visibility_samples: int = knob(30)
-    visibility_area: float = knob(4.0, low_open=True)
-    guard_radius: float = knob(3.0)
-    critical_spacing: float = knob(0.4)
-    slots: bool = True
-    slot_play: float = knob(0.1)
-    slot_spacing: float = knob(0.2, low_open=True)
-    slot_approach: tuple[float, ...] = knob((0.4, 0.7, 1.2))
-    doors: bool = True
-    door_play: float = knob(0.5)
-    bridge_rounds: int = knob(60)
-    bridge_bias: float = knob(0.3, high=1.0)
-    bridge_sigma: float = knob(0.5)
-    passage_steps: tuple[float, ...] = knob((0.5, 1.0, 1.5, 2.0))
-    epsilon: float = knob(1.0)
-    critical_bias: float = knob(0.25, high=1.0)
-    goal_bias: float = knob(0.05, high=1.0)
-    yaw_range: float = knob(math.pi)
 
 
 @dataclass(frozen=True)
@@ -194,6 +135,9 @@ class OptimiserConfig:
         choose_grasps: route each phase at every other grasp on the lattice and keep the
             cheapest (:mod:`pivot_ompl.planners.grasp_choice`; needs ``routes``), within
             ``eliminate_share`` too; off by default until its time is measured.
+        run_spacing: along a straight run of a lattice route made real (re-routing,
+            elimination, and the single-grasp try's lattice route), a pose is kept to join
+            every this many lattice motions (:func:`~pivot_ompl.planners.routes.chain.corners`).
         converge_checks: every improvement stage (re-routing, optimiser, elimination) may
             compute at least this many motion checks (times :func:`quality_scale`), however
             few the search made: a seed whose search ended early (a direct single-grasp
@@ -216,6 +160,7 @@ class OptimiserConfig:
     eliminate_share: float = knob(0.3)
     eliminate_checks: int = knob(60)
     choose_grasps: bool = False
+    run_spacing: int = knob(6, low=1)
     converge_checks: int = knob(500)
     quality_share: float = knob(QUALITY_SHARE, high=0.95)
 

@@ -81,7 +81,7 @@ def rrt_path(checker: PivotChecker, start: Pose, goal: Pose, *, grasps: list[int
 
 def lattice_path(checker: PivotChecker, lattice: TransferLattice, costs: CostModel,
                  start: Pose, goal: Pose, *, grasps: list[int], weight: float,
-                 detour: float = math.inf, should_stop: Stop,
+                 detour: float = math.inf, run_spacing: int, should_stop: Stop,
                  stats: DirectStats) -> Found[list[State]]:
     """The cheapest certified single-grasp path along a lattice route (module docstring).
 
@@ -113,7 +113,7 @@ def lattice_path(checker: PivotChecker, lattice: TransferLattice, costs: CostMod
             best = min(routed)
             routed.remove(best)
             _, g, poses = best
-            found = shortened(evaluate, corners(poses), g, should_stop)
+            found = shortened(evaluate, corners(poses, spacing=run_spacing), g, should_stop)
             if found.status is Status.STOPPED:
                 return Found(Status.STOPPED)
             if found.path is not None:
@@ -125,13 +125,14 @@ def lattice_path(checker: PivotChecker, lattice: TransferLattice, costs: CostMod
 
 def direct_path(checker: PivotChecker, start: Pose, goal: Pose, *, grasps: list[int],
                 config: SingleGraspConfig, costs: CostModel, rng: np.random.Generator,
-                lattice: Callable[[], TransferLattice], should_stop: Stop,
+                lattice: Callable[[], TransferLattice], run_spacing: int, should_stop: Stop,
                 stats: DirectStats) -> list[State]:
     """A regrasp-free path by the two tries in turn (module docstring), or ``[]``.
 
     ``grasps``: those valid at both ends (and held, if one is). The RRT-Connect draws from its
     own generator (spawned from ``rng``, which it leaves as it was); ``lattice()`` gives the
-    lattice, made when first asked (``config.lattice`` off: never).
+    lattice, made when first asked (``config.lattice`` off: never). ``run_spacing``: as
+    :func:`lattice_path`'s.
     """
     if not grasps:
         return []
@@ -145,7 +146,7 @@ def direct_path(checker: PivotChecker, start: Pose, goal: Pose, *, grasps: list[
         if found.status is Status.INVALID and config.lattice:
             found = lattice_path(checker, lattice(), costs, start, goal, grasps=grasps,
                                  weight=config.lattice_weight, detour=config.lattice_detour,
-                                 should_stop=should_stop, stats=stats)
+                                 run_spacing=run_spacing, should_stop=should_stop, stats=stats)
             stats.solved_by = "lattice" if found.path else ""
         return found.path or []
     finally:

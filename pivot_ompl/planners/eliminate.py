@@ -96,14 +96,20 @@ class EliminationReport:
     seconds: float = 0.0
 
 
-def lattice_router(checker: PivotChecker, lattice: TransferLattice, costs: CostModel) -> Router:
-    """A :data:`Router` along ``lattice``'s cheapest route, certified transfer by transfer."""
+def lattice_router(checker: PivotChecker, lattice: TransferLattice, costs: CostModel, *,
+                   run_spacing: int) -> Router:
+    """A :data:`Router` along ``lattice``'s cheapest route, certified transfer by transfer.
+
+    ``run_spacing``: along a straight run of the route, a pose is kept to join every this
+    many lattice motions (:func:`~.routes.chain.corners`).
+    """
     def route(start: Pose, goal: Pose, grasp: int, should_stop: Stop) -> list[Pose]:
         try:
             poses, _ = lattice.route(start, goal, grasp, should_stop=should_stop)
             if len(poses) < 2:
                 return []
-            found = shortened(Evaluator(checker, costs), corners(poses), grasp, should_stop)
+            found = shortened(Evaluator(checker, costs), corners(poses, spacing=run_spacing), grasp,
+                              should_stop)
         except Interrupted:
             return []
         if found.status is not Status.VALID or found.path is None:

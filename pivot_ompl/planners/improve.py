@@ -104,7 +104,8 @@ def improve(checker: PivotChecker, states: list[State], config: RegraspConfig, *
     t0 = time.perf_counter()
     if cfg.routes and lattice is not None:
         states = refine(checker, lattice, states, costs=config.cost,
-                        should_stop=routes.stop(should_stop, checker, states), stats=st.refine,
+                        should_stop=routes.stop(should_stop, checker, states),
+                        run_spacing=cfg.run_spacing, stats=st.refine,
                         start_grasp=start_grasp, grasps=config.grasps)
         st.routes_seconds += time.perf_counter() - t0
     states = optimise(checker, states, should_stop=optimiser.stop(should_stop, checker, states),

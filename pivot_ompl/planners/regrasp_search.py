@@ -124,12 +124,12 @@ class RegraspSearch:
     def __init__(self, checker: PivotChecker, start: Pose, goal: Pose, config: RegraspConfig,
                  rng: np.random.Generator, *, start_grasp: int | None = None) -> None:
         """The parts, empty."""
-        self.checker, self.start, self.goal = checker, start, goal
-        self.start_grasp = start_grasp
+        self.checker, self.start, self.goal, self.start_grasp = checker, start, goal, start_grasp
         self.config, self.rng = config, rng
         sc, se = config.sampling, config.search
         self.roadmap = Roadmap()
-        self.sampler = PoseSampler(checker, rng, yaw_range=sc.yaw_range, start=start)
+        self.sampler = PoseSampler(checker, rng, yaw_range=sc.yaw_range, start=start,
+                                   max_rejects=sc.max_rejects)
         self.critical = CriticalConfigurations(checker, self.roadmap, grasps=config.grasps,
                                                spacing=sc.critical_spacing)
         self.visibility = VisibilityRoadmap(
@@ -138,11 +138,11 @@ class RegraspSearch:
         self.bridge = BridgeTest(checker, self.sampler, sigma=sc.bridge_sigma,
                                  steps=sc.passage_steps)
         self.diffusion = Diffusion(checker, self.sampler, goal, epsilon=sc.epsilon,
-                                   goal_bias=sc.goal_bias, critical_bias=sc.critical_bias)
+                                   goal_bias=sc.goal_bias, critical_bias=sc.critical_bias,
+                                   extend_step=sc.extend_step)
         self.graph = MultiplexedGraph(checker, self.roadmap, grasps=config.grasps,
-                                      neighbours=se.neighbours,
-                                      connect_radius=se.connect_radius, costs=config.cost,
-                                      turns=se.turns, turn_margin=se.turn_margin)
+                                      neighbours=se.neighbours, connect_radius=se.connect_radius,
+                                      costs=config.cost, turns=se.turns, turn_margin=se.turn_margin)
         self.paths = PathSearch(checker, self.graph, goal, weight=se.weight)
         self.stats = RegraspStats()
         self.lattice: TransferLattice | None = None
@@ -249,12 +249,12 @@ class RegraspSearch:
         ck = self.checker
         grasps = [g for g in self.config.grasps if ck.state_valid(self.start, g)
                   and ck.state_valid(self.goal, g) and self.start_grasp in (None, g)]
-        d, cfg = self.direct, self.config.single_grasp
+        d, cfg, spacing = self.direct, self.config.single_grasp, self.config.optimiser.run_spacing
         if cfg.lattice and self._area() < cfg.lattice_area:  # the trees' floor: no lattice
             cfg = replace(cfg, lattice=False)
         path = direct_path(ck, self.start, self.goal, grasps=grasps, config=cfg,
                            costs=self.config.cost, rng=self.rng, lattice=self._lattice,
-                           should_stop=should_stop, stats=d)
+                           run_spacing=spacing, should_stop=should_stop, stats=d)
         s = self.stats
         s.single_grasp_checks, s.single_grasp_solved = d.checks, bool(path)
         s.single_grasp_by, s.time_single_grasp = d.solved_by, d.seconds
@@ -365,8 +365,8 @@ class RegraspSearch:
                          start_grasp=self.start_grasp, lattice=self.lattice,
                          stats=self.improved)
         self.stats.time_routes += self.improved.routes_seconds - routes_before
-        ck, costs = self.checker, self.config.cost
-        router = lattice_router(ck, self.lattice, costs) if self.lattice else None
+        ck, costs, lat = self.checker, self.config.cost, self.lattice
+        router = lattice_router(ck, lat, costs, run_spacing=cfg.run_spacing) if lat else None
         extra = Budget(share=scale * cfg.eliminate_share, minimum=max(cfg.eliminate_checks, floor))
         if cfg.eliminate:
             self.elimination = EliminationReport()

@@ -16,12 +16,14 @@ from pivot_ompl import plan, scene_from_map
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
-from pivot_ompl.planners.config import RegraspConfig, SingleGraspConfig
+from pivot_ompl.planners.config import OptimiserConfig, RegraspConfig, SingleGraspConfig
 from pivot_ompl.planners.direct import DirectStats, direct_path, lattice_path
 from pivot_ompl.planners.evaluation import Status
 from pivot_ompl.planners.routes.guide import grid_distances
 from pivot_ompl.planners.routes.lattice import TransferLattice
 from pivot_ompl.validity.plan_check import check_plan
+
+SPACING = OptimiserConfig().run_spacing
 
 HOUSE = Path(__file__).resolve().parents[2] / "scenes" / "maps" / "aws_small_house" / "map.yaml"
 
@@ -44,7 +46,7 @@ def test_the_lattice_crosses_a_house_with_one_grasp_where_no_tree_is_grown(house
     states = direct_path(checker, house.start, house.goal,
                          grasps=_valid_grasps(checker, house),
                          config=SingleGraspConfig(checks=0), costs=CostModel(),
-                         rng=np.random.default_rng(0), lattice=lambda: lattice,
+                         rng=np.random.default_rng(0), lattice=lambda: lattice, run_spacing=SPACING,
                          should_stop=lambda: False, stats=stats)
     assert stats.solved_by == "lattice" and stats.checks == 0
     assert states[0][0] == house.start and states[-1][0] == house.goal
@@ -59,7 +61,8 @@ def test_the_cheapest_grasp_route_is_taken_and_the_others_pruned_by_their_bounds
     grasps = _valid_grasps(checker, house)
     stats = DirectStats()
     found = lattice_path(checker, lattice, CostModel(), house.start, house.goal,
-                         grasps=grasps, weight=1.0, should_stop=lambda: False, stats=stats)
+                         grasps=grasps, weight=1.0, run_spacing=SPACING,
+                         should_stop=lambda: False, stats=stats)
     assert found.status is Status.VALID and found.path is not None
     costs = {g: lattice.route(house.start, house.goal, g)[1] for g in grasps}
     assert costs[found.path[0][1]] == min(costs.values())
@@ -74,10 +77,11 @@ def test_no_single_grasp_path_where_a_regrasp_is_needed_and_none_when_stopped():
     grasps = _valid_grasps(checker, scene)
     stats = DirectStats()
     found = lattice_path(checker, lattice, CostModel(), scene.start, scene.goal,
-                         grasps=grasps, weight=1.2, should_stop=lambda: False, stats=stats)
+                         grasps=grasps, weight=1.2, run_spacing=SPACING,
+                         should_stop=lambda: False, stats=stats)
     assert found.status is Status.INVALID and found.path is None
     stopped = lattice_path(checker, TransferLattice(checker, CostModel()), CostModel(),
-                           scene.start, scene.goal, grasps=grasps, weight=1.2,
+                           scene.start, scene.goal, grasps=grasps, weight=1.2, run_spacing=SPACING,
                            should_stop=lambda: True, stats=DirectStats())
     assert stopped.status is Status.STOPPED
 
@@ -149,7 +153,7 @@ def test_a_lattice_detour_is_left_to_the_search():
 
     def run(detour):
         return lattice_path(checker, lattice, CostModel(), book.start, book.goal,
-                            grasps=grasps, weight=1.2, detour=detour,
+                            grasps=grasps, weight=1.2, detour=detour, run_spacing=SPACING,
                             should_stop=lambda: False, stats=DirectStats())
 
     assert run(math.inf).status is Status.VALID

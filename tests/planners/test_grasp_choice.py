@@ -11,13 +11,15 @@ from factories import shipped
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.base.problem import make_problem
 from pivot_ompl.cost import CostModel
-from pivot_ompl.planners.config import RegraspConfig
+from pivot_ompl.planners.config import OptimiserConfig, RegraspConfig
 from pivot_ompl.planners.eliminate import lattice_router
 from pivot_ompl.planners.evaluation import Evaluator
 from pivot_ompl.planners.grasp_choice import GraspChoiceStats, choose_grasps
 from pivot_ompl.planners.regrasp_search import RegraspSearch
 from pivot_ompl.planners.routes.lattice import TransferLattice
 from pivot_ompl.validity.plan_check import check_plan
+
+SPACING = OptimiserConfig().run_spacing
 
 
 @pytest.fixture(scope="module")
@@ -38,7 +40,7 @@ def test_a_cheaper_grasp_is_chosen_and_the_path_stays_valid(corridor):
     scene, ck, states = corridor
     w = CostModel()
     st = GraspChoiceStats()
-    router = lattice_router(ck, TransferLattice(ck, w), w)
+    router = lattice_router(ck, TransferLattice(ck, w), w, run_spacing=SPACING)
     out = choose_grasps(ck, states, router=router, should_stop=lambda: False, stats=st)
     assert st.changed >= 1 and st.cost_after < st.cost_before
     assert Evaluator(ck, w).path(out).cost == pytest.approx(st.cost_after)
@@ -51,7 +53,7 @@ def test_a_cheaper_grasp_is_chosen_and_the_path_stays_valid(corridor):
 def test_held_start_grasp_and_stop_are_honoured(corridor):
     _scene, ck, states = corridor
     w = CostModel()
-    router = lattice_router(ck, TransferLattice(ck, w), w)
+    router = lattice_router(ck, TransferLattice(ck, w), w, run_spacing=SPACING)
     held = choose_grasps(ck, states, router=router, should_stop=lambda: False,
                          start_grasp=states[0][1])
     assert held[0][1] == states[0][1]

@@ -11,14 +11,7 @@ from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.planners.evaluation import Evaluator
 from pivot_ompl.planners.routes.lattice import TransferLattice
-from pivot_ompl.planners.routes.refine import (
-    RefineStats,
-    _best_candidate,
-    _candidates,
-    _phases,
-    _priced,
-    _Pricer,
-)
+from pivot_ompl.planners.routes.run_pricing import best_run
 
 COSTS = CostModel()
 BOX = dict(type="box", height=1.0)
@@ -63,41 +56,46 @@ def _zigzag(ck: PivotChecker, grasps: list[int]) -> list[tuple[tuple[float, floa
     return path
 
 
-def _brute_force(lattice, pricer, phases, current, refused, start_grasp):
-    """The run pricing every run chooses: the largest saving, ties to the earlier run."""
-    cost = [pricer.phase(p) for p in phases]
-    regrasp = [0.0] + [pricer.regrasp(a, b) for a, b in zip(phases, phases[1:], strict=False)]
-    best = None
-    for i, j, g in _candidates(phases, start_grasp):
-        if (i, j, g, phases[i].poses) in refused:
-            continue
-        priced = _priced(lattice, phases, cost, regrasp, current, (i, j, g), lambda: False)
-        if priced is not None and priced[0] > 1e-9 and (best is None or priced[0] > best[0]):
-            best = (priced[0], i, j, g, priced[1])
-    return None if best is None else best[1:]
-
-
 def test_routing_only_the_runs_that_may_win_picks_what_pricing_every_run_picks():
     scene = make_scene(**{**CLUTTERED, "obstacles": CLUTTERED["obstacles"][1:]})
-    compared = 0
-    for grasps in ([0, 2, 0, 2], [0, 1, 2, 3, 0], [3, 1, 0, 2, 0], [2, 0, 1, 3, 1, 0]):
+    compared = pruned = every = 0
+    rng = np.random.default_rng(11)
+    sequences = [[0, 2, 0, 2], [0, 1, 2, 3, 0], [3, 1, 0, 2, 0], [2, 0, 1, 3, 1, 0]]
+    while len(sequences) < 12:  # and random ones: a new grasp at each regrasp
+        seq = [int(rng.integers(4))]
+        for _ in range(int(rng.integers(2, 6))):
+            seq.append((seq[-1] + int(rng.integers(1, 4))) % 4)
+        sequences.append(seq)
+    for grasps in sequences:
         ck = PivotChecker(scene)
         path = _zigzag(ck, grasps)
-        assert math.isfinite(Evaluator(ck, COSTS).path(path).cost), grasps
-        lattice, pricer = TransferLattice(ck, COSTS), _Pricer(ck, COSTS)
-        phases = _phases(path)
-        current = pricer.path(phases)
-        refused: set = set()
+        if not math.isfinite(Evaluator(ck, COSTS).path(path).cost):
+            assert grasps not in sequences[:4]  # the fixed ones are valid
+            continue
+        lattice = TransferLattice(ck, COSTS)
         for start_grasp in (None, path[0][1]):
-            for _ in range(4):  # as refine does: the best refused, then the next
-                st = RefineStats()
-                got = _best_candidate(lattice, pricer, phases, current, refused, lambda: False,
-                                      st, start_grasp)
-                want = _brute_force(lattice, pricer, phases, current, refused, start_grasp)
-                assert got == want, (grasps, start_grasp)
+            refused: frozenset[tuple[int, int, int]] = frozenset()
+            for _ in range(60):  # as refine does: the best refused, then the next, to the last
+                got, want = (best_run(ck, lattice, path, costs=COSTS, should_stop=lambda: False,
+                                      start_grasp=start_grasp, exclude=refused,
+                                      exhaustive=exhaustive) for exhaustive in (False, True))
+                assert (got.run, got.saving) == (want.run, want.saving), (grasps, start_grasp)
+                assert got.routed <= want.routed
+                pruned, every = pruned + got.routed, every + want.routed
                 compared += 1
-                if got is None:
+                if got.run is None:
                     break
-                refused.add((got[0], got[1], got[2], phases[got[0]].poses))
-            assert st.candidates <= len(_candidates(phases, start_grasp))
+                assert got.saving > 0.0
+                refused |= {got.run}
     assert compared >= 16
+    assert pruned < every  # the bound spares routes
+
+
+def test_no_run_is_chosen_on_an_empty_path_or_one_that_fails_its_checks():
+    ck = PivotChecker(make_scene(**CLUTTERED))
+    lattice = TransferLattice(ck, COSTS)
+    through_wall = [(ck.scene.start, 0), ((5.0, 2.0, 0.0), 0), (ck.scene.goal, 0)]
+    assert not math.isfinite(Evaluator(ck, COSTS).path(through_wall).cost)
+    for path in ([], through_wall):
+        got = best_run(ck, lattice, path, costs=COSTS, should_stop=lambda: False)
+        assert (got.run, got.saving, got.routed) == (None, 0.0, 0)

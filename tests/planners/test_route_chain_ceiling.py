@@ -9,11 +9,13 @@ from factories import shipped
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
+from pivot_ompl.planners.config import OptimiserConfig
 from pivot_ompl.planners.evaluation import Evaluator, Status
 from pivot_ompl.planners.routes.chain import TOO_DEAR, corners, shortened
 from pivot_ompl.planners.routes.lattice import TransferLattice
 
 COSTS = CostModel()
+SPACING = OptimiserConfig().run_spacing
 
 
 def _chain(scene: str, grasp: int, ceiling: float = math.inf):
@@ -22,7 +24,7 @@ def _chain(scene: str, grasp: int, ceiling: float = math.inf):
     route, _ = TransferLattice(ck, COSTS).route(ck.scene.start, ck.scene.goal, grasp)
     assert len(route) >= 2
     before = ck.counters.valid + ck.counters.invalid
-    found = shortened(Evaluator(ck, COSTS), corners(route), grasp, lambda: False,
+    found = shortened(Evaluator(ck, COSTS), corners(route, spacing=SPACING), grasp, lambda: False,
                       ceiling=ceiling)
     return found, ck.counters.valid + ck.counters.invalid - before
 

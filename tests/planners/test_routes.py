@@ -10,7 +10,7 @@ from factories import make_scene, shipped
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
-from pivot_ompl.planners.config import RegraspConfig, SearchConfig
+from pivot_ompl.planners.config import OptimiserConfig, RegraspConfig, SearchConfig
 from pivot_ompl.planners.evaluation import Evaluator
 from pivot_ompl.planners.regrasp_search import RegraspSearch
 from pivot_ompl.planners.routes.lattice import TransferLattice
@@ -18,6 +18,7 @@ from pivot_ompl.planners.routes.refine import RefineStats, refine
 from pivot_ompl.validity.plan_check import check_plan
 
 COSTS = CostModel()
+SPACING = OptimiserConfig().run_spacing
 OPEN = dict(bounds=[0.0, 0.0, 10.0, 6.0], start=[1.5, 3.0, 0.0], goal=[8.5, 3.0, 0.0])
 
 
@@ -79,7 +80,7 @@ def test_regrasps_that_serve_nothing_become_turns_or_go():
         path = _wasteful(ck, grasps)
         stats = RefineStats()
         out = refine(ck, TransferLattice(ck, COSTS), path, costs=COSTS,
-                     should_stop=lambda: False, stats=stats)
+                     should_stop=lambda: False, stats=stats, run_spacing=SPACING)
         regrasps = sum(1 for x, y in zip(out, out[1:], strict=False) if x[1] != y[1])
         assert Evaluator(ck, COSTS).path(out).cost < Evaluator(ck, COSTS).path(path).cost
         assert out[0][0] == scene.start and out[-1][0] == scene.goal  # the goal as given
@@ -98,9 +99,10 @@ def test_refinement_is_never_costlier_and_stops_at_once():
                            np.random.default_rng(1))
     path = search.run(lambda: False)
     lattice = TransferLattice(ck, COSTS)
-    same = refine(ck, lattice, path, costs=COSTS, should_stop=lambda: True)
+    same = refine(ck, lattice, path, costs=COSTS, should_stop=lambda: True, run_spacing=SPACING)
     assert same == path
-    out = refine(ck, lattice, path, costs=COSTS, should_stop=lambda: False)
+    out = refine(ck, lattice, path, costs=COSTS, should_stop=lambda: False,
+                 run_spacing=SPACING)
     assert Evaluator(ck, COSTS).path(out).cost <= Evaluator(ck, COSTS).path(path).cost
     assert check_plan(path_to_plan(scene, ck, out), scene).ok
 

@@ -95,6 +95,7 @@ class MultiplexedGraph:
         start_nodes, goal_nodes: the manipulation nodes at the start and goal poses.
         multiplexed: object nodes (by index, from 0) already multiplexed.
         regrasp_edges, plausibility_tests: counts.
+        plausibility_passed: cheap tests of transfers that passed (of ``plausibility_tests``).
         links: candidate edges linked so far (a version of the graph: removals and cost
             changes do not count).
     """
@@ -106,6 +107,7 @@ class MultiplexedGraph:
     multiplexed: int
     regrasp_edges: int
     plausibility_tests: int
+    plausibility_passed: int
     links: int
 
     def __init__(self, checker: PivotChecker, roadmap: Roadmap, *, grasps: tuple[int, ...],
@@ -133,6 +135,7 @@ class MultiplexedGraph:
         self.turn_edges = 0
         self.regrasp_edges = 0
         self.plausibility_tests = 0
+        self.plausibility_passed = 0
         self.links = 0
         self._components: UnionFind[Node] = UnionFind()  # over candidate edges (never split)
         #: object nodes where grasp 0 or 2 (index 0), 1 or 3 (index 1) is valid
@@ -303,7 +306,9 @@ class MultiplexedGraph:
             v = self._plausible[key] = self.checker.cars_free(
                 m.car_pose(pa, a[1]), m.car_pose(pb, a[1]), a[1], PLAUSIBILITY_FRACTIONS)
             self.plausibility_tests += 1
-            if not v:
+            if v:
+                self.plausibility_passed += 1
+            else:
                 self.remove(a, b)
         return v
 

@@ -14,9 +14,6 @@ from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planners.objects.samplers import PoseSampler
 from pivot_ompl.se2 import Pose, wrap_angle
 
-#: Spacing (m) of the poses tested along an extension.
-EXTEND_STEP = 0.05
-
 
 class Diffusion:
     """Targets and extensions of the diffusion.
@@ -26,17 +23,21 @@ class Diffusion:
         sampler: uniform poses and the generator.
         goal: the goal pose.
         epsilon: longest extension (m of Reeds-Shepp path).
+        extend_step: spacing (m of Reeds-Shepp path) of the poses tested along an extension
+            (:attr:`~pivot_ompl.planners.sampling_config.SamplingConfig.extend_step`).
         goal_bias, critical_bias: probabilities of the goal and of a critical
             configuration's neighbourhood as the target.
     """
 
     def __init__(self, checker: PivotChecker, sampler: PoseSampler, goal: Pose, *,
-                 epsilon: float, goal_bias: float, critical_bias: float) -> None:
+                 epsilon: float, goal_bias: float, critical_bias: float,
+                 extend_step: float) -> None:
         """Diffusion with these settings."""
         self.checker = checker
         self.sampler = sampler
         self.goal = goal
         self.epsilon = epsilon
+        self.extend_step = extend_step
         self.goal_bias = goal_bias
         self.critical_bias = critical_bias
 
@@ -65,7 +66,7 @@ class Diffusion:
         if d == 0.0:
             return near
         reach = min(1.0, self.epsilon / d)
-        n = max(1, int(reach * d / EXTEND_STEP))
+        n = max(1, int(reach * d / self.extend_step))
         last = near
         for q in rs.sample(near, target, [reach * (k + 1) / n for k in range(n)]):
             if not self.checker.box_valid(q):

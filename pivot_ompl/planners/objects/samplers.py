@@ -27,9 +27,6 @@ from pivot_ompl.validity.footprints import disk_clear, region_vertices
 #: region (GEOS's union, not interruptible: 0.4 s at 42 000 vertices, 17 s at 1.4 M); beyond,
 #: it samples the whole floor.
 REGION_MAX_VERTICES = 50_000
-#: Draws of :meth:`PoseSampler.reachable` rejected in a row before it falls back to
-#: :meth:`PoseSampler.uniform` (a sliver of a region).
-MAX_REJECTS = 200
 
 
 class PoseSampler:
@@ -39,15 +36,19 @@ class PoseSampler:
         checker: the scene's bounds and the box's validity.
         rng: the planner's generator (the only source of randomness).
         yaw_range: half-width of the yaw interval (rad).
+        max_rejects: draws of :meth:`reachable` rejected in a row before it falls back to
+            :meth:`uniform` (a sliver of a region;
+            :attr:`~pivot_ompl.planners.sampling_config.SamplingConfig.max_rejects`).
     """
 
     def __init__(self, checker: PivotChecker, rng: np.random.Generator, *,
-                 yaw_range: float, start: Pose | None = None) -> None:
+                 yaw_range: float, max_rejects: int, start: Pose | None = None) -> None:
         """Sample over ``checker``'s floor (:meth:`reachable`: from ``start``)."""
         b = checker.world.bounds
         self.checker = checker
         self.rng = rng
         self.yaw_range = yaw_range
+        self.max_rejects = max_rejects
         self.start = start
         self._lo = (b[0], b[1])
         self._hi = (b[2], b[3])
@@ -83,7 +84,7 @@ class PoseSampler:
         if region is None or self._region_box is None:
             return self.uniform()
         x0, y0, x1, y1 = self._region_box
-        for _ in range(MAX_REJECTS):
+        for _ in range(self.max_rejects):
             x, y = float(self.rng.uniform(x0, x1)), float(self.rng.uniform(y0, y1))
             if shapely.contains_xy(region, x, y):
                 return (x, y, float(self.rng.uniform(-self.yaw_range, self.yaw_range)))

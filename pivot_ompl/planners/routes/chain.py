@@ -19,15 +19,13 @@ Stop = Callable[[], bool]
 #: :func:`shortened`'s answer when every chain costs at least its ``ceiling`` (no chain).
 TOO_DEAR: Found[tuple[list[Pose], float]] = Found(Status.INVALID, ([], math.inf))
 
-#: Along a straight run of a lattice route, a pose is kept every this many lattice motions.
-RUN_SPACING = 6
 
-
-def corners(route: list[Pose]) -> list[Pose]:
+def corners(route: list[Pose], *, spacing: int) -> list[Pose]:
     """The route's poses worth joining by transfers.
 
-    Its ends, the poses where it starts or stops turning, and every :data:`RUN_SPACING` th
-    pose of a long straight run.
+    Its ends, the poses where it starts or stops turning, and every ``spacing`` th pose of a
+    long straight run (lattice motions;
+    :attr:`~pivot_ompl.planners.config.OptimiserConfig.run_spacing`).
     """
     if len(route) < 3:
         return route
@@ -36,7 +34,7 @@ def corners(route: list[Pose]) -> list[Pose]:
         a, b, c = route[k - 1], route[k], route[k + 1]
         turning_in = abs(b[2] - a[2]) > 1e-9
         turning_out = abs(c[2] - b[2]) > 1e-9
-        if turning_in != turning_out or k - keep[-1] >= RUN_SPACING:
+        if turning_in != turning_out or k - keep[-1] >= spacing:
             keep.append(k)
     keep.append(len(route) - 1)
     return [route[k] for k in keep]
