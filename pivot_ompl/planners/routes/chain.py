@@ -16,10 +16,6 @@ from pivot_ompl.se2 import Pose, wrap_angle
 
 Stop = Callable[[], bool]
 
-#: :func:`shortened`'s answer when every chain costs at least its ``ceiling`` (no chain).
-TOO_DEAR: Found[tuple[list[Pose], float]] = Found(Status.INVALID, ([], math.inf))
-
-
 def corners(route: list[Pose], *, spacing: int) -> list[Pose]:
     """The route's poses worth joining by transfers.
 
@@ -41,14 +37,10 @@ def corners(route: list[Pose], *, spacing: int) -> list[Pose]:
 
 
 def shortened(evaluate: Evaluator, route: list[Pose], grasp: int,
-              should_stop: Stop, *, ceiling: float = math.inf
-              ) -> Found[tuple[list[Pose], float]]:
+              should_stop: Stop) -> Found[tuple[list[Pose], float]]:
     """The cheapest chain of certified transfers along the route, with its cost (s).
 
-    ``VALID`` with the chain, ``INVALID`` when there is none, ``STOPPED``; :data:`TOO_DEAR`
-    once every chain is proven to cost at least ``ceiling`` s (the checked transfers' real
-    costs, the others' :meth:`~pivot_ompl.cost.CostModel.transfer_bound`): a caller that
-    keeps a chain only below ``ceiling`` is spared the checks of one it would drop. Candidate
+    ``VALID`` with the chain, ``INVALID`` when there is none, ``STOPPED``. Candidate
     transfers join route pose ``i`` to ``i + 1, i + 2, i + 4, ...`` and to the end. Lazily
     (:func:`~pivot_ompl.planners.evaluation.lazy_search`): the cheapest chain by estimated
     costs (a transfer's reference path length at the push rate,
@@ -66,27 +58,6 @@ def shortened(evaluate: Evaluator, route: list[Pose], grasp: int,
     ends = {i: sorted({min(n - 1, i + (1 << k)) for k in range(n.bit_length() + 1)} - {i})
             for i in range(n - 1)}
     checked: dict[tuple[int, int], float] = {}
-    floors: dict[tuple[int, int], float] = {}
-    over = False
-
-    def floor(i: int, j: int) -> float:  # no transfer from route pose i to j costs less
-        f = floors.get((i, j))
-        if f is None:
-            a, b = cars[i], cars[j]
-            f = floors[(i, j)] = evaluate.costs.transfer_bound(
-                math.hypot(b[0] - a[0], b[1] - a[1]), wrap_angle(b[2] - a[2]), ell, alpha)
-        return f
-
-    def least() -> float:  # no chain along the route costs less (s)
-        best = [math.inf] * n
-        best[0] = 0.0
-        for i in range(n - 1):
-            if math.isfinite(best[i]):
-                for j in ends[i]:
-                    c = checked.get((i, j))
-                    best[j] = min(best[j], best[i] + (floor(i, j) if c is None else c))
-        return best[-1]
-
     estimates: dict[tuple[int, int], float] = {}  # each search round asks them all again
 
     def estimate(i: int, j: int) -> float:
@@ -99,10 +70,6 @@ def shortened(evaluate: Evaluator, route: list[Pose], grasp: int,
         return e
 
     def cheapest() -> Found[tuple[list[int], float]]:
-        nonlocal over
-        if math.isfinite(ceiling) and least() >= ceiling:
-            over = True
-            return Found(Status.INVALID)
         best = [math.inf] * n
         back = [-1] * n
         best[0] = 0.0
@@ -142,8 +109,6 @@ def shortened(evaluate: Evaluator, route: list[Pose], grasp: int,
     # the checks poll ``should_stop``: a chain whose every transfer is checked is returned
     # even when the time is up
     found = lazy_search(cheapest, check, lambda: False)
-    if over:
-        return TOO_DEAR
     if found.path is None:
         return Found(found.status)
     chain, cost = found.path

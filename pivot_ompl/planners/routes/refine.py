@@ -34,7 +34,7 @@ from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.evaluation import Evaluator, Found, Status
-from pivot_ompl.planners.routes.chain import TOO_DEAR, corners, shortened
+from pivot_ompl.planners.routes.chain import corners, shortened
 from pivot_ompl.planners.routes.lattice import TransferLattice
 from pivot_ompl.planners.routes.run_pricing import (
     Leg,
@@ -106,8 +106,7 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
             i, j, g, _saving, plan = best
             refused.add((i, j, g, phases[i].poses))
             st.tried += 1
-            real = _made_real(checker, lattice, plan, costs, should_stop, run_spacing,
-                              chains=chains)
+            real = _made_real(checker, lattice, plan, costs, should_stop, run_spacing, chains)
             if real is None or real[-1].poses[-1] != phases[-1].poses[-1]:
                 log.debug("phases %d..%d at grasp %d: the checks refuse the route", i, j, g)
                 continue
@@ -126,18 +125,15 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
     return states_of(phases)
 
 
-#: :func:`~.chain.shortened`'s answers by route ``(start, end, grasp)``, with their ceilings
-_Chains = dict[tuple[Pose, Pose, int], tuple[Found[tuple[list[Pose], float]], float]]
+#: :func:`~.chain.shortened`'s answers by route ``(start, end, grasp)``
+_Chains = dict[tuple[Pose, Pose, int], Found[tuple[list[Pose], float]]]
 
 
 def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: Leg, costs: CostModel,
-               should_stop: Stop, run_spacing: int, ceiling: float = math.inf,
-               chains: _Chains | None = None) -> tuple[list[Pose], float]:
-    """The leg as a chain of certified transfers (whole, else anchored) and its cost.
+               should_stop: Stop, run_spacing: int, chains: _Chains) -> list[Pose]:
+    """The leg as a chain of certified transfers (``[]`` if none): whole, else anchored.
 
-    ``([], inf)`` if there is none, or once it is proven to cost at least ``ceiling`` s
-    (:data:`~.chain.TOO_DEAR`; no anchored try follows, as none follows a whole chain too
-    dear). ``chains``: the routes' chains found before (one too dear at a ceiling serves below).
+    ``chains``: the routes' chains found before (a route asked again is not checked again).
     """
     tries: list[tuple[tuple[Pose, ...], Pose, Pose, tuple[Pose, ...]]] = [
         ((), leg.start, leg.end, ())]
@@ -149,32 +145,24 @@ def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: Leg, costs:
         if len(route) < 2:
             continue
         key = (a, b, leg.grasp)
-        known, above = (chains or {}).get(key, (None, -math.inf))
-        if known is not None and (known is not TOO_DEAR or above >= ceiling):
-            found = known  # the same route's chain (a dear one: dearer than asked now)
-        else:
+        found = chains.get(key)
+        if found is None:
             found = shortened(Evaluator(checker, costs), corners(route, spacing=run_spacing),
-                              leg.grasp, should_stop, ceiling=ceiling)
+                              leg.grasp, should_stop)
             if found.status is Status.STOPPED:
                 raise Interrupted("route refinement")
-            if chains is not None:
-                chains[key] = (found, ceiling)
-        if found is TOO_DEAR:
-            return [], math.inf
+            chains[key] = found
         if found.path is not None:
-            return [*before, *found.path[0], *after], found.path[1]
-    return [], math.inf
+            return [*before, *found.path[0], *after]
+    return []
 
 
 def _made_real(checker: PivotChecker, lattice: TransferLattice, plan: list,
                costs: CostModel, should_stop: Stop, run_spacing: int,
-               chains: _Chains | None = None) -> list[Phase] | None:
+               chains: _Chains) -> list[Phase] | None:
     """The plan's routed legs as chains of certified transfers; ``None`` if one fails.
 
-    ``chains``: the routes' chains found before (:func:`_leg_chain`). No ceiling is given to
-    the chains: one drawn from the path's price (the kept phases' prices plus the legs made
-    real) is not a proof here; it changed the plan of a building whose walls are cut into
-    boxes, which must plan as the whole walls do.
+    ``chains``: the routes' chains found before (:func:`_leg_chain`).
     """
     out: list[Phase] = []
     for item in plan:
@@ -182,8 +170,7 @@ def _made_real(checker: PivotChecker, lattice: TransferLattice, plan: list,
             out.append(item)
             continue
         grasp = item.grasp
-        chain, _cost = _leg_chain(checker, lattice, item, costs, should_stop, run_spacing,
-                                  chains=chains)
+        chain = _leg_chain(checker, lattice, item, costs, should_stop, run_spacing, chains)
         if not chain:
             return None
         if out and out[-1].grasp == grasp:  # a regrasp the run removed: one phase
