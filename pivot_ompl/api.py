@@ -19,16 +19,17 @@ from pivot_ompl.base.problem import make_setup
 from pivot_ompl.base.state import read_state
 from pivot_ompl.base.status import status_name
 from pivot_ompl.checking.pivot_checker import PivotChecker
-from pivot_ompl.errors import InputError, Interrupted, PlanningError, counted
-from pivot_ompl.grasp import check_grasp
+from pivot_ompl.errors import Interrupted, PlanningError, counted
+from pivot_ompl.plan_arguments import MAX_SEED as MAX_SEED
+from pivot_ompl.plan_arguments import MAX_TIME_LIMIT as MAX_TIME_LIMIT
+from pivot_ompl.plan_arguments import check_config, check_plan_arguments
+from pivot_ompl.plan_arguments import check_time_limit as check_time_limit
 from pivot_ompl.planfile import Plan
 from pivot_ompl.planners import (
     OMPL_PLANNERS,
-    PLANNERS,
     RegraspConfig,
     RegraspPlanner,
     Resume,
-    check_planner_name,
     make_planner,
     parse_spec,
 )
@@ -44,11 +45,6 @@ log = logging.getLogger(__name__)
 # ompl.util.setLogLevel(ompl.util.LogLevel.LOG_INFO) or `pivot-ompl --log-level DEBUG`.
 ou.setLogLevel(ou.LogLevel.LOG_WARN)
 
-#: Largest effective time limit (s, 11.6 days): a larger one (or ``inf``) means "until solved"
-#: in practice and is clamped to this, which OMPL's clock still represents.
-MAX_TIME_LIMIT = 1.0e6
-#: Largest seed (OMPL's global seed is ``seed + 1``, a 32-bit value on every platform).
-MAX_SEED = 2**32 - 2
 #: Least time (s) left after the setup for which the search still starts.
 MIN_SOLVE_TIME = 1e-3
 #: Longest a first computation of a scene's lower bounds may take (s); then they are ``null``.
@@ -171,8 +167,9 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
         PlanningError: ``INVALID_START``/``INVALID_GOAL`` (no grasp there, or not ``start_grasp``).
         InputError: bad parameters (wrong type or value), naming the parameter.
     """
-    time_limit = _check_arguments(scene, planner, time_limit, seed, simplify, bound, start_grasp)
-    config = _check_config(config, regrasp_cost)
+    time_limit = check_plan_arguments(scene, planner, time_limit, seed, simplify, bound,
+                                      start_grasp)
+    config = check_config(config, regrasp_cost)
     started = time.monotonic()  # the time limit counts from here: loading and setup included
     t0 = time.perf_counter()
     deadline = started + time_limit
@@ -362,55 +359,3 @@ def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool
     q = plan_quality(result_plan, regrasps_lower_bound=regrasps, shortest_route=route,
                      costs=config.cost)
     return {**q, **explain_plan(result_plan, scene, q)}
-
-
-def _check_arguments(scene: Any, planner: Any, time_limit: Any, seed: Any,
-                     simplify: Any, bound: Any, start_grasp: Any) -> float:
-    """Validate :func:`plan`'s arguments; return the effective time limit (s)."""
-    if not isinstance(scene, Scene | str | os.PathLike):
-        raise InputError("scene", type(scene).__name__,
-                         "must be a Scene, a scene file path or a shipped scene name")
-    if not isinstance(planner, str):
-        raise InputError("planner", planner, f"unknown planner (known: {sorted(PLANNERS)})")
-    check_planner_name(planner)  # unknown or refused planners (prm) say why
-    limit = check_time_limit(time_limit)
-    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= MAX_SEED:
-        raise InputError("seed", seed, f"must be an integer in [0, {MAX_SEED}]")
-    if not isinstance(simplify, bool):
-        raise InputError("simplify", simplify, "must be True or False")
-    if not isinstance(bound, bool):
-        raise InputError("bound", bound, "must be True or False")
-    if start_grasp is not None:
-        check_grasp(start_grasp, field="start_grasp")
-    return limit
-
-
-def check_time_limit(value: Any, field: str = "time_limit") -> float:
-    """The one time-limit contract of every verb and API call: the limit (s) to use.
-
-    A number > 0; ``math.inf`` and anything above :data:`MAX_TIME_LIMIT` is
-    :data:`MAX_TIME_LIMIT`.
-
-    Raises:
-        InputError: not a number, NaN, or not > 0 (naming ``field``).
-    """
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise InputError(field, value, "must be a number of seconds")
-    if math.isnan(value) or value <= 0:
-        raise InputError(field, value, "must be > 0 s")
-    return float(min(value, MAX_TIME_LIMIT))
-
-
-def _check_config(config: Any, regrasp_cost: Any) -> RegraspConfig:
-    """The regrasp planner's configuration with ``regrasp_cost`` applied."""
-    if config is None:
-        config = RegraspConfig()
-    elif not isinstance(config, RegraspConfig):
-        raise InputError("config", type(config).__name__, "must be a RegraspConfig")
-    if regrasp_cost is None:
-        return config
-    if isinstance(regrasp_cost, bool) or not isinstance(regrasp_cost, int | float) or \
-            not math.isfinite(regrasp_cost) or regrasp_cost < 0:
-        raise InputError("regrasp_cost", regrasp_cost, "must be a number of seconds >= 0")
-    return config.with_values({"cost.regrasp": float(regrasp_cost)})
-

@@ -27,8 +27,6 @@ from typing import Any
 
 import numpy as np
 import shapely
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
@@ -36,6 +34,7 @@ from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.graph import astar
 from pivot_ompl.planners.routes.guide import graph_distances, move_graph
+from pivot_ompl.planners.routes.lattice_components import chunked_labels
 from pivot_ompl.se2 import Pose, wrap_angle
 from pivot_ompl.transit.lattice import HEADING_VECTORS, HEADING_YAWS, N_HEADINGS
 from pivot_ompl.validity.assembly_field import AssemblyField
@@ -44,9 +43,6 @@ from pivot_ompl.validity.assembly_field import AssemblyField
 #: gets a coarser grid, so the field's grids and the components stay within a few hundred MB
 #: (a 200 x 200 m hall at 0.1 m took 9 GB).
 MAX_CELLS = 250_000
-#: Free cells per ``connected_components`` call of the lattice's components (a few
-#: hundredths of a second each, the stop polled between them).
-CHUNK_CELLS = 16_384
 
 State = tuple[int, int, int]
 _START: State = (-1, -1, -1)
@@ -305,7 +301,7 @@ class TransferLattice:
         cell_ids[cells] = np.arange(len(cells), dtype=np.int32)
         state = [fits[2 * h][cells] for h in range(nh)]  # free at heading h, per free cell
         turn = [state[h] & state[(h + 1) % nh] & fits[2 * h + 1][cells] for h in range(nh)]
-        labels = _chunked_labels(cells, cell_ids, state, turn, (nx, ny), should_stop)
+        labels = chunked_labels(cells, cell_ids, state, turn, (nx, ny), should_stop)
         labels[~np.stack(state, axis=1).reshape(-1)] = -1
         self._labels[parity] = (cell_ids, labels)
         return cell_ids, labels
@@ -362,65 +358,3 @@ class TransferLattice:
                     out[(ix, iy, h)] = d * self._push[grasp] + \
                         abs(wrap_angle(HEADING_YAWS[h] - car[2])) * self._spin
         return out
-
-
-def _chunked_labels(cells: np.ndarray, cell_ids: np.ndarray, state: list[np.ndarray],
-                    turn: list[np.ndarray], shape: tuple[int, int],
-                    should_stop: Callable[[], bool] | None) -> np.ndarray:
-    """A component label per lattice state (``cell_id * N_HEADINGS + h``), chunk by chunk.
-
-    The free cells are cut into runs of :data:`CHUNK_CELLS`; each run's own moves (pushes
-    and turns within it) get their components in one small ``connected_components`` call,
-    with ``should_stop`` polled between the calls, so no single call outlasts the stop by
-    more than a run's share; then the pushes that cross from one run to another join the
-    runs' components (a graph of the few components they touch). States in one component
-    share a label, others differ (the numbers are not consecutive).
-
-    Raises:
-        Interrupted: ``should_stop()`` became true.
-    """
-    nx, ny, nh = shape[0], shape[1], N_HEADINGS
-    n = len(cells)
-    labels = np.empty(n * nh, dtype=np.int64)
-    cross_r, cross_c = [], []
-    for a in range(0, n, CHUNK_CELLS):
-        if should_stop is not None and should_stop():
-            raise Interrupted("transfer lattice components")
-        b = min(a + CHUNK_CELLS, n)
-        ix, iy = np.divmod(cells[a:b], ny)
-        here = np.arange(a, b, dtype=np.int64) * nh
-        rows, cols = [], []
-        for h, (vx, vy) in enumerate(HEADING_VECTORS[:nh]):
-            jx, jy = ix + vx, iy + vy
-            inside = (jx >= 0) & (jx < nx) & (jy >= 0) & (jy < ny)
-            there = np.full(b - a, -1, dtype=np.int64)
-            there[inside] = cell_ids[jx[inside] * ny + jy[inside]]
-            ok = state[h][a:b] & (there >= 0)
-            ok[ok] &= state[h][there[ok]]
-            inner = ok & (there >= a) & (there < b)
-            rows.append(here[inner] + h)
-            cols.append(there[inner] * nh + h)
-            out = ok & ~inner
-            cross_r.append(here[out] + h)
-            cross_c.append(there[out] * nh + h)
-            ok = turn[h][a:b]
-            rows.append(here[ok] + h)
-            cols.append(here[ok] + (h + 1) % nh)
-        r, c = np.concatenate(rows) - a * nh, np.concatenate(cols) - a * nh
-        m = (b - a) * nh
-        graph = coo_matrix((np.ones(len(r), dtype=np.int8), (r, c)), shape=(m, m)).tocsr()
-        _, sub = connected_components(graph, directed=False)
-        labels[a * nh:b * nh] = sub + a * nh  # runs' labels never meet: a run's states <= m
-    if should_stop is not None and should_stop():
-        raise Interrupted("transfer lattice components")
-    r, c = np.concatenate(cross_r), np.concatenate(cross_c)
-    if len(r):
-        touched, pairs = np.unique(np.concatenate([labels[r], labels[c]]), return_inverse=True)
-        k = len(touched)
-        graph = coo_matrix((np.ones(len(r), dtype=np.int8), (pairs[:len(r)], pairs[len(r):])),
-                           shape=(k, k)).tocsr()
-        _, joined = connected_components(graph, directed=False)
-        remap = np.arange(n * nh, dtype=np.int64)
-        remap[touched] = n * nh + joined  # above every run's label: no clash
-        labels = remap[labels]
-    return labels.astype(np.int32)  # < 2 * MAX_CELLS * N_HEADINGS
