@@ -54,10 +54,12 @@ class GeneratorParams:
     side_corridor: tuple[float, float] = (0.87, 0.89)
     side_door: tuple[float, float] = (1.0, 1.0)
 
+    def __post_init__(self) -> None:
+        check_params(self)
 
 
 def check_params(p: GeneratorParams) -> None:
-    """Raise :class:`InputError` for parameters no layout can honour."""
+    """Raise :class:`InputError` for parameters no layout can honour (run when they are made)."""
     if p.walls is not None and (isinstance(p.walls, bool) or not isinstance(p.walls, int)
                                 or not 1 <= p.walls <= 64):
         raise InputError("walls", p.walls, "must be a whole number from 1 to 64")
@@ -81,5 +83,13 @@ def check_params(p: GeneratorParams) -> None:
                          f"must be widths of at most {MAX_WIDE_DOOR:g} m")
     if p.side_door[1] > MAX_SIDE_DOOR:
         raise InputError("side_door", p.side_door, f"must be widths of at most {MAX_SIDE_DOOR:g} m")
-    if p.layout not in BUILDING_LAYOUTS:
+    if isinstance(p.max_tilt, bool) or not isinstance(p.max_tilt, int | float) or \
+            not 0 <= p.max_tilt < math.pi / 2:
+        raise InputError("max_tilt", p.max_tilt, "must be an angle in [0, pi/2) rad")
+    if not isinstance(p.rotate, bool):
+        raise InputError("rotate", p.rotate, "must be True or False")
+    if isinstance(p.attempts, bool) or not isinstance(p.attempts, int) or \
+            not 1 <= p.attempts <= 100_000:
+        raise InputError("attempts", p.attempts, "must be a whole number from 1 to 100000")
+    if not isinstance(p.layout, str) or p.layout not in BUILDING_LAYOUTS:
         raise InputError("layout", p.layout, f"must be one of {list(BUILDING_LAYOUTS)}")

@@ -180,16 +180,19 @@ def _slot_widths(scene, plan):
 
 
 @pytest.mark.parametrize(("params", "field"), [
-    (GeneratorParams(walls=0), "walls"), (GeneratorParams(slot_clearance=0.001), "slot_clearance"),
-    (GeneratorParams(rooms=0), "rooms"), (GeneratorParams(layout="ring"), "layout"),
-    (GeneratorParams(slot_clearance="wide"), "slot_clearance"),  # type: ignore[arg-type]
-    (GeneratorParams(door_width=(1.3, 1.1)), "door_width"),
-    (GeneratorParams(wide_doors=(1.3, 1.1)), "wide_doors"),
-    (GeneratorParams(wide_doors=(1.0, 3.0)), "wide_doors"),
-    (GeneratorParams(slot_gap=("a", 0.1)), "slot_gap")])  # type: ignore[arg-type]
-def test_bad_generator_parameters_name_their_field(params, field):
+    ({"walls": 0}, "walls"), ({"slot_clearance": 0.001}, "slot_clearance"),
+    ({"rooms": 0}, "rooms"), ({"layout": "ring"}, "layout"), ({"layout": ["row"]}, "layout"),
+    ({"slot_clearance": "wide"}, "slot_clearance"),
+    ({"door_width": (1.3, 1.1)}, "door_width"),
+    ({"wide_doors": (1.3, 1.1)}, "wide_doors"),
+    ({"wide_doors": (1.0, 3.0)}, "wide_doors"),
+    ({"slot_gap": ("a", 0.1)}, "slot_gap"),
+    ({"max_tilt": float("nan")}, "max_tilt"), ({"max_tilt": -0.1}, "max_tilt"),
+    ({"rotate": "yes"}, "rotate"), ({"attempts": 0}, "attempts"),
+    ({"attempts": 2.5}, "attempts")])
+def test_bad_generator_parameters_name_their_field_when_made(params, field):
     with pytest.raises(InputError) as e:
-        generate("walls", 0, params=params)
+        GeneratorParams(**params)
     assert e.value.field == field
 
 
