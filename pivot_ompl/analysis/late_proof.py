@@ -6,14 +6,15 @@ scene without a plan for want of room to turn has no such passage, and its searc
 the whole limit. Running the relaxation before every search costs easy scenes its time
 (about 0.1 s of the coarse raster on fig10, a fifth of its solve), so :class:`LateProof` is
 polled by the search *while it has no path* and does nothing before ``begin``; then, once,
-it asks the regrasp bound (:func:`~pivot_ompl.analysis.bound_cache.lower_bound`, stopped at
-``end``: a result kept by the cache serves the plan's quality block later, so a plan found
-afterwards does not pay for it twice). When the bound proves that no plan exists, it says
-why, stopped at ``explain_end``: the passage that blocks every plan
-(:func:`~pivot_ompl.analysis.passage.blocking_passage`), else the place where the held box
-cannot turn (:func:`~pivot_ompl.analysis.turning.turning_place`, where the polygons are
-estimated to fit), else a line naming the width the held assembly needs; and the search
-stops.
+it asks the relaxation, stopped at ``end``: where the exact polygons are estimated to fit,
+:func:`~pivot_ompl.analysis.turning.turning_place` (the relaxation itself: it proves and
+places at once); elsewhere the regrasp bound coarse to fine
+(:func:`~pivot_ompl.analysis.bound_cache.lower_bound`; a result kept by the cache serves the
+plan's quality block later). When no plan exists it says why, stopped at ``explain_end``:
+the passage that blocks every plan (:func:`~pivot_ompl.analysis.passage.blocking_passage`),
+else the place where the held box cannot turn, else a line naming the width the held
+assembly needs; and the search stops. Its cost to a scene that has a plan is at most
+``end - begin``, and only when the search is slow to find a path.
 """
 
 from __future__ import annotations
@@ -31,9 +32,9 @@ from pivot_ompl.scene import Scene
 
 log = logging.getLogger(__name__)
 
-#: Margin on the polygons' estimated time before the turning place is looked for (it runs
-#: them once more, and searches from both ends).
-EXPLAIN_MARGIN = 2.0
+#: Margin on the polygons' time (measured by the proof, else estimated) before the turning
+#: place is looked for (it runs them once more, and searches from both ends).
+EXPLAIN_MARGIN = 1.0
 
 
 @dataclass(frozen=True)
@@ -61,16 +62,19 @@ class NoPlan:
 
 
 def explain_proven(scene: Scene, *, should_stop: Callable[[], bool] | None = None,
-                   time_left: Callable[[], float] | None = None) -> NoPlan:
+                   time_left: Callable[[], float] | None = None,
+                   polygons: float | None = None) -> NoPlan:
     """Why ``scene``, which the relaxation proved has no plan, has none (module docstring).
 
-    ``time_left()`` (s, if known) decides whether the turning place is looked for.
+    The turning place is looked for when ``time_left()`` (s, if known) holds
+    :data:`EXPLAIN_MARGIN` times the polygons' time: ``polygons`` (s, measured) or estimated.
     """
     passage = blocking_passage(scene, should_stop=should_stop)
     if passage is not None:
         return NoPlan(passage.reason, passage=passage)
     left = None if time_left is None else time_left()
-    if left is None or EXPLAIN_MARGIN * exhaustive_estimate(scene) <= left:
+    cost = exhaustive_estimate(scene) if polygons is None else polygons
+    if left is None or EXPLAIN_MARGIN * cost <= left:
         place = turning_place(scene, should_stop=should_stop)
         if place is not None:
             return NoPlan(place.reason, turn=place)
@@ -113,15 +117,27 @@ class LateProof:
         if now < self.begin:
             return False
         self.tried = True
-        bound = lower_bound(self.scene, refine_seconds=max(0.0, self.end - now),
-                            should_stop=lambda: self.clock() >= self.end)
-        if bound.solvable is not False:
-            log.debug("late proof: nothing proven (%s) in %.2f s", bound.solvable,
-                      self.clock() - now)
-            return False
-        self.proof = explain_proven(self.scene,
-                                    should_stop=lambda: self.clock() >= self.explain_end,
-                                    time_left=lambda: self.explain_end - self.clock())
+        budget = self.end - now
+        if exhaustive_estimate(self.scene) <= budget:  # the polygons: proof and place at once
+            place = turning_place(self.scene, should_stop=lambda: self.clock() >= self.end)
+            if place is None:
+                log.debug("late proof: nothing proven in %.2f s", self.clock() - now)
+                return False
+            passage = blocking_passage(self.scene,
+                                       should_stop=lambda: self.clock() >= self.explain_end)
+            self.proof = (NoPlan(passage.reason, passage=passage) if passage is not None
+                          else NoPlan(place.reason, turn=place))
+        else:
+            bound = lower_bound(self.scene, refine_seconds=budget,
+                                should_stop=lambda: self.clock() >= self.end)
+            if bound.solvable is not False:
+                log.debug("late proof: nothing proven (%s) in %.2f s", bound.solvable,
+                          self.clock() - now)
+                return False
+            self.proof = explain_proven(
+                self.scene, should_stop=lambda: self.clock() >= self.explain_end,
+                time_left=lambda: self.explain_end - self.clock(),
+                polygons=bound.seconds if bound.exhaustive else None)
         log.info("no plan exists (proven in %.2f s): %s", self.clock() - now,
                  self.proof.reason)
         return True
