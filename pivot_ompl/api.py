@@ -162,8 +162,11 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
             block (:func:`pivot_ompl.analysis.plan_bounds.plan_bounds`: computed once per
             scene geometry, within ``time_limit`` (what the search left of it, less
             :data:`WRITE_SHARE` of it kept for writing the plan), then read from the
-            cache); ``False``:
-            ``null`` there and nothing computed.
+            cache); and a regrasp search still without a path after
+            :data:`LATE_PROOF_BEGIN` of the limit asks the relaxation once whether any plan
+            exists (``INFEASIBLE`` with the reason when none does,
+            :class:`~pivot_ompl.analysis.late_proof.LateProof`); ``False``: ``null`` there
+            and nothing computed.
         checker: a :class:`~pivot_ompl.checking.pivot_checker.PivotChecker` of the same scene
             geometry whose checked motions to reuse (:class:`pivot_ompl.session.PlanningSession`
             passes its own); by default a new one.
