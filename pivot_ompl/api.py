@@ -57,7 +57,7 @@ PROOF_SHARE = 0.08
 #: Shares of the time limit at which the search, still without a path, asks the relaxation
 #: once whether any plan exists (:class:`~pivot_ompl.analysis.late_proof.LateProof`), by which
 #: the relaxation is stopped, and by which the explanation of a proof is stopped.
-LATE_PROOF_BEGIN, LATE_PROOF_END, EXPLAIN_END = 0.03, 0.07, 0.095
+LATE_PROOF_BEGIN, LATE_PROOF_END, EXPLAIN_END = 0.02, 0.08, 0.095
 #: Share of the time limit (at most ``FINISH_MAX`` s) kept from the search for the steps after
 #: it: converting the path, the lower bounds, and the caller writing the plan. A limit ``T``
 #: then ends within ``T`` in :func:`plan`, and within ``T + 5 %`` once the plan is written.

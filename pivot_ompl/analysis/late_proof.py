@@ -6,14 +6,15 @@ scene without a plan for want of room to turn has no such passage, and its searc
 the whole limit. Running the relaxation before every search costs easy scenes its time
 (about 0.1 s of the coarse raster on fig10, a fifth of its solve), so :class:`LateProof` is
 polled by the search *while it has no path* and does nothing before ``begin``; then, once,
-it asks the relaxation, stopped at ``end``: where the exact polygons are estimated to fit,
-:func:`~pivot_ompl.analysis.turning.turning_place` (the relaxation itself: it proves and
-places at once); elsewhere the regrasp bound coarse to fine
-(:func:`~pivot_ompl.analysis.bound_cache.lower_bound`; a result kept by the cache serves the
-plan's quality block later). When no plan exists it says why, stopped at ``explain_end``:
-the passage that blocks every plan (:func:`~pivot_ompl.analysis.passage.blocking_passage`),
-else the place where the held box cannot turn, else a line naming the width the held
-assembly needs; and the search stops. Its cost to a scene that has a plan is at most
+it runs the relaxation, stopped at ``end``, in the form that proves and places at once: the
+exact polygons (:func:`~pivot_ompl.analysis.turning.turning_place`) where they are estimated
+to fit, else the coarse raster (:func:`~pivot_ompl.analysis.turning_raster.
+raster_turning_place`); a bound the cache holds answers at once (a solvable one: nothing to
+do; an unsolvable one: only the place is looked for, until ``explain_end``). When no plan
+exists the reason is the passage that blocks every plan
+(:func:`~pivot_ompl.analysis.passage.blocking_passage`) if there is one, else the place where
+the held box cannot turn, else (the place not found in time) a line naming the width the
+held assembly needs; and the search stops. Its cost to a scene that has a plan is at most
 ``end - begin``, and only when the search is slow to find a path.
 """
 
@@ -24,18 +25,14 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from pivot_ompl.analysis.bound_cache import lower_bound
-from pivot_ompl.analysis.bound_levels import exhaustive_estimate
+from pivot_ompl.analysis.bound_cache import cached_bound
+from pivot_ompl.analysis.bound_levels import CELLS, exhaustive_estimate
 from pivot_ompl.analysis.passage import Passage, assembly_width, blocking_passage
 from pivot_ompl.analysis.turning import TurningPlace, turning_place
+from pivot_ompl.analysis.turning_raster import raster_turning_place
 from pivot_ompl.scene import Scene
 
 log = logging.getLogger(__name__)
-
-#: Margin on the polygons' time (measured by the proof, else estimated) before the turning
-#: place is looked for (it runs them once more, and searches from both ends).
-EXPLAIN_MARGIN = 1.0
-
 
 @dataclass(frozen=True)
 class NoPlan:
@@ -61,23 +58,8 @@ class NoPlan:
         return out
 
 
-def explain_proven(scene: Scene, *, should_stop: Callable[[], bool] | None = None,
-                   time_left: Callable[[], float] | None = None,
-                   polygons: float | None = None) -> NoPlan:
-    """Why ``scene``, which the relaxation proved has no plan, has none (module docstring).
-
-    The turning place is looked for when ``time_left()`` (s, if known) holds
-    :data:`EXPLAIN_MARGIN` times the polygons' time: ``polygons`` (s, measured) or estimated.
-    """
-    passage = blocking_passage(scene, should_stop=should_stop)
-    if passage is not None:
-        return NoPlan(passage.reason, passage=passage)
-    left = None if time_left is None else time_left()
-    cost = exhaustive_estimate(scene) if polygons is None else polygons
-    if left is None or EXPLAIN_MARGIN * cost <= left:
-        place = turning_place(scene, should_stop=should_stop)
-        if place is not None:
-            return NoPlan(place.reason, turn=place)
+def generic(scene: Scene) -> NoPlan:
+    """The line of a proof whose place was not found in time: what the held assembly needs."""
     need = assembly_width(scene.model)
     return NoPlan(f"no plan: the box and the robot holding it cannot get from the start to the "
                   f"goal; every passage is as wide as they need ({need:.2f} m), so room to "
@@ -117,27 +99,26 @@ class LateProof:
         if now < self.begin:
             return False
         self.tried = True
-        budget = self.end - now
-        if exhaustive_estimate(self.scene) <= budget:  # the polygons: proof and place at once
-            place = turning_place(self.scene, should_stop=lambda: self.clock() >= self.end)
-            if place is None:
-                log.debug("late proof: nothing proven in %.2f s", self.clock() - now)
-                return False
-            passage = blocking_passage(self.scene,
-                                       should_stop=lambda: self.clock() >= self.explain_end)
-            self.proof = (NoPlan(passage.reason, passage=passage) if passage is not None
-                          else NoPlan(place.reason, turn=place))
+        known = cached_bound(self.scene)
+        if known is not None and known.solvable:
+            return False
+        stop = self._stop(self.end if known is None else self.explain_end)
+        if exhaustive_estimate(self.scene) <= self.end - now:  # proof and place at once
+            place = turning_place(self.scene, should_stop=stop)
         else:
-            bound = lower_bound(self.scene, refine_seconds=budget,
-                                should_stop=lambda: self.clock() >= self.end)
-            if bound.solvable is not False:
-                log.debug("late proof: nothing proven (%s) in %.2f s", bound.solvable,
-                          self.clock() - now)
-                return False
-            self.proof = explain_proven(
-                self.scene, should_stop=lambda: self.clock() >= self.explain_end,
-                time_left=lambda: self.explain_end - self.clock(),
-                polygons=bound.seconds if bound.exhaustive else None)
+            place = raster_turning_place(self.scene, cell=CELLS[0], should_stop=stop)
+        if place is None and known is None:
+            log.debug("late proof: nothing proven in %.2f s", self.clock() - now)
+            return False
+        passage = blocking_passage(self.scene, should_stop=self._stop(self.explain_end))
+        if passage is not None:  # a narrow passage says more than where to turn
+            self.proof = NoPlan(passage.reason, passage=passage)
+        else:
+            self.proof = generic(self.scene) if place is None else NoPlan(place.reason,
+                                                                          turn=place)
         log.info("no plan exists (proven in %.2f s): %s", self.clock() - now,
                  self.proof.reason)
         return True
+
+    def _stop(self, at: float) -> Callable[[], bool]:
+        return lambda: self.clock() >= at

@@ -161,10 +161,10 @@ def _turning_place(scene: Scene, resolution: float, clearance: float,
     g_all = shapely.union_all([g for _, g in g_parts])
     centre = _meeting_point(s_all, g_all)
     w, length = assembly_outline(scene.model, clearance=clearance)
-    width = _widest_circle(scene, centre, 0.5 * length, should_stop)
+    width = widest_circle(scene, centre, 0.5 * length, should_stop)
     return TurningPlace((float(centre.x), float(centre.y)), width, w, length,
-                        _yaw_arc(_near_bins(s_parts, centre), cover.bins),
-                        _yaw_arc(_near_bins(g_parts, centre), cover.bins))
+                        yaw_arc(_near_bins(s_parts, centre), cover.bins),
+                        yaw_arc(_near_bins(g_parts, centre), cover.bins))
 
 
 def _meeting_point(a: BaseGeometry, b: BaseGeometry) -> shapely.Point:
@@ -185,7 +185,7 @@ def _near_bins(parts: list[tuple[int, BaseGeometry]], p: shapely.Point) -> list[
     return sorted({b for (b, _), di in zip(parts, d, strict=True) if di <= least + NEAR})
 
 
-def _yaw_arc(bins: list[int], n: int) -> tuple[float, float]:
+def yaw_arc(bins: list[int], n: int) -> tuple[float, float]:
     """The smallest arc (degrees, ``low <= high``, low in [-180, 180)) holding ``bins``."""
     w = 360.0 / n
     if len(bins) >= n:
@@ -202,7 +202,7 @@ def _yaw_arc(bins: list[int], n: int) -> tuple[float, float]:
     return (low, high)
 
 
-def _widest_circle(scene: Scene, centre: shapely.Point, radius: float,
+def widest_circle(scene: Scene, centre: shapely.Point, radius: float,
                    should_stop: Callable[[], bool] | None) -> float:
     """Diameter (m) of the widest free circle whose centre is within ``radius`` of ``centre``.
 

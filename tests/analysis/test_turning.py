@@ -16,6 +16,7 @@ from hypothesis import strategies as st
 from pivot_ompl.analysis.late_proof import LateProof
 from pivot_ompl.analysis.passage import assembly_width, blocking_passage
 from pivot_ompl.analysis.turning import assembly_outline, turning_place
+from pivot_ompl.analysis.turning_raster import raster_turning_place
 from pivot_ompl.api import EXPLAIN_END, LATE_PROOF_BEGIN, plan
 from pivot_ompl.cli.main import main
 from pivot_ompl.scene import Scene, scene_from_dict
@@ -28,16 +29,20 @@ def _box(x0: float, y0: float, x1: float, y1: float) -> dict:
             "size": [x1 - x0, y1 - y0], "yaw": 0.0, "height": 2.0}
 
 
-def tight_corner(seed: int) -> tuple[dict, tuple[float, float]]:
+def tight_corner(seed: int, widths: tuple[float, float] = (0.90, 0.94),
+                 turned: bool = True) -> tuple[dict, tuple[float, float]]:
     """A closed L-shaped corridor (generated from ``seed``) whose corner the held box cannot
     turn: 0.90-0.94 m wide (the box and the robot holding it need 0.88 m across, 1.54 m
     long), legs of 3-4 m, the whole turned by a random angle; the start at the end of one
-    leg, the goal at the end of the other. Returns the scene document and the corner's
-    inner point."""
+    leg, the goal at the end of the other (``widths``: the range of the corridor's width;
+    ``turned`` False: axis-aligned, the legs whole decimetres). Returns the scene document and the corner's inner
+    point."""
     rng = np.random.default_rng(seed)
-    w = float(rng.uniform(0.90, 0.94))
+    w = float(rng.uniform(*widths))
     run, rise = (float(v) for v in rng.uniform(3.0, 4.0, 2))
-    angle = float(rng.uniform(-math.pi, math.pi))
+    angle = float(rng.uniform(-math.pi, math.pi)) if turned else 0.0
+    if not turned:  # walls on whole decimetres: on the raster's cell edges
+        run, rise = round(run, 1), round(rise, 1)
     x1, y1 = 0.3 + run + w + 0.3, 0.3 + rise + w + 0.3  # walls 0.3 m thick all round
     cx = 0.3 + run  # the vertical leg spans x in [cx, cx + w]
     walls = [_box(0.0, 0.0, x1, 0.3), _box(0.0, 0.3, 0.3, 0.3 + w),  # floor side, west end
@@ -130,3 +135,25 @@ def test_every_generated_tight_corner_is_proven_and_placed(seed):
     place = turning_place(scene)
     assert place is not None
     assert math.dist(place.center, corner) < 1.0
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_the_raster_relaxation_places_a_corner_too_tight_on_an_axis_aligned_floor(seed):
+    # large floors: the coarse raster proves and places what the polygons would
+    doc, corner = tight_corner(seed, widths=(0.9, 0.9), turned=False)
+    scene = scene_from_dict(doc, source="<test>")
+    place = raster_turning_place(scene)
+    assert place is not None
+    assert math.dist(place.center, corner) < 1.0
+    assert place.reason.startswith("no plan: the box cannot turn at")
+    a, b = place.from_start
+    c, d = place.to_goal
+    assert not any(a <= v <= b for v in (c, d, c + 360, d - 360))
+    # the late proof takes the raster where the polygons do not fit its time
+    late = LateProof(scene, begin=0.0, end=1e-3, clock=lambda: 0.0)
+    assert late() is True and late.proof is not None and late.proof.turn == place
+
+
+def test_the_raster_finds_no_place_where_a_plan_exists():
+    assert raster_turning_place(shipped("slot")) is None
+    assert raster_turning_place(shipped("fig10")) is None
