@@ -35,8 +35,8 @@ def tight_corner(seed: int, widths: tuple[float, float] = (0.90, 0.94),
     turn: 0.90-0.94 m wide (the box and the robot holding it need 0.88 m across, 1.54 m
     long), legs of 3-4 m, the whole turned by a random angle; the start at the end of one
     leg, the goal at the end of the other (``widths``: the range of the corridor's width;
-    ``turned`` False: axis-aligned, the legs whole decimetres). Returns the scene document and the corner's inner
-    point."""
+    ``turned`` False: axis-aligned, the legs whole decimetres). Returns the scene document
+    and the corner's inner point."""
     rng = np.random.default_rng(seed)
     w = float(rng.uniform(*widths))
     run, rise = (float(v) for v in rng.uniform(3.0, 4.0, 2))
