@@ -19,6 +19,7 @@ from pivot_ompl.analysis.turning import assembly_outline, turning_place
 from pivot_ompl.analysis.turning_raster import raster_turning_place
 from pivot_ompl.api import EXPLAIN_END, LATE_PROOF_BEGIN, plan
 from pivot_ompl.cli.main import main
+from pivot_ompl.generate import generate
 from pivot_ompl.scene import Scene, scene_from_dict
 
 LIMIT = 30.0
@@ -157,3 +158,13 @@ def test_the_raster_relaxation_places_a_corner_too_tight_on_an_axis_aligned_floo
 def test_the_raster_finds_no_place_where_a_plan_exists():
     assert raster_turning_place(shipped("slot")) is None
     assert raster_turning_place(shipped("fig10")) is None
+
+
+@settings(max_examples=4, deadline=None)
+@given(family=st.sampled_from(["walls", "corridor", "clutter"]), seed=st.integers(0, 40))
+def test_no_place_is_given_where_a_witness_plan_exists(family, seed):
+    # a place is a proof that no plan exists: never on a generated scene with its plan
+    gen = generate(family, seed=seed)
+    assert gen.witness.phases
+    assert turning_place(gen.scene) is None
+    assert raster_turning_place(gen.scene) is None
