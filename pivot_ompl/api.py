@@ -12,8 +12,10 @@ from typing import Any
 
 from ompl import util as ou
 
+from pivot_ompl.analysis.late_proof import LateProof, NoPlan
 from pivot_ompl.analysis.passage import Passage, explain_no_plan
 from pivot_ompl.analysis.plan_bounds import plan_bounds
+from pivot_ompl.analysis.turning import TurningPlace
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.base.problem import make_setup
 from pivot_ompl.base.state import read_state
@@ -52,6 +54,10 @@ BOUND_TIME_LIMIT = 10.0
 #: Share of the time limit for the relaxation to prove, before the search, that no plan exists
 #: (then ``INFEASIBLE`` at once).
 PROOF_SHARE = 0.08
+#: Shares of the time limit at which the search, still without a path, asks the relaxation
+#: once whether any plan exists (:class:`~pivot_ompl.analysis.late_proof.LateProof`), by which
+#: the relaxation is stopped, and by which the explanation of a proof is stopped.
+LATE_PROOF_BEGIN, LATE_PROOF_END, EXPLAIN_END = 0.02, 0.08, 0.095
 #: Share of the time limit (at most ``FINISH_MAX`` s) kept from the search for the steps after
 #: it: converting the path, the lower bounds, and the caller writing the plan. A limit ``T``
 #: then ends within ``T`` in :func:`plan`, and within ``T + 5 %`` once the plan is written.
@@ -83,6 +89,8 @@ class PlanResult:
             that no plan exists), one line saying why: which passage, where, its width, what
             needs what (:mod:`pivot_ompl.analysis.passage`); ``None`` otherwise.
         passage: with ``INFEASIBLE``, the passage that blocks every plan, if one does.
+        turn: with ``INFEASIBLE``, the place where the held box cannot turn, if that is why
+            (:mod:`pivot_ompl.analysis.turning`).
     """
 
     status: str
@@ -97,6 +105,7 @@ class PlanResult:
     scene: Scene | None = field(default=None, repr=False)
     infeasible_reason: str | None = None
     passage: Passage | None = field(default=None, repr=False)
+    turn: TurningPlace | None = field(default=None, repr=False)
 
     @property
     def solved(self) -> bool:
@@ -153,8 +162,11 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
             block (:func:`pivot_ompl.analysis.plan_bounds.plan_bounds`: computed once per
             scene geometry, within ``time_limit`` (what the search left of it, less
             :data:`WRITE_SHARE` of it kept for writing the plan), then read from the
-            cache); ``False``:
-            ``null`` there and nothing computed.
+            cache); and a regrasp search still without a path after
+            :data:`LATE_PROOF_BEGIN` of the limit asks the relaxation once whether any plan
+            exists (``INFEASIBLE`` with the reason when none does,
+            :class:`~pivot_ompl.analysis.late_proof.LateProof`); ``False``: ``null`` there
+            and nothing computed.
         checker: a :class:`~pivot_ompl.checking.pivot_checker.PivotChecker` of the same scene
             geometry whose checked motions to reuse (:class:`pivot_ompl.session.PlanningSession`
             passes its own); by default a new one.
@@ -188,16 +200,24 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
         proof = explain_no_plan(scene, should_stop=lambda: time.monotonic() >= started +
                                 PROOF_SHARE * time_limit)
         if proof is not None:
-            return _infeasible(scene, planner, seed, time_limit, proof,
-                               time.perf_counter() - t0)
+            return _infeasible(scene, planner, seed, time_limit, NoPlan(proof[0], proof[1]),
+                               {"setup": time.perf_counter() - t0, "solve": 0.0})
     p, config = _planner_for(problem, planner, seed=seed, config=config,
                              resume=Resume(start_grasp, resume))
+    late = None
     if isinstance(p, RegraspPlanner):  # its quality share is one of the solve's limit
         p.solve_limit = time_limit - (time.monotonic() - started)
+        if bound:  # a search slow to find a path asks once whether there is one
+            late = p.proof = LateProof(scene, begin=started + LATE_PROOF_BEGIN * time_limit,
+                                       end=started + LATE_PROOF_END * time_limit,
+                                       explain_end=started + EXPLAIN_END * time_limit)
     t1 = time.perf_counter()
     name = _solve(problem.setup, time_limit - _share(time_limit, FINISH_SHARE, FINISH_MAX),
                   started)
     t2 = time.perf_counter()
+    if late is not None and late.proof is not None and name != "EXACT_SOLUTION":
+        return _infeasible(scene, planner, seed, time_limit, late.proof,
+                           {"setup": t1 - t0, "solve": t2 - t1})
     if name in ("INVALID_START", "INVALID_GOAL"):
         pose = scene.start if name == "INVALID_START" else scene.goal
         raise PlanningError(name, problem.checker.explain(pose))
@@ -253,17 +273,17 @@ def _stopped_in_setup(scene: Scene | str | os.PathLike, planner: str, seed: int,
                       scene=scene if isinstance(scene, Scene) else None)
 
 
-def _infeasible(scene: Scene, planner: str, seed: int, time_limit: float,
-                proof: tuple[str, Passage], spent: float) -> PlanResult:
+def _infeasible(scene: Scene, planner: str, seed: int, time_limit: float, proof: NoPlan,
+                timings: dict[str, float]) -> PlanResult:
     """The ``INFEASIBLE`` result of a scene the relaxation proves has no plan."""
-    reason, passage = proof
-    log.info("%s: no plan exists (proven by the relaxation in %.2f s)", scene.name, spent)
+    timings = {**timings, "convert": 0.0}
+    log.info("%s: no plan exists (proven by the relaxation in %.2f s)", scene.name,
+             sum(timings.values()))
     extra = {"planner": planner, "seed": seed, "time_limit": time_limit, **_scene_record(scene),
-             "no_plan": reason, "passage": passage.as_dict()}
+             **proof.fields()}
     empty = _result_plan(scene, None, "INFEASIBLE", extra, simplify=False)
-    return PlanResult("INFEASIBLE", empty, planner, seed, time_limit,
-                      {"setup": spent, "solve": 0.0, "convert": 0.0}, scene=scene,
-                      infeasible_reason=reason, passage=passage)
+    return PlanResult("INFEASIBLE", empty, planner, seed, time_limit, timings, scene=scene,
+                      infeasible_reason=proof.reason, passage=proof.passage, turn=proof.turn)
 
 
 def plan_from_route(scene: Scene, checker: PivotChecker, states: list[State], *,

@@ -19,6 +19,7 @@ import logging
 import math
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 import shapely
@@ -73,6 +74,62 @@ def raster_lower_bound(scene: Scene, *, cell: float = CELL, resolution: float | 
         return _timed(RegraspBound(None, None, n, 0, 0.0, exhaustive=False), t0)
     raster, n, layers = cover.raster, cover.bins, cover.layers
     unknown = RegraspBound(None, None, n, 0, 0.0, exhaustive=False)
+    try:
+        joined = raster_graph(scene, cover, tolerance=tolerance, clearance=clearance,
+                              walks=walks, should_stop=should_stop)
+    except Interrupted:
+        return _timed(unknown, t0)
+    holding, total = joined.holding, joined.total
+    try:
+        best, reached = joined.graph.fewest_regrasps(
+            holding(scene.start), set(holding(scene.goal)), joined.allowed, should_stop,
+            check_beyond=False)
+    except Interrupted:
+        return _timed(unknown, t0)
+    route, complete = None, True
+    if best is not None:
+        try:
+            route = _route(scene, raster, layers, joined.base, reached, n, joined.layer,
+                           should_stop)
+        except Interrupted:
+            complete = False
+    seconds = time.perf_counter() - t0
+    log.debug("raster regrasp bound %s: %d bins, cell %.3f m, %d pieces, %.2f s", best, n,
+              raster.cell, total, seconds)
+    return RegraspBound(best, best is not None, n, total, seconds, route, complete,
+                        exhaustive=False)
+
+
+@dataclass
+class RasterGraph:
+    """The relaxation's graph over a :class:`~pivot_ompl.analysis.raster_cover.RasterCover`.
+
+    Attributes:
+        graph: the pieces joined by transfers and regrasps.
+        base: the first node of each ``(bin, grasp)`` (its pieces follow, label ``c`` at
+            ``base + c - 1``).
+        layer: the cover's layer ``(grasp % 2, bin)`` of a ``(bin, grasp)``.
+        allowed: whether a regrasp edge is allowed (the walk relaxation, lazily).
+        holding: the nodes holding a pose (every grasp).
+        total: the number of nodes.
+    """
+
+    graph: PieceGraph
+    base: dict[tuple[int, int], int]
+    layer: Callable[[int, int], tuple[int, int]]
+    allowed: Callable[[tuple[int, int, int, int, int]], bool]
+    holding: Callable[[Pose], list[int]]
+    total: int
+
+
+def raster_graph(scene: Scene, cover: RasterCover, *, tolerance: float = SWEEP_TOLERANCE,
+                 clearance: float = KEEP_CLEARANCE, walks: bool = True,
+                 should_stop: Callable[[], bool] | None = None) -> RasterGraph:
+    """The pieces of ``cover`` joined as :func:`raster_lower_bound` joins them.
+
+    ``should_stop`` is polled once per bin and raises :class:`~pivot_ompl.errors.Interrupted`.
+    """
+    raster, n, layers = cover.raster, cover.bins, cover.layers
     half = n // 2
 
     def layer(b: int, k: int) -> tuple[int, int]:
@@ -98,7 +155,7 @@ def raster_lower_bound(scene: Scene, *, cell: float = CELL, resolution: float | 
 
     for b in range(n):
         if should_stop is not None and should_stop():
-            return _timed(unknown, t0)
+            raise Interrupted("the raster bound's graph")
         for k in range(4):
             link(b, k, (b + 1) % n, k, False)
             for j in range(k + 1, 4):
@@ -123,22 +180,7 @@ def raster_lower_bound(scene: Scene, *, cell: float = CELL, resolution: float | 
         b = cover.bin_of(pose[2])
         return [base[(b, k)] + c - 1 for k in range(4) for c in cover.holding(pose, k)]
 
-    try:
-        best, reached = graph.fewest_regrasps(holding(scene.start), set(holding(scene.goal)),
-                                              allowed, should_stop, check_beyond=False)
-    except Interrupted:
-        return _timed(unknown, t0)
-    route, complete = None, True
-    if best is not None:
-        try:
-            route = _route(scene, raster, layers, base, reached, n, layer, should_stop)
-        except Interrupted:
-            complete = False
-    seconds = time.perf_counter() - t0
-    log.debug("raster regrasp bound %s: %d bins, cell %.3f m, %d pieces, %.2f s", best, n,
-              raster.cell, total, seconds)
-    return RegraspBound(best, best is not None, n, total, seconds, route, complete,
-                        exhaustive=False)
+    return RasterGraph(graph, base, layer, allowed, holding, total)
 
 
 def _shared_cells(cover: RasterCover, la: tuple[int, int], i: int, lb: tuple[int, int],

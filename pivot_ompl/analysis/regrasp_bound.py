@@ -273,6 +273,77 @@ def free_cover(scene: Scene, *, resolution: float = RESOLUTION,
     return FreeCover(n, free)
 
 
+@dataclass
+class CoverGraph:
+    """The relaxation's graph over a :class:`FreeCover` (:func:`cover_graph`).
+
+    Attributes:
+        graph: pieces joined by transfers and regrasps.
+        ids: the node of each piece ``(bin, grasp, index)``.
+        nodes: the piece of each node.
+        allowed: whether a regrasp edge is allowed (the walk relaxation, lazily).
+        holding: the nodes holding a pose (every grasp).
+        walk: the walk relaxation (``None`` when every regrasp is allowed).
+    """
+
+    graph: PieceGraph
+    ids: dict[tuple[int, int, int], int]
+    nodes: list[tuple[int, int, int]]
+    allowed: Callable[[tuple[int, int, int, int, int]], bool]
+    holding: Callable[[Pose], list[int]]
+    walk: WalkRelaxation | None
+
+
+def cover_graph(scene: Scene, cover: FreeCover, *, tolerance: float = SWEEP_TOLERANCE,
+                clearance: float = KEEP_CLEARANCE, walks: bool = True,
+                should_stop: Callable[[], bool] | None = None) -> CoverGraph:
+    """The pieces of ``cover`` joined as the module docstring says.
+
+    ``should_stop`` is polled once per bin and raises :class:`~pivot_ompl.errors.Interrupted`.
+    """
+    n = cover.bins
+    ids: dict[tuple[int, int, int], int] = {}
+    for b in range(n):
+        for k in range(4):
+            for c in range(len(cover.pieces(b, k))):
+                ids[(b, k, c)] = len(ids)
+    nodes = list(ids)
+    graph = PieceGraph([cover.pieces(b, k)[c].area for b, k, c in nodes])
+
+    def link(b1: int, k1: int, b2: int, k2: int, regrasp: bool) -> None:
+        ga, gb = cover.pieces(b1, k1), cover.pieces(b2, k2)
+        if not ga or not gb:
+            return
+        ia, ib = shapely.STRtree(gb).query(ga, predicate="intersects")
+        for i, j in zip(ia.tolist(), ib.tolist(), strict=True):
+            u, v = ids[(b1, k1, i)], ids[(b2, k2, j)]
+            graph.add(u, v, (b1, k1, i, k2, j) if regrasp else None)
+
+    for b in range(n):
+        if should_stop is not None and should_stop():
+            raise Interrupted("the regrasp bound's graph")
+        for k in range(4):
+            link(b, k, (b + 1) % n, k, False)  # a transfer crossing into the next bin
+            for j in range(k + 1, 4):
+                link(b, k, b, j, True)  # a regrasp
+
+    walk = WalkRelaxation(scene, width=cover.width, tolerance=tolerance,
+                          clearance=clearance) if walks else None
+
+    def allowed(edge: tuple[int, int, int, int, int]) -> bool:
+        if walk is None:
+            return True
+        b, k, i, j, c = edge
+        region = cover.pieces(b, k)[i].intersection(cover.pieces(b, j)[c])
+        return walk.may_regrasp(region, -math.pi + (b + 0.5) * cover.width, k, j)
+
+    def holding(pose: Pose) -> list[int]:
+        b = cover.bin_of(pose[2])
+        return [ids[(b, k, c)] for k in range(4) for c in cover.holding(pose, k)]
+
+    return CoverGraph(graph, ids, nodes, allowed, holding, walk)
+
+
 def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
                         tolerance: float = SWEEP_TOLERANCE, clearance: float = KEEP_CLEARANCE,
                         walks: bool = True,
@@ -298,48 +369,15 @@ def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
     n = yaw_bins(scene, resolution)
     if cover is None:
         return RegraspBound(None, None, n, 0, time.perf_counter() - t0)
-    ids: dict[tuple[int, int, int], int] = {}
-    for b in range(n):
-        for k in range(4):
-            for c in range(len(cover.pieces(b, k))):
-                ids[(b, k, c)] = len(ids)
-    nodes = list(ids)
-    graph = PieceGraph([cover.pieces(b, k)[c].area for b, k, c in nodes])
-
-    def link(b1: int, k1: int, b2: int, k2: int, regrasp: bool) -> None:
-        ga, gb = cover.pieces(b1, k1), cover.pieces(b2, k2)
-        if not ga or not gb:
-            return
-        ia, ib = shapely.STRtree(gb).query(ga, predicate="intersects")
-        for i, j in zip(ia.tolist(), ib.tolist(), strict=True):
-            u, v = ids[(b1, k1, i)], ids[(b2, k2, j)]
-            graph.add(u, v, (b1, k1, i, k2, j) if regrasp else None)
-
-    for b in range(n):
-        if should_stop is not None and should_stop():
-            return RegraspBound(None, None, n, len(ids), time.perf_counter() - t0)
-        for k in range(4):
-            link(b, k, (b + 1) % n, k, False)  # a transfer crossing into the next bin
-            for j in range(k + 1, 4):
-                link(b, k, b, j, True)  # a regrasp
-
-    walk = WalkRelaxation(scene, width=cover.width, tolerance=tolerance,
-                          clearance=clearance) if walks else None
-
-    def allowed(edge: tuple[int, int, int, int, int]) -> bool:
-        if walk is None:
-            return True
-        b, k, i, j, c = edge
-        region = cover.pieces(b, k)[i].intersection(cover.pieces(b, j)[c])
-        return walk.may_regrasp(region, -math.pi + (b + 0.5) * cover.width, k, j)
-
-    def holding(pose: Pose) -> list[int]:
-        b = cover.bin_of(pose[2])
-        return [ids[(b, k, c)] for k in range(4) for c in cover.holding(pose, k)]
-
     try:
-        best, reached = graph.fewest_regrasps(holding(scene.start), set(holding(scene.goal)),
-                                              allowed, should_stop)
+        joined = cover_graph(scene, cover, tolerance=tolerance, clearance=clearance,
+                             walks=walks, should_stop=should_stop)
+    except Interrupted:
+        return RegraspBound(None, None, n, 0, time.perf_counter() - t0)
+    ids, nodes, walk, holding = joined.ids, joined.nodes, joined.walk, joined.holding
+    try:
+        best, reached = joined.graph.fewest_regrasps(
+            holding(scene.start), set(holding(scene.goal)), joined.allowed, should_stop)
     except Interrupted:
         return RegraspBound(None, None, n, len(ids), time.perf_counter() - t0)
     route, complete = None, True

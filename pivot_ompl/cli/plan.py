@@ -110,7 +110,8 @@ def result_line(res: PlanResult) -> str:
         return (f"{res.status}: {counted(res.pivots, 'pivot')}, "
                 f"{counted(res.regrasps, 'regrasp')}, {solve}")
     if getattr(res, "infeasible_reason", None):
-        return f"{res.status}: {res.infeasible_reason} (proven in {res.timings['setup']:.2f} s)"
+        took = sum(res.timings.values())
+        return f"{res.status}: {res.infeasible_reason} (proven in {took:.2f} s)"
     if res.status == "APPROXIMATE_SOLUTION":
         return (f"{res.status}: the planner's closest path does not reach the goal, "
                 f"no plan ({solve} of {res.time_limit:g} s)")

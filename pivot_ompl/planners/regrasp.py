@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import logging
 import time
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from typing import Any
 
@@ -77,6 +78,7 @@ class RegraspPlanner(GuardedPlanner):
         self.start_grasp: int | None = r.start_grasp
         self.stats: dict[str, Any] = {}
         self.solve_limit: float | None = None
+        self.proof: Callable[[], bool] | None = None
 
     def clear(self) -> None:  # noqa: D102
         super().clear()
@@ -103,7 +105,9 @@ class RegraspPlanner(GuardedPlanner):
             # a new start: the roadmaps grown so far serve again
             search.restart(s_pose, lambda: bool(ptc()), start_grasp=held)
         # else: solving again continues with the same roadmaps and caches (OMPL semantics)
-        states = search.run(lambda: bool(ptc()), limit=self.solve_limit)
+        proof = self.proof
+        searching = None if proof is None else (lambda: bool(ptc()) or proof())
+        states = search.run(lambda: bool(ptc()), limit=self.solve_limit, searching=searching)
         self.stats = asdict(search.stats)
         self.stats["time"] = time.perf_counter() - t0
         if not states:

@@ -301,33 +301,33 @@ class RegraspSearch:
         return self._grown(should_stop)
 
     # -- the algorithm -------------------------------------------------------------------
-    def run(self, should_stop: Stop, *, limit: float | None = None) -> list[State]:
-        """Plan (``limit``: the solve's limit, s, if known); the path, ``[]`` when stopped."""
-        sc = self.config.sampling
-        t0 = time.perf_counter()
+    def run(self, should_stop: Stop, *, limit: float | None = None,
+            searching: Stop | None = None) -> list[State]:
+        """Plan in ``limit`` s if known (``searching``: the stop until a path is found) or []."""
+        sc, t0, stop = self.config.sampling, time.perf_counter(), searching or should_stop
         self._limit = limit
         if not self._started and not self._tried_direct:
             self._tried_direct = True  # before the passages are seeded: they are not needed
-            direct = self._single_grasp(should_stop)
+            direct = self._single_grasp(stop)
             if direct:
                 direct = self._optimised(direct, should_stop)
                 self._fill_stats()
                 return direct
-        self.prepare(should_stop)
-        found = self.paths.find(should_stop)
+        self.prepare(stop)
+        found = self.paths.find(stop)
         n = 0
         cap = self._visibility_samples()
-        while _searching(found, should_stop) and not self.visibility.done and n < cap:
+        while _searching(found, stop) and not self.visibility.done and n < cap:
             n += 1
-            self.visibility.step(should_stop)
-            found = self._grown(should_stop)
+            self.visibility.step(stop)
+            found = self._grown(stop)
         self.stats.time_visibility += time.perf_counter() - t0
         for _ in range(sc.bridge_rounds if self.stats.passage_nodes == 0 else 0):
-            if not _searching(found, should_stop):
+            if not _searching(found, stop):
                 break
-            found = self._bridge(should_stop)
-        while _searching(found, should_stop):
-            found = self._diffuse(should_stop)
+            found = self._bridge(stop)
+        while _searching(found, stop):
+            found = self._diffuse(stop)
         states = self._optimised(self.graph.express(found.path), should_stop) \
             if found.path else []
         self._fill_stats()

@@ -8,8 +8,10 @@ path of the supporting edge's centre dotted; regrasps labelled where the box res
 (``regrasp k: grasp i→j``) and their walks drawn and labelled with their length; start and
 goal footprints marked; when no plan exists, the passage that blocks every plan (the plan's
 ``passage`` field) drawn across its gap, with a dashed circle as wide as the held assembly
-needs. Every marker has a legend entry; the legend stands beside the floor
-and no two labels overlap (:mod:`pivot_ompl.viz.labels`).
+needs, or the place where the held box cannot turn (its ``turn`` field) crossed, with the
+widest free circle there and a dashed one as long as the held assembly. Every marker has a
+legend entry; the legend stands beside the floor and no two labels overlap
+(:mod:`pivot_ompl.viz.labels`).
 """
 
 from __future__ import annotations
@@ -68,6 +70,7 @@ def _plan_figure(plan: Plan, *, scene: Scene | None, search: Any, title: str) ->
         _draw_roadmaps(ax, search)
     labels = _draw_plan(ax, plan, model, goal=scene.goal if scene is not None else None)
     labels += _draw_passage(ax, plan.extra.get("passage"))
+    labels += _draw_turn(ax, plan.extra.get("turn"))
     ax.set_aspect("equal")
     ax.autoscale_view()
     ax.set_xlabel("x (m)")
@@ -110,6 +113,26 @@ def _draw_passage(ax: Any, passage: Any) -> list[Label]:
                         ec=PASSAGE_COLOUR, lw=1.5, ls="--", zorder=7))
     return [Label((cx, cy), f"{passage['width']:.2f} m; robot + box need "
                             f"{passage['assembly_needs']:.2f} m", PASSAGE_COLOUR)]
+
+
+def _draw_turn(ax: Any, turn: Any) -> list[Label]:
+    """Mark the place where the held box cannot turn (the plan's ``turn`` field), if any.
+
+    A cross at the place, the widest free circle there (solid) and a dashed circle as long as
+    the box and the robot holding it.
+    """
+    if not isinstance(turn, dict) or turn.get("center") is None:
+        return []
+    cx, cy = turn["center"]
+    ax.plot([cx], [cy], "x", c=PASSAGE_COLOUR, ms=9, mew=2.5, zorder=7,
+            label="where the box cannot turn")
+    ax.add_patch(Circle((cx, cy), 0.5 * turn["width"], fill=False, ec=PASSAGE_COLOUR,
+                        lw=1.5, zorder=7))
+    ax.add_patch(Circle((cx, cy), 0.5 * turn["assembly_length"], fill=False,
+                        ec=PASSAGE_COLOUR, lw=1.5, ls="--", zorder=7))
+    return [Label((cx, cy), f"{turn['width']:.2f} m to turn in; robot + box "
+                            f"{turn['assembly_width']:.2f} x {turn['assembly_length']:.2f} m",
+                  PASSAGE_COLOUR)]
 
 
 def _draw_plan(ax: Any, plan: Plan, model: BoxGraspModel,

@@ -1,0 +1,124 @@
+"""The relaxation's proof that no plan exists, tried late: only when the search is slow to plan.
+
+Before the search, :func:`pivot_ompl.api.plan` proves only what a narrow passage explains
+(:func:`~pivot_ompl.analysis.passage.explain_no_plan`: milliseconds when there is none). A
+scene without a plan for want of room to turn has no such passage, and its search would run
+the whole limit. Running the relaxation before every search costs easy scenes its time
+(about 0.1 s of the coarse raster on fig10, a fifth of its solve), so :class:`LateProof` is
+polled by the search *while it has no path* and does nothing before ``begin``; then, once,
+it runs the relaxation, stopped at ``end``, in the form that proves and places at once: the
+exact polygons (:func:`~pivot_ompl.analysis.turning.turning_place`) where they are estimated
+to fit, else the coarse raster (:func:`~pivot_ompl.analysis.turning_raster.
+raster_turning_place`); a bound the cache holds answers at once (a solvable one: nothing to
+do; an unsolvable one: only the place is looked for, until ``explain_end``). When no plan
+exists the reason is the passage that blocks every plan
+(:func:`~pivot_ompl.analysis.passage.blocking_passage`) if there is one, else the place where
+the held box cannot turn, else (the place not found in time) a line naming the width the
+held assembly needs; and the search stops. Its cost to a scene that has a plan is at most
+``end - begin``, and only when the search is slow to find a path.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from pivot_ompl.analysis.bound_cache import cached_bound
+from pivot_ompl.analysis.bound_levels import CELLS, exhaustive_estimate
+from pivot_ompl.analysis.passage import Passage, assembly_width, blocking_passage
+from pivot_ompl.analysis.turning import TurningPlace, turning_place
+from pivot_ompl.analysis.turning_raster import raster_turning_place
+from pivot_ompl.scene import Scene
+
+log = logging.getLogger(__name__)
+
+@dataclass(frozen=True)
+class NoPlan:
+    """A proof that no plan exists, with why.
+
+    Attributes:
+        reason: one line a person can act on (where, how wide, what needs what).
+        passage: the passage that blocks every plan, if one does.
+        turn: the place where the held box cannot turn, if that is why.
+    """
+
+    reason: str
+    passage: Passage | None = None
+    turn: TurningPlace | None = None
+
+    def fields(self) -> dict[str, object]:
+        """The plan file's fields: ``no_plan`` and, when known, ``passage`` or ``turn``."""
+        out: dict[str, object] = {"no_plan": self.reason}
+        if self.passage is not None:
+            out["passage"] = self.passage.as_dict()
+        if self.turn is not None:
+            out["turn"] = self.turn.as_dict()
+        return out
+
+
+def generic(scene: Scene) -> NoPlan:
+    """The line of a proof whose place was not found in time: what the held assembly needs."""
+    need = assembly_width(scene.model)
+    return NoPlan(f"no plan: the box and the robot holding it cannot get from the start to the "
+                  f"goal; every passage is as wide as they need ({need:.2f} m), so room to "
+                  f"turn or to regrasp is missing on the way")
+
+
+class LateProof:
+    """Polled by the search while it has no path: ``True`` once no plan is proven.
+
+    Args:
+        scene: the scene planned.
+        begin: clock time from which the proof is tried (once).
+        end: clock time at which the bound is stopped (nothing proven then).
+        explain_end: clock time at which the explanation is stopped (default ``end``).
+        clock: the clock of those times (``time.monotonic``).
+
+    Attributes:
+        proof: the proof, once found; ``None`` before, or when nothing was proven.
+        tried: whether the bound was asked.
+    """
+
+    def __init__(self, scene: Scene, *, begin: float, end: float,
+                 explain_end: float | None = None,
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        """Nothing tried yet."""
+        self.scene, self.begin, self.end = scene, begin, end
+        self.explain_end = end if explain_end is None else explain_end
+        self.clock = clock
+        self.proof: NoPlan | None = None
+        self.tried = False
+
+    def __call__(self) -> bool:
+        """Whether no plan is proven (tries the proof once, the first time after ``begin``)."""
+        if self.tried:
+            return self.proof is not None
+        now = self.clock()
+        if now < self.begin:
+            return False
+        self.tried = True
+        known = cached_bound(self.scene)
+        if known is not None and known.solvable:
+            return False
+        stop = self._stop(self.end if known is None else self.explain_end)
+        if exhaustive_estimate(self.scene) <= self.end - now:  # proof and place at once
+            place = turning_place(self.scene, should_stop=stop)
+        else:
+            place = raster_turning_place(self.scene, cell=CELLS[0], should_stop=stop)
+        if place is None and known is None:
+            log.debug("late proof: nothing proven in %.2f s", self.clock() - now)
+            return False
+        passage = blocking_passage(self.scene, should_stop=self._stop(self.explain_end))
+        if passage is not None:  # a narrow passage says more than where to turn
+            self.proof = NoPlan(passage.reason, passage=passage)
+        else:
+            self.proof = generic(self.scene) if place is None else NoPlan(place.reason,
+                                                                          turn=place)
+        log.info("no plan exists (proven in %.2f s): %s", self.clock() - now,
+                 self.proof.reason)
+        return True
+
+    def _stop(self, at: float) -> Callable[[], bool]:
+        return lambda: self.clock() >= at

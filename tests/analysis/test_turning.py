@@ -1,0 +1,170 @@
+"""Proven infeasibility for want of room to turn: no narrow passage, a corner too tight."""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+
+import numpy as np
+import pytest
+import yaml
+from factories import rotated_scene_doc, shipped
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from pivot_ompl.analysis.late_proof import LateProof
+from pivot_ompl.analysis.passage import assembly_width, blocking_passage
+from pivot_ompl.analysis.turning import assembly_outline, turning_place
+from pivot_ompl.analysis.turning_raster import raster_turning_place
+from pivot_ompl.api import EXPLAIN_END, LATE_PROOF_BEGIN, plan
+from pivot_ompl.cli.main import main
+from pivot_ompl.generate import generate
+from pivot_ompl.scene import Scene, scene_from_dict
+
+LIMIT = 30.0
+
+
+def _box(x0: float, y0: float, x1: float, y1: float) -> dict:
+    return {"type": "box", "center": [0.5 * (x0 + x1), 0.5 * (y0 + y1)],
+            "size": [x1 - x0, y1 - y0], "yaw": 0.0, "height": 2.0}
+
+
+def tight_corner(seed: int, widths: tuple[float, float] = (0.90, 0.94),
+                 turned: bool = True) -> tuple[dict, tuple[float, float]]:
+    """A closed L-shaped corridor (generated from ``seed``) whose corner the held box cannot
+    turn: 0.90-0.94 m wide (the box and the robot holding it need 0.88 m across, 1.54 m
+    long), legs of 3-4 m, the whole turned by a random angle; the start at the end of one
+    leg, the goal at the end of the other (``widths``: the range of the corridor's width;
+    ``turned`` False: axis-aligned, the legs whole decimetres). Returns the scene document
+    and the corner's inner point."""
+    rng = np.random.default_rng(seed)
+    w = float(rng.uniform(*widths))
+    run, rise = (float(v) for v in rng.uniform(3.0, 4.0, 2))
+    angle = float(rng.uniform(-math.pi, math.pi)) if turned else 0.0
+    if not turned:  # walls on whole decimetres: on the raster's cell edges
+        run, rise = round(run, 1), round(rise, 1)
+    x1, y1 = 0.3 + run + w + 0.3, 0.3 + rise + w + 0.3  # walls 0.3 m thick all round
+    cx = 0.3 + run  # the vertical leg spans x in [cx, cx + w]
+    walls = [_box(0.0, 0.0, x1, 0.3), _box(0.0, 0.3, 0.3, 0.3 + w),  # floor side, west end
+             _box(0.0, 0.3 + w, cx, y1), _box(cx + w, 0.3, x1, y1),  # inner block, east side
+             _box(cx, y1 - 0.3, cx + w, y1)]  # north end
+    doc = {"name": f"tight_corner_{seed}", "bounds": [0.0, 0.0, x1, y1],
+           "object": {"size": [0.8, 0.6, 1.3]}, "start": [1.3, 0.3 + 0.5 * w, 0.0],
+           "goal": [cx + 0.5 * w, y1 - 1.3, 0.5 * math.pi], "obstacles": walls}
+    about = (0.5 * x1, 0.5 * y1)
+    doc = rotated_scene_doc(doc, angle, about)
+    c, s = math.cos(angle), math.sin(angle)
+    px, py = cx - about[0], 0.3 + w - about[1]
+    return doc, (about[0] + c * px - s * py, about[1] + s * px + c * py)
+
+
+def _scene(seed: int) -> tuple[Scene, tuple[float, float]]:
+    doc, corner = tight_corner(seed)
+    return scene_from_dict(doc, source="<test>"), corner
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_plan_says_where_the_box_cannot_turn_within_a_tenth_of_the_limit(seed):
+    scene, corner = _scene(seed)
+    assert blocking_passage(scene) is None  # no passage explains it: room to turn does
+    t0 = time.monotonic()
+    res = plan(scene, time_limit=LIMIT, seed=seed)
+    took = time.monotonic() - t0
+    assert res.status == "INFEASIBLE" and not res.solved, res.status
+    assert took <= 0.1 * LIMIT, took
+    turn = res.turn
+    assert turn is not None and res.passage is None
+    assert math.dist(turn.center, corner) < 1.0  # at the corner
+    x, y = turn.center
+    reason = res.infeasible_reason
+    assert reason is not None and reason.startswith("no plan: the box cannot turn at")
+    assert f"({x:.2f}, {y:.2f})" in reason and f"{turn.width:.2f} m across" in reason
+    w, length = assembly_outline(scene.model)
+    assert turn.assembly_width == pytest.approx(assembly_width(scene.model))
+    assert f"({w:.2f} x {length:.2f} m)" in reason
+    # the room there is less than the held assembly's length, more than its width
+    assert w < turn.width < length
+    # the yaws it comes at from the start and those the goal needs do not meet
+    a, b = turn.from_start
+    c, d = turn.to_goal
+    assert not any(a <= v <= b for v in (c, d, c + 360, d - 360))
+    assert res.plan.extra["no_plan"] == reason and res.plan.extra["turn"]["reason"] == reason
+
+
+def test_cli_plan_exits_1_with_the_reason_and_marks_the_place(tmp_path, capsys):
+    doc, _ = tight_corner(3)
+    path, out, fig = tmp_path / "corner.yaml", tmp_path / "plan.json", tmp_path / "why.png"
+    path.write_text(yaml.safe_dump(doc))
+    out.write_text("{}")  # an existing file survives a failed run
+    rc = main(["plan", str(path), "--time", str(LIMIT), "--out", str(out), "--plot", str(fig)])
+    text = capsys.readouterr()
+    assert rc == 1
+    line = [ln for ln in text.out.splitlines() if ln.startswith("INFEASIBLE")]
+    assert len(line) == 1 and "cannot turn at" in line[0] and "proven in" in line[0]
+    assert json.loads(out.read_text()) == {}
+    assert fig.stat().st_size > 10_000
+
+
+def test_the_late_proof_is_not_tried_before_its_time_nor_twice():
+    scene, _ = _scene(4)
+    now = [0.0]
+    late = LateProof(scene, begin=1.0, end=50.0, clock=lambda: now[0])
+    assert late() is False and not late.tried  # an easy scene's search pays nothing
+    now[0] = 1.0
+    assert late() is True and late.tried and late.proof is not None
+    assert late.proof.turn is not None and late.proof.fields()["turn"]["width"] > 0
+    now[0] = 100.0
+    assert late() is True  # asked once: the answer kept
+
+
+def test_a_feasible_scene_is_never_stopped_by_the_late_proof():
+    late = LateProof(shipped("slot"), begin=0.0, end=math.inf)
+    assert late() is False and late.tried and late.proof is None
+    assert late() is False
+    assert turning_place(shipped("slot")) is None  # a plan exists: nothing to explain
+
+
+def test_the_shares_leave_the_answer_within_a_tenth_of_the_limit():
+    assert 0.0 < LATE_PROOF_BEGIN < EXPLAIN_END < 0.1
+
+
+@settings(max_examples=10, deadline=None)
+@given(seed=st.integers(0, 10_000))
+def test_every_generated_tight_corner_is_proven_and_placed(seed):
+    scene, corner = _scene(seed)
+    place = turning_place(scene)
+    assert place is not None
+    assert math.dist(place.center, corner) < 1.0
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_the_raster_relaxation_places_a_corner_too_tight_on_an_axis_aligned_floor(seed):
+    # large floors: the coarse raster proves and places what the polygons would
+    doc, corner = tight_corner(seed, widths=(0.9, 0.9), turned=False)
+    scene = scene_from_dict(doc, source="<test>")
+    place = raster_turning_place(scene)
+    assert place is not None
+    assert math.dist(place.center, corner) < 1.0
+    assert place.reason.startswith("no plan: the box cannot turn at")
+    a, b = place.from_start
+    c, d = place.to_goal
+    assert not any(a <= v <= b for v in (c, d, c + 360, d - 360))
+    # the late proof takes the raster where the polygons do not fit its time
+    late = LateProof(scene, begin=0.0, end=1e-3, clock=lambda: 0.0)
+    assert late() is True and late.proof is not None and late.proof.turn == place
+
+
+def test_the_raster_finds_no_place_where_a_plan_exists():
+    assert raster_turning_place(shipped("slot")) is None
+    assert raster_turning_place(shipped("fig10")) is None
+
+
+@settings(max_examples=4, deadline=None)
+@given(family=st.sampled_from(["walls", "corridor", "clutter"]), seed=st.integers(0, 40))
+def test_no_place_is_given_where_a_witness_plan_exists(family, seed):
+    # a place is a proof that no plan exists: never on a generated scene with its plan
+    gen = generate(family, seed=seed)
+    assert gen.witness.phases
+    assert turning_place(gen.scene) is None
+    assert raster_turning_place(gen.scene) is None
