@@ -24,11 +24,10 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-import shapely
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planners.config import RegraspConfig, quality_scale
@@ -42,9 +41,9 @@ from pivot_ompl.planners.multiplex.search import PathSearch
 from pivot_ompl.planners.objects.bridge import BridgeTest
 from pivot_ompl.planners.objects.critical import CriticalConfigurations
 from pivot_ompl.planners.objects.diffusion import Diffusion
+from pivot_ompl.planners.objects.passage_band import PassageBand
 from pivot_ompl.planners.objects.roadmap import PoseIndex, Roadmap, canonical
 from pivot_ompl.planners.objects.samplers import PoseSampler
-from pivot_ompl.planners.objects.slots import door_poses, doors, slot_poses, slots
 from pivot_ompl.planners.objects.visibility import VisibilityRoadmap
 from pivot_ompl.planners.routes.lattice import TransferLattice
 from pivot_ompl.se2 import Pose
@@ -145,6 +144,9 @@ class RegraspSearch:
                                       costs=config.cost, turns=se.turns, turn_margin=se.turn_margin)
         self.paths = PathSearch(checker, self.graph, goal, weight=se.weight)
         self.stats = RegraspStats()
+        self.passages = PassageBand(checker, start, goal, sc)  #: the passages to seed
+        self._stuck = 0  # diffusion steps since the last widening of the passages' band
+        self._seeded = PoseIndex(self.roadmap)  # the passage poses seeded, slots' and doors'
         self.lattice: TransferLattice | None = None
         self.improved = ImproveStats()
         self._limit: float | None = None  # the solve's time limit (s), if known
@@ -180,51 +182,29 @@ class RegraspSearch:
         self.visibility.adopt_guard(s_i)
         self.visibility.adopt_guard(g_i)
         self.graph.multiplex_pending(lambda: False)  # the ends, whatever the time
-        sc, ck = self.config.sampling, self.checker
-        seeded = PoseIndex(rm)  # the passage poses seeded, slots' and doors' alike
-        if sc.slots:
-            found = sorted(slots(ck, play=sc.slot_play, should_stop=should_stop),
-                           key=lambda p: p.width)
-            self.stats.slots = len(found)
-            self.stats.slot_nodes += self._seed(
-                slot_poses(ck, found, spacing=sc.slot_spacing, approach=sc.slot_approach,
-                           should_stop=should_stop), "slot", sc.slot_spacing, seeded, should_stop)
-        if sc.doors:
-            found = sorted(doors(ck, play=sc.door_play, should_stop=should_stop),
-                           key=lambda p: p.width)
-            self.stats.doors = len(found)
-            self.stats.door_nodes += self._seed(
-                door_poses(ck, found, should_stop=should_stop), "door", sc.slot_spacing,
-                seeded, should_stop)
+        self._seed_passages(should_stop)
         self._goal_node = g_i
         self.graph.set_ends(s_i, g_i, should_stop, start_grasp=self.start_grasp)
 
-    def _seed(self, poses: Iterable[Pose], kind: str, spacing: float, seeded: PoseIndex,
-              should_stop: Stop) -> int:
-        """Add the free box poses along passages that a plan may visit, each once.
+    def _seed_passages(self, should_stop: Stop) -> None:
+        """Seed the slots and doors of the passages' band at its level (:mod:`.passage_band`)."""
+        s = self.stats
+        seeded = self.passages.seed(self.roadmap, self._seeded, self.sampler.region(),
+                                    should_stop)
+        s.slots, s.doors = seeded.slots, seeded.doors
+        s.slot_nodes, s.door_nodes = s.slot_nodes + seeded.slot_nodes, \
+            s.door_nodes + seeded.door_nodes
+        self.sampler.focus(self.passages.area())  # the samples too, where it is a band
 
-        A pose is left out when its position is not among those reachable from the start
-        (:meth:`PoseSampler.region`) or when a pose seeded before (``seeded``, which gets
-        the poses added) lies within half the ``spacing`` of it
-        (:func:`~.objects.roadmap.pose_metric`): one gap between obstacles made of several
-        pieces is found once per pair of pieces. Passages come narrowest
-        first, so of near-equal poses the one centred in the tightest gap stays. Returns
-        the number added (of ``kind``).
-        """
-        rm = self.roadmap
-        region = self.sampler.region()
-        added = 0
-        for k, q in enumerate(poses):
-            if k % 64 == 63 and should_stop():  # thousands of passage poses on large floors
-                break
-            if region is not None and not shapely.contains_xy(region, q[0], q[1]):
-                continue
-            near = seeded.nearest(q, 1)
-            if near and float(rm.distances(near, q)[0]) < 0.5 * spacing:
-                continue
-            seeded.append(rm.add(q, kind))
-            added += 1
-        return added
+    def _widened(self, should_stop: Stop) -> Found[list[Node]]:
+        """After ``band_patience`` diffusion steps without a path, the band widened and searched."""
+        self._stuck += 1
+        if self._stuck < self.config.sampling.band_patience or not self.passages.can_widen():
+            return NOT_YET
+        self._stuck = 0
+        self.passages.widen()
+        self._seed_passages(should_stop)
+        return self._grown(should_stop)
 
     def restart(self, start: Pose, should_stop: Stop, *, start_grasp: int | None = None) -> None:
         """Search again from a new start over everything grown so far (replanning).
@@ -328,6 +308,8 @@ class RegraspSearch:
             found = self._bridge(should_stop)
         while _searching(found, should_stop):
             found = self._diffuse(should_stop)
+            if _searching(found, should_stop):
+                found = self._widened(should_stop)
         states = self._optimised(self.graph.express(found.path), should_stop) \
             if found.path else []
         self._fill_stats()
@@ -342,7 +324,8 @@ class RegraspSearch:
     def _visibility_samples(self) -> int:
         """Samples of the Visibility PRM phase: more on a floor with more to reach."""
         sc = self.config.sampling
-        return max(sc.max_visibility_samples, math.ceil(self._area() / sc.visibility_area))
+        area = self.sampler.focus_area or self._area()  # the band's, if focused
+        return max(sc.max_visibility_samples, math.ceil(area / sc.visibility_area))
 
     def _optimised(self, states: list[State], should_stop: Stop) -> list[State]:
         """The path improved (:func:`~.improve.improve`) from the held grasp, if any.
