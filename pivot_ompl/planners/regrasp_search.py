@@ -46,6 +46,7 @@ from pivot_ompl.planners.objects.roadmap import PoseIndex, Roadmap, canonical
 from pivot_ompl.planners.objects.samplers import PoseSampler
 from pivot_ompl.planners.objects.visibility import VisibilityRoadmap
 from pivot_ompl.planners.routes.lattice import TransferLattice
+from pivot_ompl.planners.routes.regrasp_lattice import regrasp_lattice_path
 from pivot_ompl.se2 import Pose
 
 Stop = Callable[[], bool]
@@ -188,9 +189,8 @@ class RegraspSearch:
 
     def _seed_passages(self, should_stop: Stop) -> None:
         """Seed the slots and doors of the passages' band at its level (:mod:`.passage_band`)."""
-        s = self.stats
-        seeded = self.passages.seed(self.roadmap, self._seeded, self.sampler.region(),
-                                    should_stop)
+        s, rm = self.stats, self.roadmap
+        seeded = self.passages.seed(rm, self._seeded, self.sampler.region(), should_stop)
         s.slots, s.doors = seeded.slots, seeded.doors
         s.slot_nodes, s.door_nodes = s.slot_nodes + seeded.slot_nodes, \
             s.door_nodes + seeded.door_nodes
@@ -240,6 +240,23 @@ class RegraspSearch:
         s.single_grasp_by, s.time_single_grasp = d.solved_by, d.seconds
         return path
 
+    def _regrasp_lattice(self, should_stop: Stop) -> list[State]:
+        """Regrasps where the lattice's components meet (:mod:`.routes.regrasp_lattice`).
+
+        Where the lattice try is made and the passages banded (``[]``: none, or not tried).
+        """
+        ck, cfg, q0, q1 = self.checker, self.config, self.start, self.goal
+        if not (cfg.sampling.regrasp_lattice and self.passages.applies()
+                and cfg.single_grasp.lattice and self._area() >= cfg.single_grasp.lattice_area):
+            return []
+        ends = [[g for g in cfg.grasps if ck.state_valid(q, g)
+                 and (q is q1 or self.start_grasp in (None, g))] for q in (q0, q1)]
+        found = regrasp_lattice_path(ck, self._lattice(), cfg.cost, q0, q1, start_grasps=ends[0],
+                                     goal_grasps=ends[1], grasps=cfg.grasps,
+                                     run_spacing=cfg.optimiser.run_spacing,
+                                     should_stop=should_stop)
+        return found.path or []
+
     def _lattice(self) -> TransferLattice:
         """The held assembly's lattice within the start's reach, made when first asked."""
         if self.lattice is None:
@@ -288,7 +305,7 @@ class RegraspSearch:
         self._limit = limit
         if not self._started and not self._tried_direct:
             self._tried_direct = True  # before the passages are seeded: they are not needed
-            direct = self._single_grasp(should_stop)
+            direct = self._single_grasp(should_stop) or self._regrasp_lattice(should_stop)
             if direct:
                 direct = self._optimised(direct, should_stop)
                 self._fill_stats()

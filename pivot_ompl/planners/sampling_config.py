@@ -62,6 +62,9 @@ class SamplingConfig:
         band_passages: most slots, and most doors, seeded per level (times the level's
             number), those on the cheapest routes first.
         band_patience: diffusion steps without a path before the band is widened.
+        regrasp_lattice: on a floor where the band applies, and before the object roadmap,
+            try the regrasps where the held assembly's lattice components meet
+            (:mod:`~pivot_ompl.planners.routes.regrasp_lattice`).
         bridge_rounds: rounds of (up to 100) bridge tests before the diffusion.
         bridge_bias: probability that a diffusion iteration is a bridge test instead.
         bridge_sigma: standard deviation (m) of the bridge test's second sample.
@@ -101,6 +104,7 @@ class SamplingConfig:
     band_spacing: float = knob(0.5, low_open=True)
     band_passages: int = knob(300, low=1)
     band_patience: int = knob(400, low=1)
+    regrasp_lattice: bool = True
     bridge_rounds: int = knob(60)
     bridge_bias: float = knob(0.3, high=1.0)
     bridge_sigma: float = knob(0.5)

@@ -143,13 +143,18 @@ class PassageBand:
         self.band: FloorBand | None = None
         self._made = False
 
+    def applies(self) -> bool:
+        """Whether the floor is large and cluttered enough for a band (``band_*``)."""
+        cfg = self.config
+        x0, y0, x1, y1 = self.checker.world.bounds
+        return bool(cfg.band_slacks) and (x1 - x0) * (y1 - y0) >= cfg.band_area \
+            and len(self.checker.world.obstacles) >= cfg.band_boxes
+
     def _band(self, should_stop: Stop) -> FloorBand | None:
         if not self._made:
             self._made = True
             cfg = self.config
-            x0, y0, x1, y1 = self.checker.world.bounds
-            if (cfg.band_slacks and (x1 - x0) * (y1 - y0) >= cfg.band_area
-                    and len(self.checker.world.obstacles) >= cfg.band_boxes):
+            if self.applies():
                 try:
                     self.band = FloorBand(self.checker, self.start, self.goal,
                                           cell=cfg.band_cell, max_cells=cfg.band_max_cells,
