@@ -241,13 +241,11 @@ class RegraspSearch:
         return path
 
     def _regrasp_lattice(self, should_stop: Stop) -> list[State]:
-        """Regrasps where the lattice's components meet (:mod:`.routes.regrasp_lattice`).
-
-        Where the lattice try is made and the passages banded (``[]``: none, or not tried).
-        """
-        ck, cfg, q0, q1 = self.checker, self.config, self.start, self.goal
-        if not (cfg.sampling.regrasp_lattice and self.passages.applies()
-                and cfg.single_grasp.lattice and self._area() >= cfg.single_grasp.lattice_area):
+        """Regrasps where the lattice's components meet, if banded (:mod:`.regrasp_lattice`)."""
+        ck, cfg, q0, q1, sg = self.checker, self.config, self.start, self.goal, \
+            self.config.single_grasp
+        if not (cfg.sampling.regrasp_lattice and self.passages.applies() and sg.lattice
+                and self._area() >= sg.lattice_area):
             return []
         ends = [[g for g in cfg.grasps if ck.state_valid(q, g)
                  and (q is q1 or self.start_grasp in (None, g))] for q in (q0, q1)]

@@ -49,11 +49,13 @@ class ComponentSteps:
     Attributes:
         components: the components in order, the start's first and the goal's last.
         meetings: per change, the box poses (exact lattice states' poses, of the component
-            left) in the bins both components hold.
+            left) in the bins both components hold: one of each bin first, then the others.
+        bins: per change, its number of bins (the first poses of its meeting).
     """
 
     components: list[Component] = field(default_factory=list)
     meetings: list[list[Pose]] = field(default_factory=list)
+    bins: list[int] = field(default_factory=list)
 
 
 def _box_poses(lattice: TransferLattice, parity: int, should_stop: Stop | None
@@ -148,9 +150,15 @@ def component_steps(lattice: TransferLattice, start: Pose, goal: Pose, *,
     chain.reverse()
     steps = ComponentSteps([(c % 2, c // 2) for c in chain])
     for a, b in zip(chain, chain[1:], strict=False):
-        rows = adjacent[a][b]
+        rows = [k for k in adjacent[a][b] if comp[k] == a]
+        first_of: dict[int, int] = {}
+        for k in rows:
+            first_of.setdefault(int(key[k]), k)
+        firsts = list(first_of.values())
+        rest = sorted(set(rows) - set(firsts))
         steps.meetings.append([(float(pose[k, 0]), float(pose[k, 1]), float(pose[k, 2]))
-                               for k in rows if comp[k] == a])
+                               for k in firsts + rest])
+        steps.bins.append(len(firsts))
     return steps
 
 
@@ -173,13 +181,14 @@ def regrasp_lattice_path(checker: PivotChecker, lattice: TransferLattice, costs:
                          start: Pose, goal: Pose, *, start_grasps: list[int],
                          goal_grasps: list[int], grasps: tuple[int, ...], run_spacing: int,
                          max_changes: int = 4, tries: int = 6, cell: float = 0.2,
-                         yaw_bins: int = 8, should_stop: Stop,
+                         yaw_bins: int = 8, weight: float = 1.0, should_stop: Stop,
                          stats: RegraspLatticeStats | None = None) -> Found[list[State]]:
     """A certified path regrasping where the lattice's components meet (module docstring).
 
     ``start_grasps``, ``goal_grasps``: the grasps valid (and allowed) at the ends; ``grasps``:
     those the robot may use. ``tries``: meeting poses tried per change (nearest the leg's
-    start and the goal first). ``VALID`` with the states (a regrasp: two states at one pose),
+    start and the goal first, one per bin before a second of one). ``weight``: the lattice
+    routes' heuristic inflation. ``VALID`` with the states (a regrasp: two states at one pose),
     ``INVALID``, ``STOPPED``.
     """
     stats = stats if stats is not None else RegraspLatticeStats()
@@ -191,37 +200,49 @@ def regrasp_lattice_path(checker: PivotChecker, lattice: TransferLattice, costs:
             return Found(Status.INVALID)
         stats.changes = len(steps.meetings)
         evaluate = Evaluator(checker, costs)
-        return _legs(evaluate, lattice, steps, start, goal, start_grasps, goal_grasps, grasps,
-                     run_spacing, tries, should_stop, stats)
+        legs = _Legs(evaluate, lattice, run_spacing, weight, should_stop)
+        return _legs(legs, steps, start, goal, start_grasps, goal_grasps, grasps, tries, stats)
     except Interrupted:
         return Found(Status.STOPPED)
 
 
-def _leg(evaluate: Evaluator, lattice: TransferLattice, a: Pose, b: Pose, grasp: int,
-         run_spacing: int, should_stop: Stop) -> Found[list[State]]:
-    """The lattice route from ``a`` to ``b`` at ``grasp``, made real."""
-    poses, cost = lattice.route(a, b, grasp, should_stop=should_stop)
-    if len(poses) < 2 or not math.isfinite(cost):
-        return Found(Status.INVALID)
-    found = shortened(evaluate, corners(poses, spacing=run_spacing), grasp, should_stop)
-    if found.path is None:
-        return Found(found.status)
-    return Found(Status.VALID, [(q, grasp) for q in found.path[0]])
+@dataclass
+class _Legs:
+    """How a leg is made real: the lattice route at one grasp, then certified transfers."""
+
+    evaluate: Evaluator
+    lattice: TransferLattice
+    run_spacing: int
+    weight: float
+    should_stop: Stop
+
+    def leg(self, a: Pose, b: Pose, grasp: int) -> Found[list[State]]:
+        """The lattice route from ``a`` to ``b`` at ``grasp``, made real."""
+        poses, cost = self.lattice.route(a, b, grasp, should_stop=self.should_stop,
+                                         weight=self.weight)
+        if len(poses) < 2 or not math.isfinite(cost):
+            return Found(Status.INVALID)
+        found = shortened(self.evaluate, corners(poses, spacing=self.run_spacing), grasp,
+                          self.should_stop)
+        if found.path is None:
+            return Found(found.status)
+        return Found(Status.VALID, [(q, grasp) for q in found.path[0]])
 
 
-def _legs(evaluate: Evaluator, lattice: TransferLattice, steps: ComponentSteps, start: Pose,
-          goal: Pose, start_grasps: list[int], goal_grasps: list[int], grasps: tuple[int, ...],
-          run_spacing: int, tries: int, should_stop: Stop,
+def _legs(legs: _Legs, steps: ComponentSteps, start: Pose, goal: Pose, start_grasps: list[int],
+          goal_grasps: list[int], grasps: tuple[int, ...], tries: int,
           stats: RegraspLatticeStats) -> Found[list[State]]:
     """Each leg and regrasp in turn, greedily (the first meeting pose that passes)."""
+    evaluate, lattice, should_stop = legs.evaluate, legs.lattice, legs.should_stop
     ck = evaluate.checker
     here, held = start, [g for g in start_grasps if g % 2 == steps.components[0][0]]
     states: list[State] = []
     for i, meeting in enumerate(steps.meetings):
         parity, label = steps.components[i + 1]
         nxt = [g for g in grasps if g % 2 == parity]
-        meeting = sorted(meeting, key=lambda q: math.dist(q[:2], here[:2])
-                         + math.dist(q[:2], goal[:2]))
+        n = steps.bins[i]  # one pose per bin first, nearest the leg's start and goal first
+        meeting = sorted(meeting[:n], key=lambda q: math.dist(q[:2], here[:2])
+                         + math.dist(q[:2], goal[:2])) + meeting[n:]
         found = None
         for q, g in ((q, g) for q in meeting[:tries] for g in held):
             if should_stop():
@@ -229,7 +250,7 @@ def _legs(evaluate: Evaluator, lattice: TransferLattice, steps: ComponentSteps, 
             t = q if g < 2 else half_turn(q)  # the meeting's state at grasp g
             if not ck.state_valid(t, g):
                 continue
-            leg = _leg(evaluate, lattice, here, t, g, run_spacing, should_stop)
+            leg = legs.leg(here, t, g)
             if leg.status is Status.STOPPED:
                 return Found(Status.STOPPED)
             if leg.path is None:
@@ -252,7 +273,7 @@ def _legs(evaluate: Evaluator, lattice: TransferLattice, steps: ComponentSteps, 
     for g in held:
         if g not in goal_grasps:
             continue
-        leg = _leg(evaluate, lattice, here, goal, g, run_spacing, should_stop)
+        leg = legs.leg(here, goal, g)
         if leg.status is Status.STOPPED:
             return Found(Status.STOPPED)
         if leg.path is not None:
