@@ -192,6 +192,8 @@ def regrasp_lattice_path(checker: PivotChecker, lattice: TransferLattice, costs:
     ``INVALID``, ``STOPPED``.
     """
     stats = stats if stats is not None else RegraspLatticeStats()
+    if should_stop():  # the bins cost about a second on a large floor: not when stopped
+        return Found(Status.STOPPED)
     try:
         steps = component_steps(lattice, start, goal, start_grasps=start_grasps,
                                 goal_grasps=goal_grasps, cell=cell, yaw_bins=yaw_bins,
