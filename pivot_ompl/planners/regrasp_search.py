@@ -24,11 +24,10 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-import shapely
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planners.config import RegraspConfig, quality_scale
@@ -42,11 +41,12 @@ from pivot_ompl.planners.multiplex.search import PathSearch
 from pivot_ompl.planners.objects.bridge import BridgeTest
 from pivot_ompl.planners.objects.critical import CriticalConfigurations
 from pivot_ompl.planners.objects.diffusion import Diffusion
+from pivot_ompl.planners.objects.passage_band import PassageBand
 from pivot_ompl.planners.objects.roadmap import PoseIndex, Roadmap, canonical
 from pivot_ompl.planners.objects.samplers import PoseSampler
-from pivot_ompl.planners.objects.slots import door_poses, doors, slot_poses, slots
 from pivot_ompl.planners.objects.visibility import VisibilityRoadmap
 from pivot_ompl.planners.routes.lattice import TransferLattice
+from pivot_ompl.planners.routes.regrasp_lattice import regrasp_lattice_path
 from pivot_ompl.se2 import Pose
 
 Stop = Callable[[], bool]
@@ -145,6 +145,9 @@ class RegraspSearch:
                                       costs=config.cost, turns=se.turns, turn_margin=se.turn_margin)
         self.paths = PathSearch(checker, self.graph, goal, weight=se.weight)
         self.stats = RegraspStats()
+        self.passages = PassageBand(checker, start, goal, sc)  #: the passages to seed
+        self._stuck = 0  # diffusion steps since the last widening of the passages' band
+        self._seeded = PoseIndex(self.roadmap)  # the passage poses seeded, slots' and doors'
         self.lattice: TransferLattice | None = None
         self.improved = ImproveStats()
         self._limit: float | None = None  # the solve's time limit (s), if known
@@ -180,51 +183,28 @@ class RegraspSearch:
         self.visibility.adopt_guard(s_i)
         self.visibility.adopt_guard(g_i)
         self.graph.multiplex_pending(lambda: False)  # the ends, whatever the time
-        sc, ck = self.config.sampling, self.checker
-        seeded = PoseIndex(rm)  # the passage poses seeded, slots' and doors' alike
-        if sc.slots:
-            found = sorted(slots(ck, play=sc.slot_play, should_stop=should_stop),
-                           key=lambda p: p.width)
-            self.stats.slots = len(found)
-            self.stats.slot_nodes += self._seed(
-                slot_poses(ck, found, spacing=sc.slot_spacing, approach=sc.slot_approach,
-                           should_stop=should_stop), "slot", sc.slot_spacing, seeded, should_stop)
-        if sc.doors:
-            found = sorted(doors(ck, play=sc.door_play, should_stop=should_stop),
-                           key=lambda p: p.width)
-            self.stats.doors = len(found)
-            self.stats.door_nodes += self._seed(
-                door_poses(ck, found, should_stop=should_stop), "door", sc.slot_spacing,
-                seeded, should_stop)
+        self._seed_passages(should_stop)
         self._goal_node = g_i
         self.graph.set_ends(s_i, g_i, should_stop, start_grasp=self.start_grasp)
 
-    def _seed(self, poses: Iterable[Pose], kind: str, spacing: float, seeded: PoseIndex,
-              should_stop: Stop) -> int:
-        """Add the free box poses along passages that a plan may visit, each once.
+    def _seed_passages(self, should_stop: Stop) -> None:
+        """Seed the slots and doors of the passages' band at its level (:mod:`.passage_band`)."""
+        s, rm = self.stats, self.roadmap
+        seeded = self.passages.seed(rm, self._seeded, self.sampler.region(), should_stop)
+        s.slots, s.doors = seeded.slots, seeded.doors
+        s.slot_nodes, s.door_nodes = s.slot_nodes + seeded.slot_nodes, \
+            s.door_nodes + seeded.door_nodes
+        self.sampler.focus(self.passages.area())  # the samples too, where it is a band
 
-        A pose is left out when its position is not among those reachable from the start
-        (:meth:`PoseSampler.region`) or when a pose seeded before (``seeded``, which gets
-        the poses added) lies within half the ``spacing`` of it
-        (:func:`~.objects.roadmap.pose_metric`): one gap between obstacles made of several
-        pieces is found once per pair of pieces. Passages come narrowest
-        first, so of near-equal poses the one centred in the tightest gap stays. Returns
-        the number added (of ``kind``).
-        """
-        rm = self.roadmap
-        region = self.sampler.region()
-        added = 0
-        for k, q in enumerate(poses):
-            if k % 64 == 63 and should_stop():  # thousands of passage poses on large floors
-                break
-            if region is not None and not shapely.contains_xy(region, q[0], q[1]):
-                continue
-            near = seeded.nearest(q, 1)
-            if near and float(rm.distances(near, q)[0]) < 0.5 * spacing:
-                continue
-            seeded.append(rm.add(q, kind))
-            added += 1
-        return added
+    def _widened(self, should_stop: Stop) -> Found[list[Node]]:
+        """After ``band_patience`` diffusion steps without a path, the band widened and searched."""
+        self._stuck += 1
+        if self._stuck < self.config.sampling.band_patience or not self.passages.can_widen():
+            return NOT_YET
+        self._stuck = 0
+        self.passages.widen()
+        self._seed_passages(should_stop)
+        return self._grown(should_stop)
 
     def restart(self, start: Pose, should_stop: Stop, *, start_grasp: int | None = None) -> None:
         """Search again from a new start over everything grown so far (replanning).
@@ -259,6 +239,21 @@ class RegraspSearch:
         s.single_grasp_checks, s.single_grasp_solved = d.checks, bool(path)
         s.single_grasp_by, s.time_single_grasp = d.solved_by, d.seconds
         return path
+
+    def _regrasp_lattice(self, should_stop: Stop) -> list[State]:
+        """Regrasps where the lattice's components meet, if banded (:mod:`.regrasp_lattice`)."""
+        ck, cfg, q0, q1, sg = self.checker, self.config, self.start, self.goal, \
+            self.config.single_grasp
+        if not (cfg.sampling.regrasp_lattice and self.passages.applies() and sg.lattice
+                and self._area() >= sg.lattice_area):
+            return []
+        ends = [[g for g in cfg.grasps if ck.state_valid(q, g)
+                 and (q is q1 or self.start_grasp in (None, g))] for q in (q0, q1)]
+        found = regrasp_lattice_path(ck, self._lattice(), cfg.cost, q0, q1, start_grasps=ends[0],
+                                     goal_grasps=ends[1], grasps=cfg.grasps,
+                                     run_spacing=cfg.optimiser.run_spacing,
+                                     should_stop=should_stop)
+        return found.path or []
 
     def _lattice(self) -> TransferLattice:
         """The held assembly's lattice within the start's reach, made when first asked."""
@@ -308,7 +303,7 @@ class RegraspSearch:
         self._limit = limit
         if not self._started and not self._tried_direct:
             self._tried_direct = True  # before the passages are seeded: they are not needed
-            direct = self._single_grasp(stop)
+            direct = self._single_grasp(stop) or self._regrasp_lattice(stop)
             if direct:
                 direct = self._optimised(direct, should_stop)
                 self._fill_stats()
@@ -328,6 +323,8 @@ class RegraspSearch:
             found = self._bridge(stop)
         while _searching(found, stop):
             found = self._diffuse(stop)
+            if _searching(found, stop):
+                found = self._widened(stop)
         states = self._optimised(self.graph.express(found.path), should_stop) \
             if found.path else []
         self._fill_stats()
@@ -342,7 +339,8 @@ class RegraspSearch:
     def _visibility_samples(self) -> int:
         """Samples of the Visibility PRM phase: more on a floor with more to reach."""
         sc = self.config.sampling
-        return max(sc.max_visibility_samples, math.ceil(self._area() / sc.visibility_area))
+        area = self.sampler.focus_area or self._area()  # the band's, if focused
+        return max(sc.max_visibility_samples, math.ceil(area / sc.visibility_area))
 
     def _optimised(self, states: list[State], should_stop: Stop) -> list[State]:
         """The path improved (:func:`~.improve.improve`) from the held grasp, if any.

@@ -42,6 +42,29 @@ class SamplingConfig:
             assembly passes but cannot turn in: :func:`~pivot_ompl.planners.objects.slots.doors`).
         door_play: the play (m) beyond the assembly's turning disk up to which a gap counts
             as a door.
+        band_area: on a floor of at least this many square metres (its bounds) and
+            ``band_boxes`` obstacles the slots and doors are seeded along the box's cheapest
+            coarse routes only, widened level by level when the search fails, and the
+            roadmap's samples drawn in that band
+            (:mod:`~pivot_ompl.planners.objects.passage_band`).
+        band_boxes: least number of obstacles (touching boxes merged) for the band.
+        band_slacks: the levels' slacks: a level's band holds the routes at most that share
+            dearer than the cheapest; the level after the last is the whole floor; ``()``:
+            every passage seeded whatever the floor.
+        band_cell: least cell side (m) of the floor's raster for the coarse routes.
+        band_max_cells: most cells of that raster (a larger floor gets larger cells).
+        band_penalty: extra cost (m) of a coarse route's step into a place too narrow for
+            the held assembly (where a plan regrasps).
+        band_margin: how far (m) the band reaches beyond its routes.
+        band_reach: a passage the held assembly goes round within this (m) is not seeded.
+        band_spacing: of passages whose centres lie this near (m), with near axes, only the
+            narrowest is seeded.
+        band_passages: most slots, and most doors, seeded per level (times the level's
+            number), those on the cheapest routes first.
+        band_patience: diffusion steps without a path before the band is widened.
+        regrasp_lattice: on a floor where the band applies, and before the object roadmap,
+            try the regrasps where the held assembly's lattice components meet
+            (:mod:`~pivot_ompl.planners.routes.regrasp_lattice`).
         bridge_rounds: rounds of (up to 100) bridge tests before the diffusion.
         bridge_bias: probability that a diffusion iteration is a bridge test instead.
         bridge_sigma: standard deviation (m) of the bridge test's second sample.
@@ -70,6 +93,18 @@ class SamplingConfig:
     slot_approach: tuple[float, ...] = knob((0.4, 0.7, 1.2))
     doors: bool = True
     door_play: float = knob(0.5)
+    band_area: float = knob(1000.0)
+    band_boxes: int = knob(2000)
+    band_slacks: tuple[float, ...] = knob((0.2, 1.0))
+    band_cell: float = knob(0.1, low_open=True)
+    band_max_cells: int = knob(1_000_000, low=1)
+    band_penalty: float = knob(20.0)
+    band_margin: float = knob(1.5)
+    band_reach: float = knob(2.5)
+    band_spacing: float = knob(0.5, low_open=True)
+    band_passages: int = knob(300, low=1)
+    band_patience: int = knob(400, low=1)
+    regrasp_lattice: bool = True
     bridge_rounds: int = knob(60)
     bridge_bias: float = knob(0.3, high=1.0)
     bridge_sigma: float = knob(0.5)

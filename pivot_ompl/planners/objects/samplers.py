@@ -13,6 +13,7 @@ roadmap then grows only where it can serve.
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Protocol
 
 import numpy as np
 import shapely
@@ -27,6 +28,17 @@ from pivot_ompl.validity.footprints import disk_clear, region_vertices
 #: region (GEOS's union, not interruptible: 0.4 s at 42 000 vertices, 17 s at 1.4 M); beyond,
 #: it samples the whole floor.
 REGION_MAX_VERTICES = 50_000
+
+
+class Focus(Protocol):
+    """A part of the floor to draw positions in (e.g. :class:`~.floor_band.BandRegion`)."""
+
+    @property
+    def area(self) -> float:
+        """Its area (m^2)."""
+
+    def sample(self, rng: np.random.Generator) -> tuple[float, float]:
+        """A uniform position in it."""
 
 
 class PoseSampler:
@@ -55,6 +67,16 @@ class PoseSampler:
         self._region: BaseGeometry | None = None
         self._region_done = False
         self._region_box: tuple[float, float, float, float] | None = None
+        self._focus: Focus | None = None
+
+    def focus(self, area: Focus | None) -> None:
+        """Draw :meth:`reachable`'s positions in ``area`` (``None``: over the region again)."""
+        self._focus = area
+
+    @property
+    def focus_area(self) -> float | None:
+        """The area (m^2) positions are drawn in, if focused (:meth:`focus`)."""
+        return None if self._focus is None else self._focus.area
 
     def region(self) -> BaseGeometry | None:
         """The box centres reachable from the start (module docstring); ``None``: the floor.
@@ -79,7 +101,13 @@ class PoseSampler:
         return self._region
 
     def reachable(self) -> Pose:
-        """A uniform pose whose position may be reached from the start (x, y, then yaw)."""
+        """A uniform pose whose position may be reached from the start (x, y, then yaw).
+
+        Focused (:meth:`focus`): a uniform position of the focus area, then the yaw.
+        """
+        if self._focus is not None:
+            x, y = self._focus.sample(self.rng)
+            return (x, y, float(self.rng.uniform(-self.yaw_range, self.yaw_range)))
         region = self.region()
         if region is None or self._region_box is None:
             return self.uniform()

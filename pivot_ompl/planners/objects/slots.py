@@ -27,6 +27,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 import shapely
@@ -58,6 +59,16 @@ class Passage:
     axis: float
     width: float
     length: float
+
+
+class Area(Protocol):
+    """Where passages are looked for (e.g. :class:`~.floor_band.BandRegion`)."""
+
+    def holds(self, x: float, y: float) -> bool:
+        """Whether the point ``(x, y)`` is in the area."""
+
+    def meets(self, bounds: tuple[float, float, float, float]) -> bool:
+        """Whether the area meets the box ``(x0, y0, x1, y1)``."""
 
 
 def _room_sides(bounds: tuple[float, float, float, float], depth: float) -> list[BaseGeometry]:
@@ -98,7 +109,8 @@ def _blocked(shapes: list[BaseGeometry], tree: shapely.STRtree, a: tuple[float, 
 
 def find_passages(scene: Scene, *, min_width: float, max_width: float,
                   should_stop: Callable[[], bool] = lambda: False,
-                  obstacles: Sequence[Obstacle] | None = None) -> list[Passage]:
+                  obstacles: Sequence[Obstacle] | None = None,
+                  within: Area | None = None) -> list[Passage]:
     """Every gap of width in ``[min_width, max_width]`` between two obstacles or sides.
 
     Each pair of obstacles (the room's four sides included) gives at most one passage, at its
@@ -110,18 +122,23 @@ def find_passages(scene: Scene, *, min_width: float, max_width: float,
     ``should_stop`` is polled per obstacle: the passages found so far are returned.
     ``obstacles``: the scene's with touching boxes merged already (a collision world's
     :attr:`~pivot_ompl.validity.collision.CollisionWorld.obstacles`); ``None``: merged here.
+    ``within``: only the passages whose centre it holds (an obstacle farther from it than
+    ``max_width`` is not looked at); ``None``: the whole floor.
     """
     merged = merge_boxes(scene.obstacles) if obstacles is None else obstacles
     shapes = obstacle_footprints(merged)
     shapes += _room_sides(scene.bounds, max(1.0, 2.0 * max_width))
     tree = shapely.STRtree(shapes)
+    near = _near(shapes, within, max_width)
     out: list[Passage] = []
     for i, a in enumerate(shapes):
         if should_stop():
             break
+        if not near[i]:
+            continue
         for j in tree.query(a, predicate="dwithin", distance=max_width):
             j = int(j)
-            if j <= i:
+            if j <= i or not near[j]:
                 continue
             b = shapes[j]
             width = float(a.distance(b))
@@ -138,10 +155,20 @@ def find_passages(scene: Scene, *, min_width: float, max_width: float,
             mid = np.array([0.5 * (ax + bx), 0.5 * (ay + by)])
             along = 0.5 * (lo + hi) if hi >= lo else float(mid @ u)
             c = mid + (along - float(mid @ u)) * u
+            if within is not None and not within.holds(float(c[0]), float(c[1])):
+                continue
             out.append(Passage((float(c[0]), float(c[1])),
                                (axis + 0.5 * math.pi) % math.pi - 0.5 * math.pi,
                                width, max(0.0, hi - lo)))
     return out
+
+
+def _near(shapes: list[BaseGeometry], within: Area | None, reach: float) -> list[bool]:
+    """Per shape, whether ``within`` meets its bounding box grown by ``reach`` (all: ``None``)."""
+    if within is None:
+        return [True] * len(shapes)
+    grown = shapely.bounds(shapes) + np.array([-reach, -reach, reach, reach])
+    return [within.meets((float(b[0]), float(b[1]), float(b[2]), float(b[3]))) for b in grown]
 
 
 def passage_poses(passage: Passage, *, reach: float, spacing: float,
@@ -163,19 +190,20 @@ def passage_poses(passage: Passage, *, reach: float, spacing: float,
 
 
 def slots(checker: PivotChecker, *, play: float,
-          should_stop: Callable[[], bool] = lambda: False) -> list[Passage]:
+          should_stop: Callable[[], bool] = lambda: False,
+          within: Area | None = None) -> list[Passage]:
     """The scene's slots: gaps wide enough for the box but not for the walking robot.
 
     A gap counts if it is wider than the box's narrow side (plus the kept clearance on both
     sides) and narrower than the walking robot's least width (plus the clearance and
-    ``play``, beyond which the robot's walk passes).
+    ``play``, beyond which the robot's walk passes). ``within``: as for :func:`find_passages`.
     """
     m, clear = checker.model, checker.world.clearance
     ahead, behind, half_width = m.walking_extent()
     narrowest = min(ahead + behind, 2.0 * half_width) + 2.0 * clear
     return find_passages(checker.scene, obstacles=checker.world.obstacles,
                          min_width=min(m.object_size[:2]) + 2.0 * clear,
-                         max_width=narrowest + play, should_stop=should_stop)
+                         max_width=narrowest + play, should_stop=should_stop, within=within)
 
 
 def slot_poses(checker: PivotChecker, passages: list[Passage], *, spacing: float,
@@ -228,18 +256,20 @@ def assembly_extent(checker: PivotChecker) -> AssemblyExtent:
 
 
 def doors(checker: PivotChecker, *, play: float,
-          should_stop: Callable[[], bool] = lambda: False) -> list[Passage]:
+          should_stop: Callable[[], bool] = lambda: False,
+          within: Area | None = None) -> list[Passage]:
     """The scene's doors: gaps the held assembly passes but cannot turn in.
 
     Wider than the assembly's least width and narrower than the disk it sweeps turning
     (:func:`assembly_extent`), both plus the kept clearance on both sides, plus ``play``:
     a gap a little wider than the disk still holds an assembly crossing it to a narrow
-    range of yaws.
+    range of yaws. ``within``: as for :func:`find_passages`.
     """
     ext, clear = assembly_extent(checker), checker.world.clearance
     return find_passages(checker.scene, obstacles=checker.world.obstacles,
                          min_width=ext.width + 2.0 * clear,
-                         max_width=2.0 * (ext.radius + clear) + play, should_stop=should_stop)
+                         max_width=2.0 * (ext.radius + clear) + play, should_stop=should_stop,
+                         within=within)
 
 
 def door_poses(checker: PivotChecker, passages: list[Passage], *,

@@ -247,6 +247,29 @@ class TransferLattice:
         poses = [start] + [m.object_from_car(self.car(s), grasp) for s in states[1:-1]] + [goal]
         return poses, self._cost(states, starts, goals, rate)
 
+    def components(self, parity: int, should_stop: Callable[[], bool] | None = None
+                   ) -> tuple[np.ndarray, np.ndarray]:
+        """The connected components of the lattice's states of ``parity`` (kept).
+
+        ``(cell_ids, labels)``: see :meth:`_components`.
+
+        Raises:
+            Interrupted: ``should_stop()`` became true.
+        """
+        return self._components(parity, should_stop)
+
+    def joined_components(self, obj: Pose, grasp: int,
+                          should_stop: Callable[[], bool] | None = None) -> set[int]:
+        """The components (of ``grasp``'s parity) of the states ``obj`` at ``grasp`` joins."""
+        parity, ny = grasp % 2, self.field.ny
+        cell_ids, labels = self._components(parity, should_stop)
+        out = set()
+        for ix, iy, h in self._attach(self.checker.model.car_pose(obj, grasp), parity, grasp):
+            cid = int(cell_ids[ix * ny + iy])
+            if cid >= 0 and labels[cid * N_HEADINGS + h] >= 0:
+                out.add(int(labels[cid * N_HEADINGS + h]))
+        return out
+
     def _grid(self, parity: int, k: int, should_stop: Callable[[], bool] | None) -> bytes:
         """The field's ``fits(parity, k)`` as bytes, row-major (kept: cheap to index)."""
         key = (parity, k)

@@ -1,0 +1,102 @@
+"""Regrasps read from where the held assembly's lattice components meet."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.cost import CostModel
+from pivot_ompl.generate.layout import free_complement
+from pivot_ompl.generate.layout import make_scene as layout_scene
+from pivot_ompl.planners.evaluation import Evaluator, Status
+from pivot_ompl.planners.routes.lattice import TransferLattice
+from pivot_ompl.planners.routes.regrasp_lattice import (
+    RegraspLatticeStats,
+    component_steps,
+    regrasp_lattice_path,
+)
+
+
+def _corner(width: float = 1.6):
+    """An L of corridors ``width`` m wide; the box ends across the far leg, held at its side."""
+    bounds = (0.0, -1.5, 8.0, 8.0)
+    free = [(0.3, -0.5 * width, 5.0 + 0.5 * width, 0.5 * width),
+            (5.0 - 0.5 * width, -0.5 * width, 5.0 + 0.5 * width, 7.5)]
+    return layout_scene("corner", bounds, free_complement(bounds, free), (1.5, 0.0, 0.0),
+                        (5.0, 6.0, 0.0))
+
+
+def _valid_grasps(ck: PivotChecker, pose) -> list[int]:
+    return [g for g in range(4) if ck.state_valid(pose, g)]
+
+
+@pytest.fixture(scope="module")
+def corner():
+    scene = _corner()
+    ck = PivotChecker(scene, seed=0)
+    return scene, ck, TransferLattice(ck, CostModel())
+
+
+def test_ends_held_at_grasps_of_either_parity_need_one_change(corner):
+    scene, ck, lattice = corner
+    starts, goals = _valid_grasps(ck, scene.start), _valid_grasps(ck, scene.goal)
+    assert {g % 2 for g in starts} == {0} and {g % 2 for g in goals} == {1}
+    steps = component_steps(lattice, scene.start, scene.goal, start_grasps=starts,
+                            goal_grasps=goals, cell=0.2, yaw_bins=8, max_changes=4)
+    assert steps is not None
+    assert len(steps.components) == 2 and len(steps.meetings) == 1
+    assert [c[0] for c in steps.components] == [0, 1]
+    assert steps.meetings[0]
+    # allowed no change, there is none to make
+    assert component_steps(lattice, scene.start, scene.goal, start_grasps=starts,
+                           goal_grasps=goals, cell=0.2, yaw_bins=8, max_changes=0) is None
+
+
+def test_one_grasp_that_suffices_gives_no_coarse_plan(corner):
+    scene, ck, lattice = corner
+    assert component_steps(lattice, scene.start, scene.start, start_grasps=[0],
+                           goal_grasps=[0], cell=0.2, yaw_bins=8, max_changes=4) is None
+
+
+def test_the_path_regrasps_once_per_change_and_every_step_passes_its_check(corner):
+    scene, ck, lattice = corner
+    stats = RegraspLatticeStats()
+    found = regrasp_lattice_path(ck, lattice, CostModel(), scene.start, scene.goal,
+                                 start_grasps=_valid_grasps(ck, scene.start),
+                                 goal_grasps=_valid_grasps(ck, scene.goal), grasps=(0, 1, 2, 3),
+                                 run_spacing=8, should_stop=lambda: False, stats=stats)
+    assert found.status is Status.VALID and found.path
+    states = found.path
+    assert states[0][0] == scene.start and states[-1][0] == scene.goal
+    regrasps = [(a, b) for a, b in zip(states, states[1:], strict=False) if a[1] != b[1]]
+    assert len(regrasps) == stats.changes == 1
+    assert all(a[0] == b[0] for a, b in regrasps)  # a regrasp keeps the box where it is
+    evaluate = Evaluator(ck, CostModel())
+    for a, b in zip(states, states[1:], strict=False):
+        e = evaluate.step(a, b)
+        assert e.valid and math.isfinite(e.cost), (a, b, e)
+
+
+def test_a_stop_is_reported_as_such(corner):
+    scene, ck, lattice = corner
+    found = regrasp_lattice_path(ck, lattice, CostModel(), scene.start, scene.goal,
+                                 start_grasps=[0, 2], goal_grasps=[1, 3], grasps=(0, 1, 2, 3),
+                                 run_spacing=8, should_stop=lambda: True)
+    assert found.status is Status.STOPPED
+
+
+def test_the_regrasp_planner_takes_it_before_any_roadmap_where_the_band_applies():
+    from pivot_ompl.api import plan
+
+    scene = _corner()
+    spec = ("regrasp[sampling.band_area=0;sampling.band_boxes=0;"
+            "single_grasp.lattice_area=0]")
+    result = plan(scene, planner=spec, time_limit=30.0, seed=0)
+    assert result.status == "EXACT_SOLUTION"
+    assert result.roadmap["object_nodes"] == 0  # no roadmap grown: the lattice's regrasps
+    assert result.plan.regrasps == 1
+    off = plan(scene, planner=spec.replace("]", ";sampling.regrasp_lattice=false]"),
+               time_limit=30.0, seed=0)
+    assert off.roadmap["object_nodes"] > 0
