@@ -94,6 +94,9 @@ class TransferLattice:
         self._routes: dict[tuple[Pose, Pose, int, float], tuple[list[Pose], float]] = {}
         self._labels: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         self._floors: dict[int, Any] = {}
+        #: the last floor distances per parity, by the goal joins' cells they were asked for
+        #: (a route and its :meth:`way_bound` ask the same)
+        self._ways: dict[int, tuple[frozenset[int], np.ndarray]] = {}
         self._grids: dict[tuple[int, int], bytes] = {}
 
     def car(self, s: State) -> Pose:
@@ -314,7 +317,8 @@ class TransferLattice:
         (:func:`~.guide.move_graph`, kept per parity): every push of a lattice route is such
         a move, so no route from a cell to the goal's joins is shorter; at the push rate it is
         the A* heuristic where it exceeds the straight line (admissible and consistent), and
-        ``inf`` where no way joins the cell to the goal. ``[-1]`` (no cell) is 0.
+        ``inf`` where no way joins the cell to the goal. ``[-1]`` (no cell) is 0. The last
+        answer per parity is kept (a route and its :meth:`way_bound` ask the same goal).
         """
         cell_ids, _ = self._components(parity, should_stop)
         graph = self._floors.get(parity)
@@ -323,8 +327,14 @@ class TransferLattice:
                 cell_ids, self.field.nx, self.field.ny, HEADING_VECTORS[:N_HEADINGS // 2],
                 should_stop)
         ny = self.field.ny
-        d = graph_distances(graph, (cell_ids[u[0] * ny + u[1]] for u in goals), should_stop)
-        return np.append(self.resolution * d, 0.0)
+        sources = frozenset(int(cell_ids[u[0] * ny + u[1]]) for u in goals)
+        hit = self._ways.get(parity)
+        if hit is not None and hit[0] == sources:
+            return hit[1]
+        way = np.append(self.resolution * graph_distances(graph, sources, should_stop), 0.0)
+        way.flags.writeable = False  # shared by the queries that ask again
+        self._ways[parity] = (sources, way)
+        return way
 
     def _cost(self, states: list[State], starts: dict[State, float],
               goals: dict[State, float], rate: float) -> float:

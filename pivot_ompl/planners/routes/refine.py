@@ -106,7 +106,8 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
             i, j, g, _saving, plan = best
             refused.add((i, j, g, phases[i].poses))
             st.tried += 1
-            real = _made_real(checker, lattice, plan, costs, should_stop, run_spacing, chains)
+            real = _made_real(checker, lattice, plan, costs, should_stop, run_spacing, chains,
+                              ceiling=_ceiling(pricer, costs, plan, current))
             if real is None or real[-1].poses[-1] != phases[-1].poses[-1]:
                 log.debug("phases %d..%d at grasp %d: the checks refuse the route", i, j, g)
                 continue
@@ -129,11 +130,32 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
 _Chains = dict[tuple[Pose, Pose, int], Found[tuple[list[Pose], float]]]
 
 
+def _ceiling(pricer: Pricer, costs: CostModel, plan: list, current: float) -> float:
+    """Seconds the one leg of ``plan`` must cost less than for the plan to beat ``current``.
+
+    The rest of the plan at its real seconds, a regrasp next to the leg at the least any
+    regrasp costs: a chain at or above the ceiling is refused whatever the walks cost.
+    ``inf`` for a plan of several legs (their costs are known only together).
+    """
+    legs = [k for k, item in enumerate(plan) if isinstance(item, Leg)]
+    if len(legs) != 1:
+        return math.inf
+    rest = sum(pricer.phase(p) for p in plan if isinstance(p, Phase))
+    for a, b in zip(plan, plan[1:], strict=False):
+        if isinstance(a, Phase) and isinstance(b, Phase):
+            rest += pricer.regrasp(a, b)
+        elif a.grasp != b.grasp:
+            rest += costs.regrasp_seconds(0.0)
+    return current - rest
+
+
 def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: Leg, costs: CostModel,
-               should_stop: Stop, run_spacing: int, chains: _Chains) -> list[Pose]:
+               should_stop: Stop, run_spacing: int, chains: _Chains,
+               ceiling: float = math.inf) -> list[Pose]:
     """The leg as a chain of certified transfers (``[]`` if none): whole, else anchored.
 
     ``chains``: the routes' chains found before (a route asked again is not checked again).
+    ``ceiling``: a chain that cannot cost less is not made (:func:`~.chain.shortened`).
     """
     tries: list[tuple[tuple[Pose, ...], Pose, Pose, tuple[Pose, ...]]] = [
         ((), leg.start, leg.end, ())]
@@ -148,10 +170,11 @@ def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: Leg, costs:
         found = chains.get(key)
         if found is None:
             found = shortened(Evaluator(checker, costs), corners(route, spacing=run_spacing),
-                              leg.grasp, should_stop)
+                              leg.grasp, should_stop, ceiling=ceiling)
             if found.status is Status.STOPPED:
                 raise Interrupted("route refinement")
-            chains[key] = found
+            if found.path is not None or not math.isfinite(ceiling):
+                chains[key] = found  # a chain refused for its cost is asked again
         if found.path is not None:
             return [*before, *found.path[0], *after]
     return []
@@ -159,10 +182,11 @@ def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: Leg, costs:
 
 def _made_real(checker: PivotChecker, lattice: TransferLattice, plan: list,
                costs: CostModel, should_stop: Stop, run_spacing: int,
-               chains: _Chains) -> list[Phase] | None:
+               chains: _Chains, *, ceiling: float = math.inf) -> list[Phase] | None:
     """The plan's routed legs as chains of certified transfers; ``None`` if one fails.
 
-    ``chains``: the routes' chains found before (:func:`_leg_chain`).
+    ``chains``: the routes' chains found before (:func:`_leg_chain`); ``ceiling``: the one
+    leg's (:func:`_ceiling`).
     """
     out: list[Phase] = []
     for item in plan:
@@ -170,7 +194,8 @@ def _made_real(checker: PivotChecker, lattice: TransferLattice, plan: list,
             out.append(item)
             continue
         grasp = item.grasp
-        chain = _leg_chain(checker, lattice, item, costs, should_stop, run_spacing, chains)
+        chain = _leg_chain(checker, lattice, item, costs, should_stop, run_spacing, chains,
+                           ceiling)
         if not chain:
             return None
         if out and out[-1].grasp == grasp:  # a regrasp the run removed: one phase
