@@ -12,7 +12,7 @@ from pivot_ompl.cost import CostModel
 from pivot_ompl.planners.config import OptimiserConfig
 from pivot_ompl.planners.evaluation import Evaluator, Status
 from pivot_ompl.planners.routes import lattice as lattice_module
-from pivot_ompl.planners.routes.chain import corners, shortened
+from pivot_ompl.planners.routes.chain import TOO_DEAR, corners, shortened
 from pivot_ompl.planners.routes.lattice import TransferLattice
 
 COSTS = CostModel()
@@ -52,7 +52,7 @@ def test_a_chain_that_cannot_beat_the_ceiling_is_refused_before_its_checks_end(u
                                                                                 share):
     (_chain_poses, cost), checks = unbounded
     found, n = _chain(share * cost)
-    assert found.status is Status.INVALID and found.path is None
+    assert found is TOO_DEAR and found.status is Status.INVALID and found.path is None
     assert n <= checks
     if share < 0.8:  # stopped before every transfer of the chain was checked
         assert n < checks

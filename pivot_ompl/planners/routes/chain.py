@@ -16,6 +16,11 @@ from pivot_ompl.se2 import Pose, wrap_angle
 
 Stop = Callable[[], bool]
 
+#: :func:`shortened`'s answer when no chain along the route can cost less than its ceiling
+#: (``INVALID``; tell it from "no chain at all" by identity: ``found is TOO_DEAR``)
+TOO_DEAR: Found = Found(Status.INVALID)
+
+
 def corners(route: list[Pose], *, spacing: int) -> list[Pose]:
     """The route's poses worth joining by transfers.
 
@@ -48,10 +53,10 @@ def shortened(evaluate: Evaluator, route: list[Pose], grasp: int,
     :meth:`~pivot_ompl.cost.CostModel.transfer_estimate`, a turn's
     :meth:`~pivot_ompl.cost.CostModel.spin_estimate`, until it is checked), its unchecked
     transfers checked (the cheap test first), again until every transfer of it is checked.
-    ``should_stop`` is polled before every check. ``ceiling`` (s): ``INVALID`` as soon as
-    no chain can cost less (checked transfers at their cost, the others at the admissible
-    :meth:`~pivot_ompl.cost.CostModel.transfer_bound`): a chain the caller would refuse
-    for its cost is not checked to the end.
+    ``should_stop`` is polled before every check. ``ceiling`` (s): :data:`TOO_DEAR` as
+    soon as no chain can cost less (checked transfers at their cost, the others at the
+    admissible :meth:`~pivot_ompl.cost.CostModel.transfer_bound`): a chain the caller would
+    refuse for its cost is not checked to the end.
     """
     checker, costs = evaluate.checker, evaluate.costs
     n = len(route)
@@ -84,7 +89,7 @@ def shortened(evaluate: Evaluator, route: list[Pose], grasp: int,
         return b
 
     def too_dear() -> bool:
-        """No chain costs less than ``ceiling``, by the checked costs and the bounds."""
+        """A chain is left, none costing less than ``ceiling`` (checked costs and bounds)."""
         least = [math.inf] * n
         least[0] = 0.0
         for i in range(n - 1):
@@ -92,10 +97,13 @@ def shortened(evaluate: Evaluator, route: list[Pose], grasp: int,
                 for j in ends[i]:
                     c = checked.get((i, j))
                     least[j] = min(least[j], least[i] + (low(i, j) if c is None else c))
-        return least[-1] >= ceiling + 1e-6
+        return ceiling + 1e-6 <= least[-1] < math.inf
+
+    dear = [False]
 
     def cheapest() -> Found[tuple[list[int], float]]:
         if math.isfinite(ceiling) and too_dear():
+            dear[0] = True
             return Found(Status.INVALID)
         best = [math.inf] * n
         back = [-1] * n
@@ -137,8 +145,8 @@ def shortened(evaluate: Evaluator, route: list[Pose], grasp: int,
     # even when the time is up
     found = lazy_search(cheapest, check, lambda: False)
     if found.path is None:
-        return Found(found.status)
+        return TOO_DEAR if dear[0] else Found(found.status)
     chain, cost = found.path
     if cost >= ceiling + 1e-6:
-        return Found(Status.INVALID)
+        return TOO_DEAR
     return Found(Status.VALID, ([route[i] for i in chain], cost))

@@ -34,7 +34,7 @@ from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.evaluation import Evaluator, Found, Status
-from pivot_ompl.planners.routes.chain import corners, shortened
+from pivot_ompl.planners.routes.chain import TOO_DEAR, corners, shortened
 from pivot_ompl.planners.routes.lattice import TransferLattice
 from pivot_ompl.planners.routes.run_pricing import (
     Leg,
@@ -173,8 +173,9 @@ def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: Leg, costs:
                               leg.grasp, should_stop, ceiling=ceiling)
             if found.status is Status.STOPPED:
                 raise Interrupted("route refinement")
-            if found.path is not None or not math.isfinite(ceiling):
-                chains[key] = found  # a chain refused for its cost is asked again
+            if found is TOO_DEAR:  # as the whole chain refused for its cost: no anchored try
+                return []
+            chains[key] = found
         if found.path is not None:
             return [*before, *found.path[0], *after]
     return []
