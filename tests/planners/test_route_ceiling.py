@@ -1,19 +1,24 @@
-"""Work a lattice route need not do: a chain too dear to use, a floor distance asked twice."""
+"""Work the re-routing need not do: a chain too dear, a small saving, a distance asked twice."""
 
 from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 from factories import shipped
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
-from pivot_ompl.planners.config import OptimiserConfig
+from pivot_ompl.errors import InputError
+from pivot_ompl.planners.config import OptimiserConfig, RegraspConfig, parameters
 from pivot_ompl.planners.evaluation import Evaluator, Status
+from pivot_ompl.planners.regrasp_search import RegraspSearch
 from pivot_ompl.planners.routes import lattice as lattice_module
 from pivot_ompl.planners.routes.chain import TOO_DEAR, corners, shortened
 from pivot_ompl.planners.routes.lattice import TransferLattice
+from pivot_ompl.planners.routes.refine import RefineStats, refine
+from pivot_ompl.planners.routes.run_pricing import best_run
 
 COSTS = CostModel()
 SPACING = OptimiserConfig().run_spacing
@@ -77,3 +82,49 @@ def test_a_route_and_its_way_bound_compute_the_floor_distances_once(monkeypatch)
     assert len(route[0]) > 2
     lat.route(scene.start, scene.goal, GRASP + 2)  # the other side's car: other goal cells
     assert len(calls) == 2
+
+
+def _found_path(ck):
+    """The cluttered room's path as found (a direct single-grasp path), not improved."""
+    scene = ck.scene
+    search = RegraspSearch(ck, scene.start, scene.goal,
+                           RegraspConfig().with_values({"optimiser.enabled": "false"}),
+                           np.random.default_rng(0))
+    path = search.run(lambda: False)
+    assert math.isfinite(Evaluator(ck, COSTS).path(path).cost)
+    return path
+
+
+def test_a_run_estimated_to_save_no_more_than_the_least_share_is_not_replanned():
+    scene = shipped("cluttered_room")
+    ck = PivotChecker(scene)
+    lattice = TransferLattice(ck, COSTS)
+    path = _found_path(ck)
+    current = Evaluator(ck, COSTS).path(path).cost
+    first = best_run(ck, lattice, path, costs=COSTS, should_stop=lambda: False, grasps=(0, 1, 2, 3))
+    assert first.run is not None and first.saving > 0
+    share = first.saving / current
+
+    def refined(min_saving):
+        stats = RefineStats()
+        out = refine(ck, lattice, path, costs=COSTS, should_stop=lambda: False,
+                     run_spacing=SPACING, stats=stats, grasps=(0, 1, 2, 3),
+                     min_saving=min_saving)
+        return out, stats
+
+    out, stats = refined(share * 1.001)  # the best estimate is under it: nothing is tried
+    assert out == path and stats.tried == 0 and stats.applied == 0
+    out, stats = refined(share * 0.999)
+    assert stats.tried >= 1
+    assert Evaluator(ck, COSTS).path(out).cost <= current
+    assert refined(0.0)[0] == refine(ck, lattice, path, costs=COSTS, should_stop=lambda: False,
+                                     run_spacing=SPACING, grasps=(0, 1, 2, 3))
+
+
+def test_the_least_saving_is_a_listed_knob():
+    listed = {p.name: p for p in parameters()}
+    knob = listed["optimiser.route_min_saving"]
+    assert knob.default == 0.05 and knob.doc
+    with pytest.raises(InputError) as e:
+        RegraspConfig().with_values({"optimiser.route_min_saving": "-0.1"})
+    assert e.value.field == "optimiser.route_min_saving"

@@ -75,7 +75,7 @@ class RefineStats:
 def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State], *,
            costs: CostModel, should_stop: Stop, run_spacing: int,
            stats: RefineStats | None = None, start_grasp: int | None = None,
-           grasps: tuple[int, ...] = ()) -> list[State]:
+           grasps: tuple[int, ...] = (), min_saving: float = 0.0) -> list[State]:
     """``states`` with runs of phases re-planned on the lattice (see the module docstring).
 
     Stopped by ``should_stop`` (polled between lattice queries and checks), it returns the
@@ -84,7 +84,8 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
     the first grasp is free, and the whole path is also routed as one phase at each of
     ``grasps`` (seeds that found the path at different grasps then meet on the same route).
     ``run_spacing``: along a straight run of a lattice route, a pose is kept to join every
-    this many lattice motions (:func:`~.chain.corners`).
+    this many lattice motions (:func:`~.chain.corners`). ``min_saving``: a run whose
+    estimated saving is at most this share of the path's cost is not re-planned.
     """
     st = stats if stats is not None else RefineStats()
     pricer = Pricer(checker, costs)
@@ -99,7 +100,8 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
     try:
         while not should_stop():
             best, routed = best_candidate(lattice, pricer, phases, current, refused,
-                                          should_stop, start_grasp, grasps)
+                                          should_stop, start_grasp, grasps,
+                                          least=min_saving * current)
             st.candidates += routed
             if best is None:
                 break
