@@ -138,6 +138,12 @@ class OptimiserConfig:
         run_spacing: along a straight run of a lattice route made real (re-routing,
             elimination, and the single-grasp try's lattice route), a pose is kept to join
             every this many lattice motions (:func:`~pivot_ompl.planners.routes.chain.corners`).
+        route_min_saving: the re-routing
+            (:func:`~pivot_ompl.planners.routes.refine.refine`) leaves a run of phases whose
+            lattice estimate saves at most this share of the path's cost: the estimates are
+            optimistic, on the shipped scenes, the layouts and the one-grasp maps no run
+            estimated under 5 % made a path cheaper, and checking one costs as much as
+            checking a run that does; 0: every run that may save.
         converge_checks: every improvement stage (re-routing, optimiser, elimination) may
             compute at least this many motion checks (times :func:`quality_scale`), however
             few the search made: a seed whose search ended early (a direct single-grasp
@@ -161,6 +167,7 @@ class OptimiserConfig:
     eliminate_checks: int = knob(60)
     choose_grasps: bool = False
     run_spacing: int = knob(6, low=1)
+    route_min_saving: float = knob(0.05, high=1.0)
     converge_checks: int = knob(500)
     quality_share: float = knob(QUALITY_SHARE, high=0.95)
 

@@ -16,6 +16,11 @@ from pivot_ompl.se2 import Pose, wrap_angle
 
 Stop = Callable[[], bool]
 
+#: :func:`shortened`'s answer when no chain along the route can cost less than its ceiling
+#: (``INVALID``; tell it from "no chain at all" by identity: ``found is TOO_DEAR``)
+TOO_DEAR: Found = Found(Status.INVALID)
+
+
 def corners(route: list[Pose], *, spacing: int) -> list[Pose]:
     """The route's poses worth joining by transfers.
 
@@ -37,7 +42,8 @@ def corners(route: list[Pose], *, spacing: int) -> list[Pose]:
 
 
 def shortened(evaluate: Evaluator, route: list[Pose], grasp: int,
-              should_stop: Stop) -> Found[tuple[list[Pose], float]]:
+              should_stop: Stop, *, ceiling: float = math.inf
+              ) -> Found[tuple[list[Pose], float]]:
     """The cheapest chain of certified transfers along the route, with its cost (s).
 
     ``VALID`` with the chain, ``INVALID`` when there is none, ``STOPPED``. Candidate
@@ -47,7 +53,10 @@ def shortened(evaluate: Evaluator, route: list[Pose], grasp: int,
     :meth:`~pivot_ompl.cost.CostModel.transfer_estimate`, a turn's
     :meth:`~pivot_ompl.cost.CostModel.spin_estimate`, until it is checked), its unchecked
     transfers checked (the cheap test first), again until every transfer of it is checked.
-    ``should_stop`` is polled before every check.
+    ``should_stop`` is polled before every check. ``ceiling`` (s): :data:`TOO_DEAR` as
+    soon as no chain can cost less (checked transfers at their cost, the others at the
+    admissible :meth:`~pivot_ompl.cost.CostModel.transfer_bound`): a chain the caller would
+    refuse for its cost is not checked to the end.
     """
     checker, costs = evaluate.checker, evaluate.costs
     n = len(route)
@@ -69,7 +78,33 @@ def shortened(evaluate: Evaluator, route: list[Pose], grasp: int,
                                                                     alpha)
         return e
 
+    lows: dict[tuple[int, int], float] = {}
+
+    def low(i: int, j: int) -> float:
+        b = lows.get((i, j))
+        if b is None:
+            a, c = cars[i], cars[j]
+            b = lows[(i, j)] = costs.transfer_bound(math.hypot(c[0] - a[0], c[1] - a[1]),
+                                                    wrap_angle(c[2] - a[2]), ell, alpha)
+        return b
+
+    def too_dear() -> bool:
+        """A chain is left, none costing less than ``ceiling`` (checked costs and bounds)."""
+        least = [math.inf] * n
+        least[0] = 0.0
+        for i in range(n - 1):
+            if math.isfinite(least[i]):
+                for j in ends[i]:
+                    c = checked.get((i, j))
+                    least[j] = min(least[j], least[i] + (low(i, j) if c is None else c))
+        return ceiling + 1e-6 <= least[-1] < math.inf
+
+    dear = [False]
+
     def cheapest() -> Found[tuple[list[int], float]]:
+        if math.isfinite(ceiling) and too_dear():
+            dear[0] = True
+            return Found(Status.INVALID)
         best = [math.inf] * n
         back = [-1] * n
         best[0] = 0.0
@@ -110,6 +145,8 @@ def shortened(evaluate: Evaluator, route: list[Pose], grasp: int,
     # even when the time is up
     found = lazy_search(cheapest, check, lambda: False)
     if found.path is None:
-        return Found(found.status)
+        return TOO_DEAR if dear[0] else Found(found.status)
     chain, cost = found.path
+    if cost >= ceiling + 1e-6:
+        return TOO_DEAR
     return Found(Status.VALID, ([route[i] for i in chain], cost))

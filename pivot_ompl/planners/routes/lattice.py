@@ -22,7 +22,7 @@ parity, scipy) has no route and costs nothing.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -31,10 +31,9 @@ from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
-from pivot_ompl.errors import Interrupted
-from pivot_ompl.graph import astar
 from pivot_ompl.planners.routes.guide import graph_distances, move_graph
 from pivot_ompl.planners.routes.lattice_components import chunked_labels
+from pivot_ompl.planners.routes.lattice_search import lattice_astar
 from pivot_ompl.se2 import Pose, wrap_angle
 from pivot_ompl.transit.lattice import HEADING_VECTORS, HEADING_YAWS, N_HEADINGS
 from pivot_ompl.validity.assembly_field import AssemblyField
@@ -94,6 +93,9 @@ class TransferLattice:
         self._routes: dict[tuple[Pose, Pose, int, float], tuple[list[Pose], float]] = {}
         self._labels: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         self._floors: dict[int, Any] = {}
+        #: the last floor distances per parity, by the goal joins' cells they were asked for
+        #: (a route and its :meth:`way_bound` ask the same)
+        self._ways: dict[int, tuple[frozenset[int], np.ndarray]] = {}
         self._grids: dict[tuple[int, int], bytes] = {}
 
     def car(self, s: State) -> Pose:
@@ -178,70 +180,26 @@ class TransferLattice:
         if not {label(u) for u in starts} & {label(u) for u in goals}:
             return [], math.inf
         rate = self._push[grasp]
-        nx, ny = self.field.nx, self.field.ny
-        steps, turns, spin = self._steps, self._turns, self._spin
-        counter = [0]
-
-        grids: list[bytes | None] = [None] * (2 * N_HEADINGS)  # fetched once per query
-
-        def grid(k: int) -> bytes:
-            g = grids[k]
-            if g is None:
-                g = grids[k] = self._grid(parity, k, should_stop)
-            return g
-
-        def neighbours(u: State) -> Iterator[tuple[State, float]]:
-            if u == _START:
-                yield from starts.items()
-                return
-            counter[0] += 1
-            if counter[0] > self.max_expansions:
-                return
-            if counter[0] % 256 == 0 and should_stop is not None and should_stop():
-                raise Interrupted("transfer lattice")
-            ix, iy, h = u
-            vx, vy = HEADING_VECTORS[h]
-            pushes = grid(2 * h)
-            for sgn in (1, -1):
-                jx, jy = ix + sgn * vx, iy + sgn * vy
-                if 0 <= jx < nx and 0 <= jy < ny and pushes[jx * ny + jy]:
-                    yield (jx, jy, h), steps[h] * rate
-            if 0 <= ix < nx and 0 <= iy < ny:
-                at, ha, hb = ix * ny + iy, (h + 1) % N_HEADINGS, (h - 1) % N_HEADINGS
-                if grid(2 * h + 1)[at] and grid(2 * ha)[at]:
-                    yield (ix, iy, ha), turns[h] * spin
-                if grid(2 * hb + 1)[at] and grid(2 * hb)[at]:
-                    yield (ix, iy, hb), turns[hb] * spin
-            c = goals.get(u)
-            if c is not None:
-                yield _GOAL, c
-
+        spin = self._spin
         gx, gy, gh = cb
         way = self._floor_distances(parity, goals, should_stop)
-        # pushes move the car without turning it, turns turn it without moving it: the
-        # heuristic is a push part per cell (kept, asked for each heading) and a turn part
-        # per heading
-        turning = [spin * abs(wrap_angle(HEADING_YAWS[h] - gh)) for h in range(N_HEADINGS)]
-        pushing: dict[tuple[int, int], float] = {}
 
-        def heuristic(u: State) -> float:
-            if u[0] < 0:
-                return 0.0
-            ix, iy, h = u
-            push = pushing.get((ix, iy))
-            if push is None:
-                x, y = self.field.position(ix, iy)
-                # the car moves at least its floor distance to the goal's joins
-                # (:meth:`_floor_distances`), not below the straight line; inf: no way
-                # to the goal's joins from this cell
-                moved = max(math.hypot(x - gx, y - gy), float(way[cell_ids[ix * ny + iy]]))
-                push = pushing[(ix, iy)] = rate * moved
-            return weight * (push + turning[h])
+        def cell_part(ix: int, iy: int) -> float:
+            # pushes move the car without turning it, turns turn it without moving it: the
+            # heuristic is a push part per cell and a turn part per heading; the car moves
+            # at least its floor distance to the goal's joins (:meth:`_floor_distances`),
+            # not below the straight line; inf: no way to the goal's joins from this cell
+            x, y = self.field.position(ix, iy)
+            return rate * max(math.hypot(x - gx, y - gy), float(way[cell_ids[ix * ny + iy]]))
 
-        try:
-            states = astar([_START], {_GOAL}, neighbours, heuristic)
-        finally:
-            self.expansions += counter[0]
+        grids = [self._grid(parity, k, should_stop) for k in range(2 * N_HEADINGS)]
+        states, expanded = lattice_astar(
+            starts, goals, grids=grids,
+            shape=(self.field.nx, ny), push=[step * rate for step in self._steps],
+            turn=[t * spin for t in self._turns], cell_part=cell_part,
+            turning=[spin * abs(wrap_angle(HEADING_YAWS[h] - gh)) for h in range(N_HEADINGS)],
+            weight=weight, max_expansions=self.max_expansions, should_stop=should_stop)
+        self.expansions += expanded
         if not states:
             return [], math.inf
         poses = [start] + [m.object_from_car(self.car(s), grasp) for s in states[1:-1]] + [goal]
@@ -337,7 +295,8 @@ class TransferLattice:
         (:func:`~.guide.move_graph`, kept per parity): every push of a lattice route is such
         a move, so no route from a cell to the goal's joins is shorter; at the push rate it is
         the A* heuristic where it exceeds the straight line (admissible and consistent), and
-        ``inf`` where no way joins the cell to the goal. ``[-1]`` (no cell) is 0.
+        ``inf`` where no way joins the cell to the goal. ``[-1]`` (no cell) is 0. The last
+        answer per parity is kept (a route and its :meth:`way_bound` ask the same goal).
         """
         cell_ids, _ = self._components(parity, should_stop)
         graph = self._floors.get(parity)
@@ -346,8 +305,14 @@ class TransferLattice:
                 cell_ids, self.field.nx, self.field.ny, HEADING_VECTORS[:N_HEADINGS // 2],
                 should_stop)
         ny = self.field.ny
-        d = graph_distances(graph, (cell_ids[u[0] * ny + u[1]] for u in goals), should_stop)
-        return np.append(self.resolution * d, 0.0)
+        sources = frozenset(int(cell_ids[u[0] * ny + u[1]]) for u in goals)
+        hit = self._ways.get(parity)
+        if hit is not None and hit[0] == sources:
+            return hit[1]
+        way = np.append(self.resolution * graph_distances(graph, sources, should_stop), 0.0)
+        way.flags.writeable = False  # shared by the queries that ask again
+        self._ways[parity] = (sources, way)
+        return way
 
     def _cost(self, states: list[State], starts: dict[State, float],
               goals: dict[State, float], rate: float) -> float:

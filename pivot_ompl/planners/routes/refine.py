@@ -34,7 +34,7 @@ from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.evaluation import Evaluator, Found, Status
-from pivot_ompl.planners.routes.chain import corners, shortened
+from pivot_ompl.planners.routes.chain import TOO_DEAR, corners, shortened
 from pivot_ompl.planners.routes.lattice import TransferLattice
 from pivot_ompl.planners.routes.run_pricing import (
     Leg,
@@ -75,7 +75,7 @@ class RefineStats:
 def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State], *,
            costs: CostModel, should_stop: Stop, run_spacing: int,
            stats: RefineStats | None = None, start_grasp: int | None = None,
-           grasps: tuple[int, ...] = ()) -> list[State]:
+           grasps: tuple[int, ...] = (), min_saving: float = 0.0) -> list[State]:
     """``states`` with runs of phases re-planned on the lattice (see the module docstring).
 
     Stopped by ``should_stop`` (polled between lattice queries and checks), it returns the
@@ -84,7 +84,8 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
     the first grasp is free, and the whole path is also routed as one phase at each of
     ``grasps`` (seeds that found the path at different grasps then meet on the same route).
     ``run_spacing``: along a straight run of a lattice route, a pose is kept to join every
-    this many lattice motions (:func:`~.chain.corners`).
+    this many lattice motions (:func:`~.chain.corners`). ``min_saving``: a run whose
+    estimated saving is at most this share of the path's cost is not re-planned.
     """
     st = stats if stats is not None else RefineStats()
     pricer = Pricer(checker, costs)
@@ -99,14 +100,16 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
     try:
         while not should_stop():
             best, routed = best_candidate(lattice, pricer, phases, current, refused,
-                                          should_stop, start_grasp, grasps)
+                                          should_stop, start_grasp, grasps,
+                                          least=min_saving * current)
             st.candidates += routed
             if best is None:
                 break
             i, j, g, _saving, plan = best
             refused.add((i, j, g, phases[i].poses))
             st.tried += 1
-            real = _made_real(checker, lattice, plan, costs, should_stop, run_spacing, chains)
+            real = _made_real(checker, lattice, plan, costs, should_stop, run_spacing, chains,
+                              ceiling=_ceiling(pricer, costs, plan, current))
             if real is None or real[-1].poses[-1] != phases[-1].poses[-1]:
                 log.debug("phases %d..%d at grasp %d: the checks refuse the route", i, j, g)
                 continue
@@ -129,11 +132,32 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
 _Chains = dict[tuple[Pose, Pose, int], Found[tuple[list[Pose], float]]]
 
 
+def _ceiling(pricer: Pricer, costs: CostModel, plan: list, current: float) -> float:
+    """Seconds the one leg of ``plan`` must cost less than for the plan to beat ``current``.
+
+    The rest of the plan at its real seconds, a regrasp next to the leg at the least any
+    regrasp costs: a chain at or above the ceiling is refused whatever the walks cost.
+    ``inf`` for a plan of several legs (their costs are known only together).
+    """
+    legs = [k for k, item in enumerate(plan) if isinstance(item, Leg)]
+    if len(legs) != 1:
+        return math.inf
+    rest = sum(pricer.phase(p) for p in plan if isinstance(p, Phase))
+    for a, b in zip(plan, plan[1:], strict=False):
+        if isinstance(a, Phase) and isinstance(b, Phase):
+            rest += pricer.regrasp(a, b)
+        elif a.grasp != b.grasp:
+            rest += costs.regrasp_seconds(0.0)
+    return current - rest
+
+
 def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: Leg, costs: CostModel,
-               should_stop: Stop, run_spacing: int, chains: _Chains) -> list[Pose]:
+               should_stop: Stop, run_spacing: int, chains: _Chains,
+               ceiling: float = math.inf) -> list[Pose]:
     """The leg as a chain of certified transfers (``[]`` if none): whole, else anchored.
 
     ``chains``: the routes' chains found before (a route asked again is not checked again).
+    ``ceiling``: a chain that cannot cost less is not made (:func:`~.chain.shortened`).
     """
     tries: list[tuple[tuple[Pose, ...], Pose, Pose, tuple[Pose, ...]]] = [
         ((), leg.start, leg.end, ())]
@@ -148,9 +172,11 @@ def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: Leg, costs:
         found = chains.get(key)
         if found is None:
             found = shortened(Evaluator(checker, costs), corners(route, spacing=run_spacing),
-                              leg.grasp, should_stop)
+                              leg.grasp, should_stop, ceiling=ceiling)
             if found.status is Status.STOPPED:
                 raise Interrupted("route refinement")
+            if found is TOO_DEAR:  # as the whole chain refused for its cost: no anchored try
+                return []
             chains[key] = found
         if found.path is not None:
             return [*before, *found.path[0], *after]
@@ -159,10 +185,11 @@ def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: Leg, costs:
 
 def _made_real(checker: PivotChecker, lattice: TransferLattice, plan: list,
                costs: CostModel, should_stop: Stop, run_spacing: int,
-               chains: _Chains) -> list[Phase] | None:
+               chains: _Chains, *, ceiling: float = math.inf) -> list[Phase] | None:
     """The plan's routed legs as chains of certified transfers; ``None`` if one fails.
 
-    ``chains``: the routes' chains found before (:func:`_leg_chain`).
+    ``chains``: the routes' chains found before (:func:`_leg_chain`); ``ceiling``: the one
+    leg's (:func:`_ceiling`).
     """
     out: list[Phase] = []
     for item in plan:
@@ -170,7 +197,8 @@ def _made_real(checker: PivotChecker, lattice: TransferLattice, plan: list,
             out.append(item)
             continue
         grasp = item.grasp
-        chain = _leg_chain(checker, lattice, item, costs, should_stop, run_spacing, chains)
+        chain = _leg_chain(checker, lattice, item, costs, should_stop, run_spacing, chains,
+                           ceiling)
         if not chain:
             return None
         if out and out[-1].grasp == grasp:  # a regrasp the run removed: one phase
