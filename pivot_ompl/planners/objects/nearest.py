@@ -10,14 +10,16 @@ query): a superset of the true ``k`` nearest, which are then picked exactly. The
 the brute-force scan's (ties by insertion order).
 
 scipy's ``cKDTree`` is static: nodes added since the last build (the *tail*) are scanned with
-numpy, and the tree is built again once the tail reaches an eighth of the nodes (at least
-:data:`SCAN`): about ``8 n`` points built in all over ``n`` insertions, while a query scans
-at most an eighth of the nodes. OMPL's ``NearestNeighborsGNAT`` would need one Python metric
-call per node visited (its distance function is a callback), slower than numpy on the tail.
+numpy, and the tree is built again once the tail reaches ``1 / REBUILD`` of the nodes (at least
+:data:`SCAN`): about ``REBUILD n`` points built in all over ``n`` insertions (a build of 40 000
+takes about 0.02 s), while a query scans at most that share of the nodes. OMPL's
+``NearestNeighborsGNAT`` (exact too: the pose metric is a metric) would call the metric in
+Python once per node it visits (its distance is a callback, ~1 us a call before any work).
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import numpy as np
@@ -27,6 +29,9 @@ from pivot_ompl.se2 import Pose
 
 #: Below this many poses a query scans them all.
 SCAN = 256
+#: The tree is built again once the nodes added since its last build reach this fraction
+#: (1 / REBUILD) of it: about ``REBUILD n`` points built in all, a query scans ``n / REBUILD``.
+REBUILD = 32
 #: Relative slack of the ball query's radius (round-off of the embedding's distances).
 SLACK = 1e-9
 
@@ -65,7 +70,7 @@ class PoseTree:
         self._ids[n] = i
         self._poses[n] = pose
         self._n = n + 1
-        if n + 1 - self._built >= max(SCAN, self._built // 8):
+        if n + 1 - self._built >= max(SCAN, self._built // REBUILD):
             self._build()
 
     def _embed(self, poses: np.ndarray) -> np.ndarray:
@@ -86,15 +91,16 @@ class PoseTree:
         if tree is None or n <= SCAN:
             return self._best(np.arange(n), pose, k)
         tail = np.arange(built, n)
-        e = self._embed(np.asarray([pose], dtype=float))[0]
+        r, a = self.radius, 2.0 * pose[2]
+        e = (pose[0], pose[1], r * math.cos(a), r * math.sin(a))
         _, near = tree.query(e, k=min(k, built))
         near = np.atleast_1d(near)
         first = np.concatenate([near, tail])
         d = self.metric(self._poses[first], pose)
         bound = float(np.partition(d, min(k, len(d)) - 1)[min(k, len(d)) - 1])
-        ball = tree.query_ball_point(e, bound * (1.0 + SLACK) + SLACK)
+        ball = tree.query_ball_point(e, bound * (1.0 + SLACK) + SLACK, return_sorted=True)
         cand = np.concatenate([np.asarray(ball, dtype=np.int64), tail])
-        return self._best(np.sort(cand), pose, k)
+        return self._best(cand, pose, k)
 
     def _best(self, rows: np.ndarray, pose: Pose, k: int) -> list[int]:
         """The ``k`` of ``rows`` (ascending) nearest to ``pose``: ties by insertion order."""
