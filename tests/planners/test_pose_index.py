@@ -8,7 +8,8 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from pivot_ompl.planners.objects.roadmap import PoseIndex, Roadmap, pose_metric
+from pivot_ompl.planners.objects.nearest import PoseTree
+from pivot_ompl.planners.objects.roadmap import YAW_WEIGHT, PoseIndex, Roadmap, pose_metric
 
 
 @settings(max_examples=40, deadline=None)
@@ -64,3 +65,25 @@ def test_roadmap_nearest_is_the_brute_force_scan(seed: int, n: int, k: int, spre
                     xy = rng.normal(0.0, 2 * spread, 2)
                     q = (float(xy[0]), float(xy[1]), float(rng.uniform(-math.pi, math.pi)))
                 assert rm.nearest(q, k) == _scan(arr, q, k)
+
+
+def test_a_query_measures_a_small_part_of_a_large_roadmap() -> None:
+    # the point of the tree: at 20 000 nodes a query measures the metric on a few hundred
+    # (the tail since the last build and the ball round the query), not on every node
+    rng = np.random.default_rng(7)
+    rows: list[int] = []
+
+    def counted(a: np.ndarray, b: tuple[float, float, float]) -> np.ndarray:
+        rows.append(len(a))
+        return pose_metric(a, b)
+
+    tree = PoseTree(counted, yaw_weight=YAW_WEIGHT)
+    poses = np.column_stack([rng.uniform(0, 20, 20_000), rng.uniform(0, 20, 20_000),
+                             rng.uniform(-math.pi, math.pi, 20_000)])
+    for i, p in enumerate(poses):
+        tree.add(i, (float(p[0]), float(p[1]), float(p[2])))
+    rows.clear()
+    for q in poses[:50]:
+        pose = (float(q[0]) + 0.01, float(q[1]), float(q[2]))
+        assert tree.nearest(pose, 10) == _scan(poses, pose, 10)
+    assert sum(rows) / 50 < 0.05 * len(poses)
