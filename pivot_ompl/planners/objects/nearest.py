@@ -89,7 +89,7 @@ class PoseTree:
             return []
         tree, built = self._tree, self._built
         if tree is None or n <= SCAN:
-            return self._best(np.arange(n), pose, k)
+            return self._ids[smallest(self.metric(self._poses[:n], pose), k)].tolist()
         tail = np.arange(built, n)
         r, a = self.radius, 2.0 * pose[2]
         e = (pose[0], pose[1], r * math.cos(a), r * math.sin(a))
@@ -105,14 +105,13 @@ class PoseTree:
     def _best(self, rows: np.ndarray, pose: Pose, k: int) -> list[int]:
         """The ``k`` of ``rows`` (ascending) nearest to ``pose``: ties by insertion order."""
         d = self.metric(self._poses[rows], pose)
-        order = smallest(d, k)
-        return [int(i) for i in self._ids[rows[order]]]
+        return self._ids[rows[smallest(d, k)]].tolist()
 
 
 def smallest(d: np.ndarray, k: int) -> np.ndarray:
     """Indices of the ``k`` smallest values of ``d``, increasing, ties by position."""
-    if k >= len(d):
-        return np.argsort(d, kind="stable")
+    if k >= len(d) or len(d) <= 4 * SCAN:  # a sort is cheapest on few values
+        return np.argsort(d, kind="stable")[:k]
     kth = np.partition(d, k - 1)[k - 1]
     below = np.flatnonzero(d < kth)
     tied = np.flatnonzero(d == kth)[:k - len(below)]
