@@ -12,6 +12,7 @@ import math
 import numpy as np
 
 from pivot_ompl.graph import UnionFind, astar
+from pivot_ompl.planners.objects.nearest import PoseTree, smallest
 from pivot_ompl.se2 import Pose
 
 #: Weight of yaw in the nearest-neighbour metric (m per rad).
@@ -58,6 +59,7 @@ class Roadmap:
     edges: list[tuple[int, int]]
     _arr: np.ndarray
     _components: UnionFind[int]
+    _tree: PoseTree
 
     def __init__(self) -> None:
         """An empty roadmap."""
@@ -66,6 +68,7 @@ class Roadmap:
         self.edges = []
         self._arr = np.zeros((64, 3))
         self._components = UnionFind()
+        self._tree = PoseTree(pose_metric, yaw_weight=YAW_WEIGHT)
 
     def __len__(self) -> int:
         """Number of nodes."""
@@ -84,6 +87,7 @@ class Roadmap:
         self.poses.append(pose)
         self.kinds.append(kind)
         self._components.add(i)
+        self._tree.add(i, pose)
         return i
 
     def connect(self, i: int, j: int) -> None:
@@ -112,18 +116,21 @@ class Roadmap:
 
     def nearest(self, pose: Pose, k: int, *,
                 among: list[int] | PoseIndex | None = None) -> list[int]:
-        """Indices of the ``k`` nodes nearest to ``pose`` (optionally among a subset)."""
-        n = len(self.poses)
-        if n == 0:
+        """Indices of the ``k`` nodes nearest to ``pose`` (optionally among a subset).
+
+        Nearest first by :func:`pose_metric`, ties by index; over every node or a
+        :class:`PoseIndex`, a k-d tree query (:mod:`.nearest`), over a list a scan of it.
+        """
+        if not self.poses:
             return []
         if isinstance(among, PoseIndex):
             return among.nearest(pose, k)
         if among is None:
-            return [int(i) for i in _smallest(pose_metric(self._arr[:n], pose), k)]
+            return self._tree.nearest(pose, k)
         if not among:
             return []
-        idx = np.asarray(among)
-        return [int(idx[i]) for i in _smallest(pose_metric(self._arr[idx], pose), k)]
+        idx = np.sort(np.asarray(among))
+        return [int(idx[i]) for i in smallest(pose_metric(self._arr[idx], pose), k)]
 
     def distances(self, indices: list[int], pose: Pose) -> np.ndarray:
         """:func:`pose_metric` from the nodes ``indices`` to ``pose``."""
@@ -131,84 +138,30 @@ class Roadmap:
 
 
 class PoseIndex:
-    """A growing subset of a roadmap's nodes, bucketed on a floor grid for nearest queries.
-
-    :meth:`nearest` is exact for :func:`pose_metric` (which is at least the floor distance):
-    it visits the grid cells in square rings round the query until the ``k``-th best found is
-    no farther than any node of the rings not visited yet, so a query costs about the nodes
-    near it, not all of them.
+    """A growing subset of a roadmap's nodes with exact nearest queries (:mod:`.nearest`).
 
     Args:
         roadmap: the roadmap whose node indices it holds.
-        cell: the grid's cell (m).
     """
 
-    #: Below this many nodes a query scans them all.
-    SCAN = 256
-
-    def __init__(self, roadmap: Roadmap, *, cell: float = 1.0) -> None:
+    def __init__(self, roadmap: Roadmap) -> None:
         """An empty subset."""
-        self.roadmap, self.cell = roadmap, cell
+        self.roadmap = roadmap
         self.items: list[int] = []
-        self._buckets: dict[tuple[int, int], list[int]] = {}
-        self._lo = [0, 0]
-        self._hi = [-1, -1]
+        self._tree = PoseTree(pose_metric, yaw_weight=YAW_WEIGHT)
 
     def __len__(self) -> int:
         """Number of nodes held."""
         return len(self.items)
 
-    def _key(self, pose: Pose) -> tuple[int, int]:
-        return (math.floor(pose[0] / self.cell), math.floor(pose[1] / self.cell))
-
     def append(self, i: int) -> None:
         """Add node ``i``."""
-        key = self._key(self.roadmap.poses[i])
-        if not self.items:
-            self._lo, self._hi = list(key), list(key)
-        else:
-            self._lo = [min(self._lo[0], key[0]), min(self._lo[1], key[1])]
-            self._hi = [max(self._hi[0], key[0]), max(self._hi[1], key[1])]
         self.items.append(i)
-        self._buckets.setdefault(key, []).append(i)
+        self._tree.add(i, self.roadmap.poses[i])
 
     def nearest(self, pose: Pose, k: int) -> list[int]:
-        """The ``k`` held nodes nearest to ``pose`` by :func:`pose_metric`, nearest first."""
-        if not self.items or k <= 0:
-            return []
-        if len(self.items) <= self.SCAN:
-            return self._best(self.items, pose, k)
-        cx, cy = self._key(pose)
-        reach = max(abs(cx - self._lo[0]), abs(cx - self._hi[0]), abs(cy - self._lo[1]),
-                    abs(cy - self._hi[1]))
-        found: list[int] = []
-        for r in range(reach + 1):
-            for key in _ring(cx, cy, r):
-                found.extend(self._buckets.get(key, ()))
-            if len(found) >= k:
-                d = pose_metric(self.roadmap._arr[np.asarray(found)], pose)
-                if float(np.partition(d, k - 1)[k - 1]) <= r * self.cell:
-                    break  # every node not visited is at least r cells away
-        return self._best(found, pose, k)
+        """The ``k`` held nodes nearest to ``pose`` by :func:`pose_metric`, nearest first.
 
-    def _best(self, indices: list[int], pose: Pose, k: int) -> list[int]:
-        idx = np.asarray(indices)
-        return [int(idx[i]) for i in _smallest(pose_metric(self.roadmap._arr[idx], pose), k)]
-
-
-def _ring(cx: int, cy: int, r: int) -> list[tuple[int, int]]:
-    """The grid cells at Chebyshev distance ``r`` from ``(cx, cy)``."""
-    if r == 0:
-        return [(cx, cy)]
-    top = [(cx + dx, cy + r) for dx in range(-r, r + 1)]
-    bottom = [(cx + dx, cy - r) for dx in range(-r, r + 1)]
-    sides = [(cx + sx, cy + dy) for sx in (-r, r) for dy in range(-r + 1, r)]
-    return top + bottom + sides
-
-
-def _smallest(d: np.ndarray, k: int) -> np.ndarray:
-    """Indices of the ``k`` smallest values of ``d``, in increasing order (O(n + k log k))."""
-    if k >= len(d):
-        return np.argsort(d, kind="stable")
-    part = np.argpartition(d, k - 1)[:k]
-    return part[np.argsort(d[part], kind="stable")]
+        Ties by the order the nodes were appended.
+        """
+        return self._tree.nearest(pose, k)
