@@ -22,10 +22,12 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import ndimage
+from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from pivot_ompl.errors import Interrupted
-from pivot_ompl.transit.floor_graph import OpenGraph, open_components
+from pivot_ompl.transit.floor_graph import open_components
 from pivot_ompl.transit.floor_grid import FloorGrid
 from pivot_ompl.transit.lattice import HEADING_VECTORS
 
@@ -125,10 +127,11 @@ def flood_distances(tiles: FloorTiles, closes: Callable[[slice, slice], np.ndarr
                     should_stop: Callable[[], bool] | None = None) -> tuple[FloorWindow, int]:
     """Floor distances to ``goals`` within ``limit``, over the tiles the Dijkstra reaches.
 
-    Starts with the goals' tiles and their neighbours; while a settled position has a
-    neighbour in a tile not loaded (inside :func:`goal_window`: no farther position can be
-    within the limit), the tiles round that tile are loaded (1, then 2, 4, ... tiles round
-    it: few rounds on an open floor) and the Dijkstra run again.
+    Starts with the goals' tiles and their neighbours, grown by the tiles their component
+    (labelled, 8-connected) leads into, all inside :func:`goal_window` (no farther position
+    can be within the limit); then while a settled position of the Dijkstra has a neighbour
+    in a tile not loaded, the tiles round that tile are loaded (1, then 2, 4, ... tiles
+    round it) and the Dijkstra run again.
     When none has, its settled positions and distances are the whole floor's (every edge the
     whole floor's Dijkstra relaxes from them lies in the loaded tiles). ``closes(wx, wy)``:
     the positions the resting box closes in a block. Returns the distances (unloaded tiles
@@ -140,46 +143,112 @@ def flood_distances(tiles: FloorTiles, closes: Callable[[slice, slice], np.ndarr
     """
     g, t = tiles.grid, tiles.tile
     wx, wy = goal_window(g, goals, limit)
-    tx0, tx1 = wx.start // t, (wx.stop - 1) // t + 1
-    ty0, ty1 = wy.start // t, (wy.stop - 1) // t + 1
-    loaded: set[tuple[int, int]] = set()
-    todo = {(gx // t + dx, gy // t + dy) for gx, gy in goals for dx in (-1, 0, 1)
-            for dy in (-1, 0, 1)}
-    ring = 1  # tiles loaded round a tile reached, doubled every round
+    square = (wx.start // t, (wx.stop - 1) // t + 1, wy.start // t, (wy.stop - 1) // t + 1)
+    loaded = _within({(gx // t + dx, gy // t + dy) for gx, gy in goals for dx in (-1, 0, 1)
+                      for dy in (-1, 0, 1)}, square)
+    while True:  # first the tiles the goals' component reaches (labelling is cheap)
+        bx, by, open_, known = _assemble(tiles, loaded, should_stop)
+        free = open_ & ~closes(bx, by)
+        image, _ = ndimage.label(free, structure=np.ones((3, 3), dtype=bool))
+        seeds = [image[gx - bx.start, gy - by.start] for gx, gy in goals]
+        reached = np.flatnonzero(np.isin(image.ravel(), [v for v in seeds if v > 0]))
+        todo = _within(_next_tiles(tiles, reached, bx, by, loaded, 1), square)
+        if not todo:
+            break
+        loaded |= todo
+    ring = 1  # then while the Dijkstra leads out: tiles round those it reaches, doubled
     while True:
-        loaded |= {(a, b) for a, b in todo if tx0 <= a < tx1 and ty0 <= b < ty1}
-        ax0, ax1 = min(a for a, _ in loaded), max(a for a, _ in loaded) + 1
-        ay0, ay1 = min(b for _, b in loaded), max(b for _, b in loaded) + 1
-        bx = slice(ax0 * t, min(g.nx, ax1 * t))
-        by = slice(ay0 * t, min(g.ny, ay1 * t))
-        open_ = np.zeros((bx.stop - bx.start, by.stop - by.start), dtype=bool)
-        known = np.zeros_like(open_)
-        for a, b in loaded:
-            sx = slice(a * t, min(g.nx, (a + 1) * t))
-            sy = slice(b * t, min(g.ny, (b + 1) * t))
-            lx = slice(sx.start - bx.start, sx.stop - bx.start)
-            ly = slice(sy.start - by.start, sy.stop - by.start)
-            open_[lx, ly] = tiles.window(sx, sy, should_stop)
-            known[lx, ly] = True
         res, settled = _distances(open_, known, closes(bx, by), bx.start, by.start, goals,
                                   g.resolution, limit)
-        todo = set()
-        if len(settled):
-            px, py = np.divmod(settled, by.stop - by.start)
-            px, py = px + bx.start, py + by.start
-            near = (px % t < 2) | (px % t >= t - 2) | (py % t < 2) | (py % t >= t - 2)
-            v = np.asarray(HEADING_VECTORS)
-            nx_ = (px[near][:, None] + v[None, :, 0]).ravel()
-            ny_ = (py[near][:, None] + v[None, :, 1]).ravel()
-            ok = (nx_ >= 0) & (nx_ < g.nx) & (ny_ >= 0) & (ny_ < g.ny)
-            grow = range(-ring, ring + 1)
-            for a, b in set(zip((nx_[ok] // t).tolist(), (ny_[ok] // t).tolist(),
-                                strict=True)) - loaded:
-                todo |= {(a + dx, b + dy) for dx in grow for dy in grow}
-        todo -= loaded
-        ring *= 2
-        if not {(a, b) for a, b in todo if tx0 <= a < tx1 and ty0 <= b < ty1}:
+        todo = _within(_next_tiles(tiles, settled, bx, by, loaded, ring), square)
+        if not todo:
             return res
+        loaded |= todo
+        ring *= 2
+        bx, by, open_, known = _assemble(tiles, loaded, should_stop)
+
+
+def _within(tiles: set[tuple[int, int]], square: tuple[int, int, int, int]
+            ) -> set[tuple[int, int]]:
+    """The tiles of ``tiles`` inside ``square`` (``tx0, tx1, ty0, ty1``, ends excluded)."""
+    return {(a, b) for a, b in tiles if square[0] <= a < square[1] and square[2] <= b < square[3]}
+
+
+def _assemble(tiles: FloorTiles, loaded: set[tuple[int, int]],
+              should_stop: Callable[[], bool] | None
+              ) -> tuple[slice, slice, np.ndarray, np.ndarray]:
+    """The block of the loaded tiles' bounding box: its open and its loaded positions."""
+    g, t = tiles.grid, tiles.tile
+    ax0, ax1 = min(a for a, _ in loaded), max(a for a, _ in loaded) + 1
+    ay0, ay1 = min(b for _, b in loaded), max(b for _, b in loaded) + 1
+    bx = slice(ax0 * t, min(g.nx, ax1 * t))
+    by = slice(ay0 * t, min(g.ny, ay1 * t))
+    open_ = np.zeros((bx.stop - bx.start, by.stop - by.start), dtype=bool)
+    known = np.zeros_like(open_)
+    for a, b in loaded:
+        sx = slice(a * t, min(g.nx, (a + 1) * t))
+        sy = slice(b * t, min(g.ny, (b + 1) * t))
+        lx = slice(sx.start - bx.start, sx.stop - bx.start)
+        ly = slice(sy.start - by.start, sy.stop - by.start)
+        open_[lx, ly] = tiles.window(sx, sy, should_stop)
+        known[lx, ly] = True
+    return bx, by, open_, known
+
+
+def _next_tiles(tiles: FloorTiles, cells: np.ndarray, bx: slice, by: slice,
+                loaded: set[tuple[int, int]], ring: int) -> set[tuple[int, int]]:
+    """The tiles within ``ring`` of each tile not loaded that ``cells`` may lead into.
+
+    ``cells``: flat indices of the block ``bx`` x ``by``. A heading vector is at most two
+    positions long along each axis: a position leads into a neighbouring tile only from the
+    strip two positions wide along their common side (or corner).
+    """
+    g, t = tiles.grid, tiles.tile
+    if not len(cells):
+        return set()
+    reached = np.zeros((bx.stop - bx.start, by.stop - by.start), dtype=bool)
+    reached.ravel()[cells] = True
+    sides = {-1: slice(0, 2), 0: slice(None), 1: slice(-2, None)}
+    grow = range(-ring, ring + 1)
+    out: set[tuple[int, int]] = set()
+    for a, b in loaded:
+        x0, y0 = a * t - bx.start, b * t - by.start
+        sub = reached[x0:x0 + t, y0:y0 + t]
+        if not sub.any():
+            continue
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                n = (a + dx, b + dy)
+                if n in loaded or not (0 <= n[0] * t < g.nx and 0 <= n[1] * t < g.ny):
+                    continue
+                if sub[sides[dx], sides[dy]].any():
+                    out |= {(n[0] + i, n[1] + j) for i in grow for j in grow}
+    return out - loaded
+
+
+def _graph(free: np.ndarray, resolution: float) -> tuple[np.ndarray, np.ndarray, csr_matrix]:
+    """The open grid's graph over ``free``, as :class:`~.floor_graph.OpenGraph`'s, at once.
+
+    Returns its positions (flat indices), each position's node (``-1``: none), the graph.
+    """
+    wnx, wny = free.shape
+    nd = len(HEADING_VECTORS)
+    cells = np.flatnonzero(free.ravel())
+    m = len(cells)
+    padded = np.full((wnx + 4, wny + 4), -1, dtype=np.int32)
+    padded[2:-2, 2:-2][free] = np.arange(m, dtype=np.int32)
+    node = padded[2:-2, 2:-2].ravel()
+    ix, iy = np.divmod(cells, wny)
+    v = np.asarray(HEADING_VECTORS)
+    base = (ix + 2) * (wny + 4) + iy + 2
+    there = padded.ravel()[base[:, None] + (v[:, 0] * (wny + 4) + v[:, 1])[None, :]]
+    both = there >= 0
+    indices = np.where(both, there, np.arange(m, dtype=np.int32)[:, None])
+    lengths = resolution * np.hypot(v[:, 0], v[:, 1])
+    weights = np.where(both, lengths[None, :], np.inf)
+    graph = csr_matrix((weights.ravel(), indices.ravel(),
+                        np.arange(0, nd * m + 1, nd, dtype=np.int64)), shape=(m, m))
+    return cells, node, graph
 
 
 def _distances(open_: np.ndarray, known: np.ndarray, closed: np.ndarray, x0: int, y0: int,
@@ -200,14 +269,12 @@ def _distances(open_: np.ndarray, known: np.ndarray, closed: np.ndarray, x0: int
         keep = np.isin(labels, labels[np.searchsorted(cells, flat[is_open])])
         free = np.zeros(wnx * wny, dtype=bool)
         free[cells[keep]] = True
-        graph = OpenGraph(free.reshape(wnx, wny), resolution)
-        graph.add_rows(0, wnx)
-        csr = graph.csr()
-        searched = len(graph.cells)
+        gcells, node, csr = _graph(free.reshape(wnx, wny), resolution)
+        searched = len(gcells)
         dist = np.asarray(dijkstra(csr, directed=True, min_only=True, limit=limit,
-                                   indices=graph.node[flat[is_open]]))
+                                   indices=node[flat[is_open]]))
         settled = np.isfinite(dist)
-        settled_cells = graph.cells[settled]
+        settled_cells = gcells[settled]
         if _frontier(csr, settled, len(HEADING_VECTORS)):
             outside = limit  # farther positions: a lower bound
             values[open_ | ~known] = limit
@@ -216,7 +283,7 @@ def _distances(open_: np.ndarray, known: np.ndarray, closed: np.ndarray, x0: int
     return (FloorWindow(values, x0, y0, outside), searched), settled_cells
 
 
-def _frontier(graph, settled: np.ndarray, slots: int) -> bool:  # noqa: ANN001 - csr_matrix
+def _frontier(graph: csr_matrix, settled: np.ndarray, slots: int) -> bool:
     """Whether an open edge of ``graph`` leads from a settled node to one not settled."""
     nodes = np.flatnonzero(settled)
     entries = (nodes[:, None] * slots + np.arange(slots)[None, :]).ravel()
