@@ -139,7 +139,8 @@ def flood_distances(tiles: FloorTiles, closes: Callable[[slice, slice], np.ndarr
     the last Dijkstra's graph held.
 
     Raises:
-        Interrupted: ``should_stop()`` became true (polled before every tile built).
+        Interrupted: ``should_stop()`` became true (polled before every tile built and
+            every Dijkstra).
     """
     g, t = tiles.grid, tiles.tile
     wx, wy = goal_window(g, goals, limit)
@@ -158,6 +159,8 @@ def flood_distances(tiles: FloorTiles, closes: Callable[[slice, slice], np.ndarr
         loaded |= todo
     ring = 1  # then while the Dijkstra leads out: tiles round those it reaches, doubled
     while True:
+        if should_stop is not None and should_stop():
+            raise Interrupted("walking floor field")
         res, settled = _distances(open_, known, closes(bx, by), bx.start, by.start, goals,
                                   g.resolution, limit)
         todo = _within(_next_tiles(tiles, settled, bx, by, loaded, ring), square)
