@@ -98,6 +98,7 @@ def test_a_walk_planned_in_windows_is_the_walk_planned_over_the_whole_floor(corr
     for window_from in (0, 2**62):
         ck = PivotChecker(scene)
         ck.walker.field.window_from = window_from
+        ck.walker.field.tiles = FloorTiles(ck.walker.field.grid, 8)  # many rounds of tiles
         ck.walker.max_field_states = 0  # the floor distances guide the walk
         walks.append(ck.transit(scene.start, 0, 2))
     assert walks[0].valid
