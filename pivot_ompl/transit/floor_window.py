@@ -287,8 +287,10 @@ def _distances(open_: np.ndarray, known: np.ndarray, closed: np.ndarray, x0: int
 
 
 def _frontier(graph: csr_matrix, settled: np.ndarray, slots: int) -> bool:
-    """Whether an open edge of ``graph`` leads from a settled node to one not settled."""
-    nodes = np.flatnonzero(settled)
-    entries = (nodes[:, None] * slots + np.arange(slots)[None, :]).ravel()
-    open_ = np.isfinite(graph.data[entries])
-    return bool((~settled[graph.indices[entries[open_]]]).any())
+    """Whether an open edge of ``graph`` leads from a settled node to one not settled.
+
+    ``graph`` has ``slots`` entries a row (:func:`_graph`'s).
+    """
+    weights = graph.data.reshape(-1, slots)[settled]
+    targets = graph.indices.reshape(-1, slots)[settled]
+    return bool((~settled[targets[np.isfinite(weights)]]).any())
