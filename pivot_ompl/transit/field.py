@@ -46,15 +46,18 @@ from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.se2 import Pose
 from pivot_ompl.transit.floor_graph import GRAPH_CHUNK, OpenGraph, closed_entries, closing
 from pivot_ompl.transit.floor_grid import OPEN_YAWS, FloorGrid
+from pivot_ompl.transit.floor_window import FloorTiles, FloorWindow, flood_distances, goal_window
 from pivot_ompl.transit.lattice import HEADING_VECTORS, Primitive
 from pivot_ompl.transit.lattice_field import LatticeField
 from pivot_ompl.validity.collision import CollisionWorld
 
-__all__ = ["GRAPH_CHUNK", "OPEN_YAWS", "YAW_CHUNK", "FieldStats", "FloorField"]
+__all__ = ["GRAPH_CHUNK", "OPEN_YAWS", "YAW_CHUNK", "FieldStats", "FloorField",
+           "FloorWindow"]
 
 #: Yaws of :data:`~pivot_ompl.transit.floor_grid.OPEN_YAWS` rasterised together between two
 #: polls of the termination condition.
 YAW_CHUNK = 8
+
 
 
 @dataclass
@@ -64,9 +67,11 @@ class FieldStats:
     Attributes:
         searched_positions: open positions of the graph its Dijkstra ran over (those of the
             goals' components; 0 when no goal was open).
+        windowed: whether it ran in a window round its goals (:mod:`.floor_window`).
     """
 
     searched_positions: int = 0
+    windowed: bool = False
 
 
 class FloorField:
@@ -77,6 +82,8 @@ class FloorField:
         world: the static obstacles.
         resolution: grid spacing (m), the lattice's.
         box_margin: clearance kept from the resting box (m).
+        window_from: grid positions from which a query within a limit runs in a window
+            round its goals (:meth:`distances`); smaller floors run over the whole floor.
 
     Attributes:
         grid: the grid layer (:class:`~pivot_ompl.transit.floor_grid.FloorGrid`).
@@ -87,15 +94,19 @@ class FloorField:
         yaws_done, rows_done: yaws, then grid rows of the graph, of :meth:`static_open` done
             so far (it resumes there when interrupted).
         stats: what the last :meth:`distances` query ran over (:class:`FieldStats`).
+        tiles: the open positions by tiles (:class:`~.floor_window.FloorTiles`), for the
+            queries run in a window.
     """
 
     graph: OpenGraph | None
 
     def __init__(self, model: BoxGraspModel, world: CollisionWorld, resolution: float,
-                 box_margin: float) -> None:
+                 box_margin: float, *, window_from: int = 62_500) -> None:
         """The grid layer; the graph is built by :meth:`static_open`."""
         self.grid = FloorGrid(model, world, resolution, box_margin)
+        self.window_from = window_from
         self.lattice = LatticeField(self.grid)
+        self.tiles = FloorTiles(self.grid)
         self.graph = None
         self.stats = FieldStats()
         self._open: np.ndarray | None = None
@@ -145,7 +156,7 @@ class FloorField:
 
     def distances(self, obj: Pose, goals: list[tuple[int, int]],
                   should_stop: Callable[[], bool] | None = None, *,
-                  limit: float = math.inf) -> np.ndarray:
+                  limit: float = math.inf) -> np.ndarray | FloorWindow:
         """Shortest open-grid distance (m) of every position to the nearest of ``goals``.
 
         With the box resting at ``obj``; shape ``(nx, ny)``. Exact at every position whose
@@ -154,7 +165,23 @@ class FloorField:
         ``inf`` when they are unreachable for certain (``limit`` is ``inf``, or the
         Dijkstra settled every position it could reach before the limit), else ``limit``:
         a lower bound of their distance (larger, or unreachable).
+
+        On a floor of ``window_from`` grid positions or more, a finite ``limit`` whose window
+        round the goals is not the whole grid runs over the tiles round the goals that its
+        Dijkstra reaches (:mod:`.floor_window`: nothing over the whole floor): the same
+        distances wherever a walk from the goals can reach (an open position of another
+        component may hold the limit instead of ``inf``), returned as a
+        :class:`~.floor_window.FloorWindow` (indexed by ``[ix, iy]`` as the array).
+
+        Raises:
+            Interrupted: ``should_stop()`` became true while the open positions were built.
         """
+        n = self.grid.nx * self.grid.ny
+        if math.isfinite(limit) and goals and n >= self.window_from:
+            wx, wy = goal_window(self.grid, goals, limit)
+            if (wx.stop - wx.start) * (wy.stop - wy.start) < n:
+                return self._window_distances(obj, goals, limit, should_stop)
+        self.stats.windowed = False
         self.static_open(should_stop)
         graph, grid = self.graph, self.grid
         assert graph is not None
@@ -179,6 +206,22 @@ class FloorField:
             out[cells] = dist
         out[flat] = 0.0  # a goal that is not open is its own distance 0 away
         return out.reshape(grid.nx, grid.ny)
+
+    def _window_distances(self, obj: Pose, goals: list[tuple[int, int]], limit: float,
+                          should_stop: Callable[[], bool] | None) -> FloorWindow:
+        """:meth:`distances` over the tiles round the goals that the Dijkstra reaches."""
+        grid = self.grid
+
+        def closes(wx: slice, wy: slice) -> np.ndarray:
+            closed = np.zeros((wx.stop - wx.start, wy.stop - wy.start), dtype=bool)
+            cx, cy = np.divmod(grid.box_closed(obj), grid.ny)
+            inside = (cx >= wx.start) & (cx < wx.stop) & (cy >= wy.start) & (cy < wy.stop)
+            closed[cx[inside] - wx.start, cy[inside] - wy.start] = True
+            return closed
+
+        out, searched = flood_distances(self.tiles, closes, goals, limit, should_stop)
+        self.stats.searched_positions, self.stats.windowed = searched, True
+        return out
 
     def lattice_costs(self, obj: Pose, goals: list[tuple[int, int, int]],
                       prims: tuple[tuple[Primitive, ...], ...],

@@ -107,6 +107,12 @@ class OpenGraph:
         self._weights[lo:hi] = np.where(both, lengths[None, :], np.inf)
         self.rows_done = max(self.rows_done, i1)
 
+    def csr(self) -> csr_matrix:
+        """The whole graph (every open position; built rows only hold edges)."""
+        nd, m = len(HEADING_VECTORS), len(self.cells)
+        return csr_matrix((self._weights.reshape(-1), self._indices.reshape(-1),
+                           np.arange(0, nd * m + 1, nd, dtype=np.int64)), shape=(m, m))
+
     def labels(self) -> np.ndarray:
         """:func:`open_components` of the open positions (computed once)."""
         if self._components is None:

@@ -77,7 +77,8 @@ class FloorGrid:
         radius: the walking body's inscribed radius (m).
         pieces: the obstacles' convex pieces (:func:`~pivot_ompl.validity.footprints.
             obstacle_pieces`).
-        grid_x, grid_y: the grid positions' coordinates (m), ``(nx, ny)`` arrays.
+        xs, ys: the grid's columns' and rows' coordinates (m), ``nx`` and ``ny`` long
+            (:attr:`grid_x`, :attr:`grid_y`: whole-floor arrays, built only when asked).
         outline: the walking body's corners relative to the robot pose at yaw 0 (m).
         grown_outline: that outline grown by the kept clearance (chords inside the rounded
             corners).
@@ -101,14 +102,30 @@ class FloorGrid:
         self.nx = int(math.floor((b[2] - b[0]) / resolution)) + 1
         self.ny = int(math.floor((b[3] - b[1]) / resolution)) + 1
         self.radius = model.robot_inradius()
-        xs = b[0] + resolution * np.arange(self.nx)
-        ys = b[1] + resolution * np.arange(self.ny)
-        self.grid_x, self.grid_y = np.meshgrid(xs, ys, indexing="ij")
+        self.xs = b[0] + resolution * np.arange(self.nx)
+        self.ys = b[1] + resolution * np.arange(self.ny)
         self.outline = np.array(model.walking_outline())
         grown = shapely.Polygon(self.outline).buffer(world.clearance, quad_segs=4) \
             if world.clearance > 0 else shapely.Polygon(self.outline)
         self.grown_outline = np.asarray(grown.exterior.coords)[:-1]
         self.pieces = obstacle_pieces(world.obstacles)
+        self._piece_boxes = np.array([[*p.min(axis=0), *p.max(axis=0)] for p in self.pieces]
+                                     ).reshape(-1, 4)
+        #: farthest a point of the grown body lies from the robot pose (m)
+        #: every piece's sum with the grown body at every yaw (:meth:`open_block`)
+        self._all_edges: EdgeSet | None = None
+        self._body_reach = float(np.hypot(self.grown_outline[:, 0],
+                                          self.grown_outline[:, 1]).max())
+
+    @property
+    def grid_x(self) -> np.ndarray:
+        """The grid positions' x (m), ``(nx, ny)`` (a whole-floor array, built per call)."""
+        return np.broadcast_to(self.xs[:, None], (self.nx, self.ny))
+
+    @property
+    def grid_y(self) -> np.ndarray:
+        """The grid positions' y (m), ``(nx, ny)`` (a whole-floor array, built per call)."""
+        return np.broadcast_to(self.ys[None, :], (self.nx, self.ny))
 
     def fits_index(self, k: int) -> np.ndarray:
         """Grid positions where the walking body at yaw ``OPEN_YAWS[k]`` fits (kept).
@@ -127,20 +144,57 @@ class FloorGrid:
         """
         todo = [k for k in range(k0, k1) if k not in self._fits]
         if todo:
-            xs, ys = self.grid_x[:, 0], self.grid_y[0, :]
             n = len(self.pieces)
-            meets = grid_union(self._static_edges(todo, should_stop), xs, ys,
+            meets = grid_union(self._static_edges(todo, should_stop), self.xs, self.ys,
                                groups=np.repeat(np.arange(len(todo)), n), n_groups=len(todo)) \
                 if n else np.zeros((len(todo), self.nx, self.ny), dtype=bool)
-            b = self.world.bounds
-            for k, hit in zip(todo, meets, strict=True):
-                corners = _turned(self.outline, OPEN_YAWS[k])
-                inside = ((xs + corners[:, 0].min() > b[0])
-                          & (xs + corners[:, 0].max() < b[2]))[:, None] \
-                    & ((ys + corners[:, 1].min() > b[1])
-                       & (ys + corners[:, 1].max() < b[3]))[None, :]
-                self._fits[k] = inside & ~hit
+            self._fits.update(zip(todo, self._inside(todo, self.xs, self.ys, meets),
+                                  strict=True))
         return [self._fits[k] for k in range(k0, k1)]
+
+    def open_block(self, wx: slice, wy: slice,
+                   should_stop: Callable[[], bool] | None = None) -> np.ndarray:
+        """Grid positions ``[wx, wy]`` where the body fits at one of :data:`OPEN_YAWS` at least.
+
+        The same positions as :meth:`fits_index` of every yaw or-ed, there (the same float
+        expressions on the same coordinates), rasterised over the block alone from the
+        obstacle pieces that can reach it (nothing over the whole floor; the pieces' sums
+        with the body at every yaw are computed once, on first use).
+
+        Raises:
+            Interrupted: ``should_stop()`` became true (polled while the pieces are summed).
+        """
+        xs, ys = self.xs[wx], self.ys[wy]
+        if self._all_edges is None:
+            self._all_edges = self._static_edges(list(range(len(OPEN_YAWS))), should_stop)
+        n = len(self.pieces)
+        r = self._body_reach + self.resolution
+        pb = self._piece_boxes
+        near = np.flatnonzero((pb[:, 0] <= xs[-1] + r) & (pb[:, 2] >= xs[0] - r)
+                              & (pb[:, 1] <= ys[-1] + r) & (pb[:, 3] >= ys[0] - r))
+        k = len(OPEN_YAWS)
+        rows = (np.arange(k)[:, None] * n + near[None, :]).ravel()
+        e = self._all_edges
+        meets = grid_union(EdgeSet(e.start[rows], e.end[rows], e.used[rows], e.bounds[rows]),
+                           xs, ys, groups=np.repeat(np.arange(k), len(near)), n_groups=k) \
+            if len(near) else np.zeros((k, len(xs), len(ys)), dtype=bool)
+        return np.logical_or.reduce(self._inside(list(range(k)), xs, ys, meets), axis=0)
+
+    def _inside(self, yaws: list[int], xs: np.ndarray, ys: np.ndarray, meets: np.ndarray
+                ) -> np.ndarray:
+        """``meets`` (per yaw, where the body meets an obstacle) made where the body fits.
+
+        Inside the bounds and meeting no obstacle; in place.
+        """
+        b = self.world.bounds
+        for k, hit in zip(yaws, meets, strict=True):
+            corners = _turned(self.outline, OPEN_YAWS[k])
+            inside = ((xs + corners[:, 0].min() > b[0])
+                      & (xs + corners[:, 0].max() < b[2]))[:, None] \
+                & ((ys + corners[:, 1].min() > b[1])
+                   & (ys + corners[:, 1].max() < b[3]))[None, :]
+            np.logical_and(inside, ~hit, out=hit)
+        return meets
 
     def _static_edges(self, yaws: list[int], should_stop: Callable[[], bool] | None = None
                       ) -> EdgeSet:
@@ -151,10 +205,11 @@ class FloorGrid:
         polling the termination condition between blocks (all 32 yaws at once ran past a
         0.5 s limit by 30 ms on fig10).
         """
+        pieces = self.pieces
         bodies = []
         for k in yaws:
-            bodies.extend([_turned(self.grown_outline, OPEN_YAWS[k])] * len(self.pieces))
-        edges = meeting_edges(self.pieces * len(yaws), bodies, should_stop=should_stop)
+            bodies.extend([_turned(self.grown_outline, OPEN_YAWS[k])] * len(pieces))
+        edges = meeting_edges(pieces * len(yaws), bodies, should_stop=should_stop)
         self.stats.yaws_summed += len(yaws)
         return edges
 
@@ -190,7 +245,7 @@ class FloorGrid:
         """Flat grid indices of :meth:`box_closes` (from its window alone)."""
         wx, wy = self._box_window(obj)
         c, s = math.cos(obj[2]), math.sin(obj[2])
-        ex, ey = self.grid_x[wx, wy] - obj[0], self.grid_y[wx, wy] - obj[1]
+        ex, ey = self.xs[wx][:, None] - obj[0], self.ys[wy][None, :] - obj[1]
         lx = np.abs(c * ex + s * ey) - 0.5 * self.model.object_size[0]
         ly = np.abs(-s * ex + c * ey) - 0.5 * self.model.object_size[1]
         d = np.hypot(np.maximum(lx, 0.0), np.maximum(ly, 0.0))
@@ -211,6 +266,6 @@ class FloorGrid:
         # the Minkowski sums of the box and the turned body
         bodies = [_turned(self.outline, yaw) for yaw in HEADING_YAWS]
         edges = meeting_edges([pts] * len(bodies), bodies)
-        meets = grid_union(edges, self.grid_x[:, 0], self.grid_y[0, :],
+        meets = grid_union(edges, self.xs, self.ys,
                            groups=np.arange(len(bodies)), n_groups=len(bodies))
         return list(meets)

@@ -57,7 +57,7 @@ from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.scene import WalkParameters
 from pivot_ompl.se2 import Pose, wrap_angle
 from pivot_ompl.transit.clearance import BoxedClearance, State, WalkClearance
-from pivot_ompl.transit.field import FloorField
+from pivot_ompl.transit.field import FloorField, FloorWindow
 from pivot_ompl.transit.frame import LatticeFrame, frame_of
 from pivot_ompl.transit.lattice import (
     HEADING_YAWS,
@@ -103,7 +103,8 @@ class WalkPlanner:
         floor_inflation: weight of the floor-distance heuristic (floors too large for the
             lattice cost-to-go).
         max_field_states: largest lattice (grid positions x headings) whose cost-to-go is
-            computed (about 100 bytes a state); larger floors use the floor distances.
+            computed (about 100 bytes a state); larger floors use the floor distances, each
+            query's in a window round its goals (:mod:`pivot_ompl.transit.floor_window`).
         quick_expansions: a walk is first searched guided by the floor distances (cheap to
             compute, blind to the robot's heading); past this many expansions it is searched
             again guided by the lattice's cost-to-go (a Dijkstra per query, which pays only for
@@ -160,9 +161,11 @@ class WalkPlanner:
             model, scene_world, resolution=resolution, box_margin=box_margin,
             tolerance=tolerance, box_cache=box_cache)
         self.smoother = WalkSmoother(self.clearance, self.walk, resolution=resolution)
-        self.field = FloorField(model, world, resolution, box_margin)
-        self._distances: BoundedCache[tuple, tuple[float, np.ndarray]] = BoundedCache(max(
-            2, min(4 * box_cache, DISTANCE_BYTES // (8 * self._nx * self._ny))))
+        self.field = FloorField(model, world, resolution, box_margin,
+                                window_from=max_field_states // N_HEADINGS + 1)
+        self._distances: BoundedCache[tuple, tuple[float, np.ndarray | FloorWindow]] = \
+            BoundedCache(max(2, min(4 * box_cache,
+                                    DISTANCE_BYTES // (8 * self._nx * self._ny))))
         #: a float per lattice state each, rarely asked again
         self._lattice: BoundedCache[tuple, np.ndarray] = BoundedCache(4)
 
@@ -310,7 +313,7 @@ class WalkPlanner:
 
     def floor_distances(self, obj: Pose, goals: dict[State, float], *,
                         starts: dict[State, float] | None = None,
-                        should_stop: Stop = None) -> np.ndarray:
+                        should_stop: Stop = None) -> np.ndarray | FloorWindow:
         """:meth:`FloorField.distances` to the goal states' positions (cached).
 
         Without ``starts``: over the whole floor (exact everywhere, ``inf`` where no walk

@@ -1,0 +1,105 @@
+"""Floor distances in a window round the goals, over the tiles the Dijkstra reaches.
+
+On floors too large for the lattice cost-to-go, a walk's floor distances within a limit are
+computed over tiles of the grid loaded as the Dijkstra reaches them
+(:mod:`pivot_ompl.transit.floor_window`), never over the whole floor. They must be the whole
+floor's: exact within the limit, a lower bound beyond it, ``inf`` only where no walk exists;
+and a walk planned with them is the walk planned over the whole floor.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.generate import GeneratorParams, generate
+from pivot_ompl.transit.floor_window import TILE, FloorTiles, FloorWindow
+
+
+@pytest.fixture(scope="module")
+def corridor():
+    """A turned row of four rooms joined by a corridor, and its walk planner."""
+    scene = generate("building", 0, params=GeneratorParams(rooms=4, layout="corridor")).scene
+    return scene, PivotChecker(scene)
+
+
+def _cell(walker, pose):
+    b, res = walker.world.bounds, walker.resolution
+    p = walker.frame.into(pose)
+    return round((p[0] - b[0]) / res), round((p[1] - b[1]) / res)
+
+
+def _whole(field, obj, goals, limit):
+    saved = field.window_from
+    field.window_from = 2**62  # the whole floor's graph
+    try:
+        return field.distances(obj, goals, limit=limit)
+    finally:
+        field.window_from = saved
+
+
+def _windowed(field, obj, goals, limit):
+    saved = field.window_from
+    field.window_from = 0
+    try:
+        out = field.distances(obj, goals, limit=limit)
+    finally:
+        field.window_from = saved
+    assert isinstance(out, FloorWindow) and field.stats.windowed
+    return out.dense(field.grid.nx, field.grid.ny)
+
+
+@pytest.mark.parametrize("tile", [TILE, 8])  # 8: the Dijkstra loads tiles in many rounds
+@settings(max_examples=10, deadline=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(t=st.floats(0.0, 1.0), grasp=st.sampled_from([0, 1, 2, 3]),
+       limit=st.floats(0.3, 8.0))  # windows smaller than the floor
+def test_windowed_distances_are_the_whole_floors(corridor, tile, t, grasp, limit):
+    scene, ck = corridor
+    if ck.walker.field.tiles.tile != tile:
+        ck.walker.field.tiles = FloorTiles(ck.walker.field.grid, tile)
+    wp = ck.walker
+    field = wp.field
+    (x0, y0, _), (x1, y1, _) = scene.start, scene.goal
+    obj = (x0 + t * (x1 - x0), y0 + t * (y1 - y0), scene.start[2])  # along the row
+    goals = [_cell(wp, scene.model.robot_pose(obj, grasp))]
+    fobj = wp.frame.into(obj)
+    want = _whole(field, fobj, goals, limit)
+    got = _windowed(field, fobj, goals, limit)
+    near = want <= limit
+    assert np.array_equal(got[near], want[near])  # exact within the limit
+    assert np.all(got <= want)  # a lower bound everywhere
+    assert np.all(np.isinf(want[np.isinf(got)]))  # inf: no walk for certain
+    assert np.all((got[~near] == limit) | np.isinf(got[~near]))
+
+
+def test_a_windowed_query_loads_only_the_tiles_it_reaches(corridor):
+    scene, _ = corridor
+    ck = PivotChecker(scene)  # fresh: no tile loaded yet
+    wp = ck.walker
+    field = wp.field
+    obj = scene.start
+    goals = [_cell(wp, scene.model.robot_pose(obj, 1))]
+    field.window_from = 0
+    field.distances(wp.frame.into(obj), goals, limit=3.0)
+    tiles = math.ceil(field.grid.nx / TILE) * math.ceil(field.grid.ny / TILE)
+    assert 0 < field.tiles.tiles_built <= 9 < tiles
+    assert field.graph is None  # the whole floor's graph was never built
+
+
+def test_a_walk_planned_in_windows_is_the_walk_planned_over_the_whole_floor(corridor):
+    scene, _ = corridor
+    walks = []
+    for window_from in (0, 2**62):
+        ck = PivotChecker(scene)
+        ck.walker.field.window_from = window_from
+        ck.walker.field.tiles = FloorTiles(ck.walker.field.grid, 8)  # many rounds of tiles
+        ck.walker.max_field_states = 0  # the floor distances guide the walk
+        walks.append(ck.transit(scene.start, 0, 2))
+    assert walks[0].valid
+    assert walks[0].robot_path == walks[1].robot_path
