@@ -259,6 +259,7 @@ class PivotSteering:
         step = (4.0 * ell * math.sin(0.5 * amax) / length) if length > 0 else 1.0
         min_step = (t_end - t0) * 2.0 ** -MAX_DEPTH
         previous: Rotation | None = None
+        merged_step = step
 
         def solve(t: float) -> tuple[Pose, tuple[Rotation, ...]] | None:
             target = end_pose if t >= t_end else rs.interpolate(start, goal, t)
@@ -276,6 +277,11 @@ class PivotSteering:
             t_ok, (target, rots) = _longest(solve, t0, t_end, step, min_step,
                                             lambda t: SteeringError(
                                                 start, goal, f"no convergence at t={t:.6g}"))
+            if previous is not None and self.merge and len(rots) == 3 and \
+                    not _merges(previous, rots[0], amax):
+                t_ok, (target, rots) = _fewer_pivots(solve, previous, amax, t0, t_ok,
+                                                     (target, rots), merged_step)
+            merged_step = t_ok - t0
             sent = yield Piece(t0, t_ok, current, target, rots)
             if sent is not None:  # the caller replaced the piece (a local refinement)
                 current, previous = sent
@@ -302,6 +308,51 @@ class PivotSteering:
 
 
 _Solved = tuple[Pose, tuple[Rotation, ...]]
+
+#: A piece whose first rotation merges into the previous one is preferred to the longest
+#: piece when it advances along the path at least this share farther per rotation added.
+FEWER_PIVOTS_GAIN = 1.02
+
+#: The search for a piece that merges halves its trial at most this many times.
+MERGE_SEARCH_DEPTH = 6
+
+
+def _merges(previous: Rotation, first: Rotation, alpha_max: float) -> bool:
+    """Whether ``first`` merges into ``previous`` (same corner, sum within the bound)."""
+    return first.end == previous.end and \
+        abs(previous.angle + first.angle) <= alpha_max + ANGLE_TOL
+
+
+def _fewer_pivots(solve: Callable[[float], _Solved | None], previous: Rotation,
+                  alpha_max: float, t0: float, t_long: float, long: _Solved,
+                  step: float) -> tuple[float, _Solved]:
+    """The longest piece, or a shorter one that adds fewer rotations per length of path.
+
+    The longest piece from ``t0`` (to ``t_long``, three rotations none of which merges into
+    ``previous``) against the longest piece whose first rotation merges into ``previous``
+    (two rotations added): on a Reeds-Shepp arc the second alternates corners with unequal
+    rotations, as a car turning does, where the longest needs three per piece. ``step``:
+    the last piece's length, the first trial.
+    """
+
+    def merging(t: float) -> _Solved | None:
+        res = solve(t)
+        return res if res is not None and res[1] and _merges(previous, res[1][0],
+                                                            alpha_max) else None
+
+    span = t_long - t0
+    try:
+        t_m, res = _longest(merging, t0, t_long, min(step, span),
+                            span * 2.0 ** -MERGE_SEARCH_DEPTH, lambda t: _NoMerge())
+    except _NoMerge:
+        return t_long, long
+    if (t_m - t0) / (len(res[1]) - 1) >= FEWER_PIVOTS_GAIN * span / len(long[1]):
+        return t_m, res
+    return t_long, long
+
+
+class _NoMerge(Exception):
+    """No piece that merges was found (internal to :func:`_fewer_pivots`)."""
 
 
 def _longest(solve: Callable[[float], _Solved | None], t0: float, t_end: float, step: float,
