@@ -259,7 +259,6 @@ class PivotSteering:
         step = (4.0 * ell * math.sin(0.5 * amax) / length) if length > 0 else 1.0
         min_step = (t_end - t0) * 2.0 ** -MAX_DEPTH
         previous: Rotation | None = None
-        merged_step = step
 
         def solve(t: float) -> tuple[Pose, tuple[Rotation, ...]] | None:
             target = end_pose if t >= t_end else rs.interpolate(start, goal, t)
@@ -278,10 +277,9 @@ class PivotSteering:
                                             lambda t: SteeringError(
                                                 start, goal, f"no convergence at t={t:.6g}"))
             if previous is not None and self.merge and len(rots) == 3 and \
-                    not _merges(previous, rots[0], amax):
+                    rots[0].end == previous.end and not _merges(previous, rots[0], amax):
                 t_ok, (target, rots) = _fewer_pivots(solve, previous, amax, t0, t_ok,
-                                                     (target, rots), merged_step)
-            merged_step = t_ok - t0
+                                                     (target, rots))
             sent = yield Piece(t0, t_ok, current, target, rots)
             if sent is not None:  # the caller replaced the piece (a local refinement)
                 current, previous = sent
@@ -313,9 +311,6 @@ _Solved = tuple[Pose, tuple[Rotation, ...]]
 #: piece when it advances along the path at least this share farther per rotation added.
 FEWER_PIVOTS_GAIN = 1.02
 
-#: The search for a piece that merges halves its trial at most this many times.
-MERGE_SEARCH_DEPTH = 6
-
 
 def _merges(previous: Rotation, first: Rotation, alpha_max: float) -> bool:
     """Whether ``first`` merges into ``previous`` (same corner, sum within the bound)."""
@@ -324,15 +319,18 @@ def _merges(previous: Rotation, first: Rotation, alpha_max: float) -> bool:
 
 
 def _fewer_pivots(solve: Callable[[float], _Solved | None], previous: Rotation,
-                  alpha_max: float, t0: float, t_long: float, long: _Solved,
-                  step: float) -> tuple[float, _Solved]:
+                  alpha_max: float, t0: float, t_long: float,
+                  long: _Solved) -> tuple[float, _Solved]:
     """The longest piece, or a shorter one that adds fewer rotations per length of path.
 
     The longest piece from ``t0`` (to ``t_long``, three rotations none of which merges into
     ``previous``) against the longest piece whose first rotation merges into ``previous``
     (two rotations added): on a Reeds-Shepp arc the second alternates corners with unequal
-    rotations, as a car turning does, where the longest needs three per piece. ``step``:
-    the last piece's length, the first trial.
+    rotations, as a car turning does, where the longest needs three per piece. Asked only
+    where the longest piece starts about ``previous``'s corner but turns it too far to
+    merge (the arc's pattern; elsewhere a merging piece seldom wins). Only pieces
+    long enough to win are tried (at least :data:`FEWER_PIVOTS_GAIN` x two thirds of the
+    longest): one solve where none merges, a few bisection steps where one does.
     """
 
     def merging(t: float) -> _Solved | None:
@@ -341,18 +339,23 @@ def _fewer_pivots(solve: Callable[[float], _Solved | None], previous: Rotation,
                                                             alpha_max) else None
 
     span = t_long - t0
-    try:
-        t_m, res = _longest(merging, t0, t_long, min(step, span),
-                            span * 2.0 ** -MERGE_SEARCH_DEPTH, lambda t: _NoMerge())
-    except _NoMerge:
+    t_ok = t0 + FEWER_PIVOTS_GAIN * 2.0 / 3.0 * span
+    if t_ok >= t_long:
         return t_long, long
-    if (t_m - t0) / (len(res[1]) - 1) >= FEWER_PIVOTS_GAIN * span / len(long[1]):
-        return t_m, res
+    best = merging(t_ok)
+    if best is None:
+        return t_long, long
+    t_fail = t_long
+    while t_fail - t_ok > LONGEST_TOLERANCE * span:
+        t = 0.5 * (t_ok + t_fail)
+        res = merging(t)
+        if res is not None:
+            t_ok, best = t, res
+        else:
+            t_fail = t
+    if (t_ok - t0) / (len(best[1]) - 1) >= FEWER_PIVOTS_GAIN * span / len(long[1]):
+        return t_ok, best
     return t_long, long
-
-
-class _NoMerge(Exception):
-    """No piece that merges was found (internal to :func:`_fewer_pivots`)."""
 
 
 def _longest(solve: Callable[[float], _Solved | None], t0: float, t_end: float, step: float,

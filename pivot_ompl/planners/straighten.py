@@ -43,6 +43,10 @@ Stop = Callable[[], bool]
 #: planning time than the plan gains.
 MIN_SAVING = 2.0
 
+#: Pieces the steering may solve per rotation the replaced stretch's seconds could pay for,
+#: before a replacement is given up (:func:`_checked`).
+PIECES_PER_ROTATION = 1.0
+
 #: Turns smaller than this (rad) are left out (the straight leg starts at the pose itself).
 NO_TURN = 1e-6
 
@@ -112,9 +116,16 @@ def _replacements(checker: PivotChecker, costs: CostModel, a: Pose, b: Pose,
     return sorted(((e, p) for p, e in out.items()), key=lambda e: e[0])
 
 
+_Ways = dict[tuple[Pose, Pose, int], list[tuple[float, tuple[Pose, ...]]]]
+
+
 def _candidates(checker: PivotChecker, costs: CostModel, states: list[State],
-                edge_cost: list[float], refused: set[tuple[Pose, ...]]) -> list[_Candidate]:
-    """Every stretch of every phase with its best replacement, most estimated saving first."""
+                edge_cost: list[float], refused: set[tuple[Pose, ...]],
+                ways: _Ways) -> list[_Candidate]:
+    """Every stretch of every phase with its best replacement, most estimated saving first.
+
+    ``ways``: the replacements of each pair of poses found before (asked again every round).
+    """
     out: list[_Candidate] = []
     n = len(states)
     start = 0
@@ -127,7 +138,11 @@ def _candidates(checker: PivotChecker, costs: CostModel, states: list[State],
             run = 0.0
             for j in range(i + 1, end + 1):
                 run += edge_cost[j - 1]
-                for est, poses in _replacements(checker, costs, states[i][0], states[j][0], g):
+                key = (states[i][0], states[j][0], g)
+                found = ways.get(key)
+                if found is None:
+                    found = ways[key] = _replacements(checker, costs, *key)
+                for est, poses in found:
                     if len(poses) == 2 and j == i + 1:
                         continue  # the stretch's own transfer
                     if run - est > MIN_SAVING and poses not in refused:
@@ -171,18 +186,19 @@ def straighten(checker: PivotChecker, states: list[State], *, costs: CostModel,
     if edge_cost is None:
         return path
     refused: set[tuple[Pose, ...]] = set()
+    ways: _Ways = {}
     while st.tried < max_tries and not should_stop():
-        cands = _candidates(checker, costs, path, edge_cost, refused)
+        cands = _candidates(checker, costs, path, edge_cost, refused, ways)
         applied = False
         for c in cands:
             if st.tried >= max_tries or should_stop():
                 break
             st.tried += 1
             refused.add(c.poses)
-            new = _checked(evaluate, c, checker, should_stop)
+            old = sum(edge_cost[c.i:c.j])
+            new = _checked(evaluate, c, checker, should_stop, old)
             if new is None:
                 continue
-            old = sum(edge_cost[c.i:c.j])
             if sum(new) < old - 1e-9:
                 path[c.i:c.j + 1] = [(q, c.grasp) for q in c.poses]
                 edge_cost[c.i:c.j] = new
@@ -198,16 +214,32 @@ def straighten(checker: PivotChecker, states: list[State], *, costs: CostModel,
     return path
 
 
-def _checked(evaluate: Evaluator, c: _Candidate, checker: PivotChecker,
-             should_stop: Stop) -> list[float] | None:
-    """The replacement's checked transfer costs, ``None`` if one fails (or stopped)."""
+def _checked(evaluate: Evaluator, c: _Candidate, checker: PivotChecker, should_stop: Stop,
+             ceiling: float) -> list[float] | None:
+    """The replacement's checked transfer costs; ``None`` if one fails, or stopped.
+
+    The turned poses' and the legs' cheap tests first, then the legs in full, given up once
+    the steering has solved more pieces than rotations worth ``ceiling`` seconds could need
+    (a leg that squeezes past an obstacle by many small rotations cannot be cheaper: counts,
+    not seconds, so a seed gives the same plan on any machine).
+    """
+    if not all(checker.state_valid(q, c.grasp) for q in c.poses[1:-1]):
+        return None  # a turned pose collides
     legs = list(zip(c.poses, c.poses[1:], strict=False))
-    for a, b in legs:  # the cheap test of every leg first
+    for a, b in legs:
         if not checker.path_free(a, b, c.grasp):
             return None
+    # a piece adds at least one rotation; the refinement may solve a stretch a few times
+    pieces = [0]
+    limit = PIECES_PER_ROTATION * ceiling / evaluate.costs.durations.per_pivot + 8
+
+    def stop() -> bool:
+        pieces[0] += 1
+        return pieces[0] > limit or should_stop()
+
     out = []
     for a, b in legs:
-        e = evaluate.transfer(a, b, c.grasp, should_stop=should_stop)
+        e = evaluate.transfer(a, b, c.grasp, should_stop=stop)
         if e.status is not Status.VALID:
             return None
         out.append(e.cost)
