@@ -154,7 +154,7 @@ def _candidates(checker: PivotChecker, costs: CostModel, states: list[State],
 
 
 def straighten(checker: PivotChecker, states: list[State], *, costs: CostModel,
-               should_stop: Stop, max_tries: int = 64,
+               should_stop: Stop, max_tries: int = 32,
                stats: StraightenStats | None = None) -> list[State]:
     """``states`` with stretches of its phases straightened (see the module docstring).
 
