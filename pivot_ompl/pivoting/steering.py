@@ -253,6 +253,9 @@ class PivotSteering:
         current = origin if origin is not None else (
             start if t0 == 0.0 else rs.interpolate(start, goal, t0))
         end_pose = goal if t_end == 1.0 else rs.interpolate(start, goal, t_end)
+        # a spin's pieces (a/4, a/2, a/4) already merge at their junctions: the search for a
+        # merging piece is for Reeds-Shepp arcs
+        arc = self.merge and not rs.is_spin(start, goal)
         # a rotation moves the edge centre by at most 2 l sin(alpha/2): a necessary condition
         reach = 6.0 * ell * math.sin(0.5 * amax) + 1e-9
         # first guess: the ideal push's piece (two full rotations)
@@ -276,7 +279,7 @@ class PivotSteering:
             t_ok, (target, rots) = _longest(solve, t0, t_end, step, min_step,
                                             lambda t: SteeringError(
                                                 start, goal, f"no convergence at t={t:.6g}"))
-            if previous is not None and self.merge and len(rots) == 3 and \
+            if arc and previous is not None and len(rots) == 3 and \
                     rots[0].end == previous.end and not _merges(previous, rots[0], amax):
                 t_ok, (target, rots) = _fewer_pivots(solve, previous, amax, t0, t_ok,
                                                      (target, rots))
