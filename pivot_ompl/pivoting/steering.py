@@ -253,6 +253,9 @@ class PivotSteering:
         current = origin if origin is not None else (
             start if t0 == 0.0 else rs.interpolate(start, goal, t0))
         end_pose = goal if t_end == 1.0 else rs.interpolate(start, goal, t_end)
+        # a spin's pieces (a/4, a/2, a/4) already merge at their junctions: the search for a
+        # merging piece is for Reeds-Shepp arcs
+        arc = self.merge and not rs.is_spin(start, goal)
         # a rotation moves the edge centre by at most 2 l sin(alpha/2): a necessary condition
         reach = 6.0 * ell * math.sin(0.5 * amax) + 1e-9
         # first guess: the ideal push's piece (two full rotations)
@@ -276,6 +279,10 @@ class PivotSteering:
             t_ok, (target, rots) = _longest(solve, t0, t_end, step, min_step,
                                             lambda t: SteeringError(
                                                 start, goal, f"no convergence at t={t:.6g}"))
+            if arc and previous is not None and len(rots) == 3 and \
+                    rots[0].end == previous.end and not _merges(previous, rots[0], amax):
+                t_ok, (target, rots) = _fewer_pivots(solve, previous, amax, t0, t_ok,
+                                                     (target, rots))
             sent = yield Piece(t0, t_ok, current, target, rots)
             if sent is not None:  # the caller replaced the piece (a local refinement)
                 current, previous = sent
@@ -302,6 +309,56 @@ class PivotSteering:
 
 
 _Solved = tuple[Pose, tuple[Rotation, ...]]
+
+#: A piece whose first rotation merges into the previous one is preferred to the longest
+#: piece when it advances along the path at least this share farther per rotation added.
+FEWER_PIVOTS_GAIN = 1.02
+
+
+def _merges(previous: Rotation, first: Rotation, alpha_max: float) -> bool:
+    """Whether ``first`` merges into ``previous`` (same corner, sum within the bound)."""
+    return first.end == previous.end and \
+        abs(previous.angle + first.angle) <= alpha_max + ANGLE_TOL
+
+
+def _fewer_pivots(solve: Callable[[float], _Solved | None], previous: Rotation,
+                  alpha_max: float, t0: float, t_long: float,
+                  long: _Solved) -> tuple[float, _Solved]:
+    """The longest piece, or a shorter one that adds fewer rotations per length of path.
+
+    The longest piece from ``t0`` (to ``t_long``, three rotations none of which merges into
+    ``previous``) against the longest piece whose first rotation merges into ``previous``
+    (two rotations added): on a Reeds-Shepp arc the second alternates corners with unequal
+    rotations, as a car turning does, where the longest needs three per piece. Asked only
+    where the longest piece starts about ``previous``'s corner but turns it too far to
+    merge (the arc's pattern; elsewhere a merging piece seldom wins). Only pieces
+    long enough to win are tried (at least :data:`FEWER_PIVOTS_GAIN` x two thirds of the
+    longest): one solve where none merges, a few bisection steps where one does.
+    """
+
+    def merging(t: float) -> _Solved | None:
+        res = solve(t)
+        return res if res is not None and res[1] and _merges(previous, res[1][0],
+                                                            alpha_max) else None
+
+    span = t_long - t0
+    t_ok = t0 + FEWER_PIVOTS_GAIN * 2.0 / 3.0 * span
+    if t_ok >= t_long:
+        return t_long, long
+    best = merging(t_ok)
+    if best is None:
+        return t_long, long
+    t_fail = t_long
+    while t_fail - t_ok > LONGEST_TOLERANCE * span:
+        t = 0.5 * (t_ok + t_fail)
+        res = merging(t)
+        if res is not None:
+            t_ok, best = t, res
+        else:
+            t_fail = t
+    if (t_ok - t0) / (len(best[1]) - 1) >= FEWER_PIVOTS_GAIN * span / len(long[1]):
+        return t_ok, best
+    return t_long, long
 
 
 def _longest(solve: Callable[[float], _Solved | None], t0: float, t_end: float, step: float,

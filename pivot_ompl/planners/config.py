@@ -154,6 +154,9 @@ class OptimiserConfig:
             found), and the scale of their budgets of motion checks: every stage's share
             above and ``converge_checks`` are scaled by :func:`quality_scale` (1 at the
             default :data:`QUALITY_SHARE`). See ``docs/quality.md``.
+        straighten: after the optimiser, replace stretches of each phase by a turn in place,
+            a straight push and a turn where that is cheaper
+            (:mod:`pivot_ompl.planners.straighten`), within the optimiser's budget.
     """
 
     enabled: bool = True
@@ -170,6 +173,7 @@ class OptimiserConfig:
     route_min_saving: float = knob(0.05, high=1.0)
     converge_checks: int = knob(500)
     quality_share: float = knob(QUALITY_SHARE, high=0.95)
+    straighten: bool = True
 
 
 @dataclass(frozen=True)

@@ -4,9 +4,11 @@ A fresh plan (:meth:`~.regrasp_search.RegraspSearch.run`) and a repaired route
 (:func:`~.repair.polish`) are improved alike by :func:`improve`: the path's phases re-planned
 on the held assembly's lattice (:func:`~.routes.refine.refine`, when ``config.optimiser.routes``
 and a lattice is given), then the cheapest path over its waypoints
-(:func:`~.optimiser.optimise`), each step within its :class:`Budget` of motion checks and
-the same cost model (``config.cost``). The grasp the robot holds the box with at the start
-(``start_grasp``) is kept by both steps.
+(:func:`~.optimiser.optimise`), then its detours straightened (turn, straight push, turn:
+:func:`~.straighten.straighten`, when ``config.optimiser.straighten``), each step within
+its :class:`Budget` of motion checks (the straightening within the optimiser's) and the
+same cost model (``config.cost``). The grasp the robot holds the box with at the start
+(``start_grasp``) is kept by every step.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from pivot_ompl.planners.config import RegraspConfig
 from pivot_ompl.planners.optimiser import optimise
 from pivot_ompl.planners.routes.lattice import TransferLattice
 from pivot_ompl.planners.routes.refine import RefineStats, refine
+from pivot_ompl.planners.straighten import straighten
 from pivot_ompl.se2 import Pose
 
 __all__ = ["Budget", "ImproveStats", "improve", "time_share"]
@@ -112,5 +115,8 @@ def improve(checker: PivotChecker, states: list[State], config: RegraspConfig, *
     states = optimise(checker, states, should_stop=optimiser.stop(should_stop, checker, states),
                       costs=config.cost, grasps=config.grasps, start_grasp=start_grasp,
                       end_grasp=end_grasp, reach=cfg.shortcut_reach)
+    if cfg.straighten:
+        states = straighten(checker, states, costs=config.cost,
+                            should_stop=optimiser.stop(should_stop, checker, states))
     st.seconds += time.perf_counter() - t0
     return states

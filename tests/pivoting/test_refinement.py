@@ -22,10 +22,16 @@ def _inside(pt, obj, m, margin=0.02):
     return abs(u) <= hx and abs(v) <= hy
 
 
-def _clipping_pillar(scene, seq, a):
-    """A thin pillar swept by the box in mid-rotation but clear of every step's end pose."""
+def _clipping_pillar(scene, seq, a, steering):
+    """A thin pillar swept by the box in mid-rotation but clear of every step's end pose.
+
+    Clear of the box on the Reeds-Shepp path too (where the refinement starts its
+    sub-pieces), so that the refined rotations can pass it.
+    """
     m = scene.model
-    ends = [m.object_from_car(r.car, 0) for r in seq.rotations] + [a]
+    ts = [i / 400 for i in range(401)]
+    ends = [m.object_from_car(r.car, 0) for r in seq.rotations] + [a] + [
+        m.object_from_car(c, 0) for c in steering.paths.sample(seq.start, seq.goal, ts)]
     for k, rot in enumerate(seq.rotations[3:], start=3):
         before = seq.rotations[k - 1].car
         mid = m.object_from_car(rotate_about(before, rot.pivot, 0.5 * rot.angle), 0)
@@ -39,7 +45,7 @@ def test_only_the_colliding_piece_is_refined():
     free = make_problem(make_scene(start=list(A), goal=list(B)))
     edge = free.checker.transfer(A, B, 0)
     assert edge.valid
-    pillar = _clipping_pillar(free.scene, edge.sequence, A)
+    pillar = _clipping_pillar(free.scene, edge.sequence, A, free.checker.steering)
     scene = make_scene(start=list(A), goal=list(B), obstacles=[pillar])
     clipped = make_problem(scene)
     res = clipped.checker.transfer(A, B, 0)

@@ -94,7 +94,10 @@ HALL = Path(__file__).resolve().parents[2] / "benchmarks" / "layouts" / "hall.ya
 
 @pytest.mark.parametrize("eliminate", [True, False])
 def test_no_regrasp_in_the_hall_one_grasp_solves(eliminate):
-    """Regression: seed 2 in the staggered-barrier hall kept a needless regrasp (bound 0)."""
+    """Regression: seed 2 in the staggered-barrier hall kept a needless regrasp (bound 0).
+
+    Seed 4 since the steering's pieces on arcs changed (fewer pivots): the search's own
+    plan at seed 2 no longer has the regrasp, at seed 4 it has."""
     from pivot_ompl.api import plan
 
     # the lattice try off: it finds the regrasp-free plan before the search (tests/planners/
@@ -103,7 +106,7 @@ def test_no_regrasp_in_the_hall_one_grasp_solves(eliminate):
     # every grasp, which also removes this regrasp
     spec = "regrasp[single_grasp.lattice=false]" if eliminate else \
         "regrasp[optimiser.eliminate=false;optimiser.routes=false;single_grasp.lattice=false]"
-    res = plan(HALL, planner=spec, time_limit=60.0, seed=2)
+    res = plan(HALL, planner=spec, time_limit=60.0, seed=4)
     q = res.plan.extra["quality"]
     assert res.solved and q["regrasps_lower_bound"] == 0
     if eliminate:
