@@ -148,7 +148,7 @@ class TransferCheck:
             why, ends = self._rotations(piece.start, piece.rotations, grasp, with_robot, db, dr)
             if why:
                 fine, why, ends = self._refine(ca, cb, piece, grasp, with_robot, db, dr,
-                                               should_stop)
+                                               should_stop, checked[-1] if checked else None)
                 if why:
                     return fail(f"{why} during rotation {len(checked)} "
                                 f"(path {piece.t0:.3f}..{piece.t1:.3f})")
@@ -188,9 +188,10 @@ class TransferCheck:
 
     def _refine(self, ca: Pose, cb: Pose, piece: Piece, grasp: int, with_robot: bool,
                 db: float, dr: float, should_stop: Callable[[], bool] | None,
-                ) -> tuple[list[Rotation], str, tuple[float, float]]:
+                before: Rotation | None) -> tuple[list[Rotation], str, tuple[float, float]]:
         """The piece converted again with smaller rotations until they pass (module docstring).
 
+        ``before``: the edge's last rotation before the piece (pieces prefer merging into it).
         Returns the rotations, ``""`` (or the last failure) and the end clearances.
         """
         steering = self.steering
@@ -203,15 +204,17 @@ class TransferCheck:
             fine: list[Rotation] = []
             for sub in steering.iter_pieces(ca, cb, half_length=ell, should_stop=should_stop,
                                             span=(piece.t0, piece.t1), origin=piece.start,
-                                            alpha_max=alpha):
+                                            alpha_max=alpha, previous=before):
                 fine.extend(sub.rotations)
             why, ends = self._rotations(piece.start, tuple(fine), grasp, with_robot, db, dr)
             if not why:
                 return fine, "", ends
-        return self._by_clearance(ca, cb, piece, grasp, with_robot, (db, dr), should_stop)
+        return self._by_clearance(ca, cb, piece, grasp, with_robot, (db, dr), should_stop,
+                                  before)
 
     def _by_clearance(self, ca: Pose, cb: Pose, piece: Piece, grasp: int, with_robot: bool,
                       clear: tuple[float, float], should_stop: Callable[[], bool] | None,
+                      before: Rotation | None,
                       ) -> tuple[list[Rotation], str, tuple[float, float]]:
         """The piece's stretch, sub-piece by sub-piece, each bounded by its start's clearance.
 
@@ -234,7 +237,8 @@ class TransferCheck:
             for k, alpha in tries:
                 pieces = steering.iter_pieces(ca, cb, half_length=ell, should_stop=should_stop,
                                               span=(t, piece.t1), origin=current,
-                                              alpha_max=alpha)
+                                              alpha_max=alpha,
+                                              previous=fine[-1] if fine else before)
                 sub = next(pieces)
                 pieces.close()
                 why, ends = self._rotations(current, sub.rotations, grasp, with_robot, *clear)
