@@ -13,7 +13,11 @@ is converted again; the rest of the edge keeps full rotations:
 1. with the rotation bound reduced in half-octave steps (:data:`REFINE_FACTORS`) while it
    stays above the bound the clearance gives (below): a few large rotations get round an
    obstacle that only a rotation's bulge touched;
-2. else **sub-piece by sub-piece, with the bound chosen from the clearance** ``c`` (beyond
+2. else **sub-piece by sub-piece**, each with the largest bound that passes: the half-octave
+   rungs below ``alpha_max`` (:data:`LADDER_STEPS`, from one rung above the last sub-piece's
+   down to the clearance bound; each sub-piece's rotations checked exactly as any other), so
+   only the stretch near the obstacle takes small rotations and those only as small as the
+   sweep needs; below them the **bound chosen from the clearance** ``c`` (beyond
    the kept clearance, the bounds' margin included) that the box and the robot have at the
    sub-piece's start, which is a pose of the path: first ``alpha = c / r`` (no rotation moves
    a point farther than ``c``: through a slot with ``c`` of slack the box's yaw swings by
@@ -51,6 +55,10 @@ REFINE_FACTORS = tuple(2.0 ** (-0.5 * k) for k in range(1, 7))
 #: Share of the clearance bound ``c / r`` that certainly passes (three rotations of it move
 #: no point farther than ``0.9 c``).
 SAFE_SHARE = 0.3
+
+#: Half-octave steps below alpha_max that a sub-piece's bound may take above the clearance
+#: bound (down to alpha_max/128): the largest that passes the checks is kept.
+LADDER_STEPS = 14
 
 #: Least clearance (m, beyond the kept one) a path must keep to be converted sub-piece by
 #: sub-piece (at least the sweep check's tolerance): the resolution of the refinement.
@@ -140,7 +148,7 @@ class TransferCheck:
             why, ends = self._rotations(piece.start, piece.rotations, grasp, with_robot, db, dr)
             if why:
                 fine, why, ends = self._refine(ca, cb, piece, grasp, with_robot, db, dr,
-                                               should_stop)
+                                               should_stop, checked[-1] if checked else None)
                 if why:
                     return fail(f"{why} during rotation {len(checked)} "
                                 f"(path {piece.t0:.3f}..{piece.t1:.3f})")
@@ -180,9 +188,10 @@ class TransferCheck:
 
     def _refine(self, ca: Pose, cb: Pose, piece: Piece, grasp: int, with_robot: bool,
                 db: float, dr: float, should_stop: Callable[[], bool] | None,
-                ) -> tuple[list[Rotation], str, tuple[float, float]]:
+                before: Rotation | None) -> tuple[list[Rotation], str, tuple[float, float]]:
         """The piece converted again with smaller rotations until they pass (module docstring).
 
+        ``before``: the edge's last rotation before the piece (pieces prefer merging into it).
         Returns the rotations, ``""`` (or the last failure) and the end clearances.
         """
         steering = self.steering
@@ -195,15 +204,17 @@ class TransferCheck:
             fine: list[Rotation] = []
             for sub in steering.iter_pieces(ca, cb, half_length=ell, should_stop=should_stop,
                                             span=(piece.t0, piece.t1), origin=piece.start,
-                                            alpha_max=alpha):
+                                            alpha_max=alpha, previous=before):
                 fine.extend(sub.rotations)
             why, ends = self._rotations(piece.start, tuple(fine), grasp, with_robot, db, dr)
             if not why:
                 return fine, "", ends
-        return self._by_clearance(ca, cb, piece, grasp, with_robot, (db, dr), should_stop)
+        return self._by_clearance(ca, cb, piece, grasp, with_robot, (db, dr), should_stop,
+                                  before)
 
     def _by_clearance(self, ca: Pose, cb: Pose, piece: Piece, grasp: int, with_robot: bool,
                       clear: tuple[float, float], should_stop: Callable[[], bool] | None,
+                      before: Rotation | None,
                       ) -> tuple[list[Rotation], str, tuple[float, float]]:
         """The piece's stretch, sub-piece by sub-piece, each bounded by its start's clearance.
 
@@ -214,19 +225,25 @@ class TransferCheck:
         t, current = piece.t0, piece.start
         fine: list[Rotation] = []
         floor = max(self.tolerance, MIN_CLEARANCE)
+        ladder = [steering.alpha_max * 2.0 ** (-0.5 * k) for k in range(LADDER_STEPS + 1)]
+        rung = 1  # the ladder's rung to try first (alpha_max failed): one above the last pass
         while t < piece.t1:
             bound, least = self._clearance_bound(current, grasp, with_robot, *clear)
             if least < floor:
                 return fine, f"path within {least:.4f} m of an obstacle or side", clear
             why = "no sub-piece"
-            for share in (1.0, SAFE_SHARE):
+            tries = [(k, a) for k, a in enumerate(ladder) if k >= rung and a > bound]
+            tries += [(len(ladder), bound), (len(ladder), SAFE_SHARE * bound)]
+            for k, alpha in tries:
                 pieces = steering.iter_pieces(ca, cb, half_length=ell, should_stop=should_stop,
                                               span=(t, piece.t1), origin=current,
-                                              alpha_max=share * bound)
+                                              alpha_max=alpha,
+                                              previous=fine[-1] if fine else before)
                 sub = next(pieces)
                 pieces.close()
                 why, ends = self._rotations(current, sub.rotations, grasp, with_robot, *clear)
                 if not why:
+                    rung = max(0, k - 1)
                     break
             if why:
                 return fine, why, clear

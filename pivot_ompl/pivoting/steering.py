@@ -206,7 +206,7 @@ class PivotSteering:
     def iter_pieces(self, start: Pose, goal: Pose, *, half_length: float,
                     should_stop: Callable[[], bool] | None = None,
                     span: tuple[float, float] = (0.0, 1.0), origin: Pose | None = None,
-                    alpha_max: float | None = None,
+                    alpha_max: float | None = None, previous: Rotation | None = None,
                     ) -> Generator[Piece, tuple[Pose, Rotation | None] | None, None]:
         """The longest pieces of the Reeds-Shepp path ``start -> goal``, in order.
 
@@ -219,6 +219,8 @@ class PivotSteering:
                 refinement converts one piece's part again).
             origin: the car pose actually reached at ``span[0]`` (default: the path's pose).
             alpha_max: bound on each rotation (rad), at most the steering's (default: it).
+            previous: the rotation made just before ``origin`` (a local refinement's
+                rotations so far): the first piece prefers rotations that merge into it.
 
         A caller that replaces a piece by its own rotations (a local refinement) sends the
         generator ``(pose reached, last rotation)`` back; the next piece starts there.
@@ -238,6 +240,8 @@ class PivotSteering:
                 or not all(isinstance(t, int | float) and not isinstance(t, bool) for t in span)
                 or not 0.0 <= span[0] <= span[1] <= 1.0):
             raise InputError("span", span, "must be (t0, t1) with 0 <= t0 <= t1 <= 1")
+        if previous is not None and not isinstance(previous, Rotation):
+            raise InputError("previous", type(previous).__name__, "must be a Rotation or None")
         amax = self.alpha_max if alpha_max is None else alpha_max
         if isinstance(amax, bool) or not isinstance(amax, int | float) or \
                 not (0 < amax <= self.alpha_max):
@@ -261,7 +265,6 @@ class PivotSteering:
         # first guess: the ideal push's piece (two full rotations)
         step = (4.0 * ell * math.sin(0.5 * amax) / length) if length > 0 else 1.0
         min_step = (t_end - t0) * 2.0 ** -MAX_DEPTH
-        previous: Rotation | None = None
 
         def solve(t: float) -> tuple[Pose, tuple[Rotation, ...]] | None:
             target = end_pose if t >= t_end else rs.interpolate(start, goal, t)

@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import math
 
+import pytest
 from factories import make_scene
 
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.base.problem import make_problem
+from pivot_ompl.errors import InputError
 from pivot_ompl.se2 import rotate_about
 from pivot_ompl.validity.plan_check import check_plan
 
@@ -61,3 +63,37 @@ def test_only_the_colliding_piece_is_refined():
     full = sum(abs(r.angle) > 0.9 * amax for r in rots)
     assert full >= 0.5 * len(edge.sequence.rotations), (full, small, len(rots))
     assert len(rots) <= len(edge.sequence.rotations) + 30
+
+
+def _past_wall(gap: float):
+    """The straight push ``(2, 3) -> (6, 3)`` beside a 1 m wall whose near side is ``gap``
+    beyond 0.4 m from the path."""
+    wall = {"type": "box", "center": [4.0, 3.0 + 0.4 + gap + 0.1], "size": [1.0, 0.2],
+            "height": 1.0}
+    return make_scene(start=[2.0, 3.0, 0.0], goal=[6.0, 3.0, 0.0], obstacles=[wall])
+
+
+def test_a_squeeze_past_a_wall_keeps_the_largest_rotations_that_pass():
+    # the rotations beside the wall used to be bounded by the clearance alone (c / r, with
+    # r the body's farthest point from the pivot): 775 rotations for this 4 m push; the
+    # largest bound whose rotations pass the same checks gives about a third of that (247),
+    # and rotations that merge into the one before each stretch fewer still (213)
+    scene = _past_wall(0.05)
+    problem = make_problem(scene)
+    a, b = (2.0, 3.0, 0.0), (6.0, 3.0, 0.0)
+    res = problem.checker.transfer(a, b, 0)
+    assert res.valid, res.reason
+    assert problem.checker.counters.refined_pieces >= 1
+    assert len(res.sequence.rotations) <= 230, len(res.sequence.rotations)
+    plan = path_to_plan(scene, problem.checker, [(a, 0), (b, 0)])
+    rep = check_plan(plan, scene)
+    assert rep.ok, rep.problems
+    end = plan.phases[-1].steps[-1].object
+    assert math.dist(end, b) < 1e-9
+
+
+def test_a_previous_rotation_that_is_not_one_is_refused():
+    steering = make_problem(make_scene()).checker.steering
+    with pytest.raises(InputError, match="previous"):
+        next(steering.iter_pieces((0.0, 0.0, 0.0), (1.0, 0.0, 0.0), half_length=0.3,
+                                  previous=(0.0, 0.0)))
