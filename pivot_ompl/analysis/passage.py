@@ -89,18 +89,28 @@ class Passage:
                 "assembly_needs": self.assembly_needs, "reason": self.reason}
 
 
-def min_width(points: np.ndarray) -> float:
-    """The least width (m) of a point set's convex outline over every direction."""
+def hull_extents(points: np.ndarray) -> list[tuple[float, float]]:
+    """``(width, length)`` (m) of a point set's convex outline square to and along each edge.
+
+    The least width over every direction is the least of the widths (the outline's
+    narrowest direction is square to one of its edges).
+    """
     hull = np.asarray(shapely.MultiPoint(points).convex_hull.exterior.coords)
-    best = math.inf
+    out = []
     for a, b in zip(hull[:-1], hull[1:], strict=True):
         d = b - a
         n = math.hypot(d[0], d[1])
         if n < 1e-12:
             continue
         off = np.abs((points[:, 0] - a[0]) * d[1] - (points[:, 1] - a[1]) * d[0]) / n
-        best = min(best, float(off.max()))
-    return best
+        along = (points @ d) / n
+        out.append((float(off.max()), float(along.max() - along.min())))
+    return out
+
+
+def min_width(points: np.ndarray) -> float:
+    """The least width (m) of a point set's convex outline over every direction."""
+    return min((w for w, _ in hull_extents(points)), default=math.inf)
 
 
 def assembly_width(model: BoxGraspModel, *, clearance: float = KEEP_CLEARANCE) -> float:

@@ -26,7 +26,7 @@ import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
-from pivot_ompl.analysis.passage import min_width
+from pivot_ompl.analysis.passage import hull_extents
 from pivot_ompl.analysis.regrasp_bound import RESOLUTION, cover_graph, free_cover
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import BoxGraspModel
@@ -98,25 +98,10 @@ def assembly_outline(model: BoxGraspModel, *, clearance: float = KEEP_CLEARANCE
     for grasp in (0, 1):
         robot = model.robot_pose((0.0, 0.0, 0.0), grasp)
         pts = np.vstack([box, np.array(model.held_corners(robot, grasp), dtype=float)])
-        w = min_width(pts)
+        w, length = min(hull_extents(pts), key=lambda e: e[0])
         if w < best[0]:
-            best = (w, _length_across(pts, w))
+            best = (w, length)
     return best[0] + 2.0 * clearance, best[1] + 2.0 * clearance
-
-
-def _length_across(points: np.ndarray, width: float) -> float:
-    """Extent of ``points`` along the hull edge that gives their least ``width``."""
-    hull = np.asarray(shapely.MultiPoint(points).convex_hull.exterior.coords)
-    for a, b in zip(hull[:-1], hull[1:], strict=True):
-        d = b - a
-        n = math.hypot(d[0], d[1])
-        if n < 1e-12:
-            continue
-        off = np.abs((points[:, 0] - a[0]) * d[1] - (points[:, 1] - a[1]) * d[0]) / n
-        if abs(float(off.max()) - width) < 1e-9:
-            along = (points @ d) / n
-            return float(along.max() - along.min())
-    return width
 
 
 def turning_place(scene: Scene, *, resolution: float = RESOLUTION,
