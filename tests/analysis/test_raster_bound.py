@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 import shapely
+from cover_sampling import near_contact_states_covered
 from factories import make_scene, shipped
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -58,18 +59,7 @@ def test_the_raster_cover_holds_every_valid_state(turn):
     scene = shipped("fig10") if turn is None else rotate_scene(shipped("fig10"), turn)
     cover = raster_cover(scene, cell=0.1)
     assert cover is not None
-    ck = PivotChecker(scene, seed=0)
-    rng = np.random.default_rng(3)
-    x0, y0, x1, y1 = scene.bounds
-    near = 0
-    for _ in range(2500):
-        q = (float(rng.uniform(x0, x1)), float(rng.uniform(y0, y1)),
-             float(rng.uniform(-math.pi, math.pi)))
-        for g in range(4):
-            c = ck.clearance(q, g)
-            if c > 0:
-                near += c < 0.03
-                assert cover.covers(q, g), (q, g, c)
+    near = near_contact_states_covered(scene, cover, samples=2500, seed=3)
     assert near > 20
 
 
