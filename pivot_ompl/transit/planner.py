@@ -15,23 +15,18 @@ a robot narrower than a door walks through it forward or sideways.
   the bounds, and apart against the resting box. A lattice motion's result is cached, the
   obstacles' part for the scene (walks pass the same doors again and again), the box's part
   per box pose.
-* **Admissible heuristics, cheap first**: most walks are easy, so a query is first searched
-  guided by ``hypot(D, turn_cost * heading error)`` (weighted by ``floor_inflation``), where
-  ``D`` is the shortest floor distance to the goal round the obstacles and the resting box
-  (:meth:`~pivot_ompl.transit.field.FloorField.distances`, over the grid positions
-  where the walking body fits at one of 32 yaws; exact as far as the walk needs,
-  :meth:`WalkPlanner.floor_distances`, a lower bound beyond), a lower bound of every walk's
-  length; every motion costs at least ``hypot(length, turn_cost * turn)``
-  (:func:`~.lattice.motion_cost`). Where ``D`` is infinite no walk exists. A search
-  past ``quick_expansions`` states (a tight spot, where that guide, blind to the headings,
-  fills every heading of the cells near the goal) is made again guided by the cost-to-go of
-  the lattice relaxed to its states
-  (:meth:`~pivot_ompl.transit.lattice_field.LatticeField.costs`: the same motions and
-  costs, a state free when the walking body at its heading fits there and does not meet the
-  grown box, motions' sweeps not checked; one Dijkstra, scipy), weighted by ``inflation``: it
-  knows where the robot can stand at which heading, and where it is infinite no walk exists,
-  so such queries end at once. Floors whose lattice is larger than ``max_field_states`` keep
-  the floor distance.
+* **Admissible heuristics, cheap first**: a query is first searched guided by
+  ``hypot(D, turn_cost * heading error)`` (weighted by ``floor_inflation``), ``D`` the
+  shortest floor distance to the goal round the obstacles and the resting box
+  (:meth:`~pivot_ompl.transit.field.FloorField.distances`, grid positions where the walking
+  body fits at one of 32 yaws; :meth:`WalkPlanner.floor_distances`), a lower bound of every
+  walk's length (:func:`~.lattice.motion_cost`); where ``D`` is infinite no walk exists. A
+  search past ``quick_expansions`` states (a tight spot) is made again guided by the lattice's
+  cost-to-go relaxed to its states (:meth:`~pivot_ompl.transit.lattice_field.LatticeField.costs`:
+  the same motions and costs, sweeps not checked; one Dijkstra, scipy), weighted by
+  ``inflation``: it knows where the robot can stand at which heading, and where it is
+  infinite no walk exists. Floors whose lattice is larger than ``max_field_states`` keep the
+  floor distance.
 * **Smoothing** (:mod:`pivot_ompl.transit.smoothing`): the lattice path is shortened by
   certified straight motions and forward Dubins walks whenever they cost less, in two passes
   starting from the lattice states' clearances the search already knows.
