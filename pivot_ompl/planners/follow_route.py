@@ -289,6 +289,8 @@ def _checked(evaluate: Evaluator, poses: tuple[Pose, ...], grasp: int, should_st
 
     drops, k, done = 0, 0, [0.0] * len(kept)  # done[k]: seconds of the legs before pose k
     while k < len(kept) - 1:
+        if should_stop():
+            return None
         p, q = kept[k], kept[k + 1]
         e = evaluate.transfer(p, q, grasp, should_stop=stop) if ck.path_free(p, q, grasp) \
             else None
