@@ -15,15 +15,17 @@ all: the route is also taken kept off them by each of :data:`MARGINS` (shares of
 turn in place needs) where there is room, and the cheapest of the variants that pass wins
 (the margin chosen by the cost, per phase, not fixed to fit one scene).
 
-A variant is estimated first (:meth:`~pivot_ompl.cost.CostModel.spin_estimate`,
-:meth:`~pivot_ompl.cost.CostModel.transfer_estimate`) and checked only when the estimate is
-below the phase's real seconds, cheapest estimate first: its turned poses and the cheap
-test of its legs (:meth:`~pivot_ompl.checking.pivot_checker.PivotChecker.path_free`), then
-every leg in full by the same checks as every transfer, given up once the steering has
-solved more pieces than the phase's seconds could pay rotations for. A phase is replaced
-only when its checked seconds are lower: the result is valid, has the same ends, grasps
-and regrasp poses, and is never costlier. ``should_stop`` is polled between the steps and
-passed to the checks; stopped, the best path so far is returned.
+The variants are not taken whole: a corner where the assembly cannot turn, or a leg it
+cannot push along, would refuse every one. Each margin's cheapest estimated variant
+(:meth:`~pivot_ompl.cost.CostModel.spin_estimate`,
+:meth:`~pivot_ompl.cost.CostModel.transfer_estimate`), if its estimate is below the phase's
+real seconds and most of its corner poses are free, gives its poses; they and the phase's
+own, in one order along the route, are the waypoints of the path optimiser
+(:func:`~pivot_ompl.planners.optimiser.optimise_over`, the phase's grasp only), which finds
+the cheapest mix (a variant's legs, the phase's own, shortcuts between them) by the same
+checks as every transfer. The result is valid, has the same ends, grasps and regrasp
+poses, and is never costlier. ``should_stop`` is polled between the steps and passed to the
+checks; stopped, the best path so far is returned.
 """
 
 from __future__ import annotations
@@ -38,7 +40,8 @@ from pivot_ompl.analysis.route_path import FreeField, route_polyline
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
-from pivot_ompl.planners.evaluation import Evaluator, Status
+from pivot_ompl.planners.evaluation import Evaluator
+from pivot_ompl.planners.optimiser import optimise_over
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose, wrap_angle
 
@@ -54,15 +57,14 @@ Stop = Callable[[], bool]
 #: each gives a variant, the cost chooses (0: the bound's own shortest route).
 MARGINS = (0.0, 0.25, 0.5, 0.75, 1.0, 1.25)
 #: Most raster cells of the route's field (a coarser raster than the bound's: a guide).
-MAX_CELLS = 100_000
-#: Most variants checked per phase.
-TRIES_PER_PHASE = 4
+MAX_CELLS = 50_000
+#: Most share of a variant's corner poses that may collide for it to be offered (a route
+#: whose every corner hugs a wall is not one the assembly can follow).
+INVALID_SHARE = 0.3
+#: Longest transfer between two poses that are not consecutive in their own sequence (m).
+FOLLOW_REACH = 4.0
 #: Least estimated saving (s) for a variant to be checked.
 MIN_SAVING = 2.0
-#: Corners a variant may lose to failing legs before it is given up (:func:`_checked`).
-MAX_DROPS = 4
-#: Pieces the steering may solve per rotation the phase's seconds could pay for.
-PIECES_PER_ROTATION = 1.0
 #: Turns smaller than this (rad) are left out; corners closer than this (m) merged.
 NO_TURN = 1e-6
 NO_MOVE = 1e-3
@@ -152,46 +154,90 @@ def _phases(path: list[State]) -> list[tuple[int, int]]:
 def _best(evaluate: Evaluator, field: FreeField, phase: list[State],
           margins: tuple[float, ...], should_stop: Stop, st: FollowStats
           ) -> list[State] | None:
-    """The cheapest checked variant of ``phase`` if it is cheaper; else ``None``."""
-    old = 0.0
-    for u, v in zip(phase, phase[1:], strict=False):
-        e = evaluate.step(u, v)
-        if not e.valid:
-            return None
-        old += e.cost
+    """The cheapest path over the phase's and its variants' poses if cheaper; else ``None``."""
+    old = evaluate.path(phase).cost
     (a, g), (b, _) = phase[0], phase[-1]
-    variants: dict[tuple[Pose, ...], float] = {}
+    chosen: list[tuple[Pose, ...]] = []
     excess = _excess(evaluate.checker, g)
-    for share in margins:
-        m = share * excess
+    guide: list[tuple[float, float]] | None = None
+    for share in margins:  # each margin's cheapest estimated variant that mostly holds
         if should_stop():
             return None
         try:
-            poly = route_polyline(field, (a[0], a[1]), (b[0], b[1]), margin=m,
+            poly = route_polyline(field, (a[0], a[1]), (b[0], b[1]), margin=share * excess,
                                   poll=lambda: _poll(should_stop))
         except Interrupted:
             return None
         if poly is None:
             return None
-        for back in (False, True):
-            for spin in (True, False):
-                poses = _poses(evaluate.checker, a, b, g, poly, back=back, spin=spin)
-                if poses not in variants:
-                    variants[poses] = _estimate(evaluate, poses, g)
-    best, best_cost = None, old - 1e-9
-    ranked = sorted(variants.items(), key=lambda kv: kv[1])
-    for poses, est in ranked[:TRIES_PER_PHASE]:
-        if est > best_cost - MIN_SAVING or should_stop():
-            break
-        st.tried += 1
-        new = _checked(evaluate, poses, g, should_stop, best_cost)
-        if new is not None and new[1] < best_cost:
-            best, best_cost = new
-    if best is None:
+        guide = guide or poly
+        ways = sorted((_estimate(evaluate, p, g), p) for p in {
+            _poses(evaluate.checker, a, b, g, poly, back=back, spin=spin)
+            for back in (False, True) for spin in (True, False)})
+        chosen += [p for est, p in ways if est < old - MIN_SAVING and p not in chosen
+                   and _mostly_valid(evaluate.checker, p, g)][:1]
+    if not chosen or guide is None or not math.isfinite(old):
+        return None
+    st.tried += len(chosen)
+    poses, path, links = _merged(guide, [p for p, _ in phase], chosen, g)
+    out = optimise_over(evaluate.checker, poses, path, should_stop=should_stop,
+                        costs=evaluate.costs, grasps=(g,), reach=FOLLOW_REACH,
+                        start_grasp=g, end_grasp=g, links=links)
+    new = evaluate.path(out).cost
+    if not new < old - 1e-9:
         return None
     st.applied += 1
-    st.seconds_saved += old - best_cost
-    return [(q, g) for q in best]
+    st.seconds_saved += old - new
+    return out
+
+
+def _mostly_valid(checker: PivotChecker, poses: tuple[Pose, ...], grasp: int) -> bool:
+    """Whether at most :data:`INVALID_SHARE` of the variant's corner poses collide."""
+    bad = sum(not checker.state_valid(q, grasp) for q in poses[1:-1])
+    return bad <= INVALID_SHARE * max(1, len(poses) - 2)
+
+
+def _merged(guide: list[tuple[float, float]], old: list[Pose],
+            variants: list[tuple[Pose, ...]], grasp: int
+            ) -> tuple[list[Pose], list[tuple[int, int]], tuple[tuple[int, int], ...]]:
+    """The phase's and the variants' poses in one order along ``guide``.
+
+    Each sequence keeps its own order (a pose's place along the guide, never behind the
+    sequence's previous pose); the ends are shared. ``(poses, path, links)``: the waypoints,
+    the phase as ``(waypoint, grasp)`` nodes and the variants' legs as waypoint pairs.
+    """
+    keyed: list[tuple[float, int, int, Pose]] = []
+    for s, seq in enumerate([old, *variants]):
+        at = 0.0
+        for k, q in enumerate(seq[1:-1], start=1):
+            at = max(at, _along(guide, q))
+            keyed.append((at, s, k, q))
+    keyed.sort(key=lambda e: e[:3])
+    poses = [old[0], *(e[3] for e in keyed), old[-1]]
+    index = {(s, k): n for n, (_, s, k, _) in enumerate(keyed, start=1)}
+    last = len(poses) - 1
+
+    def place(s: int, k: int, n: int) -> int:
+        return 0 if k == 0 else last if k == n - 1 else index[(s, k)]
+
+    path = [(place(0, k, len(old)), grasp) for k in range(len(old))]
+    links = tuple((place(s, k, len(v)), place(s, k + 1, len(v)))
+                  for s, v in enumerate(variants, start=1) for k in range(len(v) - 1))
+    return poses, path, links
+
+
+def _along(guide: list[tuple[float, float]], q: Pose) -> float:
+    """Where along ``guide`` (m from its start) the point nearest to ``q``'s position lies."""
+    best, at, done = math.inf, 0.0, 0.0
+    for (x0, y0), (x1, y1) in zip(guide, guide[1:], strict=False):
+        dx, dy = x1 - x0, y1 - y0
+        n = math.hypot(dx, dy)
+        t = 0.0 if n == 0 else min(1.0, max(0.0, ((q[0] - x0) * dx + (q[1] - y0) * dy) / n**2))
+        d = math.hypot(x0 + t * dx - q[0], y0 + t * dy - q[1])
+        if d < best:
+            best, at = d, done + t * n
+        done += n
+    return at
 
 
 def _excess(checker: PivotChecker, grasp: int) -> float:
@@ -266,48 +312,3 @@ def _estimate(evaluate: Evaluator, poses: tuple[Pose, ...], grasp: int) -> float
         total += costs.transfer_estimate(d, ell, alpha) if d > NO_MOVE else \
             costs.spin_estimate(wrap_angle(v[2] - u[2]), alpha)
     return total
-
-
-def _checked(evaluate: Evaluator, poses: tuple[Pose, ...], grasp: int, should_stop: Stop,
-             ceiling: float) -> tuple[tuple[Pose, ...], float] | None:
-    """The variant as checked, with its seconds; ``None`` if it fails, costs more, or stopped.
-
-    Its corner poses that collide are left out and the steering joins their neighbours;
-    a leg that fails (its cheap test, then in full) loses its far corner the same way, up
-    to :data:`MAX_DROPS` times. The full checks are given up once the steering has solved
-    more pieces than rotations worth ``ceiling`` seconds could need (counts, not seconds: a
-    seed gives the same plan on any machine).
-    """
-    ck = evaluate.checker
-    kept = [poses[0], *(q for q in poses[1:-1] if ck.state_valid(q, grasp)), poses[-1]]
-    pieces = [0]
-    limit = PIECES_PER_ROTATION * ceiling / evaluate.costs.durations.per_pivot + 8
-
-    def stop() -> bool:
-        pieces[0] += 1
-        return pieces[0] > limit or should_stop()
-
-    drops, k, done = 0, 0, [0.0] * len(kept)  # done[k]: seconds of the legs before pose k
-    while k < len(kept) - 1:
-        if should_stop():
-            return None
-        p, q = kept[k], kept[k + 1]
-        e = evaluate.transfer(p, q, grasp, should_stop=stop) if ck.path_free(p, q, grasp) \
-            else None
-        if e is not None and e.status is Status.STOPPED:
-            return None
-        if e is None or not e.valid:
-            if drops >= MAX_DROPS or len(kept) <= 2:
-                return None
-            drops += 1
-            if k + 1 < len(kept) - 1:
-                del kept[k + 1]  # the far corner left out
-            else:
-                del kept[k]  # the last leg: its near corner
-                k = max(0, k - 1)
-            continue
-        done[k + 1] = done[k] + e.cost
-        if done[k + 1] >= ceiling:
-            return None
-        k += 1
-    return tuple(kept), done[len(kept) - 1]

@@ -4,11 +4,11 @@ A fresh plan (:meth:`~.regrasp_search.RegraspSearch.run`) and a repaired route
 (:func:`~.repair.polish`) are improved alike by :func:`improve`: the path's phases re-planned
 on the held assembly's lattice (:func:`~.routes.refine.refine`, when ``config.optimiser.routes``
 and a lattice is given), then the cheapest path over its waypoints
-(:func:`~.optimiser.optimise`), then each phase along the route bound's shortest route
-where that is cheaper (:func:`~.follow_route.follow_route`, when
-``config.optimiser.follow_route``), then its detours straightened (turn, straight push, turn:
-:func:`~.straighten.straighten`, when ``config.optimiser.straighten``), each step within
-its :class:`Budget` of motion checks (the straightening within the optimiser's) and the
+(:func:`~.optimiser.optimise`), then its detours straightened (turn, straight push, turn:
+:func:`~.straighten.straighten`, when ``config.optimiser.straighten``), then each phase
+along the route bound's shortest route where that is cheaper
+(:func:`~.follow_route.follow_route`, when ``config.optimiser.follow_route``), each step
+within its :class:`Budget` of motion checks (the last two within the optimiser's) and the
 same cost model (``config.cost``). The grasp the robot holds the box with at the start
 (``start_grasp``) is kept by every step.
 """
@@ -118,11 +118,11 @@ def improve(checker: PivotChecker, states: list[State], config: RegraspConfig, *
     states = optimise(checker, states, should_stop=optimiser.stop(should_stop, checker, states),
                       costs=config.cost, grasps=config.grasps, start_grasp=start_grasp,
                       end_grasp=end_grasp, reach=cfg.shortcut_reach)
-    if cfg.follow_route:
-        states = follow_route(checker, states, costs=config.cost,
-                              should_stop=optimiser.stop(should_stop, checker, states))
     if cfg.straighten:
         states = straighten(checker, states, costs=config.cost,
                             should_stop=optimiser.stop(should_stop, checker, states))
+    if cfg.follow_route:
+        states = follow_route(checker, states, costs=config.cost,
+                              should_stop=optimiser.stop(should_stop, checker, states))
     st.seconds += time.perf_counter() - t0
     return states
