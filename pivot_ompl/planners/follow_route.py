@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import logging
 import math
+import weakref
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -42,7 +43,6 @@ from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.evaluation import Evaluator
 from pivot_ompl.planners.optimiser import optimise_over
-from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose, wrap_angle
 
 __all__ = ["MARGINS", "FollowStats", "follow_route"]
@@ -69,7 +69,8 @@ MIN_SAVING = 2.0
 NO_TURN = 1e-6
 NO_MOVE = 1e-3
 
-_fields: dict[int, tuple[Scene, FreeField]] = {}
+#: The free field of each checker's scene, computed once (a checker's scene never changes).
+_fields: weakref.WeakKeyDictionary[PivotChecker, FreeField] = weakref.WeakKeyDictionary()
 
 
 @dataclass
@@ -107,7 +108,7 @@ def follow_route(checker: PivotChecker, states: list[State], *, costs: CostModel
         A valid path with the same ends, grasps and regrasp poses, never costlier.
     """
     st = stats if stats is not None else FollowStats()
-    field = _field(checker.scene, should_stop)
+    field = _field(checker, should_stop)
     if field is None:
         return list(states)
     evaluate = Evaluator(checker, costs)
@@ -125,18 +126,15 @@ def follow_route(checker: PivotChecker, states: list[State], *, costs: CostModel
     return path
 
 
-def _field(scene: Scene, should_stop: Stop) -> FreeField | None:
-    """The free field of ``scene``'s disk relaxation (kept for the last scenes asked)."""
-    known = _fields.get(id(scene))
-    if known is not None and known[0] is scene:
-        return known[1]
-    cells = disk_cells(scene, should_stop=should_stop, max_cells=MAX_CELLS)
+def _field(checker: PivotChecker, should_stop: Stop) -> FreeField | None:
+    """The free field of the disk relaxation of ``checker``'s scene; ``None`` if stopped."""
+    known = _fields.get(checker)
+    if known is not None:
+        return known
+    cells = disk_cells(checker.scene, should_stop=should_stop, max_cells=MAX_CELLS)
     if cells is None or should_stop():
         return None
-    field = FreeField.of(*cells)
-    if len(_fields) >= 4:
-        _fields.clear()
-    _fields[id(scene)] = (scene, field)
+    field = _fields[checker] = FreeField.of(*cells)
     return field
 
 
@@ -156,6 +154,8 @@ def _best(evaluate: Evaluator, field: FreeField, phase: list[State],
           ) -> list[State] | None:
     """The cheapest path over the phase's and its variants' poses if cheaper; else ``None``."""
     old = evaluate.path(phase).cost
+    if not math.isfinite(old):
+        return None
     (a, g), (b, _) = phase[0], phase[-1]
     chosen: list[tuple[Pose, ...]] = []
     excess = _excess(evaluate.checker, g)
@@ -176,7 +176,7 @@ def _best(evaluate: Evaluator, field: FreeField, phase: list[State],
             for back in (False, True) for spin in (True, False)})
         chosen += [p for est, p in ways if est < old - MIN_SAVING and p not in chosen
                    and _mostly_valid(evaluate.checker, p, g)][:1]
-    if not chosen or guide is None or not math.isfinite(old):
+    if not chosen or guide is None:
         return None
     st.tried += len(chosen)
     poses, path, links = _merged(guide, [p for p, _ in phase], chosen, g)
