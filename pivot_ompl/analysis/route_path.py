@@ -18,16 +18,17 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from scipy.ndimage import distance_transform_edt
-from scipy.sparse import coo_matrix
+from scipy.sparse import coo_matrix, csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.analysis.route_bound import neighbour_edges
 
-__all__ = ["WALL_PENALTY", "FreeField", "route_polyline"]
+__all__ = ["WALL_PENALTY", "FreeField", "Route", "route_polyline"]
 
 #: Extra price of a metre through cells with no clearance, relative to a metre that keeps the
 #: margin (linear in the shortfall between): a detour of up to this many times a wall-hugging
@@ -37,30 +38,57 @@ WALL_PENALTY = 3.0
 Point = tuple[float, float]
 
 
+class Route(NamedTuple):
+    """A route through the free cells.
+
+    Attributes:
+        points: the polyline's points, the route's start first and its goal last.
+        cost: the graph search's cost of the route before its simplification: its length (m)
+            with ``margin = 0``, more where it comes closer than the margin to a wall.
+        cells: the flat indices of the cells the route passes, in order.
+    """
+
+    points: list[Point]
+    cost: float
+    cells: np.ndarray
+
+
 @dataclass(frozen=True)
 class FreeField:
-    """Free cells of a raster and their distance to the nearest cell that is not free.
+    """Free cells of a raster, their distance to the nearest cell that is not free, the graph.
 
     Attributes:
         raster: the raster.
         mask: the free cells (a boolean ``raster.shape`` array).
         clearance: for each free cell the distance (m) between its centre and the nearest
             non-free cell's centre (0 outside ``mask``).
-        edges: the raster graph's ``(rows, cols, steps)`` over ``mask``
-            (:func:`~pivot_ompl.analysis.route_bound.neighbour_edges`).
+        graph: the raster graph over ``mask`` (a CSR matrix of flat cell indices whose
+            entries, both ways, are the moves' lengths, m:
+            :func:`~pivot_ompl.analysis.route_bound.neighbour_edges`).
+        edge_clearance: each of ``graph``'s entries' least clearance of its two cells.
     """
 
     raster: FloorRaster
     mask: np.ndarray
     clearance: np.ndarray
-    edges: tuple[np.ndarray, np.ndarray, np.ndarray]
+    graph: csr_matrix
+    edge_clearance: np.ndarray
 
     @classmethod
     def of(cls, raster: FloorRaster, mask: np.ndarray) -> FreeField:
         """The field of ``mask`` over ``raster``."""
         clear = distance_transform_edt(mask) * raster.cell if mask.any() else \
             np.zeros(mask.shape)
-        return cls(raster, mask, clear, neighbour_edges(mask))
+        rows, cols, steps = neighbour_edges(mask)
+        # both directions stored: the searches need not transpose the graph each time
+        rows, cols, steps = (np.concatenate([rows, cols]), np.concatenate([cols, rows]),
+                             np.concatenate([steps, steps]))
+        n = mask.size
+        ids = coo_matrix((np.arange(1.0, len(rows) + 1.0), (rows, cols)), shape=(n, n)).tocsr()
+        order = ids.data.astype(np.int64) - 1
+        graph = csr_matrix((raster.cell * steps[order], ids.indices, ids.indptr), shape=(n, n))
+        flat = clear.ravel()
+        return cls(raster, mask, clear, graph, np.minimum(flat[rows], flat[cols])[order])
 
     def cells(self, x: np.ndarray, y: np.ndarray) -> np.ndarray:
         """Flat indices of the cells holding the points ``(x, y)`` (clipped to the floor)."""
@@ -72,7 +100,8 @@ class FreeField:
 
 
 def route_polyline(field: FreeField, start: Point, goal: Point, *, margin: float,
-                   poll: Callable[[], None] = lambda: None) -> list[Point] | None:
+                   via: Route | None = None, poll: Callable[[], None] = lambda: None
+                   ) -> Route | None:
     """The shortest route from ``start`` to ``goal`` through the free cells, simplified.
 
     Args:
@@ -81,26 +110,35 @@ def route_polyline(field: FreeField, start: Point, goal: Point, *, margin: float
         goal: the route's last point (m); its cell must be free.
         margin: clearance (m) the route keeps from non-free cells where there is room (module
             docstring); 0: the plain shortest route.
+        via: a route between the same cells, if known: what it costs with ``margin`` bounds
+            the search (it looks no farther).
         poll: called between the steps (it may raise to stop).
 
     Returns:
-        The polyline's points, ``start`` first and ``goal`` last; ``None`` when either end's
-        cell is not free or no route joins them.
+        The route; ``None`` when either end's cell is not free or no route within ``limit``
+        joins them.
     """
     flat, clear = field.mask.ravel(), field.clearance.ravel()
     ends = [int(field.cells(np.array([p[0]]), np.array([p[1]]))[0]) for p in (start, goal)]
     if not (flat[ends[0]] and flat[ends[1]]):
         return None
-    rows, cols, steps = field.edges
-    weight = field.raster.cell * steps
+    graph = field.graph
     if margin > 0:
-        short = np.clip(1.0 - np.minimum(clear[rows], clear[cols]) / margin, 0.0, 1.0)
-        weight = weight * (1.0 + WALL_PENALTY * short)
-    n = flat.size
-    graph = coo_matrix((weight, (rows, cols)), shape=(n, n)).tocsr()
+        graph = csr_matrix((graph.data * _penalty(field.edge_clearance, margin),
+                            graph.indices, graph.indptr), shape=graph.shape)
+    limit = math.inf
+    if via is not None and via.cells[0] == ends[0] and via.cells[-1] == ends[1]:
+        c = via.cells
+        steps = np.hypot(*np.divmod(c[1:], field.raster.shape[1])
+                         - np.array(np.divmod(c[:-1], field.raster.shape[1])))
+        cost = field.raster.cell * steps * _penalty(np.minimum(clear[c[1:]], clear[c[:-1]]),
+                                                    margin)
+        limit = float(cost.sum()) * (1.0 + 1e-9) + 1e-9
     poll()
-    dist, pred = dijkstra(graph, directed=False, indices=ends[0], return_predecessors=True)
-    if not math.isfinite(float(dist[ends[1]])):
+    dist, pred = dijkstra(graph, directed=True, indices=ends[0], return_predecessors=True,
+                          limit=limit)
+    cost = float(dist[ends[1]])
+    if not math.isfinite(cost):
         return None
     chain = [ends[1]]
     while chain[-1] != ends[0]:
@@ -109,8 +147,15 @@ def route_polyline(field: FreeField, start: Point, goal: Point, *, margin: float
     poll()
     gx, gy = field.raster.gx.ravel(), field.raster.gy.ravel()
     pts = [start, *((float(gx[c]), float(gy[c])) for c in chain[1:-1]), goal]
-    need = np.minimum(clear[np.array(chain)], margin)
-    return _simplified(field, pts, need)
+    cells = np.array(chain)
+    return Route(_simplified(field, pts, np.minimum(clear[cells], margin)), cost, cells)
+
+
+def _penalty(clearance: np.ndarray, margin: float) -> np.ndarray:
+    """Factor on the length of moves whose cells are ``clearance`` m clear (module docstring)."""
+    if margin <= 0:
+        return np.ones_like(clearance)
+    return 1.0 + WALL_PENALTY * np.clip(1.0 - clearance / margin, 0.0, 1.0)
 
 
 def _simplified(field: FreeField, pts: list[Point], need: np.ndarray) -> list[Point]:

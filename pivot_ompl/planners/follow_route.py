@@ -160,17 +160,20 @@ def _best(evaluate: Evaluator, field: FreeField, phase: list[State],
     chosen: list[tuple[Pose, ...]] = []
     excess = _excess(evaluate.checker, g)
     guide: list[tuple[float, float]] | None = None
+    first = None
     for share in margins:  # each margin's cheapest estimated variant that mostly holds
         if should_stop():
             return None
         try:
-            poly = route_polyline(field, (a[0], a[1]), (b[0], b[1]), margin=share * excess,
-                                  poll=lambda: _poll(should_stop))
+            route = route_polyline(field, (a[0], a[1]), (b[0], b[1]), margin=share * excess,
+                                   via=first, poll=lambda: _poll(should_stop))
         except Interrupted:
             return None
-        if poly is None:
+        if route is None:
             return None
-        guide = guide or poly
+        poly = route.points
+        if first is None:
+            first, guide = route, poly
         ways = sorted((_estimate(evaluate, p, g), p) for p in {
             _poses(evaluate.checker, a, b, g, poly, back=back, spin=spin)
             for back in (False, True) for spin in (True, False)})

@@ -38,8 +38,11 @@ def test_the_polyline_runs_through_free_cells_and_is_no_shorter_than_the_bound(
         gap, y0, y1, margin):
     f = _wall_with_gap(gap)
     start, goal = (1.0, y0), (9.0, y1)
-    poly = route_polyline(f, start, goal, margin=margin)
-    assert poly is not None and poly[0] == start and poly[-1] == goal
+    route = route_polyline(f, start, goal, margin=margin)
+    assert route is not None
+    poly = route.points
+    assert poly[0] == start and poly[-1] == goal
+    assert route.cost >= _length(poly) - 1e-9  # the simplification only shortens
     xs, ys = zip(*_samples(poly), strict=True)
     assert f.mask.ravel()[f.cells(np.array(xs), np.array(ys))].all()
     bound = route_on(f.raster, f.mask, (*start, 0.0), (*goal, 0.0))
@@ -52,6 +55,10 @@ def test_a_margin_keeps_the_route_off_the_wall_where_there_is_room():
     plain = route_polyline(f, (1.0, 1.0), (9.0, 1.0), margin=0.0)
     kept = route_polyline(f, (1.0, 1.0), (9.0, 1.0), margin=0.4)
     assert plain is not None and kept is not None
+    # the plain route's cost at the margin bounds the search: the same route comes out
+    limited = route_polyline(f, (1.0, 1.0), (9.0, 1.0), margin=0.4, via=plain)
+    assert limited is not None and limited.points == kept.points
+    plain, kept = plain.points, kept.points
 
     def nearest(poly):
         xs, ys = zip(*_samples(poly), strict=True)
