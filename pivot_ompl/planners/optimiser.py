@@ -28,7 +28,8 @@ of the cheapest path is checked it is optimal over the waypoints. Until then the
 of checked edges is kept, so the result is always valid and never costlier than the input:
 regrasps that serve nothing disappear, chains of regrasps merge, shortcuts replace detours and
 the grasp of each phase is chosen by the cost. The termination condition is polled between
-edge checks and passed to them.
+edge checks and passed to them. :func:`optimise_over` does the same over waypoints the path
+need not pass (poses offered by another stage, e.g. :mod:`.follow_route`).
 """
 
 from __future__ import annotations
