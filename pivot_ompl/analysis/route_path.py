@@ -159,24 +159,49 @@ def _penalty(clearance: np.ndarray, margin: float) -> np.ndarray:
 
 
 def _simplified(field: FreeField, pts: list[Point], need: np.ndarray) -> list[Point]:
-    """``pts`` with stretches replaced by segments that keep their clearance ``need``."""
+    """``pts`` with stretches replaced by segments that keep their clearance ``need``.
+
+    From each kept point the next is found by galloping (1, 2, 4, ... points ahead) to the
+    first segment refused, then bisecting back: every segment kept is checked (a few
+    checks a point, not one per point passed).
+    """
     out = [pts[0]]
     i, n = 0, len(pts)
     tol = field.raster.half_diag
+
+    def ok(j: int) -> bool:
+        return _clear(field, pts[i], pts[j], float(need[i:j + 1].min()) - tol)
+
     while i < n - 1:
-        j = i + 1
-        while j + 1 < n and _clear(field, pts[i], pts[j + 1],
-                                   float(need[i:j + 2].min()) - tol):
-            j += 1
-        out.append(pts[j])
-        i = j
+        good, step = i + 1, 1
+        while good + step < n and ok(good + step):
+            good += step
+            step *= 2
+        bad = min(n, good + step)
+        while bad - good > 1:  # good passes; bad fails or lies past the end
+            mid = (good + bad) // 2
+            if ok(mid):
+                good = mid
+            else:
+                bad = mid
+        out.append(pts[good])
+        i = good
     return out
 
 
 def _clear(field: FreeField, a: Point, b: Point, need: float) -> bool:
-    """Whether every cell the segment ``a b`` crosses is free and ``need`` m clear."""
+    """Whether every cell the segment ``a b`` crosses is free and ``need`` m clear.
+
+    Points half a cell apart at most, so two consecutive ones lie in the same or neighbouring
+    cells; where they are diagonal neighbours the segment crosses one of the two cells beside
+    both, and both are checked (a superset of the cells crossed).
+    """
     d = math.hypot(b[0] - a[0], b[1] - a[1])
     k = max(2, math.ceil(2.0 * d / field.raster.cell) + 1)
     t = np.linspace(0.0, 1.0, k)
     c = field.cells(a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]))
+    ny = field.raster.shape[1]
+    i, j = np.divmod(c, ny)
+    diag = (np.diff(i) != 0) & (np.diff(j) != 0)
+    c = np.concatenate([c, i[:-1][diag] * ny + j[1:][diag], i[1:][diag] * ny + j[:-1][diag]])
     return bool(field.mask.ravel()[c].all() and (field.clearance.ravel()[c] >= need).all())

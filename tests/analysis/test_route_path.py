@@ -31,7 +31,7 @@ def _samples(poly, step=0.02):
             yield a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])
 
 
-@settings(max_examples=10, deadline=None)
+@settings(max_examples=40, deadline=None)
 @given(hs.floats(1.0, 5.0), hs.floats(0.5, 5.5), hs.floats(0.5, 5.5),
        hs.sampled_from([0.0, 0.2, 0.4]))
 def test_the_polyline_runs_through_free_cells_and_is_no_shorter_than_the_bound(
@@ -42,7 +42,8 @@ def test_the_polyline_runs_through_free_cells_and_is_no_shorter_than_the_bound(
     assert route is not None
     poly = route.points
     assert poly[0] == start and poly[-1] == goal
-    assert route.cost >= _length(poly) - 1e-9  # the simplification only shortens
+    # the simplification only shortens (the cost runs from cell centre to cell centre)
+    assert route.cost >= _length(poly) - 2.0 * f.raster.half_diag - 1e-9
     xs, ys = zip(*_samples(poly), strict=True)
     assert f.mask.ravel()[f.cells(np.array(xs), np.array(ys))].all()
     bound = route_on(f.raster, f.mask, (*start, 0.0), (*goal, 0.0))
