@@ -71,3 +71,20 @@ def test_stopped_at_once_returns_the_path_as_it_was():
     states = [(START, 0), ((4.0, 5.0, 0.8), 0), (GOAL, 0)]
     out = follow_route(ck, states, costs=CostModel(), should_stop=lambda: True)
     assert out == states
+
+
+def test_a_zigzag_through_a_door_follows_the_route_through_it():
+    """A wall with a 1.6 m door: the route bound's path runs straight through it."""
+    wall = [dict(type="box", height=1.0, center=[5.0, 0.6], size=[0.3, 3.2]),
+            dict(type="box", height=1.0, center=[5.0, 5.4], size=[0.3, 3.2])]
+    ck = _checker(obstacles=wall)
+    states = [(START, 0), ((2.5, 4.5, 0.0), 0), ((3.8, 3.0, 0.0), 0), ((6.2, 3.0, 0.0), 0),
+              (GOAL, 0)]
+    w = CostModel()
+    before = Evaluator(ck, w).path(states)
+    assert before.valid, before.reason
+    out = follow_route(ck, states, costs=w, should_stop=lambda: False)
+    after = Evaluator(ck, w).path(out)
+    assert after.valid
+    assert after.cost < before.cost - 1.0
+    assert out[0] == states[0] and out[-1] == states[-1]
