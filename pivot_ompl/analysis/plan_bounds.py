@@ -66,11 +66,34 @@ def disk_route(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     ``time_left()`` (seconds, if known) is less than the graph search's estimate
     (:func:`~pivot_ompl.analysis.route_bound.route_on`).
     """
+    cells = disk_cells(scene, clearance=clearance, tolerance=tolerance,
+                       should_stop=should_stop)
+    if cells is None:
+        return None
+    raster, mask = cells
+    try:
+        route = route_on(raster, mask, scene.start, scene.goal, poll=_poller(should_stop),
+                         time_left=time_left)
+    except Interrupted:
+        return None
+    # no route is shorter than the straight line either
+    return None if route is None else max(route, math.dist(scene.start[:2], scene.goal[:2]))
+
+
+def disk_cells(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
+               tolerance: float = SWEEP_TOLERANCE,
+               should_stop: Callable[[], bool] | None = None,
+               max_cells: int = MAX_CELLS) -> tuple[FloorRaster, np.ndarray] | None:
+    """The disk relaxation's raster and cells (module docstring); ``None`` when stopped.
+
+    Every box centre of every plan lies in a cell of the mask; ``max_cells``: the raster's
+    most cells (fewer: larger cells, still a superset).
+    """
     if should_stop is not None and should_stop():
         return None
     half = 0.5 * min(scene.model.object_size[0], scene.model.object_size[1])
     x0, y0, x1, y1 = scene.bounds
-    raster = FloorRaster(scene.bounds, min_cell=MIN_CELL, max_cells=MAX_CELLS)
+    raster = FloorRaster(scene.bounds, min_cell=MIN_CELL, max_cells=max_cells)
     # a cell meets the free region if its centre is within half a diagonal of it: it is
     # then at least ``grow - half_diag`` from every piece and within the shrunk bounds
     # grown by half a diagonal (keeping every such cell keeps more: still a lower bound)
@@ -95,13 +118,7 @@ def disk_route(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
         mask = flat.reshape(mask.shape)
     if should_stop is not None and should_stop():
         return None
-    try:
-        route = route_on(raster, mask, scene.start, scene.goal, poll=_poller(should_stop),
-                         time_left=time_left)
-    except Interrupted:
-        return None
-    # no route is shorter than the straight line either
-    return None if route is None else max(route, math.dist(scene.start[:2], scene.goal[:2]))
+    return raster, mask
 
 
 def _poller(should_stop: Callable[[], bool] | None) -> Callable[[], None]:

@@ -93,8 +93,30 @@ def route_on(raster: FloorRaster, mask: np.ndarray, start: Pose, goal: Pose, *,
         if not mask[i, j]:
             return None
         ends.append(i * ny + j)
+    r, c, steps = neighbour_edges(mask, poll=poll)
+    w = cell * steps
+    if time_left is not None and SECONDS_PER_EDGE * len(r) > time_left():
+        raise Interrupted(f"the route bound (its graph search of {len(r)} edges would take "
+                          f"about {SECONDS_PER_EDGE * len(r):.2f} s)")
+    graph = coo_matrix((w, (r, c)), shape=(nx * ny, nx * ny)).tocsr()
+    poll()
+    d = float(dijkstra(graph, directed=False, indices=ends[0])[ends[1]])
+    if not math.isfinite(d):
+        return None
+    return max(0.0, d / (1.0 + GRID_SLACK) - 2.0 * cell * math.sqrt(2.0))
+
+
+def neighbour_edges(mask: np.ndarray, *, poll: Callable[[], None] = lambda: None
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The raster graph's edges between the cells of ``mask``: ``(rows, cols, steps)``.
+
+    Flat cell indices of both ends (``i * ny + j``) and each move's length in cells, for the
+    16 neighbours (a knight's move only where both cells it passes are in ``mask`` too).
+    ``poll`` is called between the moves (it may raise to stop).
+    """
+    nx, ny = mask.shape
     index = np.arange(nx * ny).reshape(nx, ny)
-    rows, cols, weights = [], [], []
+    rows, cols, steps = [], [], []
     for di, dj in _MOVES:
         src = (slice(max(0, -di), nx - max(0, di)), slice(max(0, -dj), ny - max(0, dj)))
         both = mask[src] & _seen(mask, src, di, dj)
@@ -106,17 +128,8 @@ def route_on(raster: FloorRaster, mask: np.ndarray, start: Pose, goal: Pose, *,
         ia = index[src][both]
         rows.append(ia)
         cols.append(ia + di * ny + dj)
-        weights.append(np.full(ia.shape, cell * math.hypot(di, dj)))
-    r, c, w = np.concatenate(rows), np.concatenate(cols), np.concatenate(weights)
-    if time_left is not None and SECONDS_PER_EDGE * len(r) > time_left():
-        raise Interrupted(f"the route bound (its graph search of {len(r)} edges would take "
-                          f"about {SECONDS_PER_EDGE * len(r):.2f} s)")
-    graph = coo_matrix((w, (r, c)), shape=(nx * ny, nx * ny)).tocsr()
-    poll()
-    d = float(dijkstra(graph, directed=False, indices=ends[0])[ends[1]])
-    if not math.isfinite(d):
-        return None
-    return max(0.0, d / (1.0 + GRID_SLACK) - 2.0 * cell * math.sqrt(2.0))
+        steps.append(np.full(ia.shape, math.hypot(di, dj)))
+    return np.concatenate(rows), np.concatenate(cols), np.concatenate(steps)
 
 
 def _seen(mask: np.ndarray, src: tuple[slice, slice], di: int, dj: int) -> np.ndarray:

@@ -157,6 +157,9 @@ class OptimiserConfig:
         straighten: after the optimiser, replace stretches of each phase by a turn in place,
             a straight push and a turn where that is cheaper
             (:mod:`pivot_ompl.planners.straighten`), within the optimiser's budget.
+        follow_route: after the optimiser, re-plan each transfer phase along the route
+            bound's shortest route (kept off the walls where that is cheaper) where that is
+            cheaper (:mod:`pivot_ompl.planners.follow_route`), within the optimiser's budget.
     """
 
     enabled: bool = True
@@ -174,6 +177,7 @@ class OptimiserConfig:
     converge_checks: int = knob(500)
     quality_share: float = knob(QUALITY_SHARE, high=0.95)
     straighten: bool = True
+    follow_route: bool = True
 
 
 @dataclass(frozen=True)

@@ -5,8 +5,10 @@ A fresh plan (:meth:`~.regrasp_search.RegraspSearch.run`) and a repaired route
 on the held assembly's lattice (:func:`~.routes.refine.refine`, when ``config.optimiser.routes``
 and a lattice is given), then the cheapest path over its waypoints
 (:func:`~.optimiser.optimise`), then its detours straightened (turn, straight push, turn:
-:func:`~.straighten.straighten`, when ``config.optimiser.straighten``), each step within
-its :class:`Budget` of motion checks (the straightening within the optimiser's) and the
+:func:`~.straighten.straighten`, when ``config.optimiser.straighten``), then each phase
+along the route bound's shortest route where that is cheaper
+(:func:`~.follow_route.follow_route`, when ``config.optimiser.follow_route``), each step
+within its :class:`Budget` of motion checks (the last two within the optimiser's) and the
 same cost model (``config.cost``). The grasp the robot holds the box with at the start
 (``start_grasp``) is kept by every step.
 """
@@ -19,6 +21,7 @@ from dataclasses import dataclass, field
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planners.config import RegraspConfig
+from pivot_ompl.planners.follow_route import follow_route
 from pivot_ompl.planners.optimiser import optimise
 from pivot_ompl.planners.routes.lattice import TransferLattice
 from pivot_ompl.planners.routes.refine import RefineStats, refine
@@ -118,5 +121,8 @@ def improve(checker: PivotChecker, states: list[State], config: RegraspConfig, *
     if cfg.straighten:
         states = straighten(checker, states, costs=config.cost,
                             should_stop=optimiser.stop(should_stop, checker, states))
+    if cfg.follow_route:
+        states = follow_route(checker, states, costs=config.cost,
+                              should_stop=optimiser.stop(should_stop, checker, states))
     st.seconds += time.perf_counter() - t0
     return states

@@ -28,7 +28,8 @@ of the cheapest path is checked it is optimal over the waypoints. Until then the
 of checked edges is kept, so the result is always valid and never costlier than the input:
 regrasps that serve nothing disappear, chains of regrasps merge, shortcuts replace detours and
 the grasp of each phase is chosen by the cost. The termination condition is polled between
-edge checks and passed to them.
+edge checks and passed to them. :func:`optimise_over` does the same over waypoints the path
+need not pass (poses offered by another stage, e.g. :mod:`.follow_route`).
 """
 
 from __future__ import annotations
@@ -119,6 +120,13 @@ class _Graph:
         self._later = {g: [[j for j in sorted({*near[i].tolist(), i + 1})
                             if j < n and g in self.nodes[j]] for i in range(n)]
                        for g in self.grasps}
+
+    def link(self, i: int, j: int, g: int) -> None:
+        """Let the transfer ``(i, j)`` at ``g`` be tried whatever its length."""
+        later = self._later[g][i]
+        if j > i and j not in later and g in self.nodes[j]:
+            later.append(j)
+            later.sort()
 
     def transfer_bound(self, i: int, j: int, g: int) -> float:
         """Fewest seconds that can move the box from waypoint ``i`` to ``j`` at ``g``."""
@@ -241,12 +249,47 @@ def optimise(checker: PivotChecker, states: list[State], *,
         A valid path from the same start pose to the same goal pose, never costlier than
         ``states`` (``states`` itself when nothing better was found).
     """
-    w = costs or CostModel()
-    st = stats if stats is not None else OptimiseStats()
-    t0 = time.perf_counter()
     if len(states) < 2:
         return list(states)
     poses, given = _waypoints(states)
+    return optimise_over(checker, poses, given, should_stop=should_stop, costs=costs,
+                         grasps=grasps, reach=reach, stats=stats, start_grasp=start_grasp,
+                         end_grasp=end_grasp)
+
+
+def optimise_over(checker: PivotChecker, poses: list[Pose], path: list[tuple[int, int]], *,
+                  should_stop: Callable[[], bool], costs: CostModel | None = None,
+                  grasps: tuple[int, ...] = (0, 1, 2, 3), reach: float = SHORTCUT_REACH,
+                  stats: OptimiseStats | None = None, start_grasp: int | None = None,
+                  end_grasp: int | None = None,
+                  links: tuple[tuple[int, int], ...] = ()) -> list[State]:
+    """The cheapest path over the waypoints ``poses`` (in order) found before ``should_stop``.
+
+    :func:`optimise` over waypoints the given path need not pass (others to choose from).
+
+    Args:
+        checker: as :func:`optimise`'s.
+        poses: the waypoints, in order.
+        path: a valid path as ``(waypoint index, grasp)`` nodes, indices not decreasing,
+            from the first waypoint to the last; its transfers are tried whatever their
+            length.
+        should_stop: as :func:`optimise`'s.
+        costs: as :func:`optimise`'s.
+        grasps: as :func:`optimise`'s.
+        reach: as :func:`optimise`'s.
+        stats: as :func:`optimise`'s.
+        start_grasp: as :func:`optimise`'s.
+        end_grasp: as :func:`optimise`'s.
+        links: more transfers ``(i, j)``, ``i < j``, tried whatever their length.
+
+    Returns:
+        A valid path over the waypoints, never costlier than ``path``'s states (those
+        states themselves when nothing better was found).
+    """
+    states = [(poses[i], g) for i, g in path]
+    w = costs or CostModel()
+    st = stats if stats is not None else OptimiseStats()
+    t0 = time.perf_counter()
     st.waypoints = len(poses)
     evaluate = Evaluator(checker, w)
     before = evaluate.path(states).cost
@@ -256,11 +299,15 @@ def optimise(checker: PivotChecker, states: list[State], *,
     graph = _Graph(checker, poses, w, tuple(sorted(set(grasps) | {g for _, g in states})),
                    reach=reach, end_grasp=end_grasp, start_grasp=start_grasp)
     # the input's own edges are checked (cache hits): the DP over checked edges finds it
-    for (i, g), (j, h) in zip(given, given[1:], strict=False):
+    for (i, g), (j, h) in zip(path, path[1:], strict=False):
         if g == h:
             graph.transfer[(i, j, g)] = evaluate.transfer(poses[i], poses[j], g).cost
+            graph.link(i, j, g)
         else:
             graph.walk[(i, g, h)] = evaluate.walk(poses[i], g, h).cost
+    for i, j in links:
+        for g in graph.grasps:
+            graph.link(i, j, g)
     _lazy_rounds(graph, evaluate, should_stop, st)
     cost, nodes = graph.cheapest(optimistic=False)
     result = list(states)

@@ -12,7 +12,7 @@ from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.base.problem import make_problem
 from pivot_ompl.cost import CostModel, DurationModel
 from pivot_ompl.planners.evaluation import Evaluator
-from pivot_ompl.planners.optimiser import OptimiseStats, optimise
+from pivot_ompl.planners.optimiser import OptimiseStats, optimise, optimise_over
 from pivot_ompl.validity.plan_check import check_plan
 
 START, GOAL = (1.5, 3.0, 0.0), (6.5, 3.0, 0.0)
@@ -140,3 +140,26 @@ def test_no_shortcut_beyond_the_reach():
     assert Evaluator(ck, CostModel()).path(out).cost <= Evaluator(ck, CostModel()).path(states).cost
     straight = optimise(ck, states, should_stop=lambda: False)
     assert len(straight) == 2  # 5 m apart: one shortcut within the default reach
+
+
+def test_optimise_over_passes_waypoints_the_path_did_not_and_links_far_ones():
+    """A detour given, a pose on the straight way offered: the result passes it, cheaper.
+
+    The offered poses are 5 m from each other, beyond the reach: only ``links`` joins them.
+    """
+    scene = make_scene(start=[0.5, 3.0, 0.0], goal=[10.5, 3.0, 0.0],
+                       bounds=[-1.0, -1.0, 12.0, 7.0])
+    ck = make_problem(scene).checker
+    a, detour, mid, b = (0.5, 3.0, 0.0), (5.5, 5.5, 0.0), (5.5, 3.0, 0.0), (10.5, 3.0, 0.0)
+    poses = [a, mid, detour, b]
+    path = [(0, 0), (2, 0), (3, 0)]
+    w = CostModel()
+    given = Evaluator(ck, w).path([(poses[i], g) for i, g in path]).cost
+    assert math.isfinite(given)
+    out = optimise_over(ck, poses, path, should_stop=lambda: False, costs=w, grasps=(0,),
+                        reach=1.0, start_grasp=0, end_grasp=0, links=((0, 1), (1, 3)))
+    assert [p for p, _ in out] == [a, mid, b]
+    assert Evaluator(ck, w).path(out).cost < given
+    unlinked = optimise_over(ck, poses, path, should_stop=lambda: False, costs=w,
+                             grasps=(0,), reach=1.0, start_grasp=0, end_grasp=0)
+    assert mid not in [p for p, _ in unlinked]

@@ -1,0 +1,317 @@
+"""Each transfer phase re-planned along the route bound's shortest route, kept if cheaper.
+
+The route bound of a plan's quality block is the length of the shortest path of the box's
+centre through the disk relaxation's free cells
+(:func:`~pivot_ompl.analysis.plan_bounds.disk_cells`). :func:`follow_route` takes that path
+itself between the two ends of every transfer phase of a path (same grasp, same regrasp
+poses: :func:`~pivot_ompl.analysis.route_path.route_polyline`) and tries to follow it, two
+ways: the car (the supporting edge's centre) turns in place to face the next corner of the
+polyline, pushes (or pulls, its back to the way) straight to it, turns again, and at the
+phase's end turns to the end pose's heading (long straight pushes at the ideal rate, few
+turns: few pivots); or it passes each corner heading halfway between the corner's two
+segments, the steering's arcs joining them. The shortest path hugs the walls, where the
+held assembly, wider than the relaxation's disk, passes only by small rotations or not at
+all: the route is also taken kept off them by each of :data:`MARGINS` (shares of the room a
+turn in place needs) where there is room, and the cheapest of the variants that pass wins
+(the margin chosen by the cost, per phase, not fixed to fit one scene).
+
+The variants are not taken whole: a corner where the assembly cannot turn, or a leg it
+cannot push along, would refuse every one. Each margin's cheapest estimated variant
+(:meth:`~pivot_ompl.cost.CostModel.spin_estimate`,
+:meth:`~pivot_ompl.cost.CostModel.transfer_estimate`), if its estimate is below the phase's
+real seconds and most of its corner poses are free, gives its poses; they and the phase's
+own, in one order along the route, are the waypoints of the path optimiser
+(:func:`~pivot_ompl.planners.optimiser.optimise_over`, the phase's grasp only), which finds
+the cheapest mix (a variant's legs, the phase's own, shortcuts between them) by the same
+checks as every transfer. The result is valid, has the same ends, grasps and regrasp
+poses, and is never costlier. ``should_stop`` is polled between the steps and passed to the
+checks; stopped, the best path so far is returned.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import weakref
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from pivot_ompl.analysis.plan_bounds import disk_cells
+from pivot_ompl.analysis.route_path import FreeField, route_polyline
+from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.cost import CostModel
+from pivot_ompl.errors import Interrupted
+from pivot_ompl.planners.evaluation import Evaluator
+from pivot_ompl.planners.optimiser import optimise_over
+from pivot_ompl.se2 import Pose, wrap_angle
+
+__all__ = ["MARGINS", "FollowStats", "follow_route"]
+
+log = logging.getLogger(__name__)
+
+State = tuple[Pose, int]
+Stop = Callable[[], bool]
+
+#: Clearances the followed route keeps from the relaxation's walls where there is room, as
+#: shares of the room a turn in place needs beyond the relaxation's disk (:func:`_excess`):
+#: each gives a variant, the cost chooses (0: the bound's own shortest route).
+MARGINS = (0.0, 0.25, 0.5, 0.75, 1.0, 1.25)
+#: Most raster cells of the route's field (a coarser raster than the bound's: a guide).
+MAX_CELLS = 50_000
+#: Most share of a variant's corner poses that may collide for it to be offered (a route
+#: whose every corner hugs a wall is not one the assembly can follow).
+INVALID_SHARE = 0.3
+#: Longest transfer between two poses that are not consecutive in their own sequence (m).
+FOLLOW_REACH = 4.0
+#: Least estimated saving (s) for a variant to be checked.
+MIN_SAVING = 2.0
+#: Turns smaller than this (rad) are left out; corners closer than this (m) merged.
+NO_TURN = 1e-6
+NO_MOVE = 1e-3
+
+#: The free field of each checker's scene, computed once (a checker's scene never changes).
+_fields: weakref.WeakKeyDictionary[PivotChecker, FreeField] = weakref.WeakKeyDictionary()
+
+
+@dataclass
+class FollowStats:
+    """What :func:`follow_route` did.
+
+    Attributes:
+        phases: transfer phases looked at.
+        tried: variants checked (the cheap tests or in full).
+        applied: phases replaced.
+        seconds_saved: cost saved (s).
+    """
+
+    phases: int = 0
+    tried: int = 0
+    applied: int = 0
+    seconds_saved: float = 0.0
+
+
+def follow_route(checker: PivotChecker, states: list[State], *, costs: CostModel,
+                 should_stop: Stop, margins: tuple[float, ...] = MARGINS,
+                 stats: FollowStats | None = None) -> list[State]:
+    """``states`` with transfer phases re-planned along the shortest route (module docstring).
+
+    Args:
+        checker: the checks of transfers (its caches make repeats free).
+        states: a valid path of ``(object pose, grasp)`` states.
+        costs: the cost model a replacement must be cheaper by.
+        should_stop: the termination condition (polled between steps, passed to checks).
+        margins: the clearances of the variants tried, as shares of the room a turn in
+            place needs beyond the relaxation's disk (the box's inscribed one).
+        stats: filled with what was done, if given.
+
+    Returns:
+        A valid path with the same ends, grasps and regrasp poses, never costlier.
+    """
+    st = stats if stats is not None else FollowStats()
+    field = _field(checker, should_stop)
+    if field is None:
+        return list(states)
+    evaluate = Evaluator(checker, costs)
+    path = list(states)
+    for s, e in reversed(_phases(path)):  # from the end: earlier indices stay valid
+        if should_stop():
+            break
+        st.phases += 1
+        found = _best(evaluate, field, path[s:e + 1], margins, should_stop, st)
+        if found is not None:
+            path[s:e + 1] = found
+    if st.applied:
+        log.debug("followed the shortest route in %d of %d phases (%d variants checked): "
+                  "%.1f s saved", st.applied, st.phases, st.tried, st.seconds_saved)
+    return path
+
+
+def _field(checker: PivotChecker, should_stop: Stop) -> FreeField | None:
+    """The free field of the disk relaxation of ``checker``'s scene; ``None`` if stopped."""
+    known = _fields.get(checker)
+    if known is not None:
+        return known
+    cells = disk_cells(checker.scene, should_stop=should_stop, max_cells=MAX_CELLS)
+    if cells is None or should_stop():
+        return None
+    field = _fields[checker] = FreeField.of(*cells)
+    return field
+
+
+def _phases(path: list[State]) -> list[tuple[int, int]]:
+    """``(first, last)`` state indices of each run of one grasp with two poses or more."""
+    out, s = [], 0
+    for k in range(1, len(path) + 1):
+        if k == len(path) or path[k][1] != path[s][1]:
+            if k - 1 > s:
+                out.append((s, k - 1))
+            s = k
+    return out
+
+
+def _best(evaluate: Evaluator, field: FreeField, phase: list[State],
+          margins: tuple[float, ...], should_stop: Stop, st: FollowStats
+          ) -> list[State] | None:
+    """The cheapest path over the phase's and its variants' poses if cheaper; else ``None``."""
+    old = evaluate.path(phase).cost
+    if not math.isfinite(old):
+        return None
+    (a, g), (b, _) = phase[0], phase[-1]
+    chosen: list[tuple[Pose, ...]] = []
+    excess = _excess(evaluate.checker, g)
+    guide: list[tuple[float, float]] | None = None
+    first = None
+    for share in margins:  # each margin's cheapest estimated variant that mostly holds
+        if should_stop():
+            return None
+        try:
+            route = route_polyline(field, (a[0], a[1]), (b[0], b[1]), margin=share * excess,
+                                   via=first, poll=lambda: _poll(should_stop))
+        except Interrupted:
+            return None
+        if route is None:
+            return None
+        poly = route.points
+        if first is None:
+            first, guide = route, poly
+        ways = sorted((_estimate(evaluate, p, g), p) for p in {
+            _poses(evaluate.checker, a, b, g, poly, back=back, spin=spin)
+            for back in (False, True) for spin in (True, False)})
+        chosen += [p for est, p in ways if est < old - MIN_SAVING and p not in chosen
+                   and _mostly_valid(evaluate.checker, p, g)][:1]
+    if not chosen or guide is None:
+        return None
+    st.tried += len(chosen)
+    poses, path, links = _merged(guide, [p for p, _ in phase], chosen, g)
+    out = optimise_over(evaluate.checker, poses, path, should_stop=should_stop,
+                        costs=evaluate.costs, grasps=(g,), reach=FOLLOW_REACH,
+                        start_grasp=g, end_grasp=g, links=links)
+    new = evaluate.path(out).cost
+    if not new < old - 1e-9:
+        return None
+    st.applied += 1
+    st.seconds_saved += old - new
+    return out
+
+
+def _mostly_valid(checker: PivotChecker, poses: tuple[Pose, ...], grasp: int) -> bool:
+    """Whether at most :data:`INVALID_SHARE` of the variant's corner poses collide."""
+    bad = sum(not checker.state_valid(q, grasp) for q in poses[1:-1])
+    return bad <= INVALID_SHARE * max(1, len(poses) - 2)
+
+
+def _merged(guide: list[tuple[float, float]], old: list[Pose],
+            variants: list[tuple[Pose, ...]], grasp: int
+            ) -> tuple[list[Pose], list[tuple[int, int]], tuple[tuple[int, int], ...]]:
+    """The phase's and the variants' poses in one order along ``guide``.
+
+    Each sequence keeps its own order (a pose's place along the guide, never behind the
+    sequence's previous pose); the ends are shared. ``(poses, path, links)``: the waypoints,
+    the phase as ``(waypoint, grasp)`` nodes and the variants' legs as waypoint pairs.
+    """
+    keyed: list[tuple[float, int, int, Pose]] = []
+    for s, seq in enumerate([old, *variants]):
+        at = 0.0
+        for k, q in enumerate(seq[1:-1], start=1):
+            at = max(at, _along(guide, q))
+            keyed.append((at, s, k, q))
+    keyed.sort(key=lambda e: e[:3])
+    poses = [old[0], *(e[3] for e in keyed), old[-1]]
+    index = {(s, k): n for n, (_, s, k, _) in enumerate(keyed, start=1)}
+    last = len(poses) - 1
+
+    def place(s: int, k: int, n: int) -> int:
+        return 0 if k == 0 else last if k == n - 1 else index[(s, k)]
+
+    path = [(place(0, k, len(old)), grasp) for k in range(len(old))]
+    links = tuple((place(s, k, len(v)), place(s, k + 1, len(v)))
+                  for s, v in enumerate(variants, start=1) for k in range(len(v) - 1))
+    return poses, path, links
+
+
+def _along(guide: list[tuple[float, float]], q: Pose) -> float:
+    """Where along ``guide`` (m from its start) the point nearest to ``q``'s position lies."""
+    best, at, done = math.inf, 0.0, 0.0
+    for (x0, y0), (x1, y1) in zip(guide, guide[1:], strict=False):
+        dx, dy = x1 - x0, y1 - y0
+        n = math.hypot(dx, dy)
+        t = 0.0 if n == 0 else min(1.0, max(0.0, ((q[0] - x0) * dx + (q[1] - y0) * dy) / n**2))
+        d = math.hypot(x0 + t * dx - q[0], y0 + t * dy - q[1])
+        if d < best:
+            best, at = d, done + t * n
+        done += n
+    return at
+
+
+def _excess(checker: PivotChecker, grasp: int) -> float:
+    """How much farther (m) the held assembly reaches from the car than the relaxation's disk.
+
+    The farthest corner of the box (ahead of the car) or of the robot's footprint (behind
+    it) from the car's position, less half the box's short side: the clearance a turn in
+    place about the car needs beyond the disk the route bound keeps off the walls.
+    """
+    m = checker.model
+    o: Pose = (0.0, 0.0, 0.0)
+    car, robot = m.car_pose(o, grasp), m.robot_pose(o, grasp)
+    ahead = 2.0 * math.hypot(car[0], car[1])  # the box's depth in front of the car
+    behind = math.hypot(robot[0] - car[0], robot[1] - car[1])
+    depth, width = m.robot_footprint[0], m.robot_footprint[1]
+    reach = max(math.hypot(ahead, m.edge_half_length(grasp)),
+                math.hypot(behind + 0.5 * depth, 0.5 * width))
+    return max(0.0, reach - 0.5 * min(m.object_size[0], m.object_size[1]))
+
+
+def _poll(should_stop: Stop) -> None:
+    if should_stop():
+        raise Interrupted("the followed route")
+
+
+def _poses(checker: PivotChecker, a: Pose, b: Pose, grasp: int,
+           poly: list[tuple[float, float]], *, back: bool, spin: bool) -> tuple[Pose, ...]:
+    """Object poses from ``a`` to ``b`` through the corners of ``poly``.
+
+    The car's corners are the polyline's inner points between the car's own ends; ``back``:
+    the car faces away from its way (a pull). ``spin``: a turn in place at every corner and
+    straight pushes between them; else one pose at each corner, heading halfway between its
+    two segments', joined by the steering's arcs.
+    """
+    m = checker.model
+    ca, cb = m.car_pose(a, grasp), m.car_pose(b, grasp)
+    pts = [(ca[0], ca[1])]
+    for p in [*poly[1:-1], (cb[0], cb[1])]:
+        if math.hypot(p[0] - pts[-1][0], p[1] - pts[-1][1]) > NO_MOVE:
+            pts.append(p)
+    if len(pts) > 1 and math.hypot(cb[0] - pts[-1][0], cb[1] - pts[-1][1]) > 0:
+        pts[-1] = (cb[0], cb[1])
+    cars: list[Pose] = [ca]
+    if not spin:
+        heads = [math.atan2(q[1] - p[1], q[0] - p[0]) + (math.pi if back else 0.0)
+                 for p, q in zip(pts, pts[1:], strict=False)]
+        for k in range(1, len(pts) - 1):
+            h = heads[k - 1] + 0.5 * wrap_angle(heads[k] - heads[k - 1])
+            cars.append((pts[k][0], pts[k][1], h))
+        cars.append(cb)
+        return (a, *(m.object_from_car(c, grasp) for c in cars[1:-1]), b)
+    for p, q in zip(pts, pts[1:], strict=False):
+        h = math.atan2(q[1] - p[1], q[0] - p[0]) + (math.pi if back else 0.0)
+        h = cars[-1][2] + wrap_angle(h - cars[-1][2])
+        if abs(h - cars[-1][2]) > NO_TURN:
+            cars.append((p[0], p[1], h))
+        cars.append((q[0], q[1], h))
+    if abs(wrap_angle(cb[2] - cars[-1][2])) > NO_TURN or len(cars) == 1:
+        cars.append(cb)
+    poses = [a, *(m.object_from_car(c, grasp) for c in cars[1:-1]), b]
+    return tuple(poses)
+
+
+def _estimate(evaluate: Evaluator, poses: tuple[Pose, ...], grasp: int) -> float:
+    """Estimated seconds of the variant ``poses`` (spins and straight pushes)."""
+    m, costs = evaluate.checker.model, evaluate.costs
+    alpha, ell = evaluate.checker.scene.alpha_max, m.edge_half_length(grasp)
+    total = 0.0
+    for p, q in zip(poses, poses[1:], strict=False):
+        u, v = m.car_pose(p, grasp), m.car_pose(q, grasp)
+        d = math.hypot(v[0] - u[0], v[1] - u[1])
+        total += costs.transfer_estimate(d, ell, alpha) if d > NO_MOVE else \
+            costs.spin_estimate(wrap_angle(v[2] - u[2]), alpha)
+    return total
