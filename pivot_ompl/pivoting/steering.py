@@ -36,6 +36,7 @@ from typing import NamedTuple
 from pivot_ompl.errors import InputError, Interrupted, SteeringError
 from pivot_ompl.pivoting.curves import CarPaths
 from pivot_ompl.pivoting.kinematics import ANGLE_TOL, Rotation, solve_piece
+from pivot_ompl.pivoting.piece_search import fewer_pivots, longest, merges
 from pivot_ompl.se2 import Pose, wrap_angle
 
 log = logging.getLogger(__name__)
@@ -45,13 +46,6 @@ MAX_DEPTH = 40
 
 #: A piece's rotations keep the car within this fraction of the piece's length of its chord.
 DEVIATION_RATIO = 0.5
-
-#: The search for the longest piece stops when the bracket ``[t_ok, t_fail]`` is shorter
-#: than this fraction of the piece found (pieces are within this of the longest).
-LONGEST_TOLERANCE = 0.125
-
-#: Growth of the trial piece while galloping along the path.
-GALLOP = 2.0
 
 
 class Piece(NamedTuple):
@@ -279,12 +273,12 @@ class PivotSteering:
             if should_stop is not None and should_stop():
                 raise Interrupted("pivot steering")
             step = min(max(step, min_step), t_end - t0)
-            t_ok, (target, rots) = _longest(solve, t0, t_end, step, min_step,
+            t_ok, (target, rots) = longest(solve, t0, t_end, step, min_step,
                                             lambda t: SteeringError(
                                                 start, goal, f"no convergence at t={t:.6g}"))
             if arc and previous is not None and len(rots) == 3 and \
-                    rots[0].end == previous.end and not _merges(previous, rots[0], amax):
-                t_ok, (target, rots) = _fewer_pivots(solve, previous, amax, t0, t_ok,
+                    rots[0].end == previous.end and not merges(previous, rots[0], amax):
+                t_ok, (target, rots) = fewer_pivots(solve, previous, amax, t0, t_ok,
                                                      (target, rots))
             sent = yield Piece(t0, t_ok, current, target, rots)
             if sent is not None:  # the caller replaced the piece (a local refinement)
@@ -309,92 +303,3 @@ class PivotSteering:
                     rotations.append(Rotation(r.end, prev.pivot, total, r.car))
                 return
         rotations.append(r)
-
-
-_Solved = tuple[Pose, tuple[Rotation, ...]]
-
-#: A piece whose first rotation merges into the previous one is preferred to the longest
-#: piece when it advances along the path at least this share farther per rotation added.
-FEWER_PIVOTS_GAIN = 1.02
-
-
-def _merges(previous: Rotation, first: Rotation, alpha_max: float) -> bool:
-    """Whether ``first`` merges into ``previous`` (same corner, sum within the bound)."""
-    return first.end == previous.end and \
-        abs(previous.angle + first.angle) <= alpha_max + ANGLE_TOL
-
-
-def _fewer_pivots(solve: Callable[[float], _Solved | None], previous: Rotation,
-                  alpha_max: float, t0: float, t_long: float,
-                  long: _Solved) -> tuple[float, _Solved]:
-    """The longest piece, or a shorter one that adds fewer rotations per length of path.
-
-    The longest piece from ``t0`` (to ``t_long``, three rotations none of which merges into
-    ``previous``) against the longest piece whose first rotation merges into ``previous``
-    (two rotations added): on a Reeds-Shepp arc the second alternates corners with unequal
-    rotations, as a car turning does, where the longest needs three per piece. Asked only
-    where the longest piece starts about ``previous``'s corner but turns it too far to
-    merge (the arc's pattern; elsewhere a merging piece seldom wins). Only pieces
-    long enough to win are tried (at least :data:`FEWER_PIVOTS_GAIN` x two thirds of the
-    longest): one solve where none merges, a few bisection steps where one does.
-    """
-
-    def merging(t: float) -> _Solved | None:
-        res = solve(t)
-        return res if res is not None and res[1] and _merges(previous, res[1][0],
-                                                            alpha_max) else None
-
-    span = t_long - t0
-    t_ok = t0 + FEWER_PIVOTS_GAIN * 2.0 / 3.0 * span
-    if t_ok >= t_long:
-        return t_long, long
-    best = merging(t_ok)
-    if best is None:
-        return t_long, long
-    t_fail = t_long
-    while t_fail - t_ok > LONGEST_TOLERANCE * span:
-        t = 0.5 * (t_ok + t_fail)
-        res = merging(t)
-        if res is not None:
-            t_ok, best = t, res
-        else:
-            t_fail = t
-    if (t_ok - t0) / (len(best[1]) - 1) >= FEWER_PIVOTS_GAIN * span / len(long[1]):
-        return t_ok, best
-    return t_long, long
-
-
-def _longest(solve: Callable[[float], _Solved | None], t0: float, t_end: float, step: float,
-             min_step: float, failure: Callable[[float], Exception]) -> tuple[float, _Solved]:
-    """The farthest parameter ``t`` in ``(t0, t_end]`` that ``solve`` reaches, and its result.
-
-    Gallops forwards from ``t0 + step`` (the last piece's length) while pieces solve, or
-    halves back until one does (raising ``failure(t0)`` below ``min_step``), then bisects
-    between the last success and the first failure down to :data:`LONGEST_TOLERANCE`.
-    """
-    t_ok, best = t0, None
-    t_fail = t_end + 1.0
-    t = t0 + step
-    while True:
-        res = solve(t)
-        if res is not None:
-            t_ok, best = t, res
-            if t >= t_end or t_fail <= t_end:
-                break
-            t = min(t_end, t0 + (t - t0) * GALLOP)
-        else:
-            t_fail = t
-            if best is not None:
-                break
-            if t - t0 <= min_step:
-                raise failure(t0)
-            t = t0 + 0.5 * (t - t0)
-    while t_fail <= t_end and t_fail - t_ok > LONGEST_TOLERANCE * (t_ok - t0):
-        t = 0.5 * (t_ok + t_fail)
-        res = solve(t)
-        if res is not None:
-            t_ok, best = t, res
-        else:
-            t_fail = t
-    assert best is not None
-    return t_ok, best
