@@ -47,6 +47,10 @@ MAX_DEPTH = 40
 #: A piece's rotations keep the car within this fraction of the piece's length of its chord.
 DEVIATION_RATIO = 0.5
 
+#: Where the path left after the longest piece is shorter than this share of that piece,
+#: the piece and the rest are made two equal pieces (no piece of near-zero rotations).
+TAIL_SHARE = 0.5
+
 
 class Piece(NamedTuple):
     """One piece of a Reeds-Shepp path solved by (at most three) rotations.
@@ -280,6 +284,11 @@ class PivotSteering:
                     rots[0].end == previous.end and not merges(previous, rots[0], amax):
                 t_ok, (target, rots) = fewer_pivots(solve, previous, amax, t0, t_ok,
                                                      (target, rots))
+            if t_ok < t_end and t_end - t_ok < TAIL_SHARE * (t_ok - t0):
+                # a short rest would be a piece of near-zero rotations: halve what is left
+                halved = solve(t0 + 0.5 * (t_end - t0))
+                if halved is not None:
+                    t_ok, (target, rots) = t0 + 0.5 * (t_end - t0), halved
             sent = yield Piece(t0, t_ok, current, target, rots)
             if sent is not None:  # the caller replaced the piece (a local refinement)
                 current, previous = sent
