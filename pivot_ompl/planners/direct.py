@@ -10,7 +10,7 @@ one if the robot holds the box):
    in the order of their lower bounds (:meth:`~.routes.lattice.TransferLattice.lower_bound`),
    each one's cheapest lattice route until no grasp left can beat the cheapest found, then
    the routes cheapest first, each made real by the cheapest chain of certified transfers
-   along it (:func:`~.routes.chain.shortened`); a route that is a detour of the floor's way
+   along it (:func:`~.routes.chain.made_real`); a route that is a detour of the floor's way
    (:meth:`~.routes.lattice.TransferLattice.way_bound`), which the lattice takes where it
    cannot turn in place, is left to the multiplexed search, whose curves do better. The
    lattice follows the connected free space (its components answer at once where start and
@@ -34,7 +34,7 @@ from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.config import SingleGraspConfig
 from pivot_ompl.planners.evaluation import Evaluator, Found, Status
-from pivot_ompl.planners.routes.chain import corners, shortened
+from pivot_ompl.planners.routes.chain import made_real
 from pivot_ompl.planners.routes.lattice import TransferLattice
 from pivot_ompl.planners.single_grasp import SingleGraspConnect
 from pivot_ompl.se2 import Pose
@@ -113,7 +113,7 @@ def lattice_path(checker: PivotChecker, lattice: TransferLattice, costs: CostMod
             best = min(routed)
             routed.remove(best)
             _, g, poses = best
-            found = shortened(evaluate, corners(poses, spacing=run_spacing), g, should_stop)
+            found = made_real(evaluate, poses, g, should_stop, spacing=run_spacing)
             if found.status is Status.STOPPED:
                 return Found(Status.STOPPED)
             if found.path is not None:
