@@ -10,6 +10,7 @@ the random roadmap's path happened to use (1101-1318 s over five seeds).
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -21,7 +22,7 @@ from pivot_ompl import plan
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.planners.config import OptimiserConfig, SingleGraspConfig
-from pivot_ompl.planners.direct import DirectStats, direct_path
+from pivot_ompl.planners.direct import DirectStats, direct_path, route_weight
 from pivot_ompl.planners.evaluation import Evaluator, Status
 from pivot_ompl.planners.routes.chain import corners, made_real, shortened
 from pivot_ompl.planners.routes.lattice import TransferLattice
@@ -105,3 +106,51 @@ def test_the_hall_costs_the_same_whichever_seed(hall):
         assert res.solved and check_plan(res.plan, hall).ok
         costs.append(plan_quality(res.plan)["cost"])
     assert max(costs) <= 1.02 * min(costs)
+
+
+def _checks(checker) -> int:
+    return checker.counters.valid + checker.counters.invalid
+
+
+def test_a_route_made_real_once_is_answered_from_the_cache_as_a_fresh_search_would(hall):
+    checker = PivotChecker(hall)
+    costs = CostModel()
+    lattice = TransferLattice(checker, costs)
+    evaluate = Evaluator(checker, costs)
+    cache: dict = {}
+    for grasp in (1, 3):
+        route, _ = lattice.route(hall.start, hall.goal, grasp)
+        first = made_real(evaluate, route, grasp, lambda: False, spacing=SPACING, cache=cache)
+        assert first.status is Status.VALID and first.path is not None
+        cost = first.path[1]
+        for ceiling in (math.inf, cost + 1.0, cost - 1.0, 0.5 * cost):
+            before = _checks(checker)
+            cached = made_real(evaluate, route, grasp, lambda: False, spacing=SPACING,
+                               ceiling=ceiling, cache=cache)
+            assert _checks(checker) == before  # nothing checked again
+            fresh = made_real(Evaluator(PivotChecker(hall), costs), route, grasp,
+                              lambda: False, spacing=SPACING, ceiling=ceiling)
+            assert (cached.path is None) == (fresh.path is None) == (ceiling <= cost)
+            if cached.path is not None:
+                assert cached.path == fresh.path
+
+
+def test_no_chain_at_all_is_remembered_too(hall):
+    checker = PivotChecker(hall)
+    costs = CostModel()
+    evaluate = Evaluator(checker, costs)
+    blocked = [hall.start, (hall.start[0] + 5.0, hall.start[1], hall.start[2])]  # into a wall
+    cache: dict = {}
+    assert made_real(evaluate, blocked, 0, lambda: False, spacing=SPACING,
+                     cache=cache).status is Status.INVALID
+    before = _checks(checker)
+    assert made_real(evaluate, blocked, 0, lambda: False, spacing=SPACING,
+                     cache=cache).status is Status.INVALID
+    assert _checks(checker) == before and list(cache.values()) == [None]
+
+
+def test_the_re_routing_shares_the_lattice_try_s_weight_only_where_that_try_is_made():
+    cfg = SingleGraspConfig()
+    assert route_weight(cfg, cfg.lattice_area) == cfg.lattice_weight
+    assert route_weight(cfg, cfg.lattice_area - 1.0) == 1.0
+    assert route_weight(replace(cfg, lattice=False), 10 * cfg.lattice_area) == 1.0

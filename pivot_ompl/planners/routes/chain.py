@@ -53,22 +53,37 @@ def corners(route: list[Pose], *, spacing: int, end_turns: bool = False) -> list
 
 
 def made_real(evaluate: Evaluator, route: list[Pose], grasp: int, should_stop: Stop, *,
-              spacing: int, ceiling: float = math.inf) -> Found[tuple[list[Pose], float]]:
+              spacing: int, ceiling: float = math.inf,
+              cache: dict[tuple, tuple[list[Pose], float] | None] | None = None
+              ) -> Found[tuple[list[Pose], float]]:
     """The route's cheapest chain of certified transfers, its end turns split if need be.
 
     :func:`shortened` over the route's :func:`corners`; if no chain passes, again over them
     with every pose of the turns in place it starts or ends with (the first try's checks
     are cached: only the new transfers are checked). A route whose first try is
     :data:`TOO_DEAR` or stopped is not tried again.
+
+    ``cache``: the answers found before, by route, grasp and spacing (e.g. the lattice's
+    :attr:`~.lattice.TransferLattice.chains`; ``None`` for a route with no chain at all):
+    a route made real once is answered from it, :data:`TOO_DEAR` where its chain does not
+    cost less than ``ceiling`` (the lazy search with a ceiling returns the same chain
+    whenever one below it exists).
     """
+    key = (tuple(route), grasp, spacing)
+    if cache is not None and key in cache:
+        hit = cache[key]
+        if hit is None:
+            return Found(Status.INVALID)
+        return Found(Status.VALID, hit) if hit[1] < ceiling + 1e-6 else TOO_DEAR
     found = shortened(evaluate, corners(route, spacing=spacing), grasp, should_stop,
                       ceiling=ceiling)
-    if found.path is not None or found is TOO_DEAR or found.status is Status.STOPPED:
-        return found
-    fine = corners(route, spacing=spacing, end_turns=True)
-    if len(fine) == len(corners(route, spacing=spacing)):
-        return found
-    return shortened(evaluate, fine, grasp, should_stop, ceiling=ceiling)
+    if found.path is None and found is not TOO_DEAR and found.status is not Status.STOPPED:
+        fine = corners(route, spacing=spacing, end_turns=True)
+        if len(fine) > len(corners(route, spacing=spacing)):
+            found = shortened(evaluate, fine, grasp, should_stop, ceiling=ceiling)
+    if cache is not None and found is not TOO_DEAR and found.status is not Status.STOPPED:
+        cache[key] = found.path  # a chain, or None: none at all
+    return found
 
 
 def shortened(evaluate: Evaluator, route: list[Pose], grasp: int,

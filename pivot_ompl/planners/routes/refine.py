@@ -172,7 +172,7 @@ def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: Leg, costs:
         found = chains.get(key)
         if found is None:
             found = made_real(Evaluator(checker, costs), route, leg.grasp, should_stop,
-                              spacing=run_spacing, ceiling=ceiling)
+                              spacing=run_spacing, ceiling=ceiling, cache=lattice.chains)
             if found.status is Status.STOPPED:
                 raise Interrupted("route refinement")
             if found is TOO_DEAR:  # as the whole chain refused for its cost: no anchored try
