@@ -10,7 +10,7 @@ one if the robot holds the box):
    in the order of their lower bounds (:meth:`~.routes.lattice.TransferLattice.lower_bound`),
    each one's cheapest lattice route until no grasp left can beat the cheapest found, then
    the routes cheapest first, each made real by the cheapest chain of certified transfers
-   along it (:func:`~.routes.chain.shortened`); a route that is a detour of the floor's way
+   along it (:func:`~.routes.chain.made_real`); a route that is a detour of the floor's way
    (:meth:`~.routes.lattice.TransferLattice.way_bound`), which the lattice takes where it
    cannot turn in place, is left to the multiplexed search, whose curves do better. The
    lattice follows the connected free space (its components answer at once where start and
@@ -34,7 +34,7 @@ from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.config import SingleGraspConfig
 from pivot_ompl.planners.evaluation import Evaluator, Found, Status
-from pivot_ompl.planners.routes.chain import corners, shortened
+from pivot_ompl.planners.routes.chain import made_real
 from pivot_ompl.planners.routes.lattice import TransferLattice
 from pivot_ompl.planners.single_grasp import SingleGraspConnect
 from pivot_ompl.se2 import Pose
@@ -113,7 +113,8 @@ def lattice_path(checker: PivotChecker, lattice: TransferLattice, costs: CostMod
             best = min(routed)
             routed.remove(best)
             _, g, poses = best
-            found = shortened(evaluate, corners(poses, spacing=run_spacing), g, should_stop)
+            found = made_real(evaluate, poses, g, should_stop, spacing=run_spacing,
+                              cache=lattice.chains)
             if found.status is Status.STOPPED:
                 return Found(Status.STOPPED)
             if found.path is not None:
@@ -121,6 +122,18 @@ def lattice_path(checker: PivotChecker, lattice: TransferLattice, costs: CostMod
     except Interrupted:
         return Found(Status.STOPPED)
     return Found(Status.INVALID)
+
+
+def route_weight(config: SingleGraspConfig, area: float) -> float:
+    """The lattice's heuristic inflation for a plan's routes on a floor of ``area`` m^2.
+
+    Where the lattice try is made (``config.lattice``, ``area >= config.lattice_area``): its
+    ``lattice_weight``, so the re-routing after it (:mod:`.routes.refine`) asks the same
+    routes, found once, and searches the others expanding fewer states (the hall: 8 searches
+    -> 4, the same plan). Elsewhere ``1``: the lattice's cheapest routes (on small floors the
+    inflated routes made some plans dearer, open_fig7 by 11 %).
+    """
+    return config.lattice_weight if config.lattice and area >= config.lattice_area else 1.0
 
 
 def direct_path(checker: PivotChecker, start: Pose, goal: Pose, *, grasps: list[int],

@@ -31,7 +31,7 @@ import numpy as np
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planners.config import RegraspConfig, quality_scale
-from pivot_ompl.planners.direct import DirectStats, direct_path
+from pivot_ompl.planners.direct import DirectStats, direct_path, route_weight
 from pivot_ompl.planners.eliminate import EliminationReport, eliminate_regrasps, lattice_router
 from pivot_ompl.planners.evaluation import Found, Status
 from pivot_ompl.planners.grasp_choice import choose_grasps
@@ -258,8 +258,9 @@ class RegraspSearch:
     def _lattice(self) -> TransferLattice:
         """The held assembly's lattice within the start's reach, made when first asked."""
         if self.lattice is None:
+            w = route_weight(self.config.single_grasp, self._area())  # shared with direct
             self.lattice = TransferLattice(self.checker, self.config.cost,
-                                           region=self.sampler.region())
+                                           region=self.sampler.region(), weight=w)
         return self.lattice
 
     def _grown(self, should_stop: Stop) -> Found[list[Node]]:

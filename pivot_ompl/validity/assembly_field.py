@@ -114,29 +114,42 @@ class AssemblyField:
         if v is None:
             if should_stop is not None and should_stop():
                 raise Interrupted("assembly field")
-            v = self._fits[key] = self._compute(*key, should_stop)
+            todo = [j for j in range(len(FIELD_YAWS)) if (key[0], j) not in self._fits]
+            for j, grid in zip(todo, self._compute(key[0], todo, should_stop), strict=True):
+                self._fits[(key[0], j)] = grid
+            v = self._fits[key]
         return v
 
-    def _compute(self, parity: int, k: int, should_stop: Callable[[], bool] | None
-                 ) -> np.ndarray:
-        yaw = FIELD_YAWS[k]
-        c, s = math.cos(yaw), math.sin(yaw)
-        rot = np.array([[c, -s], [s, c]]).T
+    def _compute(self, parity: int, ks: list[int], should_stop: Callable[[], bool] | None
+                 ) -> list[np.ndarray]:
+        """The grids of yaws ``ks`` at ``parity``, every yaw's sums and raster in one batch.
+
+        The same grids as one yaw at a time (each polygon's arithmetic is its own), for a
+        thirtieth of the calls: a scene's 64 grids took 0.04-0.1 s one by one.
+        """
         xs, ys = self._xs, self._ys
-        corners = self._corners[parity] @ rot
         b = self.world.bounds
-        ok = ((xs + corners[:, 0].min() > b[0]) & (xs + corners[:, 0].max() < b[2]))[:, None] \
-            & ((ys + corners[:, 1].min() > b[1]) & (ys + corners[:, 1].max() < b[3]))[None, :]
         n = len(self._pieces)
-        if n:
-            bodies = [body @ rot for body in self._bodies[parity]]
-            edges = meeting_edges(self._pieces * len(bodies),
-                                  [bd for bd in bodies for _ in range(n)],
-                                  should_stop=should_stop, certify=False)
-            hit = grid_union(edges, xs, ys, groups=np.zeros(n * len(bodies), dtype=int),
-                             n_groups=1)[0]
-            ok &= ~hit
-        return ok
+        out, pieces, bodies = [], [], []
+        for k in ks:
+            yaw = FIELD_YAWS[k]
+            c, s = math.cos(yaw), math.sin(yaw)
+            rot = np.array([[c, -s], [s, c]]).T
+            corners = self._corners[parity] @ rot
+            out.append(
+                ((xs + corners[:, 0].min() > b[0]) & (xs + corners[:, 0].max() < b[2]))[:, None]
+                & ((ys + corners[:, 1].min() > b[1]) & (ys + corners[:, 1].max() < b[3]))[None, :])
+            for body in self._bodies[parity]:
+                pieces += self._pieces
+                bodies += [body @ rot] * n
+        if n and ks:
+            edges = meeting_edges(pieces, bodies, should_stop=should_stop, certify=False)
+            per_yaw = len(self._bodies[parity]) * n
+            hit = grid_union(edges, xs, ys, groups=np.arange(len(pieces)) // per_yaw,
+                             n_groups=len(ks))
+            for ok, h in zip(out, hit, strict=True):
+                ok &= ~h
+        return out
 
     def state_fits(self, ix: int, iy: int, k: int, parity: int) -> bool:
         """Whether grid state ``(ix, iy)`` at field yaw ``k`` is free for ``parity``."""

@@ -21,24 +21,69 @@ Stop = Callable[[], bool]
 TOO_DEAR: Found = Found(Status.INVALID)
 
 
-def corners(route: list[Pose], *, spacing: int) -> list[Pose]:
+def corners(route: list[Pose], *, spacing: int, end_turns: bool = False) -> list[Pose]:
     """The route's poses worth joining by transfers.
 
     Its ends, the poses where it starts or stops turning, and every ``spacing`` th pose of a
     long straight run (lattice motions;
-    :attr:`~pivot_ompl.planners.config.OptimiserConfig.run_spacing`).
+    :attr:`~pivot_ompl.planners.config.OptimiserConfig.run_spacing`). ``end_turns``: also
+    every pose of a turn in place the route starts or ends with (one transfer turning the
+    whole way at a tight end may graze what the lattice's small turns pass).
     """
     if len(route) < 3:
         return route
+    last = len(route) - 1
+
+    def turning(k: int) -> bool:  # the motion from pose k to pose k + 1 turns
+        return abs(route[k + 1][2] - route[k][2]) > 1e-9
+
+    head = tail = 0
+    if end_turns:
+        while head < last and turning(head):
+            head += 1
+        while tail < last and turning(last - 1 - tail):
+            tail += 1
     keep = [0]
-    for k in range(1, len(route) - 1):
-        a, b, c = route[k - 1], route[k], route[k + 1]
-        turning_in = abs(b[2] - a[2]) > 1e-9
-        turning_out = abs(c[2] - b[2]) > 1e-9
-        if turning_in != turning_out or k - keep[-1] >= spacing:
+    for k in range(1, last):
+        if turning(k - 1) != turning(k) or k - keep[-1] >= spacing or k < head \
+                or k > last - tail:
             keep.append(k)
-    keep.append(len(route) - 1)
+    keep.append(last)
     return [route[k] for k in keep]
+
+
+def made_real(evaluate: Evaluator, route: list[Pose], grasp: int, should_stop: Stop, *,
+              spacing: int, ceiling: float = math.inf,
+              cache: dict[tuple, tuple[list[Pose], float] | None] | None = None
+              ) -> Found[tuple[list[Pose], float]]:
+    """The route's cheapest chain of certified transfers, its end turns split if need be.
+
+    :func:`shortened` over the route's :func:`corners`; if no chain passes, again over them
+    with every pose of the turns in place it starts or ends with (the first try's checks
+    are cached: only the new transfers are checked). A route whose first try is
+    :data:`TOO_DEAR` or stopped is not tried again.
+
+    ``cache``: the answers found before, by route, grasp and spacing (e.g. the lattice's
+    :attr:`~.lattice.TransferLattice.chains`; ``None`` for a route with no chain at all):
+    a route made real once is answered from it, :data:`TOO_DEAR` where its chain does not
+    cost less than ``ceiling`` (the lazy search with a ceiling returns the same chain
+    whenever one below it exists).
+    """
+    key = (tuple(route), grasp, spacing)
+    if cache is not None and key in cache:
+        hit = cache[key]
+        if hit is None:
+            return Found(Status.INVALID)
+        return Found(Status.VALID, hit) if hit[1] < ceiling + 1e-6 else TOO_DEAR
+    found = shortened(evaluate, corners(route, spacing=spacing), grasp, should_stop,
+                      ceiling=ceiling)
+    if found.path is None and found is not TOO_DEAR and found.status is not Status.STOPPED:
+        fine = corners(route, spacing=spacing, end_turns=True)
+        if len(fine) > len(corners(route, spacing=spacing)):
+            found = shortened(evaluate, fine, grasp, should_stop, ceiling=ceiling)
+    if cache is not None and found is not TOO_DEAR and found.status is not Status.STOPPED:
+        cache[key] = found.path  # a chain, or None: none at all
+    return found
 
 
 def shortened(evaluate: Evaluator, route: list[Pose], grasp: int,

@@ -97,6 +97,8 @@ class TransferLattice:
         #: (a route and its :meth:`way_bound` ask the same)
         self._ways: dict[int, tuple[frozenset[int], np.ndarray]] = {}
         self._grids: dict[tuple[int, int], bytes] = {}
+        #: routes made real (:func:`~.chain.made_real`'s ``cache``), shared by the callers
+        self.chains: dict[tuple, tuple[list[Pose], float] | None] = {}
 
     def car(self, s: State) -> Pose:
         """The car pose of lattice state ``s``."""

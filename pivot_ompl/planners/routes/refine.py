@@ -34,7 +34,7 @@ from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.evaluation import Evaluator, Found, Status
-from pivot_ompl.planners.routes.chain import TOO_DEAR, corners, shortened
+from pivot_ompl.planners.routes.chain import TOO_DEAR, made_real
 from pivot_ompl.planners.routes.lattice import TransferLattice
 from pivot_ompl.planners.routes.run_pricing import (
     Leg,
@@ -171,8 +171,8 @@ def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: Leg, costs:
         key = (a, b, leg.grasp)
         found = chains.get(key)
         if found is None:
-            found = shortened(Evaluator(checker, costs), corners(route, spacing=run_spacing),
-                              leg.grasp, should_stop, ceiling=ceiling)
+            found = made_real(Evaluator(checker, costs), route, leg.grasp, should_stop,
+                              spacing=run_spacing, ceiling=ceiling, cache=lattice.chains)
             if found.status is Status.STOPPED:
                 raise Interrupted("route refinement")
             if found is TOO_DEAR:  # as the whole chain refused for its cost: no anchored try

@@ -1,0 +1,47 @@
+"""The assembly field's grids, every yaw of a parity computed in one batch, are the grids of
+one yaw at a time (the sums and raster each yaw had alone)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from factories import shipped
+
+from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.validity.assembly_field import FIELD_YAWS, AssemblyField, assembly_bodies
+from pivot_ompl.validity.footprints import obstacle_pieces
+from pivot_ompl.validity.minkowski import meeting_edges
+from pivot_ompl.validity.rasters import grid_union
+
+
+def _one_yaw(field: AssemblyField, checker: PivotChecker, parity: int, k: int) -> np.ndarray:
+    """The grid of yaw ``k`` computed alone (the field's former way)."""
+    world, model = checker.world, checker.model
+    yaw = FIELD_YAWS[k]
+    c, s = math.cos(yaw), math.sin(yaw)
+    rot = np.array([[c, -s], [s, c]]).T
+    b = world.bounds
+    xs = b[0] + field.resolution * np.arange(field.nx)
+    ys = b[1] + field.resolution * np.arange(field.ny)
+    corners = np.concatenate(assembly_bodies(model, parity, 0.0)) @ rot
+    ok = ((xs + corners[:, 0].min() > b[0]) & (xs + corners[:, 0].max() < b[2]))[:, None] \
+        & ((ys + corners[:, 1].min() > b[1]) & (ys + corners[:, 1].max() < b[3]))[None, :]
+    pieces = obstacle_pieces(world.obstacles)
+    if pieces:
+        bodies = [body @ rot for body in assembly_bodies(model, parity, world.clearance)]
+        edges = meeting_edges(pieces * len(bodies), [bd for bd in bodies for _ in pieces],
+                              certify=False)
+        ok &= ~grid_union(edges, xs, ys, groups=np.zeros(len(pieces) * len(bodies), dtype=int),
+                          n_groups=1)[0]
+    return ok
+
+
+@pytest.mark.parametrize("name", ["fig10", "door", "cluttered_room", "open_fig7"])
+def test_every_yaw_s_grid_is_the_grid_computed_alone(name):
+    checker = PivotChecker(shipped(name))
+    field = AssemblyField(checker.model, checker.world, 0.1)
+    for parity in (1, 0):
+        for k in (5, *range(len(FIELD_YAWS))):  # a first ask from the middle too
+            assert np.array_equal(field.fits(parity, k), _one_yaw(field, checker, parity, k))
