@@ -81,6 +81,30 @@ def neck_window(cover: RasterCover) -> np.ndarray:
     return window
 
 
+def turn_neck_window(cover: RasterCover, *, shared: int = 20, grow: int = 1) -> np.ndarray:
+    """The coarse cells where a piece of one yaw bin meets one of the next in few cells.
+
+    A *turn neck*: two pieces of consecutive bins of a parity that share at most ``shared``
+    cells (the held assembly turns from one to the other only there); their shared cells,
+    grown by ``grow`` cells. Slower to refine than :func:`neck_window` (more cells) but
+    closer to where the coarse bins lose the turns (docs/buildings.md).
+    """
+    window = np.zeros(cover.raster.shape, dtype=bool)
+    n = cover.bins
+    for g in (0, 1):
+        for b in range(n):
+            lab, nxt = cover.layers[(g, b)][0], cover.layers[(g, (b + 1) % n)][0]
+            both = (lab > 0) & (nxt > 0)
+            keys = lab[both].astype(np.int64) * (int(nxt.max()) + 1) + nxt[both]
+            _, inverse, counts = np.unique(keys, return_inverse=True, return_counts=True)
+            ii, jj = np.nonzero(both)
+            few = counts[inverse] <= shared
+            window[ii[few], jj[few]] = True
+    if grow and window.any():
+        window = ndimage.binary_dilation(window, structure=_EIGHT, iterations=grow)
+    return window
+
+
 @dataclass
 class FineVoxels:
     """The free fine voxels of the window, per grasp parity, and their components.

@@ -149,8 +149,12 @@ def _join_borders(fine: FineVoxels, outside: RasterCover, coarse: RasterGraph,
         cell = keys % fine.cells
         a, b = cell // ny, cell % ny
         near = border[a // 2, b // 2]
-        keys, a, b, comp = keys[near], a[near], b[near], fine.labels[g][near]
-        big = (keys // fine.cells) // fine.split
+        a, b, comp = a[near], b[near], fine.labels[g][near]
+        big = (keys[near] // fine.cells) // fine.split
+        order = np.argsort(big, kind="stable")
+        a, b, comp, big = a[order], b[order], comp[order], big[order]
+        cuts = np.searchsorted(big, np.arange(n + 1))
+        top = 1 + max((int(outside.layers[(g, bb)][1]) for bb in range(n)), default=0)
         found = []
         for di in (-1, 0):
             for dj in (-1, 0):
@@ -158,16 +162,18 @@ def _join_borders(fine: FineVoxels, outside: RasterCover, coarse: RasterGraph,
                 ok = (ci >= 0) & (ci < nxc) & (cj >= 0) & (cj < nyc)
                 ci, cj = np.clip(ci, 0, nxc - 1), np.clip(cj, 0, nyc - 1)
                 ok &= ~window[ci, cj]
-                for bb in np.unique(big[ok]).tolist():
-                    sel = ok & (big == bb)
-                    lab = outside.layers[(g, bb)][0][ci[sel], cj[sel]]
-                    found.append(np.stack([comp[sel][lab > 0], np.full(int((lab > 0).sum()),
-                                                                         bb), lab[lab > 0]]))
-        if not found:
-            continue
-        for c, bb, lab in np.unique(np.concatenate(found, axis=1), axis=1).T.tolist():
+                lab = np.zeros(len(a), dtype=np.int64)
+                for bb in range(n):
+                    part = slice(int(cuts[bb]), int(cuts[bb + 1]))
+                    if part.start < part.stop:
+                        lab[part] = outside.layers[(g, bb)][0][ci[part], cj[part]]
+                hit = ok & (lab > 0)
+                found.append((comp[hit] * n + big[hit]) * top + lab[hit])
+        for key in np.unique(np.concatenate(found)).tolist():
+            rest, lab_ = divmod(key, top)
+            c, bb = divmod(rest, n)
             for k in (g, g + 2):
-                node = coarse.base[((bb - half * (k // 2)) % n, k)] + lab - 1
+                node = coarse.base[((bb - half * (k // 2)) % n, k)] + lab_ - 1
                 coarse.graph.add(fine_base[k] + c, node, None)
 
 
@@ -191,10 +197,14 @@ def _join_regrasps(fine: FineVoxels, graph: PieceGraph, fine_base: list[int]
                 continue
             ck, cj = fine.labels[k % 2][ia], fine.labels[j % 2][ib]
             big = (shared // fine.cells) // fine.split
-            groups, inverse = np.unique(np.stack([ck, cj, big]), axis=1, return_inverse=True)
-            order = np.argsort(inverse, kind="stable")
-            bounds = np.searchsorted(inverse[order], np.arange(groups.shape[1] + 1))
-            for g, (a, b, bb) in enumerate(groups.T.tolist()):
+            nb, nc = fine.bins // fine.split, fine.count[j % 2]
+            group = (ck * nc + cj) * nb + big
+            order = np.argsort(group, kind="stable")
+            keys, bounds = np.unique(group[order], return_index=True)
+            bounds = np.append(bounds, len(order))
+            for g, key in enumerate(keys.tolist()):
+                rest, bb = divmod(key, nb)
+                a, b = divmod(rest, nc)
                 cells = shared[order[bounds[g]:bounds[g + 1]]] % fine.cells
                 regions.append((np.unique(cells), bb * fine.split, k, j))
                 graph.add(fine_base[k] + a, fine_base[j] + b, (-len(regions), k, a, j, b))

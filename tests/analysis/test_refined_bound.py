@@ -11,7 +11,7 @@ from factories import shipped
 
 from pivot_ompl.analysis.raster_bound import raster_lower_bound
 from pivot_ompl.analysis.raster_cover import raster_cover
-from pivot_ompl.analysis.raster_refine import neck_window, refine_cover
+from pivot_ompl.analysis.raster_refine import neck_window, refine_cover, turn_neck_window
 from pivot_ompl.analysis.refined_bound import refined_lower_bound
 from pivot_ompl.analysis.regrasp_bound import regrasp_lower_bound
 from pivot_ompl.checking.pivot_checker import PivotChecker
@@ -20,14 +20,16 @@ from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
 
 
-@pytest.mark.parametrize(("name", "turn", "seed"), [("slot", None, 1), ("fig10", 0.7, 2)])
-def test_the_fine_voxels_hold_every_valid_state_in_the_window(name, turn, seed):
+@pytest.mark.parametrize(("name", "turn", "seed", "kind"),
+                         [("slot", None, 1, "necks"), ("fig10", 0.7, 2, "necks"),
+                          ("door", -0.4, 5, "turns")])
+def test_the_fine_voxels_hold_every_valid_state_in_the_window(name, turn, seed, kind):
     """Valid states sampled in the refined cells, many within 3 cm of contact: each lies in a
     free fine voxel of its grasp (a blocked voxel would be a false proof)."""
     scene = shipped(name) if turn is None else rotate_scene(shipped(name), turn)
     cover = raster_cover(scene, cell=0.1)
     assert cover is not None
-    window = neck_window(cover)
+    window = neck_window(cover) if kind == "necks" else turn_neck_window(cover)
     fine = refine_cover(scene, cover, window, tolerance=SWEEP_TOLERANCE,
                         clearance=KEEP_CLEARANCE)
     ck = PivotChecker(scene, seed=0)
