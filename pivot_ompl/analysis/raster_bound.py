@@ -112,6 +112,7 @@ class RasterGraph:
         allowed: whether a regrasp edge is allowed (the walk relaxation, lazily).
         holding: the nodes holding a pose (every grasp).
         total: the number of nodes.
+        walk: the walk relaxation the regrasps are checked by (built at the first call).
     """
 
     graph: PieceGraph
@@ -120,6 +121,7 @@ class RasterGraph:
     allowed: Callable[[tuple[int, int, int, int, int]], bool]
     holding: Callable[[Pose], list[int]]
     total: int
+    walk: Callable[[], WalkRelaxation]
 
 
 def raster_graph(scene: Scene, cover: RasterCover, *, tolerance: float = SWEEP_TOLERANCE,
@@ -161,7 +163,13 @@ def raster_graph(scene: Scene, cover: RasterCover, *, tolerance: float = SWEEP_T
             for j in range(k + 1, 4):
                 link(b, k, b, j, True)
     width = 2.0 * math.pi / n
-    walk: list[WalkRelaxation] = []
+    built: list[WalkRelaxation] = []
+
+    def walk() -> WalkRelaxation:
+        if not built:
+            built.append(WalkRelaxation(scene, width=width, tolerance=tolerance,
+                                        clearance=clearance))
+        return built[0]
 
     def allowed(edge: tuple[int, int, int, int, int]) -> bool:
         if not walks:
@@ -170,17 +178,14 @@ def raster_graph(scene: Scene, cover: RasterCover, *, tolerance: float = SWEEP_T
         ii, jj = _shared_cells(cover, layer(b, k), i, layer(b, j), c)
         if len(ii) * raster.cell * raster.cell > WALK_AREA:
             return True
-        if not walk:
-            walk.append(WalkRelaxation(scene, width=width, tolerance=tolerance,
-                                       clearance=clearance))
-        return walk[0].may_regrasp(_cells_region(raster, ii, jj), -math.pi + (b + 0.5) * width,
-                                   k, j)
+        return walk().may_regrasp(cells_region(raster, ii, jj), -math.pi + (b + 0.5) * width,
+                                  k, j)
 
     def holding(pose: Pose) -> list[int]:
         b = cover.bin_of(pose[2])
         return [base[(b, k)] + c - 1 for k in range(4) for c in cover.holding(pose, k)]
 
-    return RasterGraph(graph, base, layer, allowed, holding, total)
+    return RasterGraph(graph, base, layer, allowed, holding, total, walk)
 
 
 def _shared_cells(cover: RasterCover, la: tuple[int, int], i: int, lb: tuple[int, int],
@@ -204,8 +209,8 @@ def _shared(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return keys // m, keys % m
 
 
-def _cells_region(raster: FloorRaster, ii: np.ndarray, jj: np.ndarray) -> shapely.Geometry:
-    """The union of the cells ``(ii, jj)`` as one polygon (or multi-polygon)."""
+def cells_region(raster: FloorRaster, ii: np.ndarray, jj: np.ndarray) -> shapely.Geometry:
+    """The union of the cells ``(ii, jj)`` of ``raster`` as one polygon (or multi-polygon)."""
     (x0, y0), h = raster.origin, raster.cell
     xs, ys = x0 + ii * h, y0 + jj * h
     return shapely.union_all(shapely.box(xs - EPS, ys - EPS, xs + h + EPS, ys + h + EPS))

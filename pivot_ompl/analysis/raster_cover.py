@@ -224,11 +224,14 @@ class RasterCover:
         bins: yaw bins (even); bin ``b`` holds yaws ``-pi + [b, b + 1) * 2 pi / bins``.
         layers: per ``(grasp % 2, bin)``, the labelled free cells (0 blocked) and their
             number of pieces.
+        pieces: the convex obstacle pieces the obstacle cells were found in (for a finer
+            cover of part of the floor, :mod:`~pivot_ompl.analysis.raster_refine`).
     """
 
     raster: FloorRaster
     bins: int
     layers: dict[tuple[int, int], tuple[np.ndarray, int]]
+    pieces: list[np.ndarray] = field(default_factory=list)
     _extents: dict[tuple[int, int], list] = field(default_factory=dict, repr=False)
 
     def extent(self, layer: tuple[int, int], label: int) -> tuple[slice, slice]:
@@ -308,4 +311,4 @@ def raster_cover(scene: Scene, *, cell: float, resolution: float | None = None,
                 return None
             layers[(g, b)] = free_layer(raster, dilation, scene.bounds, parts,
                                         -math.pi + (b + 0.5) * w, inside, clear)
-    return RasterCover(raster, n, layers)
+    return RasterCover(raster, n, layers, pieces)

@@ -1,0 +1,70 @@
+"""The raster regrasp bound refined round its necks, by window, on the buildings corpus.
+
+For each map (imported as ``benchmarks/buildings.py`` does) and each window kind, prints the
+coarse raster bound (10 cm cells, bins of 5 cm rotation erosion) and the refined one
+(:func:`pivot_ompl.analysis.refined_bound.refined_lower_bound`: 5 cm cells and bins of 1 cm
+rotation erosion inside the window), the window's coarse cells and the refinement's seconds.
+Window kinds: ``necks`` (:func:`~pivot_ompl.analysis.raster_refine.neck_window`, the
+default), ``turns`` (:func:`~pivot_ompl.analysis.raster_refine.turn_neck_window`), ``all``
+(every cell: the whole fine relaxation, slow).
+
+Usage::
+
+    flock /tmp/pivot-bench.lock python benchmarks/refined_bound.py --maps willow_garage_2010
+    python benchmarks/refined_bound.py --maps turtlebot3_world --windows necks,all
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from buildings import CORPUS, import_corpus_map  # noqa: E402
+
+
+def main() -> None:
+    """Print one Markdown row per map and window kind."""
+    from pivot_ompl.analysis.raster_bound import raster_lower_bound
+    from pivot_ompl.analysis.raster_cover import raster_cover
+    from pivot_ompl.analysis.raster_refine import neck_window, turn_neck_window
+    from pivot_ompl.analysis.refined_bound import refined_lower_bound
+    from pivot_ompl.scene import load_scene
+
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--maps", default="willow_garage_2010", help="comma-separated corpus names")
+    p.add_argument("--windows", default="necks,turns", help="comma-separated window kinds")
+    args = p.parse_args()
+    kinds = {"necks": neck_window, "turns": turn_neck_window,
+             "all": lambda c: np.ones(c.raster.shape, dtype=bool)}
+    print("| map | coarse bound | coarse s | window | cells refined | refined bound | "
+          "refinement s |")
+    print("|---|---|---|---|---|---|---|")
+    with tempfile.TemporaryDirectory() as tmp:
+        for name in args.maps.split(","):
+            m = next(m for m in CORPUS if m.name == name)
+            scene = load_scene(import_corpus_map(m, Path(tmp))["scene"])
+            t0 = time.perf_counter()
+            coarse = raster_lower_bound(scene)
+            coarse_s = time.perf_counter() - t0
+            cover = raster_cover(scene, cell=0.1)
+            assert cover is not None
+            for kind in args.windows.split(","):
+                window = kinds[kind](cover)
+                t0 = time.perf_counter()
+                refined = refined_lower_bound(scene, cover, window=window)
+                seconds = time.perf_counter() - t0
+                said = "-" if refined is None else (
+                    "no plan" if refined.solvable is False else refined.regrasps)
+                print(f"| {name} | {coarse.regrasps} | {coarse_s:.2f} | {kind} | "
+                      f"{int(window.sum())} | {said} | {seconds:.2f} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()

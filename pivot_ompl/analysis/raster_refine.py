@@ -1,0 +1,338 @@
+"""The raster cover refined in windows round its necks: finer cells and yaw bins only there.
+
+The coarse cover (:mod:`~pivot_ompl.analysis.raster_cover`) loses narrow doors twice: its
+cells (a passage looks up to about two cells wider) and its yaw bins' rotation erosion (twice
+the erosion off the assembly's width). Both losses only matter where the coarse free layers
+are narrow, so :func:`refine_cover` recomputes the cover there alone, coarse to fine:
+
+**Windows.** Per grasp parity, the union ``U`` over the yaw bins of the coarse free cells is
+where the box's centre may be at all. A *neck* is a cell of ``U`` farther than :data:`THIN`
+cells from every cell of ``U`` lying more than :data:`THIN` cells inside ``U`` (no disk of
+that radius in ``U`` holds it: a narrow passage, not a room); the window is the necks of both
+parities grown by :data:`GROW` cells. Which cells are refined is a matter of cost only: the
+soundness argument below holds for any window.
+
+**Fine voxels.** Inside the window each coarse cell is split into ``2 x 2`` cells and each
+yaw bin into ``m`` bins (each of rotation erosion at most ``resolution``; fine bin ``f`` lies
+in coarse bin ``f // m``). A fine cell at a fine bin is tested only where its coarse cell is
+free at the coarse bin: a coarse cell blocked at a coarse bin has every point colliding at
+every yaw of that bin, so every fine cell in it at every fine bin in it (sound). The test
+itself is :mod:`~pivot_ompl.analysis.raster_cover`'s, on the finer cells: blocked when an
+obstacle cell of the finer raster (wholly inside an obstacle piece) lies at a lattice offset
+of the fine bin's eroded body, or the cell misses the rectangle of positions inside the
+bounds; so a state free at a fine bin's yaw lies in a free fine voxel. Where a coarse cell is
+free deeper than :data:`DEEP` cells inside its coarse layer, its fine voxels are taken as free
+untested (a superset again: only the necks' edges decide).
+
+**Components.** The free fine voxels of a parity are joined when they are 8-adjacent cells of
+one fine bin (a continuous motion within the bin) or one cell of two consecutive fine bins, the
+last and the first included (a yaw crossing at a point, which lies in a cell free in both
+layers); scipy's sparse connected components label them.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import ndimage
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+
+from pivot_ompl.analysis.raster import FloorRaster
+from pivot_ompl.analysis.raster_cover import (
+    EPS,
+    RasterCover,
+    lattice_rows,
+    merged_rows,
+    obstacle_cells,
+)
+from pivot_ompl.analysis.regrasp_bound import ROUND_OFF, held_bodies, yaw_bins
+from pivot_ompl.errors import Interrupted
+from pivot_ompl.scene import Scene
+from pivot_ompl.se2 import Pose, wrap_angle
+
+#: Largest rotation erosion (m) of a fine yaw bin.
+FINE_RESOLUTION = 0.01
+#: Half-width (coarse cells) below which the union of a parity's free cells is a neck.
+THIN = 3
+#: Coarse cells the necks are grown by to make the window.
+GROW = 2
+#: Coarse cells inside a coarse free layer beyond which its fine voxels are not tested.
+DEEP = 3
+
+_EIGHT = np.ones((3, 3), dtype=bool)
+
+
+def neck_window(cover: RasterCover) -> np.ndarray:
+    """The coarse cells to refine (boolean ``cover.raster.shape``; module docstring)."""
+    window = np.zeros(cover.raster.shape, dtype=bool)
+    for g in (0, 1):
+        union = np.zeros(cover.raster.shape, dtype=bool)
+        for b in range(cover.bins):
+            union |= cover.layers[(g, b)][0] > 0
+        inner = ndimage.distance_transform_edt(union) > THIN
+        wide = ndimage.binary_dilation(inner, structure=_EIGHT, iterations=THIN)
+        window |= union & ~wide
+    if GROW and window.any():
+        window = ndimage.binary_dilation(window, structure=_EIGHT, iterations=GROW)
+    return window
+
+
+def turn_neck_window(cover: RasterCover, *, shared: int = 20, grow: int = 1) -> np.ndarray:
+    """The coarse cells where a piece of one yaw bin meets one of the next in few cells.
+
+    A *turn neck*: two pieces of consecutive bins of a parity that share at most ``shared``
+    cells (the held assembly turns from one to the other only there); their shared cells,
+    grown by ``grow`` cells. Slower to refine than :func:`neck_window` (more cells) but
+    closer to where the coarse bins lose the turns (docs/buildings.md).
+    """
+    window = np.zeros(cover.raster.shape, dtype=bool)
+    n = cover.bins
+    for g in (0, 1):
+        for b in range(n):
+            lab, nxt = cover.layers[(g, b)][0], cover.layers[(g, (b + 1) % n)][0]
+            both = (lab > 0) & (nxt > 0)
+            keys = lab[both].astype(np.int64) * (int(nxt.max()) + 1) + nxt[both]
+            _, inverse, counts = np.unique(keys, return_inverse=True, return_counts=True)
+            ii, jj = np.nonzero(both)
+            few = counts[inverse] <= shared
+            window[ii[few], jj[few]] = True
+    if grow and window.any():
+        window = ndimage.binary_dilation(window, structure=_EIGHT, iterations=grow)
+    return window
+
+
+@dataclass
+class FineVoxels:
+    """The free fine voxels of the window, per grasp parity, and their components.
+
+    Attributes:
+        raster: the fine cells (half the coarse side, the same origin; ``2 x`` the shape).
+        split: fine bins per coarse bin.
+        bins: fine yaw bins (``split`` times the coarse ones); bin ``f`` holds yaws
+            ``-pi + [f, f + 1) * 2 pi / bins``.
+        window: the coarse cells refined.
+        keys: per parity, the sorted voxel keys ``f * cells + a * ny + b`` (fine cell
+            ``(a, b)``, ``cells`` the fine raster's cell count).
+        labels: per parity, each voxel's component (``0..count - 1``).
+        count: per parity, the components.
+    """
+
+    raster: FloorRaster
+    split: int
+    bins: int
+    window: np.ndarray
+    keys: dict[int, np.ndarray]
+    labels: dict[int, np.ndarray]
+    count: dict[int, int]
+
+    @property
+    def cells(self) -> int:
+        """Fine cells on the floor (the key's bin stride)."""
+        return self.raster.shape[0] * self.raster.shape[1]
+
+    def holding_keys(self, pose: Pose, grasp: int) -> np.ndarray:
+        """The voxel keys of ``grasp``'s layer whose closed cells hold ``pose``."""
+        (x0, y0), h = self.raster.origin, self.raster.cell
+        nx, ny = self.raster.shape
+        cells = {(i, j) for i in {math.floor((pose[0] - x0 + s) / h) for s in (-EPS, EPS)}
+                 for j in {math.floor((pose[1] - y0 + s) / h) for s in (-EPS, EPS)}
+                 if 0 <= i < nx and 0 <= j < ny}
+        box_bin = int((wrap_angle(pose[2]) + math.pi) // (2.0 * math.pi / self.bins)) % self.bins
+        f = (box_bin + (self.bins // 2) * (grasp // 2)) % self.bins
+        return np.array([f * self.cells + i * ny + j for i, j in sorted(cells)], dtype=np.int64)
+
+    def in_window(self, pose: Pose) -> bool:
+        """Whether ``pose``'s position lies in a refined coarse cell."""
+        (x0, y0), h = self.raster.origin, 2.0 * self.raster.cell
+        i, j = math.floor((pose[0] - x0) / h), math.floor((pose[1] - y0) / h)
+        return (0 <= i < self.window.shape[0] and 0 <= j < self.window.shape[1]
+                and bool(self.window[i, j]))
+
+    def covers(self, pose: Pose, grasp: int) -> bool:
+        """Whether the state may be free, for a pose in the window (``False`` proves not)."""
+        return bool((self.lookup(grasp % 2, self.holding_keys(pose, grasp)) >= 0).any())
+
+    def lookup(self, g: int, keys: np.ndarray) -> np.ndarray:
+        """Components of the voxels ``keys`` of parity ``g`` (``-1`` where not free)."""
+        have = self.keys[g]
+        pos = np.clip(np.searchsorted(have, keys), 0, max(0, len(have) - 1))
+        found = (have[pos] == keys) if len(have) else np.zeros(len(keys), dtype=bool)
+        return np.where(found, self.labels[g][pos] if len(have) else -1, -1)
+
+
+def fine_raster(coarse: FloorRaster) -> FloorRaster:
+    """The raster of half the coarse cell over the same cells (``2 x`` the shape)."""
+    (x0, y0), h = coarse.origin, coarse.cell
+    nx, ny = coarse.shape
+    fine = FloorRaster((x0, y0, x0 + nx * h, y0 + ny * h), min_cell=0.5 * h,
+                       max_cells=4 * nx * ny + 1)
+    fine.cell, fine.shape, fine.half_diag = 0.5 * h, (2 * nx, 2 * ny), 0.5 * coarse.half_diag
+    xs = x0 + (np.arange(2 * nx) + 0.5) * fine.cell
+    ys = y0 + (np.arange(2 * ny) + 0.5) * fine.cell
+    fine.gx, fine.gy = np.meshgrid(xs, ys, indexing="ij")
+    return fine
+
+
+def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
+                 resolution: float = FINE_RESOLUTION, tolerance: float, clearance: float,
+                 should_stop: Callable[[], bool] | None = None) -> FineVoxels:
+    """The free fine voxels of ``window`` and their components (module docstring).
+
+    ``should_stop`` is polled once per fine bin and raises
+    :class:`~pivot_ompl.errors.Interrupted`.
+    """
+    coarse = cover.raster
+    fine = fine_raster(coarse)
+    n = cover.bins
+    split = max(1, math.ceil(yaw_bins(scene, resolution) / n))
+    bins = split * n
+    w = 2.0 * math.pi / bins
+    bodies = {g: held_bodies(scene, g) for g in (0, 1)}
+    reach = max(p.reach for parts in bodies.values() for p in parts)
+    pad = math.ceil(reach / fine.cell) + 2
+    obstacles = obstacle_cells(fine, _near_pieces(cover, window, reach), should_stop)
+    sums = _padded_sums(obstacles, pad)
+    nx2, ny2 = fine.shape
+    stride = sums.shape[1]
+    keys: dict[int, np.ndarray] = {}
+    labels: dict[int, np.ndarray] = {}
+    count: dict[int, int] = {}
+    for g in (0, 1):
+        parts = bodies[g]
+        inside = [2.0 * p.reach * math.sin(0.25 * w) + tolerance + ROUND_OFF for p in parts]
+        clear = [d - clearance for d in inside]
+        found = []
+        for big in range(n):
+            lab = cover.layers[(g, big)][0]
+            ci, cj = np.nonzero((lab > 0) & window)
+            if not len(ci):
+                continue
+            deep = _deep(lab > 0, ci, cj)
+            a = (2 * ci[:, None] + np.array([0, 0, 1, 1])).ravel()
+            b = (2 * cj[:, None] + np.array([0, 1, 0, 1])).ravel()
+            test = ~np.repeat(deep, 4)
+            flat = (a + pad) * stride + b + pad  # prefix-sum row before cell (a, b)
+            for f in range(big * split, (big + 1) * split):
+                if should_stop is not None and should_stop():
+                    raise Interrupted("the refined raster cover")
+                yaw = -math.pi + (f + 0.5) * w
+                free = _free_voxels(fine, sums, pad, flat, a, b, test, scene.bounds, parts,
+                                    yaw, inside, clear)
+                found.append(f * (nx2 * ny2) + a[free] * ny2 + b[free])
+        keys[g] = np.sort(np.concatenate(found)) if found else np.zeros(0, dtype=np.int64)
+        count[g], labels[g] = _components(keys[g], nx2, ny2, bins)
+    return FineVoxels(fine, split, bins, window, keys, labels, count)
+
+
+def _near_pieces(cover: RasterCover, window: np.ndarray, reach: float) -> list[np.ndarray]:
+    """The obstacle pieces whose box comes within ``reach`` of the window's cells."""
+    if not cover.pieces or not window.any():
+        return []
+    (x0, y0), h = cover.raster.origin, cover.raster.cell
+    ii, jj = np.nonzero(window)
+    lo = np.array([x0 + ii.min() * h - reach, y0 + jj.min() * h - reach])
+    hi = np.array([x0 + (ii.max() + 1) * h + reach, y0 + (jj.max() + 1) * h + reach])
+    grown = ndimage.binary_dilation(window, structure=_EIGHT,
+                                    iterations=math.ceil(reach / h) + 1)
+    out = []
+    for p in cover.pieces:
+        pmin, pmax = p.min(axis=0), p.max(axis=0)
+        if np.any(pmax < lo) or np.any(pmin > hi):
+            continue
+        i0, j0 = (max(0, int((pmin[k] - o) // h)) for k, o in ((0, x0), (1, y0)))
+        i1 = min(window.shape[0], int((pmax[0] - x0) // h) + 1)
+        j1 = min(window.shape[1], int((pmax[1] - y0) // h) + 1)
+        if grown[i0:i1, j0:j1].any():
+            out.append(p)
+    return out
+
+
+def _deep(free: np.ndarray, ci: np.ndarray, cj: np.ndarray) -> np.ndarray:
+    """Whether every cell within :data:`DEEP` (chessboard) of each ``(ci, cj)`` is free."""
+    nx, ny = free.shape
+    out = np.full(len(ci), DEEP >= 0)
+    for di in range(-DEEP, DEEP + 1) if DEEP >= 0 else ():
+        ii = ci + di
+        ok_i = (ii >= 0) & (ii < nx)
+        ii = np.clip(ii, 0, nx - 1)
+        for dj in range(-DEEP, DEEP + 1):
+            jj = cj + dj
+            out &= ok_i & (jj >= 0) & (jj < ny) & free[ii, np.clip(jj, 0, ny - 1)]
+    return out
+
+
+def _padded_sums(obstacles: np.ndarray, pad: int) -> np.ndarray:
+    """Prefix sums along x of the obstacle cells, padded by ``pad`` empty cells all round."""
+    nx, ny = obstacles.shape
+    sums = np.zeros((nx + 1 + 2 * pad, ny + 2 * pad), dtype=np.int32)
+    sums[pad + 1:pad + 1 + nx, pad:pad + ny] = np.cumsum(obstacles, axis=0, dtype=np.int32)
+    sums[pad + 1 + nx:] = sums[pad + nx]
+    return sums
+
+
+def _free_voxels(fine: FloorRaster, sums: np.ndarray, pad: int, flat: np.ndarray,
+                 a: np.ndarray, b: np.ndarray, test: np.ndarray,
+                 bounds: tuple[float, float, float, float], parts: list,
+                 yaw: float, inside: list[float], clear: list[float]) -> np.ndarray:
+    """Which fine cells ``(a, b)`` are free at ``yaw`` (untested ones, ``~test``, are)."""
+    x0, y0, x1, y1 = bounds
+    lo, hi = [x0, y0], [x1, y1]
+    rows = []
+    for part, d_in, d_clear in zip(parts, inside, clear, strict=True):
+        e = part.offset_points(yaw, d_in)
+        if e is not None:
+            lo = [max(lo[0], x0 - e[:, 0].min()), max(lo[1], y0 - e[:, 1].min())]
+            hi = [min(hi[0], x1 - e[:, 0].max()), min(hi[1], y1 - e[:, 1].max())]
+        e = part.offset_points(yaw, d_clear + ROUND_OFF)
+        if e is not None:
+            rows += lattice_rows(e, fine.cell)
+    (fx, fy), h = fine.origin, fine.cell
+    xs, ys = fx + a * h, fy + b * h
+    free = ((xs <= hi[0] + EPS) & (xs + h >= lo[0] - EPS)
+            & (ys <= hi[1] + EPS) & (ys + h >= lo[1] - EPS))
+    idx = np.flatnonzero(free & test)
+    if rows and len(idx):
+        merged = merged_rows(rows)
+        stride = sums.shape[1]
+        top = np.array([(hi_ + 1) * stride + dj for dj, _, hi_ in merged], dtype=np.int64)
+        bottom = np.array([lo_ * stride + dj for dj, lo_, _ in merged], dtype=np.int64)
+        if max(max(-r[1], r[2] + 1) for r in merged) > pad or \
+                max(abs(r[0]) for r in merged) > pad:
+            raise ValueError("offset rows beyond the padding")
+        flat_sums = sums.ravel()
+        at = flat[idx]
+        hit = (flat_sums[at[None, :] + top[:, None]] > flat_sums[at[None, :] + bottom[:, None]])
+        free[idx[hit.any(axis=0)]] = False
+    return free
+
+
+def _components(keys: np.ndarray, nx: int, ny: int, bins: int) -> tuple[int, np.ndarray]:
+    """Components of the voxels ``keys`` (8-adjacent in a bin; one cell, consecutive bins)."""
+    if not len(keys):
+        return 0, np.zeros(0, dtype=np.int64)
+    cells = nx * ny
+    b = keys % ny
+    a = (keys % cells) // ny
+    f = keys // cells
+    src, dst = [], []
+
+    def join(target: np.ndarray, ok: np.ndarray) -> None:
+        pos = np.clip(np.searchsorted(keys, target), 0, len(keys) - 1)
+        hit = ok & (keys[pos] == target)
+        src.append(np.flatnonzero(hit))
+        dst.append(pos[hit])
+
+    join(keys + ny, a + 1 < nx)
+    join(keys + 1, b + 1 < ny)
+    join(keys + ny + 1, (a + 1 < nx) & (b + 1 < ny))
+    join(keys + ny - 1, (a + 1 < nx) & (b > 0))
+    join(np.where(f + 1 < bins, keys + cells, keys - (bins - 1) * cells),
+         np.ones(len(keys), dtype=bool))
+    s, d = np.concatenate(src), np.concatenate(dst)
+    graph = coo_matrix((np.ones(len(s), dtype=np.int8), (s, d)), shape=(len(keys),) * 2)
+    count, labels = connected_components(graph, directed=False)
+    return int(count), labels.astype(np.int64)

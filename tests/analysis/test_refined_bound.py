@@ -1,0 +1,94 @@
+"""The raster bound refined round its necks: sound (every valid state covered, never above the
+exact polygons' bound) and stronger where the coarse cells lose a passage."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from factories import shipped
+
+from pivot_ompl.analysis.raster_bound import raster_lower_bound
+from pivot_ompl.analysis.raster_cover import raster_cover
+from pivot_ompl.analysis.raster_refine import neck_window, refine_cover, turn_neck_window
+from pivot_ompl.analysis.refined_bound import refined_lower_bound
+from pivot_ompl.analysis.regrasp_bound import regrasp_lower_bound
+from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.generate import generate, rotate_scene
+from pivot_ompl.validity.certify import SWEEP_TOLERANCE
+from pivot_ompl.validity.collision import KEEP_CLEARANCE
+
+
+@pytest.mark.parametrize(("name", "turn", "seed", "kind"),
+                         [("slot", None, 1, "necks"), ("fig10", 0.7, 2, "necks"),
+                          ("door", -0.4, 5, "turns")])
+def test_the_fine_voxels_hold_every_valid_state_in_the_window(name, turn, seed, kind):
+    """Valid states sampled in the refined cells, many within 3 cm of contact: each lies in a
+    free fine voxel of its grasp (a blocked voxel would be a false proof)."""
+    scene = shipped(name) if turn is None else rotate_scene(shipped(name), turn)
+    cover = raster_cover(scene, cell=0.1)
+    assert cover is not None
+    window = neck_window(cover) if kind == "necks" else turn_neck_window(cover)
+    fine = refine_cover(scene, cover, window, tolerance=SWEEP_TOLERANCE,
+                        clearance=KEEP_CLEARANCE)
+    ck = PivotChecker(scene, seed=0)
+    rng = np.random.default_rng(seed)
+    ii, jj = np.nonzero(window)
+    (x0, y0), h = cover.raster.origin, cover.raster.cell
+    near = valid = 0
+    for _ in range(3000):
+        k = int(rng.integers(len(ii)))
+        q = (x0 + (ii[k] + rng.random()) * h, y0 + (jj[k] + rng.random()) * h,
+             float(rng.uniform(-math.pi, math.pi)))
+        assert fine.in_window(q)
+        for g in range(4):
+            c = ck.clearance(q, g)
+            if c > 0:
+                valid += 1
+                near += c < 0.03
+                assert fine.covers(q, g), (q, g, c)
+    assert valid > 40 and near > 5
+
+
+def _case(seed: int):
+    rng = np.random.default_rng(seed)
+    family = ("walls", "corridor", "building")[seed % 3]
+    scene = generate(family, seed=int(rng.integers(0, 50))).scene
+    return rotate_scene(scene, float(rng.uniform(-math.pi, math.pi)))
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_the_refined_bound_lies_between_the_coarse_and_the_exact_ones(seed):
+    scene = _case(seed)
+    exact = regrasp_lower_bound(scene)
+    coarse = raster_lower_bound(scene)
+    cover = raster_cover(scene, cell=0.1)
+    refined = refined_lower_bound(scene, cover)
+    if refined is None:  # no neck: nothing refined
+        return
+    assert refined.solvable is not None
+    if exact.solvable:
+        assert refined.solvable and coarse.regrasps <= refined.regrasps <= exact.regrasps
+        assert refined.shortest_route <= exact.shortest_route + 1e-6 or \
+            refined.shortest_route <= math.dist(scene.start[:2], scene.goal[:2]) + 1e-9
+    elif refined.solvable is False:
+        assert exact.solvable is False
+
+
+def test_the_refinement_finds_the_slot_the_coarse_cells_lose():
+    """The shipped slot: the exact bound is 1; the 10 cm raster says 0; refined round its
+    necks (5 cm cells, bins of 1 cm rotation erosion) it says 1."""
+    scene = shipped("slot")
+    assert raster_lower_bound(scene).regrasps == 0
+    refined = refined_lower_bound(scene, raster_cover(scene, cell=0.1))
+    assert refined is not None and refined.regrasps == 1 == regrasp_lower_bound(scene).regrasps
+    assert refined.shortest_route >= math.dist(scene.start[:2], scene.goal[:2]) - 1e-9
+
+
+def test_stopping_gives_nothing_and_an_empty_window_too():
+    scene = shipped("slot")
+    cover = raster_cover(scene, cell=0.1)
+    assert refined_lower_bound(scene, cover, should_stop=lambda: True) is None
+    empty = np.zeros(cover.raster.shape, dtype=bool)
+    assert refined_lower_bound(scene, cover, window=empty) is None
