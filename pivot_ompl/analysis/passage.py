@@ -27,6 +27,7 @@ import shapely
 from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.analysis.bound_cache import lower_bound
+from pivot_ompl.analysis.passage_reach import cell_budget, raster_cell, share_region
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.scene import Scene
@@ -201,6 +202,10 @@ def _blocking_passage(scene: Scene, clearance: float,
         return None
     if should_stop is not None and should_stop():
         raise Interrupted("the passage search")
+    s_xy, g_xy = (scene.start[0], scene.start[1]), (scene.goal[0], scene.goal[1])
+    if share_region(walls, lines, scene.bounds, s_xy, g_xy, cell=raster_cell(need), seal=SEAL,
+                    max_cells=cell_budget(len(walls) + len(lines)), should_stop=should_stop):
+        return None  # one region: the union below would say so, slower
     x0, y0, x1, y1 = scene.bounds
     solid = shapely.union_all(list(walls) + list(shapely.buffer(lines, SEAL)))
     free = shapely.box(x0, y0, x1, y1).difference(solid)
@@ -208,8 +213,7 @@ def _blocking_passage(scene: Scene, clearance: float,
     if should_stop is not None and should_stop():
         raise Interrupted("the passage search")
     rtree = shapely.STRtree(regions)
-    start = _region_of(regions, rtree, (scene.start[0], scene.start[1]))
-    goal = _region_of(regions, rtree, (scene.goal[0], scene.goal[1]))
+    start, goal = _region_of(regions, rtree, s_xy), _region_of(regions, rtree, g_xy)
     if start is None or goal is None or start == goal:
         return None
     touch_gap, touch_region = rtree.query(shapely.buffer(lines, 4.0 * SEAL),
