@@ -242,8 +242,36 @@ def _blocking_passage(scene: Scene, clearance: float,
     return Passage(None, None, 0.0, box_need, need)
 
 
-def explain_no_plan(scene: Scene, *, should_stop: Callable[[], bool] | None = None
-                    ) -> tuple[str, Passage] | None:
+class PassageOnce:
+    """One scene's :func:`blocking_passage`, searched once and shared.
+
+    :func:`pivot_ompl.api.plan` asks for the passage before the search
+    (:func:`explain_no_plan`) and again in the late proof
+    (:class:`~pivot_ompl.analysis.late_proof.LateProof`); one instance answers both. A
+    search that ``should_stop`` may have cut short is not kept (asked again, it runs again).
+
+    Args:
+        scene: the scene whose passage is searched.
+    """
+
+    def __init__(self, scene: Scene) -> None:
+        """Nothing searched yet."""
+        self.scene = scene
+        self._known = False
+        self._passage: Passage | None = None
+
+    def __call__(self, *, should_stop: Callable[[], bool] | None = None) -> Passage | None:
+        """The passage (as :func:`blocking_passage`), searched the first time only."""
+        if self._known:
+            return self._passage
+        passage = blocking_passage(self.scene, should_stop=should_stop)
+        if passage is not None or should_stop is None or not should_stop():
+            self._known, self._passage = True, passage
+        return passage
+
+
+def explain_no_plan(scene: Scene, *, should_stop: Callable[[], bool] | None = None,
+                    passages: PassageOnce | None = None) -> tuple[str, Passage] | None:
     """Why ``scene`` has no plan, when a passage blocks it and the relaxation proves it.
 
     First the passage (:func:`blocking_passage`, milliseconds): when the start's and the
@@ -252,8 +280,10 @@ def explain_no_plan(scene: Scene, *, should_stop: Callable[[], bool] | None = No
     answer is ``None``. Otherwise the regrasp bound's relaxation runs: when it joins no path
     no plan exists, and the answer is the passage's reason (one line) and the passage;
     ``None`` when it joins one or ``should_stop`` stopped it (nothing is proven then).
+    ``passages``: the scene's passage search to share (:class:`PassageOnce`), if any.
     """
-    passage = blocking_passage(scene, should_stop=should_stop)
+    search = passages if passages is not None else PassageOnce(scene)
+    passage = search(should_stop=should_stop)
     if passage is None:
         return None
     bound = lower_bound(scene, should_stop=should_stop)

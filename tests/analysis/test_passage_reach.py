@@ -9,7 +9,7 @@ from factories import make_scene, shipped
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from pivot_ompl.analysis.passage import blocking_passage
+from pivot_ompl.analysis.passage import PassageOnce, blocking_passage
 from pivot_ompl.analysis.passage_reach import share_region
 
 SEAL = 1e-6
@@ -96,3 +96,11 @@ def test_the_shipped_scenes_keep_their_answers():
     assert blocking_passage(shipped("fig10")) is None
     p = blocking_passage(shipped("enclosed"))
     assert p is not None and p.center is None
+
+
+def test_the_passage_is_searched_once_unless_a_search_was_stopped():
+    once = PassageOnce(_pieced_wall(2.0, 0.5, 1))
+    assert once(should_stop=lambda: True) is None  # stopped: nothing known, nothing kept
+    p = once()
+    assert p is not None and p.width == pytest.approx(0.5)
+    assert once(should_stop=lambda: True) is p  # known: not searched again
