@@ -192,6 +192,10 @@ def _blocking_passage(scene: Scene, clearance: float,
     widths = shapely.length(lines)
     gaps = widths > 0.0
     a, b, lines, widths = a[gaps], b[gaps], lines[gaps], widths[gaps]
+    s_xy, g_xy = (scene.start[0], scene.start[1]), (scene.goal[0], scene.goal[1])
+    if share_region(walls, lines, scene.bounds, s_xy, g_xy, cell=raster_cell(need), seal=SEAL,
+                    max_cells=cell_budget(len(walls) + len(lines)), should_stop=should_stop):
+        return None  # one region (clear of every gap, so of those kept below): no union needed
     # a gap whose segment meets a third wall is not needed: that wall's gaps to both ends are
     # shorter, so closed too, and seal the same way (on cluttered maps most gaps are such)
     hits = np.bincount(tree.query(lines, predicate="intersects")[0], minlength=len(lines))
@@ -202,10 +206,6 @@ def _blocking_passage(scene: Scene, clearance: float,
         return None
     if should_stop is not None and should_stop():
         raise Interrupted("the passage search")
-    s_xy, g_xy = (scene.start[0], scene.start[1]), (scene.goal[0], scene.goal[1])
-    if share_region(walls, lines, scene.bounds, s_xy, g_xy, cell=raster_cell(need), seal=SEAL,
-                    max_cells=cell_budget(len(walls) + len(lines)), should_stop=should_stop):
-        return None  # one region: the union below would say so, slower
     x0, y0, x1, y1 = scene.bounds
     solid = shapely.union_all(list(walls) + list(shapely.buffer(lines, SEAL)))
     free = shapely.box(x0, y0, x1, y1).difference(solid)

@@ -16,7 +16,9 @@ the start to the goal that keeps clear of every wall and every gap segment:
 
 A start and a goal joined to one component are joined by a clear polyline, so they lie in
 one region of the floor less the walls and the sealed gaps (the answer the union would
-give). ``False`` says nothing: the union decides.
+give). Given more gaps than the search seals (every gap, before it drops those that meet a
+third wall), the answer holds for the gaps it seals: a polyline clear of all is clear of
+those. ``False`` says nothing: the union decides.
 """
 
 from __future__ import annotations
@@ -29,8 +31,10 @@ import shapely
 from scipy import ndimage
 from shapely.geometry.base import BaseGeometry
 
-#: Most raster cells tried; a larger floor goes straight to the union.
-MAX_CELLS = 400_000
+#: Most raster cells tried (about 0.15 s); a larger floor goes straight to the union (a
+#: 56 x 61 m office map of 5049 pieces, 70 000 cells, whose start and goal lie apart: the
+#: raster would cost 0.26 s before the gap count ends the search).
+MAX_CELLS = 50_000
 #: Most raster cells tried per wall and gap: the raster costs about 3 us a cell, the union
 #: grows faster than its pieces (0.07 s for 364 on a house, 0.7 s for 1866 on a warehouse,
 #: 0.03 s for the 195 of a long row of 32 rooms, whose bounds hold 150 000 cells).
