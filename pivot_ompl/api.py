@@ -13,7 +13,7 @@ from typing import Any
 from ompl import util as ou
 
 from pivot_ompl.analysis.late_proof import LateProof, NoPlan
-from pivot_ompl.analysis.passage import Passage, explain_no_plan
+from pivot_ompl.analysis.passage import Passage, PassageOnce, explain_no_plan
 from pivot_ompl.analysis.plan_bounds import plan_bounds
 from pivot_ompl.analysis.turning import TurningPlace
 from pivot_ompl.base.path_conversion import path_to_plan
@@ -196,9 +196,10 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     except Interrupted as e:
         return _stopped_in_setup(scene, planner, seed, time_limit, e.what,
                                  time.perf_counter() - t0)
+    passages = PassageOnce(scene)  # searched once, for the check here and the late proof
     if bound:
         proof = explain_no_plan(scene, should_stop=lambda: time.monotonic() >= started +
-                                PROOF_SHARE * time_limit)
+                                PROOF_SHARE * time_limit, passages=passages)
         if proof is not None:
             return _infeasible(scene, planner, seed, time_limit, NoPlan(proof[0], proof[1]),
                                {"setup": time.perf_counter() - t0, "solve": 0.0})
@@ -210,7 +211,8 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
         if bound:  # a search slow to find a path asks once whether there is one
             late = p.proof = LateProof(scene, begin=started + LATE_PROOF_BEGIN * time_limit,
                                        end=started + LATE_PROOF_END * time_limit,
-                                       explain_end=started + EXPLAIN_END * time_limit)
+                                       explain_end=started + EXPLAIN_END * time_limit,
+                                       passages=passages)
     t1 = time.perf_counter()
     name = _solve(problem.setup, time_limit - _share(time_limit, FINISH_SHARE, FINISH_MAX),
                   started)

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 from pivot_ompl.analysis.bound_cache import cached_bound
 from pivot_ompl.analysis.bound_levels import CELLS, exhaustive_estimate
-from pivot_ompl.analysis.passage import Passage, assembly_width, blocking_passage
+from pivot_ompl.analysis.passage import Passage, PassageOnce, assembly_width
 from pivot_ompl.analysis.turning import TurningPlace, turning_place
 from pivot_ompl.analysis.turning_raster import raster_turning_place
 from pivot_ompl.scene import Scene
@@ -75,6 +75,8 @@ class LateProof:
         end: clock time at which the bound is stopped (nothing proven then).
         explain_end: clock time at which the explanation is stopped (default ``end``).
         clock: the clock of those times (``time.monotonic``).
+        passages: the scene's passage search, shared with the check before the search
+            (:class:`~pivot_ompl.analysis.passage.PassageOnce`); default: its own.
 
     Attributes:
         proof: the proof, once found; ``None`` before, or when nothing was proven.
@@ -83,9 +85,11 @@ class LateProof:
 
     def __init__(self, scene: Scene, *, begin: float, end: float,
                  explain_end: float | None = None,
-                 clock: Callable[[], float] = time.monotonic) -> None:
+                 clock: Callable[[], float] = time.monotonic,
+                 passages: PassageOnce | None = None) -> None:
         """Nothing tried yet."""
         self.scene, self.begin, self.end = scene, begin, end
+        self.passages = passages if passages is not None else PassageOnce(scene)
         self.explain_end = end if explain_end is None else explain_end
         self.clock = clock
         self.proof: NoPlan | None = None
@@ -110,7 +114,7 @@ class LateProof:
         if place is None and known is None:
             log.debug("late proof: nothing proven in %.2f s", self.clock() - now)
             return False
-        passage = blocking_passage(self.scene, should_stop=self._stop(self.explain_end))
+        passage = self.passages(should_stop=self._stop(self.explain_end))
         if passage is not None:  # a narrow passage says more than where to turn
             self.proof = NoPlan(passage.reason, passage=passage)
         else:

@@ -27,6 +27,7 @@ import shapely
 from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.analysis.bound_cache import lower_bound
+from pivot_ompl.analysis.passage_reach import cell_budget, raster_cell, share_region
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.scene import Scene
@@ -191,6 +192,10 @@ def _blocking_passage(scene: Scene, clearance: float,
     widths = shapely.length(lines)
     gaps = widths > 0.0
     a, b, lines, widths = a[gaps], b[gaps], lines[gaps], widths[gaps]
+    s_xy, g_xy = (scene.start[0], scene.start[1]), (scene.goal[0], scene.goal[1])
+    if share_region(walls, lines, scene.bounds, s_xy, g_xy, cell=raster_cell(need), seal=SEAL,
+                    max_cells=cell_budget(len(walls) + len(lines)), should_stop=should_stop):
+        return None  # one region (clear of every gap, so of those kept below): no union needed
     # a gap whose segment meets a third wall is not needed: that wall's gaps to both ends are
     # shorter, so closed too, and seal the same way (on cluttered maps most gaps are such)
     hits = np.bincount(tree.query(lines, predicate="intersects")[0], minlength=len(lines))
@@ -208,8 +213,7 @@ def _blocking_passage(scene: Scene, clearance: float,
     if should_stop is not None and should_stop():
         raise Interrupted("the passage search")
     rtree = shapely.STRtree(regions)
-    start = _region_of(regions, rtree, (scene.start[0], scene.start[1]))
-    goal = _region_of(regions, rtree, (scene.goal[0], scene.goal[1]))
+    start, goal = _region_of(regions, rtree, s_xy), _region_of(regions, rtree, g_xy)
     if start is None or goal is None or start == goal:
         return None
     touch_gap, touch_region = rtree.query(shapely.buffer(lines, 4.0 * SEAL),
@@ -238,8 +242,36 @@ def _blocking_passage(scene: Scene, clearance: float,
     return Passage(None, None, 0.0, box_need, need)
 
 
-def explain_no_plan(scene: Scene, *, should_stop: Callable[[], bool] | None = None
-                    ) -> tuple[str, Passage] | None:
+class PassageOnce:
+    """One scene's :func:`blocking_passage`, searched once and shared.
+
+    :func:`pivot_ompl.api.plan` asks for the passage before the search
+    (:func:`explain_no_plan`) and again in the late proof
+    (:class:`~pivot_ompl.analysis.late_proof.LateProof`); one instance answers both. A
+    search that ``should_stop`` may have cut short is not kept (asked again, it runs again).
+
+    Args:
+        scene: the scene whose passage is searched.
+    """
+
+    def __init__(self, scene: Scene) -> None:
+        """Nothing searched yet."""
+        self.scene = scene
+        self._known = False
+        self._passage: Passage | None = None
+
+    def __call__(self, *, should_stop: Callable[[], bool] | None = None) -> Passage | None:
+        """The passage (as :func:`blocking_passage`), searched the first time only."""
+        if self._known:
+            return self._passage
+        passage = blocking_passage(self.scene, should_stop=should_stop)
+        if passage is not None or should_stop is None or not should_stop():
+            self._known, self._passage = True, passage
+        return passage
+
+
+def explain_no_plan(scene: Scene, *, should_stop: Callable[[], bool] | None = None,
+                    passages: PassageOnce | None = None) -> tuple[str, Passage] | None:
     """Why ``scene`` has no plan, when a passage blocks it and the relaxation proves it.
 
     First the passage (:func:`blocking_passage`, milliseconds): when the start's and the
@@ -248,8 +280,10 @@ def explain_no_plan(scene: Scene, *, should_stop: Callable[[], bool] | None = No
     answer is ``None``. Otherwise the regrasp bound's relaxation runs: when it joins no path
     no plan exists, and the answer is the passage's reason (one line) and the passage;
     ``None`` when it joins one or ``should_stop`` stopped it (nothing is proven then).
+    ``passages``: the scene's passage search to share (:class:`PassageOnce`), if any.
     """
-    passage = blocking_passage(scene, should_stop=should_stop)
+    search = passages if passages is not None else PassageOnce(scene)
+    passage = search(should_stop=should_stop)
     if passage is None:
         return None
     bound = lower_bound(scene, should_stop=should_stop)
