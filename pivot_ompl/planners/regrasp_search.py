@@ -47,7 +47,7 @@ from pivot_ompl.planners.objects.samplers import PoseSampler
 from pivot_ompl.planners.objects.visibility import VisibilityRoadmap
 from pivot_ompl.planners.regrasp_stats import RegraspStats
 from pivot_ompl.planners.routes.lattice import TransferLattice
-from pivot_ompl.planners.routes.regrasp_lattice import regrasp_lattice_path
+from pivot_ompl.planners.routes.regrasp_lattice import RegraspLatticeStats, regrasp_lattice_path
 from pivot_ompl.se2 import Pose
 
 Stop = Callable[[], bool]
@@ -217,10 +217,13 @@ class RegraspSearch:
             return []
         ends = [[g for g in cfg.grasps if ck.state_valid(q, g)
                  and (q is q1 or self.start_grasp in (None, g))] for q in (q0, q1)]
+        t0, figures, s = time.perf_counter(), RegraspLatticeStats(), self.stats
         found = regrasp_lattice_path(ck, self._lattice(), cfg.cost, q0, q1, start_grasps=ends[0],
                                      goal_grasps=ends[1], grasps=cfg.grasps,
                                      run_spacing=cfg.optimiser.run_spacing,
-                                     should_stop=should_stop)
+                                     should_stop=should_stop, stats=figures)
+        s.regrasp_lattice_solved, s.regrasp_lattice_changes = bool(found.path), figures.changes
+        s.time_regrasp_lattice += time.perf_counter() - t0
         return found.path or []
 
     def _lattice(self) -> TransferLattice:

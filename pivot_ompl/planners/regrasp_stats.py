@@ -11,7 +11,19 @@ from dataclasses import dataclass, field
 
 @dataclass
 class RegraspStats:
-    """Figures of one run (roadmap sizes, counts, seconds per stage)."""
+    """Figures of one run (roadmap sizes, counts, seconds per stage).
+
+    Attributes:
+        single_grasp_solved, single_grasp_by: whether a regrasp-free try
+            (:mod:`~.direct`) gave the path, and which (``"rrt"``, ``"lattice"``, ``""``).
+        regrasp_lattice_solved: whether the path came from the regrasp lattice
+            (:mod:`~.routes.regrasp_lattice`: regrasps where the held assembly's lattice
+            components meet), before any object roadmap was grown (then
+            ``object_nodes`` is 0).
+        regrasp_lattice_changes: component changes (regrasps) of the regrasp lattice's
+            coarse plan; ``-1`` when it found none or was not tried.
+        time_regrasp_lattice: seconds spent in the regrasp lattice's try.
+    """
 
     object_nodes: int = 0
     guards: int = 0
@@ -40,3 +52,6 @@ class RegraspStats:
     time_routes: float = 0.0
     refined: int = 0
     regrasps_turned: int = 0
+    regrasp_lattice_solved: bool = False
+    regrasp_lattice_changes: int = -1
+    time_regrasp_lattice: float = 0.0
