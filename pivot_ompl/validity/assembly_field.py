@@ -18,6 +18,15 @@ obstacle piece are convex hulls of vertex differences
 (:func:`~pivot_ompl.validity.minkowski.meeting_edges`, ``certify=False``: the same regions
 to rounding). A guide for route planning, not a certificate: motions are certified by the
 pivot checker.
+
+**Half the sums.** The yaws come in opposite pairs (``FIELD_YAWS[k + 16]`` is
+``FIELD_YAWS[k] + pi``): turned by pi, a body is its point reflection, and the sum of a
+centrally symmetric piece (a wall box) with the reflected body is the point reflection of
+its sum with the body about the piece's centre (:func:`reflected`). So the sums of the
+first yaw of a pair are kept until its opposite is rasterised, which reflects those of the
+symmetric pieces (an affine map of the edges, the same regions to rounding: a grid point
+exactly on an edge, e.g. of an axis-aligned wall at yaw pi, whose sine is 1e-16 and not 0,
+may fall either side) and sums only the others.
 """
 
 from __future__ import annotations
@@ -34,7 +43,7 @@ from pivot_ompl.se2 import GRID_HEADING_YAWS as HEADING_YAWS
 from pivot_ompl.se2 import Pose
 from pivot_ompl.validity.collision import CollisionWorld
 from pivot_ompl.validity.footprints import obstacle_pieces
-from pivot_ompl.validity.minkowski import meeting_edges
+from pivot_ompl.validity.minkowski import EdgeSet, meeting_edges
 from pivot_ompl.validity.rasters import grid_union
 
 #: The field's yaws: the 16 headings and the 16 half-way yaws, in that order interleaved
@@ -42,6 +51,37 @@ from pivot_ompl.validity.rasters import grid_union
 FIELD_YAWS: tuple[float, ...] = tuple(
     y for a, b in zip(HEADING_YAWS, HEADING_YAWS[1:] + HEADING_YAWS[:1], strict=True)
     for y in (a, a + 0.5 * ((b - a + math.pi) % (2 * math.pi) - math.pi)))
+
+
+def symmetric_centres(pieces: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """Each piece's vertex mean ``(n, 2)``, and whether the piece is its reflection about it.
+
+    A piece whose vertices, reflected about their mean, are its vertices again (within
+    1e-9 of its size) is centrally symmetric about that point (a rectangle, a wall box).
+    """
+    centres = np.zeros((len(pieces), 2))
+    symmetric = np.zeros(len(pieces), dtype=bool)
+    for i, piece in enumerate(pieces):
+        c = piece.mean(axis=0)
+        gap = np.abs((2.0 * c - piece)[:, None, :] - piece[None, :, :]).max(axis=2).min(axis=1)
+        centres[i] = c
+        symmetric[i] = gap.max() <= 1e-9 * max(1.0, float(np.abs(piece - c).max()))
+    return centres, symmetric
+
+
+def reflected(edges: EdgeSet, centres: np.ndarray) -> EdgeSet:
+    """Each polygon of ``edges`` reflected through its point of ``centres`` (``(n, 2)``).
+
+    A point reflection is a rotation by pi: counter-clockwise edges stay counter-clockwise.
+    """
+    c = 2.0 * centres[:, None, :]
+    b = edges.bounds
+    cx, cy = 2.0 * centres[:, 0], 2.0 * centres[:, 1]
+    bounds = np.column_stack([cx - b[:, 2], cy - b[:, 3], cx - b[:, 0], cy - b[:, 1]])
+    empty = ~np.isfinite(b[:, 0])
+    bounds[empty] = b[empty]
+    return EdgeSet(np.where(edges.used[..., None], c - edges.start, 0.0),
+                   np.where(edges.used[..., None], c - edges.end, 0.0), edges.used, bounds)
 
 
 def assembly_bodies(model: BoxGraspModel, grasp: int, clearance: float) -> list[np.ndarray]:
@@ -89,6 +129,44 @@ class AssemblyField:
         self._bodies = {p: assembly_bodies(model, p, world.clearance) for p in (0, 1)}
         self._corners = {p: np.concatenate(assembly_bodies(model, p, 0.0)) for p in (0, 1)}
         self._fits: dict[tuple[int, int], np.ndarray] = {}
+        self._centres, self._symmetric = symmetric_centres(self._pieces)
+        #: the sums of a yaw kept for its opposite (module docstring), by (parity, k)
+        self._kept: dict[tuple[int, int], EdgeSet] = {}
+        self.sums_reflected = 0  #: pieces' sums reflected rather than summed (a figure)
+        self._area: np.ndarray | None = None
+
+    @property
+    def pieces(self) -> list[np.ndarray]:
+        """The obstacle pieces the sums cover (all, or those near :meth:`restrict`'s area)."""
+        return self._pieces
+
+    def restrict(self, area: np.ndarray) -> None:
+        """Answer only within ``area`` (``(nx, ny)`` booleans): elsewhere nothing fits.
+
+        The obstacle pieces farther from every position of ``area`` than the assembly's
+        bodies reach (at any yaw) cannot meet an assembly there: they are left out of the
+        sums and rasters (a route planner whose states lie in the region the box can reach
+        pays for the pieces round that region, not for the whole floor's). The rasters are
+        then exactly those of the whole floor within ``area``. Forgets the rasters made so far.
+        """
+        reach = max(float(np.hypot(*np.concatenate(self._bodies[p]).T).max()) for p in (0, 1))
+        boxes = np.array([[*q.min(axis=0), *q.max(axis=0)] for q in self._pieces]
+                         ).reshape(-1, 4)
+        b, res = self.world.bounds, self.resolution
+        i0 = np.clip(np.ceil((boxes[:, 0] - reach - b[0]) / res), 0, self.nx).astype(int)
+        i1 = np.clip(np.floor((boxes[:, 2] + reach - b[0]) / res) + 1, 0, self.nx).astype(int)
+        j0 = np.clip(np.ceil((boxes[:, 1] - reach - b[1]) / res), 0, self.ny).astype(int)
+        j1 = np.clip(np.floor((boxes[:, 3] + reach - b[1]) / res) + 1, 0, self.ny).astype(int)
+        total = np.zeros((self.nx + 1, self.ny + 1), dtype=np.int64)  # summed-area table
+        total[1:, 1:] = np.cumsum(np.cumsum(area, axis=0), axis=1)
+        near = (total[i1, j1] - total[i0, j1] - total[i1, j0] + total[i0, j0]) > 0
+        near &= (i0 < i1) & (j0 < j1)
+        keep = np.flatnonzero(near)
+        self._pieces = [self._pieces[i] for i in keep]
+        self._centres, self._symmetric = self._centres[keep], self._symmetric[keep]
+        self._area = np.asarray(area, dtype=bool)
+        self._fits.clear()
+        self._kept.clear()
 
     def position(self, ix: int, iy: int) -> tuple[float, float]:
         """The floor point of grid position ``(ix, iy)`` (m)."""
@@ -129,14 +207,42 @@ class AssemblyField:
             & ((ys + corners[:, 1].min() > b[1]) & (ys + corners[:, 1].max() < b[3]))[None, :]
         n = len(self._pieces)
         if n:
-            bodies = [body @ rot for body in self._bodies[parity]]
+            edges = self._sums(parity, k, rot, should_stop)
+            hit = grid_union(edges, xs, ys, groups=np.zeros(len(edges.used), dtype=int),
+                             n_groups=1)[0]
+            ok &= ~hit
+        if self._area is not None:
+            ok &= self._area
+        return ok
+
+    def _sums(self, parity: int, k: int, rot: np.ndarray,
+              should_stop: Callable[[], bool] | None) -> EdgeSet:
+        """Every (piece, body) sum at yaw ``k`` (polygon ``j * n + i``: body ``j``, piece ``i``).
+
+        Reflected from the opposite yaw's where those are kept (module docstring), else
+        summed and kept for the opposite yaw (unless it is rasterised already).
+        """
+        n, half = len(self._pieces), len(FIELD_YAWS) // 2
+        bodies = [body @ rot for body in self._bodies[parity]]
+        opposite = (parity, (k + half) % len(FIELD_YAWS))
+        kept = self._kept.pop(opposite, None)
+        if kept is None:
             edges = meeting_edges(self._pieces * len(bodies),
                                   [bd for bd in bodies for _ in range(n)],
                                   should_stop=should_stop, certify=False)
-            hit = grid_union(edges, xs, ys, groups=np.zeros(n * len(bodies), dtype=int),
-                             n_groups=1)[0]
-            ok &= ~hit
-        return ok
+            if opposite not in self._fits:
+                self._kept[(parity, k)] = edges
+            return edges
+        rows = np.tile(self._symmetric, len(bodies))
+        out = reflected(kept, np.tile(self._centres, (len(bodies), 1)))
+        self.sums_reflected += int(rows.sum())
+        todo = np.flatnonzero(~rows)
+        if len(todo):  # the pieces that are not their own reflection: summed
+            own = meeting_edges([self._pieces[i % n] for i in todo],
+                                [bodies[i // n] for i in todo],
+                                should_stop=should_stop, certify=False)
+            out = _replaced(out, todo, own)
+        return out
 
     def state_fits(self, ix: int, iy: int, k: int, parity: int) -> bool:
         """Whether grid state ``(ix, iy)`` at field yaw ``k`` is free for ``parity``."""
@@ -149,3 +255,17 @@ class AssemblyField:
         fx, fy = self.cell(car[0], car[1])
         k = int(round((car[2] % (2 * math.pi)) / (2 * math.pi) * len(FIELD_YAWS)))
         return self.state_fits(int(round(fx)), int(round(fy)), k, parity)
+
+
+def _replaced(edges: EdgeSet, rows: np.ndarray, part: EdgeSet) -> EdgeSet:
+    """``edges`` with polygons ``rows`` replaced by ``part``'s (padded to the wider)."""
+    w = max(edges.start.shape[1], part.start.shape[1])
+
+    def pad(a: np.ndarray) -> np.ndarray:
+        return np.pad(a, [(0, 0), (0, w - a.shape[1])] + [(0, 0)] * (a.ndim - 2))
+
+    start, end, used = pad(edges.start), pad(edges.end), pad(edges.used)
+    start[rows], end[rows], used[rows] = pad(part.start), pad(part.end), pad(part.used)
+    bounds = edges.bounds.copy()
+    bounds[rows] = part.bounds
+    return EdgeSet(start, end, used, bounds)

@@ -79,6 +79,8 @@ class TransferLattice:
         resolution = max(resolution, math.sqrt((x1 - x0) * (y1 - y0) / MAX_CELLS))
         self.resolution, self.max_expansions, self.weight = resolution, max_expansions, weight
         self.field = AssemblyField(checker.model, checker.world, resolution)
+        if region is not None:  # the field pays for the pieces round the region alone
+            self.field.restrict(self.in_region())
         alpha = checker.scene.alpha_max
         m = checker.model
         self._push = {g: costs.push_rate(m.edge_half_length(g), alpha) for g in range(4)}
