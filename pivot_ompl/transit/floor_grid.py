@@ -119,6 +119,7 @@ class FloorGrid:
         #: per index into :data:`OPEN_YAWS`, every piece's sum with the grown body at that
         #: yaw (summed once, shared by :meth:`fits_range` and :meth:`open_block`)
         self._edges: dict[int, EdgeSet] = {}
+        self._all_edges: EdgeSet | None = None  # those of every yaw together (the tiles')
         #: farthest a point of the grown body lies from the robot pose (m)
         self._body_reach = float(np.hypot(self.grown_outline[:, 0],
                                           self.grown_outline[:, 1]).max())
@@ -175,9 +176,13 @@ class FloorGrid:
         pb = self._piece_boxes
         near = np.flatnonzero((pb[:, 0] <= xs[-1] + r) & (pb[:, 2] >= xs[0] - r)
                               & (pb[:, 1] <= ys[-1] + r) & (pb[:, 3] >= ys[0] - r))
-        k = len(OPEN_YAWS)
-        meets = grid_union(self._yaw_edges(list(range(k)), near, should_stop), xs, ys,
-                           groups=np.repeat(np.arange(k), len(near)), n_groups=k) \
+        k, n = len(OPEN_YAWS), len(self.pieces)
+        if self._all_edges is None:  # every yaw's sums in one array, for the tiles' rows
+            self._all_edges = self._yaw_edges(list(range(k)), None, should_stop)
+        rows = (np.arange(k)[:, None] * n + near[None, :]).ravel()
+        e = self._all_edges
+        meets = grid_union(EdgeSet(e.start[rows], e.end[rows], e.used[rows], e.bounds[rows]),
+                           xs, ys, groups=np.repeat(np.arange(k), len(near)), n_groups=k) \
             if len(near) else np.zeros((k, len(xs), len(ys)), dtype=bool)
         return np.logical_or.reduce(self._inside(list(range(k)), xs, ys, meets), axis=0)
 
