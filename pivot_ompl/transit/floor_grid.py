@@ -152,7 +152,7 @@ class FloorGrid:
         todo = [k for k in range(k0, k1) if k not in self._fits]
         if todo:
             n = len(self.pieces)
-            meets = grid_union(self._yaw_edges(todo, None, should_stop), self.xs, self.ys,
+            meets = grid_union(self._yaw_edges(todo, should_stop), self.xs, self.ys,
                                groups=np.repeat(np.arange(len(todo)), n), n_groups=len(todo)) \
                 if n else np.zeros((len(todo), self.nx, self.ny), dtype=bool)
             self._fits.update(zip(todo, self._inside(todo, self.xs, self.ys, meets),
@@ -178,7 +178,8 @@ class FloorGrid:
                               & (pb[:, 1] <= ys[-1] + r) & (pb[:, 3] >= ys[0] - r))
         k, n = len(OPEN_YAWS), len(self.pieces)
         if self._all_edges is None:  # every yaw's sums in one array, for the tiles' rows
-            self._all_edges = self._yaw_edges(list(range(k)), None, should_stop)
+            self._all_edges = self._yaw_edges(list(range(k)), should_stop)
+            self._edges.clear()  # held once, in the gathered array
         rows = (np.arange(k)[:, None] * n + near[None, :]).ravel()
         e = self._all_edges
         meets = grid_union(EdgeSet(e.start[rows], e.end[rows], e.used[rows], e.bounds[rows]),
@@ -202,26 +203,26 @@ class FloorGrid:
             np.logical_and(inside, ~hit, out=hit)
         return meets
 
-    def _yaw_edges(self, yaws: list[int], pieces: np.ndarray | None,
-                   should_stop: Callable[[], bool] | None) -> EdgeSet:
-        """The sums of :meth:`_static_edges` at ``yaws``, of ``pieces`` (indices; all if ``None``).
+    def _yaw_edges(self, yaws: list[int], should_stop: Callable[[], bool] | None) -> EdgeSet:
+        """The sums of :meth:`_static_edges` at ``yaws`` (polygon ``j * len(pieces) + i``).
 
-        Polygon ``j * len(pieces) + i``: piece ``pieces[i]`` at yaw ``OPEN_YAWS[yaws[j]]``.
         Each yaw's sums are computed once (:data:`YAW_BLOCK` yaws at a time, the stop polled
-        between blocks) and kept: the whole floor's rasters and the tiles' share them.
+        between blocks) and kept: the whole floor's rasters and the tiles' share them (once
+        every yaw's are gathered for the tiles, :attr:`_all_edges` alone holds them).
         """
+        n, e = len(self.pieces), self._all_edges
+        if e is not None:
+            rows = (np.asarray(yaws)[:, None] * n + np.arange(n)[None, :]).ravel()
+            return EdgeSet(e.start[rows], e.end[rows], e.used[rows], e.bounds[rows])
         todo = [k for k in yaws if k not in self._edges]
         for b0 in range(0, len(todo), YAW_BLOCK):
             block = todo[b0:b0 + YAW_BLOCK]
-            e, n = self._static_edges(block, should_stop), len(self.pieces)
+            summed = self._static_edges(block, should_stop)
             for j, k in enumerate(block):
-                rows = slice(j * n, (j + 1) * n)
-                self._edges[k] = EdgeSet(e.start[rows], e.end[rows], e.used[rows],
-                                         e.bounds[rows])
+                r = slice(j * n, (j + 1) * n)
+                self._edges[k] = EdgeSet(summed.start[r], summed.end[r], summed.used[r],
+                                         summed.bounds[r])
         parts = [self._edges[k] for k in yaws]
-        if pieces is not None:
-            parts = [EdgeSet(p.start[pieces], p.end[pieces], p.used[pieces], p.bounds[pieces])
-                     for p in parts]
         width = max(p.start.shape[1] for p in parts)
 
         def padded(a: np.ndarray) -> np.ndarray:
