@@ -25,7 +25,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 
 import numpy as np
 
@@ -45,8 +45,9 @@ from pivot_ompl.planners.objects.passage_band import PassageBand
 from pivot_ompl.planners.objects.roadmap import PoseIndex, Roadmap, canonical
 from pivot_ompl.planners.objects.samplers import PoseSampler
 from pivot_ompl.planners.objects.visibility import VisibilityRoadmap
+from pivot_ompl.planners.regrasp_stats import RegraspStats
 from pivot_ompl.planners.routes.lattice import TransferLattice
-from pivot_ompl.planners.routes.regrasp_lattice import regrasp_lattice_path
+from pivot_ompl.planners.routes.regrasp_lattice import RegraspLatticeStats, regrasp_lattice_path
 from pivot_ompl.se2 import Pose
 
 Stop = Callable[[], bool]
@@ -58,39 +59,6 @@ NOT_YET: Found[list[Node]] = Found(Status.INVALID)
 def _searching(found: Found[list[Node]], should_stop: Stop) -> bool:
     """The search goes on: no path yet, and time left."""
     return found.status is Status.INVALID and not should_stop()
-
-
-@dataclass
-class RegraspStats:
-    """Figures of one run (roadmap sizes, counts, seconds per stage)."""
-
-    object_nodes: int = 0
-    guards: int = 0
-    connectors: int = 0
-    critical: int = 0
-    diffusion_nodes: int = 0
-    passage_nodes: int = 0
-    slots: int = 0
-    slot_nodes: int = 0
-    doors: int = 0
-    door_nodes: int = 0
-    manipulation_nodes: dict[int, int] = field(default_factory=dict)
-    regrasp_edges: int = 0
-    turn_edges: int = 0
-    searches: int = 0
-    edges_checked: int = 0
-    plausibility_tests: int = 0
-    edges_invalid: int = 0
-    single_grasp_checks: int = 0
-    single_grasp_solved: bool = False
-    single_grasp_by: str = ""
-    time_single_grasp: float = 0.0
-    time_visibility: float = 0.0
-    time_search: float = 0.0
-    time_optimise: float = 0.0
-    time_routes: float = 0.0
-    refined: int = 0
-    regrasps_turned: int = 0
 
 
 class RegraspSearch:
@@ -249,10 +217,13 @@ class RegraspSearch:
             return []
         ends = [[g for g in cfg.grasps if ck.state_valid(q, g)
                  and (q is q1 or self.start_grasp in (None, g))] for q in (q0, q1)]
+        t0, figures, s = time.perf_counter(), RegraspLatticeStats(), self.stats
         found = regrasp_lattice_path(ck, self._lattice(), cfg.cost, q0, q1, start_grasps=ends[0],
                                      goal_grasps=ends[1], grasps=cfg.grasps,
                                      run_spacing=cfg.optimiser.run_spacing,
-                                     should_stop=should_stop)
+                                     should_stop=should_stop, stats=figures)
+        s.regrasp_lattice_solved, s.regrasp_lattice_changes = bool(found.path), figures.changes
+        s.time_regrasp_lattice += time.perf_counter() - t0
         return found.path or []
 
     def _lattice(self) -> TransferLattice:

@@ -27,8 +27,9 @@ scene) and, given a ``limit``, settles only the positions within it: complete (e
 the limit, a lower bound (the limit) beyond it, ``inf`` only where no walk exists.
 
 The obstacles' part is built once per scene (:meth:`FloorField.static_open`), a block of
-yaws, then a block of grid rows of the graph, between polls of the termination condition;
-the work done is kept when it is interrupted, and the next call resumes there.
+yaws (on a floor of ``window_from`` positions or more: a tile, reusing those the windowed
+queries built), then a block of grid rows of the graph, between polls of the termination
+condition; the work done is kept when it is interrupted, and the next call resumes there.
 """
 
 from __future__ import annotations
@@ -123,7 +124,8 @@ class FloorField:
 
         Raises:
             Interrupted: ``should_stop()`` became true (polled once per block of
-                :data:`YAW_CHUNK` yaws, then once per block of grid rows of the graph); the
+                :data:`YAW_CHUNK` yaws, or per tile on a floor of ``window_from`` positions
+                or more, then once per block of grid rows of the graph); the
                 work done is kept (:attr:`yaws_done`, :attr:`rows_done`) and the next call
                 resumes there.
         """
@@ -132,6 +134,10 @@ class FloorField:
             if self._partial is None:
                 self._partial = np.zeros((grid.nx, grid.ny), dtype=bool)
             ok = self._partial
+            if grid.nx * grid.ny >= self.window_from and self.yaws_done < len(OPEN_YAWS):
+                # a large floor: from its tiles (those the windowed queries built are kept)
+                ok[:] = self.tiles.window(slice(0, grid.nx), slice(0, grid.ny), should_stop)
+                self.yaws_done = len(OPEN_YAWS)
             for k0 in range(self.yaws_done, len(OPEN_YAWS), YAW_CHUNK):
                 if should_stop is not None and should_stop():
                     raise Interrupted("walking floor field")

@@ -45,6 +45,11 @@ OPEN_YAWS: tuple[float, ...] = tuple(sorted(
                                       strict=True))}))
 
 
+#: Yaws whose obstacle sums are computed together (all 32 at once ran slower on a floor of
+#: 5000 pieces: arrays too large for the caches).
+YAW_BLOCK = 8
+
+
 @dataclass
 class GridStats:
     """What a :class:`FloorGrid` has computed so far.
@@ -111,9 +116,11 @@ class FloorGrid:
         self.pieces = obstacle_pieces(world.obstacles)
         self._piece_boxes = np.array([[*p.min(axis=0), *p.max(axis=0)] for p in self.pieces]
                                      ).reshape(-1, 4)
+        #: per index into :data:`OPEN_YAWS`, every piece's sum with the grown body at that
+        #: yaw (summed once, shared by :meth:`fits_range` and :meth:`open_block`)
+        self._edges: dict[int, EdgeSet] = {}
+        self._all_edges: EdgeSet | None = None  # those of every yaw together (the tiles')
         #: farthest a point of the grown body lies from the robot pose (m)
-        #: every piece's sum with the grown body at every yaw (:meth:`open_block`)
-        self._all_edges: EdgeSet | None = None
         self._body_reach = float(np.hypot(self.grown_outline[:, 0],
                                           self.grown_outline[:, 1]).max())
 
@@ -145,7 +152,7 @@ class FloorGrid:
         todo = [k for k in range(k0, k1) if k not in self._fits]
         if todo:
             n = len(self.pieces)
-            meets = grid_union(self._static_edges(todo, should_stop), self.xs, self.ys,
+            meets = grid_union(self._yaw_edges(todo, should_stop), self.xs, self.ys,
                                groups=np.repeat(np.arange(len(todo)), n), n_groups=len(todo)) \
                 if n else np.zeros((len(todo), self.nx, self.ny), dtype=bool)
             self._fits.update(zip(todo, self._inside(todo, self.xs, self.ys, meets),
@@ -165,14 +172,14 @@ class FloorGrid:
             Interrupted: ``should_stop()`` became true (polled while the pieces are summed).
         """
         xs, ys = self.xs[wx], self.ys[wy]
-        if self._all_edges is None:
-            self._all_edges = self._static_edges(list(range(len(OPEN_YAWS))), should_stop)
-        n = len(self.pieces)
         r = self._body_reach + self.resolution
         pb = self._piece_boxes
         near = np.flatnonzero((pb[:, 0] <= xs[-1] + r) & (pb[:, 2] >= xs[0] - r)
                               & (pb[:, 1] <= ys[-1] + r) & (pb[:, 3] >= ys[0] - r))
-        k = len(OPEN_YAWS)
+        k, n = len(OPEN_YAWS), len(self.pieces)
+        if self._all_edges is None:  # every yaw's sums in one array, for the tiles' rows
+            self._all_edges = self._yaw_edges(list(range(k)), should_stop)
+            self._edges.clear()  # held once, in the gathered array
         rows = (np.arange(k)[:, None] * n + near[None, :]).ravel()
         e = self._all_edges
         meets = grid_union(EdgeSet(e.start[rows], e.end[rows], e.used[rows], e.bounds[rows]),
@@ -195,6 +202,37 @@ class FloorGrid:
                    & (ys + corners[:, 1].max() < b[3]))[None, :]
             np.logical_and(inside, ~hit, out=hit)
         return meets
+
+    def _yaw_edges(self, yaws: list[int], should_stop: Callable[[], bool] | None) -> EdgeSet:
+        """The sums of :meth:`_static_edges` at ``yaws`` (polygon ``j * len(pieces) + i``).
+
+        Each yaw's sums are computed once (:data:`YAW_BLOCK` yaws at a time, the stop polled
+        between blocks) and kept: the whole floor's rasters and the tiles' share them (once
+        every yaw's are gathered for the tiles, :attr:`_all_edges` alone holds them).
+        """
+        n, e = len(self.pieces), self._all_edges
+        if e is not None:
+            rows = (np.asarray(yaws)[:, None] * n + np.arange(n)[None, :]).ravel()
+            return EdgeSet(e.start[rows], e.end[rows], e.used[rows], e.bounds[rows])
+        todo = [k for k in yaws if k not in self._edges]
+        for b0 in range(0, len(todo), YAW_BLOCK):
+            block = todo[b0:b0 + YAW_BLOCK]
+            summed = self._static_edges(block, should_stop)
+            for j, k in enumerate(block):
+                r = slice(j * n, (j + 1) * n)
+                self._edges[k] = EdgeSet(summed.start[r], summed.end[r], summed.used[r],
+                                         summed.bounds[r])
+        parts = [self._edges[k] for k in yaws]
+        width = max(p.start.shape[1] for p in parts)
+
+        def padded(a: np.ndarray) -> np.ndarray:
+            pad = [(0, 0), (0, width - a.shape[1])] + [(0, 0)] * (a.ndim - 2)
+            return np.pad(a, pad)
+
+        return EdgeSet(np.concatenate([padded(p.start) for p in parts]),
+                       np.concatenate([padded(p.end) for p in parts]),
+                       np.concatenate([padded(p.used) for p in parts]),
+                       np.concatenate([p.bounds for p in parts]))
 
     def _static_edges(self, yaws: list[int], should_stop: Callable[[], bool] | None = None
                       ) -> EdgeSet:

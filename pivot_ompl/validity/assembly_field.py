@@ -18,6 +18,15 @@ obstacle piece are convex hulls of vertex differences
 (:func:`~pivot_ompl.validity.minkowski.meeting_edges`, ``certify=False``: the same regions
 to rounding). A guide for route planning, not a certificate: motions are certified by the
 pivot checker.
+
+**Half the sums.** The yaws come in opposite pairs (``FIELD_YAWS[k + 16]`` is
+``FIELD_YAWS[k] + pi``): turned by pi, a body is its point reflection, and the sum of a
+centrally symmetric piece (a wall box) with the reflected body is the point reflection of
+its sum with the body about the piece's centre (:func:`reflected`). The yaws of a parity are
+computed in one batch: the second yaw of each pair reflects the first's sums of the
+symmetric pieces (an affine map of the edges, the same regions to rounding: a grid point
+exactly on an edge, e.g. of an axis-aligned wall at yaw pi, whose sine is 1e-16 and not 0,
+may fall either side) and sums only the others.
 """
 
 from __future__ import annotations
@@ -34,7 +43,7 @@ from pivot_ompl.se2 import GRID_HEADING_YAWS as HEADING_YAWS
 from pivot_ompl.se2 import Pose
 from pivot_ompl.validity.collision import CollisionWorld
 from pivot_ompl.validity.footprints import obstacle_pieces
-from pivot_ompl.validity.minkowski import meeting_edges
+from pivot_ompl.validity.minkowski import EdgeSet, meeting_edges
 from pivot_ompl.validity.rasters import grid_union
 
 #: The field's yaws: the 16 headings and the 16 half-way yaws, in that order interleaved
@@ -42,6 +51,37 @@ from pivot_ompl.validity.rasters import grid_union
 FIELD_YAWS: tuple[float, ...] = tuple(
     y for a, b in zip(HEADING_YAWS, HEADING_YAWS[1:] + HEADING_YAWS[:1], strict=True)
     for y in (a, a + 0.5 * ((b - a + math.pi) % (2 * math.pi) - math.pi)))
+
+
+def symmetric_centres(pieces: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """Each piece's vertex mean ``(n, 2)``, and whether the piece is its reflection about it.
+
+    A piece whose vertices, reflected about their mean, are its vertices again (within
+    1e-9 of its size) is centrally symmetric about that point (a rectangle, a wall box).
+    """
+    centres = np.zeros((len(pieces), 2))
+    symmetric = np.zeros(len(pieces), dtype=bool)
+    for i, piece in enumerate(pieces):
+        c = piece.mean(axis=0)
+        gap = np.abs((2.0 * c - piece)[:, None, :] - piece[None, :, :]).max(axis=2).min(axis=1)
+        centres[i] = c
+        symmetric[i] = gap.max() <= 1e-9 * max(1.0, float(np.abs(piece - c).max()))
+    return centres, symmetric
+
+
+def reflected(edges: EdgeSet, centres: np.ndarray) -> EdgeSet:
+    """Each polygon of ``edges`` reflected through its point of ``centres`` (``(n, 2)``).
+
+    A point reflection is a rotation by pi: counter-clockwise edges stay counter-clockwise.
+    """
+    c = 2.0 * centres[:, None, :]
+    b = edges.bounds
+    cx, cy = 2.0 * centres[:, 0], 2.0 * centres[:, 1]
+    bounds = np.column_stack([cx - b[:, 2], cy - b[:, 3], cx - b[:, 0], cy - b[:, 1]])
+    empty = ~np.isfinite(b[:, 0])
+    bounds[empty] = b[empty]
+    return EdgeSet(np.where(edges.used[..., None], c - edges.start, 0.0),
+                   np.where(edges.used[..., None], c - edges.end, 0.0), edges.used, bounds)
 
 
 def assembly_bodies(model: BoxGraspModel, grasp: int, clearance: float) -> list[np.ndarray]:
@@ -68,6 +108,8 @@ class AssemblyField:
         model: box and robot geometry.
         world: obstacles, bounds and the kept clearance.
         resolution: grid spacing (m).
+        reflect: the second yaw of an opposite pair reflects the first's sums for the
+            centrally symmetric pieces (module docstring); ``False`` sums every one.
 
     Attributes:
         nx, ny: grid size; grid position ``(ix, iy)`` is the point
@@ -77,9 +119,11 @@ class AssemblyField:
     nx: int
     ny: int
 
-    def __init__(self, model: BoxGraspModel, world: CollisionWorld, resolution: float) -> None:
+    def __init__(self, model: BoxGraspModel, world: CollisionWorld, resolution: float, *,
+                 reflect: bool = True) -> None:
         """Nothing rasterised yet."""
         self.model, self.world, self.resolution = model, world, resolution
+        self.reflect = reflect
         b = world.bounds
         self.nx = int(math.floor((b[2] - b[0]) / resolution)) + 1
         self.ny = int(math.floor((b[3] - b[1]) / resolution)) + 1
@@ -89,6 +133,41 @@ class AssemblyField:
         self._bodies = {p: assembly_bodies(model, p, world.clearance) for p in (0, 1)}
         self._corners = {p: np.concatenate(assembly_bodies(model, p, 0.0)) for p in (0, 1)}
         self._fits: dict[tuple[int, int], np.ndarray] = {}
+        self._centres, self._symmetric = symmetric_centres(self._pieces)
+        self.sums_reflected = 0  #: pieces' sums reflected rather than summed (a figure)
+        self._area: np.ndarray | None = None
+
+    @property
+    def pieces(self) -> list[np.ndarray]:
+        """The obstacle pieces the sums cover (all, or those near :meth:`restrict`'s area)."""
+        return self._pieces
+
+    def restrict(self, area: np.ndarray) -> None:
+        """Answer only within ``area`` (``(nx, ny)`` booleans): elsewhere nothing fits.
+
+        The obstacle pieces farther from every position of ``area`` than the assembly's
+        bodies reach (at any yaw) cannot meet an assembly there: they are left out of the
+        sums and rasters (a route planner whose states lie in the region the box can reach
+        pays for the pieces round that region, not for the whole floor's). The rasters are
+        then exactly those of the whole floor within ``area``. Forgets the rasters made so far.
+        """
+        reach = max(float(np.hypot(*np.concatenate(self._bodies[p]).T).max()) for p in (0, 1))
+        boxes = np.array([[*q.min(axis=0), *q.max(axis=0)] for q in self._pieces]
+                         ).reshape(-1, 4)
+        b, res = self.world.bounds, self.resolution
+        i0 = np.clip(np.ceil((boxes[:, 0] - reach - b[0]) / res), 0, self.nx).astype(int)
+        i1 = np.clip(np.floor((boxes[:, 2] + reach - b[0]) / res) + 1, 0, self.nx).astype(int)
+        j0 = np.clip(np.ceil((boxes[:, 1] - reach - b[1]) / res), 0, self.ny).astype(int)
+        j1 = np.clip(np.floor((boxes[:, 3] + reach - b[1]) / res) + 1, 0, self.ny).astype(int)
+        total = np.zeros((self.nx + 1, self.ny + 1), dtype=np.int64)  # summed-area table
+        total[1:, 1:] = np.cumsum(np.cumsum(area, axis=0), axis=1)
+        near = (total[i1, j1] - total[i0, j1] - total[i1, j0] + total[i0, j0]) > 0
+        near &= (i0 < i1) & (j0 < j1)
+        keep = np.flatnonzero(near)
+        self._pieces = [self._pieces[i] for i in keep]
+        self._centres, self._symmetric = self._centres[keep], self._symmetric[keep]
+        self._area = np.asarray(area, dtype=bool)
+        self._fits.clear()
 
     def position(self, ix: int, iy: int) -> tuple[float, float]:
         """The floor point of grid position ``(ix, iy)`` (m)."""
@@ -129,27 +208,61 @@ class AssemblyField:
         """
         xs, ys = self._xs, self._ys
         b = self.world.bounds
-        n = len(self._pieces)
-        out, pieces, bodies = [], [], []
+        out, rots = [], []
         for k in ks:
             yaw = FIELD_YAWS[k]
             c, s = math.cos(yaw), math.sin(yaw)
             rot = np.array([[c, -s], [s, c]]).T
+            rots.append(rot)
             corners = self._corners[parity] @ rot
-            out.append(
-                ((xs + corners[:, 0].min() > b[0]) & (xs + corners[:, 0].max() < b[2]))[:, None]
-                & ((ys + corners[:, 1].min() > b[1]) & (ys + corners[:, 1].max() < b[3]))[None, :])
-            for body in self._bodies[parity]:
-                pieces += self._pieces
-                bodies += [body @ rot] * n
+            ok = ((xs + corners[:, 0].min() > b[0]) & (xs + corners[:, 0].max() < b[2]))[:, None] \
+                & ((ys + corners[:, 1].min() > b[1]) & (ys + corners[:, 1].max() < b[3]))[None, :]
+            if self._area is not None:
+                ok &= self._area
+            out.append(ok)
+        n = len(self._pieces)
         if n and ks:
-            edges = meeting_edges(pieces, bodies, should_stop=should_stop, certify=False)
+            edges = self._sums(parity, ks, rots, should_stop)
             per_yaw = len(self._bodies[parity]) * n
-            hit = grid_union(edges, xs, ys, groups=np.arange(len(pieces)) // per_yaw,
+            hit = grid_union(edges, xs, ys, groups=np.arange(len(edges.used)) // per_yaw,
                              n_groups=len(ks))
             for ok, h in zip(out, hit, strict=True):
                 ok &= ~h
         return out
+
+    def _sums(self, parity: int, ks: list[int], rots: list[np.ndarray],
+              should_stop: Callable[[], bool] | None) -> EdgeSet:
+        """Every (piece, body) sum at the yaws ``ks`` (rotations ``rots``).
+
+        Polygon ``(y * m + j) * n + i`` is yaw ``ks[y]``, body ``j`` (of ``m``), piece ``i``
+        (of ``n``). A yaw whose opposite is also asked reflects that one's sums for the
+        symmetric pieces (module docstring; when ``reflect``) and sums only the others.
+        """
+        n, half = len(self._pieces), len(FIELD_YAWS) // 2
+        bodies = [[body @ rot for body in self._bodies[parity]] for rot in rots]
+        m = len(bodies[0])
+        index = {k: y for y, k in enumerate(ks)}
+        mirrored = {y: index[k - half] for y, k in enumerate(ks)
+                    if self.reflect and k >= half and k - half in index}
+        direct = [y for y in range(len(ks)) if y not in mirrored]
+        summed = meeting_edges(self._pieces * (m * len(direct)),
+                               [bd for y in direct for bd in bodies[y] for _ in range(n)],
+                               should_stop=should_stop, certify=False)
+        block = {y: _rows(summed, slice(u * m * n, (u + 1) * m * n))
+                 for u, y in enumerate(direct)}
+        rows = np.tile(self._symmetric, m)
+        todo = np.flatnonzero(~rows)
+        own = meeting_edges([self._pieces[i % n] for _ in mirrored for i in todo],
+                            [bodies[y][i // n] for y in mirrored for i in todo],
+                            should_stop=should_stop, certify=False) if len(todo) else None
+        centres = np.tile(self._centres, (m, 1))
+        for u, (y, first) in enumerate(mirrored.items()):
+            block[y] = reflected(block[first], centres)
+            self.sums_reflected += int(rows.sum())
+            if own is not None:  # the pieces that are not their own reflection: summed
+                part = _rows(own, slice(u * len(todo), (u + 1) * len(todo)))
+                block[y] = _replaced(block[y], todo, part)
+        return _joined([block[y] for y in range(len(ks))])
 
     def state_fits(self, ix: int, iy: int, k: int, parity: int) -> bool:
         """Whether grid state ``(ix, iy)`` at field yaw ``k`` is free for ``parity``."""
@@ -162,3 +275,33 @@ class AssemblyField:
         fx, fy = self.cell(car[0], car[1])
         k = int(round((car[2] % (2 * math.pi)) / (2 * math.pi) * len(FIELD_YAWS)))
         return self.state_fits(int(round(fx)), int(round(fy)), k, parity)
+
+
+def _rows(edges: EdgeSet, rows: slice) -> EdgeSet:
+    """Polygons ``rows`` of ``edges``."""
+    return EdgeSet(edges.start[rows], edges.end[rows], edges.used[rows], edges.bounds[rows])
+
+
+def _padded(a: np.ndarray, width: int) -> np.ndarray:
+    """Edge array ``a`` (``(n, e, ...)``) padded to ``width`` edge slots."""
+    return np.pad(a, [(0, 0), (0, width - a.shape[1])] + [(0, 0)] * (a.ndim - 2))
+
+
+def _joined(parts: list[EdgeSet]) -> EdgeSet:
+    """The polygons of ``parts`` in order, in one edge set (padded to the widest)."""
+    w = max(p.start.shape[1] for p in parts)
+    return EdgeSet(np.concatenate([_padded(p.start, w) for p in parts]),
+                   np.concatenate([_padded(p.end, w) for p in parts]),
+                   np.concatenate([_padded(p.used, w) for p in parts]),
+                   np.concatenate([p.bounds for p in parts]))
+
+
+def _replaced(edges: EdgeSet, rows: np.ndarray, part: EdgeSet) -> EdgeSet:
+    """``edges`` with polygons ``rows`` replaced by ``part``'s (padded to the wider)."""
+    w = max(edges.start.shape[1], part.start.shape[1])
+    start, end, used = (_padded(a, w) for a in (edges.start, edges.end, edges.used))
+    start[rows], end[rows], used[rows] = (_padded(a, w) for a in (part.start, part.end,
+                                                                  part.used))
+    bounds = edges.bounds.copy()
+    bounds[rows] = part.bounds
+    return EdgeSet(start, end, used, bounds)

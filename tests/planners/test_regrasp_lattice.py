@@ -97,6 +97,13 @@ def test_the_regrasp_planner_takes_it_before_any_roadmap_where_the_band_applies(
     assert result.status == "EXACT_SOLUTION"
     assert result.roadmap["object_nodes"] == 0  # no roadmap grown: the lattice's regrasps
     assert result.plan.regrasps == 1
+    # the figures say where the path came from (serialised in the plan's ``roadmap``)
+    assert result.roadmap["regrasp_lattice_solved"] is True
+    assert result.roadmap["regrasp_lattice_changes"] == 1
+    assert result.roadmap["single_grasp_solved"] is False
+    assert result.plan.extra["roadmap"]["regrasp_lattice_solved"] is True
     off = plan(scene, planner=spec.replace("]", ";sampling.regrasp_lattice=false]"),
                time_limit=30.0, seed=0)
     assert off.roadmap["object_nodes"] > 0
+    assert off.roadmap["regrasp_lattice_solved"] is False
+    assert off.roadmap["regrasp_lattice_changes"] == -1  # not tried

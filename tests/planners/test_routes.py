@@ -6,6 +6,8 @@ import math
 
 import numpy as np
 from factories import make_scene, shipped
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.checking.pivot_checker import PivotChecker
@@ -118,3 +120,21 @@ def test_a_face_change_after_the_start_goes_where_a_turn_serves():
     assert res.solved
     assert res.regrasps == regrasp_lower_bound(scene).regrasps == 2
     assert check_plan(res.plan, scene).ok
+
+
+@settings(max_examples=20, deadline=None)
+@given(distance=st.floats(0.05, 2.0), hole=st.floats(0.2, 1.5))
+def test_within_distance_is_the_points_within_that_distance_of_the_region(distance, hole):
+    import shapely
+
+    from pivot_ompl.planners.routes.lattice import within_distance
+
+    region = shapely.Polygon([(0, 0), (4, 0), (4, 3), (0, 3)],
+                             holes=[[(1, 1), (1 + hole, 1), (1 + hole, 2), (1, 2)]]
+                             ).union(shapely.box(6, 6, 7, 7.5))  # a hole, two parts
+    xs, ys = np.linspace(-2.0, 9.0, 89), np.linspace(-2.0, 9.5, 77)
+    got = within_distance(region, xs, ys, distance)
+    gap = shapely.distance(region, shapely.points(np.broadcast_to(xs[:, None], got.shape),
+                                                   np.broadcast_to(ys[None, :], got.shape)))
+    sure = np.abs(gap - distance) > 1e-9  # a point at the distance itself may go either way
+    assert np.array_equal(got[sure], (gap <= distance)[sure])

@@ -103,3 +103,25 @@ def test_a_walk_planned_in_windows_is_the_walk_planned_over_the_whole_floor(corr
         walks.append(ck.transit(scene.start, 0, 2))
     assert walks[0].valid
     assert walks[0].robot_path == walks[1].robot_path
+
+
+def test_the_whole_floor_after_windows_reuses_their_tiles_and_sums_each_yaw_once(corridor):
+    from pivot_ompl.transit.floor_grid import OPEN_YAWS
+
+    scene, _ = corridor
+    ck = PivotChecker(scene)  # fresh: nothing summed yet
+    field = ck.walker.field
+    field.window_from = 0  # a large floor: windows first, then the whole floor from tiles
+    obj = scene.start
+    goals = [_cell(ck.walker, scene.model.robot_pose(obj, 1))]
+    field.distances(ck.walker.frame.into(obj), goals, limit=3.0)
+    built = field.tiles.tiles_built
+    got = field.static_open()
+    tiles = math.ceil(field.grid.nx / TILE) * math.ceil(field.grid.ny / TILE)
+    assert field.tiles.tiles_built == tiles > built  # the tiles built before were kept
+    for k in range(len(OPEN_YAWS)):
+        field.grid.fits_index(k)  # the whole floor's rasters share the tiles' sums
+    assert field.grid.stats.yaws_summed == len(OPEN_YAWS)
+    fresh = PivotChecker(scene).walker.field
+    fresh.window_from = 2**62  # the whole floor's, a block of yaws at a time
+    assert np.array_equal(got, fresh.static_open())

@@ -110,15 +110,19 @@ def component_steps(lattice: TransferLattice, start: Pose, goal: Pose, *,
     pair_starts = np.flatnonzero((np.diff(key, prepend=-1) != 0) | (np.diff(comp, prepend=-1) != 0))
     bins, count = np.unique(key[pair_starts], return_counts=True)
     shared = bins[count > 1]
-    links: dict[int, dict[int, list[int]]] = {}
-    for k in np.flatnonzero(np.isin(key, shared)).tolist():
-        links.setdefault(int(key[k]), {}).setdefault(int(comp[k]), []).append(k)
-    adjacent: dict[int, dict[int, list[int]]] = {}
-    for by_comp in links.values():
-        for a, rows in by_comp.items():
-            for b in by_comp:
+    sel = np.flatnonzero(np.isin(key, shared))  # rows in shared bins, by (bin, component)
+    pairs = sel[(np.diff(key[sel], prepend=-1) != 0) | (np.diff(comp[sel], prepend=-1) != 0)]
+    cuts = [0, *(np.flatnonzero(np.diff(key[pairs]) != 0) + 1).tolist(), len(pairs)]
+    pair_comps = comp[pairs].tolist()
+    #: the components meeting each one, in the order of the first bin they share
+    adjacent: dict[int, dict[int, None]] = {}
+    for i0, i1 in zip(cuts, cuts[1:], strict=False):
+        here = pair_comps[i0:i1]
+        for a in here:
+            near = adjacent.setdefault(a, {})
+            for b in here:
                 if b != a:
-                    adjacent.setdefault(a, {}).setdefault(b, []).extend(rows)
+                    near.setdefault(b)
 
     def code(c: Component) -> int:
         return c[1] * 2 + c[0]
@@ -150,7 +154,8 @@ def component_steps(lattice: TransferLattice, start: Pose, goal: Pose, *,
     chain.reverse()
     steps = ComponentSteps([(c % 2, c // 2) for c in chain])
     for a, b in zip(chain, chain[1:], strict=False):
-        rows = [k for k in adjacent[a][b] if comp[k] == a]
+        both = np.intersect1d(key[pairs[comp[pairs] == a]], key[pairs[comp[pairs] == b]])
+        rows = sel[(comp[sel] == a) & np.isin(key[sel], both)].tolist()  # a's, ascending
         first_of: dict[int, int] = {}
         for k in rows:
             first_of.setdefault(int(key[k]), k)
