@@ -52,6 +52,9 @@ FIELD_YAWS: tuple[float, ...] = tuple(
     y for a, b in zip(HEADING_YAWS, HEADING_YAWS[1:] + HEADING_YAWS[:1], strict=True)
     for y in (a, a + 0.5 * ((b - a + math.pi) % (2 * math.pi) - math.pi)))
 
+#: Most (piece, body) sums computed and rasterised in one batch (a few MB of edges).
+BATCH_POLYGONS = 16384
+
 
 def symmetric_centres(pieces: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     """Each piece's vertex mean ``(n, 2)``, and whether the piece is its reflection about it.
@@ -193,11 +196,27 @@ class AssemblyField:
         if v is None:
             if should_stop is not None and should_stop():
                 raise Interrupted("assembly field")
-            todo = [j for j in range(len(FIELD_YAWS)) if (key[0], j) not in self._fits]
-            for j, grid in zip(todo, self._compute(key[0], todo, should_stop), strict=True):
-                self._fits[(key[0], j)] = grid
+            for batch in self._batches(key[0]):
+                for j, grid in zip(batch, self._compute(key[0], batch, should_stop),
+                                   strict=True):
+                    self._fits[(key[0], j)] = grid
             v = self._fits[key]
         return v
+
+    def _batches(self, parity: int) -> list[list[int]]:
+        """The yaws of ``parity`` not yet rasterised, in batches of opposite pairs.
+
+        A batch holds at most :data:`BATCH_POLYGONS` sums (one pair at least), so the
+        memory a batch takes does not grow with the floor's pieces.
+        """
+        half = len(FIELD_YAWS) // 2
+        per_pair = max(1, 2 * len(self._bodies[parity]) * len(self._pieces))
+        pairs_per_batch = max(1, BATCH_POLYGONS // per_pair)
+        pairs = [[j for j in (k, k + half) if (parity, j) not in self._fits]
+                 for k in range(half)]
+        pairs = [p for p in pairs if p]
+        return [[j for p in pairs[i:i + pairs_per_batch] for j in p]
+                for i in range(0, len(pairs), pairs_per_batch)]
 
     def _compute(self, parity: int, ks: list[int], should_stop: Callable[[], bool] | None
                  ) -> list[np.ndarray]:

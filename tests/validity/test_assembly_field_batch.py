@@ -11,6 +11,7 @@ import pytest
 from factories import shipped
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.validity import assembly_field
 from pivot_ompl.validity.assembly_field import FIELD_YAWS, AssemblyField, assembly_bodies
 from pivot_ompl.validity.footprints import obstacle_pieces
 from pivot_ompl.validity.minkowski import meeting_edges
@@ -39,8 +40,11 @@ def _one_yaw(field: AssemblyField, checker: PivotChecker, parity: int, k: int) -
     return ok
 
 
+@pytest.mark.parametrize("batch", [None, 1])
 @pytest.mark.parametrize("name", ["fig10", "door", "cluttered_room", "open_fig7"])
-def test_every_yaw_s_grid_is_the_grid_computed_alone(name):
+def test_every_yaw_s_grid_is_the_grid_computed_alone(name, batch, monkeypatch):
+    if batch is not None:  # one opposite pair a batch, as on a floor of thousands of pieces
+        monkeypatch.setattr(assembly_field, "BATCH_POLYGONS", batch)
     checker = PivotChecker(shipped(name))
     field = AssemblyField(checker.model, checker.world, 0.1, reflect=False)
     paired = AssemblyField(checker.model, checker.world, 0.1)
