@@ -34,36 +34,29 @@ from __future__ import annotations
 
 import dataclasses
 import logging
-import os
 import time
 from collections.abc import Sequence
 from typing import Any
 
-import numpy as np
-
 from pivot_ompl.analysis.bound_cache import lower_bound
-from pivot_ompl.api import MAX_SEED, PlanResult, check_time_limit, plan, plan_from_route
+from pivot_ompl.api import PlanResult, check_time_limit, plan, plan_from_route
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.checking.stored import StoredMotions, stored_motions
 from pivot_ompl.errors import InputError, PlanningError
-from pivot_ompl.grasp import GRASPS, check_grasp
+from pivot_ompl.grasp import check_grasp
 from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
 from pivot_ompl.planners.config import RegraspConfig
 from pivot_ompl.planners.evaluation import Evaluator
-from pivot_ompl.planners.registry import check_planner_name
 from pivot_ompl.planners.regrasp_search import RegraspSearch
-from pivot_ompl.planners.repair import State, polish, repair_route, route_of
-from pivot_ompl.scene import (
-    MAX_COORD,
-    MAX_YAW,
-    BoxObstacle,
-    CylinderObstacle,
-    Obstacle,
-    PolygonObstacle,
-    Scene,
-    check_pose,
-    load_scene,
-    obstacles_from_list,
+from pivot_ompl.planners.repair import State, polish, repair_route
+from pivot_ompl.scene import Obstacle, Scene, load_scene
+from pivot_ompl.session_inputs import (
+    added_obstacles,
+    check_seed,
+    check_session,
+    listed,
+    observed_pose,
+    route_of_plan,
 )
 
 log = logging.getLogger(__name__)
@@ -101,12 +94,12 @@ class PlanningSession:
                  bound: bool = False, executing: Plan | None = None,
                  repair: bool = True) -> None:
         """A session; nothing is planned yet."""
-        _check_session(scene, planner, config, seed, bound, executing, repair)
+        check_session(scene, planner, config, seed, bound, executing, repair)
         self.scene = scene if isinstance(scene, Scene) else load_scene(scene)
         self.planner, self.config, self.seed, self.bound = planner, config, seed, bound
         self.repair = repair
         self.last: PlanResult | None = None
-        self._route: list[State] = _route_of_plan(executing) if executing is not None else []
+        self._route: list[State] = route_of_plan(executing) if executing is not None else []
         self._stored = stored_motions(executing, self._route) if self._route and \
             executing is not None else StoredMotions()
         self._checker: PivotChecker | None = None
@@ -120,7 +113,7 @@ class PlanningSession:
     def plan(self, *, time_limit: float = 30.0, seed: int | None = None) -> PlanResult:
         """Plan the scene from its start (or continue from the last observed state)."""
         time_limit = check_time_limit(time_limit)
-        _check_seed(seed)
+        check_seed(seed)
         return self._run(self.scene, time_limit, seed, None)
 
     def replan(self, *, box: Sequence[float] | None = None, grasp: int | None = None,
@@ -149,15 +142,15 @@ class PlanningSession:
             PlanningError: the observed pose is in collision, or the held grasp is not valid
                 there (``INVALID_START``).
         """
-        start = _pose(box, "box")
+        start = observed_pose(box, "box")
         if grasp is not None:
             grasp = check_grasp(grasp, field="grasp")
         if robot is not None:
-            robot = _pose(robot, "robot")
+            robot = observed_pose(robot, "robot")
         time_limit = check_time_limit(time_limit)
-        _check_seed(seed)
-        added = _added(add_obstacles)
-        gone = self._removed(_sequence(remove_obstacles, "remove_obstacles"))
+        check_seed(seed)
+        added = added_obstacles(add_obstacles)
+        gone = self._removed(listed(remove_obstacles, "remove_obstacles"))
         obstacles = tuple(o for o in self.scene.obstacles if o not in gone) + added
         scene = dataclasses.replace(self.scene, start=start, obstacles=obstacles)
         if self._checker is not None and (added or gone):
@@ -233,7 +226,7 @@ class PlanningSession:
         """Take ``res`` as the last plan (its route to repair next)."""
         self.scene, self.last = scene, res
         if res.solved:
-            self._route = _route_of_plan(res.plan)
+            self._route = route_of_plan(res.plan)
 
     def _removed(self, items: Sequence[Obstacle | int]) -> tuple[Obstacle, ...]:
         out = []
@@ -304,96 +297,3 @@ def _proved_infeasible(scene: Scene, res: PlanResult, *, deadline: float) -> Pla
              bound.seconds)
     res.plan.extra["no_plan"] = "the regrasp bound's relaxation joins no start to the goal"
     return dataclasses.replace(res, status="INFEASIBLE")
-
-
-def _route_of_plan(p: Plan) -> list[State]:
-    """A plan's route (its ``route`` field), ``[]`` for a plan without one.
-
-    Raises:
-        InputError: a state of the route is not ``[x, y, yaw, grasp]`` within a scene's
-            limits (naming ``executing.route[i]``).
-    """
-    raw = p.extra.get("route")
-    if not isinstance(raw, list) or len(raw) < 2:
-        return []
-    try:  # the whole route at once (200 000 states in 0.1 s); a bad state is then named
-        a = np.array(raw, dtype=float)
-        ok = a.ndim == 2 and a.shape[1] == 4 and bool(
-            np.all(np.abs(a[:, :2]) <= MAX_COORD) and np.all(np.abs(a[:, 2]) <= MAX_YAW)
-            and np.all(np.isin(a[:, 3], GRASPS)))
-        ok = ok and all(type(q[3]) is int for q in raw)
-    except (TypeError, ValueError, OverflowError):
-        ok = False
-    if not ok:
-        for i, q in enumerate(raw):
-            field = f"executing.route[{i}]"
-            if not isinstance(q, list | tuple) or len(q) != 4:
-                raise InputError(field, q, "must be [x, y, yaw, grasp]")
-            check_pose(list(q[:3]), field=field)
-            check_grasp(q[3], field=f"{field}[3]")
-    return route_of(raw)
-
-
-def _check_session(scene: Any, planner: Any, config: Any, seed: Any, bound: Any,
-                   executing: Any, repair: Any) -> None:
-    """Validate :class:`PlanningSession`'s arguments (naming the one at fault)."""
-    if not isinstance(scene, Scene | str | os.PathLike):
-        raise InputError("scene", type(scene).__name__,
-                         "must be a Scene, a scene file path or a shipped scene name")
-    if not isinstance(planner, str):
-        raise InputError("planner", type(planner).__name__, "must be a planner's name")
-    check_planner_name(planner)
-    if config is not None and not isinstance(config, RegraspConfig):
-        raise InputError("config", type(config).__name__, "must be a RegraspConfig or None")
-    _check_seed(seed, field="seed", optional=False)
-    for name, flag in (("bound", bound), ("repair", repair)):
-        if not isinstance(flag, bool):
-            raise InputError(name, flag, "must be True or False")
-    if executing is not None and not isinstance(executing, Plan):
-        raise InputError("executing", type(executing).__name__,
-                         "must be a Plan (pivot_ompl.load_plan(path) reads one) or None")
-
-
-def _check_seed(seed: Any, *, field: str = "seed", optional: bool = True) -> None:
-    if optional and seed is None:
-        return
-    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= MAX_SEED:
-        raise InputError(field, seed, f"must be an integer in [0, {MAX_SEED}]")
-
-
-def _pose(value: Any, field: str) -> tuple[float, float, float]:
-    if value is None:
-        raise InputError(field, None, "is required: the observed pose (x, y, yaw)")
-    if isinstance(value, str | bytes) or not isinstance(value, Sequence | np.ndarray):
-        raise InputError(field, type(value).__name__, "must be a sequence (x, y, yaw)")
-    return check_pose(list(value), field=field)
-
-
-def _sequence(value: Any, field: str) -> list:
-    if isinstance(value, str | bytes | dict) or not isinstance(value, Sequence | np.ndarray):
-        raise InputError(field, type(value).__name__, "must be a list")
-    return list(value)
-
-
-def _added(items: Any) -> tuple[Obstacle, ...]:
-    """The obstacles of ``add_obstacles``, validated as a scene file's are.
-
-    Each item is a mapping as in a scene file or an obstacle object.
-    """
-    docs = []
-    for i, o in enumerate(_sequence(items, "add_obstacles")):
-        if isinstance(o, dict):
-            docs.append(o)
-        elif isinstance(o, BoxObstacle):
-            docs.append({"type": "box", "center": list(o.center), "size": list(o.size),
-                         "yaw": o.yaw, "height": o.height})
-        elif isinstance(o, CylinderObstacle):
-            docs.append({"type": "cylinder", "center": list(o.center), "radius": o.radius,
-                         "height": o.height})
-        elif isinstance(o, PolygonObstacle):
-            docs.append({"type": "polygon", "points": [list(p) for p in o.points],
-                         "height": o.height})
-        else:
-            raise InputError(f"add_obstacles[{i}]", type(o).__name__,
-                             "must be an obstacle or a mapping as in a scene file")
-    return obstacles_from_list(docs, field="add_obstacles")
