@@ -34,12 +34,22 @@ from __future__ import annotations
 
 import dataclasses
 import logging
+import math
 import time
 from collections.abc import Sequence
 from typing import Any
 
-from pivot_ompl.analysis.bound_cache import lower_bound
-from pivot_ompl.api import PlanResult, check_time_limit, plan, plan_from_route
+from pivot_ompl.analysis.late_proof import LateProof
+from pivot_ompl.api import (
+    EXPLAIN_END,
+    LATE_PROOF_BEGIN,
+    LATE_PROOF_END,
+    PlanResult,
+    check_time_limit,
+    infeasible_result,
+    plan,
+    plan_from_route,
+)
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.checking.stored import StoredMotions, stored_motions
 from pivot_ompl.errors import InputError, PlanningError
@@ -132,9 +142,12 @@ class PlanningSession:
                 whole-body motion starts at ``robot`` and walks to it).
             add_obstacles: obstacles that appeared (objects or dicts as in a scene file).
             remove_obstacles: obstacles that went (the scene's objects or their indices).
-            time_limit: as for :func:`pivot_ompl.api.plan` (s). After ``add_obstacles``, a
-                search that finds no plan leaves :data:`PROOF_SHARE` of it to prove that none
-                exists: the result's status is then ``INFEASIBLE``.
+            time_limit: as for :func:`pivot_ompl.api.plan` (s). A search still without a
+                path after a small share of it asks the relaxation once whether any plan
+                exists (``late_proof`` of :func:`~pivot_ompl.api.plan`); after
+                ``add_obstacles``, a search that finds no plan leaves :data:`PROOF_SHARE` of
+                it to prove that none exists. When none does the status is ``INFEASIBLE``,
+                with the reason and the place (``infeasible_reason``, ``passage``, ``turn``).
             seed: the seed (default the session's).
 
         Raises:
@@ -158,24 +171,35 @@ class PlanningSession:
             kept = fresh.adopt(self._checker, added=added, removed=gone)
             log.info("replanning: %d checked motions kept after the change", kept)
             self._checker, self._search = fresh, None  # the roadmaps grew among the old ones
-        started = time.monotonic()
-        res = self._repaired(scene, start, grasp, time_limit, seed)
-        if res is None:
+        started = time.monotonic()  # a repair slow to find a route asks once if any plan exists
+        late = LateProof(scene, begin=started + LATE_PROOF_BEGIN * time_limit,
+                         end=started + LATE_PROOF_END * time_limit,
+                         explain_end=started + EXPLAIN_END * time_limit)
+        res = self._repaired(scene, start, grasp, time_limit, seed, late)
+        if res is None and late.proof is not None:
+            res = infeasible_result(scene, self.planner, self.seed if seed is None else seed,
+                                    time_limit, late.proof,
+                                    {"setup": 0.0, "solve": time.monotonic() - started})
+            self._adopt(scene, res)
+        elif res is None:
             left = max(MIN_SEARCH_TIME, time_limit - (time.monotonic() - started))
             if not added:
                 res = self._run(scene, left, seed, grasp)
             else:  # a change that may leave no plan: the rest of the time to prove it
                 res = self._run(scene, max(MIN_SEARCH_TIME, (1.0 - PROOF_SHARE) * left), seed,
                                 grasp)
-                if not res.solved:
+                if not res.solved and res.status != "INFEASIBLE":
                     res = _proved_infeasible(scene, res, deadline=started + time_limit)
         if robot is not None:
             res.plan.extra["observed_robot"] = list(robot)
         return res
 
     def _repaired(self, scene: Scene, box: tuple[float, float, float], grasp: int | None,
-                  time_limit: float, seed: int | None) -> PlanResult | None:
-        """The route being executed repaired from ``box`` as a result, or ``None``."""
+                  time_limit: float, seed: int | None, proof: LateProof) -> PlanResult | None:
+        """The route being executed repaired from ``box`` as a result, or ``None``.
+
+        ``proof`` is asked while the repair has no route (``None`` once it proves no plan).
+        """
         if not self.repair or not self._route or \
                 max(abs(a - b) for a, b in zip(self._route[-1][0], scene.goal, strict=True)) > 1e-9:
             return None  # no route, or one to another goal
@@ -190,7 +214,8 @@ class PlanningSession:
         def stop() -> bool:
             return time.monotonic() > deadline
 
-        found = repair_route(checker, self._route, box, grasp, should_stop=stop,
+        found = repair_route(checker, self._route, box, grasp,
+                             should_stop=lambda: stop() or proof(),
                              seed=self.seed if seed is None else seed,
                              config=(self.config or RegraspConfig()).repair)
         if found.path is None:  # none, or the half of the time ran out: the search's turn
@@ -252,7 +277,7 @@ class PlanningSession:
         kw: dict[str, Any] = {"planner": self.planner, "config": self.config,
                               "seed": self.seed if seed is None else seed,
                               "checker": self._checker, "bound": self.bound,
-                              "start_grasp": grasp}
+                              "start_grasp": grasp, "late_proof": True}
         resumed = self._search is not None
         res = plan(scene, time_limit=time_limit / 2 if resumed else time_limit,
                    resume=self._search, **kw)
@@ -283,17 +308,20 @@ def _check_held(p: Plan, grasp: int) -> None:
 
 
 def _proved_infeasible(scene: Scene, res: PlanResult, *, deadline: float) -> PlanResult:
-    """``res`` marked ``INFEASIBLE`` when the regrasp bound's relaxation proves no plan exists.
+    """``res`` marked ``INFEASIBLE`` when the relaxation proves that no plan exists.
 
-    The relaxation (:func:`~pivot_ompl.analysis.bound_cache.lower_bound`) admits every plan
-    from any grasp, so when it joins no start to the goal no plan exists, from the held grasp
-    or any other. It runs until ``deadline`` (``time.monotonic()``); stopped, or finding a
-    path, it leaves ``res`` as it is.
+    The relaxation (:class:`~pivot_ompl.analysis.late_proof.LateProof`, asked at once)
+    admits every plan from any grasp, so when it joins no start to the goal no plan exists,
+    from the held grasp or any other; the result then says why and where, as
+    :func:`~pivot_ompl.api.plan` does (``infeasible_reason``, ``passage`` or ``turn``, the
+    plan's ``no_plan``). It runs until ``deadline`` (``time.monotonic()``); stopped, or
+    finding a path, it leaves ``res`` as it is.
     """
-    bound = lower_bound(scene, should_stop=lambda: time.monotonic() > deadline)
-    if bound.solvable is not False:
+    late = LateProof(scene, begin=-math.inf, end=deadline)
+    if not late() or late.proof is None:
         return res
-    log.info("replanning: no plan exists (the regrasp bound's relaxation finds no path, %.2f s)",
-             bound.seconds)
-    res.plan.extra["no_plan"] = "the regrasp bound's relaxation joins no start to the goal"
-    return dataclasses.replace(res, status="INFEASIBLE")
+    proof = late.proof
+    log.info("replanning: no plan exists: %s", proof.reason)
+    res.plan.extra.update(proof.fields())
+    return dataclasses.replace(res, status="INFEASIBLE", infeasible_reason=proof.reason,
+                               passage=proof.passage, turn=proof.turn)
