@@ -39,7 +39,8 @@ import time
 from collections.abc import Sequence
 from typing import Any
 
-from pivot_ompl.analysis.late_proof import LateProof
+from pivot_ompl.analysis.bound_cache import lower_bound
+from pivot_ompl.analysis.late_proof import LateProof, generic
 from pivot_ompl.api import (
     EXPLAIN_END,
     LATE_PROOF_BEGIN,
@@ -308,19 +309,19 @@ def _check_held(p: Plan, grasp: int) -> None:
 
 
 def _proved_infeasible(scene: Scene, res: PlanResult, *, deadline: float) -> PlanResult:
-    """``res`` marked ``INFEASIBLE`` when the relaxation proves that no plan exists.
+    """``res`` marked ``INFEASIBLE`` when the regrasp bound's relaxation proves no plan exists.
 
-    The relaxation (:class:`~pivot_ompl.analysis.late_proof.LateProof`, asked at once)
+    The relaxation (:func:`~pivot_ompl.analysis.bound_cache.lower_bound`, coarse to fine)
     admits every plan from any grasp, so when it joins no start to the goal no plan exists,
     from the held grasp or any other; the result then says why and where, as
-    :func:`~pivot_ompl.api.plan` does (``infeasible_reason``, ``passage`` or ``turn``, the
-    plan's ``no_plan``). It runs until ``deadline`` (``time.monotonic()``); stopped, or
-    finding a path, it leaves ``res`` as it is.
+    :func:`~pivot_ompl.api.plan` does (:class:`~pivot_ompl.analysis.late_proof.LateProof`:
+    ``infeasible_reason``, ``passage`` or ``turn``, the plan's ``no_plan``). Both run until
+    ``deadline`` (``time.monotonic()``); stopped, or finding a path, it leaves ``res`` as it is.
     """
-    late = LateProof(scene, begin=-math.inf, end=deadline)
-    if not late() or late.proof is None:
+    if lower_bound(scene, should_stop=lambda: time.monotonic() > deadline).solvable is not False:
         return res
-    proof = late.proof
+    late = LateProof(scene, begin=-math.inf, end=deadline)  # the bound is kept: only the place
+    proof = late.proof if late() and late.proof is not None else generic(scene)
     log.info("replanning: no plan exists: %s", proof.reason)
     res.plan.extra.update(proof.fields())
     return dataclasses.replace(res, status="INFEASIBLE", infeasible_reason=proof.reason,
