@@ -14,18 +14,20 @@ def _box(x0: float, y0: float, x1: float, y1: float) -> dict:
 
 
 def tight_corner(seed: int, widths: tuple[float, float] = (0.90, 0.94),
-                 turned: bool = True) -> tuple[dict, tuple[float, float]]:
+                 turned: bool = True, whole: bool | None = None
+                 ) -> tuple[dict, tuple[float, float]]:
     """A closed L-shaped corridor (generated from ``seed``) whose corner the held box cannot
     turn: 0.90-0.94 m wide (the box and the robot holding it need 0.88 m across, 1.54 m
     long), legs of 3-4 m, the whole turned by a random angle; the start at the end of one
     leg, the goal at the end of the other (``widths``: the range of the corridor's width;
-    ``turned`` False: axis-aligned, the legs whole decimetres). Returns the scene document
+    ``turned`` False: axis-aligned, the legs whole decimetres; ``whole``: whole decimetres or
+    not, whether turned or not). Returns the scene document
     and the corner's inner point."""
     rng = np.random.default_rng(seed)
     w = float(rng.uniform(*widths))
     run, rise = (float(v) for v in rng.uniform(3.0, 4.0, 2))
     angle = float(rng.uniform(-math.pi, math.pi)) if turned else 0.0
-    if not turned:  # walls on whole decimetres: on the raster's cell edges
+    if (not turned) if whole is None else whole:  # walls on whole decimetres: cell edges
         run, rise = round(run, 1), round(rise, 1)
     x1, y1 = 0.3 + run + w + 0.3, 0.3 + rise + w + 0.3  # walls 0.3 m thick all round
     cx = 0.3 + run  # the vertical leg spans x in [cx, cx + w]
