@@ -3,7 +3,7 @@
 The raster covers (:mod:`~pivot_ompl.analysis.raster_cover`) lay their cells over the scene's
 bounds, an axis-aligned rectangle. A row of rooms turned by an angle in the world fills only a
 thin diagonal band of that rectangle: the cells grow with the square of the row's length
-(a 32-room row turned by 40 deg: 11 500 m² of bounds round 1 200 m² of building), and the
+(a 32-room row turned by 40 deg: 11 500 m² of bounds, 1 400 m² in the walls' frame), and the
 coarser cells a large floor gets lose the row's narrow passages. So the relaxations run on the
 scene turned to its walls (:func:`~pivot_ompl.scene.walls.wall_yaw`, as the walk lattice is:
 :mod:`pivot_ompl.transit.frame`) and cut to where its box can be (:func:`relaxed_scene`).
@@ -55,8 +55,9 @@ log = logging.getLogger(__name__)
 BOUND_WALL = 0.5
 #: Margin (m) of the turned scene's bounds beyond the assembly's reach round the free floor.
 MARGIN = 0.5
-#: The turned scene is relaxed when its bounds' area is at most this share of the scene's.
-WORTH = 0.8
+#: The turned scene is relaxed when its bounds' area is at most this share of the scene's (a
+#: smaller floor gets finer levels within the same estimated time: not worth it for a little).
+WORTH = 0.5
 #: Obstacle pieces beyond which no frame is tried (the free floor's union is one GEOS call,
 #: not polled: about 0.1 s per thousand pieces).
 MAX_PIECES = 4000

@@ -8,7 +8,7 @@ import pytest
 import shapely
 from corner_factories import tight_corner
 from factories import shipped
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from pivot_ompl.analysis import wall_frame as wall_frame_module
@@ -32,16 +32,17 @@ def _row(rooms: int, rotate: bool = False, seed: int = 0):
 
 def _exact(name: str):
     if name not in _EXACT:
-        _EXACT[name] = regrasp_lower_bound(_row(6) if name == "row" else shipped(name))
+        _EXACT[name] = regrasp_lower_bound(_row(10) if name == "row" else shipped(name))
     return _EXACT[name]
 
 
 @settings(max_examples=6, deadline=None)
+@example(name="row", angle=0.8)  # turned 46 deg: relaxed in the walls' frame
 @given(name=st.sampled_from(["slot", "t_junction", "row"]),
        angle=st.floats(-math.pi, math.pi))
 def test_a_turned_scene_is_bounded_as_the_scene_itself_never_above_the_exact_bound(name,
                                                                                     angle):
-    scene = _row(6) if name == "row" else shipped(name)
+    scene = _row(10) if name == "row" else shipped(name)
     turned = rotate_scene(scene, angle)
     exact = _exact(name)
     got = lower_bound(turned, use_cache=False)
