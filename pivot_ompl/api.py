@@ -18,8 +18,9 @@ from pivot_ompl.analysis.plan_bounds import plan_bounds
 from pivot_ompl.analysis.turning import TurningPlace
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.base.problem import make_setup
+from pivot_ompl.base.staged_solve import MIN_SOLVE_TIME as MIN_SOLVE_TIME
+from pivot_ompl.base.staged_solve import solve_staged
 from pivot_ompl.base.state import read_state
-from pivot_ompl.base.status import status_name
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.errors import Interrupted, PlanningError, counted
 from pivot_ompl.plan_arguments import MAX_SEED as MAX_SEED
@@ -47,8 +48,6 @@ log = logging.getLogger(__name__)
 # ompl.util.setLogLevel(ompl.util.LogLevel.LOG_INFO) or `pivot-ompl --log-level DEBUG`.
 ou.setLogLevel(ou.LogLevel.LOG_WARN)
 
-#: Least time (s) left after the setup for which the search still starts.
-MIN_SOLVE_TIME = 1e-3
 #: Longest a first computation of a scene's lower bounds may take (s); then they are ``null``.
 BOUND_TIME_LIMIT = 10.0
 #: Share of the time limit for the relaxation to prove, before the search, that no plan exists
@@ -138,7 +137,7 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
          seed: int = 0, simplify: bool = False, regrasp_cost: float | None = None,
          config: RegraspConfig | None = None, bound: bool = True,
          checker: PivotChecker | None = None, resume: RegraspSearch | None = None,
-         start_grasp: int | None = None) -> PlanResult:
+         start_grasp: int | None = None, late_proof: bool | None = None) -> PlanResult:
     """Plan a pivoting path (with regrasps where needed) for ``scene``.
 
     Args:
@@ -162,11 +161,8 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
             block (:func:`pivot_ompl.analysis.plan_bounds.plan_bounds`: computed once per
             scene geometry, within ``time_limit`` (what the search left of it, less
             :data:`WRITE_SHARE` of it kept for writing the plan), then read from the
-            cache); and a regrasp search still without a path after
-            :data:`LATE_PROOF_BEGIN` of the limit asks the relaxation once whether any plan
-            exists (``INFEASIBLE`` with the reason when none does,
-            :class:`~pivot_ompl.analysis.late_proof.LateProof`); ``False``: ``null`` there
-            and nothing computed.
+            cache), and prove before the search what a narrow passage explains; ``False``:
+            ``null`` there and nothing computed.
         checker: a :class:`~pivot_ompl.checking.pivot_checker.PivotChecker` of the same scene
             geometry whose checked motions to reuse (:class:`pivot_ompl.session.PlanningSession`
             passes its own); by default a new one.
@@ -174,13 +170,17 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
             regrasp planner searches from the new start over its roadmaps (replanning).
         start_grasp: the grasp held at the start (0 to 3): every plan starts with it, other
             grasps reached by walks from it priced as any regrasp; ``None``: any valid grasp.
+        late_proof: a search (any planner's) still without a path after
+            :data:`LATE_PROOF_BEGIN` of the limit asks the relaxation once whether any plan
+            exists (``INFEASIBLE`` with the reason when none does,
+            :class:`~pivot_ompl.analysis.late_proof.LateProof`); ``None``: as ``bound``.
 
     Raises:
         PlanningError: ``INVALID_START``/``INVALID_GOAL`` (no grasp there, or not ``start_grasp``).
         InputError: bad parameters (wrong type or value), naming the parameter.
     """
     time_limit = check_plan_arguments(scene, planner, time_limit, seed, simplify, bound,
-                                      start_grasp)
+                                      start_grasp, late_proof)
     config = check_config(config, regrasp_cost)
     started = time.monotonic()  # the time limit counts from here: loading and setup included
     t0 = time.perf_counter()
@@ -201,25 +201,27 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
         proof = explain_no_plan(scene, should_stop=lambda: time.monotonic() >= started +
                                 PROOF_SHARE * time_limit, passages=passages)
         if proof is not None:
-            return _infeasible(scene, planner, seed, time_limit, NoPlan(proof[0], proof[1]),
-                               {"setup": time.perf_counter() - t0, "solve": 0.0})
+            return infeasible_result(scene, planner, seed, time_limit,
+                                     NoPlan(proof[0], proof[1]),
+                                     {"setup": time.perf_counter() - t0, "solve": 0.0})
     p, config = _planner_for(problem, planner, seed=seed, config=config,
                              resume=Resume(start_grasp, resume))
     late = None
+    if bound if late_proof is None else late_proof:  # a search slow to find a path asks once
+        late = LateProof(scene, begin=started + LATE_PROOF_BEGIN * time_limit,
+                         end=started + LATE_PROOF_END * time_limit,
+                         explain_end=started + EXPLAIN_END * time_limit, passages=passages)
     if isinstance(p, RegraspPlanner):  # its quality share is one of the solve's limit
         p.solve_limit = time_limit - (time.monotonic() - started)
-        if bound:  # a search slow to find a path asks once whether there is one
-            late = p.proof = LateProof(scene, begin=started + LATE_PROOF_BEGIN * time_limit,
-                                       end=started + LATE_PROOF_END * time_limit,
-                                       explain_end=started + EXPLAIN_END * time_limit,
-                                       passages=passages)
+        p.proof = late  # polled by its search; other planners are stopped to ask it
     t1 = time.perf_counter()
-    name = _solve(problem.setup, time_limit - _share(time_limit, FINISH_SHARE, FINISH_MAX),
-                  started)
+    name = solve_staged(problem.setup, time_limit - _share(time_limit, FINISH_SHARE, FINISH_MAX),
+                        started, proof=None if isinstance(p, RegraspPlanner) else late,
+                        ask_at=started + LATE_PROOF_BEGIN * time_limit)
     t2 = time.perf_counter()
     if late is not None and late.proof is not None and name != "EXACT_SOLUTION":
-        return _infeasible(scene, planner, seed, time_limit, late.proof,
-                           {"setup": t1 - t0, "solve": t2 - t1})
+        return infeasible_result(scene, planner, seed, time_limit, late.proof,
+                                 {"setup": t1 - t0, "solve": t2 - t1})
     if name in ("INVALID_START", "INVALID_GOAL"):
         pose = scene.start if name == "INVALID_START" else scene.goal
         raise PlanningError(name, problem.checker.explain(pose))
@@ -275,9 +277,13 @@ def _stopped_in_setup(scene: Scene | str | os.PathLike, planner: str, seed: int,
                       scene=scene if isinstance(scene, Scene) else None)
 
 
-def _infeasible(scene: Scene, planner: str, seed: int, time_limit: float, proof: NoPlan,
-                timings: dict[str, float]) -> PlanResult:
-    """The ``INFEASIBLE`` result of a scene the relaxation proves has no plan."""
+def infeasible_result(scene: Scene, planner: str, seed: int, time_limit: float, proof: NoPlan,
+                      timings: dict[str, float]) -> PlanResult:
+    """The ``INFEASIBLE`` result of a scene the relaxation proves has no plan (``proof``).
+
+    Its plan has no phases and records the proof's fields (``no_plan``, ``passage`` or
+    ``turn``); ``timings`` gets ``convert``.
+    """
     timings = {**timings, "convert": 0.0}
     log.info("%s: no plan exists (proven by the relaxation in %.2f s)", scene.name,
              sum(timings.values()))
@@ -340,15 +346,6 @@ def _scene_record(scene: Scene) -> dict[str, Any]:
 def _share(time_limit: float, share: float, most: float) -> float:
     """``share`` of ``time_limit`` (s), at most ``most`` s."""
     return min(share * time_limit, most)
-
-
-def _solve(ss: Any, time_limit: float, started: float) -> str:
-    """Solve within what the setup left of ``time_limit`` (s); the status's name."""
-    left = time_limit - (time.monotonic() - started)
-    if left > MIN_SOLVE_TIME:
-        return status_name(ss.solve(left))
-    log.warning("setup took the whole %.4g s limit: no time left to solve", time_limit)
-    return "TIMEOUT"
 
 
 def _result_plan(scene: Scene, problem: Any, status: str, extra: dict[str, Any], *,

@@ -34,36 +34,40 @@ from __future__ import annotations
 
 import dataclasses
 import logging
-import os
+import math
 import time
 from collections.abc import Sequence
 from typing import Any
 
-import numpy as np
-
 from pivot_ompl.analysis.bound_cache import lower_bound
-from pivot_ompl.api import MAX_SEED, PlanResult, check_time_limit, plan, plan_from_route
+from pivot_ompl.analysis.late_proof import LateProof, generic
+from pivot_ompl.api import (
+    EXPLAIN_END,
+    LATE_PROOF_BEGIN,
+    LATE_PROOF_END,
+    PlanResult,
+    check_time_limit,
+    infeasible_result,
+    plan,
+    plan_from_route,
+)
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.checking.stored import StoredMotions, stored_motions
 from pivot_ompl.errors import InputError, PlanningError
-from pivot_ompl.grasp import GRASPS, check_grasp
+from pivot_ompl.grasp import check_grasp
 from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
 from pivot_ompl.planners.config import RegraspConfig
 from pivot_ompl.planners.evaluation import Evaluator
-from pivot_ompl.planners.registry import check_planner_name
 from pivot_ompl.planners.regrasp_search import RegraspSearch
-from pivot_ompl.planners.repair import State, polish, repair_route, route_of
-from pivot_ompl.scene import (
-    MAX_COORD,
-    MAX_YAW,
-    BoxObstacle,
-    CylinderObstacle,
-    Obstacle,
-    PolygonObstacle,
-    Scene,
-    check_pose,
-    load_scene,
-    obstacles_from_list,
+from pivot_ompl.planners.repair import State, polish, repair_route
+from pivot_ompl.scene import Obstacle, Scene, load_scene
+from pivot_ompl.session_inputs import (
+    added_obstacles,
+    check_seed,
+    check_session,
+    listed,
+    observed_pose,
+    route_of_plan,
 )
 
 log = logging.getLogger(__name__)
@@ -101,12 +105,12 @@ class PlanningSession:
                  bound: bool = False, executing: Plan | None = None,
                  repair: bool = True) -> None:
         """A session; nothing is planned yet."""
-        _check_session(scene, planner, config, seed, bound, executing, repair)
+        check_session(scene, planner, config, seed, bound, executing, repair)
         self.scene = scene if isinstance(scene, Scene) else load_scene(scene)
         self.planner, self.config, self.seed, self.bound = planner, config, seed, bound
         self.repair = repair
         self.last: PlanResult | None = None
-        self._route: list[State] = _route_of_plan(executing) if executing is not None else []
+        self._route: list[State] = route_of_plan(executing) if executing is not None else []
         self._stored = stored_motions(executing, self._route) if self._route and \
             executing is not None else StoredMotions()
         self._checker: PivotChecker | None = None
@@ -120,7 +124,7 @@ class PlanningSession:
     def plan(self, *, time_limit: float = 30.0, seed: int | None = None) -> PlanResult:
         """Plan the scene from its start (or continue from the last observed state)."""
         time_limit = check_time_limit(time_limit)
-        _check_seed(seed)
+        check_seed(seed)
         return self._run(self.scene, time_limit, seed, None)
 
     def replan(self, *, box: Sequence[float] | None = None, grasp: int | None = None,
@@ -139,9 +143,12 @@ class PlanningSession:
                 whole-body motion starts at ``robot`` and walks to it).
             add_obstacles: obstacles that appeared (objects or dicts as in a scene file).
             remove_obstacles: obstacles that went (the scene's objects or their indices).
-            time_limit: as for :func:`pivot_ompl.api.plan` (s). After ``add_obstacles``, a
-                search that finds no plan leaves :data:`PROOF_SHARE` of it to prove that none
-                exists: the result's status is then ``INFEASIBLE``.
+            time_limit: as for :func:`pivot_ompl.api.plan` (s). A search still without a
+                path after a small share of it asks the relaxation once whether any plan
+                exists (``late_proof`` of :func:`~pivot_ompl.api.plan`); after
+                ``add_obstacles``, a search that finds no plan leaves :data:`PROOF_SHARE` of
+                it to prove that none exists. When none does the status is ``INFEASIBLE``,
+                with the reason and the place (``infeasible_reason``, ``passage``, ``turn``).
             seed: the seed (default the session's).
 
         Raises:
@@ -149,15 +156,15 @@ class PlanningSession:
             PlanningError: the observed pose is in collision, or the held grasp is not valid
                 there (``INVALID_START``).
         """
-        start = _pose(box, "box")
+        start = observed_pose(box, "box")
         if grasp is not None:
             grasp = check_grasp(grasp, field="grasp")
         if robot is not None:
-            robot = _pose(robot, "robot")
+            robot = observed_pose(robot, "robot")
         time_limit = check_time_limit(time_limit)
-        _check_seed(seed)
-        added = _added(add_obstacles)
-        gone = self._removed(_sequence(remove_obstacles, "remove_obstacles"))
+        check_seed(seed)
+        added = added_obstacles(add_obstacles)
+        gone = self._removed(listed(remove_obstacles, "remove_obstacles"))
         obstacles = tuple(o for o in self.scene.obstacles if o not in gone) + added
         scene = dataclasses.replace(self.scene, start=start, obstacles=obstacles)
         if self._checker is not None and (added or gone):
@@ -165,24 +172,35 @@ class PlanningSession:
             kept = fresh.adopt(self._checker, added=added, removed=gone)
             log.info("replanning: %d checked motions kept after the change", kept)
             self._checker, self._search = fresh, None  # the roadmaps grew among the old ones
-        started = time.monotonic()
-        res = self._repaired(scene, start, grasp, time_limit, seed)
-        if res is None:
+        started = time.monotonic()  # a repair slow to find a route asks once if any plan exists
+        late = LateProof(scene, begin=started + LATE_PROOF_BEGIN * time_limit,
+                         end=started + LATE_PROOF_END * time_limit,
+                         explain_end=started + EXPLAIN_END * time_limit)
+        res = self._repaired(scene, start, grasp, time_limit, seed, late)
+        if res is None and late.proof is not None:
+            res = infeasible_result(scene, self.planner, self.seed if seed is None else seed,
+                                    time_limit, late.proof,
+                                    {"setup": 0.0, "solve": time.monotonic() - started})
+            self._adopt(scene, res)
+        elif res is None:
             left = max(MIN_SEARCH_TIME, time_limit - (time.monotonic() - started))
             if not added:
                 res = self._run(scene, left, seed, grasp)
             else:  # a change that may leave no plan: the rest of the time to prove it
                 res = self._run(scene, max(MIN_SEARCH_TIME, (1.0 - PROOF_SHARE) * left), seed,
                                 grasp)
-                if not res.solved:
+                if not res.solved and res.status != "INFEASIBLE":
                     res = _proved_infeasible(scene, res, deadline=started + time_limit)
         if robot is not None:
             res.plan.extra["observed_robot"] = list(robot)
         return res
 
     def _repaired(self, scene: Scene, box: tuple[float, float, float], grasp: int | None,
-                  time_limit: float, seed: int | None) -> PlanResult | None:
-        """The route being executed repaired from ``box`` as a result, or ``None``."""
+                  time_limit: float, seed: int | None, proof: LateProof) -> PlanResult | None:
+        """The route being executed repaired from ``box`` as a result, or ``None``.
+
+        ``proof`` is asked while the repair has no route (``None`` once it proves no plan).
+        """
         if not self.repair or not self._route or \
                 max(abs(a - b) for a, b in zip(self._route[-1][0], scene.goal, strict=True)) > 1e-9:
             return None  # no route, or one to another goal
@@ -197,7 +215,8 @@ class PlanningSession:
         def stop() -> bool:
             return time.monotonic() > deadline
 
-        found = repair_route(checker, self._route, box, grasp, should_stop=stop,
+        found = repair_route(checker, self._route, box, grasp,
+                             should_stop=lambda: stop() or proof(),
                              seed=self.seed if seed is None else seed,
                              config=(self.config or RegraspConfig()).repair)
         if found.path is None:  # none, or the half of the time ran out: the search's turn
@@ -233,7 +252,7 @@ class PlanningSession:
         """Take ``res`` as the last plan (its route to repair next)."""
         self.scene, self.last = scene, res
         if res.solved:
-            self._route = _route_of_plan(res.plan)
+            self._route = route_of_plan(res.plan)
 
     def _removed(self, items: Sequence[Obstacle | int]) -> tuple[Obstacle, ...]:
         out = []
@@ -259,7 +278,7 @@ class PlanningSession:
         kw: dict[str, Any] = {"planner": self.planner, "config": self.config,
                               "seed": self.seed if seed is None else seed,
                               "checker": self._checker, "bound": self.bound,
-                              "start_grasp": grasp}
+                              "start_grasp": grasp, "late_proof": True}
         resumed = self._search is not None
         res = plan(scene, time_limit=time_limit / 2 if resumed else time_limit,
                    resume=self._search, **kw)
@@ -292,108 +311,18 @@ def _check_held(p: Plan, grasp: int) -> None:
 def _proved_infeasible(scene: Scene, res: PlanResult, *, deadline: float) -> PlanResult:
     """``res`` marked ``INFEASIBLE`` when the regrasp bound's relaxation proves no plan exists.
 
-    The relaxation (:func:`~pivot_ompl.analysis.bound_cache.lower_bound`) admits every plan
-    from any grasp, so when it joins no start to the goal no plan exists, from the held grasp
-    or any other. It runs until ``deadline`` (``time.monotonic()``); stopped, or finding a
-    path, it leaves ``res`` as it is.
+    The relaxation (:func:`~pivot_ompl.analysis.bound_cache.lower_bound`, coarse to fine)
+    admits every plan from any grasp, so when it joins no start to the goal no plan exists,
+    from the held grasp or any other; the result then says why and where, as
+    :func:`~pivot_ompl.api.plan` does (:class:`~pivot_ompl.analysis.late_proof.LateProof`:
+    ``infeasible_reason``, ``passage`` or ``turn``, the plan's ``no_plan``). Both run until
+    ``deadline`` (``time.monotonic()``); stopped, or finding a path, it leaves ``res`` as it is.
     """
-    bound = lower_bound(scene, should_stop=lambda: time.monotonic() > deadline)
-    if bound.solvable is not False:
+    if lower_bound(scene, should_stop=lambda: time.monotonic() > deadline).solvable is not False:
         return res
-    log.info("replanning: no plan exists (the regrasp bound's relaxation finds no path, %.2f s)",
-             bound.seconds)
-    res.plan.extra["no_plan"] = "the regrasp bound's relaxation joins no start to the goal"
-    return dataclasses.replace(res, status="INFEASIBLE")
-
-
-def _route_of_plan(p: Plan) -> list[State]:
-    """A plan's route (its ``route`` field), ``[]`` for a plan without one.
-
-    Raises:
-        InputError: a state of the route is not ``[x, y, yaw, grasp]`` within a scene's
-            limits (naming ``executing.route[i]``).
-    """
-    raw = p.extra.get("route")
-    if not isinstance(raw, list) or len(raw) < 2:
-        return []
-    try:  # the whole route at once (200 000 states in 0.1 s); a bad state is then named
-        a = np.array(raw, dtype=float)
-        ok = a.ndim == 2 and a.shape[1] == 4 and bool(
-            np.all(np.abs(a[:, :2]) <= MAX_COORD) and np.all(np.abs(a[:, 2]) <= MAX_YAW)
-            and np.all(np.isin(a[:, 3], GRASPS)))
-        ok = ok and all(type(q[3]) is int for q in raw)
-    except (TypeError, ValueError, OverflowError):
-        ok = False
-    if not ok:
-        for i, q in enumerate(raw):
-            field = f"executing.route[{i}]"
-            if not isinstance(q, list | tuple) or len(q) != 4:
-                raise InputError(field, q, "must be [x, y, yaw, grasp]")
-            check_pose(list(q[:3]), field=field)
-            check_grasp(q[3], field=f"{field}[3]")
-    return route_of(raw)
-
-
-def _check_session(scene: Any, planner: Any, config: Any, seed: Any, bound: Any,
-                   executing: Any, repair: Any) -> None:
-    """Validate :class:`PlanningSession`'s arguments (naming the one at fault)."""
-    if not isinstance(scene, Scene | str | os.PathLike):
-        raise InputError("scene", type(scene).__name__,
-                         "must be a Scene, a scene file path or a shipped scene name")
-    if not isinstance(planner, str):
-        raise InputError("planner", type(planner).__name__, "must be a planner's name")
-    check_planner_name(planner)
-    if config is not None and not isinstance(config, RegraspConfig):
-        raise InputError("config", type(config).__name__, "must be a RegraspConfig or None")
-    _check_seed(seed, field="seed", optional=False)
-    for name, flag in (("bound", bound), ("repair", repair)):
-        if not isinstance(flag, bool):
-            raise InputError(name, flag, "must be True or False")
-    if executing is not None and not isinstance(executing, Plan):
-        raise InputError("executing", type(executing).__name__,
-                         "must be a Plan (pivot_ompl.load_plan(path) reads one) or None")
-
-
-def _check_seed(seed: Any, *, field: str = "seed", optional: bool = True) -> None:
-    if optional and seed is None:
-        return
-    if isinstance(seed, bool) or not isinstance(seed, int) or not 0 <= seed <= MAX_SEED:
-        raise InputError(field, seed, f"must be an integer in [0, {MAX_SEED}]")
-
-
-def _pose(value: Any, field: str) -> tuple[float, float, float]:
-    if value is None:
-        raise InputError(field, None, "is required: the observed pose (x, y, yaw)")
-    if isinstance(value, str | bytes) or not isinstance(value, Sequence | np.ndarray):
-        raise InputError(field, type(value).__name__, "must be a sequence (x, y, yaw)")
-    return check_pose(list(value), field=field)
-
-
-def _sequence(value: Any, field: str) -> list:
-    if isinstance(value, str | bytes | dict) or not isinstance(value, Sequence | np.ndarray):
-        raise InputError(field, type(value).__name__, "must be a list")
-    return list(value)
-
-
-def _added(items: Any) -> tuple[Obstacle, ...]:
-    """The obstacles of ``add_obstacles``, validated as a scene file's are.
-
-    Each item is a mapping as in a scene file or an obstacle object.
-    """
-    docs = []
-    for i, o in enumerate(_sequence(items, "add_obstacles")):
-        if isinstance(o, dict):
-            docs.append(o)
-        elif isinstance(o, BoxObstacle):
-            docs.append({"type": "box", "center": list(o.center), "size": list(o.size),
-                         "yaw": o.yaw, "height": o.height})
-        elif isinstance(o, CylinderObstacle):
-            docs.append({"type": "cylinder", "center": list(o.center), "radius": o.radius,
-                         "height": o.height})
-        elif isinstance(o, PolygonObstacle):
-            docs.append({"type": "polygon", "points": [list(p) for p in o.points],
-                         "height": o.height})
-        else:
-            raise InputError(f"add_obstacles[{i}]", type(o).__name__,
-                             "must be an obstacle or a mapping as in a scene file")
-    return obstacles_from_list(docs, field="add_obstacles")
+    late = LateProof(scene, begin=-math.inf, end=deadline)  # the bound is kept: only the place
+    proof = late.proof if late() and late.proof is not None else generic(scene)
+    log.info("replanning: no plan exists: %s", proof.reason)
+    res.plan.extra.update(proof.fields())
+    return dataclasses.replace(res, status="INFEASIBLE", infeasible_reason=proof.reason,
+                               passage=proof.passage, turn=proof.turn)

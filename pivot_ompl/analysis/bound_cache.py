@@ -37,6 +37,7 @@ from pivot_ompl.analysis.bound_levels import REFINE_SECONDS, may_refine, scaled_
 from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.analysis.regrasp_bound import RESOLUTION, RegraspBound
 from pivot_ompl.analysis.route_bound import GRID_SLACK, MAX_CELLS, MIN_CELL
+from pivot_ompl.analysis.wall_frame import relaxed_scene
 from pivot_ompl.cache import BoundedCache, CacheEntryError, read_entry_bytes
 from pivot_ompl.errors import InputError, printable, require_type
 from pivot_ompl.fileio import atomic_output
@@ -45,7 +46,7 @@ from pivot_ompl.scene import Scene, scene_digest
 log = logging.getLogger(__name__)
 
 #: Version of the relaxation: part of every key (a new relaxation never reads old results).
-BOUND_VERSION = 5
+BOUND_VERSION = 6
 #: Scenes whose bound is kept in memory.
 MEMORY_ENTRIES = 64
 #: Environment variable that turns the disk cache off when ``0``.
@@ -224,6 +225,9 @@ def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RES
                 should_stop: Callable[[], bool] | None = None) -> RegraspBound:
     """:func:`~pivot_ompl.analysis.bound_levels.scaled_lower_bound` of ``scene``, cached.
 
+    Computed in the walls' frame (:func:`~pivot_ompl.analysis.wall_frame.relaxed_scene`: a
+    floor turned in the world costs what a square one does), kept under ``scene``'s key.
+
     Args:
         scene: the scene.
         use_cache: read and write the caches (memory and disk); ``False`` always computes.
@@ -248,7 +252,8 @@ def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RES
         if hit is not None and not _refinable(hit, scene, resolution, target,
                                               refine_seconds):
             return hit
-    bound = scaled_lower_bound(scene, resolution=resolution, target=target,
+    bound = scaled_lower_bound(relaxed_scene(scene, should_stop=should_stop),
+                               resolution=resolution, target=target,
                                refine_seconds=refine_seconds, should_stop=should_stop)
     if bound.solvable is None or not bound.complete:  # stopped: returned, never kept
         return bound
@@ -270,4 +275,5 @@ def _refinable(hit: RegraspBound, scene: Scene, resolution: float, target: int |
         return False
     if target is not None and hit.regrasps is not None and hit.regrasps >= target:
         return False
-    return may_refine(scene, resolution=resolution, refine_seconds=refine_seconds)
+    return may_refine(relaxed_scene(scene), resolution=resolution,
+                      refine_seconds=refine_seconds)

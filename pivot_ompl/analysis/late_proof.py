@@ -5,31 +5,36 @@ Before the search, :func:`pivot_ompl.api.plan` proves only what a narrow passage
 scene without a plan for want of room to turn has no such passage, and its search would run
 the whole limit. Running the relaxation before every search costs easy scenes its time
 (about 0.1 s of the coarse raster on fig10, a fifth of its solve), so :class:`LateProof` is
-polled by the search *while it has no path* and does nothing before ``begin``; then, once,
-it runs the relaxation, stopped at ``end``, in the form that proves and places at once: the
-exact polygons (:func:`~pivot_ompl.analysis.turning.turning_place`) where they are estimated
-to fit, else the coarse raster (:func:`~pivot_ompl.analysis.turning_raster.
-raster_turning_place`); a bound the cache holds answers at once (a solvable one: nothing to
-do; an unsolvable one: only the place is looked for, until ``explain_end``). When no plan
-exists the reason is the passage that blocks every plan
-(:func:`~pivot_ompl.analysis.passage.blocking_passage`) if there is one, else the place where
-the held box cannot turn, else (the place not found in time) a line naming the width the
-held assembly needs; and the search stops. Its cost to a scene that has a plan is at most
-``end - begin``, and only when the search is slow to find a path.
+asked by the search *while it has no path* (the regrasp search polls it; an OMPL planner's
+solve is stopped at ``begin`` to ask it, :mod:`pivot_ompl.base.staged_solve`) and does
+nothing before ``begin``; then, once, it runs the relaxation, stopped at ``end``, in the form
+that proves and places at once: the exact polygons
+(:func:`~pivot_ompl.analysis.turning.turning_place`) where they are estimated to fit, else
+the coarse raster in the walls' frame (:func:`framed_turning_place`); a bound the cache holds
+answers at once (a solvable one: nothing to do; an unsolvable one: only the place is looked
+for, until ``explain_end``). When no plan exists the reason is the passage that blocks every
+plan (:func:`~pivot_ompl.analysis.passage.blocking_passage`) if there is one, else the place
+where the held box cannot turn, else (the place not found in time) a line naming the width
+the held assembly needs; and the search stops. Its cost to a scene that has a plan is at
+most ``end - begin``, and only when the search is slow to find a path.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
+import shapely
+
 from pivot_ompl.analysis.bound_cache import cached_bound
 from pivot_ompl.analysis.bound_levels import CELLS, exhaustive_estimate
 from pivot_ompl.analysis.passage import Passage, PassageOnce, assembly_width
-from pivot_ompl.analysis.turning import TurningPlace, turning_place
+from pivot_ompl.analysis.turning import TurningPlace, turning_place, widest_circle
 from pivot_ompl.analysis.turning_raster import raster_turning_place
+from pivot_ompl.analysis.wall_frame import wall_frame
 from pivot_ompl.scene import Scene
 
 log = logging.getLogger(__name__)
@@ -110,7 +115,7 @@ class LateProof:
         if exhaustive_estimate(self.scene) <= self.end - now:  # proof and place at once
             place = turning_place(self.scene, should_stop=stop)
         else:
-            place = raster_turning_place(self.scene, cell=CELLS[0], should_stop=stop)
+            place = framed_turning_place(self.scene, should_stop=stop)
         if place is None and known is None:
             log.debug("late proof: nothing proven in %.2f s", self.clock() - now)
             return False
@@ -126,3 +131,24 @@ class LateProof:
 
     def _stop(self, at: float) -> Callable[[], bool]:
         return lambda: self.clock() >= at
+
+
+def framed_turning_place(scene: Scene, *, cell: float = CELLS[0],
+                         should_stop: Callable[[], bool] | None = None) -> TurningPlace | None:
+    """:func:`~pivot_ompl.analysis.turning_raster.raster_turning_place`, in the walls' frame.
+
+    (:func:`~pivot_ompl.analysis.wall_frame.wall_frame`; the scene as it is where no frame is
+    worth it.) The place is turned back to the scene and its room to turn measured there.
+    """
+    frame = wall_frame(scene, should_stop=should_stop)
+    if frame is None:
+        return raster_turning_place(scene, cell=cell, should_stop=should_stop)
+    place = raster_turning_place(frame.scene, cell=cell, should_stop=should_stop)
+    if place is None:
+        return None
+    centre = frame.point_out(place.center)
+    width = widest_circle(scene, shapely.Point(centre), 0.5 * place.assembly_length,
+                          should_stop)
+    return dataclasses.replace(place, center=centre, width=width,
+                               from_start=frame.arc_out(place.from_start),
+                               to_goal=frame.arc_out(place.to_goal))

@@ -87,8 +87,7 @@ def run(args: argparse.Namespace) -> int:
         return 2
     print(result_line(res))
     if not res.solved:
-        why = ("no plan exists (the regrasp bound's relaxation joins no start to the goal)"
-               if res.status == "INFEASIBLE" else "no plan found")
+        why = "no plan exists" if res.status == "INFEASIBLE" else "no plan found"
         print(f"{why}: nothing written", file=sys.stderr)
         return 1
     new = session.scene

@@ -193,7 +193,10 @@ def test_a_change_that_leaves_no_plan_is_proved_within_the_time_limit():
     res = s.replan(box=s.scene.start, add_obstacles=closing, time_limit=4.0)
     spent = time.monotonic() - t0
     assert res.status == "INFEASIBLE" and not res.solved
-    assert "relaxation" in res.plan.extra["no_plan"]
+    # the reason a replan gives is the one plan gives, with its passage (regression: it said
+    # "the regrasp bound's relaxation joins no start to the goal", nothing more)
+    assert res.infeasible_reason is not None and res.infeasible_reason.startswith("no plan:")
+    assert res.plan.extra["no_plan"] == res.infeasible_reason and res.passage is not None
     assert spent < 4.0 + 1.0  # the proof within the limit (its share of it)
     # a change that leaves a plan is not called infeasible: the slot alone closed, the door open
     s2 = PlanningSession(shipped("slot"), seed=0)

@@ -1,0 +1,197 @@
+"""The raster relaxations computed in the walls' frame: a turned floor costs what a square one does.
+
+The raster covers (:mod:`~pivot_ompl.analysis.raster_cover`) lay their cells over the scene's
+bounds, an axis-aligned rectangle. A row of rooms turned by an angle in the world fills only a
+thin diagonal band of that rectangle: the cells grow with the square of the row's length
+(a 32-room row turned by 40 deg: 11 500 m² of bounds, 1 400 m² in the walls' frame), and the
+coarser cells a large floor gets lose the row's narrow passages. So the relaxations run on the
+scene turned to its walls (:func:`~pivot_ompl.scene.walls.wall_yaw`, as the walk lattice is:
+:mod:`pivot_ompl.transit.frame`) and cut to where its box can be (:func:`relaxed_scene`).
+
+**Still a relaxation of every plan.** Turning the floor, its obstacles, start and goal together
+is a rigid motion: every plan of the scene turned is a plan of the turned scene. The turned
+scene's bounds cannot be the old rectangle (it is turned too), so:
+
+* the old bounds become four walls just outside them (:data:`BOUND_WALL` thick, the checkers'
+  clearance away: a body inside the bounds keeps that clearance from them), turned;
+* the new bounds hold every body of every plan: in every state of a plan the box's centre lies
+  outside every obstacle and inside the bounds, and moves continuously, so it stays in the
+  connected piece of the free floor (the bounds less the obstacles' pieces, subsets of the
+  obstacles) holding the start (or the goal), and every body lies within the assembly's reach
+  of it. The new bounds are the turned pieces' box grown by that reach and :data:`MARGIN`.
+
+Nothing a plan does is cut, so every bound computed there is one of the scene's (the route
+length and the regrasps are the same in any frame), and a place found there (where the held
+box cannot turn) is turned back. A floor whose walls run along the world's axes, or whose turned
+box is not smaller than its bounds (:data:`WORTH`), is relaxed as it is. Callers:
+:func:`~pivot_ompl.analysis.bound_cache.lower_bound` (the regrasp and route bounds) and
+:class:`~pivot_ompl.analysis.late_proof.LateProof` (the raster's place to turn).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import shapely
+
+from pivot_ompl.analysis.bound_levels import CELLS
+from pivot_ompl.analysis.raster_cover import floor_raster
+from pivot_ompl.analysis.regrasp_bound import held_bodies
+from pivot_ompl.errors import Interrupted
+from pivot_ompl.scene import BoxObstacle, Obstacle, Scene
+from pivot_ompl.scene.walls import turned_obstacle, wall_yaw
+from pivot_ompl.se2 import rotate_about
+from pivot_ompl.validity.collision import KEEP_CLEARANCE
+from pivot_ompl.validity.footprints import obstacle_pieces
+from pivot_ompl.validity.merge import merge_boxes
+
+log = logging.getLogger(__name__)
+
+#: Thickness (m) of the walls standing for the old bounds in the turned scene.
+BOUND_WALL = 0.5
+#: Margin (m) of the turned scene's bounds beyond the assembly's reach round the free floor.
+MARGIN = 0.5
+#: The turned scene is relaxed when its bounds' area is at most this share of the scene's (a
+#: smaller floor gets finer levels within the same estimated time: not worth it for a little).
+WORTH = 0.5
+#: Obstacle pieces beyond which no frame is tried (the free floor's union is one GEOS call,
+#: not polled: about 0.1 s per thousand pieces).
+MAX_PIECES = 4000
+#: A box is square to the frame's axes when ``|sin 2 yaw|`` is below this.
+AXIS = 1e-6
+#: Obstacles are shrunk by this much (m) before the free floor's pieces are found (pieces
+#: touching at a point never part two regions a box passes between).
+SHRINK = 1e-6
+
+
+@dataclass(frozen=True)
+class WallFrame:
+    """A scene turned by ``-yaw`` about ``centre`` and cut to its free floor (module docstring).
+
+    Attributes:
+        yaw: the walls' direction in the scene (rad).
+        centre: the point turned about (the scene's bounds' centre).
+        scene: the turned scene (its own bounds, the old bounds as walls).
+    """
+
+    yaw: float
+    centre: tuple[float, float]
+    scene: Scene
+
+    def point_out(self, p: tuple[float, float]) -> tuple[float, float]:
+        """A point of the turned scene, in the scene."""
+        x, y, _ = rotate_about((p[0], p[1], 0.0), self.centre, self.yaw)
+        return x, y
+
+    def arc_out(self, arc: tuple[float, float]) -> tuple[float, float]:
+        """An arc of yaws (degrees, ``low <= high``) of the turned scene, in the scene."""
+        low, high = arc
+        if high - low >= 360.0:
+            return low, high
+        d = math.degrees(self.yaw)
+        shift = 360.0 * math.floor((low + d + 180.0) / 360.0)  # low back in [-180, 180)
+        return low + d - shift, high + d - shift
+
+
+def wall_frame(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
+               should_stop: Callable[[], bool] | None = None) -> WallFrame | None:
+    """The scene turned to its walls and cut to its free floor, when that is worth it.
+
+    ``None`` when the walls run along the axes, when the turned scene's bounds are not
+    smaller than :data:`WORTH` of the scene's, when the scene has over :data:`MAX_PIECES`
+    obstacle pieces, or when ``should_stop`` said stop. ``clearance``: what the checkers
+    keep every body from the obstacles (m; the old bounds' walls stand that far out).
+    """
+    yaw = wall_yaw(scene.obstacles)
+    if yaw == 0.0:
+        return None
+    x0, y0, x1, y1 = scene.bounds
+    centre = (0.5 * (x0 + x1), 0.5 * (y0 + y1))
+    floor = _free_floor(scene, should_stop)
+    if floor is None:
+        return None
+    reach = max(p.reach for g in (0, 1) for p in held_bodies(scene, g)) + MARGIN
+    pts = shapely.get_coordinates(floor)
+    c, s = math.cos(-yaw), math.sin(-yaw)
+    dx, dy = pts[:, 0] - centre[0], pts[:, 1] - centre[1]
+    tx, ty = centre[0] + c * dx - s * dy, centre[1] + s * dx + c * dy
+    bounds = (float(tx.min()) - reach, float(ty.min()) - reach,
+              float(tx.max()) + reach, float(ty.max()) + reach)
+    area = (bounds[2] - bounds[0]) * (bounds[3] - bounds[1])
+    if area > WORTH * (x1 - x0) * (y1 - y0):
+        return None
+    obstacles = tuple(turned_obstacle(o, -yaw, centre) for o in scene.obstacles)
+    bounds = _aligned(bounds, obstacles, floor_raster(bounds, CELLS[0]).cell)
+    t, k = BOUND_WALL, clearance
+    w, h = x1 - x0, y1 - y0
+    walls = [BoxObstacle((centre[0], y0 - k - 0.5 * t), (w + 2 * (t + k), t), 0.0, 2.0),
+             BoxObstacle((centre[0], y1 + k + 0.5 * t), (w + 2 * (t + k), t), 0.0, 2.0),
+             BoxObstacle((x0 - k - 0.5 * t, centre[1]), (t, h + 2 * (t + k)), 0.0, 2.0),
+             BoxObstacle((x1 + k + 0.5 * t, centre[1]), (t, h + 2 * (t + k)), 0.0, 2.0)]
+    turned = dataclasses.replace(
+        scene, bounds=bounds,
+        obstacles=obstacles + tuple(turned_obstacle(o, -yaw, centre) for o in walls),
+        start=rotate_about(scene.start, centre, -yaw), goal=rotate_about(scene.goal, centre, -yaw))
+    log.debug("walls' frame: turned %.2f deg, bounds %.0f -> %.0f m2", math.degrees(yaw),
+              w * h, area)
+    return WallFrame(yaw, centre, turned)
+
+
+def relaxed_scene(scene: Scene, *, should_stop: Callable[[], bool] | None = None) -> Scene:
+    """The scene the raster relaxations run on: :func:`wall_frame`'s, else ``scene`` itself."""
+    frame = wall_frame(scene, should_stop=should_stop)
+    return scene if frame is None else frame.scene
+
+
+def _aligned(bounds: tuple[float, float, float, float], obstacles: tuple[Obstacle, ...],
+             cell: float) -> tuple[float, float, float, float]:
+    """``bounds`` grown by less than ``cell`` so that most wall edges lie on cell edges.
+
+    The raster's cells start at the bounds' lower corner; a wall whose edges fall between
+    cell edges loses a row of wholly covered cells, and the passage beside it looks a cell
+    wider. Per axis, the edges of the boxes square to the axes are weighed by their length;
+    the corner moves down to the residue (modulo ``cell``) most length has.
+    """
+    weights: list[dict[float, float]] = [{}, {}]
+    for o in obstacles:
+        if not isinstance(o, BoxObstacle) or abs(math.sin(2.0 * o.yaw)) > AXIS:
+            continue
+        across = abs(math.cos(o.yaw)) < 0.5  # turned a quarter: its sides swap axes
+        size = (o.size[1], o.size[0]) if across else o.size
+        for axis in (0, 1):
+            length = size[1 - axis]
+            for edge in (o.center[axis] - 0.5 * size[axis], o.center[axis] + 0.5 * size[axis]):
+                key = round(edge % cell, 7) % round(cell, 7)
+                weights[axis][key] = weights[axis].get(key, 0.0) + length
+    low = []
+    for axis in (0, 1):
+        start = bounds[axis]
+        if weights[axis]:
+            r = max(weights[axis], key=lambda k: weights[axis][k])
+            start = r + cell * math.floor((start - r) / cell)
+        low.append(start)
+    return (low[0], low[1], bounds[2], bounds[3])
+
+
+def _free_floor(scene: Scene, should_stop: Callable[[], bool] | None
+                ) -> shapely.Geometry | None:
+    """The pieces of the free floor holding the start or the goal (``None``: none, or stopped)."""
+    try:
+        pieces = obstacle_pieces(merge_boxes(scene.obstacles, should_stop=should_stop))
+    except Interrupted:
+        return None
+    if len(pieces) > MAX_PIECES or (should_stop is not None and should_stop()):
+        return None
+    solid = shapely.union_all(shapely.buffer([shapely.Polygon(p) for p in pieces], -SHRINK,
+                                             join_style="mitre"))
+    if should_stop is not None and should_stop():
+        return None
+    free = shapely.box(*scene.bounds).difference(solid)
+    ends = shapely.points([scene.start[:2], scene.goal[:2]])
+    kept = [g for g in getattr(free, "geoms", [free])
+            if not g.is_empty and shapely.intersects(g, ends).any()]
+    return shapely.MultiPolygon(kept) if kept else None

@@ -1,0 +1,103 @@
+"""The raster relaxations in the walls' frame: sound, turned back, and sized by the building."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+import shapely
+from corner_factories import tight_corner
+from factories import shipped
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
+
+from pivot_ompl.analysis import wall_frame as wall_frame_module
+from pivot_ompl.analysis.bound_cache import lower_bound
+from pivot_ompl.analysis.late_proof import framed_turning_place
+from pivot_ompl.analysis.regrasp_bound import held_bodies, regrasp_lower_bound
+from pivot_ompl.analysis.turning import turning_place
+from pivot_ompl.analysis.wall_frame import wall_frame
+from pivot_ompl.generate import GeneratorParams, generate
+from pivot_ompl.generate.transform import rotate_scene
+from pivot_ompl.scene import scene_from_dict
+from pivot_ompl.scene.walls import wall_yaw
+
+_EXACT: dict[str, object] = {}
+
+
+def _row(rooms: int, rotate: bool = False, seed: int = 0):
+    return generate("building", seed, params=GeneratorParams(
+        rooms=rooms, layout="corridor", rotate=rotate)).scene
+
+
+def _exact(name: str):
+    if name not in _EXACT:
+        _EXACT[name] = regrasp_lower_bound(_row(10) if name == "row" else shipped(name))
+    return _EXACT[name]
+
+
+@settings(max_examples=6, deadline=None)
+@example(name="row", angle=0.8)  # turned 46 deg: relaxed in the walls' frame
+@given(name=st.sampled_from(["slot", "t_junction", "row"]),
+       angle=st.floats(-math.pi, math.pi))
+def test_a_turned_scene_is_bounded_as_the_scene_itself_never_above_the_exact_bound(name,
+                                                                                    angle):
+    scene = _row(10) if name == "row" else shipped(name)
+    turned = rotate_scene(scene, angle)
+    exact = _exact(name)
+    got = lower_bound(turned, use_cache=False)
+    assert got.solvable == exact.solvable  # every one of them has a plan
+    assert got.regrasps is not None and got.regrasps <= exact.regrasps
+    # the box moves at least the straight line; no route bound is above a witness plan's
+    assert math.dist(scene.start[:2], scene.goal[:2]) <= got.shortest_route + 1e-9
+    if wall_frame(turned) is not None:  # relaxed in the walls' frame: as the scene was
+        plain = lower_bound(scene, use_cache=False)
+        assert got.regrasps == plain.regrasps
+        assert got.shortest_route == pytest.approx(plain.shortest_route, abs=0.3)
+
+
+def test_a_turned_row_of_rooms_is_rastered_over_its_own_extent():
+    scene = _row(16, rotate=True, seed=2)
+    frame = wall_frame(scene)
+    assert frame is not None
+    assert frame.yaw == pytest.approx(wall_yaw(scene.obstacles))
+    x0, y0, x1, y1 = scene.bounds
+    u0, v0, u1, v1 = frame.scene.bounds
+    assert (u1 - u0) * (v1 - v0) < 0.5 * (x1 - x0) * (y1 - y0)
+    # start, goal and every wall of the row lie inside the turned bounds
+    box = shapely.box(u0, v0, u1, v1)
+    for pose in (frame.scene.start, frame.scene.goal):
+        assert box.contains(shapely.Point(pose[:2]))
+    reach = max(p.reach for g in (0, 1) for p in held_bodies(scene, g))
+    assert min(u1 - u0, v1 - v0) > 2.0 * reach
+    # turned back, the turned start is the scene's
+    assert frame.point_out(frame.scene.start[:2]) == pytest.approx(scene.start[:2])
+    assert frame.scene.start[2] == pytest.approx(scene.start[2] - frame.yaw)
+    # and the bound is the same as the unturned row's (sound and no weaker)
+    assert lower_bound(scene, use_cache=False).regrasps == \
+        lower_bound(_row(16, seed=2), use_cache=False).regrasps
+
+
+def test_floors_square_to_the_axes_are_relaxed_as_they_are():
+    for name in ("fig10", "slot", "door", "corridor"):
+        assert wall_frame(shipped(name)) is None
+
+
+@pytest.mark.parametrize("seed", [6, 16])  # turned 45 and 35 deg off its walls
+def test_the_place_found_in_the_walls_frame_is_turned_back(seed, monkeypatch):
+    # walls on whole decimetres, turned: the raster places the corner only in their frame
+    doc, corner = tight_corner(seed, widths=(0.9, 0.9), whole=True)
+    scene = scene_from_dict(doc, source="<test>")
+    monkeypatch.setattr(wall_frame_module, "WORTH", math.inf)  # a small L: turned all the same
+    assert wall_frame(scene) is not None
+    place = framed_turning_place(scene)
+    exact = turning_place(scene)
+    assert place is not None and exact is not None
+    assert math.dist(place.center, corner) < 1.0
+    assert place.reason.startswith("no plan: the box cannot turn at")
+    for framed, polygons in ((place.from_start, exact.from_start),
+                             (place.to_goal, exact.to_goal)):
+        assert -180.0 <= framed[0] < 180.0 and framed[0] <= framed[1]
+        # the same arc of yaws as the exact polygons', to a bin
+        mid = 0.5 * (framed[0] + framed[1]) - 0.5 * (polygons[0] + polygons[1])
+        assert abs((mid + 180.0) % 360.0 - 180.0) < 10.0

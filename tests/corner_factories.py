@@ -1,0 +1,44 @@
+"""A closed L-shaped corridor whose corner the held box cannot turn (no plan exists)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from factories import rotated_scene_doc
+
+
+def _box(x0: float, y0: float, x1: float, y1: float) -> dict:
+    return {"type": "box", "center": [0.5 * (x0 + x1), 0.5 * (y0 + y1)],
+            "size": [x1 - x0, y1 - y0], "yaw": 0.0, "height": 2.0}
+
+
+def tight_corner(seed: int, widths: tuple[float, float] = (0.90, 0.94),
+                 turned: bool = True, whole: bool | None = None
+                 ) -> tuple[dict, tuple[float, float]]:
+    """A closed L-shaped corridor (generated from ``seed``) whose corner the held box cannot
+    turn: 0.90-0.94 m wide (the box and the robot holding it need 0.88 m across, 1.54 m
+    long), legs of 3-4 m, the whole turned by a random angle; the start at the end of one
+    leg, the goal at the end of the other (``widths``: the range of the corridor's width;
+    ``turned`` False: axis-aligned, the legs whole decimetres; ``whole``: whole decimetres or
+    not, whether turned or not). Returns the scene document
+    and the corner's inner point."""
+    rng = np.random.default_rng(seed)
+    w = float(rng.uniform(*widths))
+    run, rise = (float(v) for v in rng.uniform(3.0, 4.0, 2))
+    angle = float(rng.uniform(-math.pi, math.pi)) if turned else 0.0
+    if (not turned) if whole is None else whole:  # walls on whole decimetres: cell edges
+        run, rise = round(run, 1), round(rise, 1)
+    x1, y1 = 0.3 + run + w + 0.3, 0.3 + rise + w + 0.3  # walls 0.3 m thick all round
+    cx = 0.3 + run  # the vertical leg spans x in [cx, cx + w]
+    walls = [_box(0.0, 0.0, x1, 0.3), _box(0.0, 0.3, 0.3, 0.3 + w),  # floor side, west end
+             _box(0.0, 0.3 + w, cx, y1), _box(cx + w, 0.3, x1, y1),  # inner block, east side
+             _box(cx, y1 - 0.3, cx + w, y1)]  # north end
+    doc = {"name": f"tight_corner_{seed}", "bounds": [0.0, 0.0, x1, y1],
+           "object": {"size": [0.8, 0.6, 1.3]}, "start": [1.3, 0.3 + 0.5 * w, 0.0],
+           "goal": [cx + 0.5 * w, y1 - 1.3, 0.5 * math.pi], "obstacles": walls}
+    about = (0.5 * x1, 0.5 * y1)
+    doc = rotated_scene_doc(doc, angle, about)
+    c, s = math.cos(angle), math.sin(angle)
+    px, py = cx - about[0], 0.3 + w - about[1]
+    return doc, (about[0] + c * px - s * py, about[1] + s * px + c * py)
