@@ -48,7 +48,8 @@ MAX_DEPTH = 40
 DEVIATION_RATIO = 0.5
 
 #: Where the path left after the longest piece is shorter than this share of that piece,
-#: the piece and the rest are made two equal pieces (no piece of near-zero rotations).
+#: the piece and the rest are made two equal pieces (no piece of near-zero rotations). Only
+#: in a whole path's conversion: a local refinement's pieces are chosen by its checks.
 TAIL_SHARE = 0.5
 
 
@@ -258,6 +259,7 @@ class PivotSteering:
         # a spin's pieces (a/4, a/2, a/4) already merge at their junctions: the search for a
         # merging piece is for Reeds-Shepp arcs
         arc = self.merge and not rs.is_spin(start, goal)
+        plain = origin is None and span == (0.0, 1.0)  # not a local refinement
         # a rotation moves the edge centre by at most 2 l sin(alpha/2): a necessary condition
         reach = 6.0 * ell * math.sin(0.5 * amax) + 1e-9
         # first guess: the ideal push's piece (two full rotations)
@@ -284,7 +286,7 @@ class PivotSteering:
                     rots[0].end == previous.end and not merges(previous, rots[0], amax):
                 t_ok, (target, rots) = fewer_pivots(solve, previous, amax, t0, t_ok,
                                                      (target, rots))
-            if t_ok < t_end and t_end - t_ok < TAIL_SHARE * (t_ok - t0):
+            if t_ok < t_end and t_end - t_ok < TAIL_SHARE * (t_ok - t0) and plain:
                 # a short rest would be a piece of near-zero rotations: halve what is left
                 halved = solve(t0 + 0.5 * (t_end - t0))
                 if halved is not None:
