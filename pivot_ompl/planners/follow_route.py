@@ -38,11 +38,13 @@ from dataclasses import dataclass
 
 from pivot_ompl.analysis.plan_bounds import disk_cells
 from pivot_ompl.analysis.route_path import FreeField, route_polyline
+from pivot_ompl.cache import BoundedCache
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.evaluation import Evaluator
 from pivot_ompl.planners.optimiser import optimise_over
+from pivot_ompl.scene import scene_digest
 from pivot_ompl.se2 import Pose, wrap_angle
 
 __all__ = ["MARGINS", "FollowStats", "follow_route"]
@@ -71,6 +73,11 @@ NO_MOVE = 1e-3
 
 #: The free field of each checker's scene, computed once (a checker's scene never changes).
 _fields: weakref.WeakKeyDictionary[PivotChecker, FreeField] = weakref.WeakKeyDictionary()
+#: Scenes whose free fields are kept across checkers (the later plans of one scene).
+FIELD_SCENES = 8
+#: The free fields by :func:`~pivot_ompl.scene.scene_digest` (geometry, not the object):
+#: each plan makes its own checker, and the field depends only on the scene's geometry.
+_scene_fields: BoundedCache[str, FreeField] = BoundedCache(FIELD_SCENES)
 
 
 @dataclass
@@ -127,15 +134,23 @@ def follow_route(checker: PivotChecker, states: list[State], *, costs: CostModel
 
 
 def _field(checker: PivotChecker, should_stop: Stop) -> FreeField | None:
-    """The free field of the disk relaxation of ``checker``'s scene; ``None`` if stopped."""
+    """The free field of the disk relaxation of ``checker``'s scene; ``None`` if stopped.
+
+    Kept per checker and per scene geometry (:data:`FIELD_SCENES` scenes): a later plan of
+    the same scene, with a checker of its own, finds it made.
+    """
     known = _fields.get(checker)
     if known is not None:
         return known
-    cells = disk_cells(checker.scene, should_stop=should_stop, max_cells=MAX_CELLS)
-    if cells is None or should_stop():
-        return None
-    field = _fields[checker] = FreeField.of(*cells)
-    return field
+    key = scene_digest(checker.scene)
+    known = _scene_fields.get(key)
+    if known is None:
+        cells = disk_cells(checker.scene, should_stop=should_stop, max_cells=MAX_CELLS)
+        if cells is None or should_stop():
+            return None
+        known = _scene_fields.put(key, FreeField.of(*cells))
+    _fields[checker] = known
+    return known
 
 
 def _phases(path: list[State]) -> list[tuple[int, int]]:

@@ -34,9 +34,9 @@ from pivot_ompl.cost import CostModel
 from pivot_ompl.planners.routes.guide import graph_distances, move_graph
 from pivot_ompl.planners.routes.lattice_components import chunked_labels
 from pivot_ompl.planners.routes.lattice_search import lattice_astar
+from pivot_ompl.planners.routes.shared_fields import assembly_field
 from pivot_ompl.se2 import Pose, wrap_angle
 from pivot_ompl.transit.lattice import HEADING_VECTORS, HEADING_YAWS, N_HEADINGS
-from pivot_ompl.validity.assembly_field import AssemblyField
 
 #: Most grid positions of the lattice (over the bounds' rectangle, as its field): a larger floor
 #: gets a coarser grid, so the field's grids and the components stay within a few hundred MB
@@ -78,7 +78,7 @@ class TransferLattice:
         x0, y0, x1, y1 = checker.world.bounds
         resolution = max(resolution, math.sqrt((x1 - x0) * (y1 - y0) / MAX_CELLS))
         self.resolution, self.max_expansions, self.weight = resolution, max_expansions, weight
-        self.field = AssemblyField(checker.model, checker.world, resolution)
+        self.field = assembly_field(checker, resolution)
         alpha = checker.scene.alpha_max
         m = checker.model
         self._push = {g: costs.push_rate(m.edge_half_length(g), alpha) for g in range(4)}

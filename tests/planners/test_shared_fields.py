@@ -1,0 +1,37 @@
+"""The assembly field is rasterised once per scene: later plans' lattices share it, and the
+shared grids are those a fresh field computes (plans do not change)."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+from factories import shipped, two_rooms
+
+from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.cost import CostModel
+from pivot_ompl.planners.routes.lattice import TransferLattice
+from pivot_ompl.planners.routes.shared_fields import assembly_field
+from pivot_ompl.validity.assembly_field import FIELD_YAWS, AssemblyField
+
+
+def test_lattices_of_one_scene_share_the_field_with_a_fresh_fields_grids():
+    scene = shipped("slot")
+    first = TransferLattice(PivotChecker(scene, seed=0), CostModel())
+    again = TransferLattice(PivotChecker(shipped("slot"), seed=1), CostModel())
+    assert again.field is first.field  # another checker, another Scene object, same geometry
+    ck = PivotChecker(scene, seed=2)
+    fresh = AssemblyField(ck.model, ck.world, first.resolution)
+    for parity in (0, 1):
+        for k in range(len(FIELD_YAWS)):
+            assert np.array_equal(first.field.fits(parity, k), fresh.fits(parity, k))
+
+
+def test_another_geometry_or_spacing_gets_its_own_field():
+    ck = PivotChecker(two_rooms(1.2), seed=0)
+    field = assembly_field(ck, 0.1)
+    assert assembly_field(PivotChecker(two_rooms(1.6), seed=0), 0.1) is not field
+    assert assembly_field(ck, 0.2) is not field
+    moved = dataclasses.replace(ck.scene, start=(ck.scene.start[0] + 0.1, *ck.scene.start[1:]))
+    assert assembly_field(PivotChecker(moved, seed=0), 0.1) is not field  # a new digest
+    assert assembly_field(PivotChecker(two_rooms(1.2), seed=3), 0.1) is field
