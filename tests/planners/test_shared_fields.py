@@ -35,3 +35,22 @@ def test_another_geometry_or_spacing_gets_its_own_field():
     moved = dataclasses.replace(ck.scene, start=(ck.scene.start[0] + 0.1, *ck.scene.start[1:]))
     assert assembly_field(PivotChecker(moved, seed=0), 0.1) is not field  # a new digest
     assert assembly_field(PivotChecker(two_rooms(1.2), seed=3), 0.1) is field
+
+
+def test_lattice_components_are_computed_once_per_field_and_region():
+    import pytest
+    import shapely
+
+    scene = shipped("slot")
+    x0, y0, x1, y1 = scene.bounds
+    left = shapely.box(x0, y0, 0.5 * (x0 + x1), y1)
+    first = TransferLattice(PivotChecker(scene, seed=0), CostModel(), region=left)
+    again = TransferLattice(PivotChecker(shipped("slot"), seed=1), CostModel(),
+                            region=shapely.box(x0, y0, 0.5 * (x0 + x1), y1))
+    whole = TransferLattice(PivotChecker(scene, seed=2), CostModel())
+    ids, labels = first.components(0)
+    assert again.components(0)[1] is labels
+    assert whole.components(0)[1] is not labels  # another region: its own components
+    assert int((whole.components(0)[0] >= 0).sum()) > int((ids >= 0).sum())
+    with pytest.raises(ValueError, match="read-only"):
+        labels[0] = 7  # shared: no lattice may change another's

@@ -31,10 +31,11 @@ from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
+from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.routes.guide import graph_distances, move_graph
 from pivot_ompl.planners.routes.lattice_components import chunked_labels
 from pivot_ompl.planners.routes.lattice_search import lattice_astar
-from pivot_ompl.planners.routes.shared_fields import assembly_field
+from pivot_ompl.planners.routes.shared_fields import assembly_field, shared_components
 from pivot_ompl.se2 import Pose, wrap_angle
 from pivot_ompl.transit.lattice import HEADING_VECTORS, HEADING_YAWS, N_HEADINGS
 
@@ -271,8 +272,16 @@ class TransferLattice:
         fills a small part of it, and the rectangle grows with the square of its length).
         """
         hit = self._labels.get(parity)
-        if hit is not None:
-            return hit
+        if hit is None:
+            if should_stop is not None and should_stop():  # as when computed: stopped
+                raise Interrupted("lattice components")
+            hit = self._labels[parity] = shared_components(
+                self.field, parity, self.region, lambda: self._labelled(parity, should_stop))
+        return hit
+
+    def _labelled(self, parity: int,
+                  should_stop: Callable[[], bool] | None) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`_components` computed."""
         f = self.field
         nx, ny, nh = f.nx, f.ny, N_HEADINGS
         fits = [self._fits(parity, k, should_stop).reshape(-1) for k in range(2 * nh)]
@@ -286,7 +295,6 @@ class TransferLattice:
         turn = [state[h] & state[(h + 1) % nh] & fits[2 * h + 1][cells] for h in range(nh)]
         labels = chunked_labels(cells, cell_ids, state, turn, (nx, ny), should_stop)
         labels[~np.stack(state, axis=1).reshape(-1)] = -1
-        self._labels[parity] = (cell_ids, labels)
         return cell_ids, labels
 
     def _floor_distances(self, parity: int, goals: dict[State, float],

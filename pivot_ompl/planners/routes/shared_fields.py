@@ -6,22 +6,34 @@ world) and the grid spacing, and fills its grids as they are asked for. Every pl
 checker and a lattice of its own; :func:`assembly_field` hands a later plan of the same
 scene (same :func:`~pivot_ompl.scene.scene_digest`) the field an earlier one filled, so the
 grids are rasterised once per scene, not once per plan. The grids are the same either way:
-plans do not change.
+plans do not change. The lattice's connected components (:func:`shared_components`) are kept
+with their field, per grasp parity and region, as read-only arrays.
 """
 
 from __future__ import annotations
+
+import weakref
+from collections.abc import Callable
+
+import numpy as np
+import shapely
+from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.cache import BoundedCache
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.scene import scene_digest
 from pivot_ompl.validity.assembly_field import AssemblyField
 
-__all__ = ["FIELD_SCENES", "assembly_field"]
+__all__ = ["FIELD_SCENES", "assembly_field", "shared_components"]
 
 #: Fields kept (least recently used dropped first): a few scenes at one or two spacings.
 FIELD_SCENES = 8
 
 _fields: BoundedCache[tuple[str, float, float], AssemblyField] = BoundedCache(FIELD_SCENES)
+Labels = tuple[np.ndarray, np.ndarray]
+#: each field's lattice components by ``(parity, the region's WKB or None)``
+_labels: weakref.WeakKeyDictionary[AssemblyField, dict[tuple[int, bytes | None], Labels]] = \
+    weakref.WeakKeyDictionary()
 
 
 def assembly_field(checker: PivotChecker, resolution: float) -> AssemblyField:
@@ -29,3 +41,21 @@ def assembly_field(checker: PivotChecker, resolution: float) -> AssemblyField:
     key = (scene_digest(checker.scene), float(resolution), float(checker.world.clearance))
     return _fields.get_or_compute(
         key, lambda: AssemblyField(checker.model, checker.world, resolution))
+
+
+def shared_components(field: AssemblyField, parity: int, region: BaseGeometry | None,
+                      compute: Callable[[], Labels]) -> Labels:
+    """The lattice components over ``field`` at ``parity`` within ``region``, computed once.
+
+    ``compute`` makes them where no lattice over the same field and region has (its
+    arrays are then made read-only: every lattice reads the same ones).
+    """
+    per = _labels.setdefault(field, {})
+    key = (parity, None if region is None else shapely.to_wkb(region))
+    hit = per.get(key)
+    if hit is None:
+        hit = compute()
+        for a in hit:
+            a.setflags(write=False)
+        per[key] = hit
+    return hit
