@@ -54,3 +54,21 @@ def test_lattice_components_are_computed_once_per_field_and_region():
     assert int((whole.components(0)[0] >= 0).sum()) > int((ids >= 0).sum())
     with pytest.raises(ValueError, match="read-only"):
         labels[0] = 7  # shared: no lattice may change another's
+
+
+def test_lattice_routes_are_shared_by_scene_and_prices_and_a_stop_still_stops():
+    import pytest
+
+    from pivot_ompl.errors import Interrupted
+
+    scene = shipped("open")
+    first = TransferLattice(PivotChecker(scene, seed=0), CostModel())
+    poses, cost = first.route(scene.start, scene.goal, 0)
+    assert len(poses) >= 2 and cost > 0
+    again = TransferLattice(PivotChecker(shipped("open"), seed=1), CostModel())
+    assert again.route(scene.start, scene.goal, 0)[0] is poses  # not searched again
+    other = TransferLattice(PivotChecker(scene, seed=0), CostModel(), max_expansions=10_000)
+    assert other.route(scene.start, scene.goal, 0)[0] is not poses  # another search limit
+    stopped = TransferLattice(PivotChecker(scene, seed=2), CostModel())
+    with pytest.raises(Interrupted):  # known to another plan, still stopped as when searched
+        stopped.route(scene.start, scene.goal, 0, should_stop=lambda: True)

@@ -35,7 +35,12 @@ from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.routes.guide import graph_distances, move_graph
 from pivot_ompl.planners.routes.lattice_components import chunked_labels
 from pivot_ompl.planners.routes.lattice_search import lattice_astar
-from pivot_ompl.planners.routes.shared_fields import assembly_field, shared_components
+from pivot_ompl.planners.routes.shared_fields import (
+    ROUTES_KEPT,
+    assembly_field,
+    shared_components,
+    shared_routes,
+)
 from pivot_ompl.se2 import Pose, wrap_angle
 from pivot_ompl.transit.lattice import HEADING_VECTORS, HEADING_YAWS, N_HEADINGS
 
@@ -91,7 +96,9 @@ class TransferLattice:
                        for h in range(N_HEADINGS)]
         self.expansions = 0
         #: routes by (start, goal, grasp, weight)
-        self._routes: dict[tuple[Pose, Pose, int, float], tuple[list[Pose], float]] = {}
+        self._routes: dict[tuple[Pose, Pose, int, float], tuple[list[Pose], float]] = \
+            shared_routes(self.field, region, (*self._push.values(), self._spin, max_expansions))
+        self._asked: set[tuple[Pose, Pose, int, float]] = set()  # by this lattice
         self._labels: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         self._floors: dict[int, Any] = {}
         #: the last floor distances per parity, by the goal joins' cells they were asked for
@@ -124,8 +131,13 @@ class TransferLattice:
         weight = self.weight if weight is None else weight
         key = (start, goal, grasp, weight)
         hit = self._routes.get(key)
+        if key not in self._asked and should_stop is not None and should_stop():
+            raise Interrupted("lattice route")  # as when searched: another plan's is not free
+        self._asked.add(key)
         if hit is None:
             hit = self._route(start, goal, grasp, should_stop, weight)
+            if len(self._routes) >= ROUTES_KEPT:
+                self._routes.clear()
             self._routes[key] = hit
         return hit
 

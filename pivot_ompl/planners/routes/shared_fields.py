@@ -7,7 +7,8 @@ checker and a lattice of its own; :func:`assembly_field` hands a later plan of t
 scene (same :func:`~pivot_ompl.scene.scene_digest`) the field an earlier one filled, so the
 grids are rasterised once per scene, not once per plan. The grids are the same either way:
 plans do not change. The lattice's connected components (:func:`shared_components`) are kept
-with their field, per grasp parity and region, as read-only arrays.
+with their field, per grasp parity and region, as read-only arrays, and so are its routes
+(:func:`shared_routes`), per region and the lattice's prices and search limit.
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.scene import scene_digest
 from pivot_ompl.validity.assembly_field import AssemblyField
 
-__all__ = ["FIELD_SCENES", "assembly_field", "shared_components"]
+__all__ = ["FIELD_SCENES", "ROUTES_KEPT", "assembly_field", "shared_components", "shared_routes"]
 
 #: Fields kept (least recently used dropped first): a few scenes at one or two spacings.
 FIELD_SCENES = 8
@@ -33,6 +34,11 @@ _fields: BoundedCache[tuple[str, float, float], AssemblyField] = BoundedCache(FI
 Labels = tuple[np.ndarray, np.ndarray]
 #: each field's lattice components by ``(parity, the region's WKB or None)``
 _labels: weakref.WeakKeyDictionary[AssemblyField, dict[tuple[int, bytes | None], Labels]] = \
+    weakref.WeakKeyDictionary()
+#: Most routes kept per field, region and prices (then forgotten all at once).
+ROUTES_KEPT = 4096
+#: each field's lattice routes by ``(region's WKB or None, prices and limit)``
+_routes: weakref.WeakKeyDictionary[AssemblyField, dict[tuple, dict]] = \
     weakref.WeakKeyDictionary()
 
 
@@ -59,3 +65,16 @@ def shared_components(field: AssemblyField, parity: int, region: BaseGeometry | 
             a.setflags(write=False)
         per[key] = hit
     return hit
+
+
+def shared_routes(field: AssemblyField, region: BaseGeometry | None,
+                  settings: tuple[float, ...]) -> dict:
+    """The routes dictionary shared by the lattices over ``field`` within ``region``.
+
+    ``settings``: whatever else a route depends on (the push and spin prices, the search's
+    limit), so that lattices priced otherwise keep their own. The caller stores its routes
+    in it (and empties it beyond :data:`ROUTES_KEPT`).
+    """
+    per = _routes.setdefault(field, {})
+    key = (None if region is None else shapely.to_wkb(region), settings)
+    return per.setdefault(key, {})
