@@ -37,12 +37,14 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from pivot_ompl.analysis.plan_bounds import disk_cells
-from pivot_ompl.analysis.route_path import FreeField, route_polyline
+from pivot_ompl.analysis.route_path import FreeField, Route, route_polyline
+from pivot_ompl.cache import BoundedCache
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.evaluation import Evaluator
 from pivot_ompl.planners.optimiser import optimise_over
+from pivot_ompl.scene import scene_digest
 from pivot_ompl.se2 import Pose, wrap_angle
 
 __all__ = ["MARGINS", "FollowStats", "follow_route"]
@@ -69,8 +71,30 @@ MIN_SAVING = 2.0
 NO_TURN = 1e-6
 NO_MOVE = 1e-3
 
+
+
+@dataclass
+class _Known:
+    """A scene's free field and the routes found on it (at most :data:`ROUTES_KEPT`).
+
+    ``routes`` by ``(start, goal, first margin, margin)`` (the later margins' routes pass
+    by the first's: :func:`route_polyline`'s ``via``), ``None`` where there is none.
+    """
+
+    field: FreeField
+    routes: dict[tuple[float, ...], Route | None]
+
+
 #: The free field of each checker's scene, computed once (a checker's scene never changes).
-_fields: weakref.WeakKeyDictionary[PivotChecker, FreeField] = weakref.WeakKeyDictionary()
+_fields: weakref.WeakKeyDictionary[PivotChecker, _Known] = weakref.WeakKeyDictionary()
+#: Scenes whose free fields are kept across checkers (the later plans of one scene).
+FIELD_SCENES = 8
+#: Most routes kept per scene (then forgotten all at once: a later plan finds them again).
+ROUTES_KEPT = 512
+#: The free fields by :func:`~pivot_ompl.scene.scene_digest` (geometry, not the object):
+#: each plan makes its own checker, and the field and its routes depend only on the scene's
+#: geometry (and the routes' ends: a later plan's phases often have the same).
+_scene_fields: BoundedCache[str, _Known] = BoundedCache(FIELD_SCENES)
 
 
 @dataclass
@@ -126,16 +150,24 @@ def follow_route(checker: PivotChecker, states: list[State], *, costs: CostModel
     return path
 
 
-def _field(checker: PivotChecker, should_stop: Stop) -> FreeField | None:
-    """The free field of the disk relaxation of ``checker``'s scene; ``None`` if stopped."""
+def _field(checker: PivotChecker, should_stop: Stop) -> _Known | None:
+    """The free field of the disk relaxation of ``checker``'s scene; ``None`` if stopped.
+
+    Kept per checker and per scene geometry (:data:`FIELD_SCENES` scenes): a later plan of
+    the same scene, with a checker of its own, finds it made.
+    """
     known = _fields.get(checker)
     if known is not None:
         return known
-    cells = disk_cells(checker.scene, should_stop=should_stop, max_cells=MAX_CELLS)
-    if cells is None or should_stop():
-        return None
-    field = _fields[checker] = FreeField.of(*cells)
-    return field
+    key = scene_digest(checker.scene)
+    known = _scene_fields.get(key)
+    if known is None:
+        cells = disk_cells(checker.scene, should_stop=should_stop, max_cells=MAX_CELLS)
+        if cells is None or should_stop():
+            return None
+        known = _scene_fields.put(key, _Known(FreeField.of(*cells), {}))
+    _fields[checker] = known
+    return known
 
 
 def _phases(path: list[State]) -> list[tuple[int, int]]:
@@ -149,7 +181,7 @@ def _phases(path: list[State]) -> list[tuple[int, int]]:
     return out
 
 
-def _best(evaluate: Evaluator, field: FreeField, phase: list[State],
+def _best(evaluate: Evaluator, known: _Known, phase: list[State],
           margins: tuple[float, ...], should_stop: Stop, st: FollowStats
           ) -> list[State] | None:
     """The cheapest path over the phase's and its variants' poses if cheaper; else ``None``."""
@@ -164,11 +196,18 @@ def _best(evaluate: Evaluator, field: FreeField, phase: list[State],
     for share in margins:  # each margin's cheapest estimated variant that mostly holds
         if should_stop():
             return None
-        try:
-            route = route_polyline(field, (a[0], a[1]), (b[0], b[1]), margin=share * excess,
-                                   via=first, poll=lambda: _poll(should_stop))
-        except Interrupted:
-            return None
+        key = (a[0], a[1], b[0], b[1], margins[0] * excess, share * excess)
+        if key in known.routes:
+            route = known.routes[key]
+        else:
+            if len(known.routes) >= ROUTES_KEPT:
+                known.routes.clear()
+            try:
+                route = known.routes[key] = route_polyline(
+                    known.field, (a[0], a[1]), (b[0], b[1]), margin=share * excess, via=first,
+                    poll=lambda: _poll(should_stop))
+            except Interrupted:
+                return None
         if route is None:
             return None
         poly = route.points

@@ -31,9 +31,16 @@ from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
+from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.routes.guide import graph_distances, move_graph
 from pivot_ompl.planners.routes.lattice_components import chunked_labels
 from pivot_ompl.planners.routes.lattice_search import lattice_astar
+from pivot_ompl.planners.routes.shared_fields import (
+    ROUTES_KEPT,
+    assembly_field,
+    shared_components,
+    shared_routes,
+)
 from pivot_ompl.se2 import Pose, wrap_angle
 from pivot_ompl.transit.lattice import HEADING_VECTORS, HEADING_YAWS, N_HEADINGS
 from pivot_ompl.validity.assembly_field import AssemblyField
@@ -101,9 +108,9 @@ class TransferLattice:
         x0, y0, x1, y1 = checker.world.bounds
         resolution = max(resolution, math.sqrt((x1 - x0) * (y1 - y0) / MAX_CELLS))
         self.resolution, self.max_expansions, self.weight = resolution, max_expansions, weight
-        self.field = AssemblyField(checker.model, checker.world, resolution)
-        if region is not None:  # the field pays for the pieces round the region alone
-            self.field.restrict(self.in_region())
+        # the scene's field, shared with its later plans; within a region, paying for the
+        # pieces round the region alone
+        self.field = assembly_field(checker, resolution, region=region, area=self._mask_over)
         alpha = checker.scene.alpha_max
         m = checker.model
         self._push = {g: costs.push_rate(m.edge_half_length(g), alpha) for g in range(4)}
@@ -115,7 +122,9 @@ class TransferLattice:
                        for h in range(N_HEADINGS)]
         self.expansions = 0
         #: routes by (start, goal, grasp, weight)
-        self._routes: dict[tuple[Pose, Pose, int, float], tuple[list[Pose], float]] = {}
+        self._routes: dict[tuple[Pose, Pose, int, float], tuple[list[Pose], float]] = \
+            shared_routes(self.field, region, (*self._push.values(), self._spin, max_expansions))
+        self._asked: set[tuple[Pose, Pose, int, float]] = set()  # by this lattice
         self._labels: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         self._floors: dict[int, Any] = {}
         #: the last floor distances per parity, by the goal joins' cells they were asked for
@@ -148,8 +157,13 @@ class TransferLattice:
         weight = self.weight if weight is None else weight
         key = (start, goal, grasp, weight)
         hit = self._routes.get(key)
+        if key not in self._asked and should_stop is not None and should_stop():
+            raise Interrupted("lattice route")  # as when searched: another plan's is not free
+        self._asked.add(key)
         if hit is None:
             hit = self._route(start, goal, grasp, should_stop, weight)
+            if len(self._routes) >= ROUTES_KEPT:
+                self._routes.clear()
             self._routes[key] = hit
         return hit
 
@@ -273,16 +287,19 @@ class TransferLattice:
     def in_region(self) -> np.ndarray:
         """The grid positions the lattice holds (``(nx, ny)`` booleans, kept)."""
         if self._mask is None:
-            f, m = self.field, self.checker.model
-            if self.region is None:
-                self._mask = np.ones((f.nx, f.ny), dtype=bool)
-            else:
-                reach = max(m.half_extent(g) for g in range(4)) + 1.5 * self.resolution
-                x0, y0 = f.position(0, 0)
-                xs = x0 + self.resolution * np.arange(f.nx)
-                ys = y0 + self.resolution * np.arange(f.ny)
-                self._mask = within_distance(self.region, xs, ys, reach)
+            self._mask = self._mask_over(self.field)
         return self._mask
+
+    def _mask_over(self, f: AssemblyField) -> np.ndarray:
+        """The grid positions of ``f`` within reach of the region (all where none)."""
+        if self.region is None:
+            return np.ones((f.nx, f.ny), dtype=bool)
+        m = self.checker.model
+        reach = max(m.half_extent(g) for g in range(4)) + 1.5 * self.resolution
+        x0, y0 = f.position(0, 0)
+        xs = x0 + self.resolution * np.arange(f.nx)
+        ys = y0 + self.resolution * np.arange(f.ny)
+        return within_distance(self.region, xs, ys, reach)
 
     def _components(self, parity: int,
                     should_stop: Callable[[], bool] | None) -> tuple[np.ndarray, np.ndarray]:
@@ -295,8 +312,16 @@ class TransferLattice:
         fills a small part of it, and the rectangle grows with the square of its length).
         """
         hit = self._labels.get(parity)
-        if hit is not None:
-            return hit
+        if hit is None:
+            if should_stop is not None and should_stop():  # as when computed: stopped
+                raise Interrupted("lattice components")
+            hit = self._labels[parity] = shared_components(
+                self.field, parity, self.region, lambda: self._labelled(parity, should_stop))
+        return hit
+
+    def _labelled(self, parity: int,
+                  should_stop: Callable[[], bool] | None) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`_components` computed."""
         f = self.field
         nx, ny, nh = f.nx, f.ny, N_HEADINGS
         fits = [self._fits(parity, k, should_stop).reshape(-1) for k in range(2 * nh)]
@@ -310,7 +335,6 @@ class TransferLattice:
         turn = [state[h] & state[(h + 1) % nh] & fits[2 * h + 1][cells] for h in range(nh)]
         labels = chunked_labels(cells, cell_ids, state, turn, (nx, ny), should_stop)
         labels[~np.stack(state, axis=1).reshape(-1)] = -1
-        self._labels[parity] = (cell_ids, labels)
         return cell_ids, labels
 
     def _floor_distances(self, parity: int, goals: dict[State, float],

@@ -1,0 +1,155 @@
+"""Solve time before/after on the shipped scenes: CPU seconds of ``plan`` side by side.
+
+For each scene and each version (``--before DIR``, a package tree put on ``PYTHONPATH``, e.g.
+an export of an older commit, repeatable; then this checkout), a fresh interpreter plans the
+scene once as a warm-up (imports, caches, the scene's lower bounds) and then over seeds
+``0 .. N-1``, timing each ``plan(scene, time_limit=T, seed=s)`` with ``time.process_time``
+(CPU seconds of the process, so other load on the machine counts less than in wall time).
+Scenes and versions take turns (one process at a time). Prints per scene and version the
+median CPU seconds, the ratio to the first version, the median plan cost (s, the cost model's
+``plan_cost``), pivots and regrasps (so a faster plan that is worse shows), and the medians of
+the seconds spent in the re-routing (``refine``) and in ``follow_route`` where the version
+has them; ``first s``: the CPU seconds of the warm-up plan, the first of its process (what
+one plan of the command line costs beyond the imports; the lower bounds may come from the
+disk cache). Target (issue 42): every shipped scene <= 1.2x the first version.
+
+    flock /tmp/pivot-bench.lock python benchmarks/solve_time.py \
+        --before /work/brief/base_43d1d86 [--seeds 5] [--time 15]
+        [--scenes fig10,slot,door,...] [--out results/solve_time.json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+HERE = Path(__file__).resolve()
+ROOT = HERE.parents[1]
+#: the shipped scenes (``scenes/``) and public layouts (``benchmarks/layouts``) timed
+SCENES = ("fig10", "slot", "door", "t_junction", "open", "open_fig7", "corridor",
+          "cluttered_room", "hall", "bugtrap")
+
+
+def _timed(module: Any, name: str, bucket: dict[str, float]) -> None:
+    """Wrap ``module.name`` (if the version has it) to sum its CPU seconds into ``bucket``."""
+    fn = getattr(module, name, None)
+    if fn is None:
+        return
+
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        t0 = time.process_time()
+        try:
+            return fn(*args, **kwargs)
+        finally:
+            bucket[name] = bucket.get(name, 0.0) + time.process_time() - t0
+
+    setattr(module, name, wrapper)
+
+
+def worker(scene_name: str, seeds: int, limit: float) -> None:
+    """Plan ``scene_name`` (warm-up, then seeds 0..seeds-1); one JSON line per seed."""
+    from ompl import util as ou
+
+    from pivot_ompl.api import plan
+    from pivot_ompl.scene import load_scene
+
+    ou.setLogLevel(ou.LOG_WARN)
+    layout = HERE.parent / "layouts" / f"{scene_name}.yaml"
+    scene = load_scene(layout if layout.is_file() else scene_name)
+    bucket: dict[str, float] = {}
+    try:
+        from pivot_ompl.planners import improve
+        _timed(improve, "refine", bucket)
+        _timed(improve, "follow_route", bucket)
+    except ImportError:  # an older version without the stage
+        pass
+    t0 = time.process_time()
+    plan(scene, time_limit=limit, seed=0)  # warm-up: the first plan of the process
+    print("FIRST " + json.dumps({"cpu": time.process_time() - t0}), flush=True)
+    for seed in range(seeds):
+        bucket.clear()
+        t0 = time.process_time()
+        res = plan(scene, time_limit=limit, seed=seed)
+        cpu = time.process_time() - t0
+        row: dict[str, Any] = {"seed": seed, "cpu": cpu, "solved": bool(res.solved),
+                               "refine": bucket.get("refine"),
+                               "follow": bucket.get("follow_route")}
+        if res.solved:
+            q = (res.plan.extra.get("quality") or {})
+            row.update(pivots=res.plan.pivots, regrasps=res.plan.regrasps, cost=q.get("cost"))
+        print("ROW " + json.dumps(row), flush=True)
+
+
+def run(path: Path, scene: str, seeds: int, limit: float) -> list[dict[str, Any]]:
+    """Rows of one fresh worker with the package at ``path`` (the first row's ``first``: the
+    warm-up plan's CPU seconds)."""
+    env = dict(os.environ, PYTHONPATH=str(path))
+    out = subprocess.run([sys.executable, str(HERE), "--worker", scene, "--seeds", str(seeds),
+                          "--time", str(limit)], env=env, cwd=str(path), text=True,
+                         capture_output=True, check=False)
+    rows = [json.loads(line[4:]) for line in out.stdout.splitlines() if line.startswith("ROW ")]
+    first = [json.loads(line[6:]) for line in out.stdout.splitlines() if line.startswith("FIRST ")]
+    if out.returncode != 0 or len(rows) != seeds or not first:
+        raise SystemExit(f"{scene} with {path}: worker failed\n{out.stderr[-2000:]}")
+    rows[0]["first"] = first[0]["cpu"]
+    return rows
+
+
+def _med(rows: list[dict[str, Any]], key: str) -> float | None:
+    vals = [r[key] for r in rows if r.get(key) is not None]
+    return statistics.median(vals) if vals else None
+
+
+def _fmt(x: float | None, spec: str) -> str:
+    return "-" if x is None else format(x, spec)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--before", action="append", default=[], type=Path,
+                    help="a package tree to time before this checkout (repeatable)")
+    ap.add_argument("--seeds", type=int, default=5)
+    ap.add_argument("--time", type=float, default=15.0, help="plan's time limit (s)")
+    ap.add_argument("--scenes", default=",".join(SCENES))
+    ap.add_argument("--out", default=None, help="JSON of every row")
+    ap.add_argument("--worker", default=None, help=argparse.SUPPRESS)
+    a = ap.parse_args()
+    if a.worker:
+        worker(a.worker, a.seeds, a.time)
+        return
+    versions = [*a.before, ROOT]
+    table: dict[str, dict[str, list[dict[str, Any]]]] = {}
+    print(f"{'scene':15} {'version':28} {'cpu s':>7} {'ratio':>6} {'cost':>8} {'piv':>5} "
+          f"{'rg':>3} {'reroute':>7} {'follow':>7} {'first s':>7}")
+    for scene in filter(None, a.scenes.split(",")):
+        table[scene] = {}
+        first: float | None = None
+        for v in versions:
+            rows = run(v, scene, a.seeds, a.time)
+            table[scene][str(v)] = rows
+            cpu = _med(rows, "cpu")
+            first = cpu if first is None else first
+            ratio = cpu / first if cpu is not None and first else None
+            print(f"{scene:15} {str(v)[-28:]:28} {_fmt(cpu, '7.3f')} {_fmt(ratio, '6.2f')} "
+                  f"{_fmt(_med(rows, 'cost'), '8.1f')} {_fmt(_med(rows, 'pivots'), '5.0f')} "
+                  f"{_fmt(_med(rows, 'regrasps'), '3.0f')} {_fmt(_med(rows, 'refine'), '7.3f')} "
+                  f"{_fmt(_med(rows, 'follow'), '7.3f')} {_fmt(rows[0].get('first'), '7.3f')}",
+                  flush=True)
+    if a.out:
+        out = Path(a.out)
+        out.parent.mkdir(parents=True, exist_ok=True)
+        tmp = out.with_suffix(".tmp")
+        tmp.write_text(json.dumps(table, indent=1) + "\n")
+        tmp.replace(out)
+        print(f"written {out}")
+
+
+if __name__ == "__main__":
+    main()
