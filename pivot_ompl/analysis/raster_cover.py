@@ -188,14 +188,14 @@ def cells_meeting(raster: FloorRaster, lo: tuple[float, float], hi: tuple[float,
     return in_x[:, None] & in_y[None, :]
 
 
-def free_layer(raster: FloorRaster, dilation: Dilation, bounds: tuple[float, float, float,
-               float], parts: list[Body], yaw: float, inside: list[float],
-               clear: list[float]) -> tuple[np.ndarray, int]:
-    """Labelled free cells of one yaw bin and grasp (0 blocked; pieces ``1..count``).
+def layer_reach(cell: float, bounds: tuple[float, float, float, float], parts: list[Body],
+                yaw: float, inside: list[float], clear: list[float],
+                ) -> tuple[list[float], list[float], list[Row]]:
+    """Where a layer's reference point keeps the bodies in the bounds, and what they meet.
 
-    ``inside``: per part, the erosion (m) of the body kept inside the bounds; ``clear``: the
-    net offset (m, > 0 erodes, < 0 grows) of the body kept clear of the obstacles (as
-    :func:`~pivot_ompl.analysis.regrasp_bound.free_cover`).
+    ``(lo, hi, rows)``: the corners of the rectangle of reference points that keep every
+    part, eroded by its ``inside``, within ``bounds``; and the lattice rows (cells of
+    ``cell`` m) of the parts offset by their ``clear`` (:func:`free_layer`'s arguments).
     """
     x0, y0, x1, y1 = bounds
     lo, hi = [x0, y0], [x1, y1]
@@ -207,7 +207,20 @@ def free_layer(raster: FloorRaster, dilation: Dilation, bounds: tuple[float, flo
             hi = [min(hi[0], x1 - e[:, 0].max()), min(hi[1], y1 - e[:, 1].max())]
         e = part.offset_points(yaw, d_clear + ROUND_OFF)
         if e is not None:
-            rows += lattice_rows(e, raster.cell)
+            rows += lattice_rows(e, cell)
+    return lo, hi, rows
+
+
+def free_layer(raster: FloorRaster, dilation: Dilation, bounds: tuple[float, float, float,
+               float], parts: list[Body], yaw: float, inside: list[float],
+               clear: list[float]) -> tuple[np.ndarray, int]:
+    """Labelled free cells of one yaw bin and grasp (0 blocked; pieces ``1..count``).
+
+    ``inside``: per part, the erosion (m) of the body kept inside the bounds; ``clear``: the
+    net offset (m, > 0 erodes, < 0 grows) of the body kept clear of the obstacles (as
+    :func:`~pivot_ompl.analysis.regrasp_bound.free_cover`).
+    """
+    lo, hi, rows = layer_reach(raster.cell, bounds, parts, yaw, inside, clear)
     free = cells_meeting(raster, (lo[0], lo[1]), (hi[0], hi[1]))
     if rows:
         free &= ~dilation.blocked(merged_rows(rows))

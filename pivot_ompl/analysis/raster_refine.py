@@ -45,7 +45,7 @@ from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.analysis.raster_cover import (
     EPS,
     RasterCover,
-    lattice_rows,
+    layer_reach,
     merged_rows,
     obstacle_cells,
 )
@@ -279,17 +279,7 @@ def _free_voxels(fine: FloorRaster, sums: np.ndarray, pad: int, flat: np.ndarray
                  bounds: tuple[float, float, float, float], parts: list,
                  yaw: float, inside: list[float], clear: list[float]) -> np.ndarray:
     """Which fine cells ``(a, b)`` are free at ``yaw`` (untested ones, ``~test``, are)."""
-    x0, y0, x1, y1 = bounds
-    lo, hi = [x0, y0], [x1, y1]
-    rows = []
-    for part, d_in, d_clear in zip(parts, inside, clear, strict=True):
-        e = part.offset_points(yaw, d_in)
-        if e is not None:
-            lo = [max(lo[0], x0 - e[:, 0].min()), max(lo[1], y0 - e[:, 1].min())]
-            hi = [min(hi[0], x1 - e[:, 0].max()), min(hi[1], y1 - e[:, 1].max())]
-        e = part.offset_points(yaw, d_clear + ROUND_OFF)
-        if e is not None:
-            rows += lattice_rows(e, fine.cell)
+    lo, hi, rows = layer_reach(fine.cell, bounds, parts, yaw, inside, clear)
     (fx, fy), h = fine.origin, fine.cell
     xs, ys = fx + a * h, fy + b * h
     free = ((xs <= hi[0] + EPS) & (xs + h >= lo[0] - EPS)
