@@ -286,20 +286,21 @@ class TransferLattice:
 
     def in_region(self) -> np.ndarray:
         """The grid positions the lattice holds (``(nx, ny)`` booleans, kept)."""
-        if self._mask is None:
-            self._mask = self._mask_over(self.field)
-        return self._mask
+        return self._mask_over(self.field)
 
     def _mask_over(self, f: AssemblyField) -> np.ndarray:
-        """The grid positions of ``f`` within reach of the region (all where none)."""
-        if self.region is None:
-            return np.ones((f.nx, f.ny), dtype=bool)
-        m = self.checker.model
-        reach = max(m.half_extent(g) for g in range(4)) + 1.5 * self.resolution
-        x0, y0 = f.position(0, 0)
-        xs = x0 + self.resolution * np.arange(f.nx)
-        ys = y0 + self.resolution * np.arange(f.ny)
-        return within_distance(self.region, xs, ys, reach)
+        """Grid positions of ``f`` in reach of the region (all if none), kept: one per floor."""
+        if self._mask is None:
+            if self.region is None:
+                self._mask = np.ones((f.nx, f.ny), dtype=bool)
+            else:
+                m = self.checker.model
+                reach = max(m.half_extent(g) for g in range(4)) + 1.5 * self.resolution
+                x0, y0 = f.position(0, 0)
+                xs = x0 + self.resolution * np.arange(f.nx)
+                ys = y0 + self.resolution * np.arange(f.ny)
+                self._mask = within_distance(self.region, xs, ys, reach)
+        return self._mask
 
     def _components(self, parity: int,
                     should_stop: Callable[[], bool] | None) -> tuple[np.ndarray, np.ndarray]:
