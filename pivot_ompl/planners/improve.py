@@ -23,6 +23,7 @@ from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planners.config import RegraspConfig
 from pivot_ompl.planners.follow_route import follow_route
 from pivot_ompl.planners.optimiser import optimise
+from pivot_ompl.planners.regrasp_slide import slide_regrasps
 from pivot_ompl.planners.routes.lattice import TransferLattice
 from pivot_ompl.planners.routes.refine import RefineStats, refine
 from pivot_ompl.planners.straighten import straighten
@@ -118,6 +119,10 @@ def improve(checker: PivotChecker, states: list[State], config: RegraspConfig, *
     states = optimise(checker, states, should_stop=optimiser.stop(should_stop, checker, states),
                       costs=config.cost, grasps=config.grasps, start_grasp=start_grasp,
                       end_grasp=end_grasp, reach=cfg.shortcut_reach)
+    if cfg.slide_regrasps:
+        states = slide_regrasps(checker, states, costs=config.cost, grasps=config.grasps,
+                                should_stop=optimiser.stop(should_stop, checker, states),
+                                start_grasp=start_grasp, end_grasp=end_grasp)
     if cfg.straighten:
         states = straighten(checker, states, costs=config.cost,
                             should_stop=optimiser.stop(should_stop, checker, states))
