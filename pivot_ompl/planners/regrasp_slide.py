@@ -40,10 +40,10 @@ Stop = Callable[[], bool]
 
 #: Distances (m, along the box centre's pivot poses) from a regrasp's pose at which a pose of
 #: the transfer before it and of the transfer after it is offered as a waypoint.
-SLIDE_DISTANCES = (0.25, 0.5, 1.0, 2.0)
+SLIDE_DISTANCES = (0.5,)
 #: Longest shortcut (m) from or to an offered pose: a slid regrasp's new transfers are short
 #: (the rest of the path is the later stages' to straighten), and each one checked costs.
-SLIDE_REACH = 4.0
+SLIDE_REACH = 2.5
 
 
 @dataclass
