@@ -37,7 +37,7 @@ def test_a_regrasp_off_the_way_slides_to_a_cheaper_pose():
     assert before.valid, before.reason
     stats = SlideStats()
     out = slide_regrasps(ck, states, costs=w, should_stop=lambda: False, start_grasp=0,
-                         end_grasp=1, stats=stats)
+                         end_grasp=1, stats=stats, distances=(0.5, 1.0, 2.0), reach=4.0)
     after = Evaluator(ck, w).path(out)
     assert after.valid
     assert stats.regrasps == 1 and stats.offered > 0
