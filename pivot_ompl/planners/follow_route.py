@@ -9,7 +9,10 @@ ways: the car (the supporting edge's centre) turns in place to face the next cor
 polyline, pushes (or pulls, its back to the way) straight to it, turns again, and at the
 phase's end turns to the end pose's heading (long straight pushes at the ideal rate, few
 turns: few pivots); or it passes each corner heading halfway between the corner's two
-segments, the steering's arcs joining them. The shortest path hugs the walls, where the
+segments, the steering's arcs joining them; each with the car's corners on the polyline's,
+and with them placed so that the box's centre passes the polyline's corners
+(:func:`~pivot_ompl.planners.route_poses.route_poses`: the car stands behind the box's
+centre). The shortest path hugs the walls, where the
 held assembly, wider than the relaxation's disk, passes only by small rotations or not at
 all: the route is also taken kept off them by each of :data:`MARGINS` (shares of the room a
 turn in place needs) where there is room, and the cheapest of the variants that pass wins
@@ -44,6 +47,7 @@ from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.evaluation import Evaluator
 from pivot_ompl.planners.optimiser import optimise_over
+from pivot_ompl.planners.route_poses import route_poses
 from pivot_ompl.scene import scene_digest
 from pivot_ompl.se2 import Pose, wrap_angle
 
@@ -214,8 +218,9 @@ def _best(evaluate: Evaluator, known: _Known, phase: list[State],
         if first is None:
             first, guide = route, poly
         ways = sorted((_estimate(evaluate, p, g), p) for p in {
-            _poses(evaluate.checker, a, b, g, poly, back=back, spin=spin)
-            for back in (False, True) for spin in (True, False)})
+            place(evaluate.checker, a, b, g, poly, back=back, spin=spin)
+            for back in (False, True) for spin in (True, False)
+            for place in (_poses, route_poses)})
         chosen += [p for est, p in ways if est < old - MIN_SAVING and p not in chosen
                    and _mostly_valid(evaluate.checker, p, g)][:1]
     if not chosen or guide is None:
