@@ -5,9 +5,10 @@ is followed by the pivoting car, whose reference point is the supporting edge's 
 box's centre lies ``o`` ahead of it along its heading (``o`` half the box's depth at the
 grasp). A corner of the box's route is therefore not a corner of the car's: the car that
 brings the box's centre to the corner ``q`` with heading ``h`` stands at ``q - o u(h)``.
-Taking the box's corners as the car's (the other placement :mod:`.follow_route` offers)
-shifts every leg by ``o``: where the route leaves a slot it sends the car forwards into the
-slot first and back out again, a variant whose poses collide.
+Taking the box's corners as the car's (:func:`car_corner_poses`, the other placement
+:mod:`.follow_route` offers) shifts every leg by ``o``: where the route leaves a slot it
+sends the car forwards into the slot first and back out again, a variant whose poses
+collide.
 
 :func:`route_poses` places the car's corners so that the box's centre passes through the
 route's corners: a turn in place of the car to face the next corner and a straight push (or
@@ -23,7 +24,7 @@ import math
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.se2 import Pose, wrap_angle
 
-__all__ = ["NO_MOVE", "NO_TURN", "route_poses"]
+__all__ = ["NO_MOVE", "NO_TURN", "car_corner_poses", "route_poses", "turns_and_legs"]
 
 #: Turns smaller than this (rad) are left out; moves shorter than this (m) too.
 NO_TURN = 1e-6
@@ -82,6 +83,57 @@ def route_poses(checker: PivotChecker, a: Pose, b: Pose, grasp: int, route: list
     if abs(wrap_angle(cb[2] - cars[-1][2])) > NO_TURN or len(cars) == 1:
         cars.append(cb)
     return (a, *(m.object_from_car(c, grasp) for c in cars[1:-1]), b)
+
+
+def car_corner_poses(checker: PivotChecker, a: Pose, b: Pose, grasp: int,
+           poly: list[tuple[float, float]], *, back: bool, spin: bool) -> tuple[Pose, ...]:
+    """Object poses from ``a`` to ``b`` whose car passes the corners of ``poly``.
+
+    The car's corners are the polyline's inner points between the car's own ends; ``back``:
+    the car faces away from its way (a pull). ``spin``: a turn in place at every corner and
+    straight pushes between them; else one pose at each corner, heading halfway between its
+    two segments', joined by the steering's arcs.
+    """
+    m = checker.model
+    ca, cb = m.car_pose(a, grasp), m.car_pose(b, grasp)
+    pts = [(ca[0], ca[1])]
+    for p in [*poly[1:-1], (cb[0], cb[1])]:
+        if math.hypot(p[0] - pts[-1][0], p[1] - pts[-1][1]) > NO_MOVE:
+            pts.append(p)
+    if len(pts) > 1 and math.hypot(cb[0] - pts[-1][0], cb[1] - pts[-1][1]) > 0:
+        pts[-1] = (cb[0], cb[1])
+    cars: list[Pose] = [ca]
+    if not spin:
+        heads = [math.atan2(q[1] - p[1], q[0] - p[0]) + (math.pi if back else 0.0)
+                 for p, q in zip(pts, pts[1:], strict=False)]
+        for k in range(1, len(pts) - 1):
+            h = heads[k - 1] + 0.5 * wrap_angle(heads[k] - heads[k - 1])
+            cars.append((pts[k][0], pts[k][1], h))
+        cars.append(cb)
+        return (a, *(m.object_from_car(c, grasp) for c in cars[1:-1]), b)
+    for p, q in zip(pts, pts[1:], strict=False):
+        h = math.atan2(q[1] - p[1], q[0] - p[0]) + (math.pi if back else 0.0)
+        h = cars[-1][2] + wrap_angle(h - cars[-1][2])
+        if abs(h - cars[-1][2]) > NO_TURN:
+            cars.append((p[0], p[1], h))
+        cars.append((q[0], q[1], h))
+    if abs(wrap_angle(cb[2] - cars[-1][2])) > NO_TURN or len(cars) == 1:
+        cars.append(cb)
+    poses = [a, *(m.object_from_car(c, grasp) for c in cars[1:-1]), b]
+    return tuple(poses)
+
+
+def turns_and_legs(checker: PivotChecker, poses: tuple[Pose, ...], grasp: int) -> bool:
+    """Whether ``poses`` are turns in place and straight legs of the car.
+
+    Each step keeps the car's position (a turn) or its heading (a push or pull; the
+    steering's reference path is then the straight line).
+    """
+    m = checker.model
+    cars = [m.car_pose(q, grasp) for q in poses]
+    return all(math.hypot(v[0] - u[0], v[1] - u[1]) <= NO_MOVE
+               or abs(wrap_angle(v[2] - u[2])) <= NO_TURN
+               for u, v in zip(cars, cars[1:], strict=False))
 
 
 def _ahead(checker: PivotChecker, grasp: int) -> float:
