@@ -16,7 +16,9 @@ for, until ``explain_end``). When no plan exists the reason is the passage that 
 plan (:func:`~pivot_ompl.analysis.passage.blocking_passage`) if there is one, else the place
 where the held box cannot turn, else (the place not found in time) a line naming the width
 the held assembly needs; and the search stops. Its cost to a scene that has a plan is at
-most ``end - begin``, and only when the search is slow to find a path.
+most ``end - begin``, and only when the search is slow to find a path; once the exact
+relaxation has joined a scene's start and goal (nothing to prove), later plans of the scene
+in the process do not run it again (:data:`UNPROVEN_KEPT` scenes are remembered).
 """
 
 from __future__ import annotations
@@ -35,9 +37,16 @@ from pivot_ompl.analysis.passage import Passage, PassageOnce, assembly_width
 from pivot_ompl.analysis.turning import TurningPlace, turning_place, widest_circle
 from pivot_ompl.analysis.turning_raster import raster_turning_place
 from pivot_ompl.analysis.wall_frame import wall_frame
-from pivot_ompl.scene import Scene
+from pivot_ompl.cache import BoundedCache
+from pivot_ompl.scene import Scene, scene_digest
 
 log = logging.getLogger(__name__)
+
+#: Scenes remembered whose exact relaxation joined start and goal (by
+#: :func:`~pivot_ompl.scene.scene_digest`): nothing to prove for them.
+UNPROVEN_KEPT = 16
+_unproven: BoundedCache[str, bool] = BoundedCache(UNPROVEN_KEPT)
+
 
 @dataclass(frozen=True)
 class NoPlan:
@@ -111,12 +120,18 @@ class LateProof:
         known = cached_bound(self.scene)
         if known is not None and known.solvable:
             return False
+        key = scene_digest(self.scene)
+        if known is None and _unproven.get(key):
+            return False
         stop = self._stop(self.end if known is None else self.explain_end)
-        if exhaustive_estimate(self.scene) <= self.end - now:  # proof and place at once
+        exact = exhaustive_estimate(self.scene) <= self.end - now
+        if exact:  # proof and place at once
             place = turning_place(self.scene, should_stop=stop)
         else:
             place = framed_turning_place(self.scene, should_stop=stop)
         if place is None and known is None:
+            if exact and not stop():  # run to its end: the relaxation joins start and goal
+                _unproven.put(key, True)
             log.debug("late proof: nothing proven in %.2f s", self.clock() - now)
             return False
         passage = self.passages(should_stop=self._stop(self.explain_end))
