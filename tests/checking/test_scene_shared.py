@@ -1,4 +1,5 @@
-"""Checkers of one scene share their results: the same answers, counted as computed."""
+"""Plans of one scene share what depends only on it: values computed once, and the motion
+checks (the same answers, counted as computed)."""
 
 from __future__ import annotations
 
@@ -103,3 +104,23 @@ def test_another_scene_does_not_take_them(monkeypatch, scene):
     calls = _computed(monkeypatch, other)
     other.transfer(*_queries(scene)[0])
     assert len(calls) == 1
+
+
+def test_a_value_is_computed_once_per_scene_and_a_stopped_one_not_kept(scene):
+    from pivot_ompl.checking.scene_shared import scene_shared
+
+    made = []
+
+    def compute(value):
+        def f():
+            made.append(value)
+            return value
+        return f
+
+    assert scene_shared(scene, ("test", 1), compute(None)) is None  # stopped: not kept
+    value = object()
+    assert scene_shared(scene, ("test", 1), compute(value)) is value
+    same = dataclasses.replace(scene, name="another name, the same geometry")
+    assert scene_shared(same, ("test", 1), compute(object())) is value
+    assert scene_shared(scene, ("test", 2), compute(2)) == 2  # another kind: its own
+    assert made == [None, value, 2]
