@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any
 
-from pivot_ompl.checking.scene_shared import SharedResults, shared_results
+from pivot_ompl.checking.shared_results import SharedResults, shared_results
 from pivot_ompl.checking.stored import StoredMotions, stored_rotations, stored_walk
 from pivot_ompl.checking.transfer_check import EdgeResult, TransferCheck
 from pivot_ompl.errors import Interrupted
@@ -62,7 +62,7 @@ class PivotChecker:
         tolerance: swept-check tolerance (m): no point of a body moves farther than this
             between two certified samples.
         share: take and give the results of the checkers of the same scene
-            (:mod:`~pivot_ompl.checking.scene_shared`: the same results, counted as
+            (:mod:`~pivot_ompl.checking.shared_results`: the same results, counted as
             computed, so a later plan of a scene is the same plan, checked faster).
 
     Attributes:

@@ -38,11 +38,11 @@ from dataclasses import dataclass
 from pivot_ompl.analysis.plan_bounds import disk_cells
 from pivot_ompl.analysis.route_path import FreeField, Route, route_polyline
 from pivot_ompl.checking.pivot_checker import PivotChecker
-from pivot_ompl.checking.scene_shared import scene_shared
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.evaluation import Evaluator
 from pivot_ompl.planners.optimiser import optimise_over
+from pivot_ompl.scene.shared import scene_shared
 from pivot_ompl.se2 import Pose, wrap_angle
 
 __all__ = ["MARGINS", "FollowStats", "follow_route"]
@@ -144,7 +144,7 @@ def _field(checker: PivotChecker, should_stop: Stop) -> _Known | None:
     """The free field of the disk relaxation of ``checker``'s scene; ``None`` if stopped.
 
     Kept, with the routes found on it, per scene geometry
-    (:func:`~pivot_ompl.checking.scene_shared.scene_shared`): a later plan of the same scene,
+    (:func:`~pivot_ompl.scene.shared.scene_shared`): a later plan of the same scene,
     with a checker of its own, finds it made.
     """
     def made() -> _Known | None:

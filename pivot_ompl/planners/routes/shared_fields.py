@@ -5,7 +5,7 @@ geometry (the model, the obstacles, the bounds and the kept clearance of the che
 world) and the grid spacing, and fills its grids as they are asked for. Every plan builds a
 checker and a lattice of its own; :func:`assembly_field` hands a later plan of the same
 scene (same :func:`~pivot_ompl.scene.scene_digest`) the field an earlier one filled (kept by
-:func:`~pivot_ompl.checking.scene_shared.scene_shared`, the one memo of what plans of a scene
+:func:`~pivot_ompl.scene.shared.scene_shared`, the one memo of what plans of a scene
 share), so the grids are rasterised once per scene, not once per plan. The grids are the
 same either way: plans do not change. The lattice's connected components
 (:func:`shared_components`) are kept with their field, per grasp parity and region, as
@@ -23,7 +23,7 @@ import shapely
 from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
-from pivot_ompl.checking.scene_shared import scene_shared
+from pivot_ompl.scene.shared import scene_shared
 from pivot_ompl.validity.assembly_field import AssemblyField
 
 __all__ = ["ROUTES_KEPT", "assembly_field", "shared_components", "shared_routes"]

@@ -107,7 +107,7 @@ def test_another_scene_does_not_take_them(monkeypatch, scene):
 
 
 def test_a_value_is_computed_once_per_scene_and_a_stopped_one_not_kept(scene):
-    from pivot_ompl.checking.scene_shared import scene_shared
+    from pivot_ompl.scene.shared import scene_shared
 
     made = []
 
