@@ -18,7 +18,7 @@ where the held box cannot turn, else (the place not found in time) a line naming
 the held assembly needs; and the search stops. Its cost to a scene that has a plan is at
 most ``end - begin``, and only when the search is slow to find a path; once the exact
 relaxation has joined a scene's start and goal (nothing to prove), later plans of the scene
-in the process do not run it again (:data:`UNPROVEN_KEPT` scenes are remembered).
+in the process do not run it again (:func:`~pivot_ompl.scene.shared.keep_shared`).
 """
 
 from __future__ import annotations
@@ -37,15 +37,14 @@ from pivot_ompl.analysis.passage import Passage, PassageOnce, assembly_width
 from pivot_ompl.analysis.turning import TurningPlace, turning_place, widest_circle
 from pivot_ompl.analysis.turning_raster import raster_turning_place
 from pivot_ompl.analysis.wall_frame import wall_frame
-from pivot_ompl.cache import BoundedCache
-from pivot_ompl.scene import Scene, scene_digest
+from pivot_ompl.scene import Scene
+from pivot_ompl.scene.shared import keep_shared, shared_value
 
 log = logging.getLogger(__name__)
 
-#: Scenes remembered whose exact relaxation joined start and goal (by
-#: :func:`~pivot_ompl.scene.scene_digest`): nothing to prove for them.
-UNPROVEN_KEPT = 16
-_unproven: BoundedCache[str, bool] = BoundedCache(UNPROVEN_KEPT)
+#: What :func:`~pivot_ompl.scene.shared.keep_shared` keeps for a scene whose exact
+#: relaxation joined start and goal: nothing to prove for it.
+NOTHING_TO_PROVE = ("late proof: the relaxation joins start and goal",)
 
 
 @dataclass(frozen=True)
@@ -120,8 +119,7 @@ class LateProof:
         known = cached_bound(self.scene)
         if known is not None and known.solvable:
             return False
-        key = scene_digest(self.scene)
-        if known is None and _unproven.get(key):
+        if known is None and shared_value(self.scene, NOTHING_TO_PROVE):
             return False
         stop = self._stop(self.end if known is None else self.explain_end)
         exact = exhaustive_estimate(self.scene) <= self.end - now
@@ -131,7 +129,7 @@ class LateProof:
             place = framed_turning_place(self.scene, should_stop=stop)
         if place is None and known is None:
             if exact and not stop():  # run to its end: the relaxation joins start and goal
-                _unproven.put(key, True)
+                keep_shared(self.scene, NOTHING_TO_PROVE, True)
             log.debug("late proof: nothing proven in %.2f s", self.clock() - now)
             return False
         passage = self.passages(should_stop=self._stop(self.explain_end))

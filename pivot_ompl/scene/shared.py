@@ -6,9 +6,10 @@ depends only on the scene (its geometry, pivoting, walking, start and goal:
 such a value for later plans of the scene in the process: the motion checks
 (:mod:`pivot_ompl.checking.shared_results`), the assembly fields
 (:mod:`pivot_ompl.planners.routes.shared_fields`), the route bound's free field
-(:mod:`pivot_ompl.planners.follow_route`) and the disk route bound
-(:func:`pivot_ompl.analysis.plan_bounds.plan_bounds`): one memo for all, the least recently
-used value dropped first beyond :data:`KEPT`.
+(:mod:`pivot_ompl.planners.follow_route`), the disk route bound
+(:func:`pivot_ompl.analysis.plan_bounds.plan_bounds`) and whether the late proof has nothing
+to prove (:mod:`pivot_ompl.analysis.late_proof`): one memo for all, the least recently used
+value dropped first beyond :data:`KEPT`.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from pivot_ompl.cache import BoundedCache
 from pivot_ompl.scene.files import scene_digest
 from pivot_ompl.scene.model import Scene
 
-__all__ = ["KEPT", "scene_shared"]
+__all__ = ["KEPT", "keep_shared", "scene_shared", "shared_value"]
 
 T = TypeVar("T")
 
@@ -45,3 +46,13 @@ def scene_shared(scene: Scene, what: tuple[Hashable, ...], compute: Callable[[],
         if hit is not None:
             _memo.put(key, hit)
     return cast("T | None", hit)
+
+
+def shared_value(scene: Scene, what: tuple[Hashable, ...]) -> Any | None:
+    """The value kept for ``scene``'s geometry and ``what``, or ``None``; nothing computed."""
+    return _memo.get((scene_digest(scene), *what))
+
+
+def keep_shared(scene: Scene, what: tuple[Hashable, ...], value: object) -> None:
+    """Keep ``value`` (not ``None``) for ``scene``'s geometry and ``what``."""
+    _memo.put((scene_digest(scene), *what), value)
