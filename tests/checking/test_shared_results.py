@@ -124,3 +124,11 @@ def test_a_value_is_computed_once_per_scene_and_a_stopped_one_not_kept(scene):
     assert scene_shared(same, ("test", 1), compute(object())) is value
     assert scene_shared(scene, ("test", 2), compute(2)) == 2  # another kind: its own
     assert made == [None, value, 2]
+
+
+def test_a_result_another_checker_knows_answers_even_when_stopped(scene):
+    a, b, g = _queries(scene)[0]
+    known = PivotChecker(scene).transfer(a, b, g)
+    later = PivotChecker(scene)
+    assert later.transfer(a, b, g, should_stop=lambda: True) == known  # nothing to compute
+    assert later.counters.valid + later.counters.invalid == 1
