@@ -23,9 +23,10 @@ from pivot_ompl.scene.shared import scene_shared
 
 __all__ = ["RESULTS_KEPT", "SharedResults", "shared_results"]
 
-#: Most results kept per scene, transfers and walks together (then forgotten all at once:
-#: a later plan computes them again).
-RESULTS_KEPT = 20_000
+#: Most results kept per scene, transfers and walks together (1-3 KB each, pickled: three
+#: plans of the hall layout keep 865), then forgotten all at once (a later plan computes
+#: them again).
+RESULTS_KEPT = 10_000
 
 
 @dataclass

@@ -132,3 +132,16 @@ def test_a_result_another_checker_knows_answers_even_when_stopped(scene):
     later = PivotChecker(scene)
     assert later.transfer(a, b, g, should_stop=lambda: True) == known  # nothing to compute
     assert later.counters.valid + later.counters.invalid == 1
+
+
+def test_a_scene_keeps_at_most_results_kept(monkeypatch, scene):
+    from pivot_ompl.checking import shared_results as sr
+
+    monkeypatch.setattr(sr, "RESULTS_KEPT", 2)
+    checker = PivotChecker(scene)
+    for a, b, g in _queries(scene):
+        checker.transfer(a, b, g)
+        kept = sr.shared_results(scene, tolerance=checker.tolerance,
+                                 clearance=checker.world.clearance)
+        assert 1 <= len(kept.edges) <= 2
+    assert checker.counters.valid + checker.counters.invalid == len(_queries(scene))
