@@ -35,13 +35,11 @@ from __future__ import annotations
 
 import logging
 import math
-import weakref
 from collections.abc import Callable
 from dataclasses import dataclass
 
 from pivot_ompl.analysis.plan_bounds import disk_cells
 from pivot_ompl.analysis.route_path import FreeField, Route, route_polyline
-from pivot_ompl.cache import BoundedCache
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
@@ -53,7 +51,7 @@ from pivot_ompl.planners.route_poses import (
     route_poses,
     turns_and_legs,
 )
-from pivot_ompl.scene import scene_digest
+from pivot_ompl.scene.shared import scene_shared
 from pivot_ompl.se2 import Pose, wrap_angle
 
 __all__ = ["MARGINS", "FollowStats", "follow_route"]
@@ -95,16 +93,8 @@ class _Known:
     routes: dict[tuple[float, ...], Route | None]
 
 
-#: The free field of each checker's scene, computed once (a checker's scene never changes).
-_fields: weakref.WeakKeyDictionary[PivotChecker, _Known] = weakref.WeakKeyDictionary()
-#: Scenes whose free fields are kept across checkers (the later plans of one scene).
-FIELD_SCENES = 8
 #: Most routes kept per scene (then forgotten all at once: a later plan finds them again).
 ROUTES_KEPT = 512
-#: The free fields by :func:`~pivot_ompl.scene.scene_digest` (geometry, not the object):
-#: each plan makes its own checker, and the field and its routes depend only on the scene's
-#: geometry (and the routes' ends: a later plan's phases often have the same).
-_scene_fields: BoundedCache[str, _Known] = BoundedCache(FIELD_SCENES)
 
 
 @dataclass
@@ -163,21 +153,17 @@ def follow_route(checker: PivotChecker, states: list[State], *, costs: CostModel
 def _field(checker: PivotChecker, should_stop: Stop) -> _Known | None:
     """The free field of the disk relaxation of ``checker``'s scene; ``None`` if stopped.
 
-    Kept per checker and per scene geometry (:data:`FIELD_SCENES` scenes): a later plan of
-    the same scene, with a checker of its own, finds it made.
+    Kept, with the routes found on it, per scene geometry
+    (:func:`~pivot_ompl.scene.shared.scene_shared`): a later plan of the same scene,
+    with a checker of its own, finds it made.
     """
-    known = _fields.get(checker)
-    if known is not None:
-        return known
-    key = scene_digest(checker.scene)
-    known = _scene_fields.get(key)
-    if known is None:
+    def made() -> _Known | None:
         cells = disk_cells(checker.scene, should_stop=should_stop, max_cells=MAX_CELLS)
         if cells is None or should_stop():
             return None
-        known = _scene_fields.put(key, _Known(FreeField.of(*cells), {}))
-    _fields[checker] = known
-    return known
+        return _Known(FreeField.of(*cells), {})
+
+    return scene_shared(checker.scene, ("free field", MAX_CELLS), made)
 
 
 def _phases(path: list[State]) -> list[tuple[int, int]]:
