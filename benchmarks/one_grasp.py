@@ -1,0 +1,125 @@
+"""Where one grasp suffices: our planner against OMPL's RRT-Connect, side by side.
+
+For each map of ``--maps`` (names of :data:`buildings.CORPUS`, imported at their corpus start
+and goal) and each version (``--before DIR``, a package tree put on ``PYTHONPATH``, e.g. an
+export of an older commit, repeatable; then this checkout), runs
+``pivot-ompl bench SCENE --planners P --runs N --time T --workers 1 --no-plots`` (a fresh
+process per run: OMPL's ``Benchmark`` times ``solve``, cold caches every run) and prints per
+map, version and planner the median solve time, the median pivots, the median regrasps, and
+the ratios to RRT-Connect's (time ours / theirs; pivots theirs / ours). Maps and versions take
+turns, one ``bench`` at a time (set ``PIVOT_BENCH_LOCK`` to hold that lock during each).
+
+    PIVOT_BENCH_LOCK=/tmp/pivot-bench.lock python benchmarks/one_grasp.py \
+        [--before /work/brief/base_8a3d085] [--maps aws_small_house,nav2_depot] \
+        [--planners 'regrasp,regrasp[optimiser.routes=false],rrtconnect'] [--runs 5]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+from typing import Any
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from buildings import CORPUS, ROOT, import_corpus_map  # noqa: E402
+from common import machine_lock  # noqa: E402
+
+MAPS = ("aws_small_house", "aws_small_warehouse", "nav2_depot", "aws_hospital")
+REFERENCE = "rrtconnect"
+
+
+def bench(scene: str, version: Path, planners: str, runs: int, limit: float,
+          out: Path) -> list[dict[str, Any]]:
+    """One ``pivot-ompl bench`` of ``scene`` with the package at ``version``: its runs."""
+    env = dict(os.environ, PYTHONPATH=str(version))
+    cmd = [sys.executable, "-m", "pivot_ompl", "bench", scene, "--planners", planners,
+           "--runs", str(runs), "--time", str(limit), "--workers", "1", "--no-plots",
+           "--no-progress", "--out", str(out)]
+    with machine_lock():
+        subprocess.run(cmd, env=env, check=False, stdout=subprocess.DEVNULL,
+                       stderr=subprocess.DEVNULL)
+    path = out / "runs.json"
+    return json.loads(path.read_text()) if path.exists() else []
+
+
+def medians(runs: list[dict[str, Any]]) -> dict[str, dict[str, float]]:
+    """Per planner: runs, solved, median time (s), pivots and regrasps of the solved runs."""
+    out: dict[str, dict[str, float]] = {}
+    for name in dict.fromkeys(r["planner"] for r in runs):
+        mine = [r["run"] for r in runs if r["planner"] == name]
+        solved = [r for r in mine if r.get("solved BOOLEAN") == "1"]
+
+        def med(key: str, rows: list[dict[str, str]]) -> float:
+            vals = [float(r[key]) for r in rows if key in r]
+            return statistics.median(vals) if vals else float("nan")
+
+        out[name] = {"runs": len(mine), "solved": len(solved), "time": med("time REAL", mine),
+                     "pivots": med("pivots INTEGER", solved),
+                     "regrasps": med("regrasps INTEGER", solved)}
+    return out
+
+
+def table(results: list[dict[str, Any]]) -> str:
+    """The Markdown table of :func:`main`'s results."""
+    lines = ["| map | version | planner | solved | median time (s) | median pivots | "
+             "regrasps | time / RRT-Connect's | RRT-Connect's pivots / ours |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for res in results:
+        ref = res["planners"].get(REFERENCE, {})
+        for name, m in res["planners"].items():
+            ratio = pivots = "-"
+            if name != REFERENCE and ref:
+                ratio = f"{m['time'] / ref['time']:.2f}"
+                pivots = f"{ref['pivots'] / m['pivots']:.1f}"
+            lines.append(f"| {res['map']} | {res['version']} | {name} | "
+                         f"{m['solved']}/{m['runs']} | {m['time']:.3f} | {m['pivots']:.0f} | "
+                         f"{m['regrasps']:.0f} | {ratio} | {pivots} |")
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Import the maps, bench each version on each, print the table (and ``--out``)."""
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--before", action="append", default=[], type=Path,
+                    help="a package tree to bench before this checkout (repeatable)")
+    ap.add_argument("--maps", default=",".join(MAPS), help="corpus map names, comma-separated")
+    ap.add_argument("--planners", default=f"regrasp,{REFERENCE}",
+                    help=f"bench's --planners (include {REFERENCE} for the ratios)")
+    ap.add_argument("--runs", type=int, default=5)
+    ap.add_argument("--time", type=float, default=30.0)
+    ap.add_argument("--out", type=Path, default=None, help="write the results as JSON too")
+    a = ap.parse_args(argv)
+    names = [n for n in a.maps.split(",") if n]
+    corpus = {m.name: m for m in CORPUS}
+    unknown = [n for n in names if n not in corpus]
+    if unknown:
+        print(f"--maps: unknown {unknown} (known: {sorted(corpus)})", file=sys.stderr)
+        return 2
+    versions = [*a.before, ROOT]
+    results: list[dict[str, Any]] = []
+    with tempfile.TemporaryDirectory(prefix="one-grasp-") as tmp:
+        work = Path(tmp)
+        for name in names:
+            scene = import_corpus_map(corpus[name], work)["scene"]
+            for k, version in enumerate(versions):
+                label = "this" if version == ROOT else version.name
+                runs = bench(scene, version, a.planners, a.runs, a.time, work / f"{name}.{k}")
+                results.append({"map": name, "version": label, "planners": medians(runs)})
+                print(table(results[-1:]).splitlines()[-1], flush=True)
+    print(table(results))
+    if a.out is not None:
+        tmp_out = a.out.with_suffix(a.out.suffix + ".tmp")
+        tmp_out.write_text(json.dumps(results, indent=1))
+        tmp_out.replace(a.out)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
