@@ -5,8 +5,10 @@ and goal) and each version (``--before DIR``, a package tree put on ``PYTHONPATH
 export of an older commit, repeatable; then this checkout), runs
 ``pivot-ompl bench SCENE --planners P --runs N --time T --workers 1 --no-plots`` (a fresh
 process per run: OMPL's ``Benchmark`` times ``solve``, cold caches every run) and prints per
-map, version and planner the median solve time, the median pivots, the median regrasps, and
-the ratios to RRT-Connect's (time ours / theirs; pivots theirs / ours). Maps and versions take
+map, version and planner the median solve time, the median pivots, the median regrasps, the
+median execution estimate of the plan (``quality duration estimate``, s: what the robot then
+spends carrying it out) and the ratios to RRT-Connect's (time ours / theirs; pivots theirs /
+ours). Maps and versions take
 turns, one ``bench`` at a time (set ``PIVOT_BENCH_LOCK`` to hold that lock during each).
 
     PIVOT_BENCH_LOCK=/tmp/pivot-bench.lock python benchmarks/one_grasp.py \
@@ -50,7 +52,7 @@ def bench(scene: str, version: Path, planners: str, runs: int, limit: float,
 
 
 def medians(runs: list[dict[str, Any]]) -> dict[str, dict[str, float]]:
-    """Per planner: runs, solved, median time (s), pivots and regrasps of the solved runs."""
+    """Per planner: runs, solved, median time (s), pivots, regrasps, execution (s) if solved."""
     out: dict[str, dict[str, float]] = {}
     for name in dict.fromkeys(r["planner"] for r in runs):
         mine = [r["run"] for r in runs if r["planner"] == name]
@@ -62,15 +64,16 @@ def medians(runs: list[dict[str, Any]]) -> dict[str, dict[str, float]]:
 
         out[name] = {"runs": len(mine), "solved": len(solved), "time": med("time REAL", mine),
                      "pivots": med("pivots INTEGER", solved),
-                     "regrasps": med("regrasps INTEGER", solved)}
+                     "regrasps": med("regrasps INTEGER", solved),
+                     "execution": med("quality duration estimate REAL", solved)}
     return out
 
 
 def table(results: list[dict[str, Any]]) -> str:
     """The Markdown table of :func:`main`'s results."""
     lines = ["| map | version | planner | solved | median time (s) | median pivots | "
-             "regrasps | time / RRT-Connect's | RRT-Connect's pivots / ours |",
-             "|---|---|---|---|---|---|---|---|---|"]
+             "regrasps | execution (s) | time / RRT-Connect's | RRT-Connect's pivots / ours |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     for res in results:
         ref = res["planners"].get(REFERENCE, {})
         for name, m in res["planners"].items():
@@ -80,7 +83,7 @@ def table(results: list[dict[str, Any]]) -> str:
                 pivots = f"{ref['pivots'] / m['pivots']:.1f}"
             lines.append(f"| {res['map']} | {res['version']} | {name} | "
                          f"{m['solved']}/{m['runs']} | {m['time']:.3f} | {m['pivots']:.0f} | "
-                         f"{m['regrasps']:.0f} | {ratio} | {pivots} |")
+                         f"{m['regrasps']:.0f} | {m['execution']:.0f} | {ratio} | {pivots} |")
     return "\n".join(lines)
 
 
