@@ -11,6 +11,10 @@ spends carrying it out) and the ratios to RRT-Connect's (time ours / theirs; piv
 ours). Maps and versions take
 turns, one ``bench`` at a time (set ``PIVOT_BENCH_LOCK`` to hold that lock during each).
 
+``--cpu``: instead of ``bench``, one fresh process per (planner, seed) that sets the problem up
+as ``bench`` does and times ``solve`` in CPU seconds (``time.process_time``: other load on a
+shared machine counts less than in OMPL's wall-clock ``time``); the columns are the same.
+
     PIVOT_BENCH_LOCK=/tmp/pivot-bench.lock python benchmarks/one_grasp.py \
         [--before /work/brief/base_8a3d085] [--maps aws_small_house,nav2_depot] \
         [--planners 'regrasp,regrasp[optimiser.routes=false],rrtconnect'] [--runs 5]
@@ -49,6 +53,48 @@ def bench(scene: str, version: Path, planners: str, runs: int, limit: float,
                        stderr=subprocess.DEVNULL)
     path = out / "runs.json"
     return json.loads(path.read_text()) if path.exists() else []
+
+
+def cpu_run(scene: str, planner: str, seed: int, limit: float) -> dict[str, str]:
+    """One ``solve`` in this process, as ``bench`` sets it up: CPU seconds and the plan's."""
+    import time
+
+    import yaml
+    from ompl import util as ou
+
+    from pivot_ompl.base.problem import make_setup
+    from pivot_ompl.bench.job import allocator, run_extras
+    from pivot_ompl.scene import scene_from_dict
+
+    ou.setLogLevel(ou.LogLevel.LOG_ERROR)
+    ou.RNG.setSeed(seed + 1)
+    loaded = scene_from_dict(yaml.safe_load(Path(scene).read_text()), source=scene)
+    problem = make_setup(loaded, seed=seed)
+    chosen = allocator(planner)(problem, seed)
+    problem.setup.setPlanner(chosen)
+    t0 = time.process_time()
+    solved = bool(problem.setup.solve(limit)) and problem.setup.haveExactSolutionPath()
+    run = {"time REAL": str(time.process_time() - t0), "solved BOOLEAN": "1" if solved else "0"}
+    run.update(run_extras(loaded, problem, chosen, seed))
+    return run
+
+
+def cpu_bench(scene: str, version: Path, planners: str, runs: int,
+              limit: float) -> list[dict[str, Any]]:
+    """:func:`cpu_run` per planner and seed ``0 .. runs-1``, each in a fresh process."""
+    env = dict(os.environ, PYTHONPATH=str(version))
+    out = []
+    for seed in range(runs):
+        for planner in planners.split(","):
+            cmd = [sys.executable, str(Path(__file__).resolve()), "--cpu-run", scene, planner,
+                   str(seed), str(limit)]
+            with machine_lock():
+                proc = subprocess.run(cmd, env=env, check=False, capture_output=True, text=True)
+            lines = proc.stdout.strip().splitlines()
+            run = json.loads(lines[-1]) if proc.returncode == 0 and lines else \
+                {"time REAL": "nan", "solved BOOLEAN": "0"}
+            out.append({"planner": planner, "run": run})
+    return out
 
 
 def medians(runs: list[dict[str, Any]]) -> dict[str, dict[str, float]]:
@@ -98,7 +144,15 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--time", type=float, default=30.0)
     ap.add_argument("--out", type=Path, default=None, help="write the results as JSON too")
+    ap.add_argument("--cpu", action="store_true",
+                    help="CPU seconds of solve, a fresh process per run, instead of bench")
+    ap.add_argument("--cpu-run", nargs=4, metavar=("SCENE", "PLANNER", "SEED", "TIME"),
+                    help=argparse.SUPPRESS)
     a = ap.parse_args(argv)
+    if a.cpu_run:
+        scene, planner, seed, limit = a.cpu_run
+        print(json.dumps(cpu_run(scene, planner, int(seed), float(limit))))
+        return 0
     names = [n for n in a.maps.split(",") if n]
     corpus = {m.name: m for m in CORPUS}
     unknown = [n for n in names if n not in corpus]
@@ -113,7 +167,8 @@ def main(argv: list[str] | None = None) -> int:
             scene = import_corpus_map(corpus[name], work)["scene"]
             for k, version in enumerate(versions):
                 label = "this" if version == ROOT else version.name
-                runs = bench(scene, version, a.planners, a.runs, a.time, work / f"{name}.{k}")
+                runs = cpu_bench(scene, version, a.planners, a.runs, a.time) if a.cpu else \
+                    bench(scene, version, a.planners, a.runs, a.time, work / f"{name}.{k}")
                 results.append({"map": name, "version": label, "planners": medians(runs)})
                 print(table(results[-1:]).splitlines()[-1], flush=True)
     print(table(results))
