@@ -34,7 +34,7 @@ from pivot_ompl.transit.floor_sums import PieceSums
 from pivot_ompl.transit.lattice import HEADING_YAWS
 from pivot_ompl.validity.collision import CollisionWorld
 from pivot_ompl.validity.footprints import obstacle_pieces
-from pivot_ompl.validity.minkowski import EdgeSet, meeting_edges
+from pivot_ompl.validity.minkowski import meeting_edges
 from pivot_ompl.validity.rasters import grid_union
 
 #: Yaws at which a grid position may hold the walking body: the 16 lattice headings and the
