@@ -153,3 +153,22 @@ def test_a_windowed_query_builds_only_tiles_its_dijkstra_leads_into(corridor, mo
                                                       for gx, gy in goals}
                for dx in range(-2, 3) for dy in range(-2, 3)}
     assert field.tiles.built <= allowed
+
+
+def test_a_limit_beyond_the_floor_floods_only_the_tiles_its_walks_reach(corridor):
+    # regression: a finite limit whose window covered the floor built the whole floor's
+    # tiles (the bounds' corners round the turned building too); the Willow Garage office's
+    # regrasp walk, whose limit doubles past the floor, built 90 tiles where it reaches 80
+    scene, _ = corridor
+    ck = PivotChecker(scene)
+    wp, field = ck.walker, ck.walker.field
+    field.window_from = 0
+    obj = wp.frame.into(scene.start)
+    goals = [_cell(wp, scene.model.robot_pose(scene.start, 1))]
+    limit = 10.0 * max(field.grid.nx, field.grid.ny) * field.grid.resolution
+    got = field.distances(obj, goals, limit=limit)
+    assert isinstance(got, FloorWindow)
+    tiles = math.ceil(field.grid.nx / TILE) * math.ceil(field.grid.ny / TILE)
+    assert field.tiles.tiles_built < tiles
+    want = _whole(field, obj, goals, math.inf)
+    assert np.array_equal(got.dense(field.grid.nx, field.grid.ny), want)
