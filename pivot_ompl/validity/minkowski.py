@@ -81,7 +81,8 @@ def _after_last(edge: np.ndarray, mine: np.ndarray, count: int) -> np.ndarray:
     return (np.take_along_axis(edge, last, axis=1) + 1) % count
 
 
-def _sum_hulls(pieces: np.ndarray, bodies: np.ndarray, *, certify: bool = True
+def _sum_hulls(pieces: np.ndarray, bodies: np.ndarray, *, certify: bool = True,
+               parts: _BodyParts | None = None
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Hulls of ``piece - body`` per row (``(g, k, 2)``, ``(g, m, 2)`` convex polygons).
 
@@ -100,15 +101,51 @@ def _sum_hulls(pieces: np.ndarray, bodies: np.ndarray, *, certify: bool = True
     and no edge shorter than :data:`_SHORT_EDGE` times their extent (the merged normals
     then give the sum's region to rounding, perhaps with a vertex more or less on an edge's
     line than GEOS's hull; a row with a vanishing edge is refused, as an uncertified one).
+
+    ``parts``: the bodies' own terms (:func:`_body_parts`), computed once per distinct body
+    by the caller (the same floats as per row).
     """
-    cand, pair, nxt, valid, ok = _sum_candidates(pieces, bodies)
+    parts = parts if parts is not None else _body_parts(bodies)
+    cand, pair, nxt, valid, ok = _sum_candidates(pieces, bodies, parts)
     rows = np.arange(pieces.shape[0])[:, None]
     verts = cand[rows, pair]
     if certify:
         ok &= _certified(pieces, bodies, cand, pair, nxt, valid)
     else:
-        ok &= ~(_has_short_edge(pieces) | _has_short_edge(bodies))
+        ok &= ~(_has_short_edge(pieces) | parts.short)
     return verts, nxt, valid, ok
+
+
+@dataclass(frozen=True)
+class _BodyParts:
+    """What :func:`_sum_hulls` computes of the bodies alone, per row ``(g, ...)``.
+
+    ``reflected``: ``-body`` counter-clockwise; ``flipped``: whether that reversed it;
+    ``normals``: its edges' outward normal angles in ``[0, 2 pi)``; ``short``: whether the
+    body has an edge shorter than :data:`_SHORT_EDGE` times its extent.
+    """
+
+    reflected: np.ndarray
+    flipped: np.ndarray
+    normals: np.ndarray
+    short: np.ndarray
+
+    def rows(self, index: np.ndarray) -> _BodyParts:
+        """The parts of bodies ``index`` (rows gathered)."""
+        return _BodyParts(self.reflected[index], self.flipped[index], self.normals[index],
+                          self.short[index])
+
+
+def _normal_angles(poly: np.ndarray) -> np.ndarray:
+    """Outward normal angles ``[0, 2 pi)`` of counter-clockwise polygons' edges ``(g, k)``."""
+    e = np.roll(poly, -1, axis=1) - poly
+    return np.arctan2(-e[..., 0], e[..., 1]) % (2 * math.pi)
+
+
+def _body_parts(bodies: np.ndarray) -> _BodyParts:
+    """:class:`_BodyParts` of bodies ``(g, m, 2)``."""
+    q, qflip = _ccw(-bodies)
+    return _BodyParts(q, qflip, _normal_angles(q), _has_short_edge(bodies))
 
 
 #: Relative length below which an edge makes :func:`_sum_hulls` without a certificate refuse
@@ -123,21 +160,19 @@ def _has_short_edge(polys: np.ndarray) -> np.ndarray:
     return np.any(e <= _SHORT_EDGE * np.maximum(extent, 1.0)[:, None], axis=1)
 
 
-def _sum_candidates(pieces: np.ndarray, bodies: np.ndarray
+def _sum_candidates(pieces: np.ndarray, bodies: np.ndarray, parts: _BodyParts
                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The vertex differences and, per slot of the merged edge normals, the hull's vertex.
 
-    Returns the differences ``(g, k m, 2)``, each slot's vertex pair and next slot, which
-    slots are vertices, and which rows have a vertex at all.
+    ``parts``: the bodies' (:func:`_body_parts`). Returns the differences ``(g, k m, 2)``,
+    each slot's vertex pair and next slot, which slots are vertices, and which rows have a
+    vertex at all.
     """
     g, k, m = pieces.shape[0], pieces.shape[1], bodies.shape[1]
     cand = (pieces[:, :, None, :] - bodies[:, None, :, :]).reshape(g, k * m, 2)
-    (p, pflip), (q, qflip) = _ccw(pieces), _ccw(-bodies)
-    normals = []
-    for poly in (p, q):
-        e = np.roll(poly, -1, axis=1) - poly
-        normals.append(np.arctan2(-e[..., 0], e[..., 1]) % (2 * math.pi))
-    ang = np.concatenate(normals, axis=1)
+    p, pflip = _ccw(pieces)
+    qflip = parts.flipped
+    ang = np.concatenate([_normal_angles(p), parts.normals], axis=1)
     order = np.argsort(ang, axis=1)
     ang = np.take_along_axis(ang, order, axis=1)
     gap = np.diff(ang, axis=1, append=ang[:, :1] + 2 * math.pi)
@@ -261,6 +296,15 @@ def meeting_edges(pieces: list[np.ndarray], bodies: list[np.ndarray], *,
     if n == 0:
         return EdgeSet(np.zeros((0, 1, 2)), np.zeros((0, 1, 2)), np.zeros((0, 1), dtype=bool),
                        np.zeros((0, 4)))
+    # a body is usually one array repeated (one per yaw): its own terms computed once
+    known: dict[int, int] = {}
+    body_of = [known.setdefault(id(b), len(known)) for b in bodies]
+    distinct = list({id(b): b for b in bodies}.values())
+    shapes = {len(b) for b in distinct}
+    by_size = {m: [u for u, b in enumerate(distinct) if len(b) == m] for m in shapes}
+    local = {u: j for us in by_size.values() for j, u in enumerate(us)}
+    stacked = {m: np.stack([distinct[u] for u in us]) for m, us in by_size.items()}
+    body_parts = {m: _body_parts(a) for m, a in stacked.items()}
     groups: dict[tuple[int, int], list[int]] = {}
     for i in range(n):
         groups.setdefault((len(pieces[i]), len(bodies[i])), []).append(i)
@@ -271,8 +315,11 @@ def meeting_edges(pieces: list[np.ndarray], bodies: list[np.ndarray], *,
     for idx in batches:
         if should_stop is not None and should_stop():
             raise Interrupted("summing obstacle pieces and bodies")
+        m = len(bodies[idx[0]])
+        rows = np.array([local[body_of[i]] for i in idx])
         verts, nxt, used, ok = _sum_hulls(np.stack([pieces[i] for i in idx]),
-                                          np.stack([bodies[i] for i in idx]), certify=certify)
+                                          stacked[m][rows], certify=certify,
+                                          parts=body_parts[m].rows(rows))
         good = np.flatnonzero(ok)
         if len(good):
             parts.append(([idx[i] for i in good], _edges_of(verts[good], nxt[good], used[good])))
