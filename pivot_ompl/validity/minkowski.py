@@ -206,8 +206,6 @@ def _certified(pieces: np.ndarray, bodies: np.ndarray, cand: np.ndarray, pair: n
     verts = cand[rows, pair]
     a, b = verts, verts[rows, nxt]
     bpair = np.take_along_axis(pair, nxt, axis=1)
-    is_vertex = np.zeros((g, k * m), dtype=bool)
-    is_vertex[np.broadcast_to(rows, pair.shape)[valid], pair[valid]] = True
     # per edge a -> b, a difference's distance left of its line, split as the piece
     # vertex's part plus the body vertex's part (floats: certain beyond a bound ``tol``)
     e = b - a
@@ -227,16 +225,23 @@ def _certified(pieces: np.ndarray, bodies: np.ndarray, cand: np.ndarray, pair: n
     near = (ip[..., :, None] * m + iq[..., None, :]).reshape(g, s, -1)
     split = (np.take_along_axis(gp, ip, axis=2)[..., :, None]
              + np.take_along_axis(gq, iq, axis=2)[..., None, :]).reshape(g, s, -1)
-    c = cand[rows[..., None], near]
-    left = (a[:, :, None, 0] - c[..., 0]) * (b[:, :, None, 1] - c[..., 1])
-    right = (a[:, :, None, 1] - c[..., 1]) * (b[:, :, None, 0] - c[..., 0])
-    det = left - right
-    err = _ORIENT_ERR * (np.abs(left) + np.abs(right))
-    sure = (np.abs(det) > err) | (err == 0.0)
     ends = (near == pair[..., None]) | (near == bpair[..., None])
-    strict = np.take_along_axis(is_vertex, near.reshape(g, -1), axis=1).reshape(near.shape)
-    good = (split > tol[..., None]) | ends \
-        | (sure & np.where(strict, det > 0.0, det >= 0.0))
+    good = (split > tol[..., None]) | ends
+    # the orientations only where they decide: a near difference not certain by its split,
+    # of an edge whose other differences are (elsewhere the answer is known without them)
+    gi, si, ni = np.nonzero(~good & (far & valid)[..., None])
+    if len(gi):
+        at = near[gi, si, ni]
+        cx, cy = cand[gi, at, 0], cand[gi, at, 1]
+        left = (a[gi, si, 0] - cx) * (b[gi, si, 1] - cy)
+        right = (a[gi, si, 1] - cy) * (b[gi, si, 0] - cx)
+        det = left - right
+        err = _ORIENT_ERR * (np.abs(left) + np.abs(right))
+        sure = (np.abs(det) > err) | (err == 0.0)
+        is_vertex = np.zeros((g, k * m), dtype=bool)
+        is_vertex[np.broadcast_to(rows, pair.shape)[valid], pair[valid]] = True
+        strict = is_vertex[gi, at]
+        good[gi, si, ni] = sure & np.where(strict, det > 0.0, det >= 0.0)
     return np.all((far & np.all(good, axis=2)) | ~valid, axis=1)
 
 
