@@ -82,7 +82,7 @@ def _after_last(edge: np.ndarray, mine: np.ndarray, count: int) -> np.ndarray:
 
 
 def _sum_hulls(pieces: np.ndarray, bodies: np.ndarray, *, certify: bool = True,
-               parts: _BodyParts | None = None
+               terms: tuple[_Terms, _Terms] | None = None
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Hulls of ``piece - body`` per row (``(g, k, 2)``, ``(g, m, 2)`` convex polygons).
 
@@ -102,50 +102,38 @@ def _sum_hulls(pieces: np.ndarray, bodies: np.ndarray, *, certify: bool = True,
     then give the sum's region to rounding, perhaps with a vertex more or less on an edge's
     line than GEOS's hull; a row with a vanishing edge is refused, as an uncertified one).
 
-    ``parts``: the bodies' own terms (:func:`_body_parts`), computed once per distinct body
-    by the caller (the same floats as per row).
+    ``terms``: the pieces' and the bodies' own terms (:func:`_own_terms`), computed once
+    per distinct polygon by the caller (the same floats as per row).
     """
-    parts = parts if parts is not None else _body_parts(bodies)
-    cand, pair, nxt, valid, ok = _sum_candidates(pieces, bodies, parts)
+    pt, bt = terms if terms is not None else (_own_terms(pieces, reflect=False),
+                                              _own_terms(bodies, reflect=True))
+    cand, pair, nxt, valid, ok = _sum_candidates(pieces, bodies, pt, bt)
     rows = np.arange(pieces.shape[0])[:, None]
     verts = cand[rows, pair]
     if certify:
         ok &= _certified(pieces, bodies, cand, pair, nxt, valid)
     else:
-        ok &= ~(_has_short_edge(pieces) | parts.short)
+        ok &= ~(pt.short | bt.short)
     return verts, nxt, valid, ok
 
 
 @dataclass(frozen=True)
-class _BodyParts:
-    """What :func:`_sum_hulls` computes of the bodies alone, per row ``(g, ...)``.
+class _Terms:
+    """What :func:`_sum_hulls` computes of one side's polygons alone, per row ``(g, ...)``.
 
-    ``reflected``: ``-body`` counter-clockwise; ``flipped``: whether that reversed it;
-    ``normals``: its edges' outward normal angles in ``[0, 2 pi)``; ``short``: whether the
-    body has an edge shorter than :data:`_SHORT_EDGE` times its extent.
+    ``flipped``: whether making the polygon (a body: its reflection ``-body``)
+    counter-clockwise reversed it; ``normals``: that counter-clockwise polygon's outward
+    edge normal angles in ``[0, 2 pi)``; ``short``: whether the polygon has an edge shorter
+    than :data:`_SHORT_EDGE` times its extent.
     """
 
-    reflected: np.ndarray
     flipped: np.ndarray
     normals: np.ndarray
     short: np.ndarray
 
-    def rows(self, index: np.ndarray) -> _BodyParts:
-        """The parts of bodies ``index`` (rows gathered)."""
-        return _BodyParts(self.reflected[index], self.flipped[index], self.normals[index],
-                          self.short[index])
-
-
-def _normal_angles(poly: np.ndarray) -> np.ndarray:
-    """Outward normal angles ``[0, 2 pi)`` of counter-clockwise polygons' edges ``(g, k)``."""
-    e = np.roll(poly, -1, axis=1) - poly
-    return np.arctan2(-e[..., 0], e[..., 1]) % (2 * math.pi)
-
-
-def _body_parts(bodies: np.ndarray) -> _BodyParts:
-    """:class:`_BodyParts` of bodies ``(g, m, 2)``."""
-    q, qflip = _ccw(-bodies)
-    return _BodyParts(q, qflip, _normal_angles(q), _has_short_edge(bodies))
+    def rows(self, index: np.ndarray) -> _Terms:
+        """The terms of polygons ``index`` (rows gathered)."""
+        return _Terms(self.flipped[index], self.normals[index], self.short[index])
 
 
 #: Relative length below which an edge makes :func:`_sum_hulls` without a certificate refuse
@@ -160,19 +148,55 @@ def _has_short_edge(polys: np.ndarray) -> np.ndarray:
     return np.any(e <= _SHORT_EDGE * np.maximum(extent, 1.0)[:, None], axis=1)
 
 
-def _sum_candidates(pieces: np.ndarray, bodies: np.ndarray, parts: _BodyParts
+def _normal_angles(poly: np.ndarray) -> np.ndarray:
+    """Outward normal angles ``[0, 2 pi)`` of counter-clockwise polygons' edges ``(g, k)``."""
+    e = np.roll(poly, -1, axis=1) - poly
+    return np.arctan2(-e[..., 0], e[..., 1]) % (2 * math.pi)
+
+
+def _own_terms(polys: np.ndarray, *, reflect: bool) -> _Terms:
+    """:class:`_Terms` of polygons ``(g, k, 2)`` (of their reflections when ``reflect``)."""
+    ccw, flipped = _ccw(-polys if reflect else polys)
+    return _Terms(flipped, _normal_angles(ccw), _has_short_edge(polys))
+
+
+class _Distinct:
+    """The distinct polygons of a list (by object: one array passed many times counts once).
+
+    Stacked by vertex count, with their :class:`_Terms` computed once.
+    """
+
+    def __init__(self, polys: list[np.ndarray], *, reflect: bool) -> None:
+        """Index ``polys``."""
+        known: dict[int, int] = {}
+        self.of = [known.setdefault(id(p), len(known)) for p in polys]
+        by_size: dict[int, list[np.ndarray]] = {}
+        self.local: list[int] = []
+        for p in {id(p): p for p in polys}.values():
+            same = by_size.setdefault(len(p), [])
+            self.local.append(len(same))
+            same.append(p)
+        self.stacked = {n: np.stack(ps) for n, ps in by_size.items()}
+        self.terms = {n: _own_terms(a, reflect=reflect) for n, a in self.stacked.items()}
+
+    def rows(self, idx: list[int], size: int) -> tuple[np.ndarray, _Terms]:
+        """Polygons ``idx`` of the list (each of ``size`` vertices) and their terms."""
+        r = np.array([self.local[self.of[i]] for i in idx])
+        return self.stacked[size][r], self.terms[size].rows(r)
+
+
+def _sum_candidates(pieces: np.ndarray, bodies: np.ndarray, pt: _Terms, bt: _Terms
                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The vertex differences and, per slot of the merged edge normals, the hull's vertex.
 
-    ``parts``: the bodies' (:func:`_body_parts`). Returns the differences ``(g, k m, 2)``,
-    each slot's vertex pair and next slot, which slots are vertices, and which rows have a
-    vertex at all.
+    ``pt``, ``bt``: the pieces' and the bodies' own terms (:func:`_own_terms`). Returns the
+    differences ``(g, k m, 2)``, each slot's vertex pair and next slot, which slots are
+    vertices, and which rows have a vertex at all.
     """
     g, k, m = pieces.shape[0], pieces.shape[1], bodies.shape[1]
     cand = (pieces[:, :, None, :] - bodies[:, None, :, :]).reshape(g, k * m, 2)
-    p, pflip = _ccw(pieces)
-    qflip = parts.flipped
-    ang = np.concatenate([_normal_angles(p), parts.normals], axis=1)
+    pflip, qflip = pt.flipped, bt.flipped
+    ang = np.concatenate([pt.normals, bt.normals], axis=1)
     order = np.argsort(ang, axis=1)
     ang = np.take_along_axis(ang, order, axis=1)
     gap = np.diff(ang, axis=1, append=ang[:, :1] + 2 * math.pi)
@@ -301,30 +325,23 @@ def meeting_edges(pieces: list[np.ndarray], bodies: list[np.ndarray], *,
     if n == 0:
         return EdgeSet(np.zeros((0, 1, 2)), np.zeros((0, 1, 2)), np.zeros((0, 1), dtype=bool),
                        np.zeros((0, 4)))
-    # a body is usually one array repeated (one per yaw): its own terms computed once
-    known: dict[int, int] = {}
-    body_of = [known.setdefault(id(b), len(known)) for b in bodies]
-    distinct = list({id(b): b for b in bodies}.values())
-    shapes = {len(b) for b in distinct}
-    by_size = {m: [u for u, b in enumerate(distinct) if len(b) == m] for m in shapes}
-    local = {u: j for us in by_size.values() for j, u in enumerate(us)}
-    stacked = {m: np.stack([distinct[u] for u in us]) for m, us in by_size.items()}
-    body_parts = {m: _body_parts(a) for m, a in stacked.items()}
+    # a piece and a body are usually each one array passed many times (a body per yaw, a
+    # piece per yaw and body): their own terms computed once
+    distinct_pieces = _Distinct(pieces, reflect=False)
+    distinct_bodies = _Distinct(bodies, reflect=True)
     groups: dict[tuple[int, int], list[int]] = {}
     for i in range(n):
         groups.setdefault((len(pieces[i]), len(bodies[i])), []).append(i)
-    batches = [idx[b0:b0 + MEETING_BATCH] for idx in groups.values()
+    batches = [(size, idx[b0:b0 + MEETING_BATCH]) for size, idx in groups.items()
                for b0 in range(0, len(idx), MEETING_BATCH)]
     parts: list[tuple[list[int], EdgeSet]] = []
     failed: list[int] = []
-    for idx in batches:
+    for (k, m), idx in batches:
         if should_stop is not None and should_stop():
             raise Interrupted("summing obstacle pieces and bodies")
-        m = len(bodies[idx[0]])
-        rows = np.array([local[body_of[i]] for i in idx])
-        verts, nxt, used, ok = _sum_hulls(np.stack([pieces[i] for i in idx]),
-                                          stacked[m][rows], certify=certify,
-                                          parts=body_parts[m].rows(rows))
+        p, pt = distinct_pieces.rows(idx, k)
+        b, bt = distinct_bodies.rows(idx, m)
+        verts, nxt, used, ok = _sum_hulls(p, b, certify=certify, terms=(pt, bt))
         good = np.flatnonzero(ok)
         if len(good):
             parts.append(([idx[i] for i in good], _edges_of(verts[good], nxt[good], used[good])))
