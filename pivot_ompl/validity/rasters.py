@@ -55,23 +55,18 @@ def _bound(p: np.ndarray, slope: np.ndarray, sel: np.ndarray, poly: np.ndarray,
 
     The line of edge ``p``, ``slope`` at ``x`` is ``p_y + slope * (x - p_x)`` (evaluated as
     :func:`grid_inside` does). The selected edges are moved to the front of each polygon's
-    row first, the others made lines constant at ``empty``; then one edge slot at a time
-    over every pair (arrays as long as the pairs, not as wide as the edges too: the same
-    floats, less memory to go through).
+    row first (so the arrays are only as wide as the most edges one polygon has on that
+    side), the others made lines constant at ``empty``.
     """
     order = np.argsort(~sel, axis=1, kind="stable")[:, :max(1, int(sel.sum(axis=1).max()))]
     use = np.take_along_axis(sel, order, axis=1)
-    px = np.where(use, np.take_along_axis(p[..., 0], order, axis=1), 0.0)
-    py = np.where(use, np.take_along_axis(p[..., 1], order, axis=1), empty)
-    k = np.where(use, np.take_along_axis(slope, order, axis=1), 0.0)
-    out = np.full(len(poly), empty)
-    y = np.empty(len(poly))
-    for j in range(order.shape[1]):
-        np.subtract(x, px[:, j][poly], out=y)
-        np.multiply(k[:, j][poly], y, out=y)
-        np.add(py[:, j][poly], y, out=y)
-        reduce(out, y, out=out)
-    return out
+    px = np.where(use, np.take_along_axis(p[..., 0], order, axis=1), 0.0)[poly]
+    py = np.where(use, np.take_along_axis(p[..., 1], order, axis=1), empty)[poly]
+    k = np.where(use, np.take_along_axis(slope, order, axis=1), 0.0)[poly]
+    y = np.subtract(x[:, None], px, out=px)
+    np.multiply(k, y, out=y)
+    np.add(py, y, out=y)
+    return reduce.reduce(y, axis=1)
 
 
 def grid_union(edges: EdgeSet, xs: np.ndarray, ys: np.ndarray,
