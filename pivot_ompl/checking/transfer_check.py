@@ -295,38 +295,54 @@ class TransferCheck:
 
     @staticmethod
     def _swept(dist: Callable[[Pose, int], float], base: Pose, rot: Rotation, grasp: int,
-               reach: float, d0: float, tol: float) -> float | None:
+               reach: float, d0: float, tol: float, *, last: bool) -> float | None:
         """The body's clearance at the rotation's end, or ``None`` if its sweep is not free.
 
         ``dist``: the body's clearance at a car pose; ``reach``: its farthest point from the
-        pivot (a point moves at most ``reach |angle|``); ``d0``: its clearance at ``base``.
+        pivot (a point moves at most ``reach |angle|``); ``d0``: its clearance at ``base``,
+        or a positive lower bound of it. Not ``last`` (another rotation follows in the same
+        check), a sweep whose ``d0`` exceeds the farthest any point moves is free with no
+        query, and its end keeps at least ``d0 - reach |angle|`` (a lower bound, returned);
+        the ``last`` rotation's end clearance is always measured. A lower bound for ``d0``
+        never changes whether a sweep passes: :func:`~pivot_ompl.validity.certify.certify`
+        then bisects only intervals the exact clearance would have accepted as free.
         """
+        lipschitz = reach * abs(rot.angle)
+        if not last and d0 > lipschitz:
+            return d0 - lipschitz
+
         def at(s: float) -> float:
             return dist(rotate_about(base, rot.pivot, s * rot.angle), grasp)
 
         d1 = dist(rot.car, grasp)
-        ok = certify(at, reach * abs(rot.angle), tolerance=tol, d0=d0, d1=d1).valid
+        ok = certify(at, lipschitz, tolerance=tol, d0=d0, d1=d1).valid
         return d1 if ok else None
 
     def _rotations(self, prev: Pose, rots: tuple[Rotation, ...], grasp: int, with_robot: bool,
                    db: float, dr: float) -> tuple[str, tuple[float, float]]:
-        """``(failure, clearances at the end)``; failure ``""`` when every rotation passes."""
+        """``(failure, clearances at the end)``; failure ``""`` when every rotation passes.
+
+        The clearances between rotations may be lower bounds (:meth:`_swept`); those returned
+        at the end, where the next check or a refinement starts, are measured.
+        """
         r_box, r_rob = self._reach[grasp]
         obstacles = self.world.has_obstacles
         tol = self.tolerance
-        for rot in rots:
+        for i, rot in enumerate(rots):
+            last = i == len(rots) - 1
             bulge = 1.0 - math.cos(0.5 * rot.angle)
             if not (self.in_bounds(prev, grasp, with_robot, r_box * bulge, r_rob * bulge)
                     and self.in_bounds(rot.car, grasp, with_robot, r_box * bulge,
                                         r_rob * bulge)):
                 return "leaves the bounds", (db, dr)
             if obstacles:
-                db_end = self._swept(self._box_d, prev, rot, grasp, r_box, db, tol)
+                db_end = self._swept(self._box_d, prev, rot, grasp, r_box, db, tol, last=last)
                 if db_end is None:
                     return "box collides", (db, dr)
                 db = db_end
                 if with_robot:
-                    dr_end = self._swept(self._rob_d, prev, rot, grasp, r_rob, dr, tol)
+                    dr_end = self._swept(self._rob_d, prev, rot, grasp, r_rob, dr, tol,
+                                         last=last)
                     if dr_end is None:
                         return "robot collides", (db, dr)
                     dr = dr_end

@@ -14,11 +14,11 @@ inputs (exit 2) and is written through a temporary file.
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import logging
 import webbrowser
 from pathlib import Path
-
-import meshcat
+from typing import TYPE_CHECKING
 
 from pivot_ompl.cli.args import output_file, output_files, positive
 from pivot_ompl.cli.scenes import SceneRecord, find_scene, missing_text
@@ -26,6 +26,14 @@ from pivot_ompl.errors import InputError
 from pivot_ompl.fileio import regular_file
 from pivot_ompl.planfile import load_plan
 from pivot_ompl.scene import Scene
+
+if TYPE_CHECKING:
+    import meshcat
+
+# meshcat is imported by the replay's views when they run (0.15 s that every other verb's
+# start-up, a plan's included, need not pay); without it the verb is not offered
+if importlib.util.find_spec("meshcat") is None:
+    raise ModuleNotFoundError("No module named 'meshcat'", name="meshcat")
 
 log = logging.getLogger(__name__)
 

@@ -173,7 +173,8 @@ class FloorField:
         a lower bound of their distance (larger, or unreachable).
 
         On a floor of ``window_from`` grid positions or more, a finite ``limit`` whose window
-        round the goals is not the whole grid runs over the tiles round the goals that its
+        round the goals is not the whole grid (or any finite limit, until the whole floor's
+        open positions are built) runs over the tiles round the goals that its
         Dijkstra reaches (:mod:`.floor_window`: nothing over the whole floor): the same
         distances wherever a walk from the goals can reach (an open position of another
         component may hold the limit instead of ``inf``), returned as a
@@ -185,7 +186,7 @@ class FloorField:
         n = self.grid.nx * self.grid.ny
         if math.isfinite(limit) and goals and n >= self.window_from:
             wx, wy = goal_window(self.grid, goals, limit)
-            if (wx.stop - wx.start) * (wy.stop - wy.start) < n:
+            if (wx.stop - wx.start) * (wy.stop - wy.start) < n or self._open is None:
                 return self._window_distances(obj, goals, limit, should_stop)
         self.stats.windowed = False
         self.static_open(should_stop)

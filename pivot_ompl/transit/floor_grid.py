@@ -30,10 +30,11 @@ import shapely
 
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.se2 import Pose, rectangle_corners
+from pivot_ompl.transit.floor_sums import PieceSums
 from pivot_ompl.transit.lattice import HEADING_YAWS
 from pivot_ompl.validity.collision import CollisionWorld
 from pivot_ompl.validity.footprints import obstacle_pieces
-from pivot_ompl.validity.minkowski import EdgeSet, meeting_edges
+from pivot_ompl.validity.minkowski import meeting_edges
 from pivot_ompl.validity.rasters import grid_union
 
 #: Yaws at which a grid position may hold the walking body: the 16 lattice headings and the
@@ -55,11 +56,13 @@ class GridStats:
     """What a :class:`FloorGrid` has computed so far.
 
     Attributes:
-        yaws_summed: yaw layers whose obstacle footprints were summed (each at most once:
-            a layer is kept once built).
+        yaws_summed: yaw layers whose obstacle footprints were summed with every piece (each
+            sum at most once: a sum is kept once computed).
+        pairs_summed: (piece, yaw) sums computed (the tiles sum only the pieces near them).
     """
 
     yaws_summed: int = 0
+    pairs_summed: int = 0
 
 
 def _turned(points: np.ndarray, yaw: float) -> np.ndarray:
@@ -116,10 +119,10 @@ class FloorGrid:
         self.pieces = obstacle_pieces(world.obstacles)
         self._piece_boxes = np.array([[*p.min(axis=0), *p.max(axis=0)] for p in self.pieces]
                                      ).reshape(-1, 4)
-        #: per index into :data:`OPEN_YAWS`, every piece's sum with the grown body at that
-        #: yaw (summed once, shared by :meth:`fits_range` and :meth:`open_block`)
-        self._edges: dict[int, EdgeSet] = {}
-        self._all_edges: EdgeSet | None = None  # those of every yaw together (the tiles')
+        #: every (piece, yaw) sum with the grown body, summed once when first asked (shared
+        #: by :meth:`fits_range` and :meth:`open_block`)
+        self.sums = PieceSums(self.pieces, [_turned(self.grown_outline, yaw)
+                                            for yaw in OPEN_YAWS])
         #: farthest a point of the grown body lies from the robot pose (m)
         self._body_reach = float(np.hypot(self.grown_outline[:, 0],
                                           self.grown_outline[:, 1]).max())
@@ -151,10 +154,12 @@ class FloorGrid:
         """
         todo = [k for k in range(k0, k1) if k not in self._fits]
         if todo:
-            n = len(self.pieces)
-            meets = grid_union(self._yaw_edges(todo, should_stop), self.xs, self.ys,
-                               groups=np.repeat(np.arange(len(todo)), n), n_groups=len(todo)) \
-                if n else np.zeros((len(todo), self.nx, self.ny), dtype=bool)
+            every = np.arange(len(self.pieces))
+            for b0 in range(0, len(todo), YAW_BLOCK):  # the stop polled between blocks
+                self._summed(every, todo[b0:b0 + YAW_BLOCK], should_stop)
+            edges, groups = self.sums.edges(every, todo)
+            meets = grid_union(edges, self.xs, self.ys, groups=groups, n_groups=len(todo)) \
+                if len(every) else np.zeros((len(todo), self.nx, self.ny), dtype=bool)
             self._fits.update(zip(todo, self._inside(todo, self.xs, self.ys, meets),
                                   strict=True))
         return [self._fits[k] for k in range(k0, k1)]
@@ -176,14 +181,10 @@ class FloorGrid:
         pb = self._piece_boxes
         near = np.flatnonzero((pb[:, 0] <= xs[-1] + r) & (pb[:, 2] >= xs[0] - r)
                               & (pb[:, 1] <= ys[-1] + r) & (pb[:, 3] >= ys[0] - r))
-        k, n = len(OPEN_YAWS), len(self.pieces)
-        if self._all_edges is None:  # every yaw's sums in one array, for the tiles' rows
-            self._all_edges = self._yaw_edges(list(range(k)), should_stop)
-            self._edges.clear()  # held once, in the gathered array
-        rows = (np.arange(k)[:, None] * n + near[None, :]).ravel()
-        e = self._all_edges
-        meets = grid_union(EdgeSet(e.start[rows], e.end[rows], e.used[rows], e.bounds[rows]),
-                           xs, ys, groups=np.repeat(np.arange(k), len(near)), n_groups=k) \
+        k = len(OPEN_YAWS)
+        self._summed(near, list(range(k)), should_stop)
+        edges, groups = self.sums.edges(near, list(range(k)))
+        meets = grid_union(edges, xs, ys, groups=groups, n_groups=k) \
             if len(near) else np.zeros((k, len(xs), len(ys)), dtype=bool)
         return np.logical_or.reduce(self._inside(list(range(k)), xs, ys, meets), axis=0)
 
@@ -203,53 +204,15 @@ class FloorGrid:
             np.logical_and(inside, ~hit, out=hit)
         return meets
 
-    def _yaw_edges(self, yaws: list[int], should_stop: Callable[[], bool] | None) -> EdgeSet:
-        """The sums of :meth:`_static_edges` at ``yaws`` (polygon ``j * len(pieces) + i``).
+    def _summed(self, pieces: np.ndarray, yaws: list[int],
+                should_stop: Callable[[], bool] | None) -> None:
+        """Sum the pieces ``pieces`` (indices) with the grown body at ``yaws``, those not yet.
 
-        Each yaw's sums are computed once (:data:`YAW_BLOCK` yaws at a time, the stop polled
-        between blocks) and kept: the whole floor's rasters and the tiles' share them (once
-        every yaw's are gathered for the tiles, :attr:`_all_edges` alone holds them).
+        In one call of :func:`~pivot_ompl.validity.minkowski.meeting_edges` (which polls the
+        stop); the sums are kept (:class:`~.floor_sums.PieceSums`).
         """
-        n, e = len(self.pieces), self._all_edges
-        if e is not None:
-            rows = (np.asarray(yaws)[:, None] * n + np.arange(n)[None, :]).ravel()
-            return EdgeSet(e.start[rows], e.end[rows], e.used[rows], e.bounds[rows])
-        todo = [k for k in yaws if k not in self._edges]
-        for b0 in range(0, len(todo), YAW_BLOCK):
-            block = todo[b0:b0 + YAW_BLOCK]
-            summed = self._static_edges(block, should_stop)
-            for j, k in enumerate(block):
-                r = slice(j * n, (j + 1) * n)
-                self._edges[k] = EdgeSet(summed.start[r], summed.end[r], summed.used[r],
-                                         summed.bounds[r])
-        parts = [self._edges[k] for k in yaws]
-        width = max(p.start.shape[1] for p in parts)
-
-        def padded(a: np.ndarray) -> np.ndarray:
-            pad = [(0, 0), (0, width - a.shape[1])] + [(0, 0)] * (a.ndim - 2)
-            return np.pad(a, pad)
-
-        return EdgeSet(np.concatenate([padded(p.start) for p in parts]),
-                       np.concatenate([padded(p.end) for p in parts]),
-                       np.concatenate([padded(p.used) for p in parts]),
-                       np.concatenate([p.bounds for p in parts]))
-
-    def _static_edges(self, yaws: list[int], should_stop: Callable[[], bool] | None = None
-                      ) -> EdgeSet:
-        """Where the grown body meets each obstacle piece, at the yaws ``OPEN_YAWS[k]``.
-
-        Polygon ``j * len(pieces) + i``: piece ``i`` at yaw ``OPEN_YAWS[yaws[j]]`` (summed at
-        once, vectorised). Only the yaws asked for: the floor field asks a block at a time,
-        polling the termination condition between blocks (all 32 yaws at once ran past a
-        0.5 s limit by 30 ms on fig10).
-        """
-        pieces = self.pieces
-        bodies = []
-        for k in yaws:
-            bodies.extend([_turned(self.grown_outline, OPEN_YAWS[k])] * len(pieces))
-        edges = meeting_edges(pieces * len(yaws), bodies, should_stop=should_stop)
-        self.stats.yaws_summed += len(yaws)
-        return edges
+        self.stats.pairs_summed += self.sums.fill(pieces, yaws, meeting_edges, should_stop)
+        self.stats.yaws_summed = self.sums.yaws_complete()
 
     def box_reach(self) -> float:
         """Farthest (m) from the resting box's centre a position the box closes can lie.

@@ -22,7 +22,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import ndimage
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
@@ -33,6 +32,10 @@ from pivot_ompl.transit.lattice import HEADING_VECTORS
 
 #: Side (grid positions) of the tiles in which the open positions are computed and kept.
 TILE = 64
+#: Rounds of the flood that load one ring of tiles round those its Dijkstra leads into,
+#: before the rings double (a walk round a box pays for the tiles it enters, and a long one
+#: runs few Dijkstras).
+SINGLE_RINGS = 4
 #: Cells a window extends beyond the limit (the longest heading vector is two cells long).
 WINDOW_MARGIN = 3
 
@@ -86,6 +89,11 @@ class FloorTiles:
         self.tiles_built = 0
         self._tiles: dict[tuple[int, int], np.ndarray] = {}
 
+    @property
+    def built(self) -> set[tuple[int, int]]:
+        """The tiles built so far: ``(tx, ty)``, from grid position ``(tx, ty) * tile``."""
+        return set(self._tiles)
+
     def window(self, wx: slice, wy: slice, should_stop: Callable[[], bool] | None = None
                ) -> np.ndarray:
         """The open positions of grid rows ``wx`` and columns ``wy`` (a new array).
@@ -127,11 +135,14 @@ def flood_distances(tiles: FloorTiles, closes: Callable[[slice, slice], np.ndarr
                     should_stop: Callable[[], bool] | None = None) -> tuple[FloorWindow, int]:
     """Floor distances to ``goals`` within ``limit``, over the tiles the Dijkstra reaches.
 
-    Starts with the goals' tiles and their neighbours, grown by the tiles their component
-    (labelled, 8-connected) leads into, all inside :func:`goal_window` (no farther position
-    can be within the limit); then while a settled position of the Dijkstra has a neighbour
-    in a tile not loaded, the tiles round that tile are loaded (1, then 2, 4, ... tiles
-    round it) and the Dijkstra run again.
+    Starts with the goals' tiles and their neighbours, all inside :func:`goal_window` (no
+    farther position can be within the limit); then while a settled position of the Dijkstra
+    has a neighbour in a tile not loaded, the tiles round that tile are loaded (one ring of
+    tiles round it for :data:`SINGLE_RINGS` rounds, then 2, 4, ...) and the Dijkstra run
+    again. Only the tiles the Dijkstra leads into are built: loading first every tile the
+    goals' component reaches in the window (a labelling) built tiles no walk within the
+    limit enters (on the Willow Garage office, a regrasp walk's 25 m window: 52 tiles built
+    where the Dijkstra needed 14, 2.3 s more).
     When none has, its settled positions and distances are the whole floor's (every edge the
     whole floor's Dijkstra relaxes from them lies in the loaded tiles). ``closes(wx, wy)``:
     the positions the resting box closes in a block. Returns the distances (unloaded tiles
@@ -147,17 +158,8 @@ def flood_distances(tiles: FloorTiles, closes: Callable[[slice, slice], np.ndarr
     square = (wx.start // t, (wx.stop - 1) // t + 1, wy.start // t, (wy.stop - 1) // t + 1)
     loaded = _within({(gx // t + dx, gy // t + dy) for gx, gy in goals for dx in (-1, 0, 1)
                       for dy in (-1, 0, 1)}, square)
-    while True:  # first the tiles the goals' component reaches (labelling is cheap)
-        bx, by, open_, known = _assemble(tiles, loaded, should_stop)
-        free = open_ & ~closes(bx, by)
-        image, _ = ndimage.label(free, structure=np.ones((3, 3), dtype=bool))
-        seeds = [image[gx - bx.start, gy - by.start] for gx, gy in goals]
-        reached = np.flatnonzero(np.isin(image.ravel(), [v for v in seeds if v > 0]))
-        todo = _within(_next_tiles(tiles, reached, bx, by, loaded, 1), square)
-        if not todo:
-            break
-        loaded |= todo
-    ring = 1  # then while the Dijkstra leads out: tiles round those it reaches, doubled
+    bx, by, open_, known = _assemble(tiles, loaded, should_stop)
+    ring, rounds = 1, 0  # while the Dijkstra leads out: the tiles round those it enters
     while True:
         if should_stop is not None and should_stop():
             raise Interrupted("walking floor field")
@@ -167,7 +169,9 @@ def flood_distances(tiles: FloorTiles, closes: Callable[[slice, slice], np.ndarr
         if not todo:
             return res
         loaded |= todo
-        ring *= 2
+        rounds += 1
+        if rounds >= SINGLE_RINGS:  # then 2, 4, ... tiles round them: few Dijkstras
+            ring *= 2
         bx, by, open_, known = _assemble(tiles, loaded, should_stop)
 
 

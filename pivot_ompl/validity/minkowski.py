@@ -81,7 +81,8 @@ def _after_last(edge: np.ndarray, mine: np.ndarray, count: int) -> np.ndarray:
     return (np.take_along_axis(edge, last, axis=1) + 1) % count
 
 
-def _sum_hulls(pieces: np.ndarray, bodies: np.ndarray, *, certify: bool = True
+def _sum_hulls(pieces: np.ndarray, bodies: np.ndarray, *, certify: bool = True,
+               terms: tuple[_Terms, _Terms] | None = None
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Hulls of ``piece - body`` per row (``(g, k, 2)``, ``(g, m, 2)`` convex polygons).
 
@@ -100,15 +101,39 @@ def _sum_hulls(pieces: np.ndarray, bodies: np.ndarray, *, certify: bool = True
     and no edge shorter than :data:`_SHORT_EDGE` times their extent (the merged normals
     then give the sum's region to rounding, perhaps with a vertex more or less on an edge's
     line than GEOS's hull; a row with a vanishing edge is refused, as an uncertified one).
+
+    ``terms``: the pieces' and the bodies' own terms (:func:`_own_terms`), computed once
+    per distinct polygon by the caller (the same floats as per row).
     """
-    cand, pair, nxt, valid, ok = _sum_candidates(pieces, bodies)
+    pt, bt = terms if terms is not None else (_own_terms(pieces, reflect=False),
+                                              _own_terms(bodies, reflect=True))
+    cand, pair, nxt, valid, ok = _sum_candidates(pieces, bodies, pt, bt)
     rows = np.arange(pieces.shape[0])[:, None]
     verts = cand[rows, pair]
     if certify:
         ok &= _certified(pieces, bodies, cand, pair, nxt, valid)
     else:
-        ok &= ~(_has_short_edge(pieces) | _has_short_edge(bodies))
+        ok &= ~(pt.short | bt.short)
     return verts, nxt, valid, ok
+
+
+@dataclass(frozen=True)
+class _Terms:
+    """What :func:`_sum_hulls` computes of one side's polygons alone, per row ``(g, ...)``.
+
+    ``flipped``: whether making the polygon (a body: its reflection ``-body``)
+    counter-clockwise reversed it; ``normals``: that counter-clockwise polygon's outward
+    edge normal angles in ``[0, 2 pi)``; ``short``: whether the polygon has an edge shorter
+    than :data:`_SHORT_EDGE` times its extent.
+    """
+
+    flipped: np.ndarray
+    normals: np.ndarray
+    short: np.ndarray
+
+    def rows(self, index: np.ndarray) -> _Terms:
+        """The terms of polygons ``index`` (rows gathered)."""
+        return _Terms(self.flipped[index], self.normals[index], self.short[index])
 
 
 #: Relative length below which an edge makes :func:`_sum_hulls` without a certificate refuse
@@ -123,21 +148,55 @@ def _has_short_edge(polys: np.ndarray) -> np.ndarray:
     return np.any(e <= _SHORT_EDGE * np.maximum(extent, 1.0)[:, None], axis=1)
 
 
-def _sum_candidates(pieces: np.ndarray, bodies: np.ndarray
+def _normal_angles(poly: np.ndarray) -> np.ndarray:
+    """Outward normal angles ``[0, 2 pi)`` of counter-clockwise polygons' edges ``(g, k)``."""
+    e = np.roll(poly, -1, axis=1) - poly
+    return np.arctan2(-e[..., 0], e[..., 1]) % (2 * math.pi)
+
+
+def _own_terms(polys: np.ndarray, *, reflect: bool) -> _Terms:
+    """:class:`_Terms` of polygons ``(g, k, 2)`` (of their reflections when ``reflect``)."""
+    ccw, flipped = _ccw(-polys if reflect else polys)
+    return _Terms(flipped, _normal_angles(ccw), _has_short_edge(polys))
+
+
+class _Distinct:
+    """The distinct polygons of a list (by object: one array passed many times counts once).
+
+    Stacked by vertex count, with their :class:`_Terms` computed once.
+    """
+
+    def __init__(self, polys: list[np.ndarray], *, reflect: bool) -> None:
+        """Index ``polys``."""
+        known: dict[int, int] = {}
+        self.of = [known.setdefault(id(p), len(known)) for p in polys]
+        by_size: dict[int, list[np.ndarray]] = {}
+        self.local: list[int] = []
+        for p in {id(p): p for p in polys}.values():
+            same = by_size.setdefault(len(p), [])
+            self.local.append(len(same))
+            same.append(p)
+        self.stacked = {n: np.stack(ps) for n, ps in by_size.items()}
+        self.terms = {n: _own_terms(a, reflect=reflect) for n, a in self.stacked.items()}
+
+    def rows(self, idx: list[int], size: int) -> tuple[np.ndarray, _Terms]:
+        """Polygons ``idx`` of the list (each of ``size`` vertices) and their terms."""
+        r = np.array([self.local[self.of[i]] for i in idx])
+        return self.stacked[size][r], self.terms[size].rows(r)
+
+
+def _sum_candidates(pieces: np.ndarray, bodies: np.ndarray, pt: _Terms, bt: _Terms
                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The vertex differences and, per slot of the merged edge normals, the hull's vertex.
 
-    Returns the differences ``(g, k m, 2)``, each slot's vertex pair and next slot, which
-    slots are vertices, and which rows have a vertex at all.
+    ``pt``, ``bt``: the pieces' and the bodies' own terms (:func:`_own_terms`). Returns the
+    differences ``(g, k m, 2)``, each slot's vertex pair and next slot, which slots are
+    vertices, and which rows have a vertex at all.
     """
     g, k, m = pieces.shape[0], pieces.shape[1], bodies.shape[1]
     cand = (pieces[:, :, None, :] - bodies[:, None, :, :]).reshape(g, k * m, 2)
-    (p, pflip), (q, qflip) = _ccw(pieces), _ccw(-bodies)
-    normals = []
-    for poly in (p, q):
-        e = np.roll(poly, -1, axis=1) - poly
-        normals.append(np.arctan2(-e[..., 0], e[..., 1]) % (2 * math.pi))
-    ang = np.concatenate(normals, axis=1)
+    pflip, qflip = pt.flipped, bt.flipped
+    ang = np.concatenate([pt.normals, bt.normals], axis=1)
     order = np.argsort(ang, axis=1)
     ang = np.take_along_axis(ang, order, axis=1)
     gap = np.diff(ang, axis=1, append=ang[:, :1] + 2 * math.pi)
@@ -171,8 +230,6 @@ def _certified(pieces: np.ndarray, bodies: np.ndarray, cand: np.ndarray, pair: n
     verts = cand[rows, pair]
     a, b = verts, verts[rows, nxt]
     bpair = np.take_along_axis(pair, nxt, axis=1)
-    is_vertex = np.zeros((g, k * m), dtype=bool)
-    is_vertex[np.broadcast_to(rows, pair.shape)[valid], pair[valid]] = True
     # per edge a -> b, a difference's distance left of its line, split as the piece
     # vertex's part plus the body vertex's part (floats: certain beyond a bound ``tol``)
     e = b - a
@@ -192,16 +249,23 @@ def _certified(pieces: np.ndarray, bodies: np.ndarray, cand: np.ndarray, pair: n
     near = (ip[..., :, None] * m + iq[..., None, :]).reshape(g, s, -1)
     split = (np.take_along_axis(gp, ip, axis=2)[..., :, None]
              + np.take_along_axis(gq, iq, axis=2)[..., None, :]).reshape(g, s, -1)
-    c = cand[rows[..., None], near]
-    left = (a[:, :, None, 0] - c[..., 0]) * (b[:, :, None, 1] - c[..., 1])
-    right = (a[:, :, None, 1] - c[..., 1]) * (b[:, :, None, 0] - c[..., 0])
-    det = left - right
-    err = _ORIENT_ERR * (np.abs(left) + np.abs(right))
-    sure = (np.abs(det) > err) | (err == 0.0)
     ends = (near == pair[..., None]) | (near == bpair[..., None])
-    strict = np.take_along_axis(is_vertex, near.reshape(g, -1), axis=1).reshape(near.shape)
-    good = (split > tol[..., None]) | ends \
-        | (sure & np.where(strict, det > 0.0, det >= 0.0))
+    good = (split > tol[..., None]) | ends
+    # the orientations only where they decide: a near difference not certain by its split,
+    # of an edge whose other differences are (elsewhere the answer is known without them)
+    gi, si, ni = np.nonzero(~good & (far & valid)[..., None])
+    if len(gi):
+        at = near[gi, si, ni]
+        cx, cy = cand[gi, at, 0], cand[gi, at, 1]
+        left = (a[gi, si, 0] - cx) * (b[gi, si, 1] - cy)
+        right = (a[gi, si, 1] - cy) * (b[gi, si, 0] - cx)
+        det = left - right
+        err = _ORIENT_ERR * (np.abs(left) + np.abs(right))
+        sure = (np.abs(det) > err) | (err == 0.0)
+        is_vertex = np.zeros((g, k * m), dtype=bool)
+        is_vertex[np.broadcast_to(rows, pair.shape)[valid], pair[valid]] = True
+        strict = is_vertex[gi, at]
+        good[gi, si, ni] = sure & np.where(strict, det > 0.0, det >= 0.0)
     return np.all((far & np.all(good, axis=2)) | ~valid, axis=1)
 
 
@@ -261,18 +325,23 @@ def meeting_edges(pieces: list[np.ndarray], bodies: list[np.ndarray], *,
     if n == 0:
         return EdgeSet(np.zeros((0, 1, 2)), np.zeros((0, 1, 2)), np.zeros((0, 1), dtype=bool),
                        np.zeros((0, 4)))
+    # a piece and a body are usually each one array passed many times (a body per yaw, a
+    # piece per yaw and body): their own terms computed once
+    distinct_pieces = _Distinct(pieces, reflect=False)
+    distinct_bodies = _Distinct(bodies, reflect=True)
     groups: dict[tuple[int, int], list[int]] = {}
     for i in range(n):
         groups.setdefault((len(pieces[i]), len(bodies[i])), []).append(i)
-    batches = [idx[b0:b0 + MEETING_BATCH] for idx in groups.values()
+    batches = [(size, idx[b0:b0 + MEETING_BATCH]) for size, idx in groups.items()
                for b0 in range(0, len(idx), MEETING_BATCH)]
     parts: list[tuple[list[int], EdgeSet]] = []
     failed: list[int] = []
-    for idx in batches:
+    for (k, m), idx in batches:
         if should_stop is not None and should_stop():
             raise Interrupted("summing obstacle pieces and bodies")
-        verts, nxt, used, ok = _sum_hulls(np.stack([pieces[i] for i in idx]),
-                                          np.stack([bodies[i] for i in idx]), certify=certify)
+        p, pt = distinct_pieces.rows(idx, k)
+        b, bt = distinct_bodies.rows(idx, m)
+        verts, nxt, used, ok = _sum_hulls(p, b, certify=certify, terms=(pt, bt))
         good = np.flatnonzero(ok)
         if len(good):
             parts.append(([idx[i] for i in good], _edges_of(verts[good], nxt[good], used[good])))

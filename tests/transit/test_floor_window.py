@@ -125,3 +125,50 @@ def test_the_whole_floor_after_windows_reuses_their_tiles_and_sums_each_yaw_once
     fresh = PivotChecker(scene).walker.field
     fresh.window_from = 2**62  # the whole floor's, a block of yaws at a time
     assert np.array_equal(got, fresh.static_open())
+
+
+@pytest.mark.parametrize("t", [0.0, 0.3, 0.6])
+def test_a_windowed_query_builds_only_tiles_its_dijkstra_leads_into(corridor, monkeypatch, t):
+    # regression: every tile of the goals' component inside the window was built first (a
+    # labelling), also those no walk within the limit enters: on the Willow Garage office a
+    # regrasp walk built 52 tiles where its Dijkstra entered 14
+    from pivot_ompl.transit import floor_window
+
+    monkeypatch.setattr(floor_window, "SINGLE_RINGS", 10**6)  # one ring a round throughout
+    scene, _ = corridor
+    limit, tile = 6.0, 8
+    ck = PivotChecker(scene)
+    wp, field = ck.walker, ck.walker.field
+    field.tiles = FloorTiles(field.grid, tile)
+    (x0, y0, _), (x1, y1, _) = scene.start, scene.goal
+    obj = (x0 + t * (x1 - x0), y0 + t * (y1 - y0), scene.start[2])
+    goals = [_cell(wp, scene.model.robot_pose(obj, 1))]
+    fobj = wp.frame.into(obj)
+    _windowed(field, fobj, goals, limit)
+    want = _whole(field, fobj, goals, limit)
+    ix, iy = np.nonzero(want < limit)  # the positions its Dijkstra settles
+    reached = set(zip((ix // tile).tolist(), (iy // tile).tolist(), strict=True))
+    # a settled position leads into a neighbouring tile, which is loaded with its ring
+    allowed = {(a + dx, b + dy) for a, b in reached | {(gx // tile, gy // tile)
+                                                      for gx, gy in goals}
+               for dx in range(-2, 3) for dy in range(-2, 3)}
+    assert field.tiles.built <= allowed
+
+
+def test_a_limit_beyond_the_floor_floods_only_the_tiles_its_walks_reach(corridor):
+    # regression: a finite limit whose window covered the floor built the whole floor's
+    # tiles (the bounds' corners round the turned building too); the Willow Garage office's
+    # regrasp walk, whose limit doubles past the floor, built 90 tiles where it reaches 80
+    scene, _ = corridor
+    ck = PivotChecker(scene)
+    wp, field = ck.walker, ck.walker.field
+    field.window_from = 0
+    obj = wp.frame.into(scene.start)
+    goals = [_cell(wp, scene.model.robot_pose(scene.start, 1))]
+    limit = 10.0 * max(field.grid.nx, field.grid.ny) * field.grid.resolution
+    got = field.distances(obj, goals, limit=limit)
+    assert isinstance(got, FloorWindow)
+    tiles = math.ceil(field.grid.nx / TILE) * math.ceil(field.grid.ny / TILE)
+    assert field.tiles.tiles_built < tiles
+    want = _whole(field, obj, goals, math.inf)
+    assert np.array_equal(got.dense(field.grid.nx, field.grid.ny), want)

@@ -1,0 +1,76 @@
+"""The walking body's sums with the obstacle pieces, kept per (piece, yaw).
+
+A sum must be the same floats whichever other pairs it was computed with, so that rasters of
+sums computed tile by tile are those of the sums all computed at once; and each pair is
+summed once.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.generate import GeneratorParams, generate
+from pivot_ompl.transit.floor_grid import OPEN_YAWS
+from pivot_ompl.transit.floor_sums import PieceSums
+from pivot_ompl.validity.minkowski import meeting_edges
+
+
+@pytest.fixture(scope="module")
+def grid():
+    """The floor grid of a small generated building (its pieces and the walking body)."""
+    scene = generate("building", 1, params=GeneratorParams(rooms=3)).scene
+    return PivotChecker(scene).walker.field.grid
+
+
+def _used_edges(edges, i):
+    used = edges.used[i]
+    return edges.start[i][used], edges.end[i][used], edges.bounds[i]
+
+
+@settings(max_examples=15, deadline=None)
+@given(data=st.data())
+def test_sums_filled_in_any_groups_are_those_summed_at_once(grid, data):
+    n, k = len(grid.pieces), len(OPEN_YAWS)
+    sums = PieceSums(grid.pieces, grid.sums.bodies)
+    calls = []
+
+    def summing(pieces, bodies, **kw):  # noqa: ANN001, ANN003, ANN202
+        calls.append(len(pieces))
+        return meeting_edges(pieces, bodies, **kw)
+
+    for _ in range(data.draw(st.integers(1, 4))):
+        pieces = np.array(sorted(data.draw(st.sets(st.integers(0, n - 1), min_size=1,
+                                                   max_size=12))))
+        yaws = sorted(data.draw(st.sets(st.integers(0, k - 1), min_size=1, max_size=5)))
+        before = int(sums.done.sum())
+        assert sums.fill(pieces, yaws, summing) == int(sums.done.sum()) - before
+    pieces = np.flatnonzero(sums.done.any(axis=1))
+    yaws = np.flatnonzero(sums.done.any(axis=0)).tolist()
+    sums.fill(pieces, yaws, summing)
+    got, groups = sums.edges(pieces, yaws)
+    want = meeting_edges([grid.pieces[i] for i in pieces for _ in yaws],
+                         [sums.bodies[j] for _ in pieces for j in yaws])
+    assert np.array_equal(groups, np.tile(np.arange(len(yaws)), len(pieces)))
+    for row in range(len(got.used)):
+        for a, b in zip(_used_edges(got, row), _used_edges(want, row), strict=True):
+            assert np.array_equal(a, b)
+    assert sum(calls) == len(pieces) * len(yaws)  # each pair summed once
+
+
+def test_a_tile_sums_only_the_pieces_near_it():
+    # regression: a tile's first build summed every piece at every yaw (3 s on the Willow
+    # Garage office, whose regrasp walks enter a few tiles)
+    scene = generate("building", 1, params=GeneratorParams(rooms=3)).scene
+    g = PivotChecker(scene).walker.field.grid
+    g.open_block(slice(0, 16), slice(0, 16))
+    n, k = len(g.pieces), len(OPEN_YAWS)
+    assert 0 < g.stats.pairs_summed < n * k
+    assert g.stats.pairs_summed % k == 0  # a piece near it at every yaw
+    assert g.stats.yaws_summed == 0  # no yaw summed with every piece
+    whole = np.logical_or.reduce([g.fits_index(j) for j in range(k)], axis=0)
+    assert g.stats.pairs_summed == n * k and g.stats.yaws_summed == k
+    assert np.array_equal(g.open_block(slice(0, 16), slice(0, 16)), whole[:16, :16])
