@@ -179,12 +179,16 @@ def fine_raster(coarse: FloorRaster) -> FloorRaster:
 
 def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
                  resolution: float = FINE_RESOLUTION, tolerance: float, clearance: float,
-                 should_stop: Callable[[], bool] | None = None) -> FineVoxels:
+                 should_stop: Callable[[], bool] | None = None,
+                 reach: dict | None = None) -> FineVoxels:
     """The free fine voxels of ``window`` and their components (module docstring).
 
     ``should_stop`` is polled once per fine bin and raises
-    :class:`~pivot_ompl.errors.Interrupted`.
+    :class:`~pivot_ompl.errors.Interrupted`. ``reach``: a dict kept between calls on one
+    scene and cover with the same arguments (the fine bins' bounds and lattice rows, which do
+    not depend on the window, are then computed once).
     """
+    reach = {} if reach is None else reach
     coarse = cover.raster
     fine = fine_raster(coarse)
     n = cover.bins
@@ -192,9 +196,9 @@ def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
     bins = split * n
     w = 2.0 * math.pi / bins
     bodies = {g: held_bodies(scene, g) for g in (0, 1)}
-    reach = max(p.reach for parts in bodies.values() for p in parts)
-    pad = math.ceil(reach / fine.cell) + 2
-    obstacles = obstacle_cells(fine, _near_pieces(cover, window, reach), should_stop)
+    longest = max(p.reach for parts in bodies.values() for p in parts)
+    pad = math.ceil(longest / fine.cell) + 2
+    obstacles = obstacle_cells(fine, _near_pieces(cover, window, longest), should_stop)
     sums = _padded_sums(obstacles, pad)
     nx2, ny2 = fine.shape
     stride = sums.shape[1]
@@ -219,9 +223,11 @@ def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
             for f in range(big * split, (big + 1) * split):
                 if should_stop is not None and should_stop():
                     raise Interrupted("the refined raster cover")
-                yaw = -math.pi + (f + 0.5) * w
-                free = _free_voxels(fine, sums, pad, flat, a, b, test, scene.bounds, parts,
-                                    yaw, inside, clear)
+                if (g, f) not in reach:
+                    lo, hi, rows = layer_reach(fine.cell, scene.bounds, parts,
+                                               -math.pi + (f + 0.5) * w, inside, clear)
+                    reach[(g, f)] = lo, hi, merged_rows(rows) if rows else []
+                free = _free_voxels(fine, sums, pad, flat, a, b, test, *reach[(g, f)])
                 found.append(f * (nx2 * ny2) + a[free] * ny2 + b[free])
         keys[g] = np.sort(np.concatenate(found)) if found else np.zeros(0, dtype=np.int64)
         count[g], labels[g] = _components(keys[g], nx2, ny2, bins)
@@ -275,18 +281,19 @@ def _padded_sums(obstacles: np.ndarray, pad: int) -> np.ndarray:
 
 
 def _free_voxels(fine: FloorRaster, sums: np.ndarray, pad: int, flat: np.ndarray,
-                 a: np.ndarray, b: np.ndarray, test: np.ndarray,
-                 bounds: tuple[float, float, float, float], parts: list,
-                 yaw: float, inside: list[float], clear: list[float]) -> np.ndarray:
-    """Which fine cells ``(a, b)`` are free at ``yaw`` (untested ones, ``~test``, are)."""
-    lo, hi, rows = layer_reach(fine.cell, bounds, parts, yaw, inside, clear)
+                 a: np.ndarray, b: np.ndarray, test: np.ndarray, lo: list[float],
+                 hi: list[float], merged: list) -> np.ndarray:
+    """Which fine cells ``(a, b)`` are free in a fine bin (untested ones, ``~test``, are).
+
+    ``lo``, ``hi``, ``merged``: the bin's rectangle of positions inside the bounds and its
+    merged lattice rows (:func:`~pivot_ompl.analysis.raster_cover.layer_reach`).
+    """
     (fx, fy), h = fine.origin, fine.cell
     xs, ys = fx + a * h, fy + b * h
     free = ((xs <= hi[0] + EPS) & (xs + h >= lo[0] - EPS)
             & (ys <= hi[1] + EPS) & (ys + h >= lo[1] - EPS))
     idx = np.flatnonzero(free & test)
-    if rows and len(idx):
-        merged = merged_rows(rows)
+    if merged and len(idx):
         stride = sums.shape[1]
         top = np.array([(hi_ + 1) * stride + dj for dj, _, hi_ in merged], dtype=np.int64)
         bottom = np.array([lo_ * stride + dj for dj, lo_, _ in merged], dtype=np.int64)

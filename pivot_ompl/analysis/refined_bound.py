@@ -42,6 +42,7 @@ from pivot_ompl.analysis.raster_bound import WALK_AREA, RasterGraph, cells_regio
 from pivot_ompl.analysis.raster_cover import RasterCover
 from pivot_ompl.analysis.raster_refine import FineVoxels, neck_window, refine_cover
 from pivot_ompl.analysis.regrasp_bound import RegraspBound
+from pivot_ompl.analysis.regrasp_walk import WalkRelaxation
 from pivot_ompl.analysis.route_bound import route_on
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
@@ -82,18 +83,22 @@ class RefinedGraph:
 
 def refined_graph(scene: Scene, cover: RasterCover, *, tolerance: float, clearance: float,
                   walks: bool = True, window: np.ndarray | None = None,
-                  should_stop: Callable[[], bool] | None = None) -> RefinedGraph | None:
+                  should_stop: Callable[[], bool] | None = None,
+                  walk: WalkRelaxation | None = None, reach: dict | None = None
+                  ) -> RefinedGraph | None:
     """The mixed graph of ``cover`` (module docstring); ``None`` when the window is empty.
 
     ``window``: the coarse cells to refine (default
     :func:`~pivot_ompl.analysis.raster_refine.neck_window`; any window is sound).
-    ``should_stop`` raises :class:`~pivot_ompl.errors.Interrupted`.
+    ``should_stop`` raises :class:`~pivot_ompl.errors.Interrupted`; ``walk``: as
+    :func:`~pivot_ompl.analysis.raster_bound.raster_graph`'s; ``reach``: as
+    :func:`~pivot_ompl.analysis.raster_refine.refine_cover`'s.
     """
     window = neck_window(cover) if window is None else window
     if not window.any():
         return None
     fine = refine_cover(scene, cover, window, tolerance=tolerance, clearance=clearance,
-                        should_stop=should_stop)
+                        should_stop=should_stop, reach=reach)
     layers = {}
     for key, (lab, count) in cover.layers.items():
         if should_stop is not None and should_stop():
@@ -105,7 +110,7 @@ def refined_graph(scene: Scene, cover: RasterCover, *, tolerance: float, clearan
             layers[key] = (lab, count)
     outside = RasterCover(cover.raster, cover.bins, layers, cover.pieces)
     coarse = raster_graph(scene, outside, tolerance=tolerance, clearance=clearance,
-                          walks=walks, should_stop=should_stop)
+                          walks=walks, should_stop=should_stop, walk=walk)
     graph = coarse.graph
     fine_base, total = [], coarse.total
     for k in range(4):
