@@ -46,7 +46,7 @@ from pivot_ompl.scene import Scene, scene_digest
 log = logging.getLogger(__name__)
 
 #: Version of the relaxation: part of every key (a new relaxation never reads old results).
-BOUND_VERSION = 6
+BOUND_VERSION = 7
 #: Scenes whose bound is kept in memory.
 MEMORY_ENTRIES = 64
 #: Environment variable that turns the disk cache off when ``0``.
@@ -100,8 +100,9 @@ def bound_problem(bound: object, scene: Scene) -> str | None:
 
     if not isinstance(bound.solvable, bool):
         return f"solvable = {bound.solvable!r} is not true or false"
-    if not isinstance(bound.complete, bool) or not isinstance(bound.exhaustive, bool):
-        return f"complete = {bound.complete!r}, exhaustive = {bound.exhaustive!r} are not flags"
+    if not all(isinstance(f, bool) for f in (bound.complete, bound.exhaustive, bound.guided)):
+        return (f"complete = {bound.complete!r}, exhaustive = {bound.exhaustive!r}, "
+                f"guided = {bound.guided!r} are not flags")
     if not (whole(bound.bins) and bound.bins >= 1 and whole(bound.pieces)):
         return f"bins = {bound.bins!r}, pieces = {bound.pieces!r} are not counts"
     if (isinstance(bound.seconds, bool) or not isinstance(bound.seconds, int | float)
@@ -222,7 +223,8 @@ def cached_bound(scene: Scene, *, resolution: float = RESOLUTION) -> RegraspBoun
 
 def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RESOLUTION,
                 target: int | None = None, refine_seconds: float = REFINE_SECONDS,
-                should_stop: Callable[[], bool] | None = None) -> RegraspBound:
+                should_stop: Callable[[], bool] | None = None,
+                guided: bool = False) -> RegraspBound:
     """:func:`~pivot_ompl.analysis.bound_levels.scaled_lower_bound` of ``scene``, cached.
 
     Computed in the walls' frame (:func:`~pivot_ompl.analysis.wall_frame.relaxed_scene`: a
@@ -235,6 +237,9 @@ def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RES
         target: the regrasps of the plan the bound is to judge (``None``: none).
         refine_seconds: largest estimated time (s) of the finer levels together.
         should_stop: polled by a computation; a stopped result is returned, never kept.
+        guided: refine the raster where its best path passes narrow places when the bound
+            is still below ``target`` (:func:`~pivot_ompl.analysis.guided_refine.
+            guided_lower_bound`; a kept result not so refined is then computed again).
 
     Returns:
         The :class:`~pivot_ompl.analysis.regrasp_bound.RegraspBound` (``seconds`` is the time
@@ -250,11 +255,12 @@ def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RES
     if use_cache:
         hit = cached_bound(scene, resolution=resolution)
         if hit is not None and not _refinable(hit, scene, resolution, target,
-                                              refine_seconds):
+                                              refine_seconds, guided):
             return hit
     bound = scaled_lower_bound(relaxed_scene(scene, should_stop=should_stop),
                                resolution=resolution, target=target,
-                               refine_seconds=refine_seconds, should_stop=should_stop)
+                               refine_seconds=refine_seconds, should_stop=should_stop,
+                               guided=guided)
     if bound.solvable is None or not bound.complete:  # stopped: returned, never kept
         return bound
     problem = bound_problem(bound, scene)
@@ -269,11 +275,13 @@ def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RES
 
 
 def _refinable(hit: RegraspBound, scene: Scene, resolution: float, target: int | None,
-               refine_seconds: float) -> bool:
+               refine_seconds: float, guided: bool = False) -> bool:
     """Whether a finer level may now refine a kept result (then computed again)."""
     if hit.exhaustive or hit.solvable is not True:
         return False
     if target is not None and hit.regrasps is not None and hit.regrasps >= target:
         return False
+    if guided and not hit.guided:
+        return True
     return may_refine(relaxed_scene(scene), resolution=resolution,
                       refine_seconds=refine_seconds)

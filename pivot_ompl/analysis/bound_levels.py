@@ -18,6 +18,12 @@ second on a 1500 m² map of 2000 boxes), then a finer level only when both hold:
 The result is the strongest of the levels run (each is a proof), marked ``exhaustive`` when
 the polygons ran to the end. When the polygons fit they run straight after the coarsest
 raster (no finer raster can beat them); otherwise the finer rasters run in turn.
+
+With ``guided``, when the polygons did not run and the bound is still wanted, the coarsest
+raster is then refined where its best path passes narrow places
+(:func:`~pivot_ompl.analysis.guided_refine.guided_lower_bound`: rounds of a few seconds on a
+5000-box floor, each a proof; it polls ``should_stop`` and its rounds done stand), marked
+``guided`` when it ran to its end.
 """
 
 from __future__ import annotations
@@ -27,8 +33,9 @@ import logging
 import time
 from collections.abc import Callable
 
+from pivot_ompl.analysis.guided_refine import guided_lower_bound
 from pivot_ompl.analysis.raster_bound import raster_lower_bound
-from pivot_ompl.analysis.raster_cover import floor_raster
+from pivot_ompl.analysis.raster_cover import floor_raster, raster_cover
 from pivot_ompl.analysis.regrasp_bound import (
     RESOLUTION,
     RegraspBound,
@@ -74,7 +81,8 @@ def raster_estimate(scene: Scene, cell: float) -> float:
 def scaled_lower_bound(scene: Scene, *, target: int | None = None,
                        resolution: float = RESOLUTION,
                        refine_seconds: float = REFINE_SECONDS,
-                       should_stop: Callable[[], bool] | None = None) -> RegraspBound:
+                       should_stop: Callable[[], bool] | None = None,
+                       guided: bool = False) -> RegraspBound:
     """The fewest regrasps any plan of ``scene`` needs, coarse to fine (module docstring).
 
     Args:
@@ -86,10 +94,14 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
             always runs; ``math.inf``: run them all).
         should_stop: polled by every level; stopped, the levels done stand (unknown when
             the first was stopped).
+        guided: refine the coarsest raster where its best path passes narrow places when
+            the polygons did not run and the bound is still below ``target`` (module
+            docstring).
     """
     t0 = time.perf_counter()
-    best = raster_lower_bound(scene, cell=CELLS[0], should_stop=should_stop)
-    if best.solvable is None:
+    cover = raster_cover(scene, cell=CELLS[0], should_stop=should_stop)
+    best = raster_lower_bound(scene, cell=CELLS[0], should_stop=should_stop, cover=cover)
+    if best.solvable is None or cover is None:
         return best
     spent = raster_estimate(scene, CELLS[0])  # estimates, not clocks: the same on any load
     estimate = exhaustive_estimate(scene, resolution=resolution)
@@ -111,6 +123,10 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
         if finer.solvable is None:
             break
         best = _better(finer, best)
+    if guided and _wanted(best, target):
+        found = guided_lower_bound(scene, cover=cover, target=target, should_stop=should_stop)
+        if found is not None:
+            best = dataclasses.replace(_better(found, best), guided=found.guided)
     log.debug("regrasp bound %s from the raster (polygons estimated %.1f s)", best.regrasps,
               estimate)
     return dataclasses.replace(best, seconds=time.perf_counter() - t0)

@@ -282,8 +282,9 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
 
     Returns:
         A :class:`~pivot_ompl.analysis.regrasp_bound.RegraspBound` (``exhaustive`` False, no
-        route: the coarse relaxation's route stands), or ``None`` when stopped before the
-        first round ended.
+        route: the coarse relaxation's route stands; ``complete`` and ``guided`` False when
+        stopped: the rounds done stand), or ``None`` when stopped before the first round
+        ended.
     """
     t0 = time.perf_counter()
     if cover is None:
@@ -291,31 +292,36 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
                              should_stop=should_stop)
         if cover is None:
             return None
+    if should_stop is not None and should_stop():
+        return None
     window = np.zeros(cover.raster.shape, dtype=bool)
     walk = WalkRelaxation(scene, width=2.0 * math.pi / cover.bins, tolerance=tolerance,
                           clearance=clearance) if walks else None
     reach: dict = {}
+    shared: dict = {}
     best: int | None = None
-    pieces = 0
+    pieces, stopped = 0, False
     for _ in range(max(1, rounds)):
         t1 = time.perf_counter()
         try:
             if window.any():
                 mixed = refined_graph(scene, cover, tolerance=tolerance, clearance=clearance,
                                       walks=walks, window=window, should_stop=should_stop,
-                                      walk=walk, reach=reach)
+                                      walk=walk, reach=reach, shared=shared)
                 assert mixed is not None
                 joined, outside = mixed.coarse, mixed.cover
                 holding, allowed = mixed.holding, mixed.allowed
                 total = mixed.fine_base[3] + mixed.fine.count[1]
             else:
                 joined = raster_graph(scene, cover, tolerance=tolerance, clearance=clearance,
-                                      walks=walks, should_stop=should_stop, walk=walk)
+                                      walks=walks, should_stop=should_stop, walk=walk,
+                                      shared=shared)
                 outside, holding, allowed, total = cover, joined.holding, joined.allowed, \
                     joined.total
             count, path = best_path(joined.graph, holding(scene.start),
                                     set(holding(scene.goal)), allowed, should_stop)
         except Interrupted:
+            stopped = True
             break
         if trace is not None:
             trace.append(GuidedRound(count, int(window.sum()), len(path),
@@ -323,7 +329,7 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
         pieces = max(pieces, total)
         if count is None:
             return RegraspBound(None, False, cover.bins, pieces, time.perf_counter() - t0,
-                                None, True, exhaustive=False)
+                                None, True, exhaustive=False, guided=True)
         best = count if best is None else max(best, count)
         if target is not None and best >= target:
             break
@@ -335,6 +341,6 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
         return None
     log.debug("guided regrasp bound %d: window of %d cells, %.2f s", best, int(window.sum()),
               time.perf_counter() - t0)
-    return RegraspBound(best, True, cover.bins, pieces, time.perf_counter() - t0, None, True,
-                        exhaustive=False)
+    return RegraspBound(best, True, cover.bins, pieces, time.perf_counter() - t0, None,
+                        complete=not stopped, exhaustive=False, guided=not stopped)
 

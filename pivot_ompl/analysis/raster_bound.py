@@ -48,8 +48,8 @@ WALK_AREA = 4.0 * MAX_SAMPLES * SAMPLE * SAMPLE
 
 def raster_lower_bound(scene: Scene, *, cell: float = CELL, resolution: float | None = None,
                        tolerance: float = SWEEP_TOLERANCE, clearance: float = KEEP_CLEARANCE,
-                       walks: bool = True, should_stop: Callable[[], bool] | None = None
-                       ) -> RegraspBound:
+                       walks: bool = True, should_stop: Callable[[], bool] | None = None,
+                       cover: RasterCover | None = None) -> RegraspBound:
     """Fewest regrasps any plan of ``scene`` needs, on the raster cover (module docstring).
 
     Args:
@@ -61,13 +61,16 @@ def raster_lower_bound(scene: Scene, *, cell: float = CELL, resolution: float | 
         clearance: distance (m) the checkers keep every body from the obstacles.
         walks: allow a regrasp only where the walking robot may get round the resting box.
         should_stop: polled once per layer and per regrasp checked.
+        cover: the scene's :func:`~pivot_ompl.analysis.raster_cover.raster_cover` of these
+            arguments when already built (``None``: built here).
 
     Returns:
         A :class:`~pivot_ompl.analysis.regrasp_bound.RegraspBound` (``exhaustive`` False).
     """
     t0 = time.perf_counter()
-    cover = raster_cover(scene, cell=cell, resolution=resolution, tolerance=tolerance,
-                         clearance=clearance, should_stop=should_stop)
+    if cover is None:
+        cover = raster_cover(scene, cell=cell, resolution=resolution, tolerance=tolerance,
+                             clearance=clearance, should_stop=should_stop)
     if cover is None:
         raster = floor_raster(scene.bounds, cell)
         n = yaw_bins(scene, 0.5 * raster.cell if resolution is None else resolution)
@@ -127,12 +130,15 @@ class RasterGraph:
 def raster_graph(scene: Scene, cover: RasterCover, *, tolerance: float = SWEEP_TOLERANCE,
                  clearance: float = KEEP_CLEARANCE, walks: bool = True,
                  should_stop: Callable[[], bool] | None = None,
-                 walk: WalkRelaxation | None = None) -> RasterGraph:
+                 walk: WalkRelaxation | None = None, shared: dict | None = None
+                 ) -> RasterGraph:
     """The pieces of ``cover`` joined as :func:`raster_lower_bound` joins them.
 
     ``should_stop`` is polled once per bin and raises :class:`~pivot_ompl.errors.Interrupted`.
     ``walk``: the walk relaxation to check regrasps by (built at its first use when ``None``;
     one of the same scene, bin width, tolerance and clearance may be shared by graphs).
+    ``shared``: a dict kept between calls, where the label pairs two layers share are kept
+    with the layers' arrays and reused while both arrays are the same objects.
     """
     raster, n, layers = cover.raster, cover.bins, cover.layers
     half = n // 2
@@ -147,13 +153,15 @@ def raster_graph(scene: Scene, cover: RasterCover, *, tolerance: float = SWEEP_T
             base[(b, k)] = total
             total += layers[layer(b, k)][1]
     graph = PieceGraph(np.ones(total).tolist())
-    memo: dict[tuple[tuple[int, int], tuple[int, int]], tuple[np.ndarray, np.ndarray]] = {}
+    memo = {} if shared is None else shared
 
     def link(b1: int, k1: int, b2: int, k2: int, regrasp: bool) -> None:
         la, lb = layer(b1, k1), layer(b2, k2)
-        if (la, lb) not in memo:
-            memo[(la, lb)] = _shared(layers[la][0], layers[lb][0])
-        ia, ib = memo[(la, lb)]
+        a, b = layers[la][0], layers[lb][0]
+        kept = memo.get((la, lb))
+        if kept is None or kept[0] is not a or kept[1] is not b:  # the arrays kept alive
+            kept = memo[(la, lb)] = (a, b, *_shared(a, b))
+        ia, ib = kept[2], kept[3]
         for i, j in zip(ia.tolist(), ib.tolist(), strict=True):
             graph.add(base[(b1, k1)] + i - 1, base[(b2, k2)] + j - 1,
                       (b1, k1, i, k2, j) if regrasp else None)
