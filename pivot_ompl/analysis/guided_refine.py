@@ -7,7 +7,10 @@ fewest regrasps through its graph, :func:`best_path`), refines a window round th
 that path passes narrow parts of a layer (:func:`path_window`), reads the relaxation again on
 the mixed cover (:func:`~pivot_ompl.analysis.refined_bound.refined_graph`: fine voxels inside
 the window, coarse pieces outside), and repeats while the path still needs fewer regrasps than
-``target``, a round adds cells to the window, and the budget lasts.
+``target``, a round adds cells to the window, and the budget lasts (:data:`MAX_ROUNDS`
+rounds, :data:`PATIENCE` rounds in a row without a rise, :data:`MAX_WINDOW` cells: counts,
+not clocks, so that a result is the same on any load and may be kept by the bound cache;
+``should_stop`` ends it sooner, its rounds done standing).
 
 **Soundness.** Every round's count is the fewest regrasps on the mixed graph of *some* window,
 and :mod:`~pivot_ompl.analysis.refined_bound` proves that every plan's path is a path of that
@@ -29,7 +32,9 @@ grasp)`` layer and fine components. A coarse piece it passes is refined
   cell, or the window's edge);
 
 and a transfer between two coarse pieces sharing at most :data:`SMALL` cells (a turn neck) has
-those cells refined. The whole is grown by :data:`GROW` cells.
+those cells refined. The whole is grown by :data:`GROW` cells. When that adds nothing new,
+every thin part of the path's large pieces is taken, then those of a wider opening
+(:data:`ESCALATION`).
 """
 
 from __future__ import annotations
@@ -64,8 +69,13 @@ SMALL = 400
 THIN = 2
 #: Cells the path's places are grown by to make the window.
 GROW = 2
-#: Rounds at most.
-MAX_ROUNDS = 12
+#: ``(thin, chain)`` of :func:`path_window`, tried in turn until one adds cells.
+ESCALATION = ((THIN, True), (THIN, False), (THIN + 1, False))
+#: Rounds at most (the first reads the coarse graph alone).
+MAX_ROUNDS = 8
+#: Rounds in a row without the count rising after which the refinement stops (the Willow
+#: Garage office rises from 1 to 2 on the fourth such round).
+PATIENCE = 4
 #: Coarse cells at most in the window (past it the refinement stops: cost only).
 MAX_WINDOW = 60_000
 
@@ -160,23 +170,24 @@ def _cell_of(cover: RasterCover, pose: Pose) -> np.ndarray:
     return out
 
 
-def thin_crossing(piece: np.ndarray, enter: np.ndarray, leave: np.ndarray) -> np.ndarray:
+def thin_crossing(piece: np.ndarray, enter: np.ndarray, leave: np.ndarray, *,
+                  thin: int = THIN) -> np.ndarray:
     """The thin parts of ``piece`` on a fewest-step chain from ``enter`` to ``leave``.
 
     ``piece``, ``enter``, ``leave``: boolean masks of one block of cells. Thin: the cells
-    outside the piece's opening by :data:`THIN` cells. The chain alternates the thick and
+    outside the piece's opening by ``thin`` cells. The chain alternates the thick and
     thin parts (8-connected components) that touch; when ``enter`` or ``leave`` is empty, or
     no chain joins them, every thin part of the piece is returned.
     """
-    thick = ndimage.binary_opening(piece, structure=_EIGHT, iterations=THIN) & piece
-    thin = piece & ~thick
-    if not thin.any():
-        return thin
+    thick = ndimage.binary_opening(piece, structure=_EIGHT, iterations=thin) & piece
+    narrow = piece & ~thick
+    if not narrow.any():
+        return narrow
     a, na = ndimage.label(thick, structure=_EIGHT)
-    t, nt = ndimage.label(thin, structure=_EIGHT)
-    parts = np.where(thick, a, np.where(thin, t + na, 0))
+    t, _ = ndimage.label(narrow, structure=_EIGHT)
+    parts = np.where(thick, a, np.where(narrow, t + na, 0))
     if not (enter & piece).any() or not (leave & piece).any():
-        return thin
+        return narrow
     pairs = set()
     nx, ny = parts.shape
     for di, dj in ((1, 0), (0, 1), (1, 1), (1, -1)):
@@ -199,20 +210,22 @@ def thin_crossing(piece: np.ndarray, enter: np.ndarray, leave: np.ndarray) -> np
                 chain.append(x)
                 x = prev[x]
             wanted = np.array([c for c in chain if c > na], dtype=parts.dtype)
-            return np.isin(parts, wanted) if len(wanted) else np.zeros_like(thin)
+            return np.isin(parts, wanted) if len(wanted) else np.zeros_like(narrow)
         for y in near.get(x, []):
             if y not in prev:
                 prev[y] = x
                 queue.append(y)
-    return thin
+    return narrow
 
 
 def path_window(scene: Scene, joined: RasterGraph, cover: RasterCover, path: list[int],
-                window: np.ndarray) -> np.ndarray:
+                window: np.ndarray, *, thin: int = THIN, chain: bool = True) -> np.ndarray:
     """The coarse cells round the places where ``path`` passes narrow parts (module docstring).
 
     ``joined``, ``cover``: the round's coarse graph and cover (the coarse cells off
-    ``window``, the cells refined so far). Returns the cells to add (none of ``window``).
+    ``window``, the cells refined so far). ``thin``: the opening radius (cells) of the thin
+    parts; ``chain`` ``False``: every thin part of a large piece on the path, not only those
+    on its way through. Returns the cells to add (none of ``window``).
     """
     keys = sorted(joined.base.items(), key=lambda kv: kv[1])
     firsts = np.array([v for _, v in keys], dtype=np.int64)
@@ -230,7 +243,9 @@ def path_window(scene: Scene, joined: RasterGraph, cover: RasterCover, path: lis
         else:
             enter = _side(scene, cover, nodes, i, -1, box, edge, scene.start)
             leave = _side(scene, cover, nodes, i, 1, box, edge, scene.goal)
-            add[box] |= thin_crossing(piece, enter, leave)
+            if not chain:
+                enter = leave = np.zeros_like(piece)
+            add[box] |= thin_crossing(piece, enter, leave, thin=thin)
         if i + 1 < len(nodes) and nodes[i + 1] is not None:
             lab2, c2 = nodes[i + 1]  # type: ignore[misc]
             shared = piece & (lab2[box] == c2)
@@ -261,7 +276,7 @@ def _side(scene: Scene, cover: RasterCover, nodes: list, i: int, step: int,
 
 def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
                        target: int | None = None, rounds: int = MAX_ROUNDS,
-                       max_window: int = MAX_WINDOW, tolerance: float = SWEEP_TOLERANCE,
+                       patience: int = PATIENCE, max_window: int = MAX_WINDOW, tolerance: float = SWEEP_TOLERANCE,
                        clearance: float = KEEP_CLEARANCE, walks: bool = True,
                        should_stop: Callable[[], bool] | None = None,
                        trace: list[GuidedRound] | None = None) -> RegraspBound | None:
@@ -274,6 +289,7 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
             raster_bound.CELL` when ``None``).
         target: stop once the count reaches it (the regrasps of a plan to judge).
         rounds: rounds at most (the first reads the coarse graph alone).
+        patience: rounds in a row without the count rising after which it stops.
         max_window: coarse cells at most in the window.
         tolerance, clearance: the relaxation's (as the cover's).
         walks: allow a regrasp only where the walk relaxation may get round the box.
@@ -300,7 +316,7 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
     reach: dict = {}
     shared: dict = {}
     best: int | None = None
-    pieces, stopped = 0, False
+    pieces, stopped, stale = 0, False, 0
     for _ in range(max(1, rounds)):
         t1 = time.perf_counter()
         try:
@@ -330,10 +346,15 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
         if count is None:
             return RegraspBound(None, False, cover.bins, pieces, time.perf_counter() - t0,
                                 None, True, exhaustive=False, guided=True)
+        stale = 0 if best is None or count > best else stale + 1
         best = count if best is None else max(best, count)
-        if target is not None and best >= target:
+        if (target is not None and best >= target) or stale >= patience:
             break
-        add = path_window(scene, joined, outside, path, window)
+        add = np.zeros_like(window)
+        for thin, chain in ESCALATION:  # wider nets only when the narrower adds nothing
+            add = path_window(scene, joined, outside, path, window, thin=thin, chain=chain)
+            if add.any():
+                break
         if not add.any() or window.sum() + add.sum() > max_window:
             break
         window |= add
