@@ -188,7 +188,7 @@ def thin_crossing(piece: np.ndarray, enter: np.ndarray, leave: np.ndarray, *,
     parts = np.where(thick, a, np.where(narrow, t + na, 0))
     if not (enter & piece).any() or not (leave & piece).any():
         return narrow
-    pairs = set()
+    pairs: set[tuple[int, int]] = set()
     nx, ny = parts.shape
     for di, dj in ((1, 0), (0, 1), (1, 1), (1, -1)):
         p = parts[max(0, -di):nx - max(0, di), max(0, -dj):ny - max(0, dj)]
@@ -276,8 +276,9 @@ def _side(scene: Scene, cover: RasterCover, nodes: list, i: int, step: int,
 
 def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
                        target: int | None = None, rounds: int = MAX_ROUNDS,
-                       patience: int = PATIENCE, max_window: int = MAX_WINDOW, tolerance: float = SWEEP_TOLERANCE,
-                       clearance: float = KEEP_CLEARANCE, walks: bool = True,
+                       patience: int = PATIENCE, max_window: int = MAX_WINDOW,
+                       tolerance: float = SWEEP_TOLERANCE, clearance: float = KEEP_CLEARANCE,
+                       walks: bool = True,
                        should_stop: Callable[[], bool] | None = None,
                        trace: list[GuidedRound] | None = None) -> RegraspBound | None:
     """The fewest regrasps on the relaxation refined where its best path cheats.
@@ -291,7 +292,9 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
         rounds: rounds at most (the first reads the coarse graph alone).
         patience: rounds in a row without the count rising after which it stops.
         max_window: coarse cells at most in the window.
-        tolerance, clearance: the relaxation's (as the cover's).
+        tolerance: the swept checks' tolerance (m; the cover's).
+        clearance: distance (m) the checkers keep every body from the obstacles (the
+            cover's).
         walks: allow a regrasp only where the walk relaxation may get round the box.
         should_stop: polled in every round; stopped, the rounds done stand.
         trace: appended one :class:`GuidedRound` per round when given.
@@ -319,18 +322,20 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
     pieces, stopped, stale = 0, False, 0
     for _ in range(max(1, rounds)):
         t1 = time.perf_counter()
+        holding: Callable[[Pose], list[int]]
+        allowed: Callable[[Regrasp], bool]
         try:
             if window.any():
                 mixed = refined_graph(scene, cover, tolerance=tolerance, clearance=clearance,
                                       walks=walks, window=window, should_stop=should_stop,
-                                      walk=walk, reach=reach, shared=shared)
+                                      relaxation=walk, reach=reach, shared=shared)
                 assert mixed is not None
                 joined, outside = mixed.coarse, mixed.cover
                 holding, allowed = mixed.holding, mixed.allowed
                 total = mixed.fine_base[3] + mixed.fine.count[1]
             else:
                 joined = raster_graph(scene, cover, tolerance=tolerance, clearance=clearance,
-                                      walks=walks, should_stop=should_stop, walk=walk,
+                                      walks=walks, should_stop=should_stop, relaxation=walk,
                                       shared=shared)
                 outside, holding, allowed, total = cover, joined.holding, joined.allowed, \
                     joined.total

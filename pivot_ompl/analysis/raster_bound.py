@@ -130,12 +130,12 @@ class RasterGraph:
 def raster_graph(scene: Scene, cover: RasterCover, *, tolerance: float = SWEEP_TOLERANCE,
                  clearance: float = KEEP_CLEARANCE, walks: bool = True,
                  should_stop: Callable[[], bool] | None = None,
-                 walk: WalkRelaxation | None = None, shared: dict | None = None
+                 relaxation: WalkRelaxation | None = None, shared: dict | None = None
                  ) -> RasterGraph:
     """The pieces of ``cover`` joined as :func:`raster_lower_bound` joins them.
 
     ``should_stop`` is polled once per bin and raises :class:`~pivot_ompl.errors.Interrupted`.
-    ``walk``: the walk relaxation to check regrasps by (built at its first use when ``None``;
+    ``relaxation``: the walk relaxation to check regrasps by (built at its first use when ``None``;
     one of the same scene, bin width, tolerance and clearance may be shared by graphs).
     ``shared``: a dict kept between calls, where the label pairs two layers share are kept
     with the layers' arrays and reused while both arrays are the same objects.
@@ -174,7 +174,7 @@ def raster_graph(scene: Scene, cover: RasterCover, *, tolerance: float = SWEEP_T
             for j in range(k + 1, 4):
                 link(b, k, b, j, True)
     width = 2.0 * math.pi / n
-    built: list[WalkRelaxation] = [] if walk is None else [walk]
+    built: list[WalkRelaxation] = [] if relaxation is None else [relaxation]
 
     def walk() -> WalkRelaxation:
         if not built:

@@ -84,13 +84,13 @@ class RefinedGraph:
 def refined_graph(scene: Scene, cover: RasterCover, *, tolerance: float, clearance: float,
                   walks: bool = True, window: np.ndarray | None = None,
                   should_stop: Callable[[], bool] | None = None,
-                  walk: WalkRelaxation | None = None, reach: dict | None = None,
+                  relaxation: WalkRelaxation | None = None, reach: dict | None = None,
                   shared: dict | None = None) -> RefinedGraph | None:
     """The mixed graph of ``cover`` (module docstring); ``None`` when the window is empty.
 
     ``window``: the coarse cells to refine (default
     :func:`~pivot_ompl.analysis.raster_refine.neck_window`; any window is sound).
-    ``should_stop`` raises :class:`~pivot_ompl.errors.Interrupted`; ``walk``: as
+    ``should_stop`` raises :class:`~pivot_ompl.errors.Interrupted`; ``relaxation``: as
     :func:`~pivot_ompl.analysis.raster_bound.raster_graph`'s, and ``shared``; ``reach``: as
     :func:`~pivot_ompl.analysis.raster_refine.refine_cover`'s.
     """
@@ -110,7 +110,7 @@ def refined_graph(scene: Scene, cover: RasterCover, *, tolerance: float, clearan
             layers[key] = (lab, count)
     outside = RasterCover(cover.raster, cover.bins, layers, cover.pieces)
     coarse = raster_graph(scene, outside, tolerance=tolerance, clearance=clearance,
-                          walks=walks, should_stop=should_stop, walk=walk,
+                          walks=walks, should_stop=should_stop, relaxation=relaxation,
                           shared=shared)
     graph = coarse.graph
     fine_base, total = [], coarse.total
