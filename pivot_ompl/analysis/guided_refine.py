@@ -316,8 +316,9 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
     window = np.zeros(cover.raster.shape, dtype=bool)
     walk = WalkRelaxation(scene, width=2.0 * math.pi / cover.bins, tolerance=tolerance,
                           clearance=clearance) if walks else None
-    reach: dict = {}
+    memo: dict = {}
     shared: dict = {}
+    kept: RasterCover | None = None  # the last round's coarse cover off its window
     best: int | None = None
     pieces, stopped, stale = 0, False, 0
     for _ in range(max(1, rounds)):
@@ -328,9 +329,11 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
             if window.any():
                 mixed = refined_graph(scene, cover, tolerance=tolerance, clearance=clearance,
                                       walks=walks, window=window, should_stop=should_stop,
-                                      relaxation=walk, reach=reach, shared=shared)
+                                      relaxation=walk, memo=memo, shared=shared,
+                                      outside=kept)
                 assert mixed is not None
                 joined, outside = mixed.coarse, mixed.cover
+                kept = outside
                 holding, allowed = mixed.holding, mixed.allowed
                 total = mixed.fine_base[3] + mixed.fine.count[1]
             else:

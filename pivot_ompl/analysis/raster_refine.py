@@ -180,15 +180,22 @@ def fine_raster(coarse: FloorRaster) -> FloorRaster:
 def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
                  resolution: float = FINE_RESOLUTION, tolerance: float, clearance: float,
                  should_stop: Callable[[], bool] | None = None,
-                 reach: dict | None = None) -> FineVoxels:
+                 memo: dict | None = None) -> FineVoxels:
     """The free fine voxels of ``window`` and their components (module docstring).
 
     ``should_stop`` is polled once per fine bin and raises
-    :class:`~pivot_ompl.errors.Interrupted`. ``reach``: a dict kept between calls on one
-    scene and cover with the same arguments (the fine bins' bounds and lattice rows, which do
-    not depend on the window, are then computed once).
+    :class:`~pivot_ompl.errors.Interrupted`. ``memo``: a dict kept between calls on one
+    scene and cover with the same arguments, windows growing: what does not depend on the
+    window is computed once (the fine bins' bounds and lattice rows, and the free voxels of
+    the cells an earlier window held: a voxel's test reads only its own cell, bin and nearby
+    obstacles); a window not holding the earlier one starts afresh.
     """
-    reach = {} if reach is None else reach
+    memo = {} if memo is None else memo
+    done = memo.get("done")
+    if done is None or done.shape != window.shape or (done & ~window).any():
+        memo.clear()
+        done = np.zeros_like(window)
+    new = window & ~done
     coarse = cover.raster
     fine = fine_raster(coarse)
     n = cover.bins
@@ -198,7 +205,7 @@ def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
     bodies = {g: held_bodies(scene, g) for g in (0, 1)}
     longest = max(p.reach for parts in bodies.values() for p in parts)
     pad = math.ceil(longest / fine.cell) + 2
-    obstacles = obstacle_cells(fine, _near_pieces(cover, window, longest), should_stop)
+    obstacles = obstacle_cells(fine, _near_pieces(cover, new, longest), should_stop)
     sums = _padded_sums(obstacles, pad)
     nx2, ny2 = fine.shape
     stride = sums.shape[1]
@@ -209,10 +216,10 @@ def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
         parts = bodies[g]
         inside = [2.0 * p.reach * math.sin(0.25 * w) + tolerance + ROUND_OFF for p in parts]
         clear = [d - clearance for d in inside]
-        found = []
+        found = [memo.get(("keys", g), np.zeros(0, dtype=np.int64))]
         for big in range(n):
             lab = cover.layers[(g, big)][0]
-            ci, cj = np.nonzero((lab > 0) & window)
+            ci, cj = np.nonzero((lab > 0) & new)
             if not len(ci):
                 continue
             deep = _deep(lab > 0, ci, cj)
@@ -223,14 +230,17 @@ def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
             for f in range(big * split, (big + 1) * split):
                 if should_stop is not None and should_stop():
                     raise Interrupted("the refined raster cover")
-                if (g, f) not in reach:
+                if (g, f) not in memo:
                     lo, hi, rows = layer_reach(fine.cell, scene.bounds, parts,
                                                -math.pi + (f + 0.5) * w, inside, clear)
-                    reach[(g, f)] = lo, hi, merged_rows(rows) if rows else []
-                free = _free_voxels(fine, sums, pad, flat, a, b, test, *reach[(g, f)])
+                    memo[(g, f)] = lo, hi, merged_rows(rows) if rows else []
+                free = _free_voxels(fine, sums, pad, flat, a, b, test, *memo[(g, f)])
                 found.append(f * (nx2 * ny2) + a[free] * ny2 + b[free])
-        keys[g] = np.sort(np.concatenate(found)) if found else np.zeros(0, dtype=np.int64)
+        keys[g] = np.sort(np.concatenate(found).astype(np.int64, copy=False))
         count[g], labels[g] = _components(keys[g], nx2, ny2, bins)
+    for g in (0, 1):  # kept only once both parities are done (a stop leaves the memo whole)
+        memo[("keys", g)] = keys[g]
+    memo["done"] = window.copy()
     return FineVoxels(fine, split, bins, window, keys, labels, count)
 
 

@@ -84,23 +84,27 @@ class RefinedGraph:
 def refined_graph(scene: Scene, cover: RasterCover, *, tolerance: float, clearance: float,
                   walks: bool = True, window: np.ndarray | None = None,
                   should_stop: Callable[[], bool] | None = None,
-                  relaxation: WalkRelaxation | None = None, reach: dict | None = None,
-                  shared: dict | None = None) -> RefinedGraph | None:
+                  relaxation: WalkRelaxation | None = None, memo: dict | None = None,
+                  shared: dict | None = None, outside: RasterCover | None = None
+                  ) -> RefinedGraph | None:
     """The mixed graph of ``cover`` (module docstring); ``None`` when the window is empty.
 
     ``window``: the coarse cells to refine (default
     :func:`~pivot_ompl.analysis.raster_refine.neck_window`; any window is sound).
     ``should_stop`` raises :class:`~pivot_ompl.errors.Interrupted`; ``relaxation``: as
-    :func:`~pivot_ompl.analysis.raster_bound.raster_graph`'s, and ``shared``; ``reach``: as
-    :func:`~pivot_ompl.analysis.raster_refine.refine_cover`'s.
+    :func:`~pivot_ompl.analysis.raster_bound.raster_graph`'s, and ``shared``; ``memo``: as
+    :func:`~pivot_ompl.analysis.raster_refine.refine_cover`'s; ``outside``: ``cover``
+    without the cells of a window this one holds (an earlier graph's
+    :attr:`RefinedGraph.cover`), its layers relabelled only where this window takes cells
+    from them (the same pieces as relabelling ``cover``'s).
     """
     window = neck_window(cover) if window is None else window
     if not window.any():
         return None
     fine = refine_cover(scene, cover, window, tolerance=tolerance, clearance=clearance,
-                        should_stop=should_stop, reach=reach)
+                        should_stop=should_stop, memo=memo)
     layers = {}
-    for key, (lab, count) in cover.layers.items():
+    for key, (lab, count) in (cover if outside is None else outside).layers.items():
         if should_stop is not None and should_stop():
             raise Interrupted("the refined raster graph")
         if count and (lab[window] > 0).any():

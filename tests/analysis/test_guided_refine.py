@@ -22,8 +22,12 @@ from pivot_ompl.analysis.guided_refine import (
 )
 from pivot_ompl.analysis.piece_graph import PieceGraph
 from pivot_ompl.analysis.raster_bound import raster_lower_bound
+from pivot_ompl.analysis.raster_cover import raster_cover
+from pivot_ompl.analysis.raster_refine import neck_window, refine_cover, turn_neck_window
 from pivot_ompl.analysis.regrasp_bound import regrasp_lower_bound
 from pivot_ompl.generate import generate, rotate_scene
+from pivot_ompl.validity.certify import SWEEP_TOLERANCE
+from pivot_ompl.validity.collision import KEEP_CLEARANCE
 
 #: The exact polygon bounds of the shipped scenes (``pivot-ompl bound NAME --exhaustive``).
 EXACT = {"slot": 1, "fig10": 2, "door": 1}
@@ -157,3 +161,23 @@ def test_plan_levels_refine_only_when_asked_and_below_the_target(monkeypatch, tm
     assert kept.regrasps == 1 and kept.guided
     bound_cache.clear_memory()  # from the disk now
     assert lower_bound(scene, target=1, refine_seconds=0.0, guided=True).regrasps == 1
+
+
+def test_a_growing_window_refined_again_gives_the_fresh_voxels():
+    """The memo of the rounds: voxels of the earlier window reused, the result the same as a
+    fresh refinement; a window not holding the earlier one starts afresh."""
+    scene = shipped("door")
+    cover = raster_cover(scene, cell=0.1)
+    assert cover is not None
+    small = neck_window(cover)
+    big = small | turn_neck_window(cover)
+    assert small.any() and (big & ~small).any()
+    args = {"tolerance": SWEEP_TOLERANCE, "clearance": KEEP_CLEARANCE}
+    memo: dict = {}
+    refine_cover(scene, cover, small, memo=memo, **args)
+    for window in (big, big & ~small):
+        again = refine_cover(scene, cover, window, memo=memo, **args)
+        fresh = refine_cover(scene, cover, window, **args)
+        for g in (0, 1):
+            assert np.array_equal(again.keys[g], fresh.keys[g])
+            assert again.count[g] == fresh.count[g]
