@@ -317,38 +317,18 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
     walk = WalkRelaxation(scene, width=2.0 * math.pi / cover.bins, tolerance=tolerance,
                           clearance=clearance) if walks else None
     memo: dict = {}
-    shared: dict = {}
-    kept: RasterCover | None = None  # the last round's coarse cover off its window
     best: int | None = None
     pieces, stopped, stale = 0, False, 0
     for _ in range(max(1, rounds)):
         t1 = time.perf_counter()
-        holding: Callable[[Pose], list[int]]
-        allowed: Callable[[Regrasp], bool]
         try:
-            if window.any():
-                mixed = refined_graph(scene, cover, tolerance=tolerance, clearance=clearance,
-                                      walks=walks, window=window, should_stop=should_stop,
-                                      relaxation=walk, memo=memo, shared=shared,
-                                      outside=kept)
-                assert mixed is not None
-                joined, outside = mixed.coarse, mixed.cover
-                kept = outside
-                holding, allowed = mixed.holding, mixed.allowed
-                total = mixed.fine_base[3] + mixed.fine.count[1]
-            else:
-                joined = raster_graph(scene, cover, tolerance=tolerance, clearance=clearance,
-                                      walks=walks, should_stop=should_stop, relaxation=walk,
-                                      shared=shared)
-                outside, holding, allowed, total = cover, joined.holding, joined.allowed, \
-                    joined.total
-            count, path = best_path(joined.graph, holding(scene.start),
-                                    set(holding(scene.goal)), allowed, should_stop)
+            count, length, total, add = _round(scene, cover, window, walk, memo, tolerance,
+                                               clearance, walks, should_stop)
         except Interrupted:
             stopped = True
             break
         if trace is not None:
-            trace.append(GuidedRound(count, int(window.sum()), len(path),
+            trace.append(GuidedRound(count, int(window.sum()), length,
                                      time.perf_counter() - t1))
         pieces = max(pieces, total)
         if count is None:
@@ -358,11 +338,6 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
         best = count if best is None else max(best, count)
         if (target is not None and best >= target) or stale >= patience:
             break
-        add = np.zeros_like(window)
-        for thin, chain in ESCALATION:  # wider nets only when the narrower adds nothing
-            add = path_window(scene, joined, outside, path, window, thin=thin, chain=chain)
-            if add.any():
-                break
         if not add.any() or window.sum() + add.sum() > max_window:
             break
         window |= add
@@ -373,3 +348,36 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
     return RegraspBound(best, True, cover.bins, pieces, time.perf_counter() - t0, None,
                         complete=not stopped, exhaustive=False, guided=not stopped)
 
+
+def _round(scene: Scene, cover: RasterCover, window: np.ndarray,
+           walk: WalkRelaxation | None, memo: dict, tolerance: float, clearance: float,
+           walks: bool, should_stop: Callable[[], bool] | None
+           ) -> tuple[int | None, int, int, np.ndarray]:
+    """One round: ``(count, path nodes, graph nodes, cells to add)`` (its graph then freed).
+
+    Raises:
+        Interrupted: ``should_stop`` said stop.
+    """
+    holding: Callable[[Pose], list[int]]
+    allowed: Callable[[Regrasp], bool]
+    if window.any():
+        mixed = refined_graph(scene, cover, tolerance=tolerance, clearance=clearance,
+                              walks=walks, window=window, should_stop=should_stop,
+                              relaxation=walk, memo=memo)
+        assert mixed is not None
+        joined, outside = mixed.coarse, mixed.cover
+        holding, allowed = mixed.holding, mixed.allowed
+        total = mixed.fine_base[3] + mixed.fine.count[1]
+    else:
+        joined = raster_graph(scene, cover, tolerance=tolerance, clearance=clearance,
+                              walks=walks, should_stop=should_stop, relaxation=walk)
+        outside, holding, allowed, total = cover, joined.holding, joined.allowed, joined.total
+    count, path = best_path(joined.graph, holding(scene.start), set(holding(scene.goal)),
+                            allowed, should_stop)
+    add = np.zeros_like(window)
+    if count is not None:
+        for thin, chain in ESCALATION:  # wider nets only when the narrower adds nothing
+            add = path_window(scene, joined, outside, path, window, thin=thin, chain=chain)
+            if add.any():
+                break
+    return count, len(path), total, add

@@ -130,15 +130,12 @@ class RasterGraph:
 def raster_graph(scene: Scene, cover: RasterCover, *, tolerance: float = SWEEP_TOLERANCE,
                  clearance: float = KEEP_CLEARANCE, walks: bool = True,
                  should_stop: Callable[[], bool] | None = None,
-                 relaxation: WalkRelaxation | None = None, shared: dict | None = None
-                 ) -> RasterGraph:
+                 relaxation: WalkRelaxation | None = None) -> RasterGraph:
     """The pieces of ``cover`` joined as :func:`raster_lower_bound` joins them.
 
     ``should_stop`` is polled once per bin and raises :class:`~pivot_ompl.errors.Interrupted`.
     ``relaxation``: the walk relaxation to check regrasps by (built at its first use when ``None``;
     one of the same scene, bin width, tolerance and clearance may be shared by graphs).
-    ``shared``: a dict kept between calls, where the label pairs two layers share are kept
-    with the layers' arrays and reused while both arrays are the same objects.
     """
     raster, n, layers = cover.raster, cover.bins, cover.layers
     half = n // 2
@@ -153,15 +150,13 @@ def raster_graph(scene: Scene, cover: RasterCover, *, tolerance: float = SWEEP_T
             base[(b, k)] = total
             total += layers[layer(b, k)][1]
     graph = PieceGraph(np.ones(total).tolist())
-    memo = {} if shared is None else shared
+    memo: dict[tuple[tuple[int, int], tuple[int, int]], tuple[np.ndarray, np.ndarray]] = {}
 
     def link(b1: int, k1: int, b2: int, k2: int, regrasp: bool) -> None:
         la, lb = layer(b1, k1), layer(b2, k2)
-        a, b = layers[la][0], layers[lb][0]
-        kept = memo.get((la, lb))
-        if kept is None or kept[0] is not a or kept[1] is not b:  # the arrays kept alive
-            kept = memo[(la, lb)] = (a, b, *_shared(a, b))
-        ia, ib = kept[2], kept[3]
+        if (la, lb) not in memo:
+            memo[(la, lb)] = _shared(layers[la][0], layers[lb][0])
+        ia, ib = memo[(la, lb)]
         for i, j in zip(ia.tolist(), ib.tolist(), strict=True):
             graph.add(base[(b1, k1)] + i - 1, base[(b2, k2)] + j - 1,
                       (b1, k1, i, k2, j) if regrasp else None)
