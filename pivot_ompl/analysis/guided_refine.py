@@ -8,7 +8,8 @@ that path passes narrow parts of a layer (:func:`path_window`), reads the relaxa
 the mixed cover (:func:`~pivot_ompl.analysis.refined_bound.refined_graph`: fine voxels inside
 the window, coarse pieces outside), and repeats while the path still needs fewer regrasps than
 ``target``, a round adds cells to the window, and the budget lasts (:data:`MAX_ROUNDS`
-rounds, :data:`PATIENCE` rounds in a row without a rise, :data:`MAX_WINDOW` cells: counts,
+rounds, :data:`PATIENCE` rounds in a row without a rise, :data:`FIRST_PATIENCE` before the
+first, :data:`MAX_WINDOW` cells: counts,
 not clocks, so that a result is the same on any load and may be kept by the bound cache;
 ``should_stop`` ends it sooner, its rounds done standing).
 
@@ -76,8 +77,12 @@ MAX_ROUNDS = 8
 #: Rounds in a row without the count rising after which the refinement stops (the Willow
 #: Garage office rises from 1 to 2 on the fourth such round).
 PATIENCE = 4
-#: Coarse cells at most in the window (past it the refinement stops: cost only).
-MAX_WINDOW = 60_000
+#: The same before any rise above the coarse count (where the coarse raster already has the
+#: relaxation's answer, as on the corridor buildings, rounds cost without changing it).
+FIRST_PATIENCE = 3
+#: Coarse cells at most in the window (past it the refinement stops: cost only; the Willow
+#: Garage office's 2 needs about 4500).
+MAX_WINDOW = 6_000
 
 _EIGHT = np.ones((3, 3), dtype=bool)
 
@@ -290,7 +295,8 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
             raster_bound.CELL` when ``None``).
         target: stop once the count reaches it (the regrasps of a plan to judge).
         rounds: rounds at most (the first reads the coarse graph alone).
-        patience: rounds in a row without the count rising after which it stops.
+        patience: rounds in a row without the count rising after which it stops
+            (:data:`FIRST_PATIENCE` at most before its first rise).
         max_window: coarse cells at most in the window.
         tolerance: the swept checks' tolerance (m; the cover's).
         clearance: distance (m) the checkers keep every body from the obstacles (the
@@ -318,6 +324,7 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
                           clearance=clearance) if walks else None
     memo: dict = {}
     best: int | None = None
+    first: int | None = None  # the coarse graph's count
     pieces, stopped, stale = 0, False, 0
     for _ in range(max(1, rounds)):
         t1 = time.perf_counter()
@@ -336,7 +343,9 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
                                 None, True, exhaustive=False, guided=True)
         stale = 0 if best is None or count > best else stale + 1
         best = count if best is None else max(best, count)
-        if (target is not None and best >= target) or stale >= patience:
+        first = count if first is None else first
+        if (target is not None and best >= target) or stale >= patience or (
+                best == first and stale >= min(patience, FIRST_PATIENCE)):
             break
         if not add.any() or window.sum() + add.sum() > max_window:
             break

@@ -181,3 +181,19 @@ def test_a_growing_window_refined_again_gives_the_fresh_voxels():
         for g in (0, 1):
             assert np.array_equal(again.keys[g], fresh.keys[g])
             assert again.count[g] == fresh.count[g]
+
+
+def test_a_plan_with_regrasps_gets_the_guided_bound(monkeypatch, tmp_path):
+    """plan's bounds on a floor whose polygons and finer rasters are estimated too slow (the
+    slot, made to look so): the raster says 0, the plan's block carries the guided 1; a
+    plan without regrasps needs no refinement."""
+    from pivot_ompl.analysis import bound_levels
+    from pivot_ompl.analysis.plan_bounds import plan_bounds
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    monkeypatch.setattr(bound_levels, "exhaustive_estimate", lambda *a, **k: math.inf)
+    monkeypatch.setattr(bound_levels, "raster_estimate", lambda *a, **k: math.inf)
+    bound_cache.clear_memory()
+    scene = shipped("slot")
+    assert plan_bounds(scene, 0)[0] == 0
+    assert plan_bounds(scene, 2)[0] == 1
