@@ -181,6 +181,9 @@ def test_a_growing_window_refined_again_gives_the_fresh_voxels():
         for g in (0, 1):
             assert np.array_equal(again.keys[g], fresh.keys[g])
             assert again.count[g] == fresh.count[g]
+            # the same partition of the voxels, numbered alike or not
+            pairs = np.unique(np.stack([again.labels[g], fresh.labels[g]]), axis=1)
+            assert pairs.shape[1] == fresh.count[g]
 
 
 def test_a_plan_with_regrasps_gets_the_guided_bound(monkeypatch, tmp_path):
