@@ -14,8 +14,10 @@ slow on large floors; :func:`plan_bounds` asks it only where the answer depends 
   below the plan's regrasps and they are estimated to fit in two seconds (small scenes);
   on larger floors, while the raster's bound is below the plan's regrasps, the raster
   refined where its best path passes narrow places
-  (:mod:`~pivot_ompl.analysis.guided_refine`), within the bound's share of the time limit
-  (``should_stop``: the rounds done stand, each a proof).
+  (:mod:`~pivot_ompl.analysis.guided_refine`) when, by estimate, it ends within the time
+  left of the bound's share (``time_left``; ``should_stop`` still polled: the rounds done
+  stand, each a proof). A scene's bound once refined (``pivot-ompl bound --guided``) is read
+  from the cache.
 
 Every result comes from the bound cache when it holds it
 (:mod:`~pivot_ompl.analysis.bound_cache`).
@@ -151,7 +153,8 @@ def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = Non
             return known.regrasps, known.shortest_route
     if regrasps == 0:
         return 0, disk_route(scene, should_stop=should_stop, time_left=time_left)
-    full = lower_bound(scene, target=regrasps, should_stop=should_stop, guided=True)
+    full = lower_bound(scene, target=regrasps, should_stop=should_stop,
+                       guided_seconds=math.inf if time_left is None else time_left())
     if full.solvable is None or _refuted(full, scene, regrasps, route_length):
         return None, None
     return full.regrasps, full.shortest_route

@@ -48,7 +48,8 @@ def run(args: argparse.Namespace) -> int:
     end = time.monotonic() + args.time
     b = lower_bound(scene, use_cache=not args.no_cache,
                     refine_seconds=math.inf if args.exhaustive else REFINE_SECONDS,
-                    should_stop=lambda: time.monotonic() > end, guided=args.guided)
+                    should_stop=lambda: time.monotonic() > end,
+                    guided_seconds=math.inf if args.guided else 0.0)
     took = time.perf_counter() - t0
     how = "polygons" if b.exhaustive else "raster, guided" if b.guided else "raster"
     where = f"{how}, {b.bins} yaw bins, {b.pieces} pieces; {took:.2f} s"

@@ -153,14 +153,17 @@ def test_plan_levels_refine_only_when_asked_and_below_the_target(monkeypatch, tm
     scene = shipped("slot")
     plain = scaled_lower_bound(scene, target=1, refine_seconds=0.0)
     assert plain.regrasps == 0 and not plain.guided
-    guided = scaled_lower_bound(scene, target=1, refine_seconds=0.0, guided=True)
+    guided = scaled_lower_bound(scene, target=1, refine_seconds=0.0, guided_seconds=math.inf)
     assert guided.regrasps == 1 and guided.guided and not guided.exhaustive
-    assert scaled_lower_bound(scene, target=0, refine_seconds=0.0, guided=True).guided is False
+    reached = scaled_lower_bound(scene, target=0, refine_seconds=0.0, guided_seconds=math.inf)
+    assert reached.guided is False  # the target already met: nothing to refine
+    short = scaled_lower_bound(scene, target=1, refine_seconds=0.0, guided_seconds=1e-3)
+    assert short.regrasps == 0 and not short.guided  # estimated not to fit: not started
     assert lower_bound(scene, target=1, refine_seconds=0.0).regrasps == 0
-    kept = lower_bound(scene, target=1, refine_seconds=0.0, guided=True)
+    kept = lower_bound(scene, target=1, refine_seconds=0.0, guided_seconds=math.inf)
     assert kept.regrasps == 1 and kept.guided
     bound_cache.clear_memory()  # from the disk now
-    assert lower_bound(scene, target=1, refine_seconds=0.0, guided=True).regrasps == 1
+    assert lower_bound(scene, target=1, refine_seconds=0.0, guided_seconds=math.inf).regrasps == 1
 
 
 def test_a_growing_window_refined_again_gives_the_fresh_voxels():
