@@ -16,7 +16,9 @@ for, until ``explain_end``). When no plan exists the reason is the passage that 
 plan (:func:`~pivot_ompl.analysis.passage.blocking_passage`) if there is one, else the place
 where the held box cannot turn, else (the place not found in time) a line naming the width
 the held assembly needs; and the search stops. Its cost to a scene that has a plan is at
-most ``end - begin``, and only when the search is slow to find a path.
+most ``end - begin``, and only when the search is slow to find a path; once the exact
+relaxation has joined a scene's start and goal (nothing to prove), later plans of the scene
+in the process do not run it again (:func:`~pivot_ompl.scene.shared.keep_shared`).
 """
 
 from __future__ import annotations
@@ -36,8 +38,14 @@ from pivot_ompl.analysis.turning import TurningPlace, turning_place, widest_circ
 from pivot_ompl.analysis.turning_raster import raster_turning_place
 from pivot_ompl.analysis.wall_frame import wall_frame
 from pivot_ompl.scene import Scene
+from pivot_ompl.scene.shared import keep_shared, shared_value
 
 log = logging.getLogger(__name__)
+
+#: What :func:`~pivot_ompl.scene.shared.keep_shared` keeps for a scene whose exact
+#: relaxation joined start and goal: nothing to prove for it.
+NOTHING_TO_PROVE = ("late proof: the relaxation joins start and goal",)
+
 
 @dataclass(frozen=True)
 class NoPlan:
@@ -111,12 +119,17 @@ class LateProof:
         known = cached_bound(self.scene)
         if known is not None and known.solvable:
             return False
+        if known is None and shared_value(self.scene, NOTHING_TO_PROVE):
+            return False
         stop = self._stop(self.end if known is None else self.explain_end)
-        if exhaustive_estimate(self.scene) <= self.end - now:  # proof and place at once
+        exact = exhaustive_estimate(self.scene) <= self.end - now
+        if exact:  # proof and place at once
             place = turning_place(self.scene, should_stop=stop)
         else:
             place = framed_turning_place(self.scene, should_stop=stop)
         if place is None and known is None:
+            if exact and not stop():  # run to its end: the relaxation joins start and goal
+                keep_shared(self.scene, NOTHING_TO_PROVE, True)
             log.debug("late proof: nothing proven in %.2f s", self.clock() - now)
             return False
         passage = self.passages(should_stop=self._stop(self.explain_end))

@@ -50,6 +50,7 @@ from pivot_ompl.analysis.regrasp_bound import RegraspBound
 from pivot_ompl.analysis.route_bound import MAX_CELLS, MIN_CELL, route_on
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
+from pivot_ompl.scene.shared import scene_shared
 from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
 from pivot_ompl.validity.footprints import obstacle_pieces
@@ -151,8 +152,9 @@ def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = Non
         if not _refuted(known, scene, regrasps, route_length) and (
                 regrasps == 0 or known.exhaustive or (known.regrasps or 0) >= regrasps):
             return known.regrasps, known.shortest_route
-    if regrasps == 0:
-        return 0, disk_route(scene, should_stop=should_stop, time_left=time_left)
+    if regrasps == 0:  # the disk route: one per scene in the process (a later plan's is it)
+        return 0, scene_shared(scene, ("disk route",), lambda: disk_route(
+            scene, should_stop=should_stop, time_left=time_left))
     full = lower_bound(scene, target=regrasps, should_stop=should_stop,
                        guided_seconds=math.inf if time_left is None else time_left())
     if full.solvable is None or _refuted(full, scene, regrasps, route_length):

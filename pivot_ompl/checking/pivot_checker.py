@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any
 
+from pivot_ompl.checking.shared_results import SharedResults, shared_results
 from pivot_ompl.checking.stored import StoredMotions, stored_rotations, stored_walk
 from pivot_ompl.checking.transfer_check import EdgeResult, TransferCheck
 from pivot_ompl.errors import Interrupted
@@ -60,6 +61,9 @@ class PivotChecker:
         seed: kept for callers that record it (the checks are deterministic).
         tolerance: swept-check tolerance (m): no point of a body moves farther than this
             between two certified samples.
+        share: take and give the results of the checkers of the same scene
+            (:mod:`~pivot_ompl.checking.shared_results`: the same results, counted as
+            computed, so a later plan of a scene is the same plan, checked faster).
 
     Attributes:
         scene, model: the scene and its box and robot geometry.
@@ -81,7 +85,7 @@ class PivotChecker:
     counters: MotionCounters
 
     def __init__(self, scene: Scene, *, seed: int = 0, tolerance: float = SWEEP_TOLERANCE,
-                 should_stop: Callable[[], bool] | None = None) -> None:
+                 should_stop: Callable[[], bool] | None = None, share: bool = True) -> None:
         """Build the collision world, the steering method and the walk planner.
 
         Raises:
@@ -98,6 +102,8 @@ class PivotChecker:
         self._edges: dict[tuple, EdgeResult] = {}
         self._walks: dict[tuple, WalkResult] = {}
         self._offered = StoredMotions()
+        self._shared: SharedResults | None = shared_results(
+            scene, tolerance=tolerance, clearance=self.world.clearance) if share else None
         self.transfers = TransferCheck(self.model, self.world, self.steering,
                                        tolerance=tolerance, refined=self._count_refined)
 
@@ -202,15 +208,26 @@ class PivotChecker:
             return self.transfers.check(ca, cb, grasp, with_robot=with_robot,
                                         should_stop=should_stop)
 
-        return self._cached(self._edges, (obj_a, obj_b, grasp, with_robot), compute)
+        return self._cached(self._edges, (obj_a, obj_b, grasp, with_robot), compute,
+                            self._shared.edges if self._shared else None)
 
-    def _cached(self, cache: dict, key: tuple, compute: Callable[[], Any]) -> Any:
-        """A motion result from ``cache``, or computed, stored and counted."""
+    def _cached(self, cache: dict, key: tuple, compute: Callable[[], Any],
+                shared: dict | None = None) -> Any:
+        """A motion result from ``cache``, or computed, stored and counted.
+
+        ``shared``: the scene's other checkers' results; one found there is taken as if
+        computed (stored and counted alike).
+        """
         hit = cache.get(key)
         if hit is not None:
             self.counters.cache_hits += 1
             return hit
-        res = compute()
+        res = None if shared is None else shared.get(key)
+        if res is None:
+            res = compute()
+            if shared is not None and self._shared is not None:
+                self._shared.room()
+                shared[key] = res
         cache[key] = res
         if res.valid:
             self.counters.valid += 1
@@ -224,9 +241,11 @@ class PivotChecker:
 
         An offered motion is checked as this checker checks its own (see
         :mod:`pivot_ompl.checking.stored`); it is the edge's result only if it passes, else
-        the edge is computed as without it.
+        the edge is computed as without it. The checker keeps its results to itself from
+        then on (they may differ from the scene's other checkers').
         """
         self._offered = stored
+        self._shared = None
 
     def adopt(self, old: PivotChecker, *, added: Sequence[Obstacle] = (),
               removed: Sequence[Obstacle] = ()) -> int:
@@ -283,7 +302,8 @@ class PivotChecker:
                     return res
             return self.walker.plan(obj, from_grasp, to_grasp, should_stop=should_stop)
 
-        return self._cached(self._walks, (obj, from_grasp, to_grasp), compute)
+        return self._cached(self._walks, (obj, from_grasp, to_grasp), compute,
+                            self._shared.walks if self._shared else None)
 
     def spin_radius(self, grasp: int) -> float:
         """Farthest point (m) of the box and the holding robot from the car at ``grasp``."""

@@ -160,6 +160,9 @@ class OptimiserConfig:
         follow_route: after the optimiser, re-plan each transfer phase along the route
             bound's shortest route (kept off the walls where that is cheaper) where that is
             cheaper (:mod:`pivot_ompl.planners.follow_route`), within the optimiser's budget.
+        slide_regrasps: after the optimiser, let each regrasp move to a pose of the
+            transfers beside it where that is cheaper
+            (:mod:`pivot_ompl.planners.regrasp_slide`), within the optimiser's budget.
     """
 
     enabled: bool = True
@@ -178,6 +181,7 @@ class OptimiserConfig:
     quality_share: float = knob(QUALITY_SHARE, high=0.95)
     straighten: bool = True
     follow_route: bool = True
+    slide_regrasps: bool = True
 
 
 @dataclass(frozen=True)

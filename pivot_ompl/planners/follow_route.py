@@ -9,7 +9,10 @@ ways: the car (the supporting edge's centre) turns in place to face the next cor
 polyline, pushes (or pulls, its back to the way) straight to it, turns again, and at the
 phase's end turns to the end pose's heading (long straight pushes at the ideal rate, few
 turns: few pivots); or it passes each corner heading halfway between the corner's two
-segments, the steering's arcs joining them. The shortest path hugs the walls, where the
+segments, the steering's arcs joining them; each with the car's corners on the polyline's,
+and with them placed so that the box's centre passes the polyline's corners
+(:func:`~pivot_ompl.planners.route_poses.route_poses`: the car stands behind the box's
+centre). The shortest path hugs the walls, where the
 held assembly, wider than the relaxation's disk, passes only by small rotations or not at
 all: the route is also taken kept off them by each of :data:`MARGINS` (shares of the room a
 turn in place needs) where there is room, and the cheapest of the variants that pass wins
@@ -32,19 +35,23 @@ from __future__ import annotations
 
 import logging
 import math
-import weakref
 from collections.abc import Callable
 from dataclasses import dataclass
 
 from pivot_ompl.analysis.plan_bounds import disk_cells
 from pivot_ompl.analysis.route_path import FreeField, Route, route_polyline
-from pivot_ompl.cache import BoundedCache
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.evaluation import Evaluator
 from pivot_ompl.planners.optimiser import optimise_over
-from pivot_ompl.scene import scene_digest
+from pivot_ompl.planners.route_poses import (
+    NO_MOVE,
+    car_corner_poses,
+    route_poses,
+    turns_and_legs,
+)
+from pivot_ompl.scene.shared import scene_shared
 from pivot_ompl.se2 import Pose, wrap_angle
 
 __all__ = ["MARGINS", "FollowStats", "follow_route"]
@@ -63,13 +70,14 @@ MAX_CELLS = 50_000
 #: Most share of a variant's corner poses that may collide for it to be offered (a route
 #: whose every corner hugs a wall is not one the assembly can follow).
 INVALID_SHARE = 0.3
+#: Variants of turns in place and straight legs offered, the cheapest estimated first,
+#: where the margins' cheapest variants gave nothing cheaper (their estimates rank the
+#: arcs' straight-line legs below the turns that win once checked).
+SPIN_VARIANTS = 2
 #: Longest transfer between two poses that are not consecutive in their own sequence (m).
 FOLLOW_REACH = 4.0
 #: Least estimated saving (s) for a variant to be checked.
 MIN_SAVING = 2.0
-#: Turns smaller than this (rad) are left out; corners closer than this (m) merged.
-NO_TURN = 1e-6
-NO_MOVE = 1e-3
 
 
 
@@ -85,16 +93,8 @@ class _Known:
     routes: dict[tuple[float, ...], Route | None]
 
 
-#: The free field of each checker's scene, computed once (a checker's scene never changes).
-_fields: weakref.WeakKeyDictionary[PivotChecker, _Known] = weakref.WeakKeyDictionary()
-#: Scenes whose free fields are kept across checkers (the later plans of one scene).
-FIELD_SCENES = 8
 #: Most routes kept per scene (then forgotten all at once: a later plan finds them again).
 ROUTES_KEPT = 512
-#: The free fields by :func:`~pivot_ompl.scene.scene_digest` (geometry, not the object):
-#: each plan makes its own checker, and the field and its routes depend only on the scene's
-#: geometry (and the routes' ends: a later plan's phases often have the same).
-_scene_fields: BoundedCache[str, _Known] = BoundedCache(FIELD_SCENES)
 
 
 @dataclass
@@ -153,21 +153,17 @@ def follow_route(checker: PivotChecker, states: list[State], *, costs: CostModel
 def _field(checker: PivotChecker, should_stop: Stop) -> _Known | None:
     """The free field of the disk relaxation of ``checker``'s scene; ``None`` if stopped.
 
-    Kept per checker and per scene geometry (:data:`FIELD_SCENES` scenes): a later plan of
-    the same scene, with a checker of its own, finds it made.
+    Kept, with the routes found on it, per scene geometry
+    (:func:`~pivot_ompl.scene.shared.scene_shared`): a later plan of the same scene,
+    with a checker of its own, finds it made.
     """
-    known = _fields.get(checker)
-    if known is not None:
-        return known
-    key = scene_digest(checker.scene)
-    known = _scene_fields.get(key)
-    if known is None:
+    def made() -> _Known | None:
         cells = disk_cells(checker.scene, should_stop=should_stop, max_cells=MAX_CELLS)
         if cells is None or should_stop():
             return None
-        known = _scene_fields.put(key, _Known(FreeField.of(*cells), {}))
-    _fields[checker] = known
-    return known
+        return _Known(FreeField.of(*cells), {})
+
+    return scene_shared(checker.scene, ("free field", MAX_CELLS), made)
 
 
 def _phases(path: list[State]) -> list[tuple[int, int]]:
@@ -190,6 +186,7 @@ def _best(evaluate: Evaluator, known: _Known, phase: list[State],
         return None
     (a, g), (b, _) = phase[0], phase[-1]
     chosen: list[tuple[Pose, ...]] = []
+    spins: list[tuple[float, tuple[Pose, ...]]] = []
     excess = _excess(evaluate.checker, g)
     guide: list[tuple[float, float]] | None = None
     first = None
@@ -214,14 +211,33 @@ def _best(evaluate: Evaluator, known: _Known, phase: list[State],
         if first is None:
             first, guide = route, poly
         ways = sorted((_estimate(evaluate, p, g), p) for p in {
-            _poses(evaluate.checker, a, b, g, poly, back=back, spin=spin)
-            for back in (False, True) for spin in (True, False)})
+            place(evaluate.checker, a, b, g, poly, back=back, spin=spin)
+            for back in (False, True) for spin in (True, False)
+            for place in (car_corner_poses, route_poses)})
         chosen += [p for est, p in ways if est < old - MIN_SAVING and p not in chosen
                    and _mostly_valid(evaluate.checker, p, g)][:1]
-    if not chosen or guide is None:
+        spins += [(est, p) for est, p in ways if turns_and_legs(evaluate.checker, p, g)]
+    if guide is None:
         return None
-    st.tried += len(chosen)
-    poses, path, links = _merged(guide, [p for p, _ in phase], chosen, g)
+    out = _offered(evaluate, guide, phase, chosen, st, should_stop)
+    if out is None:  # the turns in place the estimates ranked below the arcs
+        more = [p for est, p in sorted(spins) if est < old - MIN_SAVING and p not in chosen
+                and _mostly_valid(evaluate.checker, p, g)]
+        out = _offered(evaluate, guide, phase, list(dict.fromkeys(more))[:SPIN_VARIANTS], st,
+                       should_stop)
+    return out
+
+
+def _offered(evaluate: Evaluator, guide: list[tuple[float, float]], phase: list[State],
+             variants: list[tuple[Pose, ...]], st: FollowStats, should_stop: Stop
+             ) -> list[State] | None:
+    """The cheapest path over the phase's and ``variants``' poses if cheaper; else ``None``."""
+    if not variants:
+        return None
+    g = phase[0][1]
+    old = evaluate.path(phase).cost
+    st.tried += len(variants)
+    poses, path, links = _merged(guide, [p for p, _ in phase], variants, g)
     out = optimise_over(evaluate.checker, poses, path, should_stop=should_stop,
                         costs=evaluate.costs, grasps=(g,), reach=FOLLOW_REACH,
                         start_grasp=g, end_grasp=g, links=links)
@@ -303,44 +319,6 @@ def _excess(checker: PivotChecker, grasp: int) -> float:
 def _poll(should_stop: Stop) -> None:
     if should_stop():
         raise Interrupted("the followed route")
-
-
-def _poses(checker: PivotChecker, a: Pose, b: Pose, grasp: int,
-           poly: list[tuple[float, float]], *, back: bool, spin: bool) -> tuple[Pose, ...]:
-    """Object poses from ``a`` to ``b`` through the corners of ``poly``.
-
-    The car's corners are the polyline's inner points between the car's own ends; ``back``:
-    the car faces away from its way (a pull). ``spin``: a turn in place at every corner and
-    straight pushes between them; else one pose at each corner, heading halfway between its
-    two segments', joined by the steering's arcs.
-    """
-    m = checker.model
-    ca, cb = m.car_pose(a, grasp), m.car_pose(b, grasp)
-    pts = [(ca[0], ca[1])]
-    for p in [*poly[1:-1], (cb[0], cb[1])]:
-        if math.hypot(p[0] - pts[-1][0], p[1] - pts[-1][1]) > NO_MOVE:
-            pts.append(p)
-    if len(pts) > 1 and math.hypot(cb[0] - pts[-1][0], cb[1] - pts[-1][1]) > 0:
-        pts[-1] = (cb[0], cb[1])
-    cars: list[Pose] = [ca]
-    if not spin:
-        heads = [math.atan2(q[1] - p[1], q[0] - p[0]) + (math.pi if back else 0.0)
-                 for p, q in zip(pts, pts[1:], strict=False)]
-        for k in range(1, len(pts) - 1):
-            h = heads[k - 1] + 0.5 * wrap_angle(heads[k] - heads[k - 1])
-            cars.append((pts[k][0], pts[k][1], h))
-        cars.append(cb)
-        return (a, *(m.object_from_car(c, grasp) for c in cars[1:-1]), b)
-    for p, q in zip(pts, pts[1:], strict=False):
-        h = math.atan2(q[1] - p[1], q[0] - p[0]) + (math.pi if back else 0.0)
-        h = cars[-1][2] + wrap_angle(h - cars[-1][2])
-        if abs(h - cars[-1][2]) > NO_TURN:
-            cars.append((p[0], p[1], h))
-        cars.append((q[0], q[1], h))
-    if abs(wrap_angle(cb[2] - cars[-1][2])) > NO_TURN or len(cars) == 1:
-        cars.append(cb)
-    poses = [a, *(m.object_from_car(c, grasp) for c in cars[1:-1]), b]
-    return tuple(poses)
 
 
 def _estimate(evaluate: Evaluator, poses: tuple[Pose, ...], grasp: int) -> float:

@@ -4,11 +4,13 @@ A fresh plan (:meth:`~.regrasp_search.RegraspSearch.run`) and a repaired route
 (:func:`~.repair.polish`) are improved alike by :func:`improve`: the path's phases re-planned
 on the held assembly's lattice (:func:`~.routes.refine.refine`, when ``config.optimiser.routes``
 and a lattice is given), then the cheapest path over its waypoints
-(:func:`~.optimiser.optimise`), then its detours straightened (turn, straight push, turn:
+(:func:`~.optimiser.optimise`), then its regrasps free to slide along the transfers beside
+them (:func:`~.regrasp_slide.slide_regrasps`, when ``config.optimiser.slide_regrasps``),
+then its detours straightened (turn, straight push, turn:
 :func:`~.straighten.straighten`, when ``config.optimiser.straighten``), then each phase
 along the route bound's shortest route where that is cheaper
 (:func:`~.follow_route.follow_route`, when ``config.optimiser.follow_route``), each step
-within its :class:`Budget` of motion checks (the last two within the optimiser's) and the
+within its :class:`Budget` of motion checks (the last three within the optimiser's) and the
 same cost model (``config.cost``). The grasp the robot holds the box with at the start
 (``start_grasp``) is kept by every step.
 """
@@ -23,6 +25,7 @@ from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planners.config import RegraspConfig
 from pivot_ompl.planners.follow_route import follow_route
 from pivot_ompl.planners.optimiser import optimise
+from pivot_ompl.planners.regrasp_slide import slide_regrasps
 from pivot_ompl.planners.routes.lattice import TransferLattice
 from pivot_ompl.planners.routes.refine import RefineStats, refine
 from pivot_ompl.planners.straighten import straighten
@@ -118,6 +121,10 @@ def improve(checker: PivotChecker, states: list[State], config: RegraspConfig, *
     states = optimise(checker, states, should_stop=optimiser.stop(should_stop, checker, states),
                       costs=config.cost, grasps=config.grasps, start_grasp=start_grasp,
                       end_grasp=end_grasp, reach=cfg.shortcut_reach)
+    if cfg.slide_regrasps:
+        states = slide_regrasps(checker, states, costs=config.cost, grasps=config.grasps,
+                                should_stop=optimiser.stop(should_stop, checker, states),
+                                start_grasp=start_grasp, end_grasp=end_grasp)
     if cfg.straighten:
         states = straighten(checker, states, costs=config.cost,
                             should_stop=optimiser.stop(should_stop, checker, states))

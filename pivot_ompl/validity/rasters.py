@@ -55,18 +55,25 @@ def _bound(p: np.ndarray, slope: np.ndarray, sel: np.ndarray, poly: np.ndarray,
 
     The line of edge ``p``, ``slope`` at ``x`` is ``p_y + slope * (x - p_x)`` (evaluated as
     :func:`grid_inside` does). The selected edges are moved to the front of each polygon's
-    row first (so the arrays are only as wide as the most edges one polygon has on that
-    side), the others made lines constant at ``empty``.
+    row first (so there are only as many edge slots as the most edges one polygon has on
+    that side), the others made lines constant at ``empty``. One edge slot at a time over
+    all pairs, ``reduce`` folding each into the result: the same values as a pairs x slots
+    array reduced along the slots, without its gathers (a third of the time).
     """
     order = np.argsort(~sel, axis=1, kind="stable")[:, :max(1, int(sel.sum(axis=1).max()))]
     use = np.take_along_axis(sel, order, axis=1)
-    px = np.where(use, np.take_along_axis(p[..., 0], order, axis=1), 0.0)[poly]
-    py = np.where(use, np.take_along_axis(p[..., 1], order, axis=1), empty)[poly]
-    k = np.where(use, np.take_along_axis(slope, order, axis=1), 0.0)[poly]
-    y = np.subtract(x[:, None], px, out=px)
-    np.multiply(k, y, out=y)
-    np.add(py, y, out=y)
-    return reduce.reduce(y, axis=1)
+    px = np.where(use, np.take_along_axis(p[..., 0], order, axis=1), 0.0)
+    py = np.where(use, np.take_along_axis(p[..., 1], order, axis=1), empty)
+    k = np.where(use, np.take_along_axis(slope, order, axis=1), 0.0)
+    out = np.empty(len(poly))
+    y = np.empty(len(poly))
+    for e in range(order.shape[1]):
+        np.subtract(x, px[:, e][poly], out=y)
+        np.multiply(k[:, e][poly], y, out=y)
+        np.add(py[:, e][poly], y, out=out if e == 0 else y)
+        if e:
+            reduce(out, y, out=out)
+    return out
 
 
 def grid_union(edges: EdgeSet, xs: np.ndarray, ys: np.ndarray,

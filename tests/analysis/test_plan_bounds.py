@@ -73,3 +73,23 @@ def test_every_plan_on_a_large_open_floor_carries_its_proof_within_the_limit():
     assert q["regrasps_lower_bound"] == 0 == res.regrasps
     assert q["shortest_route"] == pytest.approx(math.dist((3.0, 3.0), (56.0, 36.0)))
     assert q["route_ratio"] is not None and q["route_ratio"] >= 1.0
+
+
+def test_a_plan_without_regrasps_takes_the_disk_route_a_plan_of_its_scene_found(monkeypatch):
+    import pivot_ompl.analysis.plan_bounds as bounds
+
+    scene = make_scene(obstacles=[{"type": "box", "center": [4.0, 2.5], "size": [0.2, 5.0],
+                                   "yaw": 0.0, "height": 2.0}],
+                       start=[1.5, 1.0, 0.0], goal=[6.5, 1.25, 0.0])  # a scene of its own
+    calls = []
+
+    def counted(*args, **kwargs):
+        calls.append(args)
+        return disk_route(*args, **kwargs)
+
+    monkeypatch.setattr(bounds, "disk_route", counted)
+    stopped = plan_bounds(scene, 0, should_stop=lambda: True)
+    assert stopped == (0, None) and len(calls) == 1  # stopped: nothing kept
+    first = plan_bounds(scene, 0)
+    assert first[1] is not None and len(calls) == 2
+    assert plan_bounds(scene, 0, should_stop=lambda: True) == first and len(calls) == 2

@@ -91,6 +91,32 @@ def test_a_feasible_scene_is_never_stopped_by_the_late_proof():
     assert turning_place(shipped("slot")) is None  # a plan exists: nothing to explain
 
 
+def test_a_scene_whose_relaxation_joins_start_and_goal_is_not_asked_again(monkeypatch):
+    import dataclasses
+
+    import pivot_ompl.analysis.late_proof as late_proof
+
+    s = shipped("slot")
+    scene = dataclasses.replace(s, bounds=(*s.bounds[:3], s.bounds[3] + 0.0123))  # its own
+    calls = []
+    real = late_proof.turning_place
+
+    def spy(*args, **kwargs):
+        calls.append(args)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(late_proof, "turning_place", spy)
+    ticks = iter([0.0, *[1e9] * 10_000])  # the relaxation chosen, then stopped at once
+    stopped = LateProof(scene, begin=0.0, end=1e6, clock=lambda: next(ticks))
+    assert stopped() is False and len(calls) == 1  # nothing learnt
+    assert LateProof(scene, begin=0.0, end=math.inf)() is False and len(calls) == 2
+    assert LateProof(scene, begin=0.0, end=math.inf)() is False and len(calls) == 2
+    corner, _ = _scene(5)  # a proof found is found again
+    for _ in range(2):
+        late = LateProof(corner, begin=0.0, end=math.inf)
+        assert late() is True and late.proof is not None
+
+
 def test_the_shares_leave_the_answer_within_a_tenth_of_the_limit():
     assert 0.0 < LATE_PROOF_BEGIN < EXPLAIN_END < 0.1
 

@@ -46,7 +46,7 @@ def test_an_invalid_transfer_carries_its_reason_and_no_cost():
 
 
 def test_a_stopped_check_is_stopped_not_invalid_and_is_checked_again_later():
-    ck = PivotChecker(make_scene())
+    ck = PivotChecker(make_scene(), share=False)  # not answered by another checker's checks
     ev = Evaluator(ck, COSTS)
     assert ev.transfer(A, B, 0, should_stop=lambda: True).status is Status.STOPPED
     assert ev.walk(A, 0, 2, should_stop=lambda: True).status is Status.STOPPED
@@ -99,7 +99,7 @@ def test_the_box_visibility_says_stopped_when_stopped_not_wall():
 
 def test_a_sample_whose_visibility_check_is_stopped_becomes_no_guard():
     """Regression: with the stopped check taken for a wall, the sample became a guard."""
-    ck = PivotChecker(make_scene())
+    ck = PivotChecker(make_scene(), share=False)  # its checks computed here, so stoppable
     roadmap = Roadmap()
     critical = CriticalConfigurations(ck, roadmap, grasps=(0, 1, 2, 3), spacing=0.4)
     vis = VisibilityRoadmap(roadmap, sample=lambda stop: B, visible=critical.box_visible,

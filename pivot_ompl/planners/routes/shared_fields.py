@@ -4,11 +4,13 @@ An :class:`~pivot_ompl.validity.assembly_field.AssemblyField` depends only on th
 geometry (the model, the obstacles, the bounds and the kept clearance of the checker's
 world) and the grid spacing, and fills its grids as they are asked for. Every plan builds a
 checker and a lattice of its own; :func:`assembly_field` hands a later plan of the same
-scene (same :func:`~pivot_ompl.scene.scene_digest`) the field an earlier one filled, so the
-grids are rasterised once per scene, not once per plan. The grids are the same either way:
-plans do not change. The lattice's connected components (:func:`shared_components`) are kept
-with their field, per grasp parity and region, as read-only arrays, and so are its routes
-(:func:`shared_routes`), per region and the lattice's prices and search limit.
+scene (same :func:`~pivot_ompl.scene.scene_digest`) the field an earlier one filled (kept by
+:func:`~pivot_ompl.scene.shared.scene_shared`, the one memo of what plans of a scene
+share), so the grids are rasterised once per scene, not once per plan. The grids are the
+same either way: plans do not change. The lattice's connected components
+(:func:`shared_components`) are kept with their field, per grasp parity and region, as
+read-only arrays, and so are its routes (:func:`shared_routes`), per region and the
+lattice's prices and search limit.
 """
 
 from __future__ import annotations
@@ -20,18 +22,12 @@ import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
-from pivot_ompl.cache import BoundedCache
 from pivot_ompl.checking.pivot_checker import PivotChecker
-from pivot_ompl.scene import scene_digest
+from pivot_ompl.scene.shared import scene_shared
 from pivot_ompl.validity.assembly_field import AssemblyField
 
-__all__ = ["FIELD_SCENES", "ROUTES_KEPT", "assembly_field", "shared_components", "shared_routes"]
+__all__ = ["ROUTES_KEPT", "assembly_field", "shared_components", "shared_routes"]
 
-#: Fields kept (least recently used dropped first): a few scenes at one or two spacings.
-FIELD_SCENES = 8
-
-_fields: BoundedCache[tuple[str, float, float, bytes | None], AssemblyField] = \
-    BoundedCache(FIELD_SCENES)
 Labels = tuple[np.ndarray, np.ndarray]
 #: each field's lattice components by ``(parity, the region's WKB or None)``
 _labels: weakref.WeakKeyDictionary[AssemblyField, dict[tuple[int, bytes | None], Labels]] = \
@@ -52,8 +48,8 @@ def assembly_field(checker: PivotChecker, resolution: float, *,
     assembly in the region may take, :meth:`AssemblyField.restrict`), shared by scene and
     region.
     """
-    key = (scene_digest(checker.scene), float(resolution), float(checker.world.clearance),
-           None if region is None else shapely.to_wkb(region))
+    what = ("assembly field", float(resolution), float(checker.world.clearance),
+            None if region is None else shapely.to_wkb(region))
 
     def made() -> AssemblyField:
         field = AssemblyField(checker.model, checker.world, resolution)
@@ -61,7 +57,9 @@ def assembly_field(checker: PivotChecker, resolution: float, *,
             field.restrict(area(field))
         return field
 
-    return _fields.get_or_compute(key, made)
+    field = scene_shared(checker.scene, what, made)
+    assert field is not None
+    return field
 
 
 def shared_components(field: AssemblyField, parity: int, region: BaseGeometry | None,
