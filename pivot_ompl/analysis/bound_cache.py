@@ -33,7 +33,12 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
-from pivot_ompl.analysis.bound_levels import REFINE_SECONDS, may_refine, scaled_lower_bound
+from pivot_ompl.analysis.bound_levels import (
+    REFINE_SECONDS,
+    may_guide,
+    may_refine,
+    scaled_lower_bound,
+)
 from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.analysis.regrasp_bound import RESOLUTION, RegraspBound
 from pivot_ompl.analysis.route_bound import GRID_SLACK, MAX_CELLS, MIN_CELL
@@ -46,7 +51,7 @@ from pivot_ompl.scene import Scene, scene_digest
 log = logging.getLogger(__name__)
 
 #: Version of the relaxation: part of every key (a new relaxation never reads old results).
-BOUND_VERSION = 6
+BOUND_VERSION = 7
 #: Scenes whose bound is kept in memory.
 MEMORY_ENTRIES = 64
 #: Environment variable that turns the disk cache off when ``0``.
@@ -100,8 +105,9 @@ def bound_problem(bound: object, scene: Scene) -> str | None:
 
     if not isinstance(bound.solvable, bool):
         return f"solvable = {bound.solvable!r} is not true or false"
-    if not isinstance(bound.complete, bool) or not isinstance(bound.exhaustive, bool):
-        return f"complete = {bound.complete!r}, exhaustive = {bound.exhaustive!r} are not flags"
+    if not all(isinstance(f, bool) for f in (bound.complete, bound.exhaustive, bound.guided)):
+        return (f"complete = {bound.complete!r}, exhaustive = {bound.exhaustive!r}, "
+                f"guided = {bound.guided!r} are not flags")
     if not (whole(bound.bins) and bound.bins >= 1 and whole(bound.pieces)):
         return f"bins = {bound.bins!r}, pieces = {bound.pieces!r} are not counts"
     if (isinstance(bound.seconds, bool) or not isinstance(bound.seconds, int | float)
@@ -222,7 +228,8 @@ def cached_bound(scene: Scene, *, resolution: float = RESOLUTION) -> RegraspBoun
 
 def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RESOLUTION,
                 target: int | None = None, refine_seconds: float = REFINE_SECONDS,
-                should_stop: Callable[[], bool] | None = None) -> RegraspBound:
+                should_stop: Callable[[], bool] | None = None,
+                guided_seconds: float = 0.0) -> RegraspBound:
     """:func:`~pivot_ompl.analysis.bound_levels.scaled_lower_bound` of ``scene``, cached.
 
     Computed in the walls' frame (:func:`~pivot_ompl.analysis.wall_frame.relaxed_scene`: a
@@ -235,6 +242,10 @@ def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RES
         target: the regrasps of the plan the bound is to judge (``None``: none).
         refine_seconds: largest estimated time (s) of the finer levels together.
         should_stop: polled by a computation; a stopped result is returned, never kept.
+        guided_seconds: time (s) by estimate for the raster refined where its best path
+            passes narrow places, when the bound is still below ``target``
+            (:func:`~pivot_ompl.analysis.bound_levels.scaled_lower_bound`; 0: never; a kept
+            result not so refined is computed again when it now fits).
 
     Returns:
         The :class:`~pivot_ompl.analysis.regrasp_bound.RegraspBound` (``seconds`` is the time
@@ -250,11 +261,12 @@ def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RES
     if use_cache:
         hit = cached_bound(scene, resolution=resolution)
         if hit is not None and not _refinable(hit, scene, resolution, target,
-                                              refine_seconds):
+                                              refine_seconds, guided_seconds):
             return hit
     bound = scaled_lower_bound(relaxed_scene(scene, should_stop=should_stop),
                                resolution=resolution, target=target,
-                               refine_seconds=refine_seconds, should_stop=should_stop)
+                               refine_seconds=refine_seconds, should_stop=should_stop,
+                               guided_seconds=guided_seconds)
     if bound.solvable is None or not bound.complete:  # stopped: returned, never kept
         return bound
     problem = bound_problem(bound, scene)
@@ -269,11 +281,13 @@ def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RES
 
 
 def _refinable(hit: RegraspBound, scene: Scene, resolution: float, target: int | None,
-               refine_seconds: float) -> bool:
+               refine_seconds: float, guided_seconds: float = 0.0) -> bool:
     """Whether a finer level may now refine a kept result (then computed again)."""
     if hit.exhaustive or hit.solvable is not True:
         return False
     if target is not None and hit.regrasps is not None and hit.regrasps >= target:
         return False
+    if not hit.guided and may_guide(relaxed_scene(scene), guided_seconds):
+        return True
     return may_refine(relaxed_scene(scene), resolution=resolution,
                       refine_seconds=refine_seconds)

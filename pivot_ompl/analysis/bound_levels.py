@@ -18,6 +18,15 @@ second on a 1500 m² map of 2000 boxes), then a finer level only when both hold:
 The result is the strongest of the levels run (each is a proof), marked ``exhaustive`` when
 the polygons ran to the end. When the polygons fit they run straight after the coarsest
 raster (no finer raster can beat them); otherwise the finer rasters run in turn.
+
+With ``guided_seconds``, when the polygons did not run and the bound is still wanted, the
+coarsest raster is then refined where its best path passes narrow places
+(:func:`~pivot_ompl.analysis.guided_refine.guided_lower_bound`: rounds of one to two
+seconds on a 5000-box floor, each a proof; it polls ``should_stop`` and its rounds done
+stand), marked ``guided`` when it ran to its end; only when the coarsest raster's estimate
+and its own (:func:`guided_estimate`, from the floor's cells and yaw bins) add up to at most
+``guided_seconds``: an estimate, so a refinement that cannot end in the time given is not
+started.
 """
 
 from __future__ import annotations
@@ -27,8 +36,9 @@ import logging
 import time
 from collections.abc import Callable
 
+from pivot_ompl.analysis.guided_refine import guided_lower_bound
 from pivot_ompl.analysis.raster_bound import raster_lower_bound
-from pivot_ompl.analysis.raster_cover import floor_raster
+from pivot_ompl.analysis.raster_cover import floor_raster, raster_cover
 from pivot_ompl.analysis.regrasp_bound import (
     RESOLUTION,
     RegraspBound,
@@ -50,6 +60,11 @@ CELLS = (0.1, 0.05, 0.025)
 SECONDS_PER_CELL_ROW = 1.2e-9
 #: Rows' worth of further work per layer (labelling, the joins between pieces).
 ROWS_PER_LAYER = 10
+#: The guided refinement's cost (s) per coarse cell, yaw bin and round (its rounds rebuild
+#: the coarse graph over the whole floor; measured 6.4e-8 on the Willow Garage office).
+SECONDS_PER_CELL_BIN_ROUND = 6e-8
+#: Rounds the guided estimate counts (the Willow Garage office's 2 takes 6).
+GUIDED_ROUNDS = 6
 #: The polygon relaxation's cost (s) per obstacle piece, yaw bin and grasp (measured on fig10,
 #: the house and the Nav2 warehouse maps: 0.22-0.39 ms).
 SECONDS_PER_PIECE = 3e-4
@@ -71,10 +86,19 @@ def raster_estimate(scene: Scene, cell: float) -> float:
     return 2 * bins * raster.shape[0] * raster.shape[1] * rows * SECONDS_PER_CELL_ROW
 
 
+def guided_estimate(scene: Scene) -> float:
+    """Estimated time (s) of :func:`~pivot_ompl.analysis.guided_refine.guided_lower_bound`."""
+    raster = floor_raster(scene.bounds, CELLS[0])
+    bins = yaw_bins(scene, 0.5 * raster.cell)
+    cells = raster.shape[0] * raster.shape[1]
+    return GUIDED_ROUNDS * cells * bins * SECONDS_PER_CELL_BIN_ROUND
+
+
 def scaled_lower_bound(scene: Scene, *, target: int | None = None,
                        resolution: float = RESOLUTION,
                        refine_seconds: float = REFINE_SECONDS,
-                       should_stop: Callable[[], bool] | None = None) -> RegraspBound:
+                       should_stop: Callable[[], bool] | None = None,
+                       guided_seconds: float = 0.0) -> RegraspBound:
     """The fewest regrasps any plan of ``scene`` needs, coarse to fine (module docstring).
 
     Args:
@@ -86,10 +110,14 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
             always runs; ``math.inf``: run them all).
         should_stop: polled by every level; stopped, the levels done stand (unknown when
             the first was stopped).
+        guided_seconds: time (s) the coarsest raster and its guided refinement may take
+            together by their estimates (module docstring; 0: never refined, ``math.inf``:
+            whenever the bound is still wanted).
     """
     t0 = time.perf_counter()
-    best = raster_lower_bound(scene, cell=CELLS[0], should_stop=should_stop)
-    if best.solvable is None:
+    cover = raster_cover(scene, cell=CELLS[0], should_stop=should_stop)
+    best = raster_lower_bound(scene, cell=CELLS[0], should_stop=should_stop, cover=cover)
+    if best.solvable is None or cover is None:
         return best
     spent = raster_estimate(scene, CELLS[0])  # estimates, not clocks: the same on any load
     estimate = exhaustive_estimate(scene, resolution=resolution)
@@ -111,9 +139,19 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
         if finer.solvable is None:
             break
         best = _better(finer, best)
+    if _wanted(best, target) and may_guide(scene, guided_seconds):
+        found = guided_lower_bound(scene, cover=cover, target=target, should_stop=should_stop)
+        if found is not None:
+            best = dataclasses.replace(_better(found, best), guided=found.guided)
     log.debug("regrasp bound %s from the raster (polygons estimated %.1f s)", best.regrasps,
               estimate)
     return dataclasses.replace(best, seconds=time.perf_counter() - t0)
+
+
+def may_guide(scene: Scene, guided_seconds: float) -> bool:
+    """Whether the guided refinement fits ``guided_seconds`` on ``scene`` (estimates)."""
+    return guided_seconds > 0 and (
+        raster_estimate(scene, CELLS[0]) + guided_estimate(scene) <= guided_seconds)
 
 
 def may_refine(scene: Scene, *, resolution: float = RESOLUTION,

@@ -11,7 +11,13 @@ slow on large floors; :func:`plan_bounds` asks it only where the answer depends 
 * a plan with regrasps: the relaxation coarse to fine
   (:func:`~pivot_ompl.analysis.bound_levels.scaled_lower_bound`): its raster cover first
   (about a second on a 2000-box map), the exact polygons only when the raster's bound is
-  below the plan's regrasps and they are estimated to fit in two seconds (small scenes).
+  below the plan's regrasps and they are estimated to fit in two seconds (small scenes);
+  on larger floors, while the raster's bound is below the plan's regrasps, the raster
+  refined where its best path passes narrow places
+  (:mod:`~pivot_ompl.analysis.guided_refine`) when, by estimate, it ends within the time
+  left of the bound's share (``time_left``; ``should_stop`` still polled: the rounds done
+  stand, each a proof). A scene's bound once refined (``pivot-ompl bound --guided``) is read
+  from the cache.
 
 Every result comes from the bound cache when it holds it
 (:mod:`~pivot_ompl.analysis.bound_cache`).
@@ -149,7 +155,8 @@ def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = Non
     if regrasps == 0:  # the disk route: one per scene in the process (a later plan's is it)
         return 0, scene_shared(scene, ("disk route",), lambda: disk_route(
             scene, should_stop=should_stop, time_left=time_left))
-    full = lower_bound(scene, target=regrasps, should_stop=should_stop)
+    full = lower_bound(scene, target=regrasps, should_stop=should_stop,
+                       guided_seconds=math.inf if time_left is None else time_left())
     if full.solvable is None or _refuted(full, scene, regrasps, route_length):
         return None, None
     return full.regrasps, full.shortest_route

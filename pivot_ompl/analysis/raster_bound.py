@@ -48,8 +48,8 @@ WALK_AREA = 4.0 * MAX_SAMPLES * SAMPLE * SAMPLE
 
 def raster_lower_bound(scene: Scene, *, cell: float = CELL, resolution: float | None = None,
                        tolerance: float = SWEEP_TOLERANCE, clearance: float = KEEP_CLEARANCE,
-                       walks: bool = True, should_stop: Callable[[], bool] | None = None
-                       ) -> RegraspBound:
+                       walks: bool = True, should_stop: Callable[[], bool] | None = None,
+                       cover: RasterCover | None = None) -> RegraspBound:
     """Fewest regrasps any plan of ``scene`` needs, on the raster cover (module docstring).
 
     Args:
@@ -61,13 +61,16 @@ def raster_lower_bound(scene: Scene, *, cell: float = CELL, resolution: float | 
         clearance: distance (m) the checkers keep every body from the obstacles.
         walks: allow a regrasp only where the walking robot may get round the resting box.
         should_stop: polled once per layer and per regrasp checked.
+        cover: the scene's :func:`~pivot_ompl.analysis.raster_cover.raster_cover` of these
+            arguments when already built (``None``: built here).
 
     Returns:
         A :class:`~pivot_ompl.analysis.regrasp_bound.RegraspBound` (``exhaustive`` False).
     """
     t0 = time.perf_counter()
-    cover = raster_cover(scene, cell=cell, resolution=resolution, tolerance=tolerance,
-                         clearance=clearance, should_stop=should_stop)
+    if cover is None:
+        cover = raster_cover(scene, cell=cell, resolution=resolution, tolerance=tolerance,
+                             clearance=clearance, should_stop=should_stop)
     if cover is None:
         raster = floor_raster(scene.bounds, cell)
         n = yaw_bins(scene, 0.5 * raster.cell if resolution is None else resolution)
@@ -126,10 +129,13 @@ class RasterGraph:
 
 def raster_graph(scene: Scene, cover: RasterCover, *, tolerance: float = SWEEP_TOLERANCE,
                  clearance: float = KEEP_CLEARANCE, walks: bool = True,
-                 should_stop: Callable[[], bool] | None = None) -> RasterGraph:
+                 should_stop: Callable[[], bool] | None = None,
+                 relaxation: WalkRelaxation | None = None) -> RasterGraph:
     """The pieces of ``cover`` joined as :func:`raster_lower_bound` joins them.
 
     ``should_stop`` is polled once per bin and raises :class:`~pivot_ompl.errors.Interrupted`.
+    ``relaxation``: the walk relaxation to check regrasps by (built at its first use when ``None``;
+    one of the same scene, bin width, tolerance and clearance may be shared by graphs).
     """
     raster, n, layers = cover.raster, cover.bins, cover.layers
     half = n // 2
@@ -163,7 +169,7 @@ def raster_graph(scene: Scene, cover: RasterCover, *, tolerance: float = SWEEP_T
             for j in range(k + 1, 4):
                 link(b, k, b, j, True)
     width = 2.0 * math.pi / n
-    built: list[WalkRelaxation] = []
+    built: list[WalkRelaxation] = [] if relaxation is None else [relaxation]
 
     def walk() -> WalkRelaxation:
         if not built:

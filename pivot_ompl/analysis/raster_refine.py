@@ -179,12 +179,23 @@ def fine_raster(coarse: FloorRaster) -> FloorRaster:
 
 def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
                  resolution: float = FINE_RESOLUTION, tolerance: float, clearance: float,
-                 should_stop: Callable[[], bool] | None = None) -> FineVoxels:
+                 should_stop: Callable[[], bool] | None = None,
+                 memo: dict | None = None) -> FineVoxels:
     """The free fine voxels of ``window`` and their components (module docstring).
 
     ``should_stop`` is polled once per fine bin and raises
-    :class:`~pivot_ompl.errors.Interrupted`.
+    :class:`~pivot_ompl.errors.Interrupted`. ``memo``: a dict kept between calls on one
+    scene and cover with the same arguments, windows growing: what does not depend on the
+    window is computed once (the fine bins' bounds and lattice rows, and the free voxels of
+    the cells an earlier window held: a voxel's test reads only its own cell, bin and nearby
+    obstacles); a window not holding the earlier one starts afresh.
     """
+    memo = {} if memo is None else memo
+    done = memo.get("done")
+    if done is None or done.shape != window.shape or (done & ~window).any():
+        memo.clear()
+        done = np.zeros_like(window)
+    new = window & ~done
     coarse = cover.raster
     fine = fine_raster(coarse)
     n = cover.bins
@@ -192,9 +203,9 @@ def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
     bins = split * n
     w = 2.0 * math.pi / bins
     bodies = {g: held_bodies(scene, g) for g in (0, 1)}
-    reach = max(p.reach for parts in bodies.values() for p in parts)
-    pad = math.ceil(reach / fine.cell) + 2
-    obstacles = obstacle_cells(fine, _near_pieces(cover, window, reach), should_stop)
+    longest = max(p.reach for parts in bodies.values() for p in parts)
+    pad = math.ceil(longest / fine.cell) + 2
+    obstacles = obstacle_cells(fine, _near_pieces(cover, new, longest), should_stop)
     sums = _padded_sums(obstacles, pad)
     nx2, ny2 = fine.shape
     stride = sums.shape[1]
@@ -205,10 +216,10 @@ def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
         parts = bodies[g]
         inside = [2.0 * p.reach * math.sin(0.25 * w) + tolerance + ROUND_OFF for p in parts]
         clear = [d - clearance for d in inside]
-        found = []
+        found = [np.zeros(0, dtype=np.int64)]
         for big in range(n):
             lab = cover.layers[(g, big)][0]
-            ci, cj = np.nonzero((lab > 0) & window)
+            ci, cj = np.nonzero((lab > 0) & new)
             if not len(ci):
                 continue
             deep = _deep(lab > 0, ci, cj)
@@ -219,13 +230,38 @@ def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
             for f in range(big * split, (big + 1) * split):
                 if should_stop is not None and should_stop():
                     raise Interrupted("the refined raster cover")
-                yaw = -math.pi + (f + 0.5) * w
-                free = _free_voxels(fine, sums, pad, flat, a, b, test, scene.bounds, parts,
-                                    yaw, inside, clear)
+                if (g, f) not in memo:
+                    lo, hi, rows = layer_reach(fine.cell, scene.bounds, parts,
+                                               -math.pi + (f + 0.5) * w, inside, clear)
+                    memo[(g, f)] = lo, hi, merged_rows(rows) if rows else []
+                free = _free_voxels(fine, sums, pad, flat, a, b, test, *memo[(g, f)])
                 found.append(f * (nx2 * ny2) + a[free] * ny2 + b[free])
-        keys[g] = np.sort(np.concatenate(found)) if found else np.zeros(0, dtype=np.int64)
-        count[g], labels[g] = _components(keys[g], nx2, ny2, bins)
+        count[g], keys[g], labels[g] = _grown(memo, g, np.concatenate(found), nx2, ny2, bins)
+    for g in (0, 1):  # kept only once both parities are done (a stop leaves the memo whole)
+        memo[("keys", g)], memo[("labels", g)], memo[("count", g)] = keys[g], labels[g], count[g]
+    memo["done"] = window.copy()
     return FineVoxels(fine, split, bins, window, keys, labels, count)
+
+
+def _grown(memo: dict, g: int, new: np.ndarray, nx: int, ny: int, bins: int
+           ) -> tuple[int, np.ndarray, np.ndarray]:
+    """``(count, keys, labels)`` of parity ``g``: the memo's voxels and components and ``new``."""
+    old = memo.get(("keys", g))
+    keys = np.sort(np.concatenate([new.astype(np.int64, copy=False)]
+                                  + ([] if old is None else [old])))
+    if old is None or not len(old):
+        count, labels = _components(keys, nx, ny, bins)
+        return count, keys, labels
+    fresh = np.ones(len(keys), dtype=bool)
+    at = np.searchsorted(keys, old)
+    fresh[at] = False
+    node = np.empty(len(keys), dtype=np.int64)
+    node[at] = memo[("labels", g)]
+    known = int(memo[("count", g)])
+    node[fresh] = known + np.arange(int(fresh.sum()))
+    count, labels = _components(keys, nx, ny, bins, fresh=fresh, node=node,
+                                nodes=known + int(fresh.sum()))
+    return count, keys, labels
 
 
 def _near_pieces(cover: RasterCover, window: np.ndarray, reach: float) -> list[np.ndarray]:
@@ -275,18 +311,19 @@ def _padded_sums(obstacles: np.ndarray, pad: int) -> np.ndarray:
 
 
 def _free_voxels(fine: FloorRaster, sums: np.ndarray, pad: int, flat: np.ndarray,
-                 a: np.ndarray, b: np.ndarray, test: np.ndarray,
-                 bounds: tuple[float, float, float, float], parts: list,
-                 yaw: float, inside: list[float], clear: list[float]) -> np.ndarray:
-    """Which fine cells ``(a, b)`` are free at ``yaw`` (untested ones, ``~test``, are)."""
-    lo, hi, rows = layer_reach(fine.cell, bounds, parts, yaw, inside, clear)
+                 a: np.ndarray, b: np.ndarray, test: np.ndarray, lo: list[float],
+                 hi: list[float], merged: list) -> np.ndarray:
+    """Which fine cells ``(a, b)`` are free in a fine bin (untested ones, ``~test``, are).
+
+    ``lo``, ``hi``, ``merged``: the bin's rectangle of positions inside the bounds and its
+    merged lattice rows (:func:`~pivot_ompl.analysis.raster_cover.layer_reach`).
+    """
     (fx, fy), h = fine.origin, fine.cell
     xs, ys = fx + a * h, fy + b * h
     free = ((xs <= hi[0] + EPS) & (xs + h >= lo[0] - EPS)
             & (ys <= hi[1] + EPS) & (ys + h >= lo[1] - EPS))
     idx = np.flatnonzero(free & test)
-    if rows and len(idx):
-        merged = merged_rows(rows)
+    if merged and len(idx):
         stride = sums.shape[1]
         top = np.array([(hi_ + 1) * stride + dj for dj, _, hi_ in merged], dtype=np.int64)
         bottom = np.array([lo_ * stride + dj for dj, lo_, _ in merged], dtype=np.int64)
@@ -300,29 +337,46 @@ def _free_voxels(fine: FloorRaster, sums: np.ndarray, pad: int, flat: np.ndarray
     return free
 
 
-def _components(keys: np.ndarray, nx: int, ny: int, bins: int) -> tuple[int, np.ndarray]:
-    """Components of the voxels ``keys`` (8-adjacent in a bin; one cell, consecutive bins)."""
+def _components(keys: np.ndarray, nx: int, ny: int, bins: int, *,
+                fresh: np.ndarray | None = None, node: np.ndarray | None = None,
+                nodes: int = 0) -> tuple[int, np.ndarray]:
+    """Components of the voxels ``keys`` (8-adjacent in a bin; one cell, consecutive bins).
+
+    ``fresh``, ``node``, ``nodes``: to grow known components by new voxels, the voxels joined
+    from (the others' joins already known), each voxel's node (a known component's, or its
+    own) and the number of nodes; by default every voxel is its own node.
+    """
     if not len(keys):
         return 0, np.zeros(0, dtype=np.int64)
     cells = nx * ny
-    b = keys % ny
-    a = (keys % cells) // ny
-    f = keys // cells
+    idx = np.arange(len(keys)) if fresh is None else np.flatnonzero(fresh)
+    node = np.arange(len(keys)) if node is None else node
+    k = keys[idx]
+    b = k % ny
+    a = (k % cells) // ny
+    f = k // cells
     src, dst = [], []
 
     def join(target: np.ndarray, ok: np.ndarray) -> None:
         pos = np.clip(np.searchsorted(keys, target), 0, len(keys) - 1)
         hit = ok & (keys[pos] == target)
-        src.append(np.flatnonzero(hit))
-        dst.append(pos[hit])
+        src.append(node[idx[hit]])
+        dst.append(node[pos[hit]])
 
-    join(keys + ny, a + 1 < nx)
-    join(keys + 1, b + 1 < ny)
-    join(keys + ny + 1, (a + 1 < nx) & (b + 1 < ny))
-    join(keys + ny - 1, (a + 1 < nx) & (b > 0))
-    join(np.where(f + 1 < bins, keys + cells, keys - (bins - 1) * cells),
-         np.ones(len(keys), dtype=bool))
+    every = np.ones(len(k), dtype=bool)
+    join(k + ny, a + 1 < nx)
+    join(k + 1, b + 1 < ny)
+    join(k + ny + 1, (a + 1 < nx) & (b + 1 < ny))
+    join(k + ny - 1, (a + 1 < nx) & (b > 0))
+    join(np.where(f + 1 < bins, k + cells, k - (bins - 1) * cells), every)
+    if fresh is not None:  # the joins whose lower voxel is a known one
+        join(k - ny, a >= 1)
+        join(k - 1, b >= 1)
+        join(k - ny - 1, (a >= 1) & (b >= 1))
+        join(k - ny + 1, (a >= 1) & (b + 1 < ny))
+        join(np.where(f >= 1, k - cells, k + (bins - 1) * cells), every)
     s, d = np.concatenate(src), np.concatenate(dst)
-    graph = coo_matrix((np.ones(len(s), dtype=np.int8), (s, d)), shape=(len(keys),) * 2)
+    size = len(keys) if fresh is None else nodes
+    graph = coo_matrix((np.ones(len(s), dtype=np.int8), (s, d)), shape=(size, size))
     count, labels = connected_components(graph, directed=False)
-    return int(count), labels.astype(np.int64)
+    return int(count), labels[node].astype(np.int64)

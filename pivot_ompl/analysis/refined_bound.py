@@ -42,6 +42,7 @@ from pivot_ompl.analysis.raster_bound import WALK_AREA, RasterGraph, cells_regio
 from pivot_ompl.analysis.raster_cover import RasterCover
 from pivot_ompl.analysis.raster_refine import FineVoxels, neck_window, refine_cover
 from pivot_ompl.analysis.regrasp_bound import RegraspBound
+from pivot_ompl.analysis.regrasp_walk import WalkRelaxation
 from pivot_ompl.analysis.route_bound import route_on
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
@@ -82,30 +83,33 @@ class RefinedGraph:
 
 def refined_graph(scene: Scene, cover: RasterCover, *, tolerance: float, clearance: float,
                   walks: bool = True, window: np.ndarray | None = None,
-                  should_stop: Callable[[], bool] | None = None) -> RefinedGraph | None:
+                  should_stop: Callable[[], bool] | None = None,
+                  relaxation: WalkRelaxation | None = None, memo: dict | None = None
+                  ) -> RefinedGraph | None:
     """The mixed graph of ``cover`` (module docstring); ``None`` when the window is empty.
 
     ``window``: the coarse cells to refine (default
     :func:`~pivot_ompl.analysis.raster_refine.neck_window`; any window is sound).
-    ``should_stop`` raises :class:`~pivot_ompl.errors.Interrupted`.
+    ``should_stop`` raises :class:`~pivot_ompl.errors.Interrupted`; ``relaxation``: as
+    :func:`~pivot_ompl.analysis.raster_bound.raster_graph`'s; ``memo``: as
+    :func:`~pivot_ompl.analysis.raster_refine.refine_cover`'s.
     """
     window = neck_window(cover) if window is None else window
     if not window.any():
         return None
     fine = refine_cover(scene, cover, window, tolerance=tolerance, clearance=clearance,
-                        should_stop=should_stop)
+                        should_stop=should_stop, memo=memo)
     layers = {}
     for key, (lab, count) in cover.layers.items():
         if should_stop is not None and should_stop():
             raise Interrupted("the refined raster graph")
         if count and (lab[window] > 0).any():
-            relabelled, count = ndimage.label((lab > 0) & ~window, structure=_EIGHT)
-            layers[key] = (relabelled.astype(np.int32, copy=False), int(count))
+            layers[key] = _relabel((lab > 0) & ~window)
         else:
             layers[key] = (lab, count)
     outside = RasterCover(cover.raster, cover.bins, layers, cover.pieces)
     coarse = raster_graph(scene, outside, tolerance=tolerance, clearance=clearance,
-                          walks=walks, should_stop=should_stop)
+                          walks=walks, should_stop=should_stop, relaxation=relaxation)
     graph = coarse.graph
     fine_base, total = [], coarse.total
     for k in range(4):
@@ -134,6 +138,15 @@ def refined_graph(scene: Scene, cover: RasterCover, *, tolerance: float, clearan
                                          -math.pi + (big + 0.5) * width, k, j)
 
     return RefinedGraph(coarse, outside, fine, fine_base, allowed)
+
+
+def _relabel(free: np.ndarray) -> tuple[np.ndarray, int]:
+    """8-connected labels of ``free`` in the smallest integer type that holds them."""
+    try:  # half the memory of int32 for the usual few thousand pieces a layer
+        out, count = ndimage.label(free, structure=_EIGHT, output=np.int16)
+    except RuntimeError:  # more pieces than int16 holds
+        out, count = ndimage.label(free, structure=_EIGHT)
+    return out, int(count)
 
 
 def _join_borders(fine: FineVoxels, outside: RasterCover, coarse: RasterGraph,

@@ -103,6 +103,8 @@ class RegraspBound:
             time limit; such a result is not kept by the cache).
         exhaustive: computed by the exact polygon relaxation (``False``: by a faster one,
             :mod:`~pivot_ompl.analysis.raster_bound`, sound but possibly lower).
+        guided: the raster relaxation was refined to the end where its best path passes
+            narrow places (:mod:`~pivot_ompl.analysis.guided_refine`).
     """
 
     regrasps: int | None
@@ -113,6 +115,7 @@ class RegraspBound:
     shortest_route: float | None = None
     complete: bool = True
     exhaustive: bool = True
+    guided: bool = False
 
 
 @dataclass(frozen=True)

@@ -82,6 +82,7 @@ class WalkRelaxation:
         self.free = self.raster.meeting(free)
         self.labels, _ = ndimage.label(self.free, structure=_EIGHT)
         self.queries = 0
+        self._answers: dict[tuple[bytes, float, int, int], bool] = {}
 
     # -- raster helpers ------------------------------------------------------------------
     def _cells(self, x: float, y: float, r: float) -> tuple[np.ndarray, np.ndarray]:
@@ -103,6 +104,12 @@ class WalkRelaxation:
         self.queries += 1
         if region.is_empty:
             return False
+        key = (shapely.to_wkb(region), yaw, k, j)  # the same question, the same answer
+        if key not in self._answers:
+            self._answers[key] = self._may_regrasp(region, yaw, k, j)
+        return self._answers[key]
+
+    def _may_regrasp(self, region: BaseGeometry, yaw: float, k: int, j: int) -> bool:
         samples, rho = self._samples(region)
         if len(samples) > MAX_SAMPLES:
             return True

@@ -4,7 +4,9 @@ Prints the lower bounds on regrasps and on the box's route
 (:mod:`pivot_ompl.analysis.regrasp_bound`, :mod:`pivot_ompl.analysis.route_bound`), computed
 once per scene geometry and cached (``--no-cache`` computes afresh and keeps nothing): the
 raster relaxation first, the exact polygons when they are estimated to take at most two
-seconds (``--exhaustive``: always; :mod:`pivot_ompl.analysis.bound_levels`). Exit
+seconds (``--exhaustive``: always; :mod:`pivot_ompl.analysis.bound_levels`), and with
+``--guided`` the raster refined where its best path passes narrow places
+(:mod:`pivot_ompl.analysis.guided_refine`; what ``plan`` runs on large floors). Exit
 status: 0 a bound, 1 none (stopped by ``--time``, or the relaxation proves that no plan
 exists), 2 bad input.
 """
@@ -33,6 +35,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--exhaustive", action="store_true",
                    help="also run the exact polygon relaxation on a large floor (minutes on "
                         "thousands of boxes; by default only where estimated <= 2 s)")
+    p.add_argument("--guided", action="store_true",
+                   help="where the polygons do not run, refine the raster where its best path "
+                        "passes narrow places (seconds on thousands of boxes)")
     p.set_defaults(func=run)
 
 
@@ -43,9 +48,10 @@ def run(args: argparse.Namespace) -> int:
     end = time.monotonic() + args.time
     b = lower_bound(scene, use_cache=not args.no_cache,
                     refine_seconds=math.inf if args.exhaustive else REFINE_SECONDS,
-                    should_stop=lambda: time.monotonic() > end)
+                    should_stop=lambda: time.monotonic() > end,
+                    guided_seconds=math.inf if args.guided else 0.0)
     took = time.perf_counter() - t0
-    how = "polygons" if b.exhaustive else "raster"
+    how = "polygons" if b.exhaustive else "raster, guided" if b.guided else "raster"
     where = f"{how}, {b.bins} yaw bins, {b.pieces} pieces; {took:.2f} s"
     if b.solvable is None:
         print(f"{printable(scene.name)}: unknown (stopped after {args.time:g} s; {where})")
