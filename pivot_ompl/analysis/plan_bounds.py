@@ -12,12 +12,15 @@ slow on large floors; :func:`plan_bounds` asks it only where the answer depends 
   (:func:`~pivot_ompl.analysis.bound_levels.scaled_lower_bound`): its raster cover first
   (about a second on a 2000-box map), the exact polygons only when the raster's bound is
   below the plan's regrasps and they are estimated to fit in two seconds (small scenes);
-  on larger floors, while the raster's bound is below the plan's regrasps, the raster
-  refined where its best path passes narrow places
+  with ``guided``, on larger floors, while the raster's bound is below the plan's regrasps,
+  the raster refined where its best path passes narrow places
   (:mod:`~pivot_ompl.analysis.guided_refine`) when, by estimate, it ends within the time
   left of the bound's share (``time_left``; ``should_stop`` still polled: the rounds done
-  stand, each a proof). A scene's bound once refined (``pivot-ompl bound --guided``) is read
-  from the cache.
+  stand, each a proof). ``plan`` does not ask for it: where it would reach the plan's count
+  it costs more than the bound's share (the Willow Garage office: ~11 s for its 2), and
+  where it fits it often adds nothing (rooms joined by a tight corridor: 1-4 s for the same
+  0). A scene's bound once refined (``pivot-ompl bound --guided``) is read from the cache
+  by every later plan.
 
 Every result comes from the bound cache when it holds it
 (:mod:`~pivot_ompl.analysis.bound_cache`).
@@ -137,7 +140,7 @@ def _poller(should_stop: Callable[[], bool] | None) -> Callable[[], None]:
 
 def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = None,
                 should_stop: Callable[[], bool] | None = None,
-                time_left: Callable[[], float] | None = None
+                time_left: Callable[[], float] | None = None, guided: bool = False
                 ) -> tuple[int | None, float | None]:
     """``(regrasps_lower_bound, shortest_route)`` for a plan of ``scene`` with ``regrasps``.
 
@@ -145,7 +148,8 @@ def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = Non
     when ``time_left()`` s are too few for its graph search (module docstring). A
     relaxation's bound that the plan itself refutes (more regrasps than ``regrasps``, a
     route longer than ``route_length`` m, or "no plan") is dropped from the caches and not
-    given: a relaxation of every plan cannot lie above a valid one.
+    given: a relaxation of every plan cannot lie above a valid one. ``guided``: refine the
+    raster where its best path cheats when that fits ``time_left()`` (module docstring).
     """
     known = cached_bound(scene)
     if known is not None and known.solvable:
@@ -156,7 +160,8 @@ def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = Non
         return 0, scene_shared(scene, ("disk route",), lambda: disk_route(
             scene, should_stop=should_stop, time_left=time_left))
     full = lower_bound(scene, target=regrasps, should_stop=should_stop,
-                       guided_seconds=math.inf if time_left is None else time_left())
+                       guided_seconds=0.0 if not guided else
+                       math.inf if time_left is None else time_left())
     if full.solvable is None or _refuted(full, scene, regrasps, route_length):
         return None, None
     return full.regrasps, full.shortest_route

@@ -6,7 +6,7 @@ once per scene geometry and cached (``--no-cache`` computes afresh and keeps not
 raster relaxation first, the exact polygons when they are estimated to take at most two
 seconds (``--exhaustive``: always; :mod:`pivot_ompl.analysis.bound_levels`), and with
 ``--guided`` the raster refined where its best path passes narrow places
-(:mod:`pivot_ompl.analysis.guided_refine`; what ``plan`` runs on large floors). Exit
+(:mod:`pivot_ompl.analysis.guided_refine`; later plans read it from the cache). Exit
 status: 0 a bound, 1 none (stopped by ``--time``, or the relaxation proves that no plan
 exists), 2 bad input.
 """

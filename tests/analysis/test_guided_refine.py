@@ -191,8 +191,8 @@ def test_a_growing_window_refined_again_gives_the_fresh_voxels():
 
 def test_a_plan_with_regrasps_gets_the_guided_bound(monkeypatch, tmp_path):
     """plan's bounds on a floor whose polygons and finer rasters are estimated too slow (the
-    slot, made to look so): the raster says 0, the plan's block carries the guided 1; a
-    plan without regrasps needs no refinement."""
+    slot, made to look so): the raster says 0; asked for, the guided 1, which later plans
+    read from the cache; a plan without regrasps needs no refinement."""
     from pivot_ompl.analysis import bound_levels
     from pivot_ompl.analysis.plan_bounds import plan_bounds
 
@@ -202,4 +202,7 @@ def test_a_plan_with_regrasps_gets_the_guided_bound(monkeypatch, tmp_path):
     bound_cache.clear_memory()
     scene = shipped("slot")
     assert plan_bounds(scene, 0)[0] == 0
+    assert plan_bounds(scene, 2)[0] == 0  # plan's default: not refined
+    assert plan_bounds(scene, 2, guided=True)[0] == 1
+    bound_cache.clear_memory()  # a later plan reads the refined bound from the disk cache
     assert plan_bounds(scene, 2)[0] == 1
