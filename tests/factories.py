@@ -137,3 +137,24 @@ def two_rooms(door: float) -> Scene:
             (4.3, 2.55 - 0.5 * door, 4.6, 2.55 + 0.5 * door)]
     return layout_scene("two_rooms", bounds, free_complement(bounds, free), (2.0, 2.55, 0.0),
                         (7.0, 2.55, 0.0))
+
+
+def turned_generated(seed: int) -> Scene:
+    """A generated walls, corridor or building scene (by ``seed``), turned by a random angle."""
+    import numpy as np
+
+    from pivot_ompl.generate import generate, rotate_scene
+
+    rng = np.random.default_rng(seed)
+    family = ("walls", "corridor", "building")[seed % 3]
+    scene = generate(family, seed=int(rng.integers(0, 50))).scene
+    return rotate_scene(scene, float(rng.uniform(-math.pi, math.pi)))
+
+
+def open_floor_checker(start: tuple[float, float, float], goal: tuple[float, float, float],
+                       **extra):  # noqa: ANN201
+    """The checker of a 10 x 8 m floor from ``start`` to ``goal`` (``extra``: scene fields)."""
+    from pivot_ompl.base.problem import make_problem
+
+    scene = make_scene(start=list(start), goal=list(goal), bounds=[-1.0, -1.0, 9.0, 7.0], **extra)
+    return make_problem(scene).checker

@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 import pytest
-from factories import shipped
+from factories import shipped, turned_generated
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -25,7 +25,6 @@ from pivot_ompl.analysis.raster_bound import raster_lower_bound
 from pivot_ompl.analysis.raster_cover import raster_cover
 from pivot_ompl.analysis.raster_refine import neck_window, refine_cover, turn_neck_window
 from pivot_ompl.analysis.regrasp_bound import regrasp_lower_bound
-from pivot_ompl.generate import generate, rotate_scene
 from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
 
@@ -96,16 +95,9 @@ def test_the_thin_parts_on_the_way_through_not_the_dead_ends():
     assert every[14:26, 7].all() and every[5, 15:19].all()
 
 
-def _case(seed: int):
-    rng = np.random.default_rng(seed)
-    family = ("walls", "corridor", "building")[seed % 3]
-    scene = generate(family, seed=int(rng.integers(0, 50))).scene
-    return rotate_scene(scene, float(rng.uniform(-math.pi, math.pi)))
-
-
 @pytest.mark.parametrize("seed", range(4))
 def test_the_guided_bound_lies_between_the_coarse_and_the_exact_ones(seed):
-    scene = _case(seed)
+    scene = turned_generated(seed)
     exact = regrasp_lower_bound(scene)
     coarse = raster_lower_bound(scene)
     trace: list[GuidedRound] = []

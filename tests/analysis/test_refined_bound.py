@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 import pytest
-from factories import shipped
+from factories import shipped, turned_generated
 
 from pivot_ompl.analysis.raster_bound import raster_lower_bound
 from pivot_ompl.analysis.raster_cover import raster_cover
@@ -15,7 +15,7 @@ from pivot_ompl.analysis.raster_refine import neck_window, refine_cover, turn_ne
 from pivot_ompl.analysis.refined_bound import refined_lower_bound
 from pivot_ompl.analysis.regrasp_bound import regrasp_lower_bound
 from pivot_ompl.checking.pivot_checker import PivotChecker
-from pivot_ompl.generate import generate, rotate_scene
+from pivot_ompl.generate import rotate_scene
 from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
 
@@ -51,16 +51,9 @@ def test_the_fine_voxels_hold_every_valid_state_in_the_window(name, turn, seed, 
     assert valid > 40 and near > 5
 
 
-def _case(seed: int):
-    rng = np.random.default_rng(seed)
-    family = ("walls", "corridor", "building")[seed % 3]
-    scene = generate(family, seed=int(rng.integers(0, 50))).scene
-    return rotate_scene(scene, float(rng.uniform(-math.pi, math.pi)))
-
-
 @pytest.mark.parametrize("seed", range(3))
 def test_the_refined_bound_lies_between_the_coarse_and_the_exact_ones(seed):
-    scene = _case(seed)
+    scene = turned_generated(seed)
     exact = regrasp_lower_bound(scene)
     coarse = raster_lower_bound(scene)
     cover = raster_cover(scene, cell=0.1)

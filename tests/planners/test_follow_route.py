@@ -4,11 +4,10 @@ from __future__ import annotations
 
 import math
 
-from factories import make_scene
+from factories import open_floor_checker
 from hypothesis import given, settings
 from hypothesis import strategies as hs
 
-from pivot_ompl.base.problem import make_problem
 from pivot_ompl.cost import CostModel
 from pivot_ompl.planners.evaluation import Evaluator
 from pivot_ompl.planners.follow_route import FollowStats, follow_route
@@ -18,9 +17,7 @@ GOAL = (7.0, 3.0, 0.0)
 
 
 def _checker(**extra):
-    scene = make_scene(start=list(START), goal=list(GOAL), bounds=[-1.0, -1.0, 9.0, 7.0],
-                       **extra)
-    return make_problem(scene).checker
+    return open_floor_checker(START, GOAL, **extra)
 
 
 def _phases(states):
