@@ -17,8 +17,7 @@ import argparse
 import logging
 import webbrowser
 from pathlib import Path
-
-import meshcat
+from typing import TYPE_CHECKING
 
 from pivot_ompl.cli.args import output_file, output_files, positive
 from pivot_ompl.cli.scenes import SceneRecord, find_scene, missing_text
@@ -26,6 +25,9 @@ from pivot_ompl.errors import InputError
 from pivot_ompl.fileio import regular_file
 from pivot_ompl.planfile import load_plan
 from pivot_ompl.scene import Scene
+
+if TYPE_CHECKING:  # meshcat (with IPython, tornado, zmq) costs every verb ~0.07 s to import
+    import meshcat
 
 log = logging.getLogger(__name__)
 
