@@ -202,13 +202,19 @@ class TransferCheck:
             alpha = steering.alpha_max * factor
             if alpha <= by_clearance:
                 break
+            # checked sub-piece by sub-piece (as one sequence: each from where the last ended,
+            # with its clearances), the rest not converted once one fails
             fine: list[Rotation] = []
+            at, ends, why = piece.start, (db, dr), ""
             for sub in steering.iter_pieces(ca, cb, half_length=ell, should_stop=should_stop,
                                             span=(piece.t0, piece.t1), origin=piece.start,
                                             alpha_max=alpha, previous=before):
                 firsts.setdefault(alpha, sub)
+                why, ends = self._rotations(at, sub.rotations, grasp, with_robot, *ends)
+                if why:
+                    break
                 fine.extend(sub.rotations)
-            why, ends = self._rotations(piece.start, tuple(fine), grasp, with_robot, db, dr)
+                at = sub.rotations[-1].car if sub.rotations else at
             if not why:
                 return fine, "", ends
         return self._by_clearance(ca, cb, piece, grasp, with_robot, (db, dr), should_stop,
