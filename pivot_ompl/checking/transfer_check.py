@@ -197,27 +197,38 @@ class TransferCheck:
         steering = self.steering
         ell = self.model.edge_half_length(grasp)
         by_clearance, _ = self._clearance_bound(piece.start, grasp, with_robot, db, dr)
+        firsts: dict[float, Piece] = {}  # each bound's first sub-piece, for _by_clearance
         for factor in REFINE_FACTORS:
             alpha = steering.alpha_max * factor
             if alpha <= by_clearance:
                 break
+            # checked sub-piece by sub-piece (as one sequence: each from where the last ended,
+            # with its clearances), the rest not converted once one fails
             fine: list[Rotation] = []
+            at, ends, why = piece.start, (db, dr), ""
             for sub in steering.iter_pieces(ca, cb, half_length=ell, should_stop=should_stop,
                                             span=(piece.t0, piece.t1), origin=piece.start,
                                             alpha_max=alpha, previous=before):
+                firsts.setdefault(alpha, sub)
+                why, ends = self._rotations(at, sub.rotations, grasp, with_robot, *ends)
+                if why:
+                    break
                 fine.extend(sub.rotations)
-            why, ends = self._rotations(piece.start, tuple(fine), grasp, with_robot, db, dr)
+                at = sub.rotations[-1].car if sub.rotations else at
             if not why:
                 return fine, "", ends
         return self._by_clearance(ca, cb, piece, grasp, with_robot, (db, dr), should_stop,
-                                  before)
+                                  before, firsts)
 
     def _by_clearance(self, ca: Pose, cb: Pose, piece: Piece, grasp: int, with_robot: bool,
                       clear: tuple[float, float], should_stop: Callable[[], bool] | None,
-                      before: Rotation | None,
+                      before: Rotation | None, firsts: dict[float, Piece],
                       ) -> tuple[list[Rotation], str, tuple[float, float]]:
         """The piece's stretch, sub-piece by sub-piece, each bounded by its start's clearance.
 
+        ``firsts``: by rotation bound, the first sub-piece :meth:`_refine` converted from the
+        piece's start (the same conversion as the first sub-piece here: not done again; a
+        ladder rung is the bound of the same half-octave factor, the same number).
         Returns the rotations, ``""`` (or the failure) and the end clearances.
         """
         steering = self.steering
@@ -235,12 +246,16 @@ class TransferCheck:
             tries = [(k, a) for k, a in enumerate(ladder) if k >= rung and a > bound]
             tries += [(len(ladder), bound), (len(ladder), SAFE_SHARE * bound)]
             for k, alpha in tries:
-                pieces = steering.iter_pieces(ca, cb, half_length=ell, should_stop=should_stop,
-                                              span=(t, piece.t1), origin=current,
-                                              alpha_max=alpha,
-                                              previous=fine[-1] if fine else before)
-                sub = next(pieces)
-                pieces.close()
+                known = firsts.get(alpha) if t == piece.t0 else None
+                if known is not None:
+                    sub = known
+                else:
+                    pieces = steering.iter_pieces(ca, cb, half_length=ell,
+                                                  should_stop=should_stop, span=(t, piece.t1),
+                                                  origin=current, alpha_max=alpha,
+                                                  previous=fine[-1] if fine else before)
+                    sub = next(pieces)
+                    pieces.close()
                 why, ends = self._rotations(current, sub.rotations, grasp, with_robot, *clear)
                 if not why:
                     rung = max(0, k - 1)

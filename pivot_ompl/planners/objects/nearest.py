@@ -21,11 +21,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from pivot_ompl.se2 import Pose
+
+if TYPE_CHECKING:
+    from scipy.spatial import cKDTree
 
 #: Below this many poses a query scans them all.
 SCAN = 256
@@ -78,6 +81,9 @@ class PoseTree:
         return np.column_stack([poses[:, 0], poses[:, 1], r * np.cos(a), r * np.sin(a)])
 
     def _build(self) -> None:
+        # scipy.spatial costs a process ~0.05 s to import: only a roadmap past SCAN poses needs it
+        from scipy.spatial import cKDTree
+
         self._built = self._n
         self._tree = cKDTree(self._embed(self._poses[:self._n]))
         self.rebuilds += 1
