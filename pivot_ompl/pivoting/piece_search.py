@@ -71,7 +71,9 @@ def fewer_pivots(solve: Callable[[float], _Solved | None], previous: Rotation,
             t_ok, best = t, res
         else:
             t_fail = t
-    if (t_ok - t0) / (len(best[1]) - 1) >= FEWER_PIVOTS_GAIN * span / len(long[1]):
+    # advance per rotation added, (t_ok - t0) / (n - 1) against span / len(long), multiplied
+    # out: a merging piece of one rotation adds none and always wins
+    if (t_ok - t0) * len(long[1]) >= FEWER_PIVOTS_GAIN * span * (len(best[1]) - 1):
         return t_ok, best
     return t_long, long
 
