@@ -51,7 +51,10 @@ from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Scene
 log = logging.getLogger(__name__)
 
 #: Largest estimated time (s) of all levels run together (a finer one runs only if it fits).
-REFINE_SECONDS = 2.0
+#: A quarter of the 10 s a plan's bounds may take: the estimates run high (fig10 turned by
+#: 30 degrees, with its old bounds as walls: the polygons estimated 1.9 s, run in 1.4 s), and
+#: at 2 s such copies of a small scene lost their exact bound to the raster's 0.
+REFINE_SECONDS = 2.5
 #: The raster levels' cell sides (m), coarse to fine (a floor over the raster's cell cap
 #: gets larger cells at every level).
 CELLS = (0.1, 0.05, 0.025)

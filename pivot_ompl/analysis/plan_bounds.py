@@ -11,7 +11,7 @@ slow on large floors; :func:`plan_bounds` asks it only where the answer depends 
 * a plan with regrasps: the relaxation coarse to fine
   (:func:`~pivot_ompl.analysis.bound_levels.scaled_lower_bound`): its raster cover first
   (about a second on a 2000-box map), the exact polygons only when the raster's bound is
-  below the plan's regrasps and they are estimated to fit in two seconds (small scenes);
+  below the plan's regrasps and they are estimated to fit in 2.5 seconds (small scenes);
   with ``guided``, on larger floors, while the raster's bound is below the plan's regrasps,
   the raster refined where its best path passes narrow places
   (:mod:`~pivot_ompl.analysis.guided_refine`) when, by estimate, it ends within the time

@@ -3,7 +3,7 @@
 Prints the lower bounds on regrasps and on the box's route
 (:mod:`pivot_ompl.analysis.regrasp_bound`, :mod:`pivot_ompl.analysis.route_bound`), computed
 once per scene geometry and cached (``--no-cache`` computes afresh and keeps nothing): the
-raster relaxation first, the exact polygons when they are estimated to take at most two
+raster relaxation first, the exact polygons when they are estimated to take at most 2.5
 seconds (``--exhaustive``: always; :mod:`pivot_ompl.analysis.bound_levels`), and with
 ``--guided`` the raster refined where its best path passes narrow places
 (:mod:`pivot_ompl.analysis.guided_refine`; later plans read it from the cache). Exit
@@ -34,7 +34,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="compute afresh (neither read nor write the cache)")
     p.add_argument("--exhaustive", action="store_true",
                    help="also run the exact polygon relaxation on a large floor (minutes on "
-                        "thousands of boxes; by default only where estimated <= 2 s)")
+                        "thousands of boxes; by default only where estimated <= 2.5 s)")
     p.add_argument("--guided", action="store_true",
                    help="where the polygons do not run, refine the raster where its best path "
                         "passes narrow places (seconds on thousands of boxes)")

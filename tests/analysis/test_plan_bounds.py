@@ -93,3 +93,19 @@ def test_a_plan_without_regrasps_takes_the_disk_route_a_plan_of_its_scene_found(
     first = plan_bounds(scene, 0)
     assert first[1] is not None and len(calls) == 2
     assert plan_bounds(scene, 0, should_stop=lambda: True) == first and len(calls) == 2
+
+
+@pytest.mark.parametrize("copy", ["turned", "mirrored"])
+def test_a_turned_or_mirrored_fig10_keeps_its_exact_bound(copy, monkeypatch, tmp_path):
+    """Regression: fig10 turned by 30 degrees or mirrored (its old bounds kept as walls, 15
+    pieces) had the polygons estimated just over the levels' budget, so its plans carried
+    the raster's 0 for the exact 2."""
+    from pivot_ompl.analysis import bound_cache
+    from pivot_ompl.generate import mirror_scene, rotate_scene
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    bound_cache.clear_memory()
+    base = shipped("fig10")
+    scene = (rotate_scene(base, math.radians(30.0)) if copy == "turned"
+             else mirror_scene(base, 0.3))
+    assert plan_bounds(scene, 2)[0] == 2
