@@ -17,7 +17,7 @@ other load on a shared machine counts less than in OMPL's wall-clock ``time``); 
 are the same.
 
     PIVOT_BENCH_LOCK=/tmp/pivot-bench.lock python benchmarks/one_grasp.py \
-        [--before /work/brief/base_8a3d085] [--maps aws_small_house,nav2_depot] \
+        [--before /tmp/base] [--maps aws_small_house,nav2_depot] \
         [--planners 'regrasp,regrasp[optimiser.routes=false],rrtconnect'] [--runs 5]
 """
 

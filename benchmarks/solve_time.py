@@ -14,7 +14,7 @@ one plan of the command line costs beyond the imports; the lower bounds may come
 disk cache). Target (issue 42): every shipped scene <= 1.2x the first version.
 
     flock /tmp/pivot-bench.lock python benchmarks/solve_time.py \
-        --before /work/brief/base_43d1d86 [--seeds 5] [--time 15]
+        --before /tmp/base [--seeds 5] [--time 15]
         [--scenes fig10,slot,door,...] [--out results/solve_time.json]
 """
 
