@@ -219,23 +219,25 @@ def _best(evaluate: Evaluator, known: _Known, phase: list[State],
         spins += [(est, p) for est, p in ways if turns_and_legs(evaluate.checker, p, g)]
     if guide is None:
         return None
-    out = _offered(evaluate, guide, phase, chosen, st, should_stop)
+    out = _offered(evaluate, guide, phase, old, chosen, st, should_stop)
     if out is None:  # the turns in place the estimates ranked below the arcs
         more = [p for est, p in sorted(spins) if est < old - MIN_SAVING and p not in chosen
                 and _mostly_valid(evaluate.checker, p, g)]
-        out = _offered(evaluate, guide, phase, list(dict.fromkeys(more))[:SPIN_VARIANTS], st,
-                       should_stop)
+        out = _offered(evaluate, guide, phase, old, list(dict.fromkeys(more))[:SPIN_VARIANTS],
+                       st, should_stop)
     return out
 
 
 def _offered(evaluate: Evaluator, guide: list[tuple[float, float]], phase: list[State],
-             variants: list[tuple[Pose, ...]], st: FollowStats, should_stop: Stop
+             old: float, variants: list[tuple[Pose, ...]], st: FollowStats, should_stop: Stop
              ) -> list[State] | None:
-    """The cheapest path over the phase's and ``variants``' poses if cheaper; else ``None``."""
+    """The cheapest path over the phase's and ``variants``' poses if cheaper; else ``None``.
+
+    ``old``: the phase's cost (s), which the path must beat.
+    """
     if not variants:
         return None
     g = phase[0][1]
-    old = evaluate.path(phase).cost
     st.tried += len(variants)
     poses, path, links = _merged(guide, [p for p, _ in phase], variants, g)
     out = optimise_over(evaluate.checker, poses, path, should_stop=should_stop,

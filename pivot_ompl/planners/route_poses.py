@@ -86,7 +86,8 @@ def route_poses(checker: PivotChecker, a: Pose, b: Pose, grasp: int, route: list
 
 
 def car_corner_poses(checker: PivotChecker, a: Pose, b: Pose, grasp: int,
-           poly: list[tuple[float, float]], *, back: bool, spin: bool) -> tuple[Pose, ...]:
+                     poly: list[tuple[float, float]], *, back: bool, spin: bool
+                     ) -> tuple[Pose, ...]:
     """Object poses from ``a`` to ``b`` whose car passes the corners of ``poly``.
 
     The car's corners are the polyline's inner points between the car's own ends; ``back``:
