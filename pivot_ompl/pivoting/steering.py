@@ -110,6 +110,11 @@ def car_pose(value: object, field: str) -> Pose:
         InputError: not a sequence of three numbers, one not finite or beyond
             :data:`MAX_CAR_COORD` (naming ``field``).
     """
+    if type(value) is tuple and len(value) == 3 and type(value[0]) is float and \
+            type(value[1]) is float and type(value[2]) is float and \
+            abs(value[0]) <= MAX_CAR_COORD and abs(value[1]) <= MAX_CAR_COORD and \
+            abs(value[2]) <= MAX_CAR_COORD:
+        return value  # already a pose of finite floats (the steering's own, every piece)
     if isinstance(value, str | bytes) or not hasattr(value, "__len__") or \
             not hasattr(value, "__getitem__"):
         raise InputError(field, type(value).__name__, "must be a pose (x, y, heading)")
