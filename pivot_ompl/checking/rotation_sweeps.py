@@ -47,6 +47,10 @@ class Clearance(NamedTuple):
 #: The clearance of a body that is not checked (or of a world without obstacles).
 UNCHECKED = Clearance(math.inf)
 
+#: Edge starts whose clearances :meth:`RotationSweeps.start` keeps (then it starts afresh):
+#: the edges a planner checks share their starts (an optimiser's node, a search's vertex).
+KEPT_STARTS = 4096
+
 
 class RotationSweeps:
     """The sweeps of pivot rotations of one scene, checked (see the module docstring).
@@ -78,6 +82,8 @@ class RotationSweeps:
                              max(math.hypot(x - a[0], y - a[1]) for x, y in rob))
             self.spread[g] = (max(math.hypot(x, y) for x, y in box),
                               max(math.hypot(x, y) for x, y in rob))
+        #: by edge start and grasp, the clearances measured there: 0 the box's, 1 the robot's
+        self._starts: dict[tuple[Pose, int], dict[int, float]] = {}
 
     def box_distance(self, car: Pose, grasp: int) -> float:
         """The box's clearance (m) at car pose ``car``."""
@@ -86,6 +92,26 @@ class RotationSweeps:
     def robot_distance(self, car: Pose, grasp: int) -> float:
         """The holding robot's clearance (m) at car pose ``car``."""
         return self.world.held_distance(self.model.robot_from_car(car, grasp), grasp)
+
+    def start(self, car: Pose, grasp: int, with_robot: bool) -> tuple[Clearance, Clearance]:
+        """The box's and (``with_robot``) the robot's clearances measured at an edge's start.
+
+        Kept by pose (:data:`KEPT_STARTS` of them): the same numbers as measured again.
+        """
+        key = (car, grasp)
+        starts = self._starts
+        if len(starts) >= KEPT_STARTS and key not in starts:
+            starts.clear()
+        kept = starts.setdefault(key, {})
+        db = kept.get(0)
+        if db is None:
+            db = kept[0] = self.box_distance(car, grasp)
+        if not with_robot:
+            return Clearance(db), UNCHECKED
+        dr = kept.get(1)
+        if dr is None:
+            dr = kept[1] = self.robot_distance(car, grasp)
+        return Clearance(db), Clearance(dr)
 
     def measured(self, clear: tuple[Clearance, Clearance],
                  grasp: int) -> tuple[Clearance, Clearance]:

@@ -130,8 +130,7 @@ class TransferCheck:
         sweeps = self.sweeps
         db = dr = UNCHECKED
         if self.world.has_obstacles:
-            db = Clearance(sweeps.box_distance(ca, grasp))
-            dr = Clearance(sweeps.robot_distance(ca, grasp)) if with_robot else UNCHECKED
+            db, dr = sweeps.start(ca, grasp, with_robot)
             if db.value <= 0 or dr.value <= 0:
                 return fail("collides at the start")
         checked: list[Rotation] = []
@@ -177,8 +176,7 @@ class TransferCheck:
         db = dr = UNCHECKED
         why = ""
         if self.world.has_obstacles:
-            db = Clearance(sweeps.box_distance(ca, grasp))
-            dr = Clearance(sweeps.robot_distance(ca, grasp))
+            db, dr = sweeps.start(ca, grasp, True)
             why = "collides at the start" if db.value <= 0 or dr.value <= 0 else ""
         if not why:
             why, _ = sweeps.rotations(ca, rotations, grasp, True, db, dr)
