@@ -99,6 +99,9 @@ class PivotSequence:
         return max((abs(r.angle) for r in self.rotations), default=0.0)
 
 
+#: Path lengths and span-end poses :class:`PivotSteering` keeps (then it starts afresh).
+KEPT_PATHS = 4096
+
 #: Largest car-pose coordinate magnitude accepted (m).
 MAX_CAR_COORD = 1.0e6
 
@@ -150,6 +153,12 @@ class PivotSteering:
     alpha_max: float
     merge: bool = True
     paths: CarPaths = field(init=False, repr=False)
+    #: the paths' lengths and the poses at a refinement's span ends, by path (and fraction):
+    #: a refinement converts one path's stretch again at several rotation bounds
+    _lengths: dict[tuple[Pose, Pose], float] = field(init=False, repr=False, compare=False,
+                                                     default_factory=dict)
+    _poses: dict[tuple[Pose, Pose, float], Pose] = field(init=False, repr=False, compare=False,
+                                                         default_factory=dict)
 
     def __post_init__(self) -> None:
         """Validate the parameters and build the OMPL Reeds-Shepp space."""
@@ -253,14 +262,14 @@ class PivotSteering:
         rs = self.paths
         ell = half_length
         t0, t_end = span
-        length = rs.distance(start, goal)
+        length = self._length(start, goal)
         # the small-time neighbourhood scales with the path's length; a spin's with the arc
         # the edge's ends trace
         scale = ell * abs(wrap_angle(goal[2] - start[2])) if rs.is_spin(start, goal) \
             else length
         current = origin if origin is not None else (
-            start if t0 == 0.0 else rs.interpolate(start, goal, t0))
-        end_pose = goal if t_end == 1.0 else rs.interpolate(start, goal, t_end)
+            start if t0 == 0.0 else self._pose_at(start, goal, t0))
+        end_pose = goal if t_end == 1.0 else self._pose_at(start, goal, t_end)
         # a spin's pieces (a/4, a/2, a/4) already merge at their junctions: the search for a
         # merging piece is for Reeds-Shepp arcs
         arc = self.merge and not rs.is_spin(start, goal)
@@ -307,6 +316,26 @@ class PivotSteering:
                 previous = rots[-1]
             step = t_ok - t0
             t0 = t_ok
+
+    def _length(self, start: Pose, goal: Pose) -> float:
+        """``paths.distance(start, goal)``, kept (:data:`KEPT_PATHS` paths and poses)."""
+        key = (start, goal)
+        known = self._lengths.get(key)
+        if known is None:
+            if len(self._lengths) >= KEPT_PATHS:
+                self._lengths.clear()
+            known = self._lengths[key] = self.paths.distance(start, goal)
+        return known
+
+    def _pose_at(self, start: Pose, goal: Pose, t: float) -> Pose:
+        """``paths.interpolate(start, goal, t)``, kept as :meth:`_length` keeps lengths."""
+        key = (start, goal, t)
+        known = self._poses.get(key)
+        if known is None:
+            if len(self._poses) >= KEPT_PATHS:
+                self._poses.clear()
+            known = self._poses[key] = self.paths.interpolate(start, goal, t)
+        return known
 
     def append_merged(self, rotations: list[Rotation], r: Rotation) -> None:
         """Append ``r``, merged into the previous rotation when both turn about one corner."""
