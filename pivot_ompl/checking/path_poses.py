@@ -29,8 +29,9 @@ __all__ = ["POLL_POSES", "SKIP_MARGIN", "PathPoses"]
 POLL_POSES = 8
 
 #: Least clearance bound (m) that answers "free" without a query: far above the distance
-#: queries' round-off, so that a bound never answers where a query would say otherwise.
-SKIP_MARGIN = 1e-6
+#: queries' round-off (coal's GJK answers within about a micrometre), so that a bound never
+#: answers where a query would say otherwise.
+SKIP_MARGIN = 1e-5
 
 
 class PathPoses:

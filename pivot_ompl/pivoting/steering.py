@@ -280,8 +280,10 @@ class PivotSteering:
         step = (4.0 * ell * math.sin(0.5 * amax) / length) if length > 0 else 1.0
         min_step = (t_end - t0) * 2.0 ** -MAX_DEPTH
 
+        point = rs.along(start, goal)
+
         def solve(t: float) -> tuple[Pose, tuple[Rotation, ...]] | None:
-            target = end_pose if t >= t_end else rs.interpolate(start, goal, t)
+            target = end_pose if t >= t_end else point(t)
             if math.hypot(target[0] - current[0], target[1] - current[1]) > reach:
                 return None
             ok, rots = solve_piece(current, target, ell, amax,

@@ -38,3 +38,22 @@ def test_a_kept_length_or_span_end_gives_the_pieces_a_fresh_steering_gives(a, b,
     # the same path at another bound: the kept length and span ends serve it
     assert _pieces(SHARED, a, b, span, 0.5 * alpha) == _pieces(fresh, a, b, span, 0.5 * alpha)
 
+
+
+@settings(max_examples=60, deadline=None)
+@given(a=pose, b=pose, spin=st.booleans(), ts=st.lists(st.floats(0.0, 1.0), max_size=6))
+def test_a_path_along_is_its_interpolation(a, b, spin, ts):
+    paths = SHARED.paths
+    if spin:
+        b = (a[0], a[1], b[2])
+    point = paths.along(a, b)
+    assert [point(t) for t in ts] == [paths.interpolate(a, b, t) for t in ts]
+
+
+def test_a_pose_changed_in_place_is_read_again():
+    # the curves keep the last two poses they were given: only tuples, which cannot change
+    rs = SHARED.paths.rs
+    a, b = [0.0, 0.0, 0.0], (2.0, 1.0, 0.5)
+    first = rs.distance(a, b)
+    a[0] = 1.0
+    assert rs.distance(a, b) == rs.distance((1.0, 0.0, 0.0), b) != first
