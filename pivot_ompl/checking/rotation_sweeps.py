@@ -155,8 +155,8 @@ class RotationSweeps:
         pivot (a point moves at most ``reach |angle|``); ``c0``: its clearance at ``base``.
         A sweep whose start clearance (bound or measured) exceeds the farthest any point
         moves (by :data:`BOUND_SLACK`) is free with no query, and its end keeps at least
-        ``d0 - reach |angle|`` (a lower bound, returned less the slack); else it is certified from the measured clearances at both
-        ends, and the end's returned.
+        ``d0 - reach |angle|`` (a lower bound, returned less the slack); else it is
+        certified from the measured clearances at both ends, and the end's returned.
         """
         lipschitz = reach * abs(rot.angle)
         if c0.value > lipschitz + BOUND_SLACK:
