@@ -59,6 +59,9 @@ SAFE_SHARE = 0.3
 #: bound (down to alpha_max/128): the largest that passes the checks is kept.
 LADDER_STEPS = 14
 
+#: A sub-piece and its check: the failure (``""`` if it passed) and the end clearances.
+_Checked = tuple[Piece, str, tuple[Clearance, Clearance]]
+
 #: Least clearance (m, beyond the kept one) a path must keep to be converted sub-piece by
 #: sub-piece (at least the sweep check's tolerance): the resolution of the refinement.
 MIN_CLEARANCE = 0.001
@@ -198,7 +201,7 @@ class TransferCheck:
         db, dr = self.sweeps.measured((db, dr), grasp)
         by_clearance, _ = self._clearance_bound(piece.start, grasp, with_robot, db.value,
                                                 dr.value)
-        firsts: dict[float, Piece] = {}  # each bound's first sub-piece, for _by_clearance
+        firsts: dict[float, _Checked] = {}  # each bound's first sub-piece and its check
         for factor in REFINE_FACTORS:
             alpha = steering.alpha_max * factor
             if alpha <= by_clearance:
@@ -210,8 +213,9 @@ class TransferCheck:
             for sub in steering.iter_pieces(ca, cb, half_length=ell, should_stop=should_stop,
                                             span=(piece.t0, piece.t1), origin=piece.start,
                                             alpha_max=alpha, previous=before):
-                firsts.setdefault(alpha, sub)
                 why, ends = self.sweeps.rotations(at, sub.rotations, grasp, with_robot, *ends)
+                if alpha not in firsts:
+                    firsts[alpha] = (sub, why, ends)
                 if why:
                     break
                 fine.extend(sub.rotations)
@@ -224,13 +228,14 @@ class TransferCheck:
     def _by_clearance(self, ca: Pose, cb: Pose, piece: Piece, grasp: int, with_robot: bool,
                       clear: tuple[Clearance, Clearance],
                       should_stop: Callable[[], bool] | None,
-                      before: Rotation | None, firsts: dict[float, Piece],
+                      before: Rotation | None, firsts: dict[float, _Checked],
                       ) -> tuple[list[Rotation], str, tuple[Clearance, Clearance]]:
         """The piece's stretch, sub-piece by sub-piece, each bounded by its start's clearance.
 
         ``firsts``: by rotation bound, the first sub-piece :meth:`_refine` converted from the
-        piece's start (the same conversion as the first sub-piece here: not done again; a
-        ladder rung is the bound of the same half-octave factor, the same number).
+        piece's start and its check (the same conversion and check, from the same measured
+        clearances, as the first sub-piece's here: not done again; a ladder rung is the
+        bound of the same half-octave factor, the same number).
         Returns the rotations, ``""`` (or the failure) and the end clearances.
         """
         steering = self.steering
@@ -252,7 +257,7 @@ class TransferCheck:
             for k, alpha in tries:
                 known = firsts.get(alpha) if t == piece.t0 else None
                 if known is not None:
-                    sub = known
+                    sub, why, ends = known
                 else:
                     pieces = steering.iter_pieces(ca, cb, half_length=ell,
                                                   should_stop=should_stop, span=(t, piece.t1),
@@ -260,8 +265,8 @@ class TransferCheck:
                                                   previous=fine[-1] if fine else before)
                     sub = next(pieces)
                     pieces.close()
-                why, ends = self.sweeps.rotations(current, sub.rotations, grasp, with_robot,
-                                                  *clear)
+                    why, ends = self.sweeps.rotations(current, sub.rotations, grasp,
+                                                      with_robot, *clear)
                 if not why:
                     rung = max(0, k - 1)
                     break
