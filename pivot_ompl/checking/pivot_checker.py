@@ -14,10 +14,11 @@ from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any
 
+from pivot_ompl.checking.path_poses import POLL_POSES as POLL_POSES
+from pivot_ompl.checking.path_poses import PathPoses
 from pivot_ompl.checking.shared_results import SharedResults, shared_results
 from pivot_ompl.checking.stored import StoredMotions, stored_rotations, stored_walk
 from pivot_ompl.checking.transfer_check import EdgeResult, TransferCheck
-from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.pivoting.steering import PivotSteering
 from pivot_ompl.scene import Obstacle, Scene
@@ -34,9 +35,6 @@ log = logging.getLogger(__name__)
 #: Spacing (m) of the poses that :meth:`PivotChecker.path_free` tests along a car's path.
 PREFILTER_STEP = 0.25
 
-#: Poses :meth:`PivotChecker.cars_free` tests between two polls of its ``should_stop`` (a
-#: pose costs up to a few ms against a 10 000-point polygon: a 100 m path is 400 poses).
-POLL_POSES = 8
 
 
 @dataclass
@@ -106,6 +104,7 @@ class PivotChecker:
             scene, tolerance=tolerance, clearance=self.world.clearance) if share else None
         self.transfers = TransferCheck(self.model, self.world, self.steering,
                                        tolerance=tolerance, refined=self._count_refined)
+        self._poses = PathPoses(self.model, self.world, self.steering.paths)
 
     @property
     def edges(self) -> Mapping[tuple, EdgeResult]:
@@ -165,19 +164,16 @@ class PivotChecker:
                   should_stop: Callable[[], bool] | None = None) -> bool:
         """The box (and robot) free at fractions ``ts`` of the car's Reeds-Shepp path.
 
+        A body free by the clearance carried from the last pose
+        (:mod:`~pivot_ompl.checking.path_poses`) is not queried again: the answer is still
+        every pose's :meth:`state_valid` (or :meth:`box_valid`).
+
         Raises:
             Interrupted: ``should_stop()`` became true (polled every :data:`POLL_POSES`
                 poses) before the answer was known.
         """
-        m = self.model
-        cars = self.steering.paths.sample(car_a, car_b, list(ts))
-        for k, c in enumerate(cars):
-            if should_stop is not None and k % POLL_POSES == 0 and k and should_stop():
-                raise Interrupted("testing poses along a path")
-            obj = m.object_from_car(c, grasp)
-            if not (self.state_valid(obj, grasp) if with_robot else self.box_valid(obj)):
-                return False
-        return True
+        return self._poses.free(car_a, car_b, grasp, ts, with_robot=with_robot,
+                                should_stop=should_stop)
 
     def transfer(self, obj_a: Pose, obj_b: Pose, grasp: int, *, with_robot: bool = True,
                  should_stop: Callable[[], bool] | None = None) -> EdgeResult:

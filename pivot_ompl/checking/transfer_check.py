@@ -36,15 +36,14 @@ rotation with the sweep check's ``tolerance``.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from pivot_ompl.checking.rotation_sweeps import UNCHECKED, Clearance, RotationSweeps
 from pivot_ompl.grasp import BoxGraspModel
-from pivot_ompl.pivoting.kinematics import LEFT, Rotation
+from pivot_ompl.pivoting.kinematics import Rotation
 from pivot_ompl.pivoting.steering import Piece, PivotSequence, PivotSteering
-from pivot_ompl.se2 import Pose, rotate_about
-from pivot_ompl.validity.certify import certify
+from pivot_ompl.se2 import Pose
 from pivot_ompl.validity.collision import CollisionWorld
 
 #: A failing piece is converted again with the rotation bound times each of these factors
@@ -59,6 +58,9 @@ SAFE_SHARE = 0.3
 #: Half-octave steps below alpha_max that a sub-piece's bound may take above the clearance
 #: bound (down to alpha_max/128): the largest that passes the checks is kept.
 LADDER_STEPS = 14
+
+#: A sub-piece and its check: the failure (``""`` if it passed) and the end clearances.
+_Checked = tuple[Piece, str, tuple[Clearance, Clearance]]
 
 #: Least clearance (m, beyond the kept one) a path must keep to be converted sub-piece by
 #: sub-piece (at least the sweep check's tolerance): the resolution of the refinement.
@@ -99,22 +101,20 @@ class TransferCheck:
         self.model, self.world, self.steering = model, world, steering
         self.tolerance = tolerance
         self._refined = refined
-        self._reach: dict[int, tuple[float, float]] = {}
-        #: per grasp, the farthest corner (m) of the box and of the holding robot from the car
-        self._spread: dict[int, tuple[float, float]] = {}
-        for g in range(4):
-            car = (0.0, 0.0, 0.0)
-            a = model.pivots(car, g)[LEFT]
-            box = model.object_corners(model.object_from_car(car, g))
-            rob = model.held_corners(model.robot_from_car(car, g), g)
-            self._reach[g] = (max(math.hypot(x - a[0], y - a[1]) for x, y in box),
-                              max(math.hypot(x - a[0], y - a[1]) for x, y in rob))
-            self._spread[g] = (max(math.hypot(x, y) for x, y in box),
-                               max(math.hypot(x, y) for x, y in rob))
+        #: the kernel: rotations' bounds and sweeps, clearances measured lazily
+        self.sweeps = RotationSweeps(model, world, tolerance=tolerance)
 
     def reach(self, grasp: int) -> tuple[float, float]:
         """Farthest points (m) of the box and of the holding robot from a pivot corner."""
-        return self._reach[grasp]
+        return self.sweeps.reach[grasp]
+
+    def in_bounds(self, car: Pose, grasp: int, with_robot: bool, bulge_b: float,
+                  bulge_r: float) -> bool:
+        """Whether the box's (and robot's) corners at ``car`` keep the bulges from the sides.
+
+        See :meth:`~pivot_ompl.checking.rotation_sweeps.RotationSweeps.in_bounds`.
+        """
+        return self.sweeps.in_bounds(car, grasp, with_robot, bulge_b, bulge_r)
 
     def check(self, ca: Pose, cb: Pose, grasp: int, *, with_robot: bool,
               should_stop: Callable[[], bool] | None) -> EdgeResult:
@@ -130,11 +130,11 @@ class TransferCheck:
         def fail(reason: str) -> EdgeResult:
             return EdgeResult(False, PivotSequence(ca, cb, (), length, 0), length, reason)
 
-        db = dr = math.inf
+        sweeps = self.sweeps
+        db = dr = UNCHECKED
         if self.world.has_obstacles:
-            db = self._box_d(ca, grasp)
-            dr = self._rob_d(ca, grasp) if with_robot else math.inf
-            if db <= 0 or dr <= 0:
+            db, dr = sweeps.start(ca, grasp, with_robot)
+            if db.value <= 0 or dr.value <= 0:
                 return fail("collides at the start")
         checked: list[Rotation] = []
         pieces = steering.iter_pieces(ca, cb, half_length=ell, should_stop=should_stop)
@@ -145,7 +145,7 @@ class TransferCheck:
             except StopIteration:
                 break
             reply = None
-            why, ends = self._rotations(piece.start, piece.rotations, grasp, with_robot, db, dr)
+            why, ends = sweeps.rotations(piece.start, piece.rotations, grasp, with_robot, db, dr)
             if why:
                 fine, why, ends = self._refine(ca, cb, piece, grasp, with_robot, db, dr,
                                                should_stop, checked[-1] if checked else None)
@@ -175,20 +175,22 @@ class TransferCheck:
         starts from, within the rotation bound) and end at ``cb``: the caller makes sure.
         """
         length = self.steering.paths.distance(ca, cb)
-        db = dr = math.inf
+        sweeps = self.sweeps
+        db = dr = UNCHECKED
         why = ""
         if self.world.has_obstacles:
-            db, dr = self._box_d(ca, grasp), self._rob_d(ca, grasp)
-            why = "collides at the start" if db <= 0 or dr <= 0 else ""
+            db, dr = sweeps.start(ca, grasp, True)
+            why = "collides at the start" if db.value <= 0 or dr.value <= 0 else ""
         if not why:
-            why, _ = self._rotations(ca, rotations, grasp, True, db, dr)
+            why, _ = sweeps.rotations(ca, rotations, grasp, True, db, dr)
         if why:
             return EdgeResult(False, PivotSequence(ca, cb, (), length, 0), length, why)
         return EdgeResult(True, PivotSequence(ca, cb, rotations, length, 0), length)
 
     def _refine(self, ca: Pose, cb: Pose, piece: Piece, grasp: int, with_robot: bool,
-                db: float, dr: float, should_stop: Callable[[], bool] | None,
-                before: Rotation | None) -> tuple[list[Rotation], str, tuple[float, float]]:
+                db: Clearance, dr: Clearance, should_stop: Callable[[], bool] | None,
+                before: Rotation | None) -> tuple[list[Rotation], str,
+                                                  tuple[Clearance, Clearance]]:
         """The piece converted again with smaller rotations until they pass (module docstring).
 
         ``before``: the edge's last rotation before the piece (pieces prefer merging into it).
@@ -196,8 +198,10 @@ class TransferCheck:
         """
         steering = self.steering
         ell = self.model.edge_half_length(grasp)
-        by_clearance, _ = self._clearance_bound(piece.start, grasp, with_robot, db, dr)
-        firsts: dict[float, Piece] = {}  # each bound's first sub-piece, for _by_clearance
+        db, dr = self.sweeps.measured((db, dr), grasp)
+        by_clearance, _ = self._clearance_bound(piece.start, grasp, with_robot, db.value,
+                                                dr.value)
+        firsts: dict[float, _Checked] = {}  # each bound's first sub-piece and its check
         for factor in REFINE_FACTORS:
             alpha = steering.alpha_max * factor
             if alpha <= by_clearance:
@@ -209,8 +213,9 @@ class TransferCheck:
             for sub in steering.iter_pieces(ca, cb, half_length=ell, should_stop=should_stop,
                                             span=(piece.t0, piece.t1), origin=piece.start,
                                             alpha_max=alpha, previous=before):
-                firsts.setdefault(alpha, sub)
-                why, ends = self._rotations(at, sub.rotations, grasp, with_robot, *ends)
+                why, ends = self.sweeps.rotations(at, sub.rotations, grasp, with_robot, *ends)
+                if alpha not in firsts:
+                    firsts[alpha] = (sub, why, ends)
                 if why:
                     break
                 fine.extend(sub.rotations)
@@ -221,14 +226,16 @@ class TransferCheck:
                                   before, firsts)
 
     def _by_clearance(self, ca: Pose, cb: Pose, piece: Piece, grasp: int, with_robot: bool,
-                      clear: tuple[float, float], should_stop: Callable[[], bool] | None,
-                      before: Rotation | None, firsts: dict[float, Piece],
-                      ) -> tuple[list[Rotation], str, tuple[float, float]]:
+                      clear: tuple[Clearance, Clearance],
+                      should_stop: Callable[[], bool] | None,
+                      before: Rotation | None, firsts: dict[float, _Checked],
+                      ) -> tuple[list[Rotation], str, tuple[Clearance, Clearance]]:
         """The piece's stretch, sub-piece by sub-piece, each bounded by its start's clearance.
 
         ``firsts``: by rotation bound, the first sub-piece :meth:`_refine` converted from the
-        piece's start (the same conversion as the first sub-piece here: not done again; a
-        ladder rung is the bound of the same half-octave factor, the same number).
+        piece's start and its check (the same conversion and check, from the same measured
+        clearances, as the first sub-piece's here: not done again; a ladder rung is the
+        bound of the same half-octave factor, the same number).
         Returns the rotations, ``""`` (or the failure) and the end clearances.
         """
         steering = self.steering
@@ -239,7 +246,9 @@ class TransferCheck:
         ladder = [steering.alpha_max * 2.0 ** (-0.5 * k) for k in range(LADDER_STEPS + 1)]
         rung = 1  # the ladder's rung to try first (alpha_max failed): one above the last pass
         while t < piece.t1:
-            bound, least = self._clearance_bound(current, grasp, with_robot, *clear)
+            clear = self.sweeps.measured(clear, grasp)
+            bound, least = self._clearance_bound(current, grasp, with_robot, clear[0].value,
+                                                 clear[1].value)
             if least < floor:
                 return fine, f"path within {least:.4f} m of an obstacle or side", clear
             why = "no sub-piece"
@@ -248,7 +257,7 @@ class TransferCheck:
             for k, alpha in tries:
                 known = firsts.get(alpha) if t == piece.t0 else None
                 if known is not None:
-                    sub = known
+                    sub, why, ends = known
                 else:
                     pieces = steering.iter_pieces(ca, cb, half_length=ell,
                                                   should_stop=should_stop, span=(t, piece.t1),
@@ -256,7 +265,8 @@ class TransferCheck:
                                                   previous=fine[-1] if fine else before)
                     sub = next(pieces)
                     pieces.close()
-                why, ends = self._rotations(current, sub.rotations, grasp, with_robot, *clear)
+                    why, ends = self.sweeps.rotations(current, sub.rotations, grasp,
+                                                      with_robot, *clear)
                 if not why:
                     rung = max(0, k - 1)
                     break
@@ -275,91 +285,10 @@ class TransferCheck:
         ``r``: the body's reach from a pivot corner.
         """
         m, w = self.model, self.world
-        r_box, r_rob = self._reach[grasp]
+        r_box, r_rob = self.sweeps.reach[grasp]
         least = min(db, w.bounds_margin(m.object_corners(m.object_from_car(car, grasp))))
         bound = least / r_box
         if with_robot:
             c_rob = min(dr, w.bounds_margin(m.held_corners(m.robot_from_car(car, grasp), grasp)))
             bound, least = min(bound, c_rob / r_rob), min(least, c_rob)
         return max(0.0, min(self.steering.alpha_max, bound)), least
-
-    def _box_d(self, car: Pose, grasp: int) -> float:
-        return self.world.box_distance(self.model.object_from_car(car, grasp))
-
-    def _rob_d(self, car: Pose, grasp: int) -> float:
-        return self.world.held_distance(self.model.robot_from_car(car, grasp), grasp)
-
-    def in_bounds(self, car: Pose, grasp: int, with_robot: bool, bulge_b: float,
-                   bulge_r: float) -> bool:
-        """Whether the box's (and robot's) corners at ``car`` keep the bulges from the sides.
-
-        Accepted at once when the car keeps a body's farthest corner (:attr:`_spread`) plus
-        its bulge from every side (a corner is no farther from a side than that); else the
-        corners are placed and measured.
-        """
-        m, w = self.model, self.world
-        x0, y0, x1, y1 = w.bounds
-        margin = min(car[0] - x0, x1 - car[0], car[1] - y0, y1 - car[1])
-        s_box, s_rob = self._spread[grasp]
-        if margin - s_box >= bulge_b and (not with_robot or margin - s_rob >= bulge_r):
-            return True
-        if w.bounds_margin(m.object_corners(m.object_from_car(car, grasp))) < bulge_b:
-            return False
-        return not with_robot or \
-            w.bounds_margin(m.held_corners(m.robot_from_car(car, grasp), grasp)) >= bulge_r
-
-    @staticmethod
-    def _swept(dist: Callable[[Pose, int], float], base: Pose, rot: Rotation, grasp: int,
-               reach: float, d0: float, tol: float, *, last: bool) -> float | None:
-        """The body's clearance at the rotation's end, or ``None`` if its sweep is not free.
-
-        ``dist``: the body's clearance at a car pose; ``reach``: its farthest point from the
-        pivot (a point moves at most ``reach |angle|``); ``d0``: its clearance at ``base``,
-        or a positive lower bound of it. Not ``last`` (another rotation follows in the same
-        check), a sweep whose ``d0`` exceeds the farthest any point moves is free with no
-        query, and its end keeps at least ``d0 - reach |angle|`` (a lower bound, returned);
-        the ``last`` rotation's end clearance is always measured. A lower bound for ``d0``
-        never changes whether a sweep passes: :func:`~pivot_ompl.validity.certify.certify`
-        then bisects only intervals the exact clearance would have accepted as free.
-        """
-        lipschitz = reach * abs(rot.angle)
-        if not last and d0 > lipschitz:
-            return d0 - lipschitz
-
-        def at(s: float) -> float:
-            return dist(rotate_about(base, rot.pivot, s * rot.angle), grasp)
-
-        d1 = dist(rot.car, grasp)
-        ok = certify(at, lipschitz, tolerance=tol, d0=d0, d1=d1).valid
-        return d1 if ok else None
-
-    def _rotations(self, prev: Pose, rots: tuple[Rotation, ...], grasp: int, with_robot: bool,
-                   db: float, dr: float) -> tuple[str, tuple[float, float]]:
-        """``(failure, clearances at the end)``; failure ``""`` when every rotation passes.
-
-        The clearances between rotations may be lower bounds (:meth:`_swept`); those returned
-        at the end, where the next check or a refinement starts, are measured.
-        """
-        r_box, r_rob = self._reach[grasp]
-        obstacles = self.world.has_obstacles
-        tol = self.tolerance
-        for i, rot in enumerate(rots):
-            last = i == len(rots) - 1
-            bulge = 1.0 - math.cos(0.5 * rot.angle)
-            if not (self.in_bounds(prev, grasp, with_robot, r_box * bulge, r_rob * bulge)
-                    and self.in_bounds(rot.car, grasp, with_robot, r_box * bulge,
-                                        r_rob * bulge)):
-                return "leaves the bounds", (db, dr)
-            if obstacles:
-                db_end = self._swept(self._box_d, prev, rot, grasp, r_box, db, tol, last=last)
-                if db_end is None:
-                    return "box collides", (db, dr)
-                db = db_end
-                if with_robot:
-                    dr_end = self._swept(self._rob_d, prev, rot, grasp, r_rob, dr, tol,
-                                         last=last)
-                    if dr_end is None:
-                        return "robot collides", (db, dr)
-                    dr = dr_end
-            prev = rot.car
-        return "", (db, dr)

@@ -6,6 +6,7 @@ only, the robot walking forward) share it: only the OMPL space differs.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any, ClassVar
 
 from ompl import base as ob
@@ -33,8 +34,14 @@ class Curves:
         self._a = self.space.allocState()
         self._b = self.space.allocState()
         self._out = self.space.allocState()
+        self._pair: tuple[Pose, Pose] | None = None  # the poses the states hold
 
     def _set(self, a: Pose, b: Pose) -> None:
+        pair = self._pair
+        if pair is not None and pair[0] is a and pair[1] is b:
+            return  # the same tuples (immutable): a piece search asks one path many times
+        # only tuples are remembered: a list or an array may be changed in place
+        self._pair = (a, b) if type(a) is tuple and type(b) is tuple else None
         self._a.setXY(a[0], a[1])
         self._a.setYaw(a[2])
         self._b.setXY(b[0], b[1])
@@ -118,6 +125,14 @@ class CarPaths:
         if self.is_spin(a, b):
             return (a[0], a[1], wrap_angle(a[2] + t * wrap_angle(b[2] - a[2])))
         return self.rs.interpolate(a, b, t)
+
+    def along(self, a: Pose, b: Pose) -> Callable[[float], Pose]:
+        """:meth:`interpolate` on the path ``a -> b`` as a function of ``t`` (spin told once)."""
+        if self.is_spin(a, b):
+            turn = wrap_angle(b[2] - a[2])
+            return lambda t: (a[0], a[1], wrap_angle(a[2] + t * turn))
+        rs = self.rs
+        return lambda t: rs.interpolate(a, b, t)
 
     def sample(self, a: Pose, b: Pose, ts: list[float]) -> list[Pose]:
         """Poses at each fraction of ``ts`` along the path ``a -> b``."""

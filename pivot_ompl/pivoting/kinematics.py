@@ -113,18 +113,25 @@ def _candidates_within(start: Pose, goal: Pose, ell: float,
     ``d`` to ``P0`` gives ``|a2| = 2 asin(d / 4l)``; ``atan2`` of the difference gives ``a1``;
     ``a3`` closes the heading. Callers verify candidates with the forward map.
     """
-    sh, ch = math.sin(start[2]), math.cos(start[2])
-    sg, cg = math.sin(goal[2]), math.cos(goal[2])
-    found: list[tuple[float, int, float, float, float]] = []
+    sx, sy, sh = start
+    gx, gy, gh = goal
+    # the ends' offsets from the centres, l (-sin h, cos h): A at +, B at - (negation and
+    # a subtraction of a negation are exact, so these are the products the formula takes)
+    lsh, lch = ell * math.sin(sh), ell * math.cos(sh)
+    lsg, lcg = ell * math.sin(gh), ell * math.cos(gh)
     limit = 4.0 * ell * math.sin(0.5 * alpha_max) + 1e-12
-    for first in (LEFT, RIGHT):
-        sign = 1.0 if first == LEFT else -1.0
-        p0x, p0y = start[0] - sign * ell * sh, start[1] + sign * ell * ch
-        p2x, p2y = goal[0] - sign * ell * sg, goal[1] + sign * ell * cg
-        dx, dy = p2x - p0x, p2y - p0y
-        d = math.hypot(dx, dy)
+    # both first ends' distances first: most trial targets of a piece search reach neither
+    dxa, dya = (gx - lsg) - (sx - lsh), (gy + lcg) - (sy + lch)
+    dxb, dyb = (gx + lsg) - (sx + lsh), (gy - lcg) - (sy - lch)
+    da, db = math.hypot(dxa, dya), math.hypot(dxb, dyb)
+    found: list[tuple[float, int, float, float, float]] = []
+    if da > limit and db > limit:
+        return found
+    for first, sign, dx, dy, d in ((LEFT, 1.0, dxa, dya, da), (RIGHT, -1.0, dxb, dyb, db)):
         if d > limit:
             continue
+        p0x, p0y = sx - sign * lsh, sy + sign * lch
+        p2x, p2y = gx - sign * lsg, gy + sign * lcg
         # direction from the first end to the other end: h - pi/2 for A, h + pi/2 for B
         psi0 = start[2] - sign * 0.5 * math.pi
         dpsi = goal[2] - start[2]
@@ -210,9 +217,16 @@ def solve_piece(start: Pose, goal: Pose, ell: float, alpha_max: float, *,
     if abs(wrap_angle(goal[2] - start[2])) > 3.0 * alpha_max + ANGLE_TOL:
         return False, ()
     found = _candidates_within(start, goal, ell, alpha_max)
+    if not found:
+        return False, ()
     if previous is not None and len(found) > 1:
         found.sort(key=lambda c: (_merged_count(c, previous, alpha_max), c[0]))
     bounded = math.isfinite(max_deviation)
+    sin, cos, hypot = math.sin, math.cos, math.hypot
+    # chord_distance's segment, once: the arithmetic is that function's
+    sx, sy = start[0], start[1]
+    ux, uy = goal[0] - sx, goal[1] - sy
+    n2 = ux * ux + uy * uy
     for _total, first, a1, a2, a3 in found:
         x, y, h = start
         sign = 1.0 if first == LEFT else -1.0
@@ -221,14 +235,18 @@ def solve_piece(start: Pose, goal: Pose, ell: float, alpha_max: float, *,
         worst = prev = 0.0
         for a in (a1, a2, a3):
             if abs(a) > ZERO_ANGLE:
-                px, py = x - sign * ell * math.sin(h), y + sign * ell * math.cos(h)
-                c, s_ = math.cos(a), math.sin(a)
+                px, py = x - sign * ell * sin(h), y + sign * ell * cos(h)
+                c, s_ = cos(a), sin(a)
                 dx, dy = x - px, y - py
                 x, y, h = px + c * dx - s_ * dy, py + s_ * dx + c * dy, h + a
                 rots.append(Rotation(end, (px, py), a, (x, y, h)))
                 if bounded:  # an arc is within its ends' distance plus its sagitta
-                    d = chord_distance(x, y, start, goal)
-                    worst = max(worst, max(prev, d) + ell * (1.0 - math.cos(0.5 * a)))
+                    vx, vy = x - sx, y - sy
+                    t = 0.0 if n2 <= 0.0 else min(1.0, max(0.0, (vx * ux + vy * uy) / n2))
+                    d = hypot(vx - t * ux, vy - t * uy)
+                    worst = max(worst, max(prev, d) + ell * (1.0 - cos(0.5 * a)))
+                    if worst > max_deviation:  # refused whatever follows
+                        break
                     prev = d
             sign = -sign
             end = 1 - end

@@ -99,6 +99,9 @@ class PivotSequence:
         return max((abs(r.angle) for r in self.rotations), default=0.0)
 
 
+#: Path lengths and span-end poses :class:`PivotSteering` keeps (then it starts afresh).
+KEPT_PATHS = 4096
+
 #: Largest car-pose coordinate magnitude accepted (m).
 MAX_CAR_COORD = 1.0e6
 
@@ -110,6 +113,11 @@ def car_pose(value: object, field: str) -> Pose:
         InputError: not a sequence of three numbers, one not finite or beyond
             :data:`MAX_CAR_COORD` (naming ``field``).
     """
+    if type(value) is tuple and len(value) == 3 and type(value[0]) is float and \
+            type(value[1]) is float and type(value[2]) is float and \
+            abs(value[0]) <= MAX_CAR_COORD and abs(value[1]) <= MAX_CAR_COORD and \
+            abs(value[2]) <= MAX_CAR_COORD:
+        return value  # already a pose of finite floats (the steering's own, every piece)
     if isinstance(value, str | bytes) or not hasattr(value, "__len__") or \
             not hasattr(value, "__getitem__"):
         raise InputError(field, type(value).__name__, "must be a pose (x, y, heading)")
@@ -145,6 +153,12 @@ class PivotSteering:
     alpha_max: float
     merge: bool = True
     paths: CarPaths = field(init=False, repr=False)
+    #: the paths' lengths and the poses at a refinement's span ends, by path (and fraction):
+    #: a refinement converts one path's stretch again at several rotation bounds
+    _lengths: dict[tuple[Pose, Pose], float] = field(init=False, repr=False, compare=False,
+                                                     default_factory=dict)
+    _poses: dict[tuple[Pose, Pose, float], Pose] = field(init=False, repr=False, compare=False,
+                                                         default_factory=dict)
 
     def __post_init__(self) -> None:
         """Validate the parameters and build the OMPL Reeds-Shepp space."""
@@ -248,14 +262,14 @@ class PivotSteering:
         rs = self.paths
         ell = half_length
         t0, t_end = span
-        length = rs.distance(start, goal)
+        length = self._length(start, goal)
         # the small-time neighbourhood scales with the path's length; a spin's with the arc
         # the edge's ends trace
         scale = ell * abs(wrap_angle(goal[2] - start[2])) if rs.is_spin(start, goal) \
             else length
         current = origin if origin is not None else (
-            start if t0 == 0.0 else rs.interpolate(start, goal, t0))
-        end_pose = goal if t_end == 1.0 else rs.interpolate(start, goal, t_end)
+            start if t0 == 0.0 else self._pose_at(start, goal, t0))
+        end_pose = goal if t_end == 1.0 else self._pose_at(start, goal, t_end)
         # a spin's pieces (a/4, a/2, a/4) already merge at their junctions: the search for a
         # merging piece is for Reeds-Shepp arcs
         arc = self.merge and not rs.is_spin(start, goal)
@@ -266,8 +280,10 @@ class PivotSteering:
         step = (4.0 * ell * math.sin(0.5 * amax) / length) if length > 0 else 1.0
         min_step = (t_end - t0) * 2.0 ** -MAX_DEPTH
 
+        point = rs.along(start, goal)
+
         def solve(t: float) -> tuple[Pose, tuple[Rotation, ...]] | None:
-            target = end_pose if t >= t_end else rs.interpolate(start, goal, t)
+            target = end_pose if t >= t_end else point(t)
             if math.hypot(target[0] - current[0], target[1] - current[1]) > reach:
                 return None
             ok, rots = solve_piece(current, target, ell, amax,
@@ -302,6 +318,26 @@ class PivotSteering:
                 previous = rots[-1]
             step = t_ok - t0
             t0 = t_ok
+
+    def _length(self, start: Pose, goal: Pose) -> float:
+        """``paths.distance(start, goal)``, kept (:data:`KEPT_PATHS` paths and poses)."""
+        key = (start, goal)
+        known = self._lengths.get(key)
+        if known is None:
+            if len(self._lengths) >= KEPT_PATHS:
+                self._lengths.clear()
+            known = self._lengths[key] = self.paths.distance(start, goal)
+        return known
+
+    def _pose_at(self, start: Pose, goal: Pose, t: float) -> Pose:
+        """``paths.interpolate(start, goal, t)``, kept as :meth:`_length` keeps lengths."""
+        key = (start, goal, t)
+        known = self._poses.get(key)
+        if known is None:
+            if len(self._poses) >= KEPT_PATHS:
+                self._poses.clear()
+            known = self._poses[key] = self.paths.interpolate(start, goal, t)
+        return known
 
     def append_merged(self, rotations: list[Rotation], r: Rotation) -> None:
         """Append ``r``, merged into the previous rotation when both turn about one corner."""

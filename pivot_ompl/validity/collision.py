@@ -59,6 +59,25 @@ def placement(x: float, y: float, yaw: float, z: float) -> coal.Transform3s:
     return coal.Transform3s(r, t)
 
 
+def place(obj: coal.CollisionObject, x: float, y: float, yaw: float, z: float) -> None:
+    """Put ``obj`` at ``(x, y, z)`` (m) turned by ``yaw`` (rad): :func:`placement`'s transform.
+
+    Sets the object's rotation and translation in place (no ``Transform3s`` built: a fifth
+    of the cost, and every transfer check's query places a body).
+    """
+    c, s = math.cos(yaw), math.sin(yaw)
+    r, t = _ROTATION, _TRANSLATION
+    r[0, 0] = c
+    r[0, 1] = -s
+    r[1, 0] = s
+    r[1, 1] = c
+    t[0] = x
+    t[1] = y
+    t[2] = z
+    obj.setRotation(r)
+    obj.setTranslation(t)
+
+
 def _prism(points: list[tuple[float, float]], height: float) -> coal.Convex:
     verts = coal.StdVec_Vec3s()
     for z in (0.0, height):
@@ -230,7 +249,7 @@ class CollisionWorld:
 
     def box_distance(self, obj: Pose) -> float:
         """Distance (m) from the box at object pose ``obj`` to the nearest obstacle (<= 0: hit)."""
-        self._box.setTransform(placement(obj[0], obj[1], obj[2], 0.5 * self.model.object_size[2]))
+        place(self._box, obj[0], obj[1], obj[2], 0.5 * self.model.object_size[2])
         return self._distance(self._box)
 
     def robot_distance(self, robot: Pose) -> float:
@@ -253,7 +272,7 @@ class CollisionWorld:
         overhang (the box itself is :meth:`box_distance`); <= 0: hit.
         """
         obj = self._held[grasp]
-        obj.setTransform(placement(robot[0], robot[1], robot[2], 0.0))
+        place(obj, robot[0], robot[1], robot[2], 0.0)
         return self._distance(obj)
 
     def robot_box_distance(self, robot: Pose, obj: Pose) -> float:
