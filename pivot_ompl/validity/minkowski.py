@@ -82,7 +82,7 @@ def _after_last(edge: np.ndarray, mine: np.ndarray, count: int) -> np.ndarray:
 
 
 def _sum_hulls(pieces: np.ndarray, bodies: np.ndarray, *, certify: bool = True,
-               terms: tuple[_Terms, _Terms] | None = None
+               terms: tuple[_Terms, _Terms] | None = None, classes: np.ndarray | None = None
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Hulls of ``piece - body`` per row (``(g, k, 2)``, ``(g, m, 2)`` convex polygons).
 
@@ -103,11 +103,12 @@ def _sum_hulls(pieces: np.ndarray, bodies: np.ndarray, *, certify: bool = True,
     line than GEOS's hull; a row with a vanishing edge is refused, as an uncertified one).
 
     ``terms``: the pieces' and the bodies' own terms (:func:`_own_terms`), computed once
-    per distinct polygon by the caller (the same floats as per row).
+    per distinct polygon by the caller (the same floats as per row); ``classes``: per row,
+    equal for rows of equal terms (:func:`_sum_candidates`).
     """
     pt, bt = terms if terms is not None else (_own_terms(pieces, reflect=False),
                                               _own_terms(bodies, reflect=True))
-    cand, pair, nxt, valid, ok = _sum_candidates(pieces, bodies, pt, bt)
+    cand, pair, nxt, valid, ok = _sum_candidates(pieces, bodies, pt, bt, classes)
     rows = np.arange(pieces.shape[0])[:, None]
     verts = cand[rows, pair]
     if certify:
@@ -163,7 +164,9 @@ def _own_terms(polys: np.ndarray, *, reflect: bool) -> _Terms:
 class _Distinct:
     """The distinct polygons of a list (by object: one array passed many times counts once).
 
-    Stacked by vertex count, with their :class:`_Terms` computed once.
+    Stacked by vertex count, with their :class:`_Terms` computed once, and each numbered by
+    its class: polygons of the same vertex count whose orientation and edge normals are
+    equal (the same floats) share one.
     """
 
     def __init__(self, polys: list[np.ndarray], *, reflect: bool) -> None:
@@ -178,23 +181,46 @@ class _Distinct:
             same.append(p)
         self.stacked = {n: np.stack(ps) for n, ps in by_size.items()}
         self.terms = {n: _own_terms(a, reflect=reflect) for n, a in self.stacked.items()}
+        self.classes: dict[int, np.ndarray] = {}
+        self.n_classes = 0
+        for n, t in self.terms.items():
+            key = np.column_stack([t.flipped, t.normals])
+            _, inverse = np.unique(key, axis=0, return_inverse=True)
+            self.classes[n] = self.n_classes + inverse.reshape(-1)
+            self.n_classes += int(inverse.max()) + 1
 
-    def rows(self, idx: list[int], size: int) -> tuple[np.ndarray, _Terms]:
-        """Polygons ``idx`` of the list (each of ``size`` vertices) and their terms."""
+    def rows(self, idx: list[int], size: int) -> tuple[np.ndarray, _Terms, np.ndarray]:
+        """Polygons ``idx`` of the list (each of ``size`` vertices), their terms and classes."""
         r = np.array([self.local[self.of[i]] for i in idx])
-        return self.stacked[size][r], self.terms[size].rows(r)
+        return self.stacked[size][r], self.terms[size].rows(r), self.classes[size][r]
 
 
-def _sum_candidates(pieces: np.ndarray, bodies: np.ndarray, pt: _Terms, bt: _Terms
+def _sum_candidates(pieces: np.ndarray, bodies: np.ndarray, pt: _Terms, bt: _Terms,
+                    classes: np.ndarray | None = None
                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The vertex differences and, per slot of the merged edge normals, the hull's vertex.
 
     ``pt``, ``bt``: the pieces' and the bodies' own terms (:func:`_own_terms`). Returns the
     differences ``(g, k m, 2)``, each slot's vertex pair and next slot, which slots are
-    vertices, and which rows have a vertex at all.
+    vertices, and which rows have a vertex at all. ``classes``: per row, a number equal
+    for rows whose terms' orientations and normals are equal (wall boxes of any size and
+    place share theirs): the slots depend on those alone (:func:`_slots`), so they are
+    computed once per class and gathered (the same integers).
     """
     g, k, m = pieces.shape[0], pieces.shape[1], bodies.shape[1]
     cand = (pieces[:, :, None, :] - bodies[:, None, :, :]).reshape(g, k * m, 2)
+    if classes is not None:
+        _, first, inverse = np.unique(classes, return_index=True, return_inverse=True)
+        if len(first) < g:
+            slots = _slots(pt.rows(first), bt.rows(first), k, m)
+            return (cand, *(a[inverse] for a in slots))
+    return (cand, *_slots(pt, bt, k, m))
+
+
+def _slots(pt: _Terms, bt: _Terms, k: int, m: int
+           ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`_sum_candidates`' slots from the terms alone: pair, next slot, valid, ok."""
+    g = pt.flipped.shape[0]
     pflip, qflip = pt.flipped, bt.flipped
     ang = np.concatenate([pt.normals, bt.normals], axis=1)
     order = np.argsort(ang, axis=1)
@@ -218,7 +244,7 @@ def _sum_candidates(pieces: np.ndarray, bodies: np.ndarray, pt: _Terms, bt: _Ter
     ok = np.any(valid, axis=1)
     nxt = np.where(ok[:, None], nxt, 0)
     pair = np.where(valid, pair, np.take_along_axis(pair, nxt, axis=1))
-    return cand, pair, nxt, valid, ok
+    return pair, nxt, valid, ok
 
 
 def _certified(pieces: np.ndarray, bodies: np.ndarray, cand: np.ndarray, pair: np.ndarray,
@@ -339,9 +365,10 @@ def meeting_edges(pieces: list[np.ndarray], bodies: list[np.ndarray], *,
     for (k, m), idx in batches:
         if should_stop is not None and should_stop():
             raise Interrupted("summing obstacle pieces and bodies")
-        p, pt = distinct_pieces.rows(idx, k)
-        b, bt = distinct_bodies.rows(idx, m)
-        verts, nxt, used, ok = _sum_hulls(p, b, certify=certify, terms=(pt, bt))
+        p, pt, pc = distinct_pieces.rows(idx, k)
+        b, bt, bc = distinct_bodies.rows(idx, m)
+        verts, nxt, used, ok = _sum_hulls(p, b, certify=certify, terms=(pt, bt),
+                                          classes=pc * distinct_bodies.n_classes + bc)
         good = np.flatnonzero(ok)
         if len(good):
             parts.append(([idx[i] for i in good], _edges_of(verts[good], nxt[good], used[good])))
