@@ -42,7 +42,8 @@ from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.se2 import GRID_HEADING_YAWS as HEADING_YAWS
 from pivot_ompl.se2 import Pose
 from pivot_ompl.validity.collision import CollisionWorld
-from pivot_ompl.validity.footprints import obstacle_pieces
+from pivot_ompl.validity.footprints import obstacle_pieces, piece_bounds
+from pivot_ompl.validity.footprints import symmetric_centres as symmetric_centres
 from pivot_ompl.validity.minkowski import EdgeSet, meeting_edges
 from pivot_ompl.validity.rasters import grid_union
 
@@ -54,22 +55,6 @@ FIELD_YAWS: tuple[float, ...] = tuple(
 
 #: Most (piece, body) sums computed and rasterised in one batch (a few MB of edges).
 BATCH_POLYGONS = 16384
-
-
-def symmetric_centres(pieces: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """Each piece's vertex mean ``(n, 2)``, and whether the piece is its reflection about it.
-
-    A piece whose vertices, reflected about their mean, are its vertices again (within
-    1e-9 of its size) is centrally symmetric about that point (a rectangle, a wall box).
-    """
-    centres = np.zeros((len(pieces), 2))
-    symmetric = np.zeros(len(pieces), dtype=bool)
-    for i, piece in enumerate(pieces):
-        c = piece.mean(axis=0)
-        gap = np.abs((2.0 * c - piece)[:, None, :] - piece[None, :, :]).max(axis=2).min(axis=1)
-        centres[i] = c
-        symmetric[i] = gap.max() <= 1e-9 * max(1.0, float(np.abs(piece - c).max()))
-    return centres, symmetric
 
 
 def reflected(edges: EdgeSet, centres: np.ndarray) -> EdgeSet:
@@ -155,8 +140,7 @@ class AssemblyField:
         then exactly those of the whole floor within ``area``. Forgets the rasters made so far.
         """
         reach = max(float(np.hypot(*np.concatenate(self._bodies[p]).T).max()) for p in (0, 1))
-        boxes = np.array([[*q.min(axis=0), *q.max(axis=0)] for q in self._pieces]
-                         ).reshape(-1, 4)
+        boxes = piece_bounds(self._pieces)
         b, res = self.world.bounds, self.resolution
         i0 = np.clip(np.ceil((boxes[:, 0] - reach - b[0]) / res), 0, self.nx).astype(int)
         i1 = np.clip(np.floor((boxes[:, 2] + reach - b[0]) / res) + 1, 0, self.nx).astype(int)
