@@ -154,8 +154,11 @@ def _sum_candidates(pieces: np.ndarray, bodies: np.ndarray, pt: PolygonTerms, bt
     """
     g, k, m = pieces.shape[0], pieces.shape[1], bodies.shape[1]
     cand = (pieces[:, :, None, :] - bodies[:, None, :, :]).reshape(g, k * m, 2)
-    if classes is not None:
-        _, first, inverse = np.unique(classes, return_index=True, return_inverse=True)
+    if classes is not None and g > 1:
+        if bool((classes == classes[0]).all()):  # one class (the usual batch): no sort
+            first, inverse = np.zeros(1, dtype=np.int64), np.zeros(g, dtype=np.int64)
+        else:
+            _, first, inverse = np.unique(classes, return_index=True, return_inverse=True)
         if len(first) < g:
             slots = _slots(pt.rows(first), bt.rows(first), k, m)
             return (cand, *(a[inverse] for a in slots))
