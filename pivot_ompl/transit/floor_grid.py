@@ -33,7 +33,7 @@ from pivot_ompl.se2 import Pose, rectangle_corners
 from pivot_ompl.transit.floor_sums import PieceSums
 from pivot_ompl.transit.lattice import HEADING_YAWS
 from pivot_ompl.validity.collision import CollisionWorld
-from pivot_ompl.validity.footprints import obstacle_pieces
+from pivot_ompl.validity.footprints import obstacle_pieces, piece_bounds
 from pivot_ompl.validity.minkowski import meeting_edges
 from pivot_ompl.validity.rasters import grid_union
 
@@ -117,8 +117,7 @@ class FloorGrid:
             if world.clearance > 0 else shapely.Polygon(self.outline)
         self.grown_outline = np.asarray(grown.exterior.coords)[:-1]
         self.pieces = obstacle_pieces(world.obstacles)
-        self._piece_boxes = np.array([[*p.min(axis=0), *p.max(axis=0)] for p in self.pieces]
-                                     ).reshape(-1, 4)
+        self._piece_boxes = piece_bounds(self.pieces)
         #: every (piece, yaw) sum with the grown body, summed once when first asked (shared
         #: by :meth:`fits_range` and :meth:`open_block`)
         self.sums = PieceSums(self.pieces, [_turned(self.grown_outline, yaw)

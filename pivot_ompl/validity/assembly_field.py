@@ -42,7 +42,8 @@ from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.se2 import GRID_HEADING_YAWS as HEADING_YAWS
 from pivot_ompl.se2 import Pose
 from pivot_ompl.validity.collision import CollisionWorld
-from pivot_ompl.validity.footprints import obstacle_pieces
+from pivot_ompl.validity.footprints import obstacle_pieces, piece_bounds
+from pivot_ompl.validity.footprints import symmetric_centres as symmetric_centres
 from pivot_ompl.validity.minkowski import EdgeSet, meeting_edges
 from pivot_ompl.validity.rasters import grid_union
 
@@ -54,22 +55,6 @@ FIELD_YAWS: tuple[float, ...] = tuple(
 
 #: Most (piece, body) sums computed and rasterised in one batch (a few MB of edges).
 BATCH_POLYGONS = 16384
-
-
-def symmetric_centres(pieces: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """Each piece's vertex mean ``(n, 2)``, and whether the piece is its reflection about it.
-
-    A piece whose vertices, reflected about their mean, are its vertices again (within
-    1e-9 of its size) is centrally symmetric about that point (a rectangle, a wall box).
-    """
-    centres = np.zeros((len(pieces), 2))
-    symmetric = np.zeros(len(pieces), dtype=bool)
-    for i, piece in enumerate(pieces):
-        c = piece.mean(axis=0)
-        gap = np.abs((2.0 * c - piece)[:, None, :] - piece[None, :, :]).max(axis=2).min(axis=1)
-        centres[i] = c
-        symmetric[i] = gap.max() <= 1e-9 * max(1.0, float(np.abs(piece - c).max()))
-    return centres, symmetric
 
 
 def reflected(edges: EdgeSet, centres: np.ndarray) -> EdgeSet:
@@ -155,8 +140,7 @@ class AssemblyField:
         then exactly those of the whole floor within ``area``. Forgets the rasters made so far.
         """
         reach = max(float(np.hypot(*np.concatenate(self._bodies[p]).T).max()) for p in (0, 1))
-        boxes = np.array([[*q.min(axis=0), *q.max(axis=0)] for q in self._pieces]
-                         ).reshape(-1, 4)
+        boxes = piece_bounds(self._pieces)
         b, res = self.world.bounds, self.resolution
         i0 = np.clip(np.ceil((boxes[:, 0] - reach - b[0]) / res), 0, self.nx).astype(int)
         i1 = np.clip(np.floor((boxes[:, 2] + reach - b[0]) / res) + 1, 0, self.nx).astype(int)
@@ -267,21 +251,29 @@ class AssemblyField:
         summed = meeting_edges(self._pieces * (m * len(direct)),
                                [bd for y in direct for bd in bodies[y] for _ in range(n)],
                                should_stop=should_stop, certify=False)
-        block = {y: _rows(summed, slice(u * m * n, (u + 1) * m * n))
-                 for u, y in enumerate(direct)}
         rows = np.tile(self._symmetric, m)
         todo = np.flatnonzero(~rows)
         own = meeting_edges([self._pieces[i % n] for _ in mirrored for i in todo],
                             [bodies[y][i // n] for y in mirrored for i in todo],
                             should_stop=should_stop, certify=False) if len(todo) else None
+        # every yaw's block written in place into one edge set (no block copied twice)
+        w = max(summed.start.shape[1], 0 if own is None else own.start.shape[1])
+        per = m * n
+        out = EdgeSet(np.zeros((len(ks) * per, w, 2)), np.zeros((len(ks) * per, w, 2)),
+                      np.zeros((len(ks) * per, w), dtype=bool), np.empty((len(ks) * per, 4)))
+        at = {y: slice(y * per, (y + 1) * per) for y in range(len(ks))}
+        for u, y in enumerate(direct):
+            _put(out, at[y], _rows(summed, slice(u * per, (u + 1) * per)))
         centres = np.tile(self._centres, (m, 1))
         for u, (y, first) in enumerate(mirrored.items()):
-            block[y] = reflected(block[first], centres)
+            _put(out, at[y], reflected(_rows(summed, slice(direct.index(first) * per,
+                                                           (direct.index(first) + 1) * per)),
+                                       centres))
             self.sums_reflected += int(rows.sum())
             if own is not None:  # the pieces that are not their own reflection: summed
                 part = _rows(own, slice(u * len(todo), (u + 1) * len(todo)))
-                block[y] = _replaced(block[y], todo, part)
-        return _joined([block[y] for y in range(len(ks))])
+                _put(out, y * per + todo, part)
+        return out
 
     def state_fits(self, ix: int, iy: int, k: int, parity: int) -> bool:
         """Whether grid state ``(ix, iy)`` at field yaw ``k`` is free for ``parity``."""
@@ -301,26 +293,16 @@ def _rows(edges: EdgeSet, rows: slice) -> EdgeSet:
     return EdgeSet(edges.start[rows], edges.end[rows], edges.used[rows], edges.bounds[rows])
 
 
-def _padded(a: np.ndarray, width: int) -> np.ndarray:
-    """Edge array ``a`` (``(n, e, ...)``) padded to ``width`` edge slots."""
-    return np.pad(a, [(0, 0), (0, width - a.shape[1])] + [(0, 0)] * (a.ndim - 2))
-
-
-def _joined(parts: list[EdgeSet]) -> EdgeSet:
-    """The polygons of ``parts`` in order, in one edge set (padded to the widest)."""
-    w = max(p.start.shape[1] for p in parts)
-    return EdgeSet(np.concatenate([_padded(p.start, w) for p in parts]),
-                   np.concatenate([_padded(p.end, w) for p in parts]),
-                   np.concatenate([_padded(p.used, w) for p in parts]),
-                   np.concatenate([p.bounds for p in parts]))
-
-
-def _replaced(edges: EdgeSet, rows: np.ndarray, part: EdgeSet) -> EdgeSet:
-    """``edges`` with polygons ``rows`` replaced by ``part``'s (padded to the wider)."""
-    w = max(edges.start.shape[1], part.start.shape[1])
-    start, end, used = (_padded(a, w) for a in (edges.start, edges.end, edges.used))
-    start[rows], end[rows], used[rows] = (_padded(a, w) for a in (part.start, part.end,
-                                                                  part.used))
-    bounds = edges.bounds.copy()
-    bounds[rows] = part.bounds
-    return EdgeSet(start, end, used, bounds)
+def _put(edges: EdgeSet, rows: slice | np.ndarray, part: EdgeSet) -> None:
+    """Polygons ``rows`` of ``edges`` set to ``part``'s (as wide or narrower: padded)."""
+    w = part.start.shape[1]
+    if isinstance(rows, slice):
+        edges.start[rows, :w], edges.end[rows, :w] = part.start, part.end
+        edges.used[rows, :w] = part.used
+        edges.start[rows, w:], edges.end[rows, w:], edges.used[rows, w:] = 0.0, 0.0, False
+    else:
+        pad = edges.start.shape[1] - w
+        edges.start[rows] = np.pad(part.start, [(0, 0), (0, pad), (0, 0)])
+        edges.end[rows] = np.pad(part.end, [(0, 0), (0, pad), (0, 0)])
+        edges.used[rows] = np.pad(part.used, [(0, 0), (0, pad)])
+    edges.bounds[rows] = part.bounds

@@ -78,6 +78,44 @@ def obstacle_pieces(obstacles: list[Obstacle] | tuple[Obstacle, ...], *,
     return out
 
 
+def _by_size(pieces: list[np.ndarray]) -> dict[int, np.ndarray]:
+    """The indices of ``pieces`` grouped by vertex count."""
+    counts = np.fromiter(map(len, pieces), dtype=np.int64, count=len(pieces))
+    return {int(k): np.flatnonzero(counts == k) for k in np.unique(counts)}
+
+
+def piece_bounds(pieces: list[np.ndarray]) -> np.ndarray:
+    """Each piece's bounding box ``(n, 4)``: ``x0, y0, x1, y1`` (m).
+
+    Stacked by vertex count (a building's thousands of wall boxes in a few numpy calls).
+    """
+    out = np.zeros((len(pieces), 4))
+    for k, idx in _by_size(pieces).items():
+        stack = np.stack([pieces[i] for i in idx.tolist()]).reshape(-1, k, 2)
+        out[idx, :2], out[idx, 2:] = stack.min(axis=1), stack.max(axis=1)
+    return out
+
+
+def symmetric_centres(pieces: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """Each piece's vertex mean ``(n, 2)``, and whether the piece is its reflection about it.
+
+    A piece whose vertices, reflected about their mean, are its vertices again (within
+    1e-9 of its size) is centrally symmetric about that point (a rectangle, a wall box).
+    Stacked by vertex count: each piece's means and gaps are its own floats.
+    """
+    centres = np.zeros((len(pieces), 2))
+    symmetric = np.zeros(len(pieces), dtype=bool)
+    for k, idx in _by_size(pieces).items():
+        stack = np.stack([pieces[i] for i in idx.tolist()]).reshape(-1, k, 2)
+        c = stack.mean(axis=1)
+        gap = np.abs((2.0 * c[:, None, :] - stack)[:, :, None, :] - stack[:, None, :, :]
+                     ).max(axis=3).min(axis=2)
+        size = np.maximum(1.0, np.abs(stack - c[:, None, :]).max(axis=(1, 2)))
+        centres[idx] = c
+        symmetric[idx] = gap.max(axis=1) <= 1e-9 * size
+    return centres, symmetric
+
+
 def obstacle_footprint(obstacle: Obstacle, *, circle_sides: int = CIRCLE_SIDES) -> BaseGeometry:
     """The obstacle's whole floor footprint (a cylinder: its inscribed polygon)."""
     if isinstance(obstacle, BoxObstacle):

@@ -20,6 +20,7 @@ from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.validity.footprints import meeting_hulls
+from pivot_ompl.validity.polygon_terms import DistinctPolygons, PolygonTerms, own_terms
 
 #: (3 + 16 eps) eps, rounded up): a sign beyond it is certain.
 _ORIENT_ERR = 4e-16
@@ -46,31 +47,49 @@ class EdgeSet:
     bounds: np.ndarray
 
 
-def _ccw(poly: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Polygons ``(g, k, 2)`` with their vertices counter-clockwise, and which were reversed."""
-    x, y = poly[..., 0], poly[..., 1]
-    flip = np.sum(x * np.roll(y, -1, axis=1) - np.roll(x, -1, axis=1) * y, axis=1) < 0.0
-    return np.where(flip[:, None, None], poly[:, ::-1], poly), flip
-
-
 def _dots(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """``(g, s, k)`` dot products of directions ``u`` ``(g, s, 2)`` and points ``(g, k, 2)``."""
-    return u[:, :, None, 0] * v[:, None, :, 0] + u[:, :, None, 1] * v[:, None, :, 1]
+    """``(g, s, k)`` dot products of directions ``u`` ``(g, s, 2)`` and points ``(g, k, 2)``.
+
+    ``u_x v_x + u_y v_y``, in place into one array (no temporaries but one).
+    """
+    out = np.multiply(u[:, :, None, 0], v[:, None, :, 0])
+    out += np.multiply(u[:, :, None, 1], v[:, None, :, 1])
+    return out
 
 
 def _three_least(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Along the last axis, the indices of the two least values and the three least values.
 
-    By repeated ``argmin`` (faster than sorting many short rows); ``inf`` where fewer.
+    By repeated ``argmin`` (faster than sorting many short rows), the third value a ``min``
+    of the rest; ``inf`` where fewer.
     """
     v = v.copy()
     idx, least = [], []
-    for _ in range(3):
+    for _ in range(2):
         i = np.argmin(v, axis=-1)[..., None]
         idx.append(i)
         least.append(np.take_along_axis(v, i, axis=-1))
         np.put_along_axis(v, i, np.inf, axis=-1)
-    return np.concatenate(idx[:2], axis=-1), np.concatenate(least, axis=-1)
+    least.append(v.min(axis=-1, keepdims=True))
+    return np.concatenate(idx, axis=-1), np.concatenate(least, axis=-1)
+
+
+def _gather(a: np.ndarray, index: np.ndarray) -> np.ndarray:
+    """``a[i, index[i]]`` per row ``i`` (``(g, n, ...)`` by ``(g, s)``: ``(g, s, ...)``).
+
+    Rows whose sums share their slots (a class of wall boxes) share ``index``: one row of
+    indices taken from every row at once then (the same values, a fraction of the time).
+    """
+    if len(index) and bool((index == index[0]).all()):
+        return a[:, index[0]]
+    return a[np.arange(len(index))[:, None], index]
+
+
+def _gather_last(a: np.ndarray, index: np.ndarray) -> np.ndarray:
+    """``a[i, j, index[i, j]]`` kept as ``(g, s, 1)`` (``a``: ``(g, s, n)``), as :func:`_gather`."""
+    if len(index) and bool((index == index[0]).all()):
+        return a[:, np.arange(index.shape[1]), index[0]][..., None]
+    return np.take_along_axis(a, index[..., None], axis=2)
 
 
 def _after_last(edge: np.ndarray, mine: np.ndarray, count: int) -> np.ndarray:
@@ -82,7 +101,8 @@ def _after_last(edge: np.ndarray, mine: np.ndarray, count: int) -> np.ndarray:
 
 
 def _sum_hulls(pieces: np.ndarray, bodies: np.ndarray, *, certify: bool = True,
-               terms: tuple[_Terms, _Terms] | None = None
+               terms: tuple[PolygonTerms, PolygonTerms] | None = None,
+               classes: np.ndarray | None = None
                ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Hulls of ``piece - body`` per row (``(g, k, 2)``, ``(g, m, 2)`` convex polygons).
 
@@ -98,18 +118,20 @@ def _sum_hulls(pieces: np.ndarray, bodies: np.ndarray, *, certify: bool = True,
     ``(g,)``.
 
     ``certify=False``: no certificate; a row is accepted when both polygons have a vertex
-    and no edge shorter than :data:`_SHORT_EDGE` times their extent (the merged normals
-    then give the sum's region to rounding, perhaps with a vertex more or less on an edge's
-    line than GEOS's hull; a row with a vanishing edge is refused, as an uncertified one).
+    and no edge shorter than :data:`~pivot_ompl.validity.polygon_terms.SHORT_EDGE` times
+    their extent (the merged normals then give the sum's region to rounding, perhaps with a
+    vertex more or less on an edge's line than GEOS's hull; a row with a vanishing edge is
+    refused, as an uncertified one).
 
-    ``terms``: the pieces' and the bodies' own terms (:func:`_own_terms`), computed once
-    per distinct polygon by the caller (the same floats as per row).
+    ``terms``: the pieces' and the bodies' own terms
+    (:func:`~pivot_ompl.validity.polygon_terms.own_terms`), computed once
+    per distinct polygon by the caller (the same floats as per row); ``classes``: per row,
+    equal for rows of equal terms (:func:`_sum_candidates`).
     """
-    pt, bt = terms if terms is not None else (_own_terms(pieces, reflect=False),
-                                              _own_terms(bodies, reflect=True))
-    cand, pair, nxt, valid, ok = _sum_candidates(pieces, bodies, pt, bt)
-    rows = np.arange(pieces.shape[0])[:, None]
-    verts = cand[rows, pair]
+    pt, bt = terms if terms is not None else (own_terms(pieces, reflect=False),
+                                              own_terms(bodies, reflect=True))
+    cand, pair, nxt, valid, ok = _sum_candidates(pieces, bodies, pt, bt, classes)
+    verts = _gather(cand, pair)
     if certify:
         ok &= _certified(pieces, bodies, cand, pair, nxt, valid)
     else:
@@ -117,84 +139,36 @@ def _sum_hulls(pieces: np.ndarray, bodies: np.ndarray, *, certify: bool = True,
     return verts, nxt, valid, ok
 
 
-@dataclass(frozen=True)
-class _Terms:
-    """What :func:`_sum_hulls` computes of one side's polygons alone, per row ``(g, ...)``.
-
-    ``flipped``: whether making the polygon (a body: its reflection ``-body``)
-    counter-clockwise reversed it; ``normals``: that counter-clockwise polygon's outward
-    edge normal angles in ``[0, 2 pi)``; ``short``: whether the polygon has an edge shorter
-    than :data:`_SHORT_EDGE` times its extent.
-    """
-
-    flipped: np.ndarray
-    normals: np.ndarray
-    short: np.ndarray
-
-    def rows(self, index: np.ndarray) -> _Terms:
-        """The terms of polygons ``index`` (rows gathered)."""
-        return _Terms(self.flipped[index], self.normals[index], self.short[index])
-
-
-#: Relative length below which an edge makes :func:`_sum_hulls` without a certificate refuse
-#: a row (a near-degenerate polygon, whose edge normals are not reliable).
-_SHORT_EDGE = 1e-9
-
-
-def _has_short_edge(polys: np.ndarray) -> np.ndarray:
-    """Per row of ``(g, k, 2)`` polygons: an edge shorter than :data:`_SHORT_EDGE` x extent."""
-    e = np.linalg.norm(np.roll(polys, -1, axis=1) - polys, axis=2)
-    extent = np.ptp(polys, axis=1).max(axis=1)
-    return np.any(e <= _SHORT_EDGE * np.maximum(extent, 1.0)[:, None], axis=1)
-
-
-def _normal_angles(poly: np.ndarray) -> np.ndarray:
-    """Outward normal angles ``[0, 2 pi)`` of counter-clockwise polygons' edges ``(g, k)``."""
-    e = np.roll(poly, -1, axis=1) - poly
-    return np.arctan2(-e[..., 0], e[..., 1]) % (2 * math.pi)
-
-
-def _own_terms(polys: np.ndarray, *, reflect: bool) -> _Terms:
-    """:class:`_Terms` of polygons ``(g, k, 2)`` (of their reflections when ``reflect``)."""
-    ccw, flipped = _ccw(-polys if reflect else polys)
-    return _Terms(flipped, _normal_angles(ccw), _has_short_edge(polys))
-
-
-class _Distinct:
-    """The distinct polygons of a list (by object: one array passed many times counts once).
-
-    Stacked by vertex count, with their :class:`_Terms` computed once.
-    """
-
-    def __init__(self, polys: list[np.ndarray], *, reflect: bool) -> None:
-        """Index ``polys``."""
-        known: dict[int, int] = {}
-        self.of = [known.setdefault(id(p), len(known)) for p in polys]
-        by_size: dict[int, list[np.ndarray]] = {}
-        self.local: list[int] = []
-        for p in {id(p): p for p in polys}.values():
-            same = by_size.setdefault(len(p), [])
-            self.local.append(len(same))
-            same.append(p)
-        self.stacked = {n: np.stack(ps) for n, ps in by_size.items()}
-        self.terms = {n: _own_terms(a, reflect=reflect) for n, a in self.stacked.items()}
-
-    def rows(self, idx: list[int], size: int) -> tuple[np.ndarray, _Terms]:
-        """Polygons ``idx`` of the list (each of ``size`` vertices) and their terms."""
-        r = np.array([self.local[self.of[i]] for i in idx])
-        return self.stacked[size][r], self.terms[size].rows(r)
-
-
-def _sum_candidates(pieces: np.ndarray, bodies: np.ndarray, pt: _Terms, bt: _Terms
+def _sum_candidates(pieces: np.ndarray, bodies: np.ndarray, pt: PolygonTerms, bt: PolygonTerms,
+                    classes: np.ndarray | None = None
                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The vertex differences and, per slot of the merged edge normals, the hull's vertex.
 
-    ``pt``, ``bt``: the pieces' and the bodies' own terms (:func:`_own_terms`). Returns the
-    differences ``(g, k m, 2)``, each slot's vertex pair and next slot, which slots are
-    vertices, and which rows have a vertex at all.
+    ``pt``, ``bt``: the pieces' and the bodies' own terms
+    (:func:`~pivot_ompl.validity.polygon_terms.own_terms`). Returns the differences
+    ``(g, k m, 2)``, each slot's vertex pair and next slot, which slots are vertices, and
+    which rows have a vertex at all. ``classes``: per row, a number equal
+    for rows whose terms' orientations and normals are equal (wall boxes of any size and
+    place share theirs): the slots depend on those alone (:func:`_slots`), so they are
+    computed once per class and gathered (the same integers).
     """
     g, k, m = pieces.shape[0], pieces.shape[1], bodies.shape[1]
     cand = (pieces[:, :, None, :] - bodies[:, None, :, :]).reshape(g, k * m, 2)
+    if classes is not None and g > 1:
+        if bool((classes == classes[0]).all()):  # one class (the usual batch): no sort
+            first, inverse = np.zeros(1, dtype=np.int64), np.zeros(g, dtype=np.int64)
+        else:
+            _, first, inverse = np.unique(classes, return_index=True, return_inverse=True)
+        if len(first) < g:
+            slots = _slots(pt.rows(first), bt.rows(first), k, m)
+            return (cand, *(a[inverse] for a in slots))
+    return (cand, *_slots(pt, bt, k, m))
+
+
+def _slots(pt: PolygonTerms, bt: PolygonTerms, k: int, m: int
+           ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`_sum_candidates`' slots from the terms alone: pair, next slot, valid, ok."""
+    g = pt.flipped.shape[0]
     pflip, qflip = pt.flipped, bt.flipped
     ang = np.concatenate([pt.normals, bt.normals], axis=1)
     order = np.argsort(ang, axis=1)
@@ -218,7 +192,7 @@ def _sum_candidates(pieces: np.ndarray, bodies: np.ndarray, pt: _Terms, bt: _Ter
     ok = np.any(valid, axis=1)
     nxt = np.where(ok[:, None], nxt, 0)
     pair = np.where(valid, pair, np.take_along_axis(pair, nxt, axis=1))
-    return cand, pair, nxt, valid, ok
+    return pair, nxt, valid, ok
 
 
 def _certified(pieces: np.ndarray, bodies: np.ndarray, cand: np.ndarray, pair: np.ndarray,
@@ -227,17 +201,19 @@ def _certified(pieces: np.ndarray, bodies: np.ndarray, cand: np.ndarray, pair: n
     g, k, m = pieces.shape[0], pieces.shape[1], bodies.shape[1]
     s = pair.shape[1]
     rows = np.arange(g)[:, None]
-    verts = cand[rows, pair]
-    a, b = verts, verts[rows, nxt]
-    bpair = np.take_along_axis(pair, nxt, axis=1)
+    verts = _gather(cand, pair)
+    a, b = verts, _gather(verts, nxt)
+    bpair = _gather(pair, nxt)
     # per edge a -> b, a difference's distance left of its line, split as the piece
     # vertex's part plus the body vertex's part (floats: certain beyond a bound ``tol``)
     e = b - a
     normal = np.stack([-e[..., 1], e[..., 0]], axis=-1)
     dp = _dots(normal, pieces)
-    dq = -_dots(normal, bodies)
-    gp = dp - np.take_along_axis(dp, (pair // m)[..., None], axis=2)
-    gq = dq - np.take_along_axis(dq, (pair % m)[..., None], axis=2)
+    dp -= _gather_last(dp, pair // m)
+    gp = dp
+    # the body's part is minus its dot: (-x) - (-y) is y - x, the same float, one pass less
+    dq = _dots(normal, bodies)
+    gq = np.subtract(_gather_last(dq, pair % m), dq, out=dq)
     scale = np.abs(pieces).max(axis=(1, 2)) + np.abs(bodies).max(axis=(1, 2)) \
         + np.abs(cand).max(axis=(1, 2))
     tol = _SPLIT_ERR * np.abs(e).sum(axis=-1) * scale[:, None]
@@ -247,8 +223,7 @@ def _certified(pieces: np.ndarray, bodies: np.ndarray, cand: np.ndarray, pair: n
     # left; those (at most 4 per edge) are tested with exact-sign orientations
     far = (sp[..., 2] + sq[..., 0] > tol) & (sq[..., 2] + sp[..., 0] > tol)
     near = (ip[..., :, None] * m + iq[..., None, :]).reshape(g, s, -1)
-    split = (np.take_along_axis(gp, ip, axis=2)[..., :, None]
-             + np.take_along_axis(gq, iq, axis=2)[..., None, :]).reshape(g, s, -1)
+    split = (sp[..., :2, None] + sq[..., None, :2]).reshape(g, s, -1)  # their values
     ends = (near == pair[..., None]) | (near == bpair[..., None])
     good = (split > tol[..., None]) | ends
     # the orientations only where they decide: a near difference not certain by its split,
@@ -271,7 +246,7 @@ def _certified(pieces: np.ndarray, bodies: np.ndarray, cand: np.ndarray, pair: n
 
 def _edges_of(verts: np.ndarray, nxt: np.ndarray, used: np.ndarray) -> EdgeSet:
     """The :class:`EdgeSet` of counter-clockwise vertex slots (padding repeats a vertex)."""
-    end = np.take_along_axis(verts, nxt[..., None], axis=1)
+    end = _gather(verts, nxt)
     lo, hi = verts.min(axis=1), verts.max(axis=1)
     return EdgeSet(verts, end, used, np.concatenate([lo, hi], axis=1))
 
@@ -326,34 +301,37 @@ def meeting_edges(pieces: list[np.ndarray], bodies: list[np.ndarray], *,
         return EdgeSet(np.zeros((0, 1, 2)), np.zeros((0, 1, 2)), np.zeros((0, 1), dtype=bool),
                        np.zeros((0, 4)))
     # a piece and a body are usually each one array passed many times (a body per yaw, a
-    # piece per yaw and body): their own terms computed once
-    distinct_pieces = _Distinct(pieces, reflect=False)
-    distinct_bodies = _Distinct(bodies, reflect=True)
-    groups: dict[tuple[int, int], list[int]] = {}
-    for i in range(n):
-        groups.setdefault((len(pieces[i]), len(bodies[i])), []).append(i)
-    batches = [(size, idx[b0:b0 + MEETING_BATCH]) for size, idx in groups.items()
-               for b0 in range(0, len(idx), MEETING_BATCH)]
-    parts: list[tuple[list[int], EdgeSet]] = []
-    failed: list[int] = []
-    for (k, m), idx in batches:
+    # piece per yaw and body): their own terms computed once, the pairs indexed by numpy
+    distinct_pieces = DistinctPolygons(pieces, reflect=False)
+    distinct_bodies = DistinctPolygons(bodies, reflect=True)
+    ks, ms = distinct_pieces.sizes, distinct_bodies.sizes
+    order = np.argsort(ks * (int(ms.max()) + 1) + ms, kind="stable")  # by (k, m), in order
+    starts = np.flatnonzero(np.diff(ks[order] * (int(ms.max()) + 1) + ms[order],
+                                    prepend=-1))
+    batches = [sub for g0, g1 in zip(starts.tolist(), [*starts[1:].tolist(), n], strict=True)
+               for sub in np.split(order[g0:g1], range(MEETING_BATCH, g1 - g0, MEETING_BATCH))]
+    parts: list[tuple[np.ndarray, EdgeSet]] = []
+    failed: list[np.ndarray] = []
+    for idx in batches:
         if should_stop is not None and should_stop():
             raise Interrupted("summing obstacle pieces and bodies")
-        p, pt = distinct_pieces.rows(idx, k)
-        b, bt = distinct_bodies.rows(idx, m)
-        verts, nxt, used, ok = _sum_hulls(p, b, certify=certify, terms=(pt, bt))
+        p, pt, pc = distinct_pieces.rows(idx, int(ks[idx[0]]))
+        b, bt, bc = distinct_bodies.rows(idx, int(ms[idx[0]]))
+        verts, nxt, used, ok = _sum_hulls(p, b, certify=certify, terms=(pt, bt),
+                                          classes=pc * distinct_bodies.n_classes + bc)
         good = np.flatnonzero(ok)
         if len(good):
-            parts.append(([idx[i] for i in good], _edges_of(verts[good], nxt[good], used[good])))
-        failed.extend(idx[i] for i in np.flatnonzero(~ok))
+            parts.append((idx[good], _edges_of(verts[good], nxt[good], used[good])))
+        failed.append(idx[~ok])
+    gone = np.concatenate(failed).tolist()
     hulls: list[BaseGeometry] = []
-    for f0 in range(0, len(failed), MEETING_BATCH):  # GEOS, one pair at a time
+    for f0 in range(0, len(gone), MEETING_BATCH):  # GEOS, one pair at a time
         if should_stop is not None and should_stop():
             raise Interrupted("summing obstacle pieces and bodies")
         hulls.extend(meeting_hulls([pieces[i]], bodies[i])[0]
-                     for i in failed[f0:f0 + MEETING_BATCH])
-    if failed:
-        parts.append((failed, _geos_edges(hulls)))
+                     for i in gone[f0:f0 + MEETING_BATCH])
+    if gone:
+        parts.append((np.asarray(gone, dtype=np.int64), _geos_edges(hulls)))
     e = max(part.start.shape[1] for _, part in parts)
     start, end = np.zeros((n, e, 2)), np.zeros((n, e, 2))
     used, bounds = np.zeros((n, e), dtype=bool), np.zeros((n, 4))

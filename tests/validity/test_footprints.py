@@ -167,3 +167,31 @@ def test_meeting_edges_without_certificate_refuse_a_vanishing_edge():
         body = square @ np.array([[c, -s], [s, c]]).T
         got = grid_union(meeting_edges([piece], [body], certify=False), xs, ys)
         assert np.array_equal(got, grid_union(meeting_edges([piece], [body]), xs, ys))
+
+
+@settings(max_examples=20, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_pieces_bounds_and_centres_stacked_by_size_are_each_piece_s_own(seed):
+    # stacked by vertex count (5000 wall boxes in a few numpy calls): each piece's box,
+    # mean and central symmetry must be those it has alone, whatever the other pieces
+    from pivot_ompl.validity.footprints import piece_bounds, symmetric_centres
+
+    rng = np.random.default_rng(seed)
+    pieces = []
+    for _ in range(int(rng.integers(0, 30))):
+        if rng.uniform() < 0.5:  # a turned rectangle: centrally symmetric
+            w, d, a = rng.uniform(0.05, 3.0), rng.uniform(0.05, 3.0), rng.uniform(0, np.pi)
+            rot = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+            box = np.array([[-w, -d], [w, -d], [w, d], [-w, d]]) / 2 @ rot.T
+            pieces.append(box + rng.uniform(-20, 20, 2))
+        else:
+            pieces.append(rng.uniform(-5, 5, (int(rng.integers(1, 7)), 2)))
+    bounds = piece_bounds(pieces)
+    centres, symmetric = symmetric_centres(pieces)
+    assert bounds.shape == (len(pieces), 4) and centres.shape == (len(pieces), 2)
+    for i, p in enumerate(pieces):
+        assert np.array_equal(bounds[i], [*p.min(axis=0), *p.max(axis=0)])
+        c = p.mean(axis=0)
+        assert np.array_equal(centres[i], c)
+        mirrored = np.abs((2.0 * c - p)[:, None, :] - p[None, :, :]).max(axis=2).min(axis=1)
+        assert symmetric[i] == (mirrored.max() <= 1e-9 * max(1.0, float(np.abs(p - c).max())))
