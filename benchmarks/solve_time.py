@@ -17,10 +17,11 @@ With ``--first``, every plan is the first of a fresh interpreter instead: for ea
 ``0 .. N-1`` and each version in turn, a new process with a new, empty cache folder
 (``XDG_CACHE_HOME``: nothing served from an earlier run) imports the API and plans once.
 Prints per scene and version the medians of that plan's CPU seconds (``cpu s``, lazy imports
-inside ``plan`` included), its ratio to the first version, the plan's ``solve`` seconds
-(wall, the search and its improvement), the lower bounds' seconds (``bound``), the whole
-process's CPU seconds (``proc s``: the interpreter, the imports and the plan; what one
-``pivot-ompl plan`` costs), cost, pivots and regrasps.
+inside ``plan`` included) and its ratio to the first version, the CPU seconds of the regrasp
+search with its improvement (``search``: the core of ``solve``) and their ratio, the plan's
+``solve`` and lower bounds' (``bound``) wall seconds, the whole process's CPU seconds
+(``proc s``: the interpreter, the imports and the plan; what one ``pivot-ompl plan`` costs),
+cost, pivots and regrasps.
 
     flock /tmp/pivot-bench.lock python benchmarks/solve_time.py \
         --before /tmp/base [--seeds 5] [--time 15] [--first]
@@ -106,13 +107,19 @@ def first_worker(scene_name: str, seed: int, limit: float) -> None:
 
     ou.setLogLevel(ou.LOG_WARN)
     layout = HERE.parent / "layouts" / f"{scene_name}.yaml"
+    bucket: dict[str, float] = {}
+    try:  # the regrasp search with its improvement, in CPU seconds (every version has it)
+        from pivot_ompl.planners.regrasp_search import RegraspSearch
+        _timed(RegraspSearch, "run", bucket)
+    except ImportError:
+        pass
     t0 = time.process_time()
     scene = load_scene(layout if layout.is_file() else scene_name)
     res = plan(scene, time_limit=limit, seed=seed)
     cpu = time.process_time() - t0
     row: dict[str, Any] = {"seed": seed, "cpu": cpu, "solved": bool(res.solved),
-                           "solve": res.timings.get("solve"), "bound": res.timings.get("bound"),
-                           "proc": time.process_time()}
+                           "search": bucket.get("run"), "solve": res.timings.get("solve"),
+                           "bound": res.timings.get("bound"), "proc": time.process_time()}
     if res.solved:
         q = (res.plan.extra.get("quality") or {})
         row.update(pivots=res.plan.pivots, regrasps=res.plan.regrasps, cost=q.get("cost"))
@@ -150,6 +157,10 @@ def run(path: Path, scene: str, seeds: int, limit: float) -> list[dict[str, Any]
 def _med(rows: list[dict[str, Any]], key: str) -> float | None:
     vals = [r[key] for r in rows if r.get(key) is not None]
     return statistics.median(vals) if vals else None
+
+
+def _ratio(x: float | None, first: float | None) -> float | None:
+    return x / first if x is not None and first else None
 
 
 def _fmt(x: float | None, spec: str) -> str:
@@ -194,21 +205,23 @@ def main() -> None:
 def _first_table(versions: list[Path], a: argparse.Namespace,
                  table: dict[str, dict[str, list[dict[str, Any]]]]) -> None:
     """First plans of fresh processes, versions taking turns per seed (``--first``)."""
-    print(f"{'scene':15} {'version':28} {'cpu s':>7} {'ratio':>6} {'solve':>7} {'bound':>7} "
-          f"{'proc s':>7} {'cost':>8} {'piv':>5} {'rg':>3}")
+    print(f"{'scene':15} {'version':28} {'cpu s':>7} {'ratio':>6} {'search':>7} {'ratio':>6} "
+          f"{'solve':>7} {'bound':>7} {'proc s':>7} {'cost':>8} {'piv':>5} {'rg':>3}")
     for scene in filter(None, a.scenes.split(",")):
         rows: dict[str, list[dict[str, Any]]] = {str(v): [] for v in versions}
         for seed in range(a.seeds):
             for v in versions:
                 rows[str(v)].append(run_first(v, scene, seed, a.time))
         table[scene] = rows
-        base: float | None = None
+        base: dict[str, float | None] = {}
         for v in versions:
             r = rows[str(v)]
-            cpu = _med(r, "cpu")
-            base = cpu if base is None else base
-            ratio = cpu / base if cpu is not None and base else None
-            print(f"{scene:15} {str(v)[-28:]:28} {_fmt(cpu, '7.3f')} {_fmt(ratio, '6.2f')} "
+            cpu, search = _med(r, "cpu"), _med(r, "search")
+            base.setdefault("cpu", cpu)
+            base.setdefault("search", search)
+            print(f"{scene:15} {str(v)[-28:]:28} {_fmt(cpu, '7.3f')} "
+                  f"{_fmt(_ratio(cpu, base['cpu']), '6.2f')} {_fmt(search, '7.3f')} "
+                  f"{_fmt(_ratio(search, base['search']), '6.2f')} "
                   f"{_fmt(_med(r, 'solve'), '7.3f')} {_fmt(_med(r, 'bound'), '7.3f')} "
                   f"{_fmt(_med(r, 'proc'), '7.3f')} {_fmt(_med(r, 'cost'), '8.1f')} "
                   f"{_fmt(_med(r, 'pivots'), '5.0f')} {_fmt(_med(r, 'regrasps'), '3.0f')}",

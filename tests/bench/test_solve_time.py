@@ -15,5 +15,6 @@ def test_a_first_plan_runs_in_its_own_process_with_an_empty_cache(tmp_path, monk
     # the plan's own CPU seconds, within the whole process's (interpreter and imports too)
     assert 0.0 < row["cpu"] < row["proc"]
     assert row["solve"] > 0.0 and row["bound"] is not None
+    assert 0.0 < row["search"] < row["cpu"]  # the regrasp search, within the plan
     # the lower bounds were computed, not read: the caller's cache folder stays untouched
     assert not any(cache.iterdir())
