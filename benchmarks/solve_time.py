@@ -13,8 +13,18 @@ has them; ``first s``: the CPU seconds of the warm-up plan, the first of its pro
 one plan of the command line costs beyond the imports; the lower bounds may come from the
 disk cache). Target (issue 42): every shipped scene <= 1.2x the first version.
 
+With ``--first``, every plan is the first of a fresh interpreter instead: for each seed
+``0 .. N-1`` and each version in turn, a new process with a new, empty cache folder
+(``XDG_CACHE_HOME``: nothing served from an earlier run) imports the API and plans once.
+Prints per scene and version the medians of that plan's CPU seconds (``cpu s``, lazy imports
+inside ``plan`` included) and its ratio to the first version, the CPU seconds of the regrasp
+search with its improvement (``search``: the core of ``solve``) and their ratio, the plan's
+``solve`` and lower bounds' (``bound``) wall seconds, the whole process's CPU seconds
+(``proc s``: the interpreter, the imports and the plan; what one ``pivot-ompl plan`` costs),
+cost, pivots and regrasps.
+
     flock /tmp/pivot-bench.lock python benchmarks/solve_time.py \
-        --before /tmp/base [--seeds 5] [--time 15]
+        --before /tmp/base [--seeds 5] [--time 15] [--first]
         [--scenes fig10,slot,door,...] [--out results/solve_time.json]
 """
 
@@ -26,6 +36,7 @@ import os
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 from typing import Any
@@ -87,6 +98,47 @@ def worker(scene_name: str, seeds: int, limit: float) -> None:
         print("ROW " + json.dumps(row), flush=True)
 
 
+def first_worker(scene_name: str, seed: int, limit: float) -> None:
+    """Plan ``scene_name`` once with ``seed``, the first plan of this process; one JSON line."""
+    from ompl import util as ou
+
+    from pivot_ompl.api import plan
+    from pivot_ompl.scene import load_scene
+
+    ou.setLogLevel(ou.LOG_WARN)
+    layout = HERE.parent / "layouts" / f"{scene_name}.yaml"
+    bucket: dict[str, float] = {}
+    try:  # the regrasp search with its improvement, in CPU seconds (every version has it)
+        from pivot_ompl.planners.regrasp_search import RegraspSearch
+        _timed(RegraspSearch, "run", bucket)
+    except ImportError:
+        pass
+    t0 = time.process_time()
+    scene = load_scene(layout if layout.is_file() else scene_name)
+    res = plan(scene, time_limit=limit, seed=seed)
+    cpu = time.process_time() - t0
+    row: dict[str, Any] = {"seed": seed, "cpu": cpu, "solved": bool(res.solved),
+                           "search": bucket.get("run"), "solve": res.timings.get("solve"),
+                           "bound": res.timings.get("bound"), "proc": time.process_time()}
+    if res.solved:
+        q = (res.plan.extra.get("quality") or {})
+        row.update(pivots=res.plan.pivots, regrasps=res.plan.regrasps, cost=q.get("cost"))
+    print("ROW " + json.dumps(row), flush=True)
+
+
+def run_first(path: Path, scene: str, seed: int, limit: float) -> dict[str, Any]:
+    """The row of one fresh worker, with an empty cache folder, planning ``scene`` once."""
+    with tempfile.TemporaryDirectory(prefix="solve_time_cache_") as cache:
+        env = dict(os.environ, PYTHONPATH=str(path), XDG_CACHE_HOME=cache)
+        out = subprocess.run([sys.executable, str(HERE), "--first-worker", scene, "--seed",
+                              str(seed), "--time", str(limit)], env=env, cwd=str(path),
+                             text=True, capture_output=True, check=False)
+    rows = [json.loads(line[4:]) for line in out.stdout.splitlines() if line.startswith("ROW ")]
+    if out.returncode != 0 or len(rows) != 1:
+        raise SystemExit(f"{scene} seed {seed} with {path}: worker failed\n{out.stderr[-2000:]}")
+    return rows[0]
+
+
 def run(path: Path, scene: str, seeds: int, limit: float) -> list[dict[str, Any]]:
     """Rows of one fresh worker with the package at ``path`` (the first row's ``first``: the
     warm-up plan's CPU seconds)."""
@@ -107,6 +159,10 @@ def _med(rows: list[dict[str, Any]], key: str) -> float | None:
     return statistics.median(vals) if vals else None
 
 
+def _ratio(x: float | None, first: float | None) -> float | None:
+    return x / first if x is not None and first else None
+
+
 def _fmt(x: float | None, spec: str) -> str:
     return "-" if x is None else format(x, spec)
 
@@ -119,13 +175,62 @@ def main() -> None:
     ap.add_argument("--time", type=float, default=15.0, help="plan's time limit (s)")
     ap.add_argument("--scenes", default=",".join(SCENES))
     ap.add_argument("--out", default=None, help="JSON of every row")
+    ap.add_argument("--first", action="store_true",
+                    help="time the first plan of a fresh process per seed (empty cache)")
     ap.add_argument("--worker", default=None, help=argparse.SUPPRESS)
+    ap.add_argument("--first-worker", default=None, help=argparse.SUPPRESS)
+    ap.add_argument("--seed", type=int, default=0, help=argparse.SUPPRESS)
     a = ap.parse_args()
     if a.worker:
         worker(a.worker, a.seeds, a.time)
         return
+    if a.first_worker:
+        first_worker(a.first_worker, a.seed, a.time)
+        return
     versions = [*a.before, ROOT]
     table: dict[str, dict[str, list[dict[str, Any]]]] = {}
+    if a.first:
+        _first_table(versions, a, table)
+    else:
+        _warm_table(versions, a, table)
+    if a.out:
+        out = Path(a.out)
+        out.parent.mkdir(parents=True, exist_ok=True)
+        tmp = out.with_suffix(".tmp")
+        tmp.write_text(json.dumps(table, indent=1) + "\n")
+        tmp.replace(out)
+        print(f"written {out}")
+
+
+def _first_table(versions: list[Path], a: argparse.Namespace,
+                 table: dict[str, dict[str, list[dict[str, Any]]]]) -> None:
+    """First plans of fresh processes, versions taking turns per seed (``--first``)."""
+    print(f"{'scene':15} {'version':28} {'cpu s':>7} {'ratio':>6} {'search':>7} {'ratio':>6} "
+          f"{'solve':>7} {'bound':>7} {'proc s':>7} {'cost':>8} {'piv':>5} {'rg':>3}")
+    for scene in filter(None, a.scenes.split(",")):
+        rows: dict[str, list[dict[str, Any]]] = {str(v): [] for v in versions}
+        for seed in range(a.seeds):
+            for v in versions:
+                rows[str(v)].append(run_first(v, scene, seed, a.time))
+        table[scene] = rows
+        base: dict[str, float | None] = {}
+        for v in versions:
+            r = rows[str(v)]
+            cpu, search = _med(r, "cpu"), _med(r, "search")
+            base.setdefault("cpu", cpu)
+            base.setdefault("search", search)
+            print(f"{scene:15} {str(v)[-28:]:28} {_fmt(cpu, '7.3f')} "
+                  f"{_fmt(_ratio(cpu, base['cpu']), '6.2f')} {_fmt(search, '7.3f')} "
+                  f"{_fmt(_ratio(search, base['search']), '6.2f')} "
+                  f"{_fmt(_med(r, 'solve'), '7.3f')} {_fmt(_med(r, 'bound'), '7.3f')} "
+                  f"{_fmt(_med(r, 'proc'), '7.3f')} {_fmt(_med(r, 'cost'), '8.1f')} "
+                  f"{_fmt(_med(r, 'pivots'), '5.0f')} {_fmt(_med(r, 'regrasps'), '3.0f')}",
+                  flush=True)
+
+
+def _warm_table(versions: list[Path], a: argparse.Namespace,
+                table: dict[str, dict[str, list[dict[str, Any]]]]) -> None:
+    """A warm-up plan, then seeds, in one process per scene and version."""
     print(f"{'scene':15} {'version':28} {'cpu s':>7} {'ratio':>6} {'cost':>8} {'piv':>5} "
           f"{'rg':>3} {'reroute':>7} {'follow':>7} {'first s':>7}")
     for scene in filter(None, a.scenes.split(",")):
@@ -142,13 +247,6 @@ def main() -> None:
                   f"{_fmt(_med(rows, 'regrasps'), '3.0f')} {_fmt(_med(rows, 'refine'), '7.3f')} "
                   f"{_fmt(_med(rows, 'follow'), '7.3f')} {_fmt(rows[0].get('first'), '7.3f')}",
                   flush=True)
-    if a.out:
-        out = Path(a.out)
-        out.parent.mkdir(parents=True, exist_ok=True)
-        tmp = out.with_suffix(".tmp")
-        tmp.write_text(json.dumps(table, indent=1) + "\n")
-        tmp.replace(out)
-        print(f"written {out}")
 
 
 if __name__ == "__main__":

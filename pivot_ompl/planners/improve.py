@@ -116,7 +116,8 @@ def improve(checker: PivotChecker, states: list[State], config: RegraspConfig, *
                         should_stop=routes.stop(should_stop, checker, states),
                         run_spacing=cfg.run_spacing, stats=st.refine,
                         start_grasp=start_grasp, grasps=config.grasps,
-                        min_saving=cfg.route_min_saving)
+                        min_saving=cfg.route_min_saving,
+                        whole_min_saving=cfg.whole_min_saving)
         st.routes_seconds += time.perf_counter() - t0
     states = optimise(checker, states, should_stop=optimiser.stop(should_stop, checker, states),
                       costs=config.cost, grasps=config.grasps, start_grasp=start_grasp,

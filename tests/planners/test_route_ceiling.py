@@ -128,3 +128,51 @@ def test_the_least_saving_is_a_listed_knob():
     with pytest.raises(InputError) as e:
         RegraspConfig().with_values({"optimiser.route_min_saving": "-0.1"})
     assert e.value.field == "optimiser.route_min_saving"
+
+
+def _refined(ck, lattice, path, **kwargs):
+    stats = RefineStats()
+    out = refine(ck, lattice, path, costs=COSTS, should_stop=lambda: False,
+                 run_spacing=SPACING, stats=stats, grasps=(0, 1, 2, 3), **kwargs)
+    return out, stats
+
+
+def test_whole_path_runs_estimated_under_their_least_share_are_not_made_real():
+    # the cluttered room's found path is one phase: every run re-plans the whole path
+    ck = PivotChecker(shipped("cluttered_room"))
+    lattice = TransferLattice(ck, COSTS)
+    path = _found_path(ck)
+    evaluate = Evaluator(ck, COSTS)
+    every, every_stats = _refined(ck, lattice, path, min_saving=0.05)
+    share = OptimiserConfig().whole_min_saving
+    fewer, fewer_stats = _refined(ck, lattice, path, min_saving=0.05, whole_min_saving=share)
+    # the run it leaves (estimated to save 9.6 %) costs more than the path once checked:
+    # the same path, fewer routes made real
+    assert fewer == every and evaluate.path(fewer).cost < evaluate.path(path).cost
+    assert fewer_stats.tried < every_stats.tried
+    assert fewer_stats.applied == every_stats.applied >= 1
+    # above the best run's estimated share nothing is tried at all
+    first = best_run(ck, lattice, path, costs=COSTS, should_stop=lambda: False,
+                     grasps=(0, 1, 2, 3))
+    top = first.saving / evaluate.path(path).cost
+    out, stats = _refined(ck, lattice, path, whole_min_saving=top * 1.001)
+    assert out == path and stats.tried == 0
+
+
+def test_the_whole_paths_least_share_leaves_the_runs_of_fewer_phases():
+    ck = PivotChecker(shipped("fig10"))
+    lattice = TransferLattice(ck, COSTS)
+    path = _found_path(ck)
+    evaluate = Evaluator(ck, COSTS)
+    assert len({g for _, g in path}) > 1  # regrasps: runs of one phase exist
+    out, stats = _refined(ck, lattice, path, whole_min_saving=1.0)
+    assert stats.applied >= 1 and evaluate.path(out).cost < evaluate.path(path).cost
+
+
+def test_the_whole_paths_least_share_is_a_listed_knob():
+    listed = {p.name: p for p in parameters()}
+    knob = listed["optimiser.whole_min_saving"]
+    assert knob.default == 0.1 and knob.doc
+    with pytest.raises(InputError) as e:
+        RegraspConfig().with_values({"optimiser.whole_min_saving": "1.5"})
+    assert e.value.field == "optimiser.whole_min_saving"

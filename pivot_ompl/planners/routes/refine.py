@@ -75,7 +75,8 @@ class RefineStats:
 def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State], *,
            costs: CostModel, should_stop: Stop, run_spacing: int,
            stats: RefineStats | None = None, start_grasp: int | None = None,
-           grasps: tuple[int, ...] = (), min_saving: float = 0.0) -> list[State]:
+           grasps: tuple[int, ...] = (), min_saving: float = 0.0,
+           whole_min_saving: float = 0.0) -> list[State]:
     """``states`` with runs of phases re-planned on the lattice (see the module docstring).
 
     Stopped by ``should_stop`` (polled between lattice queries and checks), it returns the
@@ -85,7 +86,9 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
     ``grasps`` (seeds that found the path at different grasps then meet on the same route).
     ``run_spacing``: along a straight run of a lattice route, a pose is kept to join every
     this many lattice motions (:func:`~.chain.corners`). ``min_saving``: a run whose
-    estimated saving is at most this share of the path's cost is not re-planned.
+    estimated saving is at most this share of the path's cost is not re-planned;
+    ``whole_min_saving``: the same for the run of every phase (the whole path as one
+    phase), when larger.
     """
     st = stats if stats is not None else RefineStats()
     pricer = Pricer(checker, costs)
@@ -101,7 +104,8 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
         while not should_stop():
             best, routed = best_candidate(lattice, pricer, phases, current, refused,
                                           should_stop, start_grasp, grasps,
-                                          least=min_saving * current)
+                                          least=min_saving * current,
+                                          least_whole=whole_min_saving * current)
             st.candidates += routed
             if best is None:
                 break

@@ -110,13 +110,14 @@ def _candidates(phases: list[Phase], start_grasp: int | None = None,
 def best_candidate(lattice: TransferLattice, pricer: Pricer, phases: list[Phase],
                    current: float, refused: set, should_stop: Stop,
                    start_grasp: int | None = None, grasps: tuple[int, ...] = (),
-                   least: float = 0.0
+                   least: float = 0.0, least_whole: float = 0.0
                    ) -> tuple[tuple[int, int, int, float, list[Phase | Leg]] | None, int]:
     """The run whose lattice re-plan saves the most (estimated), as a plan to make real.
 
     ``start_grasp``: the plan keeps the first phase's grasp (:func:`_candidates`).
     ``least`` (s): a run saving no more than this by the estimate is not chosen, nor routed
-    when its optimistic saving is not above it.
+    when its optimistic saving is not above it; ``least_whole`` (s): the same for the run
+    of every phase (the whole path as one), when larger.
 
     A plan is the new phase list where the phases to route are legs (:class:`Leg`). The
     regrasps a plan keeps are the path's own (a turned phase's regrasp is the same walk
@@ -132,8 +133,13 @@ def best_candidate(lattice: TransferLattice, pricer: Pricer, phases: list[Phase]
     """
     cost = [pricer.phase(p) for p in phases]
     regrasp = [0.0] + [pricer.regrasp(a, b) for a, b in zip(phases, phases[1:], strict=False)]
+    last = len(phases) - 1
+
+    def floor(i: int, j: int) -> float:  # the least saving of run i .. j
+        return max(least, least_whole) if i == 0 and j == last else least
+
     bounds = [b for b in _bounds(lattice, phases, cost, regrasp, current, refused, start_grasp,
-                                 grasps) if b[0] > least]
+                                 grasps) if b[0] > floor(b[2], b[3])]
     best: tuple[float, int, int, int, int, list] | None = None
     routed = 0
     for optimistic, idx, i, j, g in bounds:
@@ -146,7 +152,7 @@ def best_candidate(lattice: TransferLattice, pricer: Pricer, phases: list[Phase]
         if priced is None:
             continue
         saving, plan = priced
-        if saving > max(1e-9, least) and (best is None or saving > best[0]
+        if saving > max(1e-9, floor(i, j)) and (best is None or saving > best[0]
                               or (saving == best[0] and idx < best[1])):
             best = (saving, idx, i, j, g, plan)
     if best is None:
