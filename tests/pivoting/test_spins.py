@@ -73,3 +73,25 @@ def test_a_box_turned_by_picoradians_about_its_centre_is_steered():
     seq = steering.convert((-0.4, 0.0, 0.0), goal, half_length=0.2)
     end = seq.rotations[-1].car if seq.rotations else (-0.4, 0.0, 0.0)
     assert math.hypot(end[0] - goal[0], end[1] - goal[1]) < 1e-9
+
+
+@settings(max_examples=40, deadline=None)
+@given(p=poses, turn=st.floats(0.3, math.pi), ell=st.sampled_from([0.2, 0.3, 0.4]),
+       sign=st.sampled_from([1.0, -1.0]))
+def test_a_spins_pieces_merge_at_every_junction(p, turn, ell, sign):
+    """Consecutive pieces of a spin share a rotation: its corners alternate throughout.
+
+    The longest spin piece's outer rotations are a little over a quarter of its turn each,
+    so two of them summed just over the bound at a junction (a half turn took 12 rotations,
+    two corners in a row at each junction); pieces that merge take 11.
+    """
+    steering = PivotSteering(turning_radius=2.0, alpha_max=AMAX)
+    goal = (p[0], p[1], wrap_angle(p[2] + sign * turn))
+    seq = steering.convert(p, goal, half_length=ell)
+    ends = [r.end for r in seq.rotations]
+    assert all(a != b for a, b in zip(ends, ends[1:], strict=False))
+    end = seq.rotations[-1].car
+    assert math.hypot(end[0] - goal[0], end[1] - goal[1]) < 1e-9
+    assert abs(wrap_angle(end[2] - goal[2])) < 1e-9
+    if abs(turn - math.pi) < 1e-9:
+        assert len(seq.rotations) <= 11
