@@ -53,6 +53,11 @@ DEVIATION_RATIO = 0.5
 TAIL_SHARE = 0.5
 
 
+#: What a local refinement sends back to :meth:`PivotSteering.iter_pieces`: the pose reached,
+#: the last rotation and, optionally, the path's parameter reached.
+Sent = tuple[Pose, Rotation | None] | tuple[Pose, Rotation | None, float]
+
+
 class Piece(NamedTuple):
     """One piece of a Reeds-Shepp path solved by (at most three) rotations.
 
@@ -206,7 +211,7 @@ class PivotSteering:
                     should_stop: Callable[[], bool] | None = None,
                     span: tuple[float, float] = (0.0, 1.0), origin: Pose | None = None,
                     alpha_max: float | None = None, previous: Rotation | None = None,
-                    ) -> Generator[Piece, tuple[Pose, Rotation | None, float] | None, None]:
+                    ) -> Generator[Piece, Sent | None, None]:
         """The longest pieces of the Reeds-Shepp path ``start -> goal``, in order.
 
         Args:
@@ -222,9 +227,9 @@ class PivotSteering:
                 rotations so far): the first piece prefers rotations that merge into it.
 
         A caller that replaces a piece by its own rotations (a local refinement) sends the
-        generator ``(pose reached, last rotation, parameter reached)`` back (the parameter
-        at the piece's end or past it: the refinement's last sub-piece may run on); the
-        next piece starts there.
+        generator ``(pose reached, last rotation)`` back, or ``(pose reached, last rotation,
+        parameter reached)`` (the parameter at the piece's end or past it: a refinement's
+        last sub-piece may run on); the next piece starts there.
 
         Raises:
             SteeringError: no piece solvable from some pose (pieces shorter than 2**-40).
@@ -306,9 +311,9 @@ class PivotSteering:
                     t_ok, (target, rots) = t0 + 0.5 * (t_end - t0), halved
             sent = yield Piece(t0, t_ok, current, target, rots)
             if sent is not None:  # the caller replaced the piece (a local refinement)
-                current, previous, reached = sent
+                current, previous = sent[0], sent[1]
                 step = t_ok - t0
-                t0 = max(t_ok, min(t_end, reached))
+                t0 = max(t_ok, min(t_end, sent[2])) if len(sent) == 3 else t_ok
                 continue
             if rots:
                 current = rots[-1].car
