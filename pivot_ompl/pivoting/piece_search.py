@@ -2,19 +2,21 @@
 
 :class:`~pivot_ompl.pivoting.steering.PivotSteering` converts a path piece by piece; these
 functions choose each piece's end: the farthest parameter three rotations reach
-(:func:`longest`), or a shorter piece that adds fewer rotations (:func:`fewer_pivots`).
+(:func:`longest`), or a shorter piece that adds fewer rotations (:func:`fewer_pivots`); a
+spin's pieces are equal, as many as make the fewest rotations (:func:`spin_step`).
 ``solve(t)`` is the steering's: the piece's target pose and rotations, or ``None``.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 from pivot_ompl.pivoting.kinematics import ANGLE_TOL, Rotation
 from pivot_ompl.se2 import Pose
 
-__all__ = ["FEWER_PIVOTS_GAIN", "GALLOP", "LONGEST_TOLERANCE", "fewer_pivots", "longest",
-           "merges"]
+__all__ = ["FEWER_PIVOTS_GAIN", "GALLOP", "LONGEST_TOLERANCE", "SPIN_TRIES", "fewer_pivots",
+           "longest", "merges", "spin_step"]
 
 #: The search for the longest piece stops when the bracket ``[t_ok, t_fail]`` is shorter
 #: than this fraction of the piece found (pieces are within this of the longest).
@@ -112,3 +114,37 @@ def longest(solve: Callable[[float], _Solved | None], t0: float, t_end: float, s
             t_fail = t
     assert best is not None
     return t_ok, best
+
+
+#: Piece counts a spin tries, from a lower bound of the fewest that solve.
+SPIN_TRIES = 4
+
+
+def spin_step(solve: Callable[[float], _Solved | None], alpha_max: float,
+              turn: float) -> float | None:
+    """The parameter step of a spin's equal pieces that make the fewest rotations.
+
+    A spin's pieces are alike (each turns the car by the same angle about its place): ``n``
+    pieces of three rotations make ``3 n``, or ``2 n + 1`` where a piece's last and first
+    rotations turn about one corner and sum within the bound (they merge at every junction).
+    The longest pieces' outer rotations are each a little over a quarter of the piece's
+    turn, so they just miss; one piece more may merge. Of the fewest equal pieces that
+    ``solve`` (``solve(t)`` from the spin's start, ``turn`` its angle in rad) and one more,
+    the count making fewer rotations; ``None`` if none of :data:`SPIN_TRIES` counts solves.
+    """
+    first = max(1, math.floor(turn / (2.2 * alpha_max)))  # a piece turns < 2.1 alpha_max
+    best: tuple[int, int] | None = None
+    for n in range(first, first + SPIN_TRIES):
+        res = solve(1.0 / n)
+        if res is None or not res[1]:
+            if best is not None:
+                break
+            continue
+        rots = res[1]
+        joined = n > 1 and merges(rots[-1], rots[0], alpha_max)
+        count = n * len(rots) - (n - 1 if joined else 0)
+        if best is None or count < best[0]:
+            best = (count, n)
+        if n > best[1]:  # the fewest that solve and one more: tried
+            break
+    return None if best is None else 1.0 / best[1]

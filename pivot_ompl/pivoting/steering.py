@@ -36,7 +36,7 @@ from typing import NamedTuple
 from pivot_ompl.errors import InputError, Interrupted, SteeringError
 from pivot_ompl.pivoting.curves import CarPaths
 from pivot_ompl.pivoting.kinematics import ANGLE_TOL, Rotation, solve_piece
-from pivot_ompl.pivoting.piece_search import fewer_pivots, longest, merges
+from pivot_ompl.pivoting.piece_search import fewer_pivots, longest, merges, spin_step
 from pivot_ompl.se2 import Pose, wrap_angle
 
 log = logging.getLogger(__name__)
@@ -51,6 +51,11 @@ DEVIATION_RATIO = 0.5
 #: the piece and the rest are made two equal pieces (no piece of near-zero rotations). Only
 #: in a whole path's conversion: a local refinement's pieces are chosen by its checks.
 TAIL_SHARE = 0.5
+
+
+#: What a local refinement sends back to :meth:`PivotSteering.iter_pieces`: the pose reached,
+#: the last rotation and, optionally, the path's parameter reached.
+Sent = tuple[Pose, Rotation | None] | tuple[Pose, Rotation | None, float]
 
 
 class Piece(NamedTuple):
@@ -220,7 +225,7 @@ class PivotSteering:
                     should_stop: Callable[[], bool] | None = None,
                     span: tuple[float, float] = (0.0, 1.0), origin: Pose | None = None,
                     alpha_max: float | None = None, previous: Rotation | None = None,
-                    ) -> Generator[Piece, tuple[Pose, Rotation | None] | None, None]:
+                    ) -> Generator[Piece, Sent | None, None]:
         """The longest pieces of the Reeds-Shepp path ``start -> goal``, in order.
 
         Args:
@@ -236,7 +241,9 @@ class PivotSteering:
                 rotations so far): the first piece prefers rotations that merge into it.
 
         A caller that replaces a piece by its own rotations (a local refinement) sends the
-        generator ``(pose reached, last rotation)`` back; the next piece starts there.
+        generator ``(pose reached, last rotation)`` back, or ``(pose reached, last rotation,
+        parameter reached)`` (the parameter at the piece's end or past it: a refinement's
+        last sub-piece may run on); the next piece starts there.
 
         Raises:
             SteeringError: no piece solvable from some pose (pieces shorter than 2**-40).
@@ -270,9 +277,7 @@ class PivotSteering:
         current = origin if origin is not None else (
             start if t0 == 0.0 else self._pose_at(start, goal, t0))
         end_pose = goal if t_end == 1.0 else self._pose_at(start, goal, t_end)
-        # a spin's pieces (a/4, a/2, a/4) already merge at their junctions: the search for a
-        # merging piece is for Reeds-Shepp arcs
-        arc = self.merge and not rs.is_spin(start, goal)
+        spin = rs.is_spin(start, goal)
         plain = origin is None and span == (0.0, 1.0)  # not a local refinement
         # a rotation moves the edge centre by at most 2 l sin(alpha/2): a necessary condition
         reach = 6.0 * ell * math.sin(0.5 * amax) + 1e-9
@@ -291,27 +296,40 @@ class PivotSteering:
                                    previous=previous)
             return (target, rots) if ok else None
 
+        # a whole spin's pieces: equal, as many as make the fewest rotations (spin_step);
+        # else the search for a piece that merges into the previous one (on Reeds-Shepp arcs,
+        # and on a refined spin's stretch, whose longest pieces' outer rotations, a little
+        # over a quarter of the turn each, sum to just over the bound at a junction)
+        even = spin_step(solve, amax, abs(wrap_angle(goal[2] - start[2]))) \
+            if spin and plain and self.merge else None
+        arc = self.merge and even is None
         while t0 < t_end:
             if should_stop is not None and should_stop():
                 raise Interrupted("pivot steering")
             step = min(max(step, min_step), t_end - t0)
-            t_ok, (target, rots) = longest(solve, t0, t_end, step, min_step,
-                                            lambda t: SteeringError(
-                                                start, goal, f"no convergence at t={t:.6g}"))
-            if arc and previous is not None and len(rots) == 3 and \
+            t_even = t_end if even is None or t_end - t0 < 1.5 * even else t0 + even
+            solved = solve(t_even) if even is not None else None
+            if solved is not None:  # the spin's next equal piece
+                t_ok, (target, rots) = t_even, solved
+            else:
+                t_ok, (target, rots) = longest(solve, t0, t_end, step, min_step,
+                                                lambda t: SteeringError(
+                                                    start, goal, f"no convergence at t={t:.6g}"))
+            if solved is None and arc and previous is not None and len(rots) == 3 and \
                     rots[0].end == previous.end and not merges(previous, rots[0], amax):
                 t_ok, (target, rots) = fewer_pivots(solve, previous, amax, t0, t_ok,
                                                      (target, rots))
-            if t_ok < t_end and t_end - t_ok < TAIL_SHARE * (t_ok - t0) and plain:
+            if solved is None and t_ok < t_end and t_end - t_ok < TAIL_SHARE * (t_ok - t0) \
+                    and plain:
                 # a short rest would be a piece of near-zero rotations: halve what is left
                 halved = solve(t0 + 0.5 * (t_end - t0))
                 if halved is not None:
                     t_ok, (target, rots) = t0 + 0.5 * (t_end - t0), halved
             sent = yield Piece(t0, t_ok, current, target, rots)
             if sent is not None:  # the caller replaced the piece (a local refinement)
-                current, previous = sent
+                current, previous = sent[0], sent[1]
                 step = t_ok - t0
-                t0 = t_ok
+                t0 = max(t_ok, min(t_end, sent[2])) if len(sent) == 3 else t_ok
                 continue
             if rots:
                 current = rots[-1].car

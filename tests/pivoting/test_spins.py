@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -72,4 +73,37 @@ def test_a_box_turned_by_picoradians_about_its_centre_is_steered():
     goal = (-0.4 * math.cos(yaw), -0.4 * math.sin(yaw), yaw)
     seq = steering.convert((-0.4, 0.0, 0.0), goal, half_length=0.2)
     end = seq.rotations[-1].car if seq.rotations else (-0.4, 0.0, 0.0)
+    assert math.hypot(end[0] - goal[0], end[1] - goal[1]) < 1e-9
+
+
+@settings(max_examples=40, deadline=None)
+@given(p=poses, turn=st.floats(0.3, math.pi), ell=st.sampled_from([0.2, 0.3, 0.4]),
+       sign=st.sampled_from([1.0, -1.0]))
+def test_a_spins_rotations_about_one_corner_in_a_row_could_not_merge(p, turn, ell, sign):
+    steering = PivotSteering(turning_radius=2.0, alpha_max=AMAX)
+    goal = (p[0], p[1], wrap_angle(p[2] + sign * turn))
+    seq = steering.convert(p, goal, half_length=ell)
+    for a, b in zip(seq.rotations, seq.rotations[1:], strict=False):
+        assert a.end != b.end or abs(a.angle + b.angle) > AMAX
+    end = seq.rotations[-1].car
+    assert math.hypot(end[0] - goal[0], end[1] - goal[1]) < 1e-9
+    assert abs(wrap_angle(end[2] - goal[2])) < 1e-9
+
+
+@pytest.mark.parametrize("ell", [0.2, 0.3, 0.4])
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_a_half_turn_in_place_takes_eleven_rotations(ell, sign):
+    """Five equal pieces whose outer rotations merge at every junction: 2 x 5 + 1.
+
+    The longest spin piece's outer rotations are a little over a quarter of its turn each:
+    four longest pieces summed just over the bound at each junction, 12 rotations.
+    """
+    steering = PivotSteering(turning_radius=2.0, alpha_max=AMAX)
+    start = (1.0, -2.0, 0.4)
+    goal = (1.0, -2.0, wrap_angle(0.4 + sign * (math.pi - 1e-6)))
+    seq = steering.convert(start, goal, half_length=ell)
+    assert len(seq.rotations) == 11
+    ends = [r.end for r in seq.rotations]
+    assert all(a != b for a, b in zip(ends, ends[1:], strict=False))
+    end = seq.rotations[-1].car
     assert math.hypot(end[0] - goal[0], end[1] - goal[1]) < 1e-9
