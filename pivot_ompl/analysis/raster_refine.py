@@ -27,7 +27,8 @@ untested (a superset again: only the necks' edges decide).
 **Components.** The free fine voxels of a parity are joined when they are 8-adjacent cells of
 one fine bin (a continuous motion within the bin) or one cell of two consecutive fine bins, the
 last and the first included (a yaw crossing at a point, which lies in a cell free in both
-layers); scipy's sparse connected components label them.
+layers); :mod:`~pivot_ompl.analysis.voxel_components` labels them, and a growing window's
+new voxels are joined to the earlier labels rather than labelled again.
 """
 
 from __future__ import annotations
@@ -38,8 +39,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy import ndimage
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
 from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.analysis.raster_cover import (
@@ -50,6 +49,7 @@ from pivot_ompl.analysis.raster_cover import (
     obstacle_cells,
 )
 from pivot_ompl.analysis.regrasp_bound import ROUND_OFF, held_bodies, yaw_bins
+from pivot_ompl.analysis.voxel_components import grown_components
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose, wrap_angle
@@ -236,32 +236,14 @@ def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
                     memo[(g, f)] = lo, hi, merged_rows(rows) if rows else []
                 free = _free_voxels(fine, sums, pad, flat, a, b, test, *memo[(g, f)])
                 found.append(f * (nx2 * ny2) + a[free] * ny2 + b[free])
-        count[g], keys[g], labels[g] = _grown(memo, g, np.concatenate(found), nx2, ny2, bins)
+        count[g], keys[g], labels[g] = grown_components(
+            memo.get(("keys", g), np.zeros(0, dtype=np.int64)),
+            memo.get(("labels", g), np.zeros(0, dtype=np.int64)), int(memo.get(("count", g), 0)),
+            np.concatenate(found), done, nx2, ny2, bins)
     for g in (0, 1):  # kept only once both parities are done (a stop leaves the memo whole)
         memo[("keys", g)], memo[("labels", g)], memo[("count", g)] = keys[g], labels[g], count[g]
     memo["done"] = window.copy()
     return FineVoxels(fine, split, bins, window, keys, labels, count)
-
-
-def _grown(memo: dict, g: int, new: np.ndarray, nx: int, ny: int, bins: int
-           ) -> tuple[int, np.ndarray, np.ndarray]:
-    """``(count, keys, labels)`` of parity ``g``: the memo's voxels and components and ``new``."""
-    old = memo.get(("keys", g))
-    keys = np.sort(np.concatenate([new.astype(np.int64, copy=False)]
-                                  + ([] if old is None else [old])))
-    if old is None or not len(old):
-        count, labels = _components(keys, nx, ny, bins)
-        return count, keys, labels
-    fresh = np.ones(len(keys), dtype=bool)
-    at = np.searchsorted(keys, old)
-    fresh[at] = False
-    node = np.empty(len(keys), dtype=np.int64)
-    node[at] = memo[("labels", g)]
-    known = int(memo[("count", g)])
-    node[fresh] = known + np.arange(int(fresh.sum()))
-    count, labels = _components(keys, nx, ny, bins, fresh=fresh, node=node,
-                                nodes=known + int(fresh.sum()))
-    return count, keys, labels
 
 
 def _near_pieces(cover: RasterCover, window: np.ndarray, reach: float) -> list[np.ndarray]:
@@ -335,48 +317,3 @@ def _free_voxels(fine: FloorRaster, sums: np.ndarray, pad: int, flat: np.ndarray
         hit = (flat_sums[at[None, :] + top[:, None]] > flat_sums[at[None, :] + bottom[:, None]])
         free[idx[hit.any(axis=0)]] = False
     return free
-
-
-def _components(keys: np.ndarray, nx: int, ny: int, bins: int, *,
-                fresh: np.ndarray | None = None, node: np.ndarray | None = None,
-                nodes: int = 0) -> tuple[int, np.ndarray]:
-    """Components of the voxels ``keys`` (8-adjacent in a bin; one cell, consecutive bins).
-
-    ``fresh``, ``node``, ``nodes``: to grow known components by new voxels, the voxels joined
-    from (the others' joins already known), each voxel's node (a known component's, or its
-    own) and the number of nodes; by default every voxel is its own node.
-    """
-    if not len(keys):
-        return 0, np.zeros(0, dtype=np.int64)
-    cells = nx * ny
-    idx = np.arange(len(keys)) if fresh is None else np.flatnonzero(fresh)
-    node = np.arange(len(keys)) if node is None else node
-    k = keys[idx]
-    b = k % ny
-    a = (k % cells) // ny
-    f = k // cells
-    src, dst = [], []
-
-    def join(target: np.ndarray, ok: np.ndarray) -> None:
-        pos = np.clip(np.searchsorted(keys, target), 0, len(keys) - 1)
-        hit = ok & (keys[pos] == target)
-        src.append(node[idx[hit]])
-        dst.append(node[pos[hit]])
-
-    every = np.ones(len(k), dtype=bool)
-    join(k + ny, a + 1 < nx)
-    join(k + 1, b + 1 < ny)
-    join(k + ny + 1, (a + 1 < nx) & (b + 1 < ny))
-    join(k + ny - 1, (a + 1 < nx) & (b > 0))
-    join(np.where(f + 1 < bins, k + cells, k - (bins - 1) * cells), every)
-    if fresh is not None:  # the joins whose lower voxel is a known one
-        join(k - ny, a >= 1)
-        join(k - 1, b >= 1)
-        join(k - ny - 1, (a >= 1) & (b >= 1))
-        join(k - ny + 1, (a >= 1) & (b + 1 < ny))
-        join(np.where(f >= 1, k - cells, k + (bins - 1) * cells), every)
-    s, d = np.concatenate(src), np.concatenate(dst)
-    size = len(keys) if fresh is None else nodes
-    graph = coo_matrix((np.ones(len(s), dtype=np.int8), (s, d)), shape=(size, size))
-    count, labels = connected_components(graph, directed=False)
-    return int(count), labels[node].astype(np.int64)
