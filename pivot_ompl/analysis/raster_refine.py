@@ -197,7 +197,9 @@ def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
         done = np.zeros_like(window)
     new = window & ~done
     coarse = cover.raster
-    fine = fine_raster(coarse)
+    if "raster" not in memo:
+        memo["raster"] = fine_raster(coarse)
+    fine = memo["raster"]
     n = cover.bins
     split = max(1, math.ceil(yaw_bins(scene, resolution) / n))
     bins = split * n
@@ -212,6 +214,7 @@ def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
     keys: dict[int, np.ndarray] = {}
     labels: dict[int, np.ndarray] = {}
     count: dict[int, int] = {}
+    ni, nj = np.nonzero(new)  # the new cells, read in each layer (not the whole floor)
     for g in (0, 1):
         parts = bodies[g]
         inside = [2.0 * p.reach * math.sin(0.25 * w) + tolerance + ROUND_OFF for p in parts]
@@ -219,10 +222,11 @@ def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
         found = [np.zeros(0, dtype=np.int64)]
         for big in range(n):
             lab = cover.layers[(g, big)][0]
-            ci, cj = np.nonzero((lab > 0) & new)
-            if not len(ci):
+            hit = lab[ni, nj] > 0
+            if not hit.any():
                 continue
-            deep = _deep(lab > 0, ci, cj)
+            ci, cj = ni[hit], nj[hit]
+            deep = _deep(lab, ci, cj)
             a = (2 * ci[:, None] + np.array([0, 0, 1, 1])).ravel()
             b = (2 * cj[:, None] + np.array([0, 1, 0, 1])).ravel()
             test = ~np.repeat(deep, 4)
@@ -269,9 +273,12 @@ def _near_pieces(cover: RasterCover, window: np.ndarray, reach: float) -> list[n
     return out
 
 
-def _deep(free: np.ndarray, ci: np.ndarray, cj: np.ndarray) -> np.ndarray:
-    """Whether every cell within :data:`DEEP` (chessboard) of each ``(ci, cj)`` is free."""
-    nx, ny = free.shape
+def _deep(lab: np.ndarray, ci: np.ndarray, cj: np.ndarray) -> np.ndarray:
+    """Whether every cell within :data:`DEEP` (chessboard) of each ``(ci, cj)`` is free.
+
+    ``lab``: a layer's labels (free: above 0).
+    """
+    nx, ny = lab.shape
     out = np.full(len(ci), DEEP >= 0)
     for di in range(-DEEP, DEEP + 1) if DEEP >= 0 else ():
         ii = ci + di
@@ -279,7 +286,7 @@ def _deep(free: np.ndarray, ci: np.ndarray, cj: np.ndarray) -> np.ndarray:
         ii = np.clip(ii, 0, nx - 1)
         for dj in range(-DEEP, DEEP + 1):
             jj = cj + dj
-            out &= ok_i & (jj >= 0) & (jj < ny) & free[ii, np.clip(jj, 0, ny - 1)]
+            out &= ok_i & (jj >= 0) & (jj < ny) & (lab[ii, np.clip(jj, 0, ny - 1)] > 0)
     return out
 
 

@@ -100,10 +100,11 @@ def refined_graph(scene: Scene, cover: RasterCover, *, tolerance: float, clearan
     fine = refine_cover(scene, cover, window, tolerance=tolerance, clearance=clearance,
                         should_stop=should_stop, memo=memo)
     layers = {}
+    wi, wj = np.nonzero(window)
     for key, (lab, count) in cover.layers.items():
         if should_stop is not None and should_stop():
             raise Interrupted("the refined raster graph")
-        if count and (lab[window] > 0).any():
+        if count and (lab[wi, wj] > 0).any():
             layers[key] = _relabel((lab > 0) & ~window)
         else:
             layers[key] = (lab, count)
