@@ -35,7 +35,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import ndimage
@@ -49,7 +49,7 @@ from pivot_ompl.analysis.raster_cover import (
     obstacle_cells,
 )
 from pivot_ompl.analysis.regrasp_bound import ROUND_OFF, held_bodies, yaw_bins
-from pivot_ompl.analysis.voxel_components import grown_components
+from pivot_ompl.analysis.voxel_components import Grown, grown_components
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose, wrap_angle
@@ -119,6 +119,9 @@ class FineVoxels:
             ``(a, b)``, ``cells`` the fine raster's cell count).
         labels: per parity, each voxel's component (``0..count - 1``).
         count: per parity, the components.
+        grown: per parity, how this call grew the earlier labelling (its new voxels and
+            their labels, the earlier components' labels now).
+        earlier: the window grown (``None``: labelled afresh).
     """
 
     raster: FloorRaster
@@ -128,6 +131,8 @@ class FineVoxels:
     keys: dict[int, np.ndarray]
     labels: dict[int, np.ndarray]
     count: dict[int, int]
+    grown: dict[int, Grown] = field(default_factory=dict)
+    earlier: np.ndarray | None = None
 
     @property
     def cells(self) -> int:
@@ -214,6 +219,7 @@ def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
     keys: dict[int, np.ndarray] = {}
     labels: dict[int, np.ndarray] = {}
     count: dict[int, int] = {}
+    grown: dict[int, Grown] = {}
     ni, nj = np.nonzero(new)  # the new cells, read in each layer (not the whole floor)
     for g in (0, 1):
         parts = bodies[g]
@@ -240,14 +246,16 @@ def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
                     memo[(g, f)] = lo, hi, merged_rows(rows) if rows else []
                 free = _free_voxels(fine, sums, pad, flat, a, b, test, *memo[(g, f)])
                 found.append(f * (nx2 * ny2) + a[free] * ny2 + b[free])
-        count[g], keys[g], labels[g] = grown_components(
+        grown[g] = grown_components(
             memo.get(("keys", g), np.zeros(0, dtype=np.int64)),
             memo.get(("labels", g), np.zeros(0, dtype=np.int64)), int(memo.get(("count", g), 0)),
             np.concatenate(found), done, nx2, ny2, bins)
+        count[g], keys[g], labels[g] = grown[g].count, grown[g].keys, grown[g].labels
     for g in (0, 1):  # kept only once both parities are done (a stop leaves the memo whole)
         memo[("keys", g)], memo[("labels", g)], memo[("count", g)] = keys[g], labels[g], count[g]
     memo["done"] = window.copy()
-    return FineVoxels(fine, split, bins, window, keys, labels, count)
+    return FineVoxels(fine, split, bins, window, keys, labels, count, grown,
+                      done if done.any() else None)
 
 
 def _near_pieces(cover: RasterCover, window: np.ndarray, reach: float) -> list[np.ndarray]:

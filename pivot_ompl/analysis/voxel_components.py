@@ -19,6 +19,8 @@ alike.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import connected_components
@@ -38,10 +40,31 @@ def voxel_components(keys: np.ndarray, nx: int, ny: int, bins: int) -> tuple[int
     return count, labels
 
 
+@dataclass
+class Grown:
+    """Voxels labelled, grown from labelled ones.
+
+    Attributes:
+        count: components.
+        keys: every voxel, sorted.
+        labels: each voxel's component.
+        new: the new voxels, sorted.
+        new_labels: their components.
+        merged: each earlier component's component now (the earlier ones only merge).
+    """
+
+    count: int
+    keys: np.ndarray
+    labels: np.ndarray
+    new: np.ndarray
+    new_labels: np.ndarray
+    merged: np.ndarray
+
+
 def grown_components(old_keys: np.ndarray, old_labels: np.ndarray, old_count: int,
                      new_keys: np.ndarray, done: np.ndarray, nx: int, ny: int, bins: int
-                     ) -> tuple[int, np.ndarray, np.ndarray]:
-    """``(count, keys, labels)`` of the old voxels (sorted, labelled) and the new ones.
+                     ) -> Grown:
+    """The old voxels (sorted, labelled ``0..old_count - 1``) and the new ones, labelled.
 
     ``done``: the coarse cells (boolean, half the fine shape) holding every old voxel; no
     new voxel lies in them. The labels are those :func:`voxel_components` gives the union
@@ -50,7 +73,7 @@ def grown_components(old_keys: np.ndarray, old_labels: np.ndarray, old_count: in
     new = np.sort(new_keys.astype(np.int64, copy=False))
     if not len(old_keys):
         count, labels = voxel_components(new, nx, ny, bins)
-        return count, new, labels
+        return Grown(count, new, labels, new, labels, np.zeros(0, dtype=np.int64))
     both = np.concatenate([old_keys, new])
     order = np.argsort(both, kind="stable")  # two sorted runs: merged in linear time
     keys = both[order]
@@ -77,7 +100,7 @@ def grown_components(old_keys: np.ndarray, old_labels: np.ndarray, old_count: in
     labels = np.empty(len(keys), dtype=np.int64)
     labels[where[:len(old_keys)]] = node[old_labels]
     labels[where[len(old_keys):]] = node[old_count:]
-    return count, keys, labels
+    return Grown(count, keys, labels, new, node[old_count:], node[:old_count])
 
 
 def _forward_joins(keys: np.ndarray, nx: int, ny: int, bins: int

@@ -73,10 +73,16 @@ def test_grown_components_are_the_components_of_every_voxel(case):
     count, labels = voxel_components(old, nx, ny, bins)
     assert partition(old, labels) == reference(old, nx, ny, bins)
     assert count == len(reference(old, nx, ny, bins))
-    grown, keys, grown_labels = grown_components(old, labels, count, rng.permutation(new),
-                                                 window == 1, nx, ny, bins)
+    grown = grown_components(old, labels, count, rng.permutation(new), window == 1, nx, ny,
+                             bins)
     every = np.sort(np.concatenate([old, new]))
-    assert np.array_equal(keys, every)
+    assert np.array_equal(grown.keys, every)
     want = reference(every, nx, ny, bins)
-    assert partition(keys, grown_labels) == want and grown == len(want)
-    assert set(grown_labels.tolist()) == set(range(grown))
+    assert partition(grown.keys, grown.labels) == want and grown.count == len(want)
+    assert set(grown.labels.tolist()) == set(range(grown.count))
+    # the new voxels' labels, and the earlier components' labels now, read alike
+    at = np.searchsorted(grown.keys, grown.new)
+    assert np.array_equal(grown.new, new) and np.array_equal(grown.labels[at], grown.new_labels)
+    if len(old):
+        assert np.array_equal(grown.labels[np.searchsorted(grown.keys, old)],
+                              grown.merged[labels])
