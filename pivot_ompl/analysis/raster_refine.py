@@ -221,6 +221,7 @@ def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
     count: dict[int, int] = {}
     grown: dict[int, Grown] = {}
     ni, nj = np.nonzero(new)  # the new cells, read in each layer (not the whole floor)
+    around = _around(new.shape, ni, nj)
     for g in (0, 1):
         parts = bodies[g]
         inside = [2.0 * p.reach * math.sin(0.25 * w) + tolerance + ROUND_OFF for p in parts]
@@ -232,7 +233,7 @@ def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
             if not hit.any():
                 continue
             ci, cj = ni[hit], nj[hit]
-            deep = _deep(lab, ci, cj)
+            deep = _deep(lab, (around[0][hit], around[1][hit]))
             a = (2 * ci[:, None] + np.array([0, 0, 1, 1])).ravel()
             b = (2 * cj[:, None] + np.array([0, 1, 0, 1])).ravel()
             test = ~np.repeat(deep, 4)
@@ -281,21 +282,32 @@ def _near_pieces(cover: RasterCover, window: np.ndarray, reach: float) -> list[n
     return out
 
 
-def _deep(lab: np.ndarray, ci: np.ndarray, cj: np.ndarray) -> np.ndarray:
-    """Whether every cell within :data:`DEEP` (chessboard) of each ``(ci, cj)`` is free.
+def _deep(lab: np.ndarray, around: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
+    """Whether every cell within :data:`DEEP` (chessboard) of each cell is free.
 
-    ``lab``: a layer's labels (free: above 0).
+    ``lab``: a layer's labels (free: above 0); ``around``: per cell, the flat indices of the
+    cells within :data:`DEEP` and whether each lies on the floor (:func:`_around`).
     """
-    nx, ny = lab.shape
-    out = np.full(len(ci), DEEP >= 0)
-    for di in range(-DEEP, DEEP + 1) if DEEP >= 0 else ():
-        ii = ci + di
-        ok_i = (ii >= 0) & (ii < nx)
-        ii = np.clip(ii, 0, nx - 1)
-        for dj in range(-DEEP, DEEP + 1):
-            jj = cj + dj
-            out &= ok_i & (jj >= 0) & (jj < ny) & (lab[ii, np.clip(jj, 0, ny - 1)] > 0)
-    return out
+    idx, inside = around
+    if DEEP < 0:
+        return np.zeros(len(idx), dtype=bool)
+    return (inside & (lab.ravel()[idx] > 0)).all(axis=1)
+
+
+def _around(shape: tuple[int, int], ci: np.ndarray, cj: np.ndarray
+            ) -> tuple[np.ndarray, np.ndarray]:
+    """The cells within :data:`DEEP` (chessboard) of each cell ``(ci, cj)``.
+
+    ``(idx, inside)``: per cell, their flat indices (clipped to the floor) and whether each
+    lies on it.
+    """
+    nx, ny = shape
+    d = np.arange(-DEEP, DEEP + 1)
+    ii = (ci[:, None] + d[None, :])[:, :, None]
+    jj = (cj[:, None] + d[None, :])[:, None, :]
+    inside = ((ii >= 0) & (ii < nx) & (jj >= 0) & (jj < ny)).reshape(len(ci), -1)
+    idx = (np.clip(ii, 0, nx - 1) * ny + np.clip(jj, 0, ny - 1)).reshape(len(ci), -1)
+    return idx, inside
 
 
 def _padded_sums(obstacles: np.ndarray, pad: int) -> np.ndarray:

@@ -166,9 +166,7 @@ def _join_borders(fine: FineVoxels, outside: RasterCover, coarse: RasterGraph,
         a, b = cell // ny, cell % ny
         near = border[a // 2, b // 2]
         a, b, comp = a[near], b[near], fine.labels[g][near]
-        big = (keys[near] // fine.cells) // fine.split
-        order = np.argsort(big, kind="stable")
-        a, b, comp, big = a[order], b[order], comp[order], big[order]
+        big = (keys[near] // fine.cells) // fine.split  # sorted, as the keys
         cuts = np.searchsorted(big, np.arange(n + 1))
         top = 1 + max((int(outside.layers[(g, bb)][1]) for bb in range(n)), default=0)
         found = []
