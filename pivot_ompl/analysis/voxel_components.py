@@ -79,8 +79,8 @@ def grown_components(old_keys: np.ndarray, old_labels: np.ndarray, old_count: in
     keys = both[order]
     where = np.empty(len(both), dtype=np.int64)
     where[order] = np.arange(len(both))
-    src, dst = _forward_joins(new, nx, ny, bins)
-    src, dst = [old_count + src], [old_count + dst]
+    among = _forward_joins(new, nx, ny, bins)
+    src, dst = [old_count + among[0]], [old_count + among[1]]
     cells = nx * ny
     k = new % cells
     a, b = k // ny, k % ny
