@@ -9,8 +9,8 @@ default), ``turns`` (:func:`~pivot_ompl.analysis.raster_refine.turn_neck_window`
 (every cell: the whole fine relaxation, slow), ``guided``
 (:func:`~pivot_ompl.analysis.guided_refine.guided_lower_bound`: windows round the narrow
 places the relaxation's best path passes, round after round; "cells refined" is its last
-window, and the rounds' counts follow the bound). ``--target N`` stops the guided rounds at
-N regrasps, as inside ``plan`` for a plan of N regrasps.
+window, and the rounds' counts and seconds follow the bound). ``--target N`` stops the
+guided rounds at N regrasps, as inside ``plan`` for a plan of N regrasps.
 
 Usage::
 
@@ -77,8 +77,9 @@ def main() -> None:
                                              trace=trace)
                     seconds = time.perf_counter() - t0
                     counts = ", ".join(str(r.regrasps) for r in trace)
+                    times = ", ".join(f"{r.seconds:.2f}" for r in trace)
                     print(f"| {name} | {coarse.regrasps} | {coarse_s:.2f} | guided "
-                          f"({len(trace)} rounds: {counts}) | {trace[-1].window} | "
+                          f"({len(trace)} rounds: {counts}; s: {times}) | {trace[-1].window} | "
                           f"{'-' if got is None else got.regrasps} | {seconds:.2f} |",
                           flush=True)
                     continue

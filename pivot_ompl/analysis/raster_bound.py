@@ -151,11 +151,20 @@ def raster_graph(scene: Scene, cover: RasterCover, *, tolerance: float = SWEEP_T
             total += layers[layer(b, k)][1]
     graph = PieceGraph(np.ones(total).tolist())
     memo: dict[tuple[tuple[int, int], tuple[int, int]], tuple[np.ndarray, np.ndarray]] = {}
+    some = np.zeros(raster.shape[0] * raster.shape[1], dtype=bool)
+    for lab, count in layers.values():
+        if count:
+            some |= lab.ravel() > 0
+    cells = np.flatnonzero(some)  # free in some layer: the only cells two layers may share
+    read: dict[tuple[int, int], np.ndarray] = {}
 
     def link(b1: int, k1: int, b2: int, k2: int, regrasp: bool) -> None:
         la, lb = layer(b1, k1), layer(b2, k2)
         if (la, lb) not in memo:
-            memo[(la, lb)] = _shared(layers[la][0], layers[lb][0])
+            for lay in (la, lb):
+                if lay not in read:
+                    read[lay] = layers[lay][0].ravel()[cells]
+            memo[(la, lb)] = _shared(read[la], read[lb])
         ia, ib = memo[(la, lb)]
         for i, j in zip(ia.tolist(), ib.tolist(), strict=True):
             graph.add(base[(b1, k1)] + i - 1, base[(b2, k2)] + j - 1,
@@ -208,7 +217,7 @@ def _timed(bound: RegraspBound, t0: float) -> RegraspBound:
 
 
 def _shared(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The pairs of labels ``(i, j)`` of two layers that share a cell."""
+    """The pairs of labels ``(i, j)`` of two layers that share a cell (any shape, the same)."""
     both = (a > 0) & (b > 0)
     m = int(b.max()) + 1
     keys = np.unique(a[both].astype(np.int64) * m + b[both])

@@ -27,19 +27,18 @@ untested (a superset again: only the necks' edges decide).
 **Components.** The free fine voxels of a parity are joined when they are 8-adjacent cells of
 one fine bin (a continuous motion within the bin) or one cell of two consecutive fine bins, the
 last and the first included (a yaw crossing at a point, which lies in a cell free in both
-layers); scipy's sparse connected components label them.
+layers); :mod:`~pivot_ompl.analysis.voxel_components` labels them, and a growing window's
+new voxels are joined to the earlier labels rather than labelled again.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import ndimage
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
 from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.analysis.raster_cover import (
@@ -50,6 +49,7 @@ from pivot_ompl.analysis.raster_cover import (
     obstacle_cells,
 )
 from pivot_ompl.analysis.regrasp_bound import ROUND_OFF, held_bodies, yaw_bins
+from pivot_ompl.analysis.voxel_components import Grown, grown_components
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose, wrap_angle
@@ -119,6 +119,9 @@ class FineVoxels:
             ``(a, b)``, ``cells`` the fine raster's cell count).
         labels: per parity, each voxel's component (``0..count - 1``).
         count: per parity, the components.
+        grown: per parity, how this call grew the earlier labelling (its new voxels and
+            their labels, the earlier components' labels now).
+        earlier: the window grown (``None``: labelled afresh).
     """
 
     raster: FloorRaster
@@ -128,6 +131,8 @@ class FineVoxels:
     keys: dict[int, np.ndarray]
     labels: dict[int, np.ndarray]
     count: dict[int, int]
+    grown: dict[int, Grown] = field(default_factory=dict)
+    earlier: np.ndarray | None = None
 
     @property
     def cells(self) -> int:
@@ -197,7 +202,9 @@ def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
         done = np.zeros_like(window)
     new = window & ~done
     coarse = cover.raster
-    fine = fine_raster(coarse)
+    if "raster" not in memo:
+        memo["raster"] = fine_raster(coarse)
+    fine = memo["raster"]
     n = cover.bins
     split = max(1, math.ceil(yaw_bins(scene, resolution) / n))
     bins = split * n
@@ -212,6 +219,9 @@ def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
     keys: dict[int, np.ndarray] = {}
     labels: dict[int, np.ndarray] = {}
     count: dict[int, int] = {}
+    grown: dict[int, Grown] = {}
+    ni, nj = np.nonzero(new)  # the new cells, read in each layer (not the whole floor)
+    around = _around(new.shape, ni, nj)
     for g in (0, 1):
         parts = bodies[g]
         inside = [2.0 * p.reach * math.sin(0.25 * w) + tolerance + ROUND_OFF for p in parts]
@@ -219,10 +229,11 @@ def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
         found = [np.zeros(0, dtype=np.int64)]
         for big in range(n):
             lab = cover.layers[(g, big)][0]
-            ci, cj = np.nonzero((lab > 0) & new)
-            if not len(ci):
+            hit = lab[ni, nj] > 0
+            if not hit.any():
                 continue
-            deep = _deep(lab > 0, ci, cj)
+            ci, cj = ni[hit], nj[hit]
+            deep = _deep(lab, (around[0][hit], around[1][hit]))
             a = (2 * ci[:, None] + np.array([0, 0, 1, 1])).ravel()
             b = (2 * cj[:, None] + np.array([0, 1, 0, 1])).ravel()
             test = ~np.repeat(deep, 4)
@@ -236,32 +247,16 @@ def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
                     memo[(g, f)] = lo, hi, merged_rows(rows) if rows else []
                 free = _free_voxels(fine, sums, pad, flat, a, b, test, *memo[(g, f)])
                 found.append(f * (nx2 * ny2) + a[free] * ny2 + b[free])
-        count[g], keys[g], labels[g] = _grown(memo, g, np.concatenate(found), nx2, ny2, bins)
+        grown[g] = grown_components(
+            memo.get(("keys", g), np.zeros(0, dtype=np.int64)),
+            memo.get(("labels", g), np.zeros(0, dtype=np.int64)), int(memo.get(("count", g), 0)),
+            np.concatenate(found), done, nx2, ny2, bins)
+        count[g], keys[g], labels[g] = grown[g].count, grown[g].keys, grown[g].labels
     for g in (0, 1):  # kept only once both parities are done (a stop leaves the memo whole)
         memo[("keys", g)], memo[("labels", g)], memo[("count", g)] = keys[g], labels[g], count[g]
     memo["done"] = window.copy()
-    return FineVoxels(fine, split, bins, window, keys, labels, count)
-
-
-def _grown(memo: dict, g: int, new: np.ndarray, nx: int, ny: int, bins: int
-           ) -> tuple[int, np.ndarray, np.ndarray]:
-    """``(count, keys, labels)`` of parity ``g``: the memo's voxels and components and ``new``."""
-    old = memo.get(("keys", g))
-    keys = np.sort(np.concatenate([new.astype(np.int64, copy=False)]
-                                  + ([] if old is None else [old])))
-    if old is None or not len(old):
-        count, labels = _components(keys, nx, ny, bins)
-        return count, keys, labels
-    fresh = np.ones(len(keys), dtype=bool)
-    at = np.searchsorted(keys, old)
-    fresh[at] = False
-    node = np.empty(len(keys), dtype=np.int64)
-    node[at] = memo[("labels", g)]
-    known = int(memo[("count", g)])
-    node[fresh] = known + np.arange(int(fresh.sum()))
-    count, labels = _components(keys, nx, ny, bins, fresh=fresh, node=node,
-                                nodes=known + int(fresh.sum()))
-    return count, keys, labels
+    return FineVoxels(fine, split, bins, window, keys, labels, count, grown,
+                      done if done.any() else None)
 
 
 def _near_pieces(cover: RasterCover, window: np.ndarray, reach: float) -> list[np.ndarray]:
@@ -287,18 +282,32 @@ def _near_pieces(cover: RasterCover, window: np.ndarray, reach: float) -> list[n
     return out
 
 
-def _deep(free: np.ndarray, ci: np.ndarray, cj: np.ndarray) -> np.ndarray:
-    """Whether every cell within :data:`DEEP` (chessboard) of each ``(ci, cj)`` is free."""
-    nx, ny = free.shape
-    out = np.full(len(ci), DEEP >= 0)
-    for di in range(-DEEP, DEEP + 1) if DEEP >= 0 else ():
-        ii = ci + di
-        ok_i = (ii >= 0) & (ii < nx)
-        ii = np.clip(ii, 0, nx - 1)
-        for dj in range(-DEEP, DEEP + 1):
-            jj = cj + dj
-            out &= ok_i & (jj >= 0) & (jj < ny) & free[ii, np.clip(jj, 0, ny - 1)]
-    return out
+def _deep(lab: np.ndarray, around: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
+    """Whether every cell within :data:`DEEP` (chessboard) of each cell is free.
+
+    ``lab``: a layer's labels (free: above 0); ``around``: per cell, the flat indices of the
+    cells within :data:`DEEP` and whether each lies on the floor (:func:`_around`).
+    """
+    idx, inside = around
+    if DEEP < 0:
+        return np.zeros(len(idx), dtype=bool)
+    return (inside & (lab.ravel()[idx] > 0)).all(axis=1)
+
+
+def _around(shape: tuple[int, int], ci: np.ndarray, cj: np.ndarray
+            ) -> tuple[np.ndarray, np.ndarray]:
+    """The cells within :data:`DEEP` (chessboard) of each cell ``(ci, cj)``.
+
+    ``(idx, inside)``: per cell, their flat indices (clipped to the floor) and whether each
+    lies on it.
+    """
+    nx, ny = shape
+    d = np.arange(-DEEP, DEEP + 1)
+    ii = (ci[:, None] + d[None, :])[:, :, None]
+    jj = (cj[:, None] + d[None, :])[:, None, :]
+    inside = ((ii >= 0) & (ii < nx) & (jj >= 0) & (jj < ny)).reshape(len(ci), -1)
+    idx = (np.clip(ii, 0, nx - 1) * ny + np.clip(jj, 0, ny - 1)).reshape(len(ci), -1)
+    return idx, inside
 
 
 def _padded_sums(obstacles: np.ndarray, pad: int) -> np.ndarray:
@@ -335,48 +344,3 @@ def _free_voxels(fine: FloorRaster, sums: np.ndarray, pad: int, flat: np.ndarray
         hit = (flat_sums[at[None, :] + top[:, None]] > flat_sums[at[None, :] + bottom[:, None]])
         free[idx[hit.any(axis=0)]] = False
     return free
-
-
-def _components(keys: np.ndarray, nx: int, ny: int, bins: int, *,
-                fresh: np.ndarray | None = None, node: np.ndarray | None = None,
-                nodes: int = 0) -> tuple[int, np.ndarray]:
-    """Components of the voxels ``keys`` (8-adjacent in a bin; one cell, consecutive bins).
-
-    ``fresh``, ``node``, ``nodes``: to grow known components by new voxels, the voxels joined
-    from (the others' joins already known), each voxel's node (a known component's, or its
-    own) and the number of nodes; by default every voxel is its own node.
-    """
-    if not len(keys):
-        return 0, np.zeros(0, dtype=np.int64)
-    cells = nx * ny
-    idx = np.arange(len(keys)) if fresh is None else np.flatnonzero(fresh)
-    node = np.arange(len(keys)) if node is None else node
-    k = keys[idx]
-    b = k % ny
-    a = (k % cells) // ny
-    f = k // cells
-    src, dst = [], []
-
-    def join(target: np.ndarray, ok: np.ndarray) -> None:
-        pos = np.clip(np.searchsorted(keys, target), 0, len(keys) - 1)
-        hit = ok & (keys[pos] == target)
-        src.append(node[idx[hit]])
-        dst.append(node[pos[hit]])
-
-    every = np.ones(len(k), dtype=bool)
-    join(k + ny, a + 1 < nx)
-    join(k + 1, b + 1 < ny)
-    join(k + ny + 1, (a + 1 < nx) & (b + 1 < ny))
-    join(k + ny - 1, (a + 1 < nx) & (b > 0))
-    join(np.where(f + 1 < bins, k + cells, k - (bins - 1) * cells), every)
-    if fresh is not None:  # the joins whose lower voxel is a known one
-        join(k - ny, a >= 1)
-        join(k - 1, b >= 1)
-        join(k - ny - 1, (a >= 1) & (b >= 1))
-        join(k - ny + 1, (a >= 1) & (b + 1 < ny))
-        join(np.where(f >= 1, k - cells, k + (bins - 1) * cells), every)
-    s, d = np.concatenate(src), np.concatenate(dst)
-    size = len(keys) if fresh is None else nodes
-    graph = coo_matrix((np.ones(len(s), dtype=np.int8), (s, d)), shape=(size, size))
-    count, labels = connected_components(graph, directed=False)
-    return int(count), labels[node].astype(np.int64)

@@ -51,6 +51,8 @@ from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
 
 _EIGHT = np.ones((3, 3), dtype=bool)
+#: The memo's key of the fine regrasp joins kept between rounds.
+_REGRASPS = "regrasp joins"
 
 
 @dataclass
@@ -100,10 +102,11 @@ def refined_graph(scene: Scene, cover: RasterCover, *, tolerance: float, clearan
     fine = refine_cover(scene, cover, window, tolerance=tolerance, clearance=clearance,
                         should_stop=should_stop, memo=memo)
     layers = {}
+    wi, wj = np.nonzero(window)
     for key, (lab, count) in cover.layers.items():
         if should_stop is not None and should_stop():
             raise Interrupted("the refined raster graph")
-        if count and (lab[window] > 0).any():
+        if count and (lab[wi, wj] > 0).any():
             layers[key] = _relabel((lab > 0) & ~window)
         else:
             layers[key] = (lab, count)
@@ -119,7 +122,7 @@ def refined_graph(scene: Scene, cover: RasterCover, *, tolerance: float, clearan
     graph.zero.extend([] for _ in range(total - coarse.total))
     graph.one.extend([] for _ in range(total - coarse.total))
     _join_borders(fine, outside, coarse, fine_base)
-    regions = _join_regrasps(fine, graph, fine_base)
+    regions = _join_regrasps(fine, graph, fine_base, memo)
     width = 2.0 * math.pi / cover.bins
     split = fine.split
 
@@ -163,9 +166,7 @@ def _join_borders(fine: FineVoxels, outside: RasterCover, coarse: RasterGraph,
         a, b = cell // ny, cell % ny
         near = border[a // 2, b // 2]
         a, b, comp = a[near], b[near], fine.labels[g][near]
-        big = (keys[near] // fine.cells) // fine.split
-        order = np.argsort(big, kind="stable")
-        a, b, comp, big = a[order], b[order], comp[order], big[order]
+        big = (keys[near] // fine.cells) // fine.split  # sorted, as the keys
         cuts = np.searchsorted(big, np.arange(n + 1))
         top = 1 + max((int(outside.layers[(g, bb)][1]) for bb in range(n)), default=0)
         found = []
@@ -190,16 +191,57 @@ def _join_borders(fine: FineVoxels, outside: RasterCover, coarse: RasterGraph,
                 coarse.graph.add(fine_base[k] + c, node, None)
 
 
-def _join_regrasps(fine: FineVoxels, graph: PieceGraph, fine_base: list[int]
-                   ) -> list[tuple[np.ndarray, int, int, int]]:
-    """Regrasps between fine components sharing a voxel at one box bin; their regions."""
+def _join_regrasps(fine: FineVoxels, graph: PieceGraph, fine_base: list[int],
+                   memo: dict | None = None) -> list[tuple[np.ndarray, int, int, int]]:
+    """Regrasps between fine components sharing a voxel at one box bin; their regions.
+
+    ``memo`` (the rounds' memo of :func:`~pivot_ompl.analysis.raster_refine.refine_cover`):
+    the regions of the window ``fine`` grew from are kept, their components read through
+    the merges, and only the new voxels are joined (a regrasp's voxels share one cell, and
+    the new voxels' cells are new): a group of shared voxels may then be two regions, the
+    earlier and the new one, each checked on its own (sound: a regrasp lies in one of them).
+    """
+    kept = None if memo is None else memo.get(_REGRASPS)
+    if kept is not None and fine.earlier is not None and np.array_equal(kept[0], fine.earlier):
+        _, regions, grasps, comps = kept
+        comps = comps.copy()
+        for g in (0, 1):
+            merged = fine.grown[g].merged
+            for col in (0, 1):
+                on = grasps[:, col] % 2 == g
+                comps[on, col] = merged[comps[on, col]]
+        keys = {g: fine.grown[g].new for g in (0, 1)}
+        labels = {g: fine.grown[g].new_labels for g in (0, 1)}
+        regions = list(regions)
+    else:
+        keys, labels = fine.keys, fine.labels
+        regions, grasps, comps = [], np.zeros((0, 2), np.int64), np.zeros((0, 2), np.int64)
+    more, more_grasps, more_comps = _regrasp_regions(fine, keys, labels)
+    regions += more
+    grasps, comps = np.concatenate([grasps, more_grasps]), np.concatenate([comps, more_comps])
+    if memo is not None:
+        memo[_REGRASPS] = fine.window.copy(), regions, grasps, comps
+    for i, ((k, j), (a, b)) in enumerate(zip(grasps.tolist(), comps.tolist(), strict=True)):
+        graph.add(fine_base[k] + a, fine_base[j] + b, (-1 - i, k, a, j, b))
+    return regions
+
+
+def _regrasp_regions(fine: FineVoxels, keys: dict[int, np.ndarray],
+                     labels: dict[int, np.ndarray]
+                     ) -> tuple[list[tuple[np.ndarray, int, int, int]], np.ndarray, np.ndarray]:
+    """The regions where voxels ``keys`` (labelled) of two grasps share a cell at a box bin.
+
+    ``(regions, grasps, comps)``: each region's cells, box bin, grasps ``k < j``; its grasps
+    and its two components, one row each.
+    """
     regions: list[tuple[np.ndarray, int, int, int]] = []
+    pairs: list[tuple[int, int, int, int]] = []
     half = fine.bins // 2
 
     def box_keys(k: int) -> np.ndarray:
-        keys = fine.keys[k % 2]
-        f = keys // fine.cells
-        return ((f - half * (k // 2)) % fine.bins) * fine.cells + keys % fine.cells
+        own = keys[k % 2]
+        f = own // fine.cells
+        return ((f - half * (k // 2)) % fine.bins) * fine.cells + own % fine.cells
 
     per_grasp = [box_keys(k) for k in range(4)]
     for k in range(4):
@@ -208,20 +250,21 @@ def _join_regrasps(fine: FineVoxels, graph: PieceGraph, fine_base: list[int]
                                             return_indices=True)
             if not len(shared):
                 continue
-            ck, cj = fine.labels[k % 2][ia], fine.labels[j % 2][ib]
+            ck, cj = labels[k % 2][ia], labels[j % 2][ib]
             big = (shared // fine.cells) // fine.split
             nb, nc = fine.bins // fine.split, fine.count[j % 2]
             group = (ck * nc + cj) * nb + big
             order = np.argsort(group, kind="stable")
-            keys, bounds = np.unique(group[order], return_index=True)
+            found, bounds = np.unique(group[order], return_index=True)
             bounds = np.append(bounds, len(order))
-            for g, key in enumerate(keys.tolist()):
+            for g, key in enumerate(found.tolist()):
                 rest, bb = divmod(key, nb)
                 a, b = divmod(rest, nc)
                 cells = shared[order[bounds[g]:bounds[g + 1]]] % fine.cells
                 regions.append((np.unique(cells), bb * fine.split, k, j))
-                graph.add(fine_base[k] + a, fine_base[j] + b, (-len(regions), k, a, j, b))
-    return regions
+                pairs.append((k, j, a, b))
+    table = np.array(pairs, dtype=np.int64).reshape(-1, 4)
+    return regions, table[:, :2], table[:, 2:]
 
 
 def refined_lower_bound(scene: Scene, cover: RasterCover, *,

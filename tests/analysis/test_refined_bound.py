@@ -12,7 +12,7 @@ from factories import shipped, turned_generated
 from pivot_ompl.analysis.raster_bound import raster_lower_bound
 from pivot_ompl.analysis.raster_cover import raster_cover
 from pivot_ompl.analysis.raster_refine import neck_window, refine_cover, turn_neck_window
-from pivot_ompl.analysis.refined_bound import refined_lower_bound
+from pivot_ompl.analysis.refined_bound import refined_graph, refined_lower_bound
 from pivot_ompl.analysis.regrasp_bound import regrasp_lower_bound
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.generate import rotate_scene
@@ -85,3 +85,48 @@ def test_stopping_gives_nothing_and_an_empty_window_too():
     assert refined_lower_bound(scene, cover, should_stop=lambda: True) is None
     empty = np.zeros(cover.raster.shape, dtype=bool)
     assert refined_lower_bound(scene, cover, window=empty) is None
+
+
+@pytest.mark.parametrize("name", ["door", "slot"])
+def test_a_grown_window_joins_the_same_fine_components_as_a_fresh_one(name):
+    """Rounds of a growing window (the guided refinement's memo) join by regrasps the same
+    fine components, at the same box bins, as the window refined afresh; every transfer
+    and every count alike."""
+    scene = shipped(name)
+    cover = raster_cover(scene, cell=0.1)
+    assert cover is not None
+    small = neck_window(cover)
+    big = small | turn_neck_window(cover)
+    assert small.any() and (big & ~small).any()
+    args = {"tolerance": SWEEP_TOLERANCE, "clearance": KEEP_CLEARANCE, "walks": False}
+    memo: dict = {}
+    assert refined_graph(scene, cover, window=small, memo=memo, **args) is not None
+    grown = refined_graph(scene, cover, window=big, memo=memo, **args)
+    fresh = refined_graph(scene, cover, window=big, **args)
+    assert grown is not None and fresh is not None
+
+    def joins(mixed):
+        fine, base = mixed.fine, mixed.fine_base
+        first = {g: {} for g in (0, 1)}  # each component named by its first voxel
+        for g in (0, 1):
+            for key, c in zip(fine.keys[g].tolist(), fine.labels[g].tolist(), strict=True):
+                first[g].setdefault(c, key)
+
+        def name_of(u):
+            if u < base[0]:
+                return -1, u  # a coarse piece: numbered alike (the same window)
+            k = max(i for i in range(4) if base[i] <= u)
+            return k, first[k % 2][u - base[k]]
+
+        graph = mixed.coarse.graph
+        one = {(name_of(u), name_of(v)) for u in range(len(graph.one)) for v, _ in graph.one[u]}
+        zero = {(name_of(u), name_of(v)) for u in range(len(graph.zero)) for v in graph.zero[u]}
+        return one, zero
+
+    assert joins(grown) == joins(fresh)
+    start, goal = grown.holding(scene.start), set(grown.holding(scene.goal))
+    count, _ = grown.coarse.graph.fewest_regrasps(start, goal, grown.allowed, None)
+    want, _ = fresh.coarse.graph.fewest_regrasps(fresh.holding(scene.start),
+                                                 set(fresh.holding(scene.goal)), fresh.allowed,
+                                                 None)
+    assert count == want

@@ -1,0 +1,131 @@
+"""Connected components of the fine voxels, computed afresh or grown by new voxels.
+
+The fine voxels of :mod:`~pivot_ompl.analysis.raster_refine` are keys ``f * cells + a * ny +
+b`` (fine bin ``f``, fine cell ``(a, b)``, ``cells = nx * ny``). Two voxels are joined when
+they are 8-adjacent cells of one fine bin or one cell of two consecutive fine bins (the last
+and the first included). :func:`voxel_components` labels a set of voxels;
+:func:`grown_components` labels the union of labelled voxels and new ones, joining only from
+the new voxels: the joins among the old voxels are already in their labels.
+
+**Growing.** The new voxels lie in cells the old ones do not hold (a window grows by whole
+coarse cells), so a new voxel's neighbours in the other fine bins (the same cell) are new
+ones, and its neighbours in its own bin are new ones or, only next to ``done`` (the coarse
+cells the old voxels lie in), old ones. So the joins are: among the new voxels, each join once
+(from the lower key); to the old ones, from the new voxels whose neighbour cell lies in
+``done``. The graph's nodes are the old components then the new voxels (in key order), so
+the labels are those a labelling of every voxel with the old ones' joins would give, numbered
+alike.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import connected_components
+
+#: The four forward neighbours of a voxel's cell within its bin ``(da, db)``.
+_FORWARD = ((1, 0), (0, 1), (1, 1), (1, -1))
+#: All eight neighbours of a voxel's cell within its bin.
+_AROUND = _FORWARD + tuple((-da, -db) for da, db in _FORWARD)
+
+
+def voxel_components(keys: np.ndarray, nx: int, ny: int, bins: int) -> tuple[int, np.ndarray]:
+    """``(count, labels)`` of the sorted voxel ``keys`` (module docstring)."""
+    if not len(keys):
+        return 0, np.zeros(0, dtype=np.int64)
+    src, dst = _forward_joins(keys, nx, ny, bins)
+    count, labels = _label(len(keys), src, dst)
+    return count, labels
+
+
+@dataclass
+class Grown:
+    """Voxels labelled, grown from labelled ones.
+
+    Attributes:
+        count: components.
+        keys: every voxel, sorted.
+        labels: each voxel's component.
+        new: the new voxels, sorted.
+        new_labels: their components.
+        merged: each earlier component's component now (the earlier ones only merge).
+    """
+
+    count: int
+    keys: np.ndarray
+    labels: np.ndarray
+    new: np.ndarray
+    new_labels: np.ndarray
+    merged: np.ndarray
+
+
+def grown_components(old_keys: np.ndarray, old_labels: np.ndarray, old_count: int,
+                     new_keys: np.ndarray, done: np.ndarray, nx: int, ny: int, bins: int
+                     ) -> Grown:
+    """The old voxels (sorted, labelled ``0..old_count - 1``) and the new ones, labelled.
+
+    ``done``: the coarse cells (boolean, half the fine shape) holding every old voxel; no
+    new voxel lies in them. The labels are those :func:`voxel_components` gives the union
+    up to their numbering (the same partition; module docstring).
+    """
+    new = np.sort(new_keys.astype(np.int64, copy=False))
+    if not len(old_keys):
+        count, labels = voxel_components(new, nx, ny, bins)
+        return Grown(count, new, labels, new, labels, np.zeros(0, dtype=np.int64))
+    both = np.concatenate([old_keys, new])
+    order = np.argsort(both, kind="stable")  # two sorted runs: merged in linear time
+    keys = both[order]
+    where = np.empty(len(both), dtype=np.int64)
+    where[order] = np.arange(len(both))
+    among = _forward_joins(new, nx, ny, bins)
+    src, dst = [old_count + among[0]], [old_count + among[1]]
+    cells = nx * ny
+    k = new % cells
+    a, b = k // ny, k % ny
+    for da, db in _AROUND:  # joins to the old voxels, only next to their coarse cells
+        ta, tb = a + da, b + db
+        ok = (ta >= 0) & (ta < nx) & (tb >= 0) & (tb < ny)
+        ok[ok] = done[ta[ok] // 2, tb[ok] // 2]
+        idx = np.flatnonzero(ok)
+        if not len(idx):
+            continue
+        target = new[idx] + da * ny + db
+        pos = np.clip(np.searchsorted(old_keys, target), 0, len(old_keys) - 1)
+        hit = old_keys[pos] == target
+        src.append(old_count + idx[hit])
+        dst.append(old_labels[pos[hit]])
+    count, node = _label(old_count + len(new), np.concatenate(src), np.concatenate(dst))
+    labels = np.empty(len(keys), dtype=np.int64)
+    labels[where[:len(old_keys)]] = node[old_labels]
+    labels[where[len(old_keys):]] = node[old_count:]
+    return Grown(count, keys, labels, new, node[old_count:], node[:old_count])
+
+
+def _forward_joins(keys: np.ndarray, nx: int, ny: int, bins: int
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """The joins among the sorted ``keys`` (indices), each once: from the lower voxel."""
+    cells = nx * ny
+    k = keys % cells
+    a, b, f = k // ny, k % ny, keys // cells
+    src, dst = [], []
+
+    def join(target: np.ndarray, ok: np.ndarray) -> None:
+        pos = np.clip(np.searchsorted(keys, target), 0, len(keys) - 1)
+        hit = ok & (keys[pos] == target)
+        src.append(np.flatnonzero(hit))
+        dst.append(pos[hit])
+
+    for da, db in _FORWARD:
+        join(keys + da * ny + db, (a + da < nx) & (b + db >= 0) & (b + db < ny))
+    join(np.where(f + 1 < bins, keys + cells, keys - (bins - 1) * cells),
+         np.ones(len(keys), dtype=bool))
+    return np.concatenate(src), np.concatenate(dst)
+
+
+def _label(nodes: int, src: np.ndarray, dst: np.ndarray) -> tuple[int, np.ndarray]:
+    """Connected components of ``nodes`` nodes joined by the edges ``src``-``dst``."""
+    graph = csr_matrix((np.ones(len(src)), (src, dst)), shape=(nodes, nodes))
+    count, labels = connected_components(graph, directed=False)
+    return int(count), labels.astype(np.int64, copy=False)
