@@ -113,12 +113,16 @@ def import_corpus_map(m: CorpusMap, out: Path) -> dict[str, Any]:
             "boxes": len(result.scene.obstacles), "resolution": result.map.resolution}
 
 
-def plan_once(scene: str, seed: int, limit: float, out: Path) -> dict[str, Any]:
-    """One ``pivot-ompl plan`` in a fresh process: exit code, wall time, peak memory, plan."""
+def plan_once(scene: str, seed: int, limit: float, out: Path, *,
+              prove: bool = False) -> dict[str, Any]:
+    """One ``pivot-ompl plan`` in a fresh process: exit code, wall time, peak memory, plan.
+
+    ``prove``: ``plan --prove`` (the guided bound refined inside the plan where needed).
+    """
     plan_path = out / f"{Path(scene).stem}.seed{seed}.json"
     plan_path.unlink(missing_ok=True)
     cmd = [sys.executable, "-m", "pivot_ompl.cli", "plan", scene, "--time", str(limit),
-           "--seed", str(seed), "--out", str(plan_path)]
+           "--seed", str(seed), "--out", str(plan_path)] + (["--prove"] if prove else [])
     with machine_lock():
         t0 = time.perf_counter()
         proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
@@ -193,6 +197,8 @@ def main() -> None:
     p.add_argument("--time", type=float, default=60.0, help="plan's --time (s; default 60)")
     p.add_argument("--maps", help="comma-separated names (default: the whole corpus)")
     p.add_argument("--out", default=str(ROOT / "results" / "buildings"), help="output folder")
+    p.add_argument("--prove", action="store_true",
+                   help="plan with --prove (the bound refined inside the plan where needed)")
     p.add_argument("--table", metavar="JSON", help="only print the table of a run's "
                    "buildings.json")
     args = p.parse_args()
@@ -214,7 +220,7 @@ def main() -> None:
         info = import_corpus_map(m, out)
         runs = []
         for seed in range(args.seeds):
-            run = plan_once(info["scene"], seed, args.time, out)
+            run = plan_once(info["scene"], seed, args.time, out, prove=args.prove)
             runs.append(run)
             print(f"{m.name} seed {seed}: code {run['code']}, {run['wall']:.1f} s, "
                   f"{run.get('regrasps')} regrasps (bound {run.get('bound')}), "
@@ -222,7 +228,8 @@ def main() -> None:
         record[m.name] = {"map": m.map, "start": m.start, "goal": m.goal, "clean": m.clean,
                           **info, "runs": runs}
     command = (f"python benchmarks/buildings.py --seeds {args.seeds} --time {args.time:g}"
-               + (f" --maps {args.maps}" if args.maps else ""))
+               + (f" --maps {args.maps}" if args.maps else "")
+               + (" --prove" if args.prove else ""))
     text = table(record, command)
     (out / "buildings.md").write_text(text)
     (out / "buildings.json").write_text(json.dumps(

@@ -16,11 +16,11 @@ slow on large floors; :func:`plan_bounds` asks it only where the answer depends 
   the raster refined where its best path passes narrow places
   (:mod:`~pivot_ompl.analysis.guided_refine`) when, by estimate, it ends within the time
   left of the bound's share (``time_left``; ``should_stop`` still polled: the rounds done
-  stand, each a proof). ``plan`` does not ask for it: where it would reach the plan's count
-  it costs more than the bound's share (the Willow Garage office: ~11 s for its 2), and
-  where it fits it often adds nothing (rooms joined by a tight corridor: 1-4 s for the same
-  0). A scene's bound once refined (``pivot-ompl bound --guided``) is read from the cache
-  by every later plan.
+  stand, each a proof). ``plan`` asks for it only with ``prove=True`` (``plan --prove``):
+  where it reaches the plan's count it costs several seconds (the Willow Garage office:
+  about 7 s for its 2), and where it fits it often adds nothing (rooms joined by a tight
+  corridor: 1-4 s for the same 0). A scene's bound once refined (``plan --prove``,
+  ``pivot-ompl bound --guided``) is read from the cache by every later plan.
 
 Every result comes from the bound cache when it holds it
 (:mod:`~pivot_ompl.analysis.bound_cache`).

@@ -80,6 +80,10 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="skip the scene's lower bounds on regrasps and route and the proof "
                         "that no plan exists (computed once per scene within --time, then "
                         "cached)")
+    p.add_argument("--prove", action="store_true",
+                   help="when the plan regrasps more often than the quick bounds prove, "
+                        "refine the bound where its best path passes narrow places with "
+                        "what --time leaves (as 'bound --guided'; cached for later plans)")
     p.add_argument("--out", help="write the pivot-plan/1 JSON here")
     p.add_argument("--plot", help="write the plan figure here (.png, .svg, .pdf...)")
     p.set_defaults(func=run)
@@ -139,7 +143,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         res = plan(source, planner=planner_with_share(args.planner, args.quality_share),
                    time_limit=args.time, seed=args.seed, regrasp_cost=args.regrasp_cost,
-                   bound=not args.no_bound)
+                   bound=not args.no_bound, prove=args.prove)
     except PlanningError as e:
         stop.set()
         print(f"\npivot-ompl plan: {e}", file=sys.stderr)

@@ -13,6 +13,7 @@ from hypothesis import strategies as st
 from pivot_ompl.analysis.bound_cache import lower_bound
 from pivot_ompl.analysis.plan_bounds import disk_route, plan_bounds
 from pivot_ompl.api import plan
+from pivot_ompl.errors import InputError
 
 
 def _wall_with_top_gap():
@@ -109,3 +110,30 @@ def test_a_turned_or_mirrored_fig10_keeps_its_exact_bound(copy, monkeypatch, tmp
     scene = (rotate_scene(base, math.radians(30.0)) if copy == "turned"
              else mirror_scene(base, 0.3))
     assert plan_bounds(scene, 2)[0] == 2
+
+
+def test_a_plan_asked_to_prove_refines_the_bound_where_the_quick_one_proves_less(
+        monkeypatch, tmp_path):
+    # four rooms joined by a tight corridor: the raster's bound (0) is below the plan's
+    # regrasps and the polygons do not fit the plan's 2.5 s; only prove=True refines it
+    from pivot_ompl.analysis.bound_cache import cached_bound
+    from pivot_ompl.generate import GeneratorParams, generate
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    scene = generate("building", 0, params=GeneratorParams(
+        rooms=4, layout="corridor", rotate=True, side_corridor=(0.87, 0.89),
+        side_door=(1.0, 1.0))).scene
+    quick = plan(scene, time_limit=30, seed=0)
+    assert quick.solved and quick.plan.regrasps > 0
+    assert cached_bound(scene) is not None and not cached_bound(scene).guided
+    proved = plan(scene, time_limit=30, seed=0, prove=True)
+    assert proved.solved
+    known = cached_bound(scene)
+    assert known is not None and known.guided
+    assert proved.plan.extra["quality"]["regrasps_lower_bound"] == known.regrasps
+    assert known.regrasps <= proved.plan.regrasps
+
+
+def test_prove_needs_the_bounds():
+    with pytest.raises(InputError, match="prove"):
+        plan("slot", time_limit=5, bound=False, prove=True)
