@@ -95,8 +95,9 @@ CORPUS = (
               note="start and goal lie in different components of the held assembly's "
               "lattice (pushes and turns in place) at every grasp: every plan regrasps; the "
               "fast bound inside plan gives 0 (doors a few cm narrower than the held assembly, "
-              "below its raster's cell) on a cold bound cache; `pivot-ompl bound SCENE "
-              "--guided` proves 2 in about 12 s and later plans read it"),
+              "below its raster's cell) on a cold bound cache; `plan --prove` (or "
+              "`pivot-ompl bound SCENE --guided`) proves 2 in about 7-13 s and later plans "
+              "read it"),
 )
 
 
