@@ -153,8 +153,10 @@ def test_the_polish_of_a_repair_reworks_its_own_states_and_keeps_the_old_route(s
     monkeypatch.setattr(improve, "optimise", spy)
     out = repair.polish(ck, rep.states, RegraspConfig(), should_stop=lambda: False, new=new,
                         kept=0)
-    # the old route's rest was polished before
-    assert seen == [(rep.states[:new], rep.states[new - 1][1])]
+    # the old route's rest was polished before: the first round reworks the head alone, a
+    # later round (improve.ROUNDS) the first's result, ending with the same grasp
+    assert seen[0] == (rep.states[:new], rep.states[new - 1][1])
+    assert all(end == rep.states[new - 1][1] for _, end in seen)
     tail = rep.states[new - 1:]  # from the head's last state (grasp included) on
     assert out[0] == rep.states[0] and out[-len(tail):] == tail
     assert check_plan(path_to_plan(scene, ck, out), scene).ok
