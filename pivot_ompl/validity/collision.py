@@ -42,11 +42,8 @@ _ROTATION = np.eye(3)
 _TRANSLATION = np.zeros(3)
 
 
-def placement(x: float, y: float, yaw: float, z: float) -> coal.Transform3s:
-    """The placement at ``(x, y, z)`` (m) turned by ``yaw`` (rad) about the vertical.
-
-    Filled through scratch arrays, copied by coal: every placement is its own.
-    """
+def _scratch(x: float, y: float, yaw: float, z: float) -> tuple[np.ndarray, np.ndarray]:
+    """The scratch rotation and translation filled for ``(x, y, z)`` turned by ``yaw``."""
     c, s = math.cos(yaw), math.sin(yaw)
     r, t = _ROTATION, _TRANSLATION
     r[0, 0] = c
@@ -56,7 +53,15 @@ def placement(x: float, y: float, yaw: float, z: float) -> coal.Transform3s:
     t[0] = x
     t[1] = y
     t[2] = z
-    return coal.Transform3s(r, t)
+    return r, t
+
+
+def placement(x: float, y: float, yaw: float, z: float) -> coal.Transform3s:
+    """The placement at ``(x, y, z)`` (m) turned by ``yaw`` (rad) about the vertical.
+
+    Filled through scratch arrays, copied by coal: every placement is its own.
+    """
+    return coal.Transform3s(*_scratch(x, y, yaw, z))
 
 
 def place(obj: coal.CollisionObject, x: float, y: float, yaw: float, z: float) -> None:
@@ -65,15 +70,7 @@ def place(obj: coal.CollisionObject, x: float, y: float, yaw: float, z: float) -
     Sets the object's rotation and translation in place (no ``Transform3s`` built: a fifth
     of the cost, and every transfer check's query places a body).
     """
-    c, s = math.cos(yaw), math.sin(yaw)
-    r, t = _ROTATION, _TRANSLATION
-    r[0, 0] = c
-    r[0, 1] = -s
-    r[1, 0] = s
-    r[1, 1] = c
-    t[0] = x
-    t[1] = y
-    t[2] = z
+    r, t = _scratch(x, y, yaw, z)
     obj.setRotation(r)
     obj.setTranslation(t)
 
