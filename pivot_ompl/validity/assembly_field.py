@@ -226,6 +226,8 @@ class AssemblyField:
         n = len(self._pieces)
         if n and ks:
             edges = self._sums(parity, ks, rots, should_stop)
+            if should_stop is not None and should_stop():  # before the batch's raster
+                raise Interrupted("assembly field")
             per_yaw = len(self._bodies[parity]) * n
             hit = grid_union(edges, xs, ys, groups=np.arange(len(edges.used)) // per_yaw,
                              n_groups=len(ks))
@@ -275,11 +277,16 @@ class AssemblyField:
                 _put(out, y * per + todo, part)
         return out
 
-    def state_fits(self, ix: int, iy: int, k: int, parity: int) -> bool:
-        """Whether grid state ``(ix, iy)`` at field yaw ``k`` is free for ``parity``."""
+    def state_fits(self, ix: int, iy: int, k: int, parity: int,
+                   should_stop: Callable[[], bool] | None = None) -> bool:
+        """Whether grid state ``(ix, iy)`` at field yaw ``k`` is free for ``parity``.
+
+        Raises:
+            Interrupted: ``should_stop()`` said stop while the yaw's grid was computed.
+        """
         if not (0 <= ix < self.nx and 0 <= iy < self.ny):
             return False
-        return bool(self.fits(parity, k)[ix, iy])
+        return bool(self.fits(parity, k, should_stop=should_stop)[ix, iy])
 
     def pose_fits(self, car: Pose, parity: int) -> bool:
         """Whether the nearest grid state of a car pose is free (a quick guess)."""

@@ -67,3 +67,22 @@ def test_a_restricted_field_is_the_whole_fields_within_its_area(checker, box, k,
     part.restrict(area)
     assert np.array_equal(part.fits(parity, k), whole.fits(parity, k) & area)
     assert len(part.pieces) <= len(whole.pieces)  # the pieces summed
+
+
+def test_a_state_asked_of_a_field_not_yet_computed_stops_when_told():
+    # a lattice search asks the field for its start and goal states: the yaw's grid is
+    # computed then (seconds on a 10 000-point polygon) and must honour the stop
+    from pivot_ompl.errors import Interrupted
+
+    ck = PivotChecker(shipped("fig10"), seed=0)
+    field = AssemblyField(ck.model, ck.world, 0.1)
+    asked = []
+
+    def stop_on_second() -> bool:
+        asked.append(1)
+        return len(asked) > 1
+
+    with pytest.raises(Interrupted):
+        field.state_fits(field.nx // 2, field.ny // 2, 0, 0, stop_on_second)
+    assert len(asked) >= 2  # asked again inside the computation, not only before it
+    assert field.state_fits(field.nx // 2, field.ny // 2, 0, 0) in (True, False)

@@ -180,8 +180,8 @@ class TransferLattice:
             Interrupted: ``should_stop()`` became true.
         """
         m, parity, f = self.checker.model, grasp % 2, self.field
-        starts = self._attach(m.car_pose(start, grasp), parity, grasp)
-        goals = self._attach(m.car_pose(goal, grasp), parity, grasp)
+        starts = self._attach(m.car_pose(start, grasp), parity, grasp, should_stop)
+        goals = self._attach(m.car_pose(goal, grasp), parity, grasp, should_stop)
         if not starts or not goals:
             return math.inf
         cell_ids, _ = self._components(parity, should_stop)
@@ -207,8 +207,8 @@ class TransferLattice:
         m = self.checker.model
         ca, cb = m.car_pose(start, grasp), m.car_pose(goal, grasp)
         parity = grasp % 2
-        starts = self._attach(ca, parity, grasp)
-        goals = self._attach(cb, parity, grasp)
+        starts = self._attach(ca, parity, grasp, should_stop)
+        goals = self._attach(cb, parity, grasp, should_stop)
         if not starts or not goals:
             return [], math.inf
         cell_ids, labels = self._components(parity, should_stop)
@@ -260,10 +260,10 @@ class TransferLattice:
     def joined_components(self, obj: Pose, grasp: int,
                           should_stop: Callable[[], bool] | None = None) -> set[int]:
         """The components (of ``grasp``'s parity) of the states ``obj`` at ``grasp`` joins."""
-        parity, ny = grasp % 2, self.field.ny
+        parity, ny, m = grasp % 2, self.field.ny, self.checker.model
         cell_ids, labels = self._components(parity, should_stop)
         out = set()
-        for ix, iy, h in self._attach(self.checker.model.car_pose(obj, grasp), parity, grasp):
+        for ix, iy, h in self._attach(m.car_pose(obj, grasp), parity, grasp, should_stop):
             cid = int(cell_ids[ix * ny + iy])
             if cid >= 0 and labels[cid * N_HEADINGS + h] >= 0:
                 out.add(int(labels[cid * N_HEADINGS + h]))
@@ -378,7 +378,8 @@ class TransferLattice:
                 total += self._turns[h] * self._spin
         return total
 
-    def _attach(self, car: Pose, parity: int, grasp: int) -> dict[State, float]:
+    def _attach(self, car: Pose, parity: int, grasp: int,
+                should_stop: Callable[[], bool] | None) -> dict[State, float]:
         """Free lattice states near ``car`` (the two nearest headings), with a cost guess."""
         fx, fy = self.field.cell(car[0], car[1])
         near = sorted(range(N_HEADINGS),
@@ -389,7 +390,7 @@ class TransferLattice:
                 if math.hypot(ix - fx, iy - fy) > 1.5:
                     continue
                 for h in near:
-                    if not self.field.state_fits(ix, iy, 2 * h, parity) or \
+                    if not self.field.state_fits(ix, iy, 2 * h, parity, should_stop) or \
                             not self.in_region()[ix, iy]:
                         continue
                     x, y = self.field.position(ix, iy)
