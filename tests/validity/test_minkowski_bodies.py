@@ -35,12 +35,7 @@ def test_each_pair_is_summed_as_alone_whatever_the_bodies_repeated(seed, certify
     got = meeting_edges([pieces[i] for i, _ in pairs],
                         [bodies[j].copy() if c else bodies[j]
                          for (_, j), c in zip(pairs, copies, strict=True)], certify=certify)
-    for row, (i, j) in enumerate(pairs):
-        alone = meeting_edges([pieces[i]], [bodies[j]], certify=certify)
-        used = got.used[row]
-        assert np.array_equal(got.start[row][used], alone.start[0][alone.used[0]])
-        assert np.array_equal(got.end[row][used], alone.end[0][alone.used[0]])
-        assert np.array_equal(got.bounds[row], alone.bounds[0])
+    _each_as_alone(got, pieces, bodies, pairs, certify)
 
 
 def _box(rng: np.random.Generator) -> np.ndarray:
@@ -68,6 +63,11 @@ def test_wall_boxes_sharing_their_normals_are_each_summed_as_alone(seed, certify
              for _ in range(2)]
     got = meeting_edges([pieces[i] for i, _ in pairs], [bodies[j] for _, j in pairs],
                         certify=certify)
+    _each_as_alone(got, pieces, bodies, pairs, certify)
+
+
+def _each_as_alone(got, pieces, bodies, pairs, certify) -> None:  # noqa: ANN001
+    """Each row of ``got`` (the sums of ``pairs`` together) is the pair's sum made alone."""
     for row, (i, j) in enumerate(pairs):
         alone = meeting_edges([pieces[i]], [bodies[j]], certify=certify)
         used = got.used[row]
