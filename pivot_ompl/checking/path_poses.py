@@ -14,7 +14,7 @@ is at least the difference, carried on. The answer is the one every pose measure
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import BoxGraspModel
@@ -41,19 +41,15 @@ class PathPoses:
         model: box and robot geometry.
         world: obstacles and bounds.
         paths: the car's reference paths (Reeds-Shepp curves and spins).
+        spread: per grasp, the box's and the holding robot's farthest corners (m) from the
+            car (:attr:`~pivot_ompl.checking.rotation_sweeps.RotationSweeps.spread`).
     """
 
-    def __init__(self, model: BoxGraspModel, world: CollisionWorld, paths: CarPaths) -> None:
-        """Per grasp, the box's and the holding robot's farthest points from the car."""
+    def __init__(self, model: BoxGraspModel, world: CollisionWorld, paths: CarPaths,
+                 spread: Mapping[int, tuple[float, float]]) -> None:
+        """Poses tested with these parts and the bodies' spreads round the car."""
         self.model, self.world, self.paths = model, world, paths
-        self._spread: dict[int, tuple[float, float]] = {}
-        car = (0.0, 0.0, 0.0)
-        for g in range(4):
-            obj = model.object_from_car(car, g)
-            box = model.object_corners(obj)
-            rob = model.held_corners(model.robot_pose(obj, g), g)
-            self._spread[g] = (max(math.hypot(x, y) for x, y in box),
-                               max(math.hypot(x, y) for x, y in rob))
+        self._spread = spread
 
     def free(self, car_a: Pose, car_b: Pose, grasp: int, ts: Sequence[float], *,
              with_robot: bool, should_stop: Callable[[], bool] | None) -> bool:

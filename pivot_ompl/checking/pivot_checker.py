@@ -104,7 +104,8 @@ class PivotChecker:
             scene, tolerance=tolerance, clearance=self.world.clearance) if share else None
         self.transfers = TransferCheck(self.model, self.world, self.steering,
                                        tolerance=tolerance, refined=self._count_refined)
-        self._poses = PathPoses(self.model, self.world, self.steering.paths)
+        self._poses = PathPoses(self.model, self.world, self.steering.paths,
+                                self.transfers.sweeps.spread)
 
     @property
     def edges(self) -> Mapping[tuple, EdgeResult]:
