@@ -158,3 +158,47 @@ def open_floor_checker(start: tuple[float, float, float], goal: tuple[float, flo
 
     scene = make_scene(start=list(start), goal=list(goal), bounds=[-1.0, -1.0, 9.0, 7.0], **extra)
     return make_problem(scene).checker
+
+
+class DeadlineWatch:
+    """Times a call against its limit in this process's CPU seconds past the deadline.
+
+    A call that honours its limit stops at the first poll after the deadline; the work done
+    after it is what a test bounds. Read as CPU seconds of this process (a timer thread notes
+    the process clock when the deadline passes), it does not grow when other work on the
+    machine slows the call down, as the wall clock does. ``wall`` is kept for gross checks.
+    """
+
+    def __init__(self, limit: float) -> None:
+        self.limit = limit
+        self.wall = math.nan
+        self._cpu_at_deadline: float | None = None
+        self._cpu_at_end = math.nan
+
+    def __enter__(self) -> DeadlineWatch:
+        import threading
+        import time
+
+        self._timer = threading.Timer(self.limit, self._note_deadline)
+        self._t0 = time.perf_counter()
+        self._timer.start()
+        return self
+
+    def _note_deadline(self) -> None:
+        import time
+
+        self._cpu_at_deadline = time.process_time()
+
+    def __exit__(self, *exc: object) -> None:
+        import time
+
+        self._cpu_at_end = time.process_time()
+        self.wall = time.perf_counter() - self._t0
+        self._timer.cancel()
+
+    @property
+    def cpu_past_deadline(self) -> float:
+        """CPU seconds spent after the deadline (0 when the call ended before it)."""
+        if self._cpu_at_deadline is None:
+            return 0.0
+        return max(0.0, self._cpu_at_end - self._cpu_at_deadline)

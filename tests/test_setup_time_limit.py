@@ -15,7 +15,7 @@ import time
 import numpy as np
 import pytest
 import yaml
-from factories import make_scene
+from factories import DeadlineWatch, make_scene
 
 from pivot_ompl.api import plan
 from pivot_ompl.checking.pivot_checker import PivotChecker
@@ -72,15 +72,17 @@ def test_a_limit_that_has_run_out_stops_plan_at_once(big_file):
 
 @pytest.mark.parametrize("limit", [0.3, 0.6])
 def test_plan_stops_within_its_limit_while_setting_up(big_file, limit):
-    """Stopped in reading, building the world or slot finding: within the limit (+20 %
-    here, on a loaded test machine; benchmarks/time_limit.py --largest measures +-5 %),
-    and the time spent counted as setup."""
-    t0 = time.perf_counter()
-    res = plan(big_file, time_limit=limit, bound=False)
-    wall = time.perf_counter() - t0
+    """Stopped in reading, building the world or slot finding: within the limit (+20 % of
+    work after it here; benchmarks/time_limit.py --largest measures +-5 %), and the time
+    spent counted as setup."""
+    with DeadlineWatch(limit) as watch:
+        res = plan(big_file, time_limit=limit, bound=False)
     assert res.status == "TIMEOUT"
-    assert wall < 1.2 * limit + 0.05, wall
-    assert res.timings["setup"] + res.timings["solve"] <= wall + 1e-6
+    # the work after the deadline in this process's CPU seconds (not stretched by other work
+    # on the machine, as the wall clock is)
+    assert watch.cpu_past_deadline < 0.2 * limit + 0.05, watch.cpu_past_deadline
+    assert watch.wall < 3 * limit + 0.05, watch.wall
+    assert res.timings["setup"] + res.timings["solve"] <= watch.wall + 1e-6
     if "stopped" in res.plan.extra:
         assert res.timings["setup"] > 0.9 * limit
 
