@@ -8,7 +8,6 @@ path (hundreds of poses, each a few ms against the polygon) without looking at t
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 import pytest
