@@ -44,12 +44,16 @@ from pivot_ompl.pivoting.kinematics import Rotation
 from pivot_ompl.pivoting.steering import Piece, PivotSteering
 from pivot_ompl.se2 import Pose
 
-__all__ = ["LADDER_STEPS", "MIN_CLEARANCE", "REFINE_BISECTIONS", "SAFE_SHARE", "PieceRefiner",
-           "Refined"]
+__all__ = ["CREEP", "LADDER_STEPS", "MIN_CLEARANCE", "REFINE_BISECTIONS", "SAFE_SHARE",
+           "PieceRefiner", "Refined"]
 
 #: Where a rung passes and the one above it failed, the largest bound that passes is bisected
 #: (in log) between them this many times: within ``2 ** (-0.5 / 2 ** n)`` of the largest.
 REFINE_BISECTIONS = 3
+
+#: A sub-piece tries its predecessor's bound, and this factor above it where that passes
+#: (an eighth of an octave: the room changes little from one sub-piece to the next).
+CREEP = 2.0 ** 0.125
 
 #: Share of the clearance bound ``c / r`` that certainly passes (three rotations of it move
 #: no point farther than ``0.9 c``).
@@ -101,13 +105,14 @@ class Refined(NamedTuple):
 
 
 def _largest_passing(attempt: Callable[[float], Checked], bounds: list[float],
-                     failed: float | None) -> Checked:
+                     failed: float | None) -> tuple[float, Checked]:
     """The largest of ``bounds`` (descending) whose sub-piece passes, bisected upwards.
 
     ``attempt(alpha)`` converts and checks one sub-piece with rotations within ``alpha``;
     ``failed``: a bound above ``bounds[0]`` known to fail, if any. Where a bound passes and
     a larger one failed, the largest passing bound between them is bisected (in log,
-    :data:`REFINE_BISECTIONS` times). The last bound's failed check when none passes.
+    :data:`REFINE_BISECTIONS` times). ``(bound, its check)``; the last bound's failed check
+    when none passes.
     """
     done: Checked | None = None
     for alpha in bounds:
@@ -123,9 +128,9 @@ def _largest_passing(attempt: Callable[[float], Checked], bounds: list[float],
                     failed = mid
                 else:
                     alpha, done = mid, more
-        return done
+        return alpha, done
     assert done is not None  # noqa: S101 - bounds is never empty
-    return done
+    return bounds[-1], done
 
 
 class _Stretch(NamedTuple):
@@ -170,15 +175,16 @@ class PieceRefiner:
         floor = max(self.tolerance, MIN_CLEARANCE)
         t, current, prev = piece.t0, piece.start, before
         fine: list[Rotation] = []
+        last: float | None = None  # the previous sub-piece's bound
         while t < piece.t1:
             clear = self.measure(clear, grasp)
             bound, least = self.clearance_bound(current, grasp, with_robot, *clear)
             if least < floor:
                 return Refined(fine, f"path within {least:.4f} m of an obstacle or side",
                                clear, t)
-            sub, why, ends = self._sub_piece(_Stretch(ca, cb, piece, grasp, with_robot,
-                                                      should_stop), t, current, prev, clear,
-                                             bound)
+            last, (sub, why, ends) = self._sub_piece(
+                _Stretch(ca, cb, piece, grasp, with_robot, should_stop), t, current, prev,
+                clear, bound, last)
             if why:
                 return Refined(fine, why, clear, t)
             fine.extend(sub.rotations)
@@ -188,14 +194,18 @@ class PieceRefiner:
         return Refined(fine, "", clear, t)
 
     def _sub_piece(self, at: _Stretch, t: float, current: Pose, prev: Rotation | None,
-                   clear: Clearances, bound: float) -> Checked:
-        """The next sub-piece from parameter ``t`` (pose ``current``), with the largest bound.
+                   clear: Clearances, bound: float,
+                   last: float | None) -> tuple[float, Checked]:
+        """The next sub-piece from parameter ``t`` (pose ``current``) and its bound.
 
-        ``bound``: the bound the clearance gives there. The ladder's rungs above it, then it
-        and its safe share (:func:`_largest_passing`), each sub-piece running on past the
-        piece's end where the path goes on; where a larger bound's sub-piece failed past the
-        end and the one found does not reach it, the largest of those bounds whose
-        sub-piece ending on the piece's end passes is taken instead.
+        ``bound``: the bound the clearance gives there; ``last``: the previous sub-piece's
+        bound (``None`` for the stretch's first). The previous bound first, and a step of
+        :data:`CREEP` above it where it passes (the room changes little from one sub-piece
+        to the next); else the ladder's rungs below it down to ``bound``, then ``bound`` and
+        its safe share (:func:`_largest_passing`, bisected); each sub-piece runs on past the
+        piece's end where the path goes on, and where a larger bound's sub-piece failed past
+        the end and the one found does not reach it, the largest of those bounds whose
+        sub-piece ending on the piece's end passes is taken instead. ``(bound, check)``.
         """
         piece = at.piece
         amax = self.steering.alpha_max
@@ -219,13 +229,18 @@ class PieceRefiner:
             return done
 
         ladder = [amax * 2.0 ** (-0.5 * k) for k in range(LADDER_STEPS + 1)]
-        first = 1 if t == piece.t0 else 0  # the piece is the first sub-piece at alpha_max
-        bounds = [a for a in ladder[first:] if a > bound] + \
+        if t == piece.t0:  # the piece is the stretch's first sub-piece at alpha_max: failed
+            tries, failed = ladder[1:], amax
+        else:  # alpha_max (the room may open), then from the rung above the last bound
+            top = min((a for a in ladder if a > CREEP * (last or 0.0)), default=amax)
+            tries, failed = ladder[:1] + [a for a in ladder[1:] if a <= top], None
+        bounds = [a for a in tries if a > bound] + \
             [a for a in (bound, SAFE_SHARE * bound) if a > 0.0]
-        done = _largest_passing(running_on, bounds, amax if first else None)
+        found = _largest_passing(running_on, bounds, failed)
+        alpha, done = found
         if crossed and (done[1] or done[0].t1 < piece.t1):
             for larger in sorted(crossed, reverse=True):  # ending on the piece's end
-                last = convert(larger, piece.t1)
-                if not last[1]:
-                    return last
-        return done
+                end_on = convert(larger, piece.t1)
+                if not end_on[1]:
+                    return larger, end_on
+        return alpha, done
