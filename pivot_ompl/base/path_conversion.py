@@ -6,8 +6,9 @@ from typing import Any
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.errors import PlanningError
-from pivot_ompl.pivoting.transfer import rs_samples, steps_of
-from pivot_ompl.planfile import Phase, Plan, TransferPhase, TransferStep, TransitPhase
+from pivot_ompl.pivoting.steering import PivotSequence
+from pivot_ompl.pivoting.transfer import phase_steps, rs_samples
+from pivot_ompl.planfile import Phase, Plan, TransferPhase, TransitPhase
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose
 
@@ -17,7 +18,9 @@ def path_to_plan(scene: Scene, checker: PivotChecker, states: list[tuple[Pose, i
     """Phases of a path: runs of one grasp become transfer phases, grasp changes transits.
 
     Every edge is taken from the checker's cache (so exactly the validated rotations and
-    walks are written); an edge that is not valid raises :class:`PlanningError`.
+    walks are written, two edges' rotations about one corner where they meet merged into
+    one: :func:`~pivot_ompl.pivoting.transfer.phase_steps`); an edge that is not valid
+    raises :class:`PlanningError`.
     """
     m = scene.model
     phases: list[Phase] = []
@@ -31,18 +34,19 @@ def path_to_plan(scene: Scene, checker: PivotChecker, states: list[tuple[Pose, i
             phases.append(TransitPhase(g, states[i + 1][1], walk.robot_path, pose))
             i += 1
             continue
-        steps: list[TransferStep] = []
+        seqs: list[PivotSequence] = []
         rs: list[Pose] = []
         j = i
         while j < len(states) - 1 and states[j + 1][1] == g:
             edge = checker.transfer(states[j][0], states[j + 1][0], g)
             if not edge.valid:
                 raise PlanningError("INVALID_PATH", f"edge {j} invalid: {edge.reason}")
-            steps.extend(steps_of(m, edge.sequence, g))
+            seqs.append(edge.sequence)
             rs.extend(rs_samples(checker.steering, edge.sequence))
             j += 1
+        steps = phase_steps(m, checker.steering, seqs, g)
         if steps:
-            phases.append(TransferPhase(g, m.robot_pose(pose, g), tuple(steps), pose, tuple(rs)))
+            phases.append(TransferPhase(g, m.robot_pose(pose, g), steps, pose, tuple(rs)))
         i = j
     if not phases:  # start == goal: an empty transfer at the start grasp
         pose, g = states[0]

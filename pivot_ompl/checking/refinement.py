@@ -3,36 +3,32 @@
 :class:`~pivot_ompl.checking.transfer_check.TransferCheck` converts an edge's Reeds-Shepp path
 piece by piece at the full rotation bound; where a piece fails, that piece alone (the same
 stretch of the path, from the pose reached) is converted again by :class:`PieceRefiner`, and
-the rest of the edge keeps full rotations:
+the rest of the edge keeps full rotations.
 
-1. with the rotation bound reduced in half-octave steps (:data:`REFINE_FACTORS`) while it
-   stays above the bound the clearance gives (below): a few large rotations get round an
-   obstacle that only a rotation's bulge touched. Where a factor passes, the largest bound
-   that passes is bisected (in log) between it and the factor above that failed
-   (:data:`REFINE_BISECTIONS` times): the rotations are as large as the clearance allows
-   within a sixteenth of an octave, so a narrow passage takes few pivots. The stretch's last
-   sub-piece is the longest its bound solves, running past the piece's end where the path
-   goes on, unless it fails there (then it ends on the piece's end): no short sub-piece of
-   small rotations where a refined piece meets the next;
-2. else **sub-piece by sub-piece**, each with the largest bound that passes: the half-octave
-   rungs below ``alpha_max`` (:data:`LADDER_STEPS`, from one rung above the last sub-piece's
-   down to the clearance bound; each sub-piece's rotations checked exactly as any other), so
-   only the stretch near the obstacle takes small rotations and those only as small as the
-   sweep needs; below them the **bound chosen from the clearance** ``c`` (beyond
-   the kept clearance, the bounds' margin included) that the box and the robot have at the
-   sub-piece's start, which is a pose of the path: first ``alpha = c / r`` (no rotation moves
-   a point farther than ``c``: through a slot with ``c`` of slack the box's yaw swings by
-   about ``alpha / 2``, so its far corners sweep ``depth sin(alpha / 2) < c / 2`` sideways),
-   then :data:`SAFE_SHARE` of it, which cannot fail: three rotations move no point farther
-   than ``3 r alpha < c``.
+The stretch is converted **sub-piece by sub-piece, each with the largest rotation bound that
+passes its own checks** (a sub-piece is the longest piece of the path that three rotations
+within the bound reach from the pose reached, as the steering makes them, preferring
+rotations that merge into the one before): the half-octave rungs below ``alpha_max``
+(:data:`LADDER_STEPS`, down to the bound the clearance gives, below) from the top, and where
+a rung passes and the one above it failed, the largest passing bound is bisected (in log)
+between them (:data:`REFINE_BISECTIONS` times: within a sixteenth of an octave). So the
+rotations follow the clearance along the stretch (a slot's entry, middle and exit each take
+the largest rotations their own room allows, not the tightest spot's), every sub-piece's
+rotations are checked exactly as any other, and the last sub-piece runs on past the piece's
+end where the path goes on (no short sub-piece of small rotations where a refined piece meets
+the next). Below the ladder come the **bounds chosen from the clearance** ``c`` (beyond the
+kept clearance, the bounds' margin included) that the box and the robot have at the
+sub-piece's start, which is a pose of the path: first ``alpha = c / r`` (no rotation moves a
+point farther than ``c``), then :data:`SAFE_SHARE` of it, which cannot fail: three rotations
+move no point farther than ``3 r alpha < c``.
 
 Completeness (resolution ``c_min = max(tolerance, MIN_CLEARANCE)``): a Reeds-Shepp path
 whose bodies keep at least ``c_min`` beyond the kept clearance at every pose (and inside the
 bounds) is converted into a valid pivot sequence: every sub-piece starts on the path with
-``c >= c_min``, so its bound ``SAFE_SHARE c_min / r`` is positive, and its rotations are
+``c >= c_min``, so its last bound ``SAFE_SHARE c_min / r`` is positive, and its rotations are
 certified by the clearance alone (no tolerance used). A path that comes closer than ``c_min``
-at a sub-piece's start is reported as such. Step 1 only shortens the work; it may accept a
-rotation with the sweep check's ``tolerance``.
+at a sub-piece's start is reported as such. The larger bounds only shorten the work and
+lengthen the rotations; they may accept a rotation with the sweep check's ``tolerance``.
 """
 
 from __future__ import annotations
@@ -48,17 +44,16 @@ from pivot_ompl.pivoting.kinematics import Rotation
 from pivot_ompl.pivoting.steering import Piece, PivotSteering
 from pivot_ompl.se2 import Pose
 
-__all__ = ["LADDER_STEPS", "MIN_CLEARANCE", "REFINE_BISECTIONS", "REFINE_FACTORS",
-           "SAFE_SHARE", "PieceRefiner", "Refined"]
+__all__ = ["CREEP", "LADDER_STEPS", "MIN_CLEARANCE", "REFINE_BISECTIONS", "SAFE_SHARE",
+           "PieceRefiner", "Refined"]
 
-#: A failing piece is converted again with the rotation bound times each of these factors
-#: in turn (half-octave steps down to alpha_max/8) while the bound stays above the one the
-#: clearance gives: the largest rotations that pass are kept.
-REFINE_FACTORS = tuple(2.0 ** (-0.5 * k) for k in range(1, 7))
-
-#: Where a factor passes (the one above failed), the largest bound that passes is bisected
+#: Where a rung passes and the one above it failed, the largest bound that passes is bisected
 #: (in log) between them this many times: within ``2 ** (-0.5 / 2 ** n)`` of the largest.
 REFINE_BISECTIONS = 3
+
+#: A sub-piece tries its predecessor's bound, and this factor above it where that passes
+#: (an eighth of an octave: the room changes little from one sub-piece to the next).
+CREEP = 2.0 ** 0.125
 
 #: Share of the clearance bound ``c / r`` that certainly passes (three rotations of it move
 #: no point farther than ``0.9 c``).
@@ -109,6 +104,46 @@ class Refined(NamedTuple):
     reached: float
 
 
+def _largest_passing(attempt: Callable[[float], Checked], bounds: list[float],
+                     failed: float | None) -> tuple[float, Checked]:
+    """The largest of ``bounds`` (descending) whose sub-piece passes, bisected upwards.
+
+    ``attempt(alpha)`` converts and checks one sub-piece with rotations within ``alpha``;
+    ``failed``: a bound above ``bounds[0]`` known to fail, if any. Where a bound passes and
+    a larger one failed, the largest passing bound between them is bisected (in log,
+    :data:`REFINE_BISECTIONS` times). ``(bound, its check)``; the last bound's failed check
+    when none passes.
+    """
+    done: Checked | None = None
+    for alpha in bounds:
+        done = attempt(alpha)
+        if done[1]:
+            failed = alpha
+            continue
+        if failed is not None:
+            for _ in range(REFINE_BISECTIONS):
+                mid = math.sqrt(alpha * failed)
+                more = attempt(mid)
+                if more[1]:
+                    failed = mid
+                else:
+                    alpha, done = mid, more
+        return alpha, done
+    assert done is not None  # noqa: S101 - bounds is never empty
+    return bounds[-1], done
+
+
+class _Stretch(NamedTuple):
+    """The failed piece of the path ``ca -> cb`` being converted again, and its checks."""
+
+    ca: Pose
+    cb: Pose
+    piece: Piece
+    grasp: int
+    with_robot: bool
+    should_stop: Stop
+
+
 @dataclass(frozen=True)
 class PieceRefiner:
     """Converts a failed piece again with smaller rotations (see the module docstring).
@@ -120,7 +155,7 @@ class PieceRefiner:
         rotations: the transfer check's rotation-by-rotation check.
         clearance_bound: the rotation bound the clearance at a car pose gives.
         measure: the clearances measured where they are lower bounds (the clearance bound
-            and a sub-piece's bound need the measured values).
+            needs the measured values).
     """
 
     model: BoxGraspModel
@@ -137,111 +172,75 @@ class PieceRefiner:
         ``clear``: the clearances at the piece's start; ``before``: the edge's last rotation
         before the piece (pieces prefer merging into it).
         """
-        amax = self.steering.alpha_max
-        clear = self.measure(clear, grasp)
-        by_clearance, _ = self.clearance_bound(piece.start, grasp, with_robot, *clear)
-        firsts: dict[float, Checked] = {}  # each bound's first sub-piece and its check
-        failed = amax  # the smallest bound known to fail: the piece's own
-        for factor in REFINE_FACTORS:
-            alpha = amax * factor
-            if alpha <= by_clearance:
-                break
-            done = self._uniform(ca, cb, piece, grasp, with_robot, clear, should_stop,
-                                 before, alpha, firsts)
-            if not done.reason:
-                for _ in range(REFINE_BISECTIONS):  # the largest bound lies between
-                    mid = math.sqrt(alpha * failed)
-                    more = self._uniform(ca, cb, piece, grasp, with_robot, clear,
-                                         should_stop, before, mid, None)
-                    if more.reason:
-                        failed = mid
-                    else:
-                        alpha, done = mid, more
-                return done
-            failed = alpha
-        return self._by_clearance(ca, cb, piece, grasp, with_robot, clear, should_stop,
-                                  before, firsts)
-
-    def _uniform(self, ca: Pose, cb: Pose, piece: Piece, grasp: int, with_robot: bool,
-                 clear: Clearances, should_stop: Stop, before: Rotation | None, alpha: float,
-                 firsts: dict[float, Checked] | None) -> Refined:
-        """The piece's stretch converted with rotations bounded by ``alpha`` and checked.
-
-        Sub-piece by sub-piece (each from where the last ended, with its clearances), the
-        rest not converted once one fails; the last runs past the piece's end unless it
-        fails there (module docstring). ``firsts``: where each bound's first sub-piece
-        inside the piece and its check are recorded.
-        """
-        fine: list[Rotation] = []
-        at, ends, t, prev = piece.start, clear, piece.t0, before
-        far = min(1.0, piece.t1 + (piece.t1 - piece.t0))
-        while True:
-            why, sub = "", None
-            for sub in self.steering.iter_pieces(
-                    ca, cb, half_length=self.model.edge_half_length(grasp),
-                    should_stop=should_stop, span=(t, far), origin=at, alpha_max=alpha,
-                    previous=prev):
-                why, got = self.rotations(at, sub.rotations, grasp, with_robot, *ends)
-                if firsts is not None and sub.t0 == piece.t0 and sub.t1 <= piece.t1:
-                    firsts.setdefault(alpha, (sub, why, got))
-                if why:
-                    break
-                fine.extend(sub.rotations)
-                if sub.rotations:
-                    at, prev = sub.rotations[-1].car, sub.rotations[-1]
-                ends, t = got, sub.t1
-                if t >= piece.t1:
-                    return Refined(fine, "", ends, t)
-            if why and sub is not None and far > piece.t1 and sub.t1 > piece.t1:
-                far = piece.t1  # failed past the piece's end: ends on it instead
-                continue
-            return Refined(fine, why, ends, t)
-
-    def _by_clearance(self, ca: Pose, cb: Pose, piece: Piece, grasp: int, with_robot: bool,
-                      clear: Clearances, should_stop: Stop, before: Rotation | None,
-                      firsts: dict[float, Checked]) -> Refined:
-        """The piece's stretch, sub-piece by sub-piece, each bounded by its start's clearance.
-
-        ``firsts``: by rotation bound, the first sub-piece :meth:`refine` converted from the
-        piece's start and its check (the same conversion and check, from the same measured
-        clearances, as the first sub-piece's here: not done again; a ladder rung is the
-        bound of the same half-octave factor, the same number).
-        """
-        steering = self.steering
-        ell = self.model.edge_half_length(grasp)
-        t, current = piece.t0, piece.start
-        fine: list[Rotation] = []
         floor = max(self.tolerance, MIN_CLEARANCE)
-        ladder = [steering.alpha_max * 2.0 ** (-0.5 * k) for k in range(LADDER_STEPS + 1)]
-        rung = 1  # the ladder's rung to try first (alpha_max failed): one above the last pass
+        t, current, prev = piece.t0, piece.start, before
+        fine: list[Rotation] = []
+        last: float | None = None  # the previous sub-piece's bound
         while t < piece.t1:
             clear = self.measure(clear, grasp)
             bound, least = self.clearance_bound(current, grasp, with_robot, *clear)
             if least < floor:
                 return Refined(fine, f"path within {least:.4f} m of an obstacle or side",
                                clear, t)
-            why = "no sub-piece"
-            tries = [(k, a) for k, a in enumerate(ladder) if k >= rung and a > bound]
-            tries += [(len(ladder), bound), (len(ladder), SAFE_SHARE * bound)]
-            for k, alpha in tries:
-                known = firsts.get(alpha) if t == piece.t0 else None
-                if known is not None:
-                    sub, why, ends = known
-                else:
-                    pieces = steering.iter_pieces(ca, cb, half_length=ell,
-                                                  should_stop=should_stop, span=(t, piece.t1),
-                                                  origin=current, alpha_max=alpha,
-                                                  previous=fine[-1] if fine else before)
-                    sub = next(pieces)
-                    pieces.close()
-                    why, ends = self.rotations(current, sub.rotations, grasp, with_robot,
-                                               *clear)
-                if not why:
-                    rung = max(0, k - 1)
-                    break
+            last, (sub, why, ends) = self._sub_piece(
+                _Stretch(ca, cb, piece, grasp, with_robot, should_stop), t, current, prev,
+                clear, bound, last)
             if why:
                 return Refined(fine, why, clear, t)
             fine.extend(sub.rotations)
-            current = sub.rotations[-1].car if sub.rotations else current
+            if sub.rotations:
+                current, prev = sub.rotations[-1].car, sub.rotations[-1]
             t, clear = sub.t1, ends
         return Refined(fine, "", clear, t)
+
+    def _sub_piece(self, at: _Stretch, t: float, current: Pose, prev: Rotation | None,
+                   clear: Clearances, bound: float,
+                   last: float | None) -> tuple[float, Checked]:
+        """The next sub-piece from parameter ``t`` (pose ``current``) and its bound.
+
+        ``bound``: the bound the clearance gives there; ``last``: the previous sub-piece's
+        bound (``None`` for the stretch's first). The previous bound first, and a step of
+        :data:`CREEP` above it where it passes (the room changes little from one sub-piece
+        to the next); else the ladder's rungs below it down to ``bound``, then ``bound`` and
+        its safe share (:func:`_largest_passing`, bisected); each sub-piece runs on past the
+        piece's end where the path goes on, and where a larger bound's sub-piece failed past
+        the end and the one found does not reach it, the largest of those bounds whose
+        sub-piece ending on the piece's end passes is taken instead. ``(bound, check)``.
+        """
+        piece = at.piece
+        amax = self.steering.alpha_max
+        far = min(1.0, piece.t1 + (piece.t1 - piece.t0))
+        crossed: list[float] = []  # bounds whose sub-piece failed past the piece's end
+
+        def convert(alpha: float, end: float) -> Checked:
+            pieces = self.steering.iter_pieces(
+                at.ca, at.cb, half_length=self.model.edge_half_length(at.grasp),
+                should_stop=at.should_stop, span=(t, end), origin=current, alpha_max=alpha,
+                previous=prev)
+            sub = next(pieces)
+            pieces.close()
+            why, ends = self.rotations(current, sub.rotations, at.grasp, at.with_robot, *clear)
+            return sub, why, ends
+
+        def running_on(alpha: float) -> Checked:
+            done = convert(alpha, far)
+            if done[1] and done[0].t1 > piece.t1:
+                crossed.append(alpha)
+            return done
+
+        ladder = [amax * 2.0 ** (-0.5 * k) for k in range(LADDER_STEPS + 1)]
+        if t == piece.t0:  # the piece is the stretch's first sub-piece at alpha_max: failed
+            tries, failed = ladder[1:], amax
+        else:  # alpha_max (the room may open), then from the rung above the last bound
+            top = min((a for a in ladder if a > CREEP * (last or 0.0)), default=amax)
+            tries, failed = ladder[:1] + [a for a in ladder[1:] if a <= top], None
+        bounds = [a for a in tries if a > bound] + \
+            [a for a in (bound, SAFE_SHARE * bound) if a > 0.0]
+        found = _largest_passing(running_on, bounds, failed)
+        alpha, done = found
+        if crossed and (done[1] or done[0].t1 < piece.t1):
+            for larger in sorted(crossed, reverse=True):  # ending on the piece's end
+                end_on = convert(larger, piece.t1)
+                if not end_on[1]:
+                    return larger, end_on
+        return alpha, done

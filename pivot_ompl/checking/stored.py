@@ -63,12 +63,27 @@ def _close(a: Sequence[float], b: Sequence[float], tol: float = POSE_TOL) -> boo
         abs(wrap_angle(a[2] - b[2])) <= tol
 
 
+def _cut(before: Pose, pivot: tuple[float, float], angle: float,
+         target: Pose) -> float | None:
+    """The part of a rotation (rad) that brings the object from ``before`` to ``target``.
+
+    ``None`` unless ``target`` lies strictly inside the rotation by ``angle`` about ``pivot``
+    (a plan merges two edges' rotations about one corner where they meet: the route's pose
+    between them is passed mid-rotation).
+    """
+    part = wrap_angle(target[2] - before[2])
+    if angle == 0.0 or not 0.0 < part / angle < 1.0:
+        return None
+    return part if _close(rotate_about(before, pivot, part), target) else None
+
+
 def stored_motions(plan: Plan, route: Sequence[State]) -> StoredMotions:
     """The motions of ``plan`` by edge of its ``route`` (the plan's ``route`` field).
 
     A transfer phase's steps are split among the route's edges of its grasp where the object
-    reaches each edge's end. Reading stops at the first phase that does not match the route
-    (what was read before is kept).
+    reaches each edge's end; a step that passes an edge's end mid-rotation (two edges'
+    rotations about one corner merged where they meet) is cut there in two. Reading stops at
+    the first phase that does not match the route (what was read before is kept).
     """
     out = StoredMotions()
     i = 0
@@ -81,18 +96,27 @@ def stored_motions(plan: Plan, route: Sequence[State]) -> StoredMotions:
             i += 1
             continue
         assert isinstance(ph, TransferPhase)  # noqa: S101 - the two kinds of phase
-        steps, k = ph.steps, 0
+        # (pivot, angle, object pose after): cut where an edge ends mid-rotation
+        steps = [(s.pivot, s.angle, s.object) for s in ph.steps]
+        before, k = ph.object_start, 0
         while k < len(steps) and i + 1 < len(route) and \
                 route[i][1] == route[i + 1][1] == ph.grasp:
             k0, target = k, route[i + 1][0]
-            while k < len(steps) and not _close(steps[k].object, target):
+            while k < len(steps) and not _close(steps[k][2], target):
+                pivot, angle, after = steps[k]
+                part = _cut(before, pivot, angle, target)
+                if part is not None:
+                    steps[k:k + 1] = [(pivot, part, target), (pivot, angle - part, after)]
+                    break
+                before = after
                 k += 1
             if k == len(steps):
                 log.debug("stored transfer of edge %d does not reach its end", i)
                 return out
+            before = steps[k][2]
             k += 1
             out.transfers[(route[i][0], target, ph.grasp)] = tuple(
-                (s.pivot, s.angle) for s in steps[k0:k])
+                (p, a) for p, a, _ in steps[k0:k])
             i += 1
         if k < len(steps):
             break

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 from pivot_ompl.grasp import BoxGraspModel
+from pivot_ompl.pivoting.kinematics import Rotation
 from pivot_ompl.pivoting.steering import PivotSequence, PivotSteering
 from pivot_ompl.planfile import TransferPhase, TransferStep
 from pivot_ompl.se2 import Pose
@@ -24,6 +27,24 @@ def steps_of(model: BoxGraspModel, seq: PivotSequence, grasp: int) -> tuple[Tran
                               model.robot_from_car(r.car, grasp)) for r in seq.rotations)
 
 
+def phase_steps(model: BoxGraspModel, steering: PivotSteering,
+                sequences: Iterable[PivotSequence], grasp: int) -> tuple[TransferStep, ...]:
+    """The plan steps of a phase's consecutive pivot sequences, merged where they meet.
+
+    Where a sequence's last rotation and the next one's first turn about the same corner and
+    sum within the bound, they are one rotation
+    (:meth:`~pivot_ompl.pivoting.steering.PivotSteering.append_merged`, as within a
+    sequence): the merged rotation sweeps the union of the two checked sweeps, and the
+    phase reaches the same poses with one pivot fewer.
+    """
+    rotations: list[Rotation] = []
+    for seq in sequences:
+        for r in seq.rotations:
+            steering.append_merged(rotations, r)
+    return tuple(TransferStep(r.pivot, r.angle, model.object_from_car(r.car, grasp),
+                              model.robot_from_car(r.car, grasp)) for r in rotations)
+
+
 def rs_samples(steering: PivotSteering, seq: PivotSequence) -> tuple[Pose, ...]:
     """Car poses along the sequence's Reeds-Shepp path, about every :data:`RS_PLOT_STEP` m."""
     n = max(2, int(seq.rs_length / RS_PLOT_STEP) + 1)
@@ -37,15 +58,15 @@ def transfer_phase(model: BoxGraspModel, steering: PivotSteering, waypoints: lis
     Each leg starts from the object pose actually reached by the previous leg, so the chain of
     steps is continuous to round-off and ends exactly at the last waypoint.
     """
-    steps: list[TransferStep] = []
+    seqs: list[PivotSequence] = []
     rs: list[Pose] = []
     current = waypoints[0]
     for target in waypoints[1:]:
         seq = convert_object_path(model, steering, current, target, grasp)
-        steps.extend(steps_of(model, seq, grasp))
+        seqs.append(seq)
         if with_rs_path:
             rs.extend(rs_samples(steering, seq))
-        if steps:
-            current = steps[-1].object
-    return TransferPhase(grasp, model.robot_pose(waypoints[0], grasp), tuple(steps),
-                         waypoints[0], tuple(rs))
+        if seq.rotations:
+            current = model.object_from_car(seq.rotations[-1].car, grasp)
+    return TransferPhase(grasp, model.robot_pose(waypoints[0], grasp),
+                         phase_steps(model, steering, seqs, grasp), waypoints[0], tuple(rs))

@@ -86,3 +86,27 @@ def test_the_last_sub_piece_ends_on_the_piece_where_running_on_fails():
     assert close(done.rotations[-1].car, end)
     # at the same bound as where running on passes (not a smaller one)
     assert max(abs(r.angle) for r in done.rotations) >= 0.9 * 0.3 * AMAX
+
+
+def test_each_sub_piece_takes_the_largest_rotations_its_own_room_allows():
+    """A passage that widens halfway: the wider part is not held to the narrow part's bound."""
+    steering = PivotSteering(turning_radius=1.0, alpha_max=AMAX)
+    piece = middle_piece(steering)
+    wide_from = piece.start[0] + 0.4 * (steering.paths.interpolate(CA, CB, piece.t1)[0]
+                                        - piece.start[0])
+    narrow, wide = 0.25 * AMAX, 0.7 * AMAX
+
+    def rotations(pose, rots, grasp, with_robot, db, dr):
+        ok = all(abs(r.angle) <= (wide if min(pose[0], r.car[0]) >= wide_from else narrow)
+                 for r in rots)
+        return ("" if ok else "too large"), (db, dr)
+
+    ref = PieceRefiner(MODEL, steering, 1e-4, rotations, lambda *args: (0.0, 1.0))
+    done = ref.refine(CA, CB, piece, GRASP, True, (1.0, 1.0), None, None)
+    assert done.reason == ""
+    beyond = [r for r in done.rotations if r.car[0] > wide_from + 0.05]
+    assert beyond and max(abs(r.angle) for r in beyond) >= 0.9 * wide
+    car = piece.start
+    for r in done.rotations:
+        car = r.car
+    assert close(car, steering.paths.interpolate(CA, CB, done.reached))

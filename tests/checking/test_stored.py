@@ -28,6 +28,16 @@ def slot_plan():
     return scene, plan, route_of(plan.extra["route"])
 
 
+@pytest.fixture(scope="module")
+def corridor_plan():
+    """A plan whose phases' edges meet with rotations about one corner (merged there)."""
+    scene = shipped("corridor")
+    res = PlanningSession(scene, seed=0).plan(time_limit=30.0)
+    assert res.solved
+    plan = plan_from_dict(json.loads(res.plan.to_text()))
+    return scene, plan, route_of(plan.extra["route"])
+
+
 def _refuse(*_args, **_kwargs):
     raise AssertionError("computed again")
 
@@ -120,3 +130,25 @@ def test_stored_rotations_that_are_not_the_edges_pivots_are_refused(slot_plan):
     assert rebuilt(rots[:-1]) is None  # stops short
     assert stored_rotations(m, ca, cb, rots, g, alpha_max=0.5 * max(
         abs(a) for _, a in rots)) is None  # over the rotation bound
+
+
+def test_a_rotation_merged_where_two_edges_meet_is_cut_there_when_read(corridor_plan):
+    scene, plan, route = corridor_plan
+    m, checker = scene.model, PivotChecker(scene)
+    edges = [checker.transfer(a, b, g).sequence for (a, g), (b, h) in
+             zip(route, route[1:], strict=False) if g == h]
+    assert plan.pivots < sum(len(e.rotations) for e in edges)  # merged where edges meet
+    assert check_plan(plan, scene).ok
+    st = stored_motions(plan, route)
+    assert len(st) == len(route) - 1  # every edge read, the merged ones cut in two
+    joined: list = []
+    for (a, b, g), rots in st.transfers.items():
+        given = stored_rotations(m, m.car_pose(a, g), m.car_pose(b, g), rots, g,
+                                 alpha_max=scene.alpha_max)
+        assert given is not None  # each edge's part chains from its start to its end
+        for r in given:
+            checker.steering.append_merged(joined, r)
+    steps = [s for ph in plan.phases if isinstance(ph, TransferPhase) for s in ph.steps]
+    assert len(joined) == len(steps)
+    assert np.allclose([r.angle for r in joined], [s.angle for s in steps], rtol=0.0,
+                       atol=1e-9)

@@ -10,6 +10,7 @@ from factories import sliced
 from pivot_ompl.api import plan
 from pivot_ompl.generate import GeneratorParams, generate
 from pivot_ompl.planfile import Plan, TransferPhase
+from pivot_ompl.quality import plan_quality
 from pivot_ompl.validity.collision import CollisionWorld
 
 
@@ -27,7 +28,9 @@ def test_a_building_with_sliced_walls_plans_as_the_whole_one():
     The merge rebuilds each wall from its pieces with round-off (1e-15 m), and the pivot
     steering's piece choice is not continuous at that scale (a transfer edge whose start
     moves by 1e-16 m may take another first piece, and other pivots after it): the same
-    phases, grasps and end poses, and nearly the same pivots, not the same pivot count.
+    regrasps and end, nearly the same cost and pivots; not always the same grasps (two
+    routes within 1 % of each other's cost, holding the box from either side first, are
+    each chosen on one of the two worlds).
     """
     whole = generate("building", 0, params=GeneratorParams(rooms=2)).scene
     cut = dataclasses.replace(whole, obstacles=tuple(sliced(whole.obstacles, 3)))
@@ -40,5 +43,9 @@ def test_a_building_with_sliced_walls_plans_as_the_whole_one():
     a = plan(whole, time_limit=60.0, seed=0, bound=False)
     b = plan(cut, time_limit=60.0, seed=0, bound=False)
     assert a.solved and b.solved
-    assert _summary(b.plan) == _summary(a.plan)
+    assert b.plan.regrasps == a.plan.regrasps
+    assert len(_summary(b.plan)) == len(_summary(a.plan))
+    assert _summary(b.plan)[-1][1] == _summary(a.plan)[-1][1]  # the same goal reached
+    ca, cb = plan_quality(a.plan)["cost"], plan_quality(b.plan)["cost"]
+    assert abs(cb - ca) <= 0.01 * ca
     assert abs(b.plan.pivots - a.plan.pivots) <= 0.05 * a.plan.pivots
