@@ -1,4 +1,4 @@
-"""The held poses' relaxation: sound cores and sums, proofs where no plan exists, none where one does."""
+"""The held poses' relaxation: sound cores and sums, proofs where no plan exists, none with one."""
 
 from __future__ import annotations
 
