@@ -98,3 +98,17 @@ def test_a_scene_with_a_plan_is_never_proven_infeasible(scene):
 def test_a_stopped_proof_proves_nothing():
     proof = prove_no_plan(_corner_slot(0.90, 0.92), should_stop=lambda: True)
     assert proof.apart is None
+
+
+@settings(max_examples=8, deadline=None)
+@given(boxes=st.lists(st.tuples(st.floats(0.5, 7.5), st.floats(0.2, 1.6), st.booleans(),
+                                st.floats(0.1, 0.8), st.floats(0.1, 0.8), st.floats(0, 3.1)),
+                      min_size=1, max_size=12))
+def test_a_floor_with_a_straight_clear_lane_is_never_proven_infeasible(boxes):
+    # boxes anywhere but a lane 1.8 m wide round y = 3 (the held assembly is 0.88 m across):
+    # the box pivots straight from start to goal, a plan exists
+    doc = [{"type": "box", "center": [x, 3.0 + (1.0 if up else -1.0) * (1.0 + d + 0.6)],
+            "size": [w, h], "yaw": yaw, "height": 1.0}
+           for x, d, up, w, h, yaw in boxes]
+    scene = make_scene(obstacles=doc)
+    assert prove_no_plan(scene).apart is not True
