@@ -182,9 +182,9 @@ def bound_slabs(bounds: tuple[float, float, float, float], thickness: float) -> 
     return [np.array([(a, b), (c, b), (c, d), (a, d)], dtype=float) for a, b, c, d in boxes]
 
 
-def free_components(grown: dict[int, np.ndarray], cores: list[np.ndarray | None],
-                    yaw: float, area: BaseGeometry) -> list[BaseGeometry]:
-    """The connected parts of ``area`` where a box centre may stand at the bin of ``yaw``.
+def free_region(grown: dict[int, np.ndarray], cores: list[np.ndarray | None], yaw: float,
+                area: BaseGeometry) -> BaseGeometry:
+    """What of ``area`` a box centre may stand on at the bin of ``yaw`` (one geometry).
 
     ``grown``: the grown obstacle pieces stacked by vertex count; ``cores``: the bodies'
     rotation cores about the bin's middle yaw ``yaw`` (a ``None`` core closes nothing).
@@ -197,7 +197,13 @@ def free_components(grown: dict[int, np.ndarray], cores: list[np.ndarray | None]
         reflected = -(core @ turn.T)  # piece - core: still counter-clockwise (a half turn)
         for stack in grown.values():
             blocked.extend(shapely.polygons(convex_sums(stack, reflected)))
-    free = area.difference(shapely.union_all(blocked)) if blocked else area
+    return area.difference(shapely.union_all(blocked)) if blocked else area
+
+
+def free_components(grown: dict[int, np.ndarray], cores: list[np.ndarray | None],
+                    yaw: float, area: BaseGeometry) -> list[BaseGeometry]:
+    """:func:`free_region`'s connected parts."""
+    free = free_region(grown, cores, yaw, area)
     return [g for g in getattr(free, "geoms", [free]) if not g.is_empty]
 
 

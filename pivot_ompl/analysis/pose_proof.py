@@ -38,6 +38,7 @@ from pivot_ompl.analysis.pose_cells import (
     by_size,
     centre_room,
     free_components,
+    free_region,
     grown_pieces,
     held_bodies,
     near,
@@ -55,8 +56,8 @@ log = logging.getLogger(__name__)
 
 #: Yaw bins of the first round (over the whole turn).
 FIRST_BINS = 32
-#: Most yaw bins (each costs four grasps' free parts, about 50 ms on a 5 m arena of 157
-#: boxes): the memory and time bound.
+#: Most yaw bins (each costs the box's free region and four grasps' free parts, about 30 ms
+#: on a 5 m arena of 157 boxes): the memory and time bound.
 MAX_BINS = 1024
 #: Narrowest bin (rad) halved again (the TurtleBot3 arena's proof needs 0.7 degrees).
 FINEST = 2.0 * math.pi / 512
@@ -64,9 +65,9 @@ FINEST = 2.0 * math.pi / 512
 #: Bins a proof computes, for :func:`proof_estimate` (the TurtleBot3 arena's: about 300,
 #: those of its last round and the halved ones).
 ESTIMATED_BINS = 300
-#: Time (s) of one obstacle piece's sums and union, per bin and grasp (about 10 ms for the
-#: arena's 157 pieces; a 2-core machine).
-SECONDS_PER_PIECE = 7e-5
+#: Time (s) of one obstacle piece's sums and union, per bin and grasp (the arena's 157
+#: pieces: 9 s of CPU for its proof's 296 bins; a shared 2-core machine).
+SECONDS_PER_PIECE = 5e-5
 
 Node = tuple[int, int, int]  # (bin, grasp, part)
 
@@ -111,6 +112,11 @@ class _Parts:
                                 shapely.box(*scene.bounds), scene.start[:2])
         self.area = self.room if self.room is not None else shapely.Polygon()
         self.grown = near(grown, self.area, reach + 1e-3)
+        #: the bodies every grasp has (the box), and each grasp's others (the robot)
+        self.shared = [b for b in self.bodies[0]
+                       if all(any(np.array_equal(b, c) for c in bs) for bs in self.bodies)]
+        self.own = [[b for b in bs if not any(np.array_equal(b, c) for c in self.shared)]
+                    for bs in self.bodies]
         self.known: dict[tuple[float, float], list[list[BaseGeometry]]] = {}
         self.met: dict[tuple[float, ...], list[tuple[int, int]]] = {}
 
@@ -119,11 +125,11 @@ class _Parts:
         key = (a, b)
         if key not in self.known:
             half, mid = 0.5 * (b - a), 0.5 * (a + b)
-            parts = []
-            for bodies in self.bodies:
-                cores = [rotation_core(body, half) for body in bodies]
-                parts.append(free_components(self.grown, cores, mid, self.area))
-            self.known[key] = parts
+            room = free_region(self.grown, [rotation_core(body, half) for body in self.shared],
+                               mid, self.area)  # the bodies of every grasp: once for all
+            self.known[key] = [free_components(self.grown,
+                                               [rotation_core(body, half) for body in own],
+                                               mid, room) for own in self.own]
         return self.known[key]
 
     def forget(self, a: float, b: float) -> None:
