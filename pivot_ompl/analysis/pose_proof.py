@@ -1,7 +1,8 @@
 """A proof that no plan exists from the held assembly's poses, refined in yaw where needed.
 
 The box moves only while the robot holds it (at one of four grasps), continuously through
-valid poses (the transfer checks certify every rotation's sweep); a regrasp leaves the box
+valid poses (the transfer checks certify every rotation's sweep: every pose keeps
+:data:`MOTION_CLEARANCE`, the 1 cm less the sweep's tolerance); a regrasp leaves the box
 where it rests. So a plan is a path through the held poses ``(x, y, yaw, grasp)`` that keeps
 its grasp while it moves and changes grasp only standing still, with both grasps valid there.
 This relaxation over-approximates those poses: the yaw circle is cut into bins, and per bin
@@ -48,6 +49,7 @@ from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import GRASPS
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Scene
 from pivot_ompl.se2 import Pose
+from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
 from pivot_ompl.validity.footprints import obstacle_pieces
 from pivot_ompl.validity.merge import merge_boxes
@@ -232,7 +234,13 @@ def proof_estimate(scene: Scene) -> float:
     return ESTIMATED_BINS * len(GRASPS) * (pieces + 4) * SECONDS_PER_PIECE
 
 
-def prove_no_plan(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
+#: Clearance (m) every pose of a checked transfer keeps: the checkers' 1 cm at the sampled
+#: poses, less the sweep tolerance between them (a certified interval's points are within it
+#: of a sample: :func:`~pivot_ompl.validity.certify.certify`).
+MOTION_CLEARANCE = KEEP_CLEARANCE - SWEEP_TOLERANCE
+
+
+def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
                   first_bins: int = FIRST_BINS, max_bins: int = MAX_BINS,
                   finest: float = FINEST,
                   should_stop: Callable[[], bool] | None = None) -> PoseProof:
