@@ -97,6 +97,9 @@ class LateProof:
         clock: the clock of those times (``time.monotonic``).
         passages: the scene's passage search, shared with the check before the search
             (:class:`~pivot_ompl.analysis.passage.PassageOnce`); default: its own.
+        held_begin: clock time from which the held poses' relaxation is tried, where the
+            poses' relaxation joins start and goal (default ``begin``; asked before, it is
+            tried when asked again after it: a search that plans by then never pays it).
 
     Attributes:
         proof: the proof, once found; ``None`` before, or when nothing was proven.
@@ -106,9 +109,11 @@ class LateProof:
     def __init__(self, scene: Scene, *, begin: float, end: float,
                  explain_end: float | None = None,
                  clock: Callable[[], float] = time.monotonic,
-                 passages: PassageOnce | None = None) -> None:
+                 passages: PassageOnce | None = None, held_begin: float | None = None) -> None:
         """Nothing tried yet."""
         self.scene, self.begin, self.end = scene, begin, end
+        self.held_begin = begin if held_begin is None else held_begin
+        self._held_pending = False
         self.passages = passages if passages is not None else PassageOnce(scene)
         self.explain_end = end if explain_end is None else explain_end
         self.clock = clock
@@ -118,6 +123,9 @@ class LateProof:
     def __call__(self) -> bool:
         """Whether no plan is proven (tries the proof once, the first time after ``begin``)."""
         if self.tried:
+            if self._held_pending and self.clock() >= self.held_begin:
+                self._held_pending = False
+                return self._held_poses(self.clock())
             return self.proof is not None
         now = self.clock()
         if now < self.begin:
@@ -125,9 +133,9 @@ class LateProof:
         self.tried = True
         known = cached_bound(self.scene)
         if known is not None and known.solvable:
-            return self._held_poses(now)
+            return self._held_later(now)
         if known is None and shared_value(self.scene, NOTHING_TO_PROVE):
-            return self._held_poses(now)
+            return self._held_later(now)
         stop = self._stop(self.end if known is None else self.explain_end)
         exact = exhaustive_estimate(self.scene) <= self.end - now
         if exact:  # proof and place at once
@@ -137,7 +145,7 @@ class LateProof:
         if place is None and known is None:
             if exact and not stop():  # run to its end: the relaxation joins start and goal
                 keep_shared(self.scene, NOTHING_TO_PROVE, True)
-                return self._held_poses(now)
+                return self._held_later(now)
             log.debug("late proof: nothing proven in %.2f s", self.clock() - now)
             return False
         passage = self.passages(should_stop=self._stop(self.explain_end))
@@ -149,6 +157,13 @@ class LateProof:
         log.info("no plan exists (proven in %.2f s): %s", self.clock() - now,
                  self.proof.reason)
         return True
+
+    def _held_later(self, now: float) -> bool:
+        """:meth:`_held_poses` now, or when asked again after ``held_begin``."""
+        if self.clock() >= self.held_begin:
+            return self._held_poses(now)
+        self._held_pending = True
+        return False
 
     def _held_poses(self, now: float) -> bool:
         """The held poses' relaxation, where the poses' relaxation joins start and goal.

@@ -12,10 +12,11 @@ from factories import make_scene, shipped
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from pivot_ompl.analysis.late_proof import held_pose_proof
+from pivot_ompl.analysis.late_proof import HELD_POSES, LateProof, held_pose_proof
 from pivot_ompl.analysis.passage import assembly_width, blocking_passage
 from pivot_ompl.analysis.pose_cells import convex_sums, rotation_core
 from pivot_ompl.analysis.pose_proof import prove_no_plan
+from pivot_ompl.scene.shared import shared_value
 
 
 def _convex(points: np.ndarray) -> np.ndarray:
@@ -112,3 +113,14 @@ def test_a_floor_with_a_straight_clear_lane_is_never_proven_infeasible(boxes):
            for x, d, up, w, h, yaw in boxes]
     scene = make_scene(obstacles=doc)
     assert prove_no_plan(scene).apart is not True
+
+
+def test_the_late_proof_tries_the_held_poses_only_once_their_time_has_come():
+    scene = _corner_slot(3.0, 0.95)  # a plan exists: every relaxation joins start and goal
+    now = [1.0]
+    late = LateProof(scene, begin=0.0, end=100.0, clock=lambda: now[0], held_begin=5.0)
+    assert late() is False  # the poses' relaxation joins them; too early for the held poses
+    assert shared_value(scene, HELD_POSES) is None
+    now[0] = 6.0
+    assert late() is False  # tried now, and nothing proven
+    assert shared_value(scene, HELD_POSES) is False
