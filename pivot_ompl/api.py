@@ -57,6 +57,8 @@ PROOF_SHARE = 0.08
 #: once whether any plan exists (:class:`~pivot_ompl.analysis.late_proof.LateProof`), by which
 #: the relaxation is stopped, and by which the explanation of a proof is stopped.
 LATE_PROOF_BEGIN, LATE_PROOF_END, EXPLAIN_END = 0.02, 0.08, 0.095
+#: Share of the limit from which the held poses' relaxation may be tried (the late proof's).
+HELD_PROOF_BEGIN = 0.04
 #: Share of the time limit (at most ``FINISH_MAX`` s) kept from the search for the steps after
 #: it: converting the path, the lower bounds, and the caller writing the plan. A limit ``T``
 #: then ends within ``T`` in :func:`plan`, and within ``T + 5 %`` once the plan is written.
@@ -217,7 +219,8 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     if bound if late_proof is None else late_proof:  # a search slow to find a path asks once
         late = LateProof(scene, begin=started + LATE_PROOF_BEGIN * time_limit,
                          end=started + LATE_PROOF_END * time_limit,
-                         explain_end=started + EXPLAIN_END * time_limit, passages=passages)
+                         explain_end=started + EXPLAIN_END * time_limit, passages=passages,
+                         held_begin=started + HELD_PROOF_BEGIN * time_limit)
     if isinstance(p, RegraspPlanner):  # its quality share is one of the solve's limit
         p.solve_limit = time_limit - (time.monotonic() - started)
         p.proof = late  # polled by its search; other planners are stopped to ask it

@@ -34,6 +34,8 @@ import shapely
 from pivot_ompl.analysis.bound_cache import cached_bound
 from pivot_ompl.analysis.bound_levels import CELLS, exhaustive_estimate
 from pivot_ompl.analysis.passage import Passage, PassageOnce, assembly_width
+from pivot_ompl.analysis.pose_explain import explained
+from pivot_ompl.analysis.pose_proof import proof_estimate, prove_no_plan
 from pivot_ompl.analysis.turning import TurningPlace, turning_place, widest_circle
 from pivot_ompl.analysis.turning_raster import raster_turning_place
 from pivot_ompl.analysis.wall_frame import wall_frame
@@ -71,6 +73,11 @@ class NoPlan:
         return out
 
 
+#: What :func:`~pivot_ompl.scene.shared.keep_shared` keeps for a scene whose held poses'
+#: relaxation was run to its end: its :class:`NoPlan`, or ``False`` (nothing proven).
+HELD_POSES = ("late proof: the held poses' relaxation",)
+
+
 def generic(scene: Scene) -> NoPlan:
     """The line of a proof whose place was not found in time: what the held assembly needs."""
     need = assembly_width(scene.model)
@@ -90,6 +97,9 @@ class LateProof:
         clock: the clock of those times (``time.monotonic``).
         passages: the scene's passage search, shared with the check before the search
             (:class:`~pivot_ompl.analysis.passage.PassageOnce`); default: its own.
+        held_begin: clock time from which the held poses' relaxation is tried, where the
+            poses' relaxation joins start and goal (default ``begin``; asked before, it is
+            tried when asked again after it: a search that plans by then never pays it).
 
     Attributes:
         proof: the proof, once found; ``None`` before, or when nothing was proven.
@@ -99,9 +109,11 @@ class LateProof:
     def __init__(self, scene: Scene, *, begin: float, end: float,
                  explain_end: float | None = None,
                  clock: Callable[[], float] = time.monotonic,
-                 passages: PassageOnce | None = None) -> None:
+                 passages: PassageOnce | None = None, held_begin: float | None = None) -> None:
         """Nothing tried yet."""
         self.scene, self.begin, self.end = scene, begin, end
+        self.held_begin = begin if held_begin is None else held_begin
+        self._held_pending = False
         self.passages = passages if passages is not None else PassageOnce(scene)
         self.explain_end = end if explain_end is None else explain_end
         self.clock = clock
@@ -111,6 +123,9 @@ class LateProof:
     def __call__(self) -> bool:
         """Whether no plan is proven (tries the proof once, the first time after ``begin``)."""
         if self.tried:
+            if self._held_pending and self.clock() >= self.held_begin:
+                self._held_pending = False
+                return self._held_poses(self.clock())
             return self.proof is not None
         now = self.clock()
         if now < self.begin:
@@ -118,9 +133,9 @@ class LateProof:
         self.tried = True
         known = cached_bound(self.scene)
         if known is not None and known.solvable:
-            return False
+            return self._held_later(now)
         if known is None and shared_value(self.scene, NOTHING_TO_PROVE):
-            return False
+            return self._held_later(now)
         stop = self._stop(self.end if known is None else self.explain_end)
         exact = exhaustive_estimate(self.scene) <= self.end - now
         if exact:  # proof and place at once
@@ -130,6 +145,7 @@ class LateProof:
         if place is None and known is None:
             if exact and not stop():  # run to its end: the relaxation joins start and goal
                 keep_shared(self.scene, NOTHING_TO_PROVE, True)
+                return self._held_later(now)
             log.debug("late proof: nothing proven in %.2f s", self.clock() - now)
             return False
         passage = self.passages(should_stop=self._stop(self.explain_end))
@@ -142,8 +158,52 @@ class LateProof:
                  self.proof.reason)
         return True
 
+    def _held_later(self, now: float) -> bool:
+        """:meth:`_held_poses` now, or when asked again after ``held_begin``."""
+        if self.clock() >= self.held_begin:
+            return self._held_poses(now)
+        self._held_pending = True
+        return False
+
+    def _held_poses(self, now: float) -> bool:
+        """The held poses' relaxation, where the poses' relaxation joins start and goal.
+
+        Tried when its estimate (:func:`~pivot_ompl.analysis.pose_proof.proof_estimate`) fits
+        before ``explain_end``; its answer is kept for the scene's geometry (a later plan of
+        the scene reads it, and does not try again what found nothing).
+        """
+        kept = shared_value(self.scene, HELD_POSES)
+        if kept is None:
+            if proof_estimate(self.scene) > self.explain_end - self.clock():
+                return False
+            stop = self._stop(self.explain_end)
+            proof = held_pose_proof(self.scene, should_stop=stop)
+            if proof is None and stop():
+                return False  # stopped: nothing known, may be tried again with more time
+            kept = proof if proof is not None else False
+            keep_shared(self.scene, HELD_POSES, kept)
+        if not isinstance(kept, NoPlan):
+            return False
+        self.proof = kept
+        log.info("no plan exists (proven in %.2f s): %s", self.clock() - now, kept.reason)
+        return True
+
     def _stop(self, at: float) -> Callable[[], bool]:
         return lambda: self.clock() >= at
+
+
+def held_pose_proof(scene: Scene, *,
+                    should_stop: Callable[[], bool] | None = None) -> NoPlan | None:
+    """The held poses' relaxation's proof (:func:`~pivot_ompl.analysis.pose_proof.prove_no_plan`).
+
+    Tried where the poses' relaxation joins start and goal: it refines the yaw where that
+    relaxation's rooms join. ``None`` when it proves nothing before ``should_stop``.
+    """
+    proof = prove_no_plan(scene, should_stop=should_stop)
+    if not proof.apart:
+        return None
+    line, passage = explained(scene, proof, should_stop=should_stop)
+    return NoPlan(line, passage=passage)
 
 
 def framed_turning_place(scene: Scene, *, cell: float = CELLS[0],

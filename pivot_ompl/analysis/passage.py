@@ -59,6 +59,8 @@ class Passage:
             clearance on both sides).
         assembly_needs: the narrowest gap the box and the robot holding it may pass together
             (m: the width of their convex outline plus the clearance on both sides).
+        note: the reason, when another proof than the width says why the passage blocks
+            (:mod:`~pivot_ompl.analysis.pose_proof`: wide enough, but not to turn through).
     """
 
     center: tuple[float, float] | None
@@ -66,10 +68,13 @@ class Passage:
     width: float
     box_needs: float
     assembly_needs: float
+    note: str | None = None
 
     @property
     def reason(self) -> str:
         """One line a person can act on: which passage, where, its width, what needs what."""
+        if self.note is not None:
+            return self.note
         if self.center is None:
             return (f"no plan: no opening joins the start's region to the goal's (the box "
                     f"and the robot holding it need {self.assembly_needs:.2f} m)")
@@ -163,28 +168,33 @@ def _region_of(regions: list[BaseGeometry], tree: shapely.STRtree,
 
 
 def blocking_passage(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
-                     should_stop: Callable[[], bool] | None = None) -> Passage | None:
+                     should_stop: Callable[[], bool] | None = None,
+                     gaps_below: float | None = None) -> Passage | None:
     """The narrowest gap on the widest way of the held box from start to goal.
 
     ``None`` when the start's and goal's regions are joined without any gap narrower than
     the held assembly (the obstruction is then not one passage: room to turn, to regrasp...),
     when the floor has more than :data:`MAX_GAPS` such gaps (a cluttered map: not searched)
-    or when ``should_stop`` said stop.
+    or when ``should_stop`` said stop. ``gaps_below``: the gaps closed are those narrower
+    than this (m) instead of the held assembly's width (a proof that the assembly cannot
+    turn through wider gaps names the widest one).
     """
     try:
-        return _blocking_passage(scene, clearance, should_stop)
+        return _blocking_passage(scene, clearance, should_stop, gaps_below)
     except Interrupted:
         return None
 
 
 def _blocking_passage(scene: Scene, clearance: float,
-                      should_stop: Callable[[], bool] | None) -> Passage | None:
+                      should_stop: Callable[[], bool] | None,
+                      gaps_below: float | None = None) -> Passage | None:
     model = scene.model
     need = assembly_width(model, clearance=clearance)
+    shut = need if gaps_below is None else gaps_below
     box_need = min(model.object_size[0], model.object_size[1]) + 2.0 * clearance
-    walls = _walls(scene, max(1.0, need), should_stop)
+    walls = _walls(scene, max(1.0, shut), should_stop)
     tree = shapely.STRtree(walls)
-    a, b = tree.query(walls, predicate="dwithin", distance=need)
+    a, b = tree.query(walls, predicate="dwithin", distance=shut)
     keep = a < b
     a, b = a[keep], b[keep]
     lines = shapely.shortest_line(np.asarray(walls, dtype=object)[a],
@@ -193,7 +203,7 @@ def _blocking_passage(scene: Scene, clearance: float,
     gaps = widths > 0.0
     a, b, lines, widths = a[gaps], b[gaps], lines[gaps], widths[gaps]
     s_xy, g_xy = (scene.start[0], scene.start[1]), (scene.goal[0], scene.goal[1])
-    if share_region(walls, lines, scene.bounds, s_xy, g_xy, cell=raster_cell(need), seal=SEAL,
+    if share_region(walls, lines, scene.bounds, s_xy, g_xy, cell=raster_cell(shut), seal=SEAL,
                     max_cells=cell_budget(len(walls) + len(lines)), should_stop=should_stop):
         return None  # one region (clear of every gap, so of those kept below): no union needed
     # a gap whose segment meets a third wall is not needed: that wall's gaps to both ends are

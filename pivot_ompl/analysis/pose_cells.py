@@ -1,0 +1,215 @@
+"""Where the held assembly may stand over a range of yaws: free box positions, certified.
+
+The held assembly at grasp ``k`` is two convex floor bodies (the box's footprint and the
+holding robot's outline, :meth:`~pivot_ompl.grasp.BoxGraspModel.held_outline`), both prisms
+standing on the floor as the obstacles do, so a pose is valid only where both keep the
+checker's clearance from every obstacle's floor piece. For a *yaw bin* ``[a, b]`` this module
+gives the box positions at which the assembly may be valid at *some* yaw of the bin
+(:func:`free_components`): an over-approximation, never missing a valid pose.
+
+How: every yaw of the bin covers the bin's *core* (:func:`rotation_core`, a convex polygon
+inside each body turned by every yaw of the bin); a position at which the core comes within
+the clearance of an obstacle piece is invalid at every yaw of the bin. Those positions are the
+Minkowski sums ``piece + disk - core`` (:func:`convex_sums`, exact for convex polygons; the
+disk inscribed, a hair smaller than the clearance), and the rest of the floor, cut into its
+connected parts, is what is returned.
+
+Why the core is inside every turned body: for an edge with outward normal ``n`` at distance
+``d`` from the box centre, the normal turned by ``t`` in ``[-h, h]`` is ``a n(-h) + b n(h)``
+with ``a, b >= 0`` and ``a + b = cos t / cos h`` (in ``[1, 1 / cos h]``). So a point with
+``n(+-h) . x <= d cos h`` (``d >= 0``) or ``<= d`` (``d < 0``) has ``n(t) . x <= d`` for every
+``t``: it lies inside the body turned by ``t``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import shapely
+from shapely.geometry.base import BaseGeometry
+
+from pivot_ompl.grasp import GRASPS, BoxGraspModel
+from pivot_ompl.se2 import place_points, rectangle_corners
+
+#: Sides of the polygon inscribed in the clearance's disk added to every obstacle piece.
+DISK_SIDES = 16
+#: Kept off the clearance (m): round-off never closes a position that is valid.
+ROUND_OFF = 1e-5
+
+
+def _hull(points: np.ndarray) -> np.ndarray:
+    """The convex hull's vertices (counter-clockwise, not closed) of a point set."""
+    ring = shapely.MultiPoint(points).convex_hull
+    return np.asarray(shapely.get_exterior_ring(shapely.orient_polygons(ring)).coords)[:-1]
+
+
+def held_bodies(model: BoxGraspModel) -> list[list[np.ndarray]]:
+    """Per grasp, the assembly's convex bodies in the box's frame: the box, the robot."""
+    box = np.array(rectangle_corners((0.0, 0.0, 0.0), model.object_size[0],
+                                     model.object_size[1]), dtype=float)
+    out = []
+    for g in GRASPS:
+        robot = np.array(place_points(model.robot_pose((0.0, 0.0, 0.0), g),
+                                      model.held_outline(g)), dtype=float)
+        out.append([_hull(box), _hull(robot)])
+    return out
+
+
+def _clip(poly: np.ndarray, normal: np.ndarray, offset: float) -> np.ndarray:
+    """The convex polygon ``poly`` cut to the half-plane ``normal . x <= offset``."""
+    out = []
+    k = len(poly)
+    for i in range(k):
+        a, b = poly[i], poly[(i + 1) % k]
+        fa, fb = float(normal @ a) - offset, float(normal @ b) - offset
+        if fa <= 0.0:
+            out.append(a)
+        if fa * fb < 0.0:
+            out.append(a + (b - a) * (fa / (fa - fb)))
+    return np.array(out).reshape(-1, 2)
+
+
+def _turn(angle: float) -> np.ndarray:
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[c, -s], [s, c]])
+
+
+def rotation_core(body: np.ndarray, half: float) -> np.ndarray | None:
+    """A convex polygon inside ``body`` turned by every angle in ``[-half, half]``.
+
+    ``body``: a convex polygon's vertices (counter-clockwise) about the turning centre;
+    ``half`` < pi / 2 (rad). ``None`` when the core found is empty.
+    """
+    k = len(body)
+    poly = body.copy()
+    for i in range(k):
+        a, b = body[i], body[(i + 1) % k]
+        e = b - a
+        n = np.array([e[1], -e[0]]) / math.hypot(e[0], e[1])  # outward (counter-clockwise)
+        d = float(n @ a)
+        offset = d * math.cos(half) if d >= 0.0 else d
+        for t in (-half, half):
+            poly = _clip(poly, _turn(t) @ n, offset)
+            if len(poly) < 3:
+                return None
+    return poly
+
+
+def _normals(polys: np.ndarray) -> np.ndarray:
+    """Outward edge normals (unit) of counter-clockwise polygons ``(n, k, 2)``."""
+    e = np.roll(polys, -1, axis=1) - polys
+    n = np.stack([e[..., 1], -e[..., 0]], axis=-1)
+    return n / np.maximum(np.linalg.norm(n, axis=-1, keepdims=True), 1e-300)
+
+
+def convex_sums(pieces: np.ndarray, body: np.ndarray) -> np.ndarray:
+    """Vertices ``(n, k + m, 2)`` of each ``pieces[i] + body`` (Minkowski sums, convex).
+
+    ``pieces`` ``(n, k, 2)`` and ``body`` ``(m, 2)``: convex, counter-clockwise. A vertex of
+    the sum lies between two consecutive edge normals of the union of both normal sets: the
+    sum of both polygons' support points in a direction between them (repeated vertices
+    where normals repeat).
+    """
+    n = len(pieces)
+    normals = np.concatenate([_normals(pieces), np.broadcast_to(
+        _normals(body[None]), (n, len(body), 2))], axis=1)
+    angle = np.arctan2(normals[..., 1], normals[..., 0])
+    normals = np.take_along_axis(normals, np.argsort(angle, axis=1)[..., None], axis=1)
+    mid = normals + np.roll(normals, -1, axis=1)
+    flat = np.linalg.norm(mid, axis=-1) < 1e-9  # opposite neighbours: a normal between
+    mid[flat] = np.stack([-normals[flat][:, 1], normals[flat][:, 0]], axis=-1)
+    # turned a hair counter-clockwise: between equal normals (parallel edges) both supports
+    # are their edges' last vertices, the next vertex again, never one behind it
+    mid = mid + 1e-9 * np.linalg.norm(mid, axis=-1, keepdims=True) * np.stack(
+        [-mid[..., 1], mid[..., 0]], axis=-1)
+    piece_support = np.take_along_axis(pieces, np.argmax(
+        np.einsum("npd,nqd->npq", mid, pieces), axis=2)[..., None], axis=1)
+    body_support = body[np.argmax(mid @ body.T, axis=2)]
+    return piece_support + body_support
+
+
+def grown_pieces(pieces: list[np.ndarray], clearance: float) -> list[np.ndarray]:
+    """Each convex piece (counter-clockwise) grown by a polygon inside the clearance's disk."""
+    r = max(clearance - ROUND_OFF, 0.0)
+    a = np.linspace(0.0, 2.0 * math.pi, DISK_SIDES, endpoint=False)
+    disk = r * np.stack([np.cos(a), np.sin(a)], axis=1)
+    out = []
+    for p in pieces:
+        ccw = _hull(np.asarray(p, dtype=float))
+        out.append(convex_sums(ccw[None], disk)[0] if r > 0.0 else ccw)
+    return out
+
+
+def centre_room(grown: dict[int, np.ndarray], radius: float, area: BaseGeometry,
+                xy: tuple[float, float]) -> BaseGeometry | None:
+    """The part of ``area`` round ``xy`` where a disk of ``radius`` keeps the clearance.
+
+    The disk inscribed in the box (about its centre) is inside it at every yaw: a box centre
+    outside this part's room can never be valid, and the centre moves continuously (a regrasp
+    leaves it where it is), so every plan's box centre stays in the start's part. ``None``
+    when ``xy`` is in no part.
+    """
+    a = np.linspace(0.0, 2.0 * math.pi, DISK_SIDES, endpoint=False)
+    disk = radius * np.stack([np.cos(a), np.sin(a)], axis=1)
+    blocked = [p for stack in grown.values() for p in shapely.polygons(convex_sums(stack, disk))]
+    free = area.difference(shapely.union_all(blocked)) if blocked else area
+    point = shapely.Point(xy)
+    return next((g for g in getattr(free, "geoms", [free]) if g.covers(point)), None)
+
+
+def near(grown: dict[int, np.ndarray], room: BaseGeometry,
+         distance: float) -> dict[int, np.ndarray]:
+    """The pieces within ``distance`` of ``room`` (the others cannot meet a body there)."""
+    out = {}
+    for k, stack in grown.items():
+        keep = shapely.dwithin(shapely.polygons(stack), room, distance)
+        if keep.any():
+            out[k] = stack[keep]
+    return out
+
+
+def bound_slabs(bounds: tuple[float, float, float, float], thickness: float) -> list[np.ndarray]:
+    """Four slabs just outside the floor's bounds (counter-clockwise), as pieces.
+
+    The bodies must lie inside the bounds but need no clearance from them: the slabs are not
+    grown, and start :data:`ROUND_OFF` outside.
+    """
+    x0, y0, x1, y1 = bounds
+    e, t = ROUND_OFF, thickness
+    boxes = [(x0 - t, y0 - t, x1 + t, y0 - e), (x0 - t, y1 + e, x1 + t, y1 + t),
+             (x0 - t, y0 - t, x0 - e, y1 + t), (x1 + e, y0 - t, x1 + t, y1 + t)]
+    return [np.array([(a, b), (c, b), (c, d), (a, d)], dtype=float) for a, b, c, d in boxes]
+
+
+def free_region(grown: dict[int, np.ndarray], cores: list[np.ndarray | None], yaw: float,
+                area: BaseGeometry) -> BaseGeometry:
+    """What of ``area`` a box centre may stand on at the bin of ``yaw`` (one geometry).
+
+    ``grown``: the grown obstacle pieces stacked by vertex count; ``cores``: the bodies'
+    rotation cores about the bin's middle yaw ``yaw`` (a ``None`` core closes nothing).
+    """
+    turn = _turn(yaw)
+    blocked = []
+    for core in cores:
+        if core is None:
+            continue
+        reflected = -(core @ turn.T)  # piece - core: still counter-clockwise (a half turn)
+        for stack in grown.values():
+            blocked.extend(shapely.polygons(convex_sums(stack, reflected)))
+    return area.difference(shapely.union_all(blocked)) if blocked else area
+
+
+def free_components(grown: dict[int, np.ndarray], cores: list[np.ndarray | None],
+                    yaw: float, area: BaseGeometry) -> list[BaseGeometry]:
+    """:func:`free_region`'s connected parts."""
+    free = free_region(grown, cores, yaw, area)
+    return [g for g in getattr(free, "geoms", [free]) if not g.is_empty]
+
+
+def by_size(pieces: list[np.ndarray]) -> dict[int, np.ndarray]:
+    """Pieces stacked by vertex count (one numpy call per count)."""
+    out: dict[int, list[np.ndarray]] = {}
+    for p in pieces:
+        out.setdefault(len(p), []).append(p)
+    return {k: np.stack(v) for k, v in out.items()}

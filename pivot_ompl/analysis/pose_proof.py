@@ -1,0 +1,291 @@
+"""A proof that no plan exists from the held assembly's poses, refined in yaw where needed.
+
+The box moves only while the robot holds it (at one of four grasps), continuously through
+valid poses (the transfer checks certify every rotation's sweep: every pose keeps
+:data:`MOTION_CLEARANCE`, the 1 cm less the sweep's tolerance); a regrasp leaves the box
+where it rests. So a plan is a path through the held poses ``(x, y, yaw, grasp)`` that keeps
+its grasp while it moves and changes grasp only standing still, with both grasps valid there.
+This relaxation over-approximates those poses: the yaw circle is cut into bins, and per bin
+and grasp the box positions at which the assembly may be valid at some yaw of the bin fall
+into connected parts (:func:`~pivot_ompl.analysis.pose_cells.free_components`). Two parts are
+joined when they meet and their bins are neighbours at one grasp (a motion crossing the bins'
+common yaw), or they meet at one bin for two grasps (a regrasp). A path of the plan visits
+joined parts only, so when no part holding the start is joined to one holding the goal, no
+plan exists.
+
+The bins start coarse (:data:`FIRST_BINS`); while a chain of parts joins start and goal, the
+bins on the chain are halved (a chain through too coarse bins is refined away, a true one
+stays), up to :data:`MAX_BINS` bins or bins of :data:`FINEST` rad; the stop is polled
+before every bin's parts. Pivoting is small-time controllable, so where the finest bins still
+join start and goal the answer is "joined" (no proof; the poses connect at the bins' scale).
+"""
+
+from __future__ import annotations
+
+import heapq
+import logging
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from shapely.geometry.base import BaseGeometry
+
+from pivot_ompl.analysis.pose_cells import (
+    ROUND_OFF,
+    bound_slabs,
+    by_size,
+    centre_room,
+    free_components,
+    free_region,
+    grown_pieces,
+    held_bodies,
+    near,
+    rotation_core,
+)
+from pivot_ompl.errors import Interrupted
+from pivot_ompl.grasp import GRASPS
+from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Scene
+from pivot_ompl.se2 import Pose
+from pivot_ompl.validity.certify import SWEEP_TOLERANCE
+from pivot_ompl.validity.collision import KEEP_CLEARANCE
+from pivot_ompl.validity.footprints import obstacle_pieces
+from pivot_ompl.validity.merge import merge_boxes
+
+log = logging.getLogger(__name__)
+
+#: Yaw bins of the first round (over the whole turn).
+FIRST_BINS = 32
+#: Most yaw bins (each costs the box's free region and four grasps' free parts, about 30 ms
+#: on a 5 m arena of 157 boxes): the memory and time bound.
+MAX_BINS = 1024
+#: Narrowest bin (rad) halved again (the TurtleBot3 arena's proof needs 0.7 degrees).
+FINEST = 2.0 * math.pi / 512
+
+#: Bins a proof computes, for :func:`proof_estimate` (the TurtleBot3 arena's: about 300,
+#: those of its last round and the halved ones).
+ESTIMATED_BINS = 300
+#: Time (s) of one obstacle piece's sums and union, per bin and grasp (the arena's 157
+#: pieces: 9 s of CPU for its proof's 296 bins; a shared 2-core machine).
+SECONDS_PER_PIECE = 5e-5
+
+Node = tuple[int, int, int]  # (bin, grasp, part)
+
+
+@dataclass(frozen=True)
+class PoseProof:
+    """What the held poses' relaxation says about a scene (:func:`prove_no_plan`).
+
+    Attributes:
+        apart: ``True``: no part holding the start is joined to one holding the goal (no
+            plan exists); ``False``: joined at the finest bins (nothing proven); ``None``:
+            stopped, out of bins, or start or goal in no part (nothing proven).
+        bins: yaw bins of the last round.
+        finest: the narrowest bin (rad).
+        rounds: rounds of refinement.
+        seconds: time taken (s).
+        start_reach: with ``apart``, the box positions the start's parts cover (m, world).
+    """
+
+    apart: bool | None
+    bins: int
+    finest: float
+    rounds: int
+    seconds: float
+    start_reach: BaseGeometry | None = None
+
+
+class _Parts:
+    """The free parts of every (bin, grasp), computed once per bin and kept."""
+
+    def __init__(self, scene: Scene, clearance: float,
+                 should_stop: Callable[[], bool] | None) -> None:
+        pieces = obstacle_pieces(merge_boxes(scene.obstacles, should_stop=should_stop))
+        self.bodies = held_bodies(scene.model)
+        reach = max(float(np.abs(b).max()) for bodies in self.bodies for b in bodies)
+        grown = by_size(grown_pieces(pieces, clearance)
+                        + bound_slabs(scene.bounds, 2.0 * reach + 1.0))
+        if should_stop is not None and should_stop():
+            raise Interrupted("the held poses' relaxation")
+        #: where the box centre may go at all (``None``: not even the start is in it)
+        self.room = centre_room(grown, 0.5 * min(scene.model.object_size[:2]) - ROUND_OFF,
+                                shapely.box(*scene.bounds), scene.start[:2])
+        self.area = self.room if self.room is not None else shapely.Polygon()
+        self.grown = near(grown, self.area, reach + 1e-3)
+        #: the bodies every grasp has (the box), and each grasp's others (the robot)
+        self.shared = [b for b in self.bodies[0]
+                       if all(any(np.array_equal(b, c) for c in bs) for bs in self.bodies)]
+        self.own = [[b for b in bs if not any(np.array_equal(b, c) for c in self.shared)]
+                    for bs in self.bodies]
+        self.known: dict[tuple[float, float], list[list[BaseGeometry]]] = {}
+        self.met: dict[tuple[float, ...], list[tuple[int, int]]] = {}
+
+    def of(self, a: float, b: float) -> list[list[BaseGeometry]]:
+        """Per grasp, the free parts of the bin ``[a, b]``."""
+        key = (a, b)
+        if key not in self.known:
+            half, mid = 0.5 * (b - a), 0.5 * (a + b)
+            room = free_region(self.grown, [rotation_core(body, half) for body in self.shared],
+                               mid, self.area)  # the bodies of every grasp: once for all
+            self.known[key] = [free_components(self.grown,
+                                               [rotation_core(body, half) for body in own],
+                                               mid, room) for own in self.own]
+        return self.known[key]
+
+    def forget(self, a: float, b: float) -> None:
+        """Drop the parts of the bin ``[a, b]`` (halved: never asked again)."""
+        self.known.pop((a, b), None)
+
+    def meet(self, key: tuple[float, ...], a: list[BaseGeometry],
+             b: list[BaseGeometry]) -> list[tuple[int, int]]:
+        """Which parts of ``a`` meet which of ``b`` (kept under ``key``: bins and grasps)."""
+        if key not in self.met:
+            self.met[key] = _meets(a, b)
+        return self.met[key]
+
+
+def _meets(a: list[BaseGeometry], b: list[BaseGeometry]) -> list[tuple[int, int]]:
+    if not a or not b:
+        return []
+    hit = shapely.intersects(np.array(a, dtype=object)[:, None], np.array(b, dtype=object)[None])
+    return [(int(i), int(j)) for i, j in zip(*np.nonzero(hit), strict=True)]
+
+
+def _holding(parts: list[list[BaseGeometry]], pose: Pose) -> list[tuple[int, int]]:
+    point = shapely.Point(pose[0], pose[1])
+    return [(g, k) for g, ps in enumerate(parts) for k, p in enumerate(ps) if p.covers(point)]
+
+
+def _bins_of(edges: list[float], yaw: float) -> list[int]:
+    """The bins (one, or two on a common edge) holding ``yaw``."""
+    t = yaw % (2.0 * math.pi)
+    n = len(edges) - 1
+    return [i for i in range(n) if edges[i] - 1e-12 <= t <= edges[i + 1] + 1e-12] or [n - 1]
+
+
+class _Graph:
+    """The parts joined (see the module docstring) for one set of bins."""
+
+    def __init__(self, parts: _Parts, edges: list[float],
+                 should_stop: Callable[[], bool] | None) -> None:
+        n = len(edges) - 1
+        self.table = []
+        for i in range(n):
+            if should_stop is not None and should_stop():
+                raise Interrupted("the held poses' relaxation")
+            self.table.append(parts.of(edges[i], edges[i + 1]))
+        self.links: dict[Node, list[Node]] = {}
+        for i in range(n):
+            here, there = self.table[i], self.table[(i + 1) % n]
+            a, b, c = edges[i], edges[i + 1], edges[(i + 1) % n + 1]
+            for g in range(len(here)):
+                for k, q in parts.meet((a, b, c, g), here[g], there[g]):
+                    self._link((i, g, k), ((i + 1) % n, g, q))
+                for h in range(g + 1, len(here)):  # a regrasp: one pose, two grasps
+                    for k, q in parts.meet((a, b, g, h), here[g], here[h]):
+                        self._link((i, g, k), (i, h, q))
+
+    def _link(self, a: Node, b: Node) -> None:
+        self.links.setdefault(a, []).append(b)
+        self.links.setdefault(b, []).append(a)
+
+    def nodes_at(self, edges: list[float], pose: Pose) -> list[Node]:
+        """The parts holding ``pose`` (any grasp)."""
+        return [(i, g, k) for i in _bins_of(edges, pose[2])
+                for g, k in _holding(self.table[i], pose)]
+
+    def chain(self, starts: list[Node], goals: list[Node],
+              widths: list[float]) -> tuple[list[Node] | None, set[Node]]:
+        """A chain of joined parts from a start to a goal (``None``), and what it reached.
+
+        The chain of least summed bin widths (``widths[i]``, rad, per part entered): through
+        fine bins where it can, so the coarse bins it still needs are the ones to halve.
+        """
+        goal = set(goals)
+        before: dict[Node, Node | None] = dict.fromkeys(starts)
+        cost = {u: widths[u[0]] for u in starts}
+        todo = [(c, u) for u, c in cost.items()]
+        heapq.heapify(todo)
+        done: set[Node] = set()
+        while todo:
+            c, u = heapq.heappop(todo)
+            if u in done:
+                continue
+            done.add(u)
+            if u in goal:
+                out = [u]
+                while (p := before[out[-1]]) is not None:
+                    out.append(p)
+                return out, set(before)
+            for v in self.links.get(u, ()):
+                cv = c + widths[v[0]]
+                if v not in done and cv < cost.get(v, math.inf):
+                    cost[v], before[v] = cv, u
+                    heapq.heappush(todo, (cv, v))
+        return None, set(before)
+
+
+def proof_estimate(scene: Scene) -> float:
+    """Estimated time (s) of :func:`prove_no_plan` (:data:`ESTIMATED_BINS` bins)."""
+    pieces = sum(1 if isinstance(o, BoxObstacle | CylinderObstacle) else len(o.points) - 2
+                 for o in scene.obstacles)
+    return ESTIMATED_BINS * len(GRASPS) * (pieces + 4) * SECONDS_PER_PIECE
+
+
+#: Clearance (m) every pose of a checked transfer keeps: the checkers' 1 cm at the sampled
+#: poses, less the sweep tolerance between them (a certified interval's points are within it
+#: of a sample: :func:`~pivot_ompl.validity.certify.certify`).
+MOTION_CLEARANCE = KEEP_CLEARANCE - SWEEP_TOLERANCE
+
+
+def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
+                  first_bins: int = FIRST_BINS, max_bins: int = MAX_BINS,
+                  finest: float = FINEST,
+                  should_stop: Callable[[], bool] | None = None) -> PoseProof:
+    """Whether the held poses' relaxation separates start and goal (the module docstring).
+
+    Never raises on a stop: the answer is then ``apart=None``.
+    """
+    t0 = time.perf_counter()
+    edges = [2.0 * math.pi * i / first_bins for i in range(first_bins + 1)]
+    rounds = 0
+
+    def result(apart: bool | None, reach: BaseGeometry | None = None) -> PoseProof:
+        widths = np.diff(edges)
+        return PoseProof(apart, len(edges) - 1, float(widths.min()), rounds,
+                         time.perf_counter() - t0, reach)
+
+    try:
+        parts = _Parts(scene, clearance, should_stop)
+        if parts.room is None:
+            return result(None)
+        if not parts.room.covers(shapely.Point(scene.goal[:2])):  # the box alone cannot go
+            return result(True, parts.room)
+        while True:
+            rounds += 1
+            graph = _Graph(parts, edges, should_stop)
+            starts, goals = graph.nodes_at(edges, scene.start), graph.nodes_at(edges, scene.goal)
+            if not starts or not goals:
+                return result(None)
+            path, reached = graph.chain(starts, goals, np.diff(edges).tolist())
+            if path is None:
+                reach = shapely.union_all([graph.table[i][g][k] for i, g, k in reached])
+                return result(True, reach)
+            # the chain's widest bins first: a chain through coarse bins is most often false
+            widths = {i: edges[i + 1] - edges[i] for i, _, _ in path}
+            widest = max(widths.values())
+            split = sorted(i for i, w in widths.items() if w > finest and w >= 0.99 * widest)
+            log.debug("held poses, round %d: %d bins, a chain of %d parts over %d bins; %d "
+                      "halved (%.2f degrees)", rounds, len(edges) - 1, len(path), len(widths),
+                      len(split), math.degrees(widest))
+            if not split:
+                return result(False)
+            if len(edges) - 1 + len(split) > max_bins:
+                return result(None)
+            for i in reversed(split):
+                parts.forget(edges[i], edges[i + 1])
+                edges.insert(i + 1, 0.5 * (edges[i] + edges[i + 1]))
+    except Interrupted:
+        return result(None)

@@ -1,0 +1,126 @@
+"""The held poses' relaxation: sound cores and sums, proofs where no plan exists, none with one."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+import pytest
+import shapely
+from factories import make_scene, shipped
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from pivot_ompl.analysis.late_proof import HELD_POSES, LateProof, held_pose_proof
+from pivot_ompl.analysis.passage import assembly_width, blocking_passage
+from pivot_ompl.analysis.pose_cells import convex_sums, rotation_core
+from pivot_ompl.analysis.pose_proof import prove_no_plan
+from pivot_ompl.scene.shared import shared_value
+
+
+def _convex(points: np.ndarray) -> np.ndarray:
+    hull = shapely.orient_polygons(shapely.MultiPoint(points).convex_hull)
+    return np.asarray(hull.exterior.coords)[:-1]
+
+
+def _turn(points: np.ndarray, angle: float) -> np.ndarray:
+    c, s = math.cos(angle), math.sin(angle)
+    return points @ np.array([[c, s], [-s, c]])
+
+
+points = st.lists(st.tuples(st.floats(-2.0, 2.0), st.floats(-2.0, 2.0)), min_size=3, max_size=8)
+
+
+@settings(max_examples=60, deadline=None)
+@given(body=points, half=st.floats(0.0, 0.4), shift=st.tuples(st.floats(-1, 1), st.floats(-1, 1)))
+def test_the_core_lies_inside_the_body_turned_by_every_yaw_of_its_bin(body, half, shift):
+    pts = np.array(body) + np.array(shift)
+    if shapely.MultiPoint(pts).convex_hull.area < 1e-3:
+        return
+    k = _convex(pts)
+    core = rotation_core(k, half)
+    if core is None:
+        return
+    inner = shapely.Polygon(core)
+    for t in np.linspace(-half, half, 33):
+        assert shapely.Polygon(_turn(k, t)).buffer(1e-9).contains(inner)
+
+
+@settings(max_examples=60, deadline=None)
+@given(a=points, b=points)
+def test_a_convex_sum_is_the_hull_of_the_vertex_sums(a, b):
+    pa, pb = np.round(np.array(a), 1), np.round(np.array(b), 1)  # parallel edges are common
+    if min(shapely.MultiPoint(p).convex_hull.area for p in (pa, pb)) < 1e-3:
+        return
+    ka, kb = _convex(pa), _convex(pb)
+    got = shapely.Polygon(convex_sums(ka[None], kb)[0])
+    want = shapely.MultiPoint((ka[:, None] + kb[None]).reshape(-1, 2)).convex_hull
+    assert got.is_valid
+    assert got.symmetric_difference(want).area < 1e-9
+
+
+def _corner_slot(strip: float, slot: float):
+    """A strip ``strip`` m deep along the floor's bottom, a slot ``slot`` m wide through the
+    1 m thick wall above it at x = 4 (the box long and thin: the assembly must turn into it)."""
+    left, right = 4.0 - 0.5 * slot, 4.0 + 0.5 * slot
+    walls = [{"type": "box", "center": [0.5 * left, strip + 0.5], "size": [left, 1.0],
+              "yaw": 0.0, "height": 2.0},
+             {"type": "box", "center": [0.5 * (right + 8.0), strip + 0.5],
+              "size": [8.0 - right, 1.0], "yaw": 0.0, "height": 2.0}]
+    return make_scene(obstacles=walls, object={"size": [1.2, 0.3, 1.0]},
+                      start=[1.5, 0.5 * strip, 0.0], goal=[4.0, 4.5, 0.0])
+
+
+def test_a_slot_wide_enough_but_not_to_turn_into_is_proven_with_the_passage_named():
+    scene = _corner_slot(0.90, 0.92)
+    assert 0.92 > assembly_width(scene.model)  # as wide as the held assembly...
+    assert blocking_passage(scene) is None  # ...so the width alone explains nothing
+    proof = prove_no_plan(scene)
+    assert proof.apart is True
+    assert not proof.start_reach.covers(shapely.Point(scene.goal[:2]))
+    no_plan = held_pose_proof(scene)
+    assert no_plan is not None and no_plan.passage is not None
+    assert "0.92 m" in no_plan.reason and "(4.00, 1.40)" in no_plan.reason
+    assert no_plan.passage.width == pytest.approx(0.92)
+    assert no_plan.fields()["passage"]["reason"] == no_plan.reason
+
+
+@pytest.mark.parametrize("scene", [
+    shipped("fig10"), shipped("slot"), shipped("corridor"), shipped("door"),
+    _corner_slot(3.0, 0.95),  # room to turn in front of the slot
+], ids=["fig10", "slot", "corridor", "door", "room_to_turn"])
+def test_a_scene_with_a_plan_is_never_proven_infeasible(scene):
+    end = time.monotonic() + 20.0
+    proof = prove_no_plan(scene, should_stop=lambda: time.monotonic() > end)
+    assert proof.apart is not True
+
+
+def test_a_stopped_proof_proves_nothing():
+    proof = prove_no_plan(_corner_slot(0.90, 0.92), should_stop=lambda: True)
+    assert proof.apart is None
+
+
+@settings(max_examples=8, deadline=None)
+@given(boxes=st.lists(st.tuples(st.floats(0.5, 7.5), st.floats(0.2, 1.6), st.booleans(),
+                                st.floats(0.1, 0.8), st.floats(0.1, 0.8), st.floats(0, 3.1)),
+                      min_size=1, max_size=12))
+def test_a_floor_with_a_straight_clear_lane_is_never_proven_infeasible(boxes):
+    # boxes anywhere but a lane 1.8 m wide round y = 3 (the held assembly is 0.88 m across):
+    # the box pivots straight from start to goal, a plan exists
+    doc = [{"type": "box", "center": [x, 3.0 + (1.0 if up else -1.0) * (1.0 + d + 0.6)],
+            "size": [w, h], "yaw": yaw, "height": 1.0}
+           for x, d, up, w, h, yaw in boxes]
+    scene = make_scene(obstacles=doc)
+    assert prove_no_plan(scene).apart is not True
+
+
+def test_the_late_proof_tries_the_held_poses_only_once_their_time_has_come():
+    scene = _corner_slot(3.0, 0.95)  # a plan exists: every relaxation joins start and goal
+    now = [1.0]
+    late = LateProof(scene, begin=0.0, end=100.0, clock=lambda: now[0], held_begin=5.0)
+    assert late() is False  # the poses' relaxation joins them; too early for the held poses
+    assert shared_value(scene, HELD_POSES) is None
+    now[0] = 6.0
+    assert late() is False  # tried now, and nothing proven
+    assert shared_value(scene, HELD_POSES) is False
