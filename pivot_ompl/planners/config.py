@@ -171,13 +171,6 @@ class OptimiserConfig:
         slide_regrasps: after the optimiser, let each regrasp move to a pose of the
             transfers beside it where that is cheaper
             (:mod:`pivot_ompl.planners.regrasp_slide`), within the optimiser's budget.
-        late_routes: a path without regrasps on a floor where the lattice's routes are
-            inflated (the box may reach at least ``single_grasp.lattice_area``) is re-routed
-            after the optimiser's first round, not before
-            (:func:`~pivot_ompl.planners.improve.reroutes_late`): there the optimiser's
-            stages reach as cheap a path as the re-routing's chains (whose estimates miss
-            the small rotations along walls), at a fraction of its time, and the
-            re-routing then checks only what saves beyond them. See ``docs/quality.md``.
     """
 
     enabled: bool = True
@@ -198,7 +191,6 @@ class OptimiserConfig:
     straighten: bool = True
     follow_route: bool = True
     slide_regrasps: bool = True
-    late_routes: bool = True
 
 
 @dataclass(frozen=True)

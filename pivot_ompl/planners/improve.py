@@ -13,9 +13,8 @@ along the route bound's shortest route where that is cheaper
 within its :class:`Budget` of motion checks (the last three within the optimiser's) and the
 same cost model (``config.cost``). The path optimiser, the slide and the straightening are
 repeated while a round changes the path (at most :data:`ROUNDS`); the followed route runs in
-the first round only. A path without regrasps on a large floor is re-routed after the first
-round instead of before it (:func:`reroutes_late`). The grasp the robot holds the box with
-at the start (``start_grasp``) is kept by every step.
+the first round only. The grasp the robot holds the box with at the start
+(``start_grasp``) is kept by every step.
 """
 
 from __future__ import annotations
@@ -34,7 +33,7 @@ from pivot_ompl.planners.routes.refine import RefineStats, refine
 from pivot_ompl.planners.straighten import straighten
 from pivot_ompl.se2 import Pose
 
-__all__ = ["ROUNDS", "Budget", "ImproveStats", "improve", "reroutes_late", "time_share"]
+__all__ = ["ROUNDS", "Budget", "ImproveStats", "improve", "time_share"]
 
 Stop = Callable[[], bool]
 State = tuple[Pose, int]
@@ -96,21 +95,6 @@ class ImproveStats:
     seconds: float = 0.0
 
 
-def reroutes_late(states: Sequence[State], lattice: TransferLattice | None,
-                  late_routes: bool = True) -> bool:
-    """Whether :func:`improve` re-routes ``states`` after the optimiser's first round.
-
-    A path without regrasps on a floor whose lattice routes are inflated (``lattice.weight``
-    above 1: :func:`~.direct.route_weight`, floors of at least ``single_grasp.lattice_area``)
-    is re-routed late (when ``late_routes``, :attr:`~.config.OptimiserConfig.late_routes`):
-    the optimiser's stages shorten it first, and the re-routing is then asked only for
-    what it saves beyond them. Otherwise (regrasps to turn away, a small floor) the
-    re-routing comes first.
-    """
-    return (late_routes and lattice is not None and lattice.weight > 1.0
-            and len({g for _, g in states}) == 1)
-
-
 def improve(checker: PivotChecker, states: list[State], config: RegraspConfig, *,
             should_stop: Stop, routes: Budget, optimiser: Budget, start_grasp: int | None,
             end_grasp: int | None = None, lattice: TransferLattice | None = None,
@@ -136,28 +120,18 @@ def improve(checker: PivotChecker, states: list[State], config: RegraspConfig, *
         return states
     st = stats if stats is not None else ImproveStats()
     t0 = time.perf_counter()
-    reroute = None
     if cfg.routes and lattice is not None:
-        def reroute(path: list[State]) -> list[State]:
-            t1 = time.perf_counter()
-            path = refine(checker, lattice, path, costs=config.cost,
-                          should_stop=routes.stop(should_stop, checker, path),
-                          run_spacing=cfg.run_spacing, stats=st.refine,
-                          start_grasp=start_grasp, grasps=config.grasps,
-                          min_saving=cfg.route_min_saving,
-                          whole_min_saving=cfg.whole_min_saving)
-            st.routes_seconds += time.perf_counter() - t1
-            return path
-    late = reroute is not None and reroutes_late(states, lattice, cfg.late_routes)
-    if reroute is not None and not late:
-        states = reroute(states)
+        states = refine(checker, lattice, states, costs=config.cost,
+                        should_stop=routes.stop(should_stop, checker, states),
+                        run_spacing=cfg.run_spacing, stats=st.refine,
+                        start_grasp=start_grasp, grasps=config.grasps,
+                        min_saving=cfg.route_min_saving,
+                        whole_min_saving=cfg.whole_min_saving)
+        st.routes_seconds += time.perf_counter() - t0
     for k in range(ROUNDS):
         before = list(states)
         states = _round(checker, states, config, should_stop=should_stop, budget=optimiser,
                         start_grasp=start_grasp, end_grasp=end_grasp, follow=k == 0)
-        if late and reroute is not None and not should_stop():
-            late = False
-            states = reroute(states)
         if states == before or should_stop():
             break
     st.seconds += time.perf_counter() - t0
