@@ -138,15 +138,17 @@ def _refined(ck, lattice, path, **kwargs):
 
 
 def test_whole_path_runs_estimated_under_their_least_share_are_not_made_real():
-    # the cluttered room's found path is one phase: every run re-plans the whole path
-    ck = PivotChecker(shipped("cluttered_room"))
+    # the corridor's found path is one phase: every run re-plans the whole path (the
+    # cluttered room's before the lattice priced pushes beside walls higher: its estimates
+    # are now all above the share or far under it)
+    ck = PivotChecker(shipped("corridor"))
     lattice = TransferLattice(ck, COSTS)
     path = _found_path(ck)
     evaluate = Evaluator(ck, COSTS)
     every, every_stats = _refined(ck, lattice, path, min_saving=0.05)
     share = OptimiserConfig().whole_min_saving
     fewer, fewer_stats = _refined(ck, lattice, path, min_saving=0.05, whole_min_saving=share)
-    # the run it leaves (estimated to save 9.6 %) costs more than the path once checked:
+    # the run it leaves (estimated to save under 10 %) costs more than the path once checked:
     # the same path, fewer routes made real
     assert fewer == every and evaluate.path(fewer).cost < evaluate.path(path).cost
     assert fewer_stats.tried < every_stats.tried

@@ -32,6 +32,8 @@ from pivot_ompl.validity.plan_check import check_plan
 
 HALL = Path(__file__).resolve().parents[2] / "benchmarks" / "layouts" / "hall.yaml"
 SPACING = OptimiserConfig().run_spacing
+#: a grasp whose lattice route starts with a quarter turn in place at the hall's start
+GRASP = 1
 
 
 @pytest.fixture(scope="module")
@@ -71,19 +73,21 @@ def test_end_turns_add_only_the_poses_of_the_turns_at_either_end(turn_in, straig
 
 
 def test_a_route_starting_with_a_turn_at_a_tight_start_is_made_real(hall):
+    # grasp 1 (grasp 3's route, since its pushes beside walls are priced higher, turns
+    # where the whole turn at once passes)
     checker = PivotChecker(hall)
     costs = CostModel()
     lattice = TransferLattice(checker, costs)
-    route, _ = lattice.route(hall.start, hall.goal, 3)
+    route, _ = lattice.route(hall.start, hall.goal, GRASP)
     assert abs(route[1][2] - route[0][2]) > 1e-9  # it starts with a turn in place
     evaluate = Evaluator(checker, costs)
-    coarse = shortened(evaluate, corners(route, spacing=SPACING), 3, lambda: False)
+    coarse = shortened(evaluate, corners(route, spacing=SPACING), GRASP, lambda: False)
     assert coarse.status is Status.INVALID  # the whole quarter turn at once grazes
-    found = made_real(evaluate, route, 3, lambda: False, spacing=SPACING)
+    found = made_real(evaluate, route, GRASP, lambda: False, spacing=SPACING)
     assert found.status is Status.VALID and found.path is not None
     chain, cost = found.path
     assert chain[0] == hall.start and chain[-1] == hall.goal
-    assert cost == pytest.approx(evaluate.path([(q, 3) for q in chain]).cost)
+    assert cost == pytest.approx(evaluate.path([(q, GRASP) for q in chain]).cost)
 
 
 def test_the_hall_is_crossed_by_the_one_grasp_lattice_try(hall):

@@ -13,8 +13,8 @@ yaw). Costs are seconds (:class:`~pivot_ompl.cost.CostModel`): a push of ``d`` m
 :meth:`TransferLattice.route` is A* between two exact object poses at one grasp (joined to
 the nearby lattice states by short paths), guided by the straight distance at the push rate
 plus the heading still to turn at the spin rate (admissible: pushes do not turn, turns do
-not move the car), inflated by ``weight``; it gives a route at most that factor costlier
-than the lattice's cheapest, a guide whose motions the pivot checker still certifies. A query
+not move the car), inflated by ``weight``; a push beside a wall is priced higher in the
+search (:data:`~.lattice_search.TIGHT_PUSH`): a guide the pivot checker certifies. A query
 whose ends lie in different connected components of the lattice (computed once per grasp
 parity, scipy) has no route and costs nothing.
 """
@@ -34,7 +34,7 @@ from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.routes.guide import graph_distances, move_graph
 from pivot_ompl.planners.routes.lattice_components import chunked_labels
-from pivot_ompl.planners.routes.lattice_search import lattice_astar
+from pivot_ompl.planners.routes.lattice_search import TIGHT_PUSH, lattice_astar, route_cost
 from pivot_ompl.planners.routes.shared_fields import (
     ROUTES_KEPT,
     assembly_field,
@@ -123,7 +123,8 @@ class TransferLattice:
         self.expansions = 0
         #: routes by (start, goal, grasp, weight)
         self._routes: dict[tuple[Pose, Pose, int, float], tuple[list[Pose], float]] = \
-            shared_routes(self.field, region, (*self._push.values(), self._spin, max_expansions))
+            shared_routes(self.field, region, (*self._push.values(), self._spin, TIGHT_PUSH,
+                                               max_expansions))
         self._asked: set[tuple[Pose, Pose, int, float]] = set()  # by this lattice
         self._labels: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         self._floors: dict[int, Any] = {}
@@ -148,8 +149,7 @@ class TransferLattice:
         inf)`` when the lattice has no route. Routes are kept (asked again, they are free).
         The heuristic's distance is the floor's way to the goal where longer than the straight
         line (:meth:`_floor_distances`): far fewer states expanded across rooms and passages.
-        ``weight``:
-        the heuristic's inflation for this query (default: the lattice's ``weight``).
+        ``weight``: the heuristic's inflation for this query (default: the lattice's).
 
         Raises:
             Interrupted: ``should_stop()`` became true.
@@ -234,17 +234,17 @@ class TransferLattice:
             return rate * max(math.hypot(x - gx, y - gy), float(way[cell_ids[ix * ny + iy]]))
 
         grids = [self._grid(parity, k, should_stop) for k in range(2 * N_HEADINGS)]
+        push, turn = [step * rate for step in self._steps], [t * spin for t in self._turns]
         states, expanded = lattice_astar(
-            starts, goals, grids=grids,
-            shape=(self.field.nx, ny), push=[step * rate for step in self._steps],
-            turn=[t * spin for t in self._turns], cell_part=cell_part,
+            starts, goals, grids=grids, shape=(self.field.nx, ny), push=push, turn=turn,
+            cell_part=cell_part,
             turning=[spin * abs(wrap_angle(HEADING_YAWS[h] - gh)) for h in range(N_HEADINGS)],
             weight=weight, max_expansions=self.max_expansions, should_stop=should_stop)
         self.expansions += expanded
         if not states:
             return [], math.inf
         poses = [start] + [m.object_from_car(self.car(s), grasp) for s in states[1:-1]] + [goal]
-        return poses, self._cost(states, starts, goals, rate)
+        return poses, route_cost(states, starts, goals, grids=grids, ny=ny, push=push, turn=turn)
 
     def components(self, parity: int, should_stop: Callable[[], bool] | None = None
                    ) -> tuple[np.ndarray, np.ndarray]:
@@ -364,19 +364,6 @@ class TransferLattice:
         way.flags.writeable = False  # shared by the queries that ask again
         self._ways[parity] = (sources, way)
         return way
-
-    def _cost(self, states: list[State], starts: dict[State, float],
-              goals: dict[State, float], rate: float) -> float:
-        """The lattice's seconds of a route's states (the joins to its ends included)."""
-        inner = states[1:-1]
-        total = starts[inner[0]] + goals[inner[-1]]
-        for u, v in zip(inner, inner[1:], strict=False):
-            if u[2] == v[2]:
-                total += self._steps[u[2]] * rate
-            else:
-                h = u[2] if (u[2] + 1) % N_HEADINGS == v[2] else v[2]
-                total += self._turns[h] * self._spin
-        return total
 
     def _attach(self, car: Pose, parity: int, grasp: int,
                 should_stop: Callable[[], bool] | None) -> dict[State, float]:

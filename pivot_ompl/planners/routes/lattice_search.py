@@ -7,6 +7,17 @@ the same order with the same costs and heuristic values, so the same states expa
 same route returned, ties broken alike) with a state ``(ix, iy, h)`` numbered
 ``(ix * ny + iy) * N_HEADINGS + h``, and its moves (a push and a pull along the heading, a turn
 in place either way, and the join to the goal) written out in the loop.
+
+A push (or pull) into a state where the assembly has no room to swing costs
+:data:`TIGHT_PUSH` times its price: the state is free at its heading but the turns to the
+headings either side of it are not (the box cannot be rotated 11.25 degrees either way
+there, a wall beside it). The pivot steering moves the box by rotations about its corners;
+beside a wall they must be small, and a straight push along one costs several times its
+price (the bug trap's lattice routes along its walls: chains made real at 1.2-1.9 times the
+lattice's seconds, pushes of 4.6 m at 7 times). The factor only makes moves dearer, so the
+heuristic stays admissible; it chooses, among routes of near cost, the one off the walls,
+and the route's cost (:func:`route_cost`, what :meth:`~.lattice.TransferLattice.route`
+answers) counts it too: an estimate nearer what the route costs once made real.
 """
 
 from __future__ import annotations
@@ -23,12 +34,21 @@ Stop = Callable[[], bool]
 
 _START, _GOAL = -1, -2
 
+#: The factor on a push into a state without room to swing (module docstring): a route may
+#: still run along a wall where no other way is near as cheap, but a detour of up to twice
+#: the pushes off it wins. Measured first plans (fresh process): the bug trap 409.98 s and
+#: 158 pivots -> 335.72 s and 129 with the re-routing's CPU halved; cluttered_room 212.51 ->
+#: 194.84 s; the hall 1009.14 -> 999.37 s; t_junction 823.13 -> 818.49 s; the other shipped
+#: scenes alike (docs/quality.md).
+TIGHT_PUSH = 2.0
+
 
 def lattice_astar(starts: dict[State, float], goals: dict[State, float], *,
                   grids: Sequence[bytes], shape: tuple[int, int], push: Sequence[float],
                   turn: Sequence[float], cell_part: Callable[[int, int], float],
                   turning: Sequence[float], weight: float, max_expansions: int,
-                  should_stop: Stop | None) -> tuple[list[State], int]:
+                  should_stop: Stop | None, tight: float = TIGHT_PUSH
+                  ) -> tuple[list[State], int]:
     """The cheapest route from a start state to a goal state, and the states expanded.
 
     Args:
@@ -45,6 +65,8 @@ def lattice_astar(starts: dict[State, float], goals: dict[State, float], *,
         weight: the heuristic's inflation.
         max_expansions: states expanded before the search gives up (no more moves).
         should_stop: polled every 256 expansions.
+        tight: the factor on a push or pull into a state whose turns to both neighbouring
+            headings are not free (module docstring; 1: every push at its price).
 
     Returns:
         ``(states, expanded)``: the route as ``[(-1, -1, -1), s1, ..., sk, (-2, -2, -2)]``
@@ -87,11 +109,12 @@ def lattice_astar(starts: dict[State, float], goals: dict[State, float], *,
             ix, iy = divmod(cell, ny)
             vx, vy = HEADING_VECTORS[h]
             moves = []
-            free = grids[2 * h]
+            free, ccw, cw = grids[2 * h], grids[2 * h + 1], grids[2 * ((h - 1) % nh) + 1]
             for sgn in (1, -1):
                 jx, jy = ix + sgn * vx, iy + sgn * vy
-                if 0 <= jx < nx and 0 <= jy < ny and free[jx * ny + jy]:
-                    moves.append(((jx * ny + jy) * nh + h, push[h]))
+                j = jx * ny + jy
+                if 0 <= jx < nx and 0 <= jy < ny and free[j]:
+                    moves.append((j * nh + h, push[h] if ccw[j] and cw[j] else tight * push[h]))
             ha, hb = (h + 1) % nh, (h - 1) % nh
             if grids[2 * h + 1][cell] and grids[2 * ha][cell]:
                 moves.append((cell * nh + ha, turn[h]))
@@ -134,3 +157,25 @@ def _states(parent: dict[int, int], ny: int) -> list[State]:
             ix, iy = divmod(cell, ny)
             out.append((ix, iy, h))
     return out
+
+
+def route_cost(states: list[State], starts: dict[State, float], goals: dict[State, float], *,
+               grids: Sequence[bytes], ny: int, push: Sequence[float], turn: Sequence[float],
+               tight: float = TIGHT_PUSH) -> float:
+    """The cost of a route of :func:`lattice_astar` (its arguments), the ends' joins included.
+
+    What the search summed along it: a push into a state without room to swing at ``tight``
+    times its price.
+    """
+    inner = states[1:-1]
+    total = starts[inner[0]] + goals[inner[-1]]
+    nh = N_HEADINGS
+    for u, v in zip(inner, inner[1:], strict=False):
+        h = u[2]
+        if h == v[2]:
+            j = v[0] * ny + v[1]
+            total += push[h] if grids[2 * h + 1][j] and grids[2 * ((h - 1) % nh) + 1][j] \
+                else tight * push[h]
+        else:
+            total += turn[h if (h + 1) % nh == v[2] else v[2]]
+    return total
