@@ -4,9 +4,8 @@ The coarse raster relaxation (:mod:`~pivot_ompl.analysis.raster_bound`) may join
 with fewer regrasps than any plan needs, through places its cells and yaw bins make look wider
 than they are. :func:`guided_lower_bound` asks the relaxation for its *counterexample* (a path of
 fewest regrasps through its graph, :func:`~pivot_ompl.analysis.guided_paths.best_path`), refines
-a window round the places where that path passes narrow parts of a layer (:func:`path_window`;
-and round those of a further path or so of the same count that avoids them,
-:func:`~pivot_ompl.analysis.guided_paths.cheat_windows`), reads the relaxation again on
+a window round the places where that path passes narrow parts of a layer (:func:`path_window`),
+reads the relaxation again on
 the mixed cover (:func:`~pivot_ompl.analysis.refined_bound.refined_graph`: fine voxels inside
 the window, coarse pieces outside), and repeats while the path still needs fewer regrasps than
 ``target``, a round adds cells to the window, and the budget lasts (:data:`MAX_ROUNDS`
@@ -52,7 +51,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
-from pivot_ompl.analysis.guided_paths import PATHS, best_path, cheat_windows
+from pivot_ompl.analysis.guided_paths import best_path
 from pivot_ompl.analysis.piece_graph import Regrasp
 from pivot_ompl.analysis.raster_bound import CELL, RasterGraph, raster_graph
 from pivot_ompl.analysis.raster_cover import RasterCover, raster_cover
@@ -233,7 +232,6 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
                        patience: int = PATIENCE, max_window: int = MAX_WINDOW,
                        tolerance: float = SWEEP_TOLERANCE, clearance: float = KEEP_CLEARANCE,
                        walks: bool = True, coarse: RasterGraph | None = None,
-                       paths: int = PATHS,
                        should_stop: Callable[[], bool] | None = None,
                        trace: list[GuidedRound] | None = None) -> RegraspBound | None:
     """The fewest regrasps on the relaxation refined where its best path cheats.
@@ -254,8 +252,6 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
         walks: allow a regrasp only where the walk relaxation may get round the box.
         coarse: the cover's graph when already built (the first round's; its walk
             relaxation serves every round).
-        paths: fewest-regrasp paths whose windows a round refines at most
-            (:func:`~pivot_ompl.analysis.guided_cheats.cheat_windows`).
         should_stop: polled in every round; stopped, the rounds done stand.
         trace: appended one :class:`GuidedRound` per round when given.
 
@@ -284,8 +280,7 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
         t1 = time.perf_counter()
         try:
             count, length, total, add = _round(scene, cover, window, walk, memo, tolerance,
-                                               clearance, walks, should_stop, coarse,
-                                               paths, max_window)
+                                               clearance, walks, should_stop, coarse)
         except Interrupted:
             stopped = True
             break
@@ -316,8 +311,7 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
 def _round(scene: Scene, cover: RasterCover, window: np.ndarray,
            walk: WalkRelaxation | None, memo: dict, tolerance: float, clearance: float,
            walks: bool, should_stop: Callable[[], bool] | None,
-           coarse: RasterGraph | None, paths: int, max_window: int
-           ) -> tuple[int | None, int, int, np.ndarray]:
+           coarse: RasterGraph | None) -> tuple[int | None, int, int, np.ndarray]:
     """One round: ``(count, path nodes, graph nodes, cells to add)`` (its graph then freed).
 
     Raises:
@@ -338,21 +332,12 @@ def _round(scene: Scene, cover: RasterCover, window: np.ndarray,
             scene, cover, tolerance=tolerance, clearance=clearance, walks=walks,
             should_stop=should_stop, relaxation=walk)
         outside, holding, allowed, total = cover, joined.holding, joined.allowed, joined.total
-    starts, goals = holding(scene.start), set(holding(scene.goal))
-    count, path = best_path(joined.graph, starts, goals, allowed, should_stop)
-    if count is None:
-        return count, len(path), total, np.zeros_like(window)
-
-    def window_of(path: list[int], window: np.ndarray) -> np.ndarray:
-        add = np.zeros_like(window)
+    count, path = best_path(joined.graph, holding(scene.start), set(holding(scene.goal)),
+                            allowed, should_stop)
+    add = np.zeros_like(window)
+    if count is not None:
         for thin, chain in ESCALATION:  # wider nets only when the narrower adds nothing
             add = path_window(scene, joined, outside, path, window, thin=thin, chain=chain)
             if add.any():
                 break
-        return add
-
-    add = cheat_windows(joined, outside, path, count, window, set(starts) | goals,
-                        lambda banned: best_path(joined.graph, starts, goals, allowed,
-                                                 should_stop, banned=banned),
-                        window_of, paths=paths, max_cells=max_window)
     return count, len(path), total, add
