@@ -67,15 +67,16 @@ def main() -> None:
             t0 = time.perf_counter()
             cover = raster_cover(scene, cell=0.1)
             assert cover is not None
-            graph = raster_graph(scene, cover)  # shared with the guided rounds, as in plan
-            coarse = raster_lower_bound(scene, cover=cover, graph=graph)
+            graphs = [raster_graph(scene, cover)]  # handed on to the guided rounds, as in plan
+            coarse = raster_lower_bound(scene, cover=cover, graph=graphs[0])
             coarse_s = time.perf_counter() - t0
             for kind in args.windows.split(","):
                 if kind == "guided":
                     trace: list[GuidedRound] = []
                     t0 = time.perf_counter()
                     got = guided_lower_bound(scene, cover=cover, target=args.target,
-                                             trace=trace, coarse=graph)
+                                             trace=trace,
+                                             coarse=graphs.pop() if graphs else None)
                     seconds = time.perf_counter() - t0
                     counts = ", ".join(str(r.regrasps) for r in trace)
                     times = ", ".join(f"{r.seconds:.2f}" for r in trace)

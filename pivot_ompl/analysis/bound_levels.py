@@ -120,9 +120,9 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
     """
     t0 = time.perf_counter()
     cover = raster_cover(scene, cell=CELLS[0], should_stop=should_stop)
-    graph = _graph(scene, cover, should_stop)  # shared with the guided refinement
+    graphs = [_graph(scene, cover, should_stop)]  # handed on to the guided refinement
     best = raster_lower_bound(scene, cell=CELLS[0], should_stop=should_stop, cover=cover,
-                              graph=graph)
+                              graph=graphs[0])
     if best.solvable is None or cover is None:
         return best
     spent = raster_estimate(scene, CELLS[0])  # estimates, not clocks: the same on any load
@@ -147,7 +147,7 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
         best = _better(finer, best)
     if _wanted(best, target) and may_guide(scene, guided_seconds):
         found = guided_lower_bound(scene, cover=cover, target=target, should_stop=should_stop,
-                                   coarse=graph)
+                                   coarse=graphs.pop())  # not held here: freed after round 0
         if found is not None:
             best = dataclasses.replace(_better(found, best), guided=found.guided)
     log.debug("regrasp bound %s from the raster (polygons estimated %.1f s)", best.regrasps,

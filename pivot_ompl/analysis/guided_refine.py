@@ -250,8 +250,9 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
         clearance: distance (m) the checkers keep every body from the obstacles (the
             cover's).
         walks: allow a regrasp only where the walk relaxation may get round the box.
-        coarse: the cover's graph when already built (the first round's; its walk
-            relaxation serves every round).
+        coarse: the cover's graph when already built (the first round's, then let go:
+            freed if the caller keeps no other reference; its walk relaxation serves
+            every round).
         should_stop: polled in every round; stopped, the rounds done stand.
         trace: appended one :class:`GuidedRound` per round when given.
 
@@ -281,6 +282,7 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
         try:
             count, length, total, add = _round(scene, cover, window, walk, memo, tolerance,
                                                clearance, walks, should_stop, coarse)
+            coarse = None  # later rounds read their mixed graphs: this one may be freed
         except Interrupted:
             stopped = True
             break
