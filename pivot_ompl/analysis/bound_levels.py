@@ -65,8 +65,10 @@ SECONDS_PER_CELL_ROW = 1.2e-9
 #: Rows' worth of further work per layer (labelling, the joins between pieces).
 ROWS_PER_LAYER = 10
 #: The guided refinement's cost (s) per coarse cell, yaw bin and round (its rounds rebuild
-#: the coarse graph over the whole floor; measured 6.4e-8 on the Willow Garage office).
-SECONDS_PER_CELL_BIN_ROUND = 6e-8
+#: the coarse graph over the whole floor; measured 6.4e-8 on the Willow Garage office at
+#: e40f4ca, 4.6e-8 at e8b0282, less since: the first round reads the raster bound's graph
+#: and the walk checks label the whole floor less often).
+SECONDS_PER_CELL_BIN_ROUND = 5e-8
 #: Rounds the guided estimate counts (the Willow Garage office's 2 takes 6).
 GUIDED_ROUNDS = 6
 #: The polygon relaxation's cost (s) per obstacle piece, yaw bin and grasp (measured on fig10,
