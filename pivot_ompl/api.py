@@ -176,14 +176,12 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
             exists (``INFEASIBLE`` with the reason when none does,
             :class:`~pivot_ompl.analysis.late_proof.LateProof`); ``None``: as ``bound``.
         prove: when the plan regrasps and the cheaper bounds prove fewer, refine the raster
-            relaxation where its best path passes narrow places
-            (:mod:`~pivot_ompl.analysis.guided_refine`, as ``pivot-ompl bound --guided``)
-            with what the limit leaves, not only :data:`BOUND_TIME_LIMIT` s, so that on large
-            buildings the plan carries its proof (a few seconds once per building: the
-            result is cached for later plans). ``None`` (default): when its estimate
-            (:func:`~pivot_ompl.analysis.bound_levels.guided_estimate`) fits what the
-            limit leaves; ``True``: whenever wanted, stopped at the limit (the rounds done
-            stand); ``False``: never (a refined bound is still read from the cache).
+            relaxation where its best path passes narrow places (as ``pivot-ompl bound
+            --guided``) with what the limit leaves, so that on large buildings the plan
+            carries its proof (seconds, once per building: cached). ``None`` (default): when
+            its estimate (:func:`~pivot_ompl.analysis.bound_levels.guided_estimate`) fits
+            what the limit leaves; ``True``: whatever the estimate, stopped at the limit
+            (rounds done stand); ``False``: never (a refined bound is still read from cache).
 
     Raises:
         PlanningError: ``INVALID_START``/``INVALID_GOAL`` (no grasp there, or not ``start_grasp``).
