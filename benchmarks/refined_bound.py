@@ -37,7 +37,7 @@ from buildings import CORPUS, import_corpus_map  # noqa: E402
 def main() -> None:
     """Print one Markdown row per map and window kind."""
     from pivot_ompl.analysis.guided_refine import GuidedRound, guided_lower_bound
-    from pivot_ompl.analysis.raster_bound import raster_lower_bound
+    from pivot_ompl.analysis.raster_bound import raster_graph, raster_lower_bound
     from pivot_ompl.analysis.raster_cover import raster_cover
     from pivot_ompl.analysis.raster_refine import neck_window, turn_neck_window
     from pivot_ompl.analysis.refined_bound import refined_lower_bound
@@ -65,16 +65,18 @@ def main() -> None:
                                              import_corpus_map(m, Path(tmp))["scene"]))
             name = Path(name).stem
             t0 = time.perf_counter()
-            coarse = raster_lower_bound(scene)
-            coarse_s = time.perf_counter() - t0
             cover = raster_cover(scene, cell=0.1)
             assert cover is not None
+            graphs = [raster_graph(scene, cover)]  # handed on to the guided rounds, as in plan
+            coarse = raster_lower_bound(scene, cover=cover, graph=graphs[0])
+            coarse_s = time.perf_counter() - t0
             for kind in args.windows.split(","):
                 if kind == "guided":
                     trace: list[GuidedRound] = []
                     t0 = time.perf_counter()
                     got = guided_lower_bound(scene, cover=cover, target=args.target,
-                                             trace=trace)
+                                             trace=trace,
+                                             coarse=graphs.pop() if graphs else None)
                     seconds = time.perf_counter() - t0
                     counts = ", ".join(str(r.regrasps) for r in trace)
                     times = ", ".join(f"{r.seconds:.2f}" for r in trace)

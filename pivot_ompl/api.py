@@ -140,7 +140,7 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
          config: RegraspConfig | None = None, bound: bool = True,
          checker: PivotChecker | None = None, resume: RegraspSearch | None = None,
          start_grasp: int | None = None, late_proof: bool | None = None,
-         prove: bool = False) -> PlanResult:
+         prove: bool | None = None) -> PlanResult:
     """Plan a pivoting path (with regrasps where needed) for ``scene``.
 
     Args:
@@ -178,11 +178,12 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
             exists (``INFEASIBLE`` with the reason when none does,
             :class:`~pivot_ompl.analysis.late_proof.LateProof`); ``None``: as ``bound``.
         prove: when the plan regrasps and the cheaper bounds prove fewer, refine the raster
-            relaxation where its best path passes narrow places
-            (:mod:`~pivot_ompl.analysis.guided_refine`, as ``pivot-ompl bound --guided``)
-            with what the limit leaves, not only :data:`BOUND_TIME_LIMIT` s: on large
-            buildings the plan then carries its proof (about 7 s more on a 5000-piece
-            office; cached for later plans); ``False``: read a refined bound from the cache.
+            relaxation where its best path passes narrow places (as ``pivot-ompl bound
+            --guided``) with what the limit leaves, so that on large buildings the plan
+            carries its proof (seconds, once per building: cached). ``None`` (default): when
+            its estimate (:func:`~pivot_ompl.analysis.bound_levels.guided_estimate`) fits
+            what the limit leaves; ``True``: whatever the estimate, stopped at the limit
+            (rounds done stand); ``False``: never (a refined bound is still read from cache).
 
     Raises:
         PlanningError: ``INVALID_START``/``INVALID_GOAL`` (no grasp there, or not ``start_grasp``).
@@ -375,21 +376,22 @@ def _result_plan(scene: Scene, problem: Any, status: str, extra: dict[str, Any],
 
 def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool,
              timings: dict[str, float], end: float = math.inf, *,
-             prove: bool = False) -> dict[str, Any]:
+             prove: bool | None = None) -> dict[str, Any]:
     """The quality block, with the scene's lower bounds (stopped at ``end``) when ``bound``.
 
-    ``prove``: the guided refinement may run, until ``end`` (else the bounds stop after
-    :data:`BOUND_TIME_LIMIT` s).
+    ``prove`` (:func:`plan`'s): for a plan with regrasps, unless ``False``, the guided
+    refinement may run until ``end`` (else the bounds stop after :data:`BOUND_TIME_LIMIT` s).
     """
     regrasps, route = None, None
     if bound:
         t0 = time.perf_counter()
-        bound_end = end if prove else min(end, time.monotonic() + BOUND_TIME_LIMIT)
+        guided = prove is True or (prove is None and result_plan.regrasps > 0)
+        bound_end = end if guided else min(end, time.monotonic() + BOUND_TIME_LIMIT)
         route_length = plan_quality(result_plan)["route_length"]
         regrasps, route = plan_bounds(scene, result_plan.regrasps, route_length=route_length,
                                       should_stop=lambda: time.monotonic() > bound_end,
                                       time_left=lambda: bound_end - time.monotonic(),
-                                      guided=prove)
+                                      guided=guided, guided_by_estimate=prove is None)
         timings["bound"] = time.perf_counter() - t0
     q = plan_quality(result_plan, regrasps_lower_bound=regrasps, shortest_route=route,
                      costs=config.cost)

@@ -23,7 +23,7 @@ __all__ = ["MAX_SEED", "MAX_TIME_LIMIT", "check_config", "check_plan_arguments",
 
 def check_plan_arguments(scene: Any, planner: Any, time_limit: Any, seed: Any,
                      simplify: Any, bound: Any, start_grasp: Any,
-                     late_proof: Any = None, prove: Any = False) -> float:
+                     late_proof: Any = None, prove: Any = None) -> float:
     """Validate :func:`plan`'s arguments; return the effective time limit (s)."""
     if not isinstance(scene, Scene | str | os.PathLike):
         raise InputError("scene", type(scene).__name__,
@@ -38,9 +38,9 @@ def check_plan_arguments(scene: Any, planner: Any, time_limit: Any, seed: Any,
         raise InputError("simplify", simplify, "must be True or False")
     if not isinstance(bound, bool):
         raise InputError("bound", bound, "must be True or False")
-    if not isinstance(prove, bool):
-        raise InputError("prove", prove, "must be True or False")
-    if prove and not bound:
+    if prove is not None and not isinstance(prove, bool):
+        raise InputError("prove", prove, "must be True, False or None")
+    if prove is True and not bound:
         raise InputError("prove", prove, "needs the bounds (bound=True, no --no-bound)")
     if late_proof is not None and not isinstance(late_proof, bool):
         raise InputError("late_proof", late_proof, "must be True, False or None")

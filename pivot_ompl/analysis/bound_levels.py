@@ -37,8 +37,8 @@ import time
 from collections.abc import Callable
 
 from pivot_ompl.analysis.guided_refine import guided_lower_bound
-from pivot_ompl.analysis.raster_bound import raster_lower_bound
-from pivot_ompl.analysis.raster_cover import floor_raster, raster_cover
+from pivot_ompl.analysis.raster_bound import RasterGraph, raster_graph, raster_lower_bound
+from pivot_ompl.analysis.raster_cover import RasterCover, floor_raster, raster_cover
 from pivot_ompl.analysis.regrasp_bound import (
     RESOLUTION,
     RegraspBound,
@@ -46,6 +46,7 @@ from pivot_ompl.analysis.regrasp_bound import (
     regrasp_lower_bound,
     yaw_bins,
 )
+from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Scene
 
 log = logging.getLogger(__name__)
@@ -64,8 +65,10 @@ SECONDS_PER_CELL_ROW = 1.2e-9
 #: Rows' worth of further work per layer (labelling, the joins between pieces).
 ROWS_PER_LAYER = 10
 #: The guided refinement's cost (s) per coarse cell, yaw bin and round (its rounds rebuild
-#: the coarse graph over the whole floor; measured 6.4e-8 on the Willow Garage office).
-SECONDS_PER_CELL_BIN_ROUND = 6e-8
+#: the coarse graph over the whole floor; measured 6.4e-8 on the Willow Garage office at
+#: e40f4ca, 4.6e-8 at e8b0282, less since: the first round reads the raster bound's graph
+#: and the walk checks label the whole floor less often).
+SECONDS_PER_CELL_BIN_ROUND = 5e-8
 #: Rounds the guided estimate counts (the Willow Garage office's 2 takes 6).
 GUIDED_ROUNDS = 6
 #: The polygon relaxation's cost (s) per obstacle piece, yaw bin and grasp (measured on fig10,
@@ -119,7 +122,9 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
     """
     t0 = time.perf_counter()
     cover = raster_cover(scene, cell=CELLS[0], should_stop=should_stop)
-    best = raster_lower_bound(scene, cell=CELLS[0], should_stop=should_stop, cover=cover)
+    graphs = [_graph(scene, cover, should_stop)]  # handed on to the guided refinement
+    best = raster_lower_bound(scene, cell=CELLS[0], should_stop=should_stop, cover=cover,
+                              graph=graphs[0])
     if best.solvable is None or cover is None:
         return best
     spent = raster_estimate(scene, CELLS[0])  # estimates, not clocks: the same on any load
@@ -143,12 +148,24 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
             break
         best = _better(finer, best)
     if _wanted(best, target) and may_guide(scene, guided_seconds):
-        found = guided_lower_bound(scene, cover=cover, target=target, should_stop=should_stop)
+        found = guided_lower_bound(scene, cover=cover, target=target, should_stop=should_stop,
+                                   coarse=graphs.pop())  # not held here: freed after round 0
         if found is not None:
             best = dataclasses.replace(_better(found, best), guided=found.guided)
     log.debug("regrasp bound %s from the raster (polygons estimated %.1f s)", best.regrasps,
               estimate)
     return dataclasses.replace(best, seconds=time.perf_counter() - t0)
+
+
+def _graph(scene: Scene, cover: RasterCover | None,
+           should_stop: Callable[[], bool] | None) -> RasterGraph | None:
+    """The coarsest raster's graph (``None`` without a cover or when stopped)."""
+    if cover is None:
+        return None
+    try:
+        return raster_graph(scene, cover, should_stop=should_stop)
+    except Interrupted:
+        return None
 
 
 def may_guide(scene: Scene, guided_seconds: float) -> bool:

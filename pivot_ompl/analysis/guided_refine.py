@@ -3,8 +3,9 @@
 The coarse raster relaxation (:mod:`~pivot_ompl.analysis.raster_bound`) may join start and goal
 with fewer regrasps than any plan needs, through places its cells and yaw bins make look wider
 than they are. :func:`guided_lower_bound` asks the relaxation for its *counterexample* (a path of
-fewest regrasps through its graph, :func:`best_path`), refines a window round the places where
-that path passes narrow parts of a layer (:func:`path_window`), reads the relaxation again on
+fewest regrasps through its graph, :func:`~pivot_ompl.analysis.guided_paths.best_path`), refines
+a window round the places where that path passes narrow parts of a layer (:func:`path_window`),
+reads the relaxation again on
 the mixed cover (:func:`~pivot_ompl.analysis.refined_bound.refined_graph`: fine voxels inside
 the window, coarse pieces outside), and repeats while the path still needs fewer regrasps than
 ``target``, a round adds cells to the window, and the budget lasts (:data:`MAX_ROUNDS`
@@ -50,7 +51,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import ndimage
 
-from pivot_ompl.analysis.piece_graph import PieceGraph, Regrasp
+from pivot_ompl.analysis.guided_paths import best_path
+from pivot_ompl.analysis.piece_graph import Regrasp
 from pivot_ompl.analysis.raster_bound import CELL, RasterGraph, raster_graph
 from pivot_ompl.analysis.raster_cover import RasterCover, raster_cover
 from pivot_ompl.analysis.refined_bound import refined_graph
@@ -102,60 +104,6 @@ class GuidedRound:
     window: int
     path: int
     seconds: float
-
-
-def best_path(graph: PieceGraph, starts: list[int], goals: set[int],
-              allowed: Callable[[Regrasp], bool],
-              should_stop: Callable[[], bool] | None = None) -> tuple[int | None, list[int]]:
-    """A path of fewest allowed regrasps from a start to a goal node, and that count.
-
-    Level by level as :meth:`~pivot_ompl.analysis.piece_graph.PieceGraph.fewest_regrasps`
-    (the same count): breadth first by transfers within a level; a regrasp out of a level is
-    checked (``allowed``, the costly part) only when its far node is not reached yet, the
-    largest pieces first, and the search stops at the first goal. ``(None, [])`` when no goal
-    is reachable. ``should_stop`` raises :class:`~pivot_ompl.errors.Interrupted`.
-    """
-    parent = {s: -1 for s in starts}
-    level, goal = _closure(graph, list(parent), parent, goals)
-    d = 0
-    while goal is None and level:
-        pending = [(u, v, e) for u in level for v, e in graph.one[u] if v not in parent]
-        pending.sort(key=lambda uve: -graph.areas[uve[1]])
-        level = []
-        for u, v, e in pending:
-            if should_stop is not None and should_stop():
-                raise Interrupted("the guided refinement's path")
-            if v in parent or not allowed(e):
-                continue
-            parent[v] = u
-            grown, goal = _closure(graph, [v], parent, goals)
-            level += grown
-            if goal is not None:
-                break
-        d += 1
-    if goal is None:
-        return None, []
-    path = [goal]
-    while parent[path[-1]] >= 0:
-        path.append(parent[path[-1]])
-    return d, path[::-1]
-
-
-def _closure(graph: PieceGraph, seeds: list[int], parent: dict[int, int], goals: set[int]
-             ) -> tuple[list[int], int | None]:
-    """The nodes reached from ``seeds`` (already in ``parent``) by transfers, and a goal met."""
-    out: list[int] = []
-    queue = deque(seeds)
-    while queue:
-        u = queue.popleft()
-        out.append(u)
-        if u in goals:
-            return out, u
-        for v in graph.zero[u]:
-            if v not in parent:
-                parent[v] = u
-                queue.append(v)
-    return out, None
 
 
 def _node_cells(joined: RasterGraph, cover: RasterCover, u: int,
@@ -283,7 +231,7 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
                        target: int | None = None, rounds: int = MAX_ROUNDS,
                        patience: int = PATIENCE, max_window: int = MAX_WINDOW,
                        tolerance: float = SWEEP_TOLERANCE, clearance: float = KEEP_CLEARANCE,
-                       walks: bool = True,
+                       walks: bool = True, coarse: RasterGraph | None = None,
                        should_stop: Callable[[], bool] | None = None,
                        trace: list[GuidedRound] | None = None) -> RegraspBound | None:
     """The fewest regrasps on the relaxation refined where its best path cheats.
@@ -302,6 +250,9 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
         clearance: distance (m) the checkers keep every body from the obstacles (the
             cover's).
         walks: allow a regrasp only where the walk relaxation may get round the box.
+        coarse: the cover's graph when already built (the first round's, then let go:
+            freed if the caller keeps no other reference; its walk relaxation serves
+            every round).
         should_stop: polled in every round; stopped, the rounds done stand.
         trace: appended one :class:`GuidedRound` per round when given.
 
@@ -320,8 +271,8 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
     if should_stop is not None and should_stop():
         return None
     window = np.zeros(cover.raster.shape, dtype=bool)
-    walk = WalkRelaxation(scene, width=2.0 * math.pi / cover.bins, tolerance=tolerance,
-                          clearance=clearance) if walks else None
+    walk = None if not walks else coarse.walk() if coarse is not None else WalkRelaxation(
+        scene, width=2.0 * math.pi / cover.bins, tolerance=tolerance, clearance=clearance)
     memo: dict = {}
     best: int | None = None
     first: int | None = None  # the coarse graph's count
@@ -330,7 +281,8 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
         t1 = time.perf_counter()
         try:
             count, length, total, add = _round(scene, cover, window, walk, memo, tolerance,
-                                               clearance, walks, should_stop)
+                                               clearance, walks, should_stop, coarse)
+            coarse = None  # later rounds read their mixed graphs: this one may be freed
         except Interrupted:
             stopped = True
             break
@@ -360,8 +312,8 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
 
 def _round(scene: Scene, cover: RasterCover, window: np.ndarray,
            walk: WalkRelaxation | None, memo: dict, tolerance: float, clearance: float,
-           walks: bool, should_stop: Callable[[], bool] | None
-           ) -> tuple[int | None, int, int, np.ndarray]:
+           walks: bool, should_stop: Callable[[], bool] | None,
+           coarse: RasterGraph | None) -> tuple[int | None, int, int, np.ndarray]:
     """One round: ``(count, path nodes, graph nodes, cells to add)`` (its graph then freed).
 
     Raises:
@@ -378,8 +330,9 @@ def _round(scene: Scene, cover: RasterCover, window: np.ndarray,
         holding, allowed = mixed.holding, mixed.allowed
         total = mixed.fine_base[3] + mixed.fine.count[1]
     else:
-        joined = raster_graph(scene, cover, tolerance=tolerance, clearance=clearance,
-                              walks=walks, should_stop=should_stop, relaxation=walk)
+        joined = coarse if coarse is not None else raster_graph(
+            scene, cover, tolerance=tolerance, clearance=clearance, walks=walks,
+            should_stop=should_stop, relaxation=walk)
         outside, holding, allowed, total = cover, joined.holding, joined.allowed, joined.total
     count, path = best_path(joined.graph, holding(scene.start), set(holding(scene.goal)),
                             allowed, should_stop)

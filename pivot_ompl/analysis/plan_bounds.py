@@ -16,11 +16,13 @@ slow on large floors; :func:`plan_bounds` asks it only where the answer depends 
   the raster refined where its best path passes narrow places
   (:mod:`~pivot_ompl.analysis.guided_refine`) when, by estimate, it ends within the time
   left of the bound's share (``time_left``; ``should_stop`` still polled: the rounds done
-  stand, each a proof). ``plan`` asks for it only with ``prove=True`` (``plan --prove``):
-  where it reaches the plan's count it costs several seconds (the Willow Garage office:
-  about 7 s for its 2), and where it fits it often adds nothing (rooms joined by a tight
-  corridor: 1-4 s for the same 0). A scene's bound once refined (``plan --prove``,
-  ``pivot-ompl bound --guided``) is read from the cache by every later plan.
+  stand, each a proof). ``plan`` asks for it by default for a plan with regrasps, with
+  the time its limit leaves (``prove=None``; ``prove=True``: whatever the estimate, stopped
+  at the limit; ``prove=False``: never): where it reaches the plan's count it costs a few
+  seconds (the Willow Garage office: about 5 s for its 2), and where it fits it may add
+  nothing (rooms joined by a tight corridor: 1-4 s for the same 0); either way once per
+  scene: a scene's bound once refined (by a plan or ``pivot-ompl bound --guided``) is read
+  from the cache by every later plan.
 
 Every result comes from the bound cache when it holds it
 (:mod:`~pivot_ompl.analysis.bound_cache`).
@@ -140,8 +142,8 @@ def _poller(should_stop: Callable[[], bool] | None) -> Callable[[], None]:
 
 def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = None,
                 should_stop: Callable[[], bool] | None = None,
-                time_left: Callable[[], float] | None = None, guided: bool = False
-                ) -> tuple[int | None, float | None]:
+                time_left: Callable[[], float] | None = None, guided: bool = False,
+                guided_by_estimate: bool = True) -> tuple[int | None, float | None]:
     """``(regrasps_lower_bound, shortest_route)`` for a plan of ``scene`` with ``regrasps``.
 
     Each ``None`` when not proven before ``should_stop`` said stop, or (the disk route)
@@ -149,7 +151,9 @@ def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = Non
     relaxation's bound that the plan itself refutes (more regrasps than ``regrasps``, a
     route longer than ``route_length`` m, or "no plan") is dropped from the caches and not
     given: a relaxation of every plan cannot lie above a valid one. ``guided``: refine the
-    raster where its best path cheats when that fits ``time_left()`` (module docstring).
+    raster where its best path cheats when that fits ``time_left()`` (module docstring);
+    ``guided_by_estimate`` ``False``: whenever the bound is still wanted, stopped by
+    ``should_stop`` (its rounds done stand).
     """
     known = cached_bound(scene)
     if known is not None and known.solvable:
@@ -161,7 +165,8 @@ def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = Non
             scene, should_stop=should_stop, time_left=time_left))
     full = lower_bound(scene, target=regrasps, should_stop=should_stop,
                        guided_seconds=0.0 if not guided else
-                       math.inf if time_left is None else time_left())
+                       math.inf if time_left is None or not guided_by_estimate
+                       else time_left())
     if full.solvable is None or _refuted(full, scene, regrasps, route_length):
         return None, None
     return full.regrasps, full.shortest_route

@@ -49,7 +49,8 @@ WALK_AREA = 4.0 * MAX_SAMPLES * SAMPLE * SAMPLE
 def raster_lower_bound(scene: Scene, *, cell: float = CELL, resolution: float | None = None,
                        tolerance: float = SWEEP_TOLERANCE, clearance: float = KEEP_CLEARANCE,
                        walks: bool = True, should_stop: Callable[[], bool] | None = None,
-                       cover: RasterCover | None = None) -> RegraspBound:
+                       cover: RasterCover | None = None,
+                       graph: RasterGraph | None = None) -> RegraspBound:
     """Fewest regrasps any plan of ``scene`` needs, on the raster cover (module docstring).
 
     Args:
@@ -63,6 +64,7 @@ def raster_lower_bound(scene: Scene, *, cell: float = CELL, resolution: float | 
         should_stop: polled once per layer and per regrasp checked.
         cover: the scene's :func:`~pivot_ompl.analysis.raster_cover.raster_cover` of these
             arguments when already built (``None``: built here).
+        graph: ``cover``'s :func:`raster_graph` of these arguments when already built.
 
     Returns:
         A :class:`~pivot_ompl.analysis.regrasp_bound.RegraspBound` (``exhaustive`` False).
@@ -78,8 +80,9 @@ def raster_lower_bound(scene: Scene, *, cell: float = CELL, resolution: float | 
     raster, n, layers = cover.raster, cover.bins, cover.layers
     unknown = RegraspBound(None, None, n, 0, 0.0, exhaustive=False)
     try:
-        joined = raster_graph(scene, cover, tolerance=tolerance, clearance=clearance,
-                              walks=walks, should_stop=should_stop)
+        joined = graph if graph is not None else raster_graph(
+            scene, cover, tolerance=tolerance, clearance=clearance, walks=walks,
+            should_stop=should_stop)
     except Interrupted:
         return _timed(unknown, t0)
     holding, total = joined.holding, joined.total

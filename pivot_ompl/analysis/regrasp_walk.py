@@ -51,6 +51,8 @@ SAMPLE = 0.1
 MAX_SAMPLES = 64
 #: Raster cells at most (a larger floor gets larger cells).
 MAX_CELLS = 600_000
+#: Cells a walk's window is widened by, in turn, before the whole raster is labelled.
+MARGINS = (0, 8, 32, 96)
 #: Added to every erosion (m): keeps the relaxation on the safe side of round-off.
 ROUND_OFF = 1e-7
 
@@ -140,21 +142,46 @@ class WalkRelaxation:
         Labelled first in a window round ``blocked``, ``a`` and ``b`` only: joined there,
         they are joined. Two of the window's pieces that reach its edge may be joined outside
         it only if they meet the same piece of the whole free raster there; if none such
-        joins them, they are not joined; if one may, the whole raster is labelled (a way
-        round outside the window might cross ``blocked`` again).
+        joins them, they are not joined; if one may, the window is widened
+        (:data:`MARGINS`, cells) and asked again, and at last the whole raster is labelled
+        (a way round outside the window might cross ``blocked`` again).
         """
         r = self.raster
         wi, wj = r.window(blocked)
         nx, ny = r.shape
-        i0 = max(0, min(wi.start, int(a[0].min()), int(b[0].min())) - 1)
-        i1 = min(nx, max(wi.stop, int(a[0].max()) + 1, int(b[0].max()) + 1) + 1)
-        j0 = max(0, min(wj.start, int(a[1].min()), int(b[1].min())) - 1)
-        j1 = min(ny, max(wj.stop, int(a[1].max()) + 1, int(b[1].max()) + 1) + 1)
-        mask = self.free[i0:i1, j0:j1].copy()
-        mask[wi.start - i0:wi.stop - i0, wj.start - j0:wj.stop - j0] &= ~shapely.contains_xy(
-            blocked, r.gx[wi, wj], r.gy[wi, wj])
-        labels, _ = ndimage.label(mask, structure=_EIGHT)
-        edge = np.zeros(mask.shape, dtype=bool)
+        cut = ~shapely.contains_xy(blocked, r.gx[wi, wj], r.gy[wi, wj])
+        lo_i = min(wi.start, int(a[0].min()), int(b[0].min())) - 1
+        hi_i = max(wi.stop, int(a[0].max()) + 1, int(b[0].max()) + 1) + 1
+        lo_j = min(wj.start, int(a[1].min()), int(b[1].min())) - 1
+        hi_j = max(wj.stop, int(a[1].max()) + 1, int(b[1].max()) + 1) + 1
+        for margin in MARGINS:
+            i0, i1 = max(0, lo_i - margin), min(nx, hi_i + margin)
+            j0, j1 = max(0, lo_j - margin), min(ny, hi_j + margin)
+            mask = self.free[i0:i1, j0:j1].copy()
+            mask[wi.start - i0:wi.stop - i0, wj.start - j0:wj.stop - j0] &= cut
+            labels, _ = ndimage.label(mask, structure=_EIGHT)
+            la = {v for v in labels[a[0] - i0, a[1] - j0].tolist() if v}
+            lb = {v for v in labels[b[0] - i0, b[1] - j0].tolist() if v}
+            if la & lb:
+                return True
+            if (i0, j0, i1, j1) == (0, 0, nx, ny):
+                return False  # the whole raster: nothing outside it
+            if not self._may_join_outside(labels, (i0, i1, j0, j1), la, lb):
+                return False
+        whole = self.free.copy()
+        whole[wi, wj] &= cut
+        labels, _ = ndimage.label(whole, structure=_EIGHT)
+        return bool((set(labels[a].tolist()) - {0}) & (set(labels[b].tolist()) - {0}))
+
+    def _may_join_outside(self, labels: np.ndarray, block: tuple[int, int, int, int],
+                          la: set[int], lb: set[int]) -> bool:
+        """Whether pieces ``la`` and ``lb`` of a window's ``labels`` may join outside it.
+
+        Only if they reach the window's edge in cells of one piece of the whole free
+        raster (joined through such pieces, one after another).
+        """
+        i0, i1, j0, j1 = block
+        edge = np.zeros(labels.shape, dtype=bool)
         edge[0, :] = edge[-1, :] = edge[:, 0] = edge[:, -1] = True
         edge &= labels > 0
         outside = self.labels[i0:i1, j0:j1][edge]
@@ -169,16 +196,7 @@ class WalkRelaxation:
             ri, ro = find(inner), find(-whole)  # outer pieces keyed negative
             if ri != ro:
                 parent[ri] = ro
-        la = {v for v in labels[a[0] - i0, a[1] - j0].tolist() if v}
-        lb = {v for v in labels[b[0] - i0, b[1] - j0].tolist() if v}
-        if la & lb:
-            return True
-        if not {find(v) for v in la} & {find(v) for v in lb}:
-            return False
-        whole = self.free.copy()
-        whole[wi, wj] &= ~shapely.contains_xy(blocked, r.gx[wi, wj], r.gy[wi, wj])
-        labels, _ = ndimage.label(whole, structure=_EIGHT)
-        return bool((set(labels[a].tolist()) - {0}) & (set(labels[b].tolist()) - {0}))
+        return bool({find(v) for v in la} & {find(v) for v in lb})
 
     def _samples(self, region: BaseGeometry) -> tuple[list[tuple[float, float]], float]:
         """Points whose ``rho``-disks cover ``region``, and ``rho``."""

@@ -80,13 +80,20 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="skip the scene's lower bounds on regrasps and route and the proof "
                         "that no plan exists (computed once per scene within --time, then "
                         "cached)")
-    p.add_argument("--prove", action="store_true",
-                   help="when the plan regrasps more often than the quick bounds prove, "
-                        "refine the bound where its best path passes narrow places with "
-                        "what --time leaves (as 'bound --guided'; cached for later plans)")
+    proving = p.add_mutually_exclusive_group()
+    proving.add_argument("--prove", action="store_true", default=None,
+                         help="when the plan regrasps more often than the quick bounds "
+                              "prove, refine the bound where its best path passes narrow "
+                              "places until --time ends, even where its estimate does not "
+                              "fit (as 'bound --guided'; cached for later plans). By "
+                              "default it runs when its estimate fits what --time leaves")
+    proving.add_argument("--no-prove", action="store_false", dest="prove",
+                         help="never refine the bound inside the plan (the quick bounds "
+                              "only, at most 10 s; a refined bound is still read from the "
+                              "cache)")
     p.add_argument("--out", help="write the pivot-plan/1 JSON here")
     p.add_argument("--plot", help="write the plan figure here (.png, .svg, .pdf...)")
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, prove=None)
 
 
 def _progress(stop: threading.Event, limit: float) -> None:

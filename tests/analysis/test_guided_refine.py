@@ -14,12 +14,8 @@ from hypothesis import strategies as st
 from pivot_ompl.analysis import bound_cache
 from pivot_ompl.analysis.bound_cache import lower_bound
 from pivot_ompl.analysis.bound_levels import scaled_lower_bound
-from pivot_ompl.analysis.guided_refine import (
-    GuidedRound,
-    best_path,
-    guided_lower_bound,
-    thin_crossing,
-)
+from pivot_ompl.analysis.guided_paths import best_path
+from pivot_ompl.analysis.guided_refine import GuidedRound, guided_lower_bound, thin_crossing
 from pivot_ompl.analysis.piece_graph import PieceGraph
 from pivot_ompl.analysis.raster_bound import raster_lower_bound
 from pivot_ompl.analysis.raster_cover import raster_cover

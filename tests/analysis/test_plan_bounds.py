@@ -112,21 +112,28 @@ def test_a_turned_or_mirrored_fig10_keeps_its_exact_bound(copy, monkeypatch, tmp
     assert plan_bounds(scene, 2)[0] == 2
 
 
-def test_a_plan_asked_to_prove_refines_the_bound_where_the_quick_one_proves_less(
-        monkeypatch, tmp_path):
+def _corridor_rooms():
     # four rooms joined by a tight corridor: the raster's bound (0) is below the plan's
-    # regrasps and the polygons do not fit the plan's 2.5 s; only prove=True refines it
-    from pivot_ompl.analysis.bound_cache import cached_bound
+    # regrasps and the polygons do not fit the plan's 2.5 s
     from pivot_ompl.generate import GeneratorParams, generate
 
-    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
-    scene = generate("building", 0, params=GeneratorParams(
+    return generate("building", 0, params=GeneratorParams(
         rooms=4, layout="corridor", rotate=True, side_corridor=(0.87, 0.89),
         side_door=(1.0, 1.0))).scene
-    quick = plan(scene, time_limit=30, seed=0)
+
+
+def test_a_plan_refines_the_bound_by_default_where_the_quick_one_proves_less(
+        monkeypatch, tmp_path):
+    """The guided refinement runs inside every plan whose regrasps the quick bounds do not
+    prove, when it fits the limit (``prove=None``); ``prove=False`` keeps the quick ones."""
+    from pivot_ompl.analysis.bound_cache import cached_bound
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    scene = _corridor_rooms()
+    quick = plan(scene, time_limit=30, seed=0, prove=False)
     assert quick.solved and quick.plan.regrasps > 0
     assert cached_bound(scene) is not None and not cached_bound(scene).guided
-    proved = plan(scene, time_limit=30, seed=0, prove=True)
+    proved = plan(scene, time_limit=30, seed=0)
     assert proved.solved
     known = cached_bound(scene)
     assert known is not None and known.guided
@@ -134,6 +141,23 @@ def test_a_plan_asked_to_prove_refines_the_bound_where_the_quick_one_proves_less
     assert known.regrasps <= proved.plan.regrasps
 
 
+def test_the_refinement_runs_by_estimate_unless_forced(monkeypatch, tmp_path):
+    """By default the guided refinement starts only when its estimate fits the time left;
+    forced (``plan --prove``) it runs whatever the estimate."""
+    from pivot_ompl.analysis import bound_cache
+    from pivot_ompl.analysis.bound_cache import cached_bound
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    bound_cache.clear_memory()
+    scene = _corridor_rooms()
+    plan_bounds(scene, 2, guided=True, time_left=lambda: 0.01)
+    assert cached_bound(scene) is not None and not cached_bound(scene).guided
+    plan_bounds(scene, 2, guided=True, time_left=lambda: 0.01, guided_by_estimate=False)
+    assert cached_bound(scene) is not None and cached_bound(scene).guided
+
+
 def test_prove_needs_the_bounds():
     with pytest.raises(InputError, match="prove"):
         plan("slot", time_limit=5, bound=False, prove=True)
+    with pytest.raises(InputError, match="prove"):
+        plan("slot", time_limit=5, prove="yes")
