@@ -5,12 +5,13 @@ a deep tree (on the Willow Garage office, 5049 pieces: 10-35 us a query). The qu
 plan come in places (a transfer's rotations, a walk's bisections), so :class:`NearPieces`
 cuts the floor into square cells of :data:`CELL` metres and gives each cell, when first
 queried there, its own broad-phase tree of the pieces whose bounding boxes come within
-:data:`MARGIN` of the cell (per axis). A query whose body's bounding box has its centre in a
-cell is answered by that cell's tree; the answer is kept only when it is certainly the
-whole floor's:
+:data:`MARGIN` of the cell (per axis). A query whose body has its centre in a
+cell (the caller gives its centre and reach: reading coal's bounding box back costs more than
+the query saves) is answered by that cell's tree; the answer is kept only when it is
+certainly the whole floor's:
 
 * every piece left out lies farther than ``MARGIN - overhang`` from the body along some axis
-  (``overhang``: how far the body's bounding box reaches beyond the cell), so a nearest
+  (``overhang``: how far the body reaches beyond the cell), so a nearest
   distance below that is the whole floor's nearest (the same pair measured by the same GJK:
   on the office's 140 000 queries of a plan, equal or within 6e-10 m, far below GJK's
   micrometre that :data:`~pivot_ompl.checking.rotation_sweeps.BOUND_SLACK` allows for);
@@ -63,19 +64,17 @@ class NearPieces:
         self.local = 0
         self.fallback = 0
 
-    def distance(self, obj: coal.CollisionObject,
-                 whole: coal.DynamicAABBTreeCollisionManager) -> float:
+    def distance(self, obj: coal.CollisionObject, whole: coal.DynamicAABBTreeCollisionManager,
+                 x: float, y: float, radius: float) -> float:
         """The least distance (m) from ``obj`` (AABB computed) to the objects (``whole``'s).
 
-        ``whole``: the tree of every object, asked when the cell's cannot answer for certain.
+        ``obj`` lies within ``radius`` (m) of ``(x, y)`` along each axis (its footprint's
+        reach from its placement); ``whole``: the tree of every object, asked when the
+        cell's cannot answer for certain.
         """
-        a = obj.getAABB()
-        lo, hi = a.min_, a.max_
         s = self.cell
-        i = math.floor(0.5 * (lo[0] + hi[0]) / s)
-        j = math.floor(0.5 * (lo[1] + hi[1]) / s)
-        overhang = max(i * s - lo[0], hi[0] - (i + 1) * s, j * s - lo[1], hi[1] - (j + 1) * s,
-                       0.0)
+        i, j = math.floor(x / s), math.floor(y / s)
+        overhang = max(i * s - x, x - (i + 1) * s, j * s - y, y - (j + 1) * s, -s) + radius
         cb = self._cb
         if overhang < self.margin:
             tree = self._trees.get((i, j))

@@ -37,13 +37,13 @@ def test_near_pieces_give_the_whole_trees_distances(seed):
     clear = 0
     for _ in range(400):
         # from well inside the floor to beyond its side (cells without pieces)
-        place(body, float(rng.uniform(-5, 35)), float(rng.uniform(-5, 35)),
-              float(rng.uniform(-3, 3)), 0.75)
+        x, y = float(rng.uniform(-5, 35)), float(rng.uniform(-5, 35))
+        place(body, x, y, float(rng.uniform(-3, 3)), 0.75)
         body.computeAABB()
         cb.data.result.clear()
         whole.distance(body, cb)
         expected = cb.data.result.min_distance
-        got = near.distance(body, whole)
+        got = near.distance(body, whole, x, y, 0.55)  # the box's half diagonal
         if expected > 0.0:
             clear += 1
             assert got == pytest.approx(expected, abs=1e-8)  # the same pair, GJK's round-off
