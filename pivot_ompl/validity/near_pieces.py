@@ -29,10 +29,12 @@ import coal
 import numpy as np
 
 #: Side (m) of the cells whose trees hold the pieces near them.
-CELL = 2.0
+CELL = 3.0
 #: How far (m, per axis) beyond its cell a piece's bounding box may lie and still be in
-#: the cell's tree.
-MARGIN = 3.0
+#: the cell's tree. With :data:`CELL`, on the Willow Garage office: 98 trees of 100 pieces
+#: on average (2.3 MB), 0.3 % of the queries asked again of the whole floor's tree; 2 m
+#: cells with 3 m margins took as long with three times the memory.
+MARGIN = 1.5
 
 
 class NearPieces:
