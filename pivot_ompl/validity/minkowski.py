@@ -60,18 +60,25 @@ def _dots(u: np.ndarray, v: np.ndarray) -> np.ndarray:
 def _three_least(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Along the last axis, the indices of the two least values and the three least values.
 
-    By repeated ``argmin`` (faster than sorting many short rows), the third value a ``min``
-    of the rest; ``inf`` where fewer.
+    The values from one partition (the third least in its place, the two least before it);
+    the first index the first least value's (``argmin``), the second the first other index
+    holding the second least value: the indices repeated ``argmin`` with the first masked
+    would give, ties included. ``inf`` third value where the axis has fewer than three.
     """
-    v = v.copy()
-    idx, least = [], []
-    for _ in range(2):
-        i = np.argmin(v, axis=-1)[..., None]
-        idx.append(i)
-        least.append(np.take_along_axis(v, i, axis=-1))
-        np.put_along_axis(v, i, np.inf, axis=-1)
-    least.append(v.min(axis=-1, keepdims=True))
-    return np.concatenate(idx, axis=-1), np.concatenate(least, axis=-1)
+    if v.shape[-1] < 3:
+        v = np.concatenate([v, np.full((*v.shape[:-1], 3 - v.shape[-1]), np.inf)], axis=-1)
+    part = np.partition(v, 2, axis=-1)
+    least = np.empty((*v.shape[:-1], 3))
+    np.minimum(part[..., 0], part[..., 1], out=least[..., 0])
+    np.maximum(part[..., 0], part[..., 1], out=least[..., 1])
+    least[..., 2] = part[..., 2]
+    idx = np.empty((*v.shape[:-1], 2), dtype=np.intp)
+    first = np.argmin(v, axis=-1)
+    idx[..., 0] = first
+    second = v == least[..., 1:2]
+    np.put_along_axis(second, first[..., None], False, axis=-1)
+    idx[..., 1] = np.argmax(second, axis=-1)
+    return idx, least
 
 
 def _gather(a: np.ndarray, index: np.ndarray) -> np.ndarray:

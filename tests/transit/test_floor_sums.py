@@ -74,3 +74,29 @@ def test_a_tile_sums_only_the_pieces_near_it():
     whole = np.logical_or.reduce([g.fits_index(j) for j in range(k)], axis=0)
     assert g.stats.pairs_summed == n * k and g.stats.yaws_summed == k
     assert np.array_equal(g.open_block(slice(0, 16), slice(0, 16)), whole[:16, :16])
+
+
+def test_kept_sums_give_back_every_end_whatever_the_slot_order(grid):
+    # the sums keep each edge's start and the slot its end starts (not the end's floats):
+    # edge sets whose slots run backwards (as a clockwise ring turned round) or are padded
+    # with zeros must come back bit for bit
+    from pivot_ompl.validity.minkowski import EdgeSet
+
+    def reversed_padded(pieces, bodies, **kw):  # noqa: ANN001, ANN003, ANN202
+        e = meeting_edges(pieces, bodies, **kw)
+        pad = np.zeros((len(pieces), 3, 2))
+        return EdgeSet(np.concatenate([e.end[:, ::-1], pad], axis=1),
+                       np.concatenate([e.start[:, ::-1], pad], axis=1),
+                       np.concatenate([e.used[:, ::-1], np.zeros((len(pieces), 3), bool)],
+                                      axis=1), e.bounds)
+
+    sums = PieceSums(grid.pieces, grid.sums.bodies)
+    pieces, yaws = np.arange(min(6, len(grid.pieces))), [0, 3, 7, 20]
+    sums.fill(pieces, yaws, reversed_padded)
+    got, _ = sums.edges(pieces, yaws)
+    want = reversed_padded([grid.pieces[i] for i in pieces for _ in yaws],
+                           [sums.bodies[j] for _ in pieces for j in yaws])
+    w = want.start.shape[1]
+    assert np.array_equal(got.start[:, :w], want.start)
+    assert np.array_equal(got.end[:, :w], want.end)
+    assert np.array_equal(got.used[:, :w], want.used)
