@@ -40,8 +40,10 @@ goal, are lower bounds of every plan's box route, however the held assembly turn
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
+import time
 from collections.abc import Callable
 
 import numpy as np
@@ -51,9 +53,10 @@ from pivot_ompl.analysis.bound_cache import cached_bound, forget, lower_bound, r
 from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.analysis.regrasp_bound import RegraspBound
 from pivot_ompl.analysis.route_bound import MAX_CELLS, MIN_CELL, route_on
+from pivot_ompl.analysis.route_gaps import GapRoute, gap_closed_route
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
-from pivot_ompl.scene.shared import scene_shared
+from pivot_ompl.scene.shared import keep_shared, shared_value
 from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
 from pivot_ompl.validity.footprints import obstacle_pieces
@@ -69,25 +72,53 @@ QUERY_CHUNK = 32_768
 def disk_route(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
                tolerance: float = SWEEP_TOLERANCE,
                should_stop: Callable[[], bool] | None = None,
-               time_left: Callable[[], float] | None = None) -> float | None:
+               time_left: Callable[[], float] | None = None, gaps: bool = True
+               ) -> float | None:
     """Lower bound (m) on any plan's box route by the disk relaxation (module docstring).
 
-    ``None`` when stopped by ``should_stop`` or when the relaxation joins no path; also when
-    ``time_left()`` (seconds, if known) is less than the graph search's estimate
-    (:func:`~pivot_ompl.analysis.route_bound.route_on`).
+    ``gaps``: with the cells no held pose fits closed along the route
+    (:func:`~pivot_ompl.analysis.route_gaps.gap_closed_route`; stopped partway, the rounds
+    done stand). ``None`` when stopped by ``should_stop`` before a first route or when the
+    relaxation joins no path; also when ``time_left()`` (seconds, if known) is less than the
+    graph search's estimate (:func:`~pivot_ompl.analysis.route_bound.route_on`).
     """
+    found = held_route(scene, clearance=clearance, tolerance=tolerance,
+                       should_stop=should_stop, time_left=time_left, gaps=gaps)
+    return None if found is None else found.route
+
+
+def held_route(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
+               tolerance: float = SWEEP_TOLERANCE,
+               should_stop: Callable[[], bool] | None = None,
+               time_left: Callable[[], float] | None = None, gaps: bool = True
+               ) -> GapRoute | None:
+    """:func:`disk_route` with how it was found (its ``route`` never below the straight line).
+
+    ``None`` when stopped (or out of time) before a first route.
+    """
+    t0 = time.perf_counter()
     cells = disk_cells(scene, clearance=clearance, tolerance=tolerance,
                        should_stop=should_stop)
     if cells is None:
         return None
     raster, mask = cells
     try:
-        route = route_on(raster, mask, scene.start, scene.goal, poll=_poller(should_stop),
-                         time_left=time_left)
+        if gaps:
+            found = gap_closed_route(scene, raster, mask, tolerance=tolerance,
+                                     clearance=clearance, should_stop=should_stop,
+                                     time_left=time_left)
+        else:
+            route = route_on(raster, mask, scene.start, scene.goal,
+                             poll=_poller(should_stop), time_left=time_left)
+            found = GapRoute(route, route, 0, 0, 1, True, 0.0)
     except Interrupted:
         return None
     # no route is shorter than the straight line either
-    return None if route is None else max(route, math.dist(scene.start[:2], scene.goal[:2]))
+    line = math.dist(scene.start[:2], scene.goal[:2])
+    return dataclasses.replace(
+        found, route=None if found.route is None else max(found.route, line),
+        plain=None if found.plain is None else max(found.plain, line),
+        seconds=time.perf_counter() - t0)
 
 
 def disk_cells(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
@@ -157,8 +188,15 @@ def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = Non
                 regrasps == 0 or known.exhaustive or (known.regrasps or 0) >= regrasps):
             return known.regrasps, known.shortest_route
     if regrasps == 0:  # the disk route: one per scene in the process (a later plan's is it)
-        return 0, scene_shared(scene, ("disk route",), lambda: disk_route(
-            scene, should_stop=should_stop, time_left=time_left))
+        kept = shared_value(scene, ("disk route",))
+        if kept is not None:
+            return 0, kept
+        found = held_route(scene, should_stop=should_stop, time_left=time_left)
+        if found is None:
+            return 0, None
+        if found.route is not None and not found.stopped:  # a stopped one may be weaker
+            keep_shared(scene, ("disk route",), found.route)
+        return 0, found.route
     full = lower_bound(scene, target=regrasps, should_stop=should_stop,
                        guided_seconds=0.0 if not guided else
                        math.inf if time_left is None else time_left())
