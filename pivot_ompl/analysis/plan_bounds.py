@@ -186,23 +186,45 @@ def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = Non
     if known is not None and known.solvable:
         if not _refuted(known, scene, regrasps, route_length) and (
                 regrasps == 0 or known.exhaustive or (known.regrasps or 0) >= regrasps):
-            return known.regrasps, known.shortest_route
+            return known.regrasps, _longer(known.shortest_route, _shared_held_route(
+                scene, route_length, should_stop, time_left))
     if regrasps == 0:  # the disk route: one per scene in the process (a later plan's is it)
-        kept = shared_value(scene, ("disk route",))
-        if kept is not None:
-            return 0, kept
-        found = held_route(scene, should_stop=should_stop, time_left=time_left)
-        if found is None:
-            return 0, None
-        if found.route is not None and not found.stopped:  # a stopped one may be weaker
-            keep_shared(scene, ("disk route",), found.route)
-        return 0, found.route
+        return 0, _shared_held_route(scene, route_length, should_stop, time_left)
     full = lower_bound(scene, target=regrasps, should_stop=should_stop,
                        guided_seconds=0.0 if not guided else
                        math.inf if time_left is None else time_left())
     if full.solvable is None or _refuted(full, scene, regrasps, route_length):
         return None, None
-    return full.regrasps, full.shortest_route
+    return full.regrasps, _longer(full.shortest_route, _shared_held_route(
+        scene, route_length, should_stop, time_left))
+
+
+def _shared_held_route(scene: Scene, route_length: float | None,
+                       should_stop: Callable[[], bool] | None,
+                       time_left: Callable[[], float] | None) -> float | None:
+    """The disk route with its gaps closed (:func:`held_route`), once per scene in the process.
+
+    ``None`` when stopped before a first route, and (with a warning) when the plan's
+    ``route_length`` refutes it.
+    """
+    route = shared_value(scene, ("disk route",))
+    if route is None:
+        found = held_route(scene, should_stop=should_stop, time_left=time_left)
+        route = None if found is None else found.route
+        if found is not None and route is not None and not found.stopped:
+            keep_shared(scene, ("disk route",), route)  # a stopped one may be weaker
+    if route is not None and route_length is not None and \
+            route > route_length * (1.0 + 1e-9) + 1e-6:
+        log.warning("route bound dropped: this plan refutes it (bound %.3f m, route %.3f m)",
+                    route, route_length)
+        return None
+    return route
+
+
+def _longer(a: float | None, b: float | None) -> float | None:
+    """The larger of two lower bounds, either unknown (``None``)."""
+    known = [r for r in (a, b) if r is not None]
+    return max(known) if known else None
 
 
 def _refuted(bound: RegraspBound, scene: Scene, regrasps: int,

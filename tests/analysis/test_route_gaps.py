@@ -85,3 +85,10 @@ def test_a_plan_without_regrasps_carries_the_gap_closed_route():
     regrasps, route = plan_bounds(scene, 0)
     assert regrasps == 0 and route == pytest.approx(held_route(scene).route)
     assert route > 7.5 > math.dist(scene.start[:2], scene.goal[:2])
+
+
+def test_a_route_bound_the_plan_refutes_is_dropped(caplog):
+    # a plan shorter than the bound would prove the bound wrong: it is not given
+    scene = _slot_and_door(0.7)
+    assert plan_bounds(scene, 0, route_length=5.0) == (0, None)
+    assert "route bound dropped" in caplog.text
