@@ -97,8 +97,10 @@ class HeldCells:
 
     def closed(self, x: np.ndarray, y: np.ndarray, half: float, *,
                should_stop: Callable[[], bool] | None = None) -> np.ndarray:
-        """Whether each square cell of centre ``(x, y)`` and half side ``half`` (m) is proven
-        to hold no held pose's centre (a boolean array; ``False``: not proven).
+        """Whether each square cell is proven to hold no held pose's centre.
+
+        ``(x, y)``: the cells' centres (m); ``half``: their half side (m). A boolean array
+        (``False``: not proven).
 
         Raises:
             Interrupted: ``should_stop()`` said stop (polled between batches and levels).
@@ -147,8 +149,10 @@ class HeldCells:
 
     def _shut(self, g: np.ndarray, x: np.ndarray, y: np.ndarray, t: np.ndarray, rho: float,
               d: float) -> np.ndarray:
-        """Whether each voxel (centre ``(x, y, t)``, half-diagonal ``rho``, half-width ``d``)
-        holds no held pose (module docstring)."""
+        """Whether each voxel holds no held pose (module docstring).
+
+        Voxels of centre ``(x, y, t)``, half-diagonal ``rho`` (m) and yaw half-width ``d``.
+        """
         shut = np.zeros(len(g), dtype=bool)
         for gg in (0, 1):
             for part, body in reversed(list(enumerate(self.bodies[gg]))):  # the robot first
@@ -164,8 +168,11 @@ class HeldCells:
 
     def _clear(self, g: np.ndarray, x: np.ndarray, y: np.ndarray, t: np.ndarray,
                which: np.ndarray) -> np.ndarray:
-        """Whether the pose at each voxel's centre (where ``which``) has its bodies, grown by
-        the clearance less the tolerance, clear of the obstacles and inside the bounds."""
+        """Whether the pose at each voxel's centre (where ``which``) is clear.
+
+        Its bodies grown by the clearance less the tolerance clear of the obstacles, and
+        inside the bounds.
+        """
         clear = which.copy()
         for gg in (0, 1):
             for part in range(len(self.bodies[gg])):

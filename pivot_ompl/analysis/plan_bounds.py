@@ -7,7 +7,8 @@ slow on large floors; :func:`plan_bounds` asks it only where the answer depends 
 
 * a plan without regrasps: no plan needs fewer than 0, whatever the relaxation says (it
   says 0: this plan exists), so the regrasp bound is 0 at once; the route bound is then the
-  *disk relaxation*'s (:func:`disk_route`) unless the full bound is already known;
+  *disk relaxation*'s (:func:`disk_route`), or the full bound's where that is known and
+  longer;
 * a plan with regrasps: the relaxation coarse to fine
   (:func:`~pivot_ompl.analysis.bound_levels.scaled_lower_bound`): its raster cover first
   (about a second on a 2000-box map), the exact polygons only when the raster's bound is
@@ -35,7 +36,11 @@ diagonal of such positions hold every box centre of every plan; the cells kept a
 whose centre is that much less far from the pieces (an STRtree query: no polygon is grown),
 a superset. The shortest path through them
 (:func:`~pivot_ompl.analysis.route_bound.route_on`), and the straight line from start to
-goal, are lower bounds of every plan's box route, however the held assembly turns.
+goal, are lower bounds of every plan's box route, however the held assembly turns. Cells
+no held pose of the box fits (the disk passes, the held assembly does not) are then closed
+along that path (:func:`~pivot_ompl.analysis.route_gaps.gap_closed_route`): still a lower
+bound, and the one every plan carries (the larger of it and the full relaxation's route,
+once per scene in the process).
 """
 
 from __future__ import annotations
