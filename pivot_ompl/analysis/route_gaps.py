@@ -128,7 +128,7 @@ def gap_closed_route(scene: Scene, raster: FloorRaster, mask: np.ndarray, *,
     poll()
     if not all(mask[i, j] for i, j in ends):
         return GapRoute(None, None, 0, 0, 0, True, time.perf_counter() - t0)
-    graph = _Graph(raster, mask, poll)
+    graph = _Graph(raster, mask, poll, time_left)
     status = np.zeros(nx * ny, dtype=np.int8)
     status[flat_ends] = _OPEN  # valid poses: never closed
     room = ndimage.distance_transform_edt(mask) * raster.cell
@@ -231,11 +231,21 @@ def _polled(poll: Callable[[], None]) -> bool:
 class _Graph:
     """The raster graph over a mask, built once; cells closed later lose their edges."""
 
-    def __init__(self, raster: FloorRaster, mask: np.ndarray, poll: Callable[[], None]
-                 ) -> None:
+    def __init__(self, raster: FloorRaster, mask: np.ndarray, poll: Callable[[], None],
+                 time_left: Callable[[], float] | None) -> None:
+        """The graph of ``mask``'s cells.
+
+        Raises:
+            Interrupted: ``poll`` stopped it, or its search's estimate exceeds
+                ``time_left()`` (s).
+        """
         nx, ny = raster.shape
         rows, cols, steps = neighbour_edges(mask, poll=poll)
         poll()
+        self.estimate = SECONDS_PER_EDGE * len(rows)
+        if time_left is not None and self.estimate > time_left():
+            raise Interrupted("the gap-closed route bound (its graph search would take about "
+                              f"{self.estimate:.2f} s)")
         # a knight's move also needs the two cells it passes (route_bound.neighbour_edges)
         ri, rj = np.divmod(rows, ny)
         ci, cj = np.divmod(cols, ny)
@@ -256,7 +266,6 @@ class _Graph:
             np.zeros(0, dtype=np.int64)
         self.graph = csr_matrix((self.weight[self.order], ids.indices, ids.indptr),
                                 shape=(n, n))
-        self.estimate = SECONDS_PER_EDGE * len(rows)
         self.poll = poll
 
     def close(self, shut: np.ndarray) -> None:
