@@ -90,8 +90,7 @@ class HeldCells:
         self.bodies: dict[int, list[Body]] = {g: held_bodies(scene, g) for g in (0, 1)}
         self.reach = max(b.reach for parts in self.bodies.values() for b in parts)
         pieces = obstacle_pieces(merge_boxes(scene.obstacles, should_stop=should_stop))
-        self._tree = (shapely.STRtree([shapely.Polygon(p) for p in pieces]) if pieces
-                      else None)
+        self._tree = shapely.STRtree(_polygons(pieces)) if pieces else None
         self._shapes: dict[tuple[int, int, float], np.ndarray | None] = {}
         self.voxels = 0
 
@@ -122,6 +121,11 @@ class HeldCells:
         t = np.tile(np.concatenate([yaws, yaws]), n)
         x, y = cx[k], cy[k]
         s, d = half, math.pi / FIRST_YAWS
+        # the first level's centres probed first: most cells tried are open floor, ended here
+        alive[np.unique(k[self._clear(g, x, y, t, np.ones(len(k), dtype=bool))])] = False
+        keep = alive[k]
+        k, g, x, y, t = k[keep], g[keep], x[keep], y[keep], t[keep]
+        first = True
         while len(k):
             if should_stop is not None and should_stop():
                 raise Interrupted("the held cells' test")
@@ -129,7 +133,9 @@ class HeldCells:
             rho, turn = s * math.sqrt(2.0), 2.0 * self.reach * math.sin(0.5 * d)
             shut = self._shut(g, x, y, t, rho, d)
             left = ~shut
-            alive[np.unique(k[left & self._clear(g, x, y, t, left)])] = False
+            if not first:
+                alive[np.unique(k[left & self._clear(g, x, y, t, left)])] = False
+            first = False
             if rho + turn <= self.finest:
                 alive[np.unique(k[left])] = False
                 break
@@ -221,3 +227,13 @@ class HeldCells:
         x0, y0, x1, y1 = self.bounds
         return ((pts[..., 0].min(axis=1) < x0 - EPS) | (pts[..., 0].max(axis=1) > x1 + EPS)
                 | (pts[..., 1].min(axis=1) < y0 - EPS) | (pts[..., 1].max(axis=1) > y1 + EPS))
+
+
+def _polygons(pieces: list[np.ndarray]) -> np.ndarray:
+    """The pieces as shapely polygons, made together per vertex count (thousands of boxes)."""
+    out = np.empty(len(pieces), dtype=object)
+    sizes = np.array([len(p) for p in pieces])
+    for m in np.unique(sizes):
+        idx = np.flatnonzero(sizes == m)
+        out[idx] = shapely.polygons(np.stack([pieces[i] for i in idx]))
+    return out

@@ -233,7 +233,7 @@ class _Graph:
 
     def __init__(self, raster: FloorRaster, mask: np.ndarray, poll: Callable[[], None],
                  time_left: Callable[[], float] | None) -> None:
-        """The graph of ``mask``'s cells.
+        """The graph of ``mask``'s cells (one entry per move, searched both ways).
 
         Raises:
             Interrupted: ``poll`` stopped it, or its search's estimate exceeds
@@ -247,37 +247,32 @@ class _Graph:
             raise Interrupted("the gap-closed route bound (its graph search would take about "
                               f"{self.estimate:.2f} s)")
         # a knight's move also needs the two cells it passes (route_bound.neighbour_edges)
-        ri, rj = np.divmod(rows, ny)
-        ci, cj = np.divmod(cols, ny)
+        self.knight = np.flatnonzero(steps > 2.0)
+        ri, rj = np.divmod(rows[self.knight], ny)
+        ci, cj = np.divmod(cols[self.knight], ny)
         di, dj = ci - ri, cj - rj
         tall = np.abs(di) == 2
-        wide = np.abs(dj) == 2
-        half_i = np.where(tall, ri + di // 2, ri)
-        half_j = np.where(wide, rj + dj // 2, rj)
-        self.through = (np.where(tall, half_i * ny + rj, np.where(wide, ri * ny + half_j, rows)),
-                        np.where(tall, half_i * ny + cj, np.where(wide, ci * ny + half_j, rows)))
+        self.via = (np.where(tall, (ri + di // 2) * ny + rj, ri * ny + rj + dj // 2),
+                    np.where(tall, (ri + di // 2) * ny + cj, ci * ny + rj + dj // 2))
         self.ends = (rows, cols)
         self.weight = raster.cell * steps
-        both_r, both_c = np.concatenate([rows, cols]), np.concatenate([cols, rows])
         n = nx * ny
-        ids = coo_matrix((np.arange(1.0, len(both_r) + 1.0), (both_r, both_c)),
-                         shape=(n, n)).tocsr()
-        self.order = (ids.data.astype(np.int64) - 1) % len(rows) if len(rows) else \
-            np.zeros(0, dtype=np.int64)
+        ids = coo_matrix((np.arange(1.0, len(rows) + 1.0), (rows, cols)), shape=(n, n)).tocsr()
+        self.order = ids.data.astype(np.int64) - 1
         self.graph = csr_matrix((self.weight[self.order], ids.indices, ids.indptr),
                                 shape=(n, n))
         self.poll = poll
 
     def close(self, shut: np.ndarray) -> None:
         """Remove the edges of the flat cells ``shut`` (and knight's moves passing them)."""
-        gone = (shut[self.ends[0]] | shut[self.ends[1]] | shut[self.through[0]]
-                | shut[self.through[1]])
+        gone = shut[self.ends[0]] | shut[self.ends[1]]
+        gone[self.knight] |= shut[self.via[0]] | shut[self.via[1]]
         self.graph.data = np.where(gone, np.inf, self.weight)[self.order]
 
     def path(self, a: int, b: int) -> tuple[float, np.ndarray | None]:
         """A shortest path from ``a`` to ``b``: its length (m) and flat cells (``None``: none)."""
         self.poll()
-        dist, pred = dijkstra(self.graph, directed=True, indices=a, return_predecessors=True)
+        dist, pred = dijkstra(self.graph, directed=False, indices=a, return_predecessors=True)
         length = float(dist[b])
         if not math.isfinite(length):
             return length, None
