@@ -92,3 +92,26 @@ def test_a_route_bound_the_plan_refutes_is_dropped(caplog):
     scene = _slot_and_door(0.7)
     assert plan_bounds(scene, 0, route_length=5.0) == (0, None)
     assert "route bound dropped" in caplog.text
+
+
+def test_a_bound_stopped_partway_is_given_but_not_kept_for_later_plans(monkeypatch):
+    import pivot_ompl.analysis.plan_bounds as bounds
+
+    scene = _slot_and_door(0.72)  # a scene of its own (the memo is per scene geometry)
+    calls: list[int] = []
+    polls: list[int] = []
+
+    def counted(*args, **kwargs):
+        calls.append(1)
+        return held_route(*args, **kwargs)
+
+    def stop_in_the_tests() -> bool:
+        polls.append(1)
+        return len(polls) > 40  # past the disk cells and the first path
+
+    monkeypatch.setattr(bounds, "held_route", counted)
+    partial = plan_bounds(scene, 0, should_stop=stop_in_the_tests)[1]
+    assert partial is not None and len(calls) == 1
+    whole = plan_bounds(scene, 0)[1]
+    assert len(calls) == 2 and whole is not None and whole >= partial
+    assert plan_bounds(scene, 0)[1] == whole and len(calls) == 2
