@@ -33,7 +33,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy import ndimage
-from scipy.sparse import coo_matrix, csr_matrix
+from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from pivot_ompl.analysis.held_cells import HeldCells
@@ -128,7 +128,7 @@ def gap_closed_route(scene: Scene, raster: FloorRaster, mask: np.ndarray, *,
     poll()
     if not all(mask[i, j] for i, j in ends):
         return GapRoute(None, None, 0, 0, 0, True, time.perf_counter() - t0)
-    graph = _Graph(raster, mask, poll, time_left)
+    kept = mask.copy()  # the cells not closed
     status = np.zeros(nx * ny, dtype=np.int8)
     status[flat_ends] = _OPEN  # valid poses: never closed
     room = ndimage.distance_transform_edt(mask) * raster.cell
@@ -139,10 +139,7 @@ def gap_closed_route(scene: Scene, raster: FloorRaster, mask: np.ndarray, *,
     complete = stopped = False
     while rounds < max_rounds:
         try:
-            if time_left is not None and graph.estimate > time_left():
-                raise Interrupted("the gap-closed route bound (its graph search would take "
-                                  f"about {graph.estimate:.2f} s)")
-            length, chain = graph.path(flat_ends[0], flat_ends[1])
+            length, chain = _path(raster, kept, flat_ends[0], flat_ends[1], poll, time_left)
         except Interrupted:
             if rounds == 0:
                 raise
@@ -174,7 +171,7 @@ def gap_closed_route(scene: Scene, raster: FloorRaster, mask: np.ndarray, *,
             complete = not (status[chain] == _UNTESTED).any()
             break
         closed += new
-        graph.close(status == _CLOSED)
+        kept &= (status != _CLOSED).reshape(kept.shape)
     seconds = time.perf_counter() - t0
     log.debug("gap-closed route %s m (disk %s m): %d cells closed of %d tested, %d rounds, "
               "%.2f s", best, plain, closed, tested, rounds, seconds)
@@ -228,55 +225,31 @@ def _polled(poll: Callable[[], None]) -> bool:
     return False
 
 
-class _Graph:
-    """The raster graph over a mask, built once; cells closed later lose their edges."""
+def _path(raster: FloorRaster, mask: np.ndarray, a: int, b: int, poll: Callable[[], None],
+          time_left: Callable[[], float] | None) -> tuple[float, np.ndarray | None]:
+    """A shortest path between the flat cells ``a`` and ``b`` through ``mask``.
 
-    def __init__(self, raster: FloorRaster, mask: np.ndarray, poll: Callable[[], None],
-                 time_left: Callable[[], float] | None) -> None:
-        """The graph of ``mask``'s cells (one entry per move, searched both ways).
+    Its length on the raster graph (m) and its flat cells (``None``: no path). The graph is
+    :func:`~pivot_ompl.analysis.route_bound.route_on`'s (a knight's move only where both
+    cells it passes are in ``mask``), made again each round: a round's cost is one
+    :func:`~pivot_ompl.analysis.route_bound.route_on`.
 
-        Raises:
-            Interrupted: ``poll`` stopped it, or its search's estimate exceeds
-                ``time_left()`` (s).
-        """
-        nx, ny = raster.shape
-        rows, cols, steps = neighbour_edges(mask, poll=poll)
-        poll()
-        self.estimate = SECONDS_PER_EDGE * len(rows)
-        if time_left is not None and self.estimate > time_left():
-            raise Interrupted("the gap-closed route bound (its graph search would take about "
-                              f"{self.estimate:.2f} s)")
-        # a knight's move also needs the two cells it passes (route_bound.neighbour_edges)
-        self.knight = np.flatnonzero(steps > 2.0)
-        ri, rj = np.divmod(rows[self.knight], ny)
-        ci, cj = np.divmod(cols[self.knight], ny)
-        di, dj = ci - ri, cj - rj
-        tall = np.abs(di) == 2
-        self.via = (np.where(tall, (ri + di // 2) * ny + rj, ri * ny + rj + dj // 2),
-                    np.where(tall, (ri + di // 2) * ny + cj, ci * ny + rj + dj // 2))
-        self.ends = (rows, cols)
-        self.weight = raster.cell * steps
-        n = nx * ny
-        ids = coo_matrix((np.arange(1.0, len(rows) + 1.0), (rows, cols)), shape=(n, n)).tocsr()
-        self.order = ids.data.astype(np.int64) - 1
-        self.graph = csr_matrix((self.weight[self.order], ids.indices, ids.indptr),
-                                shape=(n, n))
-        self.poll = poll
-
-    def close(self, shut: np.ndarray) -> None:
-        """Remove the edges of the flat cells ``shut`` (and knight's moves passing them)."""
-        gone = shut[self.ends[0]] | shut[self.ends[1]]
-        gone[self.knight] |= shut[self.via[0]] | shut[self.via[1]]
-        self.graph.data = np.where(gone, np.inf, self.weight)[self.order]
-
-    def path(self, a: int, b: int) -> tuple[float, np.ndarray | None]:
-        """A shortest path from ``a`` to ``b``: its length (m) and flat cells (``None``: none)."""
-        self.poll()
-        dist, pred = dijkstra(self.graph, directed=False, indices=a, return_predecessors=True)
-        length = float(dist[b])
-        if not math.isfinite(length):
-            return length, None
-        chain = [b]
-        while chain[-1] != a:
-            chain.append(int(pred[chain[-1]]))
-        return length, np.array(chain[::-1], dtype=np.int64)
+    Raises:
+        Interrupted: ``poll`` stopped it, or the search's estimate exceeds ``time_left()`` (s).
+    """
+    rows, cols, steps = neighbour_edges(mask, poll=poll)
+    estimate = SECONDS_PER_EDGE * len(rows)
+    if time_left is not None and estimate > time_left():
+        raise Interrupted("the gap-closed route bound (its graph search would take about "
+                          f"{estimate:.2f} s)")
+    n = mask.size
+    graph = coo_matrix((raster.cell * steps, (rows, cols)), shape=(n, n)).tocsr()
+    poll()
+    dist, pred = dijkstra(graph, directed=False, indices=a, return_predecessors=True)
+    length = float(dist[b])
+    if not math.isfinite(length):
+        return length, None
+    chain = [b]
+    while chain[-1] != a:
+        chain.append(int(pred[chain[-1]]))
+    return length, np.array(chain[::-1], dtype=np.int64)
