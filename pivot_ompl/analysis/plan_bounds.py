@@ -7,7 +7,8 @@ slow on large floors; :func:`plan_bounds` asks it only where the answer depends 
 
 * a plan without regrasps: no plan needs fewer than 0, whatever the relaxation says (it
   says 0: this plan exists), so the regrasp bound is 0 at once; the route bound is then the
-  *disk relaxation*'s (:func:`disk_route`) unless the full bound is already known;
+  *disk relaxation*'s (:func:`disk_route`), or the full bound's where that is known and
+  longer;
 * a plan with regrasps: the relaxation coarse to fine
   (:func:`~pivot_ompl.analysis.bound_levels.scaled_lower_bound`): its raster cover first
   (about a second on a 2000-box map), the exact polygons only when the raster's bound is
@@ -37,13 +38,19 @@ diagonal of such positions hold every box centre of every plan; the cells kept a
 whose centre is that much less far from the pieces (an STRtree query: no polygon is grown),
 a superset. The shortest path through them
 (:func:`~pivot_ompl.analysis.route_bound.route_on`), and the straight line from start to
-goal, are lower bounds of every plan's box route, however the held assembly turns.
+goal, are lower bounds of every plan's box route, however the held assembly turns. Cells
+no held pose of the box fits (the disk passes, the held assembly does not) are then closed
+along that path (:func:`~pivot_ompl.analysis.route_gaps.gap_closed_route`): still a lower
+bound, and the one every plan carries (the larger of it and the full relaxation's route,
+once per scene in the process).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
+import time
 from collections.abc import Callable
 
 import numpy as np
@@ -53,9 +60,10 @@ from pivot_ompl.analysis.bound_cache import cached_bound, forget, lower_bound, r
 from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.analysis.regrasp_bound import RegraspBound
 from pivot_ompl.analysis.route_bound import MAX_CELLS, MIN_CELL, route_on
+from pivot_ompl.analysis.route_gaps import GapRoute, gap_closed_route
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
-from pivot_ompl.scene.shared import scene_shared
+from pivot_ompl.scene.shared import keep_shared, shared_value
 from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
 from pivot_ompl.validity.footprints import obstacle_pieces
@@ -71,25 +79,53 @@ QUERY_CHUNK = 32_768
 def disk_route(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
                tolerance: float = SWEEP_TOLERANCE,
                should_stop: Callable[[], bool] | None = None,
-               time_left: Callable[[], float] | None = None) -> float | None:
+               time_left: Callable[[], float] | None = None, gaps: bool = True
+               ) -> float | None:
     """Lower bound (m) on any plan's box route by the disk relaxation (module docstring).
 
-    ``None`` when stopped by ``should_stop`` or when the relaxation joins no path; also when
-    ``time_left()`` (seconds, if known) is less than the graph search's estimate
-    (:func:`~pivot_ompl.analysis.route_bound.route_on`).
+    ``gaps``: with the cells no held pose fits closed along the route
+    (:func:`~pivot_ompl.analysis.route_gaps.gap_closed_route`; stopped partway, the rounds
+    done stand). ``None`` when stopped by ``should_stop`` before a first route or when the
+    relaxation joins no path; also when ``time_left()`` (seconds, if known) is less than the
+    graph search's estimate (:func:`~pivot_ompl.analysis.route_bound.route_on`).
     """
+    found = held_route(scene, clearance=clearance, tolerance=tolerance,
+                       should_stop=should_stop, time_left=time_left, gaps=gaps)
+    return None if found is None else found.route
+
+
+def held_route(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
+               tolerance: float = SWEEP_TOLERANCE,
+               should_stop: Callable[[], bool] | None = None,
+               time_left: Callable[[], float] | None = None, gaps: bool = True
+               ) -> GapRoute | None:
+    """:func:`disk_route` with how it was found (its ``route`` never below the straight line).
+
+    ``None`` when stopped (or out of time) before a first route.
+    """
+    t0 = time.perf_counter()
     cells = disk_cells(scene, clearance=clearance, tolerance=tolerance,
                        should_stop=should_stop)
     if cells is None:
         return None
     raster, mask = cells
     try:
-        route = route_on(raster, mask, scene.start, scene.goal, poll=_poller(should_stop),
-                         time_left=time_left)
+        if gaps:
+            found = gap_closed_route(scene, raster, mask, tolerance=tolerance,
+                                     clearance=clearance, should_stop=should_stop,
+                                     time_left=time_left)
+        else:
+            route = route_on(raster, mask, scene.start, scene.goal,
+                             poll=_poller(should_stop), time_left=time_left)
+            found = GapRoute(route, route, 0, 0, 1, True, 0.0)
     except Interrupted:
         return None
     # no route is shorter than the straight line either
-    return None if route is None else max(route, math.dist(scene.start[:2], scene.goal[:2]))
+    line = math.dist(scene.start[:2], scene.goal[:2])
+    return dataclasses.replace(
+        found, route=None if found.route is None else max(found.route, line),
+        plain=None if found.plain is None else max(found.plain, line),
+        seconds=time.perf_counter() - t0)
 
 
 def disk_cells(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
@@ -159,17 +195,46 @@ def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = Non
     if known is not None and known.solvable:
         if not _refuted(known, scene, regrasps, route_length) and (
                 regrasps == 0 or known.exhaustive or (known.regrasps or 0) >= regrasps):
-            return known.regrasps, known.shortest_route
+            return known.regrasps, _longer(known.shortest_route, _shared_held_route(
+                scene, route_length, should_stop, time_left))
     if regrasps == 0:  # the disk route: one per scene in the process (a later plan's is it)
-        return 0, scene_shared(scene, ("disk route",), lambda: disk_route(
-            scene, should_stop=should_stop, time_left=time_left))
+        return 0, _shared_held_route(scene, route_length, should_stop, time_left)
     full = lower_bound(scene, target=regrasps, should_stop=should_stop,
                        guided_seconds=0.0 if not guided else
                        math.inf if time_left is None or not guided_by_estimate
                        else time_left())
     if full.solvable is None or _refuted(full, scene, regrasps, route_length):
         return None, None
-    return full.regrasps, full.shortest_route
+    return full.regrasps, _longer(full.shortest_route, _shared_held_route(
+        scene, route_length, should_stop, time_left))
+
+
+def _shared_held_route(scene: Scene, route_length: float | None,
+                       should_stop: Callable[[], bool] | None,
+                       time_left: Callable[[], float] | None) -> float | None:
+    """The disk route with its gaps closed (:func:`held_route`), once per scene in the process.
+
+    ``None`` when stopped before a first route, and (with a warning) when the plan's
+    ``route_length`` refutes it.
+    """
+    route = shared_value(scene, ("disk route",))
+    if route is None:
+        found = held_route(scene, should_stop=should_stop, time_left=time_left)
+        route = None if found is None else found.route
+        if found is not None and route is not None and not found.stopped:
+            keep_shared(scene, ("disk route",), route)  # a stopped one may be weaker
+    if route is not None and route_length is not None and \
+            route > route_length * (1.0 + 1e-9) + 1e-6:
+        log.warning("route bound dropped: this plan refutes it (bound %.3f m, route %.3f m)",
+                    route, route_length)
+        return None
+    return route
+
+
+def _longer(a: float | None, b: float | None) -> float | None:
+    """The larger of two lower bounds, either unknown (``None``)."""
+    known = [r for r in (a, b) if r is not None]
+    return max(known) if known else None
 
 
 def _refuted(bound: RegraspBound, scene: Scene, regrasps: int,

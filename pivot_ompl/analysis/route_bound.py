@@ -103,7 +103,15 @@ def route_on(raster: FloorRaster, mask: np.ndarray, start: Pose, goal: Pose, *,
     d = float(dijkstra(graph, directed=False, indices=ends[0])[ends[1]])
     if not math.isfinite(d):
         return None
-    return max(0.0, d / (1.0 + GRID_SLACK) - 2.0 * cell * math.sqrt(2.0))
+    return grid_bound(d, cell)
+
+
+def grid_bound(length: float, cell: float) -> float:
+    """A lower bound (m) on a continuous route whose raster path is ``length`` m at best.
+
+    Less the grid's excess (:data:`GRID_SLACK`) and a cell's diagonal at each end.
+    """
+    return max(0.0, length / (1.0 + GRID_SLACK) - 2.0 * cell * math.sqrt(2.0))
 
 
 def neighbour_edges(mask: np.ndarray, *, poll: Callable[[], None] = lambda: None

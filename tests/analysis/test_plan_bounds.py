@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from pivot_ompl.analysis.bound_cache import lower_bound
-from pivot_ompl.analysis.plan_bounds import disk_route, plan_bounds
+from pivot_ompl.analysis.plan_bounds import disk_route, held_route, plan_bounds
 from pivot_ompl.api import plan
 from pivot_ompl.errors import InputError
 
@@ -86,9 +86,9 @@ def test_a_plan_without_regrasps_takes_the_disk_route_a_plan_of_its_scene_found(
 
     def counted(*args, **kwargs):
         calls.append(args)
-        return disk_route(*args, **kwargs)
+        return held_route(*args, **kwargs)
 
-    monkeypatch.setattr(bounds, "disk_route", counted)
+    monkeypatch.setattr(bounds, "held_route", counted)
     stopped = plan_bounds(scene, 0, should_stop=lambda: True)
     assert stopped == (0, None) and len(calls) == 1  # stopped: nothing kept
     first = plan_bounds(scene, 0)
