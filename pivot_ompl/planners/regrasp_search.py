@@ -29,6 +29,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from pivot_ompl.analysis.bound_cache import cached_bound
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planners.config import RegraspConfig, quality_scale
 from pivot_ompl.planners.direct import DirectStats, direct_path, route_weight
@@ -192,16 +193,22 @@ class RegraspSearch:
     def _single_grasp(self, should_stop: Stop) -> list[State]:
         """A regrasp-free path (:func:`~.direct.direct_path`) at the grasps valid at both ends.
 
-        The held grasp only, if one is; ``[]`` when there is none.
+        The held grasp only, if one is; ``[]`` when there is none, or when a bound the
+        cache already holds proves that every plan regrasps (a later plan of a building whose
+        proof an earlier plan or ``pivot-ompl bound`` computed: the tries cannot succeed).
         """
         ck = self.checker
+        rng = self.rng.spawn(1)[0]  # its own stream: the search's does not depend on the tries
+        known = cached_bound(ck.scene)
+        if known is not None and known.solvable and (known.regrasps or 0) >= 1:
+            return []
         grasps = [g for g in self.config.grasps if ck.state_valid(self.start, g)
                   and ck.state_valid(self.goal, g) and self.start_grasp in (None, g)]
         d, cfg, spacing = self.direct, self.config.single_grasp, self.config.optimiser.run_spacing
         if cfg.lattice and self._area() < cfg.lattice_area:  # the trees' floor: no lattice
             cfg = replace(cfg, lattice=False)
         path = direct_path(ck, self.start, self.goal, grasps=grasps, config=cfg,
-                           costs=self.config.cost, rng=self.rng, lattice=self._lattice,
+                           costs=self.config.cost, rng=rng, lattice=self._lattice,
                            run_spacing=spacing, should_stop=should_stop, stats=d)
         s = self.stats
         s.single_grasp_checks, s.single_grasp_solved = d.checks, bool(path)

@@ -13,6 +13,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from pivot_ompl import plan, scene_from_map
+from pivot_ompl.analysis.bound_cache import clear_memory, lower_bound
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
@@ -161,3 +162,20 @@ def test_a_lattice_detour_is_left_to_the_search():
     g = grasps[0]
     cost = lattice.route(book.start, book.goal, g, weight=1.2)[1]
     assert cost > 2.0 * lattice.way_bound(book.start, book.goal, g)
+
+
+def test_no_regrasp_free_try_where_a_kept_bound_proves_every_plan_regrasps(tmp_path,
+                                                                           monkeypatch):
+    """fig10 needs 2 regrasps: once its bound is kept, the one-grasp tries are not made."""
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    clear_memory()  # nothing kept by earlier tests
+    scene = shipped("fig10")
+    before = plan(scene, time_limit=30.0, seed=0, bound=False)
+    assert before.roadmap["single_grasp_checks"] > 0  # tried while nothing is known
+    assert lower_bound(scene).regrasps == 2
+    after = plan(scene, time_limit=30.0, seed=0, bound=False)
+    assert after.roadmap["single_grasp_checks"] == 0 and after.roadmap["time_single_grasp"] == 0
+    assert after.solved and after.plan.regrasps == 2
+    # the tries draw from a stream of their own: the search's plan is the one made without
+    # the bound kept
+    assert after.plan.phases == before.plan.phases
