@@ -123,13 +123,13 @@ def bound_problem(bound: object, scene: Scene) -> str | None:
         return None
     if isinstance(route, bool) or not isinstance(route, int | float) or not math.isfinite(route):
         return f"shortest_route = {route!r} is not a finite length"
-    low, high = _route_range(scene)
+    low, high = route_range(scene)
     if not low - 1e-9 <= route <= high:
         return f"shortest_route = {route!r} m is outside [{low:.6g}, {high:.6g}] m"
     return None
 
 
-def _route_range(scene: Scene) -> tuple[float, float]:
+def route_range(scene: Scene) -> tuple[float, float]:
     """The range a computed :func:`~pivot_ompl.analysis.route_bound.shortest_route` lies in."""
     raster = FloorRaster(scene.bounds, min_cell=MIN_CELL, max_cells=MAX_CELLS)
     cell = raster.cell

@@ -60,6 +60,7 @@ from pivot_ompl.analysis.bound_cache import cached_bound, forget, lower_bound, r
 from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.analysis.regrasp_bound import RegraspBound
 from pivot_ompl.analysis.route_bound import MAX_CELLS, MIN_CELL, route_on
+from pivot_ompl.analysis.route_cache import forget_route, keep_route, kept_route
 from pivot_ompl.analysis.route_gaps import GapRoute, gap_closed_route
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
@@ -212,21 +213,26 @@ def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = Non
 def _shared_held_route(scene: Scene, route_length: float | None,
                        should_stop: Callable[[], bool] | None,
                        time_left: Callable[[], float] | None) -> float | None:
-    """The disk route with its gaps closed (:func:`held_route`), once per scene in the process.
+    """The disk route with its gaps closed (:func:`held_route`), once per scene.
 
+    Once per process, and kept on disk for later ones (:mod:`~pivot_ompl.analysis.route_cache`).
     ``None`` when stopped before a first route, and (with a warning) when the plan's
     ``route_length`` refutes it.
     """
     route = shared_value(scene, ("disk route",))
+    if route is None and (route := kept_route(scene)) is not None:  # an earlier process's
+        keep_shared(scene, ("disk route",), route)
     if route is None:
         found = held_route(scene, should_stop=should_stop, time_left=time_left)
         route = None if found is None else found.route
         if found is not None and route is not None and not found.stopped:
             keep_shared(scene, ("disk route",), route)  # a stopped one may be weaker
+            keep_route(scene, route)
     if route is not None and route_length is not None and \
             route > route_length * (1.0 + 1e-9) + 1e-6:
         log.warning("route bound dropped: this plan refutes it (bound %.3f m, route %.3f m)",
                     route, route_length)
+        forget_route(scene)
         return None
     return route
 
