@@ -56,10 +56,10 @@ def main() -> None:
     coal_time = [0.0]
     orig = CollisionWorld._distance
 
-    def timed(self, obj):
+    def timed(self, *args):  # the query's own arguments, whatever they are
         t = time.perf_counter()
         try:
-            return orig(self, obj)
+            return orig(self, *args)
         finally:
             coal_time[0] += time.perf_counter() - t
 

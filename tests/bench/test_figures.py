@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from factories import benchmark_script
+from factories import ROOT, benchmark_script
 
 
 def _figures():
@@ -55,3 +55,17 @@ def test_buildings_rows_give_each_map_its_runs_bound_and_memory():
 def test_the_buildings_step_reads_the_json_its_script_writes_in_its_folder():
     step = {s.name: s for s in _figures().STEPS}["buildings"]
     assert step.out_is_dir and step.result == "buildings.json"
+
+
+def test_the_validation_step_times_the_worlds_queries_and_writes_its_figures(tmp_path):
+    """The figures' validation step wraps the world's distance query to time coal: it must
+    pass the query's arguments on, whatever they are (it broke when they grew)."""
+    import json
+    import subprocess
+    import sys
+
+    out = tmp_path / "validation.json"
+    subprocess.run([sys.executable, str(ROOT / "benchmarks" / "validation.py"), "--n", "20",
+                    "--out", str(out)], check=True, capture_output=True, timeout=300)
+    res = json.loads(out.read_text())
+    assert res["motion_checks_per_s"] > 0 and 0.0 <= res["motion_valid_fraction"] <= 1.0
