@@ -24,7 +24,8 @@ SPACING = OptimiserConfig().run_spacing
 
 @pytest.fixture(scope="module")
 def corridor():
-    """The corridor and the search's path at seed 0 (one phase at grasp 0).
+    """The corridor and the search's path at seed 1 (one phase at grasp 0, which another
+    grasp beats).
 
     Without the re-routing, which now routes a one-phase path at every grasp itself.
     """
@@ -32,8 +33,10 @@ def corridor():
     ck = make_problem(scene).checker
     search = RegraspSearch(ck, scene.start, scene.goal,
                            RegraspConfig().with_values({"optimiser.routes": "false"}),
-                           np.random.default_rng(0))
-    return scene, ck, search.run(lambda: False)
+                           np.random.default_rng(1))
+    states = search.run(lambda: False)
+    assert {g for _, g in states} == {0}  # the premise: a path at grasp 0
+    return scene, ck, states
 
 
 def test_a_cheaper_grasp_is_chosen_and_the_path_stays_valid(corridor):
