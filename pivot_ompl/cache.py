@@ -3,17 +3,19 @@
 A disk cache's entry is data anyone with access to the folder may have put there: it is read
 only as a small regular file owned by this user and writable by no one else
 (:func:`read_entry_bytes`), never followed through a symbolic link, never blocking (a FIFO is
-refused at once).
+refused at once); a JSON entry must also name its format and the key asked for
+(:func:`read_json_entry`).
 """
 
 from __future__ import annotations
 
+import json
 import os
 import stat
 from collections import OrderedDict
 from collections.abc import Callable, Hashable
 from pathlib import Path
-from typing import Generic, TypeVar
+from typing import Any, Generic, TypeVar
 
 from pivot_ompl.errors import InputError, PivotError
 
@@ -132,3 +134,31 @@ def read_entry_bytes(path: str | Path, *, max_bytes: int = MAX_ENTRY_BYTES) -> b
     if size > max_bytes:
         raise CacheEntryError(path, f"is larger than {max_bytes} bytes")
     return b"".join(chunks)
+
+
+def read_json_entry(path: str | Path, *, entry_format: str, key: str,
+                    max_bytes: int = MAX_ENTRY_BYTES) -> dict[str, Any] | None:
+    """A disk cache's JSON entry answering ``key``, ``None`` when there is none.
+
+    Read as :func:`read_entry_bytes` reads it; a JSON object whose ``format`` is
+    ``entry_format`` and whose ``key`` is ``key`` (``NaN`` and ``Infinity`` refused).
+
+    Raises:
+        CacheEntryError: something is there but is not such an entry.
+    """
+    data = read_entry_bytes(path, max_bytes=max_bytes)
+    if data is None:
+        return None
+
+    def constant(name: str) -> Any:
+        raise ValueError(f"{name} is not a number")
+
+    try:
+        doc = json.loads(data.decode("utf-8"), parse_constant=constant)
+    except (ValueError, RecursionError):
+        raise CacheEntryError(path, "is not JSON") from None
+    if not isinstance(doc, dict) or doc.get("format") != entry_format:
+        raise CacheEntryError(path, f"is not a {entry_format} entry")
+    if doc.get("key") != key:
+        raise CacheEntryError(path, "answers another key (another scene or relaxation)")
+    return doc

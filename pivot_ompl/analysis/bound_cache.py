@@ -43,7 +43,7 @@ from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.analysis.regrasp_bound import RESOLUTION, RegraspBound
 from pivot_ompl.analysis.route_bound import GRID_SLACK, MAX_CELLS, MIN_CELL
 from pivot_ompl.analysis.wall_frame import relaxed_scene
-from pivot_ompl.cache import BoundedCache, CacheEntryError, read_entry_bytes
+from pivot_ompl.cache import BoundedCache, CacheEntryError, read_json_entry
 from pivot_ompl.errors import InputError, printable, require_type
 from pivot_ompl.fileio import atomic_output
 from pivot_ompl.scene import Scene, scene_digest
@@ -83,7 +83,8 @@ def cache_dir() -> Path:
     return Path(root) / "pivot_ompl" / "bounds"
 
 
-def _disk_enabled() -> bool:
+def disk_enabled() -> bool:
+    """Whether the disk cache is on (``PIVOT_OMPL_BOUND_CACHE`` is not ``0``)."""
     return os.environ.get(CACHE_ENV, "1") != "0"
 
 
@@ -118,14 +119,21 @@ def bound_problem(bound: object, scene: Scene) -> str | None:
             return f"regrasps = {bound.regrasps!r} is not a count within the pieces"
     elif bound.regrasps is not None or bound.shortest_route is not None:
         return "an unsolvable scene has no regrasp count nor route"
-    route = bound.shortest_route
-    if route is None:
+    if bound.shortest_route is None:
         return None
+    return route_problem(bound.shortest_route, scene, name="shortest_route")
+
+
+def route_problem(route: object, scene: Scene, *, name: str) -> str | None:
+    """What makes ``route`` (field ``name``) impossible as a route bound of ``scene``.
+
+    ``None`` when nothing: a finite length in :func:`route_range`.
+    """
     if isinstance(route, bool) or not isinstance(route, int | float) or not math.isfinite(route):
-        return f"shortest_route = {route!r} is not a finite length"
+        return f"{name} = {route!r} is not a finite length"
     low, high = route_range(scene)
     if not low - 1e-9 <= route <= high:
-        return f"shortest_route = {route!r} m is outside [{low:.6g}, {high:.6g}] m"
+        return f"{name} = {route!r} m is outside [{low:.6g}, {high:.6g}] m"
     return None
 
 
@@ -167,21 +175,9 @@ def _read(path: Path, key: str, scene: Scene) -> RegraspBound | None:
     Raises:
         CacheEntryError: an entry is there but is not one to use (see the module docstring).
     """
-    data = read_entry_bytes(path, max_bytes=MAX_ENTRY_BYTES)
-    if data is None:
+    doc = read_json_entry(path, entry_format=ENTRY_FORMAT, key=key, max_bytes=MAX_ENTRY_BYTES)
+    if doc is None:
         return None
-
-    def constant(name: str) -> Any:
-        raise ValueError(f"{name} is not a number")
-
-    try:
-        doc = json.loads(data.decode("utf-8"), parse_constant=constant)
-    except (ValueError, RecursionError):
-        raise CacheEntryError(path, "is not JSON") from None
-    if not isinstance(doc, dict) or doc.get("format") != ENTRY_FORMAT:
-        raise CacheEntryError(path, f"is not a {ENTRY_FORMAT} entry")
-    if doc.get("key") != key:
-        raise CacheEntryError(path, "answers another key (another scene or relaxation)")
     raw = doc.get("bound")
     if not isinstance(raw, dict) or set(raw) != _FIELDS:
         raise CacheEntryError(path, f"its bound does not hold exactly {sorted(_FIELDS)}")
@@ -193,13 +189,20 @@ def _read(path: Path, key: str, scene: Scene) -> RegraspBound | None:
 
 
 def _write(path: Path, key: str, bound: RegraspBound) -> None:
-    doc = {"format": ENTRY_FORMAT, "key": key, "bound": asdict(bound)}
+    write_entry(path, {"format": ENTRY_FORMAT, "key": key, "bound": asdict(bound)})
+
+
+def write_entry(path: Path, doc: dict[str, Any]) -> None:
+    """Write a disk cache's JSON entry at ``path``, mode 0600, whole or not at all.
+
+    A cache that cannot be written (a read-only home) loses the entry, not the result.
+    """
     try:
         with atomic_output(path) as tmp:
             tmp.write_text(json.dumps(doc))
             os.chmod(tmp, 0o600)  # read back only if no one else may write it
-    except OSError as e:  # a read-only home loses the cache, not the bound
-        log.debug("bound cache not written (%s)", e)
+    except OSError as e:
+        log.debug("cache entry not written (%s)", e)
 
 
 def _disk_hit(path: Path, key: str, scene: Scene) -> RegraspBound | None:
@@ -219,7 +222,7 @@ def cached_bound(scene: Scene, *, resolution: float = RESOLUTION) -> RegraspBoun
     """The bound of ``scene`` if a cache (memory, then disk) holds it; nothing is computed."""
     key = scene_key(scene, resolution=resolution)
     hit = _memory.get(key)
-    if hit is None and _disk_enabled():
+    if hit is None and disk_enabled():
         hit = _disk_hit(cache_dir() / f"{key}.json", key, scene)
         if hit is not None:
             _memory.put(key, hit)
@@ -275,7 +278,7 @@ def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RES
         return bound
     if use_cache:
         _memory.put(key, bound)
-        if _disk_enabled():
+        if disk_enabled():
             _write(cache_dir() / f"{key}.json", key, bound)
     return bound
 

@@ -9,9 +9,9 @@ a key made of :data:`ROUTE_VERSION` and the bound's key
 cache's folder: ``{"format": "pivot-route/1", "key": <key>, "route": <m>}``, mode 0600.
 
 An entry is used only when it answers the key asked for, reads as a small regular file of
-this user's that no one else may write (:func:`~pivot_ompl.cache.read_entry_bytes`) and holds
+this user's that no one else may write (:func:`~pivot_ompl.cache.read_json_entry`) and holds
 a finite length in the range a computed route lies in
-(:func:`~pivot_ompl.analysis.bound_cache.route_range`); any other entry is discarded with one
+(:func:`~pivot_ompl.analysis.bound_cache.route_problem`); any other entry is discarded with one
 warning. ``PIVOT_OMPL_BOUND_CACHE=0`` turns it off with the bound's disk cache; a plan that
 refutes the route drops it (:func:`forget_route`).
 """
@@ -20,16 +20,18 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
-import json
 import logging
-import math
-import os
 from pathlib import Path
 
-from pivot_ompl.analysis.bound_cache import CACHE_ENV, cache_dir, route_range, scene_key
-from pivot_ompl.cache import CacheEntryError, read_entry_bytes
+from pivot_ompl.analysis.bound_cache import (
+    cache_dir,
+    disk_enabled,
+    route_problem,
+    scene_key,
+    write_entry,
+)
+from pivot_ompl.cache import CacheEntryError, read_json_entry
 from pivot_ompl.errors import printable
-from pivot_ompl.fileio import atomic_output
 from pivot_ompl.scene import Scene
 
 log = logging.getLogger(__name__)
@@ -50,43 +52,25 @@ def _path(key: str) -> Path:
     return cache_dir() / f"{key}.route.json"
 
 
-def _enabled() -> bool:
-    return os.environ.get(CACHE_ENV, "1") != "0"
-
-
-def _no_constant(name: str) -> float:
-    raise ValueError(f"{name} is not a number")
-
-
 def _read(path: Path, key: str, scene: Scene) -> float | None:
     """The route at ``path`` answering ``key``; ``None`` when there is none.
 
     Raises:
         CacheEntryError: an entry is there but is not one to use (module docstring).
     """
-    data = read_entry_bytes(path, max_bytes=MAX_ROUTE_BYTES)
-    if data is None:
+    doc = read_json_entry(path, entry_format=ROUTE_FORMAT, key=key, max_bytes=MAX_ROUTE_BYTES)
+    if doc is None:
         return None
-    try:
-        doc = json.loads(data.decode("utf-8"), parse_constant=_no_constant)
-    except (ValueError, RecursionError):
-        raise CacheEntryError(path, "is not JSON") from None
-    if not isinstance(doc, dict) or doc.get("format") != ROUTE_FORMAT:
-        raise CacheEntryError(path, f"is not a {ROUTE_FORMAT} entry")
-    if doc.get("key") != key:
-        raise CacheEntryError(path, "answers another key (another scene or relaxation)")
     route = doc.get("route")
-    if isinstance(route, bool) or not isinstance(route, int | float) or not math.isfinite(route):
-        raise CacheEntryError(path, f"route = {route!r} is not a finite length")
-    low, high = route_range(scene)
-    if not low - 1e-9 <= route <= high:
-        raise CacheEntryError(path, f"route = {route!r} m is outside [{low:.6g}, {high:.6g}] m")
-    return float(route)
+    problem = route_problem(route, scene, name="route")
+    if problem is not None:
+        raise CacheEntryError(path, problem)
+    return float(route)  # type: ignore[arg-type]
 
 
 def kept_route(scene: Scene) -> float | None:
     """The gap-closed route (m) kept on disk for ``scene``, or ``None`` (a bad entry dropped)."""
-    if not _enabled():
+    if not disk_enabled():
         return None
     key = _key(scene)
     path = _path(key)
@@ -100,15 +84,9 @@ def kept_route(scene: Scene) -> float | None:
 
 def keep_route(scene: Scene, route: float) -> None:
     """Keep ``scene``'s finished gap-closed route (m) on disk (an unwritable cache: not kept)."""
-    if not _enabled():
-        return
-    key = _key(scene)
-    try:
-        with atomic_output(_path(key)) as tmp:
-            tmp.write_text(json.dumps({"format": ROUTE_FORMAT, "key": key, "route": route}))
-            os.chmod(tmp, 0o600)  # read back only if no one else may write it
-    except OSError as e:
-        log.debug("route cache not written (%s)", e)
+    if disk_enabled():
+        key = _key(scene)
+        write_entry(_path(key), {"format": ROUTE_FORMAT, "key": key, "route": route})
 
 
 def forget_route(scene: Scene) -> None:
