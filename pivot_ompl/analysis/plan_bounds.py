@@ -210,6 +210,18 @@ def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = Non
         scene, route_length, should_stop, time_left))
 
 
+def route_bound(scene: Scene, *, should_stop: Callable[[], bool] | None = None,
+                use_cache: bool = True) -> float | None:
+    """The disk route with its gaps closed, as a plan's ``shortest_route`` takes it (m).
+
+    Read from and kept in the caches (``use_cache`` ``False``: computed afresh, nothing
+    kept); ``None`` when stopped before a first route or when no path joins start and goal.
+    """
+    if not use_cache:
+        return disk_route(scene, should_stop=should_stop)
+    return _shared_held_route(scene, None, should_stop, None)
+
+
 def _shared_held_route(scene: Scene, route_length: float | None,
                        should_stop: Callable[[], bool] | None,
                        time_left: Callable[[], float] | None) -> float | None:
