@@ -37,6 +37,7 @@ from pivot_ompl.errors import InputError, Interrupted, SteeringError
 from pivot_ompl.pivoting.curves import CarPaths
 from pivot_ompl.pivoting.kinematics import ANGLE_TOL, Rotation, solve_piece
 from pivot_ompl.pivoting.piece_search import fewer_pivots, longest, merges, spin_step
+from pivot_ompl.pivoting.spin_chain import whole_spin
 from pivot_ompl.se2 import Pose, wrap_angle
 
 log = logging.getLogger(__name__)
@@ -303,6 +304,12 @@ class PivotSteering:
         even = spin_step(solve, amax, abs(wrap_angle(goal[2] - start[2]))) \
             if spin and plain and self.merge else None
         arc = self.merge and even is None
+        if even is not None:
+            chain = whole_spin(solve, even, current, end_pose, ell, amax,
+                               DEVIATION_RATIO * scale)
+            if chain is not None:  # one piece: the whole turn, fewer rotations
+                yield Piece(t0, t_end, current, end_pose, chain)
+                return
         while t0 < t_end:
             if should_stop is not None and should_stop():
                 raise Interrupted("pivot steering")

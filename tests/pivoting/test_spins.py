@@ -92,17 +92,17 @@ def test_a_spins_rotations_about_one_corner_in_a_row_could_not_merge(p, turn, el
 
 @pytest.mark.parametrize("ell", [0.2, 0.3, 0.4])
 @pytest.mark.parametrize("sign", [1.0, -1.0])
-def test_a_half_turn_in_place_takes_eleven_rotations(ell, sign):
-    """Five equal pieces whose outer rotations merge at every junction: 2 x 5 + 1.
+def test_a_half_turn_in_place_takes_ten_rotations(ell, sign):
+    """One chain alternating corners: a half share, seven full shares of pi/9, the closing two.
 
-    The longest spin piece's outer rotations are a little over a quarter of its turn each:
-    four longest pieces summed just over the bound at each junction, 12 rotations.
+    Equal spin pieces took 11 (five pieces whose outer rotations merge at every junction,
+    2 x 5 + 1); the chain needs no junction, and no pair in it could merge.
     """
     steering = PivotSteering(turning_radius=2.0, alpha_max=AMAX)
     start = (1.0, -2.0, 0.4)
     goal = (1.0, -2.0, wrap_angle(0.4 + sign * (math.pi - 1e-6)))
     seq = steering.convert(start, goal, half_length=ell)
-    assert len(seq.rotations) == 11
+    assert len(seq.rotations) == 10
     ends = [r.end for r in seq.rotations]
     assert all(a != b for a, b in zip(ends, ends[1:], strict=False))
     end = seq.rotations[-1].car
