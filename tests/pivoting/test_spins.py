@@ -9,6 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from pivot_ompl.pivoting.curves import SPIN_RADIUS, CarPaths
+from pivot_ompl.pivoting.spin_chain import spin_chain
 from pivot_ompl.pivoting.steering import PivotSteering
 from pivot_ompl.se2 import wrap_angle
 
@@ -107,3 +108,37 @@ def test_a_half_turn_in_place_takes_ten_rotations(ell, sign):
     assert all(a != b for a, b in zip(ends, ends[1:], strict=False))
     end = seq.rotations[-1].car
     assert math.hypot(end[0] - goal[0], end[1] - goal[1]) < 1e-9
+
+
+@settings(max_examples=80, deadline=None)
+@given(p=poses, turn=st.floats(0.05, math.pi - 1e-6), ell=st.sampled_from([0.15, 0.2, 0.4]),
+       sign=st.sampled_from([1.0, -1.0]))
+def test_a_spin_takes_at_most_two_rotations_over_what_its_turn_needs(p, turn, ell, sign):
+    """Equal pieces took three over (a 135 degree turn: 9 rotations for the 6 it needs)."""
+    steering = PivotSteering(turning_radius=2.0, alpha_max=AMAX)
+    goal = (p[0], p[1], wrap_angle(p[2] + sign * turn))
+    seq = steering.convert(p, goal, half_length=ell)
+    assert len(seq.rotations) <= math.ceil(turn / AMAX - 1e-9) + 2
+    end = seq.rotations[-1].car
+    assert math.hypot(end[0] - goal[0], end[1] - goal[1]) < 1e-9
+    assert abs(wrap_angle(end[2] - goal[2])) < 1e-9
+
+
+@settings(max_examples=60, deadline=None)
+@given(p=poses, turn=st.floats(0.3, math.pi - 1e-6), ell=st.sampled_from([0.15, 0.2, 0.4]),
+       sign=st.sampled_from([1.0, -1.0]), share=st.floats(0.05, 1.0))
+def test_a_spin_chain_stays_near_its_place_and_arrives(p, turn, ell, sign, share):
+    goal = (p[0], p[1], wrap_angle(p[2] + sign * turn))
+    bound = share * ell * AMAX
+    rots = spin_chain(p, goal, ell, AMAX, max_deviation=bound)
+    if rots is None:  # too tight a bound for every chain tried
+        return
+    assert all(abs(r.angle) <= AMAX + 1e-12 for r in rots)
+    for a, b in zip(rots, rots[1:], strict=False):
+        assert a.end != b.end or abs(a.angle + b.angle) > AMAX
+    for r in rots:
+        sagitta = ell * (1.0 - math.cos(0.5 * r.angle))
+        assert math.hypot(r.car[0] - p[0], r.car[1] - p[1]) + sagitta <= bound + 1e-12
+    end = rots[-1].car
+    assert math.hypot(end[0] - goal[0], end[1] - goal[1]) < 1e-9
+    assert abs(wrap_angle(end[2] - goal[2])) < 1e-9
