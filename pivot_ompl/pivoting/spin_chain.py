@@ -5,16 +5,20 @@ spin path, so each is the one three-rotation solution that turns the car by its 
 brings it back to its place: a quarter, a half and a quarter of the share, a little more at
 the ends. Where two pieces meet, their outer rotations sum just over the bound unless the
 shares are small, so a 135 degree turn at ``alpha_max = pi/8`` takes 9 rotations and a half
-turn 11, where rotations alternating corners at the bound would take about 7 and 9.
+turn 11, where rotations alternating corners near the bound take about 7 and 9.
 
-:func:`spin_chain` makes that chain: ``k - 3`` rotations alternating corners, a half share
-``c / 2`` then full shares ``c = turn / (k - 1)`` (all turning one way, each within the
-bound), then the three rotations (:func:`~pivot_ompl.pivoting.kinematics.solve_piece`, merged
-into the chain's last rotation where they turn about its corner) that close the turn exactly
-at the goal. The car strays from its place by a few centimetres (about ``l alpha_max / 2``)
-on the way, within the steering's small-time neighbourhood of a spin. The fewest ``k`` that
-solves is taken (a few tried, from the rotation count the turn needs); the caller keeps the
-chain only where it makes fewer rotations than the equal pieces.
+:func:`spin_chain` makes such a chain: ``m`` rotations alternating corners, all turning one
+way, a first one of ``f c`` then ``c`` each (``c`` a share of the bound,
+:data:`CHAIN_SHARES`, ``f`` in :data:`CHAIN_FIRST`), then the three rotations
+(:func:`~pivot_ompl.pivoting.kinematics.solve_piece`, merged into the chain's last rotation
+where they turn about its corner within the bound) that close the turn exactly at the goal.
+The car strays from its place by a few centimetres on the way (the sweep checks decide
+whether there is room), within the steering's small-time neighbourhood of a spin. Of the
+prefix lengths around what the turn needs (shortest first) and the shares (smallest first,
+the first one's share tried in turn), the chain of fewest rotations is taken, the one
+straying least among those, or the first found of one rotation over what the turn needs.
+The caller keeps it only where it makes fewer rotations than the equal pieces
+(:func:`whole_spin`).
 """
 
 from __future__ import annotations
@@ -25,10 +29,12 @@ from collections.abc import Callable
 from pivot_ompl.pivoting.kinematics import ANGLE_TOL, LEFT, Rotation, solve_piece
 from pivot_ompl.se2 import Pose, wrap_angle
 
-__all__ = ["CHAIN_TRIES", "spin_chain", "whole_spin"]
+__all__ = ["CHAIN_FIRST", "CHAIN_SHARES", "spin_chain", "whole_spin"]
 
-#: Chain lengths tried, from the fewest rotations the turn needs plus one.
-CHAIN_TRIES = 3
+#: The chain's rotations before its closing three: shares of the bound tried,
+CHAIN_SHARES = (0.7, 0.8, 0.9, 0.96, 1.0)
+#: and the first one's share of those.
+CHAIN_FIRST = (0.5, 0.6, 0.75, 1.0)
 
 
 def _rotate(car: Pose, end: int, angle: float, ell: float) -> Rotation:
@@ -41,15 +47,16 @@ def _rotate(car: Pose, end: int, angle: float, ell: float) -> Rotation:
     return Rotation(end, (px, py), angle, (px + c * dx - s * dy, py + s * dx + c * dy, h + angle))
 
 
-def _chain(start: Pose, goal: Pose, ell: float, alpha_max: float, k: int,
-           first: int) -> list[Rotation] | None:
-    """The chain of ``k`` rotations (before merging) from ``start`` about ``first`` first."""
-    turn = wrap_angle(goal[2] - start[2])
-    share = turn / (k - 1)
+def _chain(start: Pose, goal: Pose, ell: float, alpha_max: float, m: int, c: float,
+           first_share: float, first: int) -> list[Rotation] | None:
+    """``m`` rotations of ``c`` (the first ``first_share c``), then the closing ones, merged.
+
+    The first turns about the corner ``first``; ``None`` where the closing does not solve.
+    """
     rots: list[Rotation] = []
     car, end = start, first
-    for i in range(k - 3):
-        r = _rotate(car, end, 0.5 * share if i == 0 else share, ell)
+    for i in range(m):
+        r = _rotate(car, end, first_share * c if i == 0 else c, ell)
         rots.append(r)
         car, end = r.car, 1 - end
     ok, tail = solve_piece(car, goal, ell, alpha_max, previous=rots[-1] if rots else None)
@@ -87,22 +94,28 @@ def spin_chain(start: Pose, goal: Pose, ell: float, alpha_max: float, *,
         none about the corner of the one before it where the two would merge), or ``None``
         where no chain of the lengths tried solves within ``max_deviation``.
     """
-    turn = abs(wrap_angle(goal[2] - start[2]))
+    signed = wrap_angle(goal[2] - start[2])
+    turn = abs(signed)
     if turn <= 0.0:
         return None
-    fewest = math.ceil(turn / alpha_max - 1e-9) + 1
-    best: list[Rotation] | None = None
-    for k in range(max(3, fewest), max(3, fewest) + CHAIN_TRIES):
-        for first in (LEFT, 1 - LEFT):
-            rots = _chain(start, goal, ell, alpha_max, k, first)
-            if rots is None or any(abs(r.angle) > alpha_max + ANGLE_TOL for r in rots) or \
-                    _strays(rots, start, ell) > max_deviation:
-                continue
-            if best is None or len(rots) < len(best):
-                best = rots
-        if best is not None:
-            break
-    return None if best is None else tuple(best)
+    need = math.ceil(turn / alpha_max - 1e-9)
+    best: tuple[int, float, list[Rotation]] | None = None
+    for m in range(max(1, need - 3), need + 2):
+        for share in CHAIN_SHARES:
+            c = math.copysign(share * alpha_max, signed)
+            for first_share in CHAIN_FIRST:
+                for first in (LEFT, 1 - LEFT):
+                    rots = _chain(start, goal, ell, alpha_max, m, c, first_share, first)
+                    if rots is None or \
+                            any(abs(r.angle) > alpha_max + ANGLE_TOL for r in rots):
+                        continue
+                    strays = _strays(rots, start, ell)
+                    if strays <= max_deviation and \
+                            (best is None or (len(rots), strays) < best[:2]):
+                        best = (len(rots), strays, rots)
+            if best is not None and best[0] <= need + 1:  # one over what the turn needs:
+                return tuple(best[2])  # the closing rotations return the car, few do better
+    return None if best is None else tuple(best[2])
 
 
 _Solved = tuple[Pose, tuple[Rotation, ...]]
@@ -125,5 +138,7 @@ def whole_spin(solve: Callable[[float], _Solved | None], step: float, start: Pos
     joined = n > 1 and rots[-1].end == rots[0].end and \
         abs(rots[-1].angle + rots[0].angle) <= alpha_max + ANGLE_TOL
     equal = n * len(rots) - (n - 1 if joined else 0)
+    if equal <= math.ceil(abs(wrap_angle(goal[2] - start[2])) / alpha_max - 1e-9) + 1:
+        return None  # the equal pieces are as few as chains make
     chain = spin_chain(start, goal, ell, alpha_max, max_deviation=max_deviation)
     return chain if chain is not None and len(chain) < equal else None
