@@ -23,6 +23,9 @@ Between two car poses at the same position the reference path is a **spin**, a t
 (``a/4`` about one end, ``a/2`` about the other, ``a/4`` about the first: the car turns by
 ``a`` and comes back to its place), so the box swings round with the robot wherever the
 assembly has room, as the regrasp paper's robot did with "backward and forward manipulation".
+A whole spin is converted as one piece, a chain of rotations closed at the car's place
+(:func:`~pivot_ompl.pivoting.spin_chain.whole_spin`), where that takes fewer rotations than
+its equal pieces (a local refinement's spin stretch is cut into pieces as before).
 """
 
 from __future__ import annotations
