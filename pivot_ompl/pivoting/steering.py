@@ -63,13 +63,14 @@ Sent = tuple[Pose, Rotation | None] | tuple[Pose, Rotation | None, float]
 
 
 class Piece(NamedTuple):
-    """One piece of a Reeds-Shepp path solved by (at most three) rotations.
+    """One piece of a Reeds-Shepp path solved by (at most three) rotations, or a whole spin.
 
     Attributes:
         t0, t1: the piece's parameters on the path (fractions of its length).
         start: the car pose actually reached at ``t0`` (where the rotations start).
         target: the path's pose at ``t1`` (reached by the rotations up to round-off).
-        rotations: the rotations, unmerged (empty when ``start`` already is ``target``).
+        rotations: the rotations, unmerged (empty when ``start`` already is ``target``;
+            a whole spin's chain, :func:`~pivot_ompl.pivoting.spin_chain.whole_spin`).
     """
 
     t0: float
