@@ -36,6 +36,7 @@ from typing import Any
 from pivot_ompl.analysis.bound_levels import (
     REFINE_SECONDS,
     may_guide,
+    may_pose,
     may_refine,
     scaled_lower_bound,
 )
@@ -51,7 +52,7 @@ from pivot_ompl.scene import Scene, scene_digest
 log = logging.getLogger(__name__)
 
 #: Version of the relaxation: part of every key (a new relaxation never reads old results).
-BOUND_VERSION = 7
+BOUND_VERSION = 8
 #: Scenes whose bound is kept in memory.
 MEMORY_ENTRIES = 64
 #: Environment variable that turns the disk cache off when ``0``.
@@ -290,7 +291,8 @@ def _refinable(hit: RegraspBound, scene: Scene, resolution: float, target: int |
         return False
     if target is not None and hit.regrasps is not None and hit.regrasps >= target:
         return False
-    if not hit.guided and may_guide(relaxed_scene(scene), guided_seconds):
+    if not hit.guided and (may_pose(relaxed_scene(scene), guided_seconds)
+                           or may_guide(relaxed_scene(scene), guided_seconds)):
         return True
     return may_refine(relaxed_scene(scene), resolution=resolution,
                       refine_seconds=refine_seconds)

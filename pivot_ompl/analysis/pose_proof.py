@@ -97,7 +97,7 @@ class PoseProof:
     start_reach: BaseGeometry | None = None
 
 
-class _Parts:
+class HeldParts:
     """The free parts of every (bin, grasp), computed once per bin and kept."""
 
     def __init__(self, scene: Scene, clearance: float,
@@ -165,10 +165,10 @@ def _bins_of(edges: list[float], yaw: float) -> list[int]:
     return [i for i in range(n) if edges[i] - 1e-12 <= t <= edges[i + 1] + 1e-12] or [n - 1]
 
 
-class _Graph:
+class PoseGraph:
     """The parts joined (see the module docstring) for one set of bins."""
 
-    def __init__(self, parts: _Parts, edges: list[float],
+    def __init__(self, parts: HeldParts, edges: list[float],
                  should_stop: Callable[[], bool] | None) -> None:
         n = len(edges) - 1
         self.table = []
@@ -258,14 +258,14 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
                          time.perf_counter() - t0, reach)
 
     try:
-        parts = _Parts(scene, clearance, should_stop)
+        parts = HeldParts(scene, clearance, should_stop)
         if parts.room is None:
             return result(None)
         if not parts.room.covers(shapely.Point(scene.goal[:2])):  # the box alone cannot go
             return result(True, parts.room)
         while True:
             rounds += 1
-            graph = _Graph(parts, edges, should_stop)
+            graph = PoseGraph(parts, edges, should_stop)
             starts, goals = graph.nodes_at(edges, scene.start), graph.nodes_at(edges, scene.goal)
             if not starts or not goals:
                 return result(None)

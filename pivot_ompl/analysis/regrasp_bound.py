@@ -103,8 +103,8 @@ class RegraspBound:
             time limit; such a result is not kept by the cache).
         exhaustive: computed by the exact polygon relaxation (``False``: by a faster one,
             :mod:`~pivot_ompl.analysis.raster_bound`, sound but possibly lower).
-        guided: the raster relaxation was refined to the end where its best path passes
-            narrow places (:mod:`~pivot_ompl.analysis.guided_refine`).
+        guided: refined to the end along its best path: the raster where it passes narrow
+            places (:mod:`~pivot_ompl.analysis.guided_refine`) or the held poses' count.
     """
 
     regrasps: int | None
