@@ -26,7 +26,11 @@ seconds on a 5000-box floor, each a proof; it polls ``should_stop`` and its roun
 stand), marked ``guided`` when it ran to its end; only when the coarsest raster's estimate
 and its own (:func:`guided_estimate`, from the floor's cells and yaw bins) add up to at most
 ``guided_seconds``: an estimate, so a refinement that cannot end in the time given is not
-started.
+started. On a floor of few obstacle pieces, whose held poses' count
+(:func:`~pivot_ompl.analysis.pose_regrasps.pose_regrasp_bound`: exact polygons per yaw bin
+and grasp, the fewest grasp changes over them) is estimated at most :data:`POSE_SECONDS`,
+that count runs in its place (:func:`may_pose`): measured on the corridor rows, the
+refinement's raster proves 0 there and the count 2, with its cost bounded by a bin count.
 """
 
 from __future__ import annotations

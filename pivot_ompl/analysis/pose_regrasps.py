@@ -16,8 +16,8 @@ bin is fine enough, one that fine bins keep is the relaxation's answer at that s
 end when the count reaches ``target`` (the plan's regrasps: nothing more to prove), when the
 chain's bins are all at :data:`~pivot_ompl.analysis.pose_proof.FINEST`, at
 :data:`~pivot_ompl.analysis.pose_proof.MAX_BINS` bins, or before a round that would compute
-more than :data:`MOST_BINS` bins in all (a count, not a clock: the same on any load). ``should_stop`` is polled before every
-bin's parts; stopped, the rounds done stand.
+more than :data:`MOST_BINS` bins in all (a count, not a clock: the same on any load).
+``should_stop`` is polled before every bin's parts; stopped, the rounds done stand.
 
 What it cannot see: the walk round the resting box (a regrasp is allowed wherever both
 grasps' parts meet) and the pivoting kinematics. Where the held assembly fits a passage at the
@@ -125,7 +125,8 @@ def least_changes(graph: PoseGraph, starts: list[Node], goals: list[Node],
 def pose_regrasp_bound(scene: Scene, *, target: int | None = None,
                        clearance: float = MOTION_CLEARANCE, first_bins: int = FIRST_BINS,
                        max_bins: int = MAX_BINS, finest: float = FINEST,
-                       most_bins: int = MOST_BINS, should_stop: Callable[[], bool] | None = None) -> PoseRegrasps:
+                       most_bins: int = MOST_BINS,
+                       should_stop: Callable[[], bool] | None = None) -> PoseRegrasps:
     """The held poses' lower bound on the regrasps of any plan of ``scene`` (module docstring).
 
     Args:
