@@ -119,24 +119,54 @@ class HeldParts:
                        if all(any(np.array_equal(b, c) for c in bs) for bs in self.bodies)]
         self.own = [[b for b in bs if not any(np.array_equal(b, c) for c in self.shared)]
                     for bs in self.bodies]
+        #: per grasp, the earlier grasp whose own bodies it has turned by a half turn (its
+        #: parts at a bin are that grasp's at the bin turned by pi: computed once), else itself
+        self.turned = [next((k for k in range(g) if _half_turned(self.own[k], self.own[g])), g)
+                       for g in range(len(self.own))]
+        #: the shared bodies are their own half turn (the box): one room for a bin and its
+        #: opposite
+        self.half_room = _half_turned(self.shared, self.shared)
         self.known: dict[tuple[float, float], list[list[BaseGeometry]]] = {}
+        self.grasps: dict[tuple[int, int, int], list[BaseGeometry]] = {}
+        self.rooms: dict[tuple[int, int], BaseGeometry] = {}
         self.met: dict[tuple[float, ...], list[tuple[int, int]]] = {}
 
     def of(self, a: float, b: float) -> list[list[BaseGeometry]]:
         """Per grasp, the free parts of the bin ``[a, b]``."""
         key = (a, b)
         if key not in self.known:
-            half, mid = 0.5 * (b - a), 0.5 * (a + b)
-            room = free_region(self.grown, [rotation_core(body, half) for body in self.shared],
-                               mid, self.area)  # the bodies of every grasp: once for all
-            self.known[key] = [free_components(self.grown,
-                                               [rotation_core(body, half) for body in own],
-                                               mid, room) for own in self.own]
+            self.known[key] = [self._grasp(a, b, g) for g in range(len(self.own))]
         return self.known[key]
+
+    def _grasp(self, a: float, b: float, g: int) -> list[BaseGeometry]:
+        k = self.turned[g]
+        if k != g:  # grasp g at [a, b] is grasp k at [a + pi, b + pi]
+            a, b = a + math.pi, b + math.pi
+        key = (turn_key(a), turn_key(b), k)
+        if key not in self.grasps:
+            half, mid = 0.5 * (b - a), 0.5 * (a + b)
+            self.grasps[key] = free_components(
+                self.grown, [rotation_core(body, half) for body in self.own[k]], mid,
+                self._room(a, b))
+        return self.grasps[key]
+
+    def _room(self, a: float, b: float) -> BaseGeometry:
+        """Where the shared bodies (every grasp's) are free at the bin ``[a, b]``."""
+        key = (turn_key(a), turn_key(b))
+        if self.half_room:
+            key = (key[0] % HALF_TURN_KEY, key[1] % HALF_TURN_KEY)
+        if key not in self.rooms:
+            half, mid = 0.5 * (b - a), 0.5 * (a + b)
+            self.rooms[key] = free_region(
+                self.grown, [rotation_core(body, half) for body in self.shared], mid, self.area)
+        return self.rooms[key]
 
     def forget(self, a: float, b: float) -> None:
         """Drop the parts of the bin ``[a, b]`` (halved: never asked again)."""
         self.known.pop((a, b), None)
+        qa, qb = turn_key(a), turn_key(b)
+        for k in range(len(self.own)):
+            self.grasps.pop((qa, qb, k), None)
 
     def meet(self, key: tuple[float, ...], a: list[BaseGeometry],
              b: list[BaseGeometry]) -> list[tuple[int, int]]:
@@ -144,6 +174,25 @@ class HeldParts:
         if key not in self.met:
             self.met[key] = _meets(a, b)
         return self.met[key]
+
+
+#: Yaw keys per turn (:func:`turn_key`): bins are dyadic parts of the turn, far coarser.
+TURN_KEYS = 1 << 20
+HALF_TURN_KEY = TURN_KEYS // 2
+
+
+def turn_key(yaw: float) -> int:
+    """``yaw`` (rad) as an integer step of the turn, modulo the turn: a bin edge's key."""
+    return round(yaw / (2.0 * math.pi) * TURN_KEYS) % TURN_KEYS
+
+
+def _half_turned(a: list[np.ndarray], b: list[np.ndarray]) -> bool:
+    """Whether the convex bodies ``b`` are those of ``a`` turned by a half turn (as sets)."""
+    if len(a) != len(b):
+        return False
+    left = [shapely.Polygon(-body) for body in a]
+    return all(any(p.symmetric_difference(shapely.Polygon(body)).area < 1e-12 for p in left)
+               for body in b)
 
 
 def _meets(a: list[BaseGeometry], b: list[BaseGeometry]) -> list[tuple[int, int]]:

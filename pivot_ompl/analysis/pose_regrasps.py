@@ -45,6 +45,7 @@ from pivot_ompl.analysis.pose_proof import (
     Node,
     PoseGraph,
     proof_estimate,
+    turn_key,
 )
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
@@ -53,10 +54,11 @@ log = logging.getLogger(__name__)
 
 #: Yaw bins of the first round (the corridor rows' count leaves 0 from 64 bins, not from 32).
 FIRST_BINS = 64
-#: Bins computed at most over all rounds (the first round's and the halves): the time bound.
+#: Bins' worth of parts computed at most over all rounds (the first round's and the halves;
+#: a bin and its opposite cost one bin's worth, :func:`_with_opposites`): the time bound.
 #: The corridor rows' count reaches its 2 in the first round and stays there however far
 #: the chain is refined (up to 394 bins and 30 s on a 16-room row).
-MOST_BINS = 128
+MOST_BINS = 96
 
 
 @dataclass(frozen=True)
@@ -87,7 +89,7 @@ class PoseRegrasps:
 
 
 def pose_estimate(scene: Scene, *, most_bins: int = MOST_BINS) -> float:
-    """Estimated time (s) of :func:`pose_regrasp_bound` (``most_bins`` bins computed)."""
+    """Estimated time (s) of :func:`pose_regrasp_bound` (``most_bins`` bins' worth)."""
     return proof_estimate(scene) * most_bins / ESTIMATED_BINS
 
 
@@ -122,6 +124,22 @@ def least_changes(graph: PoseGraph, starts: list[Node], goals: list[Node],
     return None
 
 
+def _with_opposites(edges: list[float], split: set[int]) -> list[int]:
+    """The bins ``split`` and those opposite them (their yaws plus pi), sorted.
+
+    A bin's parts at a grasp the half turn of another are those of the opposite bin
+    (:class:`~pivot_ompl.analysis.pose_proof.HeldParts`): halved together, both bins' halves
+    cost what one bin's do.
+    """
+    at = {(turn_key(edges[i]), turn_key(edges[i + 1])): i for i in range(len(edges) - 1)}
+    out = set(split)
+    for i in split:
+        j = at.get((turn_key(edges[i] + math.pi), turn_key(edges[i + 1] + math.pi)))
+        if j is not None:
+            out.add(j)
+    return sorted(out)
+
+
 def pose_regrasp_bound(scene: Scene, *, target: int | None = None,
                        clearance: float = MOTION_CLEARANCE, first_bins: int = FIRST_BINS,
                        max_bins: int = MAX_BINS, finest: float = FINEST,
@@ -137,15 +155,15 @@ def pose_regrasp_bound(scene: Scene, *, target: int | None = None,
         first_bins: yaw bins of the first round.
         max_bins: most yaw bins.
         finest: narrowest bin halved again (rad).
-        most_bins: bins computed at most over all rounds (a round that would pass it is
-            not run: the rounds done stand, and the result is complete).
+        most_bins: bins' worth of parts computed at most over all rounds (a round that would
+            pass it is not run: the rounds done stand, and the result is complete).
         should_stop: polled before every bin's parts; stopped, the rounds done stand.
 
     Never raises on a stop.
     """
     t0 = time.perf_counter()
     edges = [2.0 * math.pi * i / first_bins for i in range(first_bins + 1)]
-    rounds, best, computed = 0, None, first_bins
+    rounds, best, computed = 0, None, first_bins // 2  # opposite bins share parts
 
     def result(complete: bool, apart: bool = False) -> PoseRegrasps:
         return PoseRegrasps(None if apart else best, apart, complete, len(edges) - 1,
@@ -170,11 +188,12 @@ def pose_regrasp_bound(scene: Scene, *, target: int | None = None,
                 return result(True)
             widths = {i: edges[i + 1] - edges[i] for i, _, _ in path}
             widest = max(widths.values())
-            split = sorted(i for i, w in widths.items() if w > finest and w >= 0.99 * widest)
+            split = _with_opposites(edges, {i for i, w in widths.items()
+                                            if w > finest and w >= 0.99 * widest})
             log.debug("held poses' regrasps, round %d: %d bins, at least %d (chain of %d "
                       "parts); %d halved (%.2f degrees)", rounds, len(edges) - 1, best,
                       len(path), len(split), math.degrees(widest))
-            computed += 2 * len(split)
+            computed += len(split)  # two halves each, an opposite pair's for one bin's
             if not split or len(edges) - 1 + len(split) > max_bins or computed > most_bins:
                 return result(True)
             for i in reversed(split):
