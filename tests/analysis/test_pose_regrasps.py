@@ -8,11 +8,14 @@ from collections import deque
 from dataclasses import dataclass, field
 
 import pytest
+import shapely
 from factories import make_scene, rotated_scene_doc, shipped, shipped_doc
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from pivot_ompl.analysis.bound_levels import scaled_lower_bound
+from pivot_ompl.analysis.pose_cells import free_components, free_region, rotation_core
+from pivot_ompl.analysis.pose_proof import MOTION_CLEARANCE, HeldParts
 from pivot_ompl.analysis.pose_regrasps import least_changes, pose_regrasp_bound
 from pivot_ompl.scene import scene_from_dict
 
@@ -132,3 +135,23 @@ def test_the_levels_take_the_held_poses_count_where_the_raster_proves_less():
     assert quick.regrasps == 0 and not quick.guided
     assert held.regrasps is not None and 2 <= held.regrasps <= 3 and held.guided
     assert math.isfinite(held.seconds)
+
+
+@pytest.mark.parametrize("name", ["door", "fig10"])
+def test_a_grasp_read_from_the_opposite_bin_has_the_parts_computed_for_it(name):
+    """Grasps 2 and 3 are grasps 0 and 1 turned by a half turn: their parts at a bin are read
+    from the opposite bin's, and must be the parts their own bodies give."""
+    scene = shipped(name)
+    parts = HeldParts(scene, MOTION_CLEARANCE, None)
+    assert parts.turned == [0, 1, 0, 1]
+    for a, b in [(0.1, 0.3), (2.0, 2.1), (math.pi + 0.1, math.pi + 0.3), (5.9, 2 * math.pi)]:
+        half, mid = 0.5 * (b - a), 0.5 * (a + b)
+        room = free_region(parts.grown, [rotation_core(s, half) for s in parts.shared], mid,
+                           parts.area)
+        for g, got in enumerate(parts.of(a, b)):
+            want = free_components(parts.grown, [rotation_core(s, half) for s in parts.own[g]],
+                                   mid, room)
+            union = shapely.union_all(got) if got else shapely.Polygon()
+            assert len(got) == len(want)
+            assert union.symmetric_difference(
+                shapely.union_all(want) if want else shapely.Polygon()).area < 1e-8
