@@ -199,13 +199,13 @@ def may_pose(scene: Scene, guided_seconds: float) -> bool:
 
 def held_poses_bound(scene: Scene, best: RegraspBound, target: int | None,
                      should_stop: Callable[[], bool] | None) -> RegraspBound:
-    """``best`` raised by the held poses' count (marked ``guided`` when it ran to its end)."""
+    """``best`` raised by the held poses' count (marked ``held`` when it ran to its end)."""
     held = pose_regrasp_bound(scene, target=target, should_stop=should_stop)
     if held.apart:
         return dataclasses.replace(best, regrasps=None, solvable=False, shortest_route=None)
     return dataclasses.replace(
         best, regrasps=max(best.regrasps or 0, held.regrasps or 0),
-        guided=held.complete, complete=best.complete and held.complete)
+        held=held.complete, complete=best.complete and held.complete)
 
 
 def may_refine(scene: Scene, *, resolution: float = RESOLUTION,

@@ -103,8 +103,9 @@ class RegraspBound:
             time limit; such a result is not kept by the cache).
         exhaustive: computed by the exact polygon relaxation (``False``: by a faster one,
             :mod:`~pivot_ompl.analysis.raster_bound`, sound but possibly lower).
-        guided: refined to the end along its best path: the raster where it passes narrow
-            places (:mod:`~pivot_ompl.analysis.guided_refine`) or the held poses' count.
+        guided: the raster relaxation was refined to the end where its best path passes
+            narrow places (:mod:`~pivot_ompl.analysis.guided_refine`).
+        held: the held poses' count ran to its end (:mod:`~pivot_ompl.analysis.pose_regrasps`).
     """
 
     regrasps: int | None
@@ -116,6 +117,7 @@ class RegraspBound:
     complete: bool = True
     exhaustive: bool = True
     guided: bool = False
+    held: bool = False
 
 
 @dataclass(frozen=True)
