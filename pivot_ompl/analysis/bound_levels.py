@@ -77,10 +77,10 @@ SECONDS_PER_CELL_BIN_ROUND = 5e-8
 #: Rounds the guided estimate counts (the Willow Garage office's 2 takes 6).
 GUIDED_ROUNDS = 6
 #: Largest estimate (s) of the held poses' count run in place of the guided refinement
-#: (:func:`~pivot_ompl.analysis.pose_regrasps.pose_estimate`: 2.2 s on the 32-room corridor
+#: (:func:`~pivot_ompl.analysis.pose_regrasps.pose_estimate`: 1.4 s on the 32-room corridor
 #: row of 105 boxes, where the refinement gains nothing; the Willow Garage office's 5049
-#: boxes: about 97 s, so the refinement runs there).
-POSE_SECONDS = 4.0
+#: boxes: about 65 s, so the refinement runs there).
+POSE_SECONDS = 2.0
 #: The polygon relaxation's cost (s) per obstacle piece, yaw bin and grasp (measured on fig10,
 #: the house and the Nav2 warehouse maps: 0.22-0.39 ms).
 SECONDS_PER_PIECE = 3e-4

@@ -57,8 +57,10 @@ FIRST_BINS = 64
 #: Bins' worth of parts computed at most over all rounds (the first round's and the halves;
 #: a bin and its opposite cost one bin's worth, :func:`_with_opposites`): the time bound.
 #: The corridor rows' count reaches its 2 in the first round and stays there however far
-#: the chain is refined (up to 394 bins and 30 s on a 16-room row).
-MOST_BINS = 96
+#: the chain is refined (up to 394 bins and 30 s on a 16-room row; on the 32-room row 96
+#: bins' worth took 10.3 s against 7.1 s for 64, both 2, on a loaded machine); fig10's 2
+#: needs 62.
+MOST_BINS = 64
 
 
 @dataclass(frozen=True)
