@@ -14,8 +14,9 @@ joined parts only, so when no part holding the start is joined to one holding th
 plan exists.
 
 The bins start coarse (:data:`FIRST_BINS`); while a chain of parts joins start and goal, the
-bins on the chain are halved (a chain through too coarse bins is refined away, a true one
-stays), up to :data:`MAX_BINS` bins or bins of :data:`FINEST` rad; the stop is polled
+bins on the chain are halved with the bins opposite them (a chain through too coarse bins is
+refined away, a true one stays; a grasp that is another's half turn has that grasp's parts at
+the opposite bin, so a bin and its opposite cost one bin's parts), up to :data:`MAX_BINS` bins or bins of :data:`FINEST` rad; the stop is polled
 before every bin's parts. Pivoting is small-time controllable, so where the finest bins still
 join start and goal the answer is "joined" (no proof; the poses connect at the bins' scale).
 """
@@ -186,6 +187,21 @@ def turn_key(yaw: float) -> int:
     return round(yaw / (2.0 * math.pi) * TURN_KEYS) % TURN_KEYS
 
 
+def with_opposites(edges: list[float], split: set[int]) -> list[int]:
+    """The bins ``split`` of ``edges`` and those opposite them (their yaws plus pi), sorted.
+
+    A bin's parts at a grasp that is another's half turn are the opposite bin's
+    (:class:`HeldParts`): halved together, both bins' halves cost what one bin's do.
+    """
+    at = {(turn_key(edges[i]), turn_key(edges[i + 1])): i for i in range(len(edges) - 1)}
+    out = set(split)
+    for i in split:
+        j = at.get((turn_key(edges[i] + math.pi), turn_key(edges[i + 1] + math.pi)))
+        if j is not None:
+            out.add(j)
+    return sorted(out)
+
+
 def _half_turned(a: list[np.ndarray], b: list[np.ndarray]) -> bool:
     """Whether the convex bodies ``b`` are those of ``a`` turned by a half turn (as sets)."""
     if len(a) != len(b):
@@ -325,7 +341,8 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
             # the chain's widest bins first: a chain through coarse bins is most often false
             widths = {i: edges[i + 1] - edges[i] for i, _, _ in path}
             widest = max(widths.values())
-            split = sorted(i for i, w in widths.items() if w > finest and w >= 0.99 * widest)
+            split = with_opposites(edges, {i for i, w in widths.items()
+                                           if w > finest and w >= 0.99 * widest})
             log.debug("held poses, round %d: %d bins, a chain of %d parts over %d bins; %d "
                       "halved (%.2f degrees)", rounds, len(edges) - 1, len(path), len(widths),
                       len(split), math.degrees(widest))

@@ -45,7 +45,7 @@ from pivot_ompl.analysis.pose_proof import (
     Node,
     PoseGraph,
     proof_estimate,
-    turn_key,
+    with_opposites,
 )
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
@@ -55,7 +55,8 @@ log = logging.getLogger(__name__)
 #: Yaw bins of the first round (the corridor rows' count leaves 0 from 64 bins, not from 32).
 FIRST_BINS = 64
 #: Bins' worth of parts computed at most over all rounds (the first round's and the halves;
-#: a bin and its opposite cost one bin's worth, :func:`_with_opposites`): the time bound.
+#: a bin and its opposite cost one bin's worth,
+#: :func:`~pivot_ompl.analysis.pose_proof.with_opposites`): the time bound.
 #: The corridor rows' count reaches its 2 in the first round and stays there however far
 #: the chain is refined (up to 394 bins and 30 s on a 16-room row; on the 32-room row 96
 #: bins' worth took 10.3 s against 7.1 s for 64, both 2, on a loaded machine); fig10's 2
@@ -126,22 +127,6 @@ def least_changes(graph: PoseGraph, starts: list[Node], goals: list[Node],
     return None
 
 
-def _with_opposites(edges: list[float], split: set[int]) -> list[int]:
-    """The bins ``split`` and those opposite them (their yaws plus pi), sorted.
-
-    A bin's parts at a grasp the half turn of another are those of the opposite bin
-    (:class:`~pivot_ompl.analysis.pose_proof.HeldParts`): halved together, both bins' halves
-    cost what one bin's do.
-    """
-    at = {(turn_key(edges[i]), turn_key(edges[i + 1])): i for i in range(len(edges) - 1)}
-    out = set(split)
-    for i in split:
-        j = at.get((turn_key(edges[i] + math.pi), turn_key(edges[i + 1] + math.pi)))
-        if j is not None:
-            out.add(j)
-    return sorted(out)
-
-
 def pose_regrasp_bound(scene: Scene, *, target: int | None = None,
                        clearance: float = MOTION_CLEARANCE, first_bins: int = FIRST_BINS,
                        max_bins: int = MAX_BINS, finest: float = FINEST,
@@ -190,7 +175,7 @@ def pose_regrasp_bound(scene: Scene, *, target: int | None = None,
                 return result(True)
             widths = {i: edges[i + 1] - edges[i] for i, _, _ in path}
             widest = max(widths.values())
-            split = _with_opposites(edges, {i for i, w in widths.items()
+            split = with_opposites(edges, {i for i, w in widths.items()
                                             if w > finest and w >= 0.99 * widest})
             log.debug("held poses' regrasps, round %d: %d bins, at least %d (chain of %d "
                       "parts); %d halved (%.2f degrees)", rounds, len(edges) - 1, best,
