@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 
 from pivot_ompl.analysis.bound_levels import scaled_lower_bound
 from pivot_ompl.analysis.pose_cells import free_components, free_region, rotation_core
-from pivot_ompl.analysis.pose_proof import MOTION_CLEARANCE, HeldParts
+from pivot_ompl.analysis.pose_proof import MOTION_CLEARANCE, HeldParts, turn_key, with_opposites
 from pivot_ompl.analysis.pose_regrasps import least_changes, pose_regrasp_bound
 from pivot_ompl.scene import scene_from_dict
 
@@ -156,3 +156,22 @@ def test_a_grasp_read_from_the_opposite_bin_has_the_parts_computed_for_it(name):
             assert len(got) == len(want)
             assert union.symmetric_difference(
                 shapely.union_all(want) if want else shapely.Polygon()).area < 1e-8
+
+
+@settings(max_examples=50, deadline=None)
+@given(halvings=st.lists(st.integers(0, 200), max_size=12), pick=st.sets(st.integers(0, 400)))
+def test_bins_are_halved_with_their_opposites(halvings, pick):
+    """On bins symmetric under a half turn, the bins to halve come with their opposites
+    (whose parts they share), so the bins stay symmetric round after round."""
+    edges = [2.0 * math.pi * i / 32 for i in range(33)]
+    for h in halvings:
+        i = h % (len(edges) - 1)
+        for j in reversed(with_opposites(edges, {i})):
+            edges.insert(j + 1, 0.5 * (edges[j] + edges[j + 1]))
+        keys = {(turn_key(a), turn_key(b)) for a, b in zip(edges, edges[1:], strict=False)}
+        assert all((turn_key(a + math.pi), turn_key(b + math.pi)) in keys
+                   for a, b in zip(edges, edges[1:], strict=False))
+    split = {p % (len(edges) - 1) for p in pick}
+    out = with_opposites(edges, split)
+    assert set(out) >= split and out == sorted(out)
+    assert len(out) == len({frozenset(with_opposites(edges, {i})) for i in split}) * 2
