@@ -16,9 +16,10 @@ plan exists.
 The bins start coarse (:data:`FIRST_BINS`); while a chain of parts joins start and goal, the
 bins on the chain are halved with the bins opposite them (a chain through too coarse bins is
 refined away, a true one stays; a grasp that is another's half turn has that grasp's parts at
-the opposite bin, so a bin and its opposite cost one bin's parts), up to :data:`MAX_BINS` bins or bins of :data:`FINEST` rad; the stop is polled
-before every bin's parts. Pivoting is small-time controllable, so where the finest bins still
-join start and goal the answer is "joined" (no proof; the poses connect at the bins' scale).
+the opposite bin, so a bin and its opposite cost one bin's parts), up to :data:`MAX_BINS`
+bins or bins of :data:`FINEST` rad; the stop is polled before every bin's parts. Pivoting
+is small-time controllable, so where the finest bins still join start and goal the answer
+is "joined" (no proof; the poses connect at the bins' scale).
 """
 
 from __future__ import annotations
