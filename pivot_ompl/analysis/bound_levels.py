@@ -26,7 +26,11 @@ seconds on a 5000-box floor, each a proof; it polls ``should_stop`` and its roun
 stand), marked ``guided`` when it ran to its end; only when the coarsest raster's estimate
 and its own (:func:`guided_estimate`, from the floor's cells and yaw bins) add up to at most
 ``guided_seconds``: an estimate, so a refinement that cannot end in the time given is not
-started.
+started. On a floor of few obstacle pieces, whose held poses' count
+(:func:`~pivot_ompl.analysis.pose_regrasps.pose_regrasp_bound`: exact polygons per yaw bin
+and grasp, the fewest grasp changes over them) is estimated at most :data:`POSE_SECONDS`,
+that count runs in its place (:func:`may_pose`): measured on the corridor rows, the
+refinement's raster proves 0 there and the count 2, with its cost bounded by a bin count.
 """
 
 from __future__ import annotations
@@ -37,6 +41,7 @@ import time
 from collections.abc import Callable
 
 from pivot_ompl.analysis.guided_refine import guided_lower_bound
+from pivot_ompl.analysis.pose_regrasps import pose_estimate, pose_regrasp_bound
 from pivot_ompl.analysis.raster_bound import RasterGraph, raster_graph, raster_lower_bound
 from pivot_ompl.analysis.raster_cover import RasterCover, floor_raster, raster_cover
 from pivot_ompl.analysis.regrasp_bound import (
@@ -71,6 +76,11 @@ ROWS_PER_LAYER = 10
 SECONDS_PER_CELL_BIN_ROUND = 5e-8
 #: Rounds the guided estimate counts (the Willow Garage office's 2 takes 6).
 GUIDED_ROUNDS = 6
+#: Largest estimate (s) of the held poses' count run in place of the guided refinement
+#: (:func:`~pivot_ompl.analysis.pose_regrasps.pose_estimate`: 1.4 s on the 32-room corridor
+#: row of 105 boxes, where the refinement gains nothing; the Willow Garage office's 5049
+#: boxes: about 65 s, so the refinement runs there).
+POSE_SECONDS = 2.0
 #: The polygon relaxation's cost (s) per obstacle piece, yaw bin and grasp (measured on fig10,
 #: the house and the Nav2 warehouse maps: 0.22-0.39 ms).
 SECONDS_PER_PIECE = 3e-4
@@ -147,7 +157,9 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
         if finer.solvable is None:
             break
         best = _better(finer, best)
-    if _wanted(best, target) and may_guide(scene, guided_seconds):
+    if _wanted(best, target) and may_pose(scene, guided_seconds):
+        best = held_poses_bound(scene, best, target, should_stop)
+    elif _wanted(best, target) and may_guide(scene, guided_seconds):
         found = guided_lower_bound(scene, cover=cover, target=target, should_stop=should_stop,
                                    coarse=graphs.pop())  # not held here: freed after round 0
         if found is not None:
@@ -172,6 +184,28 @@ def may_guide(scene: Scene, guided_seconds: float) -> bool:
     """Whether the guided refinement fits ``guided_seconds`` on ``scene`` (estimates)."""
     return guided_seconds > 0 and (
         raster_estimate(scene, CELLS[0]) + guided_estimate(scene) <= guided_seconds)
+
+
+def may_pose(scene: Scene, guided_seconds: float) -> bool:
+    """Whether the held poses' count replaces the guided refinement on ``scene``.
+
+    When its estimate is at most :data:`POSE_SECONDS` and, with the coarsest raster's, fits
+    ``guided_seconds`` (module docstring).
+    """
+    pose = pose_estimate(scene)
+    return guided_seconds > 0 and pose <= POSE_SECONDS and (
+        raster_estimate(scene, CELLS[0]) + pose <= guided_seconds)
+
+
+def held_poses_bound(scene: Scene, best: RegraspBound, target: int | None,
+                     should_stop: Callable[[], bool] | None) -> RegraspBound:
+    """``best`` raised by the held poses' count (marked ``held`` when it ran to its end)."""
+    held = pose_regrasp_bound(scene, target=target, should_stop=should_stop)
+    if held.apart:
+        return dataclasses.replace(best, regrasps=None, solvable=False, shortest_route=None)
+    return dataclasses.replace(
+        best, regrasps=max(best.regrasps or 0, held.regrasps or 0),
+        held=held.complete, complete=best.complete and held.complete)
 
 
 def may_refine(scene: Scene, *, resolution: float = RESOLUTION,

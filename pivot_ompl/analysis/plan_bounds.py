@@ -20,10 +20,12 @@ slow on large floors; :func:`plan_bounds` asks it only where the answer depends 
   stand, each a proof). ``plan`` asks for it by default for a plan with regrasps, with
   the time its limit leaves (``prove=None``; ``prove=True``: whatever the estimate, stopped
   at the limit; ``prove=False``: never): where it reaches the plan's count it costs a few
-  seconds (the Willow Garage office: about 5 s for its 2), and where it fits it may add
-  nothing (rooms joined by a tight corridor: 1-4 s for the same 0); either way once per
-  scene: a scene's bound once refined (by a plan or ``pivot-ompl bound --guided``) is read
-  from the cache by every later plan.
+  seconds (the Willow Garage office: about 5 s for its 2). Where the held poses' count
+  (:mod:`~pivot_ompl.analysis.pose_regrasps`) is estimated cheap (a floor of few boxes:
+  rooms joined by a tight corridor) it runs instead (:func:`~pivot_ompl.analysis.
+  bound_levels.may_pose`): the refinement proved 0 there, the count proves 2. Either way
+  once per scene: a scene's bound once refined (by a plan or ``pivot-ompl bound
+  --guided``) is read from the cache by every later plan.
 
 Every result comes from the bound cache when it holds it
 (:mod:`~pivot_ompl.analysis.bound_cache`).

@@ -105,6 +105,7 @@ class RegraspBound:
             :mod:`~pivot_ompl.analysis.raster_bound`, sound but possibly lower).
         guided: the raster relaxation was refined to the end where its best path passes
             narrow places (:mod:`~pivot_ompl.analysis.guided_refine`).
+        held: the held poses' count ran to its end (:mod:`~pivot_ompl.analysis.pose_regrasps`).
     """
 
     regrasps: int | None
@@ -116,6 +117,7 @@ class RegraspBound:
     complete: bool = True
     exhaustive: bool = True
     guided: bool = False
+    held: bool = False
 
 
 @dataclass(frozen=True)

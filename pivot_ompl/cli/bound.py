@@ -54,7 +54,8 @@ def run(args: argparse.Namespace) -> int:
                     should_stop=lambda: time.monotonic() > end,
                     guided_seconds=math.inf if args.guided else 0.0)
     took = time.perf_counter() - t0
-    how = "polygons" if b.exhaustive else "raster, guided" if b.guided else "raster"
+    how = ("polygons" if b.exhaustive else "raster, held poses" if b.held
+           else "raster, guided" if b.guided else "raster")
     where = f"{how}, {b.bins} yaw bins, {b.pieces} pieces; {took:.2f} s"
     if b.solvable is None:
         print(f"{printable(scene.name)}: unknown (stopped after {args.time:g} s; {where})")
