@@ -139,12 +139,15 @@ def route_weight(config: SingleGraspConfig, area: float) -> float:
 def direct_path(checker: PivotChecker, start: Pose, goal: Pose, *, grasps: list[int],
                 config: SingleGraspConfig, costs: CostModel, rng: np.random.Generator,
                 lattice: Callable[[], TransferLattice], run_spacing: int, should_stop: Stop,
-                stats: DirectStats) -> list[State]:
+                stats: DirectStats,
+                band: Callable[[], TransferLattice | None] | None = None) -> list[State]:
     """A regrasp-free path by the two tries in turn (module docstring), or ``[]``.
 
     ``grasps``: those valid at both ends (and held, if one is). The RRT-Connect draws from its
     own generator (spawned from ``rng``, which it leaves as it was); ``lattice()`` gives the
-    lattice, made when first asked (``config.lattice`` off: never). ``run_spacing``: as
+    lattice, made when first asked (``config.lattice`` off: never). ``band()``, if given,
+    a lattice over a band of the floor (:mod:`.corridor`) whose try comes first, the whole
+    lattice's only where it finds nothing (``None``: no band). ``run_spacing``: as
     :func:`lattice_path`'s.
     """
     if not grasps:
@@ -157,9 +160,14 @@ def direct_path(checker: PivotChecker, start: Pose, goal: Pose, *, grasps: list[
                              rng=rng.spawn(1)[0], should_stop=should_stop, stats=stats)
             stats.solved_by = "rrt" if found.path else ""
         if found.status is Status.INVALID and config.lattice:
-            found = lattice_path(checker, lattice(), costs, start, goal, grasps=grasps,
-                                 weight=config.lattice_weight, detour=config.lattice_detour,
-                                 run_spacing=run_spacing, should_stop=should_stop, stats=stats)
+            for made in (band or (lambda: None), lattice):
+                over = made() if found.status is Status.INVALID else None
+                if over is None:
+                    continue
+                found = lattice_path(checker, over, costs, start, goal, grasps=grasps,
+                                     weight=config.lattice_weight,
+                                     detour=config.lattice_detour, run_spacing=run_spacing,
+                                     should_stop=should_stop, stats=stats)
             stats.solved_by = "lattice" if found.path else ""
         return found.path or []
     finally:
