@@ -146,29 +146,34 @@ def direct_path(checker: PivotChecker, start: Pose, goal: Pose, *, grasps: list[
     ``grasps``: those valid at both ends (and held, if one is). The RRT-Connect draws from its
     own generator (spawned from ``rng``, which it leaves as it was); ``lattice()`` gives the
     lattice, made when first asked (``config.lattice`` off: never). ``band()``, if given,
-    a lattice over a band of the floor (:mod:`.corridor`) whose try comes first, the whole
-    lattice's only where it finds nothing (``None``: no band). ``run_spacing``: as
-    :func:`lattice_path`'s.
+    a lattice over a band of the floor round its shortest way (:mod:`.corridor`; ``None``:
+    no band): where there is one, its try comes first (the route the re-routing would
+    take the RRT-Connect's path to, found without the RRT-Connect's checks, which on a
+    building's floor mostly find nothing), then the RRT-Connect, then the whole lattice's
+    try. ``run_spacing``: as :func:`lattice_path`'s.
     """
     if not grasps:
         return []
     t0 = time.perf_counter()
+
+    def lattice_try(over: TransferLattice) -> Found[list[State]]:
+        found = lattice_path(checker, over, costs, start, goal, grasps=grasps,
+                             weight=config.lattice_weight, detour=config.lattice_detour,
+                             run_spacing=run_spacing, should_stop=should_stop, stats=stats)
+        stats.solved_by = "lattice" if found.path else ""
+        return found
+
     try:
         found: Found[list[State]] = Found(Status.INVALID)
-        if config.checks > 0:
+        over = band() if band is not None and config.lattice else None
+        if over is not None:
+            found = lattice_try(over)
+        if found.status is Status.INVALID and config.checks > 0:
             found = rrt_path(checker, start, goal, grasps=grasps, config=config,
                              rng=rng.spawn(1)[0], should_stop=should_stop, stats=stats)
             stats.solved_by = "rrt" if found.path else ""
         if found.status is Status.INVALID and config.lattice:
-            for made in (band or (lambda: None), lattice):
-                over = made() if found.status is Status.INVALID else None
-                if over is None:
-                    continue
-                found = lattice_path(checker, over, costs, start, goal, grasps=grasps,
-                                     weight=config.lattice_weight,
-                                     detour=config.lattice_detour, run_spacing=run_spacing,
-                                     should_stop=should_stop, stats=stats)
-            stats.solved_by = "lattice" if found.path else ""
+            found = lattice_try(lattice())
         return found.path or []
     finally:
         stats.seconds += time.perf_counter() - t0
