@@ -97,7 +97,7 @@ class SingleGraspConfig:
     lattice_weight: float = knob(1.2, low=1.0)
     lattice_detour: float = knob(1.5, low=1.0)
     lattice_area: float = knob(100.0)
-    corridor: float = knob(1.5)
+    corridor: float = knob(1.0)
 
 
 #: The default ``optimiser.quality_share``: the stages' own shares as they are.
