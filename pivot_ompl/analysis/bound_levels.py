@@ -17,7 +17,9 @@ second on a 1500 m² map of 2000 boxes), then a finer level only when both hold:
 
 The result is the strongest of the levels run (each is a proof), marked ``exhaustive`` when
 the polygons ran to the end. When the polygons fit they run straight after the coarsest
-raster (no finer raster can beat them); otherwise the finer rasters run in turn.
+raster (no finer raster can beat them); otherwise the finer rasters run in turn. The
+coarsest raster is the late proof's when it built it already for this scene
+(:mod:`~pivot_ompl.analysis.coarse_handoff`).
 
 With ``guided_seconds``, when the polygons did not run and the bound is still wanted, the
 coarsest raster is then refined where its best path passes narrow places
@@ -36,6 +38,7 @@ import logging
 import time
 from collections.abc import Callable
 
+from pivot_ompl.analysis.coarse_handoff import take_coarse
 from pivot_ompl.analysis.guided_refine import guided_lower_bound
 from pivot_ompl.analysis.raster_bound import RasterGraph, raster_graph, raster_lower_bound
 from pivot_ompl.analysis.raster_cover import RasterCover, floor_raster, raster_cover
@@ -48,6 +51,7 @@ from pivot_ompl.analysis.regrasp_bound import (
 )
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Scene
+from pivot_ompl.validity.collision import KEEP_CLEARANCE
 
 log = logging.getLogger(__name__)
 
@@ -121,8 +125,15 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
             whenever the bound is still wanted).
     """
     t0 = time.perf_counter()
-    cover = raster_cover(scene, cell=CELLS[0], should_stop=should_stop)
-    graphs = [_graph(scene, cover, should_stop)]  # handed on to the guided refinement
+    kept = take_coarse(scene, cell=CELLS[0], clearance=KEEP_CLEARANCE)  # the late proof's
+    cover: RasterCover | None
+    graph: RasterGraph | None
+    if kept is not None:
+        cover, graph = kept
+    else:
+        cover = raster_cover(scene, cell=CELLS[0], should_stop=should_stop)
+        graph = _graph(scene, cover, should_stop)
+    graphs = [graph]  # handed on to the guided refinement
     best = raster_lower_bound(scene, cell=CELLS[0], should_stop=should_stop, cover=cover,
                               graph=graphs[0])
     if best.solvable is None or cover is None:

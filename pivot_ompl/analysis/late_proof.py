@@ -214,8 +214,8 @@ def framed_turning_place(scene: Scene, *, cell: float = CELLS[0],
     worth it.) The place is turned back to the scene and its room to turn measured there.
     """
     frame = wall_frame(scene, should_stop=should_stop)
-    if frame is None:
-        return raster_turning_place(scene, cell=cell, should_stop=should_stop)
+    if frame is None:  # the scene's own raster: kept for its bound when it joins the ends
+        return raster_turning_place(scene, cell=cell, should_stop=should_stop, keep=True)
     place = raster_turning_place(frame.scene, cell=cell, should_stop=should_stop)
     if place is None:
         return None
