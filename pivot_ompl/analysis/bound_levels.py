@@ -18,8 +18,8 @@ second on a 1500 m² map of 2000 boxes), then a finer level only when both hold:
 The result is the strongest of the levels run (each is a proof), marked ``exhaustive`` when
 the polygons ran to the end. When the polygons fit they run straight after the coarsest
 raster (no finer raster can beat them); otherwise the finer rasters run in turn. The
-coarsest raster is the late proof's when it built it already for this scene
-(:mod:`~pivot_ompl.analysis.coarse_handoff`).
+coarsest raster and the polygons are the late proof's when it built them already for this
+scene (:mod:`~pivot_ompl.analysis.relaxation_handoff`).
 
 With ``guided_seconds``, when the polygons did not run and the bound is still wanted, the
 coarsest raster is then refined where its best path passes narrow places
@@ -38,7 +38,6 @@ import logging
 import time
 from collections.abc import Callable
 
-from pivot_ompl.analysis.coarse_handoff import take_coarse
 from pivot_ompl.analysis.guided_refine import guided_lower_bound
 from pivot_ompl.analysis.raster_bound import RasterGraph, raster_graph, raster_lower_bound
 from pivot_ompl.analysis.raster_cover import RasterCover, floor_raster, raster_cover
@@ -49,6 +48,7 @@ from pivot_ompl.analysis.regrasp_bound import (
     regrasp_lower_bound,
     yaw_bins,
 )
+from pivot_ompl.analysis.relaxation_handoff import take_coarse, take_exact
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Scene
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
@@ -141,7 +141,9 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
     spent = raster_estimate(scene, CELLS[0])  # estimates, not clocks: the same on any load
     estimate = exhaustive_estimate(scene, resolution=resolution)
     if _wanted(best, target) and spent + estimate <= refine_seconds:
-        full = regrasp_lower_bound(scene, resolution=resolution, should_stop=should_stop)
+        full = regrasp_lower_bound(scene, resolution=resolution, should_stop=should_stop,
+                                   built=take_exact(scene, resolution=resolution,
+                                                    clearance=KEEP_CLEARANCE))
         if full.solvable is not None:
             return dataclasses.replace(_better(full, best), exhaustive=True,
                                        seconds=time.perf_counter() - t0)

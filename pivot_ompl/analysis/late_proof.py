@@ -138,8 +138,8 @@ class LateProof:
             return self._held_later(now)
         stop = self._stop(self.end if known is None else self.explain_end)
         exact = exhaustive_estimate(self.scene) <= self.end - now
-        if exact:  # proof and place at once
-            place = turning_place(self.scene, should_stop=stop)
+        if exact:  # proof and place at once (its polygons kept for the bound: joined)
+            place = turning_place(self.scene, should_stop=stop, keep=True)
         else:
             place = framed_turning_place(self.scene, should_stop=stop)
         if place is None and known is None:

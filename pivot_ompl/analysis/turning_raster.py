@@ -18,9 +18,9 @@ import numpy as np
 import shapely
 from scipy import ndimage
 
-from pivot_ompl.analysis.coarse_handoff import keep_coarse
 from pivot_ompl.analysis.raster_bound import CELL, RasterGraph, raster_graph
 from pivot_ompl.analysis.raster_cover import RasterCover, raster_cover
+from pivot_ompl.analysis.relaxation_handoff import keep_coarse
 from pivot_ompl.analysis.turning import (
     NEAR,
     TurningPlace,
@@ -47,7 +47,7 @@ def raster_turning_place(scene: Scene, *, cell: float = CELL,
     ``None`` when the raster relaxation joins start and goal (nothing is proven), or when
     ``should_stop`` said stop. A place returned is a proof that no plan exists. ``keep``:
     a cover and graph that join start and goal are kept for the plan's regrasp bound
-    (:func:`~pivot_ompl.analysis.coarse_handoff.keep_coarse`).
+    (:func:`~pivot_ompl.analysis.relaxation_handoff.keep_coarse`).
     """
     try:
         return _place(scene, cell, clearance, should_stop, keep)

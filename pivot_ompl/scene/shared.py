@@ -8,9 +8,9 @@ such a value for later plans of the scene in the process: the motion checks
 (:mod:`pivot_ompl.planners.routes.shared_fields`), the route bound's free field
 (:mod:`pivot_ompl.planners.follow_route`), the disk route bound
 (:func:`pivot_ompl.analysis.plan_bounds.plan_bounds`) and whether the late proof has nothing
-to prove (:mod:`pivot_ompl.analysis.late_proof`), and its coarse raster until the plan's
-bound takes it (:mod:`pivot_ompl.analysis.coarse_handoff`): one memo for all, the least
-recently used value dropped first beyond :data:`KEPT`.
+to prove (:mod:`pivot_ompl.analysis.late_proof`), and its relaxations until the plan's
+bound takes them (:mod:`pivot_ompl.analysis.relaxation_handoff`): one memo for all, the
+least recently used value dropped first beyond :data:`KEPT`.
 """
 
 from __future__ import annotations
