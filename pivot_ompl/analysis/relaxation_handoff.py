@@ -13,9 +13,10 @@ late proof keeps what it built (:func:`keep_coarse`: the raster's
 polygons' :class:`~pivot_ompl.analysis.regrasp_bound.FreeCover` and graph, from
 :func:`~pivot_ompl.analysis.turning.turning_place`), and the bound takes them
 (:func:`take_coarse`, :func:`take_exact`): once, then they are forgotten (the guided
-refinement frees the raster's graph after its first round). Only small relaxations are kept
-(:data:`MAX_KEPT_CELLS`, :data:`MAX_KEPT_PIECES`): a large floor's would be held through the
-whole search, a larger peak than building it again costs.
+refinement frees the raster's graph after its first round); a plan whose bound needs no
+relaxation (no regrasps, or a bound the cache holds) forgets them (:func:`forget_kept`).
+Only small relaxations are kept (:data:`MAX_KEPT_CELLS`, :data:`MAX_KEPT_PIECES`): a large
+floor's would be held through the whole search, a larger peak than building it again costs.
 
 The graphs' regrasp checks are lazy and deterministic, so a graph the late proof has already
 searched answers every later search as a new one would (its walk checks already made): the
@@ -33,13 +34,16 @@ from pivot_ompl.analysis.regrasp_bound import CoverGraph, FreeCover
 from pivot_ompl.scene import Scene
 from pivot_ompl.scene.shared import drop_shared, keep_shared, shared_value
 
-__all__ = ["MAX_KEPT_CELLS", "MAX_KEPT_PIECES", "keep_coarse", "keep_exact", "take_coarse",
-           "take_exact"]
+__all__ = ["MAX_KEPT_CELLS", "MAX_KEPT_PIECES", "forget_kept", "keep_coarse", "keep_exact",
+           "take_coarse", "take_exact"]
 
-#: Largest raster cover kept (cells times layers: 4 bytes each in its labels, 32 MB).
-MAX_KEPT_CELLS = 8_000_000
+#: Largest raster cover kept (cells times layers: 4 bytes each in its labels, 16 MB; a
+#: shipped scene's is about 1.2 million).
+MAX_KEPT_CELLS = 4_000_000
 #: Largest polygon cover kept (its pieces, every bin and grasp).
 MAX_KEPT_PIECES = 50_000
+#: What each is kept under (one of each kind per scene: a later one replaces it).
+_COARSE, _EXACT = ("late proof: coarse raster",), ("late proof: exact polygons",)
 
 
 def keep_coarse(scene: Scene, cover: RasterCover, graph: RasterGraph, *, cell: float,
@@ -52,7 +56,7 @@ def keep_coarse(scene: Scene, cover: RasterCover, graph: RasterGraph, *, cell: f
     nx, ny = cover.raster.shape
     if nx * ny * len(cover.layers) > MAX_KEPT_CELLS:
         return False
-    keep_shared(scene, ("coarse raster", cell, clearance), (cover, graph))
+    keep_shared(scene, _COARSE, (cell, clearance, cover, graph))
     return True
 
 
@@ -62,7 +66,7 @@ def take_coarse(scene: Scene, *, cell: float, clearance: float
 
     Those kept with ``cell`` and ``clearance`` (:func:`keep_coarse`).
     """
-    return _take(scene, ("coarse raster", cell, clearance))
+    return _take(scene, _COARSE, (cell, clearance))
 
 
 def keep_exact(scene: Scene, cover: FreeCover, graph: CoverGraph, *, resolution: float,
@@ -74,7 +78,7 @@ def keep_exact(scene: Scene, cover: FreeCover, graph: CoverGraph, *, resolution:
     """
     if len(graph.nodes) > MAX_KEPT_PIECES:
         return False
-    keep_shared(scene, ("exact polygons", resolution, clearance), (cover, graph))
+    keep_shared(scene, _EXACT, (resolution, clearance, cover, graph))
     return True
 
 
@@ -84,12 +88,22 @@ def take_exact(scene: Scene, *, resolution: float, clearance: float
 
     Those kept with ``resolution`` and ``clearance`` (:func:`keep_exact`).
     """
-    return _take(scene, ("exact polygons", resolution, clearance))
+    return _take(scene, _EXACT, (resolution, clearance))
 
 
-def _take(scene: Scene, what: tuple[Hashable, ...]) -> Any:
-    """The value kept for ``scene`` and ``what``, forgotten."""
-    kept = shared_value(scene, what)
-    if kept is not None:
+def forget_kept(scene: Scene) -> None:
+    """Forget whatever is kept for ``scene`` (a plan whose bound needs no relaxation)."""
+    for what in (_COARSE, _EXACT):
         drop_shared(scene, what)
-    return kept
+
+
+def _take(scene: Scene, what: tuple[Hashable, ...], args: tuple[float, float]) -> Any:
+    """The relaxation and graph kept for ``scene`` and ``what``, forgotten.
+
+    ``None`` when none is, or when it was built with other ``args``.
+    """
+    kept = shared_value(scene, what)
+    if kept is None:
+        return None
+    drop_shared(scene, what)
+    return kept[2:] if kept[:2] == args else None

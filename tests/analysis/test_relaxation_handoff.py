@@ -12,6 +12,7 @@ import pivot_ompl.analysis.regrasp_bound as regrasp_bound
 import pivot_ompl.analysis.relaxation_handoff as relaxation_handoff
 from pivot_ompl.analysis.bound_levels import CELLS, scaled_lower_bound
 from pivot_ompl.analysis.late_proof import LateProof
+from pivot_ompl.analysis.plan_bounds import plan_bounds
 from pivot_ompl.analysis.regrasp_bound import RESOLUTION
 from pivot_ompl.analysis.relaxation_handoff import take_coarse, take_exact
 from pivot_ompl.analysis.turning import turning_place
@@ -104,3 +105,17 @@ def test_a_large_polygon_cover_is_not_kept(monkeypatch):
     scene = _own("slot", 0.0176)
     assert turning_place(scene, keep=True) is None
     assert _exact(scene) is None
+
+
+def test_a_plan_without_regrasps_forgets_what_the_late_proof_kept():
+    scene = _own("slot", 0.0177)
+    assert raster_turning_place(scene, cell=CELLS[0], keep=True) is None
+    assert turning_place(scene, keep=True) is None
+    assert plan_bounds(scene, 0)[0] == 0  # its bound needs no relaxation
+    assert _taken(scene) is None and _exact(scene) is None
+
+
+def test_a_raster_of_other_cells_is_not_handed_as_the_bounds():
+    scene = _own("slot", 0.0178)
+    assert raster_turning_place(scene, cell=2 * CELLS[0], keep=True) is None
+    assert _taken(scene) is None
