@@ -17,7 +17,9 @@ second on a 1500 m² map of 2000 boxes), then a finer level only when both hold:
 
 The result is the strongest of the levels run (each is a proof), marked ``exhaustive`` when
 the polygons ran to the end. When the polygons fit they run straight after the coarsest
-raster (no finer raster can beat them); otherwise the finer rasters run in turn.
+raster (no finer raster can beat them); otherwise the finer rasters run in turn. The
+coarsest raster and the polygons are the late proof's when it built them already for this
+scene (:mod:`~pivot_ompl.analysis.relaxation_handoff`).
 
 With ``guided_seconds``, when the polygons did not run and the bound is still wanted, the
 coarsest raster is then refined where its best path passes narrow places
@@ -51,8 +53,10 @@ from pivot_ompl.analysis.regrasp_bound import (
     regrasp_lower_bound,
     yaw_bins,
 )
+from pivot_ompl.analysis.relaxation_handoff import take_coarse, take_exact
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Scene
+from pivot_ompl.validity.collision import KEEP_CLEARANCE
 
 log = logging.getLogger(__name__)
 
@@ -131,8 +135,15 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
             whenever the bound is still wanted).
     """
     t0 = time.perf_counter()
-    cover = raster_cover(scene, cell=CELLS[0], should_stop=should_stop)
-    graphs = [_graph(scene, cover, should_stop)]  # handed on to the guided refinement
+    kept = take_coarse(scene, cell=CELLS[0], clearance=KEEP_CLEARANCE)  # the late proof's
+    cover: RasterCover | None
+    graph: RasterGraph | None
+    if kept is not None:
+        cover, graph = kept
+    else:
+        cover = raster_cover(scene, cell=CELLS[0], should_stop=should_stop)
+        graph = _graph(scene, cover, should_stop)
+    graphs = [graph]  # handed on to the guided refinement
     best = raster_lower_bound(scene, cell=CELLS[0], should_stop=should_stop, cover=cover,
                               graph=graphs[0])
     if best.solvable is None or cover is None:
@@ -140,7 +151,9 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
     spent = raster_estimate(scene, CELLS[0])  # estimates, not clocks: the same on any load
     estimate = exhaustive_estimate(scene, resolution=resolution)
     if _wanted(best, target) and spent + estimate <= refine_seconds:
-        full = regrasp_lower_bound(scene, resolution=resolution, should_stop=should_stop)
+        full = regrasp_lower_bound(scene, resolution=resolution, should_stop=should_stop,
+                                   built=take_exact(scene, resolution=resolution,
+                                                    clearance=KEEP_CLEARANCE))
         if full.solvable is not None:
             return dataclasses.replace(_better(full, best), exhaustive=True,
                                        seconds=time.perf_counter() - t0)

@@ -61,6 +61,7 @@ import shapely
 from pivot_ompl.analysis.bound_cache import cached_bound, forget, lower_bound, refuted_by
 from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.analysis.regrasp_bound import RegraspBound
+from pivot_ompl.analysis.relaxation_handoff import forget_kept
 from pivot_ompl.analysis.route_bound import MAX_CELLS, MIN_CELL, route_on
 from pivot_ompl.analysis.route_cache import forget_route, keep_route, kept_route
 from pivot_ompl.analysis.route_gaps import GapRoute, gap_closed_route
@@ -198,9 +199,11 @@ def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = Non
     if known is not None and known.solvable:
         if not _refuted(known, scene, regrasps, route_length) and (
                 regrasps == 0 or known.exhaustive or (known.regrasps or 0) >= regrasps):
+            forget_kept(scene)  # the late proof's relaxations: not needed
             return known.regrasps, _longer(known.shortest_route, _shared_held_route(
                 scene, route_length, should_stop, time_left))
     if regrasps == 0:  # the disk route: one per scene in the process (a later plan's is it)
+        forget_kept(scene)
         return 0, _shared_held_route(scene, route_length, should_stop, time_left)
     full = lower_bound(scene, target=regrasps, should_stop=should_stop,
                        guided_seconds=0.0 if not guided else
