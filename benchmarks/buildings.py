@@ -102,14 +102,19 @@ CORPUS = (
     CorpusMap("brsu_c069", "benchmarks/maps/brsu_c069/map.yaml",
               "home-robotics lab (real robot's SLAM map)", (3.7, 6.2, 0.0), (3.2, 0.9, 0.0),
               {"specks": 0.02},
-              note="the two rooms' only joint is the inner door, 0.85 m between its jambs on "
-              "the map (x 2.55-3.40, y 3.55-3.95), and the box held by the robot needs "
-              "0.88 m: no plan is expected (the box alone and the robot alone pass it)"),
+              note="no plan is expected, none proven: the rooms' only joint is the inner "
+              "door, 0.85 m between its jambs (x 2.55-3.40, y 3.55-3.95), the held assembly "
+              "needs 0.88 m, and the robot alone cannot pass the box resting in the door "
+              "(0.22 m beside it); the held poses' relaxation joins the rooms by a regrasp "
+              "with the box lengthwise in the door, held from either room (it does not ask "
+              "the robot to walk between the two stances); without its regrasp joins it "
+              "separates them (194 bins, 76 s of CPU); `plan` ends TIMEOUT"),
     CorpusMap("brsu_c069_room", "benchmarks/maps/brsu_c069/map.yaml",
               "home-robotics lab (real robot's SLAM map)", (4.2, 3.0, 0.0),
               (1.5, -2.8, HALF_PI), {"specks": 0.02},
-              note="both poses in the lower room, round its furniture (narrowest "
-              "passage about 0.95 m): a plan is expected"),
+              note="both poses in the lower room, round its furniture: every plan "
+              "regrasps once, as the bound proves it must (the plans' regrasp, forced, names "
+              "the passage at about (1.14, 0.31))"),
 )
 
 
