@@ -108,7 +108,7 @@ CORPUS = (
               "(0.22 m beside it); the held poses' relaxation joins the rooms by a regrasp "
               "with the box lengthwise in the door, held from either room (it does not ask "
               "the robot to walk between the two stances); without its regrasp joins it "
-              "separates them (194 bins, 76 s of CPU); `plan` ends TIMEOUT"),
+              "separates them (194 bins, 76 s of CPU); `plan` ends TIMEOUT at 60 and 300 s"),
     CorpusMap("brsu_c069_room", "benchmarks/maps/brsu_c069/map.yaml",
               "home-robotics lab (real robot's SLAM map)", (4.2, 3.0, 0.0),
               (1.5, -2.8, HALF_PI), {"specks": 0.02},
