@@ -1,14 +1,15 @@
 """Plan on real building maps: the corpus of ROS map_server maps, N seeds each.
 
 Every map of :data:`CORPUS` (public maps: AWS RoboMaker worlds, TurtleBot3, Nav2, the Willow
-Garage office; provenance and licence in each map's ``PROVENANCE.md``) is imported with
-``pivot_ompl.import_map`` at its start and goal, then planned by ``pivot-ompl plan`` in a fresh
-process per seed (``--time``, default 60 s). Per map the Markdown table gives: the floor area
-and its boxes, runs solved, the median wall time of a run (the whole ``plan`` command:
-import of the scene, bound, search, conversion), the regrasps against the proven bound the
-plan carries (``regrasps_lower_bound``; "-" when the bound was not proven within ``plan``'s
-share of the limit), the median route ratio (route length over the proven shortest route)
-and the peak memory of a run (``ru_maxrss`` of the child process, from ``os.wait4``).
+Garage office, a home-robotics lab; provenance and licence in each map's ``PROVENANCE.md``)
+is imported with ``pivot_ompl.import_map`` at its start and goal, then planned by
+``pivot-ompl plan`` in a fresh process per seed (``--time``, default 60 s). Per map the
+Markdown table gives: the floor area and its boxes, runs solved, the median wall time of a
+run (the whole ``plan`` command: import of the scene, bound, search, conversion), the
+regrasps against the proven bound the plan carries (``regrasps_lower_bound``; "-" when the
+bound was not proven within ``plan``'s share of the limit), the median route ratio (route
+length over the proven shortest route) and the peak memory of a run (``ru_maxrss`` of the
+child process, from ``os.wait4``).
 
 Usage::
 
@@ -98,6 +99,22 @@ CORPUS = (
               "below its raster's cell); the first plan on a cold bound cache refines it to "
               "2 (the guided bound, about 6-17 s inside that plan when the limit leaves the "
               "time; `--no-prove`: not) and later plans read it"),
+    CorpusMap("brsu_c069", "benchmarks/maps/brsu_c069/map.yaml",
+              "home-robotics lab (real robot's SLAM map)", (3.7, 6.2, 0.0), (3.2, 0.9, 0.0),
+              {"specks": 0.02},
+              note="no plan is expected, none proven: the rooms' only joint is the inner "
+              "door, 0.85 m between its jambs (x 2.55-3.40, y 3.55-3.95), the held assembly "
+              "needs 0.88 m, and the robot alone cannot pass the box resting in the door "
+              "(0.22 m beside it); the held poses' relaxation joins the rooms by a regrasp "
+              "with the box lengthwise in the door, held from either room (it does not ask "
+              "the robot to walk between the two stances); without its regrasp joins it "
+              "separates them (194 bins, 76 s of CPU); `plan` ends TIMEOUT at 60 and 300 s"),
+    CorpusMap("brsu_c069_room", "benchmarks/maps/brsu_c069/map.yaml",
+              "home-robotics lab (real robot's SLAM map)", (4.2, 3.0, 0.0),
+              (1.5, -2.8, HALF_PI), {"specks": 0.02},
+              note="both poses in the lower room, round its furniture: every plan "
+              "regrasps once, as the bound proves it must (the plans' regrasp, forced, names "
+              "the passage at about (1.14, 0.31))"),
 )
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import pytest
@@ -73,3 +74,32 @@ def test_the_table_says_under_it_what_is_known_of_the_unsolved_tasks():
     assert all(f"- {m.name}: {m.note}" in text for m in noted)
     plain = [m for m in mod.CORPUS if not m.note]
     assert "Known of the tasks" not in mod.table({plain[0].name: info}, "cmd")
+
+
+def _gap_at(obstacles, *, x: float, y: float) -> tuple[float, float]:
+    """The free interval along the line ``y`` round ``x`` between the scene's boxes."""
+    left, right = -math.inf, math.inf
+    for o in obstacles:
+        assert o.yaw == 0.0  # the importer's boxes are axis-aligned cells
+        (cx, cy), (w, d) = o.center, o.size
+        if abs(y - cy) < d / 2:
+            lo, hi = cx - w / 2, cx + w / 2
+            assert not lo < x < hi, f"{x} blocked by {o}"
+            if hi <= x:
+                left = max(left, hi)
+            else:
+                right = min(right, lo)
+    return left, right
+
+
+def test_the_lab_map_keeps_its_inner_door_at_its_mapped_width(tmp_path):
+    """The home-robotics lab's inner door is 17 free cells (0.85 m) on the published map; the
+    corpus's import (with its speck cleaning) neither widens nor narrows it."""
+    from pivot_ompl import load_scene
+
+    mod = _buildings()
+    m = next(m for m in mod.CORPUS if m.name == "brsu_c069")
+    scene = load_scene(mod.import_corpus_map(m, tmp_path)["scene"])
+    for y in (3.575, 3.75, 3.925):  # the door's rows, cell centres
+        left, right = _gap_at(scene.obstacles, x=2.975, y=y)
+        assert left == pytest.approx(2.55) and right == pytest.approx(3.40)
