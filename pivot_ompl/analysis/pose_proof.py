@@ -7,7 +7,8 @@ where it rests. So a plan is a path through the held poses ``(x, y, yaw, grasp)`
 its grasp while it moves and changes grasp only standing still, with both grasps valid there.
 This relaxation over-approximates those poses: the yaw circle is cut into bins, and per bin
 and grasp the box positions at which the assembly may be valid at some yaw of the bin fall
-into connected parts (:func:`~pivot_ompl.analysis.pose_cells.free_components`). Two parts are
+into connected parts (:func:`~pivot_ompl.analysis.pose_cells.free_components`; a halved bin's
+from its parent's, :class:`~pivot_ompl.analysis.pose_bins.BinRegions`). Two parts are
 joined when they meet and their bins are neighbours at one grasp (a motion crossing the bins'
 common yaw), or they meet at one bin for two grasps (a regrasp). A path of the plan visits
 joined parts only, so when no part holding the start is joined to one holding the goal, no
@@ -33,17 +34,15 @@ import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
+from pivot_ompl.analysis.pose_bins import BinRegions
 from pivot_ompl.analysis.pose_cells import (
     ROUND_OFF,
     bound_slabs,
     by_size,
     centre_room,
-    free_components,
-    free_region,
     grown_pieces,
     held_bodies,
     near,
-    rotation_core,
 )
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import GRASPS
@@ -113,12 +112,7 @@ class _Parts:
         self.room = centre_room(grown, 0.5 * min(scene.model.object_size[:2]) - ROUND_OFF,
                                 shapely.box(*scene.bounds), scene.start[:2])
         self.area = self.room if self.room is not None else shapely.Polygon()
-        self.grown = near(grown, self.area, reach + 1e-3)
-        #: the bodies every grasp has (the box), and each grasp's others (the robot)
-        self.shared = [b for b in self.bodies[0]
-                       if all(any(np.array_equal(b, c) for c in bs) for bs in self.bodies)]
-        self.own = [[b for b in bs if not any(np.array_equal(b, c) for c in self.shared)]
-                    for bs in self.bodies]
+        self.bins = BinRegions(near(grown, self.area, reach + 1e-3), self.bodies, self.area)
         self.known: dict[tuple[float, float], list[list[BaseGeometry]]] = {}
         self.met: dict[tuple[float, ...], list[tuple[int, int]]] = {}
 
@@ -126,12 +120,8 @@ class _Parts:
         """Per grasp, the free parts of the bin ``[a, b]``."""
         key = (a, b)
         if key not in self.known:
-            half, mid = 0.5 * (b - a), 0.5 * (a + b)
-            room = free_region(self.grown, [rotation_core(body, half) for body in self.shared],
-                               mid, self.area)  # the bodies of every grasp: once for all
-            self.known[key] = [free_components(self.grown,
-                                               [rotation_core(body, half) for body in own],
-                                               mid, room) for own in self.own]
+            self.known[key] = [[g for g in getattr(r, "geoms", [r]) if not g.is_empty]
+                               for r in self.bins.regions(a, b)]
         return self.known[key]
 
     def forget(self, a: float, b: float) -> None:
