@@ -125,8 +125,9 @@ class BinRegions:
         shared = [core @ turn for core in self._cores(-1, self.shared, half)]
         if parent is None:  # the box's region first: once for every grasp
             room = _less(self.area, self._sums(shared, [self.area]))
-            parent = [room] * len(self.own)
-        box = self._sums(shared, parent)  # once for the pieces near any grasp's region
+            parent, box = [room] * len(self.own), np.empty(0, dtype=object)
+        else:  # once for the pieces near any grasp's region
+            box = self._sums(shared, parent)
         out = [_less(parent[g], np.concatenate([box, self._sums(
                    [core @ turn for core in self._cores(g, own, half)], [parent[g]])]))
                for g, own in enumerate(self.own)]
