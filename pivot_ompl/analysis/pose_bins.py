@@ -2,8 +2,10 @@
 
 :func:`~pivot_ompl.analysis.pose_cells.free_region` takes the union of every obstacle
 piece's sum with the bin's cores: a few milliseconds of GEOS per bin and grasp, most of the
-held poses' proof (:mod:`~pivot_ompl.analysis.pose_proof`). :class:`BinRegions` gives the same
-over-approximation (never missing a valid pose) for less, in two exact ways:
+held poses' proof (:mod:`~pivot_ompl.analysis.pose_proof`). :class:`BinRegions` gives an
+over-approximation as sound (never missing a valid pose) and no looser (a halved bin's lies
+inside its parent's too) for less, in two ways, besides summing only the pieces whose sums'
+bounding boxes meet a region's part:
 
 - **The half-turn twin.** Where every grasp's bodies turned by a half turn are another
   grasp's (the box is a rectangle about its centre; a grasp on the opposite face holds it the
@@ -13,7 +15,7 @@ over-approximation (never missing a valid pose) for less, in two exact ways:
 - **The parent bin.** A halved bin lies inside its parent, whose region over-approximates
   every valid position at every yaw of the half too; so the half's region is the parent's
   less the half's own sums, and only the sums that meet the parent's region can take
-  anything from it (in the TurtleBot3 arena about a fifth of them): a small union, and a
+  anything from it (in the TurtleBot3 arena about a quarter of them): a small union, and a
   difference from a small region.
 
 Bins are matched to within :data:`SAME_YAW` rad (edges made by halving carry round-off): a
