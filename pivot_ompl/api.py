@@ -57,9 +57,8 @@ PROOF_SHARE = 0.08
 #: once whether any plan exists (:class:`~pivot_ompl.analysis.late_proof.LateProof`), by which
 #: the relaxation is stopped, and by which the explanation of a proof is stopped.
 LATE_PROOF_BEGIN, LATE_PROOF_END, EXPLAIN_END = 0.02, 0.08, 0.095
-#: Share of the limit from which the held poses' relaxation may be tried (the late proof's
-#: own begin: tried once the cheap bounds join start and goal, where its estimate fits).
-HELD_PROOF_BEGIN = 0.02
+#: Share of the limit from which the held poses' relaxation may be tried (the late proof's).
+HELD_PROOF_BEGIN = 0.04
 #: Share of the time limit (at most ``FINISH_MAX`` s) kept from the search for the steps after
 #: it: converting the path, the lower bounds, and the caller writing the plan. A limit ``T``
 #: then ends within ``T`` in :func:`plan`, and within ``T + 5 %`` once the plan is written.

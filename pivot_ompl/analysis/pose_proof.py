@@ -67,9 +67,8 @@ FINEST = 2.0 * math.pi / 512
 #: those of its last round and the halved ones).
 ESTIMATED_BINS = 300
 #: Time (s) of one obstacle piece's sums and union, per bin and grasp (the arena's 157
-#: pieces: about 4.5 s of CPU for its proof's 296 bins, half of them built from their parent
-#: or twin, :class:`~pivot_ompl.analysis.pose_bins.BinRegions`; a shared 2-core machine).
-SECONDS_PER_PIECE = 2.4e-5
+#: pieces: 9 s of CPU for its proof's 296 bins; a shared 2-core machine).
+SECONDS_PER_PIECE = 5e-5
 
 Node = tuple[int, int, int]  # (bin, grasp, part)
 
