@@ -67,7 +67,10 @@ FINEST = 2.0 * math.pi / 512
 #: those of its last round and the halved ones).
 ESTIMATED_BINS = 300
 #: Time (s) of one obstacle piece's sums and union, per bin and grasp (the arena's 157
-#: pieces: 9 s of CPU for its proof's 296 bins; a shared 2-core machine).
+#: pieces: 9 s of CPU for its proof's 296 bins computed one by one; a shared 2-core machine).
+#: Kept though bins built from parents and twins take about half: at 2.4e-5 the feasible
+#: 16- and 32-room corridor rows fit the window and pay it for nothing (32 rooms: 13.7 s ->
+#: 21.0 s at --time 60, tried from 2 %).
 SECONDS_PER_PIECE = 5e-5
 
 Node = tuple[int, int, int]  # (bin, grasp, part)
