@@ -7,7 +7,8 @@ where it rests. So a plan is a path through the held poses ``(x, y, yaw, grasp)`
 its grasp while it moves and changes grasp only standing still, with both grasps valid there.
 This relaxation over-approximates those poses: the yaw circle is cut into bins, and per bin
 and grasp the box positions at which the assembly may be valid at some yaw of the bin fall
-into connected parts (:func:`~pivot_ompl.analysis.pose_cells.free_components`). Two parts are
+into connected parts (:func:`~pivot_ompl.analysis.pose_cells.free_components`; a halved bin's
+from its parent's, :class:`~pivot_ompl.analysis.pose_bins.BinRegions`). Two parts are
 joined when they meet and their bins are neighbours at one grasp (a motion crossing the bins'
 common yaw), or they meet at one bin for two grasps (a regrasp). A path of the plan visits
 joined parts only, so when no part holding the start is joined to one holding the goal, no
@@ -35,17 +36,15 @@ import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
+from pivot_ompl.analysis.pose_bins import BinRegions
 from pivot_ompl.analysis.pose_cells import (
     ROUND_OFF,
     bound_slabs,
     by_size,
     centre_room,
-    free_components,
-    free_region,
     grown_pieces,
     held_bodies,
     near,
-    rotation_core,
 )
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import GRASPS
@@ -70,7 +69,10 @@ FINEST = 2.0 * math.pi / 512
 #: those of its last round and the halved ones).
 ESTIMATED_BINS = 300
 #: Time (s) of one obstacle piece's sums and union, per bin and grasp (the arena's 157
-#: pieces: 9 s of CPU for its proof's 296 bins; a shared 2-core machine).
+#: pieces: 9 s of CPU for its proof's 296 bins computed one by one; a shared 2-core machine).
+#: Kept though bins built from parents and twins take about half: at 2.4e-5 the feasible
+#: 16- and 32-room corridor rows fit the window and pay it for nothing (32 rooms: 13.7 s ->
+#: 21.0 s at --time 60, tried from 2 %).
 SECONDS_PER_PIECE = 5e-5
 
 Node = tuple[int, int, int]  # (bin, grasp, part)
@@ -115,60 +117,21 @@ class HeldParts:
         self.room = centre_room(grown, 0.5 * min(scene.model.object_size[:2]) - ROUND_OFF,
                                 shapely.box(*scene.bounds), scene.start[:2])
         self.area = self.room if self.room is not None else shapely.Polygon()
-        self.grown = near(grown, self.area, reach + 1e-3)
-        #: the bodies every grasp has (the box), and each grasp's others (the robot)
-        self.shared = [b for b in self.bodies[0]
-                       if all(any(np.array_equal(b, c) for c in bs) for bs in self.bodies)]
-        self.own = [[b for b in bs if not any(np.array_equal(b, c) for c in self.shared)]
-                    for bs in self.bodies]
-        #: per grasp, the earlier grasp whose own bodies it has turned by a half turn (its
-        #: parts at a bin are that grasp's at the bin turned by pi: computed once), else itself
-        self.turned = [next((k for k in range(g) if _half_turned(self.own[k], self.own[g])), g)
-                       for g in range(len(self.own))]
-        #: the shared bodies are their own half turn (the box): one room for a bin and its
-        #: opposite
-        self.half_room = _half_turned(self.shared, self.shared)
+        self.bins = BinRegions(near(grown, self.area, reach + 1e-3), self.bodies, self.area)
         self.known: dict[tuple[float, float], list[list[BaseGeometry]]] = {}
-        self.grasps: dict[tuple[int, int, int], list[BaseGeometry]] = {}
-        self.rooms: dict[tuple[int, int], BaseGeometry] = {}
         self.met: dict[tuple[float, ...], list[tuple[int, int]]] = {}
 
     def of(self, a: float, b: float) -> list[list[BaseGeometry]]:
         """Per grasp, the free parts of the bin ``[a, b]``."""
         key = (a, b)
         if key not in self.known:
-            self.known[key] = [self._grasp(a, b, g) for g in range(len(self.own))]
+            self.known[key] = [[g for g in getattr(r, "geoms", [r]) if not g.is_empty]
+                               for r in self.bins.regions(a, b)]
         return self.known[key]
-
-    def _grasp(self, a: float, b: float, g: int) -> list[BaseGeometry]:
-        k = self.turned[g]
-        if k != g:  # grasp g at [a, b] is grasp k at [a + pi, b + pi]
-            a, b = a + math.pi, b + math.pi
-        key = (turn_key(a), turn_key(b), k)
-        if key not in self.grasps:
-            half, mid = 0.5 * (b - a), 0.5 * (a + b)
-            self.grasps[key] = free_components(
-                self.grown, [rotation_core(body, half) for body in self.own[k]], mid,
-                self._room(a, b))
-        return self.grasps[key]
-
-    def _room(self, a: float, b: float) -> BaseGeometry:
-        """Where the shared bodies (every grasp's) are free at the bin ``[a, b]``."""
-        key = (turn_key(a), turn_key(b))
-        if self.half_room:
-            key = (key[0] % HALF_TURN_KEY, key[1] % HALF_TURN_KEY)
-        if key not in self.rooms:
-            half, mid = 0.5 * (b - a), 0.5 * (a + b)
-            self.rooms[key] = free_region(
-                self.grown, [rotation_core(body, half) for body in self.shared], mid, self.area)
-        return self.rooms[key]
 
     def forget(self, a: float, b: float) -> None:
         """Drop the parts of the bin ``[a, b]`` (halved: never asked again)."""
         self.known.pop((a, b), None)
-        qa, qb = turn_key(a), turn_key(b)
-        for k in range(len(self.own)):
-            self.grasps.pop((qa, qb, k), None)
 
     def meet(self, key: tuple[float, ...], a: list[BaseGeometry],
              b: list[BaseGeometry]) -> list[tuple[int, int]]:
@@ -180,7 +143,6 @@ class HeldParts:
 
 #: Yaw keys per turn (:func:`turn_key`): bins are dyadic parts of the turn, far coarser.
 TURN_KEYS = 1 << 20
-HALF_TURN_KEY = TURN_KEYS // 2
 
 
 def turn_key(yaw: float) -> int:
@@ -201,15 +163,6 @@ def with_opposites(edges: list[float], split: set[int]) -> list[int]:
         if j is not None:
             out.add(j)
     return sorted(out)
-
-
-def _half_turned(a: list[np.ndarray], b: list[np.ndarray]) -> bool:
-    """Whether the convex bodies ``b`` are those of ``a`` turned by a half turn (as sets)."""
-    if len(a) != len(b):
-        return False
-    left = [shapely.Polygon(-body) for body in a]
-    return all(any(p.symmetric_difference(shapely.Polygon(body)).area < 1e-12 for p in left)
-               for body in b)
 
 
 def _meets(a: list[BaseGeometry], b: list[BaseGeometry]) -> list[tuple[int, int]]:

@@ -144,14 +144,15 @@ def test_a_grasp_read_from_the_opposite_bin_has_the_parts_computed_for_it(name):
     from the opposite bin's, and must be the parts their own bodies give."""
     scene = shipped(name)
     parts = HeldParts(scene, MOTION_CLEARANCE, None)
-    assert parts.turned == [0, 1, 0, 1]
+    regions = parts.bins
+    assert regions.twins == [2, 3, 0, 1]
     for a, b in [(0.1, 0.3), (2.0, 2.1), (math.pi + 0.1, math.pi + 0.3), (5.9, 2 * math.pi)]:
         half, mid = 0.5 * (b - a), 0.5 * (a + b)
-        room = free_region(parts.grown, [rotation_core(s, half) for s in parts.shared], mid,
-                           parts.area)
+        room = free_region(regions.grown, [rotation_core(s, half) for s in regions.shared], mid,
+                           regions.area)
         for g, got in enumerate(parts.of(a, b)):
-            want = free_components(parts.grown, [rotation_core(s, half) for s in parts.own[g]],
-                                   mid, room)
+            want = free_components(regions.grown,
+                                   [rotation_core(s, half) for s in regions.own[g]], mid, room)
             union = shapely.union_all(got) if got else shapely.Polygon()
             assert len(got) == len(want)
             assert union.symmetric_difference(
