@@ -48,7 +48,6 @@ from pivot_ompl.analysis.regrasp_bound import (
 )
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Scene
-from pivot_ompl.scene.shared import drop_shared, keep_shared, shared_value
 
 log = logging.getLogger(__name__)
 
@@ -60,9 +59,6 @@ REFINE_SECONDS = 2.5
 #: The raster levels' cell sides (m), coarse to fine (a floor over the raster's cell cap
 #: gets larger cells at every level).
 CELLS = (0.1, 0.05, 0.025)
-#: What :func:`keep_coarse` keeps a scene's coarsest raster cover and graph under (the late
-#: proof builds them while the search has no path; the plan's bound then reads them).
-COARSE = ("coarsest raster cover and graph",)
 #: The raster's cost (s) per cell, layer and row of lattice offsets (measured 0.4-1.2 ns;
 #: the upper end, so that a plan's bound stays within about 2 s on the Nav2 warehouse).
 SECONDS_PER_CELL_ROW = 1.2e-9
@@ -128,13 +124,8 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
             by the guided refinement (its ``places``; cost only).
     """
     t0 = time.perf_counter()
-    kept = shared_value(scene, COARSE)  # the late proof's, when it ran on this scene
-    drop_shared(scene, COARSE)
-    cover = kept[0] if kept is not None else raster_cover(scene, cell=CELLS[0],
-                                                          should_stop=should_stop)
-    # handed on to the guided refinement
-    graphs = [kept[1] if kept is not None else _graph(scene, cover, should_stop)]
-    del kept
+    cover = raster_cover(scene, cell=CELLS[0], should_stop=should_stop)
+    graphs = [_graph(scene, cover, should_stop)]  # handed on to the guided refinement
     best = raster_lower_bound(scene, cell=CELLS[0], should_stop=should_stop, cover=cover,
                               graph=graphs[0])
     if best.solvable is None or cover is None:
@@ -168,21 +159,6 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
     log.debug("regrasp bound %s from the raster (polygons estimated %.1f s)", best.regrasps,
               estimate)
     return dataclasses.replace(best, seconds=time.perf_counter() - t0)
-
-
-def keep_coarse(scene: Scene, cover: RasterCover, graph: RasterGraph) -> None:
-    """Keep the coarsest raster's cover and graph of ``scene`` for its bound (:data:`COARSE`).
-
-    Built with :func:`scaled_lower_bound`'s arguments (cell ``CELLS[0]``, the default
-    tolerance, clearance and walks), not stopped; the bound takes them (and lets them go),
-    and :func:`forget_coarse` drops them where no bound follows.
-    """
-    keep_shared(scene, COARSE, (cover, graph))
-
-
-def forget_coarse(scene: Scene) -> None:
-    """Drop what :func:`keep_coarse` kept for ``scene`` (if anything)."""
-    drop_shared(scene, COARSE)
 
 
 def _graph(scene: Scene, cover: RasterCover | None,

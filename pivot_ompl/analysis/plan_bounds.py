@@ -57,7 +57,6 @@ import numpy as np
 import shapely
 
 from pivot_ompl.analysis.bound_cache import cached_bound, forget, lower_bound, refuted_by
-from pivot_ompl.analysis.bound_levels import forget_coarse
 from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.analysis.regrasp_bound import RegraspBound
 from pivot_ompl.analysis.route_bound import MAX_CELLS, MIN_CELL, route_on
@@ -193,23 +192,8 @@ def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = Non
     raster where its best path cheats when that fits ``time_left()`` (module docstring);
     ``guided_by_estimate`` ``False``: whenever the bound is still wanted, stopped by
     ``should_stop`` (its rounds done stand). ``places``: where the plan regrasps (m), refined
-    first by the guided refinement (cost only). The coarsest raster the late proof kept for
-    the scene is read by the bound, and let go here in any case
-    (:func:`~pivot_ompl.analysis.bound_levels.forget_coarse`).
+    first by the guided refinement (cost only).
     """
-    try:
-        return _plan_bounds(scene, regrasps, route_length, should_stop, time_left, guided,
-                            guided_by_estimate, places)
-    finally:
-        forget_coarse(scene)
-
-
-def _plan_bounds(scene: Scene, regrasps: int, route_length: float | None,
-                 should_stop: Callable[[], bool] | None,
-                 time_left: Callable[[], float] | None, guided: bool,
-                 guided_by_estimate: bool, places: tuple[tuple[float, float], ...]
-                 ) -> tuple[int | None, float | None]:
-    """:func:`plan_bounds`."""
     known = cached_bound(scene)
     if known is not None and known.solvable:
         if not _refuted(known, scene, regrasps, route_length) and (

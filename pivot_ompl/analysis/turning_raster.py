@@ -18,7 +18,6 @@ import numpy as np
 import shapely
 from scipy import ndimage
 
-from pivot_ompl.analysis.bound_levels import CELLS, keep_coarse
 from pivot_ompl.analysis.raster_bound import CELL, RasterGraph, raster_graph
 from pivot_ompl.analysis.raster_cover import RasterCover, raster_cover
 from pivot_ompl.analysis.turning import (
@@ -66,8 +65,6 @@ def _place(scene: Scene, cell: float, clearance: float,
     best, from_start = joined.graph.fewest_regrasps(starts, set(goals), joined.allowed,
                                                     should_stop, check_beyond=False)
     if best is not None:
-        if cell == CELLS[0] and clearance == KEEP_CLEARANCE:  # the plan's bound reads them
-            keep_coarse(scene, cover, joined)
         return None
     _, to_goal = joined.graph.fewest_regrasps(goals, set(), joined.allowed, should_stop)
     s_reached, g_reached = _by_layer(joined, from_start), _by_layer(joined, to_goal)

@@ -21,7 +21,7 @@ from pivot_ompl.cache import BoundedCache
 from pivot_ompl.scene.files import scene_digest
 from pivot_ompl.scene.model import Scene
 
-__all__ = ["KEPT", "drop_shared", "keep_shared", "scene_shared", "shared_value"]
+__all__ = ["KEPT", "keep_shared", "scene_shared", "shared_value"]
 
 T = TypeVar("T")
 
@@ -56,8 +56,3 @@ def shared_value(scene: Scene, what: tuple[Hashable, ...]) -> Any | None:
 def keep_shared(scene: Scene, what: tuple[Hashable, ...], value: object) -> None:
     """Keep ``value`` (not ``None``) for ``scene``'s geometry and ``what``."""
     _memo.put((scene_digest(scene), *what), value)
-
-
-def drop_shared(scene: Scene, what: tuple[Hashable, ...]) -> None:
-    """Forget the value kept for ``scene``'s geometry and ``what`` (if any)."""
-    _memo.discard((scene_digest(scene), *what))
