@@ -31,6 +31,7 @@ import os
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -126,15 +127,18 @@ def plan_once(scene: str, seed: int, limit: float, out: Path, *,
            "--seed", str(seed), "--out", str(plan_path)] + (["--prove"] if prove else [])
     with machine_lock():
         t0 = time.perf_counter()
-        proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                                text=True)
-        assert proc.stderr is not None
-        err = proc.stderr.read()
-        _, status, usage = os.wait4(proc.pid, 0)
+        with tempfile.TemporaryFile("w+") as stdout:  # a file: wait4 reaps the process
+            proc = subprocess.Popen(cmd, stdout=stdout, stderr=subprocess.PIPE, text=True)
+            assert proc.stderr is not None
+            err = proc.stderr.read()
+            _, status, usage = os.wait4(proc.pid, 0)
+            stdout.seek(0)
+            out_text = stdout.read()
         wall = time.perf_counter() - t0
         proc.returncode = os.waitstatus_to_exitcode(status)
     run: dict[str, Any] = {"seed": seed, "code": proc.returncode, "wall": wall,
                            "peak_mb": usage.ru_maxrss / 1024.0,
+                           "outcome": outcome(proc.returncode, out_text),
                            "message": err.replace("\r", "\n").strip().splitlines()[-1:]}
     if proc.returncode == 0 and plan_path.exists():
         doc = json.loads(plan_path.read_text())
@@ -145,6 +149,28 @@ def plan_once(scene: str, seed: int, limit: float, out: Path, *,
     else:
         run["solved"] = False
     return run
+
+
+def outcome(code: int, stdout: str) -> str:
+    """What a run ended in: ``solved``, ``infeasible`` (proven, exit 1), ``timeout`` (exit 1
+    without a reason) or ``error`` (any other exit), read from ``plan``'s exit code and the
+    status word that starts its first line."""
+    first = stdout.strip().split(":", 1)[0] if stdout.strip() else ""
+    if code == 0:
+        return "solved"
+    if code == 1:
+        return "infeasible" if first == "INFEASIBLE" else "timeout"
+    return "error"
+
+
+def _others(runs: list[dict[str, Any]]) -> str:
+    """The unsolved runs by outcome with their median wall time, ``-`` if none."""
+    parts = []
+    for kind in ("infeasible", "timeout", "error"):
+        walls = [r["wall"] for r in runs if r.get("outcome") == kind]
+        if walls:
+            parts.append(f"{len(walls)} {kind} ({_fmt(_median(walls))} s)")
+    return ", ".join(parts) or "-"
 
 
 def _median(xs: list[float]) -> float | None:
@@ -170,12 +196,13 @@ def summary_row(m: CorpusMap, info: dict[str, Any], runs: list[dict[str, Any]]) 
             f"{_fmt(_median([r['solve'] for r in ok if r.get('solve') is not None]))} | "
             f"{_fmt(_median([float(g) for g in grasps]), '.0f')} | {bound_text} | "
             f"{_fmt(_median(ratios), '.2f')} | "
-            f"{max(r['peak_mb'] for r in runs):.0f} |")
+            f"{max(r['peak_mb'] for r in runs):.0f} | {_others(runs)} |")
 
 
 HEADER = ("| map | kind | floor m (m/px) | boxes | solved | median time s | median solve s "
-          "| median regrasps | regrasps = bound | median route ratio | peak memory MB |\n"
-          "|---|---|---|---|---|---|---|---|---|---|---|")
+          "| median regrasps | regrasps = bound | median route ratio | peak memory MB "
+          "| not solved (median time) |\n"
+          "|---|---|---|---|---|---|---|---|---|---|---|---|")
 
 
 def table(record: dict[str, Any], command: str) -> str:
@@ -224,7 +251,8 @@ def main() -> None:
         for seed in range(args.seeds):
             run = plan_once(info["scene"], seed, args.time, out, prove=args.prove)
             runs.append(run)
-            print(f"{m.name} seed {seed}: code {run['code']}, {run['wall']:.1f} s, "
+            print(f"{m.name} seed {seed}: {run['outcome']} (code {run['code']}), "
+                  f"{run['wall']:.1f} s, "
                   f"{run.get('regrasps')} regrasps (bound {run.get('bound')}), "
                   f"{run['peak_mb']:.0f} MB", file=sys.stderr, flush=True)
         record[m.name] = {"map": m.map, "start": m.start, "goal": m.goal, "clean": m.clean,

@@ -173,10 +173,10 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
             regrasp planner searches from the new start over its roadmaps (replanning).
         start_grasp: the grasp held at the start (0 to 3): every plan starts with it, other
             grasps reached by walks from it priced as any regrasp; ``None``: any valid grasp.
-        late_proof: a search (any planner's) still without a path after
-            :data:`LATE_PROOF_BEGIN` of the limit asks the relaxation once whether any plan
-            exists (``INFEASIBLE`` with the reason when none does,
-            :class:`~pivot_ompl.analysis.late_proof.LateProof`); ``None``: as ``bound``.
+        late_proof: a search still without a path after :data:`LATE_PROOF_BEGIN` of the
+            limit (the regrasp search: and of CPU seconds, or :data:`HELD_PROOF_BEGIN`) asks
+            the relaxation once whether any plan exists (``INFEASIBLE`` with the reason when
+            none does, :class:`~pivot_ompl.analysis.late_proof.LateProof`); ``None``: ``bound``.
         prove: when the plan regrasps and the cheaper bounds prove fewer, refine the raster
             relaxation where its best path passes narrow places (as ``pivot-ompl bound
             --guided``) with what the limit leaves, so that on large buildings the plan
@@ -192,7 +192,7 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     time_limit = check_plan_arguments(scene, planner, time_limit, seed, simplify, bound,
                                       start_grasp, late_proof, prove)
     config = check_config(config, regrasp_cost)
-    started = time.monotonic()  # the time limit counts from here: loading and setup included
+    started, cpu = time.monotonic(), time.process_time()  # the limit counts from here (loading too)
     t0 = time.perf_counter()
     deadline = started + time_limit
     try:
@@ -221,7 +221,8 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
         late = LateProof(scene, begin=started + LATE_PROOF_BEGIN * time_limit,
                          end=started + LATE_PROOF_END * time_limit,
                          explain_end=started + EXPLAIN_END * time_limit, passages=passages,
-                         held_begin=started + HELD_PROOF_BEGIN * time_limit)
+                         held_begin=started + HELD_PROOF_BEGIN * time_limit, work_begin=cpu +
+                         LATE_PROOF_BEGIN * time_limit if isinstance(p, RegraspPlanner) else None)
     if isinstance(p, RegraspPlanner):  # its quality share is one of the solve's limit
         p.solve_limit = time_limit - (time.monotonic() - started)
         p.proof = late  # polled by its search; other planners are stopped to ask it

@@ -54,7 +54,7 @@ class DurationModel:
     :func:`pivot_ompl.wholebody.durations.fit_duration_model` (least squares per pivot step
     and per transit, the transfer remainder's mean) to the three motions at once.
     ``tests/wholebody/test_duration_model.py`` holds each plan's estimate within 5 % of its
-    motion (fig10 721.8 s for 719.4 s, slot 302.2 for 311.2, door 538.4 for 545.9). The
+    motion (fig10 673 s for 675.3 s, slot 289 for 295.9, door 502 for 507.7). The
     robot walks the pivot steps of a transfer continuously, two or three steps a pivot, so a
     rotation costs mostly by itself and little by its angle; a metre walked alone costs 10 s
     because the planned walks are often sideways or backward. Pivots that move the robot
@@ -72,7 +72,7 @@ class DurationModel:
 
     per_transfer: float = 5.1
     per_pivot: float = 2.5
-    per_radian: float = 0.2
+    per_radian: float = 0.1
     per_transit: float = 0.0
     per_walk_m: float = 10.4
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 
+import pytest
 from factories import make_scene
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -42,17 +43,28 @@ def test_a_straight_push_costs_its_estimate():
         estimate = COSTS.transfer_estimate(d, m.edge_half_length(grasp), alpha)
         # the real push has two or three partial rotations at its ends, which the estimate
         # (full rotations only) leaves out: with a pivot priced mostly by itself (per_pivot
-        # 2.5 s, per_radian 0.2 s/rad) they are 8 % of a 4 m push
+        # 2.5 s, per_radian 0.1 s/rad) they are 8 % of a 4 m push
         assert abs(real - estimate) < 0.09 * estimate
 
 
-def test_a_spin_costs_its_estimate():
+@pytest.mark.parametrize("turn", [0.3, 0.7, 1.2, 0.5 * math.pi, 2.0, 2.5, math.pi])
+@pytest.mark.parametrize("grasp", [0, 1])
+def test_a_spin_costs_at_most_its_estimate(turn, grasp):
+    """The route stages' estimate of a turn in place never prices it below what it costs.
+
+    Counted for the steering's equal spin pieces (three rotations per ``2 alpha_max``); the
+    steering's chain of rotations now takes one over what the turn needs, cheaper by up to
+    0.6x the estimate's (2.5 rad: 7 rotations for 12). The estimate is what the route
+    stages choose their candidates by, and left as they were tuned.
+    """
     alpha = CHECKER.scene.alpha_max
     m = CHECKER.model
-    cx, cy, h = m.car_pose((0.0, 0.0, 0.0), 0)
-    edge = CHECKER.transfer((0.0, 0.0, 0.0), m.object_from_car((cx, cy, h + math.pi), 0), 0)
+    cx, cy, h = m.car_pose((0.0, 0.0, 0.0), grasp)
+    edge = CHECKER.transfer((0.0, 0.0, 0.0), m.object_from_car((cx, cy, h + turn), grasp),
+                            grasp)
     real = COSTS.rotations(r.angle for r in edge.sequence.rotations)
-    assert abs(real - COSTS.spin_estimate(math.pi, alpha)) < 0.1 * real
+    estimate = COSTS.spin_estimate(turn, alpha)
+    assert 0.55 * estimate <= real <= estimate * (1.0 + 1e-9)
 
 
 def test_a_regrasp_costs_its_price_its_walk_and_a_new_phase():

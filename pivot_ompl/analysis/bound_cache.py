@@ -36,6 +36,7 @@ from typing import Any
 from pivot_ompl.analysis.bound_levels import (
     REFINE_SECONDS,
     may_guide,
+    may_pose,
     may_refine,
     scaled_lower_bound,
 )
@@ -51,7 +52,7 @@ from pivot_ompl.scene import Scene, scene_digest
 log = logging.getLogger(__name__)
 
 #: Version of the relaxation: part of every key (a new relaxation never reads old results).
-BOUND_VERSION = 7
+BOUND_VERSION = 8
 #: Scenes whose bound is kept in memory.
 MEMORY_ENTRIES = 64
 #: Environment variable that turns the disk cache off when ``0``.
@@ -106,9 +107,10 @@ def bound_problem(bound: object, scene: Scene) -> str | None:
 
     if not isinstance(bound.solvable, bool):
         return f"solvable = {bound.solvable!r} is not true or false"
-    if not all(isinstance(f, bool) for f in (bound.complete, bound.exhaustive, bound.guided)):
+    if not all(isinstance(f, bool)
+               for f in (bound.complete, bound.exhaustive, bound.guided, bound.held)):
         return (f"complete = {bound.complete!r}, exhaustive = {bound.exhaustive!r}, "
-                f"guided = {bound.guided!r} are not flags")
+                f"guided = {bound.guided!r}, held = {bound.held!r} are not flags")
     if not (whole(bound.bins) and bound.bins >= 1 and whole(bound.pieces)):
         return f"bins = {bound.bins!r}, pieces = {bound.pieces!r} are not counts"
     if (isinstance(bound.seconds, bool) or not isinstance(bound.seconds, int | float)
@@ -296,7 +298,8 @@ def _refinable(hit: RegraspBound, scene: Scene, resolution: float, target: int |
         return False
     if target is not None and hit.regrasps is not None and hit.regrasps >= target:
         return False
-    if not hit.guided and may_guide(relaxed_scene(scene), guided_seconds):
+    if not (hit.guided or hit.held) and (may_pose(relaxed_scene(scene), guided_seconds)
+                           or may_guide(relaxed_scene(scene), guided_seconds)):
         return True
     return may_refine(relaxed_scene(scene), resolution=resolution,
                       refine_seconds=refine_seconds)

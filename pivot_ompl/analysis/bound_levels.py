@@ -17,7 +17,9 @@ second on a 1500 m² map of 2000 boxes), then a finer level only when both hold:
 
 The result is the strongest of the levels run (each is a proof), marked ``exhaustive`` when
 the polygons ran to the end. When the polygons fit they run straight after the coarsest
-raster (no finer raster can beat them); otherwise the finer rasters run in turn.
+raster (no finer raster can beat them); otherwise the finer rasters run in turn. The
+coarsest raster and the polygons are the late proof's when it built them already for this
+scene (:mod:`~pivot_ompl.analysis.relaxation_handoff`).
 
 With ``guided_seconds``, when the polygons did not run and the bound is still wanted, the
 coarsest raster is then refined where its best path passes narrow places
@@ -26,7 +28,11 @@ seconds on a 5000-box floor, each a proof; it polls ``should_stop`` and its roun
 stand), marked ``guided`` when it ran to its end; only when the coarsest raster's estimate
 and its own (:func:`guided_estimate`, from the floor's cells and yaw bins) add up to at most
 ``guided_seconds``: an estimate, so a refinement that cannot end in the time given is not
-started.
+started. On a floor of few obstacle pieces, whose held poses' count
+(:func:`~pivot_ompl.analysis.pose_regrasps.pose_regrasp_bound`: exact polygons per yaw bin
+and grasp, the fewest grasp changes over them) is estimated at most :data:`POSE_SECONDS`,
+that count runs in its place (:func:`may_pose`): measured on the corridor rows, the
+refinement's raster proves 0 there and the count 2, with its cost bounded by a bin count.
 """
 
 from __future__ import annotations
@@ -37,6 +43,7 @@ import time
 from collections.abc import Callable
 
 from pivot_ompl.analysis.guided_refine import guided_lower_bound
+from pivot_ompl.analysis.pose_regrasps import pose_estimate, pose_regrasp_bound
 from pivot_ompl.analysis.raster_bound import RasterGraph, raster_graph, raster_lower_bound
 from pivot_ompl.analysis.raster_cover import RasterCover, floor_raster, raster_cover
 from pivot_ompl.analysis.regrasp_bound import (
@@ -46,8 +53,10 @@ from pivot_ompl.analysis.regrasp_bound import (
     regrasp_lower_bound,
     yaw_bins,
 )
+from pivot_ompl.analysis.relaxation_handoff import take_coarse, take_exact
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Scene
+from pivot_ompl.validity.collision import KEEP_CLEARANCE
 
 log = logging.getLogger(__name__)
 
@@ -71,6 +80,11 @@ ROWS_PER_LAYER = 10
 SECONDS_PER_CELL_BIN_ROUND = 5e-8
 #: Rounds the guided estimate counts (the Willow Garage office's 2 takes 6).
 GUIDED_ROUNDS = 6
+#: Largest estimate (s) of the held poses' count run in place of the guided refinement
+#: (:func:`~pivot_ompl.analysis.pose_regrasps.pose_estimate`: 1.4 s on the 32-room corridor
+#: row of 105 boxes, where the refinement gains nothing; the Willow Garage office's 5049
+#: boxes: about 65 s, so the refinement runs there).
+POSE_SECONDS = 2.0
 #: The polygon relaxation's cost (s) per obstacle piece, yaw bin and grasp (measured on fig10,
 #: the house and the Nav2 warehouse maps: 0.22-0.39 ms).
 SECONDS_PER_PIECE = 3e-4
@@ -124,8 +138,15 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
             by the guided refinement (its ``places``; cost only).
     """
     t0 = time.perf_counter()
-    cover = raster_cover(scene, cell=CELLS[0], should_stop=should_stop)
-    graphs = [_graph(scene, cover, should_stop)]  # handed on to the guided refinement
+    kept = take_coarse(scene, cell=CELLS[0], clearance=KEEP_CLEARANCE)  # the late proof's
+    cover: RasterCover | None
+    graph: RasterGraph | None
+    if kept is not None:
+        cover, graph = kept
+    else:
+        cover = raster_cover(scene, cell=CELLS[0], should_stop=should_stop)
+        graph = _graph(scene, cover, should_stop)
+    graphs = [graph]  # handed on to the guided refinement
     best = raster_lower_bound(scene, cell=CELLS[0], should_stop=should_stop, cover=cover,
                               graph=graphs[0])
     if best.solvable is None or cover is None:
@@ -133,7 +154,9 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
     spent = raster_estimate(scene, CELLS[0])  # estimates, not clocks: the same on any load
     estimate = exhaustive_estimate(scene, resolution=resolution)
     if _wanted(best, target) and spent + estimate <= refine_seconds:
-        full = regrasp_lower_bound(scene, resolution=resolution, should_stop=should_stop)
+        full = regrasp_lower_bound(scene, resolution=resolution, should_stop=should_stop,
+                                   built=take_exact(scene, resolution=resolution,
+                                                    clearance=KEEP_CLEARANCE))
         if full.solvable is not None:
             return dataclasses.replace(_better(full, best), exhaustive=True,
                                        seconds=time.perf_counter() - t0)
@@ -150,7 +173,9 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
         if finer.solvable is None:
             break
         best = _better(finer, best)
-    if _wanted(best, target) and may_guide(scene, guided_seconds):
+    if _wanted(best, target) and may_pose(scene, guided_seconds):
+        best = held_poses_bound(scene, best, target, should_stop)
+    elif _wanted(best, target) and may_guide(scene, guided_seconds):
         found = guided_lower_bound(scene, cover=cover, target=target, should_stop=should_stop,
                                    coarse=graphs.pop(),  # not held here: freed after round 0
                                    places=places)
@@ -176,6 +201,28 @@ def may_guide(scene: Scene, guided_seconds: float) -> bool:
     """Whether the guided refinement fits ``guided_seconds`` on ``scene`` (estimates)."""
     return guided_seconds > 0 and (
         raster_estimate(scene, CELLS[0]) + guided_estimate(scene) <= guided_seconds)
+
+
+def may_pose(scene: Scene, guided_seconds: float) -> bool:
+    """Whether the held poses' count replaces the guided refinement on ``scene``.
+
+    When its estimate is at most :data:`POSE_SECONDS` and, with the coarsest raster's, fits
+    ``guided_seconds`` (module docstring).
+    """
+    pose = pose_estimate(scene)
+    return guided_seconds > 0 and pose <= POSE_SECONDS and (
+        raster_estimate(scene, CELLS[0]) + pose <= guided_seconds)
+
+
+def held_poses_bound(scene: Scene, best: RegraspBound, target: int | None,
+                     should_stop: Callable[[], bool] | None) -> RegraspBound:
+    """``best`` raised by the held poses' count (marked ``held`` when it ran to its end)."""
+    held = pose_regrasp_bound(scene, target=target, should_stop=should_stop)
+    if held.apart:
+        return dataclasses.replace(best, regrasps=None, solvable=False, shortest_route=None)
+    return dataclasses.replace(
+        best, regrasps=max(best.regrasps or 0, held.regrasps or 0),
+        held=held.complete, complete=best.complete and held.complete)
 
 
 def may_refine(scene: Scene, *, resolution: float = RESOLUTION,

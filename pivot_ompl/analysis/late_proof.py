@@ -100,6 +100,11 @@ class LateProof:
         held_begin: clock time from which the held poses' relaxation is tried, where the
             poses' relaxation joins start and goal (default ``begin``; asked before, it is
             tried when asked again after it: a search that plans by then never pays it).
+        work_begin: the process's CPU time (``work``) before which the proof is not tried
+            either, but from ``held_begin`` on: "slow to find a path" is then the search's
+            own work, not the clock's seconds other processes took on a loaded machine
+            (``None``: the clock alone; an OMPL planner's solve asks only once).
+        work: the clock of ``work_begin`` (``time.process_time``).
 
     Attributes:
         proof: the proof, once found; ``None`` before, or when nothing was proven.
@@ -109,9 +114,12 @@ class LateProof:
     def __init__(self, scene: Scene, *, begin: float, end: float,
                  explain_end: float | None = None,
                  clock: Callable[[], float] = time.monotonic,
-                 passages: PassageOnce | None = None, held_begin: float | None = None) -> None:
+                 passages: PassageOnce | None = None, held_begin: float | None = None,
+                 work_begin: float | None = None,
+                 work: Callable[[], float] = time.process_time) -> None:
         """Nothing tried yet."""
         self.scene, self.begin, self.end = scene, begin, end
+        self.work_begin, self.work = work_begin, work
         self.held_begin = begin if held_begin is None else held_begin
         self._held_pending = False
         self.passages = passages if passages is not None else PassageOnce(scene)
@@ -128,7 +136,8 @@ class LateProof:
                 return self._held_poses(self.clock())
             return self.proof is not None
         now = self.clock()
-        if now < self.begin:
+        if now < self.begin or (self.work_begin is not None and now < self.held_begin
+                                and self.work() < self.work_begin):
             return False
         self.tried = True
         known = cached_bound(self.scene)
@@ -138,8 +147,8 @@ class LateProof:
             return self._held_later(now)
         stop = self._stop(self.end if known is None else self.explain_end)
         exact = exhaustive_estimate(self.scene) <= self.end - now
-        if exact:  # proof and place at once
-            place = turning_place(self.scene, should_stop=stop)
+        if exact:  # proof and place at once (its polygons kept for the bound: joined)
+            place = turning_place(self.scene, should_stop=stop, keep=True)
         else:
             place = framed_turning_place(self.scene, should_stop=stop)
         if place is None and known is None:
@@ -214,8 +223,8 @@ def framed_turning_place(scene: Scene, *, cell: float = CELLS[0],
     worth it.) The place is turned back to the scene and its room to turn measured there.
     """
     frame = wall_frame(scene, should_stop=should_stop)
-    if frame is None:
-        return raster_turning_place(scene, cell=cell, should_stop=should_stop)
+    if frame is None:  # the scene's own raster: kept for its bound when it joins the ends
+        return raster_turning_place(scene, cell=cell, should_stop=should_stop, keep=True)
     place = raster_turning_place(frame.scene, cell=cell, should_stop=should_stop)
     if place is None:
         return None

@@ -20,10 +20,12 @@ slow on large floors; :func:`plan_bounds` asks it only where the answer depends 
   stand, each a proof). ``plan`` asks for it by default for a plan with regrasps, with
   the time its limit leaves (``prove=None``; ``prove=True``: whatever the estimate, stopped
   at the limit; ``prove=False``: never): where it reaches the plan's count it costs a few
-  seconds (the Willow Garage office: about 5 s for its 2), and where it fits it may add
-  nothing (rooms joined by a tight corridor: 1-4 s for the same 0); either way once per
-  scene: a scene's bound once refined (by a plan or ``pivot-ompl bound --guided``) is read
-  from the cache by every later plan.
+  seconds (the Willow Garage office: about 5 s for its 2). Where the held poses' count
+  (:mod:`~pivot_ompl.analysis.pose_regrasps`) is estimated cheap (a floor of few boxes:
+  rooms joined by a tight corridor) it runs instead (:func:`~pivot_ompl.analysis.
+  bound_levels.may_pose`): the refinement proved 0 there, the count proves 2. Either way
+  once per scene: a scene's bound once refined (by a plan or ``pivot-ompl bound
+  --guided``) is read from the cache by every later plan.
 
 Every result comes from the bound cache when it holds it
 (:mod:`~pivot_ompl.analysis.bound_cache`).
@@ -59,6 +61,7 @@ import shapely
 from pivot_ompl.analysis.bound_cache import cached_bound, forget, lower_bound, refuted_by
 from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.analysis.regrasp_bound import RegraspBound
+from pivot_ompl.analysis.relaxation_handoff import forget_kept
 from pivot_ompl.analysis.route_bound import MAX_CELLS, MIN_CELL, route_on
 from pivot_ompl.analysis.route_cache import forget_route, keep_route, kept_route
 from pivot_ompl.analysis.route_gaps import GapRoute, gap_closed_route
@@ -198,9 +201,11 @@ def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = Non
     if known is not None and known.solvable:
         if not _refuted(known, scene, regrasps, route_length) and (
                 regrasps == 0 or known.exhaustive or (known.regrasps or 0) >= regrasps):
+            forget_kept(scene)  # the late proof's relaxations: not needed
             return known.regrasps, _longer(known.shortest_route, _shared_held_route(
                 scene, route_length, should_stop, time_left))
     if regrasps == 0:  # the disk route: one per scene in the process (a later plan's is it)
+        forget_kept(scene)
         return 0, _shared_held_route(scene, route_length, should_stop, time_left)
     full = lower_bound(scene, target=regrasps, should_stop=should_stop,
                        guided_seconds=0.0 if not guided else
@@ -210,6 +215,18 @@ def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = Non
         return None, None
     return full.regrasps, _longer(full.shortest_route, _shared_held_route(
         scene, route_length, should_stop, time_left))
+
+
+def route_bound(scene: Scene, *, should_stop: Callable[[], bool] | None = None,
+                use_cache: bool = True) -> float | None:
+    """The disk route with its gaps closed, as a plan's ``shortest_route`` takes it (m).
+
+    Read from and kept in the caches (``use_cache`` ``False``: computed afresh, nothing
+    kept); ``None`` when stopped before a first route or when no path joins start and goal.
+    """
+    if not use_cache:
+        return disk_route(scene, should_stop=should_stop)
+    return _shared_held_route(scene, None, should_stop, None)
 
 
 def _shared_held_route(scene: Scene, route_length: float | None,

@@ -14,10 +14,12 @@ joined parts only, so when no part holding the start is joined to one holding th
 plan exists.
 
 The bins start coarse (:data:`FIRST_BINS`); while a chain of parts joins start and goal, the
-bins on the chain are halved (a chain through too coarse bins is refined away, a true one
-stays), up to :data:`MAX_BINS` bins or bins of :data:`FINEST` rad; the stop is polled
-before every bin's parts. Pivoting is small-time controllable, so where the finest bins still
-join start and goal the answer is "joined" (no proof; the poses connect at the bins' scale).
+bins on the chain are halved with the bins opposite them (a chain through too coarse bins is
+refined away, a true one stays; a grasp that is another's half turn has that grasp's parts at
+the opposite bin, so a bin and its opposite cost one bin's parts), up to :data:`MAX_BINS`
+bins or bins of :data:`FINEST` rad; the stop is polled before every bin's parts. Pivoting
+is small-time controllable, so where the finest bins still join start and goal the answer
+is "joined" (no proof; the poses connect at the bins' scale).
 """
 
 from __future__ import annotations
@@ -97,7 +99,7 @@ class PoseProof:
     start_reach: BaseGeometry | None = None
 
 
-class _Parts:
+class HeldParts:
     """The free parts of every (bin, grasp), computed once per bin and kept."""
 
     def __init__(self, scene: Scene, clearance: float,
@@ -119,24 +121,54 @@ class _Parts:
                        if all(any(np.array_equal(b, c) for c in bs) for bs in self.bodies)]
         self.own = [[b for b in bs if not any(np.array_equal(b, c) for c in self.shared)]
                     for bs in self.bodies]
+        #: per grasp, the earlier grasp whose own bodies it has turned by a half turn (its
+        #: parts at a bin are that grasp's at the bin turned by pi: computed once), else itself
+        self.turned = [next((k for k in range(g) if _half_turned(self.own[k], self.own[g])), g)
+                       for g in range(len(self.own))]
+        #: the shared bodies are their own half turn (the box): one room for a bin and its
+        #: opposite
+        self.half_room = _half_turned(self.shared, self.shared)
         self.known: dict[tuple[float, float], list[list[BaseGeometry]]] = {}
+        self.grasps: dict[tuple[int, int, int], list[BaseGeometry]] = {}
+        self.rooms: dict[tuple[int, int], BaseGeometry] = {}
         self.met: dict[tuple[float, ...], list[tuple[int, int]]] = {}
 
     def of(self, a: float, b: float) -> list[list[BaseGeometry]]:
         """Per grasp, the free parts of the bin ``[a, b]``."""
         key = (a, b)
         if key not in self.known:
-            half, mid = 0.5 * (b - a), 0.5 * (a + b)
-            room = free_region(self.grown, [rotation_core(body, half) for body in self.shared],
-                               mid, self.area)  # the bodies of every grasp: once for all
-            self.known[key] = [free_components(self.grown,
-                                               [rotation_core(body, half) for body in own],
-                                               mid, room) for own in self.own]
+            self.known[key] = [self._grasp(a, b, g) for g in range(len(self.own))]
         return self.known[key]
+
+    def _grasp(self, a: float, b: float, g: int) -> list[BaseGeometry]:
+        k = self.turned[g]
+        if k != g:  # grasp g at [a, b] is grasp k at [a + pi, b + pi]
+            a, b = a + math.pi, b + math.pi
+        key = (turn_key(a), turn_key(b), k)
+        if key not in self.grasps:
+            half, mid = 0.5 * (b - a), 0.5 * (a + b)
+            self.grasps[key] = free_components(
+                self.grown, [rotation_core(body, half) for body in self.own[k]], mid,
+                self._room(a, b))
+        return self.grasps[key]
+
+    def _room(self, a: float, b: float) -> BaseGeometry:
+        """Where the shared bodies (every grasp's) are free at the bin ``[a, b]``."""
+        key = (turn_key(a), turn_key(b))
+        if self.half_room:
+            key = (key[0] % HALF_TURN_KEY, key[1] % HALF_TURN_KEY)
+        if key not in self.rooms:
+            half, mid = 0.5 * (b - a), 0.5 * (a + b)
+            self.rooms[key] = free_region(
+                self.grown, [rotation_core(body, half) for body in self.shared], mid, self.area)
+        return self.rooms[key]
 
     def forget(self, a: float, b: float) -> None:
         """Drop the parts of the bin ``[a, b]`` (halved: never asked again)."""
         self.known.pop((a, b), None)
+        qa, qb = turn_key(a), turn_key(b)
+        for k in range(len(self.own)):
+            self.grasps.pop((qa, qb, k), None)
 
     def meet(self, key: tuple[float, ...], a: list[BaseGeometry],
              b: list[BaseGeometry]) -> list[tuple[int, int]]:
@@ -144,6 +176,40 @@ class _Parts:
         if key not in self.met:
             self.met[key] = _meets(a, b)
         return self.met[key]
+
+
+#: Yaw keys per turn (:func:`turn_key`): bins are dyadic parts of the turn, far coarser.
+TURN_KEYS = 1 << 20
+HALF_TURN_KEY = TURN_KEYS // 2
+
+
+def turn_key(yaw: float) -> int:
+    """``yaw`` (rad) as an integer step of the turn, modulo the turn: a bin edge's key."""
+    return round(yaw / (2.0 * math.pi) * TURN_KEYS) % TURN_KEYS
+
+
+def with_opposites(edges: list[float], split: set[int]) -> list[int]:
+    """The bins ``split`` of ``edges`` and those opposite them (their yaws plus pi), sorted.
+
+    A bin's parts at a grasp that is another's half turn are the opposite bin's
+    (:class:`HeldParts`): halved together, both bins' halves cost what one bin's do.
+    """
+    at = {(turn_key(edges[i]), turn_key(edges[i + 1])): i for i in range(len(edges) - 1)}
+    out = set(split)
+    for i in split:
+        j = at.get((turn_key(edges[i] + math.pi), turn_key(edges[i + 1] + math.pi)))
+        if j is not None:
+            out.add(j)
+    return sorted(out)
+
+
+def _half_turned(a: list[np.ndarray], b: list[np.ndarray]) -> bool:
+    """Whether the convex bodies ``b`` are those of ``a`` turned by a half turn (as sets)."""
+    if len(a) != len(b):
+        return False
+    left = [shapely.Polygon(-body) for body in a]
+    return all(any(p.symmetric_difference(shapely.Polygon(body)).area < 1e-12 for p in left)
+               for body in b)
 
 
 def _meets(a: list[BaseGeometry], b: list[BaseGeometry]) -> list[tuple[int, int]]:
@@ -165,10 +231,10 @@ def _bins_of(edges: list[float], yaw: float) -> list[int]:
     return [i for i in range(n) if edges[i] - 1e-12 <= t <= edges[i + 1] + 1e-12] or [n - 1]
 
 
-class _Graph:
+class PoseGraph:
     """The parts joined (see the module docstring) for one set of bins."""
 
-    def __init__(self, parts: _Parts, edges: list[float],
+    def __init__(self, parts: HeldParts, edges: list[float],
                  should_stop: Callable[[], bool] | None) -> None:
         n = len(edges) - 1
         self.table = []
@@ -258,14 +324,14 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
                          time.perf_counter() - t0, reach)
 
     try:
-        parts = _Parts(scene, clearance, should_stop)
+        parts = HeldParts(scene, clearance, should_stop)
         if parts.room is None:
             return result(None)
         if not parts.room.covers(shapely.Point(scene.goal[:2])):  # the box alone cannot go
             return result(True, parts.room)
         while True:
             rounds += 1
-            graph = _Graph(parts, edges, should_stop)
+            graph = PoseGraph(parts, edges, should_stop)
             starts, goals = graph.nodes_at(edges, scene.start), graph.nodes_at(edges, scene.goal)
             if not starts or not goals:
                 return result(None)
@@ -276,7 +342,8 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
             # the chain's widest bins first: a chain through coarse bins is most often false
             widths = {i: edges[i + 1] - edges[i] for i, _, _ in path}
             widest = max(widths.values())
-            split = sorted(i for i, w in widths.items() if w > finest and w >= 0.99 * widest)
+            split = with_opposites(edges, {i for i, w in widths.items()
+                                           if w > finest and w >= 0.99 * widest})
             log.debug("held poses, round %d: %d bins, a chain of %d parts over %d bins; %d "
                       "halved (%.2f degrees)", rounds, len(edges) - 1, len(path), len(widths),
                       len(split), math.degrees(widest))

@@ -105,6 +105,7 @@ class RegraspBound:
             :mod:`~pivot_ompl.analysis.raster_bound`, sound but possibly lower).
         guided: the raster relaxation was refined to the end where its best path passes
             narrow places (:mod:`~pivot_ompl.analysis.guided_refine`).
+        held: the held poses' count ran to its end (:mod:`~pivot_ompl.analysis.pose_regrasps`).
     """
 
     regrasps: int | None
@@ -116,6 +117,7 @@ class RegraspBound:
     complete: bool = True
     exhaustive: bool = True
     guided: bool = False
+    held: bool = False
 
 
 @dataclass(frozen=True)
@@ -349,8 +351,8 @@ def cover_graph(scene: Scene, cover: FreeCover, *, tolerance: float = SWEEP_TOLE
 
 def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
                         tolerance: float = SWEEP_TOLERANCE, clearance: float = KEEP_CLEARANCE,
-                        walks: bool = True,
-                        should_stop: Callable[[], bool] | None = None) -> RegraspBound:
+                        walks: bool = True, should_stop: Callable[[], bool] | None = None,
+                        built: tuple[FreeCover, CoverGraph] | None = None) -> RegraspBound:
     """Fewest regrasps any plan of ``scene`` needs (see the module docstring: sound).
 
     Args:
@@ -362,19 +364,18 @@ def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
             (:mod:`~pivot_ompl.analysis.regrasp_walk`); ``False``: wherever both grasps fit.
         should_stop: polled once per yaw bin and per regrasp checked; when it returns
             ``True`` the result is unknown.
-
-    Returns:
-        A :class:`RegraspBound`.
+        built: :func:`free_cover` and its :func:`cover_graph` of these arguments when built.
     """
     t0 = time.perf_counter()
-    cover = free_cover(scene, resolution=resolution, tolerance=tolerance, clearance=clearance,
-                       should_stop=should_stop)
+    cover = built[0] if built else free_cover(scene, resolution=resolution, tolerance=tolerance,
+                                              clearance=clearance, should_stop=should_stop)
     n = yaw_bins(scene, resolution)
     if cover is None:
         return RegraspBound(None, None, n, 0, time.perf_counter() - t0)
     try:
-        joined = cover_graph(scene, cover, tolerance=tolerance, clearance=clearance,
-                             walks=walks, should_stop=should_stop)
+        joined = built[1] if built else cover_graph(scene, cover, tolerance=tolerance,
+                                                    clearance=clearance, walks=walks,
+                                                    should_stop=should_stop)
     except Interrupted:
         return RegraspBound(None, None, n, 0, time.perf_counter() - t0)
     ids, nodes, walk, holding = joined.ids, joined.nodes, joined.walk, joined.holding

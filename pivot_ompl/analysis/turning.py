@@ -28,6 +28,7 @@ from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.analysis.passage import hull_extents
 from pivot_ompl.analysis.regrasp_bound import RESOLUTION, cover_graph, free_cover
+from pivot_ompl.analysis.relaxation_handoff import keep_exact
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.scene import Scene
@@ -106,20 +107,23 @@ def assembly_outline(model: BoxGraspModel, *, clearance: float = KEEP_CLEARANCE
 
 def turning_place(scene: Scene, *, resolution: float = RESOLUTION,
                   clearance: float = KEEP_CLEARANCE,
-                  should_stop: Callable[[], bool] | None = None) -> TurningPlace | None:
+                  should_stop: Callable[[], bool] | None = None,
+                  keep: bool = False) -> TurningPlace | None:
     """The place where the held box cannot turn (module docstring), when no plan exists.
 
     ``None`` when the relaxation joins start and goal (nothing is proven), or when
-    ``should_stop`` said stop. A place returned is a proof that no plan exists.
+    ``should_stop`` said stop. A place returned is a proof that no plan exists. ``keep``:
+    a cover and graph that join start and goal are kept for the plan's regrasp bound
+    (:func:`~pivot_ompl.analysis.relaxation_handoff.keep_exact`).
     """
     try:
-        return _turning_place(scene, resolution, clearance, should_stop)
+        return _turning_place(scene, resolution, clearance, should_stop, keep)
     except Interrupted:
         return None
 
 
 def _turning_place(scene: Scene, resolution: float, clearance: float,
-                   should_stop: Callable[[], bool] | None) -> TurningPlace | None:
+                   should_stop: Callable[[], bool] | None, keep: bool) -> TurningPlace | None:
     cover = free_cover(scene, resolution=resolution, clearance=clearance,
                        should_stop=should_stop)
     if cover is None:
@@ -131,6 +135,8 @@ def _turning_place(scene: Scene, resolution: float, clearance: float,
     best, from_start = joined.graph.fewest_regrasps(starts, set(goals), joined.allowed,
                                                     should_stop)
     if best is not None:
+        if keep:
+            keep_exact(scene, cover, joined, resolution=resolution, clearance=clearance)
         return None
     _, to_goal = joined.graph.fewest_regrasps(goals, set(), joined.allowed, should_stop)
 

@@ -20,6 +20,7 @@ from scipy import ndimage
 
 from pivot_ompl.analysis.raster_bound import CELL, RasterGraph, raster_graph
 from pivot_ompl.analysis.raster_cover import RasterCover, raster_cover
+from pivot_ompl.analysis.relaxation_handoff import keep_coarse
 from pivot_ompl.analysis.turning import (
     NEAR,
     TurningPlace,
@@ -39,20 +40,23 @@ Reached = dict[tuple[int, int], set[int]]
 
 def raster_turning_place(scene: Scene, *, cell: float = CELL,
                          clearance: float = KEEP_CLEARANCE,
-                         should_stop: Callable[[], bool] | None = None) -> TurningPlace | None:
+                         should_stop: Callable[[], bool] | None = None,
+                         keep: bool = False) -> TurningPlace | None:
     """The place where the held box cannot turn (module docstring), when no plan exists.
 
     ``None`` when the raster relaxation joins start and goal (nothing is proven), or when
-    ``should_stop`` said stop. A place returned is a proof that no plan exists.
+    ``should_stop`` said stop. A place returned is a proof that no plan exists. ``keep``:
+    a cover and graph that join start and goal are kept for the plan's regrasp bound
+    (:func:`~pivot_ompl.analysis.relaxation_handoff.keep_coarse`).
     """
     try:
-        return _place(scene, cell, clearance, should_stop)
+        return _place(scene, cell, clearance, should_stop, keep)
     except Interrupted:
         return None
 
 
 def _place(scene: Scene, cell: float, clearance: float,
-           should_stop: Callable[[], bool] | None) -> TurningPlace | None:
+           should_stop: Callable[[], bool] | None, keep: bool) -> TurningPlace | None:
     cover = raster_cover(scene, cell=cell, clearance=clearance, should_stop=should_stop)
     if cover is None:
         return None
@@ -65,6 +69,8 @@ def _place(scene: Scene, cell: float, clearance: float,
     best, from_start = joined.graph.fewest_regrasps(starts, set(goals), joined.allowed,
                                                     should_stop, check_beyond=False)
     if best is not None:
+        if keep:
+            keep_coarse(scene, cover, joined, cell=cell, clearance=clearance)
         return None
     _, to_goal = joined.graph.fewest_regrasps(goals, set(), joined.allowed, should_stop)
     s_reached, g_reached = _by_layer(joined, from_start), _by_layer(joined, to_goal)

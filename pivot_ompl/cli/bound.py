@@ -1,7 +1,9 @@
 """``pivot-ompl bound SCENE``: the fewest regrasps any plan of a scene needs, proven.
 
 Prints the lower bounds on regrasps and on the box's route
-(:mod:`pivot_ompl.analysis.regrasp_bound`, :mod:`pivot_ompl.analysis.route_bound`), computed
+(:mod:`pivot_ompl.analysis.regrasp_bound`, :mod:`pivot_ompl.analysis.route_bound`; the route
+the larger of the relaxation's and the disk route with the gaps no held pose fits closed,
+:func:`pivot_ompl.analysis.plan_bounds.route_bound`, as a plan's ``shortest_route``), computed
 once per scene geometry and cached (``--no-cache`` computes afresh and keeps nothing): the
 raster relaxation first, the exact polygons when they are estimated to take at most 2.5
 seconds (``--exhaustive``: always; :mod:`pivot_ompl.analysis.bound_levels`), and with
@@ -19,6 +21,7 @@ import time
 
 from pivot_ompl.analysis.bound_cache import lower_bound
 from pivot_ompl.analysis.bound_levels import REFINE_SECONDS
+from pivot_ompl.analysis.plan_bounds import route_bound
 from pivot_ompl.cli.args import time_limit
 from pivot_ompl.errors import printable
 from pivot_ompl.scene import load_scene
@@ -51,7 +54,8 @@ def run(args: argparse.Namespace) -> int:
                     should_stop=lambda: time.monotonic() > end,
                     guided_seconds=math.inf if args.guided else 0.0)
     took = time.perf_counter() - t0
-    how = "polygons" if b.exhaustive else "raster, guided" if b.guided else "raster"
+    how = ("polygons" if b.exhaustive else "raster, held poses" if b.held
+           else "raster, guided" if b.guided else "raster")
     where = f"{how}, {b.bins} yaw bins, {b.pieces} pieces; {took:.2f} s"
     if b.solvable is None:
         print(f"{printable(scene.name)}: unknown (stopped after {args.time:g} s; {where})")
@@ -61,8 +65,10 @@ def run(args: argparse.Namespace) -> int:
               f"{where})")
         return 1
     n = b.regrasps
-    route = ("" if b.shortest_route is None
-             else f", a box route of at least {b.shortest_route:.2f} m")
+    held = route_bound(scene, should_stop=lambda: time.monotonic() > end,
+                       use_cache=not args.no_cache)  # the gaps no held pose fits closed
+    known = [r for r in (b.shortest_route, held) if r is not None]
+    route = "" if not known else f", a box route of at least {max(known):.2f} m"
     print(f"{printable(scene.name)}: at least {n} regrasp{'' if n == 1 else 's'}{route} "
           f"(proven; {where})")
     return 0

@@ -173,7 +173,8 @@ def run(args: argparse.Namespace) -> int:
             print(f"no plan exists: nothing written to --out; figure written to {fig}",
                   file=sys.stderr)
         elif out or fig:
-            print("no plan found: nothing written", file=sys.stderr)
+            why = "no plan exists" if res.status == "INFEASIBLE" else "no plan found"
+            print(f"{why}: nothing written", file=sys.stderr)
         return 1
     with atomic_outputs(out, fig) as (tmp_out, tmp_fig):  # both or neither
         if tmp_out and out:

@@ -23,6 +23,9 @@ Between two car poses at the same position the reference path is a **spin**, a t
 (``a/4`` about one end, ``a/2`` about the other, ``a/4`` about the first: the car turns by
 ``a`` and comes back to its place), so the box swings round with the robot wherever the
 assembly has room, as the regrasp paper's robot did with "backward and forward manipulation".
+A whole spin is converted as one piece, a chain of rotations closed at the car's place
+(:func:`~pivot_ompl.pivoting.spin_chain.whole_spin`), where that takes fewer rotations than
+its equal pieces (a local refinement's spin stretch is cut into pieces as before).
 """
 
 from __future__ import annotations
@@ -37,6 +40,7 @@ from pivot_ompl.errors import InputError, Interrupted, SteeringError
 from pivot_ompl.pivoting.curves import CarPaths
 from pivot_ompl.pivoting.kinematics import ANGLE_TOL, Rotation, solve_piece
 from pivot_ompl.pivoting.piece_search import fewer_pivots, longest, merges, spin_step
+from pivot_ompl.pivoting.spin_chain import whole_spin
 from pivot_ompl.se2 import Pose, wrap_angle
 
 log = logging.getLogger(__name__)
@@ -59,13 +63,14 @@ Sent = tuple[Pose, Rotation | None] | tuple[Pose, Rotation | None, float]
 
 
 class Piece(NamedTuple):
-    """One piece of a Reeds-Shepp path solved by (at most three) rotations.
+    """One piece of a Reeds-Shepp path solved by (at most three) rotations, or a whole spin.
 
     Attributes:
         t0, t1: the piece's parameters on the path (fractions of its length).
         start: the car pose actually reached at ``t0`` (where the rotations start).
         target: the path's pose at ``t1`` (reached by the rotations up to round-off).
-        rotations: the rotations, unmerged (empty when ``start`` already is ``target``).
+        rotations: the rotations, unmerged (empty when ``start`` already is ``target``;
+            a whole spin's chain, :func:`~pivot_ompl.pivoting.spin_chain.whole_spin`).
     """
 
     t0: float
@@ -303,6 +308,12 @@ class PivotSteering:
         even = spin_step(solve, amax, abs(wrap_angle(goal[2] - start[2]))) \
             if spin and plain and self.merge else None
         arc = self.merge and even is None
+        if even is not None:
+            chain = whole_spin(solve, even, current, end_pose, ell, amax,
+                               DEVIATION_RATIO * scale)
+            if chain is not None:  # one piece: the whole turn, fewer rotations
+                yield Piece(t0, t_end, current, end_pose, chain)
+                return
         while t0 < t_end:
             if should_stop is not None and should_stop():
                 raise Interrupted("pivot steering")

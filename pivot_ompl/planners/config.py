@@ -85,6 +85,10 @@ class SingleGraspConfig:
             floor (m^2): on a room's floor the RRT-Connect and the multiplexed search are
             quick, and the lattice's fields would cost more than they save (fig10, 60 m^2:
             0.3 s of a 0.5 s plan).
+        corridor: where the lattice try is made, its lattice and the re-routing of a
+            one-grasp path first hold only the box centres within this many m of the floor's
+            shortest way from start to goal (:mod:`~.corridor`: the field pays for the wall
+            pieces round that band, not the whole floor's); ``0``: the whole floor.
     """
 
     checks: int = knob(80)
@@ -93,6 +97,7 @@ class SingleGraspConfig:
     lattice_weight: float = knob(1.2, low=1.0)
     lattice_detour: float = knob(1.5, low=1.0)
     lattice_area: float = knob(100.0)
+    corridor: float = knob(1.0)
 
 
 #: The default ``optimiser.quality_share``: the stages' own shares as they are.

@@ -17,7 +17,10 @@ one if the robot holds the box):
    goal are apart), so on a floor of rooms and passages drawn by thousands of wall pieces it
    finds the way the random trees get lost looking for.
 
-Every transfer of a path returned passed its full check. Both tries poll ``should_stop``.
+Where a band round the floor's shortest way is given (:mod:`.corridor`), the lattice's try
+over that band replaces the RRT-Connect's, and the whole lattice's try follows where it
+finds nothing. Every transfer of a path returned passed its full check. The tries poll
+``should_stop``.
 """
 
 from __future__ import annotations
@@ -139,28 +142,41 @@ def route_weight(config: SingleGraspConfig, area: float) -> float:
 def direct_path(checker: PivotChecker, start: Pose, goal: Pose, *, grasps: list[int],
                 config: SingleGraspConfig, costs: CostModel, rng: np.random.Generator,
                 lattice: Callable[[], TransferLattice], run_spacing: int, should_stop: Stop,
-                stats: DirectStats) -> list[State]:
+                stats: DirectStats,
+                band: Callable[[], TransferLattice | None] | None = None) -> list[State]:
     """A regrasp-free path by the two tries in turn (module docstring), or ``[]``.
 
     ``grasps``: those valid at both ends (and held, if one is). The RRT-Connect draws from its
     own generator (spawned from ``rng``, which it leaves as it was); ``lattice()`` gives the
-    lattice, made when first asked (``config.lattice`` off: never). ``run_spacing``: as
-    :func:`lattice_path`'s.
+    lattice, made when first asked (``config.lattice`` off: never). ``band()``, if given,
+    a lattice over a band of the floor round its shortest way (:mod:`.corridor`; ``None``:
+    no band): where there is one, its try replaces the RRT-Connect's (it finds the route the
+    re-routing would take the RRT-Connect's path to, without the RRT-Connect's checks,
+    which on a building's floor often find nothing), and the whole lattice's try follows
+    where it finds nothing. ``run_spacing``: as :func:`lattice_path`'s.
     """
     if not grasps:
         return []
     t0 = time.perf_counter()
+
+    def lattice_try(over: TransferLattice) -> Found[list[State]]:
+        found = lattice_path(checker, over, costs, start, goal, grasps=grasps,
+                             weight=config.lattice_weight, detour=config.lattice_detour,
+                             run_spacing=run_spacing, should_stop=should_stop, stats=stats)
+        stats.solved_by = "lattice" if found.path else ""
+        return found
+
     try:
         found: Found[list[State]] = Found(Status.INVALID)
-        if config.checks > 0:
+        over = band() if band is not None and config.lattice else None
+        if over is not None:
+            found = lattice_try(over)
+        if over is None and config.checks > 0:
             found = rrt_path(checker, start, goal, grasps=grasps, config=config,
                              rng=rng.spawn(1)[0], should_stop=should_stop, stats=stats)
             stats.solved_by = "rrt" if found.path else ""
         if found.status is Status.INVALID and config.lattice:
-            found = lattice_path(checker, lattice(), costs, start, goal, grasps=grasps,
-                                 weight=config.lattice_weight, detour=config.lattice_detour,
-                                 run_spacing=run_spacing, should_stop=should_stop, stats=stats)
-            stats.solved_by = "lattice" if found.path else ""
+            found = lattice_try(lattice())
         return found.path or []
     finally:
         stats.seconds += time.perf_counter() - t0

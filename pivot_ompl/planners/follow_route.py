@@ -54,7 +54,7 @@ from pivot_ompl.planners.route_poses import (
 from pivot_ompl.scene.shared import scene_shared
 from pivot_ompl.se2 import Pose, wrap_angle
 
-__all__ = ["MARGINS", "FollowStats", "follow_route"]
+__all__ = ["MARGINS", "FollowStats", "follow_route", "free_route"]
 
 log = logging.getLogger(__name__)
 
@@ -164,6 +164,30 @@ def _field(checker: PivotChecker, should_stop: Stop) -> _Known | None:
         return _Known(FreeField.of(*cells), {})
 
     return scene_shared(checker.scene, ("free field", MAX_CELLS), made)
+
+
+def free_route(checker: PivotChecker, a: tuple[float, float], b: tuple[float, float], *,
+               should_stop: Stop) -> list[tuple[float, float]] | None:
+    """The shortest route of the box's centre from ``a`` to ``b`` through the free field.
+
+    The route :func:`follow_route` follows first (margin 0), kept with the field's routes
+    (a later follow of a phase between the same points finds it); ``None`` if there is
+    none or stopped.
+    """
+    known = _field(checker, should_stop)
+    if known is None:
+        return None
+    key = (a[0], a[1], b[0], b[1], 0.0, 0.0)
+    if key not in known.routes:
+        if len(known.routes) >= ROUTES_KEPT:
+            known.routes.clear()
+        try:
+            known.routes[key] = route_polyline(known.field, a, b, margin=0.0, via=None,
+                                               poll=lambda: _poll(should_stop))
+        except Interrupted:
+            return None
+    route = known.routes[key]
+    return None if route is None else list(route.points)
 
 
 def _phases(path: list[State]) -> list[tuple[int, int]]:

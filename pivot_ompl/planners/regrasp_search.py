@@ -32,6 +32,7 @@ import numpy as np
 from pivot_ompl.analysis.bound_cache import cached_bound
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planners.config import RegraspConfig, quality_scale
+from pivot_ompl.planners.corridor import corridor_lattice
 from pivot_ompl.planners.direct import DirectStats, direct_path, route_weight
 from pivot_ompl.planners.eliminate import EliminationReport, eliminate_regrasps, lattice_router
 from pivot_ompl.planners.evaluation import Found, Status
@@ -118,6 +119,8 @@ class RegraspSearch:
         self._stuck = 0  # diffusion steps since the last widening of the passages' band
         self._seeded = PoseIndex(self.roadmap)  # the passage poses seeded, slots' and doors'
         self.lattice: TransferLattice | None = None
+        self._band: TransferLattice | None = None
+        self._asked_band = False
         self.improved = ImproveStats()
         self._limit: float | None = None  # the solve's time limit (s), if known
         self.elimination = EliminationReport()  #: the last regrasp elimination's report
@@ -209,7 +212,8 @@ class RegraspSearch:
             cfg = replace(cfg, lattice=False)
         path = direct_path(ck, self.start, self.goal, grasps=grasps, config=cfg,
                            costs=self.config.cost, rng=rng, lattice=self._lattice,
-                           run_spacing=spacing, should_stop=should_stop, stats=d)
+                           run_spacing=spacing, should_stop=should_stop, stats=d,
+                           band=lambda: self._corridor(should_stop))
         s = self.stats
         s.single_grasp_checks, s.single_grasp_solved = d.checks, bool(path)
         s.single_grasp_by, s.time_single_grasp = d.solved_by, d.seconds
@@ -232,6 +236,18 @@ class RegraspSearch:
         s.regrasp_lattice_solved, s.regrasp_lattice_changes = bool(found.path), figures.changes
         s.time_regrasp_lattice += time.perf_counter() - t0
         return found.path or []
+
+    def _corridor(self, should_stop: Stop) -> TransferLattice | None:
+        """The lattice round the floor's way (:mod:`.corridor`) where the lattice try is made."""
+        sg = self.config.single_grasp
+        if not self._asked_band:
+            self._asked_band = True
+            self._band = corridor_lattice(
+                self.checker, self.config.cost, self.start, self.goal, width=sg.corridor,
+                region=self.sampler.region(), weight=route_weight(sg, self._area()),
+                should_stop=should_stop) if sg.lattice and self._area() >= sg.lattice_area \
+                else None
+        return self._band
 
     def _lattice(self) -> TransferLattice:
         """The held assembly's lattice within the start's reach, made when first asked."""
@@ -282,9 +298,12 @@ class RegraspSearch:
         self._limit = limit
         if not self._started and not self._tried_direct:
             self._tried_direct = True  # before the passages are seeded: they are not needed
-            direct = self._single_grasp(stop) or self._regrasp_lattice(stop)
-            if direct:
-                direct = self._optimised(direct, should_stop)
+            single = self._single_grasp(stop)
+            direct = single or self._regrasp_lattice(stop)
+            if direct:  # a one-grasp path re-routed in the band if the whole lattice is not made
+                band = self._corridor(stop) if single and self.lattice is None \
+                    and self.config.optimiser.routes else None
+                direct = self._optimised(direct, should_stop, band=band)
                 self._fill_stats()
                 return direct
         self.prepare(stop)
@@ -321,28 +340,31 @@ class RegraspSearch:
         area = self.sampler.focus_area or self._area()  # the band's, if focused
         return max(sc.max_visibility_samples, math.ceil(area / sc.visibility_area))
 
-    def _optimised(self, states: list[State], should_stop: Stop) -> list[State]:
+    def _optimised(self, states: list[State], should_stop: Stop,
+                   band: TransferLattice | None = None) -> list[State]:
         """The path improved (:func:`~.improve.improve`) from the held grasp, if any.
 
-        Each step within its budget of checks and the quality share of ``limit`` together.
+        Each step within its budget of checks and the quality share of ``limit`` together;
+        re-routed over ``band`` if given, else over the whole lattice.
         """
         cfg = self.config.optimiser
         if not cfg.enabled:
             return states
         t1 = time.perf_counter()
         should_stop = time_share(should_stop, cfg.quality_share, self._limit)
-        if cfg.routes:
+        if cfg.routes and band is None:
             self._lattice()
+        lat = band if band is not None else self.lattice
         scale = quality_scale(cfg.quality_share)  # every step's share scaled by it
         floor = max(cfg.min_checks, round(scale * cfg.converge_checks))  # however few searched
         routes_before = self.improved.routes_seconds
         states = improve(self.checker, states, self.config, should_stop=should_stop,
                          routes=Budget(share=scale * cfg.route_share, minimum=floor),
                          optimiser=Budget(share=scale * cfg.check_share, minimum=floor),
-                         start_grasp=self.start_grasp, lattice=self.lattice,
+                         start_grasp=self.start_grasp, lattice=lat,
                          stats=self.improved)
         self.stats.time_routes += self.improved.routes_seconds - routes_before
-        ck, costs, lat = self.checker, self.config.cost, self.lattice
+        ck, costs = self.checker, self.config.cost
         router = lattice_router(ck, lat, costs, run_spacing=cfg.run_spacing) if lat else None
         extra = Budget(share=scale * cfg.eliminate_share, minimum=max(cfg.eliminate_checks, floor))
         if cfg.eliminate:

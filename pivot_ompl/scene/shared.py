@@ -8,8 +8,9 @@ such a value for later plans of the scene in the process: the motion checks
 (:mod:`pivot_ompl.planners.routes.shared_fields`), the route bound's free field
 (:mod:`pivot_ompl.planners.follow_route`), the disk route bound
 (:func:`pivot_ompl.analysis.plan_bounds.plan_bounds`) and whether the late proof has nothing
-to prove (:mod:`pivot_ompl.analysis.late_proof`): one memo for all, the least recently used
-value dropped first beyond :data:`KEPT`.
+to prove (:mod:`pivot_ompl.analysis.late_proof`), and its relaxations until the plan's
+bound takes them (:mod:`pivot_ompl.analysis.relaxation_handoff`): one memo for all, the
+least recently used value dropped first beyond :data:`KEPT`.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from pivot_ompl.cache import BoundedCache
 from pivot_ompl.scene.files import scene_digest
 from pivot_ompl.scene.model import Scene
 
-__all__ = ["KEPT", "keep_shared", "scene_shared", "shared_value"]
+__all__ = ["KEPT", "drop_shared", "keep_shared", "scene_shared", "shared_value"]
 
 T = TypeVar("T")
 
@@ -56,3 +57,8 @@ def shared_value(scene: Scene, what: tuple[Hashable, ...]) -> Any | None:
 def keep_shared(scene: Scene, what: tuple[Hashable, ...], value: object) -> None:
     """Keep ``value`` (not ``None``) for ``scene``'s geometry and ``what``."""
     _memo.put((scene_digest(scene), *what), value)
+
+
+def drop_shared(scene: Scene, what: tuple[Hashable, ...]) -> None:
+    """Forget the value kept for ``scene``'s geometry and ``what`` (nothing when none is)."""
+    _memo.discard((scene_digest(scene), *what))

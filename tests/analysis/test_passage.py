@@ -88,6 +88,14 @@ def test_cli_plan_says_why_exits_1_and_plots_the_passage(tmp_path, capsys):
     assert fig.stat().st_size > 10_000
 
 
+def test_cli_plan_without_a_figure_says_no_plan_exists_not_none_found(tmp_path, capsys):
+    out = tmp_path / "plan.json"
+    rc = main(["plan", str(scene_file("box_only_room")), "--time", "20", "--out", str(out)])
+    err = capsys.readouterr().err
+    assert rc == 1 and not out.exists()
+    assert "no plan exists: nothing written" in err and "no plan found" not in err
+
+
 def test_of_two_slots_the_wider_is_the_passage_to_widen():
     walls = [{"type": "box", "center": [4.1, 0.75], "size": [0.2, 1.5], "yaw": 0.0, "height": 2},
              {"type": "box", "center": [4.1, 2.65], "size": [0.2, 1.7], "yaw": 0.0, "height": 2},

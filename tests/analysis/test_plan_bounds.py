@@ -124,26 +124,28 @@ def _corridor_rooms():
 
 def test_a_plan_refines_the_bound_by_default_where_the_quick_one_proves_less(
         monkeypatch, tmp_path):
-    """The guided refinement runs inside every plan whose regrasps the quick bounds do not
-    prove, when it fits the limit (``prove=None``); ``prove=False`` keeps the quick ones."""
+    """The refinement runs inside every plan whose regrasps the quick bounds do not prove,
+    when it fits the limit (``prove=None``; on this small floor the held poses' count, in
+    place of the guided raster: 2 where the raster proves 0); ``prove=False`` keeps the
+    quick ones."""
     from pivot_ompl.analysis.bound_cache import cached_bound
 
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
     scene = _corridor_rooms()
     quick = plan(scene, time_limit=30, seed=0, prove=False)
     assert quick.solved and quick.plan.regrasps > 0
-    assert cached_bound(scene) is not None and not cached_bound(scene).guided
+    assert cached_bound(scene) is not None and not cached_bound(scene).held
     proved = plan(scene, time_limit=30, seed=0)
     assert proved.solved
     known = cached_bound(scene)
-    assert known is not None and known.guided
+    assert known is not None and known.held and not known.guided and known.regrasps == 2
     assert proved.plan.extra["quality"]["regrasps_lower_bound"] == known.regrasps
     assert known.regrasps <= proved.plan.regrasps
 
 
 def test_the_refinement_runs_by_estimate_unless_forced(monkeypatch, tmp_path):
-    """By default the guided refinement starts only when its estimate fits the time left;
-    forced (``plan --prove``) it runs whatever the estimate."""
+    """By default the refinement (here the held poses' count) starts only when its estimate
+    fits the time left; forced (``plan --prove``) it runs whatever the estimate."""
     from pivot_ompl.analysis import bound_cache
     from pivot_ompl.analysis.bound_cache import cached_bound
 
@@ -151,9 +153,9 @@ def test_the_refinement_runs_by_estimate_unless_forced(monkeypatch, tmp_path):
     bound_cache.clear_memory()
     scene = _corridor_rooms()
     plan_bounds(scene, 2, guided=True, time_left=lambda: 0.01)
-    assert cached_bound(scene) is not None and not cached_bound(scene).guided
+    assert cached_bound(scene) is not None and not cached_bound(scene).held
     plan_bounds(scene, 2, guided=True, time_left=lambda: 0.01, guided_by_estimate=False)
-    assert cached_bound(scene) is not None and cached_bound(scene).guided
+    assert cached_bound(scene) is not None and cached_bound(scene).held
 
 
 def test_prove_needs_the_bounds():

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import pytest
 from factories import make_scene, turned_generated
@@ -10,7 +11,9 @@ from factories import make_scene, turned_generated
 from pivot_ompl.analysis.plan_bounds import disk_cells, disk_route, held_route, plan_bounds
 from pivot_ompl.analysis.route_gaps import gap_closed_route
 from pivot_ompl.api import plan
+from pivot_ompl.cli.main import main
 from pivot_ompl.errors import Interrupted
+from pivot_ompl.generate.sceneio import write_scene
 
 
 def _slot_and_door(width: float | None):
@@ -41,6 +44,18 @@ def test_a_slot_only_the_box_alone_fits_is_closed_and_the_bound_rises():
     res = plan(scene, time_limit=30.0, seed=0, bound=False)
     assert res.solved
     assert res.plan.extra["quality"]["route_length"] >= found.route
+
+
+def test_the_bound_verb_prints_the_route_bound_a_plan_carries(tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    scene = _slot_and_door(0.7)
+    path = write_scene(scene, tmp_path / "slot_and_door.yaml")
+    assert main(["bound", str(path), "--no-cache"]) == 0
+    printed = re.search(r"a box route of at least ([0-9.]+) m", capsys.readouterr().out)
+    found = held_route(scene)
+    assert printed is not None and found is not None and found.closed > 0
+    assert float(printed.group(1)) == pytest.approx(found.route, abs=0.005)
+    assert float(printed.group(1)) > found.plain + 0.3  # not the disk's way through the slot
 
 
 def test_a_slot_the_held_assembly_passes_stays_open():

@@ -84,6 +84,22 @@ def test_the_late_proof_is_not_tried_before_its_time_nor_twice():
     assert late() is True  # asked once: the answer kept
 
 
+def test_a_search_busy_less_than_its_share_of_cpu_is_not_slow_until_the_held_begin():
+    # a loaded machine's clock runs ahead of the search's work: the proof waits for the work
+    scene, _ = _scene(4)
+    now, work = [1.0], [0.5]
+    late = LateProof(scene, begin=1.0, end=50.0, held_begin=3.0, clock=lambda: now[0],
+                     work_begin=1.0, work=lambda: work[0])
+    assert late() is False and not late.tried
+    work[0] = 1.0
+    assert late() is True and late.tried and late.proof is not None
+    idle = LateProof(scene, begin=1.0, end=50.0, held_begin=3.0, clock=lambda: now[0],
+                     work_begin=1.0, work=lambda: 0.0)
+    assert idle() is False and not idle.tried
+    now[0] = 3.0  # from the held poses' begin on, whatever the work
+    assert idle() is True and idle.tried and idle.proof is not None
+
+
 def test_a_feasible_scene_is_never_stopped_by_the_late_proof():
     late = LateProof(shipped("slot"), begin=0.0, end=math.inf)
     assert late() is False and late.tried and late.proof is None

@@ -5,10 +5,11 @@ from __future__ import annotations
 import math
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from pivot_ompl.pivoting.curves import SPIN_RADIUS, CarPaths
+from pivot_ompl.pivoting.spin_chain import spin_chain
 from pivot_ompl.pivoting.steering import PivotSteering
 from pivot_ompl.se2 import wrap_angle
 
@@ -92,18 +93,54 @@ def test_a_spins_rotations_about_one_corner_in_a_row_could_not_merge(p, turn, el
 
 @pytest.mark.parametrize("ell", [0.2, 0.3, 0.4])
 @pytest.mark.parametrize("sign", [1.0, -1.0])
-def test_a_half_turn_in_place_takes_eleven_rotations(ell, sign):
-    """Five equal pieces whose outer rotations merge at every junction: 2 x 5 + 1.
+def test_a_half_turn_in_place_takes_nine_rotations(ell, sign):
+    """One chain alternating corners, turning one way, closed at its place: one over the 8
+    rotations a half turn needs at pi/8.
 
-    The longest spin piece's outer rotations are a little over a quarter of its turn each:
-    four longest pieces summed just over the bound at each junction, 12 rotations.
+    Equal spin pieces took 11 (five pieces whose outer rotations merge at every junction,
+    2 x 5 + 1); the chain needs no junction, and no pair in it could merge.
     """
     steering = PivotSteering(turning_radius=2.0, alpha_max=AMAX)
     start = (1.0, -2.0, 0.4)
     goal = (1.0, -2.0, wrap_angle(0.4 + sign * (math.pi - 1e-6)))
     seq = steering.convert(start, goal, half_length=ell)
-    assert len(seq.rotations) == 11
+    assert len(seq.rotations) == 9
     ends = [r.end for r in seq.rotations]
     assert all(a != b for a, b in zip(ends, ends[1:], strict=False))
     end = seq.rotations[-1].car
     assert math.hypot(end[0] - goal[0], end[1] - goal[1]) < 1e-9
+
+
+@settings(max_examples=80, deadline=None)
+@given(p=poses, turn=st.floats(0.05, math.pi - 1e-6), ell=st.sampled_from([0.15, 0.2, 0.4]),
+       sign=st.sampled_from([1.0, -1.0]))
+@example(p=(0.0, 0.0, 0.0), turn=0.75 * math.pi, ell=0.15, sign=-1.0)  # 9 with equal pieces
+def test_a_spin_takes_at_most_two_rotations_over_what_its_turn_needs(p, turn, ell, sign):
+    """Equal pieces took three over (a 135 degree turn: 9 rotations for the 6 it needs)."""
+    steering = PivotSteering(turning_radius=2.0, alpha_max=AMAX)
+    goal = (p[0], p[1], wrap_angle(p[2] + sign * turn))
+    seq = steering.convert(p, goal, half_length=ell)
+    assert len(seq.rotations) <= math.ceil(turn / AMAX - 1e-9) + 2
+    end = seq.rotations[-1].car
+    assert math.hypot(end[0] - goal[0], end[1] - goal[1]) < 1e-9
+    assert abs(wrap_angle(end[2] - goal[2])) < 1e-9
+
+
+@settings(max_examples=60, deadline=None)
+@given(p=poses, turn=st.floats(0.3, math.pi - 1e-6), ell=st.sampled_from([0.15, 0.2, 0.4]),
+       sign=st.sampled_from([1.0, -1.0]), share=st.floats(0.05, 1.0))
+def test_a_spin_chain_stays_near_its_place_and_arrives(p, turn, ell, sign, share):
+    goal = (p[0], p[1], wrap_angle(p[2] + sign * turn))
+    bound = share * ell * AMAX
+    rots = spin_chain(p, goal, ell, AMAX, max_deviation=bound)
+    if rots is None:  # too tight a bound for every chain tried
+        return
+    assert all(abs(r.angle) <= AMAX + 1e-12 for r in rots)
+    for a, b in zip(rots, rots[1:], strict=False):
+        assert a.end != b.end or abs(a.angle + b.angle) > AMAX
+    for r in rots:
+        sagitta = ell * (1.0 - math.cos(0.5 * r.angle))
+        assert math.hypot(r.car[0] - p[0], r.car[1] - p[1]) + sagitta <= bound + 1e-12
+    end = rots[-1].car
+    assert math.hypot(end[0] - goal[0], end[1] - goal[1]) < 1e-9
+    assert abs(wrap_angle(end[2] - goal[2])) < 1e-9

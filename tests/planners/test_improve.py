@@ -9,7 +9,7 @@ from factories import make_scene
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planners.config import RegraspConfig
 from pivot_ompl.planners.evaluation import Evaluator
-from pivot_ompl.planners.improve import Budget, ImproveStats, improve
+from pivot_ompl.planners.improve import ROUNDS, Budget, ImproveStats, improve
 from pivot_ompl.planners.repair import polish
 from pivot_ompl.planners.routes.lattice import TransferLattice
 
@@ -55,9 +55,11 @@ def test_each_step_keeps_to_its_budget_of_motion_checks():
     before = c.valid + c.invalid
     out = improve(ck, path, config, should_stop=lambda: False, routes=none, optimiser=none,
                   start_grasp=None, lattice=TransferLattice(ck, config.cost), stats=stats)
-    # a step stops once it computed more than its budget: one check each at most (the
-    # re-routing, the optimiser, the followed route and the straightening, each within the
-    # optimiser's budget)
-    assert c.valid + c.invalid - before <= 4
+    # a step stops once it computed more than its budget: the re-routing one check at most,
+    # then per round the optimiser, the followed route (first round) and the straightening,
+    # each within the optimiser's budget, one check or one candidate at most (the
+    # straightening's turn, push and turn: two checks here, its turns in place pass), and
+    # the rounds repeat while one changes the path
+    assert c.valid + c.invalid - before <= 1 + ROUNDS * 4
     assert out[0][0] == A and out[-1][0] == B
     assert stats.seconds >= stats.routes_seconds >= 0.0

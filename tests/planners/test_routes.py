@@ -138,3 +138,22 @@ def test_within_distance_is_the_points_within_that_distance_of_the_region(distan
                                                    np.broadcast_to(ys[None, :], got.shape)))
     sure = np.abs(gap - distance) > 1e-9  # a point at the distance itself may go either way
     assert np.array_equal(got[sure], (gap <= distance)[sure])
+
+
+@settings(max_examples=30, deadline=None)
+@given(cx=st.floats(-3.0, 10.0), cy=st.floats(-3.0, 10.0), r=st.floats(0.05, 1.5),
+       distance=st.floats(0.05, 2.0))
+def test_within_distance_of_a_small_region_anywhere_over_the_grid(cx, cy, r, distance):
+    """A region far smaller than the grid (a band's), in it, at its edge or beyond it."""
+    import shapely
+
+    from pivot_ompl.planners.routes.lattice import within_distance
+
+    region = shapely.Point(cx, cy).buffer(r, quad_segs=3)
+    xs, ys = np.linspace(-2.0, 9.0, 89), np.linspace(-2.0, 9.5, 77)
+    got = within_distance(region, xs, ys, distance)
+    gap = shapely.distance(region, shapely.points(np.broadcast_to(xs[:, None], got.shape),
+                                                   np.broadcast_to(ys[None, :], got.shape)))
+    sure = np.abs(gap - distance) > 1e-9
+    assert got.shape == (len(xs), len(ys))
+    assert np.array_equal(got[sure], (gap <= distance)[sure])
