@@ -36,7 +36,7 @@ from pivot_ompl.planners import (
     make_planner,
     parse_spec,
 )
-from pivot_ompl.planners.explain import explain_plan
+from pivot_ompl.planners.explain import explain_plan, regrasp_places
 from pivot_ompl.planners.regrasp_search import RegraspSearch
 from pivot_ompl.planners.repair import State, stored_route
 from pivot_ompl.quality import plan_quality
@@ -392,7 +392,8 @@ def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool
         regrasps, route = plan_bounds(scene, result_plan.regrasps, route_length=route_length,
                                       should_stop=lambda: time.monotonic() > bound_end,
                                       time_left=lambda: bound_end - time.monotonic(),
-                                      guided=guided, guided_by_estimate=prove is None)
+                                      guided=guided, guided_by_estimate=prove is None,
+                                      places=regrasp_places(result_plan))
         timings["bound"] = time.perf_counter() - t0
     q = plan_quality(result_plan, regrasps_lower_bound=regrasps, shortest_route=route,
                      costs=config.cost)

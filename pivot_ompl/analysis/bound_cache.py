@@ -43,7 +43,7 @@ from pivot_ompl.analysis.bound_levels import (
 from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.analysis.regrasp_bound import RESOLUTION, RegraspBound
 from pivot_ompl.analysis.route_bound import GRID_SLACK, MAX_CELLS, MIN_CELL
-from pivot_ompl.analysis.wall_frame import relaxed_scene
+from pivot_ompl.analysis.wall_frame import relaxed_scene, wall_frame
 from pivot_ompl.cache import BoundedCache, CacheEntryError, read_json_entry
 from pivot_ompl.errors import InputError, printable, require_type
 from pivot_ompl.fileio import atomic_output
@@ -234,7 +234,8 @@ def cached_bound(scene: Scene, *, resolution: float = RESOLUTION) -> RegraspBoun
 def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RESOLUTION,
                 target: int | None = None, refine_seconds: float = REFINE_SECONDS,
                 should_stop: Callable[[], bool] | None = None,
-                guided_seconds: float = 0.0) -> RegraspBound:
+                guided_seconds: float = 0.0,
+                places: tuple[tuple[float, float], ...] = ()) -> RegraspBound:
     """:func:`~pivot_ompl.analysis.bound_levels.scaled_lower_bound` of ``scene``, cached.
 
     Computed in the walls' frame (:func:`~pivot_ompl.analysis.wall_frame.relaxed_scene`: a
@@ -251,6 +252,8 @@ def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RES
             passes narrow places, when the bound is still below ``target``
             (:func:`~pivot_ompl.analysis.bound_levels.scaled_lower_bound`; 0: never; a kept
             result not so refined is computed again when it now fits).
+        places: where the plan of ``target`` regrasps (m, in ``scene``): the guided
+            refinement's first window (cost only; not part of the key).
 
     Returns:
         The :class:`~pivot_ompl.analysis.regrasp_bound.RegraspBound` (``seconds`` is the time
@@ -268,10 +271,13 @@ def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RES
         if hit is not None and not _refinable(hit, scene, resolution, target,
                                               refine_seconds, guided_seconds):
             return hit
-    bound = scaled_lower_bound(relaxed_scene(scene, should_stop=should_stop),
+    frame = wall_frame(scene, should_stop=should_stop)
+    bound = scaled_lower_bound(scene if frame is None else frame.scene,
                                resolution=resolution, target=target,
                                refine_seconds=refine_seconds, should_stop=should_stop,
-                               guided_seconds=guided_seconds)
+                               guided_seconds=guided_seconds,
+                               places=places if frame is None else
+                               tuple(frame.point_in(p) for p in places))
     if bound.solvable is None or not bound.complete:  # stopped: returned, never kept
         return bound
     problem = bound_problem(bound, scene)

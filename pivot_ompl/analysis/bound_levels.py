@@ -118,7 +118,8 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
                        resolution: float = RESOLUTION,
                        refine_seconds: float = REFINE_SECONDS,
                        should_stop: Callable[[], bool] | None = None,
-                       guided_seconds: float = 0.0) -> RegraspBound:
+                       guided_seconds: float = 0.0,
+                       places: tuple[tuple[float, float], ...] = ()) -> RegraspBound:
     """The fewest regrasps any plan of ``scene`` needs, coarse to fine (module docstring).
 
     Args:
@@ -133,6 +134,8 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
         guided_seconds: time (s) the coarsest raster and its guided refinement may take
             together by their estimates (module docstring; 0: never refined, ``math.inf``:
             whenever the bound is still wanted).
+        places: where a plan of ``target`` regrasps (m, ``scene``'s frame): refined first
+            by the guided refinement (its ``places``; cost only).
     """
     t0 = time.perf_counter()
     kept = take_coarse(scene, cell=CELLS[0], clearance=KEEP_CLEARANCE)  # the late proof's
@@ -174,7 +177,8 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
         best = held_poses_bound(scene, best, target, should_stop)
     elif _wanted(best, target) and may_guide(scene, guided_seconds):
         found = guided_lower_bound(scene, cover=cover, target=target, should_stop=should_stop,
-                                   coarse=graphs.pop())  # not held here: freed after round 0
+                                   coarse=graphs.pop(),  # not held here: freed after round 0
+                                   places=places)
         if found is not None:
             best = dataclasses.replace(_better(found, best), guided=found.guided)
     log.debug("regrasp bound %s from the raster (polygons estimated %.1f s)", best.regrasps,

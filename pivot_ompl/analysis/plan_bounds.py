@@ -183,7 +183,8 @@ def _poller(should_stop: Callable[[], bool] | None) -> Callable[[], None]:
 def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = None,
                 should_stop: Callable[[], bool] | None = None,
                 time_left: Callable[[], float] | None = None, guided: bool = False,
-                guided_by_estimate: bool = True) -> tuple[int | None, float | None]:
+                guided_by_estimate: bool = True, places: tuple[tuple[float, float], ...] = ()
+                ) -> tuple[int | None, float | None]:
     """``(regrasps_lower_bound, shortest_route)`` for a plan of ``scene`` with ``regrasps``.
 
     Each ``None`` when not proven before ``should_stop`` said stop, or (the disk route)
@@ -193,7 +194,8 @@ def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = Non
     given: a relaxation of every plan cannot lie above a valid one. ``guided``: refine the
     raster where its best path cheats when that fits ``time_left()`` (module docstring);
     ``guided_by_estimate`` ``False``: whenever the bound is still wanted, stopped by
-    ``should_stop`` (its rounds done stand).
+    ``should_stop`` (its rounds done stand). ``places``: where the plan regrasps (m), refined
+    first by the guided refinement (cost only).
     """
     known = cached_bound(scene)
     if known is not None and known.solvable:
@@ -208,7 +210,7 @@ def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = Non
     full = lower_bound(scene, target=regrasps, should_stop=should_stop,
                        guided_seconds=0.0 if not guided else
                        math.inf if time_left is None or not guided_by_estimate
-                       else time_left())
+                       else time_left(), places=places)
     if full.solvable is None or _refuted(full, scene, regrasps, route_length):
         return None, None
     return full.regrasps, _longer(full.shortest_route, _shared_held_route(

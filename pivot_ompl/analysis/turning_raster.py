@@ -64,8 +64,10 @@ def _place(scene: Scene, cell: float, clearance: float,
     starts, goals = joined.holding(scene.start), joined.holding(scene.goal)
     if not starts or not goals:
         return None
+    # a goal reached proves nothing, so the regrasps beyond it go unchecked (where none is
+    # reached, check_beyond never applies: the pieces reached are the same)
     best, from_start = joined.graph.fewest_regrasps(starts, set(goals), joined.allowed,
-                                                    should_stop)
+                                                    should_stop, check_beyond=False)
     if best is not None:
         if keep:
             keep_coarse(scene, cover, joined, cell=cell, clearance=clearance)

@@ -22,8 +22,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.sparse import csr_matrix
-from scipy.sparse.csgraph import connected_components
 
 #: The four forward neighbours of a voxel's cell within its bin ``(da, db)``.
 _FORWARD = ((1, 0), (0, 1), (1, 1), (1, -1))
@@ -80,7 +78,9 @@ def grown_components(old_keys: np.ndarray, old_labels: np.ndarray, old_count: in
     where = np.empty(len(both), dtype=np.int64)
     where[order] = np.arange(len(both))
     among = _forward_joins(new, nx, ny, bins)
-    src, dst = [old_count + among[0]], [old_count + among[1]]
+    index = _index_type(old_count + len(new))
+    src = [among[0].astype(index) + index(old_count)]
+    dst = [among[1].astype(index) + index(old_count)]
     cells = nx * ny
     k = new % cells
     a, b = k // ny, k % ny
@@ -94,8 +94,8 @@ def grown_components(old_keys: np.ndarray, old_labels: np.ndarray, old_count: in
         target = new[idx] + da * ny + db
         pos = np.clip(np.searchsorted(old_keys, target), 0, len(old_keys) - 1)
         hit = old_keys[pos] == target
-        src.append(old_count + idx[hit])
-        dst.append(old_labels[pos[hit]])
+        src.append((old_count + idx[hit]).astype(index))
+        dst.append(old_labels[pos[hit]].astype(index))
     count, node = _label(old_count + len(new), np.concatenate(src), np.concatenate(dst))
     labels = np.empty(len(keys), dtype=np.int64)
     labels[where[:len(old_keys)]] = node[old_labels]
@@ -108,24 +108,55 @@ def _forward_joins(keys: np.ndarray, nx: int, ny: int, bins: int
     """The joins among the sorted ``keys`` (indices), each once: from the lower voxel."""
     cells = nx * ny
     k = keys % cells
-    a, b, f = k // ny, k % ny, keys // cells
-    src, dst = [], []
+    a, b = (k // ny).astype(np.int32), (k % ny).astype(np.int32)  # cell rows and columns
+    del k
+    last = keys // cells == bins - 1
+    src: list[np.ndarray] = []
+    dst: list[np.ndarray] = []
+    index = _index_type(len(keys))
 
     def join(target: np.ndarray, ok: np.ndarray) -> None:
-        pos = np.clip(np.searchsorted(keys, target), 0, len(keys) - 1)
+        pos = np.searchsorted(keys, target)
+        np.minimum(pos, len(keys) - 1, out=pos)
         hit = ok & (keys[pos] == target)
-        src.append(np.flatnonzero(hit))
-        dst.append(pos[hit])
+        src.append(np.flatnonzero(hit).astype(index))
+        dst.append(pos[hit].astype(index))
 
     for da, db in _FORWARD:
         join(keys + da * ny + db, (a + da < nx) & (b + db >= 0) & (b + db < ny))
-    join(np.where(f + 1 < bins, keys + cells, keys - (bins - 1) * cells),
-         np.ones(len(keys), dtype=bool))
+    join(np.where(last, keys - (bins - 1) * cells, keys + cells), np.ones(len(keys), dtype=bool))
     return np.concatenate(src), np.concatenate(dst)
 
 
+def _index_type(n: int) -> type[np.signedinteger]:
+    """The narrowest of int32 and int64 indexing ``n`` items (a join costs its indices)."""
+    return np.int32 if n < 2**31 else np.int64
+
+
 def _label(nodes: int, src: np.ndarray, dst: np.ndarray) -> tuple[int, np.ndarray]:
-    """Connected components of ``nodes`` nodes joined by the edges ``src``-``dst``."""
-    graph = csr_matrix((np.ones(len(src)), (src, dst)), shape=(nodes, nodes))
-    count, labels = connected_components(graph, directed=False)
-    return int(count), labels.astype(np.int64, copy=False)
+    """Connected components of ``nodes`` nodes joined by the edges ``src``-``dst``.
+
+    Numbered by their smallest node, in order (as a scan of the nodes meets them). Union by
+    the smaller root with full path compression, on arrays: each pass hooks every root with
+    an edge to another root onto the smallest such root, then points every node at its root,
+    and keeps only the edges still between two roots. No sparse matrix (its transpose and
+    float weights cost about 40 bytes a join), so a join costs its two indices.
+    """
+    index = _index_type(nodes)
+    parent = np.arange(nodes, dtype=index)
+    u, v = src.astype(index, copy=False), dst.astype(index, copy=False)
+    while len(u):
+        pu, pv = parent[u], parent[v]  # roots: parent is compressed here
+        keep = pu != pv
+        u, v, pu, pv = u[keep], v[keep], pu[keep], pv[keep]
+        if not len(u):
+            break
+        np.minimum.at(parent, np.maximum(pu, pv), np.minimum(pu, pv))  # roots only fall
+        while True:
+            up = parent[parent]
+            if np.array_equal(up, parent):
+                break
+            parent = up
+    roots = parent == np.arange(nodes, dtype=index)  # each component's smallest node
+    rank = np.cumsum(roots, dtype=np.int64) - 1
+    return int(roots.sum()), rank[parent]

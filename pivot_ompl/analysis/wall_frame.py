@@ -87,6 +87,11 @@ class WallFrame:
         x, y, _ = rotate_about((p[0], p[1], 0.0), self.centre, self.yaw)
         return x, y
 
+    def point_in(self, p: tuple[float, float]) -> tuple[float, float]:
+        """A point of the scene, in the turned scene (:meth:`point_out`'s inverse)."""
+        x, y, _ = rotate_about((p[0], p[1], 0.0), self.centre, -self.yaw)
+        return x, y
+
     def arc_out(self, arc: tuple[float, float]) -> tuple[float, float]:
         """An arc of yaws (degrees, ``low <= high``) of the turned scene, in the scene."""
         low, high = arc

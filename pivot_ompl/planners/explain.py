@@ -68,6 +68,12 @@ def _obstacles_near(checker: PivotChecker, pose: Pose, grasp: int) -> list[int]:
             if body.distance(obstacle_footprint(o)) <= NEAR]
 
 
+def regrasp_places(plan: Plan) -> tuple[tuple[float, float], ...]:
+    """The box's positions (m) where ``plan`` regrasps, in plan order."""
+    return tuple((ph.object_pose[0], ph.object_pose[1]) for ph in plan.phases
+                 if isinstance(ph, TransitPhase) and ph.from_grasp != ph.to_grasp)
+
+
 def regrasp_reasons(plan: Plan, checker: PivotChecker) -> list[dict[str, Any]]:
     """One entry per regrasp of ``plan`` (see the module docstring), in plan order."""
     out: list[dict[str, Any]] = []

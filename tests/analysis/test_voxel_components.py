@@ -86,3 +86,24 @@ def test_grown_components_are_the_components_of_every_voxel(case):
     if len(old):
         assert np.array_equal(grown.labels[np.searchsorted(grown.keys, old)],
                               grown.merged[labels])
+
+
+@given(windows())
+@settings(max_examples=100, deadline=None)
+def test_components_are_numbered_by_their_first_voxel(case):
+    """Labels in order of each component's smallest voxel: the refined graph's node order
+    (and with it the guided path's ties) does not depend on how the components are found."""
+    window, bins, rate, seed = case
+    rng = np.random.default_rng(seed)
+    nx, ny = 2 * window.shape[0], 2 * window.shape[1]
+    keys = voxels_of(window > 0, bins, rate, rng)
+    count, labels = voxel_components(keys, nx, ny, bins)
+    _, first = np.unique(labels, return_index=True)
+    assert np.array_equal(labels[np.sort(first)], np.arange(count))
+    old = voxels_of(window == 1, bins, rate, rng)
+    c0, l0 = voxel_components(old, nx, ny, bins)
+    grown = grown_components(old, l0, c0, voxels_of(window == 2, bins, rate, rng),
+                             window == 1, nx, ny, bins)
+    nodes = np.concatenate([grown.merged, grown.new_labels])  # old components, then new voxels
+    _, first = np.unique(nodes, return_index=True)
+    assert np.array_equal(nodes[np.sort(first)], np.arange(grown.count))
