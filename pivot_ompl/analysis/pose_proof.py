@@ -222,28 +222,42 @@ class PoseGraph:
         The chain of least summed bin widths (``widths[i]``, rad, per part entered): through
         fine bins where it can, so the coarse bins it still needs are the ones to halve.
         """
-        goal = set(goals)
-        before: dict[Node, Node | None] = dict.fromkeys(starts)
-        cost = {u: widths[u[0]] for u in starts}
-        todo = [(c, u) for u, c in cost.items()]
-        heapq.heapify(todo)
-        done: set[Node] = set()
-        while todo:
-            c, u = heapq.heappop(todo)
-            if u in done:
-                continue
-            done.add(u)
-            if u in goal:
-                out = [u]
-                while (p := before[out[-1]]) is not None:
-                    out.append(p)
-                return out, set(before)
-            for v in self.links.get(u, ()):
-                cv = c + widths[v[0]]
-                if v not in done and cv < cost.get(v, math.inf):
-                    cost[v], before[v] = cv, u
-                    heapq.heappush(todo, (cv, v))
-        return None, set(before)
+        price, out, reached = cheapest(self.links, starts, goals, lambda u, v: (widths[v[0]],))
+        return (out if price is not None else None), reached
+
+
+def cheapest(links: dict[Node, list[Node]], starts: list[Node], goals: list[Node],
+             step: Callable[[Node | None, Node], tuple[float, ...]]
+             ) -> tuple[tuple[float, ...] | None, list[Node], set[Node]]:
+    """The least-priced chain of joined parts from a start to a goal (Dijkstra).
+
+    ``links``: each part's joined parts; ``step(u, v)``: what entering part ``v`` from ``u``
+    adds (``u`` ``None`` at a start), prices compared as tuples. Gives the chain's price
+    (``None`` when none joins them), the chain from its goal back to its start, and the
+    parts reached.
+    """
+    goal = set(goals)
+    before: dict[Node, Node | None] = dict.fromkeys(starts)
+    cost = {u: step(None, u) for u in starts}
+    todo = [(c, u) for u, c in cost.items()]
+    heapq.heapify(todo)
+    done: set[Node] = set()
+    while todo:
+        c, u = heapq.heappop(todo)
+        if u in done:
+            continue
+        done.add(u)
+        if u in goal:
+            out = [u]
+            while (p := before[out[-1]]) is not None:
+                out.append(p)
+            return c, out, set(before)
+        for v in links.get(u, ()):
+            cv = tuple(a + b for a, b in zip(c, step(u, v), strict=True))
+            if v not in done and (v not in cost or cv < cost[v]):
+                cost[v], before[v] = cv, u
+                heapq.heappush(todo, (cv, v))
+    return None, [], set(before)
 
 
 def proof_estimate(scene: Scene) -> float:

@@ -27,7 +27,6 @@ takes it.
 
 from __future__ import annotations
 
-import heapq
 import logging
 import math
 import time
@@ -44,6 +43,7 @@ from pivot_ompl.analysis.pose_proof import (
     HeldParts,
     Node,
     PoseGraph,
+    cheapest,
     proof_estimate,
     with_opposites,
 )
@@ -103,28 +103,10 @@ def least_changes(graph: PoseGraph, starts: list[Node], goals: list[Node],
     Among chains of the fewest changes, the one of least summed bin widths (``widths[i]``,
     rad, per part entered). ``None`` when no chain joins them.
     """
-    goal = set(goals)
-    before: dict[Node, Node | None] = dict.fromkeys(starts)
-    cost = {u: (0, widths[u[0]]) for u in starts}
-    todo = [(c, u) for u, c in cost.items()]
-    heapq.heapify(todo)
-    done: set[Node] = set()
-    while todo:
-        c, u = heapq.heappop(todo)
-        if u in done:
-            continue
-        done.add(u)
-        if u in goal:
-            out = [u]
-            while (p := before[out[-1]]) is not None:
-                out.append(p)
-            return c[0], out[::-1]
-        for v in graph.links.get(u, ()):
-            cv = (c[0] + (v[1] != u[1]), c[1] + widths[v[0]])
-            if v not in done and cv < cost.get(v, (math.inf, math.inf)):
-                cost[v], before[v] = cv, u
-                heapq.heappush(todo, (cv, v))
-    return None
+    price, out, _ = cheapest(
+        graph.links, starts, goals,
+        lambda u, v: (float(u is not None and v[1] != u[1]), widths[v[0]]))
+    return None if price is None else (int(price[0]), out[::-1])
 
 
 def pose_regrasp_bound(scene: Scene, *, target: int | None = None,
