@@ -36,6 +36,7 @@ from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.config import SingleGraspConfig
+from pivot_ompl.planners.corridor import band_first
 from pivot_ompl.planners.evaluation import Evaluator, Found, Status
 from pivot_ompl.planners.routes.chain import made_real
 from pivot_ompl.planners.routes.lattice import TransferLattice
@@ -150,10 +151,11 @@ def direct_path(checker: PivotChecker, start: Pose, goal: Pose, *, grasps: list[
     own generator (spawned from ``rng``, which it leaves as it was); ``lattice()`` gives the
     lattice, made when first asked (``config.lattice`` off: never). ``band()``, if given,
     a lattice over a band of the floor round its shortest way (:mod:`.corridor`; ``None``:
-    no band): where there is one, its try replaces the RRT-Connect's (it finds the route the
-    re-routing would take the RRT-Connect's path to, without the RRT-Connect's checks,
-    which on a building's floor often find nothing), and the whole lattice's try follows
-    where it finds nothing. ``run_spacing``: as :func:`lattice_path`'s.
+    no band): where there is one of at most :data:`~.corridor.FIRST_AREA`, its try replaces
+    the RRT-Connect's (it finds the route the re-routing would take the RRT-Connect's path
+    to, without the RRT-Connect's checks, which on a building's floor often find nothing);
+    a longer band's try follows the RRT-Connect's, and the whole lattice's try follows where
+    it finds nothing. ``run_spacing``: as :func:`lattice_path`'s.
     """
     if not grasps:
         return []
@@ -169,12 +171,16 @@ def direct_path(checker: PivotChecker, start: Pose, goal: Pose, *, grasps: list[
     try:
         found: Found[list[State]] = Found(Status.INVALID)
         over = band() if band is not None and config.lattice else None
-        if over is not None:
+        first = over is not None and band_first(over)
+        if first:
+            assert over is not None
             found = lattice_try(over)
-        if over is None and config.checks > 0:
+        if not first and config.checks > 0:
             found = rrt_path(checker, start, goal, grasps=grasps, config=config,
                              rng=rng.spawn(1)[0], should_stop=should_stop, stats=stats)
             stats.solved_by = "rrt" if found.path else ""
+        if found.status is Status.INVALID and config.lattice and over is not None and not first:
+            found = lattice_try(over)
         if found.status is Status.INVALID and config.lattice:
             found = lattice_try(lattice())
         return found.path or []

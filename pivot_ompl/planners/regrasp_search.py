@@ -32,7 +32,7 @@ import numpy as np
 from pivot_ompl.analysis.bound_cache import cached_bound
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planners.config import RegraspConfig, quality_scale
-from pivot_ompl.planners.corridor import corridor_lattice
+from pivot_ompl.planners.corridor import band_first, corridor_lattice
 from pivot_ompl.planners.direct import DirectStats, direct_path, route_weight
 from pivot_ompl.planners.eliminate import EliminationReport, eliminate_regrasps, lattice_router
 from pivot_ompl.planners.evaluation import Found, Status
@@ -300,9 +300,10 @@ class RegraspSearch:
             self._tried_direct = True  # before the passages are seeded: they are not needed
             single = self._single_grasp(stop)
             direct = single or self._regrasp_lattice(stop)
-            if direct:  # a one-grasp path re-routed in the band if the whole lattice is not made
+            if direct:  # re-routed in a short band if the whole lattice is not made
                 band = self._corridor(stop) if single and self.lattice is None \
                     and self.config.optimiser.routes else None
+                band = band if band is not None and band_first(band) else None
                 direct = self._optimised(direct, should_stop, band=band)
                 self._fill_stats()
                 return direct

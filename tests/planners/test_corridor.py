@@ -14,7 +14,13 @@ from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.planners.config import OptimiserConfig, SingleGraspConfig
-from pivot_ompl.planners.corridor import MOST, corridor_lattice, corridor_region
+from pivot_ompl.planners.corridor import (
+    FIRST_AREA,
+    MOST,
+    band_first,
+    corridor_lattice,
+    corridor_region,
+)
 from pivot_ompl.planners.direct import DirectStats, direct_path
 from pivot_ompl.planners.follow_route import free_route
 from pivot_ompl.planners.routes.lattice import TransferLattice
@@ -98,3 +104,17 @@ def test_a_band_that_misses_the_way_leaves_the_path_to_the_whole_lattice(house):
     assert any(not far.contains(shapely.Point(q[0], q[1])) for q, _ in states)
     p = path_to_plan(house, checker, states)
     assert p.regrasps == 0 and check_plan(p, house).ok
+
+
+def test_a_long_band_is_tried_after_the_rrt_connect_and_a_short_one_before(house):
+    """Regression: a 200 x 200 m hall's band (about 550 m^2) tried first cost 2 s more than
+    the RRT-Connect's try, which finds an open floor's path at once: `--time 1` found none."""
+    checker = PivotChecker(house)
+    lattice = corridor_lattice(checker, CostModel(), house.start, house.goal, width=1.0,
+                               region=None, weight=1.0, should_stop=lambda: False)
+    assert lattice is not None and lattice.region is not None
+    assert lattice.region.area <= FIRST_AREA and band_first(lattice)  # the house: ~40 m^2
+    long = TransferLattice(checker, CostModel(),
+                           region=shapely.LineString([(0, 0), (275, 0)]).buffer(1.0))
+    assert long.region.area > FIRST_AREA and not band_first(long)
+    assert not band_first(TransferLattice(checker, CostModel()))  # no band: the whole floor
