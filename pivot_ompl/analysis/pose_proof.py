@@ -260,6 +260,26 @@ def cheapest(links: dict[Node, list[Node]], starts: list[Node], goals: list[Node
     return None, [], set(before)
 
 
+def widest_bins(edges: list[float], path: list[Node], finest: float
+                ) -> tuple[list[int], float]:
+    """The bins of a chain to halve, with those opposite them, and the chain's widest (rad).
+
+    The chain's widest bins first (within 1 %), none of :data:`FINEST` or finer: a chain
+    through coarse bins is most often false (:func:`with_opposites`).
+    """
+    widths = {i: edges[i + 1] - edges[i] for i, _, _ in path}
+    widest = max(widths.values())
+    return with_opposites(edges, {i for i, w in widths.items()
+                                  if w > finest and w >= 0.99 * widest}), widest
+
+
+def halve(parts: HeldParts, edges: list[float], split: list[int]) -> None:
+    """Halve the bins ``split`` of ``edges`` in place, their parts forgotten."""
+    for i in reversed(split):
+        parts.forget(edges[i], edges[i + 1])
+        edges.insert(i + 1, 0.5 * (edges[i] + edges[i + 1]))
+
+
 def proof_estimate(scene: Scene) -> float:
     """Estimated time (s) of :func:`prove_no_plan` (:data:`ESTIMATED_BINS` bins)."""
     pieces = sum(1 if isinstance(o, BoxObstacle | CylinderObstacle) else len(o.points) - 2
@@ -306,20 +326,14 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
             if path is None:
                 reach = shapely.union_all([graph.table[i][g][k] for i, g, k in reached])
                 return result(True, reach)
-            # the chain's widest bins first: a chain through coarse bins is most often false
-            widths = {i: edges[i + 1] - edges[i] for i, _, _ in path}
-            widest = max(widths.values())
-            split = with_opposites(edges, {i for i, w in widths.items()
-                                           if w > finest and w >= 0.99 * widest})
+            split, widest = widest_bins(edges, path, finest)
             log.debug("held poses, round %d: %d bins, a chain of %d parts over %d bins; %d "
-                      "halved (%.2f degrees)", rounds, len(edges) - 1, len(path), len(widths),
-                      len(split), math.degrees(widest))
+                      "halved (%.2f degrees)", rounds, len(edges) - 1, len(path),
+                      len({i for i, _, _ in path}), len(split), math.degrees(widest))
             if not split:
                 return result(False)
             if len(edges) - 1 + len(split) > max_bins:
                 return result(None)
-            for i in reversed(split):
-                parts.forget(edges[i], edges[i + 1])
-                edges.insert(i + 1, 0.5 * (edges[i] + edges[i + 1]))
+            halve(parts, edges, split)
     except Interrupted:
         return result(None)

@@ -44,8 +44,9 @@ from pivot_ompl.analysis.pose_proof import (
     Node,
     PoseGraph,
     cheapest,
+    halve,
     proof_estimate,
-    with_opposites,
+    widest_bins,
 )
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
@@ -155,18 +156,13 @@ def pose_regrasp_bound(scene: Scene, *, target: int | None = None,
             best = count if best is None else max(best, count)
             if target is not None and best >= target:
                 return result(True)
-            widths = {i: edges[i + 1] - edges[i] for i, _, _ in path}
-            widest = max(widths.values())
-            split = with_opposites(edges, {i for i, w in widths.items()
-                                            if w > finest and w >= 0.99 * widest})
+            split, widest = widest_bins(edges, path, finest)
             log.debug("held poses' regrasps, round %d: %d bins, at least %d (chain of %d "
                       "parts); %d halved (%.2f degrees)", rounds, len(edges) - 1, best,
                       len(path), len(split), math.degrees(widest))
             computed += len(split)  # two halves each, an opposite pair's for one bin's
             if not split or len(edges) - 1 + len(split) > max_bins or computed > most_bins:
                 return result(True)
-            for i in reversed(split):
-                parts.forget(edges[i], edges[i + 1])
-                edges.insert(i + 1, 0.5 * (edges[i] + edges[i + 1]))
+            halve(parts, edges, split)
     except Interrupted:
         return result(False)
