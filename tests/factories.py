@@ -202,3 +202,22 @@ class DeadlineWatch:
         if self._cpu_at_deadline is None:
             return 0.0
         return max(0.0, self._cpu_at_end - self._cpu_at_deadline)
+
+
+def clear_lane_boxes(max_size: int):  # noqa: ANN201
+    """A hypothesis strategy: up to ``max_size`` boxes ``(x, offset, above, w, h, yaw)`` that
+    :func:`floor_with_clear_lane` places beside a clear lane."""
+    from hypothesis import strategies as st
+
+    return st.lists(st.tuples(st.floats(0.5, 7.5), st.floats(0.2, 1.6), st.booleans(),
+                              st.floats(0.1, 0.8), st.floats(0.1, 0.8), st.floats(0, 3.1)),
+                    min_size=1, max_size=max_size)
+
+
+def floor_with_clear_lane(boxes) -> Scene:  # noqa: ANN001
+    """The default floor with ``boxes`` anywhere but a lane 1.8 m wide round y = 3 (the held
+    assembly is 0.88 m across): the box pivots straight from start to goal at one grasp."""
+    doc = [{"type": "box", "center": [x, 3.0 + (1.0 if up else -1.0) * (1.0 + d + 0.6)],
+            "size": [w, h], "yaw": yaw, "height": 1.0}
+           for x, d, up, w, h, yaw in boxes]
+    return make_scene(obstacles=doc)

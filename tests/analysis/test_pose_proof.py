@@ -8,7 +8,7 @@ import time
 import numpy as np
 import pytest
 import shapely
-from factories import make_scene, shipped
+from factories import clear_lane_boxes, floor_with_clear_lane, make_scene, shipped
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -102,17 +102,10 @@ def test_a_stopped_proof_proves_nothing():
 
 
 @settings(max_examples=8, deadline=None)
-@given(boxes=st.lists(st.tuples(st.floats(0.5, 7.5), st.floats(0.2, 1.6), st.booleans(),
-                                st.floats(0.1, 0.8), st.floats(0.1, 0.8), st.floats(0, 3.1)),
-                      min_size=1, max_size=12))
+@given(boxes=clear_lane_boxes(12))
 def test_a_floor_with_a_straight_clear_lane_is_never_proven_infeasible(boxes):
-    # boxes anywhere but a lane 1.8 m wide round y = 3 (the held assembly is 0.88 m across):
-    # the box pivots straight from start to goal, a plan exists
-    doc = [{"type": "box", "center": [x, 3.0 + (1.0 if up else -1.0) * (1.0 + d + 0.6)],
-            "size": [w, h], "yaw": yaw, "height": 1.0}
-           for x, d, up, w, h, yaw in boxes]
-    scene = make_scene(obstacles=doc)
-    assert prove_no_plan(scene).apart is not True
+    # a plan exists: the box pivots straight along the lane
+    assert prove_no_plan(floor_with_clear_lane(boxes)).apart is not True
 
 
 def test_the_late_proof_tries_the_held_poses_only_once_their_time_has_come():

@@ -9,7 +9,13 @@ from dataclasses import dataclass, field
 
 import pytest
 import shapely
-from factories import make_scene, rotated_scene_doc, shipped, shipped_doc
+from factories import (
+    clear_lane_boxes,
+    floor_with_clear_lane,
+    rotated_scene_doc,
+    shipped,
+    shipped_doc,
+)
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -99,16 +105,9 @@ def test_a_turned_copy_keeps_the_count_at_most_its_plans(name, regrasps, angle):
 
 
 @settings(max_examples=6, deadline=None)
-@given(boxes=st.lists(st.tuples(st.floats(0.5, 7.5), st.floats(0.2, 1.6), st.booleans(),
-                                st.floats(0.1, 0.8), st.floats(0.1, 0.8), st.floats(0, 3.1)),
-                      min_size=1, max_size=10))
+@given(boxes=clear_lane_boxes(10))
 def test_a_floor_with_a_straight_clear_lane_needs_no_regrasp(boxes):
-    # boxes anywhere but a lane 1.8 m wide round y = 3 (the held assembly is 0.88 m across):
-    # the box pivots straight from start to goal at one grasp, a plan without regrasps
-    doc = [{"type": "box", "center": [x, 3.0 + (1.0 if up else -1.0) * (1.0 + d + 0.6)],
-            "size": [w, h], "yaw": yaw, "height": 1.0}
-           for x, d, up, w, h, yaw in boxes]
-    found = pose_regrasp_bound(make_scene(obstacles=doc), first_bins=32,
+    found = pose_regrasp_bound(floor_with_clear_lane(boxes), first_bins=32,
                                should_stop=_within(20.0))
     assert found.regrasps in (0, None) and not found.apart
 
