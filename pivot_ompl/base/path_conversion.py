@@ -5,22 +5,27 @@ from __future__ import annotations
 from typing import Any
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.checking.rotation_shortcut import shorten
 from pivot_ompl.errors import PlanningError
 from pivot_ompl.pivoting.steering import PivotSequence
-from pivot_ompl.pivoting.transfer import phase_steps, rs_samples
+from pivot_ompl.pivoting.transfer import phase_rotations, rotation_steps, rs_samples
 from pivot_ompl.planfile import Phase, Plan, TransferPhase, TransitPhase
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose
 
 
 def path_to_plan(scene: Scene, checker: PivotChecker, states: list[tuple[Pose, int]], *,
-                 status: str = "exact", extra: dict[str, Any] | None = None) -> Plan:
+                 status: str = "exact", extra: dict[str, Any] | None = None,
+                 shortcut: bool = True) -> Plan:
     """Phases of a path: runs of one grasp become transfer phases, grasp changes transits.
 
     Every edge is taken from the checker's cache (so exactly the validated rotations and
     walks are written, two edges' rotations about one corner where they meet merged into
-    one: :func:`~pivot_ompl.pivoting.transfer.phase_steps`); an edge that is not valid
-    raises :class:`PlanningError`.
+    one: :func:`~pivot_ompl.pivoting.transfer.phase_rotations`); an edge that is not valid
+    raises :class:`PlanningError`. With ``shortcut``, runs of a transfer phase's rotations
+    are then replaced by fewer where those pass the checker's checks
+    (:func:`~pivot_ompl.checking.rotation_shortcut.shorten`: the phase ends where it did;
+    a route state inside a replaced run is no longer passed exactly).
     """
     m = scene.model
     phases: list[Phase] = []
@@ -44,7 +49,12 @@ def path_to_plan(scene: Scene, checker: PivotChecker, states: list[tuple[Pose, i
             seqs.append(edge.sequence)
             rs.extend(rs_samples(checker.steering, edge.sequence))
             j += 1
-        steps = phase_steps(m, checker.steering, seqs, g)
+        rotations = phase_rotations(checker.steering, seqs)
+        if shortcut and rotations:
+            rotations = shorten(checker.transfers.sweeps, m.car_pose(pose, g), rotations, g,
+                                half_length=m.edge_half_length(g),
+                                alpha_max=checker.steering.alpha_max)
+        steps = rotation_steps(m, rotations, g)
         if steps:
             phases.append(TransferPhase(g, m.robot_pose(pose, g), steps, pose, tuple(rs)))
         i = j
