@@ -138,8 +138,10 @@ def stored_motions(plan: Plan, route: Sequence[State]) -> StoredMotions:
 def _passed(steps: Sequence[tuple[tuple[float, float], float, Pose]],
             route: Sequence[State], first: int, k0: int,
             grasp: int) -> tuple[int | None, int]:
-    """``(j, k)``: the first route state ``j >= first`` of the phase that step ``k >= k0``
-    reaches (``(None, k0)`` if none)."""
+    """The first route state ``j >= first`` of the phase that a step ``k >= k0`` reaches.
+
+    Returns ``(j, k)``, or ``(None, k0)`` if the steps reach none.
+    """
     j = first
     while j < len(route) and route[j][1] == grasp:
         for k in range(k0, len(steps)):
