@@ -6,7 +6,9 @@ from typing import Any
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.checking.rotation_shortcut import shorten
+from pivot_ompl.checking.shared_results import shared_results
 from pivot_ompl.errors import PlanningError
+from pivot_ompl.pivoting.kinematics import Rotation
 from pivot_ompl.pivoting.steering import PivotSequence
 from pivot_ompl.pivoting.transfer import phase_rotations, rotation_steps, rs_samples
 from pivot_ompl.planfile import Phase, Plan, TransferPhase, TransitPhase
@@ -24,8 +26,8 @@ def path_to_plan(scene: Scene, checker: PivotChecker, states: list[tuple[Pose, i
     one: :func:`~pivot_ompl.pivoting.transfer.phase_rotations`); an edge that is not valid
     raises :class:`PlanningError`. With ``shortcut``, runs of a transfer phase's rotations
     are then replaced by fewer where those pass the checker's checks
-    (:func:`~pivot_ompl.checking.rotation_shortcut.shorten`: the phase ends where it did;
-    a route state inside a replaced run is no longer passed exactly).
+    (:func:`~pivot_ompl.checking.rotation_shortcut.shorten`: the phase ends where it did; a
+    route state inside a replaced run is no longer passed exactly).
     """
     m = scene.model
     phases: list[Phase] = []
@@ -51,9 +53,7 @@ def path_to_plan(scene: Scene, checker: PivotChecker, states: list[tuple[Pose, i
             j += 1
         rotations = phase_rotations(checker.steering, seqs)
         if shortcut and rotations:
-            rotations = shorten(checker.transfers.sweeps, m.car_pose(pose, g), rotations, g,
-                                half_length=m.edge_half_length(g),
-                                alpha_max=checker.steering.alpha_max)
+            rotations = _shortened(scene, checker, m.car_pose(pose, g), rotations, g)
         steps = rotation_steps(m, rotations, g)
         if steps:
             phases.append(TransferPhase(g, m.robot_pose(pose, g), steps, pose, tuple(rs)))
@@ -63,3 +63,24 @@ def path_to_plan(scene: Scene, checker: PivotChecker, states: list[tuple[Pose, i
         phases.append(TransferPhase(g, m.robot_pose(pose, g), (), pose))
     return Plan(scene.name, status, m.object_size, m.robot_footprint, m.standoff,
                 scene.alpha_max, scene.start, phases, dict(extra or {}), scene.robot_model)
+
+
+def _shortened(scene: Scene, checker: PivotChecker, start: Pose,
+               rotations: tuple[Rotation, ...], grasp: int) -> tuple[Rotation, ...]:
+    """:func:`~pivot_ompl.checking.rotation_shortcut.shorten` of a phase, kept per scene.
+
+    Kept with the checks the scene's checkers share
+    (:mod:`~pivot_ompl.checking.shared_results`): they depend only on the scene's geometry
+    and the rotations, so a later plan of the same route gets the same rotations unchecked.
+    """
+    shared = shared_results(scene, tolerance=checker.tolerance,
+                            clearance=checker.world.clearance)
+    key = (start, rotations, grasp)
+    hit = shared.shortened.get(key)
+    if not isinstance(hit, tuple):
+        hit = shorten(checker.transfers.sweeps, start, rotations, grasp,
+                      half_length=scene.model.edge_half_length(grasp),
+                      alpha_max=checker.steering.alpha_max)
+        shared.room()
+        shared.shortened[key] = hit
+    return hit
