@@ -7,15 +7,16 @@ corner one after the other and sum over the bound, so they do not merge: a push 
 on the pose where a turn in place starts, then the turn's first rotation about the same
 corner, took three rotations and one more where two would do.
 
-:func:`shorten` slides a window over a phase's rotations (merged as the plan writes them)
-and joins the pose before the window to the pose at its end by fewer rotations: three solved
-rotations (:func:`~pivot_ompl.pivoting.kinematics.solve_piece`), or, for a window of more
-than four, one fewer than the window with the leading ones on a grid of angles
-(:data:`GRID` steps of the bound, alternating corners, turning the way the window turns)
-and three solved after them. A
-replacement counts once merged into the rotations before and after the window, and is kept
-only where its rotations pass the same checks as the steering's (inside the bounds, every
-sweep certified free: :meth:`~pivot_ompl.checking.rotation_sweeps.RotationSweeps.rotations`).
+:func:`shorten` slides a window over a phase's rotations (merged as the plan writes them;
+at each position the shortest window first, up to :data:`WINDOW`) and joins the pose before
+the window to the pose at its end by fewer rotations: three solved rotations
+(:func:`~pivot_ompl.pivoting.kinematics.solve_piece`), or, for a window of more than four,
+one fewer than the window with the leading ones on a grid of angles (:data:`GRID` steps of
+the bound, alternating corners, turning the way the window turns) and three solved after
+them. A replacement counts once merged into the rotations before and after the window, and
+is kept only where its rotations pass the same checks as the steering's (inside the bounds,
+every sweep certified free:
+:meth:`~pivot_ompl.checking.rotation_sweeps.RotationSweeps.rotations`).
 The window's end pose is kept exactly, so the phase ends where it did, and the plan's
 physics are those of any checked pivot sequence.
 
@@ -131,7 +132,7 @@ def shorten(sweeps: RotationSweeps, start: Pose, rotations: Sequence[Rotation], 
         if should_stop is not None and should_stop():
             break
         done = False
-        for w in range(min(WINDOW, len(rots) - i), 1, -1):
+        for w in range(2, min(WINDOW, len(rots) - i) + 1):
             before = rots[i - 1] if i else None
             after = rots[i + w] if i + w < len(rots) else None
             around = ([before] if before else []) + rots[i:i + w] + ([after] if after else [])
