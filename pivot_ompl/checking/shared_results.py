@@ -36,16 +36,20 @@ class SharedResults:
     Attributes:
         edges: transfers by ``(a, b, grasp, with_robot)``.
         walks: walks by ``(pose, from_grasp, to_grasp)``.
+        shortened: transfer phases' rotations shortened, by ``(start, rotations, grasp)``
+            (:func:`~.rotation_shortcut.shorten`).
     """
 
     edges: dict[tuple, object] = field(default_factory=dict)
     walks: dict[tuple, object] = field(default_factory=dict)
+    shortened: dict[tuple, object] = field(default_factory=dict)
 
     def room(self) -> None:
         """Forget everything once :data:`RESULTS_KEPT` are held."""
-        if len(self.edges) + len(self.walks) >= RESULTS_KEPT:
+        if len(self.edges) + len(self.walks) + len(self.shortened) >= RESULTS_KEPT:
             self.edges.clear()
             self.walks.clear()
+            self.shortened.clear()
 
 
 def shared_results(scene: Scene, *, tolerance: float, clearance: float) -> SharedResults:

@@ -82,8 +82,10 @@ def stored_motions(plan: Plan, route: Sequence[State]) -> StoredMotions:
 
     A transfer phase's steps are split among the route's edges of its grasp where the object
     reaches each edge's end; a step that passes an edge's end mid-rotation (two edges'
-    rotations about one corner merged where they meet) is cut there in two. Reading stops at
-    the first phase that does not match the route (what was read before is kept).
+    rotations about one corner merged where they meet) is cut there in two. Where the steps
+    do not pass an edge's end (a run of rotations replaced by fewer across it), the edges up
+    to the next state of the route they pass are not read. Reading stops at the first phase
+    that does not match the route (what was read before is kept).
     """
     out = StoredMotions()
     i = 0
@@ -111,8 +113,18 @@ def stored_motions(plan: Plan, route: Sequence[State]) -> StoredMotions:
                 before = after
                 k += 1
             if k == len(steps):
-                log.debug("stored transfer of edge %d does not reach its end", i)
-                return out
+                # a run of rotations replaced across the edge's end (the plan's shortened
+                # phases): the steps pass a later state of the route or none
+                j, k = _passed(steps, route, i + 1, k0, ph.grasp)
+                if j is None:
+                    log.debug("stored transfer of edge %d does not reach its end", i)
+                    return out
+                log.debug("stored transfers of edges %d..%d not read: their ends are "
+                          "not passed", i, j - 1)
+                i = j
+                before = steps[k][2]
+                k += 1
+                continue
             before = steps[k][2]
             k += 1
             out.transfers[(route[i][0], target, ph.grasp)] = tuple(
@@ -121,6 +133,22 @@ def stored_motions(plan: Plan, route: Sequence[State]) -> StoredMotions:
         if k < len(steps):
             break
     return out
+
+
+def _passed(steps: Sequence[tuple[tuple[float, float], float, Pose]],
+            route: Sequence[State], first: int, k0: int,
+            grasp: int) -> tuple[int | None, int]:
+    """The first route state ``j >= first`` of the phase that a step ``k >= k0`` reaches.
+
+    Returns ``(j, k)``, or ``(None, k0)`` if the steps reach none.
+    """
+    j = first
+    while j < len(route) and route[j][1] == grasp:
+        for k in range(k0, len(steps)):
+            if _close(steps[k][2], route[j][0]):
+                return j, k
+        j += 1
+    return None, k0
 
 
 def stored_rotations(model: BoxGraspModel, ca: Pose, cb: Pose, steps: Sequence[StoredStep],

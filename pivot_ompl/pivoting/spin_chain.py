@@ -29,7 +29,7 @@ from collections.abc import Callable
 from pivot_ompl.pivoting.kinematics import ANGLE_TOL, LEFT, Rotation, solve_piece
 from pivot_ompl.se2 import Pose, wrap_angle
 
-__all__ = ["CHAIN_FIRST", "CHAIN_SHARES", "spin_chain", "whole_spin"]
+__all__ = ["CHAIN_FIRST", "CHAIN_SHARES", "rotate_edge", "spin_chain", "whole_spin"]
 
 #: The chain's rotations before its closing three: shares of the bound tried,
 CHAIN_SHARES = (0.7, 0.8, 0.9, 0.96, 1.0)
@@ -37,7 +37,7 @@ CHAIN_SHARES = (0.7, 0.8, 0.9, 0.96, 1.0)
 CHAIN_FIRST = (0.5, 0.6, 0.75, 1.0)
 
 
-def _rotate(car: Pose, end: int, angle: float, ell: float) -> Rotation:
+def rotate_edge(car: Pose, end: int, angle: float, ell: float) -> Rotation:
     """The rotation of the edge at ``car`` by ``angle`` about its end ``end``."""
     x, y, h = car
     sign = 1.0 if end == LEFT else -1.0
@@ -56,7 +56,7 @@ def _chain(start: Pose, goal: Pose, ell: float, alpha_max: float, m: int, c: flo
     rots: list[Rotation] = []
     car, end = start, first
     for i in range(m):
-        r = _rotate(car, end, first_share * c if i == 0 else c, ell)
+        r = rotate_edge(car, end, first_share * c if i == 0 else c, ell)
         rots.append(r)
         car, end = r.car, 1 - end
     ok, tail = solve_piece(car, goal, ell, alpha_max, previous=rots[-1] if rots else None)

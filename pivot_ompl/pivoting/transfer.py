@@ -27,9 +27,9 @@ def steps_of(model: BoxGraspModel, seq: PivotSequence, grasp: int) -> tuple[Tran
                               model.robot_from_car(r.car, grasp)) for r in seq.rotations)
 
 
-def phase_steps(model: BoxGraspModel, steering: PivotSteering,
-                sequences: Iterable[PivotSequence], grasp: int) -> tuple[TransferStep, ...]:
-    """The plan steps of a phase's consecutive pivot sequences, merged where they meet.
+def phase_rotations(steering: PivotSteering,
+                    sequences: Iterable[PivotSequence]) -> tuple[Rotation, ...]:
+    """The rotations of a phase's consecutive pivot sequences, merged where they meet.
 
     Where a sequence's last rotation and the next one's first turn about the same corner and
     sum within the bound, they are one rotation
@@ -41,8 +41,23 @@ def phase_steps(model: BoxGraspModel, steering: PivotSteering,
     for seq in sequences:
         for r in seq.rotations:
             steering.append_merged(rotations, r)
+    return tuple(rotations)
+
+
+def rotation_steps(model: BoxGraspModel, rotations: Iterable[Rotation],
+                   grasp: int) -> tuple[TransferStep, ...]:
+    """The plan steps (object and robot poses after each rotation) of rotations at ``grasp``."""
     return tuple(TransferStep(r.pivot, r.angle, model.object_from_car(r.car, grasp),
                               model.robot_from_car(r.car, grasp)) for r in rotations)
+
+
+def phase_steps(model: BoxGraspModel, steering: PivotSteering,
+                sequences: Iterable[PivotSequence], grasp: int) -> tuple[TransferStep, ...]:
+    """The plan steps of a phase's pivot sequences, merged where they meet.
+
+    The rotations of :func:`phase_rotations`, as plan steps (:func:`rotation_steps`).
+    """
+    return rotation_steps(model, phase_rotations(steering, sequences), grasp)
 
 
 def rs_samples(steering: PivotSteering, seq: PivotSequence) -> tuple[Pose, ...]:
