@@ -57,12 +57,13 @@ def end_rotations(costs: CostModel) -> float:
     """Seconds a transfer spends beyond its length at the push rate: one rotation's part.
 
     A transfer starts and ends with the supporting edge on its path, so its first and last
-    rotations are part rotations (about half a full one each:
-    :mod:`~pivot_ompl.pivoting.steering`), and it takes about one rotation more than its length at the push rate
-    (:meth:`~pivot_ompl.cost.CostModel.push_rate`, full rotations). :func:`shortened` adds it
-    to each transfer's estimate: a chain of many short transfers is then estimated dearer
-    than one of few long ones, as checked it is (the hospital's 64-pose route: 188 transfers
-    checked for a chain of 7 without it, 95 with it; the same chain).
+    rotations are part rotations (about half a full one each, see
+    :mod:`~pivot_ompl.pivoting.steering`): it takes about one rotation more than its length
+    at the push rate (:meth:`~pivot_ompl.cost.CostModel.push_rate`, full rotations).
+    :func:`shortened` adds it to each transfer's estimate, so a chain of many short
+    transfers is estimated dearer than one of few long ones, as checked it is (the
+    hospital's one-grasp route of 64 poses: 188 transfers checked for a chain of 7 without
+    it, 95 with it, the same chain).
     """
     return costs.durations.per_pivot
 
