@@ -70,7 +70,7 @@ from pivot_ompl.scene import Scene
 from pivot_ompl.scene.shared import keep_shared, shared_value
 from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
-from pivot_ompl.validity.footprints import obstacle_pieces, piece_bounds
+from pivot_ompl.validity.footprints import obstacle_pieces, piece_bounds, piece_polygons
 
 log = logging.getLogger(__name__)
 
@@ -154,10 +154,10 @@ def disk_cells(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     mask = (gx >= x0 + inner) & (gx <= x1 - inner) & (gy >= y0 + inner) & (gy <= y1 - inner)
     grow = half + clearance - tolerance - ROUND_OFF - raster.half_diag
     raw = obstacle_pieces(scene.obstacles)
-    pieces = [shapely.Polygon(p) for p in raw]
+    pieces = piece_polygons(raw)
     if should_stop is not None and should_stop():
         return None
-    if pieces and grow > 0:
+    if len(pieces) and grow > 0:
         tree = shapely.STRtree(pieces)
         # a cell far from every piece's box is far from every piece: only the others are
         # queried (a fifth to two fifths of a building's floor)
