@@ -70,7 +70,7 @@ from pivot_ompl.scene import Scene
 from pivot_ompl.scene.shared import keep_shared, shared_value
 from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
-from pivot_ompl.validity.footprints import obstacle_pieces
+from pivot_ompl.validity.footprints import obstacle_pieces, piece_bounds, piece_polygons
 
 log = logging.getLogger(__name__)
 
@@ -153,12 +153,15 @@ def disk_cells(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     gx, gy = raster.gx, raster.gy
     mask = (gx >= x0 + inner) & (gx <= x1 - inner) & (gy >= y0 + inner) & (gy <= y1 - inner)
     grow = half + clearance - tolerance - ROUND_OFF - raster.half_diag
-    pieces = [shapely.Polygon(p) for p in obstacle_pieces(scene.obstacles)]
+    raw = obstacle_pieces(scene.obstacles)
+    pieces = piece_polygons(raw)
     if should_stop is not None and should_stop():
         return None
-    if pieces and grow > 0:
+    if len(pieces) and grow > 0:
         tree = shapely.STRtree(pieces)
-        idx = np.flatnonzero(mask.ravel())
+        # a cell far from every piece's box is far from every piece: only the others are
+        # queried (a fifth to two fifths of a building's floor)
+        idx = np.flatnonzero((mask & near_boxes(raster, piece_bounds(raw), grow)).ravel())
         flat = mask.ravel()
         for a in range(0, len(idx), QUERY_CHUNK):  # the stop polled between the chunks
             if should_stop is not None and should_stop():
@@ -171,6 +174,26 @@ def disk_cells(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     if should_stop is not None and should_stop():
         return None
     return raster, mask
+
+
+def near_boxes(raster: FloorRaster, boxes: np.ndarray, distance: float) -> np.ndarray:
+    """The cells whose centre may lie within ``distance`` of one of the ``boxes``.
+
+    ``boxes``: ``(n, 4)`` bounding boxes ``x0, y0, x1, y1``. A boolean ``raster.shape``
+    array holding every cell whose centre lies within ``distance`` of a box along both axes
+    (and one more cell each way, against round-off): a superset of the cells within
+    ``distance`` of anything inside the boxes.
+    """
+    nx, ny = raster.shape
+    xs, ys = raster.gx[:, 0], raster.gy[0, :]
+    i0 = np.clip(np.searchsorted(xs, boxes[:, 0] - distance, side="left") - 1, 0, nx)
+    i1 = np.clip(np.searchsorted(xs, boxes[:, 2] + distance, side="right") + 1, 0, nx)
+    j0 = np.clip(np.searchsorted(ys, boxes[:, 1] - distance, side="left") - 1, 0, ny)
+    j1 = np.clip(np.searchsorted(ys, boxes[:, 3] + distance, side="right") + 1, 0, ny)
+    marks = np.zeros((nx + 1, ny + 1), dtype=np.int64)  # each box's block, summed up
+    for di, dj, sign in ((i0, j0, 1), (i1, j0, -1), (i0, j1, -1), (i1, j1, 1)):
+        np.add.at(marks, (di, dj), sign)
+    return np.cumsum(np.cumsum(marks, axis=0), axis=1)[:nx, :ny] > 0
 
 
 def _poller(should_stop: Callable[[], bool] | None) -> Callable[[], None]:

@@ -84,6 +84,18 @@ def _by_size(pieces: list[np.ndarray]) -> dict[int, np.ndarray]:
     return {int(k): np.flatnonzero(counts == k) for k in np.unique(counts)}
 
 
+def piece_polygons(pieces: list[np.ndarray]) -> np.ndarray:
+    """Each piece as a shapely polygon (an object array), built a vertex count at a time.
+
+    The polygons ``shapely.Polygon`` makes of each piece, in a few calls for a building's
+    thousands of wall boxes.
+    """
+    out = np.empty(len(pieces), dtype=object)
+    for k, idx in _by_size(pieces).items():
+        out[idx] = shapely.polygons(np.stack([pieces[i] for i in idx.tolist()]).reshape(-1, k, 2))
+    return out
+
+
 def piece_bounds(pieces: list[np.ndarray]) -> np.ndarray:
     """Each piece's bounding box ``(n, 4)``: ``x0, y0, x1, y1`` (m).
 

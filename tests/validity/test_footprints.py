@@ -9,7 +9,7 @@ import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from pivot_ompl.validity.footprints import meeting_hulls
+from pivot_ompl.validity.footprints import meeting_hulls, obstacle_pieces, piece_polygons
 from pivot_ompl.validity.minkowski import meeting_edges
 from pivot_ompl.validity.rasters import grid_inside, grid_union
 
@@ -195,3 +195,21 @@ def test_pieces_bounds_and_centres_stacked_by_size_are_each_piece_s_own(seed):
         assert np.array_equal(centres[i], c)
         mirrored = np.abs((2.0 * c - p)[:, None, :] - p[None, :, :]).max(axis=2).min(axis=1)
         assert symmetric[i] == (mirrored.max() <= 1e-9 * max(1.0, float(np.abs(p - c).max())))
+
+
+def test_the_pieces_polygons_are_those_of_each_piece_in_its_order():
+    from factories import make_scene
+
+    scene = make_scene(obstacles=[
+        {"type": "box", "center": [4.0, 3.0], "size": [0.2, 4.0], "yaw": 0.4, "height": 1.0},
+        {"type": "cylinder", "center": [2.0, 4.5], "radius": 0.3, "height": 1.0},
+        {"type": "polygon", "points": [[5, 1], [7, 1], [7, 2], [6, 1.5], [5, 2]],
+         "height": 1.0},
+        {"type": "box", "center": [1.0, 1.0], "size": [0.5, 0.3], "yaw": 0.0, "height": 1.0}])
+    pieces = obstacle_pieces(scene.obstacles)
+    assert len({len(p) for p in pieces}) >= 3  # triangles, boxes and a cylinder's polygon
+    got = piece_polygons(pieces)
+    assert len(got) == len(pieces)
+    for p, g in zip(pieces, got, strict=True):
+        assert shapely.to_wkb(g) == shapely.to_wkb(shapely.Polygon(p))
+    assert len(piece_polygons([])) == 0
