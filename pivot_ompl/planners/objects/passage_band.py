@@ -112,8 +112,7 @@ def add_poses(roadmap: Roadmap, seeded: PoseIndex, poses: Iterable[Pose], *, kin
             break
         if region is not None and not shapely.contains_xy(region, q[0], q[1]):
             continue
-        near = seeded.nearest(q, 1)
-        if near and float(roadmap.distances(near, q)[0]) < 0.5 * spacing:
+        if seeded.any_within(q, 0.5 * spacing):
             continue
         seeded.append(roadmap.add(q, kind))
         added += 1
