@@ -215,6 +215,7 @@ class MultiplexedGraph:
         ck, m = self.checker, self.checker.model
         rs = ck.steering.paths
         added: list[int] = []
+        near: dict[int, list[int]] = {}  # per grasp parity: g and g + 2 share their neighbours
         for g in self.grasps:
             if not ck.state_valid(q, g):
                 continue
@@ -223,7 +224,9 @@ class MultiplexedGraph:
                 self.adj[node] = {}
                 self._components.add(node)
             car = m.car_pose(q, g)
-            for j in self.roadmap.nearest(q, self.neighbours, among=self._parity[g % 2]):
+            if g % 2 not in near:
+                near[g % 2] = self.roadmap.nearest(q, self.neighbours, among=self._parity[g % 2])
+            for j in near[g % 2]:
                 qj = self.roadmap.poses[j]
                 gj = g if abs(wrap_angle(qj[2] - q[2])) <= 0.5 * math.pi else (g + 2) % 4
                 if (j, gj) not in self.adj:
