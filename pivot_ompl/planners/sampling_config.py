@@ -60,7 +60,8 @@ class SamplingConfig:
         band_spacing: of passages whose centres lie this near (m), with near axes, only the
             narrowest is seeded.
         band_passages: most slots, and most doors, seeded per level (times the level's
-            number), those on the cheapest routes first.
+            number), those on the cheapest routes first; a smaller floor where more slots,
+            or more doors, than this are found gets the band too (a crowded floor).
         band_patience: diffusion steps without a path before the band is widened.
         regrasp_lattice: on a floor where the band applies, and before the object roadmap,
             try the regrasps where the held assembly's lattice components meet

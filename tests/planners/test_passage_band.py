@@ -149,3 +149,22 @@ def test_a_banded_floor_widens_level_by_level_to_the_whole_floor():
     assert _door_at(band.doors(lambda: False), 9.0)
     band.widen()
     assert band.area() is None and not band.can_widen()  # the whole floor
+
+
+def test_a_small_floor_crowded_with_passages_gets_the_band():
+    # more doors than a level seeds (band_passages) on a floor too small for the band: the
+    # band is made after all, and the passages chosen from it (the near door, not the far)
+    scene = _wall_with_two_doors()
+    ck = PivotChecker(scene, seed=0)
+    every = doors(ck, play=0.5)
+    cfg = SamplingConfig(band_passages=len(every) - 1, band_slacks=(0.1, 2.0))
+    band = PassageBand(ck, scene.start, scene.goal, cfg)
+    assert not band.applies()
+    chosen = band.doors(lambda: False)
+    assert band.band is not None and band.can_widen()
+    assert len(chosen) <= cfg.band_passages
+    assert _door_at(chosen, 2.0) and not _door_at(chosen, 9.0)
+    roomy = PassageBand(ck, scene.start, scene.goal,
+                        SamplingConfig(band_passages=len(every), band_slacks=(0.1, 2.0)))
+    assert roomy.doors(lambda: False) == sorted(every, key=lambda p: p.width)  # as before
+    assert roomy.band is None

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from factories import shipped, two_rooms
+from factories import make_scene, shipped, two_rooms
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -86,3 +86,19 @@ def test_the_planner_seeds_its_roadmap_along_the_slots_and_doors(kind, scene, co
                         np.random.default_rng(0))
     off.prepare(lambda: False)
     assert not off.roadmap.of_kind(kind)
+
+
+def test_a_row_of_specks_gives_the_gaps_between_neighbours_only():
+    # 150 round specks in a row, 0.5 m apart: each gap between neighbours is a passage; the
+    # gap to the next but one has a speck across it (blocked), whichever batch of pairs it
+    # falls in
+    side, gap, n = 0.1, 0.5, 150
+    width = 4.0 + n * (side + gap)
+    specks = [{"type": "cylinder", "center": [2.0 + k * (side + gap), 5.0], "radius": 0.5 * side,
+               "height": 1.0} for k in range(n)]
+    scene = make_scene(bounds=[0.0, 0.0, width, 10.0], obstacles=specks)
+    found = find_passages(scene, min_width=0.3, max_width=1.3)
+    assert len(found) == n - 1
+    assert all(p.width == pytest.approx(gap, abs=1e-3) for p in found)
+    xs = sorted(p.center[0] for p in found)
+    assert xs == pytest.approx([2.0 + (k + 0.5) * (side + gap) for k in range(n - 1)])

@@ -87,3 +87,25 @@ def test_a_query_measures_a_small_part_of_a_large_roadmap() -> None:
         pose = (float(q[0]) + 0.01, float(q[1]), float(q[2]))
         assert tree.nearest(pose, 10) == _scan(poses, pose, 10)
     assert sum(rows) / 50 < 0.05 * len(poses)
+
+
+@settings(max_examples=30, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1), n=st.integers(0, 1200),
+       radius=st.sampled_from([0.01, 0.1, 0.5, 3.0]))
+def test_any_within_is_the_nearest_node_compared_with_the_radius(seed: int, n: int,
+                                                                 radius: float) -> None:
+    # the seeding's duplicate test: a held node nearer than the radius, by the pose metric,
+    # wherever it lies (the k-d tree's built part or the tail added since)
+    rng = np.random.default_rng(seed)
+    rm = Roadmap()
+    index = PoseIndex(rm)
+    for _ in range(n):
+        xy = rng.normal(0.0, 2.0, 2)
+        index.append(rm.add((float(xy[0]), float(xy[1]),
+                             float(rng.uniform(-math.pi, math.pi))), "x"))
+    for _ in range(40):
+        q = rng.normal(0.0, 2.0, 2)
+        pose = (float(q[0]), float(q[1]), float(rng.uniform(-math.pi, math.pi)))
+        near = index.nearest(pose, 1)
+        truth = bool(near) and float(rm.distances(near, pose)[0]) < radius
+        assert index.any_within(pose, radius) == truth

@@ -118,3 +118,19 @@ def test_the_path_found_passes_every_full_check():
         else:
             assert ck.transit(pa, ga, gb).valid
     assert search.paths.edges_checked >= len(path) - 1
+
+
+def test_nodes_linked_once_the_goal_is_reachable_run_no_cheap_test():
+    # the reachable set only answers whether a search may succeed: once it holds a goal
+    # state, new nodes' transfers are left to the search (tested lazily when it takes them)
+    search = _grown()
+    g = search.graph
+    assert g.maybe_connected()
+    tests, links = g.plausibility_tests, g.links
+    for _ in range(40):
+        search.visibility.step(NEVER)
+    g.multiplex_pending(NEVER)
+    assert g.links > links
+    assert g.plausibility_tests == tests
+    found = search.paths.find(NEVER)  # and the search still finds a checked path
+    assert found.status is Status.VALID

@@ -143,9 +143,12 @@ class MultiplexedGraph:
         self._removed: set[tuple[Node, Node]] = set()
         self._plausible: dict[tuple[Node, Node], bool] = {}
         #: states reachable from a start over edges that passed the cheap test (a superset
-        #: of the truth once full checks remove edges); ``None`` before the ends are set, or
-        #: after the termination condition stopped its growth
+        #: of the truth once full checks remove edges), grown until it holds a goal state
+        #: (:meth:`_grow_reach`); ``None`` before the ends are set, or after the termination
+        #: condition stopped its growth
         self._reach: set[State] | None = None
+        self._goal_states: set[State] = set()
+        self._reached = False  # a goal state is in the reachable set: it grows no more
 
     # -- structure ---------------------------------------------------------------------
     def successor(self, state: State, node: Node) -> State:
@@ -212,6 +215,7 @@ class MultiplexedGraph:
         ck, m = self.checker, self.checker.model
         rs = ck.steering.paths
         added: list[int] = []
+        near: dict[int, list[int]] = {}  # per grasp parity: g and g + 2 share their neighbours
         for g in self.grasps:
             if not ck.state_valid(q, g):
                 continue
@@ -220,7 +224,9 @@ class MultiplexedGraph:
                 self.adj[node] = {}
                 self._components.add(node)
             car = m.car_pose(q, g)
-            for j in self.roadmap.nearest(q, self.neighbours, among=self._parity[g % 2]):
+            if g % 2 not in near:
+                near[g % 2] = self.roadmap.nearest(q, self.neighbours, among=self._parity[g % 2])
+            for j in near[g % 2]:
                 qj = self.roadmap.poses[j]
                 gj = g if abs(wrap_angle(qj[2] - q[2])) <= 0.5 * math.pi else (g + 2) % 4
                 if (j, gj) not in self.adj:
@@ -261,7 +267,7 @@ class MultiplexedGraph:
         self.links += 1
         self._components.union(a, b)
         reach = self._reach
-        if reach is None:
+        if reach is None or self._reached:
             return
         flip = frame_flip(a, b)
         for parity in (0, 1):
@@ -271,7 +277,7 @@ class MultiplexedGraph:
             if is_transfer(a, b) and not self.plausible(a, b):
                 return
             self._grow_reach(sb if sa in reach else sa, should_stop)
-            if self._reach is None:
+            if self._reach is None or self._reached:
                 return
 
     def set_ends(self, start: int, goal: int, should_stop: Stop, *,
@@ -317,10 +323,15 @@ class MultiplexedGraph:
         return not is_transfer(a, b) or self._plausible.get(undirected(a, b), False)
 
     def compute_reach(self, should_stop: Stop) -> None:
-        """The states connected to a start over edges that pass the cheap test."""
+        """The states connected to a start over edges that pass the cheap test.
+
+        Grown until it holds a goal state (:meth:`_grow_reach`).
+        """
         self._reach = set()
+        self._goal_states = {(g, 0) for g in self.goal_nodes}
+        self._reached = False
         for s in self.start_nodes:
-            if self._reach is None:  # stopped by the termination condition
+            if self._reach is None or self._reached:  # stopped, or a goal state reached
                 return
             if (s, 0) not in self._reach:
                 self._grow_reach((s, 0), should_stop)
@@ -329,12 +340,19 @@ class MultiplexedGraph:
         """Add ``state`` and the states joined to it by plausible edges to the reachable set.
 
         Each transfer that would add a state is tested first (cached): the set is the start's
-        component over the edges that survive the test. Stopped, the set is forgotten.
+        component over the edges that survive the test. Stopped, the set is forgotten. The
+        growth ends at the first goal state added: the set then answers
+        :meth:`maybe_connected` (edges linked later only add states), and testing the rest of
+        the component would test, eagerly, transfers the search may never take (on a
+        cluttered floor most of the graph's). A search that finds no path computes it anew.
         """
         reach = self._reach
         assert reach is not None
         stack = [state]
         reach.add(state)
+        if state in self._goal_states:
+            self._reached = True
+            return
         steps = 0
         while stack:
             steps += 1
@@ -347,6 +365,9 @@ class MultiplexedGraph:
                 if sv in reach or (is_transfer(u[0], v) and not self.plausible(u[0], v)):
                     continue
                 reach.add(sv)
+                if sv in self._goal_states:
+                    self._reached = True
+                    return
                 stack.append(sv)
 
     def maybe_connected(self) -> bool:

@@ -108,6 +108,26 @@ class PoseTree:
         cand = np.concatenate([np.asarray(ball, dtype=np.int64), tail])
         return self._best(cand, pose, k)
 
+    def any_within(self, pose: Pose, radius: float) -> bool:
+        """Whether a held pose lies nearer than ``radius`` to ``pose`` (by the metric).
+
+        One ball query of that radius in the embedding (a superset: the embedding's
+        distance is at most the metric) and the tail, measured exactly: the answer of
+        :meth:`nearest`'s first pose compared with ``radius``, without its k-nearest query.
+        """
+        n = self._n
+        if n == 0:
+            return False
+        tree, built = self._tree, self._built
+        if tree is None or n <= SCAN:
+            rows = np.arange(n)
+        else:
+            r, a = self.radius, 2.0 * pose[2]
+            e = (pose[0], pose[1], r * math.cos(a), r * math.sin(a))
+            ball = tree.query_ball_point(e, radius * (1.0 + SLACK) + SLACK)
+            rows = np.concatenate([np.asarray(ball, dtype=np.int64), np.arange(built, n)])
+        return bool(len(rows)) and bool(np.any(self.metric(self._poses[rows], pose) < radius))
+
     def _best(self, rows: np.ndarray, pose: Pose, k: int) -> list[int]:
         """The ``k`` of ``rows`` (ascending) nearest to ``pose``: ties by insertion order."""
         d = self.metric(self._poses[rows], pose)

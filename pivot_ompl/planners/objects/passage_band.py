@@ -17,7 +17,10 @@ level's band it keeps (:func:`choose_passages`):
   cheapest routes first.
 
 The passages' geometry is exact (found and seeded as ever): only which ones is decided on
-the raster. A smaller or plainer floor gets every passage, as before.
+the raster. A smaller or plainer floor gets every passage, unless it is *crowded*: more slots,
+or more doors, than one level may seed (``band_passages``; a small room's SLAM map whose
+specks make thousands of gaps, each a few dozen roadmap nodes to multiplex). There the band is
+made once that many are found, and the passages are chosen from them as above.
 """
 
 from __future__ import annotations
@@ -112,8 +115,7 @@ def add_poses(roadmap: Roadmap, seeded: PoseIndex, poses: Iterable[Pose], *, kin
             break
         if region is not None and not shapely.contains_xy(region, q[0], q[1]):
             continue
-        near = seeded.nearest(q, 1)
-        if near and float(roadmap.distances(near, q)[0]) < 0.5 * spacing:
+        if seeded.any_within(q, 0.5 * spacing):
             continue
         seeded.append(roadmap.add(q, kind))
         added += 1
@@ -142,6 +144,7 @@ class PassageBand:
         self.level = 0
         self.band: FloorBand | None = None
         self._made = False
+        self._crowded = False  #: more passages of a kind found than a level seeds
 
     def applies(self) -> bool:
         """Whether the floor is large and cluttered enough for a band (``band_*``)."""
@@ -154,7 +157,7 @@ class PassageBand:
         if not self._made:
             self._made = True
             cfg = self.config
-            if self.applies():
+            if self.applies() or (self._crowded and bool(cfg.band_slacks)):
                 try:
                     self.band = FloorBand(self.checker, self.start, self.goal,
                                           cell=cfg.band_cell, max_cells=cfg.band_max_cells,
@@ -194,9 +197,12 @@ class PassageBand:
                 should_stop: Stop) -> list[Passage]:
         band = self._band(should_stop)
         found = find(self.checker, play=play, should_stop=should_stop, within=self._area())
+        cfg = self.config
+        if band is None and not self._crowded and len(found) > cfg.band_passages:
+            self._crowded, self._made = True, False  # a crowded floor: the band after all
+            band = self._band(should_stop)
         if band is None:
             return sorted(found, key=lambda p: p.width)
-        cfg = self.config
         return choose_passages(found, band, reach=cfg.band_reach, spacing=cfg.band_spacing,
                                cap=cfg.band_passages * (self.level + 1))
 

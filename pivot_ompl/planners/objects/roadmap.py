@@ -165,3 +165,7 @@ class PoseIndex:
         Ties by the order the nodes were appended.
         """
         return self._tree.nearest(pose, k)
+
+    def any_within(self, pose: Pose, radius: float) -> bool:
+        """Whether a held node lies nearer than ``radius`` to ``pose`` (:func:`pose_metric`)."""
+        return self._tree.any_within(pose, radius)

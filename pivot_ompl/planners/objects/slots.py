@@ -90,21 +90,45 @@ def _extent(geom: BaseGeometry, u: np.ndarray) -> tuple[float, float]:
 #: Length (m) cut off both ends of a gap's shortest segment before testing what lies across it
 #: (its ends touch the two obstacles, and the pieces adjoining them).
 _SEGMENT_TRIM = 1e-4
+#: Obstacles whose pairs :func:`find_passages` measures in one vectorised batch (the
+#: termination condition is polled between batches).
+PAIR_BATCH = 64
 
 
-def _blocked(shapes: list[BaseGeometry], tree: shapely.STRtree, a: tuple[float, float],
-             b: tuple[float, float], pair: tuple[int, int]) -> bool:
-    """Whether a third obstacle's interior meets the segment ``a - b`` joining the pair."""
-    ax, ay = a
-    bx, by = b
-    d = math.hypot(bx - ax, by - ay)
-    if d <= 2.0 * _SEGMENT_TRIM:
-        return False
-    t = _SEGMENT_TRIM / d
-    seg = shapely.LineString([(ax + t * (bx - ax), ay + t * (by - ay)),
-                              (bx - t * (bx - ax), by - t * (by - ay))])
-    return any(int(k) not in pair and shapely.relate_pattern(shapes[int(k)], seg, "T********")
-               for k in tree.query(seg, predicate="intersects"))
+def _blocked(shapes: np.ndarray, tree: shapely.STRtree, ends: np.ndarray, i: np.ndarray,
+             j: np.ndarray) -> np.ndarray:
+    """Per pair, whether a third obstacle's interior meets the segment joining the pair.
+
+    ``ends``: the pairs' shortest segments, ``(n, 2, 2)``; ``i``, ``j``: the pairs' indices
+    in ``shapes``. The segments are trimmed by :data:`_SEGMENT_TRIM` at both ends, and all
+    tested at once (one query of ``tree``, one vectorised predicate).
+    """
+    out = np.zeros(len(i), dtype=bool)
+    a, b = ends[:, 0], ends[:, 1]
+    d = np.array([math.hypot(bx - ax, by - ay) for (ax, ay), (bx, by) in zip(a, b, strict=True)])
+    long = np.flatnonzero(d > 2.0 * _SEGMENT_TRIM)
+    if not len(long):
+        return out
+    t = (_SEGMENT_TRIM / d[long])[:, None]
+    a, b = a[long], b[long]
+    segs = shapely.linestrings(np.stack([a + t * (b - a), b - t * (b - a)], axis=1))
+    s, k = tree.query(segs, predicate="intersects")
+    third = (k != i[long][s]) & (k != j[long][s])
+    s, k = s[third], k[third]
+    if not len(s):
+        return out
+    order = np.argsort(s, kind="stable")
+    s, k = s[order], k[order]
+    rank = np.arange(len(s)) - np.searchsorted(s, s)  # the candidate's place in its segment's
+    blocked = np.zeros(len(segs), dtype=bool)
+    for r in range(int(rank.max()) + 1):  # the r-th candidates of the segments still open
+        ask = np.flatnonzero((rank == r) & ~blocked[s])
+        if not len(ask):
+            break
+        hit = shapely.relate_pattern(shapes[k[ask]], segs[s[ask]], "T********")
+        blocked[s[ask[hit]]] = True
+    out[long] = blocked
+    return out
 
 
 def find_passages(scene: Scene, *, min_width: float, max_width: float,
@@ -118,49 +142,61 @@ def find_passages(scene: Scene, *, min_width: float, max_width: float,
     it is the gaps on either side of that thing: an obstacle made of thin pieces otherwise
     gives one passage per pair of pieces facing each other across the gap, thousands on a
     large floor; boxes touching along a whole side count as one, :func:`merge_boxes`). Sides
-    meeting at a corner, and obstacles touching, give none.
-    ``should_stop`` is polled per obstacle: the passages found so far are returned.
+    meeting at a corner, and obstacles touching, give none. The pairs are measured in
+    vectorised batches of :data:`PAIR_BATCH` obstacles (a SLAM map's specks make hundreds of
+    thousands of pairs); the passages come in the order of the obstacles, then of the
+    obstacle tree's query.
+    ``should_stop`` is polled per batch: the passages found so far are returned.
     ``obstacles``: the scene's with touching boxes merged already (a collision world's
     :attr:`~pivot_ompl.validity.collision.CollisionWorld.obstacles`); ``None``: merged here.
     ``within``: only the passages whose centre it holds (an obstacle farther from it than
     ``max_width`` is not looked at); ``None``: the whole floor.
     """
     merged = merge_boxes(scene.obstacles) if obstacles is None else obstacles
-    shapes = obstacle_footprints(merged)
-    shapes += _room_sides(scene.bounds, max(1.0, 2.0 * max_width))
+    listed = obstacle_footprints(merged)
+    listed += _room_sides(scene.bounds, max(1.0, 2.0 * max_width))
+    shapes = np.empty(len(listed), dtype=object)
+    shapes[:] = listed
     tree = shapely.STRtree(shapes)
-    near = _near(shapes, within, max_width)
+    near = np.asarray(_near(listed, within, max_width), dtype=bool)
     out: list[Passage] = []
-    for i, a in enumerate(shapes):
+    for first in range(0, len(shapes), PAIR_BATCH):
         if should_stop():
             break
-        if not near[i]:
+        rows = np.flatnonzero(near[first:first + PAIR_BATCH]) + first
+        if not len(rows):
             continue
-        for j in tree.query(a, predicate="dwithin", distance=max_width):
-            j = int(j)
-            if j <= i or not near[j]:
-                continue
-            b = shapes[j]
-            width = float(a.distance(b))
-            if not min_width <= width <= max_width:
-                continue
-            (ax, ay), (bx, by) = shapely.shortest_line(a, b).coords
-            if _blocked(shapes, tree, (ax, ay), (bx, by), (i, j)):
-                continue
-            axis = math.atan2(by - ay, bx - ax) + 0.5 * math.pi
-            u = np.array([math.cos(axis), math.sin(axis)])
-            lo_a, hi_a = _extent(a, u)
-            lo_b, hi_b = _extent(b, u)
-            lo, hi = max(lo_a, lo_b), min(hi_a, hi_b)
-            mid = np.array([0.5 * (ax + bx), 0.5 * (ay + by)])
-            along = 0.5 * (lo + hi) if hi >= lo else float(mid @ u)
-            c = mid + (along - float(mid @ u)) * u
-            if within is not None and not within.holds(float(c[0]), float(c[1])):
-                continue
-            out.append(Passage((float(c[0]), float(c[1])),
-                               (axis + 0.5 * math.pi) % math.pi - 0.5 * math.pi,
-                               width, max(0.0, hi - lo)))
+        q, j = tree.query(shapes[rows], predicate="dwithin", distance=max_width)
+        i = rows[q]
+        pair = (j > i) & near[j]
+        i, j = i[pair], j[pair]
+        width = shapely.distance(shapes[i], shapes[j])
+        fits = (width >= min_width) & (width <= max_width)
+        i, j, width = i[fits], j[fits], width[fits]
+        if not len(i):
+            continue
+        ends = shapely.get_coordinates(shapely.shortest_line(shapes[i], shapes[j]))
+        ends = ends.reshape(-1, 2, 2)
+        for n in np.flatnonzero(~_blocked(shapes, tree, ends, i, j)):
+            p = _passage(shapes[i[n]], shapes[j[n]], ends[n], float(width[n]))
+            if within is None or within.holds(*p.center):
+                out.append(p)
     return out
+
+
+def _passage(a: BaseGeometry, b: BaseGeometry, ends: np.ndarray, width: float) -> Passage:
+    """The passage between ``a`` and ``b`` across their shortest segment ``ends``."""
+    ax, ay, bx, by = (float(v) for v in ends.ravel())
+    axis = math.atan2(by - ay, bx - ax) + 0.5 * math.pi
+    u = np.array([math.cos(axis), math.sin(axis)])
+    lo_a, hi_a = _extent(a, u)
+    lo_b, hi_b = _extent(b, u)
+    lo, hi = max(lo_a, lo_b), min(hi_a, hi_b)
+    mid = np.array([0.5 * (ax + bx), 0.5 * (ay + by)])
+    along = 0.5 * (lo + hi) if hi >= lo else float(mid @ u)
+    c = mid + (along - float(mid @ u)) * u
+    return Passage((float(c[0]), float(c[1])),
+                   (axis + 0.5 * math.pi) % math.pi - 0.5 * math.pi, width, max(0.0, hi - lo))
 
 
 def _near(shapes: list[BaseGeometry], within: Area | None, reach: float) -> list[bool]:
