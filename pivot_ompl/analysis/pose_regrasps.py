@@ -22,10 +22,10 @@ parts rises once the bin is fine enough, one that fine bins keep is the relaxati
 at that scale. Rounds end when the count reaches ``target`` (the plan's regrasps: nothing
 more to prove), when the chain's bins are all at
 :data:`~pivot_ompl.analysis.pose_proof.FINEST`, at
-:data:`~pivot_ompl.analysis.pose_proof.MAX_BINS` bins, after :data:`MOST_ROUNDS` rounds, or
-before a round that would compute more than :data:`MOST_BINS` bins in all (counts, not a
-clock: the same on any load). ``should_stop`` is polled before every bin's parts; stopped,
-the rounds done stand.
+:data:`~pivot_ompl.analysis.pose_proof.MAX_BINS` bins, after :data:`MOST_ROUNDS` rounds or
+:data:`MOST_SEARCHES` searches, or before a round that would compute more than
+:data:`MOST_BINS` bins in all (counts, not a clock: the same on any load). ``should_stop``
+is polled before every bin's parts; stopped, the rounds done stand.
 
 What it cannot see: the pivoting kinematics, and of the walk only its disk's way round the
 box (not the walking body's heading). Where the held assembly fits a passage at the full
@@ -77,6 +77,10 @@ MOST_BINS = 64
 #: corridor rows' first round gives most of their count (16 rooms, seed 1: 5 of the 6 that
 #: eleven rounds reach, in a fifth of their time).
 MOST_ROUNDS = 4
+#: Shortest-path searches at most over all rounds (each after the walks refused a link of
+#: the chain before; a count, not a clock): the 32-room row with a 0.89 m corridor asked 228
+#: in four rounds, three quarters of its 19 s; the 4-room rows need 1-9.
+MOST_SEARCHES = 48
 
 
 @dataclass(frozen=True)
@@ -111,22 +115,35 @@ def pose_estimate(scene: Scene, *, most_bins: int = MOST_BINS) -> float:
     return proof_estimate(scene) * most_bins / ESTIMATED_BINS
 
 
+@dataclass
+class Searches:
+    """Shortest-path searches left to :func:`least_changes` (shared by the rounds)."""
+
+    left: int
+
+
 def least_changes(graph: PoseGraph, starts: list[Node], goals: list[Node],
-                  widths: list[float], *, may_regrasp: Callable[[Node, Node], bool] | None = None
-                  ) -> tuple[int, list[Node]] | None:
+                  widths: list[float], *, may_regrasp: Callable[[Node, Node], bool] | None = None,
+                  searches: Searches | None = None) -> tuple[int, list[Node]] | None:
     """Fewest grasp changes from a start to a goal part, and a chain of that many.
 
     Among chains of the fewest changes, the one of least summed bin widths (``widths[i]``,
     rad, per part entered). ``None`` when no chain joins them. ``may_regrasp(u, v)``: whether
     the regrasp link from part ``u`` to part ``v`` (one bin, two grasps) may be taken at all;
     asked lazily, of the chain found only: a link it refuses is cut from ``graph.links`` and
-    the chain sought again.
+    the chain sought again, at most ``searches.left`` times in all (each search takes one;
+    none left, the last chain is given unasked: its count is still a lower bound, the links
+    it was not asked of being more than the relaxation's).
     """
     while True:
         found = _fewest(graph.links, starts, goals, widths)
         if found is None:
             return None
         count, chain = found
+        if searches is not None:
+            searches.left -= 1
+            if searches.left < 0:
+                return count, chain
         refused = [] if may_regrasp is None else [
             (u, v) for u, v in zip(chain, chain[1:], strict=False)
             if u[1] != v[1] and not may_regrasp(u, v)]
@@ -235,6 +252,7 @@ def pose_regrasp_bound(scene: Scene, *, target: int | None = None,
                        clearance: float = MOTION_CLEARANCE, first_bins: int = FIRST_BINS,
                        max_bins: int = MAX_BINS, finest: float = FINEST,
                        most_bins: int = MOST_BINS, most_rounds: int = MOST_ROUNDS,
+                       most_searches: int = MOST_SEARCHES,
                        walk: bool = True, jumps: bool = True,
                        should_stop: Callable[[], bool] | None = None) -> PoseRegrasps:
     """The held poses' lower bound on the regrasps of any plan of ``scene`` (module docstring).
@@ -252,6 +270,8 @@ def pose_regrasp_bound(scene: Scene, *, target: int | None = None,
         jumps: parts at the checkers' full clearance joined across the sweep's jumps
             (:class:`~pivot_ompl.analysis.pose_jumps.JumpParts`; ``clearance`` then unused).
         most_rounds: rounds at most (then the rounds done stand, and the result is complete).
+        most_searches: shortest-path searches at most over all rounds (:func:`least_changes`;
+            then the last count stands, and the result is complete).
         walk: take a regrasp link only where the walking robot may get round the resting box
             (:class:`RegraspWalks`).
         should_stop: polled before every bin's parts; stopped, the rounds done stand.
@@ -272,6 +292,7 @@ def pose_regrasp_bound(scene: Scene, *, target: int | None = None,
         if parts.room is None:
             return result(False)
         walks = RegraspWalks(scene) if walk else None
+        searches = Searches(most_searches)
         while True:
             graph = PoseGraph(parts, edges, should_stop)
             rounds += 1
@@ -282,12 +303,13 @@ def pose_regrasp_bound(scene: Scene, *, target: int | None = None,
                 walks.cut(graph, edges)
             found = least_changes(
                 graph, starts, goals, np.diff(edges).tolist(),
-                may_regrasp=None if walks is None else partial(walks.may, parts, edges))
+                may_regrasp=None if walks is None else partial(walks.may, parts, edges),
+                searches=searches)
             if found is None:
                 return result(True, apart=True)
             count, path = found
             best = count if best is None else max(best, count)
-            if target is not None and best >= target:
+            if (target is not None and best >= target) or searches.left < 0:
                 return result(True)
             split, widest = regrasp_bins(edges, path, finest)
             log.debug("held poses' regrasps, round %d: %d bins, at least %d (chain of %d "

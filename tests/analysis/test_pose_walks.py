@@ -98,3 +98,14 @@ def test_a_corridor_open_at_8_mm_but_not_at_the_full_clearance_parts_start_and_g
     assert pose_regrasp_bound(scene, jumps=True, **FINE).apart
     assert not pose_regrasp_bound(scene, jumps=False, **FINE).apart
     assert not pose_regrasp_bound(_two_rooms(0.90), jumps=True, **FINE).apart
+
+
+def test_a_count_cut_short_by_its_searches_stays_below_the_plans(corridor_rows):
+    # with no search left the chain found is taken unasked: a count over more links than
+    # the walks allow, so never above the full count, nor above a checked plan's regrasps
+    for gen in corridor_rows:
+        full = pose_regrasp_bound(gen.scene, target=None, most_rounds=2)
+        short = pose_regrasp_bound(gen.scene, target=None, most_rounds=2, most_searches=0)
+        assert short.complete and full.complete
+        assert short.regrasps is not None and full.regrasps is not None
+        assert short.regrasps <= full.regrasps <= gen.witness.regrasps
