@@ -109,3 +109,16 @@ def test_a_count_cut_short_by_its_searches_stays_below_the_plans(corridor_rows):
         assert short.complete and full.complete
         assert short.regrasps is not None and full.regrasps is not None
         assert short.regrasps <= full.regrasps <= gen.witness.regrasps
+
+
+def test_the_levels_take_the_held_poses_count_after_the_exact_polygons():
+    # a 4-room row whose exact polygons fit the levels' time: they prove 2 of the plans' 3
+    # (at 8 mm, without walks); the held poses' count runs after them and proves the 3
+    from pivot_ompl.analysis.bound_levels import scaled_lower_bound
+    from pivot_ompl.generate import GeneratorParams, generate
+
+    scene = generate("building", 1, params=GeneratorParams(
+        rooms=4, layout="corridor", rotate=True, side_corridor=(0.87, 0.89),
+        side_door=(1.0, 1.0))).scene
+    found = scaled_lower_bound(scene, target=3, guided_seconds=60.0)
+    assert found.exhaustive and found.held and found.regrasps == 3
