@@ -32,7 +32,10 @@ started. On a floor of few obstacle pieces, whose held poses' count
 (:func:`~pivot_ompl.analysis.pose_regrasps.pose_regrasp_bound`: exact polygons per yaw bin
 and grasp, the fewest grasp changes over them) is estimated at most :data:`POSE_SECONDS`,
 that count runs in its place (:func:`may_pose`): measured on the corridor rows, the
-refinement's raster proves 0 there and the count 2, with its cost bounded by a bin count.
+refinement's raster proves 0 there and the count 3-5, with its cost bounded by bin, round
+and search counts. It runs after the exact polygons too, where they prove less than
+``target`` (they keep the motions' 8 mm and ask for no walk: 2 on the 4-room corridor rows,
+whose plans and the count need 3).
 """
 
 from __future__ import annotations
@@ -158,8 +161,10 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
                                    built=take_exact(scene, resolution=resolution,
                                                     clearance=KEEP_CLEARANCE))
         if full.solvable is not None:
-            return dataclasses.replace(_better(full, best), exhaustive=True,
-                                       seconds=time.perf_counter() - t0)
+            best = dataclasses.replace(_better(full, best), exhaustive=True)
+            if _wanted(best, target) and may_pose(scene, guided_seconds):  # walks, 1 cm
+                best = held_poses_bound(scene, best, target, should_stop)
+            return dataclasses.replace(best, seconds=time.perf_counter() - t0)
         return dataclasses.replace(best, seconds=time.perf_counter() - t0)
     done = floor_raster(scene.bounds, CELLS[0]).cell
     for cell in CELLS[1:]:

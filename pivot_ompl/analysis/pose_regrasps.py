@@ -8,33 +8,43 @@ the start to one holding the goal is at most the regrasps of any plan (a regrasp
 grasp held before counts none: fewer, still a lower bound). Every round's least count is such
 a bound, whatever its bins; the largest over the rounds is given.
 
-The count is a shortest path with motions costing 0 and grasp changes 1; among chains of the
-least count the one through the narrowest bins is taken (costs compared as pairs: grasp
-changes, then the summed widths of the bins of the parts entered), and its widest bins are
-halved for the next round: a count held down by a coarse bin's loose parts rises once the
-bin is fine enough, one that fine bins keep is the relaxation's answer at that scale. Rounds
-end when the count reaches ``target`` (the plan's regrasps: nothing more to prove), when the
-chain's bins are all at :data:`~pivot_ompl.analysis.pose_proof.FINEST`, at
-:data:`~pivot_ompl.analysis.pose_proof.MAX_BINS` bins, or before a round that would compute
-more than :data:`MOST_BINS` bins in all (a count, not a clock: the same on any load).
-``should_stop`` is polled before every bin's parts; stopped, the rounds done stand.
+The parts are taken at the checkers' full clearance, joined across the sweep's jumps
+(:class:`~pivot_ompl.analysis.pose_jumps.JumpParts`), and a regrasp link only where the
+walking robot may get round the resting box from one grasp to the other
+(:class:`~pivot_ompl.analysis.pose_walks.PoseWalks`, asked lazily of the chains found: a link
+it refuses is cut and the chain sought again; refusals are kept for the bins the next
+rounds keep).
 
-What it cannot see: the walk round the resting box (a regrasp is allowed wherever both
-grasps' parts meet) and the pivoting kinematics. Where the held assembly fits a passage at the
-relaxation's clearance (:data:`~pivot_ompl.analysis.pose_proof.MOTION_CLEARANCE`), its chain
-takes it.
+The count is a shortest path with motions costing 0 and grasp changes 1; among chains of the
+least count the one through the narrowest bins is taken, and the bins of its regrasps (else
+its widest bins) are halved for the next round: a count held down by a coarse bin's loose
+parts rises once the bin is fine enough, one that fine bins keep is the relaxation's answer
+at that scale. Rounds end when the count reaches ``target`` (the plan's regrasps: nothing
+more to prove), when the chain's bins are all at
+:data:`~pivot_ompl.analysis.pose_proof.FINEST`, at
+:data:`~pivot_ompl.analysis.pose_proof.MAX_BINS` bins, after :data:`MOST_ROUNDS` rounds or
+:data:`MOST_SEARCHES` searches, or before a round that would compute more than
+:data:`MOST_BINS` bins in all (counts, not a clock: the same on any load). ``should_stop``
+is polled before every bin's parts; stopped, the rounds done stand.
+
+What it cannot see: the pivoting kinematics, and of the walk only its disk's way round the
+box (not the walking body's heading). Where the held assembly fits a passage at the full
+clearance in some yaw of a bin, its chain takes it.
 """
 
 from __future__ import annotations
 
+import heapq
 import logging
 import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
+from pivot_ompl.analysis.pose_jumps import JumpParts
 from pivot_ompl.analysis.pose_proof import (
     ESTIMATED_BINS,
     FINEST,
@@ -43,11 +53,11 @@ from pivot_ompl.analysis.pose_proof import (
     HeldParts,
     Node,
     PoseGraph,
-    cheapest,
     halve,
     proof_estimate,
     widest_bins,
 )
+from pivot_ompl.analysis.pose_walks import PoseWalks
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
 
@@ -63,6 +73,14 @@ FIRST_BINS = 64
 #: bins' worth took 10.3 s against 7.1 s for 64, both 2, on a loaded machine); fig10's 2
 #: needs 62.
 MOST_BINS = 64
+#: Rounds at most (a count, not a clock). With the walks and the full clearance the
+#: corridor rows' first round gives most of their count (16 rooms, seed 1: 5 of the 6 that
+#: eleven rounds reach, in a fifth of their time).
+MOST_ROUNDS = 4
+#: Shortest-path searches at most over all rounds (each after the walks refused a link of
+#: the chain before; a count, not a clock): the 32-room row with a 0.89 m corridor asked 228
+#: in four rounds, three quarters of its 19 s; the 4-room rows need 1-9.
+MOST_SEARCHES = 48
 
 
 @dataclass(frozen=True)
@@ -97,23 +115,145 @@ def pose_estimate(scene: Scene, *, most_bins: int = MOST_BINS) -> float:
     return proof_estimate(scene) * most_bins / ESTIMATED_BINS
 
 
+@dataclass
+class Searches:
+    """Shortest-path searches left to :func:`least_changes` (shared by the rounds)."""
+
+    left: int
+
+
 def least_changes(graph: PoseGraph, starts: list[Node], goals: list[Node],
-                  widths: list[float]) -> tuple[int, list[Node]] | None:
+                  widths: list[float], *, may_regrasp: Callable[[Node, Node], bool] | None = None,
+                  searches: Searches | None = None) -> tuple[int, list[Node]] | None:
     """Fewest grasp changes from a start to a goal part, and a chain of that many.
 
     Among chains of the fewest changes, the one of least summed bin widths (``widths[i]``,
-    rad, per part entered). ``None`` when no chain joins them.
+    rad, per part entered). ``None`` when no chain joins them. ``may_regrasp(u, v)``: whether
+    the regrasp link from part ``u`` to part ``v`` (one bin, two grasps) may be taken at all;
+    asked lazily, of the chain found only: a link it refuses is cut from ``graph.links`` and
+    the chain sought again, at most ``searches.left`` times in all (each search takes one;
+    none left, the last chain is given unasked: its count is still a lower bound, the links
+    it was not asked of being more than the relaxation's).
     """
-    price, out, _ = cheapest(
-        graph.links, starts, goals,
-        lambda u, v: (float(u is not None and v[1] != u[1]), widths[v[0]]))
-    return None if price is None else (int(price[0]), out[::-1])
+    while True:
+        found = _fewest(graph.links, starts, goals, widths)
+        if found is None:
+            return None
+        count, chain = found
+        if searches is not None:
+            searches.left -= 1
+            if searches.left < 0:
+                return count, chain
+        refused = [] if may_regrasp is None else [
+            (u, v) for u, v in zip(chain, chain[1:], strict=False)
+            if u[1] != v[1] and not may_regrasp(u, v)]
+        if not refused:
+            return count, chain
+        for u, v in refused:
+            graph.links[u].remove(v)
+            graph.links[v].remove(u)
+
+
+#: A grasp change's price against the bins' widths (rad) in :func:`_fewest`: above any
+#: chain's summed widths (a chain enters each part once; parts are far fewer than 1e6 / 2pi).
+CHANGE = 1e6
+
+
+def _fewest(links: dict[Node, list[Node]], starts: list[Node], goals: list[Node],
+            widths: list[float]) -> tuple[int, list[Node]] | None:
+    """The fewest grasp changes from a start to a goal part, and a chain of that many.
+
+    :func:`~pivot_ompl.analysis.pose_proof.cheapest` priced by grasp changes, then widths, as
+    one number (the same order; a plain float heap is several times faster).
+    """
+    goal = set(goals)
+    before: dict[Node, Node | None] = dict.fromkeys(starts)
+    cost = {u: widths[u[0]] for u in starts}
+    todo = [(c, u) for u, c in cost.items()]
+    heapq.heapify(todo)
+    done: set[Node] = set()
+    while todo:
+        c, u = heapq.heappop(todo)
+        if u in done:
+            continue
+        done.add(u)
+        if u in goal:
+            out = [u]
+            while (p := before[out[-1]]) is not None:
+                out.append(p)
+            return int(c // CHANGE), out[::-1]
+        g = u[1]
+        for v in links.get(u, ()):
+            if v in done:
+                continue
+            cv = c + widths[v[0]] + (CHANGE if v[1] != g else 0.0)
+            if cv < cost.get(v, math.inf):
+                cost[v], before[v] = cv, u
+                heapq.heappush(todo, (cv, v))
+    return None
+
+
+class RegraspWalks:
+    """Whether a regrasp link of the held poses' graph may be walked (lazily, kept).
+
+    The link joins part ``k`` of grasp ``g`` and part ``q`` of grasp ``h`` at one bin: the
+    box rests where the two meet, at a yaw of the bin, and the robot walks from its grasp-``g``
+    pose to its grasp-``h`` pose round it (:class:`~pivot_ompl.analysis.pose_walks.PoseWalks`,
+    built at the first question).
+    """
+
+    def __init__(self, scene: Scene) -> None:
+        self.scene = scene
+        self.walk: PoseWalks | None = None
+        self.answers: dict[tuple[float, float, int, int, int, int], bool] = {}
+        self.refused: set[tuple[float, float, int, int, int, int]] = set()
+
+    def cut(self, graph: PoseGraph, edges: list[float]) -> None:
+        """Cut from ``graph`` the regrasp links refused in earlier rounds (bins kept)."""
+        at = {(edges[i], edges[i + 1]): i for i in range(len(edges) - 1)}
+        for a, b, g, k, h, q in self.refused:
+            i = at.get((a, b))
+            if i is not None and (i, h, q) in graph.links.get((i, g, k), ()):
+                graph.links[(i, g, k)].remove((i, h, q))
+                graph.links[(i, h, q)].remove((i, g, k))
+
+    def may(self, parts: HeldParts, edges: list[float], u: Node, v: Node) -> bool:
+        """Whether the regrasp from part ``u`` to part ``v`` (one bin) may happen."""
+        (i, g, k), (_, h, q) = u, v
+        a, b = edges[i], edges[i + 1]
+        key = (a, b, g, k, h, q)
+        if key not in self.answers:
+            if self.walk is None:
+                self.walk = PoseWalks(self.scene)
+            table = parts.of(a, b)
+            region = table[g][k].intersection(table[h][q])
+            self.answers[key] = self.answers[(a, b, h, q, g, k)] = self.walk.may_regrasp(
+                region, a, b, g, h)
+            if not self.answers[key]:
+                self.refused.add(key)
+        return self.answers[key]
+
+
+def regrasp_bins(edges: list[float], path: list[Node], finest: float
+                 ) -> tuple[list[int], float]:
+    """The bins of a chain to halve, with those opposite them, and the widest of them (rad).
+
+    The bins of the chain's regrasps first (where the walk round the resting box is judged,
+    at the bin's loosest: :class:`RegraspWalks`), the widest of them (within 1 %), none of
+    ``finest`` or finer; when those are all that fine, the chain's widest bins
+    (:func:`~pivot_ompl.analysis.pose_proof.widest_bins`).
+    """
+    at = [u for u, v in zip(path, path[1:], strict=False) if u[1] != v[1]]
+    split, widest = widest_bins(edges, at, finest) if at else ([], 0.0)
+    return (split, widest) if split else widest_bins(edges, path, finest)
 
 
 def pose_regrasp_bound(scene: Scene, *, target: int | None = None,
                        clearance: float = MOTION_CLEARANCE, first_bins: int = FIRST_BINS,
                        max_bins: int = MAX_BINS, finest: float = FINEST,
-                       most_bins: int = MOST_BINS,
+                       most_bins: int = MOST_BINS, most_rounds: int = MOST_ROUNDS,
+                       most_searches: int = MOST_SEARCHES,
+                       walk: bool = True, jumps: bool = True,
                        should_stop: Callable[[], bool] | None = None) -> PoseRegrasps:
     """The held poses' lower bound on the regrasps of any plan of ``scene`` (module docstring).
 
@@ -127,6 +267,13 @@ def pose_regrasp_bound(scene: Scene, *, target: int | None = None,
         finest: narrowest bin halved again (rad).
         most_bins: bins' worth of parts computed at most over all rounds (a round that would
             pass it is not run: the rounds done stand, and the result is complete).
+        jumps: parts at the checkers' full clearance joined across the sweep's jumps
+            (:class:`~pivot_ompl.analysis.pose_jumps.JumpParts`; ``clearance`` then unused).
+        most_rounds: rounds at most (then the rounds done stand, and the result is complete).
+        most_searches: shortest-path searches at most over all rounds (:func:`least_changes`;
+            then the last count stands, and the result is complete).
+        walk: take a regrasp link only where the walking robot may get round the resting box
+            (:class:`RegraspWalks`).
         should_stop: polled before every bin's parts; stopped, the rounds done stand.
 
     Never raises on a stop.
@@ -140,28 +287,37 @@ def pose_regrasp_bound(scene: Scene, *, target: int | None = None,
                             float(np.diff(edges).min()), rounds, time.perf_counter() - t0)
 
     try:
-        parts = HeldParts(scene, clearance, should_stop)
+        parts = JumpParts(scene, should_stop) if jumps else HeldParts(scene, clearance,
+                                                                       should_stop)
         if parts.room is None:
             return result(False)
+        walks = RegraspWalks(scene) if walk else None
+        searches = Searches(most_searches)
         while True:
             graph = PoseGraph(parts, edges, should_stop)
             rounds += 1
             starts, goals = graph.nodes_at(edges, scene.start), graph.nodes_at(edges, scene.goal)
             if not starts or not goals:
                 return result(False)
-            found = least_changes(graph, starts, goals, np.diff(edges).tolist())
+            if walks is not None:
+                walks.cut(graph, edges)
+            found = least_changes(
+                graph, starts, goals, np.diff(edges).tolist(),
+                may_regrasp=None if walks is None else partial(walks.may, parts, edges),
+                searches=searches)
             if found is None:
                 return result(True, apart=True)
             count, path = found
             best = count if best is None else max(best, count)
-            if target is not None and best >= target:
+            if (target is not None and best >= target) or searches.left < 0:
                 return result(True)
-            split, widest = widest_bins(edges, path, finest)
+            split, widest = regrasp_bins(edges, path, finest)
             log.debug("held poses' regrasps, round %d: %d bins, at least %d (chain of %d "
                       "parts); %d halved (%.2f degrees)", rounds, len(edges) - 1, best,
                       len(path), len(split), math.degrees(widest))
             computed += len(split)  # two halves each, an opposite pair's for one bin's
-            if not split or len(edges) - 1 + len(split) > max_bins or computed > most_bins:
+            if (not split or len(edges) - 1 + len(split) > max_bins or computed > most_bins
+                    or rounds >= most_rounds):
                 return result(True)
             halve(parts, edges, split)
     except Interrupted:

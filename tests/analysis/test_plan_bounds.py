@@ -126,8 +126,8 @@ def test_a_plan_refines_the_bound_by_default_where_the_quick_one_proves_less(
         monkeypatch, tmp_path):
     """The refinement runs inside every plan whose regrasps the quick bounds do not prove,
     when it fits the limit (``prove=None``; on this small floor the held poses' count, in
-    place of the guided raster: 2 where the raster proves 0); ``prove=False`` keeps the
-    quick ones."""
+    place of the guided raster: 3, the plan's, where the raster proves 0); ``prove=False``
+    keeps the quick ones."""
     from pivot_ompl.analysis.bound_cache import cached_bound
 
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
@@ -138,7 +138,7 @@ def test_a_plan_refines_the_bound_by_default_where_the_quick_one_proves_less(
     proved = plan(scene, time_limit=30, seed=0)
     assert proved.solved
     known = cached_bound(scene)
-    assert known is not None and known.held and not known.guided and known.regrasps == 2
+    assert known is not None and known.held and not known.guided and known.regrasps == 3
     assert proved.plan.extra["quality"]["regrasps_lower_bound"] == known.regrasps
     assert known.regrasps <= proved.plan.regrasps
 
