@@ -38,7 +38,8 @@ def explained(scene: Scene, proof: PoseProof, *,
     need = assembly_width(scene.model, clearance=KEEP_CLEARANCE)
     steps = math.degrees(proof.finest)
     tail = (f"the box and the robot holding it ({need:.2f} m across) fit no pose, turning or "
-            f"regrasping, that takes them through (held poses checked in yaw steps down to "
+            f"regrasping with the robot walking round the resting box, that takes them through "
+            f"(held poses checked in yaw steps down to "
             f"{steps:.2f} degrees)")
     passage = blocking_passage(scene, should_stop=should_stop,
                                gaps_below=assembly_length(scene) + 2.0 * KEEP_CLEARANCE)

@@ -46,6 +46,7 @@ from pivot_ompl.analysis.pose_cells import (
     held_bodies,
     near,
 )
+from pivot_ompl.analysis.pose_walk import RegraspWalks
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import GRASPS
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Scene
@@ -120,6 +121,8 @@ class HeldParts:
         self.bins = BinRegions(near(grown, self.area, reach + 1e-3), self.bodies, self.area)
         self.known: dict[tuple[float, float], list[list[BaseGeometry]]] = {}
         self.met: dict[tuple[float, ...], list[tuple[int, int]]] = {}
+        self.walks = RegraspWalks(scene, tolerance=SWEEP_TOLERANCE, clearance=KEEP_CLEARANCE)
+        self.walked: dict[tuple[float, float], dict[tuple[int, int, int, int], bool]] = {}
 
     def of(self, a: float, b: float) -> list[list[BaseGeometry]]:
         """Per grasp, the free parts of the bin ``[a, b]``."""
@@ -132,6 +135,21 @@ class HeldParts:
     def forget(self, a: float, b: float) -> None:
         """Drop the parts of the bin ``[a, b]`` (halved: never asked again)."""
         self.known.pop((a, b), None)
+        self.walked.pop((a, b), None)
+
+    def may_regrasp(self, a: float, b: float, u: tuple[int, int], v: tuple[int, int]) -> bool:
+        """Whether the robot may walk round the box between parts ``u`` and ``v``.
+
+        ``u``, ``v``: (grasp, part) of the bin ``[a, b]``, asked where they meet
+        (:mod:`~pivot_ompl.analysis.pose_walk`); ``False`` proves that no regrasp joins them.
+        """
+        key = (*u, *v) if u < v else (*v, *u)
+        asked = self.walked.setdefault((a, b), {})
+        if key not in asked:
+            here = self.of(a, b)
+            region = here[key[0]][key[1]].intersection(here[key[2]][key[3]])
+            asked[key] = self.walks.may_regrasp(region, a, b, key[0], key[2])
+        return asked[key]
 
     def meet(self, key: tuple[float, ...], a: list[BaseGeometry],
              b: list[BaseGeometry]) -> list[tuple[int, int]]:
@@ -209,6 +227,23 @@ class PoseGraph:
     def _link(self, a: Node, b: Node) -> None:
         self.links.setdefault(a, []).append(b)
         self.links.setdefault(b, []).append(a)
+
+    def walkless(self, parts: HeldParts, edges: list[float], path: list[Node]) -> bool:
+        """Drop the chain's regrasp joins round whose box the robot cannot walk.
+
+        Asked only of a chain found (a join is a regrasp where both ends are one bin): the
+        walk is the costly part, and most joins are never on a chain. ``True`` when one was
+        dropped (then look for a chain again).
+        """
+        dropped = False
+        for u, v in zip(path, path[1:], strict=False):
+            if u[0] != v[0] or u[1] == v[1]:
+                continue
+            if not parts.may_regrasp(edges[u[0]], edges[u[0] + 1], u[1:], v[1:]):
+                self.links[u].remove(v)
+                self.links[v].remove(u)
+                dropped = True
+        return dropped
 
     def nodes_at(self, edges: list[float], pose: Pose) -> list[Node]:
         """The parts holding ``pose`` (any grasp)."""
@@ -323,6 +358,8 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
             if not starts or not goals:
                 return result(None)
             path, reached = graph.chain(starts, goals, np.diff(edges).tolist())
+            while path is not None and graph.walkless(parts, edges, path):
+                path, reached = graph.chain(starts, goals, np.diff(edges).tolist())
             if path is None:
                 reach = shapely.union_all([graph.table[i][g][k] for i, g, k in reached])
                 return result(True, reach)
