@@ -92,6 +92,8 @@ class PoseProof:
         rounds: rounds of refinement.
         seconds: time taken (s).
         start_reach: with ``apart``, the box positions the start's parts cover (m, world).
+        refused: with ``apart``, the box positions of the last round's regrasps on a chain
+            from start to goal round whose resting box the robot cannot walk (m, world).
     """
 
     apart: bool | None
@@ -100,6 +102,7 @@ class PoseProof:
     rounds: int
     seconds: float
     start_reach: BaseGeometry | None = None
+    refused: tuple[BaseGeometry, ...] = ()
 
 
 class HeldParts:
@@ -214,6 +217,7 @@ class PoseGraph:
                 raise Interrupted("the held poses' relaxation")
             self.table.append(parts.of(edges[i], edges[i + 1]))
         self.links: dict[Node, list[Node]] = {}
+        self.refused: list[BaseGeometry] = []  # the regrasps dropped (:meth:`walkless`)
         for i in range(n):
             here, there = self.table[i], self.table[(i + 1) % n]
             a, b, c = edges[i], edges[i + 1], edges[(i + 1) % n + 1]
@@ -242,6 +246,8 @@ class PoseGraph:
             if not parts.may_regrasp(edges[u[0]], edges[u[0] + 1], u[1:], v[1:]):
                 self.links[u].remove(v)
                 self.links[v].remove(u)
+                here = self.table[u[0]]
+                self.refused.append(here[u[1]][u[2]].intersection(here[v[1]][v[2]]))
                 dropped = True
         return dropped
 
@@ -340,10 +346,11 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
     edges = [2.0 * math.pi * i / first_bins for i in range(first_bins + 1)]
     rounds = 0
 
-    def result(apart: bool | None, reach: BaseGeometry | None = None) -> PoseProof:
+    def result(apart: bool | None, reach: BaseGeometry | None = None,
+               refused: tuple[BaseGeometry, ...] = ()) -> PoseProof:
         widths = np.diff(edges)
         return PoseProof(apart, len(edges) - 1, float(widths.min()), rounds,
-                         time.perf_counter() - t0, reach)
+                         time.perf_counter() - t0, reach, refused)
 
     try:
         parts = HeldParts(scene, clearance, should_stop)
@@ -362,7 +369,7 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
                 path, reached = graph.chain(starts, goals, np.diff(edges).tolist())
             if path is None:
                 reach = shapely.union_all([graph.table[i][g][k] for i, g, k in reached])
-                return result(True, reach)
+                return result(True, reach, tuple(graph.refused))
             split, widest = widest_bins(edges, path, finest)
             log.debug("held poses, round %d: %d bins, a chain of %d parts over %d bins; %d "
                       "halved (%.2f degrees)", rounds, len(edges) - 1, len(path),

@@ -10,6 +10,7 @@ import pytest
 import shapely
 from factories import make_scene
 
+from pivot_ompl.analysis.late_proof import held_pose_proof
 from pivot_ompl.analysis.pose_proof import prove_no_plan
 from pivot_ompl.analysis.pose_walk import RegraspWalks
 from pivot_ompl.generate import generate
@@ -99,5 +100,10 @@ def test_the_held_poses_proof_separates_rooms_whose_door_holds_the_box_but_not_t
     # (0.88 m across) does not, and the robot cannot walk round the box resting in it
     scene = dataclasses.replace(_door(0.85), start=(2.0, 3.0, 0.0), goal=(6.0, 3.0, 0.0))
     assert prove_no_plan(scene).apart is True
+    no_plan = held_pose_proof(scene)  # the door named: where, how wide, what needs what
+    assert no_plan is not None and no_plan.passage is not None
+    assert "the gap at (4.00, 3.00), 0.85 m wide" in no_plan.reason
+    assert "0.88 m" in no_plan.reason and "walk round" in no_plan.reason
+    assert no_plan.passage.width == pytest.approx(0.85)
     monkeypatch.setattr(RegraspWalks, "may_regrasp", lambda *args: True)
     assert prove_no_plan(scene).apart is not True  # the regrasp in the door joins them
