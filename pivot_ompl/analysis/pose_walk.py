@@ -151,7 +151,7 @@ class RegraspWalks:
             else:
                 ym = 0.5 * (y0 + y1)
                 halves = ((x0, y0, x1, ym), (x0, ym, x1, y1))
-            todo.extend((shapely.clip_by_rect(piece, *r), window) for r in halves)
+            todo.extend((shapely.intersection(piece, shapely.box(*r)), window) for r in halves)
         else:
             self.tests += asked
             return False
