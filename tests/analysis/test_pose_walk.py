@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 import shapely
 from factories import make_scene
+from shapely import affinity
 
 from pivot_ompl.analysis.late_proof import held_pose_proof
 from pivot_ompl.analysis.pose_proof import prove_no_plan
@@ -22,37 +23,43 @@ TOLERANCE, CLEARANCE = 0.002, 0.01
 BOX = [0.8, 0.4, 1.0]
 
 
-def _door(width: float):
-    """Two rooms joined by a door ``width`` m wide through a 0.2 m wall at x = 4."""
-    low, high = 3.0 - 0.5 * width, 3.0 + 0.5 * width
-    walls = [{"type": "box", "center": [4.0, 0.5 * low], "size": [0.2, low], "yaw": 0.0,
-              "height": 2.0},
-             {"type": "box", "center": [4.0, 0.5 * (high + 6.0)], "size": [0.2, 6.0 - high],
-              "yaw": 0.0, "height": 2.0}]
+def _door(width: float, turn: float = 0.0):
+    """Two rooms joined by a door ``width`` m wide through a 0.2 m wall at x = 4, the walls
+    turned by ``turn`` about the door's centre (4, 3)."""
+    c, s = math.cos(turn), math.sin(turn)
+    walls = [{"type": "box", "center": [4.0 - s * d, 3.0 + c * d], "size": [0.2, 8.0],
+              "yaw": turn, "height": 2.0}  # 8 m long: across the floor at any turn
+             for d in (-0.5 * width - 4.0, 0.5 * width + 4.0)]
     return make_scene(obstacles=walls, object={"size": BOX})
 
 
-def _in_the_door(half_span: float) -> shapely.Polygon:
+def _in_the_door(half_span: float, turn: float = 0.0) -> shapely.Polygon:
     """Box centres lengthwise in the door, as far as ``half_span`` m either side of its axis."""
-    return shapely.box(3.95, 3.0 - half_span, 4.05, 3.0 + half_span)
+    box = shapely.box(3.95, 3.0 - half_span, 4.05, 3.0 + half_span)
+    return affinity.rotate(box, turn, origin=(4.0, 3.0), use_radians=True)
 
 
 BIN = (-math.pi / 512, math.pi / 512)  # about the door's axis
 
 
-@pytest.mark.parametrize("grasps", [(0, 2), (2, 0)])
-def test_the_robot_cannot_walk_round_the_box_resting_lengthwise_in_a_narrow_door(grasps):
+def _bin(turn: float) -> tuple[float, float]:
+    return turn - math.pi / 512, turn + math.pi / 512  # about the door's axis
+
+
+@pytest.mark.parametrize(("grasps", "turn"), [((0, 2), 0.0), ((2, 0), 0.0), ((0, 2), 0.7)])
+def test_the_robot_cannot_walk_round_the_box_resting_lengthwise_in_a_narrow_door(grasps, turn):
     # 0.85 m: 0.45 m beside the box pushed to one jamb, the walking disk needs 0.54 m
-    walks = RegraspWalks(_door(0.85), tolerance=TOLERANCE, clearance=CLEARANCE)
-    assert walks.may_regrasp(_in_the_door(0.2), *BIN, *grasps) is False
+    walks = RegraspWalks(_door(0.85, turn), tolerance=TOLERANCE, clearance=CLEARANCE)
+    assert walks.may_regrasp(_in_the_door(0.2, turn), *_bin(turn), *grasps) is False
 
 
-def test_a_door_wide_enough_beside_the_box_lets_the_robot_walk_round_it():
+@pytest.mark.parametrize("turn", [0.0, 0.7])
+def test_a_door_wide_enough_beside_the_box_lets_the_robot_walk_round_it(turn):
     # 1.1 m: 0.7 m beside the box pushed to one jamb
-    walks = RegraspWalks(_door(1.1), tolerance=TOLERANCE, clearance=CLEARANCE)
-    assert walks.may_regrasp(_in_the_door(0.3), *BIN, 0, 2) is True
+    walks = RegraspWalks(_door(1.1, turn), tolerance=TOLERANCE, clearance=CLEARANCE)
+    assert walks.may_regrasp(_in_the_door(0.3, turn), *_bin(turn), 0, 2) is True
     # the box centred in it leaves 0.35 m either side: no walk
-    assert walks.may_regrasp(_in_the_door(0.01), *BIN, 0, 2) is False
+    assert walks.may_regrasp(_in_the_door(0.01, turn), *_bin(turn), 0, 2) is False
 
 
 def _exact_walk(scene, free, q, g: int, h: int) -> bool:
