@@ -372,8 +372,9 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
                 return result(True, reach, tuple(graph.refused))
             split, widest = widest_bins(edges, path, finest)
             log.debug("held poses, round %d: %d bins, a chain of %d parts over %d bins; %d "
-                      "halved (%.2f degrees)", rounds, len(edges) - 1, len(path),
-                      len({i for i, _, _ in path}), len(split), math.degrees(widest))
+                      "halved (%.2f degrees); %d regrasps refused", rounds, len(edges) - 1,
+                      len(path), len({i for i, _, _ in path}), len(split),
+                      math.degrees(widest), len(graph.refused))
             if not split:
                 return result(False)
             if len(edges) - 1 + len(split) > max_bins:

@@ -99,7 +99,7 @@ class RegraspWalks:
         self.gap = self.radius - tolerance - ROUND_OFF  # the disk centre from the core
         self.half = (0.5 * m.object_size[0], 0.5 * m.object_size[1])
         self.box_reach = math.hypot(*self.half)
-        self.tests = 0  # pieces asked, for the log and the tests
+        self.tests = 0  # pieces asked so far (a measure of the work)
         self._floor: _Floor | None = None
 
     @property
