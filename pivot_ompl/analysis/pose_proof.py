@@ -10,9 +10,11 @@ and grasp the box positions at which the assembly may be valid at some yaw of th
 into connected parts (:func:`~pivot_ompl.analysis.pose_cells.free_components`; a halved bin's
 from its parent's, :class:`~pivot_ompl.analysis.pose_bins.BinRegions`). Two parts are
 joined when they meet and their bins are neighbours at one grasp (a motion crossing the bins'
-common yaw), or they meet at one bin for two grasps (a regrasp). A path of the plan visits
-joined parts only, so when no part holding the start is joined to one holding the goal, no
-plan exists.
+common yaw), or they meet at one bin for two grasps and the robot may walk between the two
+stances round the box resting there (a regrasp; the walk,
+:mod:`~pivot_ompl.analysis.pose_walk`, is asked only of a chain's regrasps: one it refuses is
+dropped and the chain sought again). A path of the plan visits joined parts only, so when no
+part holding the start is joined to one holding the goal, no plan exists.
 
 The bins start coarse (:data:`FIRST_BINS`); while a chain of parts joins start and goal, the
 bins on the chain are halved with the bins opposite them (a chain through too coarse bins is
