@@ -14,7 +14,9 @@ from shapely import affinity
 from pivot_ompl.analysis.late_proof import held_pose_proof
 from pivot_ompl.analysis.pose_proof import prove_no_plan
 from pivot_ompl.analysis.pose_walk import RegraspWalks
+from pivot_ompl.cli.main import main
 from pivot_ompl.generate import generate
+from pivot_ompl.generate.sceneio import write_scene
 from pivot_ompl.se2 import rectangle_corners
 from pivot_ompl.validity.footprints import disk_clear
 from pivot_ompl.validity.merge import merge_boxes
@@ -114,3 +116,13 @@ def test_the_held_poses_proof_separates_rooms_whose_door_holds_the_box_but_not_t
     assert no_plan.passage.width == pytest.approx(0.85)
     monkeypatch.setattr(RegraspWalks, "may_regrasp", lambda *args: True)
     assert prove_no_plan(scene).apart is not True  # the regrasp in the door joins them
+
+
+def test_the_bound_verb_with_held_poses_proves_the_door_and_names_it(tmp_path, capsys):
+    scene = dataclasses.replace(_door(0.85), start=(2.0, 3.0, 0.0), goal=(6.0, 3.0, 0.0))
+    path = write_scene(scene, tmp_path / "door.yaml")
+    assert main(["bound", str(path), "--no-cache"]) == 0  # the bound alone proves nothing
+    capsys.readouterr()
+    assert main(["bound", str(path), "--no-cache", "--held-poses"]) == 1
+    out = capsys.readouterr().out
+    assert "no plan" in out and "the gap at (4.00, 3.00), 0.85 m wide" in out
