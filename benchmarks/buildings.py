@@ -102,13 +102,13 @@ CORPUS = (
     CorpusMap("brsu_c069", "benchmarks/maps/brsu_c069/map.yaml",
               "home-robotics lab (real robot's SLAM map)", (3.7, 6.2, 0.0), (3.2, 0.9, 0.0),
               {"specks": 0.02},
-              note="no plan is expected, none proven: the rooms' only joint is the inner "
-              "door, 0.85 m between its jambs (x 2.55-3.40, y 3.55-3.95), the held assembly "
-              "needs 0.88 m, and the robot alone cannot pass the box resting in the door "
-              "(0.22 m beside it); the held poses' relaxation joins the rooms by a regrasp "
-              "with the box lengthwise in the door, held from either room (it does not ask "
-              "the robot to walk between the two stances); without its regrasp joins it "
-              "separates them (194 bins, 76 s of CPU); `plan` ends TIMEOUT at 60 and 300 s"),
+              note="no plan exists: the rooms' only joint is the inner door, 0.85 m "
+              "between its jambs (x 2.55-3.40, y 3.55-3.95), the held assembly needs 0.88 m, "
+              "and the robot alone cannot walk past the box resting in the door (0.45 m "
+              "beside it at most); the held poses' relaxation, its regrasps walked round the "
+              "box, proves it and names the door (256 bins, 68-76 s of CPU: `pivot-ompl bound "
+              "--held-poses`); `plan` does not try it (estimated 90 s) and ends TIMEOUT at "
+              "60 and 300 s"),
     CorpusMap("brsu_c069_room", "benchmarks/maps/brsu_c069/map.yaml",
               "home-robotics lab (real robot's SLAM map)", (4.2, 3.0, 0.0),
               (1.5, -2.8, HALF_PI), {"specks": 0.02},

@@ -33,7 +33,7 @@ from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import rectangle_corners
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
-from pivot_ompl.validity.footprints import obstacle_pieces
+from pivot_ompl.validity.footprints import obstacle_footprints, obstacle_pieces
 from pivot_ompl.validity.merge import merge_boxes
 
 log = logging.getLogger(__name__)
@@ -250,6 +250,40 @@ def _blocking_passage(scene: Scene, clearance: float,
             return Passage(mid, ((float(p[0]), float(p[1])), (float(q[0]), float(q[1]))),
                            float(widths[g]), box_need, need)
     return Passage(None, None, 0.0, box_need, need)
+
+
+def gap_at(scene: Scene, place: tuple[float, float], *, reach: float, widest: float,
+           clearance: float = KEEP_CLEARANCE) -> Passage | None:
+    """The narrowest gap whose shortest segment passes within ``reach`` of ``place``.
+
+    Walls: the obstacles' footprints and the floor's outside, merged where they touch,
+    within ``reach + widest`` of ``place`` (gaps up to ``widest`` m wide are seen); ``None``
+    when no two walls there have such a gap.
+    """
+    point = shapely.Point(place)
+    disk = point.buffer(reach + widest, quad_segs=8)
+    feet = np.asarray(obstacle_footprints(scene.obstacles), dtype=object)
+    near = feet[shapely.intersects(feet, disk)] if len(feet) else feet
+    floor = shapely.box(*scene.bounds)
+    local = shapely.union_all([*near, floor.buffer(1.0, join_style="mitre").difference(floor)])
+    walls = [w for w in getattr(local.intersection(disk), "geoms", [local.intersection(disk)])
+             if not w.is_empty and w.area > 0.0]
+    best: tuple[float, int, int, BaseGeometry] | None = None
+    for i in range(len(walls)):
+        for j in range(i + 1, len(walls)):
+            line = shapely.shortest_line(walls[i], walls[j])
+            if 0.0 < line.length <= widest and line.distance(point) <= reach and (
+                    best is None or line.length < best[0]):
+                best = (line.length, i, j, line)
+    if best is None:
+        return None
+    width, i, j, line = best
+    model = scene.model
+    (px, py), (qx, qy) = shapely.get_coordinates(line)[:2]
+    return Passage(_gap_centre(walls[i], walls[j], width),
+                   ((float(px), float(py)), (float(qx), float(qy))), float(width),
+                   min(model.object_size[0], model.object_size[1]) + 2.0 * clearance,
+                   assembly_width(model, clearance=clearance))
 
 
 class PassageOnce:

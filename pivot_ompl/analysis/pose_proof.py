@@ -10,9 +10,11 @@ and grasp the box positions at which the assembly may be valid at some yaw of th
 into connected parts (:func:`~pivot_ompl.analysis.pose_cells.free_components`; a halved bin's
 from its parent's, :class:`~pivot_ompl.analysis.pose_bins.BinRegions`). Two parts are
 joined when they meet and their bins are neighbours at one grasp (a motion crossing the bins'
-common yaw), or they meet at one bin for two grasps (a regrasp). A path of the plan visits
-joined parts only, so when no part holding the start is joined to one holding the goal, no
-plan exists.
+common yaw), or they meet at one bin for two grasps and the robot may walk between the two
+stances round the box resting there (a regrasp; the walk,
+:mod:`~pivot_ompl.analysis.pose_walk`, is asked only of a chain's regrasps: one it refuses is
+dropped and the chain sought again). A path of the plan visits joined parts only, so when no
+part holding the start is joined to one holding the goal, no plan exists.
 
 The bins start coarse (:data:`FIRST_BINS`); while a chain of parts joins start and goal, the
 bins on the chain are halved with the bins opposite them (a chain through too coarse bins is
@@ -46,6 +48,7 @@ from pivot_ompl.analysis.pose_cells import (
     held_bodies,
     near,
 )
+from pivot_ompl.analysis.pose_walk import RegraspWalks
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import GRASPS
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Scene
@@ -91,6 +94,8 @@ class PoseProof:
         rounds: rounds of refinement.
         seconds: time taken (s).
         start_reach: with ``apart``, the box positions the start's parts cover (m, world).
+        refused: with ``apart``, the box positions of the last round's regrasps on a chain
+            from start to goal round whose resting box the robot cannot walk (m, world).
     """
 
     apart: bool | None
@@ -99,6 +104,7 @@ class PoseProof:
     rounds: int
     seconds: float
     start_reach: BaseGeometry | None = None
+    refused: tuple[BaseGeometry, ...] = ()
 
 
 class HeldParts:
@@ -120,6 +126,8 @@ class HeldParts:
         self.bins = BinRegions(near(grown, self.area, reach + 1e-3), self.bodies, self.area)
         self.known: dict[tuple[float, float], list[list[BaseGeometry]]] = {}
         self.met: dict[tuple[float, ...], list[tuple[int, int]]] = {}
+        self.walks = RegraspWalks(scene, tolerance=SWEEP_TOLERANCE, clearance=KEEP_CLEARANCE)
+        self.walked: dict[tuple[float, float], dict[tuple[int, int, int, int], bool]] = {}
 
     def of(self, a: float, b: float) -> list[list[BaseGeometry]]:
         """Per grasp, the free parts of the bin ``[a, b]``."""
@@ -132,6 +140,21 @@ class HeldParts:
     def forget(self, a: float, b: float) -> None:
         """Drop the parts of the bin ``[a, b]`` (halved: never asked again)."""
         self.known.pop((a, b), None)
+        self.walked.pop((a, b), None)
+
+    def may_regrasp(self, a: float, b: float, u: tuple[int, int], v: tuple[int, int]) -> bool:
+        """Whether the robot may walk round the box between parts ``u`` and ``v``.
+
+        ``u``, ``v``: (grasp, part) of the bin ``[a, b]``, asked where they meet
+        (:mod:`~pivot_ompl.analysis.pose_walk`); ``False`` proves that no regrasp joins them.
+        """
+        key = (*u, *v) if u < v else (*v, *u)
+        asked = self.walked.setdefault((a, b), {})
+        if key not in asked:
+            here = self.of(a, b)
+            region = here[key[0]][key[1]].intersection(here[key[2]][key[3]])
+            asked[key] = self.walks.may_regrasp(region, a, b, key[0], key[2])
+        return asked[key]
 
     def meet(self, key: tuple[float, ...], a: list[BaseGeometry],
              b: list[BaseGeometry]) -> list[tuple[int, int]]:
@@ -196,6 +219,7 @@ class PoseGraph:
                 raise Interrupted("the held poses' relaxation")
             self.table.append(parts.of(edges[i], edges[i + 1]))
         self.links: dict[Node, list[Node]] = {}
+        self.refused: list[BaseGeometry] = []  # the regrasps dropped (:meth:`walkless`)
         for i in range(n):
             here, there = self.table[i], self.table[(i + 1) % n]
             a, b, c = edges[i], edges[i + 1], edges[(i + 1) % n + 1]
@@ -209,6 +233,25 @@ class PoseGraph:
     def _link(self, a: Node, b: Node) -> None:
         self.links.setdefault(a, []).append(b)
         self.links.setdefault(b, []).append(a)
+
+    def walkless(self, parts: HeldParts, edges: list[float], path: list[Node]) -> bool:
+        """Drop the chain's regrasp joins round whose box the robot cannot walk.
+
+        Asked only of a chain found (a join is a regrasp where both ends are one bin): the
+        walk is the costly part, and most joins are never on a chain. ``True`` when one was
+        dropped (then look for a chain again).
+        """
+        dropped = False
+        for u, v in zip(path, path[1:], strict=False):
+            if u[0] != v[0] or u[1] == v[1]:
+                continue
+            if not parts.may_regrasp(edges[u[0]], edges[u[0] + 1], u[1:], v[1:]):
+                self.links[u].remove(v)
+                self.links[v].remove(u)
+                here = self.table[u[0]]
+                self.refused.append(here[u[1]][u[2]].intersection(here[v[1]][v[2]]))
+                dropped = True
+        return dropped
 
     def nodes_at(self, edges: list[float], pose: Pose) -> list[Node]:
         """The parts holding ``pose`` (any grasp)."""
@@ -305,10 +348,11 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
     edges = [2.0 * math.pi * i / first_bins for i in range(first_bins + 1)]
     rounds = 0
 
-    def result(apart: bool | None, reach: BaseGeometry | None = None) -> PoseProof:
+    def result(apart: bool | None, reach: BaseGeometry | None = None,
+               refused: tuple[BaseGeometry, ...] = ()) -> PoseProof:
         widths = np.diff(edges)
         return PoseProof(apart, len(edges) - 1, float(widths.min()), rounds,
-                         time.perf_counter() - t0, reach)
+                         time.perf_counter() - t0, reach, refused)
 
     try:
         parts = HeldParts(scene, clearance, should_stop)
@@ -323,13 +367,16 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
             if not starts or not goals:
                 return result(None)
             path, reached = graph.chain(starts, goals, np.diff(edges).tolist())
+            while path is not None and graph.walkless(parts, edges, path):
+                path, reached = graph.chain(starts, goals, np.diff(edges).tolist())
             if path is None:
                 reach = shapely.union_all([graph.table[i][g][k] for i, g, k in reached])
-                return result(True, reach)
+                return result(True, reach, tuple(graph.refused))
             split, widest = widest_bins(edges, path, finest)
             log.debug("held poses, round %d: %d bins, a chain of %d parts over %d bins; %d "
-                      "halved (%.2f degrees)", rounds, len(edges) - 1, len(path),
-                      len({i for i, _, _ in path}), len(split), math.degrees(widest))
+                      "halved (%.2f degrees); %d regrasps refused", rounds, len(edges) - 1,
+                      len(path), len({i for i, _, _ in path}), len(split),
+                      math.degrees(widest), len(graph.refused))
             if not split:
                 return result(False)
             if len(edges) - 1 + len(split) > max_bins:

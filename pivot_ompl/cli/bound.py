@@ -8,7 +8,11 @@ once per scene geometry and cached (``--no-cache`` computes afresh and keeps not
 raster relaxation first, the exact polygons when they are estimated to take at most 2.5
 seconds (``--exhaustive``: always; :mod:`pivot_ompl.analysis.bound_levels`), and with
 ``--guided`` the raster refined where its best path passes narrow places
-(:mod:`pivot_ompl.analysis.guided_refine`; later plans read it from the cache). Exit
+(:mod:`pivot_ompl.analysis.guided_refine`; later plans read it from the cache), and with
+``--held-poses``, where the relaxation joins start and goal, the held poses' proof that no
+plan exists (:func:`pivot_ompl.analysis.late_proof.held_pose_proof`: the yaw refined where
+the held assembly may pass, the robot walking round the box at every regrasp; minutes on
+thousands of boxes, not cached). Exit
 status: 0 a bound, 1 none (stopped by ``--time``, or the relaxation proves that no plan
 exists), 2 bad input.
 """
@@ -21,6 +25,7 @@ import time
 
 from pivot_ompl.analysis.bound_cache import lower_bound
 from pivot_ompl.analysis.bound_levels import REFINE_SECONDS
+from pivot_ompl.analysis.late_proof import held_pose_proof
 from pivot_ompl.analysis.plan_bounds import route_bound
 from pivot_ompl.cli.args import time_limit
 from pivot_ompl.errors import printable
@@ -41,6 +46,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--guided", action="store_true",
                    help="where the polygons do not run, refine the raster where its best path "
                         "passes narrow places (seconds on thousands of boxes)")
+    p.add_argument("--held-poses", action="store_true",
+                   help="where the relaxation joins start and goal, also try to prove that no "
+                        "plan exists from the held assembly's poses, refined in yaw (minutes on "
+                        "thousands of boxes)")
     p.set_defaults(func=run)
 
 
@@ -64,6 +73,13 @@ def run(args: argparse.Namespace) -> int:
         print(f"{printable(scene.name)}: no plan exists (proven: the relaxation joins no path; "
               f"{where})")
         return 1
+    if args.held_poses:
+        t1 = time.perf_counter()
+        proof = held_pose_proof(scene, should_stop=lambda: time.monotonic() > end)
+        if proof is not None:
+            print(f"{printable(scene.name)}: {proof.reason} (proven: held poses; "
+                  f"{time.perf_counter() - t1:.2f} s)")
+            return 1
     n = b.regrasps
     held = route_bound(scene, should_stop=lambda: time.monotonic() > end,
                        use_cache=not args.no_cache)  # the gaps no held pose fits closed
