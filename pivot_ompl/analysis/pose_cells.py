@@ -96,37 +96,34 @@ def rotation_core(body: np.ndarray, half: float) -> np.ndarray | None:
     return poly
 
 
-def _normals(polys: np.ndarray) -> np.ndarray:
-    """Outward edge normals (unit) of counter-clockwise polygons ``(n, k, 2)``."""
-    e = np.roll(polys, -1, axis=1) - polys
-    n = np.stack([e[..., 1], -e[..., 0]], axis=-1)
-    return n / np.maximum(np.linalg.norm(n, axis=-1, keepdims=True), 1e-300)
+def _edges(polys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Edge vectors ``(..., k, 2)`` of polygons ``(..., k, 2)`` and their angles (rad)."""
+    e = np.roll(polys, -1, axis=-2) - polys
+    return e, np.arctan2(e[..., 1], e[..., 0])
 
 
 def convex_sums(pieces: np.ndarray, body: np.ndarray) -> np.ndarray:
     """Vertices ``(n, k + m, 2)`` of each ``pieces[i] + body`` (Minkowski sums, convex).
 
-    ``pieces`` ``(n, k, 2)`` and ``body`` ``(m, 2)``: convex, counter-clockwise. A vertex of
-    the sum lies between two consecutive edge normals of the union of both normal sets: the
-    sum of both polygons' support points in a direction between them (repeated vertices
-    where normals repeat).
+    ``pieces`` ``(n, k, 2)`` and ``body`` ``(m, 2)``: convex, counter-clockwise. The sum's
+    boundary is both polygons' edges in the order of their angles: it starts at the sum of
+    the two vertices from which each polygon's edge of least angle leaves, and walks the
+    merged edges (an edge of length zero, a repeated vertex, adds a repeated vertex).
     """
-    n = len(pieces)
-    normals = np.concatenate([_normals(pieces), np.broadcast_to(
-        _normals(body[None]), (n, len(body), 2))], axis=1)
-    angle = np.arctan2(normals[..., 1], normals[..., 0])
-    normals = np.take_along_axis(normals, np.argsort(angle, axis=1)[..., None], axis=1)
-    mid = normals + np.roll(normals, -1, axis=1)
-    flat = np.linalg.norm(mid, axis=-1) < 1e-9  # opposite neighbours: a normal between
-    mid[flat] = np.stack([-normals[flat][:, 1], normals[flat][:, 0]], axis=-1)
-    # turned a hair counter-clockwise: between equal normals (parallel edges) both supports
-    # are their edges' last vertices, the next vertex again, never one behind it
-    mid = mid + 1e-9 * np.linalg.norm(mid, axis=-1, keepdims=True) * np.stack(
-        [-mid[..., 1], mid[..., 0]], axis=-1)
-    piece_support = np.take_along_axis(pieces, np.argmax(
-        np.einsum("npd,nqd->npq", mid, pieces), axis=2)[..., None], axis=1)
-    body_support = body[np.argmax(mid @ body.T, axis=2)]
-    return piece_support + body_support
+    n, k = pieces.shape[:2]
+    m = len(body)
+    piece_edges, piece_angles = _edges(pieces)
+    body_edges, body_angles = _edges(body)
+    start = pieces[np.arange(n), np.argmin(piece_angles, axis=1)] + body[np.argmin(body_angles)]
+    edges = np.concatenate([piece_edges, np.broadcast_to(body_edges, (n, m, 2))], axis=1)
+    order = np.argsort(np.concatenate([piece_angles, np.broadcast_to(body_angles, (n, m))],
+                                      axis=1), axis=1, kind="stable")
+    walk = np.take_along_axis(edges, order[..., None], axis=1)
+    out = np.empty((n, k + m, 2))
+    out[:, 0] = start
+    np.cumsum(walk[:, :-1], axis=1, out=out[:, 1:])
+    out[:, 1:] += start[:, None]
+    return out
 
 
 def grown_pieces(pieces: list[np.ndarray], clearance: float) -> list[np.ndarray]:

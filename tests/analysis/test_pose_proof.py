@@ -60,6 +60,31 @@ def test_a_convex_sum_is_the_hull_of_the_vertex_sums(a, b):
     assert got.symmetric_difference(want).area < 1e-9
 
 
+
+@settings(max_examples=40, deadline=None)
+@given(boxes=st.lists(st.tuples(st.floats(-3, 3), st.floats(-3, 3), st.floats(0.05, 2.0),
+                                st.floats(0.05, 2.0), st.sampled_from([0.0, 0.5 * math.pi,
+                                                                       math.pi, 0.3])),
+                      min_size=1, max_size=6), body=points, repeat=st.booleans())
+def test_every_sum_of_a_stack_is_the_hull_of_its_vertex_sums(boxes, body, repeat):
+    """Stacked pieces (rectangles at any yaw, edges parallel to the body's, a repeated
+    vertex) each summed with one body: each sum is the hull of the vertex sums."""
+    pb = np.round(np.array(body), 1)
+    if shapely.MultiPoint(pb).convex_hull.area < 1e-3:
+        return
+    kb = _convex(pb)
+    rect = np.array([(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)])
+    stack = np.stack([_turn(rect * (w, h), -yaw) + (x, y) for x, y, w, h, yaw in boxes])
+    if repeat:  # a vertex twice (an edge of length zero), as grown pieces may have
+        stack = np.concatenate([stack[:, :1], stack], axis=1)
+    got = convex_sums(stack, kb)
+    assert got.shape == (len(stack), stack.shape[1] + len(kb), 2)
+    for piece, sum_ in zip(stack, got, strict=True):
+        polygon = shapely.Polygon(sum_)
+        want = shapely.MultiPoint((piece[:, None] + kb[None]).reshape(-1, 2)).convex_hull
+        assert polygon.is_valid
+        assert polygon.symmetric_difference(want).area < 1e-9
+
 def _corner_slot(strip: float, slot: float):
     """A strip ``strip`` m deep along the floor's bottom, a slot ``slot`` m wide through the
     1 m thick wall above it at x = 4 (the box long and thin: the assembly must turn into it)."""
