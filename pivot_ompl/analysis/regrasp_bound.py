@@ -55,7 +55,7 @@ import logging
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
@@ -125,6 +125,8 @@ class Body:
     """A convex floor body in the box's frame (its vertices, counter-clockwise)."""
 
     points: np.ndarray
+    _offsets: dict[float, np.ndarray | None] = field(default_factory=dict, init=False,
+                                                     repr=False, compare=False)
 
     @property
     def reach(self) -> float:
@@ -134,18 +136,17 @@ class Body:
     def offset_points(self, yaw: float, d: float) -> np.ndarray | None:
         """Vertices after turning the box frame by ``yaw`` and eroding by ``d`` (growing if < 0).
 
-        ``None`` when the erosion leaves nothing.
+        ``None`` when the erosion leaves nothing. Offsets commute with rotations: each ``d``'s
+        is built once at yaw 0 and turned (not built again for every yaw bin).
         """
-        c, s = math.cos(yaw), math.sin(yaw)
-        pts = self.points @ np.array([[c, s], [-s, c]])
-        poly = shapely.Polygon(pts)
-        if d > 0:
-            poly = poly.buffer(-d, join_style="mitre")
-        elif d < 0:
-            poly = poly.buffer(-d, quad_segs=4)
-        if poly.is_empty or poly.geom_type != "Polygon":
-            return None
-        return np.asarray(poly.exterior.coords)[:-1]
+        if d not in self._offsets:
+            poly = shapely.Polygon(self.points)
+            poly = poly.buffer(-d, join_style="mitre") if d > 0 else \
+                poly.buffer(-d, quad_segs=4) if d < 0 else poly
+            self._offsets[d] = None if poly.is_empty or poly.geom_type != "Polygon" \
+                else np.asarray(poly.exterior.coords)[:-1]
+        pts, c, s = self._offsets[d], math.cos(yaw), math.sin(yaw)
+        return None if pts is None else pts @ np.array([[c, s], [-s, c]])
 
 
 def held_bodies(scene: Scene, grasp: int) -> list[Body]:

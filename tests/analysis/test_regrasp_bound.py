@@ -8,10 +8,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import shapely
 from cover_sampling import near_contact_states_covered
 from factories import make_scene, shipped
 
-from pivot_ompl.analysis.regrasp_bound import free_cover, regrasp_lower_bound
+from pivot_ompl.analysis.regrasp_bound import free_cover, held_bodies, regrasp_lower_bound
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.generate import GeneratorParams, generate, mirror_scene, rotate_scene
 from pivot_ompl.scene import Scene
@@ -140,3 +141,20 @@ def test_every_real_regrasp_is_allowed_by_the_walk_relaxation(family, seed):
         centre = -math.pi + (b + 0.5) * cover.width
         region = shapely.Point(x, y).buffer(1e-4)
         assert walk.may_regrasp(region, centre, p.from_grasp, p.to_grasp), p.object_pose
+
+
+@pytest.mark.parametrize("grasp", [0, 1])
+def test_a_body_offset_at_any_yaw_is_the_turned_body_offset(fig10, grasp):
+    """Offsets built once at yaw 0 and turned are the offsets of the turned bodies."""
+    rng = np.random.default_rng(3)
+    for body in held_bodies(fig10, grasp):
+        for _ in range(12):
+            yaw, d = float(rng.uniform(-math.pi, math.pi)), float(rng.uniform(-0.05, 0.05))
+            c, s = math.cos(yaw), math.sin(yaw)
+            turned = shapely.Polygon(body.points @ np.array([[c, s], [-s, c]]))
+            direct = turned.buffer(-d, join_style="mitre") if d > 0 else \
+                turned.buffer(-d, quad_segs=4)
+            got = body.offset_points(yaw, d)
+            assert got is not None
+            assert direct.symmetric_difference(shapely.Polygon(got)).area < 1e-12
+        assert body.offset_points(0.3, 10.0) is None  # eroded to nothing
