@@ -238,8 +238,9 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
         pose = scene.start if name == "INVALID_START" else scene.goal
         raise PlanningError(name, problem.checker.explain(pose))
     extra = {"planner": planner, "seed": seed, "time_limit": time_limit, **_scene_record(scene)}
-    result_plan = _result_plan(scene, problem, name, extra,
-                               simplify=simplify and base in OMPL_PLANNERS)
+    result_plan = _result_plan(scene, problem, name, extra, simplify=simplify and base in
+                               OMPL_PLANNERS, end=deadline - _share(time_limit, WRITE_SHARE,
+                                                                    WRITE_MAX))
     t3 = time.perf_counter()
     timings = {"setup": t1 - t0, "solve": t2 - t1, "convert": t3 - t2}
     result_plan.extra["timings"] = timings
@@ -361,15 +362,15 @@ def _share(time_limit: float, share: float, most: float) -> float:
 
 
 def _result_plan(scene: Scene, problem: Any, status: str, extra: dict[str, Any], *,
-                 simplify: bool) -> Plan:
-    """The solution path as a plan (``status "none"`` and no phases when there is none)."""
+                 simplify: bool, end: float = math.inf) -> Plan:
+    """The solution path as a plan (``status "none"``, no phases: none), shortened to ``end``."""
     if status == "EXACT_SOLUTION" and (ss := problem.setup).haveExactSolutionPath():
         if simplify:
             ss.simplifySolution()
         path = ss.getSolutionPath()
         states = [read_state(path.getState(i)) for i in range(path.getStateCount())]
-        return path_to_plan(scene, problem.checker, states,
-                            extra={**extra, "route": stored_route(states)})
+        return path_to_plan(scene, problem.checker, states, extra={
+            **extra, "route": stored_route(states)}, should_stop=lambda: time.monotonic() >= end)
     return Plan(scene.name, "none", scene.model.object_size, scene.model.robot_footprint,
                 scene.model.standoff, scene.alpha_max, scene.start, [], extra,
                 robot_model=scene.robot_model)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
@@ -18,7 +19,7 @@ from pivot_ompl.se2 import Pose
 
 def path_to_plan(scene: Scene, checker: PivotChecker, states: list[tuple[Pose, int]], *,
                  status: str = "exact", extra: dict[str, Any] | None = None,
-                 shortcut: bool = True) -> Plan:
+                 shortcut: bool = True, should_stop: Callable[[], bool] | None = None) -> Plan:
     """Phases of a path: runs of one grasp become transfer phases, grasp changes transits.
 
     Every edge is taken from the checker's cache (so exactly the validated rotations and
@@ -27,7 +28,7 @@ def path_to_plan(scene: Scene, checker: PivotChecker, states: list[tuple[Pose, i
     raises :class:`PlanningError`. With ``shortcut``, runs of a transfer phase's rotations
     are then replaced by fewer where those pass the checker's checks
     (:func:`~pivot_ompl.checking.rotation_shortcut.shorten`: the phase ends where it did; a
-    route state inside a replaced run is no longer passed exactly).
+    route state inside a replaced run is no longer passed exactly) until ``should_stop``.
     """
     m = scene.model
     phases: list[Phase] = []
@@ -53,7 +54,8 @@ def path_to_plan(scene: Scene, checker: PivotChecker, states: list[tuple[Pose, i
             j += 1
         rotations = phase_rotations(checker.steering, seqs)
         if shortcut and rotations:
-            rotations = _shortened(scene, checker, m.car_pose(pose, g), rotations, g)
+            rotations = _shortened(scene, checker, m.car_pose(pose, g), rotations, g,
+                                   should_stop)
         steps = rotation_steps(m, rotations, g)
         if steps:
             phases.append(TransferPhase(g, m.robot_pose(pose, g), steps, pose, tuple(rs)))
@@ -66,7 +68,8 @@ def path_to_plan(scene: Scene, checker: PivotChecker, states: list[tuple[Pose, i
 
 
 def _shortened(scene: Scene, checker: PivotChecker, start: Pose,
-               rotations: tuple[Rotation, ...], grasp: int) -> tuple[Rotation, ...]:
+               rotations: tuple[Rotation, ...], grasp: int,
+               should_stop: Callable[[], bool] | None) -> tuple[Rotation, ...]:
     """:func:`~pivot_ompl.checking.rotation_shortcut.shorten` of a phase, kept per scene.
 
     Kept with the checks the scene's checkers share
@@ -80,7 +83,9 @@ def _shortened(scene: Scene, checker: PivotChecker, start: Pose,
     if not isinstance(hit, tuple):
         hit = shorten(checker.transfers.sweeps, start, rotations, grasp,
                       half_length=scene.model.edge_half_length(grasp),
-                      alpha_max=checker.steering.alpha_max)
+                      alpha_max=checker.steering.alpha_max, should_stop=should_stop)
+        if should_stop is not None and should_stop():
+            return hit  # cut short: not kept
         shared.room()
         shared.shortened[key] = hit
     return hit

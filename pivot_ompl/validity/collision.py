@@ -224,15 +224,18 @@ class CollisionWorld:
         """Add a static obstacle (call :meth:`setup` after the last one).
 
         Raises:
-            Interrupted: ``should_stop()`` became true (:func:`obstacle_objects`); the
-                obstacle is not added.
+            Interrupted: ``should_stop()`` became true (:func:`obstacle_objects`, then every
+                :data:`POLL_TRIANGLES` objects registered); the world is then incomplete.
         """
         objects = obstacle_objects(obstacle, should_stop)
         self.obstacles.append(obstacle)
-        for obj in objects:
+        self._near = None
+        for i, obj in enumerate(objects):
+            if should_stop is not None and i % POLL_TRIANGLES == POLL_TRIANGLES - 1 \
+                    and should_stop():
+                raise Interrupted("registering an obstacle's pieces")
             self._objects.append(obj)
             self._manager.registerObject(obj)
-        self._near = None
 
     def setup(self) -> None:
         """Build the broad-phase tree."""
