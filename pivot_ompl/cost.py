@@ -72,7 +72,7 @@ class DurationModel:
 
     per_transfer: float = 5.1
     per_pivot: float = 2.6
-    per_radian: float = 0.1
+    per_radian: float = 0.0
     per_transit: float = 0.0
     per_walk_m: float = 10.4
 
