@@ -238,9 +238,9 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
         pose = scene.start if name == "INVALID_START" else scene.goal
         raise PlanningError(name, problem.checker.explain(pose))
     extra = {"planner": planner, "seed": seed, "time_limit": time_limit, **_scene_record(scene)}
+    end = deadline - _share(time_limit, WRITE_SHARE, WRITE_MAX)
     result_plan = _result_plan(scene, problem, name, extra, simplify=simplify and base in
-                               OMPL_PLANNERS, end=deadline - _share(time_limit, WRITE_SHARE,
-                                                                    WRITE_MAX))
+                               OMPL_PLANNERS, end=end)
     t3 = time.perf_counter()
     timings = {"setup": t1 - t0, "solve": t2 - t1, "convert": t3 - t2}
     result_plan.extra["timings"] = timings
@@ -248,8 +248,7 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     result_plan.extra["roadmap"] = stats
     if result_plan.phases:
         result_plan.extra["quality"] = _quality(result_plan, scene, config, bound, timings,
-                                                deadline - _share(time_limit, WRITE_SHARE,
-                                                                  WRITE_MAX), prove=prove)
+                                                end, prove=prove)
     c = problem.checker.counters
     log.info("%s on %s: %s in %.2f s (%s, %s)", planner, scene.name, name, t2 - t1,
              counted(result_plan.pivots, "pivot"), counted(result_plan.regrasps, "regrasp"))

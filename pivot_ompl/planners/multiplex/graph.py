@@ -11,20 +11,17 @@ kinds of edge join them (:func:`is_transfer`):
 * a **regrasp** ``(i, g) - (i, h)`` at one object node: the robot walks round the resting box.
 
 A **turn** is a transfer too: from ``(i, g)`` to the pose the box reaches when the car spins
-by pi about its own position (the box swings round with the robot,
-:class:`~pivot_ompl.pivoting.curves.CarPaths`), an object node of its own (kind ``"turn"``)
-added wherever the disk the assembly sweeps is free: the robot reaches the box's other side
-without letting go of it.
+by pi about its own position (:class:`~pivot_ompl.pivoting.curves.CarPaths`), an object node
+of its own (kind ``"turn"``) added wherever the disk the assembly sweeps is free.
 
 Edges are candidates until a search uses them. A transfer's cheap test (box and robot free at
 three poses of its Reeds-Shepp path, :meth:`MultiplexedGraph.plausible`) runs when a search or
 the reachable set meets it; an edge that fails it, or a full check, is removed for good.
 
 Searches run over *states* ``(node, parity)``: the parity of the half turns taken so far, so
-that a path reaches the goal exactly as given (not its half turn, the same placement of the
-box under another name, which a checker comparing poses would refuse). The graph owns that
-rule (:meth:`MultiplexedGraph.successor`) and writes a path in the start's frame
-(:meth:`MultiplexedGraph.express`).
+that a path reaches the goal exactly as given (not its half turn, which a checker comparing
+poses would refuse). The graph owns that rule (:meth:`MultiplexedGraph.successor`) and writes
+a path in the start's frame (:meth:`MultiplexedGraph.express`).
 """
 
 from __future__ import annotations
