@@ -93,7 +93,8 @@ class LateProof:
         scene: the scene planned.
         begin: clock time from which the proof is tried (once).
         end: clock time at which the bound is stopped (nothing proven then).
-        explain_end: clock time at which the explanation is stopped (default ``end``).
+        explain_end: clock time at which the explanation is stopped (default ``end``); a
+            proof found later still gives its passage search ``explain_end - begin``.
         clock: the clock of those times (``time.monotonic``).
         passages: the scene's passage search, shared with the check before the search
             (:class:`~pivot_ompl.analysis.passage.PassageOnce`); default: its own.
@@ -157,7 +158,10 @@ class LateProof:
                 return self._held_later(now)
             log.debug("late proof: nothing proven in %.2f s", self.clock() - now)
             return False
-        passage = self.passages(should_stop=self._stop(self.explain_end))
+        # the proof holds: the passage (milliseconds) gets its window even past explain_end,
+        # which a loaded machine's clock may have passed while the proof ran
+        passage = self.passages(should_stop=self._stop(
+            max(self.explain_end, self.clock() + self.explain_end - self.begin)))
         if passage is not None:  # a narrow passage says more than where to turn
             self.proof = NoPlan(passage.reason, passage=passage)
         else:

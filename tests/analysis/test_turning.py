@@ -9,7 +9,7 @@ import time
 import pytest
 import yaml
 from corner_factories import tight_corner
-from factories import shipped
+from factories import shipped, shipped_doc
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -176,3 +176,25 @@ def test_no_place_is_given_where_a_witness_plan_exists(family, seed):
     assert gen.witness.phases
     assert turning_place(gen.scene) is None
     assert raster_turning_place(gen.scene) is None
+
+
+def test_a_proof_past_its_explanation_time_still_names_the_passage():
+    # regression: on a loaded machine the proof ended after explain_end, and the passage
+    # search, stopped at once, left a closed wall explained as a place too tight to turn
+    doc = shipped_doc("slot")
+    doc["obstacles"] = [*doc["obstacles"],  # the slot and the door closed: the wall spans
+                        {"type": "box", "center": [4.05, 1.5], "size": [0.5, 0.62], "height": 2.0},
+                        {"type": "box", "center": [4.05, 4.525], "size": [0.5, 0.95],
+                         "height": 2.0}]
+    scene = scene_from_dict(doc, source="<test>")
+    polls = [0]
+
+    def clock() -> float:  # a millisecond a poll: the proof polls far more than 50 times
+        polls[0] += 1
+        return 1e-3 * polls[0]
+
+    late = LateProof(scene, begin=0.0, end=math.inf, explain_end=0.05, clock=clock)
+    assert late() is True and late.proof is not None
+    assert polls[0] > 50  # the proof did end past explain_end
+    assert late.proof.passage is not None and late.proof.turn is None
+    assert late.proof.reason.startswith("no plan: no opening joins")
