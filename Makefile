@@ -25,8 +25,11 @@ demo: venv
 	    --scene scenes/fig10.yaml --html $(OUT)/fig10_replay.html
 	@echo "replay: $(abspath $(OUT)/fig10_replay.html)"
 
+# Tests in two passes: those that time nothing on every core (at most four workers), then
+# the timed ones (`-m timed`: time budgets, clock stops) alone, as a user's machine runs them
 test: venv
-	$(BIN)/python -m pytest -q $(PYTEST_ARGS) tests
+	$(BIN)/python -m pytest -q $(PYTEST_ARGS) -n auto --maxprocesses 4 -m "not timed" tests
+	$(BIN)/python -m pytest -q $(PYTEST_ARGS) -m timed tests
 
 lint: venv
 	$(BIN)/ruff check pivot_ompl tests benchmarks

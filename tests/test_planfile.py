@@ -13,6 +13,8 @@ from pivot_ompl.errors import PlanFileError
 from pivot_ompl.planfile import load_plan
 from pivot_ompl.viz.samples import sample_plan
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 DOC = sample_plan().to_dict()
 
 

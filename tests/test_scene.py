@@ -13,6 +13,8 @@ from factories import SCENES, make_scene
 from pivot_ompl.errors import SceneError
 from pivot_ompl.scene import PolygonObstacle, load_scene
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 
 @pytest.mark.parametrize("path", sorted(SCENES.glob("*.yaml")), ids=lambda p: p.stem)
 def test_shipped_scenes_load(path):

@@ -26,6 +26,8 @@ from pivot_ompl.scene import load_scene, scene_from_dict
 from pivot_ompl.se2 import triangulate
 from pivot_ompl.validity.collision import CollisionWorld
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 #: Cylinders of the generated large scene: its setup takes seconds without a limit.
 MANY = 10_000
 

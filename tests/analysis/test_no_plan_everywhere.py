@@ -16,6 +16,8 @@ from pivot_ompl.cli.main import main
 from pivot_ompl.scene import scene_from_dict
 from pivot_ompl.session import PlanningSession
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 LIMIT = 30.0
 
 

@@ -15,6 +15,8 @@ from pivot_ompl.api import PROOF_SHARE, plan
 from pivot_ompl.cli.main import main
 from pivot_ompl.scene import load_scene, obstacles_from_list
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 
 def _scene_with_slot(slot_y: float, slot: float, pieces: int = 1):
     """The 8 x 6 m floor walled across at x = 4 but for a slot of ``slot`` m centred at

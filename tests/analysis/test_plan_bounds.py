@@ -15,6 +15,8 @@ from pivot_ompl.analysis.plan_bounds import disk_route, held_route, plan_bounds
 from pivot_ompl.api import plan
 from pivot_ompl.errors import InputError
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 
 def _wall_with_top_gap():
     """A wall at x = 4 from the floor's bottom edge up to y = 5: the way round is at the top."""

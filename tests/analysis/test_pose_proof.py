@@ -18,6 +18,8 @@ from pivot_ompl.analysis.pose_cells import convex_sums, rotation_core
 from pivot_ompl.analysis.pose_proof import prove_no_plan
 from pivot_ompl.scene.shared import shared_value
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 
 def _convex(points: np.ndarray) -> np.ndarray:
     hull = shapely.orient_polygons(shapely.MultiPoint(points).convex_hull)

@@ -25,6 +25,8 @@ from pivot_ompl.analysis.pose_proof import MOTION_CLEARANCE, HeldParts, turn_key
 from pivot_ompl.analysis.pose_regrasps import least_changes, pose_regrasp_bound
 from pivot_ompl.scene import scene_from_dict
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 Node = tuple[int, int, int]
 
 

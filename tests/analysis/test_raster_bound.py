@@ -20,6 +20,8 @@ from pivot_ompl.analysis.regrasp_bound import regrasp_lower_bound
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.generate import generate, rotate_scene
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 
 @settings(max_examples=40, deadline=None)
 @given(seed=st.integers(0, 2**32 - 1), cell=st.sampled_from([0.05, 0.1, 0.13]))

@@ -22,6 +22,8 @@ from pivot_ompl.cli.main import main
 from pivot_ompl.generate import generate
 from pivot_ompl.scene import Scene, scene_from_dict
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 LIMIT = 30.0
 
 

@@ -17,6 +17,8 @@ from factories import scene_file
 #: (deterministic: the moment the command line loads its verbs).
 _INTERRUPT_ON_IMPORT = """
 import builtins, os, signal, sys
+
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
 real = builtins.__import__
 def hook(name, *args, **kwargs):
     if name == "numpy" and "numpy" not in sys.modules:

@@ -26,6 +26,8 @@ from pivot_ompl.planfile import Plan, load_plan, plan_from_dict
 from pivot_ompl.scene import Scene, load_scene, scene_from_dict
 from pivot_ompl.viz.samples import sample_plan
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 FUZZ = settings(derandomize=True, deadline=None, max_examples=150,
                 suppress_health_check=[HealthCheck.too_slow])
 

@@ -17,6 +17,8 @@ from factories import scene_file
 from pivot_ompl.cli.main import main
 from pivot_ompl.viz.samples import sample_plan, write_samples
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 OPEN = scene_file("open")
 GOOD_SCENE = {"name": "t", "bounds": [0, 0, 8, 6], "object": {"size": [0.8, 0.6, 1.3]},
               "start": [1.5, 3.0, 0.0], "goal": [4.0, 3.0, 0.0]}

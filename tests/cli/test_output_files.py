@@ -21,6 +21,8 @@ from pivot_ompl.errors import InputError
 from pivot_ompl.fileio import MAX_NAME, atomic_outputs, check_output
 from pivot_ompl.viz.samples import sample_plan
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 STEER = ["steer", "--start", "0", "0", "0", "--goal", "1", "0", "0"]
 PLAN = ["plan", str(scene_file("open")), "--planner", "rrtconnect", "--time", "10"]
 

@@ -14,6 +14,8 @@ from pivot_ompl.planners.config import RegraspConfig
 from pivot_ompl.planners.improve import time_share
 from pivot_ompl.quality import plan_quality
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 
 @pytest.mark.slow
 def test_corridor_plans_agree_across_seeds():

@@ -13,6 +13,8 @@ from pivot_ompl.planners import RegraspPlanner, make_planner
 from pivot_ompl.planners.evaluation import Found, Status
 from pivot_ompl.planners.objects.roadmap import canonical_yaw, pose_metric
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 
 @pytest.mark.parametrize("planner", ["regrasp", "visprm"])
 def test_timeout_within_105_percent(planner):

@@ -6,6 +6,7 @@ import dataclasses
 import math
 import time
 
+import pytest
 from factories import make_scene, shipped
 
 from pivot_ompl.base.path_conversion import path_to_plan
@@ -14,6 +15,8 @@ from pivot_ompl.cost import CostModel, DurationModel
 from pivot_ompl.planners.evaluation import Evaluator
 from pivot_ompl.planners.optimiser import OptimiseStats, optimise, optimise_over
 from pivot_ompl.validity.plan_check import check_plan
+
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
 
 START, GOAL = (1.5, 3.0, 0.0), (6.5, 3.0, 0.0)
 

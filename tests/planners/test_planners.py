@@ -16,6 +16,8 @@ from pivot_ompl.planfile import TransitPhase, load_plan
 from pivot_ompl.planners import RegraspConfig
 from pivot_ompl.validity.plan_check import check_plan
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 
 def test_regrasp_found_where_needed():
     scene = shipped("slot")

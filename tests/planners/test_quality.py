@@ -14,6 +14,8 @@ from pivot_ompl.cost import DurationModel
 from pivot_ompl.planfile import load_plan, plan_from_dict
 from pivot_ompl.quality import plan_quality
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 
 @pytest.fixture(scope="module")
 def push():

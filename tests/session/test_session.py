@@ -17,6 +17,8 @@ from pivot_ompl.scene import BoxObstacle, load_scene
 from pivot_ompl.session import PlanningSession
 from pivot_ompl.validity.plan_check import check_plan
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 
 @pytest.fixture(scope="module")
 def slot_session():

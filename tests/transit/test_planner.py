@@ -16,6 +16,8 @@ from pivot_ompl.se2 import wrap_angle
 from pivot_ompl.transit.lattice import HEADING_YAWS, N_HEADINGS, motion_cost, primitives
 from pivot_ompl.validity.plan_check import check_plan
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 POSE = (4.0, 3.0, 0.3)
 
 

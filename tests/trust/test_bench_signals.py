@@ -13,6 +13,8 @@ from pathlib import Path
 import pytest
 from factories import scene_file
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 
 def _jobs_of(marker: str) -> list[int]:
     """Processes whose command line holds ``marker`` (a folder of this test's own)."""

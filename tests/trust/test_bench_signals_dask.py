@@ -14,6 +14,8 @@ from pathlib import Path
 import pytest
 from factories import scene_file
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 pytest.importorskip("distributed")
 
 

@@ -25,6 +25,8 @@ from pivot_ompl.cli.main import main
 from pivot_ompl.errors import InputError
 from pivot_ompl.scene import load_scene
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 
 @pytest.fixture
 def fresh(monkeypatch, tmp_path):

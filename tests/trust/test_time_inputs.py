@@ -18,6 +18,8 @@ import pytest
 
 from pivot_ompl.cli.main import main
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 
 class Overran(BaseException):  # noqa: N818 - not an Exception: no ``except Exception`` eats it
     """The watched call ran past its watchdog."""

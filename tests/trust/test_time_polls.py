@@ -19,6 +19,8 @@ from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.evaluation import Status
 from pivot_ompl.planners.single_grasp import SingleGraspConnect
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 
 def _star(n: int, cx: float, cy: float) -> list[list[float]]:
     a = np.linspace(0.0, 2 * math.pi, n, endpoint=False)

@@ -27,6 +27,8 @@ from pivot_ompl.errors import Interrupted
 from pivot_ompl.generate.sceneio import write_scene
 from pivot_ompl.planners.routes.lattice import TransferLattice
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 #: Scheduling slack (s) on a shared machine, on top of the 5 %.
 SLACK = 0.05
 

@@ -15,6 +15,8 @@ from pivot_ompl.pivoting.transfer import transfer_phase
 from pivot_ompl.planfile import Plan, TransferPhase, TransferStep, TransitPhase
 from pivot_ompl.validity.plan_check import check_plan
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 SCENE = make_scene()  # alpha_max pi/8, hrp2 standoff, 8 x 6 m, start (1.5, 3, 0), goal (6, 3, 0)
 
 

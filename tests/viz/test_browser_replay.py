@@ -46,7 +46,7 @@ NO_BROWSER = ("no Chromium browser installed (/usr/bin/chromium missing): "
               "apt-get install -y chromium chromium-driver")
 #: Set (e.g. in CI) to turn the missing-browser skip into a failure.
 REQUIRE_ENV = "PIVOT_OMPL_REQUIRE_BROWSER"
-pytestmark = pytest.mark.browser
+pytestmark = [pytest.mark.browser, pytest.mark.timed]
 
 
 class CDPError(RuntimeError):

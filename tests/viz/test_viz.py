@@ -39,6 +39,8 @@ from pivot_ompl.viz.shapes import box_transform, prism_mesh, quat_xyzw_to_matrix
 from pivot_ompl.viz.timeline import plan_keyframes
 from pivot_ompl.viz.urdf_visuals import load_robot
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 
 @pytest.fixture(scope="module")
 def samples(tmp_path_factory):
