@@ -13,8 +13,9 @@ joined when they meet and their bins are neighbours at one grasp (a motion cross
 common yaw), or they meet at one bin for two grasps and the robot may walk between the two
 stances round the box resting there (a regrasp; the walk,
 :mod:`~pivot_ompl.analysis.pose_walk`, is asked only of a chain's regrasps: one it refuses is
-dropped and the chain sought again). A path of the plan visits joined parts only, so when no
-part holding the start is joined to one holding the goal, no plan exists.
+dropped and the chain sought again, :func:`~pivot_ompl.analysis.pose_chain.walked_chain`).
+A path of the plan visits joined parts only, so when no part holding the start is joined to
+one holding the goal, no plan exists.
 
 The bins start coarse (:data:`FIRST_BINS`); while a chain of parts joins start and goal, the
 bins on the chain are halved with the bins opposite them (a chain through too coarse bins is
@@ -27,12 +28,12 @@ is "joined" (no proof; the poses connect at the bins' scale).
 
 from __future__ import annotations
 
-import heapq
 import logging
 import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 import shapely
@@ -48,6 +49,7 @@ from pivot_ompl.analysis.pose_cells import (
     held_bodies,
     near,
 )
+from pivot_ompl.analysis.pose_chain import Chain, Node, walked_chain
 from pivot_ompl.analysis.pose_walk import RegraspWalks
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import GRASPS
@@ -77,8 +79,6 @@ ESTIMATED_BINS = 300
 #: 16- and 32-room corridor rows fit the window and pay it for nothing (32 rooms: 13.7 s ->
 #: 21.0 s at --time 60, tried from 2 %).
 SECONDS_PER_PIECE = 5e-5
-
-Node = tuple[int, int, int]  # (bin, grasp, part)
 
 
 @dataclass(frozen=True)
@@ -142,13 +142,14 @@ class HeldParts:
         self.known.pop((a, b), None)
         self.walked.pop((a, b), None)
 
-    def may_regrasp(self, a: float, b: float, u: tuple[int, int], v: tuple[int, int]) -> bool:
+    def may_regrasp(self, edges: list[float], u: Node, v: Node) -> bool:
         """Whether the robot may walk round the box between parts ``u`` and ``v``.
 
-        ``u``, ``v``: (grasp, part) of the bin ``[a, b]``, asked where they meet
+        ``u``, ``v``: parts of one bin of ``edges``, asked where they meet
         (:mod:`~pivot_ompl.analysis.pose_walk`); ``False`` proves that no regrasp joins them.
         """
-        key = (*u, *v) if u < v else (*v, *u)
+        a, b = edges[u[0]], edges[u[0] + 1]
+        key = (*u[1:], *v[1:]) if u[1:] < v[1:] else (*v[1:], *u[1:])
         asked = self.walked.setdefault((a, b), {})
         if key not in asked:
             here = self.of(a, b)
@@ -219,7 +220,7 @@ class PoseGraph:
                 raise Interrupted("the held poses' relaxation")
             self.table.append(parts.of(edges[i], edges[i + 1]))
         self.links: dict[Node, list[Node]] = {}
-        self.refused: list[BaseGeometry] = []  # the regrasps dropped (:meth:`walkless`)
+        self.refused: list[BaseGeometry] = []  # the regrasps dropped (:meth:`walked`)
         for i in range(n):
             here, there = self.table[i], self.table[(i + 1) % n]
             a, b, c = edges[i], edges[i + 1], edges[(i + 1) % n + 1]
@@ -234,73 +235,26 @@ class PoseGraph:
         self.links.setdefault(a, []).append(b)
         self.links.setdefault(b, []).append(a)
 
-    def walkless(self, parts: HeldParts, edges: list[float], path: list[Node]) -> bool:
-        """Drop the chain's regrasp joins round whose box the robot cannot walk.
+    def walked(self, parts: HeldParts, edges: list[float], starts: list[Node],
+               goals: list[Node]) -> Chain:
+        """The cheapest chain whose regrasps the walks allow (priced by bin widths, rad).
 
-        Asked only of a chain found (a join is a regrasp where both ends are one bin): the
-        walk is the costly part, and most joins are never on a chain. ``True`` when one was
-        dropped (then look for a chain again).
+        :func:`~pivot_ompl.analysis.pose_chain.walked_chain` over this graph's links, asking
+        :meth:`HeldParts.may_regrasp`; the regrasps refused are cut from the links and their
+        box positions kept in :attr:`refused`. Through fine bins where it can, so the coarse
+        bins it still needs are the ones to halve.
         """
-        dropped = False
-        for u, v in zip(path, path[1:], strict=False):
-            if u[0] != v[0] or u[1] == v[1]:
-                continue
-            if not parts.may_regrasp(edges[u[0]], edges[u[0] + 1], u[1:], v[1:]):
-                self.links[u].remove(v)
-                self.links[v].remove(u)
-                here = self.table[u[0]]
-                self.refused.append(here[u[1]][u[2]].intersection(here[v[1]][v[2]]))
-                dropped = True
-        return dropped
+        found = walked_chain(self.links, starts, goals, np.diff(edges).tolist(),
+                             may_regrasp=partial(parts.may_regrasp, edges))
+        for u, v in found.refused:
+            here = self.table[u[0]]
+            self.refused.append(here[u[1]][u[2]].intersection(here[v[1]][v[2]]))
+        return found
 
     def nodes_at(self, edges: list[float], pose: Pose) -> list[Node]:
         """The parts holding ``pose`` (any grasp)."""
         return [(i, g, k) for i in _bins_of(edges, pose[2])
                 for g, k in _holding(self.table[i], pose)]
-
-    def chain(self, starts: list[Node], goals: list[Node],
-              widths: list[float]) -> tuple[list[Node] | None, set[Node]]:
-        """A chain of joined parts from a start to a goal (``None``), and what it reached.
-
-        The chain of least summed bin widths (``widths[i]``, rad, per part entered): through
-        fine bins where it can, so the coarse bins it still needs are the ones to halve.
-        """
-        price, out, reached = cheapest(self.links, starts, goals, lambda u, v: (widths[v[0]],))
-        return (out if price is not None else None), reached
-
-
-def cheapest(links: dict[Node, list[Node]], starts: list[Node], goals: list[Node],
-             step: Callable[[Node | None, Node], tuple[float, ...]]
-             ) -> tuple[tuple[float, ...] | None, list[Node], set[Node]]:
-    """The least-priced chain of joined parts from a start to a goal (Dijkstra).
-
-    ``links``: each part's joined parts; ``step(u, v)``: what entering part ``v`` from ``u``
-    adds (``u`` ``None`` at a start), prices compared as tuples. Gives the chain's price
-    (``None`` when none joins them), the chain from its goal back to its start, and the
-    parts reached.
-    """
-    goal = set(goals)
-    before: dict[Node, Node | None] = dict.fromkeys(starts)
-    cost = {u: step(None, u) for u in starts}
-    todo = [(c, u) for u, c in cost.items()]
-    heapq.heapify(todo)
-    done: set[Node] = set()
-    while todo:
-        c, u = heapq.heappop(todo)
-        if u in done:
-            continue
-        done.add(u)
-        if u in goal:
-            out = [u]
-            while (p := before[out[-1]]) is not None:
-                out.append(p)
-            return c, out, set(before)
-        for v in links.get(u, ()):
-            cv = tuple(a + b for a, b in zip(c, step(u, v), strict=True))
-            if v not in done and (v not in cost or cv < cost[v]):
-                cost[v], before[v] = cv, u
-                heapq.heappush(todo, (cv, v))
-    return None, [], set(before)
 
 
 def widest_bins(edges: list[float], path: list[Node], finest: float
@@ -366,11 +320,10 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
             starts, goals = graph.nodes_at(edges, scene.start), graph.nodes_at(edges, scene.goal)
             if not starts or not goals:
                 return result(None)
-            path, reached = graph.chain(starts, goals, np.diff(edges).tolist())
-            while path is not None and graph.walkless(parts, edges, path):
-                path, reached = graph.chain(starts, goals, np.diff(edges).tolist())
-            if path is None:
-                reach = shapely.union_all([graph.table[i][g][k] for i, g, k in reached])
+            found = graph.walked(parts, edges, starts, goals)
+            path = found.nodes
+            if found.price is None:
+                reach = shapely.union_all([graph.table[i][g][k] for i, g, k in found.reached])
                 return result(True, reach, tuple(graph.refused))
             split, widest = widest_bins(edges, path, finest)
             log.debug("held poses, round %d: %d bins, a chain of %d parts over %d bins; %d "

@@ -11,9 +11,9 @@ a bound, whatever its bins; the largest over the rounds is given.
 The parts are taken at the checkers' full clearance, joined across the sweep's jumps
 (:class:`~pivot_ompl.analysis.pose_jumps.JumpParts`), and a regrasp link only where the
 walking robot may get round the resting box from one grasp to the other
-(:class:`~pivot_ompl.analysis.pose_walks.PoseWalks`, asked lazily of the chains found: a link
-it refuses is cut and the chain sought again; refusals are kept for the bins the next
-rounds keep).
+(:class:`~pivot_ompl.analysis.pose_walk.RegraspWalks`, asked lazily of the chains found,
+:func:`~pivot_ompl.analysis.pose_chain.walked_chain`: a link it refuses is cut and the chain
+sought again; refusals are kept for the bins the next rounds keep).
 
 The count is a shortest path with motions costing 0 and grasp changes 1; among chains of the
 least count the one through the narrowest bins is taken, and the bins of its regrasps (else
@@ -34,7 +34,6 @@ clearance in some yaw of a bin, its chain takes it.
 
 from __future__ import annotations
 
-import heapq
 import logging
 import math
 import time
@@ -44,6 +43,7 @@ from functools import partial
 
 import numpy as np
 
+from pivot_ompl.analysis.pose_chain import Node, Searches, walked_chain
 from pivot_ompl.analysis.pose_jumps import JumpParts
 from pivot_ompl.analysis.pose_proof import (
     ESTIMATED_BINS,
@@ -51,13 +51,11 @@ from pivot_ompl.analysis.pose_proof import (
     MAX_BINS,
     MOTION_CLEARANCE,
     HeldParts,
-    Node,
     PoseGraph,
     halve,
     proof_estimate,
     widest_bins,
 )
-from pivot_ompl.analysis.pose_walks import PoseWalks
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
 
@@ -115,11 +113,10 @@ def pose_estimate(scene: Scene, *, most_bins: int = MOST_BINS) -> float:
     return proof_estimate(scene) * most_bins / ESTIMATED_BINS
 
 
-@dataclass
-class Searches:
-    """Shortest-path searches left to :func:`least_changes` (shared by the rounds)."""
-
-    left: int
+#: A grasp change's price against the bins' widths (rad) in
+#: :func:`~pivot_ompl.analysis.pose_chain.cheapest`: above any chain's summed widths (a chain
+#: enters each part once; parts are far fewer than 1e6 / 2pi).
+CHANGE = 1e6
 
 
 def least_changes(graph: PoseGraph, starts: list[Node], goals: list[Node],
@@ -129,109 +126,24 @@ def least_changes(graph: PoseGraph, starts: list[Node], goals: list[Node],
 
     Among chains of the fewest changes, the one of least summed bin widths (``widths[i]``,
     rad, per part entered). ``None`` when no chain joins them. ``may_regrasp(u, v)``: whether
-    the regrasp link from part ``u`` to part ``v`` (one bin, two grasps) may be taken at all;
-    asked lazily, of the chain found only: a link it refuses is cut from ``graph.links`` and
-    the chain sought again, at most ``searches.left`` times in all (each search takes one;
-    none left, the last chain is given unasked: its count is still a lower bound, the links
-    it was not asked of being more than the relaxation's).
+    the regrasp link from part ``u`` to part ``v`` may be taken
+    (:func:`~pivot_ompl.analysis.pose_chain.walked_chain`: asked of the chains found, a link
+    refused cut from ``graph.links``); with no search left the last chain is given unasked:
+    its count is still a lower bound, the links it was not asked of being more than the
+    relaxation's.
     """
-    while True:
-        found = _fewest(graph.links, starts, goals, widths)
-        if found is None:
-            return None
-        count, chain = found
-        if searches is not None:
-            searches.left -= 1
-            if searches.left < 0:
-                return count, chain
-        refused = [] if may_regrasp is None else [
-            (u, v) for u, v in zip(chain, chain[1:], strict=False)
-            if u[1] != v[1] and not may_regrasp(u, v)]
-        if not refused:
-            return count, chain
-        for u, v in refused:
-            graph.links[u].remove(v)
-            graph.links[v].remove(u)
+    found = walked_chain(graph.links, starts, goals, widths, may_regrasp=may_regrasp,
+                         change=CHANGE, searches=searches)
+    return None if found.price is None else (int(found.price // CHANGE), found.nodes)
 
 
-#: A grasp change's price against the bins' widths (rad) in :func:`_fewest`: above any
-#: chain's summed widths (a chain enters each part once; parts are far fewer than 1e6 / 2pi).
-CHANGE = 1e6
-
-
-def _fewest(links: dict[Node, list[Node]], starts: list[Node], goals: list[Node],
-            widths: list[float]) -> tuple[int, list[Node]] | None:
-    """The fewest grasp changes from a start to a goal part, and a chain of that many.
-
-    :func:`~pivot_ompl.analysis.pose_proof.cheapest` priced by grasp changes, then widths, as
-    one number (the same order; a plain float heap is several times faster).
-    """
-    goal = set(goals)
-    before: dict[Node, Node | None] = dict.fromkeys(starts)
-    cost = {u: widths[u[0]] for u in starts}
-    todo = [(c, u) for u, c in cost.items()]
-    heapq.heapify(todo)
-    done: set[Node] = set()
-    while todo:
-        c, u = heapq.heappop(todo)
-        if u in done:
-            continue
-        done.add(u)
-        if u in goal:
-            out = [u]
-            while (p := before[out[-1]]) is not None:
-                out.append(p)
-            return int(c // CHANGE), out[::-1]
-        g = u[1]
-        for v in links.get(u, ()):
-            if v in done:
-                continue
-            cv = c + widths[v[0]] + (CHANGE if v[1] != g else 0.0)
-            if cv < cost.get(v, math.inf):
-                cost[v], before[v] = cv, u
-                heapq.heappush(todo, (cv, v))
-    return None
-
-
-class RegraspWalks:
-    """Whether a regrasp link of the held poses' graph may be walked (lazily, kept).
-
-    The link joins part ``k`` of grasp ``g`` and part ``q`` of grasp ``h`` at one bin: the
-    box rests where the two meet, at a yaw of the bin, and the robot walks from its grasp-``g``
-    pose to its grasp-``h`` pose round it (:class:`~pivot_ompl.analysis.pose_walks.PoseWalks`,
-    built at the first question).
-    """
-
-    def __init__(self, scene: Scene) -> None:
-        self.scene = scene
-        self.walk: PoseWalks | None = None
-        self.answers: dict[tuple[float, float, int, int, int, int], bool] = {}
-        self.refused: set[tuple[float, float, int, int, int, int]] = set()
-
-    def cut(self, graph: PoseGraph, edges: list[float]) -> None:
-        """Cut from ``graph`` the regrasp links refused in earlier rounds (bins kept)."""
-        at = {(edges[i], edges[i + 1]): i for i in range(len(edges) - 1)}
-        for a, b, g, k, h, q in self.refused:
-            i = at.get((a, b))
-            if i is not None and (i, h, q) in graph.links.get((i, g, k), ()):
+def cut_refused(graph: PoseGraph, parts: HeldParts, edges: list[float]) -> None:
+    """Cut from ``graph`` the regrasp links refused in earlier rounds (of the bins kept)."""
+    for i in range(len(edges) - 1):
+        for (g, k, h, q), may in parts.walked.get((edges[i], edges[i + 1]), {}).items():
+            if not may and (i, h, q) in graph.links.get((i, g, k), ()):
                 graph.links[(i, g, k)].remove((i, h, q))
                 graph.links[(i, h, q)].remove((i, g, k))
-
-    def may(self, parts: HeldParts, edges: list[float], u: Node, v: Node) -> bool:
-        """Whether the regrasp from part ``u`` to part ``v`` (one bin) may happen."""
-        (i, g, k), (_, h, q) = u, v
-        a, b = edges[i], edges[i + 1]
-        key = (a, b, g, k, h, q)
-        if key not in self.answers:
-            if self.walk is None:
-                self.walk = PoseWalks(self.scene)
-            table = parts.of(a, b)
-            region = table[g][k].intersection(table[h][q])
-            self.answers[key] = self.answers[(a, b, h, q, g, k)] = self.walk.may_regrasp(
-                region, a, b, g, h)
-            if not self.answers[key]:
-                self.refused.add(key)
-        return self.answers[key]
 
 
 def regrasp_bins(edges: list[float], path: list[Node], finest: float
@@ -239,8 +151,8 @@ def regrasp_bins(edges: list[float], path: list[Node], finest: float
     """The bins of a chain to halve, with those opposite them, and the widest of them (rad).
 
     The bins of the chain's regrasps first (where the walk round the resting box is judged,
-    at the bin's loosest: :class:`RegraspWalks`), the widest of them (within 1 %), none of
-    ``finest`` or finer; when those are all that fine, the chain's widest bins
+    at the bin's loosest: :mod:`~pivot_ompl.analysis.pose_walk`), the widest of them (within
+    1 %), none of ``finest`` or finer; when those are all that fine, the chain's widest bins
     (:func:`~pivot_ompl.analysis.pose_proof.widest_bins`).
     """
     at = [u for u, v in zip(path, path[1:], strict=False) if u[1] != v[1]]
@@ -273,7 +185,7 @@ def pose_regrasp_bound(scene: Scene, *, target: int | None = None,
         most_searches: shortest-path searches at most over all rounds (:func:`least_changes`;
             then the last count stands, and the result is complete).
         walk: take a regrasp link only where the walking robot may get round the resting box
-            (:class:`RegraspWalks`).
+            (:meth:`~pivot_ompl.analysis.pose_proof.HeldParts.may_regrasp`).
         should_stop: polled before every bin's parts; stopped, the rounds done stand.
 
     Never raises on a stop.
@@ -291,7 +203,6 @@ def pose_regrasp_bound(scene: Scene, *, target: int | None = None,
                                                                        should_stop)
         if parts.room is None:
             return result(False)
-        walks = RegraspWalks(scene) if walk else None
         searches = Searches(most_searches)
         while True:
             graph = PoseGraph(parts, edges, should_stop)
@@ -299,11 +210,11 @@ def pose_regrasp_bound(scene: Scene, *, target: int | None = None,
             starts, goals = graph.nodes_at(edges, scene.start), graph.nodes_at(edges, scene.goal)
             if not starts or not goals:
                 return result(False)
-            if walks is not None:
-                walks.cut(graph, edges)
+            if walk:
+                cut_refused(graph, parts, edges)
             found = least_changes(
                 graph, starts, goals, np.diff(edges).tolist(),
-                may_regrasp=None if walks is None else partial(walks.may, parts, edges),
+                may_regrasp=partial(parts.may_regrasp, edges) if walk else None,
                 searches=searches)
             if found is None:
                 return result(True, apart=True)

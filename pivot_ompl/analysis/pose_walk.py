@@ -1,38 +1,44 @@
 """The held poses' regrasps: may the robot walk round the resting box? Exact near the box.
 
-The held poses' relaxation (:mod:`~pivot_ompl.analysis.pose_proof`) joins two grasps' free
-parts of one yaw bin where they meet: a regrasp with the box resting there. A regrasp is also
-a walk of the robot from one grasp's stance to the other's, the walking body clear of the
-obstacles (by the checkers' clearance), inside the bounds, and clear of the box (the swept
-checks' tolerance aside). :class:`RegraspWalks` relaxes that walk soundly, as
-:class:`~pivot_ompl.analysis.regrasp_walk.WalkRelaxation` does (of the walking body its
-inscribed disk, of the box a *core* inside it at every pose asked), but decides it in exact
-polygons near the box, where a passage beside it may be a few centimetres too narrow:
+The held poses' relaxation (:mod:`~pivot_ompl.analysis.pose_proof`, and the regrasp count
+:mod:`~pivot_ompl.analysis.pose_regrasps`) joins two grasps' free parts of one yaw bin where
+they meet: a regrasp with the box resting there. A regrasp is also a walk of the robot from
+one grasp's stance to the other's, the walking body clear of the obstacles (by the checkers'
+clearance), inside the bounds, and clear of the box (the swept checks' tolerance aside).
+:class:`RegraspWalks` relaxes that walk soundly and decides it in exact polygons near the
+box, where a passage beside it may be a few centimetres too narrow:
 
-* **The core.** In the box's frame at the bin's middle yaw the box is an axis-aligned
-  rectangle; the positions ``P`` asked are turned into that frame, and the rectangle common
-  to the box at every one of them is the box's rectangle shrunk by ``P``'s extent along each
-  axis (exact: a rectangle's translates meet in the one spanned by the extremes), eroded by
-  the bin's rotation displacement and the tolerance.
-* **The stances.** A grasp's stance at a position of ``P`` and a yaw of the bin lies within
-  its own rotation displacement of ``P`` moved by the grasp's offset at the middle yaw.
-* **The walk near the box.** In a window of raster cells round the box at every pose of the
-  region and both grasps' stances, the disk centre's free polygon
-  (:func:`~pivot_ompl.validity.footprints.disk_clear`, a superset) less the core grown by the
-  disk's radius (a polygon of chords: inside the true offset) falls into parts; a part
-  meeting both stances may hold the walk.
+* **The walking body.** The walking body (a rectangle,
+  :meth:`~pivot_ompl.grasp.BoxGraspModel.walking_extent`) is relaxed to the largest disk
+  inside it round the rectangle's own centre (inside the body at any heading; the robot
+  pose's own inscribed disk is smaller when the body reaches further ahead than behind), so
+  a walk is a path of the disk's centre through
+  :func:`~pivot_ompl.validity.footprints.disk_clear`'s free set (a superset of the true one)
+  that keeps out of the box.
+* **The box.** Asked of a *piece* ``H`` of box positions (convex) at the yaws of one bin
+  ``[a, b]``: the box's rotation core over the bin
+  (:func:`~pivot_ompl.analysis.pose_cells.rotation_core`, inside the box at every yaw of the
+  bin) placed at every vertex of ``H`` and intersected (the core and ``H`` convex: inside the
+  core placed at every point of ``H``). Disk centres nearer to it than the disk's radius less
+  the tolerance are closed (the offset's chords: inside the true offset).
+* **The stances.** Where the disk's centre may be at grasp ``g``: ``H`` moved by the grasp's
+  offset turned to the bin's middle, grown by how far a half bin's turn moves that offset (a
+  polygon round the disk of that radius).
+* **Near the box.** In a window of raster cells round the region (every piece's closed
+  disk centres and stances inside it), the free set less the closed disk centres falls into
+  parts; a part meeting both stances may hold the walk. A free set of at most :data:`WHOLE`
+  vertices is taken whole: the window is the floor, all exact polygons.
 * **Far from the box.** A walk may leave the window and come back: the free raster cells
-  outside the window (cells meeting the free polygon,
-  :class:`~pivot_ompl.analysis.raster.FloorRaster`) are labelled, and two parts are joined
-  when they touch cells outside the window of one label (a way round outside crosses only
-  such cells, 8-adjacent, one after another).
+  outside the window (cells meeting the free set, and a few more,
+  :class:`~pivot_ompl.analysis.raster.FloorRaster`, :data:`CELL` across, at most
+  :data:`MAX_CELLS`: memory does not grow with the floor) are labelled, and two parts are
+  joined when they touch cells outside the window of one label (a way round outside crosses
+  only such cells, 8-adjacent, one after another).
 
-A region whose core is empty, or whose parts join the stances, is halved across its longer
-side (a smaller region has a larger core and smaller stances) until its pieces are
-:data:`TILE` across; every piece is asked in turn, depth first, and the region may hold the
-regrasp if a piece that cannot be halved may. At most :data:`MAX_TESTS` pieces are asked
-(then the answer is "may": sound, only weaker). ``False`` proves that no regrasp between the
-two grasps happens with the box in the region at any yaw of the bin.
+A piece that may hold the regrasp is cut in four (its bounding box's quarters) and each asked
+again, until the pieces are :data:`SPLIT` small or :data:`MOST_PIECES` have been asked (then
+"may": sound, only weaker). ``False`` proves that no regrasp between the two grasps happens
+with the box in the region at any yaw of the bin.
 """
 
 from __future__ import annotations
@@ -41,43 +47,62 @@ import math
 
 import numpy as np
 import shapely
+import shapely.affinity
 from scipy import ndimage
-from shapely import affinity
 from shapely.geometry.base import BaseGeometry
 
+from pivot_ompl.analysis.pose_cells import held_bodies, rotation_core
 from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.scene import Scene
+from pivot_ompl.validity.certify import SWEEP_TOLERANCE
+from pivot_ompl.validity.collision import KEEP_CLEARANCE
 from pivot_ompl.validity.footprints import disk_clear
 from pivot_ompl.validity.merge import merge_boxes
 
-#: Raster cell (m) of the disk centre's free space far from the box.
+#: Pieces of box positions this small (m, the larger side of their bounding box) are not cut.
+SPLIT = 0.01
+#: Pieces asked per regrasp at most.
+MOST_PIECES = 256
+#: Free sets of at most this many vertices are one window, the whole floor (no raster): the
+#: corridor rows' have 160-1400, the 1506-box lab's 1314.
+WHOLE = 5000
+#: Raster cell (m) of the disk centre's free set outside the window.
 CELL = 0.1
 #: Raster cells at most (a larger floor gets larger cells).
 MAX_CELLS = 600_000
-#: A region's pieces are halved down to this size (m) across their longer side.
-TILE = 0.02
-#: Pieces of one region asked at most.
-MAX_TESTS = 256
-#: Added to every erosion (m): keeps the relaxation on the safe side of round-off.
+#: Added to every erosion and growth (m): keeps the relaxation on the safe side of round-off.
 ROUND_OFF = 1e-7
 #: Parts of the window closer than this (m) are one part (they may touch at a point).
 TOUCH = 1e-7
-#: Segments of a quarter circle in the grown core (chords: inside the round offset).
-QUAD_SEGS = 8
+#: Segments per quarter circle of the polygons round disks.
+QUAD_SEGS = 4
 
 _EIGHT = np.ones((3, 3), dtype=bool)
 
 
-class _Floor:
-    """The disk centre's free polygon and its raster (built on the first walk asked)."""
+def _turned(points: np.ndarray, yaw: float) -> np.ndarray:
+    c, s = math.cos(yaw), math.sin(yaw)
+    return points @ np.array([[c, s], [-s, c]])
 
-    def __init__(self, scene: Scene, radius: float, clearance: float) -> None:
+
+class _Floor:
+    """The disk centre's free set and, past ``whole`` vertices, its raster (built when asked)."""
+
+    def __init__(self, scene: Scene, radius: float, clearance: float, whole: int) -> None:
         self.free = disk_clear(scene.bounds, merge_boxes(scene.obstacles), radius=radius,
                                clearance=clearance)
         shapely.prepare(self.free)
-        self.raster = FloorRaster(scene.bounds, min_cell=CELL, max_cells=MAX_CELLS)
-        self.cells = self.raster.meeting(self.free)
-        self.labels, _ = ndimage.label(self.cells, structure=_EIGHT)
+        self.raster: FloorRaster | None = None
+        self.cells = np.zeros((0, 0), dtype=bool)
+        if shapely.get_num_coordinates(self.free) <= whole:
+            return  # the window is the whole floor
+        self.raster = r = FloorRaster(scene.bounds, min_cell=CELL, max_cells=MAX_CELLS)
+        # every cell meeting the free set (and a few more): its centre within the free set
+        # grown by half a cell's diagonal (chords round the round offset: outside it)
+        grown = self.free.buffer(r.half_diag / math.cos(math.pi / (4 * QUAD_SEGS)),
+                                 quad_segs=QUAD_SEGS)
+        shapely.prepare(grown)
+        self.cells = shapely.intersects_xy(grown, r.gx.ravel(), r.gy.ravel()).reshape(r.shape)
 
 
 class RegraspWalks:
@@ -87,122 +112,127 @@ class RegraspWalks:
         scene: the scene.
         tolerance: the swept checks' tolerance (m).
         clearance: what the checkers keep the walking body from the obstacles (m).
+        whole: the free set's vertices at most for the window to be the whole floor (no
+            raster; :data:`WHOLE`).
     """
 
-    def __init__(self, scene: Scene, *, tolerance: float, clearance: float) -> None:
-        """Keep the model's sizes; the floor is rasterised when first needed."""
+    def __init__(self, scene: Scene, *, tolerance: float = SWEEP_TOLERANCE,
+                 clearance: float = KEEP_CLEARANCE, whole: int = WHOLE) -> None:
+        """Keep the model's sizes; the floor is built when first needed."""
         self.scene = scene
-        m = scene.model
-        self.radius = m.robot_inradius()
-        self.tolerance = tolerance
+        m = self.model = scene.model
+        ahead, behind, side = m.walking_extent()
+        self.radius = min(side, 0.5 * (ahead + behind))
+        self.centre = 0.5 * (ahead - behind)  # the body's centre, ahead of the robot pose
         self.clearance = clearance - tolerance - ROUND_OFF
         self.gap = self.radius - tolerance - ROUND_OFF  # the disk centre from the core
-        self.half = (0.5 * m.object_size[0], 0.5 * m.object_size[1])
-        self.box_reach = math.hypot(*self.half)
-        self.tests = 0  # pieces asked so far (a measure of the work)
+        self.box = held_bodies(m)[0][0]  # the box's footprint, counter-clockwise
+        #: pieces asked so far (all questions: a measure of the work)
+        self.pieces = 0
+        self.whole = whole
         self._floor: _Floor | None = None
 
     @property
     def floor(self) -> _Floor:
-        """The disk centre's free polygon and raster."""
+        """The disk centre's free set and raster."""
         if self._floor is None:
-            self._floor = _Floor(self.scene, self.radius, self.clearance)
+            self._floor = _Floor(self.scene, self.radius, self.clearance, self.whole)
         return self._floor
 
     def may_regrasp(self, region: BaseGeometry, a: float, b: float, g: int, h: int) -> bool:
-        """Whether a regrasp between grasps ``g`` and ``h`` may happen in ``region``.
+        """Whether a regrasp between grasps ``g`` and ``h`` may happen with the box in ``region``.
 
-        ``region``: box positions (m); ``[a, b]``: the yaw bin (rad). ``False`` proves that
-        none happens there, at any yaw of the bin.
+        ``region``: box positions (m); ``[a, b]``: the bin's yaws (rad, ``b - a`` below pi).
+        ``False`` proves that none happens there, at any yaw of the bin.
         """
         if region.is_empty:
             return False
-        yaw, turn = 0.5 * (a + b), 2.0 * math.sin(0.25 * (b - a))
-        erosion = self.box_reach * turn + self.tolerance + ROUND_OFF
-        hx, hy = self.half[0] - erosion, self.half[1] - erosion
-        if hx <= 0.0 or hy <= 0.0:
+        half, mid = 0.5 * (b - a), 0.5 * (a + b)
+        core = rotation_core(self.box, half)
+        if core is None:
             return True
-        m = self.scene.model
-        stances = []
-        for grasp in (g, h):  # the grasp's offset in the box's frame, and its turn
-            x, y, _ = m.robot_pose((0.0, 0.0, 0.0), grasp)
-            stances.append((x, y, math.hypot(x, y) * turn + ROUND_OFF))
-        local = affinity.rotate(region, -yaw, origin=(0.0, 0.0), use_radians=True)
-        todo: list[tuple[BaseGeometry, _Window | None]] = [(local, None)]
-        asked = 0
+        core = _turned(core, mid)
+        stands = []
+        for grasp in (g, h):
+            x, y, heading = self.model.robot_pose((0.0, 0.0, mid), grasp)
+            offset = np.array([x + self.centre * math.cos(heading),
+                               y + self.centre * math.sin(heading)])
+            sway = 2.0 * math.hypot(*offset) * math.sin(0.5 * half) + ROUND_OFF
+            stands.append((offset, sway / math.cos(math.pi / (4 * QUAD_SEGS))))
+        hull = region.convex_hull
+        reach = max(float(np.hypot(*core.T).max()) + self.gap,
+                    *(math.hypot(*o) + s for o, s in stands)) + 2.0 * ROUND_OFF
+        window: _Window | None = None
+        todo, asked = [hull], 0
         while todo:
-            piece, window = todo.pop()
-            if piece.is_empty:
-                continue
+            piece = todo.pop()
             asked += 1
-            if asked > MAX_TESTS:
-                break
-            x0, y0, x1, y1 = piece.bounds
-            if x1 - x0 < 2.0 * hx and y1 - y0 < 2.0 * hy:  # a core: the walk asked round it
+            self.pieces += 1
+            closed = self._closed(piece, core)
+            if closed is not None:
                 if window is None:
-                    window = _Window(self, piece, yaw, (hx, hy), stances)
-                if not window.joined(piece.bounds):
+                    window = _Window(self.floor, hull, reach)
+                ends = [shapely.affinity.translate(piece, *offset).buffer(
+                    sway, quad_segs=QUAD_SEGS) for offset, sway in stands]
+                if not window.joined(closed, ends):
                     continue  # no walk with the box anywhere in this piece
-            if max(x1 - x0, y1 - y0) <= TILE:
-                break
-            if x1 - x0 >= y1 - y0:
-                xm = 0.5 * (x0 + x1)
-                halves = ((x0, y0, xm, y1), (xm, y0, x1, y1))
-            else:
-                ym = 0.5 * (y0 + y1)
-                halves = ((x0, y0, x1, ym), (x0, ym, x1, y1))
-            todo.extend((shapely.intersection(piece, shapely.box(*r)), window) for r in halves)
-        else:
-            self.tests += asked
-            return False
-        self.tests += asked
-        return True
+            x0, y0, x1, y1 = piece.bounds
+            if max(x1 - x0, y1 - y0) <= SPLIT or asked + len(todo) >= MOST_PIECES:
+                return True
+            xm, ym = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+            for box in (shapely.box(x0, y0, xm, ym), shapely.box(xm, y0, x1, ym),
+                        shapely.box(x0, ym, xm, y1), shapely.box(xm, ym, x1, y1)):
+                part = region.intersection(box)
+                if not part.is_empty and part.area > 0.0:
+                    todo.append(part.convex_hull)
+                elif not part.is_empty:  # a sliver or a point: kept whole, not lost
+                    todo.append(part.buffer(ROUND_OFF).convex_hull)
+        return False
+
+    def _closed(self, piece: BaseGeometry, core: np.ndarray) -> BaseGeometry | None:
+        """The disk centres the box closes wherever in ``piece`` it rests (``None``: none)."""
+        corners = np.asarray(piece.exterior.coords)[:-1] if piece.geom_type == "Polygon" \
+            else np.asarray(piece.envelope.buffer(ROUND_OFF).exterior.coords)[:-1]
+        sure = shapely.Polygon(core + corners[0])
+        for c in corners[1:]:
+            sure = sure.intersection(shapely.Polygon(core + c))
+            if sure.is_empty:
+                return None  # nothing of the box is certain: it may not block
+        return sure.buffer(self.gap, quad_segs=QUAD_SEGS)
 
 
 class _Window:
-    """One region's window of raster cells: its free polygon and the labels outside it."""
+    """One region's window of raster cells: its free set and the labels outside it."""
 
-    def __init__(self, walks: RegraspWalks, local: BaseGeometry, yaw: float,
-                 core: tuple[float, float], stances: list[tuple[float, float, float]]) -> None:
-        """The window round every piece of ``local`` (positions in the box's frame)."""
-        self.walks, self.yaw, self.core, self.stances = walks, yaw, core, stances
-        floor = walks.floor
+    def __init__(self, floor: _Floor, hull: BaseGeometry, reach: float) -> None:
+        """The window round ``hull`` grown by ``reach`` (m: every closed set and stance)."""
         r = floor.raster
-        # every piece's blocked core and stances lie this far from the region's bounding box
-        reach = max(math.hypot(*walks.half) + walks.gap,
-                    *(math.hypot(sx, sy) + sr * math.sqrt(2.0) for sx, sy, sr in stances))
-        x0, y0, x1, y1 = self._world(shapely.box(*local.bounds)).bounds
+        if r is None:  # the whole floor
+            self.free, self.ring = floor.free, np.zeros(0, dtype=object)
+            self.ring_labels = np.zeros(0, dtype=np.int64)
+            return
+        x0, y0, x1, y1 = hull.bounds
         wi, wj = r.window(shapely.box(x0 - reach, y0 - reach, x1 + reach, y1 + reach))
-        self.block = (wi.start, wi.stop, wj.start, wj.stop)
         (ox, oy), c = r.origin, r.cell
-        self.rect = (ox + wi.start * c, oy + wj.start * c, ox + wi.stop * c, oy + wj.stop * c)
-        self.free = shapely.intersection(floor.free, shapely.box(*self.rect))
+        rect = (ox + wi.start * c, oy + wj.start * c, ox + wi.stop * c, oy + wj.stop * c)
+        self.free = shapely.intersection(floor.free, shapely.box(*rect))
         outside = floor.cells.copy()
         outside[wi, wj] = False
         labels, _ = ndimage.label(outside, structure=_EIGHT)
-        i0, i1, j0, j1 = self.block
+        i0, i1, j0, j1 = wi.start, wi.stop, wj.start, wj.stop
         ring = [(i, j) for i in range(i0 - 1, i1 + 1) for j in (j0 - 1, j1)]
         ring += [(i, j) for i in (i0 - 1, i1) for j in range(j0, j1)]
         nx, ny = r.shape
-        ring = [(i, j) for i, j in ring if 0 <= i < nx and 0 <= j < ny and labels[i, j]]
-        self.ring_labels = np.array([labels[i, j] for i, j in ring], dtype=np.int64)
-        self.ring = np.array([shapely.box(ox + i * c, oy + j * c, ox + (i + 1) * c,
-                                          oy + (j + 1) * c).buffer(TOUCH, join_style="mitre")
-                              for i, j in ring], dtype=object)
+        ii, jj = np.array([(i, j) for i, j in ring if 0 <= i < nx and 0 <= j < ny
+                           and labels[i, j]], dtype=np.int64).reshape(-1, 2).T
+        self.ring_labels = labels[ii, jj].astype(np.int64)
+        # the cells grown by TOUCH (a box's mitred offset is a box)
+        self.ring = shapely.box(ox + ii * c - TOUCH, oy + jj * c - TOUCH,
+                                ox + (ii + 1) * c + TOUCH, oy + (jj + 1) * c + TOUCH)
 
-    def _world(self, geom: BaseGeometry) -> BaseGeometry:
-        return affinity.rotate(geom, self.yaw, origin=(0.0, 0.0), use_radians=True)
-
-    def joined(self, bounds: tuple[float, float, float, float]) -> bool:
-        """Whether the stances of the box at ``bounds`` (its frame) may be joined round it."""
-        x0, y0, x1, y1 = bounds
-        hx, hy = self.core
-        core = self._world(shapely.box(x1 - hx, y1 - hy, x0 + hx, y0 + hy))
-        blocked = core.buffer(self.walks.gap, quad_segs=QUAD_SEGS)
-        ends = [self._world(shapely.box(x0 + sx, y0 + sy, x1 + sx, y1 + sy).buffer(
-            sr, quad_segs=QUAD_SEGS, join_style="mitre")) for sx, sy, sr in self.stances]
-        # the stances' boxes grown by mitre joins hold their round offsets
-        left = self.free.difference(blocked)
+    def joined(self, closed: BaseGeometry, ends: list[BaseGeometry]) -> bool:
+        """Whether a part of the free set less ``closed`` joins the two ``ends``."""
+        left = self.free.difference(closed)
         parts = [p for p in getattr(left, "geoms", [left]) if not p.is_empty]
         if not parts:
             return False
@@ -225,14 +255,11 @@ class _Window:
                 v = parent[v]
             return v
 
-        def union(u: int, v: int) -> None:
-            parent[find(u)] = find(v)
-
         if len(self.ring):
             hits = shapely.intersects(parts[:, None], self.ring[None, :])
             for p, k in zip(*np.nonzero(hits), strict=True):
-                union(int(p), n + int(self.ring_labels[k]))
+                parent[find(int(p))] = find(n + int(self.ring_labels[k]))
         near = shapely.dwithin(parts[:, None], parts[None, :], TOUCH)
         for p, q in zip(*np.nonzero(near), strict=True):
-            union(int(p), int(q))
+            parent[find(int(p))] = find(int(q))
         return bool({find(u) for u in a} & {find(v) for v in b})

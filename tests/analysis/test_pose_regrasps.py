@@ -79,6 +79,41 @@ def test_the_least_count_is_the_fewest_grasp_changes_of_any_chain(edges, starts,
     assert sum(a[1] != b[1] for a, b in zip(chain, chain[1:], strict=False)) == count
 
 
+@settings(max_examples=200, deadline=None)
+@given(edges=st.lists(st.tuples(nodes, nodes), max_size=40),
+       starts=st.lists(nodes, min_size=1, max_size=3),
+       goals=st.lists(nodes, min_size=1, max_size=3), refuse=st.integers(0, 2**16))
+def test_a_count_asking_the_walks_is_the_fewest_changes_over_the_links_they_allow(
+        edges, starts, goals, refuse):
+    # the walks refuse some regrasp links (both ways); asked lazily of the chains found, the
+    # count is still the fewest over the links they allow, and its chain takes none refused
+    graph, allowed = _Links(), {}
+    for a, b in edges:
+        graph.links.setdefault(a, []).append(b)
+        graph.links.setdefault(b, []).append(a)
+    refused = {frozenset((a, b)) for k, (a, b) in enumerate(edges)
+               if a[0] == b[0] and a[1] != b[1] and refuse >> (k % 16) & 1}
+    for a, b in edges:
+        if frozenset((a, b)) not in refused:
+            allowed.setdefault(a, []).append(b)
+            allowed.setdefault(b, []).append(a)
+    asked: list[frozenset] = []
+
+    def may(u: Node, v: Node) -> bool:
+        asked.append(frozenset((u, v)))
+        return frozenset((u, v)) not in refused
+
+    found = least_changes(graph, starts, goals, [0.1, 0.2, 0.3, 0.4],  # type: ignore[arg-type]
+                          may_regrasp=may)
+    want = _fewest_by_levels(allowed, starts, goals)
+    assert (found is None) == (want is None)
+    if found is not None:
+        count, chain = found
+        assert count == want
+        assert not {frozenset(p) for p in zip(chain, chain[1:], strict=False)} & refused
+    assert set(asked) <= {frozenset(p) for p in edges}
+
+
 def _within(seconds: float):
     end = time.monotonic() + seconds
     return lambda: time.monotonic() > end

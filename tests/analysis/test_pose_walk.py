@@ -13,9 +13,9 @@ from shapely import affinity
 
 from pivot_ompl.analysis.late_proof import held_pose_proof
 from pivot_ompl.analysis.pose_proof import prove_no_plan
-from pivot_ompl.analysis.pose_walk import RegraspWalks
+from pivot_ompl.analysis.pose_walk import WHOLE, RegraspWalks
 from pivot_ompl.cli.main import main
-from pivot_ompl.generate import generate
+from pivot_ompl.generate import GeneratorParams, generate
 from pivot_ompl.generate.sceneio import write_scene
 from pivot_ompl.se2 import rectangle_corners
 from pivot_ompl.validity.footprints import disk_clear
@@ -64,34 +64,55 @@ def test_a_door_wide_enough_beside_the_box_lets_the_robot_walk_round_it(turn):
     assert walks.may_regrasp(_in_the_door(0.01, turn), *_bin(turn), 0, 2) is False
 
 
+def _body_disk(scene) -> tuple[float, float]:
+    """The walking body's largest inscribed disk: its radius, its centre ahead of the pose."""
+    ahead, behind, side = scene.model.walking_extent()
+    return min(side, 0.5 * (ahead + behind)), 0.5 * (ahead - behind)
+
+
+def _centre(scene, q, grasp: int) -> shapely.Point:
+    """The walking body's centre at grasp ``grasp`` of the box at ``q``."""
+    x, y, heading = scene.model.robot_pose(q, grasp)
+    ahead = _body_disk(scene)[1]
+    return shapely.Point(x + ahead * math.cos(heading), y + ahead * math.sin(heading))
+
+
 def _exact_walk(scene, free, q, g: int, h: int) -> bool:
     """The relaxation's walk for one pose, over the whole floor in exact polygons."""
     m = scene.model
     box = shapely.Polygon(rectangle_corners(q, m.object_size[0] - 2 * TOLERANCE,
                                             m.object_size[1] - 2 * TOLERANCE))
-    left = free.difference(box.buffer(m.robot_inradius() - TOLERANCE, quad_segs=16))
-    a, b = (shapely.Point(*m.robot_pose(q, k)[:2]) for k in (g, h))
+    left = free.difference(box.buffer(_body_disk(scene)[0] - TOLERANCE, quad_segs=16))
+    a, b = (_centre(scene, q, k) for k in (g, h))
     return any(p.intersects(a) and p.intersects(b) for p in getattr(left, "geoms", [left]))
 
 
-@pytest.mark.parametrize("name", ["building", "corridor"])
-def test_a_walk_the_exact_polygons_allow_is_never_denied(name):
+def _corridor_row():
+    """A row of rooms on a turned corridor 0.87-0.89 m wide (the regrasp count's class)."""
+    return generate("building", 0, params=GeneratorParams(
+        rooms=3, layout="corridor", rotate=True, side_corridor=(0.87, 0.89),
+        side_door=(1.0, 1.0))).scene
+
+
+@pytest.mark.parametrize("whole", [WHOLE, 0])
+@pytest.mark.parametrize("name", ["building", "corridor", "corridor_row"])
+def test_a_walk_the_exact_polygons_allow_is_never_denied(name, whole):
     """Random poses of small regions and grasp pairs: where the whole floor's exact polygons
     join the stances round the box at the region's centre, the answer is "may"; and some
-    answers are "no" (the test asks something)."""
-    scene = generate(name, seed=0).scene
-    m = scene.model
-    free = disk_clear(scene.bounds, merge_boxes(scene.obstacles), radius=m.robot_inradius(),
+    answers are "no" (the test asks something: poses are drawn until one is refused, 600 at
+    most). Both with the floor as one window and with a window and the raster outside it."""
+    scene = _corridor_row() if name == "corridor_row" else generate(name, seed=0).scene
+    free = disk_clear(scene.bounds, merge_boxes(scene.obstacles), radius=_body_disk(scene)[0],
                       clearance=CLEARANCE - TOLERANCE)
-    walks = RegraspWalks(scene, tolerance=TOLERANCE, clearance=CLEARANCE)
+    walks = RegraspWalks(scene, tolerance=TOLERANCE, clearance=CLEARANCE, whole=whole)
     rng = np.random.default_rng(3)
     x0, y0, x1, y1 = scene.bounds
     seen = []
-    while len(seen) < 120:
+    while len(seen) < 120 or (all(got for _, got in seen) and len(seen) < 600):
         q = (float(rng.uniform(x0, x1)), float(rng.uniform(y0, y1)),
              float(rng.uniform(-math.pi, math.pi)))
         g, h = sorted(rng.choice(4, size=2, replace=False).tolist())
-        stances = [shapely.Point(*m.robot_pose(q, k)[:2]) for k in (g, h)]
+        stances = [_centre(scene, q, k) for k in (g, h)]
         if not all(free.covers(s) for s in stances):
             continue
         exact = _exact_walk(scene, free, q, g, h)

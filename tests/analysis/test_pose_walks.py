@@ -10,7 +10,7 @@ from factories import make_scene
 
 from pivot_ompl.analysis.pose_jumps import JumpParts
 from pivot_ompl.analysis.pose_regrasps import pose_regrasp_bound
-from pivot_ompl.analysis.pose_walks import PoseWalks
+from pivot_ompl.analysis.pose_walk import WHOLE, RegraspWalks
 from pivot_ompl.planfile import TransferPhase, TransitPhase
 
 CORRIDOR_BOX = {"object": {"size": [0.8, 0.4, 1.0]},
@@ -35,7 +35,7 @@ def _bin(yaw: float, half: float = 0.01) -> tuple[float, float]:
 def test_every_regrasp_of_a_checked_plan_may_be_walked(corridor_rows):
     seen = 0
     for gen in corridor_rows:
-        walks = PoseWalks(gen.scene)
+        walks = RegraspWalks(gen.scene)
         for ph in gen.witness.phases:
             if isinstance(ph, TransitPhase) and ph.from_grasp != ph.to_grasp:
                 x, y, yaw = ph.object_pose
@@ -70,10 +70,11 @@ def _dead_end(open_end: bool):
                       goal=[1.0, 4.5, 0.0], **CORRIDOR_BOX)
 
 
+@pytest.mark.parametrize("whole", [WHOLE, 0])  # the floor one window; a raster outside it
 @pytest.mark.parametrize("open_end", [False, True])
-def test_a_regrasp_round_a_box_across_a_dead_end_is_refused(open_end):
+def test_a_regrasp_round_a_box_across_a_dead_end_is_refused(open_end, whole):
     scene = _dead_end(open_end)
-    walks = PoseWalks(scene)
+    walks = RegraspWalks(scene, whole=whole)
     region = shapely.box(3.98, 2.98, 4.02, 3.02)  # box along x: robot at -x (0), at +x (2)
     assert walks.may_regrasp(region, -0.01, 0.01, 0, 2) is open_end
 
