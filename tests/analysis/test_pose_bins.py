@@ -95,3 +95,27 @@ def test_every_valid_pose_lies_in_its_bins_region_halved_or_twinned(rects, seed)
             if not all(area.buffer(1e-9).covers(p.centroid) for p in placed[:1]):
                 continue
             assert regions[g].buffer(1e-7).covers(shapely.Point(x, y)), (a, b, g, x, y, yaw)
+
+
+def test_a_halved_bin_of_a_floor_of_rooms_is_its_parent_less_its_own_sums():
+    # the parent's region falls into parts (rooms, the walls closed at the parent's yaws);
+    # each part loses only the sums that meet it, and together they are exactly the parent's
+    # region met with the half's own single-bin region
+    scene = make_scene()
+    walls = [_rect(2.7, 1.2, 0.1, 2.4, 0.0), _rect(2.7, 4.9, 0.1, 2.2, 0.0),
+             _rect(5.4, 1.5, 0.1, 3.0, 0.0), _rect(5.4, 5.2, 0.1, 1.6, 0.0),
+             _rect(1.2, 3.0, 0.5, 0.5, 0.4), _rect(4.0, 2.0, 0.3, 0.8, 1.1),
+             _rect(7.0, 4.0, 0.6, 0.3, 2.0)]
+    grown = by_size(grown_pieces(walls, CLEARANCE))
+    bodies = held_bodies(scene.model)
+    area = shapely.box(0.0, 0.0, 8.2, 6.0)
+    bins = BinRegions(grown, bodies, area)
+    a, b = 0.0, 2.0 * math.pi / 16
+    parents = bins.regions(a, b)
+    assert max(len(getattr(r, "geoms", [r])) for r in parents) >= 2
+    for lo, hi in ((a, 0.5 * (a + b)), (0.5 * (a + b), b)):
+        got = bins.regions(lo, hi)
+        for g in range(4):
+            cores = [rotation_core(body, 0.5 * (hi - lo)) for body in bodies[g]]
+            want = parents[g].intersection(free_region(grown, cores, 0.5 * (lo + hi), area))
+            assert got[g].symmetric_difference(want).area < 1e-9
