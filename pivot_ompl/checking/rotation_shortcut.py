@@ -39,7 +39,7 @@ import math
 from collections.abc import Callable, Iterator, Sequence
 
 from pivot_ompl.checking.rotation_sweeps import RotationSweeps
-from pivot_ompl.pivoting.kinematics import ANGLE_TOL, Rotation, solve_piece
+from pivot_ompl.pivoting.kinematics import ANGLE_TOL, LEFT, Rotation, solve_piece
 from pivot_ompl.pivoting.spin_chain import rotate_edge
 from pivot_ompl.se2 import Pose, wrap_angle
 
@@ -106,27 +106,38 @@ def _replacements(p: Pose, q: Pose, ell: float, alpha_max: float, n: int,
     turn = wrap_angle(q[2] - p[2])
     angles = [alpha_max * j / GRID for j in range(-GRID, GRID + 1)
               if j and (lead <= FREE_LEAD or (j * turn > 0.0 and abs(j) >= GRID - 1))]
+    turns = [(a, math.cos(a), math.sin(a)) for a in angles]
     step = 2.0 * ell * math.sin(0.5 * alpha_max)
+    sin, cos, hypot = math.sin, math.cos, math.hypot
+    qx, qy, qh = q
 
-    def reach(car: Pose, left: int) -> bool:
-        return (math.hypot(q[0] - car[0], q[1] - car[1]) <= left * step + 1e-9
-                and abs(wrap_angle(q[2] - car[2])) <= left * (alpha_max + ANGLE_TOL))
-
-    def grow(car: Pose, end: int, rots: list[Rotation]) -> Iterator[list[Rotation]]:
-        if len(rots) == lead:
+    def grow(x: float, y: float, h: float, end: int,
+             lead_angles: list[float]) -> Iterator[list[Rotation]]:
+        left = n - len(lead_angles)  # rotations left to reach q from (x, y, h)
+        if hypot(qx - x, qy - y) > left * step + 1e-9 or \
+                abs(wrap_angle(qh - h)) > left * (alpha_max + ANGLE_TOL):
+            return
+        if len(lead_angles) == lead:
+            rots: list[Rotation] = []
+            car, e = p, first
+            for a in lead_angles:  # the same arithmetic as below, as records
+                r = rotate_edge(car, e, a, ell)
+                rots.append(r)
+                car, e = r.car, 1 - e
             ok, tail = solve_piece(car, q, ell, alpha_max, max_deviation=deviation,
                                    previous=rots[-1])
             if ok and tail:
                 yield rots + list(tail)
             return
-        for a in angles:
-            r = rotate_edge(car, end, a, ell)
-            if reach(r.car, n - len(rots) - 1):
-                yield from grow(r.car, 1 - end, [*rots, r])
+        sign = 1.0 if end == LEFT else -1.0
+        px, py = x - sign * ell * sin(h), y + sign * ell * cos(h)
+        dx, dy = x - px, y - py
+        for a, c, s in turns:  # rotate_edge's arithmetic
+            yield from grow(px + c * dx - s * dy, py + s * dx + c * dy, h + a, 1 - end,
+                            [*lead_angles, a])
 
-    if reach(p, n):
-        for first in (0, 1):
-            yield from grow(p, first, [])
+    for first in (0, 1):
+        yield from grow(p[0], p[1], p[2], first, [])
 
 
 def shorten(sweeps: RotationSweeps, start: Pose, rotations: Sequence[Rotation], grasp: int,
@@ -151,11 +162,12 @@ def shorten(sweeps: RotationSweeps, start: Pose, rotations: Sequence[Rotation], 
     """
     rots = list(rotations)
     spent = 0
+    failed: set[tuple] = set()
     while True:  # passes until one replaces nothing: the result is a fixed point
         count = len(rots)
         rots, spent = _pass(sweeps, start, rots, grasp, half_length=half_length,
                             alpha_max=alpha_max, spent=spent, checks=checks,
-                            should_stop=should_stop)
+                            failed=failed, should_stop=should_stop)
         if len(rots) == count or spent >= checks or (should_stop is not None
                                                      and should_stop()):
             break
@@ -166,12 +178,15 @@ def shorten(sweeps: RotationSweeps, start: Pose, rotations: Sequence[Rotation], 
 
 
 def _pass(sweeps: RotationSweeps, start: Pose, rots: list[Rotation], grasp: int, *,
-          half_length: float, alpha_max: float, spent: int, checks: int,
+          half_length: float, alpha_max: float, spent: int, checks: int, failed: set[tuple],
           should_stop: Callable[[], bool] | None) -> tuple[list[Rotation], int]:
     """One pass of windows over ``rots``: ``(rotations, checks spent)``.
 
     At each position the shortest window first; after a replacement the pass steps back two
-    rotations (the joins changed there), else it moves on by one.
+    rotations (the joins changed there), else it moves on by one. A window whose every
+    replacement was tried and refused is added to ``failed`` (with its neighbours, which
+    decide the merges) and not tried again: its replacements and their checks would be the
+    same.
     """
     i = 0
     while i < len(rots) and spent < checks:
@@ -182,7 +197,8 @@ def _pass(sweeps: RotationSweeps, start: Pose, rots: list[Rotation], grasp: int,
             before = rots[i - 1] if i else None
             after = rots[i + w] if i + w < len(rots) else None
             around = ([before] if before else []) + rots[i:i + w] + ([after] if after else [])
-            if not _turns(around):
+            key = (before, *rots[i:i + w], after)
+            if key in failed or not _turns(around):
                 continue
             p = before.car if before else start
             q = rots[i + w - 1].car
@@ -215,5 +231,7 @@ def _pass(sweeps: RotationSweeps, start: Pose, rots: list[Rotation], grasp: int,
                     break
             if done:
                 break
+            if spent < checks:
+                failed.add(key)
         i = max(0, i - 2) if done else i + 1
     return rots, spent
