@@ -75,6 +75,26 @@ def test_no_run_is_replaced_where_the_checks_refuse_its_replacement(monkeypatch)
     assert calls and short == rots
 
 
+def test_an_arcs_three_rotation_pieces_are_joined_two_by_two():
+    """A quarter turn on an arc: pieces of three (L, R, L) become runs alternating corners.
+
+    The arc's rotations alternate in sign, so a replacement's leading rotations must take
+    either sign (a grid turning only the way the window turns saves one rotation here).
+    """
+    scene = make_scene(bounds=[0.0, 0.0, 14.0, 14.0], start=[3.0, 6.0, 0.0],
+                       goal=[9.0, 6.0, 0.0])
+    checker = PivotChecker(scene, share=False)
+    m, g = scene.model, 0
+    a, b = (3.0, 6.0, 0.0), (5.0, 8.0, math.pi / 2)
+    rots = phase_rotations(checker.steering, [checker.transfer(a, b, g).sequence])
+    start = m.car_pose(a, g)
+    short = shorten(checker.transfers.sweeps, start, rots, g,
+                    half_length=m.edge_half_length(g), alpha_max=scene.alpha_max)
+    assert len(short) <= 0.85 * len(rots)  # 39 -> 32
+    assert short[-1].car == rots[-1].car
+    assert _chained(start, short, m, g, scene.alpha_max)
+
+
 def _spun(car):
     return (car[0], car[1], car[2] + math.pi)
 
@@ -110,3 +130,25 @@ def test_a_shortened_plans_motions_are_read_past_a_state_it_no_longer_passes(
     for (a, b, g), steps in st.transfers.items():
         assert stored_rotations(m, m.car_pose(a, g), m.car_pose(b, g), steps, g,
                                 alpha_max=scene.alpha_max) is not None
+
+
+def test_a_shortened_phase_is_a_fixed_point(t_junction_plan):
+    """Shortening the shortened rotations again replaces nothing (one pass is not enough)."""
+    scene, _plan, route = t_junction_plan
+    checker = PivotChecker(scene, share=False)
+    m = scene.model
+    phases, i = [], 0
+    while i < len(route) - 1:
+        g, j, seqs = route[i][1], i, []
+        while j < len(route) - 1 and route[j + 1][1] == g:
+            seqs.append(checker.transfer(route[j][0], route[j + 1][0], g).sequence)
+            j += 1
+        if seqs:
+            phases.append((m.car_pose(route[i][0], g), phase_rotations(checker.steering, seqs), g))
+        i = max(j, i + 1)
+    assert len(phases) == 2
+    for start, rots, g in phases:
+        kw = {"half_length": m.edge_half_length(g), "alpha_max": scene.alpha_max}
+        once = shorten(checker.transfers.sweeps, start, rots, g, **kw)
+        assert len(once) < len(rots)
+        assert shorten(checker.transfers.sweeps, start, once, g, **kw) == once

@@ -31,10 +31,11 @@ def test_a_building_with_sliced_walls_plans_as_the_whole_one():
     regrasps and end, nearly the same cost and pivots; not always the same grasps (two
     routes within 1 % of each other's cost, holding the box from either side first, are
     each chosen on one of the two worlds). The shortening of transfer phases after conversion
-    (:func:`~pivot_ompl.checking.rotation_shortcut.shorten`) starts from those pivots and
-    replaces windows greedily, so it gains more on one world than on the other: on this
-    building 669.7 and 667.1 s before it, within 4 % after it (105-106 and
-    116 pivots).
+    (:func:`~pivot_ompl.checking.rotation_shortcut.shorten`) is a fixed point of its
+    replacements, but of the phases it is given: on this building the two worlds' routes
+    hold the box from opposite sides first (118 and 117 pivots before any shortening), and
+    the cut one's first phase is a straight push that no window shortens, so the plans stay
+    within 5 % (629 and 657 s; 99 and 110 pivots).
     """
     whole = generate("building", 0, params=GeneratorParams(rooms=2)).scene
     cut = dataclasses.replace(whole, obstacles=tuple(sliced(whole.obstacles, 3)))
@@ -52,4 +53,4 @@ def test_a_building_with_sliced_walls_plans_as_the_whole_one():
     assert _summary(b.plan)[-1][1] == _summary(a.plan)[-1][1]  # the same goal reached
     ca, cb = plan_quality(a.plan)["cost"], plan_quality(b.plan)["cost"]
     assert abs(cb - ca) <= 0.05 * ca
-    assert abs(b.plan.pivots - a.plan.pivots) <= 0.15 * a.plan.pivots  # 105 and 116
+    assert abs(b.plan.pivots - a.plan.pivots) <= 0.15 * a.plan.pivots  # 99 and 110
