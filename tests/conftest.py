@@ -4,11 +4,17 @@ from __future__ import annotations
 
 import pytest
 from factories import PAPER_BOX
+from hypothesis import settings
 from ompl import util as ou
 
 from pivot_ompl.grasp import BoxGraspModel
 
 ou.setLogLevel(ou.LogLevel.LOG_ERROR)
+
+# no per-example deadline: a property's examples are checked, not timed (a test beside it on a
+# busy machine would stretch the clock); examples and seeds stay as each test sets them
+settings.register_profile("pivot_ompl", deadline=None)
+settings.load_profile("pivot_ompl")
 
 
 @pytest.fixture(scope="session", autouse=True)

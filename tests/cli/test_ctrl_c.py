@@ -13,12 +13,12 @@ from pathlib import Path
 import pytest
 from factories import scene_file
 
+pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
+
 #: Runs the command line after arranging a SIGINT to itself on the first import of ``numpy``
 #: (deterministic: the moment the command line loads its verbs).
 _INTERRUPT_ON_IMPORT = """
 import builtins, os, signal, sys
-
-pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
 real = builtins.__import__
 def hook(name, *args, **kwargs):
     if name == "numpy" and "numpy" not in sys.modules:
