@@ -347,3 +347,26 @@ def meeting_edges(pieces: list[np.ndarray], bodies: list[np.ndarray], *,
         start[idx, :w], end[idx, :w] = part.start, part.end
         used[idx, :w], bounds[idx] = part.used, part.bounds
     return EdgeSet(start, end, used, bounds)
+
+
+def meeting_polygons(pieces: list[np.ndarray], bodies: list[np.ndarray], *,
+                     should_stop: Callable[[], bool] | None = None) -> np.ndarray:
+    """:func:`meeting_edges` as shapely polygons (an object array, one per pair).
+
+    The polygons of the same vertices as :func:`~pivot_ompl.validity.footprints.meeting_hulls`
+    gives (certified, else GEOS's hull), about three times cheaper for many pairs; a pair
+    whose hull is no polygon (nothing to sum) gives an empty polygon.
+
+    Raises:
+        Interrupted: ``should_stop()`` became true (:func:`meeting_edges`).
+    """
+    edges = meeting_edges(pieces, bodies, should_stop=should_stop)
+    counts = edges.used.sum(axis=1)
+    out = np.full(len(counts), shapely.Polygon(), dtype=object)
+    full = np.flatnonzero(counts >= 3)
+    if not len(full):
+        return out
+    rings = shapely.linearrings(edges.start[full][edges.used[full]],
+                                indices=np.repeat(np.arange(len(full)), counts[full]))
+    out[full] = shapely.polygons(rings)
+    return out
