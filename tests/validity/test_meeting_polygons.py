@@ -47,3 +47,22 @@ def test_each_polygon_has_the_vertices_of_the_convex_hull(seed):
 
 def test_no_pairs_give_no_polygons():
     assert len(meeting_polygons([], [])) == 0
+
+
+def test_pairs_with_vertices_on_an_edge_line_are_geos_hulls_too():
+    # a wall box with vertices along its sides and a rounded body: sums whose differences
+    # lie on an edge's line (uncertifiable, summed by GEOS) are still the hulls' polygons
+    rng = np.random.default_rng(7)
+    t = np.linspace(0.0, 1.0, 6)[:-1]
+    corners = np.array([[0.0, 0.0], [3.0, 0.0], [3.0, 0.2], [0.0, 0.2]])
+    wall = np.concatenate([a + np.outer(t, b - a) for a, b in
+                           zip(corners, np.roll(corners, -1, axis=0), strict=True)])
+    body = np.asarray(shapely.box(-0.4, -0.15, 0.4, 0.15).buffer(0.03, quad_segs=4)
+                      .exterior.coords)[:-1]
+    turns = rng.uniform(-np.pi, np.pi, 8)
+    bodies = [body @ np.array([[np.cos(a), np.sin(a)], [-np.sin(a), np.cos(a)]])
+              for a in [0.0, np.pi / 2, *turns]]
+    got = meeting_polygons([wall] * len(bodies), bodies)
+    for poly, b in zip(got, bodies, strict=True):
+        want = meeting_hulls([wall], b)[0]
+        assert _vertices(poly) == _vertices(want)
