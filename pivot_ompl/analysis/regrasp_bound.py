@@ -61,16 +61,16 @@ import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
+from pivot_ompl.analysis.free_pieces import HULL_PAIRS, free_region, meeting_per_yaw
 from pivot_ompl.analysis.piece_graph import PieceGraph
 from pivot_ompl.analysis.regrasp_walk import WalkRelaxation
 from pivot_ompl.analysis.route_bound import shortest_route
 from pivot_ompl.errors import Interrupted
-from pivot_ompl.graph import UnionFind
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose, rectangle_corners, wrap_angle
 from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
-from pivot_ompl.validity.footprints import meeting_hulls, obstacle_pieces
+from pivot_ompl.validity.footprints import obstacle_pieces
 from pivot_ompl.validity.merge import merge_boxes
 
 log = logging.getLogger(__name__)
@@ -159,50 +159,6 @@ def held_bodies(scene: Scene, grasp: int) -> list[Body]:
             Body(np.asarray(held.exterior.coords)[:-1])]
 
 
-def _free_pieces(scene: Scene, parts: list[Body], yaw: float, inside: list[float],
-                 clear: list[float], pieces: list[np.ndarray]) -> list[BaseGeometry]:
-    """Connected pieces of the box positions where every part may be free at ``yaw``.
-
-    ``inside``: per part, the erosion (m) of the body kept inside the bounds; ``clear``: the
-    net offset (m, > 0 erodes, < 0 grows) of the body kept clear of the obstacles.
-    """
-    x0, y0, x1, y1 = scene.bounds
-    lo, hi = [x0, y0], [x1, y1]
-    hulls = []
-    for part, d_in, d_clear in zip(parts, inside, clear, strict=True):
-        e = part.offset_points(yaw, d_in)
-        if e is not None:  # inside the bounds: every vertex of the eroded body
-            lo = [max(lo[0], x0 - e[:, 0].min()), max(lo[1], y0 - e[:, 1].min())]
-            hi = [min(hi[0], x1 - e[:, 0].max()), min(hi[1], y1 - e[:, 1].max())]
-        e = part.offset_points(yaw, d_clear)
-        if e is not None:
-            hulls.extend(meeting_hulls(pieces, e))
-    if lo[0] > hi[0] or lo[1] > hi[1]:
-        return []
-    region: BaseGeometry = shapely.box(lo[0], lo[1], hi[0], hi[1])
-    if hulls:
-        region = region.difference(shapely.union_all(hulls))
-    geoms = [g for g in getattr(region, "geoms", [region]) if not g.is_empty]
-    return _merge_touching(geoms)
-
-
-def _merge_touching(geoms: list[BaseGeometry]) -> list[BaseGeometry]:
-    """Pieces that touch (a common point) joined: a path may pass where they meet."""
-    if len(geoms) < 2:
-        return geoms
-    sets: UnionFind[int] = UnionFind()
-    for i in range(len(geoms)):
-        sets.add(i)
-    tree = shapely.STRtree(geoms)
-    a, b = tree.query(geoms, predicate="intersects")
-    for i, j in zip(a.tolist(), b.tolist(), strict=True):
-        sets.union(i, j)
-    groups: dict[int, list[BaseGeometry]] = {}
-    for i, g in enumerate(geoms):
-        groups.setdefault(sets.find(i), []).append(g)
-    return [gs[0] if len(gs) == 1 else shapely.union_all(gs) for gs in groups.values()]
-
-
 def yaw_bins(scene: Scene, resolution: float) -> int:
     """Even number of yaw bins whose rotation erosion is at most ``resolution``."""
     reach = max(p.reach for g in (0, 1) for p in held_bodies(scene, g))
@@ -271,11 +227,21 @@ def free_cover(scene: Scene, *, resolution: float = RESOLUTION,
         parts = held_bodies(scene, g)
         inside = [2.0 * p.reach * math.sin(0.25 * w) + tolerance + ROUND_OFF for p in parts]
         clear = [d - clearance for d in inside]
-        for b in range(n):
-            if should_stop is not None and should_stop():
+        step = max(1, HULL_PAIRS // max(1, len(parts) * len(pieces)))
+        for b0 in range(0, n, step):  # the hulls of a few bins at once (vectorised)
+            yaws = [-math.pi + (b + 0.5) * w for b in range(b0, min(n, b0 + step))]
+            try:
+                hulls = meeting_per_yaw([[e for p, d in zip(parts, clear, strict=True)
+                                          if (e := p.offset_points(yaw, d)) is not None]
+                                         for yaw in yaws], pieces, should_stop=should_stop)
+            except Interrupted:
                 return None
-            free[g].append(_free_pieces(scene, parts, -math.pi + (b + 0.5) * w, inside, clear,
-                                        pieces))
+            for yaw, meeting in zip(yaws, hulls, strict=True):
+                if should_stop is not None and should_stop():
+                    return None
+                free[g].append(free_region(scene.bounds, [p.offset_points(yaw, d) for p, d
+                                                          in zip(parts, inside, strict=True)],
+                                           meeting))
     return FreeCover(n, free)
 
 

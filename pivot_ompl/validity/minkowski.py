@@ -19,7 +19,6 @@ import shapely
 from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.errors import Interrupted
-from pivot_ompl.validity.footprints import meeting_hulls
 from pivot_ompl.validity.polygon_terms import DistinctPolygons, PolygonTerms, own_terms
 
 #: (3 + 16 eps) eps, rounded up): a sign beyond it is certain.
@@ -279,6 +278,17 @@ def _geos_edges(hulls: list[BaseGeometry]) -> EdgeSet:
     return EdgeSet(start, end, used, bounds)
 
 
+def _pair_hulls(pieces: list[np.ndarray], bodies: list[np.ndarray]) -> list[BaseGeometry]:
+    """GEOS's hull of each ``pieces[i] - bodies[i]``, all pairs in one call.
+
+    Each the geometry :func:`~pivot_ompl.validity.footprints.meeting_hulls` gives for the pair.
+    """
+    diffs = [(k[:, None, :] - b[None, :, :]).reshape(-1, 2)
+             for k, b in zip(pieces, bodies, strict=True)]
+    index = np.repeat(np.arange(len(diffs)), [len(d) for d in diffs])
+    return list(shapely.convex_hull(shapely.multipoints(np.concatenate(diffs), indices=index)))
+
+
 #: (piece, body) pairs :func:`meeting_edges` sums between two polls of its ``should_stop``
 #: (about 40 ms of work with the walking body's 20 vertices).
 MEETING_BATCH = 512
@@ -335,8 +345,8 @@ def meeting_edges(pieces: list[np.ndarray], bodies: list[np.ndarray], *,
     for f0 in range(0, len(gone), MEETING_BATCH):  # GEOS, one pair at a time
         if should_stop is not None and should_stop():
             raise Interrupted("summing obstacle pieces and bodies")
-        hulls.extend(meeting_hulls([pieces[i]], bodies[i])[0]
-                     for i in gone[f0:f0 + MEETING_BATCH])
+        hulls.extend(_pair_hulls([pieces[i] for i in gone[f0:f0 + MEETING_BATCH]],
+                                 [bodies[i] for i in gone[f0:f0 + MEETING_BATCH]]))
     if gone:
         parts.append((np.asarray(gone, dtype=np.int64), _geos_edges(hulls)))
     e = max(part.start.shape[1] for _, part in parts)
@@ -347,3 +357,26 @@ def meeting_edges(pieces: list[np.ndarray], bodies: list[np.ndarray], *,
         start[idx, :w], end[idx, :w] = part.start, part.end
         used[idx, :w], bounds[idx] = part.used, part.bounds
     return EdgeSet(start, end, used, bounds)
+
+
+def meeting_polygons(pieces: list[np.ndarray], bodies: list[np.ndarray], *,
+                     should_stop: Callable[[], bool] | None = None) -> np.ndarray:
+    """:func:`meeting_edges` as shapely polygons (an object array, one per pair).
+
+    The polygons of the same vertices as :func:`~pivot_ompl.validity.footprints.meeting_hulls`
+    gives (certified, else GEOS's hull), about three times cheaper for many pairs; a pair
+    whose hull is no polygon (nothing to sum) gives an empty polygon.
+
+    Raises:
+        Interrupted: ``should_stop()`` became true (:func:`meeting_edges`).
+    """
+    edges = meeting_edges(pieces, bodies, should_stop=should_stop)
+    counts = edges.used.sum(axis=1)
+    out = np.full(len(counts), shapely.Polygon(), dtype=object)
+    full = np.flatnonzero(counts >= 3)
+    if not len(full):
+        return out
+    rings = shapely.linearrings(edges.start[full][edges.used[full]],
+                                indices=np.repeat(np.arange(len(full)), counts[full]))
+    out[full] = shapely.polygons(rings)
+    return out
