@@ -19,8 +19,12 @@ def test_the_corridor_benchmark_plans_saves_and_replans_the_same_floors(tmp_path
     assert first["table"]["2"]["solved"] == 1
     assert first["rows"][0]["checked"] and first["rows"][0]["regrasps"] >= 1
     assert (saved / "corridor2_0.yaml").is_file()
-    monkeypatch.setattr(sys, "argv", [*argv, "--scenes", str(saved)])
+    monkeypatch.setattr(sys, "argv", [*argv, "--scenes", str(saved), "--cpu"])
     mod.main()
     again = json.loads(out.read_text())
-    assert again["rows"][0]["solved"]
+    row, table = again["rows"][0], again["table"]["2"]
+    assert row["solved"]
     assert "2 rooms: solved 1/1" in capsys.readouterr().out
+    # --cpu: the median is of the call's CPU seconds, and the phases are recorded
+    assert table["measure"] == "cpu" and table["median_s"] == row["cpu"] > 0.0
+    assert 0.0 < row["solve"] <= row["seconds"] and row["bound_seconds"] is not None
