@@ -95,3 +95,22 @@ def test_every_valid_pose_lies_in_its_bins_region_halved_or_twinned(rects, seed)
             if not all(area.buffer(1e-9).covers(p.centroid) for p in placed[:1]):
                 continue
             assert regions[g].buffer(1e-7).covers(shapely.Point(x, y)), (a, b, g, x, y, yaw)
+
+
+@settings(max_examples=10, deadline=None)
+@given(rects=obstacles)
+def test_a_halved_bin_is_its_parent_less_the_halfs_own_sums(rects):
+    # built from its parent (the box's sums joined once for every grasp), a half's region is
+    # exactly its parent's region cut to the half's single-bin computation
+    scene = make_scene()
+    grown = by_size(grown_pieces([_rect(*r) for r in rects], CLEARANCE))
+    bodies = held_bodies(scene.model)
+    area = shapely.box(0.0, 0.0, 8.0, 6.0)
+    bins = BinRegions(grown, bodies, area)
+    a, b = 0.3, 0.3 + 2.0 * math.pi / 8
+    for lo, hi in ((a, 0.5 * (a + b)), (0.5 * (a + b), b)):
+        parent, got = bins.regions(a, b), bins.regions(lo, hi)
+        for g in range(4):
+            cores = [rotation_core(body, 0.5 * (hi - lo)) for body in bodies[g]]
+            want = parent[g].intersection(free_region(grown, cores, 0.5 * (lo + hi), area))
+            assert got[g].symmetric_difference(want).area < 1e-9, (lo, hi, g)
