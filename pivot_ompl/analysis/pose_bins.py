@@ -191,6 +191,7 @@ def _joined(sums: np.ndarray, regions: list[BaseGeometry]) -> BaseGeometry | Non
         if not region.is_empty:
             shapely.prepare(region)  # used as the predicate's first argument only
             hit |= shapely.intersects(region, sums)
+            shapely.destroy_prepared(region)  # kept regions: no index held for every bin
     return shapely.union_all(sums[hit]) if hit.any() else None
 
 
