@@ -5,7 +5,8 @@ piece's sum with the bin's cores: a few milliseconds of GEOS per bin and grasp, 
 held poses' proof (:mod:`~pivot_ompl.analysis.pose_proof`). :class:`BinRegions` gives an
 over-approximation as sound (never missing a valid pose) and no looser (a halved bin's lies
 inside its parent's too) for less, in two ways, besides summing only the pieces whose sums'
-bounding boxes meet a region's part:
+bounding boxes meet a region's part, joining only the sums that meet it, and joining the
+box's sums (every grasp holds the box) once per bin:
 
 - **The half-turn twin.** Where every grasp's bodies turned by a half turn are another
   grasp's (the box is a rectangle about its centre; a grasp on the opposite face holds it the
@@ -127,11 +128,12 @@ class BinRegions:
         shared = [core @ turn for core in self._cores(-1, self.shared, half)]
         if parent is None:  # the box's region first: once for every grasp
             room = _less(self.area, self._sums(shared, [self.area]))
-            parent, box = [room] * len(self.own), np.empty(0, dtype=object)
-        else:  # once for the pieces near any grasp's region
-            box = self._sums(shared, parent)
-        out = [_less(parent[g], np.concatenate([box, self._sums(
-                   [core @ turn for core in self._cores(g, own, half)], [parent[g]])]))
+            parent = [room] * len(self.own)
+        else:  # the box's sums joined once, for the pieces near any grasp's region
+            box = _joined(self._sums(shared, parent), parent)
+            parent = [p if box is None else p.difference(box) for p in parent]
+        out = [_less(parent[g], self._sums([core @ turn for core in self._cores(g, own, half)],
+                                           [parent[g]]))
                for g, own in enumerate(self.own)]
         self.known[_key(a, b)] = out
         self.computed += 1
@@ -180,10 +182,23 @@ class BinRegions:
         return np.concatenate(sums) if sums else np.empty(0, dtype=object)
 
 
+def _joined(sums: np.ndarray, regions: list[BaseGeometry]) -> BaseGeometry | None:
+    """The union of the ``sums`` that meet some of ``regions`` (``None``: none meets one)."""
+    if len(sums) == 0:
+        return None
+    hit = np.zeros(len(sums), dtype=bool)
+    for region in regions:
+        if not region.is_empty:
+            shapely.prepare(region)  # used as the predicate's first argument only
+            hit |= shapely.intersects(region, sums)
+            shapely.destroy_prepared(region)  # kept regions: no index held for every bin
+    return shapely.union_all(sums[hit]) if hit.any() else None
+
+
 def _less(region: BaseGeometry, sums: np.ndarray) -> BaseGeometry:
     """``region`` less the union of ``sums``: only those that meet it are joined."""
     if region.is_empty or len(sums) == 0:
         return region
-    shapely.prepare(region)
-    hit = sums[shapely.intersects(sums, region)]
+    shapely.prepare(region)  # used as the predicate's first argument only
+    hit = sums[shapely.intersects(region, sums)]
     return region.difference(shapely.union_all(hit)) if len(hit) else region

@@ -97,25 +97,39 @@ def test_every_valid_pose_lies_in_its_bins_region_halved_or_twinned(rects, seed)
             assert regions[g].buffer(1e-7).covers(shapely.Point(x, y)), (a, b, g, x, y, yaw)
 
 
+def _assert_halves_are_parent_less_own_sums(grown, bodies, area, a: float, b: float) -> list:
+    """Each half of bin ``(a, b)``, built from its parent, is exactly the parent's region met
+    with the half's own single-bin region; returns the parent's regions."""
+    bins = BinRegions(grown, bodies, area)
+    parent = bins.regions(a, b)
+    for lo, hi in ((a, 0.5 * (a + b)), (0.5 * (a + b), b)):
+        got = bins.regions(lo, hi)
+        for g in range(4):
+            cores = [rotation_core(body, 0.5 * (hi - lo)) for body in bodies[g]]
+            want = parent[g].intersection(free_region(grown, cores, 0.5 * (lo + hi), area))
+            assert got[g].symmetric_difference(want).area < 1e-9, (lo, hi, g)
+    return parent
+
+
 def test_a_halved_bin_of_a_floor_of_rooms_is_its_parent_less_its_own_sums():
     # the parent's region falls into parts (rooms, the walls closed at the parent's yaws);
-    # each part loses only the sums that meet it, and together they are exactly the parent's
-    # region met with the half's own single-bin region
+    # each part loses only the sums that meet it
     scene = make_scene()
     walls = [_rect(2.7, 1.2, 0.1, 2.4, 0.0), _rect(2.7, 4.9, 0.1, 2.2, 0.0),
              _rect(5.4, 1.5, 0.1, 3.0, 0.0), _rect(5.4, 5.2, 0.1, 1.6, 0.0),
              _rect(1.2, 3.0, 0.5, 0.5, 0.4), _rect(4.0, 2.0, 0.3, 0.8, 1.1),
              _rect(7.0, 4.0, 0.6, 0.3, 2.0)]
-    grown = by_size(grown_pieces(walls, CLEARANCE))
-    bodies = held_bodies(scene.model)
-    area = shapely.box(0.0, 0.0, 8.2, 6.0)
-    bins = BinRegions(grown, bodies, area)
-    a, b = 0.0, 2.0 * math.pi / 16
-    parents = bins.regions(a, b)
+    parents = _assert_halves_are_parent_less_own_sums(
+        by_size(grown_pieces(walls, CLEARANCE)), held_bodies(scene.model),
+        shapely.box(0.0, 0.0, 8.2, 6.0), 0.0, 2.0 * math.pi / 16)
     assert max(len(getattr(r, "geoms", [r])) for r in parents) >= 2
-    for lo, hi in ((a, 0.5 * (a + b)), (0.5 * (a + b), b)):
-        got = bins.regions(lo, hi)
-        for g in range(4):
-            cores = [rotation_core(body, 0.5 * (hi - lo)) for body in bodies[g]]
-            want = parents[g].intersection(free_region(grown, cores, 0.5 * (lo + hi), area))
-            assert got[g].symmetric_difference(want).area < 1e-9
+
+
+@settings(max_examples=10, deadline=None)
+@given(rects=obstacles)
+def test_a_halved_bin_is_its_parent_less_the_halfs_own_sums(rects):
+    # built from its parent (the box's sums joined once for every grasp)
+    scene = make_scene()
+    _assert_halves_are_parent_less_own_sums(
+        by_size(grown_pieces([_rect(*r) for r in rects], CLEARANCE)), held_bodies(scene.model),
+        shapely.box(0.0, 0.0, 8.0, 6.0), 0.3, 0.3 + 2.0 * math.pi / 8)
