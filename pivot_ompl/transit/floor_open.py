@@ -32,7 +32,7 @@ def _spread(n: int) -> list[int]:
 
 
 def yaw_blocks(n: int, size: int = 4) -> list[list[int]]:
-    """The yaw indices ``0 .. n - 1`` in blocks of ``size``, each block spread round."""
+    """The yaw indices below ``n`` in blocks of ``size``, each block spread round the circle."""
     order = _spread(n)
     return [order[i:i + size] for i in range(0, n, size)]
 
@@ -137,7 +137,7 @@ def closed_by_disks(dist: np.ndarray, pad: int, offsets: np.ndarray, radii: np.n
 
 def undecided_near(undecided: np.ndarray, boxes: np.ndarray, xs: np.ndarray, ys: np.ndarray,
                    reach: float) -> np.ndarray:
-    """Which boxes, grown by ``reach``, hold an ``undecided`` position (``(len(boxes),)``)."""
+    """Per box (``x0, y0, x1, y1``) grown by ``reach``: whether it holds an undecided position."""
     table = np.zeros((len(xs) + 1, len(ys) + 1), dtype=np.int64)
     table[1:, 1:] = np.cumsum(np.cumsum(undecided, axis=0), axis=1)
     i0 = np.searchsorted(xs, boxes[:, 0] - reach, side="left")
