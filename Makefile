@@ -26,10 +26,14 @@ demo: venv
 	@echo "replay: $(abspath $(OUT)/fig10_replay.html)"
 
 # Tests in two passes: those that time nothing on every core (at most four workers), then
-# the timed ones (`-m timed`: time budgets, clock stops) alone, as a user's machine runs them
+# the timed ones (`-m timed`: time budgets, clock stops) alone, as a user's machine runs them;
+# both passes run, the first failure's status is make's
 test: venv
-	$(BIN)/python -m pytest -q $(PYTEST_ARGS) -n auto --maxprocesses 4 -m "not timed" tests
-	$(BIN)/python -m pytest -q $(PYTEST_ARGS) -m timed tests
+	s1=0; s2=0; \
+	$(BIN)/python -m pytest -q $(PYTEST_ARGS) -n auto --maxprocesses 4 -m "not timed" tests \
+	    || s1=$$?; \
+	$(BIN)/python -m pytest -q $(PYTEST_ARGS) -m timed tests || s2=$$?; \
+	if [ $$s1 -ne 0 ]; then exit $$s1; fi; exit $$s2
 
 lint: venv
 	$(BIN)/ruff check pivot_ompl tests benchmarks

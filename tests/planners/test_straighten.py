@@ -24,8 +24,8 @@ def _problem(goal):
     return scene, make_problem(scene).checker
 
 
-def _route(scene, ck, states):
-    return plan_quality(path_to_plan(scene, ck, states))["route_length"]
+def _route(scene, ck, states, *, shortcut: bool = True):
+    return plan_quality(path_to_plan(scene, ck, states, shortcut=shortcut))["route_length"]
 
 
 def test_a_looping_reeds_shepp_transfer_becomes_turn_push_turn():
@@ -44,8 +44,10 @@ def test_a_looping_reeds_shepp_transfer_becomes_turn_push_turn():
     plan = path_to_plan(scene, ck, out)
     rep = check_plan(plan, scene)
     assert rep.ok, rep.problems
-    # the box's route: about the straight line, not the loop
-    assert _route(scene, ck, out) < 0.8 * _route(scene, ck, states)
+    # the box's route: about the straight line, not the loop (compared as converted: the
+    # phases' shortening, tested on its own, also tightens the loop's arcs)
+    assert _route(scene, ck, out, shortcut=False) < 0.8 * _route(scene, ck, states,
+                                                                 shortcut=False)
     assert _route(scene, ck, out) < 1.45 * math.hypot(goal[0] - START[0], goal[1] - START[1])
 
 
