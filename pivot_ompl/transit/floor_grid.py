@@ -30,14 +30,6 @@ import shapely
 
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.se2 import Pose, rectangle_corners
-from pivot_ompl.transit.floor_open import (
-    DEEP,
-    body_disks,
-    closed_by_disks,
-    piece_distances,
-    undecided_near,
-    yaw_blocks,
-)
 from pivot_ompl.transit.floor_sums import PieceSums
 from pivot_ompl.transit.lattice import HEADING_YAWS
 from pivot_ompl.validity.collision import CollisionWorld
@@ -133,13 +125,6 @@ class FloorGrid:
         #: farthest a point of the grown body lies from the robot pose (m)
         self._body_reach = float(np.hypot(self.grown_outline[:, 0],
                                           self.grown_outline[:, 1]).max())
-        #: per open yaw, disks inside the grown body at grid offsets (:func:`~.floor_open.
-        #: body_disks`)
-        self._disks = [body_disks(body, resolution) for body in self.sums.bodies]
-        self._disk_pad = max(int(np.abs(o).max()) for o, _ in self._disks)
-        self._disk_reach = max(float(r.max()) for _, r in self._disks)
-        #: per open yaw, the grown body's bounding box (``x0, y0, x1, y1``)
-        self._body_boxes = np.array([[*b.min(axis=0), *b.max(axis=0)] for b in self.sums.bodies])
 
     @property
     def grid_x(self) -> np.ndarray:
@@ -184,10 +169,8 @@ class FloorGrid:
 
         The same positions as :meth:`fits_index` of every yaw or-ed, there (the same float
         expressions on the same coordinates), rasterised over the block alone from the
-        obstacle pieces that can reach it (nothing over the whole floor; each piece's sum
-        with the body at a yaw is computed once, on first use). Positions surely closed at
-        every yaw are not rasterised, and the yaws are tried a block at a time with the
-        pieces near positions still undecided alone (:mod:`~.floor_open`).
+        obstacle pieces that can reach it (nothing over the whole floor; the pieces' sums
+        with the body at every yaw are computed once, on first use).
 
         Raises:
             Interrupted: ``should_stop()`` became true (polled while the pieces are summed).
@@ -197,37 +180,12 @@ class FloorGrid:
         pb = self._piece_boxes
         near = np.flatnonzero((pb[:, 0] <= xs[-1] + r) & (pb[:, 2] >= xs[0] - r)
                               & (pb[:, 1] <= ys[-1] + r) & (pb[:, 3] >= ys[0] - r))
-        out = np.zeros((len(xs), len(ys)), dtype=bool)
-        pad = self._disk_pad
-        b = self.world.bounds
-        gx = b[0] + self.resolution * np.arange(wx.start - pad, wx.stop + pad)
-        gy = b[1] + self.resolution * np.arange(wy.start - pad, wy.stop + pad)
-        dist = piece_distances([self.pieces[i] for i in near.tolist()], pb[near], gx, gy,
-                               self._disk_reach)
-        closed = [closed_by_disks(dist, pad, *self._disks[k]) for k in range(len(OPEN_YAWS))]
-        undecided = ~np.logical_and.reduce(closed, axis=0)
-        for block in yaw_blocks(len(OPEN_YAWS)):
-            ii, kk, at = [], [], []  # per yaw, the pieces whose sum may hold a position to decide
-            for j, k in enumerate(block):
-                bb = self._body_boxes[k]
-                sum_boxes = pb[near] - np.array([bb[2], bb[3], bb[0], bb[1]])
-                some = near[undecided_near(undecided & ~closed[k], sum_boxes, xs, ys, DEEP)]
-                ii.append(some)
-                kk.append(np.full(len(some), k))
-                at.append(np.full(len(some), j))
-            pairs = np.concatenate(ii), np.concatenate(kk)
-            self.stats.pairs_summed += self.sums.fill_pairs(*pairs, meeting_edges, should_stop)
-            self.stats.yaws_summed = self.sums.yaws_complete()
-            meets = grid_union(self.sums.pair_edges(*pairs), xs, ys, groups=np.concatenate(at),
-                               n_groups=len(block))
-            fits = np.logical_or.reduce(
-                [f & ~closed[k] for k, f in zip(block, self._inside(block, xs, ys, meets),
-                                                strict=True)], axis=0) & undecided
-            out |= fits
-            undecided &= ~fits
-            if not undecided.any():
-                break
-        return out
+        k = len(OPEN_YAWS)
+        self._summed(near, list(range(k)), should_stop)
+        edges, groups = self.sums.edges(near, list(range(k)))
+        meets = grid_union(edges, xs, ys, groups=groups, n_groups=k) \
+            if len(near) else np.zeros((k, len(xs), len(ys)), dtype=bool)
+        return np.logical_or.reduce(self._inside(list(range(k)), xs, ys, meets), axis=0)
 
     def _inside(self, yaws: list[int], xs: np.ndarray, ys: np.ndarray, meets: np.ndarray
                 ) -> np.ndarray:

@@ -68,20 +68,11 @@ class PieceSums:
         """
         rows, cols = [], []
         for k in yaws:
-            rows.append(pieces)
-            cols.append(np.full(len(pieces), k))
-        return self.fill_pairs(np.concatenate([np.zeros(0, dtype=np.int64), *rows]),
-                               np.concatenate([np.zeros(0, dtype=np.int64), *cols]),
-                               summing, should_stop)
-
-    def fill_pairs(self, ii: np.ndarray, kk: np.ndarray, summing: Callable[..., EdgeSet],
-                   should_stop: Stop = None) -> int:
-        """Sum the pairs ``(ii[j], kk[j])`` (piece, yaw indices) not kept yet, in one call.
-
-        As :meth:`fill`, for any pairs. Returns the pairs summed.
-        """
-        todo = ~self.done[ii, kk]
-        ii, kk = ii[todo], kk[todo]
+            todo = pieces[~self.done[pieces, k]]
+            rows.append(todo)
+            cols.append(np.full(len(todo), k))
+        ii, kk = np.concatenate([np.zeros(0, dtype=np.int64), *rows]), \
+            np.concatenate([np.zeros(0, dtype=np.int64), *cols])
         if not len(ii):
             return 0
         edges = summing([self.pieces[i] for i in ii.tolist()],
@@ -106,15 +97,14 @@ class PieceSums:
 
         Piece-major: polygon ``i * len(yaws) + j`` is ``pieces[i]`` at ``yaws[j]``.
         """
-        ii = np.repeat(np.asarray(pieces, dtype=np.int64), len(yaws))
-        kk = np.tile(np.asarray(yaws, dtype=np.int64), len(pieces))
-        return self.pair_edges(ii, kk), np.tile(np.arange(len(yaws)), len(pieces))
-
-    def pair_edges(self, ii: np.ndarray, kk: np.ndarray) -> EdgeSet:
-        """The kept sums of the pairs ``(ii[j], kk[j])``, polygon ``j`` the pair ``j``."""
-        start = self._start[ii, kk]
-        end = np.take_along_axis(start, self._next[ii, kk][..., None].astype(np.intp), axis=1)
-        return EdgeSet(start, end, self._used[ii, kk], self._bounds[ii, kk])
+        sel = np.ix_(pieces, np.asarray(yaws, dtype=np.int64))
+        m = len(pieces) * len(yaws)
+        w = self._start.shape[2]
+        start = self._start[sel].reshape(m, w, 2)
+        end = np.take_along_axis(start, self._next[sel].reshape(m, w, 1).astype(np.intp),
+                                 axis=1)
+        edges = EdgeSet(start, end, self._used[sel].reshape(m, w), self._bounds[sel].reshape(m, 4))
+        return edges, np.tile(np.arange(len(yaws)), len(pieces))
 
 
 def _next_slots(edges: EdgeSet) -> np.ndarray:

@@ -69,6 +69,7 @@ def test_a_tile_sums_only_the_pieces_near_it():
     g.open_block(slice(0, 16), slice(0, 16))
     n, k = len(g.pieces), len(OPEN_YAWS)
     assert 0 < g.stats.pairs_summed < n * k
+    assert g.stats.pairs_summed % k == 0  # a piece near it at every yaw
     assert g.stats.yaws_summed == 0  # no yaw summed with every piece
     whole = np.logical_or.reduce([g.fits_index(j) for j in range(k)], axis=0)
     assert g.stats.pairs_summed == n * k and g.stats.yaws_summed == k
