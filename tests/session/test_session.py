@@ -155,7 +155,10 @@ def test_a_failed_repair_and_a_failed_resumed_search_leave_a_new_search_the_rest
     assert res.solved and check_plan(res.plan, s.scene).ok
     assert [resumed for _, resumed, _ in calls] == [True, False]
     assert calls[0][0] <= (limit - 0.3) / 2 + 1e-6  # half of what the repair left
-    assert all(end <= deadline + 1e-3 for _, _, end in calls)  # both within the replan's limit
+    # both within the replan's limit (the spy reads the clock a moment after the session
+    # sized the search: 0.1 s of slack for a loaded machine, against the whole limit given
+    # again before)
+    assert all(end <= deadline + 0.1 for _, _, end in calls)
 
 
 def test_a_new_process_replanning_a_plan_file_reuses_its_checked_walk(monkeypatch):
