@@ -190,9 +190,15 @@ def meeting_hulls(pieces: list[np.ndarray], body: np.ndarray) -> list[BaseGeomet
     ``body``: the body's points (m x 2) relative to the reference point; the body is their
     convex hull. The set is the hull of ``piece - body`` (a Minkowski sum of convex sets).
     """
+    return pair_hulls(pieces, [body] * len(pieces))
+
+
+def pair_hulls(pieces: list[np.ndarray], bodies: list[np.ndarray]) -> list[BaseGeometry]:
+    """:func:`meeting_hulls` of each ``(pieces[i], bodies[i])`` pair, all in one GEOS call."""
     if not pieces:
         return []
-    diffs = [(k[:, None, :] - body[None, :, :]).reshape(-1, 2) for k in pieces]
+    diffs = [(k[:, None, :] - b[None, :, :]).reshape(-1, 2)
+             for k, b in zip(pieces, bodies, strict=True)]
     index = np.repeat(np.arange(len(diffs)), [len(d) for d in diffs])
     points = shapely.points(np.concatenate(diffs))
     return list(shapely.convex_hull(shapely.multipoints(points, indices=index)))

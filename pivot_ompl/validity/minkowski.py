@@ -19,6 +19,7 @@ import shapely
 from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.errors import Interrupted
+from pivot_ompl.validity.footprints import pair_hulls
 from pivot_ompl.validity.polygon_terms import DistinctPolygons, PolygonTerms, own_terms
 
 #: (3 + 16 eps) eps, rounded up): a sign beyond it is certain.
@@ -278,17 +279,6 @@ def _geos_edges(hulls: list[BaseGeometry]) -> EdgeSet:
     return EdgeSet(start, end, used, bounds)
 
 
-def _pair_hulls(pieces: list[np.ndarray], bodies: list[np.ndarray]) -> list[BaseGeometry]:
-    """GEOS's hull of each ``pieces[i] - bodies[i]``, all pairs in one call.
-
-    Each the geometry :func:`~pivot_ompl.validity.footprints.meeting_hulls` gives for the pair.
-    """
-    diffs = [(k[:, None, :] - b[None, :, :]).reshape(-1, 2)
-             for k, b in zip(pieces, bodies, strict=True)]
-    index = np.repeat(np.arange(len(diffs)), [len(d) for d in diffs])
-    return list(shapely.convex_hull(shapely.multipoints(np.concatenate(diffs), indices=index)))
-
-
 #: (piece, body) pairs :func:`meeting_edges` sums between two polls of its ``should_stop``
 #: (about 40 ms of work with the walking body's 20 vertices).
 MEETING_BATCH = 512
@@ -345,7 +335,7 @@ def meeting_edges(pieces: list[np.ndarray], bodies: list[np.ndarray], *,
     for f0 in range(0, len(gone), MEETING_BATCH):  # GEOS, one pair at a time
         if should_stop is not None and should_stop():
             raise Interrupted("summing obstacle pieces and bodies")
-        hulls.extend(_pair_hulls([pieces[i] for i in gone[f0:f0 + MEETING_BATCH]],
+        hulls.extend(pair_hulls([pieces[i] for i in gone[f0:f0 + MEETING_BATCH]],
                                  [bodies[i] for i in gone[f0:f0 + MEETING_BATCH]]))
     if gone:
         parts.append((np.asarray(gone, dtype=np.int64), _geos_edges(hulls)))
