@@ -41,6 +41,8 @@ def guard(owner: str, **values: tuple[Any, int | None]) -> None:
                   and 0 <= int(v) <= 3)
         elif n is None:
             ok = finite_real(v)
+        elif type(v) is tuple and len(v) == n and all(type(x) is float for x in v):
+            ok = all(map(math.isfinite, v))  # the common case, without a call per number
         else:
             ok = (not isinstance(v, str | bytes) and isinstance(v, Sequence | np.ndarray)
                   and len(v) == n and all(finite_real(x) for x in v))

@@ -39,7 +39,6 @@ must be finite and within +-:data:`MAX_VALUE` (metres or radians), else :class:`
 
 from __future__ import annotations
 
-import json
 import math
 import os
 from dataclasses import dataclass, field
@@ -50,6 +49,7 @@ from pivot_ompl.argcheck import guard as _guard
 from pivot_ompl.argcheck import guard_all as _guard_all
 from pivot_ompl.errors import InputError, PlanFileError
 from pivot_ompl.fileio import atomic_output, input_path, load_json
+from pivot_ompl.fileio.json_text import json_text
 from pivot_ompl.humanoids import DEFAULT_MODEL, PROFILES
 from pivot_ompl.se2 import Pose
 
@@ -240,7 +240,7 @@ class Plan:
                                                          Path(folder).resolve())).as_posix()
             except ValueError:  # another drive (Windows): keep it absolute
                 pass
-        return json.dumps(doc, indent=1, allow_nan=False) + "\n"
+        return json_text(doc)
 
     def to_json(self, path: str | Path) -> Path:
         """Write the plan to ``path`` (full double precision); return the path.

@@ -8,9 +8,10 @@ import math
 
 import numpy as np
 import pytest
-from factories import shipped
+from factories import make_scene, shipped
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.errors import Interrupted
 from pivot_ompl.validity import assembly_field
 from pivot_ompl.validity.assembly_field import FIELD_YAWS, AssemblyField, assembly_bodies
 from pivot_ompl.validity.footprints import obstacle_pieces
@@ -40,11 +41,14 @@ def _one_yaw(field: AssemblyField, checker: PivotChecker, parity: int, k: int) -
     return ok
 
 
+@pytest.mark.parametrize("cells", [None, 1])
 @pytest.mark.parametrize("batch", [None, 1])
 @pytest.mark.parametrize("name", ["fig10", "door", "cluttered_room", "open_fig7"])
-def test_every_yaw_s_grid_is_the_grid_computed_alone(name, batch, monkeypatch):
+def test_every_yaw_s_grid_is_the_grid_computed_alone(name, batch, cells, monkeypatch):
     if batch is not None:  # one opposite pair a batch, as on a floor of thousands of pieces
         monkeypatch.setattr(assembly_field, "BATCH_POLYGONS", batch)
+    if cells is not None:  # one yaw a raster call, as on a large floor
+        monkeypatch.setattr(assembly_field, "RASTER_CELLS", cells)
     checker = PivotChecker(shipped(name))
     field = AssemblyField(checker.model, checker.world, 0.1, reflect=False)
     paired = AssemblyField(checker.model, checker.world, 0.1)
@@ -54,3 +58,29 @@ def test_every_yaw_s_grid_is_the_grid_computed_alone(name, batch, monkeypatch):
             assert np.array_equal(field.fits(parity, k), alone)
             # reflected: a grid point exactly on an edge may fall either side of it
             assert int((paired.fits(parity, k) != alone).sum()) <= max(8, alone.size // 1000)
+
+
+def test_a_large_floor_s_rasters_look_at_the_stop_between_yaws(monkeypatch):
+    """A 200 m floor's 32 yaws at 0.4 m were one raster call (0.34 s, the stop never asked)."""
+    scene = make_scene(bounds=[0.0, 0.0, 200.0, 200.0], start=[3.0, 3.0, 0.0],
+                       goal=[197.0, 197.0, 0.0], object={"size": [0.8, 0.6, 1.3]},
+                       obstacles=[{"type": "box", "center": [20.0 + 8 * i, 50.0 + 3 * i],
+                                   "size": [1.5, 0.8], "height": 1.5} for i in range(20)])
+    checker = PivotChecker(scene)
+    calls = []
+    real = assembly_field.grid_union
+
+    def counted(*args, **kwargs):
+        calls.append(kwargs["n_groups"])
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(assembly_field, "grid_union", counted)
+    field = AssemblyField(checker.model, checker.world, 0.4)
+    assert field.nx * field.ny * len(FIELD_YAWS) > assembly_field.RASTER_CELLS
+    with pytest.raises(Interrupted):
+        field.fits(0, 0, should_stop=lambda: bool(calls))
+    assert calls and sum(calls) < len(FIELD_YAWS)  # stopped after its first raster call
+    calls.clear()
+    whole = AssemblyField(checker.model, checker.world, 0.4)
+    whole.fits(0, 0, should_stop=lambda: False)
+    assert max(calls) * field.nx * field.ny <= assembly_field.RASTER_CELLS
