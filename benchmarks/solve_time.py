@@ -14,8 +14,10 @@ one plan of the command line costs beyond the imports; the lower bounds may come
 disk cache). Target (issue 42): every shipped scene <= 1.2x the first version.
 
 With ``--first``, every plan is the first of a fresh interpreter instead: for each seed
-``0 .. N-1`` and each version in turn, a new process with a new, empty cache folder
-(``XDG_CACHE_HOME``: nothing served from an earlier run) imports the API and plans once.
+``0 .. N-1`` and each version in turn (the order reversed every other seed: ABBA, since on
+a small machine the second of two back-to-back processes ran slower), a new process with a
+new, empty cache folder (``XDG_CACHE_HOME``: nothing served from an earlier run) imports the
+API and plans once.
 Prints per scene and version the medians of that plan's CPU seconds (``cpu s``, lazy imports
 inside ``plan`` included) and its ratio to the first version, the CPU seconds of the regrasp
 search with its improvement (``search``: the core of ``solve``) and their ratio, the plan's
@@ -209,9 +211,9 @@ def _first_table(versions: list[Path], a: argparse.Namespace,
           f"{'solve':>7} {'bound':>7} {'proc s':>7} {'cost':>8} {'piv':>5} {'rg':>3}")
     for scene in filter(None, a.scenes.split(",")):
         rows: dict[str, list[dict[str, Any]]] = {str(v): [] for v in versions}
-        for seed in range(a.seeds):
-            for v in versions:
-                rows[str(v)].append(run_first(v, scene, seed, a.time))
+        for seed in range(a.seeds):  # the order reversed every other seed: on a small
+            for v in versions if seed % 2 == 0 else versions[::-1]:  # machine the second of
+                rows[str(v)].append(run_first(v, scene, seed, a.time))  # two runs is slower
         table[scene] = rows
         base: dict[str, float | None] = {}
         for v in versions:
