@@ -135,6 +135,45 @@ def stored_motions(plan: Plan, route: Sequence[State]) -> StoredMotions:
     return out
 
 
+def passing_rest(plan: Plan, route: Sequence[State], obj: Pose,
+                 grasp: int | None) -> dict[tuple[Pose, Pose, int], tuple[StoredStep, ...]]:
+    """The rest of each transfer of ``plan`` that passes the object pose ``obj``, by edge.
+
+    A box observed where the plan put it (after one of a transfer phase's rotations, or
+    partway through one) goes on with the phase's next rotations, up to the first state of
+    ``route`` (the plan's route) of the phase's grasp they reach: the result maps ``(obj,
+    that state's pose, grasp)`` to them (a rotation passed partway cut at ``obj``), for the
+    phases of ``grasp`` (``None``: of any grasp) whose rotations pass within
+    :data:`POSE_TOL` of ``obj``. Offered to a checker, such a rest is checked as any stored
+    motion. It matters where the box passes a gap within the refinement's resolution
+    (:data:`~pivot_ompl.checking.refinement.MIN_CLEARANCE`) of its sides: no new pivot
+    sequence can start at such a pose, and the rest is then its only transfer.
+    """
+    out: dict[tuple[Pose, Pose, int], tuple[StoredStep, ...]] = {}
+    for ph in plan.phases:
+        if not isinstance(ph, TransferPhase) or grasp is not None and ph.grasp != grasp:
+            continue
+        ends = [q for q, g in route if g == ph.grasp]
+        before: Pose = ph.object_start
+        rest: list[StoredStep] | None = None
+        for s in ph.steps:
+            if rest is None and _close(before, obj):
+                rest = []
+            part = None if rest is not None else _cut(before, s.pivot, s.angle, obj)
+            if part is not None:
+                rest = [(s.pivot, s.angle - part)]
+            elif rest is not None:
+                rest.append((s.pivot, s.angle))
+            before = s.object
+            if not rest:
+                continue
+            end = next((q for q in ends if _close(q, before)), None)
+            if end is not None:
+                out[(obj, end, ph.grasp)] = tuple(rest)
+                break
+    return out
+
+
 def _passed(steps: Sequence[tuple[tuple[float, float], float, Pose]],
             route: Sequence[State], first: int, k0: int,
             grasp: int) -> tuple[int | None, int]:
