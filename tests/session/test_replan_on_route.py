@@ -9,7 +9,8 @@ import pytest
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.checking.stored import StoredMotions, passing_rest
-from pivot_ompl.planfile import TransferPhase, load_plan
+from pivot_ompl.generate.transform import RigidMap, transform_scene
+from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase, load_plan
 from pivot_ompl.planners.repair import repair_route
 from pivot_ompl.scene import BoxObstacle, load_scene
 from pivot_ompl.session import PlanningSession
@@ -35,10 +36,33 @@ def _in_gap() -> tuple[tuple[float, float, float], int]:
     return ph.steps[IN_GAP_STEP].object, ph.grasp
 
 
-def test_in_the_gap_no_repair_starts_but_the_plans_own_rest_of_the_edge_passes():
+def _turned(plan: Plan, f: RigidMap) -> Plan:
+    """``plan`` carried by the rotation ``f`` (its poses, pivots and route)."""
+    phases: list[TransferPhase | TransitPhase] = []
+    for ph in plan.phases:
+        if isinstance(ph, TransitPhase):
+            phases.append(dataclasses.replace(ph, robot_path=tuple(map(f.pose, ph.robot_path)),
+                                              object_pose=f.pose(ph.object_pose)))
+        else:
+            steps = tuple(dataclasses.replace(s, pivot=f.point(s.pivot), object=f.pose(s.object),
+                                              robot=f.pose(s.robot)) for s in ph.steps)
+            phases.append(dataclasses.replace(ph, robot_start=f.pose(ph.robot_start), steps=steps,
+                                              object_start=f.pose(ph.object_start),
+                                              rs_path=tuple(map(f.pose, ph.rs_path))))
+    route = [[*f.pose(tuple(q[:3])), q[3]] for q in plan.extra["route"]]
+    return dataclasses.replace(plan, start=f.pose(plan.start), phases=phases,
+                               extra={**plan.extra, "route": route})
+
+
+@pytest.mark.parametrize("angle", [0.0, 1.0])
+def test_in_the_gap_no_repair_starts_but_the_plans_own_rest_of_the_edge_passes(angle):
     scene, plan = load_scene(SCENE), load_plan(PLAN)
-    route = route_of_plan(plan)
     box, grasp = _in_gap()
+    if angle:  # a turned copy: nothing depends on the walls' direction
+        f = RigidMap(angle, (4.5, 3.5))
+        scene, plan, box = transform_scene(scene, f, name=scene.name), _turned(plan, f), \
+            f.pose(box)
+    route = route_of_plan(plan)
     checker = PivotChecker(scene)
     assert checker.state_valid(box, grasp)
     # no new pivot sequence starts here: no join of the route can be reached from the box
@@ -47,7 +71,8 @@ def test_in_the_gap_no_repair_starts_but_the_plans_own_rest_of_the_edge_passes()
     assert len(rest) == 1
     (start, end, g), steps = next(iter(rest.items()))
     assert start == box and g == grasp and (end, grasp) in route
-    assert 0 < len(steps) < len(plan.phases[0].steps)  # type: ignore[union-attr]
+    first = plan.phases[0]
+    assert isinstance(first, TransferPhase) and 0 < len(steps) < len(first.steps)
     offered = StoredMotions()
     offered.transfers.update(rest)
     checker = PivotChecker(scene)
