@@ -173,7 +173,10 @@ class PlanningSession:
         obstacles = tuple(o for o in self.scene.obstacles if o not in gone) + added
         scene = dataclasses.replace(self.scene, start=start, obstacles=obstacles)
         if self._plan is not None:  # the box where the plan put it: the rest of its edge
-            self._stored.transfers.update(passing_rest(self._plan, self._route, start, grasp))
+            end = time.monotonic() + time_limit
+            self._stored.transfers.update(passing_rest(
+                self._plan, self._route, start, grasp,
+                should_stop=lambda: time.monotonic() > end))
         if self._checker is not None and (added or gone):
             fresh = self._new_checker(scene)
             kept = fresh.adopt(self._checker, added=added, removed=gone)
