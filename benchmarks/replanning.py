@@ -2,10 +2,11 @@
 
 Along the plan of each scene (``--scenes``: fig10, slot, a generated walls scene), at
 ``--points`` points of its execution (pivot steps spread over its transfers): the box drifted
-(5 cm and 5 deg, then 15 cm and 15 deg), an obstacle dropped on the route ahead (a 0.3 m
-block 1 m ahead of the box along its heading, or further, :data:`DROP_AHEAD`, where it meets
-neither the box nor the robot holding it: a block is not dropped on the robot; none when it
-meets them everywhere), an obstacle removed (the scene's last). For each event: the replan
+(5 cm and 5 deg, then 15 cm and 15 deg), an obstacle dropped (a 0.3 m block 1 m ahead of the
+box along its heading, or further, :data:`DROP_AHEAD`, where it meets neither the box nor the
+robot holding it: a block is not dropped on the robot; none when it meets them everywhere;
+where the plan pivots the box backwards the block lands behind it, on the route it came
+along), an obstacle removed (the scene's last). For each event: the replan
 of a :class:`pivot_ompl.session.PlanningSession` that planned the scene (its roadmaps, checked
 motions and route kept: *warm*), that of a new session given only the plan being executed, as
 read from its file (what ``pivot-ompl replan`` does in a new process: *cli*), and that of a
@@ -15,8 +16,22 @@ the plan passes ``check`` against the changed scene, regrasps and cost (the qual
 ``cost``) of each. Prints one row per event kind and scene (medians) and the ratios of the
 medians to the fresh plan's.
 
+**An event where no plan exists is not a failure.** When none of the three finds a plan, the
+changed scene is asked whether any plan exists (:func:`no_plan_proof`: the replans' own
+``INFEASIBLE``, else the regrasp bound's relaxation and the held poses' proof, within
+``--proof-time`` s): such an event counts as *no plan exists (proven)*, apart from the
+others; one neither solved nor proven counts as *undecided* (a block dropped by a gap the
+box passes narrow side first, in the way of the robot pushing it there, can leave only
+passages that the relaxations join and the planners do not find). The success columns count
+the events that are not proven to have no plan.
+
+The points are poses of the plan's own pivot steps, some inside gaps the plan passes within
+the checks' resolution of the walls (``MIN_CLEARANCE`` of
+:mod:`pivot_ompl.checking.refinement`): no new pivot sequence starts there, so a fresh plan
+from such a pose fails, while *warm* and *cli* go on with the plan's own rotations.
+
     python benchmarks/replanning.py [--scenes fig10,slot,gen:walls:1] [--points 10] [--time 30]
-        [--events drift,dropped,removed] [--out results/replanning.json]
+        [--events drift,dropped,removed] [--proof-time 60] [--out results/replanning.json]
 
 ``--events`` keeps the event kinds whose names contain one of the words (a long run split in
 shorter ones).
@@ -88,7 +103,8 @@ def _run(row: dict[str, Any], mode: str, session: Any, kw: dict[str, Any]) -> No
     res = session.replan(**kw)
     row[mode + "_s"] = time.perf_counter() - t0
     q = res.plan.extra.get("quality") or {}
-    row.update({mode + "_ok": res.solved, mode + "_solve_s": res.timings.get("solve", math.nan),
+    row.update({mode + "_ok": res.solved, mode + "_status": res.status,
+                mode + "_solve_s": res.timings.get("solve", math.nan),
                 mode + "_check": res.solved and check_plan(res.plan, session.scene).ok,
                 mode + "_regrasps": res.regrasps, mode + "_pivots": res.pivots,
                 mode + "_cost": q.get("cost", math.nan),
@@ -101,6 +117,8 @@ def main() -> None:
     ap.add_argument("--points", type=int, default=10)
     ap.add_argument("--time", type=float, default=30.0)
     ap.add_argument("--events", default="", help="comma-separated words; default: all events")
+    ap.add_argument("--proof-time", type=float, default=60.0,
+                    help="s to prove that no plan exists where none is found")
     ap.add_argument("--out", default="results/replanning.json")
     args = ap.parse_args()
     sys.path[:0] = [str(HERE.parent)]
@@ -138,19 +156,27 @@ def main() -> None:
                          {"box": ev["box"], "grasp": grasp, "time_limit": args.time})
                 except PlanningError as e:  # the observed pose collides
                     row.update(error=str(e)[:80])
+                if "error" not in row and not any(row[m + "_ok"] for m in MODES):
+                    row["no_plan"] = no_plan_proof(row, session.scene, args.proof_time)
                 rows.append(row)
                 print(f"{name:10s} {kind:18s} " + (" ".join(
-                    f"{m} {row[m + '_s']:.2f} s ({row[m + '_ok']}, {row[m + '_cost']:.0f})"
-                    for m in MODES) if "error" not in row else row["error"]), flush=True)
-    print("\n| scene | event | runs | fresh ok | fresh s | warm s (ratio) | cli solve s (ratio) "
-          "| ok/checked warm cli | repaired warm cli | cost fresh warm cli |")
+                    f"{m} {row[m + '_s']:.2f} s ({row[m + '_status']}, {row[m + '_cost']:.0f})"
+                    for m in MODES) if "error" not in row else row["error"])
+                    + (f" no plan: {row['no_plan']}" if "no_plan" in row else ""), flush=True)
+    print("\n| scene | event | runs | no plan (proven) | undecided | fresh ok | fresh s "
+          "| warm s (ratio) | cli solve s (ratio) | ok/checked warm cli | repaired warm cli "
+          "| cost fresh warm cli |")
     table = {}
     keys = sorted({(r["scene"], r["event"]) for r in rows})
     for sc, ev in keys:
-        rs = [r for r in rows if r["scene"] == sc and r["event"] == ev and "error" not in r]
+        every = [r for r in rows if r["scene"] == sc and r["event"] == ev and "error" not in r]
+        rs = [r for r in every if r.get("no_plan") != PROVEN]  # events with a plan, or unknown
         if not rs:
+            table[f"{sc}/{ev}"] = {"runs": 0, "proven_none": len(every)}
+            print(f"| {sc} | {ev} | 0 | {len(every)} | 0 | | | | | | | |")
             continue
-        t: dict[str, Any] = {"runs": len(rs)}
+        t: dict[str, Any] = {"runs": len(rs), "proven_none": len(every) - len(rs),
+                             "undecided": sum(r.get("no_plan") == UNDECIDED for r in rs)}
         for m in MODES:
             ok = [r for r in rs if r[m + "_ok"]]
             t[m] = {"ok": len(ok), "checked": sum(r[m + "_check"] for r in ok),
@@ -168,13 +194,40 @@ def main() -> None:
                                    if f["median_solve_s"] > 0 else math.nan)
         table[f"{sc}/{ev}"] = t
         w, c = t["warm"], t["cli"]
-        print(f"| {sc} | {ev} | {len(rs)} | {f['ok']} | {f['median_s']:.2f} | "
+        print(f"| {sc} | {ev} | {len(rs)} | {t['proven_none']} | {t['undecided']} | "
+              f"{f['ok']} | {f['median_s']:.2f} | "
               f"{w['median_s']:.2f} ({w['ratio']:.2f}) | {c['median_solve_s']:.2f} "
               f"({c['solve_ratio']:.2f}) | {w['ok']}/{w['checked']} {c['ok']}/{c['checked']} | "
               f"{w['repaired']} {c['repaired']} | {f['median_cost']:.0f} {w['median_cost']:.0f} "
               f"{c['median_cost']:.0f} |")
     errors = _error_kinds(rows)
     write_json({"time_limit": args.time, "rows": rows, "table": table, "errors": errors}, args.out)
+
+
+#: What :func:`no_plan_proof` says of an event that no replan solved.
+PROVEN, UNDECIDED = "proven", "undecided"
+
+
+def no_plan_proof(row: dict[str, Any], scene: Any, seconds: float) -> str:
+    """:data:`PROVEN` when no plan of the changed ``scene`` exists, else :data:`UNDECIDED`.
+
+    Proven by a replan's own ``INFEASIBLE`` status, else by the regrasp bound's relaxation
+    (it joins no start to the goal) or the held poses' proof, within ``seconds``.
+    """
+    from pivot_ompl.analysis.bound_cache import lower_bound
+    from pivot_ompl.analysis.late_proof import held_pose_proof
+
+    if any(row.get(m + "_status") == "INFEASIBLE" for m in MODES):
+        return PROVEN
+    end = time.monotonic() + seconds
+
+    def stop() -> bool:
+        return time.monotonic() > end
+
+    solvable = lower_bound(scene, should_stop=stop).solvable
+    if solvable is False or solvable and held_pose_proof(scene, should_stop=stop) is not None:
+        return PROVEN
+    return UNDECIDED
 
 
 #: Error kinds of the rows, by the words of their messages (the first that matches).

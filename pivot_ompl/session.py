@@ -18,9 +18,13 @@ where it really is (drift, a slip), obstacles that appeared or went. It keeps be
   invalid, then the rest of the route, every edge checked against the scene as it is now),
   and searches only when no such repair exists; the repaired route's own states and a few
   after them are polished (the rest was polished when it was planned);
-* from a plan file (``executing=``), its stored motions: each edge's pivot rotations and each
-  walk, offered to the checker (:mod:`pivot_ompl.checking.stored`), which uses one only
-  after it passes the checker's own checks against the scene as it is now.
+* the motions of the plan being executed (the last plan's, or those ``executing=`` stores):
+  each edge's pivot rotations and each walk, offered to the checker
+  (:mod:`pivot_ompl.checking.stored`), which uses one only after it passes the checker's own
+  checks against the scene as it is now. A box observed where that plan put it, partway
+  along a transfer edge, is offered the rest of the edge's rotations from there
+  (:func:`~pivot_ompl.checking.stored.passing_rest`): in a gap passed within the
+  refinement's resolution of the walls, no new pivot sequence can start at such a pose.
 
 Every plan is checked as a fresh plan would be; only work is saved. Plans start at the
 observed box pose; with ``grasp=k`` (the robot holds the box with grasp ``k``) every plan
@@ -52,7 +56,7 @@ from pivot_ompl.api import (
     plan_from_route,
 )
 from pivot_ompl.checking.pivot_checker import PivotChecker
-from pivot_ompl.checking.stored import StoredMotions, stored_motions
+from pivot_ompl.checking.stored import StoredMotions, passing_rest, stored_motions
 from pivot_ompl.errors import InputError, PlanningError
 from pivot_ompl.grasp import check_grasp
 from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
@@ -111,6 +115,7 @@ class PlanningSession:
         self.repair = repair
         self.last: PlanResult | None = None
         self._route: list[State] = route_of_plan(executing) if executing is not None else []
+        self._plan: Plan | None = executing if self._route else None
         self._stored = stored_motions(executing, self._route) if self._route and \
             executing is not None else StoredMotions()
         self._checker: PivotChecker | None = None
@@ -167,6 +172,11 @@ class PlanningSession:
         gone = self._removed(listed(remove_obstacles, "remove_obstacles"))
         obstacles = tuple(o for o in self.scene.obstacles if o not in gone) + added
         scene = dataclasses.replace(self.scene, start=start, obstacles=obstacles)
+        if self._plan is not None:  # the box where the plan put it: the rest of its edge
+            end = time.monotonic() + time_limit
+            self._stored.transfers.update(passing_rest(
+                self._plan, self._route, start, grasp,
+                should_stop=lambda: time.monotonic() > end))
         if self._checker is not None and (added or gone):
             fresh = self._new_checker(scene)
             kept = fresh.adopt(self._checker, added=added, removed=gone)
@@ -251,8 +261,12 @@ class PlanningSession:
     def _adopt(self, scene: Scene, res: PlanResult) -> None:
         """Take ``res`` as the last plan (its route to repair next)."""
         self.scene, self.last = scene, res
-        if res.solved:
+        if res.solved:  # the plan executed next: its route and motions
             self._route = route_of_plan(res.plan)
+            self._plan = res.plan if self._route else None
+            self._stored = stored_motions(res.plan, self._route)
+            if self._checker is not None:
+                self._checker.offer(self._stored)
 
     def _removed(self, items: Sequence[Obstacle | int]) -> tuple[Obstacle, ...]:
         out = []

@@ -18,8 +18,10 @@ from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+
+import numpy as np
 
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.pivoting.kinematics import ANGLE_TOL, Rotation
@@ -133,6 +135,74 @@ def stored_motions(plan: Plan, route: Sequence[State]) -> StoredMotions:
         if k < len(steps):
             break
     return out
+
+
+def passing_rest(plan: Plan, route: Sequence[State], obj: Pose, grasp: int | None, *,
+                 should_stop: Callable[[], bool] | None = None,
+                 ) -> dict[tuple[Pose, Pose, int], tuple[StoredStep, ...]]:
+    """The rest of each transfer of ``plan`` that passes the object pose ``obj``, by edge.
+
+    A box observed where the plan put it (after one of a transfer phase's rotations, or
+    partway through one) goes on with the phase's next rotations, up to the first state of
+    ``route`` (the plan's route) of the phase's grasp they reach: the result maps ``(obj,
+    that state's pose, grasp)`` to them (a rotation passed partway cut at ``obj``), for the
+    phases of ``grasp`` (``None``: of any grasp) whose rotations pass within
+    :data:`POSE_TOL` of ``obj``. Offered to a checker, such a rest is checked as any stored
+    motion. It matters where the box passes a gap within the refinement's resolution
+    (:data:`~pivot_ompl.checking.refinement.MIN_CLEARANCE`) of its sides: no new pivot
+    sequence can start at such a pose, and the rest is then its only transfer.
+    ``should_stop`` is polled every :data:`POLL_STEPS` steps; stopped, nothing is returned.
+    """
+    out: dict[tuple[Pose, Pose, int], tuple[StoredStep, ...]] = {}
+    ends: dict[int, _RouteStates] = {}
+    for ph in plan.phases:
+        if not isinstance(ph, TransferPhase) or grasp is not None and ph.grasp != grasp:
+            continue
+        before: Pose = ph.object_start
+        rest: list[StoredStep] | None = None
+        for k, st in enumerate(ph.steps):
+            if k % POLL_STEPS == 0 and should_stop is not None and should_stop():
+                return {}
+            if _close(before, obj):
+                rest, first = [], k
+                break
+            part = _cut(before, st.pivot, st.angle, obj)
+            if part is not None:
+                rest, first = [(st.pivot, st.angle - part)], k + 1
+                break
+            before = st.object
+        if rest is None:
+            continue
+        if ph.grasp not in ends:
+            ends[ph.grasp] = _RouteStates([q for q, g in route if g == ph.grasp])
+        for st in ph.steps[first:]:
+            rest.append((st.pivot, st.angle))
+            end = ends[ph.grasp].at(st.object)
+            if end is not None:
+                out[(obj, end, ph.grasp)] = tuple(rest)
+                break
+    return out
+
+
+#: Steps of a plan's phases between two polls of :func:`passing_rest`'s stop.
+POLL_STEPS = 1000
+
+
+class _RouteStates:
+    """Route poses found by pose (within :data:`POSE_TOL`), sorted by ``x`` once."""
+
+    def __init__(self, poses: Sequence[Pose]) -> None:
+        self.poses = list(poses)
+        xs = np.array([q[0] for q in self.poses], dtype=float)
+        self.order = np.argsort(xs, kind="stable")
+        self.xs = xs[self.order]
+
+    def at(self, q: Pose) -> Pose | None:
+        """The first pose (in route order) within :data:`POSE_TOL` of ``q``, or ``None``."""
+        lo = int(np.searchsorted(self.xs, q[0] - POSE_TOL, side="left"))
+        hi = int(np.searchsorted(self.xs, q[0] + POSE_TOL, side="right"))
+        near = sorted(int(i) for i in self.order[lo:hi])
+        return next((self.poses[i] for i in near if _close(self.poses[i], q)), None)
 
 
 def _passed(steps: Sequence[tuple[tuple[float, float], float, Pose]],
