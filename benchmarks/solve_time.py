@@ -20,7 +20,10 @@ new, empty cache folder (``XDG_CACHE_HOME``: nothing served from an earlier run)
 API and plans once.
 Prints per scene and version the medians of that plan's CPU seconds (``cpu s``, lazy imports
 inside ``plan`` included) and its ratio to the first version, the CPU seconds of the regrasp
-search with its improvement (``search``: the core of ``solve``) and their ratio, the plan's
+search with its improvement (``search``: the core of ``solve``) and their ratio, the CPU
+seconds of the late proof inside that search (``proof``: the relaxation the search asks
+while it has no path, from a share of the time limit on the clock, so that a quieter machine
+reaches it sooner and pays it more often; ``-`` for a version without it), the plan's
 ``solve`` and lower bounds' (``bound``) wall seconds, the whole process's CPU seconds
 (``proc s``: the interpreter, the imports and the plan; what one ``pivot-ompl plan`` costs),
 cost, pivots and regrasps.
@@ -50,18 +53,22 @@ SCENES = ("fig10", "slot", "door", "t_junction", "open", "open_fig7", "corridor"
           "cluttered_room", "hall", "bugtrap")
 
 
-def _timed(module: Any, name: str, bucket: dict[str, float]) -> None:
-    """Wrap ``module.name`` (if the version has it) to sum its CPU seconds into ``bucket``."""
+def _timed(module: Any, name: str, bucket: dict[str, float], key: str | None = None) -> None:
+    """Wrap ``module.name`` (if the version has it) to sum its CPU seconds into ``bucket``.
+
+    ``key``: the bucket's entry (default ``name``).
+    """
     fn = getattr(module, name, None)
     if fn is None:
         return
+    key = key or name
 
     def wrapper(*args: Any, **kwargs: Any) -> Any:
         t0 = time.process_time()
         try:
             return fn(*args, **kwargs)
         finally:
-            bucket[name] = bucket.get(name, 0.0) + time.process_time() - t0
+            bucket[key] = bucket.get(key, 0.0) + time.process_time() - t0
 
     setattr(module, name, wrapper)
 
@@ -115,12 +122,18 @@ def first_worker(scene_name: str, seed: int, limit: float) -> None:
         _timed(RegraspSearch, "run", bucket)
     except ImportError:
         pass
+    try:  # the late proof, polled by the search while it has no path (newer versions)
+        from pivot_ompl.analysis.late_proof import LateProof
+        _timed(LateProof, "__call__", bucket, "proof")
+    except ImportError:
+        pass
     t0 = time.process_time()
     scene = load_scene(layout if layout.is_file() else scene_name)
     res = plan(scene, time_limit=limit, seed=seed)
     cpu = time.process_time() - t0
     row: dict[str, Any] = {"seed": seed, "cpu": cpu, "solved": bool(res.solved),
-                           "search": bucket.get("run"), "solve": res.timings.get("solve"),
+                           "search": bucket.get("run"), "proof": bucket.get("proof"),
+                           "solve": res.timings.get("solve"),
                            "bound": res.timings.get("bound"), "proc": time.process_time()}
     if res.solved:
         q = (res.plan.extra.get("quality") or {})
@@ -208,7 +221,7 @@ def _first_table(versions: list[Path], a: argparse.Namespace,
                  table: dict[str, dict[str, list[dict[str, Any]]]]) -> None:
     """First plans of fresh processes, versions taking turns per seed (``--first``)."""
     print(f"{'scene':15} {'version':28} {'cpu s':>7} {'ratio':>6} {'search':>7} {'ratio':>6} "
-          f"{'solve':>7} {'bound':>7} {'proc s':>7} {'cost':>8} {'piv':>5} {'rg':>3}")
+          f"{'proof':>6} {'solve':>7} {'bound':>7} {'proc s':>7} {'cost':>8} {'piv':>5} {'rg':>3}")
     for scene in filter(None, a.scenes.split(",")):
         rows: dict[str, list[dict[str, Any]]] = {str(v): [] for v in versions}
         for seed in range(a.seeds):  # the order reversed every other seed: on a small
@@ -224,7 +237,8 @@ def _first_table(versions: list[Path], a: argparse.Namespace,
             print(f"{scene:15} {str(v)[-28:]:28} {_fmt(cpu, '7.3f')} "
                   f"{_fmt(_ratio(cpu, base['cpu']), '6.2f')} {_fmt(search, '7.3f')} "
                   f"{_fmt(_ratio(search, base['search']), '6.2f')} "
-                  f"{_fmt(_med(r, 'solve'), '7.3f')} {_fmt(_med(r, 'bound'), '7.3f')} "
+                  f"{_fmt(_med(r, 'proof'), '6.3f')} {_fmt(_med(r, 'solve'), '7.3f')} "
+                  f"{_fmt(_med(r, 'bound'), '7.3f')} "
                   f"{_fmt(_med(r, 'proc'), '7.3f')} {_fmt(_med(r, 'cost'), '8.1f')} "
                   f"{_fmt(_med(r, 'pivots'), '5.0f')} {_fmt(_med(r, 'regrasps'), '3.0f')}",
                   flush=True)
