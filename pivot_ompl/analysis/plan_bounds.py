@@ -60,6 +60,7 @@ import shapely
 
 from pivot_ompl.analysis.bound_cache import cached_bound, forget, lower_bound, refuted_by
 from pivot_ompl.analysis.raster import FloorRaster
+from pivot_ompl.analysis.rect_cells import axis_rectangles, near_rectangles
 from pivot_ompl.analysis.regrasp_bound import RegraspBound
 from pivot_ompl.analysis.relaxation_handoff import forget_kept
 from pivot_ompl.analysis.route_bound import MAX_CELLS, MIN_CELL, route_on
@@ -158,17 +159,25 @@ def disk_cells(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     if should_stop is not None and should_stop():
         return None
     if len(pieces) and grow > 0:
-        tree = shapely.STRtree(pieces)
         # a cell far from every piece's box is far from every piece: only the others are
         # queried (a fifth to two fifths of a building's floor)
-        idx = np.flatnonzero((mask & near_boxes(raster, piece_bounds(raw), grow)).ravel())
+        boxes = piece_bounds(raw)
+        idx = np.flatnonzero((mask & near_boxes(raster, boxes, grow)).ravel())
         flat = mask.ravel()
+        # a map's pieces are axis-aligned rectangles: their distances by arithmetic, GEOS
+        # asked only within round-off of ``grow`` (and for cells near other pieces)
+        rect = axis_rectangles(raw)
+        surely, maybe = near_rectangles(raster, boxes[rect], idx, grow)
+        flat[idx[surely]] = False
+        idx = idx[maybe & ~surely] if rect.all() else idx[~surely]
+        tree = shapely.STRtree(pieces) if len(idx) else None
         for a in range(0, len(idx), QUERY_CHUNK):  # the stop polled between the chunks
             if should_stop is not None and should_stop():
                 return None
             part = idx[a:a + QUERY_CHUNK]
-            near = tree.query(shapely.points(gx.ravel()[part], gy.ravel()[part]),
-                              predicate="dwithin", distance=grow)[0]
+            points = shapely.points(gx.ravel()[part], gy.ravel()[part])
+            near = tree.query(points, predicate="dwithin",  # type: ignore[union-attr]
+                              distance=grow)[0]
             flat[part[near]] = False
         mask = flat.reshape(mask.shape)
     if should_stop is not None and should_stop():
