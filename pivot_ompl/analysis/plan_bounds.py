@@ -37,14 +37,16 @@ box's centre is at least ``b / 2 + clearance - tolerance`` from every obstacle p
 of the obstacles) and ``b / 2 - tolerance`` inside the bounds. The raster cells
 (:class:`~pivot_ompl.analysis.raster.FloorRaster`) whose centres are within half a cell
 diagonal of such positions hold every box centre of every plan; the cells kept are those
-whose centre is that much less far from the pieces (an STRtree query: no polygon is grown),
-a superset. The shortest path through them
-(:func:`~pivot_ompl.analysis.route_bound.route_on`), and the straight line from start to
-goal, are lower bounds of every plan's box route, however the held assembly turns. Cells
-no held pose of the box fits (the disk passes, the held assembly does not) are then closed
-along that path (:func:`~pivot_ompl.analysis.route_gaps.gap_closed_route`): still a lower
-bound, and the one every plan carries (the larger of it and the full relaxation's route,
-once per scene in the process).
+whose centre is that much less far from the pieces (no polygon is grown: an axis-aligned
+rectangle's distance by arithmetic, :func:`~pivot_ompl.analysis.rect_cells.near_rectangles`,
+an STRtree query for other pieces and within round-off of the distance), a superset. The
+shortest path through them (:func:`~pivot_ompl.analysis.route_bound.route_on`), and the
+straight line from start to goal, are lower bounds of every plan's box route, however the
+held assembly turns. Cells no held pose of the box fits (the disk passes, the held assembly
+does not) are then closed along that path
+(:func:`~pivot_ompl.analysis.route_gaps.gap_closed_route`): still a lower bound, and the one
+every plan carries (the larger of it and the full relaxation's route, once per scene in the
+process).
 """
 
 from __future__ import annotations

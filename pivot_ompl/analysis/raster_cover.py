@@ -12,6 +12,8 @@ outside ``F(b, k)``, so every free position lies in a free cell.
 (:func:`~pivot_ompl.validity.footprints.obstacle_pieces`, themselves subsets of the
 obstacles): its four corners inside the convex piece (to :data:`EPS`: a map's boxes are
 exact to its pixels, whose edges are cell edges when the cell is a multiple of a pixel).
+Axis-aligned rectangles (a map's pieces) are tested all at once, with the same corner test at
+their candidate blocks' outer corners (:mod:`~pivot_ompl.analysis.rect_cells`).
 
 **Blocked cells.** Let ``c'`` be a cell and ``c`` an obstacle cell whose centre lies at offset
 ``e = centre(c) - centre(c')`` with ``e`` in the body ``E``. For every point ``p`` of ``c'``,
