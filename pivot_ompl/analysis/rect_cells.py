@@ -74,13 +74,18 @@ def rect_cells(raster: FloorRaster, rects: np.ndarray, eps: float) -> np.ndarray
     ja = j0 + ~passes(xl, yl, horizontal & ~vertical)
     jb = j1 - ~passes(xl, yr, horizontal & ~vertical)
     some = (i1 > i0) & (j1 > j0) & (ib > ia) & (jb > ja)
+    if not some.any():
+        return out
     ia, ib, ja, jb = ia[some], ib[some], ja[some], jb[some]
-    marks = np.zeros((nx + 1, ny + 1), dtype=np.int32)
+    a0, b0 = int(ia.min()), int(ja.min())  # the block the rectangles span, not the floor
+    a1, b1 = int(ib.max()), int(jb.max())
+    marks = np.zeros((a1 - a0 + 1, b1 - b0 + 1), dtype=np.int32)
     for di, dj, s in ((ia, ja, 1), (ib, ja, -1), (ia, jb, -1), (ib, jb, 1)):
-        np.add.at(marks, (di, dj), s)
+        np.add.at(marks, (di - a0, dj - b0), s)
     np.cumsum(marks, axis=0, dtype=np.int32, out=marks)
     np.cumsum(marks, axis=1, dtype=np.int32, out=marks)
-    return marks[:nx, :ny] > 0
+    out[a0:a1, b0:b1] = marks[:-1, :-1] > 0
+    return out
 
 
 #: Distance (m) within which a centre's distance to a rectangle is left to GEOS: the
