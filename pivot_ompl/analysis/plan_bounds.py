@@ -37,14 +37,16 @@ box's centre is at least ``b / 2 + clearance - tolerance`` from every obstacle p
 of the obstacles) and ``b / 2 - tolerance`` inside the bounds. The raster cells
 (:class:`~pivot_ompl.analysis.raster.FloorRaster`) whose centres are within half a cell
 diagonal of such positions hold every box centre of every plan; the cells kept are those
-whose centre is that much less far from the pieces (an STRtree query: no polygon is grown),
-a superset. The shortest path through them
-(:func:`~pivot_ompl.analysis.route_bound.route_on`), and the straight line from start to
-goal, are lower bounds of every plan's box route, however the held assembly turns. Cells
-no held pose of the box fits (the disk passes, the held assembly does not) are then closed
-along that path (:func:`~pivot_ompl.analysis.route_gaps.gap_closed_route`): still a lower
-bound, and the one every plan carries (the larger of it and the full relaxation's route,
-once per scene in the process).
+whose centre is that much less far from the pieces (no polygon is grown: an axis-aligned
+rectangle's distance by arithmetic, :func:`~pivot_ompl.analysis.rect_cells.near_rectangles`,
+an STRtree query for other pieces and within round-off of the distance), a superset. The
+shortest path through them (:func:`~pivot_ompl.analysis.route_bound.route_on`), and the
+straight line from start to goal, are lower bounds of every plan's box route, however the
+held assembly turns. Cells no held pose of the box fits (the disk passes, the held assembly
+does not) are then closed along that path
+(:func:`~pivot_ompl.analysis.route_gaps.gap_closed_route`): still a lower bound, and the one
+every plan carries (the larger of it and the full relaxation's route, once per scene in the
+process).
 """
 
 from __future__ import annotations
@@ -60,6 +62,7 @@ import shapely
 
 from pivot_ompl.analysis.bound_cache import cached_bound, forget, lower_bound, refuted_by
 from pivot_ompl.analysis.raster import FloorRaster
+from pivot_ompl.analysis.rect_cells import axis_rectangles, near_rectangles
 from pivot_ompl.analysis.regrasp_bound import RegraspBound
 from pivot_ompl.analysis.relaxation_handoff import forget_kept
 from pivot_ompl.analysis.route_bound import MAX_CELLS, MIN_CELL, route_on
@@ -158,17 +161,25 @@ def disk_cells(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     if should_stop is not None and should_stop():
         return None
     if len(pieces) and grow > 0:
-        tree = shapely.STRtree(pieces)
         # a cell far from every piece's box is far from every piece: only the others are
         # queried (a fifth to two fifths of a building's floor)
-        idx = np.flatnonzero((mask & near_boxes(raster, piece_bounds(raw), grow)).ravel())
+        boxes = piece_bounds(raw)
+        idx = np.flatnonzero((mask & near_boxes(raster, boxes, grow)).ravel())
         flat = mask.ravel()
+        # a map's pieces are axis-aligned rectangles: their distances by arithmetic, GEOS
+        # asked only within round-off of ``grow`` (and for cells near other pieces)
+        rect = axis_rectangles(raw)
+        surely, maybe = near_rectangles(raster, boxes[rect], idx, grow)
+        flat[idx[surely]] = False
+        idx = idx[maybe & ~surely] if rect.all() else idx[~surely]
+        tree = shapely.STRtree(pieces) if len(idx) else None
         for a in range(0, len(idx), QUERY_CHUNK):  # the stop polled between the chunks
             if should_stop is not None and should_stop():
                 return None
             part = idx[a:a + QUERY_CHUNK]
-            near = tree.query(shapely.points(gx.ravel()[part], gy.ravel()[part]),
-                              predicate="dwithin", distance=grow)[0]
+            points = shapely.points(gx.ravel()[part], gy.ravel()[part])
+            near = tree.query(points, predicate="dwithin",  # type: ignore[union-attr]
+                              distance=grow)[0]
             flat[part[near]] = False
         mask = flat.reshape(mask.shape)
     if should_stop is not None and should_stop():

@@ -88,11 +88,20 @@ class WalkRelaxation:
 
     # -- raster helpers ------------------------------------------------------------------
     def _cells(self, x: float, y: float, r: float) -> tuple[np.ndarray, np.ndarray]:
-        """Free raster cells meeting the disk of radius ``r`` round ``(x, y)``."""
-        disk = shapely.Point(x, y).buffer(r + self.raster.half_diag, quad_segs=4)
-        wi, wj = self.raster.window(disk)
+        """Free raster cells meeting the disk of radius ``r`` round ``(x, y)``.
+
+        Read in the block round the disk's box (one cell of margin: every centre within
+        ``r`` plus half a diagonal lies in it), no polygon built.
+        """
+        rr = r + self.raster.half_diag
+        (x0, y0), h = self.raster.origin, self.raster.cell
+        nx, ny = self.raster.shape
+        i0, j0 = max(0, int((x - rr - x0) / h) - 1), max(0, int((y - rr - y0) / h) - 1)
+        i1 = max(i0, min(nx, int((x + rr - x0) / h) + 2))
+        j1 = max(j0, min(ny, int((y + rr - y0) / h) + 2))
+        wi, wj = slice(i0, i1), slice(j0, j1)
         inside = (np.hypot(self.raster.gx[wi, wj] - x, self.raster.gy[wi, wj] - y)
-                  <= r + self.raster.half_diag) & self.free[wi, wj]
+                  <= rr) & self.free[wi, wj]
         ii, jj = np.nonzero(inside)
         return ii + wi.start, jj + wj.start
 

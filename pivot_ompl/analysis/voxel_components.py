@@ -145,18 +145,17 @@ def _label(nodes: int, src: np.ndarray, dst: np.ndarray) -> tuple[int, np.ndarra
     index = _index_type(nodes)
     parent = np.arange(nodes, dtype=index)
     u, v = src.astype(index, copy=False), dst.astype(index, copy=False)
+    pu, pv = u, v  # every node its own root: the first pass hooks the joins as they are
     while len(u):
-        pu, pv = parent[u], parent[v]  # roots: parent is compressed here
-        keep = pu != pv
-        u, v, pu, pv = u[keep], v[keep], pu[keep], pv[keep]
-        if not len(u):
-            break
         np.minimum.at(parent, np.maximum(pu, pv), np.minimum(pu, pv))  # roots only fall
         while True:
             up = parent[parent]
             if np.array_equal(up, parent):
                 break
             parent = up
+        pu, pv = parent[u], parent[v]  # roots: parent is compressed here
+        keep = pu != pv
+        u, v, pu, pv = u[keep], v[keep], pu[keep], pv[keep]
     roots = parent == np.arange(nodes, dtype=index)  # each component's smallest node
     rank = np.cumsum(roots, dtype=np.int64) - 1
     return int(roots.sum()), rank[parent]
