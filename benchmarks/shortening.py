@@ -13,7 +13,7 @@ per scene and version: phases, rotations before and after the shortening, the pl
 seconds in the shortening, the median replay pass, and whether every version's shortened
 rotations are the same floats (a digest of their ``repr``).
 
-    python benchmarks/shortening.py --before /tmp/base [--scenes t_junction,fig10]
+    python benchmarks/shortening.py --before ../base [--scenes t_junction,fig10]
         [--seeds 3] [--time 15] [--repeat 5] [--out results/shortening.json]
 
 Run it under ``flock /tmp/pivot-bench.lock`` (or set ``PIVOT_BENCH_LOCK``).
