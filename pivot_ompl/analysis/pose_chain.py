@@ -5,7 +5,7 @@ join parts that meet, at one grasp in neighbouring bins (a motion) or at two gra
 bin (a regrasp). :func:`cheapest` is the least-priced chain (Dijkstra); :func:`walked_chain`
 asks the regrasps of the chain it found whether the robot may walk round the resting box,
 cuts the links refused and searches again (the walk is the costly question, asked of a
-chain's regrasps only; most links are never on a chain).
+chain's regrasps only; most links are never on a chain), polling its stop every round.
 """
 
 from __future__ import annotations
@@ -14,6 +14,8 @@ import heapq
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+
+from pivot_ompl.errors import Interrupted
 
 Node = tuple[int, int, int]  # (bin, grasp, part)
 
@@ -83,7 +85,8 @@ class Chain:
 
 def walked_chain(links: dict[Node, list[Node]], starts: list[Node], goals: list[Node],
                  widths: list[float], *, may_regrasp: Callable[[Node, Node], bool] | None,
-                 change: float = 0.0, searches: Searches | None = None) -> Chain:
+                 change: float = 0.0, searches: Searches | None = None,
+                 should_stop: Callable[[], bool] | None = None) -> Chain:
     """The cheapest chain whose regrasps the walks allow (:func:`cheapest`'s prices).
 
     ``may_regrasp(u, v)``: whether the regrasp link from part ``u`` to part ``v`` (one bin,
@@ -91,9 +94,14 @@ def walked_chain(links: dict[Node, list[Node]], starts: list[Node], goals: list[
     from ``links`` (both ways) and the chain sought again. ``None``: every link is taken. At
     most ``searches.left`` searches (each takes one; none left, the last chain is given
     unasked: a chain over more links than the walks allow).
+
+    Raises:
+        Interrupted: ``should_stop()`` was true before a round (polled before every search).
     """
     refused: list[tuple[Node, Node]] = []
     while True:
+        if should_stop is not None and should_stop():
+            raise Interrupted("the held poses' chain search")
         price, nodes, reached = cheapest(links, starts, goals, widths, change=change)
         if price is None:
             return Chain(None, [], reached, refused)

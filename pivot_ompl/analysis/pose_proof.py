@@ -21,9 +21,9 @@ The bins start coarse (:data:`FIRST_BINS`); while a chain of parts joins start a
 bins on the chain are halved with the bins opposite them (a chain through too coarse bins is
 refined away, a true one stays; a grasp that is another's half turn has that grasp's parts at
 the opposite bin, so a bin and its opposite cost one bin's parts), up to :data:`MAX_BINS`
-bins or bins of :data:`FINEST` rad; the stop is polled before every bin's parts. Pivoting
-is small-time controllable, so where the finest bins still join start and goal the answer
-is "joined" (no proof; the poses connect at the bins' scale).
+bins or bins of :data:`FINEST` rad; the stop is polled before every bin's parts and every
+chain search. Pivoting is small-time controllable, so where the finest bins still join start
+and goal the answer is "joined" (no proof; the poses connect at the bins' scale).
 """
 
 from __future__ import annotations
@@ -236,16 +236,18 @@ class PoseGraph:
         self.links.setdefault(b, []).append(a)
 
     def walked(self, parts: HeldParts, edges: list[float], starts: list[Node],
-               goals: list[Node]) -> Chain:
+               goals: list[Node], *, should_stop: Callable[[], bool] | None = None) -> Chain:
         """The cheapest chain whose regrasps the walks allow (priced by bin widths, rad).
 
         :func:`~pivot_ompl.analysis.pose_chain.walked_chain` over this graph's links, asking
         :meth:`HeldParts.may_regrasp`; the regrasps refused are cut from the links and their
         box positions kept in :attr:`refused`. Through fine bins where it can, so the coarse
-        bins it still needs are the ones to halve.
+        bins it still needs are the ones to halve. ``should_stop`` is polled before every
+        search (:class:`~pivot_ompl.errors.Interrupted` when true).
         """
         found = walked_chain(self.links, starts, goals, np.diff(edges).tolist(),
-                             may_regrasp=partial(parts.may_regrasp, edges))
+                             may_regrasp=partial(parts.may_regrasp, edges),
+                             should_stop=should_stop)
         for u, v in found.refused:
             here = self.table[u[0]]
             self.refused.append(here[u[1]][u[2]].intersection(here[v[1]][v[2]]))
@@ -320,7 +322,7 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
             starts, goals = graph.nodes_at(edges, scene.start), graph.nodes_at(edges, scene.goal)
             if not starts or not goals:
                 return result(None)
-            found = graph.walked(parts, edges, starts, goals)
+            found = graph.walked(parts, edges, starts, goals, should_stop=should_stop)
             path = found.nodes
             if found.price is None:
                 reach = shapely.union_all([graph.table[i][g][k] for i, g, k in found.reached])

@@ -25,7 +25,7 @@ more to prove), when the chain's bins are all at
 :data:`~pivot_ompl.analysis.pose_proof.MAX_BINS` bins, after :data:`MOST_ROUNDS` rounds or
 :data:`MOST_SEARCHES` searches, or before a round that would compute more than
 :data:`MOST_BINS` bins in all (counts, not a clock: the same on any load). ``should_stop``
-is polled before every bin's parts; stopped, the rounds done stand.
+is polled before every bin's parts and every chain search; stopped, the rounds done stand.
 
 What it cannot see: the pivoting kinematics, and of the walk only its disk's way round the
 box (not the walking body's heading). Where the held assembly fits a passage at the full
@@ -121,7 +121,9 @@ CHANGE = 1e6
 
 def least_changes(graph: PoseGraph, starts: list[Node], goals: list[Node],
                   widths: list[float], *, may_regrasp: Callable[[Node, Node], bool] | None = None,
-                  searches: Searches | None = None) -> tuple[int, list[Node]] | None:
+                  searches: Searches | None = None,
+                  should_stop: Callable[[], bool] | None = None
+                  ) -> tuple[int, list[Node]] | None:
     """Fewest grasp changes from a start to a goal part, and a chain of that many.
 
     Among chains of the fewest changes, the one of least summed bin widths (``widths[i]``,
@@ -130,10 +132,11 @@ def least_changes(graph: PoseGraph, starts: list[Node], goals: list[Node],
     (:func:`~pivot_ompl.analysis.pose_chain.walked_chain`: asked of the chains found, a link
     refused cut from ``graph.links``); with no search left the last chain is given unasked:
     its count is still a lower bound, the links it was not asked of being more than the
-    relaxation's.
+    relaxation's. ``should_stop`` is polled before every search
+    (:class:`~pivot_ompl.errors.Interrupted` when true).
     """
     found = walked_chain(graph.links, starts, goals, widths, may_regrasp=may_regrasp,
-                         change=CHANGE, searches=searches)
+                         change=CHANGE, searches=searches, should_stop=should_stop)
     return None if found.price is None else (int(found.price // CHANGE), found.nodes)
 
 
@@ -186,7 +189,8 @@ def pose_regrasp_bound(scene: Scene, *, target: int | None = None,
             then the last count stands, and the result is complete).
         walk: take a regrasp link only where the walking robot may get round the resting box
             (:meth:`~pivot_ompl.analysis.pose_proof.HeldParts.may_regrasp`).
-        should_stop: polled before every bin's parts; stopped, the rounds done stand.
+        should_stop: polled before every bin's parts and every chain search; stopped, the
+            rounds done stand.
 
     Never raises on a stop.
     """
@@ -215,7 +219,7 @@ def pose_regrasp_bound(scene: Scene, *, target: int | None = None,
             found = least_changes(
                 graph, starts, goals, np.diff(edges).tolist(),
                 may_regrasp=partial(parts.may_regrasp, edges) if walk else None,
-                searches=searches)
+                searches=searches, should_stop=should_stop)
             if found is None:
                 return result(True, apart=True)
             count, path = found

@@ -39,8 +39,8 @@ import math
 from collections.abc import Callable, Iterator, Sequence
 
 from pivot_ompl.checking.rotation_sweeps import RotationSweeps
-from pivot_ompl.pivoting.kinematics import ANGLE_TOL, LEFT, Rotation, solve_piece
-from pivot_ompl.pivoting.spin_chain import rotate_edge
+from pivot_ompl.pivoting.kinematics import ANGLE_TOL, Rotation, solve_piece
+from pivot_ompl.pivoting.spin_chain import edge_turn
 from pivot_ompl.se2 import Pose, wrap_angle
 
 __all__ = ["CHECKS", "FREE_LEAD", "GRID", "WINDOW", "WINDOW_CHECKS", "shorten"]
@@ -108,33 +108,25 @@ def _replacements(p: Pose, q: Pose, ell: float, alpha_max: float, n: int,
               if j and (lead <= FREE_LEAD or (j * turn > 0.0 and abs(j) >= GRID - 1))]
     turns = [(a, math.cos(a), math.sin(a)) for a in angles]
     step = 2.0 * ell * math.sin(0.5 * alpha_max)
-    sin, cos, hypot = math.sin, math.cos, math.hypot
+    hypot = math.hypot
     qx, qy, qh = q
 
     def grow(x: float, y: float, h: float, end: int,
-             lead_angles: list[float]) -> Iterator[list[Rotation]]:
-        left = n - len(lead_angles)  # rotations left to reach q from (x, y, h)
+             leads: list[tuple[int, float, float, float, Pose]]) -> Iterator[list[Rotation]]:
+        left = n - len(leads)  # rotations left to reach q from (x, y, h)
         if hypot(qx - x, qy - y) > left * step + 1e-9 or \
                 abs(wrap_angle(qh - h)) > left * (alpha_max + ANGLE_TOL):
             return
-        if len(lead_angles) == lead:
-            rots: list[Rotation] = []
-            car, e = p, first
-            for a in lead_angles:  # the same arithmetic as below, as records
-                r = rotate_edge(car, e, a, ell)
-                rots.append(r)
-                car, e = r.car, 1 - e
-            ok, tail = solve_piece(car, q, ell, alpha_max, max_deviation=deviation,
+        if len(leads) == lead:  # the leads as records: (corner, angle, pivot, car reached)
+            rots = [Rotation(e, (px, py), a, car) for e, a, px, py, car in leads]
+            ok, tail = solve_piece(rots[-1].car, q, ell, alpha_max, max_deviation=deviation,
                                    previous=rots[-1])
             if ok and tail:
                 yield rots + list(tail)
             return
-        sign = 1.0 if end == LEFT else -1.0
-        px, py = x - sign * ell * sin(h), y + sign * ell * cos(h)
-        dx, dy = x - px, y - py
-        for a, c, s in turns:  # rotate_edge's arithmetic
-            yield from grow(px + c * dx - s * dy, py + s * dx + c * dy, h + a, 1 - end,
-                            [*lead_angles, a])
+        for a, c, s in turns:
+            px, py, car = edge_turn(x, y, h, end, ell, a, c, s)
+            yield from grow(*car, 1 - end, [*leads, (end, a, px, py, car)])
 
     for first in (0, 1):
         yield from grow(p[0], p[1], p[2], first, [])
