@@ -113,7 +113,9 @@ def shortened(evaluate: Evaluator, route: list[Pose], grasp: int,
     costs (a transfer's reference path length at the push rate,
     :meth:`~pivot_ompl.cost.CostModel.transfer_estimate`, plus :func:`end_rotations`; a
     turn's :meth:`~pivot_ompl.cost.CostModel.spin_estimate`, until it is checked), its unchecked
-    transfers checked (the cheap test first), again until every transfer of it is checked.
+    transfers checked (the cheap test of every one before the full check of any: a chain
+    one of whose transfers crosses an obstacle costs no full check), again until every
+    transfer of it is checked.
     ``should_stop`` is polled before every check. ``ceiling`` (s): :data:`TOO_DEAR` as
     soon as no chain can cost less (checked transfers at their cost, the others at the
     admissible :meth:`~pivot_ompl.cost.CostModel.transfer_bound`): a chain the caller would
@@ -189,17 +191,23 @@ def shortened(evaluate: Evaluator, route: list[Pose], grasp: int,
         chain = found[0]
         pending = [(i, j) for i, j in zip(chain, chain[1:], strict=False)
                    if (i, j) not in checked]
+        if should_stop():
+            return Status.STOPPED
+        # the cheap tests first: the hospital's one-grasp route, 95 full checks -> 50
+        refused = [(i, j) for i, j in pending
+                   if j != i + 1 and not checker.path_free(route[i], route[j], grasp)]
+        for key in refused:
+            checked[key] = math.inf
+        if refused:
+            return Status.INVALID
         for i, j in pending:
             if should_stop():
                 return Status.STOPPED
-            c = math.inf
-            if j == i + 1 or checker.path_free(route[i], route[j], grasp):
-                e = evaluate.transfer(route[i], route[j], grasp, should_stop=should_stop)
-                if e.status is Status.STOPPED:
-                    return e.status
-                c = e.cost
-            checked[(i, j)] = c
-            if not math.isfinite(c):
+            e = evaluate.transfer(route[i], route[j], grasp, should_stop=should_stop)
+            if e.status is Status.STOPPED:
+                return e.status
+            checked[(i, j)] = e.cost
+            if not math.isfinite(e.cost):
                 break
         return Status.INVALID if pending else Status.VALID
 
