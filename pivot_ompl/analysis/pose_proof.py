@@ -21,7 +21,9 @@ The bins start coarse (:data:`FIRST_BINS`); while a chain of parts joins start a
 bins on the chain are halved with the bins opposite them (a chain through too coarse bins is
 refined away, a true one stays; a grasp that is another's half turn has that grasp's parts at
 the opposite bin, so a bin and its opposite cost one bin's parts), up to :data:`MAX_BINS`
-bins or bins of :data:`FINEST` rad; the stop is polled before every bin's parts. Pivoting
+bins or bins of :data:`FINEST` rad; a bin's parts are computed when a chain search first
+reaches a part of it or of a neighbouring bin (:class:`PoseGraph`, ``lazy``), the stop
+polled before each. Pivoting
 is small-time controllable, so where the finest bins still join start and goal the answer
 is "joined" (no proof; the poses connect at the bins' scale).
 """
