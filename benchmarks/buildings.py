@@ -80,8 +80,9 @@ CORPUS = (
               "TurtleBot3 arena (simulated, SLAM map)", (0.0, -1.9, 0.0), (0.0, 1.9, 0.0),
               note="no plan exists: the held poses' relaxation "
               "(pivot_ompl.analysis.pose_proof, about 4.5 s of CPU) separates start and "
-              "goal; `plan` reaches it when its estimate (9.7 s) fits 4-9.5 % of --time "
-              "(about 180 s and more), else TIMEOUT"),
+              "goal; `plan` runs it from 4 % of --time where no poses valid at every yaw "
+              "join start and goal (pivot_ompl.analysis.pose_inner), up to 15 % "
+              "(--time 60: INFEASIBLE in 7.5-11.4 s on a loaded 2-core machine)"),
     CorpusMap("nav2_depot", "benchmarks/maps/nav2_depot/depot.yaml",
               "depot (simulated, SLAM map)", (-4.0, 0.0, 0.0), (20.0, 0.0, 0.0)),
     CorpusMap("nav2_warehouse", "benchmarks/maps/nav2_warehouse/warehouse.yaml",

@@ -50,15 +50,14 @@ ou.setLogLevel(ou.LogLevel.LOG_WARN)
 
 #: Longest a first computation of a scene's lower bounds may take (s); then they are ``null``.
 BOUND_TIME_LIMIT = 10.0
-#: Share of the time limit for the relaxation to prove, before the search, that no plan exists
-#: (then ``INFEASIBLE`` at once).
+#: Share of the limit for the relaxation to prove, before the search, that no plan exists.
 PROOF_SHARE = 0.08
 #: Shares of the time limit at which the search, still without a path, asks the relaxation
 #: once whether any plan exists (:class:`~pivot_ompl.analysis.late_proof.LateProof`), by which
 #: the relaxation is stopped, and by which the explanation of a proof is stopped.
 LATE_PROOF_BEGIN, LATE_PROOF_END, EXPLAIN_END = 0.02, 0.08, 0.095
-#: Share of the limit from which the held poses' relaxation may be tried (the late proof's).
-HELD_PROOF_BEGIN = 0.04
+#: Shares of the limit from which the held poses' relaxation may be tried, and its own end.
+HELD_PROOF_BEGIN, HELD_PROOF_END = 0.04, 0.15
 #: Share of the time limit (at most ``FINISH_MAX`` s) kept from the search for the steps after
 #: it: converting the path, the lower bounds, and the caller writing the plan. A limit ``T``
 #: then ends within ``T`` in :func:`plan`, and within ``T + 5 %`` once the plan is written.
@@ -221,7 +220,8 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
         late = LateProof(scene, begin=started + LATE_PROOF_BEGIN * time_limit,
                          end=started + LATE_PROOF_END * time_limit,
                          explain_end=started + EXPLAIN_END * time_limit, passages=passages,
-                         held_begin=started + HELD_PROOF_BEGIN * time_limit, work_begin=cpu +
+                         held_begin=started + HELD_PROOF_BEGIN * time_limit,
+                         held_end=started + HELD_PROOF_END * time_limit, work_begin=cpu +
                          LATE_PROOF_BEGIN * time_limit if isinstance(p, RegraspPlanner) else None)
     if isinstance(p, RegraspPlanner):  # its quality share is one of the solve's limit
         p.solve_limit = time_limit - (time.monotonic() - started)

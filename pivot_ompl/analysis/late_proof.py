@@ -35,6 +35,7 @@ from pivot_ompl.analysis.bound_cache import cached_bound
 from pivot_ompl.analysis.bound_levels import CELLS, exhaustive_estimate
 from pivot_ompl.analysis.passage import Passage, PassageOnce, assembly_width
 from pivot_ompl.analysis.pose_explain import explained
+from pivot_ompl.analysis.pose_inner import joined_at_every_yaw
 from pivot_ompl.analysis.pose_proof import proof_estimate, prove_no_plan
 from pivot_ompl.analysis.turning import TurningPlace, turning_place, widest_circle
 from pivot_ompl.analysis.turning_raster import raster_turning_place
@@ -106,6 +107,11 @@ class LateProof:
             own work, not the clock's seconds other processes took on a loaded machine
             (``None``: the clock alone; an OMPL planner's solve asks only once).
         work: the clock of ``work_begin`` (``time.process_time``).
+        held_end: clock time by which the held poses' relaxation is stopped where its
+            estimate does not fit before ``explain_end`` but half of it fits before
+            ``held_end``, and no chain of poses valid at every yaw joins start and goal
+            (:func:`~pivot_ompl.analysis.pose_inner.joined_at_every_yaw`: the proof could
+            not end apart); default ``explain_end``.
 
     Attributes:
         proof: the proof, once found; ``None`` before, or when nothing was proven.
@@ -117,9 +123,11 @@ class LateProof:
                  clock: Callable[[], float] = time.monotonic,
                  passages: PassageOnce | None = None, held_begin: float | None = None,
                  work_begin: float | None = None,
-                 work: Callable[[], float] = time.process_time) -> None:
+                 work: Callable[[], float] = time.process_time,
+                 held_end: float | None = None) -> None:
         """Nothing tried yet."""
         self.scene, self.begin, self.end = scene, begin, end
+        self.held_end = held_end
         self.work_begin, self.work = work_begin, work
         self.held_begin = begin if held_begin is None else held_begin
         self._held_pending = False
@@ -181,15 +189,26 @@ class LateProof:
     def _held_poses(self, now: float) -> bool:
         """The held poses' relaxation, where the poses' relaxation joins start and goal.
 
-        Tried when its estimate (:func:`~pivot_ompl.analysis.pose_proof.proof_estimate`) fits
-        before ``explain_end``; its answer is kept for the scene's geometry (a later plan of
-        the scene reads it, and does not try again what found nothing).
+        Not tried where a chain of poses valid at every yaw joins start and goal
+        (:func:`~pivot_ompl.analysis.pose_inner.joined_at_every_yaw`: it could not prove);
+        else tried when its estimate (:func:`~pivot_ompl.analysis.pose_proof.proof_estimate`)
+        fits before ``explain_end``, or half of it before ``held_end`` (then stopped at
+        ``held_end`` once it has had as many seconds of ``work`` as the clock's from now to
+        then, as a loaded machine's clock runs ahead of the work, and at twice that window at
+        the latest). Its answer is kept for the scene's geometry (a later plan of the scene
+        reads it, and does not try again what found nothing).
         """
         kept = shared_value(self.scene, HELD_POSES)
         if kept is None:
-            if proof_estimate(self.scene) > self.explain_end - self.clock():
+            guess, end = proof_estimate(self.scene), self.explain_end
+            stop = self._stop(end)
+            if guess > end - self.clock():
+                if self.held_end is None or 0.5 * guess > self.held_end - self.clock():
+                    return False
+                stop = self._held_stop(self.held_end)
+            if joined_at_every_yaw(self.scene, should_stop=stop):
+                keep_shared(self.scene, HELD_POSES, False)  # nothing it could prove
                 return False
-            stop = self._stop(self.explain_end)
             proof = held_pose_proof(self.scene, should_stop=stop)
             if proof is None and stop():
                 return False  # stopped: nothing known, may be tried again with more time
@@ -200,6 +219,20 @@ class LateProof:
         self.proof = kept
         log.info("no plan exists (proven in %.2f s): %s", self.clock() - now, kept.reason)
         return True
+
+    def _held_stop(self, at: float) -> Callable[[], bool]:
+        """A stop at clock time ``at``, once the work has had the clock's seconds till then.
+
+        At twice the clock's window from now at the latest.
+        """
+        window = at - self.clock()
+        cap, spent = at + window, self.work() + window
+
+        def stop() -> bool:
+            now = self.clock()
+            return now >= cap or (now >= at and self.work() >= spent)
+
+        return stop
 
     def _stop(self, at: float) -> Callable[[], bool]:
         return lambda: self.clock() >= at

@@ -6,6 +6,8 @@ bin (a regrasp). :func:`cheapest` is the least-priced chain (Dijkstra); :func:`w
 asks the regrasps of the chain it found whether the robot may walk round the resting box,
 cuts the links refused and searches again (the walk is the costly question, asked of a
 chain's regrasps only; most links are never on a chain), polling its stop every round.
+:class:`LazyLinks` gives a node's links the first time the search asks for them, so a search
+computes only the parts it meets.
 """
 
 from __future__ import annotations
@@ -18,6 +20,28 @@ from dataclasses import dataclass
 from pivot_ompl.errors import Interrupted
 
 Node = tuple[int, int, int]  # (bin, grasp, part)
+
+
+class LazyLinks(dict[Node, list[Node]]):
+    """A node's links, computed by ``expand(node)`` the first time they are asked.
+
+    A ``dict`` to :func:`cheapest` and :func:`walked_chain`: ``links[u]`` and
+    ``links.get(u)`` both give ``u``'s links (computed and kept once), so a link cut from a
+    kept list stays cut; only the nodes asked are held.
+    """
+
+    def __init__(self, expand: Callable[[Node], list[Node]]) -> None:
+        """No node's links computed yet."""
+        super().__init__()
+        self._expand = expand
+
+    def __missing__(self, node: Node) -> list[Node]:
+        out = self[node] = self._expand(node)
+        return out
+
+    def get(self, node: Node, default: object = None) -> list[Node]:
+        """``node``'s links (computed on first asking; ``default`` is never needed)."""
+        return self[node]
 
 
 def cheapest(links: dict[Node, list[Node]], starts: list[Node], goals: list[Node],

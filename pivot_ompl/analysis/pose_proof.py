@@ -21,9 +21,11 @@ The bins start coarse (:data:`FIRST_BINS`); while a chain of parts joins start a
 bins on the chain are halved with the bins opposite them (a chain through too coarse bins is
 refined away, a true one stays; a grasp that is another's half turn has that grasp's parts at
 the opposite bin, so a bin and its opposite cost one bin's parts), up to :data:`MAX_BINS`
-bins or bins of :data:`FINEST` rad; the stop is polled before every bin's parts and every
-chain search. Pivoting is small-time controllable, so where the finest bins still join start
-and goal the answer is "joined" (no proof; the poses connect at the bins' scale).
+bins or bins of :data:`FINEST` rad; a bin's parts are computed when a chain search first
+reaches a part of it or of a neighbouring bin (:class:`PoseGraph`, ``lazy``), the stop
+polled before each and before every chain search. Pivoting
+is small-time controllable, so where the finest bins still join start and goal the answer
+is "joined" (no proof; the poses connect at the bins' scale).
 """
 
 from __future__ import annotations
@@ -49,7 +51,7 @@ from pivot_ompl.analysis.pose_cells import (
     held_bodies,
     near,
 )
-from pivot_ompl.analysis.pose_chain import Chain, Node, walked_chain
+from pivot_ompl.analysis.pose_chain import Chain, LazyLinks, Node, walked_chain
 from pivot_ompl.analysis.pose_walk import RegraspWalks
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import GRASPS
@@ -209,20 +211,29 @@ def _bins_of(edges: list[float], yaw: float) -> list[int]:
 
 
 class PoseGraph:
-    """The parts joined (see the module docstring) for one set of bins."""
+    """The parts joined (see the module docstring) for one set of bins.
+
+    Eager (the default): every bin's parts and every link at once. ``lazy``: a bin's parts
+    are computed the first time a chain search reaches a part of it or of a neighbouring bin
+    (:class:`~pivot_ompl.analysis.pose_chain.LazyLinks`), and a node's links when the search
+    asks for them: the same links wherever the search goes, so the same chains, reaches and
+    answers, without the bins no search reaches.
+    """
 
     def __init__(self, parts: HeldParts, edges: list[float],
-                 should_stop: Callable[[], bool] | None) -> None:
-        n = len(edges) - 1
-        self.table = []
-        for i in range(n):
-            if should_stop is not None and should_stop():
-                raise Interrupted("the held poses' relaxation")
-            self.table.append(parts.of(edges[i], edges[i + 1]))
-        self.links: dict[Node, list[Node]] = {}
+                 should_stop: Callable[[], bool] | None, *, lazy: bool = False) -> None:
+        self.parts, self.edges, self.should_stop = parts, edges, should_stop
+        self._table: dict[int, list[list[BaseGeometry]]] = {}
         self.refused: list[BaseGeometry] = []  # the regrasps dropped (:meth:`walked`)
+        n = len(edges) - 1
+        if lazy:
+            self.links: dict[Node, list[Node]] = LazyLinks(self._links_of)
+            return
+        self.links = {}
         for i in range(n):
-            here, there = self.table[i], self.table[(i + 1) % n]
+            self.bin(i)
+        for i in range(n):
+            here, there = self.bin(i), self.bin((i + 1) % n)
             a, b, c = edges[i], edges[i + 1], edges[(i + 1) % n + 1]
             for g in range(len(here)):
                 for k, q in parts.meet((a, b, c, g), here[g], there[g]):
@@ -230,6 +241,37 @@ class PoseGraph:
                 for h in range(g + 1, len(here)):  # a regrasp: one pose, two grasps
                     for k, q in parts.meet((a, b, g, h), here[g], here[h]):
                         self._link((i, g, k), (i, h, q))
+
+    def bin(self, i: int) -> list[list[BaseGeometry]]:
+        """Per grasp, the free parts of bin ``i`` (computed once; the stop polled before)."""
+        if i not in self._table:
+            if self.should_stop is not None and self.should_stop():
+                raise Interrupted("the held poses' relaxation")
+            self._table[i] = self.parts.of(self.edges[i], self.edges[i + 1])
+        return self._table[i]
+
+    def _links_of(self, u: Node) -> list[Node]:
+        """The links of part ``u``: those the eager graph gives it, in some order."""
+        i, g, k = u
+        edges, n = self.edges, len(self.edges) - 1
+        here = self.bin(i)
+        if g >= len(here) or k >= len(here[g]):
+            return []
+        out = []
+        j = (i + 1) % n  # the next bin, then the one before: motions at grasp g
+        key = (edges[i], edges[i + 1], edges[j + 1], g)
+        out += [(j, g, q) for p, q in self.parts.meet(key, here[g], self.bin(j)[g]) if p == k]
+        j = (i - 1) % n
+        key = (edges[j], edges[j + 1], edges[i + 1], g)
+        out += [(j, g, p) for p, q in self.parts.meet(key, self.bin(j)[g], here[g]) if q == k]
+        for h in range(len(here)):  # regrasps: one pose, two grasps
+            if h < g:
+                out += [(i, h, p) for p, q in self.parts.meet((edges[i], edges[i + 1], h, g),
+                                                              here[h], here[g]) if q == k]
+            elif h > g:
+                out += [(i, h, q) for p, q in self.parts.meet((edges[i], edges[i + 1], g, h),
+                                                              here[g], here[h]) if p == k]
+        return out
 
     def _link(self, a: Node, b: Node) -> None:
         self.links.setdefault(a, []).append(b)
@@ -249,14 +291,14 @@ class PoseGraph:
                              may_regrasp=partial(parts.may_regrasp, edges),
                              should_stop=should_stop)
         for u, v in found.refused:
-            here = self.table[u[0]]
+            here = self.bin(u[0])
             self.refused.append(here[u[1]][u[2]].intersection(here[v[1]][v[2]]))
         return found
 
     def nodes_at(self, edges: list[float], pose: Pose) -> list[Node]:
         """The parts holding ``pose`` (any grasp)."""
         return [(i, g, k) for i in _bins_of(edges, pose[2])
-                for g, k in _holding(self.table[i], pose)]
+                for g, k in _holding(self.bin(i), pose)]
 
 
 def widest_bins(edges: list[float], path: list[Node], finest: float
@@ -318,14 +360,14 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
             return result(True, parts.room)
         while True:
             rounds += 1
-            graph = PoseGraph(parts, edges, should_stop)
+            graph = PoseGraph(parts, edges, should_stop, lazy=True)
             starts, goals = graph.nodes_at(edges, scene.start), graph.nodes_at(edges, scene.goal)
             if not starts or not goals:
                 return result(None)
             found = graph.walked(parts, edges, starts, goals, should_stop=should_stop)
             path = found.nodes
             if found.price is None:
-                reach = shapely.union_all([graph.table[i][g][k] for i, g, k in found.reached])
+                reach = shapely.union_all([graph.bin(i)[g][k] for i, g, k in found.reached])
                 return result(True, reach, tuple(graph.refused))
             split, widest = widest_bins(edges, path, finest)
             log.debug("held poses, round %d: %d bins, a chain of %d parts over %d bins; %d "

@@ -15,7 +15,13 @@ from hypothesis import strategies as st
 from pivot_ompl.analysis.late_proof import HELD_POSES, LateProof, held_pose_proof
 from pivot_ompl.analysis.passage import assembly_width, blocking_passage
 from pivot_ompl.analysis.pose_cells import convex_sums, rotation_core
-from pivot_ompl.analysis.pose_proof import prove_no_plan
+from pivot_ompl.analysis.pose_proof import (
+    FIRST_BINS,
+    MOTION_CLEARANCE,
+    HeldParts,
+    PoseGraph,
+    prove_no_plan,
+)
 from pivot_ompl.scene.shared import shared_value
 
 pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
@@ -144,3 +150,27 @@ def test_the_late_proof_tries_the_held_poses_only_once_their_time_has_come():
     now[0] = 6.0
     assert late() is False  # tried now, and nothing proven
     assert shared_value(scene, HELD_POSES) is False
+
+
+@settings(max_examples=6, deadline=None)
+@given(boxes=clear_lane_boxes(8), bins=st.sampled_from([FIRST_BINS, 12]))
+def test_a_lazy_pose_graph_has_the_eager_ones_links_and_chain(boxes, bins):
+    """Each node's links, asked one by one, are the eager graph's (each graph with its own
+    parts, so no kept meeting answers the other's), and so is the cheapest chain."""
+    scene = floor_with_clear_lane(boxes)
+    edges = [2.0 * math.pi * i / bins for i in range(bins + 1)]
+    eager_parts = HeldParts(scene, MOTION_CLEARANCE, None)
+    lazy_parts = HeldParts(scene, MOTION_CLEARANCE, None)
+    eager = PoseGraph(eager_parts, edges, None)
+    lazy = PoseGraph(lazy_parts, edges, None, lazy=True)
+    ends = [(g.nodes_at(edges, scene.start), g.nodes_at(edges, scene.goal)) for g in (eager, lazy)]
+    assert ends[0] == ends[1] and ends[0][0] and ends[0][1]
+    found = [g.walked(p, edges, *ends[0]) for g, p in ((eager, eager_parts), (lazy, lazy_parts))]
+    assert found[0].price == pytest.approx(found[1].price)
+    assert found[0].nodes == found[1].nodes and found[0].reached == found[1].reached
+    assert lazy_parts.bins.computed <= eager_parts.bins.computed
+    nodes = [(i, g, k) for i in range(bins) for g, parts in enumerate(eager.bin(i))
+             for k in range(len(parts))]
+    assert any(eager.links.get(u) for u in nodes)
+    for u in nodes:
+        assert sorted(lazy.links[u]) == sorted(eager.links.get(u, [])), u
