@@ -107,7 +107,7 @@ CORPUS = (
               "between its jambs (x 2.55-3.40, y 3.55-3.95), the held assembly needs 0.88 m, "
               "and the robot alone cannot walk past the box resting in the door (0.45 m "
               "beside it at most); the held poses' relaxation, its regrasps walked round the "
-              "box, proves it and names the door (256 bins, 45-50 s of CPU: `pivot-ompl bound "
+              "box, proves it and names the door (56 bins, about 7.5 s of CPU: `pivot-ompl bound "
               "--held-poses`); `plan` does not try it (estimated 90 s) and ends TIMEOUT at "
               "60 and 300 s"),
     CorpusMap("brsu_c069_room", "benchmarks/maps/brsu_c069/map.yaml",

@@ -18,7 +18,9 @@ A path of the plan visits joined parts only, so when no part holding the start i
 one holding the goal, no plan exists.
 
 The bins start coarse (:data:`FIRST_BINS`); while a chain of parts joins start and goal, the
-bins on the chain are halved with the bins opposite them (a chain through too coarse bins is
+chain's bins whose part spans more floor than its neighbours on the chain
+(:func:`~pivot_ompl.analysis.pose_split.spanning_bins`), else its widest bins, are halved
+with the bins opposite them (a chain through too coarse bins is
 refined away, a true one stays; a grasp that is another's half turn has that grasp's parts at
 the opposite bin, so a bin and its opposite cost one bin's parts), up to :data:`MAX_BINS`
 bins or bins of :data:`FINEST` rad; a bin's parts are computed when a chain search first
@@ -52,6 +54,7 @@ from pivot_ompl.analysis.pose_cells import (
     near,
 )
 from pivot_ompl.analysis.pose_chain import Chain, LazyLinks, Node, walked_chain
+from pivot_ompl.analysis.pose_split import spanning_bins
 from pivot_ompl.analysis.pose_walk import RegraspWalks
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import GRASPS
@@ -370,6 +373,10 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
                 reach = shapely.union_all([graph.bin(i)[g][k] for i, g, k in found.reached])
                 return result(True, reach, tuple(graph.refused))
             split, widest = widest_bins(edges, path, finest)
+            spans = spanning_bins(path, [graph.bin(i)[g][k].area for i, g, k in path],
+                                  np.diff(edges).tolist(), finest)
+            if spans:  # a part spanning more than its neighbours: the likeliest false step
+                split = with_opposites(edges, spans)
             log.debug("held poses, round %d: %d bins, a chain of %d parts over %d bins; %d "
                       "halved (%.2f degrees); %d regrasps refused", rounds, len(edges) - 1,
                       len(path), len({i for i, _, _ in path}), len(split),

@@ -1,0 +1,184 @@
+"""The held poses' proof (``prove_no_plan``) side by side: answer, bins and CPU seconds.
+
+For each scene and each version (``--before DIR``, a package tree put on ``PYTHONPATH``, e.g.
+an export of an older commit, repeatable; then this checkout), a fresh interpreter loads the
+scene and runs :func:`pivot_ompl.analysis.pose_proof.prove_no_plan` once, ``--runs`` times;
+the versions take turns, the order reversed every other run (ABBA: on a small machine the
+second of two back-to-back processes ran slower), each run holding ``$PIVOT_BENCH_LOCK``
+when it is set. Prints per scene and version the answer (``apart``: proven, ``joined``: the
+finest bins join start and goal, ``-``: nothing), the last round's bins, the rounds, the
+bins whose regions were computed, and the medians of the proof's CPU seconds (``cpu s``),
+of those spent in the bins' regions (``regions``), in GEOS unions (``unions``, all of the
+proof's), in the chain search (``chain``) and in the regrasp walks (``walks``); ``ratio`` is
+``cpu s`` over the first version's.
+
+A scene is a scene file or shipped scene's name (``common.scene_from_spec``), or
+``corpus:NAME``, a map of ``buildings.py``'s corpus imported once (by this checkout) into a
+temporary folder so that every version reads the same file:
+
+    PIVOT_BENCH_LOCK=/tmp/pivot-bench.lock python benchmarks/held_proof.py \\
+        --before /path/to/base --scenes corpus:brsu_c069,corpus:turtlebot3_world [--runs 2]
+        [--out results/held_proof.json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+HERE = Path(__file__).resolve()
+ROOT = HERE.parents[1]
+#: what each run's figures are summed from: (column, module, function)
+STAGES = (("regions", "pivot_ompl.analysis.pose_bins", "BinRegions.regions"),
+          ("unions", "pivot_ompl.analysis.pose_bins", "shapely.union_all"),
+          ("chain", "pivot_ompl.analysis.pose_proof", "walked_chain"),
+          ("walks", "pivot_ompl.analysis.pose_proof", "HeldParts.may_regrasp"))
+
+
+def _timed(owner: Any, name: str, bucket: dict[str, float], column: str) -> None:
+    """Wrap ``owner.name`` (if the version has it) to sum its CPU seconds into ``bucket``."""
+    fn = getattr(owner, name, None)
+    if fn is None:
+        return
+    bucket[column] = 0.0
+
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        t0 = time.process_time()
+        try:
+            return fn(*args, **kwargs)
+        finally:
+            bucket[column] += time.process_time() - t0
+
+    setattr(owner, name, wrapper)
+
+
+def worker(scene_spec: str) -> None:
+    """One proof of one scene in this process; prints its figures as one JSON line."""
+    import importlib
+
+    sys.path.insert(0, str(HERE.parent))
+    from common import scene_from_spec
+
+    bucket: dict[str, float] = {}
+    for column, module, attr in STAGES:
+        owner: Any = importlib.import_module(module)
+        *path, name = attr.split(".")
+        for part in path:
+            owner = getattr(owner, part, None)
+        if owner is not None:
+            _timed(owner, name, bucket, column)
+    proof = importlib.import_module("pivot_ompl.analysis.pose_proof")
+    kept: list[Any] = []  # the proof's regions, for the bins computed (not a twin's)
+    regions = getattr(proof, "BinRegions", None)
+    if regions is not None:
+        init = regions.__init__
+
+        def counted(self: Any, *args: Any, **kwargs: Any) -> None:
+            init(self, *args, **kwargs)
+            kept.append(self)
+
+        regions.__init__ = counted
+    scene = scene_from_spec(scene_spec)
+    t0 = time.process_time()
+    res = proof.prove_no_plan(scene)
+    cpu = time.process_time() - t0
+    answer = {True: "apart", False: "joined", None: "-"}[res.apart]
+    row = {"answer": answer, "bins": res.bins, "rounds": res.rounds,
+           "finest_deg": res.finest * 180.0 / 3.141592653589793, "cpu": cpu, **bucket,
+           "computed": sum(getattr(b, "computed", 0) for b in kept)}
+    print(json.dumps(row))
+
+
+def run(version: Path, scene: str) -> dict[str, Any]:
+    """One proof in a fresh interpreter with ``version`` first on ``PYTHONPATH``."""
+    env = dict(os.environ, PYTHONPATH=str(version), XDG_CACHE_HOME=tempfile.mkdtemp())
+    cmd = [sys.executable, str(HERE), "--worker", scene]
+    sys.path.insert(0, str(HERE.parent))
+    from common import machine_lock
+
+    with machine_lock():
+        out = subprocess.run(cmd, env=env, cwd=version, capture_output=True, text=True,
+                             check=False)
+    lines = [ln for ln in out.stdout.splitlines() if ln.startswith("{")]
+    if out.returncode != 0 or not lines:
+        return {"answer": f"error {out.returncode}: {out.stderr.strip()[-200:]}"}
+    return dict(json.loads(lines[-1]))
+
+
+def _corpus(spec: str, folder: Path) -> str:
+    """``corpus:NAME`` imported into ``folder`` (its scene file), any other spec as given."""
+    if not spec.startswith("corpus:"):
+        return spec
+    sys.path.insert(0, str(HERE.parent))
+    from buildings import CORPUS, import_corpus_map
+
+    name = spec.split(":", 1)[1]
+    m = next((m for m in CORPUS if m.name == name), None)
+    if m is None:
+        raise SystemExit(f"{spec}: no such map in buildings.py's corpus")
+    return str(import_corpus_map(m, folder)["scene"])
+
+
+def _med(rows: list[dict[str, Any]], key: str) -> float | None:
+    vals = [r[key] for r in rows if isinstance(r.get(key), int | float)]
+    return statistics.median(vals) if vals else None
+
+
+def _fmt(x: float | None, spec: str) -> str:
+    return "-" if x is None else format(x, spec)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--before", action="append", default=[], type=Path,
+                    help="a package tree to time before this checkout (repeatable)")
+    ap.add_argument("--scenes", default="corpus:brsu_c069,corpus:turtlebot3_world")
+    ap.add_argument("--runs", type=int, default=1, help="proofs per scene and version")
+    ap.add_argument("--out", default=None, help="JSON of every run")
+    ap.add_argument("--worker", default=None, help=argparse.SUPPRESS)
+    a = ap.parse_args()
+    if a.worker:
+        worker(a.worker)
+        return
+    versions = [*(v.resolve() for v in a.before), ROOT]
+    table: dict[str, dict[str, list[dict[str, Any]]]] = {}
+    folder = Path(tempfile.mkdtemp())
+    print(f"{'scene':22} {'version':28} {'answer':>7} {'bins':>5} {'rounds':>6} "
+          f"{'computed':>8} {'cpu s':>7} {'ratio':>6} {'regions':>7} {'unions':>7} "
+          f"{'chain':>6} {'walks':>6}")
+    for spec in filter(None, a.scenes.split(",")):
+        scene = _corpus(spec, folder)
+        rows: dict[str, list[dict[str, Any]]] = {str(v): [] for v in versions}
+        for i in range(a.runs):
+            for v in versions if i % 2 == 0 else versions[::-1]:
+                rows[str(v)].append(run(v, scene))
+        table[spec] = rows
+        first: float | None = None
+        for v in versions:
+            r = rows[str(v)]
+            cpu = _med(r, "cpu")
+            first = cpu if first is None else first
+            ratio = cpu / first if cpu is not None and first else None
+            print(f"{spec[-22:]:22} {str(v)[-28:]:28} {r[0]['answer'][:7]:>7} "
+                  f"{_fmt(_med(r, 'bins'), '5.0f')} {_fmt(_med(r, 'rounds'), '6.0f')} "
+                  f"{_fmt(_med(r, 'computed'), '8.0f')} {_fmt(cpu, '7.2f')} "
+                  f"{_fmt(ratio, '6.2f')} {_fmt(_med(r, 'regions'), '7.2f')} "
+                  f"{_fmt(_med(r, 'unions'), '7.2f')} {_fmt(_med(r, 'chain'), '6.2f')} "
+                  f"{_fmt(_med(r, 'walks'), '6.2f')}", flush=True)
+    if a.out:
+        sys.path.insert(0, str(HERE.parent))
+        from common import write_json
+
+        write_json(table, a.out)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,28 @@
+"""benchmarks/held_proof.py: one held poses' proof in a fresh process, its stages summed."""
+
+from __future__ import annotations
+
+import pytest
+from factories import benchmark_script
+
+
+def test_a_proof_runs_in_its_own_process_and_reports_its_stages():
+    hp = benchmark_script("held_proof")
+    row = hp.run(hp.ROOT, "slot")
+    # the slot's finest bins join start and goal: "joined", every bin's regions computed
+    # once or read from its half-turn twin
+    assert row["answer"] == "joined"
+    assert row["rounds"] >= 1 and row["computed"] > 0
+    # the stages' CPU seconds, summed inside the proof's own
+    assert 0.0 < row["regions"] <= row["cpu"]
+    assert 0.0 < row["unions"] <= row["cpu"]
+    assert 0.0 <= row["chain"] <= row["cpu"] and 0.0 <= row["walks"] <= row["cpu"]
+
+
+def test_a_corpus_map_is_imported_once_and_an_unknown_one_refused(tmp_path):
+    hp = benchmark_script("held_proof")
+    assert hp._corpus("slot", tmp_path) == "slot"  # any other spec as given
+    path = hp._corpus("corpus:turtlebot3_world", tmp_path)
+    assert path.endswith("turtlebot3_world.yaml") and (tmp_path / "turtlebot3_world.yaml").exists()
+    with pytest.raises(SystemExit, match="no such map"):
+        hp._corpus("corpus:nowhere", tmp_path)
