@@ -7,6 +7,7 @@ import fcntl
 import json
 import math
 import os
+import statistics
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -70,3 +71,14 @@ def machine_lock() -> Iterator[None]:
             yield
         finally:
             fcntl.flock(fh, fcntl.LOCK_UN)
+
+
+def median_of(rows: list[dict[str, Any]], key: str) -> float | None:
+    """The median of the rows' numbers under ``key`` (rows without one left out), or ``None``."""
+    vals = [r[key] for r in rows if isinstance(r.get(key), int | float)]
+    return statistics.median(vals) if vals else None
+
+
+def fmt(x: float | None, spec: str) -> str:
+    """``x`` formatted with ``spec``, ``-`` for ``None``."""
+    return "-" if x is None else format(x, spec)

@@ -26,7 +26,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import statistics
 import subprocess
 import sys
 import tempfile
@@ -36,6 +35,10 @@ from typing import Any
 
 HERE = Path(__file__).resolve()
 ROOT = HERE.parents[1]
+sys.path.insert(0, str(HERE.parent))
+
+from common import fmt, median_of  # noqa: E402
+
 #: what each run's figures are summed from: (column, module, function)
 STAGES = (("regions", "pivot_ompl.analysis.pose_bins", "BinRegions.regions"),
           ("unions", "pivot_ompl.analysis.pose_bins", "shapely.union_all"),
@@ -127,15 +130,6 @@ def _corpus(spec: str, folder: Path) -> str:
     return str(import_corpus_map(m, folder)["scene"])
 
 
-def _med(rows: list[dict[str, Any]], key: str) -> float | None:
-    vals = [r[key] for r in rows if isinstance(r.get(key), int | float)]
-    return statistics.median(vals) if vals else None
-
-
-def _fmt(x: float | None, spec: str) -> str:
-    return "-" if x is None else format(x, spec)
-
-
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--before", action="append", default=[], type=Path,
@@ -164,15 +158,15 @@ def main() -> None:
         first: float | None = None
         for v in versions:
             r = rows[str(v)]
-            cpu = _med(r, "cpu")
+            cpu = median_of(r, "cpu")
             first = cpu if first is None else first
             ratio = cpu / first if cpu is not None and first else None
             print(f"{spec[-22:]:22} {str(v)[-28:]:28} {r[0]['answer'][:7]:>7} "
-                  f"{_fmt(_med(r, 'bins'), '5.0f')} {_fmt(_med(r, 'rounds'), '6.0f')} "
-                  f"{_fmt(_med(r, 'computed'), '8.0f')} {_fmt(cpu, '7.2f')} "
-                  f"{_fmt(ratio, '6.2f')} {_fmt(_med(r, 'regions'), '7.2f')} "
-                  f"{_fmt(_med(r, 'unions'), '7.2f')} {_fmt(_med(r, 'chain'), '6.2f')} "
-                  f"{_fmt(_med(r, 'walks'), '6.2f')}", flush=True)
+                  f"{fmt(median_of(r, 'bins'), '5.0f')} {fmt(median_of(r, 'rounds'), '6.0f')} "
+                  f"{fmt(median_of(r, 'computed'), '8.0f')} {fmt(cpu, '7.2f')} "
+                  f"{fmt(ratio, '6.2f')} {fmt(median_of(r, 'regions'), '7.2f')} "
+                  f"{fmt(median_of(r, 'unions'), '7.2f')} {fmt(median_of(r, 'chain'), '6.2f')} "
+                  f"{fmt(median_of(r, 'walks'), '6.2f')}", flush=True)
     if a.out:
         sys.path.insert(0, str(HERE.parent))
         from common import write_json

@@ -38,7 +38,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import statistics
 import subprocess
 import sys
 import tempfile
@@ -48,6 +47,10 @@ from typing import Any
 
 HERE = Path(__file__).resolve()
 ROOT = HERE.parents[1]
+sys.path.insert(0, str(HERE.parent))
+
+from common import fmt, median_of  # noqa: E402
+
 #: the shipped scenes (``scenes/``) and public layouts (``benchmarks/layouts``) timed
 SCENES = ("fig10", "slot", "door", "t_junction", "open", "open_fig7", "corridor",
           "cluttered_room", "hall", "bugtrap")
@@ -169,17 +172,8 @@ def run(path: Path, scene: str, seeds: int, limit: float) -> list[dict[str, Any]
     return rows
 
 
-def _med(rows: list[dict[str, Any]], key: str) -> float | None:
-    vals = [r[key] for r in rows if r.get(key) is not None]
-    return statistics.median(vals) if vals else None
-
-
 def _ratio(x: float | None, first: float | None) -> float | None:
     return x / first if x is not None and first else None
-
-
-def _fmt(x: float | None, spec: str) -> str:
-    return "-" if x is None else format(x, spec)
 
 
 def main() -> None:
@@ -231,16 +225,16 @@ def _first_table(versions: list[Path], a: argparse.Namespace,
         base: dict[str, float | None] = {}
         for v in versions:
             r = rows[str(v)]
-            cpu, search = _med(r, "cpu"), _med(r, "search")
+            cpu, search = median_of(r, "cpu"), median_of(r, "search")
             base.setdefault("cpu", cpu)
             base.setdefault("search", search)
-            print(f"{scene:15} {str(v)[-28:]:28} {_fmt(cpu, '7.3f')} "
-                  f"{_fmt(_ratio(cpu, base['cpu']), '6.2f')} {_fmt(search, '7.3f')} "
-                  f"{_fmt(_ratio(search, base['search']), '6.2f')} "
-                  f"{_fmt(_med(r, 'proof'), '6.3f')} {_fmt(_med(r, 'solve'), '7.3f')} "
-                  f"{_fmt(_med(r, 'bound'), '7.3f')} "
-                  f"{_fmt(_med(r, 'proc'), '7.3f')} {_fmt(_med(r, 'cost'), '8.1f')} "
-                  f"{_fmt(_med(r, 'pivots'), '5.0f')} {_fmt(_med(r, 'regrasps'), '3.0f')}",
+            print(f"{scene:15} {str(v)[-28:]:28} {fmt(cpu, '7.3f')} "
+                  f"{fmt(_ratio(cpu, base['cpu']), '6.2f')} {fmt(search, '7.3f')} "
+                  f"{fmt(_ratio(search, base['search']), '6.2f')} "
+                  f"{fmt(median_of(r, 'proof'), '6.3f')} {fmt(median_of(r, 'solve'), '7.3f')} "
+                  f"{fmt(median_of(r, 'bound'), '7.3f')} "
+                  f"{fmt(median_of(r, 'proc'), '7.3f')} {fmt(median_of(r, 'cost'), '8.1f')} "
+                  f"{fmt(median_of(r, 'pivots'), '5.0f')} {fmt(median_of(r, 'regrasps'), '3.0f')}",
                   flush=True)
 
 
@@ -255,13 +249,14 @@ def _warm_table(versions: list[Path], a: argparse.Namespace,
         for v in versions:
             rows = run(v, scene, a.seeds, a.time)
             table[scene][str(v)] = rows
-            cpu = _med(rows, "cpu")
+            cpu = median_of(rows, "cpu")
             first = cpu if first is None else first
             ratio = cpu / first if cpu is not None and first else None
-            print(f"{scene:15} {str(v)[-28:]:28} {_fmt(cpu, '7.3f')} {_fmt(ratio, '6.2f')} "
-                  f"{_fmt(_med(rows, 'cost'), '8.1f')} {_fmt(_med(rows, 'pivots'), '5.0f')} "
-                  f"{_fmt(_med(rows, 'regrasps'), '3.0f')} {_fmt(_med(rows, 'refine'), '7.3f')} "
-                  f"{_fmt(_med(rows, 'follow'), '7.3f')} {_fmt(rows[0].get('first'), '7.3f')}",
+            m = {k: median_of(rows, k) for k in ("cost", "pivots", "regrasps", "refine", "follow")}
+            print(f"{scene:15} {str(v)[-28:]:28} {fmt(cpu, '7.3f')} {fmt(ratio, '6.2f')} "
+                  f"{fmt(m['cost'], '8.1f')} {fmt(m['pivots'], '5.0f')} "
+                  f"{fmt(m['regrasps'], '3.0f')} {fmt(m['refine'], '7.3f')} "
+                  f"{fmt(m['follow'], '7.3f')} {fmt(rows[0].get('first'), '7.3f')}",
                   flush=True)
 
 

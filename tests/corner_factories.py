@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from factories import rotated_scene_doc
+from factories import make_scene, rotated_scene_doc
 
 
 def _box(x0: float, y0: float, x1: float, y1: float) -> dict:
@@ -42,3 +42,15 @@ def tight_corner(seed: int, widths: tuple[float, float] = (0.90, 0.94),
     c, s = math.cos(angle), math.sin(angle)
     px, py = cx - about[0], 0.3 + w - about[1]
     return doc, (about[0] + c * px - s * py, about[1] + s * px + c * py)
+
+
+def corner_slot(strip: float, slot: float):
+    """A strip ``strip`` m deep along the floor's bottom, a slot ``slot`` m wide through the
+    1 m thick wall above it at x = 4 (the box long and thin: the assembly must turn into it)."""
+    left, right = 4.0 - 0.5 * slot, 4.0 + 0.5 * slot
+    walls = [{"type": "box", "center": [0.5 * left, strip + 0.5], "size": [left, 1.0],
+              "yaw": 0.0, "height": 2.0},
+             {"type": "box", "center": [0.5 * (right + 8.0), strip + 0.5],
+              "size": [8.0 - right, 1.0], "yaw": 0.0, "height": 2.0}]
+    return make_scene(obstacles=walls, object={"size": [1.2, 0.3, 1.0]},
+                      start=[1.5, 0.5 * strip, 0.0], goal=[4.0, 4.5, 0.0])

@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import shapely
+from corner_factories import corner_slot
 from factories import clear_lane_boxes, floor_with_clear_lane, make_scene
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -34,17 +35,6 @@ def test_the_swept_hull_holds_the_body_turned_by_every_yaw_of_its_bin(body, half
         assert swept.contains(shapely.Polygon(ccw @ np.array([[c, s], [-s, c]])))
 
 
-def _corner_slot(strip: float, slot: float):
-    """A strip ``strip`` m deep, a slot ``slot`` m wide through the wall above it at x = 4
-    (the box long and thin: the assembly must turn into it)."""
-    left, right = 4.0 - 0.5 * slot, 4.0 + 0.5 * slot
-    walls = [{"type": "box", "center": [0.5 * left, strip + 0.5], "size": [left, 1.0],
-              "yaw": 0.0, "height": 2.0},
-             {"type": "box", "center": [0.5 * (right + 8.0), strip + 0.5],
-              "size": [8.0 - right, 1.0], "yaw": 0.0, "height": 2.0}]
-    return make_scene(obstacles=walls, object={"size": [1.2, 0.3, 1.0]},
-                      start=[1.5, 0.5 * strip, 0.0], goal=[4.0, 4.5, 0.0])
-
 
 @settings(max_examples=6, deadline=None)
 @given(boxes=clear_lane_boxes(10))
@@ -55,12 +45,12 @@ def test_a_floor_with_a_plan_is_joined_at_every_yaw_and_never_proven(boxes):
 
 
 def test_no_chain_valid_at_every_yaw_where_the_proof_proves():
-    scene = _corner_slot(0.90, 0.92)
+    scene = corner_slot(0.90, 0.92)
     assert joined_at_every_yaw(scene) is False
     assert prove_no_plan(scene).apart is True
     # room to turn, but a 0.95 m slot (3.5 cm a side) admits no pose turned through a whole
     # 11.25-degree bin: the proof's coarse bins join there, these do not
-    assert joined_at_every_yaw(_corner_slot(3.0, 0.95)) is False
+    assert joined_at_every_yaw(corner_slot(3.0, 0.95)) is False
 
 
 def test_a_stopped_search_answers_nothing():
@@ -68,7 +58,7 @@ def test_a_stopped_search_answers_nothing():
 
 
 def test_past_its_estimate_the_held_proof_runs_to_held_end_where_it_may_prove():
-    scene = _corner_slot(0.90, 0.92)  # the held poses' proof's estimate: 0.36 s
+    scene = corner_slot(0.90, 0.92)  # the held poses' proof's estimate: 0.36 s
     keep_shared(scene, NOTHING_TO_PROVE, True)  # as where the poses' relaxation joins
     shut = LateProof(scene, begin=0.0, end=100.0, explain_end=1.1, clock=lambda: 1.0)
     assert shut() is False and shared_value(scene, HELD_POSES) is None  # does not fit

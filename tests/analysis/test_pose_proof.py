@@ -8,7 +8,8 @@ import time
 import numpy as np
 import pytest
 import shapely
-from factories import clear_lane_boxes, floor_with_clear_lane, make_scene, shipped
+from corner_factories import corner_slot
+from factories import clear_lane_boxes, floor_with_clear_lane, shipped
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -93,20 +94,9 @@ def test_every_sum_of_a_stack_is_the_hull_of_its_vertex_sums(boxes, body, repeat
         assert polygon.is_valid
         assert polygon.symmetric_difference(want).area < 1e-9
 
-def _corner_slot(strip: float, slot: float):
-    """A strip ``strip`` m deep along the floor's bottom, a slot ``slot`` m wide through the
-    1 m thick wall above it at x = 4 (the box long and thin: the assembly must turn into it)."""
-    left, right = 4.0 - 0.5 * slot, 4.0 + 0.5 * slot
-    walls = [{"type": "box", "center": [0.5 * left, strip + 0.5], "size": [left, 1.0],
-              "yaw": 0.0, "height": 2.0},
-             {"type": "box", "center": [0.5 * (right + 8.0), strip + 0.5],
-              "size": [8.0 - right, 1.0], "yaw": 0.0, "height": 2.0}]
-    return make_scene(obstacles=walls, object={"size": [1.2, 0.3, 1.0]},
-                      start=[1.5, 0.5 * strip, 0.0], goal=[4.0, 4.5, 0.0])
-
 
 def test_a_slot_wide_enough_but_not_to_turn_into_is_proven_with_the_passage_named():
-    scene = _corner_slot(0.90, 0.92)
+    scene = corner_slot(0.90, 0.92)
     assert 0.92 > assembly_width(scene.model)  # as wide as the held assembly...
     assert blocking_passage(scene) is None  # ...so the width alone explains nothing
     proof = prove_no_plan(scene)
@@ -121,7 +111,7 @@ def test_a_slot_wide_enough_but_not_to_turn_into_is_proven_with_the_passage_name
 
 @pytest.mark.parametrize("scene", [
     shipped("fig10"), shipped("slot"), shipped("corridor"), shipped("door"),
-    _corner_slot(3.0, 0.95),  # room to turn in front of the slot
+    corner_slot(3.0, 0.95),  # room to turn in front of the slot
 ], ids=["fig10", "slot", "corridor", "door", "room_to_turn"])
 def test_a_scene_with_a_plan_is_never_proven_infeasible(scene):
     end = time.monotonic() + 20.0
@@ -130,7 +120,7 @@ def test_a_scene_with_a_plan_is_never_proven_infeasible(scene):
 
 
 def test_a_stopped_proof_proves_nothing():
-    proof = prove_no_plan(_corner_slot(0.90, 0.92), should_stop=lambda: True)
+    proof = prove_no_plan(corner_slot(0.90, 0.92), should_stop=lambda: True)
     assert proof.apart is None
 
 
@@ -142,7 +132,7 @@ def test_a_floor_with_a_straight_clear_lane_is_never_proven_infeasible(boxes):
 
 
 def test_the_late_proof_tries_the_held_poses_only_once_their_time_has_come():
-    scene = _corner_slot(3.0, 0.95)  # a plan exists: every relaxation joins start and goal
+    scene = corner_slot(3.0, 0.95)  # a plan exists: every relaxation joins start and goal
     now = [1.0]
     late = LateProof(scene, begin=0.0, end=100.0, clock=lambda: now[0], held_begin=5.0)
     assert late() is False  # the poses' relaxation joins them; too early for the held poses
