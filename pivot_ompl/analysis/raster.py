@@ -56,7 +56,11 @@ class FloorRaster:
 
     def window(self, geom: BaseGeometry) -> tuple[slice, slice]:
         """The block of cells round ``geom``'s bounding box (one cell of margin)."""
-        gx0, gy0, gx1, gy1 = geom.bounds
+        return self.window_box(*geom.bounds)
+
+    def window_box(self, gx0: float, gy0: float, gx1: float, gy1: float
+                   ) -> tuple[slice, slice]:
+        """The block of cells round the box ``gx0, gy0, gx1, gy1`` (one cell of margin)."""
         (x0, y0), h = self.origin, self.cell
         i0 = max(0, int((gx0 - x0) / h) - 1)
         j0 = max(0, int((gy0 - y0) / h) - 1)

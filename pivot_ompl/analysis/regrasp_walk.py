@@ -94,12 +94,7 @@ class WalkRelaxation:
         ``r`` plus half a diagonal lies in it), no polygon built.
         """
         rr = r + self.raster.half_diag
-        (x0, y0), h = self.raster.origin, self.raster.cell
-        nx, ny = self.raster.shape
-        i0, j0 = max(0, int((x - rr - x0) / h) - 1), max(0, int((y - rr - y0) / h) - 1)
-        i1 = max(i0, min(nx, int((x + rr - x0) / h) + 2))
-        j1 = max(j0, min(ny, int((y + rr - y0) / h) + 2))
-        wi, wj = slice(i0, i1), slice(j0, j1)
+        wi, wj = self.raster.window_box(x - rr, y - rr, x + rr, y + rr)
         inside = (np.hypot(self.raster.gx[wi, wj] - x, self.raster.gy[wi, wj] - y)
                   <= rr) & self.free[wi, wj]
         ii, jj = np.nonzero(inside)
