@@ -9,7 +9,9 @@ by name, generated scenes (``gen:FAMILY:SEED[:NAME=VALUE...]``, e.g. ``gen:walls
 ``gen:building:0:rooms=3``; the values are ``GeneratorParams`` fields) and the real-map corpus
 (``map:NAME``, a map of ``benchmarks/buildings.py``'s ``CORPUS`` imported by its
 ``import_corpus_map`` at the corpus's start and goal; ``maps`` names the one-grasp maps shipped
-in ``scenes/maps``, ``layouts`` every layout of ``benchmarks/layouts``) with
+in ``scenes/maps``, ``corpus`` every corpus map whose task has a plan (the shipped ones, the
+Nav2 depot and warehouse, the hospital, the Willow Garage office and the lab's lower room),
+``layouts`` every layout of ``benchmarks/layouts``) with
 ``RegraspPlanner`` over seeds, with two versions of the package in turn: one worker process
 per version (``--before DIR``, e.g. an export of ``main``, and this checkout), fed the same
 (scene, seed) jobs alternately, so both see the same machine. Prints medians per scene and
@@ -24,7 +26,7 @@ ratio median <= 1.3; pivot rate (pivots per metre over the ideal rate) <= 1.5 me
 spread across seeds (max / min - 1) <= 10 %.
 
     python benchmarks/plan_quality.py [--before /tmp/base] [--seeds 20] [--time 30]
-        [--scenes layouts,fig10,rot30,mirror,slot,gen:walls:1:walls=2,maps]
+        [--scenes layouts,fig10,rot30,mirror,slot,gen:walls:1:walls=2,maps,corpus]
         [--out results/plan_quality.json] [--markdown results/plan_quality.md]
 
 Run timing figures under ``flock /tmp/pivot-bench.lock``.
@@ -53,16 +55,25 @@ MAP_SCENES = ROOT / "results" / "plan_quality_maps"
 
 
 def scene_names(spec: str) -> list[str]:
-    """``--scenes``' names, with ``layouts`` and ``maps`` expanded."""
+    """``--scenes``' names, with ``layouts``, ``maps`` and ``corpus`` expanded."""
     out: list[str] = []
     for name in filter(None, spec.split(",")):
         if name == "layouts":
             out += sorted(p.stem for p in LAYOUTS.glob("*.yaml"))
         elif name == "maps":
             out += [f"map:{m}" for m in SHIPPED_MAPS]
+        elif name == "corpus":
+            out += [f"map:{m}" for m in corpus_maps()]
         else:
             out.append(name)
     return out
+
+
+def corpus_maps() -> list[str]:
+    """The corpus maps of ``benchmarks/buildings.py`` whose task has a plan, in its order."""
+    from buildings import CORPUS
+
+    return [m.name for m in CORPUS if m.feasible]
 
 
 def map_scene(name: str):  # noqa: ANN201 (a Scene of whichever package version runs)
