@@ -14,7 +14,9 @@ Nav2 depot and warehouse, the hospital, the Willow Garage office and the lab's l
 ``layouts`` every layout of ``benchmarks/layouts``) with
 ``RegraspPlanner`` over seeds, with two versions of the package in turn: one worker process
 per version (``--before DIR``, e.g. an export of ``main``, and this checkout), fed the same
-(scene, seed) jobs alternately, so both see the same machine. Prints medians per scene and
+(scene, seed) jobs alternately, so both see the same machine (``--fresh``: a new process per
+plan, so that no seed reuses the checks, fields and bounds an earlier seed's plan left in the
+process; the bound cache on disk, ``XDG_CACHE_HOME``, is still shared). Prints medians per scene and
 version: pivots, regrasps, pivots per metre of transfer, walking length, planning time, the
 optimiser's share of it, the estimated whole-body duration, whether every plan passes the
 independent plan check, runs that raised an error, and the quality block's lower bound on
@@ -25,7 +27,7 @@ shipped scenes at the bound in >= 90 % of runs; one-grasp scenes 0 regrasps in 1
 ratio median <= 1.3; pivot rate (pivots per metre over the ideal rate) <= 1.5 median; cost
 spread across seeds (max / min - 1) <= 10 %.
 
-    python benchmarks/plan_quality.py [--before /tmp/base] [--seeds 20] [--time 30]
+    python benchmarks/plan_quality.py [--before /tmp/base] [--seeds 20] [--time 30] [--fresh]
         [--scenes layouts,fig10,rot30,mirror,slot,gen:walls:1:walls=2,maps,corpus]
         [--out results/plan_quality.json] [--markdown results/plan_quality.md]
 
@@ -162,6 +164,12 @@ def _start(path: Path) -> subprocess.Popen:
                             env=env, cwd=str(path))
 
 
+def _close(proc: subprocess.Popen) -> None:
+    assert proc.stdin is not None
+    proc.stdin.close()
+    proc.wait()
+
+
 def _ask(proc: subprocess.Popen, job: str) -> dict[str, Any]:
     assert proc.stdin is not None and proc.stdout is not None
     proc.stdin.write(job + "\n")
@@ -256,6 +264,9 @@ def main() -> None:
     ap.add_argument("--scenes", default="fig10,rot30,mirror")
     ap.add_argument("--out", default="results/plan_quality.json")
     ap.add_argument("--markdown", help="also write the quality table (Markdown) here")
+    ap.add_argument("--fresh", action="store_true",
+                    help="a new worker process per plan (cold, as one `pivot-ompl plan` is: "
+                         "nothing kept from the seeds before but the bound cache on disk)")
     ap.add_argument("--after-planner", default="regrasp",
                     help="the planner of this checkout, e.g. "
                          "'regrasp[optimiser.choose_grasps=true]' (no spaces)")
@@ -269,7 +280,7 @@ def main() -> None:
     versions = {"after": ROOT}
     if args.before:
         versions = {"before": Path(args.before).resolve(), "after": ROOT}
-    procs = {k: _start(v) for k, v in versions.items()}
+    procs = {} if args.fresh else {k: _start(v) for k, v in versions.items()}
     rows: dict[tuple[str, str], list[dict[str, Any]]] = {}
     try:
         for name in scene_names(args.scenes):
@@ -277,18 +288,21 @@ def main() -> None:
             if name.startswith("gen:") or name not in ("fig10", "rot30", "mirror"):
                 n = args.seeds
             for seed in range(n):
-                for ver, proc in procs.items():  # alternately: the same load for both
+                for ver, path in versions.items():  # alternately: the same load for both
                     spec = args.after_planner if ver == "after" else "regrasp"
-                    r = _ask(proc, f"{name} {seed} {args.time} {spec}")
+                    proc = procs.get(ver) or _start(path)
+                    try:
+                        r = _ask(proc, f"{name} {seed} {args.time} {spec}")
+                    finally:
+                        if args.fresh:
+                            _close(proc)
                     rows.setdefault((name, ver), []).append(r)
                     print(f"{name:7s} seed {seed:3d} {ver:6s} solved={r['solved']} "
                           f"pivots={r.get('pivots')} regrasps={r.get('regrasps')} "
                           f"solve={r['solve']:.2f}s opt={r['optimise']:.2f}s", flush=True)
     finally:
         for proc in procs.values():
-            assert proc.stdin is not None
-            proc.stdin.close()
-            proc.wait()
+            _close(proc)
     table = {f"{name}/{ver}": _summary(rs) for (name, ver), rs in rows.items()}
     print(f"\n{'scene/version':18s} {'runs':>4} {'ok':>5} {'pivots':>7} {'range':>10} "
           f"{'regr':>5} {'range':>6} {'piv/m':>6} {'walk m':>7} {'solve s':>8} "
