@@ -299,7 +299,8 @@ def main() -> None:
                     rows.setdefault((name, ver), []).append(r)
                     print(f"{name:7s} seed {seed:3d} {ver:6s} solved={r['solved']} "
                           f"pivots={r.get('pivots')} regrasps={r.get('regrasps')} "
-                          f"solve={r['solve']:.2f}s opt={r['optimise']:.2f}s", flush=True)
+                          f"bound={r.get('bound')} solve={r['solve']:.2f}s "
+                          f"opt={r['optimise']:.2f}s", flush=True)
     finally:
         for proc in procs.values():
             _close(proc)
