@@ -27,7 +27,7 @@ shipped scenes at the bound in >= 90 % of runs; one-grasp scenes 0 regrasps in 1
 ratio median <= 1.3; pivot rate (pivots per metre over the ideal rate) <= 1.5 median; cost
 spread across seeds (max / min - 1) <= 10 %.
 
-    python benchmarks/plan_quality.py [--before /tmp/base] [--seeds 20] [--time 30] [--fresh]
+    python benchmarks/plan_quality.py [--before DIR] [--seeds 20] [--time 30] [--fresh]
         [--scenes layouts,fig10,rot30,mirror,slot,gen:walls:1:walls=2,maps,corpus]
         [--out results/plan_quality.json] [--markdown results/plan_quality.md]
 
