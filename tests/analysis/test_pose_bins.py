@@ -12,6 +12,8 @@ from hypothesis import strategies as st
 
 from pivot_ompl.analysis.pose_bins import BinRegions, half_turn_twins
 from pivot_ompl.analysis.pose_cells import (
+    DISK_SIDES,
+    ROUND_OFF,
     by_size,
     free_region,
     grown_pieces,
@@ -26,6 +28,29 @@ def _rect(x: float, y: float, w: float, h: float, yaw: float) -> np.ndarray:
     c, s = math.cos(yaw), math.sin(yaw)
     corners = np.array([(-w, -h), (w, -h), (w, h), (-w, h)]) * 0.5
     return corners @ np.array([[c, s], [-s, c]]) + (x, y)
+
+
+@settings(max_examples=40, deadline=None)
+@given(pieces=st.lists(st.lists(st.tuples(st.floats(-3.0, 3.0), st.floats(-3.0, 3.0)),
+                                min_size=3, max_size=7), min_size=1, max_size=8),
+       clearance=st.sampled_from([0.0, 0.008, 0.05]))
+def test_pieces_grown_at_once_are_each_its_hull_summed_with_the_clearance_polygon(pieces,
+                                                                                  clearance):
+    # the pieces' vertex counts mixed (3 to 7 points, fewer on their hulls): each grown
+    # piece, in the pieces' order, is its own hull summed with the disk's inscribed polygon
+    hulls = [shapely.MultiPoint(p).convex_hull for p in pieces]
+    if min(h.area for h in hulls) < 1e-3:
+        return
+    r = max(clearance - ROUND_OFF, 0.0)
+    a = np.linspace(0.0, 2.0 * math.pi, DISK_SIDES, endpoint=False)
+    disk = r * np.stack([np.cos(a), np.sin(a)], axis=1)
+    grown = grown_pieces([np.array(p) for p in pieces], clearance)
+    assert len(grown) == len(pieces)
+    for p, g in zip(pieces, grown, strict=True):
+        want = shapely.MultiPoint((np.array(p)[:, None] + disk[None]).reshape(-1, 2)).convex_hull
+        poly = shapely.Polygon(g)
+        assert poly.is_valid and poly.exterior.is_ccw
+        assert poly.symmetric_difference(want).area < 1e-9
 
 
 def _bodies_at(bodies: list[np.ndarray], x: float, y: float, yaw: float):
