@@ -171,12 +171,20 @@ def centre_room(grown: dict[int, np.ndarray], radius: float, area: BaseGeometry,
 
 def near(grown: dict[int, np.ndarray], room: BaseGeometry,
          distance: float) -> dict[int, np.ndarray]:
-    """The pieces within ``distance`` of ``room`` (the others cannot meet a body there)."""
+    """The pieces within ``distance`` of ``room`` (the others cannot meet a body there).
+
+    ``room`` prepared for the test (a large floor's room has thousands of vertices) and left
+    as it came.
+    """
     out = {}
+    prepared = bool(shapely.is_prepared(room))
+    shapely.prepare(room)
     for k, stack in grown.items():
-        keep = shapely.dwithin(shapely.polygons(stack), room, distance)
+        keep = shapely.dwithin(room, shapely.polygons(stack), distance)
         if keep.any():
             out[k] = stack[keep]
+    if not prepared:
+        shapely.destroy_prepared(room)
     return out
 
 

@@ -18,6 +18,7 @@ from pivot_ompl.analysis.pose_cells import (
     free_region,
     grown_pieces,
     held_bodies,
+    near,
     rotation_core,
 )
 
@@ -51,6 +52,24 @@ def test_pieces_grown_at_once_are_each_its_hull_summed_with_the_clearance_polygo
         poly = shapely.Polygon(g)
         assert poly.is_valid and poly.exterior.is_ccw
         assert poly.symmetric_difference(want).area < 1e-9
+
+
+@settings(max_examples=20, deadline=None)
+@given(rects=st.lists(st.tuples(st.floats(0.0, 8.0), st.floats(0.0, 6.0), st.floats(0.1, 1.0),
+                                st.floats(0.1, 1.0), st.floats(0.0, 3.2)), min_size=1, max_size=12),
+       distance=st.floats(0.0, 1.5), prepared=st.booleans())
+def test_the_pieces_near_a_room_are_those_within_the_distance_and_the_room_is_left_as_it_came(
+        rects, distance, prepared):
+    grown = by_size(grown_pieces([_rect(*r) for r in rects], CLEARANCE))
+    room = shapely.box(1.0, 1.0, 5.0, 4.0).difference(shapely.box(2.0, 2.0, 3.0, 3.0))
+    if prepared:
+        shapely.prepare(room)
+    kept = near(grown, room, distance)
+    assert bool(shapely.is_prepared(room)) is prepared
+    for k, stack in grown.items():
+        want = shapely.distance(shapely.polygons(stack), room) <= distance
+        got = kept.get(k, np.empty((0, k, 2)))
+        assert len(got) == int(want.sum()) and np.array_equal(got, stack[want])
 
 
 def _bodies_at(bodies: list[np.ndarray], x: float, y: float, yaw: float):
