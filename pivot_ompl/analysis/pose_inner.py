@@ -112,7 +112,8 @@ def joined_at_every_yaw(scene: Scene, *, bins: int = FIRST_BINS,
 
     ``True``: the held poses' proof cannot end apart (the module docstring); ``False``: no
     such chain at ``bins`` bins (the proof may prove); ``None``: stopped, or
-    :data:`MOST_SEARCHES` searches found only chains the walks refuse.
+    :data:`MOST_SEARCHES` searches found only chains the walks refuse and one more found a
+    chain still.
     """
     try:
         parts = HeldParts(scene, KEEP_CLEARANCE, should_stop)
