@@ -9,7 +9,8 @@ by name, generated scenes (``gen:FAMILY:SEED[:NAME=VALUE...]``, e.g. ``gen:walls
 ``gen:building:0:rooms=3``; the values are ``GeneratorParams`` fields) and the real-map corpus
 (``map:NAME``, a map of ``benchmarks/buildings.py``'s ``CORPUS`` imported by its
 ``import_corpus_map`` at the corpus's start and goal; ``maps`` names the one-grasp maps shipped
-in ``scenes/maps``, ``layouts`` every layout of ``benchmarks/layouts``) with
+in ``scenes/maps``, ``layouts`` every layout of ``benchmarks/layouts``), and any of these
+reflected as ``mirror`` is (``mirror:SPEC``, e.g. ``mirror:door``), with
 ``RegraspPlanner`` over seeds, with two versions of the package in turn: one worker process
 per version (``--before DIR``, e.g. an export of ``main``, and this checkout), fed the same
 (scene, seed) jobs alternately, so both see the same machine. Prints medians per scene and
@@ -50,6 +51,8 @@ LAYOUTS = HERE.parent / "layouts"
 SHIPPED_MAPS = ("aws_small_house", "aws_bookstore", "aws_small_warehouse")
 #: where ``map:NAME`` scenes are imported to
 MAP_SCENES = ROOT / "results" / "plan_quality_maps"
+#: the line (rad, through the floor's centre) ``mirror`` and ``mirror:SPEC`` reflect in
+MIRROR_AXIS = 0.3
 
 
 def scene_names(spec: str) -> list[str]:
@@ -81,16 +84,21 @@ def map_scene(name: str):  # noqa: ANN201 (a Scene of whichever package version 
 # -- scenes ------------------------------------------------------------------------------
 
 def variant(name: str):  # noqa: ANN201 (a Scene of whichever package version runs)
-    """fig10 as is, turned by 30 degrees (``rot30``) or mirrored (``mirror``).
+    """fig10 as is, turned by 30 degrees (``rot30``) or mirrored (``mirror``); any spec.
 
     The copies are :mod:`pivot_ompl.generate`'s: the old floor kept as walls round it,
-    ``mirror`` reflected in the line at 0.3 rad through the room's centre.
+    ``mirror`` reflected in the line at :data:`MIRROR_AXIS` through the room's centre, and
+    ``mirror:SPEC`` any scene of the other specs reflected alike (``mirror:door``,
+    ``mirror:gen:walls:1``, ``mirror:map:aws_small_house``).
     """
     from common import scene_from_spec
 
     from pivot_ompl.generate import mirror_scene, rotate_scene
     from pivot_ompl.scene import load_scene
 
+    if name.startswith("mirror:"):  # any scene of these specs, reflected as ``mirror`` is
+        inner = variant(name[7:])
+        return mirror_scene(inner, MIRROR_AXIS, name=f"{inner.name}_mirror")
     if (LAYOUTS / f"{name}.yaml").is_file():
         return load_scene(LAYOUTS / f"{name}.yaml")
     if name.startswith("map:"):
@@ -102,7 +110,7 @@ def variant(name: str):  # noqa: ANN201 (a Scene of whichever package version ru
         return base
     if name == "rot30":
         return rotate_scene(base, math.radians(30.0), name="fig10_rot30")
-    return mirror_scene(base, 0.3, name="fig10_mirror")
+    return mirror_scene(base, MIRROR_AXIS, name="fig10_mirror")
 
 
 # -- worker: plans jobs read from stdin with whichever package is on its path ------------
