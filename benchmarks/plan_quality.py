@@ -9,8 +9,7 @@ by name, generated scenes (``gen:FAMILY:SEED[:NAME=VALUE...]``, e.g. ``gen:walls
 ``gen:building:0:rooms=3``; the values are ``GeneratorParams`` fields) and the real-map corpus
 (``map:NAME``, a map of ``benchmarks/buildings.py``'s ``CORPUS`` imported by its
 ``import_corpus_map`` at the corpus's start and goal; ``maps`` names the one-grasp maps shipped
-in ``scenes/maps``, ``layouts`` every layout of ``benchmarks/layouts``), and any of these
-reflected as ``mirror`` is (``mirror:SPEC``, e.g. ``mirror:door``), with
+in ``scenes/maps``, ``layouts`` every layout of ``benchmarks/layouts``) with
 ``RegraspPlanner`` over seeds, with two versions of the package in turn: one worker process
 per version (``--before DIR``, e.g. an export of ``main``, and this checkout), fed the same
 (scene, seed) jobs alternately, so both see the same machine. Prints medians per scene and
@@ -29,6 +28,10 @@ spread across seeds (max / min - 1) <= 10 %.
         [--out results/plan_quality.json] [--markdown results/plan_quality.md]
 
 Run timing figures under ``flock /tmp/pivot-bench.lock``.
+
+``mirror:SPEC`` plans any of these scenes reflected as ``mirror`` is (``mirror:door``,
+``mirror:gen:walls:1``, ``mirror:map:aws_small_house``): a scene and its reflection side by
+side.
 """
 
 from __future__ import annotations
