@@ -32,6 +32,10 @@ spread across seeds (max / min - 1) <= 10 %.
         [--out results/plan_quality.json] [--markdown results/plan_quality.md]
 
 Run timing figures under ``flock /tmp/pivot-bench.lock``.
+
+``mirror:SPEC`` plans any of these scenes reflected as ``mirror`` is (``mirror:door``,
+``mirror:gen:walls:1``, ``mirror:map:aws_small_house``): a scene and its reflection side by
+side.
 """
 
 from __future__ import annotations
@@ -54,6 +58,8 @@ LAYOUTS = HERE.parent / "layouts"
 SHIPPED_MAPS = ("aws_small_house", "aws_bookstore", "aws_small_warehouse")
 #: where ``map:NAME`` scenes are imported to
 MAP_SCENES = ROOT / "results" / "plan_quality_maps"
+#: the line (rad, through the floor's centre) ``mirror`` and ``mirror:SPEC`` reflect in
+MIRROR_AXIS = 0.3
 
 
 def scene_names(spec: str) -> list[str]:
@@ -94,16 +100,21 @@ def map_scene(name: str):  # noqa: ANN201 (a Scene of whichever package version 
 # -- scenes ------------------------------------------------------------------------------
 
 def variant(name: str):  # noqa: ANN201 (a Scene of whichever package version runs)
-    """fig10 as is, turned by 30 degrees (``rot30``) or mirrored (``mirror``).
+    """fig10 as is, turned by 30 degrees (``rot30``) or mirrored (``mirror``); any spec.
 
     The copies are :mod:`pivot_ompl.generate`'s: the old floor kept as walls round it,
-    ``mirror`` reflected in the line at 0.3 rad through the room's centre.
+    ``mirror`` reflected in the line at :data:`MIRROR_AXIS` through the room's centre, and
+    ``mirror:SPEC`` any scene of the other specs reflected alike (``mirror:door``,
+    ``mirror:gen:walls:1``, ``mirror:map:aws_small_house``).
     """
     from common import scene_from_spec
 
     from pivot_ompl.generate import mirror_scene, rotate_scene
     from pivot_ompl.scene import load_scene
 
+    if name.startswith("mirror:"):  # any scene of these specs, reflected as ``mirror`` is
+        inner = variant(name[7:])
+        return mirror_scene(inner, MIRROR_AXIS, name=f"{inner.name}_mirror")
     if (LAYOUTS / f"{name}.yaml").is_file():
         return load_scene(LAYOUTS / f"{name}.yaml")
     if name.startswith("map:"):
@@ -115,7 +126,7 @@ def variant(name: str):  # noqa: ANN201 (a Scene of whichever package version ru
         return base
     if name == "rot30":
         return rotate_scene(base, math.radians(30.0), name="fig10_rot30")
-    return mirror_scene(base, 0.3, name="fig10_mirror")
+    return mirror_scene(base, MIRROR_AXIS, name="fig10_mirror")
 
 
 # -- worker: plans jobs read from stdin with whichever package is on its path ------------
