@@ -113,21 +113,34 @@ class PoseProof:
 
 
 class HeldParts:
-    """The free parts of every (bin, grasp), computed once per bin and kept."""
+    """The free parts of every (bin, grasp), computed once per bin and kept.
+
+    Args:
+        scene: the scene.
+        clearance: kept from the obstacles (m) by the box centre's room (:attr:`room`) and,
+            unless ``parts_clearance`` says otherwise, by the parts' poses.
+        should_stop: polled while the obstacles are merged and before the room is found
+            (:class:`~pivot_ompl.errors.Interrupted` when true).
+        parts_clearance: kept by the parts' poses (m), within the room; ``None``:
+            ``clearance``.
+    """
 
     def __init__(self, scene: Scene, clearance: float,
-                 should_stop: Callable[[], bool] | None) -> None:
+                 should_stop: Callable[[], bool] | None, *,
+                 parts_clearance: float | None = None) -> None:
         pieces = obstacle_pieces(merge_boxes(scene.obstacles, should_stop=should_stop))
         self.bodies = held_bodies(scene.model)
         reach = max(float(np.abs(b).max()) for bodies in self.bodies for b in bodies)
-        grown = by_size(grown_pieces(pieces, clearance)
-                        + bound_slabs(scene.bounds, 2.0 * reach + 1.0))
+        slabs = bound_slabs(scene.bounds, 2.0 * reach + 1.0)
+        grown = by_size(grown_pieces(pieces, clearance) + slabs)
         if should_stop is not None and should_stop():
             raise Interrupted("the held poses' relaxation")
         #: where the box centre may go at all (``None``: not even the start is in it)
         self.room = centre_room(grown, 0.5 * min(scene.model.object_size[:2]) - ROUND_OFF,
                                 shapely.box(*scene.bounds), scene.start[:2])
         self.area = self.room if self.room is not None else shapely.Polygon()
+        if parts_clearance is not None and parts_clearance != clearance:
+            grown = by_size(grown_pieces(pieces, parts_clearance) + slabs)
         self.bins = BinRegions(near(grown, self.area, reach + 1e-3), self.bodies, self.area)
         self.known: dict[tuple[float, float], list[list[BaseGeometry]]] = {}
         self.met: dict[tuple[float, ...], list[tuple[int, int]]] = {}
