@@ -5,7 +5,7 @@ for one set of bin edges. A part is linked to the parts it meets at its grasp in
 neighbouring bins (a motion crossing the bins' common yaw) and to the parts it meets at the
 other grasps in its own bin (a regrasp: one pose, two grasps). Which parts meet is asked of
 the parts (:meth:`~pivot_ompl.analysis.pose_proof.HeldParts.meet`, kept per pair of bins and
-grasps) and indexed here by part, so a node's links cost what it has.
+grasps, indexed by part), so a node's links cost what it has.
 
 The links are computed one way, per node: the lazy graph computes a node's when a chain
 search reaches it, the eager one every node's at once. The chain searches over them
@@ -31,10 +31,6 @@ if TYPE_CHECKING:
     from pivot_ompl.analysis.pose_proof import HeldParts
 
 __all__ = ["PoseGraph"]
-
-#: Per part, the parts of the other side it meets (the sides of one meeting question).
-Partners = dict[int, list[int]]
-
 
 def _holding(parts: list[list[BaseGeometry]], pose: Pose) -> list[tuple[int, int]]:
     point = shapely.Point(pose[0], pose[1])
@@ -62,7 +58,6 @@ class PoseGraph:
                  should_stop: Callable[[], bool] | None, *, lazy: bool = False) -> None:
         self.parts, self.edges, self.should_stop = parts, edges, should_stop
         self._table: dict[int, list[list[BaseGeometry]]] = {}
-        self._partners: dict[tuple[float, ...], tuple[Partners, Partners]] = {}
         self.refused: list[BaseGeometry] = []  # the regrasps dropped (:meth:`walked`)
         if lazy:
             self.links: dict[Node, list[Node]] = LazyLinks(self._links_of)
@@ -81,22 +76,6 @@ class PoseGraph:
             self._table[i] = self.parts.of(self.edges[i], self.edges[i + 1])
         return self._table[i]
 
-    def _meeting(self, key: tuple[float, ...], a: list[BaseGeometry],
-                 b: list[BaseGeometry]) -> tuple[Partners, Partners]:
-        """Per part of ``a`` the parts of ``b`` it meets, and per part of ``b`` those of ``a``.
-
-        Each list in the order :meth:`~pivot_ompl.analysis.pose_proof.HeldParts.meet` gives
-        (ascending); kept under ``key`` for this graph.
-        """
-        if key not in self._partners:
-            ab: Partners = {}
-            ba: Partners = {}
-            for p, q in self.parts.meet(key, a, b):
-                ab.setdefault(p, []).append(q)
-                ba.setdefault(q, []).append(p)
-            self._partners[key] = (ab, ba)
-        return self._partners[key]
-
     def _links_of(self, u: Node) -> list[Node]:
         """The links of part ``u``: the next bin's parts, the bin before's, then regrasps.
 
@@ -108,19 +87,19 @@ class PoseGraph:
         if g >= len(here) or k >= len(here[g]):
             return []
         j = (i + 1) % n  # the next bin, then the one before: motions at grasp g
-        ahead = self._meeting((edges[i], edges[i + 1], edges[j + 1], g), here[g],
-                              self.bin(j)[g])[0]
+        ahead = self.parts.meet((edges[i], edges[i + 1], edges[j + 1], g), here[g],
+                                self.bin(j)[g])[0]
         out = [(j, g, q) for q in ahead.get(k, ())]
         j = (i - 1) % n
-        behind = self._meeting((edges[j], edges[j + 1], edges[i + 1], g), self.bin(j)[g],
-                               here[g])[1]
+        behind = self.parts.meet((edges[j], edges[j + 1], edges[i + 1], g),
+                                 self.bin(j)[g], here[g])[1]
         out += [(j, g, p) for p in behind.get(k, ())]
         for h in range(len(here)):  # regrasps: one pose, two grasps
             if h < g:
-                low = self._meeting((edges[i], edges[i + 1], h, g), here[h], here[g])[1]
+                low = self.parts.meet((edges[i], edges[i + 1], h, g), here[h], here[g])[1]
                 out += [(i, h, p) for p in low.get(k, ())]
             elif h > g:
-                high = self._meeting((edges[i], edges[i + 1], g, h), here[g], here[h])[0]
+                high = self.parts.meet((edges[i], edges[i + 1], g, h), here[g], here[h])[0]
                 out += [(i, h, q) for q in high.get(k, ())]
         return out
 

@@ -67,6 +67,9 @@ from pivot_ompl.validity.merge import merge_boxes
 
 log = logging.getLogger(__name__)
 
+#: Per part, the parts of the other side it meets (:meth:`HeldParts.meet`).
+Partners = dict[int, list[int]]
+
 #: Yaw bins of the first round (over the whole turn).
 FIRST_BINS = 32
 #: Most yaw bins (each costs the box's free region and four grasps' free parts, about 30 ms
@@ -143,7 +146,7 @@ class HeldParts:
             grown = by_size(grown_pieces(pieces, parts_clearance) + slabs)
         self.bins = BinRegions(near(grown, self.area, reach + 1e-3), self.bodies, self.area)
         self.known: dict[tuple[float, float], list[list[BaseGeometry]]] = {}
-        self.met: dict[tuple[float, ...], list[tuple[int, int]]] = {}
+        self.met: dict[tuple[float, ...], tuple[Partners, Partners]] = {}
         self.walks = RegraspWalks(scene, tolerance=SWEEP_TOLERANCE, clearance=KEEP_CLEARANCE)
         self.walked: dict[tuple[float, float], dict[tuple[int, int, int, int], bool]] = {}
 
@@ -176,8 +179,12 @@ class HeldParts:
         return asked[key]
 
     def meet(self, key: tuple[float, ...], a: list[BaseGeometry],
-             b: list[BaseGeometry]) -> list[tuple[int, int]]:
-        """Which parts of ``a`` meet which of ``b`` (kept under ``key``: bins and grasps)."""
+             b: list[BaseGeometry]) -> tuple[Partners, Partners]:
+        """Which parts of ``a`` meet which of ``b`` (kept under ``key``: bins and grasps).
+
+        Per part of ``a`` the parts of ``b`` it meets, and per part of ``b`` those of ``a``,
+        each list ascending.
+        """
         if key not in self.met:
             self.met[key] = _meets(a, b)
         return self.met[key]
@@ -207,11 +214,16 @@ def with_opposites(edges: list[float], split: set[int]) -> list[int]:
     return sorted(out)
 
 
-def _meets(a: list[BaseGeometry], b: list[BaseGeometry]) -> list[tuple[int, int]]:
-    if not a or not b:
-        return []
-    hit = shapely.intersects(np.array(a, dtype=object)[:, None], np.array(b, dtype=object)[None])
-    return [(int(i), int(j)) for i, j in zip(*np.nonzero(hit), strict=True)]
+def _meets(a: list[BaseGeometry], b: list[BaseGeometry]) -> tuple[Partners, Partners]:
+    ab: Partners = {}
+    ba: Partners = {}
+    if a and b:
+        hit = shapely.intersects(np.array(a, dtype=object)[:, None],
+                                 np.array(b, dtype=object)[None])
+        for i, j in zip(*np.nonzero(hit), strict=True):  # row by row: both lists ascending
+            ab.setdefault(int(i), []).append(int(j))
+            ba.setdefault(int(j), []).append(int(i))
+    return ab, ba
 
 
 def widest_bins(edges: list[float], path: list[Node], finest: float
