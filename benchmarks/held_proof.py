@@ -45,7 +45,8 @@ from common import fmt, median_of  # noqa: E402
 #: what each run's figures are summed from: (column, module, function)
 STAGES = (("regions", "pivot_ompl.analysis.pose_bins", "BinRegions.regions"),
           ("unions", "pivot_ompl.analysis.pose_bins", "shapely.union_all"),
-          ("chain", "pivot_ompl.analysis.pose_proof", "walked_chain"),
+          ("chain", "pivot_ompl.analysis.pose_proof", "walked_chain"),  # before pose_graph
+          ("chain", "pivot_ompl.analysis.pose_graph", "walked_chain"),
           ("chain", "pivot_ompl.analysis.pose_inner", "walked_chain"),  # the gate's
           ("walks", "pivot_ompl.analysis.pose_proof", "HeldParts.may_regrasp"))
 
@@ -76,7 +77,10 @@ def worker(scene_spec: str, gate: bool = False) -> None:
 
     bucket: dict[str, float] = {}
     for column, module, attr in STAGES:
-        owner: Any = importlib.import_module(module)
+        try:
+            owner: Any = importlib.import_module(module)
+        except ModuleNotFoundError:  # a version without that module
+            continue
         *path, name = attr.split(".")
         for part in path:
             owner = getattr(owner, part, None)
