@@ -40,6 +40,7 @@ from dataclasses import dataclass
 
 from pivot_ompl.analysis.plan_bounds import disk_cells
 from pivot_ompl.analysis.route_path import FreeField, Route, route_polyline
+from pivot_ompl.analysis.wall_frame import WallFrame, wall_frame
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
@@ -91,6 +92,21 @@ class _Known:
 
     field: FreeField
     routes: dict[tuple[float, ...], Route | None]
+    frame: WallFrame | None = None
+
+    def route(self, a: tuple[float, float], b: tuple[float, float], *, margin: float,
+              via: Route | None, poll: Callable[[], None]) -> Route | None:
+        """:func:`route_polyline` from ``a`` to ``b`` (m, in the scene), its points too.
+
+        The field lies in ``frame`` when there is one (its cells, and ``via``'s, are the
+        frame's); the points go in and out of it by a rigid motion.
+        """
+        f = self.frame
+        if f is None:
+            return route_polyline(self.field, a, b, margin=margin, via=via, poll=poll)
+        r = route_polyline(self.field, f.point_in(a), f.point_in(b), margin=margin, via=via,
+                           poll=poll)
+        return None if r is None else r._replace(points=[f.point_out(p) for p in r.points])
 
 
 #: Most routes kept per scene (then forgotten all at once: a later plan finds them again).
@@ -153,15 +169,21 @@ def follow_route(checker: PivotChecker, states: list[State], *, costs: CostModel
 def _field(checker: PivotChecker, should_stop: Stop) -> _Known | None:
     """The free field of the disk relaxation of ``checker``'s scene; ``None`` if stopped.
 
-    Kept, with the routes found on it, per scene geometry
+    Laid in the walls' frame (:func:`~pivot_ompl.analysis.wall_frame.wall_frame`) where
+    the scene has one: the raster then covers the floor's own area, not the axis-aligned
+    box round a turned floor (which grows with the square of a turned row's length, and
+    whose cells, :data:`MAX_CELLS` at most, came out wider than the box there: no cell
+    was blocked). Kept, with the routes found on it, per scene geometry
     (:func:`~pivot_ompl.scene.shared.scene_shared`): a later plan of the same scene,
     with a checker of its own, finds it made.
     """
     def made() -> _Known | None:
-        cells = disk_cells(checker.scene, should_stop=should_stop, max_cells=MAX_CELLS)
+        frame = wall_frame(checker.scene, should_stop=should_stop)
+        cells = disk_cells(checker.scene if frame is None else frame.scene,
+                           should_stop=should_stop, max_cells=MAX_CELLS)
         if cells is None or should_stop():
             return None
-        return _Known(FreeField.of(*cells), {})
+        return _Known(FreeField.of(*cells), {}, frame)
 
     return scene_shared(checker.scene, ("free field", MAX_CELLS), made)
 
@@ -182,8 +204,8 @@ def free_route(checker: PivotChecker, a: tuple[float, float], b: tuple[float, fl
         if len(known.routes) >= ROUTES_KEPT:
             known.routes.clear()
         try:
-            known.routes[key] = route_polyline(known.field, a, b, margin=0.0, via=None,
-                                               poll=lambda: _poll(should_stop))
+            known.routes[key] = known.route(a, b, margin=0.0, via=None,
+                                            poll=lambda: _poll(should_stop))
         except Interrupted:
             return None
     route = known.routes[key]
@@ -224,8 +246,8 @@ def _best(evaluate: Evaluator, known: _Known, phase: list[State],
             if len(known.routes) >= ROUTES_KEPT:
                 known.routes.clear()
             try:
-                route = known.routes[key] = route_polyline(
-                    known.field, (a[0], a[1]), (b[0], b[1]), margin=share * excess, via=first,
+                route = known.routes[key] = known.route(
+                    (a[0], a[1]), (b[0], b[1]), margin=share * excess, via=first,
                     poll=lambda: _poll(should_stop))
             except Interrupted:
                 return None
