@@ -77,6 +77,11 @@ class NoPlan:
 #: What :func:`~pivot_ompl.scene.shared.keep_shared` keeps for a scene whose held poses'
 #: relaxation was run to its end: its :class:`NoPlan`, or ``False`` (nothing proven).
 HELD_POSES = ("late proof: the held poses' relaxation",)
+#: Share of the held poses' window the gate may take (seconds of CPU):
+#: :func:`~pivot_ompl.analysis.pose_inner.joined_at_every_yaw` stopped then tells nothing and
+#: lets the proof run (a gate dearer than that saves the proof little: 9.3 s of CPU on the
+#: 1506 boxes of the lab, whose proof takes 9.2 s).
+GATE_SHARE = 0.25
 
 
 def generic(scene: Scene) -> NoPlan:
@@ -99,9 +104,10 @@ class LateProof:
         clock: the clock of those times (``time.monotonic``).
         passages: the scene's passage search, shared with the check before the search
             (:class:`~pivot_ompl.analysis.passage.PassageOnce`); default: its own.
-        held_begin: clock time from which the held poses' relaxation is tried, where the
-            poses' relaxation joins start and goal (default ``begin``; asked before, it is
-            tried when asked again after it: a search that plans by then never pays it).
+        held_begin: clock time from which the held poses' relaxation is tried (default
+            ``begin``; asked before, only its gate is tried, and the proof too where the gate
+            finds no chain; else the proof is tried when asked again after it: a search that
+            plans by then never pays it).
         work_begin: the process's CPU time (``work``) before which the proof is not tried
             either, but from ``held_begin`` on: "slow to find a path" is then the search's
             own work, not the clock's seconds other processes took on a loaded machine
@@ -131,6 +137,8 @@ class LateProof:
         self.work_begin, self.work = work_begin, work
         self.held_begin = begin if held_begin is None else held_begin
         self._held_pending = False
+        self._gated = False  # the gate asked, and its answer:
+        self._gate: bool | None = None
         self.passages = passages if passages is not None else PassageOnce(scene)
         self.explain_end = end if explain_end is None else explain_end
         self.clock = clock
@@ -163,9 +171,9 @@ class LateProof:
         if place is None and known is None:
             if exact and not stop():  # run to its end: the relaxation joins start and goal
                 keep_shared(self.scene, NOTHING_TO_PROVE, True)
-                return self._held_later(now)
-            log.debug("late proof: nothing proven in %.2f s", self.clock() - now)
-            return False
+            else:
+                log.debug("late proof: no turning place in %.2f s", self.clock() - now)
+            return self._held_later(now)  # it needs no other relaxation's word
         # the proof holds: the passage (milliseconds) gets its window even past explain_end,
         # which a loaded machine's clock may have passed while the proof ran
         passage = self.passages(should_stop=self._stop(
@@ -180,35 +188,53 @@ class LateProof:
         return True
 
     def _held_later(self, now: float) -> bool:
-        """:meth:`_held_poses` now, or when asked again after ``held_begin``."""
+        """:meth:`_held_poses` now; before ``held_begin`` only where the gate finds no chain.
+
+        Before ``held_begin`` the gate is asked at once: where no chain of poses valid at
+        every yaw joins start and goal (the scene is likely to have no plan) the proof starts
+        now, else it waits for ``held_begin`` (a search that plans by then never pays it).
+        """
         if self.clock() >= self.held_begin:
             return self._held_poses(now)
-        self._held_pending = True
+        if self._held_poses(now, early=True):
+            return True
+        # tried again at held_begin unless the gate or the proof has answered
+        self._held_pending = (shared_value(self.scene, HELD_POSES) is None
+                              and self._gate is not False)
         return False
 
-    def _held_poses(self, now: float) -> bool:
+    def _held_poses(self, now: float, *, early: bool = False) -> bool:
         """The held poses' relaxation, where the poses' relaxation joins start and goal.
 
         Not tried where a chain of poses valid at every yaw joins start and goal
-        (:func:`~pivot_ompl.analysis.pose_inner.joined_at_every_yaw`: it could not prove);
-        else tried when its estimate (:func:`~pivot_ompl.analysis.pose_proof.proof_estimate`)
-        fits before ``explain_end``, or half of it before ``held_end`` (then stopped at
-        ``held_end`` once it has had as many seconds of ``work`` as the clock's from now to
-        then, as a loaded machine's clock runs ahead of the work, and at twice that window at
-        the latest). Its answer is kept for the scene's geometry (a later plan of the scene
-        reads it, and does not try again what found nothing).
+        (:func:`~pivot_ompl.analysis.pose_inner.joined_at_every_yaw`, the gate: it could not
+        prove; asked once, with at most :data:`GATE_SHARE` of the proof's window in seconds of
+        ``work``: a gate dearer than that saves the proof little); else tried when its
+        estimate (:func:`~pivot_ompl.analysis.pose_proof.proof_estimate`) fits before
+        ``explain_end``, or half of it before ``held_end`` (then stopped at ``held_end`` once
+        it has had as many seconds of ``work`` as the clock's from now to then, as a loaded
+        machine's clock runs ahead of the work, and at twice that window at the latest).
+        ``early``: only the gate, and the proof only where the gate found no chain. Its
+        answer is kept for the scene's geometry (a later plan of the scene reads it, and does
+        not try again what found nothing).
         """
         kept = shared_value(self.scene, HELD_POSES)
         if kept is None:
-            guess, end = proof_estimate(self.scene), self.explain_end
-            stop = self._stop(end)
-            if guess > end - self.clock():
-                if self.held_end is None or 0.5 * guess > self.held_end - self.clock():
-                    return False
-                stop = self._held_stop(self.held_end)
-            if joined_at_every_yaw(self.scene, should_stop=stop):
+            stop, window = self._held_window(proof_estimate(self.scene))
+            if stop is None:
+                return False
+            if not self._gated:
+                self._gated = True
+                spent = self.work() + GATE_SHARE * window
+                self._gate = joined_at_every_yaw(
+                    self.scene, should_stop=lambda: stop() or self.work() >= spent)
+                log.debug("late proof: joined at every yaw: %s (%.2f s)", self._gate,
+                          self.clock() - now)
+            if self._gate:
                 keep_shared(self.scene, HELD_POSES, False)  # nothing it could prove
                 return False
+            if early and self._gate is None:
+                return False  # the gate did not tell: the proof waits for held_begin
             proof = held_pose_proof(self.scene, should_stop=stop)
             if proof is None and stop():
                 return False  # stopped: nothing known, may be tried again with more time
@@ -219,6 +245,18 @@ class LateProof:
         self.proof = kept
         log.info("no plan exists (proven in %.2f s): %s", self.clock() - now, kept.reason)
         return True
+
+    def _held_window(self, guess: float) -> tuple[Callable[[], bool] | None, float]:
+        """The held poses' stop for a proof estimated at ``guess`` s, and its window (s).
+
+        ``None`` and 0: no window fits it.
+        """
+        now = self.clock()
+        if guess <= self.explain_end - now:
+            return self._stop(self.explain_end), self.explain_end - now
+        if self.held_end is None or 0.5 * guess > self.held_end - now:
+            return None, 0.0
+        return self._held_stop(self.held_end), self.held_end - now
 
     def _held_stop(self, at: float) -> Callable[[], bool]:
         """A stop at clock time ``at``, once the work has had the clock's seconds till then.

@@ -1,0 +1,84 @@
+"""The late proof's schedule: the held poses reached on many-piece maps, the gate first."""
+
+from __future__ import annotations
+
+import pytest
+from corner_factories import ragged_slot
+from factories import shipped
+
+from pivot_ompl.analysis import late_proof
+from pivot_ompl.analysis.bound_levels import exhaustive_estimate
+from pivot_ompl.analysis.late_proof import GATE_SHARE, HELD_POSES, LateProof
+from pivot_ompl.analysis.pose_proof import proof_estimate
+from pivot_ompl.api import LATE_PROOF_BEGIN, LATE_PROOF_END, plan
+from pivot_ompl.scene.shared import shared_value
+
+pytestmark = pytest.mark.timed  # plans whose answer must come within the limit's windows
+
+
+@pytest.mark.parametrize("angle", [0.0, 0.7])
+def test_a_many_piece_slot_the_held_box_cannot_pass_is_answered_infeasible_by_plan(angle):
+    scene = ragged_slot(0, angle)
+    limit = 60.0
+    # the exact turning place does not fit the late proof's window: the lab's case
+    assert exhaustive_estimate(scene) > (LATE_PROOF_END - LATE_PROOF_BEGIN) * limit
+    res = plan(scene, time_limit=limit)
+    assert res.status == "INFEASIBLE"
+    assert res.infeasible_reason is not None and "0.90 m" in res.infeasible_reason
+    assert res.plan.extra["no_plan"] == res.infeasible_reason
+
+
+def _spy_proof(monkeypatch: pytest.MonkeyPatch) -> list[int]:
+    calls: list[int] = []
+    proof = late_proof.held_pose_proof
+
+    def spy(scene, **kwargs):  # noqa: ANN001, ANN003, ANN202
+        calls.append(1)
+        return proof(scene, **kwargs)
+
+    monkeypatch.setattr(late_proof, "held_pose_proof", spy)
+    return calls
+
+
+def test_before_the_held_begin_a_scene_without_a_chain_valid_at_every_yaw_is_proven(
+        monkeypatch):
+    scene = ragged_slot(1)
+    calls = _spy_proof(monkeypatch)
+    # the exact turning place does not fit (end - begin), the held proof's estimate does
+    late = LateProof(scene, begin=0.0, end=15.0, clock=lambda: 1.0, held_begin=50.0)
+    assert exhaustive_estimate(scene) > 15.0 > proof_estimate(scene)
+    assert late() is True and late.proof is not None and calls == [1]
+
+
+def test_before_the_held_begin_a_feasible_scene_pays_the_gate_only(monkeypatch):
+    scene = shipped("fig10")  # a plan exists, through poses valid at every yaw of their bins
+    calls = _spy_proof(monkeypatch)
+    now = [1.0]
+    late = LateProof(scene, begin=0.0, end=100.0, clock=lambda: now[0], held_begin=5.0)
+    assert late() is False
+    assert shared_value(scene, HELD_POSES) is False  # the gate joined: nothing to prove
+    now[0] = 6.0
+    assert late() is False and calls == []
+
+
+def test_a_gate_that_does_not_tell_leaves_the_proof_to_the_held_begin(monkeypatch):
+    scene = ragged_slot(2)
+    calls = _spy_proof(monkeypatch)
+    work = [0.0]
+
+    def slow_gate(scene, *, should_stop):  # noqa: ANN001, ANN202
+        while not should_stop():
+            work[0] += 0.01
+            assert work[0] < 100.0, "the gate is never stopped"
+        return None
+
+    monkeypatch.setattr(late_proof, "joined_at_every_yaw", slow_gate)
+    now = [1.0]
+    late = LateProof(scene, begin=0.0, end=20.0, clock=lambda: now[0], held_begin=5.0,
+                     work=lambda: work[0])
+    assert exhaustive_estimate(scene) > 20.0 and proof_estimate(scene) < 20.0 - 6.0
+    assert late() is False and calls == []
+    # stopped once it had its share of the proof's window (its estimate fits before the end)
+    assert work[0] == pytest.approx(GATE_SHARE * (20.0 - 1.0), abs=0.02)
+    now[0] = 6.0
+    assert late() is True and late.proof is not None and calls == [1]
