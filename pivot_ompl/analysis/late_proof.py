@@ -11,14 +11,19 @@ nothing before ``begin``; then, once, it runs the relaxation, stopped at ``end``
 that proves and places at once: the exact polygons
 (:func:`~pivot_ompl.analysis.turning.turning_place`) where they are estimated to fit, else
 the coarse raster in the walls' frame (:func:`framed_turning_place`); a bound the cache holds
-answers at once (a solvable one: nothing to do; an unsolvable one: only the place is looked
-for, until ``explain_end``). When no plan exists the reason is the passage that blocks every
-plan (:func:`~pivot_ompl.analysis.passage.blocking_passage`) if there is one, else the place
-where the held box cannot turn, else (the place not found in time) a line naming the width
-the held assembly needs; and the search stops. Its cost to a scene that has a plan is at
-most ``end - begin``, and only when the search is slow to find a path; once the exact
-relaxation has joined a scene's start and goal (nothing to prove), later plans of the scene
-in the process do not run it again (:func:`~pivot_ompl.scene.shared.keep_shared`).
+answers at once (a solvable one: only the held poses are left to try; an unsolvable one:
+only the place is looked for, until ``explain_end``). When no plan exists the reason is the
+passage that blocks every plan (:func:`~pivot_ompl.analysis.passage.blocking_passage`) if
+there is one, else the place where the held box cannot turn, else (the place not found in
+time) a line naming the width the held assembly needs; and the search stops. Where that
+relaxation proves nothing (it joins start and goal, was stopped, or is too large to run),
+the held poses' relaxation is tried (:func:`held_pose_proof`: it needs no other
+relaxation's word), behind a gate that spares it scenes whose poses valid at every yaw
+join start and goal (:meth:`LateProof._held_poses`). Its cost to a scene that has a plan
+is at most ``end - begin`` and the held poses' window, and only when the search is slow to
+find a path; once the exact relaxation has joined a scene's start and goal (nothing to
+prove), later plans of the scene in the process do not run it again
+(:func:`~pivot_ompl.scene.shared.keep_shared`).
 """
 
 from __future__ import annotations
