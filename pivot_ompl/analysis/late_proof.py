@@ -109,10 +109,9 @@ class LateProof:
         clock: the clock of those times (``time.monotonic``).
         passages: the scene's passage search, shared with the check before the search
             (:class:`~pivot_ompl.analysis.passage.PassageOnce`); default: its own.
-        held_begin: clock time from which the held poses' relaxation is tried (default
-            ``begin``; asked before, only its gate is tried, and the proof too where the gate
-            finds no chain; else the proof is tried when asked again after it: a search that
-            plans by then never pays it).
+        held_begin: clock time from which the held poses' relaxation is tried, whether or
+            not the poses' relaxation joins start and goal (default ``begin``; asked before,
+            it is tried when asked again after it: a search that plans by then never pays it).
         work_begin: the process's CPU time (``work``) before which the proof is not tried
             either, but from ``held_begin`` on: "slow to find a path" is then the search's
             own work, not the clock's seconds other processes took on a loaded machine
@@ -142,8 +141,6 @@ class LateProof:
         self.work_begin, self.work = work_begin, work
         self.held_begin = begin if held_begin is None else held_begin
         self._held_pending = False
-        self._gated = False  # the gate asked, and its answer:
-        self._gate: bool | None = None
         self.passages = passages if passages is not None else PassageOnce(scene)
         self.explain_end = end if explain_end is None else explain_end
         self.clock = clock
@@ -193,22 +190,13 @@ class LateProof:
         return True
 
     def _held_later(self, now: float) -> bool:
-        """:meth:`_held_poses` now; before ``held_begin`` only where the gate finds no chain.
-
-        Before ``held_begin`` the gate is asked at once: where no chain of poses valid at
-        every yaw joins start and goal (the scene is likely to have no plan) the proof starts
-        now, else it waits for ``held_begin`` (a search that plans by then never pays it).
-        """
+        """:meth:`_held_poses` now, or when asked again after ``held_begin``."""
         if self.clock() >= self.held_begin:
             return self._held_poses(now)
-        if self._held_poses(now, early=True):
-            return True
-        # tried again at held_begin unless the gate or the proof has answered
-        self._held_pending = (shared_value(self.scene, HELD_POSES) is None
-                              and self._gate is not False)
+        self._held_pending = True
         return False
 
-    def _held_poses(self, now: float, *, early: bool = False) -> bool:
+    def _held_poses(self, now: float) -> bool:
         """The held poses' relaxation, where the poses' relaxation joins start and goal.
 
         Not tried where a chain of poses valid at every yaw joins start and goal
@@ -218,8 +206,7 @@ class LateProof:
         estimate (:func:`~pivot_ompl.analysis.pose_proof.proof_estimate`) fits before
         ``explain_end``, or half of it before ``held_end`` (then stopped at ``held_end`` once
         it has had as many seconds of ``work`` as the clock's from now to then, as a loaded
-        machine's clock runs ahead of the work, and at twice that window at the latest).
-        ``early``: only the gate, and the proof only where the gate found no chain. Its
+        machine's clock runs ahead of the work, and at twice that window at the latest). Its
         answer is kept for the scene's geometry (a later plan of the scene reads it, and does
         not try again what found nothing).
         """
@@ -228,18 +215,14 @@ class LateProof:
             stop, window = self._held_window(proof_estimate(self.scene))
             if stop is None:
                 return False
-            if not self._gated:
-                self._gated = True
-                spent = self.work() + GATE_SHARE * window
-                self._gate = joined_at_every_yaw(
-                    self.scene, should_stop=lambda: stop() or self.work() >= spent)
-                log.debug("late proof: joined at every yaw: %s (%.2f s)", self._gate,
-                          self.clock() - now)
-            if self._gate:
+            spent = self.work() + GATE_SHARE * window
+            joined = joined_at_every_yaw(
+                self.scene, should_stop=lambda: stop() or self.work() >= spent)
+            log.debug("late proof: joined at every yaw: %s (%.2f s)", joined,
+                      self.clock() - now)
+            if joined:
                 keep_shared(self.scene, HELD_POSES, False)  # nothing it could prove
                 return False
-            if early and self._gate is None:
-                return False  # the gate did not tell: the proof waits for held_begin
             proof = held_pose_proof(self.scene, should_stop=stop)
             if proof is None and stop():
                 return False  # stopped: nothing known, may be tried again with more time

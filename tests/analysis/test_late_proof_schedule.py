@@ -40,28 +40,25 @@ def _spy_proof(monkeypatch: pytest.MonkeyPatch) -> list[int]:
     return calls
 
 
-def test_before_the_held_begin_a_scene_without_a_chain_valid_at_every_yaw_is_proven(
-        monkeypatch):
+def test_where_no_turning_place_is_found_the_held_poses_are_tried(monkeypatch):
     scene = ragged_slot(1)
     calls = _spy_proof(monkeypatch)
     # the exact turning place does not fit (end - begin), the held proof's estimate does
-    late = LateProof(scene, begin=0.0, end=15.0, clock=lambda: 1.0, held_begin=50.0)
+    late = LateProof(scene, begin=0.0, end=15.0, clock=lambda: 1.0)
     assert exhaustive_estimate(scene) > 15.0 > proof_estimate(scene)
     assert late() is True and late.proof is not None and calls == [1]
 
 
-def test_before_the_held_begin_a_feasible_scene_pays_the_gate_only(monkeypatch):
+def test_a_feasible_scene_whose_poses_valid_at_every_yaw_join_pays_the_gate_only(monkeypatch):
     scene = shipped("fig10")  # a plan exists, through poses valid at every yaw of their bins
     calls = _spy_proof(monkeypatch)
-    now = [1.0]
-    late = LateProof(scene, begin=0.0, end=100.0, clock=lambda: now[0], held_begin=5.0)
-    assert late() is False
-    assert shared_value(scene, HELD_POSES) is False  # the gate joined: nothing to prove
-    now[0] = 6.0
+    late = LateProof(scene, begin=0.0, end=100.0, clock=lambda: 1.0)
     assert late() is False and calls == []
+    assert shared_value(scene, HELD_POSES) is False  # the gate joined: nothing to prove
 
 
-def test_a_gate_that_does_not_tell_leaves_the_proof_to_the_held_begin(monkeypatch):
+def test_a_gate_dearer_than_its_share_of_the_window_is_stopped_and_the_proof_runs(
+        monkeypatch):
     scene = ragged_slot(2)
     calls = _spy_proof(monkeypatch)
     work = [0.0]
@@ -73,12 +70,8 @@ def test_a_gate_that_does_not_tell_leaves_the_proof_to_the_held_begin(monkeypatc
         return None
 
     monkeypatch.setattr(late_proof, "joined_at_every_yaw", slow_gate)
-    now = [1.0]
-    late = LateProof(scene, begin=0.0, end=20.0, clock=lambda: now[0], held_begin=5.0,
-                     work=lambda: work[0])
-    assert exhaustive_estimate(scene) > 20.0 and proof_estimate(scene) < 20.0 - 6.0
-    assert late() is False and calls == []
+    late = LateProof(scene, begin=0.0, end=20.0, clock=lambda: 1.0, work=lambda: work[0])
+    assert exhaustive_estimate(scene) > 20.0 and proof_estimate(scene) < 20.0 - 1.0
+    assert late() is True and late.proof is not None and calls == [1]
     # stopped once it had its share of the proof's window (its estimate fits before the end)
     assert work[0] == pytest.approx(GATE_SHARE * (20.0 - 1.0), abs=0.02)
-    now[0] = 6.0
-    assert late() is True and late.proof is not None and calls == [1]
