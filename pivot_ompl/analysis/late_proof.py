@@ -117,11 +117,11 @@ class LateProof:
             own work, not the clock's seconds other processes took on a loaded machine
             (``None``: the clock alone; an OMPL planner's solve asks only once).
         work: the clock of ``work_begin`` (``time.process_time``).
-        held_end: clock time by which the held poses' relaxation is stopped where its
-            estimate does not fit before ``explain_end`` but half of it fits before
-            ``held_end``, and no chain of poses valid at every yaw joins start and goal
-            (:func:`~pivot_ompl.analysis.pose_inner.joined_at_every_yaw`: the proof could
-            not end apart); default ``explain_end``.
+        held_end: clock time by which the held poses' relaxation is stopped (tried where
+            half its estimate fits before it, and no chain of poses valid at every yaw joins
+            start and goal: :func:`~pivot_ompl.analysis.pose_inner.joined_at_every_yaw`, the
+            proof could not end apart); ``None``: tried where its estimate fits before
+            ``explain_end``, stopped there.
 
     Attributes:
         proof: the proof, once found; ``None`` before, or when nothing was proven.
@@ -201,12 +201,13 @@ class LateProof:
 
         Not tried where a chain of poses valid at every yaw joins start and goal
         (:func:`~pivot_ompl.analysis.pose_inner.joined_at_every_yaw`, the gate: it could not
-        prove; asked once, with at most :data:`GATE_SHARE` of the proof's window in seconds of
-        ``work``: a gate dearer than that saves the proof little); else tried when its
+        prove; asked with at most :data:`GATE_SHARE` of the proof's window in seconds of
+        ``work``: a gate dearer than that saves the proof little); else tried when half its
         estimate (:func:`~pivot_ompl.analysis.pose_proof.proof_estimate`) fits before
-        ``explain_end``, or half of it before ``held_end`` (then stopped at ``held_end`` once
-        it has had as many seconds of ``work`` as the clock's from now to then, as a loaded
-        machine's clock runs ahead of the work, and at twice that window at the latest). Its
+        ``held_end`` (then stopped at ``held_end`` once it has had as many seconds of ``work``
+        as the clock's from now to then, as a loaded machine's clock runs ahead of the work,
+        and at twice that window at the latest), or without ``held_end`` when the estimate
+        fits before ``explain_end`` (stopped there). Its
         answer is kept for the scene's geometry (a later plan of the scene reads it, and does
         not try again what found nothing).
         """
@@ -237,14 +238,17 @@ class LateProof:
     def _held_window(self, guess: float) -> tuple[Callable[[], bool] | None, float]:
         """The held poses' stop for a proof estimated at ``guess`` s, and its window (s).
 
+        With ``held_end``: its stop (:meth:`_held_stop`) where half of ``guess`` fits before
+        it (the estimate only admits: the bins a proof computes vary fourfold between maps
+        of one cost a bin); else the stop at ``explain_end`` where ``guess`` fits before it.
         ``None`` and 0: no window fits it.
         """
         now = self.clock()
-        if guess <= self.explain_end - now:
+        if self.held_end is not None and self.held_end > now + 0.5 * guess:
+            return self._held_stop(self.held_end), self.held_end - now
+        if self.held_end is None and guess <= self.explain_end - now:
             return self._stop(self.explain_end), self.explain_end - now
-        if self.held_end is None or 0.5 * guess > self.held_end - now:
-            return None, 0.0
-        return self._held_stop(self.held_end), self.held_end - now
+        return None, 0.0
 
     def _held_stop(self, at: float) -> Callable[[], bool]:
         """A stop at clock time ``at``, once the work has had the clock's seconds till then.
