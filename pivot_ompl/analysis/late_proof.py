@@ -197,7 +197,7 @@ class LateProof:
         return False
 
     def _held_poses(self, now: float) -> bool:
-        """The held poses' relaxation, where the poses' relaxation joins start and goal.
+        """The held poses' relaxation, whatever the turning place's relaxation said.
 
         Not tried where a chain of poses valid at every yaw joins start and goal
         (:func:`~pivot_ompl.analysis.pose_inner.joined_at_every_yaw`, the gate: it could not
@@ -207,9 +207,9 @@ class LateProof:
         ``held_end`` (then stopped at ``held_end`` once it has had as many seconds of ``work``
         as the clock's from now to then, as a loaded machine's clock runs ahead of the work,
         and at twice that window at the latest), or without ``held_end`` when the estimate
-        fits before ``explain_end`` (stopped there). Its
-        answer is kept for the scene's geometry (a later plan of the scene reads it, and does
-        not try again what found nothing).
+        fits before ``explain_end`` (stopped there). Its answer is kept for the scene's
+        geometry (a later plan of the scene reads it, and does not try again what found
+        nothing).
         """
         kept = shared_value(self.scene, HELD_POSES)
         if kept is None:
