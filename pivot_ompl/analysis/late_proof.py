@@ -16,10 +16,12 @@ only the place is looked for, until ``explain_end``). When no plan exists the re
 passage that blocks every plan (:func:`~pivot_ompl.analysis.passage.blocking_passage`) if
 there is one, else the place where the held box cannot turn, else (the place not found in
 time) a line naming the width the held assembly needs; and the search stops. Where that
-relaxation proves nothing (it joins start and goal, was stopped, or is too large to run),
-the held poses' relaxation is tried (:func:`held_pose_proof`: it needs no other
-relaxation's word), behind a gate that spares it scenes whose poses valid at every yaw
-join start and goal (:meth:`LateProof._held_poses`). Its cost to a scene that has a plan
+relaxation joins start and goal, or where the exact polygons are estimated to need more
+than the whole late window (``begin`` to ``held_end``: a large map, where only the framed
+raster runs and may prove nothing), the held poses' relaxation is tried
+(:func:`held_pose_proof`: it needs no other relaxation's word), behind a gate that spares
+it scenes whose poses valid at every yaw join start and goal
+(:meth:`LateProof._held_poses`). Its cost to a scene that has a plan
 is at most ``end - begin`` and the held poses' window, and only when the search is slow to
 find a path; once the exact relaxation has joined a scene's start and goal (nothing to
 prove), later plans of the scene in the process do not run it again
@@ -165,7 +167,8 @@ class LateProof:
         if known is None and shared_value(self.scene, NOTHING_TO_PROVE):
             return self._held_later(now)
         stop = self._stop(self.end if known is None else self.explain_end)
-        exact = exhaustive_estimate(self.scene) <= self.end - now
+        polygons = exhaustive_estimate(self.scene)
+        exact = polygons <= self.end - now
         if exact:  # proof and place at once (its polygons kept for the bound: joined)
             place = turning_place(self.scene, should_stop=stop, keep=True)
         else:
@@ -173,9 +176,12 @@ class LateProof:
         if place is None and known is None:
             if exact and not stop():  # run to its end: the relaxation joins start and goal
                 keep_shared(self.scene, NOTHING_TO_PROVE, True)
-            else:
-                log.debug("late proof: no turning place in %.2f s", self.clock() - now)
-            return self._held_later(now)  # it needs no other relaxation's word
+                return self._held_later(now)
+            held = self.explain_end if self.held_end is None else self.held_end
+            if polygons > held - self.begin:  # a map too large for the exact polygons
+                return self._held_later(now)  # the held poses need no other relaxation's word
+            log.debug("late proof: nothing proven in %.2f s", self.clock() - now)
+            return False
         # the proof holds: the passage (milliseconds) gets its window even past explain_end,
         # which a loaded machine's clock may have passed while the proof ran
         passage = self.passages(should_stop=self._stop(

@@ -92,3 +92,14 @@ def test_a_proof_longer_than_its_estimate_runs_on_to_the_held_end():
                      clock=clock, work=lambda: 0.0)
     assert late() is True and "0.92 m" in late.proof.reason
     assert ticks[0] > 2.0 * guess  # it ran past explain_end
+
+
+def test_a_small_scene_whose_turning_place_was_cut_short_is_left_to_its_search(monkeypatch):
+    # the exact polygons fit the late window but were not run to their end: a feasible door
+    # (no chain valid at every yaw there) would pay the held proof for nothing
+    scene = shipped("door")
+    calls = _spy_proof(monkeypatch)
+    late = LateProof(scene, begin=0.0, end=0.5, held_end=100.0, clock=lambda: 0.1)
+    assert 0.5 < exhaustive_estimate(scene) < 100.0
+    assert late() is False and calls == []
+    assert shared_value(scene, HELD_POSES) is None
