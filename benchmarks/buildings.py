@@ -109,8 +109,8 @@ CORPUS = (
               "beside it at most); the held poses' relaxation, its regrasps walked round the "
               "box, proves it and names the door (56 bins, about 7.5 s of CPU: `pivot-ompl bound "
               "--held-poses`); `plan` tries it where half its estimate (19 s) fits between 4 "
-              "and 15 % of --time: INFEASIBLE at --time 120 (19.2 s, 16 s of CPU), TIMEOUT "
-              "at 60 s"),
+              "and 15 % of --time: INFEASIBLE at --time 120 (19.2-30.8 s, 15 s of CPU), "
+              "TIMEOUT at 60 s"),
     CorpusMap("brsu_c069_room", "benchmarks/maps/brsu_c069/map.yaml",
               "home-robotics lab (real robot's SLAM map)", (4.2, 3.0, 0.0),
               (1.5, -2.8, HALF_PI), {"specks": 0.02},
