@@ -58,6 +58,7 @@ class CorpusMap:
         clean: ``MapCleaning`` fields (m², m), none by default.
         note: what is known of the task's feasibility beyond the bound plans carry (printed
             under the table).
+        feasible: a plan exists (``False``: proven that none does, the note says how).
     """
 
     name: str
@@ -67,6 +68,7 @@ class CorpusMap:
     goal: tuple[float, float, float]
     clean: dict[str, float] = field(default_factory=dict)
     note: str = ""
+    feasible: bool = True
 
 
 CORPUS = (
@@ -82,7 +84,8 @@ CORPUS = (
               "(pivot_ompl.analysis.pose_proof, about 4.5 s of CPU) separates start and "
               "goal; `plan` runs it from 4 % of --time where no poses valid at every yaw "
               "join start and goal (pivot_ompl.analysis.pose_inner), up to 15 % "
-              "(--time 60: INFEASIBLE in 7.5-11.4 s on a loaded 2-core machine)"),
+              "(--time 60: INFEASIBLE in 7.5-11.4 s on a loaded 2-core machine)",
+              feasible=False),
     CorpusMap("nav2_depot", "benchmarks/maps/nav2_depot/depot.yaml",
               "depot (simulated, SLAM map)", (-4.0, 0.0, 0.0), (20.0, 0.0, 0.0)),
     CorpusMap("nav2_warehouse", "benchmarks/maps/nav2_warehouse/warehouse.yaml",
@@ -110,7 +113,7 @@ CORPUS = (
               "box, proves it and names the door (56 bins, about 7.5 s of CPU: `pivot-ompl bound "
               "--held-poses`); `plan` tries it where half its estimate (19 s) fits between 4 "
               "and 15 % of --time: INFEASIBLE at --time 120 (19.2-30.8 s, 15 s of CPU), "
-              "TIMEOUT at 60 s"),
+              "TIMEOUT at 60 s", feasible=False),
     CorpusMap("brsu_c069_room", "benchmarks/maps/brsu_c069/map.yaml",
               "home-robotics lab (real robot's SLAM map)", (4.2, 3.0, 0.0),
               (1.5, -2.8, HALF_PI), {"specks": 0.02},

@@ -10,7 +10,10 @@ finest bins join start and goal, ``-``: nothing), the last round's bins, the rou
 bins whose regions were computed, and the medians of the proof's CPU seconds (``cpu s``),
 of those spent in the bins' regions (``regions``), in GEOS unions (``unions``, all of the
 proof's), in the chain search (``chain``) and in the regrasp walks (``walks``); ``ratio`` is
-``cpu s`` over the first version's.
+``cpu s`` over the first version's. ``--gate`` times the proof's gate instead,
+:func:`pivot_ompl.analysis.pose_inner.joined_at_every_yaw` (answer ``joined``: held poses
+valid at every yaw join start and goal, ``no``: they do not, ``-``: stopped or out of
+searches; its 32 bins, no rounds).
 
 A scene is a scene file or shipped scene's name (``common.scene_from_spec``), or
 ``corpus:NAME``, a map of ``buildings.py``'s corpus imported once (by this checkout) into a
@@ -18,7 +21,7 @@ temporary folder so that every version reads the same file:
 
     PIVOT_BENCH_LOCK=/tmp/pivot-bench.lock python benchmarks/held_proof.py \\
         --before /path/to/base --scenes corpus:brsu_c069,corpus:turtlebot3_world [--runs 2]
-        [--out results/held_proof.json]
+        [--gate] [--out results/held_proof.json]
 """
 
 from __future__ import annotations
@@ -42,7 +45,9 @@ from common import fmt, median_of  # noqa: E402
 #: what each run's figures are summed from: (column, module, function)
 STAGES = (("regions", "pivot_ompl.analysis.pose_bins", "BinRegions.regions"),
           ("unions", "pivot_ompl.analysis.pose_bins", "shapely.union_all"),
-          ("chain", "pivot_ompl.analysis.pose_proof", "walked_chain"),
+          ("chain", "pivot_ompl.analysis.pose_proof", "walked_chain"),  # before pose_graph
+          ("chain", "pivot_ompl.analysis.pose_graph", "walked_chain"),
+          ("chain", "pivot_ompl.analysis.pose_inner", "walked_chain"),  # the gate's
           ("walks", "pivot_ompl.analysis.pose_proof", "HeldParts.may_regrasp"))
 
 
@@ -63,8 +68,8 @@ def _timed(owner: Any, name: str, bucket: dict[str, float], column: str) -> None
     setattr(owner, name, wrapper)
 
 
-def worker(scene_spec: str) -> None:
-    """One proof of one scene in this process; prints its figures as one JSON line."""
+def worker(scene_spec: str, gate: bool = False) -> None:
+    """One proof (or its gate) of one scene in this process; prints its figures as JSON."""
     import importlib
 
     sys.path.insert(0, str(HERE.parent))
@@ -72,7 +77,10 @@ def worker(scene_spec: str) -> None:
 
     bucket: dict[str, float] = {}
     for column, module, attr in STAGES:
-        owner: Any = importlib.import_module(module)
+        try:
+            owner: Any = importlib.import_module(module)
+        except ModuleNotFoundError:  # a version without that module
+            continue
         *path, name = attr.split(".")
         for part in path:
             owner = getattr(owner, part, None)
@@ -91,19 +99,26 @@ def worker(scene_spec: str) -> None:
         regions.__init__ = counted
     scene = scene_from_spec(scene_spec)
     t0 = time.process_time()
-    res = proof.prove_no_plan(scene)
-    cpu = time.process_time() - t0
-    answer = {True: "apart", False: "joined", None: "-"}[res.apart]
-    row = {"answer": answer, "bins": res.bins, "rounds": res.rounds,
-           "finest_deg": res.finest * 180.0 / 3.141592653589793, "cpu": cpu, **bucket,
-           "computed": sum(getattr(b, "computed", 0) for b in kept)}
+    if gate:
+        inner = importlib.import_module("pivot_ompl.analysis.pose_inner")
+        joined = inner.joined_at_every_yaw(scene)
+        cpu = time.process_time() - t0
+        row: dict[str, Any] = {"answer": {True: "joined", False: "no", None: "-"}[joined],
+                               "bins": proof.FIRST_BINS}
+    else:
+        res = proof.prove_no_plan(scene)
+        cpu = time.process_time() - t0
+        row = {"answer": {True: "apart", False: "joined", None: "-"}[res.apart],
+               "bins": res.bins, "rounds": res.rounds,
+               "finest_deg": res.finest * 180.0 / 3.141592653589793}
+    row.update(cpu=cpu, **bucket, computed=sum(getattr(b, "computed", 0) for b in kept))
     print(json.dumps(row))
 
 
-def run(version: Path, scene: str) -> dict[str, Any]:
-    """One proof in a fresh interpreter with ``version`` first on ``PYTHONPATH``."""
+def run(version: Path, scene: str, gate: bool = False) -> dict[str, Any]:
+    """One proof (or its gate) in a fresh interpreter with ``version`` first on ``PYTHONPATH``."""
     env = dict(os.environ, PYTHONPATH=str(version), XDG_CACHE_HOME=tempfile.mkdtemp())
-    cmd = [sys.executable, str(HERE), "--worker", scene]
+    cmd = [sys.executable, str(HERE), "--worker", scene, *(["--gate"] if gate else [])]
     sys.path.insert(0, str(HERE.parent))
     from common import machine_lock
 
@@ -136,11 +151,13 @@ def main() -> None:
                     help="a package tree to time before this checkout (repeatable)")
     ap.add_argument("--scenes", default="corpus:brsu_c069,corpus:turtlebot3_world")
     ap.add_argument("--runs", type=int, default=1, help="proofs per scene and version")
+    ap.add_argument("--gate", action="store_true",
+                    help="time the gate (pose_inner.joined_at_every_yaw), not the proof")
     ap.add_argument("--out", default=None, help="JSON of every run")
     ap.add_argument("--worker", default=None, help=argparse.SUPPRESS)
     a = ap.parse_args()
     if a.worker:
-        worker(a.worker)
+        worker(a.worker, a.gate)
         return
     versions = [*(v.resolve() for v in a.before), ROOT]
     table: dict[str, dict[str, list[dict[str, Any]]]] = {}
@@ -153,7 +170,7 @@ def main() -> None:
         rows: dict[str, list[dict[str, Any]]] = {str(v): [] for v in versions}
         for i in range(a.runs):
             for v in versions if i % 2 == 0 else versions[::-1]:
-                rows[str(v)].append(run(v, scene))
+                rows[str(v)].append(run(v, scene, a.gate))
         table[spec] = rows
         first: float | None = None
         for v in versions:

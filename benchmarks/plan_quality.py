@@ -9,10 +9,14 @@ by name, generated scenes (``gen:FAMILY:SEED[:NAME=VALUE...]``, e.g. ``gen:walls
 ``gen:building:0:rooms=3``; the values are ``GeneratorParams`` fields) and the real-map corpus
 (``map:NAME``, a map of ``benchmarks/buildings.py``'s ``CORPUS`` imported by its
 ``import_corpus_map`` at the corpus's start and goal; ``maps`` names the one-grasp maps shipped
-in ``scenes/maps``, ``layouts`` every layout of ``benchmarks/layouts``) with
+in ``scenes/maps``, ``corpus`` every corpus map whose task has a plan (the shipped ones, the
+Nav2 depot and warehouse, the hospital, the Willow Garage office and the lab's lower room),
+``layouts`` every layout of ``benchmarks/layouts``) with
 ``RegraspPlanner`` over seeds, with two versions of the package in turn: one worker process
 per version (``--before DIR``, e.g. an export of ``main``, and this checkout), fed the same
-(scene, seed) jobs alternately, so both see the same machine. Prints medians per scene and
+(scene, seed) jobs alternately, so both see the same machine (``--fresh``: a new process per
+plan, so that no seed reuses the checks, fields and bounds an earlier seed's plan left in the
+process; the bound cache on disk, ``XDG_CACHE_HOME``, is still shared). Prints medians per scene and
 version: pivots, regrasps, pivots per metre of transfer, walking length, planning time, the
 optimiser's share of it, the estimated whole-body duration, whether every plan passes the
 independent plan check, runs that raised an error, and the quality block's lower bound on
@@ -23,11 +27,15 @@ shipped scenes at the bound in >= 90 % of runs; one-grasp scenes 0 regrasps in 1
 ratio median <= 1.3; pivot rate (pivots per metre over the ideal rate) <= 1.5 median; cost
 spread across seeds (max / min - 1) <= 10 %.
 
-    python benchmarks/plan_quality.py [--before /tmp/base] [--seeds 20] [--time 30]
-        [--scenes layouts,fig10,rot30,mirror,slot,gen:walls:1:walls=2,maps]
+    python benchmarks/plan_quality.py [--before DIR] [--seeds 20] [--time 30] [--fresh]
+        [--scenes layouts,fig10,rot30,mirror,slot,gen:walls:1:walls=2,maps,corpus]
         [--out results/plan_quality.json] [--markdown results/plan_quality.md]
 
 Run timing figures under ``flock /tmp/pivot-bench.lock``.
+
+``mirror:SPEC`` plans any of these scenes reflected as ``mirror`` is (``mirror:door``,
+``mirror:gen:walls:1``, ``mirror:map:aws_small_house``): a scene and its reflection side by
+side.
 """
 
 from __future__ import annotations
@@ -50,19 +58,30 @@ LAYOUTS = HERE.parent / "layouts"
 SHIPPED_MAPS = ("aws_small_house", "aws_bookstore", "aws_small_warehouse")
 #: where ``map:NAME`` scenes are imported to
 MAP_SCENES = ROOT / "results" / "plan_quality_maps"
+#: the line (rad, through the floor's centre) ``mirror`` and ``mirror:SPEC`` reflect in
+MIRROR_AXIS = 0.3
 
 
 def scene_names(spec: str) -> list[str]:
-    """``--scenes``' names, with ``layouts`` and ``maps`` expanded."""
+    """``--scenes``' names, with ``layouts``, ``maps`` and ``corpus`` expanded."""
     out: list[str] = []
     for name in filter(None, spec.split(",")):
         if name == "layouts":
             out += sorted(p.stem for p in LAYOUTS.glob("*.yaml"))
         elif name == "maps":
             out += [f"map:{m}" for m in SHIPPED_MAPS]
+        elif name == "corpus":
+            out += [f"map:{m}" for m in corpus_maps()]
         else:
             out.append(name)
     return out
+
+
+def corpus_maps() -> list[str]:
+    """The corpus maps of ``benchmarks/buildings.py`` whose task has a plan, in its order."""
+    from buildings import CORPUS
+
+    return [m.name for m in CORPUS if m.feasible]
 
 
 def map_scene(name: str):  # noqa: ANN201 (a Scene of whichever package version runs)
@@ -81,16 +100,21 @@ def map_scene(name: str):  # noqa: ANN201 (a Scene of whichever package version 
 # -- scenes ------------------------------------------------------------------------------
 
 def variant(name: str):  # noqa: ANN201 (a Scene of whichever package version runs)
-    """fig10 as is, turned by 30 degrees (``rot30``) or mirrored (``mirror``).
+    """fig10 as is, turned by 30 degrees (``rot30``) or mirrored (``mirror``); any spec.
 
     The copies are :mod:`pivot_ompl.generate`'s: the old floor kept as walls round it,
-    ``mirror`` reflected in the line at 0.3 rad through the room's centre.
+    ``mirror`` reflected in the line at :data:`MIRROR_AXIS` through the room's centre, and
+    ``mirror:SPEC`` any scene of the other specs reflected alike (``mirror:door``,
+    ``mirror:gen:walls:1``, ``mirror:map:aws_small_house``).
     """
     from common import scene_from_spec
 
     from pivot_ompl.generate import mirror_scene, rotate_scene
     from pivot_ompl.scene import load_scene
 
+    if name.startswith("mirror:"):  # any scene of these specs, reflected as ``mirror`` is
+        inner = variant(name[7:])
+        return mirror_scene(inner, MIRROR_AXIS, name=f"{inner.name}_mirror")
     if (LAYOUTS / f"{name}.yaml").is_file():
         return load_scene(LAYOUTS / f"{name}.yaml")
     if name.startswith("map:"):
@@ -102,7 +126,7 @@ def variant(name: str):  # noqa: ANN201 (a Scene of whichever package version ru
         return base
     if name == "rot30":
         return rotate_scene(base, math.radians(30.0), name="fig10_rot30")
-    return mirror_scene(base, 0.3, name="fig10_mirror")
+    return mirror_scene(base, MIRROR_AXIS, name="fig10_mirror")
 
 
 # -- worker: plans jobs read from stdin with whichever package is on its path ------------
@@ -149,6 +173,12 @@ def _start(path: Path) -> subprocess.Popen:
     return subprocess.Popen([sys.executable, str(HERE), "--worker"], stdin=subprocess.PIPE,
                             stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
                             env=env, cwd=str(path))
+
+
+def _close(proc: subprocess.Popen) -> None:
+    assert proc.stdin is not None
+    proc.stdin.close()
+    proc.wait()
 
 
 def _ask(proc: subprocess.Popen, job: str) -> dict[str, Any]:
@@ -245,6 +275,9 @@ def main() -> None:
     ap.add_argument("--scenes", default="fig10,rot30,mirror")
     ap.add_argument("--out", default="results/plan_quality.json")
     ap.add_argument("--markdown", help="also write the quality table (Markdown) here")
+    ap.add_argument("--fresh", action="store_true",
+                    help="a new worker process per plan (cold, as one `pivot-ompl plan` is: "
+                         "nothing kept from the seeds before but the bound cache on disk)")
     ap.add_argument("--after-planner", default="regrasp",
                     help="the planner of this checkout, e.g. "
                          "'regrasp[optimiser.choose_grasps=true]' (no spaces)")
@@ -258,7 +291,7 @@ def main() -> None:
     versions = {"after": ROOT}
     if args.before:
         versions = {"before": Path(args.before).resolve(), "after": ROOT}
-    procs = {k: _start(v) for k, v in versions.items()}
+    procs = {} if args.fresh else {k: _start(v) for k, v in versions.items()}
     rows: dict[tuple[str, str], list[dict[str, Any]]] = {}
     try:
         for name in scene_names(args.scenes):
@@ -266,18 +299,22 @@ def main() -> None:
             if name.startswith("gen:") or name not in ("fig10", "rot30", "mirror"):
                 n = args.seeds
             for seed in range(n):
-                for ver, proc in procs.items():  # alternately: the same load for both
+                for ver, path in versions.items():  # alternately: the same load for both
                     spec = args.after_planner if ver == "after" else "regrasp"
-                    r = _ask(proc, f"{name} {seed} {args.time} {spec}")
+                    proc = procs.get(ver) or _start(path)
+                    try:
+                        r = _ask(proc, f"{name} {seed} {args.time} {spec}")
+                    finally:
+                        if args.fresh:
+                            _close(proc)
                     rows.setdefault((name, ver), []).append(r)
                     print(f"{name:7s} seed {seed:3d} {ver:6s} solved={r['solved']} "
                           f"pivots={r.get('pivots')} regrasps={r.get('regrasps')} "
-                          f"solve={r['solve']:.2f}s opt={r['optimise']:.2f}s", flush=True)
+                          f"bound={r.get('bound')} solve={r['solve']:.2f}s "
+                          f"opt={r['optimise']:.2f}s", flush=True)
     finally:
         for proc in procs.values():
-            assert proc.stdin is not None
-            proc.stdin.close()
-            proc.wait()
+            _close(proc)
     table = {f"{name}/{ver}": _summary(rs) for (name, ver), rs in rows.items()}
     print(f"\n{'scene/version':18s} {'runs':>4} {'ok':>5} {'pivots':>7} {'range':>10} "
           f"{'regr':>5} {'range':>6} {'piv/m':>6} {'walk m':>7} {'solve s':>8} "

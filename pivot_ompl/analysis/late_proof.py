@@ -86,8 +86,8 @@ class NoPlan:
 HELD_POSES = ("late proof: the held poses' relaxation",)
 #: Share of the held poses' window the gate may take (seconds of CPU):
 #: :func:`~pivot_ompl.analysis.pose_inner.joined_at_every_yaw` stopped then tells nothing and
-#: lets the proof run (a gate dearer than that saves the proof little: 9.3 s of CPU on the
-#: 1506 boxes of the lab, whose proof takes 9.2 s).
+#: lets the proof run (a gate dearer than that saves the proof little: it took 9.3 s of CPU
+#: on the 1506 boxes of the lab, whose proof takes 8-9 s).
 GATE_SHARE = 0.25
 
 

@@ -82,6 +82,9 @@ def _key(a: float, b: float) -> Key:
 class BinRegions:
     """Per yaw bin ``[a, b]`` (``0 <= a < b <= 2 pi``), each grasp's free region, kept.
 
+    A subclass may take other bodies per bin (:meth:`_cores`) and, where a half's region is
+    not inside its parent's, none from a parent (:attr:`from_parents`).
+
     Args:
         grown: the grown obstacle pieces stacked by vertex count
             (:func:`~pivot_ompl.analysis.pose_cells.by_size`).
@@ -89,6 +92,9 @@ class BinRegions:
             (:func:`~pivot_ompl.analysis.pose_cells.held_bodies`).
         area: where the box centre may be at all.
     """
+
+    #: whether a halved bin's regions are built from its parent's (see the module docstring)
+    from_parents = True
 
     def __init__(self, grown: dict[int, np.ndarray], bodies: list[list[np.ndarray]],
                  area: BaseGeometry) -> None:
@@ -121,7 +127,8 @@ class BinRegions:
         if known is not None:
             return known
         w = b - a
-        parent = self._lookup(a, a + 2.0 * w) or self._lookup(b - 2.0 * w, b)
+        parent = (self._lookup(a, a + 2.0 * w) or self._lookup(b - 2.0 * w, b)
+                  if self.from_parents else None)
         half, mid = 0.5 * w, 0.5 * (a + b)
         c, s = math.cos(mid), math.sin(mid)
         turn = np.array([[c, -s], [s, c]]).T

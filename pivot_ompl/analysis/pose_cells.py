@@ -127,14 +127,28 @@ def convex_sums(pieces: np.ndarray, body: np.ndarray) -> np.ndarray:
 
 
 def grown_pieces(pieces: list[np.ndarray], clearance: float) -> list[np.ndarray]:
-    """Each convex piece (counter-clockwise) grown by a polygon inside the clearance's disk."""
+    """Each convex piece (counter-clockwise) grown by a polygon inside the clearance's disk.
+
+    The pieces' hulls taken at once, and summed with the disk once per vertex count.
+    """
     r = max(clearance - ROUND_OFF, 0.0)
     a = np.linspace(0.0, 2.0 * math.pi, DISK_SIDES, endpoint=False)
     disk = r * np.stack([np.cos(a), np.sin(a)], axis=1)
-    out = []
-    for p in pieces:
-        ccw = _hull(np.asarray(p, dtype=float))
-        out.append(convex_sums(ccw[None], disk)[0] if r > 0.0 else ccw)
+    if not pieces:
+        return []
+    points = [np.asarray(p, dtype=float).reshape(-1, 2) for p in pieces]
+    which = np.repeat(np.arange(len(points)), [len(p) for p in points])
+    hulls = shapely.orient_polygons(shapely.convex_hull(
+        shapely.multipoints(np.concatenate(points), indices=which)))
+    coords, ring = shapely.get_coordinates(shapely.get_exterior_ring(hulls), return_index=True)
+    ends = np.cumsum(np.bincount(ring, minlength=len(points)))
+    ccw = np.split(coords, ends[:-1])
+    out: list[np.ndarray] = [c[:-1] for c in ccw]  # rings closed: the last vertex repeated
+    if r > 0.0:
+        for k, stack in by_size(out).items():
+            at = [i for i, c in enumerate(out) if len(c) == k]
+            for i, grown in zip(at, convex_sums(stack, disk), strict=True):
+                out[i] = grown
     return out
 
 
@@ -157,12 +171,20 @@ def centre_room(grown: dict[int, np.ndarray], radius: float, area: BaseGeometry,
 
 def near(grown: dict[int, np.ndarray], room: BaseGeometry,
          distance: float) -> dict[int, np.ndarray]:
-    """The pieces within ``distance`` of ``room`` (the others cannot meet a body there)."""
+    """The pieces within ``distance`` of ``room`` (the others cannot meet a body there).
+
+    ``room`` prepared for the test (a large floor's room has thousands of vertices) and left
+    as it came.
+    """
     out = {}
+    prepared = bool(shapely.is_prepared(room))
+    shapely.prepare(room)
     for k, stack in grown.items():
-        keep = shapely.dwithin(shapely.polygons(stack), room, distance)
+        keep = shapely.dwithin(room, shapely.polygons(stack), distance)
         if keep.any():
             out[k] = stack[keep]
+    if not prepared:
+        shapely.destroy_prepared(room)
     return out
 
 

@@ -3,9 +3,10 @@
 A part is a ``(bin, grasp, part)`` node (:mod:`~pivot_ompl.analysis.pose_proof`); the links
 join parts that meet, at one grasp in neighbouring bins (a motion) or at two grasps in one
 bin (a regrasp). :func:`cheapest` is the least-priced chain (Dijkstra); :func:`walked_chain`
-asks the regrasps of the chain it found whether the robot may walk round the resting box,
-cuts the links refused and searches again (the walk is the costly question, asked of a
-chain's regrasps only; most links are never on a chain), polling its stop every round.
+asks the regrasps of the chain a search found (:func:`cheapest`, or any :data:`Search`)
+whether the robot may walk round the resting box, cuts the links refused and searches again
+(the walk is the costly question, asked of a chain's regrasps only; most links are never on
+a chain), polling its stop every round.
 :class:`LazyLinks` gives a node's links the first time the search asks for them, so a search
 computes only the parts it meets.
 """
@@ -20,6 +21,11 @@ from dataclasses import dataclass
 from pivot_ompl.errors import Interrupted
 
 Node = tuple[int, int, int]  # (bin, grasp, part)
+#: A chain search over ``(links, starts, goals)``: the chain's price (``None`` when no chain
+#: joins them), the chain from its start to its goal, and the parts reached (as
+#: :func:`cheapest` gives them).
+Search = Callable[[dict[Node, list[Node]], list[Node], list[Node]],
+                  tuple[float | None, list[Node], set[Node]]]
 
 
 class LazyLinks(dict[Node, list[Node]]):
@@ -110,8 +116,13 @@ class Chain:
 def walked_chain(links: dict[Node, list[Node]], starts: list[Node], goals: list[Node],
                  widths: list[float], *, may_regrasp: Callable[[Node, Node], bool] | None,
                  change: float = 0.0, searches: Searches | None = None,
-                 should_stop: Callable[[], bool] | None = None) -> Chain:
-    """The cheapest chain whose regrasps the walks allow (:func:`cheapest`'s prices).
+                 should_stop: Callable[[], bool] | None = None,
+                 search: Search | None = None) -> Chain:
+    """A chain whose regrasps the walks allow: the cheapest (:func:`cheapest`), or ``search``'s.
+
+    ``search``: the chain search asked every round in place of :func:`cheapest` (then
+    ``widths`` and ``change`` are unused, the chain is the one it gives and priced as it
+    prices it).
 
     ``may_regrasp(u, v)``: whether the regrasp link from part ``u`` to part ``v`` (one bin,
     two grasps) may be taken; asked lazily, of the chain found only: a link it refuses is cut
@@ -126,7 +137,8 @@ def walked_chain(links: dict[Node, list[Node]], starts: list[Node], goals: list[
     while True:
         if should_stop is not None and should_stop():
             raise Interrupted("the held poses' chain search")
-        price, nodes, reached = cheapest(links, starts, goals, widths, change=change)
+        price, nodes, reached = (cheapest(links, starts, goals, widths, change=change)
+                                 if search is None else search(links, starts, goals))
         if price is None:
             return Chain(None, [], reached, refused)
         if searches is not None:

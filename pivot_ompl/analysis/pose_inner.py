@@ -11,7 +11,8 @@ some yaw of any bin inside it), so a chain of them is a chain at every refinemen
 cannot end apart (up to its walks, asked again at every bin). :func:`joined_at_every_yaw`
 looks for one at :data:`~pivot_ompl.analysis.pose_proof.FIRST_BINS` bins, towards the goal
 first (a best-first search on the parts' distance to the goal, a bin's parts computed when
-the search reaches it), asking the walks of the chain's regrasps as the proof does.
+the search reaches it), asking the walks of the chain's regrasps as the proof does (the
+proof's loop, :func:`~pivot_ompl.analysis.pose_chain.walked_chain`, with this search).
 
 It decides only whether the proof is worth its time
 (:class:`~pivot_ompl.analysis.late_proof.LateProof`); it never proves anything, so a wrong
@@ -23,14 +24,13 @@ from __future__ import annotations
 import heapq
 import math
 from collections.abc import Callable
+from functools import partial
 
 import numpy as np
 import shapely
-from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.analysis.pose_bins import SAME_YAW, BinRegions
-from pivot_ompl.analysis.pose_cells import free_region
-from pivot_ompl.analysis.pose_chain import Node
+from pivot_ompl.analysis.pose_chain import Node, Searches, walked_chain
 from pivot_ompl.analysis.pose_proof import FIRST_BINS, HeldParts, PoseGraph
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
@@ -65,40 +65,30 @@ def swept_hull(body: np.ndarray, half: float, steps: int = SWEEP_STEPS) -> np.nd
 class EveryYawRegions(BinRegions):
     """Per yaw bin and grasp, the box positions valid at every yaw of the bin (kept).
 
-    :meth:`regions` as :class:`~pivot_ompl.analysis.pose_bins.BinRegions` gives them, but
-    from the bodies' :func:`swept_hull` instead of their rotation cores, and never from a
-    parent bin (a half's positions valid at every yaw are more than its parent's). A bin half
-    a turn from a known one takes its regions with the grasps swapped.
+    :class:`~pivot_ompl.analysis.pose_bins.BinRegions`' regions (the box's sums joined once
+    per bin for every grasp, only the sums near a region summed and joined, a bin half a turn
+    from a known one taken with the grasps swapped), but from the bodies' :func:`swept_hull`
+    instead of their rotation cores, and never from a parent bin (a half's positions valid at
+    every yaw are more than its parent's).
     """
 
-    def __init__(self, grown: dict[int, np.ndarray], bodies: list[list[np.ndarray]],
-                 area: BaseGeometry) -> None:
-        """Nothing computed yet."""
-        super().__init__(grown, bodies, area)
-        self.bodies = bodies
-        self.every: dict[tuple[int, int], list[BaseGeometry]] = {}
+    from_parents = False
 
-    def regions(self, a: float, b: float) -> list[BaseGeometry]:
-        """Per grasp, the box centres valid at every yaw of ``[a, b]``."""
-        key = (round(a / SAME_YAW), round(b / SAME_YAW))
-        if key in self.every:
-            return self.every[key]
-        shift = -math.pi if a >= math.pi - SAME_YAW else math.pi
-        twin = self.every.get((round((a + shift) / SAME_YAW), round((b + shift) / SAME_YAW)))
-        if twin is not None and self.twins is not None:
-            out = [twin[self.twins[g]] for g in range(len(twin))]
-        else:
-            half = 0.5 * (b - a)
-            out = [free_region(self.grown, [swept_hull(body, half) for body in bodies],
-                               0.5 * (a + b), self.area) for bodies in self.bodies]
-            self.computed += 1
-        self.every[key] = out
-        return out
+    def _cores(self, which: int, bodies: list[np.ndarray], half: float) -> list[np.ndarray]:
+        """The bodies' swept hulls for bins ``2 half`` wide (kept: bins share widths)."""
+        key = (which, round(half / SAME_YAW))
+        if key not in self.cores:
+            self.cores[key] = [swept_hull(body, half) for body in bodies]
+        return self.cores[key]
 
 
-def _towards(graph: PoseGraph, starts: list[Node], goals: list[Node],
-             goal: shapely.Point) -> list[Node] | None:
-    """A chain from a start to a goal, the parts nearest the goal tried first (or ``None``)."""
+def _towards(graph: PoseGraph, goal: shapely.Point, links: dict[Node, list[Node]],
+             starts: list[Node], goals: list[Node]) -> tuple[float | None, list[Node], set[Node]]:
+    """A chain from a start to a goal, the parts nearest ``goal`` tried first.
+
+    A :data:`~pivot_ompl.analysis.pose_chain.Search`: priced by its parts (``None``: none
+    joins them), the chain, the parts reached.
+    """
     ends = set(goals)
     before: dict[Node, Node | None] = dict.fromkeys(starts)
     todo = [(0.0, u) for u in starts]
@@ -108,12 +98,12 @@ def _towards(graph: PoseGraph, starts: list[Node], goals: list[Node],
             out = [u]
             while (p := before[out[-1]]) is not None:
                 out.append(p)
-            return out[::-1]
-        for v in graph.links[u]:
+            return float(len(out)), out[::-1], set(before)
+        for v in links[u]:
             if v not in before:
                 before[v] = u
                 heapq.heappush(todo, (graph.bin(v[0])[v[1]][v[2]].distance(goal), v))
-    return None
+    return None, [], set(before)
 
 
 def joined_at_every_yaw(scene: Scene, *, bins: int = FIRST_BINS,
@@ -122,7 +112,8 @@ def joined_at_every_yaw(scene: Scene, *, bins: int = FIRST_BINS,
 
     ``True``: the held poses' proof cannot end apart (the module docstring); ``False``: no
     such chain at ``bins`` bins (the proof may prove); ``None``: stopped, or
-    :data:`MOST_SEARCHES` searches found only chains the walks refuse.
+    :data:`MOST_SEARCHES` searches found only chains the walks refuse and one more found a
+    chain still.
     """
     try:
         parts = HeldParts(scene, KEEP_CLEARANCE, should_stop)
@@ -136,17 +127,12 @@ def joined_at_every_yaw(scene: Scene, *, bins: int = FIRST_BINS,
         if not starts or not goals:
             return False
         goal = shapely.Point(scene.goal[0], scene.goal[1])
-        for _ in range(MOST_SEARCHES):
-            chain = _towards(graph, starts, goals, goal)
-            if chain is None:
-                return False
-            cut = [(u, v) for u, v in zip(chain, chain[1:], strict=False)
-                   if u[0] == v[0] and u[1] != v[1] and not parts.may_regrasp(edges, u, v)]
-            if not cut:
-                return True
-            for u, v in cut:
-                graph.links[u].remove(v)
-                graph.links[v].remove(u)
-        return None
+        searches = Searches(MOST_SEARCHES)
+        found = walked_chain(graph.links, starts, goals, [], search=partial(_towards, graph, goal),
+                             may_regrasp=partial(parts.may_regrasp, edges), searches=searches,
+                             should_stop=should_stop)
+        if found.price is None:
+            return False
+        return True if searches.left >= 0 else None
     except Interrupted:
         return None

@@ -26,18 +26,13 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
-import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
-from pivot_ompl.analysis.pose_bins import BinRegions
-from pivot_ompl.analysis.pose_cells import bound_slabs, by_size, grown_pieces, near
 from pivot_ompl.analysis.pose_proof import MOTION_CLEARANCE, HeldParts
 from pivot_ompl.scene import Scene
 from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
-from pivot_ompl.validity.footprints import obstacle_pieces
-from pivot_ompl.validity.merge import merge_boxes
 
 #: Clearance (m) every sampled pose keeps.
 KEEP = KEEP_CLEARANCE
@@ -59,11 +54,7 @@ class JumpParts(HeldParts):
     """
 
     def __init__(self, scene: Scene, should_stop: Callable[[], bool] | None) -> None:
-        super().__init__(scene, MOTION_CLEARANCE, should_stop)
-        pieces = obstacle_pieces(merge_boxes(scene.obstacles, should_stop=should_stop))
-        reach = max(float(np.abs(b).max()) for bodies in self.bodies for b in bodies)
-        grown = by_size(grown_pieces(pieces, KEEP) + bound_slabs(scene.bounds, 2.0 * reach + 1.0))
-        self.bins = BinRegions(near(grown, self.area, reach + 1e-3), self.bodies, self.area)
+        super().__init__(scene, MOTION_CLEARANCE, should_stop, parts_clearance=KEEP)
 
     def of(self, a: float, b: float) -> list[list[BaseGeometry]]:
         """Per grasp, the grown parts of the bin ``[a, b]``."""

@@ -24,7 +24,8 @@ with the bins opposite them (a chain through too coarse bins is
 refined away, a true one stays; a grasp that is another's half turn has that grasp's parts at
 the opposite bin, so a bin and its opposite cost one bin's parts), up to :data:`MAX_BINS`
 bins or bins of :data:`FINEST` rad; a bin's parts are computed when a chain search first
-reaches a part of it or of a neighbouring bin (:class:`PoseGraph`, ``lazy``), the stop
+reaches a part of it or of a neighbouring bin
+(:class:`~pivot_ompl.analysis.pose_graph.PoseGraph`, ``lazy``), the stop
 polled before each and before every chain search. Pivoting
 is small-time controllable, so where the finest bins still join start and goal the answer
 is "joined" (no proof; the poses connect at the bins' scale).
@@ -37,7 +38,6 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
-from functools import partial
 
 import numpy as np
 import shapely
@@ -53,19 +53,22 @@ from pivot_ompl.analysis.pose_cells import (
     held_bodies,
     near,
 )
-from pivot_ompl.analysis.pose_chain import Chain, LazyLinks, Node, walked_chain
+from pivot_ompl.analysis.pose_chain import Node
+from pivot_ompl.analysis.pose_graph import PoseGraph
 from pivot_ompl.analysis.pose_split import spanning_bins
 from pivot_ompl.analysis.pose_walk import RegraspWalks
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import GRASPS
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Scene
-from pivot_ompl.se2 import Pose
 from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
 from pivot_ompl.validity.footprints import obstacle_pieces
 from pivot_ompl.validity.merge import merge_boxes
 
 log = logging.getLogger(__name__)
+
+#: Per part, the parts of the other side it meets (:meth:`HeldParts.meet`).
+Partners = dict[int, list[int]]
 
 #: Yaw bins of the first round (over the whole turn).
 FIRST_BINS = 32
@@ -113,24 +116,37 @@ class PoseProof:
 
 
 class HeldParts:
-    """The free parts of every (bin, grasp), computed once per bin and kept."""
+    """The free parts of every (bin, grasp), computed once per bin and kept.
+
+    Args:
+        scene: the scene.
+        clearance: kept from the obstacles (m) by the box centre's room (:attr:`room`) and,
+            unless ``parts_clearance`` says otherwise, by the parts' poses.
+        should_stop: polled while the obstacles are merged and before the room is found
+            (:class:`~pivot_ompl.errors.Interrupted` when true).
+        parts_clearance: kept by the parts' poses (m), within the room; ``None``:
+            ``clearance``.
+    """
 
     def __init__(self, scene: Scene, clearance: float,
-                 should_stop: Callable[[], bool] | None) -> None:
+                 should_stop: Callable[[], bool] | None, *,
+                 parts_clearance: float | None = None) -> None:
         pieces = obstacle_pieces(merge_boxes(scene.obstacles, should_stop=should_stop))
         self.bodies = held_bodies(scene.model)
         reach = max(float(np.abs(b).max()) for bodies in self.bodies for b in bodies)
-        grown = by_size(grown_pieces(pieces, clearance)
-                        + bound_slabs(scene.bounds, 2.0 * reach + 1.0))
+        slabs = bound_slabs(scene.bounds, 2.0 * reach + 1.0)
+        grown = by_size(grown_pieces(pieces, clearance) + slabs)
         if should_stop is not None and should_stop():
             raise Interrupted("the held poses' relaxation")
         #: where the box centre may go at all (``None``: not even the start is in it)
         self.room = centre_room(grown, 0.5 * min(scene.model.object_size[:2]) - ROUND_OFF,
                                 shapely.box(*scene.bounds), scene.start[:2])
         self.area = self.room if self.room is not None else shapely.Polygon()
+        if parts_clearance is not None and parts_clearance != clearance:
+            grown = by_size(grown_pieces(pieces, parts_clearance) + slabs)
         self.bins = BinRegions(near(grown, self.area, reach + 1e-3), self.bodies, self.area)
         self.known: dict[tuple[float, float], list[list[BaseGeometry]]] = {}
-        self.met: dict[tuple[float, ...], list[tuple[int, int]]] = {}
+        self.met: dict[tuple[float, ...], tuple[Partners, Partners]] = {}
         self.walks = RegraspWalks(scene, tolerance=SWEEP_TOLERANCE, clearance=KEEP_CLEARANCE)
         self.walked: dict[tuple[float, float], dict[tuple[int, int, int, int], bool]] = {}
 
@@ -163,8 +179,12 @@ class HeldParts:
         return asked[key]
 
     def meet(self, key: tuple[float, ...], a: list[BaseGeometry],
-             b: list[BaseGeometry]) -> list[tuple[int, int]]:
-        """Which parts of ``a`` meet which of ``b`` (kept under ``key``: bins and grasps)."""
+             b: list[BaseGeometry]) -> tuple[Partners, Partners]:
+        """Which parts of ``a`` meet which of ``b`` (kept under ``key``: bins and grasps).
+
+        Per part of ``a`` the parts of ``b`` it meets, and per part of ``b`` those of ``a``,
+        each list ascending.
+        """
         if key not in self.met:
             self.met[key] = _meets(a, b)
         return self.met[key]
@@ -194,114 +214,16 @@ def with_opposites(edges: list[float], split: set[int]) -> list[int]:
     return sorted(out)
 
 
-def _meets(a: list[BaseGeometry], b: list[BaseGeometry]) -> list[tuple[int, int]]:
-    if not a or not b:
-        return []
-    hit = shapely.intersects(np.array(a, dtype=object)[:, None], np.array(b, dtype=object)[None])
-    return [(int(i), int(j)) for i, j in zip(*np.nonzero(hit), strict=True)]
-
-
-def _holding(parts: list[list[BaseGeometry]], pose: Pose) -> list[tuple[int, int]]:
-    point = shapely.Point(pose[0], pose[1])
-    return [(g, k) for g, ps in enumerate(parts) for k, p in enumerate(ps) if p.covers(point)]
-
-
-def _bins_of(edges: list[float], yaw: float) -> list[int]:
-    """The bins (one, or two on a common edge) holding ``yaw``."""
-    t = yaw % (2.0 * math.pi)
-    n = len(edges) - 1
-    return [i for i in range(n) if edges[i] - 1e-12 <= t <= edges[i + 1] + 1e-12] or [n - 1]
-
-
-class PoseGraph:
-    """The parts joined (see the module docstring) for one set of bins.
-
-    Eager (the default): every bin's parts and every link at once. ``lazy``: a bin's parts
-    are computed the first time a chain search reaches a part of it or of a neighbouring bin
-    (:class:`~pivot_ompl.analysis.pose_chain.LazyLinks`), and a node's links when the search
-    asks for them: the same links wherever the search goes, so the same chains, reaches and
-    answers, without the bins no search reaches.
-    """
-
-    def __init__(self, parts: HeldParts, edges: list[float],
-                 should_stop: Callable[[], bool] | None, *, lazy: bool = False) -> None:
-        self.parts, self.edges, self.should_stop = parts, edges, should_stop
-        self._table: dict[int, list[list[BaseGeometry]]] = {}
-        self.refused: list[BaseGeometry] = []  # the regrasps dropped (:meth:`walked`)
-        n = len(edges) - 1
-        if lazy:
-            self.links: dict[Node, list[Node]] = LazyLinks(self._links_of)
-            return
-        self.links = {}
-        for i in range(n):
-            self.bin(i)
-        for i in range(n):
-            here, there = self.bin(i), self.bin((i + 1) % n)
-            a, b, c = edges[i], edges[i + 1], edges[(i + 1) % n + 1]
-            for g in range(len(here)):
-                for k, q in parts.meet((a, b, c, g), here[g], there[g]):
-                    self._link((i, g, k), ((i + 1) % n, g, q))
-                for h in range(g + 1, len(here)):  # a regrasp: one pose, two grasps
-                    for k, q in parts.meet((a, b, g, h), here[g], here[h]):
-                        self._link((i, g, k), (i, h, q))
-
-    def bin(self, i: int) -> list[list[BaseGeometry]]:
-        """Per grasp, the free parts of bin ``i`` (computed once; the stop polled before)."""
-        if i not in self._table:
-            if self.should_stop is not None and self.should_stop():
-                raise Interrupted("the held poses' relaxation")
-            self._table[i] = self.parts.of(self.edges[i], self.edges[i + 1])
-        return self._table[i]
-
-    def _links_of(self, u: Node) -> list[Node]:
-        """The links of part ``u``: those the eager graph gives it, in some order."""
-        i, g, k = u
-        edges, n = self.edges, len(self.edges) - 1
-        here = self.bin(i)
-        if g >= len(here) or k >= len(here[g]):
-            return []
-        out = []
-        j = (i + 1) % n  # the next bin, then the one before: motions at grasp g
-        key = (edges[i], edges[i + 1], edges[j + 1], g)
-        out += [(j, g, q) for p, q in self.parts.meet(key, here[g], self.bin(j)[g]) if p == k]
-        j = (i - 1) % n
-        key = (edges[j], edges[j + 1], edges[i + 1], g)
-        out += [(j, g, p) for p, q in self.parts.meet(key, self.bin(j)[g], here[g]) if q == k]
-        for h in range(len(here)):  # regrasps: one pose, two grasps
-            if h < g:
-                out += [(i, h, p) for p, q in self.parts.meet((edges[i], edges[i + 1], h, g),
-                                                              here[h], here[g]) if q == k]
-            elif h > g:
-                out += [(i, h, q) for p, q in self.parts.meet((edges[i], edges[i + 1], g, h),
-                                                              here[g], here[h]) if p == k]
-        return out
-
-    def _link(self, a: Node, b: Node) -> None:
-        self.links.setdefault(a, []).append(b)
-        self.links.setdefault(b, []).append(a)
-
-    def walked(self, parts: HeldParts, edges: list[float], starts: list[Node],
-               goals: list[Node], *, should_stop: Callable[[], bool] | None = None) -> Chain:
-        """The cheapest chain whose regrasps the walks allow (priced by bin widths, rad).
-
-        :func:`~pivot_ompl.analysis.pose_chain.walked_chain` over this graph's links, asking
-        :meth:`HeldParts.may_regrasp`; the regrasps refused are cut from the links and their
-        box positions kept in :attr:`refused`. Through fine bins where it can, so the coarse
-        bins it still needs are the ones to halve. ``should_stop`` is polled before every
-        search (:class:`~pivot_ompl.errors.Interrupted` when true).
-        """
-        found = walked_chain(self.links, starts, goals, np.diff(edges).tolist(),
-                             may_regrasp=partial(parts.may_regrasp, edges),
-                             should_stop=should_stop)
-        for u, v in found.refused:
-            here = self.bin(u[0])
-            self.refused.append(here[u[1]][u[2]].intersection(here[v[1]][v[2]]))
-        return found
-
-    def nodes_at(self, edges: list[float], pose: Pose) -> list[Node]:
-        """The parts holding ``pose`` (any grasp)."""
-        return [(i, g, k) for i in _bins_of(edges, pose[2])
-                for g, k in _holding(self.bin(i), pose)]
+def _meets(a: list[BaseGeometry], b: list[BaseGeometry]) -> tuple[Partners, Partners]:
+    ab: Partners = {}
+    ba: Partners = {}
+    if a and b:
+        hit = shapely.intersects(np.array(a, dtype=object)[:, None],
+                                 np.array(b, dtype=object)[None])
+        for i, j in zip(*np.nonzero(hit), strict=True):  # row by row: both lists ascending
+            ab.setdefault(int(i), []).append(int(j))
+            ba.setdefault(int(j), []).append(int(i))
+    return ab, ba
 
 
 def widest_bins(edges: list[float], path: list[Node], finest: float

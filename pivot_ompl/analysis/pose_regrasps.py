@@ -44,6 +44,7 @@ from functools import partial
 import numpy as np
 
 from pivot_ompl.analysis.pose_chain import Node, Searches, walked_chain
+from pivot_ompl.analysis.pose_graph import PoseGraph
 from pivot_ompl.analysis.pose_jumps import JumpParts
 from pivot_ompl.analysis.pose_proof import (
     ESTIMATED_BINS,
@@ -51,7 +52,6 @@ from pivot_ompl.analysis.pose_proof import (
     MAX_BINS,
     MOTION_CLEARANCE,
     HeldParts,
-    PoseGraph,
     halve,
     proof_estimate,
     widest_bins,

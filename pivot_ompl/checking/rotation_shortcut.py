@@ -39,8 +39,7 @@ import math
 from collections.abc import Callable, Iterator, Sequence
 
 from pivot_ompl.checking.rotation_sweeps import RotationSweeps
-from pivot_ompl.pivoting.kinematics import ANGLE_TOL, Rotation, solve_piece
-from pivot_ompl.pivoting.spin_chain import edge_turn
+from pivot_ompl.pivoting.kinematics import ANGLE_TOL, Rotation, edge_turn, solve_piece
 from pivot_ompl.se2 import Pose, wrap_angle
 
 __all__ = ["CHECKS", "FREE_LEAD", "GRID", "WINDOW", "WINDOW_CHECKS", "shorten"]

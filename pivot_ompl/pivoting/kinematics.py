@@ -81,9 +81,36 @@ class ThreeRotationResult:
 
 def end_point(car: Pose, half_length: float, end: int) -> tuple[float, float]:
     """World position of end ``A`` (``end=0``) or ``B`` (``end=1``) of the edge at ``car``."""
+    px, py, _ = edge_turn(car[0], car[1], car[2], end, half_length, 0.0, 1.0, 0.0)
+    return px, py
+
+
+def edge_turn(x: float, y: float, h: float, end: int, ell: float, angle: float, c: float,
+              s: float) -> tuple[float, float, Pose]:
+    """The edge at car pose ``(x, y, h)`` turned by ``angle`` about its end ``end``, as floats.
+
+    The one formula of a rotation about a corner: :func:`end_point`, :func:`forward` and the
+    steering's searches turn the edge with it (:func:`solve_piece`'s inner loop writes its
+    arithmetic out; a test holds the two equal).
+
+    Args:
+        x: the car pose's x (the supporting edge's centre, m),
+        y: its y (m),
+        h: and its heading (rad).
+        end: the corner turned about (``LEFT`` or the other).
+        ell: half-length of the supporting edge (m).
+        angle: the turn (rad),
+        c: its cosine
+        s: and its sine (a search turning many poses by the same angles computes them once).
+
+    Returns:
+        The pivot ``(px, py)`` (m) and the car pose reached. No :class:`Rotation` record:
+        :func:`~pivot_ompl.pivoting.spin_chain.rotate_edge` is the form that builds one.
+    """
     sign = 1.0 if end == LEFT else -1.0
-    return (car[0] - sign * half_length * math.sin(car[2]),
-            car[1] + sign * half_length * math.cos(car[2]))
+    px, py = x - sign * ell * math.sin(h), y + sign * ell * math.cos(h)
+    dx, dy = x - px, y - py
+    return px, py, (px + c * dx - s * dy, py + s * dx + c * dy, h + angle)
 
 
 def forward(car: Pose, half_length: float, first_end: int,
@@ -92,15 +119,12 @@ def forward(car: Pose, half_length: float, first_end: int,
 
     The rotations are about ``first_end``, the other end, then ``first_end``.
     """
-    x, y, h = car
-    sign = 1.0 if first_end == LEFT else -1.0
+    end = first_end
     for a in angles:
-        px, py = x - sign * half_length * math.sin(h), y + sign * half_length * math.cos(h)
-        c, s = math.cos(a), math.sin(a)
-        dx, dy = x - px, y - py
-        x, y, h = px + c * dx - s * dy, py + s * dx + c * dy, h + a
-        sign = -sign
-    return (x, y, h)
+        _, _, car = edge_turn(car[0], car[1], car[2], end, half_length, a, math.cos(a),
+                              math.sin(a))
+        end = 1 - end
+    return car
 
 
 def _candidates_within(start: Pose, goal: Pose, ell: float,
@@ -235,6 +259,8 @@ def solve_piece(start: Pose, goal: Pose, ell: float, alpha_max: float, *,
         worst = prev = 0.0
         for a in (a1, a2, a3):
             if abs(a) > ZERO_ANGLE:
+                # edge_turn's arithmetic, written out: the steering's inner loop (a call per
+                # rotation cost about a tenth of this function's time)
                 px, py = x - sign * ell * sin(h), y + sign * ell * cos(h)
                 c, s_ = cos(a), sin(a)
                 dx, dy = x - px, y - py

@@ -26,39 +26,15 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
-from pivot_ompl.pivoting.kinematics import ANGLE_TOL, LEFT, Rotation, solve_piece
+from pivot_ompl.pivoting.kinematics import ANGLE_TOL, LEFT, Rotation, edge_turn, solve_piece
 from pivot_ompl.se2 import Pose, wrap_angle
 
-__all__ = ["CHAIN_FIRST", "CHAIN_SHARES", "edge_turn", "rotate_edge", "spin_chain", "whole_spin"]
+__all__ = ["CHAIN_FIRST", "CHAIN_SHARES", "rotate_edge", "spin_chain", "whole_spin"]
 
 #: The chain's rotations before its closing three: shares of the bound tried,
 CHAIN_SHARES = (0.7, 0.8, 0.9, 0.96, 1.0)
 #: and the first one's share of those.
 CHAIN_FIRST = (0.5, 0.6, 0.75, 1.0)
-
-
-def edge_turn(x: float, y: float, h: float, end: int, ell: float, angle: float, c: float,
-              s: float) -> tuple[float, float, Pose]:
-    """The edge at car pose ``(x, y, h)`` turned by ``angle`` about its end ``end``, as floats.
-
-    Args:
-        x: the car pose's x (the supporting edge's centre, m),
-        y: its y (m),
-        h: and its heading (rad).
-        end: the corner turned about (``LEFT`` or the other).
-        ell: half-length of the supporting edge (m).
-        angle: the turn (rad),
-        c: its cosine
-        s: and its sine (a search turning many poses by the same angles computes them once).
-
-    Returns:
-        The pivot ``(px, py)`` (m) and the car pose reached. No
-        :class:`~.kinematics.Rotation` record: :func:`rotate_edge` is the form that builds one.
-    """
-    sign = 1.0 if end == LEFT else -1.0
-    px, py = x - sign * ell * math.sin(h), y + sign * ell * math.cos(h)
-    dx, dy = x - px, y - py
-    return px, py, (px + c * dx - s * dy, py + s * dx + c * dy, h + angle)
 
 
 def rotate_edge(car: Pose, end: int, angle: float, ell: float) -> Rotation:

@@ -12,10 +12,13 @@ from hypothesis import strategies as st
 
 from pivot_ompl.analysis.pose_bins import BinRegions, half_turn_twins
 from pivot_ompl.analysis.pose_cells import (
+    DISK_SIDES,
+    ROUND_OFF,
     by_size,
     free_region,
     grown_pieces,
     held_bodies,
+    near,
     rotation_core,
 )
 
@@ -26,6 +29,47 @@ def _rect(x: float, y: float, w: float, h: float, yaw: float) -> np.ndarray:
     c, s = math.cos(yaw), math.sin(yaw)
     corners = np.array([(-w, -h), (w, -h), (w, h), (-w, h)]) * 0.5
     return corners @ np.array([[c, s], [-s, c]]) + (x, y)
+
+
+@settings(max_examples=40, deadline=None)
+@given(pieces=st.lists(st.lists(st.tuples(st.floats(-3.0, 3.0), st.floats(-3.0, 3.0)),
+                                min_size=3, max_size=7), min_size=1, max_size=8),
+       clearance=st.sampled_from([0.0, 0.008, 0.05]))
+def test_pieces_grown_at_once_are_each_its_hull_summed_with_the_clearance_polygon(pieces,
+                                                                                  clearance):
+    # the pieces' vertex counts mixed (3 to 7 points, fewer on their hulls): each grown
+    # piece, in the pieces' order, is its own hull summed with the disk's inscribed polygon
+    hulls = [shapely.MultiPoint(p).convex_hull for p in pieces]
+    if min(h.area for h in hulls) < 1e-3:
+        return
+    r = max(clearance - ROUND_OFF, 0.0)
+    a = np.linspace(0.0, 2.0 * math.pi, DISK_SIDES, endpoint=False)
+    disk = r * np.stack([np.cos(a), np.sin(a)], axis=1)
+    grown = grown_pieces([np.array(p) for p in pieces], clearance)
+    assert len(grown) == len(pieces)
+    for p, g in zip(pieces, grown, strict=True):
+        want = shapely.MultiPoint((np.array(p)[:, None] + disk[None]).reshape(-1, 2)).convex_hull
+        poly = shapely.Polygon(g)
+        assert poly.is_valid and poly.exterior.is_ccw
+        assert poly.symmetric_difference(want).area < 1e-9
+
+
+@settings(max_examples=20, deadline=None)
+@given(rects=st.lists(st.tuples(st.floats(0.0, 8.0), st.floats(0.0, 6.0), st.floats(0.1, 1.0),
+                                st.floats(0.1, 1.0), st.floats(0.0, 3.2)), min_size=1, max_size=12),
+       distance=st.floats(0.0, 1.5), prepared=st.booleans())
+def test_the_pieces_near_a_room_are_those_within_the_distance_and_the_room_is_left_as_it_came(
+        rects, distance, prepared):
+    grown = by_size(grown_pieces([_rect(*r) for r in rects], CLEARANCE))
+    room = shapely.box(1.0, 1.0, 5.0, 4.0).difference(shapely.box(2.0, 2.0, 3.0, 3.0))
+    if prepared:
+        shapely.prepare(room)
+    kept = near(grown, room, distance)
+    assert bool(shapely.is_prepared(room)) is prepared
+    for k, stack in grown.items():
+        want = shapely.distance(shapely.polygons(stack), room) <= distance
+        got = kept.get(k, np.empty((0, k, 2)))
+        assert len(got) == int(want.sum()) and np.array_equal(got, stack[want])
 
 
 def _bodies_at(bodies: list[np.ndarray], x: float, y: float, yaw: float):

@@ -6,7 +6,7 @@ import pytest
 from factories import shipped
 
 from pivot_ompl.analysis import pose_chain
-from pivot_ompl.analysis.pose_chain import Node, walked_chain
+from pivot_ompl.analysis.pose_chain import Node, Searches, walked_chain
 from pivot_ompl.analysis.pose_proof import PoseGraph, prove_no_plan
 from pivot_ompl.analysis.pose_regrasps import pose_regrasp_bound
 from pivot_ompl.errors import Interrupted
@@ -88,3 +88,37 @@ def test_a_stop_that_turns_true_once_the_bins_are_built_searches_no_chain(monkey
         proof = prove_no_plan(scene, should_stop=lambda: bool(flag))
         assert proof.apart is None and proof.rounds == 1
     assert flag and not searched
+
+
+def _highest_rung(links: dict[Node, list[Node]], starts: list[Node], goals: list[Node]
+                  ) -> tuple[float | None, list[Node], set[Node]]:
+    """A chain search up the ladder at grasp 0, across at the highest rung left, then down."""
+    rung = max((i for i in range(4) if (i, 1, 0) in links[(i, 0, 0)]), default=None)
+    if rung is None:
+        return None, [], set(starts)
+    nodes = [(i, 0, 0) for i in range(rung + 1)] + [(i, 1, 0) for i in range(rung, 4)]
+    return 1.0, nodes, set(nodes)
+
+
+@pytest.mark.parametrize("left", [None, 1])
+def test_a_given_search_is_asked_every_round_and_only_its_chains_regrasps_walked(left):
+    links, asked, rounds = _ladder(4), [], []
+
+    def search(*args):
+        out = _highest_rung(*args)
+        rounds.append(out[1])
+        return out
+
+    def refuse_the_last_rung(u: Node, v: Node) -> bool:
+        asked.append((u, v))
+        return u[0] != 3
+
+    found = walked_chain(links, [(0, 0, 0)], [(3, 1, 0)], [], search=search,
+                         may_regrasp=refuse_the_last_rung,
+                         searches=None if left is None else Searches(left))
+    assert len(rounds) == 2 and found.nodes == rounds[-1]
+    assert found.nodes == [(0, 0, 0), (1, 0, 0), (2, 0, 0), (2, 1, 0), (3, 1, 0)]
+    assert found.refused == [((3, 0, 0), (3, 1, 0))]
+    assert (3, 1, 0) not in links[(3, 0, 0)]  # the refused link cut, both ways
+    # with one search left the second chain is given unasked
+    assert asked == [((3, 0, 0), (3, 1, 0))] + ([((2, 0, 0), (2, 1, 0))] if left is None else [])

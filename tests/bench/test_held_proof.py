@@ -26,3 +26,12 @@ def test_a_corpus_map_is_imported_once_and_an_unknown_one_refused(tmp_path):
     assert path.endswith("turtlebot3_world.yaml") and (tmp_path / "turtlebot3_world.yaml").exists()
     with pytest.raises(SystemExit, match="no such map"):
         hp._corpus("corpus:nowhere", tmp_path)
+
+
+def test_the_gate_runs_in_its_own_process_with_its_answer_and_stages():
+    hp = benchmark_script("held_proof")
+    row = hp.run(hp.ROOT, "slot", gate=True)
+    # poses valid at every yaw join the slot's start and goal: "joined" at the gate's 32 bins
+    assert row["answer"] == "joined" and row["bins"] == 32 and "rounds" not in row
+    assert row["computed"] > 0
+    assert 0.0 < row["regions"] <= row["cpu"] and 0.0 < row["chain"] <= row["cpu"]

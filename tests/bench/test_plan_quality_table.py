@@ -43,3 +43,13 @@ def test_the_figures_route_rows_carry_the_four_measures():
     for part in ("at it in 67 %", "1.21 × the bound (worst 1.40)", "pivot rate 1.30",
                  "cost spread 5 %"):
         assert part in measured
+
+
+def test_corpus_expands_to_every_corpus_map_that_has_a_plan():
+    corpus = benchmark_script("buildings").CORPUS  # puts the benchmarks folder on the path
+    names = benchmark_script("plan_quality").scene_names("fig10,corpus")
+    assert names[0] == "fig10"
+    maps = [n.removeprefix("map:") for n in names[1:]]
+    assert maps == [m.name for m in corpus if m.feasible]
+    assert {"turtlebot3_world", "brsu_c069"}.isdisjoint(maps)  # proven: no plan exists
+    assert {"aws_bookstore", "nav2_depot", "willow_garage_2010", "brsu_c069_room"} <= set(maps)

@@ -7,8 +7,8 @@ import math
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from pivot_ompl.pivoting.kinematics import LEFT, end_point, forward
-from pivot_ompl.pivoting.spin_chain import edge_turn, rotate_edge
+from pivot_ompl.pivoting.kinematics import LEFT, edge_turn, end_point, forward, solve_piece
+from pivot_ompl.pivoting.spin_chain import rotate_edge
 
 coordinates = st.floats(-50.0, 50.0, allow_nan=False)
 headings = st.floats(-4.0 * math.pi, 4.0 * math.pi, allow_nan=False)
@@ -34,3 +34,25 @@ def test_the_scalar_turn_is_the_rotations_record(x, y, h, end, ell, angle):
     assert _close(end_point((x, y, h), ell, end), (px, py))
     assert _close(end_point(reached, ell, end), (px, py))
     assert _close(forward((x, y, h), ell, end, (angle, 0.0, 0.0)), reached)
+
+
+@settings(max_examples=300)
+@given(x=coordinates, y=coordinates, h=headings, ell=st.floats(0.05, 1.5),
+       move=st.tuples(st.floats(-0.3, 0.3), st.floats(-0.3, 0.3), st.floats(-1.0, 1.0)),
+       previous=st.booleans())
+def test_the_steerings_rotations_are_the_edge_turns(x, y, h, ell, move, previous):
+    # solve_piece writes edge_turn's arithmetic out in its inner loop: each rotation it gives
+    # is, to the bit, the edge turned about its corner from the car reached before
+    alpha_max = math.pi / 8
+    start = (x, y, h)
+    goal = (x + move[0] * ell, y + move[1] * ell, h + move[2] * alpha_max)
+    before = rotate_edge(start, LEFT, 0.1, ell) if previous else None
+    ok, rotations = solve_piece(start, goal, ell, alpha_max, previous=before)
+    car = start
+    for r in rotations:
+        px, py, reached = edge_turn(*car, r.end, ell, r.angle, math.cos(r.angle),
+                                    math.sin(r.angle))
+        assert r.pivot == (px, py) and r.car == reached
+        car = reached
+    assert ok or not rotations
+

@@ -22,14 +22,17 @@ Stop = Callable[[], bool]
 TOO_DEAR: Found = Found(Status.INVALID)
 
 
-def corners(route: list[Pose], *, spacing: int, end_turns: bool = False) -> list[Pose]:
+def corners(route: list[Pose], *, spacing: int, end_turns: bool = False,
+            leads: bool = False) -> list[Pose]:
     """The route's poses worth joining by transfers.
 
     Its ends, the poses where it starts or stops turning, and every ``spacing`` th pose of a
     long straight run (lattice motions;
     :attr:`~pivot_ompl.planners.config.OptimiserConfig.run_spacing`). ``end_turns``: also
     every pose of a turn in place the route starts or ends with (one transfer turning the
-    whole way at a tight end may graze what the lattice's small turns pass).
+    whole way at a tight end may graze what the lattice's small turns pass); with ``leads``
+    (a route asked with leads, :mod:`.lattice_ends`), also of the turn it makes right after
+    (before) a first (last) straight motion, an end's lead.
     """
     if len(route) < 3:
         return route
@@ -40,6 +43,9 @@ def corners(route: list[Pose], *, spacing: int, end_turns: bool = False) -> list
 
     head = tail = 0
     if end_turns:
+        if leads:  # after a first (last) straight motion: an end's lead
+            head = int(last > 1 and not turning(0))
+            tail = int(last > 1 and not turning(last - 1))
         while head < last and turning(head):
             head += 1
         while tail < last and turning(last - 1 - tail):
@@ -70,8 +76,8 @@ def end_rotations(costs: CostModel) -> float:
 
 def made_real(evaluate: Evaluator, route: list[Pose], grasp: int, should_stop: Stop, *,
               spacing: int, ceiling: float = math.inf,
-              cache: dict[tuple, tuple[list[Pose], float] | None] | None = None
-              ) -> Found[tuple[list[Pose], float]]:
+              cache: dict[tuple, tuple[list[Pose], float] | None] | None = None,
+              leads: bool = False) -> Found[tuple[list[Pose], float]]:
     """The route's cheapest chain of certified transfers, its end turns split if need be.
 
     :func:`shortened` over the route's :func:`corners`; if no chain passes, again over them
@@ -83,9 +89,10 @@ def made_real(evaluate: Evaluator, route: list[Pose], grasp: int, should_stop: S
     :attr:`~.lattice.TransferLattice.chains`; ``None`` for a route with no chain at all):
     a route made real once is answered from it, :data:`TOO_DEAR` where its chain does not
     cost less than ``ceiling`` (the lazy search with a ceiling returns the same chain
-    whenever one below it exists).
+    whenever one below it exists). ``leads``: the route was asked with leads
+    (:meth:`~.lattice.TransferLattice.route`; :func:`corners`).
     """
-    key = (tuple(route), grasp, spacing)
+    key = (tuple(route), grasp, spacing, leads)
     if cache is not None and key in cache:
         hit = cache[key]
         if hit is None:
@@ -94,7 +101,7 @@ def made_real(evaluate: Evaluator, route: list[Pose], grasp: int, should_stop: S
     found = shortened(evaluate, corners(route, spacing=spacing), grasp, should_stop,
                       ceiling=ceiling)
     if found.path is None and found is not TOO_DEAR and found.status is not Status.STOPPED:
-        fine = corners(route, spacing=spacing, end_turns=True)
+        fine = corners(route, spacing=spacing, end_turns=True, leads=leads)
         if len(fine) > len(corners(route, spacing=spacing)):
             found = shortened(evaluate, fine, grasp, should_stop, ceiling=ceiling)
     if cache is not None and found is not TOO_DEAR and found.status is not Status.STOPPED:

@@ -11,7 +11,9 @@ yaw). Costs are seconds (:class:`~pivot_ompl.cost.CostModel`): a push of ``d`` m
 ``d`` times the grasp's push rate, a turn of ``a`` rad ``a`` times the spin rate.
 
 :meth:`TransferLattice.route` is A* between two exact object poses at one grasp (joined to
-the nearby lattice states by short paths), guided by the straight distance at the push rate
+the nearby lattice states by short paths; asked with ``leads``, an end between two headings
+only where the lattice could turn across its heading, maybe after a straight push along it:
+:mod:`.lattice_ends`), guided by the straight distance at the push rate
 plus the heading still to turn at the spin rate (admissible: pushes do not turn, turns do
 not move the car), inflated by ``weight``; a push beside a wall is priced higher in the
 search (:data:`~.lattice_search.TIGHT_PUSH`): a guide the pivot checker certifies. A query
@@ -34,6 +36,7 @@ from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.routes.guide import graph_distances, move_graph
 from pivot_ompl.planners.routes.lattice_components import chunked_labels
+from pivot_ompl.planners.routes.lattice_ends import end_joins
 from pivot_ompl.planners.routes.lattice_search import TIGHT_PUSH, lattice_astar, route_cost
 from pivot_ompl.planners.routes.shared_fields import (
     ROUTES_KEPT,
@@ -132,10 +135,10 @@ class TransferLattice:
                        for h in range(N_HEADINGS)]
         self.expansions = 0
         #: routes by (start, goal, grasp, weight)
-        self._routes: dict[tuple[Pose, Pose, int, float], tuple[list[Pose], float]] = \
+        self._routes: dict[tuple[Pose, Pose, int, float, bool], tuple[list[Pose], float]] = \
             shared_routes(self.field, region, (*self._push.values(), self._spin, TIGHT_PUSH,
                                                max_expansions))
-        self._asked: set[tuple[Pose, Pose, int, float]] = set()  # by this lattice
+        self._asked: set[tuple[Pose, Pose, int, float, bool]] = set()  # by this lattice
         self._labels: dict[int, tuple[np.ndarray, np.ndarray]] = {}
         self._floors: dict[int, Any] = {}
         #: the last floor distances per parity, by the goal joins' cells they were asked for
@@ -152,7 +155,7 @@ class TransferLattice:
 
     def route(self, start: Pose, goal: Pose, grasp: int, *,
               should_stop: Callable[[], bool] | None = None,
-              weight: float | None = None) -> tuple[list[Pose], float]:
+              weight: float | None = None, leads: bool = False) -> tuple[list[Pose], float]:
         """The cheapest lattice route from ``start`` to ``goal`` at ``grasp``, and its cost.
 
         Object poses, the ends exact (the given poses), and the lattice's seconds; ``([],
@@ -160,18 +163,21 @@ class TransferLattice:
         The heuristic's distance is the floor's way to the goal where longer than the straight
         line (:meth:`_floor_distances`): far fewer states expanded across rooms and passages.
         ``weight``: the heuristic's inflation for this query (default: the lattice's).
+        ``leads``: an end between two headings joins only states that can turn across it,
+        maybe through a straight push along it (:func:`.end_joins`); the default joins the
+        near states.
 
         Raises:
             Interrupted: ``should_stop()`` became true.
         """
         weight = self.weight if weight is None else weight
-        key = (start, goal, grasp, weight)
+        key = (start, goal, grasp, weight, leads)
         hit = self._routes.get(key)
         if key not in self._asked and should_stop is not None and should_stop():
             raise Interrupted("lattice route")  # as when searched: another plan's is not free
         self._asked.add(key)
         if hit is None:
-            hit = self._route(start, goal, grasp, should_stop, weight)
+            hit = self._route(start, goal, grasp, should_stop, weight, leads)
             if len(self._routes) >= ROUTES_KEPT:
                 self._routes.clear()
             self._routes[key] = hit
@@ -213,12 +219,12 @@ class TransferLattice:
 
     def _route(self, start: Pose, goal: Pose, grasp: int,
                should_stop: Callable[[], bool] | None,
-               weight: float) -> tuple[list[Pose], float]:
+               weight: float, leads: bool) -> tuple[list[Pose], float]:
         m = self.checker.model
         ca, cb = m.car_pose(start, grasp), m.car_pose(goal, grasp)
         parity = grasp % 2
-        starts = self._attach(ca, parity, grasp, should_stop)
-        goals = self._attach(cb, parity, grasp, should_stop)
+        starts, lead_a = self._joins(ca, parity, grasp, should_stop, leads)
+        goals, lead_b = self._joins(cb, parity, grasp, should_stop, leads)
         if not starts or not goals:
             return [], math.inf
         cell_ids, labels = self._components(parity, should_stop)
@@ -253,7 +259,10 @@ class TransferLattice:
         self.expansions += expanded
         if not states:
             return [], math.inf
-        poses = [start] + [m.object_from_car(self.car(s), grasp) for s in states[1:-1]] + [goal]
+        head = [lead_a[states[1]]] if states[1] in lead_a else []
+        tail = [lead_b[states[-2]]] if states[-2] in lead_b else []
+        cars = [*head, *map(self.car, states[1:-1]), *tail]
+        poses = [start, *(m.object_from_car(c, grasp) for c in cars), goal]
         return poses, route_cost(states, starts, goals, grids=grids, ny=ny, push=push, turn=turn)
 
     def components(self, parity: int, should_stop: Callable[[], bool] | None = None
@@ -378,20 +387,11 @@ class TransferLattice:
     def _attach(self, car: Pose, parity: int, grasp: int,
                 should_stop: Callable[[], bool] | None) -> dict[State, float]:
         """Free lattice states near ``car`` (the two nearest headings), with a cost guess."""
-        fx, fy = self.field.cell(car[0], car[1])
-        near = sorted(range(N_HEADINGS),
-                      key=lambda h: abs(wrap_angle(HEADING_YAWS[h] - car[2])))[:2]
-        out: dict[State, float] = {}
-        for ix in range(math.floor(fx - 1.5), math.ceil(fx + 1.5) + 1):
-            for iy in range(math.floor(fy - 1.5), math.ceil(fy + 1.5) + 1):
-                if math.hypot(ix - fx, iy - fy) > 1.5:
-                    continue
-                for h in near:
-                    if not self.field.state_fits(ix, iy, 2 * h, parity, should_stop) or \
-                            not self.in_region()[ix, iy]:
-                        continue
-                    x, y = self.field.position(ix, iy)
-                    d = math.hypot(x - car[0], y - car[1])
-                    out[(ix, iy, h)] = d * self._push[grasp] + \
-                        abs(wrap_angle(HEADING_YAWS[h] - car[2])) * self._spin
-        return out
+        return self._joins(car, parity, grasp, should_stop, False)[0]
+
+    def _joins(self, car: Pose, parity: int, grasp: int,
+               should_stop: Callable[[], bool] | None, leads: bool
+               ) -> tuple[dict[State, float], dict[State, Pose]]:
+        """:func:`.end_joins` of ``car``: the states, their costs and their leads' cars."""
+        return end_joins(self.field, car, parity, push=self._push[grasp], spin=self._spin,
+                         region=self.in_region(), leads=leads, should_stop=should_stop)

@@ -36,6 +36,7 @@ from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.evaluation import Evaluator, Found, Status
 from pivot_ompl.planners.routes.chain import TOO_DEAR, made_real
 from pivot_ompl.planners.routes.lattice import TransferLattice
+from pivot_ompl.planners.routes.lattice_ends import between_headings
 from pivot_ompl.planners.routes.run_pricing import (
     Leg,
     Phase,
@@ -133,7 +134,7 @@ def refine(checker: PivotChecker, lattice: TransferLattice, states: list[State],
 
 
 #: :func:`~.chain.shortened`'s answers by route ``(start, end, grasp)``
-_Chains = dict[tuple[Pose, Pose, int], Found[tuple[list[Pose], float]]]
+_Chains = dict[tuple[Pose, Pose, int, bool], Found[tuple[list[Pose], float]]]
 
 
 def _ceiling(pricer: Pricer, costs: CostModel, plan: list, current: float) -> float:
@@ -160,23 +161,30 @@ def _leg_chain(checker: PivotChecker, lattice: TransferLattice, leg: Leg, costs:
                ceiling: float = math.inf) -> list[Pose]:
     """The leg as a chain of certified transfers (``[]`` if none): whole, else anchored.
 
+    Where an end lies between two lattice headings, last the whole leg again with its ends
+    joined where the lattice can turn across them (``leads``, :mod:`.lattice_ends`).
+
     ``chains``: the routes' chains found before (a route asked again is not checked again).
     ``ceiling``: a chain that cannot cost less is not made (:func:`~.chain.shortened`).
     """
-    tries: list[tuple[tuple[Pose, ...], Pose, Pose, tuple[Pose, ...]]] = [
-        ((), leg.start, leg.end, ())]
+    tries: list[tuple[tuple[Pose, ...], Pose, Pose, tuple[Pose, ...], bool]] = [
+        ((), leg.start, leg.end, (), False)]
     if leg.head or leg.tail:
         tries.append((leg.head[:1], leg.head[-1] if leg.head else leg.start,
-                      leg.tail[0] if leg.tail else leg.end, leg.tail[1:]))
-    for before, a, b, after in tries:
-        route, _ = lattice.route(a, b, leg.grasp, should_stop=should_stop)
+                      leg.tail[0] if leg.tail else leg.end, leg.tail[1:], False))
+    m = checker.model
+    if any(between_headings(m.car_pose(q, leg.grasp)[2]) for q in (leg.start, leg.end)):
+        tries.append(((), leg.start, leg.end, (), True))  # ends joined where they can turn
+    for before, a, b, after, leads in tries:
+        route, _ = lattice.route(a, b, leg.grasp, should_stop=should_stop, leads=leads)
         if len(route) < 2:
             continue
-        key = (a, b, leg.grasp)
+        key = (a, b, leg.grasp, leads)
         found = chains.get(key)
         if found is None:
             found = made_real(Evaluator(checker, costs), route, leg.grasp, should_stop,
-                              spacing=run_spacing, ceiling=ceiling, cache=lattice.chains)
+                              spacing=run_spacing, ceiling=ceiling, cache=lattice.chains,
+                              leads=leads)
             if found.status is Status.STOPPED:
                 raise Interrupted("route refinement")
             if found is TOO_DEAR:  # as the whole chain refused for its cost: no anchored try
