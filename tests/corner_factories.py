@@ -7,6 +7,8 @@ import math
 import numpy as np
 from factories import make_scene, rotated_scene_doc
 
+from pivot_ompl.scene import Scene, scene_from_dict
+
 
 def _box(x0: float, y0: float, x1: float, y1: float) -> dict:
     return {"type": "box", "center": [0.5 * (x0 + x1), 0.5 * (y0 + y1)],
@@ -54,3 +56,25 @@ def corner_slot(strip: float, slot: float):
               "size": [8.0 - right, 1.0], "yaw": 0.0, "height": 2.0}]
     return make_scene(obstacles=walls, object={"size": [1.2, 0.3, 1.0]},
                       start=[1.5, 0.5 * strip, 0.0], goal=[4.0, 4.5, 0.0])
+
+
+
+def ragged_slot(seed: int, angle: float = 0.0, *, strip: float = 0.90, slot: float = 0.92,
+                pieces: int = 160) -> Scene:
+    """:func:`corner_slot`'s floor as a building map gives it, closed by outer walls and turned
+    by ``angle`` (rad): each inner wall cut into ``pieces / 2`` strips 1 m deep whose far
+    (room-side) ends are ragged by up to 5 cm (``seed``), so that no two merge. A slot the
+    box passes and the box held does not: only the held poses' relaxation proves it."""
+    rng = np.random.default_rng(seed)
+    left, right = 4.0 - 0.5 * slot, 4.0 + 0.5 * slot
+    walls = [_box(-0.3, -0.3, 8.3, 0.0), _box(-0.3, 6.0, 8.3, 6.3),  # the floor's walls
+             _box(-0.3, 0.0, 0.0, 6.0), _box(8.0, 0.0, 8.3, 6.0)]
+    for x0, x1 in ((0.0, left), (right, 8.0)):
+        cuts = np.linspace(x0, x1, pieces // 2 + 1)
+        for a, b in zip(cuts[:-1], cuts[1:], strict=True):
+            top = strip + 1.0 + float(rng.uniform(0.0, 0.05))
+            walls.append(_box(float(a), strip, float(b), top))
+    doc = {"name": f"ragged_slot_{seed}", "bounds": [-0.3, -0.3, 8.3, 6.3],
+           "object": {"size": [1.2, 0.3, 1.0]}, "start": [1.5, 0.5 * strip, 0.0],
+           "goal": [4.0, 4.5, 0.0], "obstacles": walls}
+    return scene_from_dict(rotated_scene_doc(doc, angle, (4.0, 3.0)), source="<test>")

@@ -11,14 +11,21 @@ nothing before ``begin``; then, once, it runs the relaxation, stopped at ``end``
 that proves and places at once: the exact polygons
 (:func:`~pivot_ompl.analysis.turning.turning_place`) where they are estimated to fit, else
 the coarse raster in the walls' frame (:func:`framed_turning_place`); a bound the cache holds
-answers at once (a solvable one: nothing to do; an unsolvable one: only the place is looked
-for, until ``explain_end``). When no plan exists the reason is the passage that blocks every
-plan (:func:`~pivot_ompl.analysis.passage.blocking_passage`) if there is one, else the place
-where the held box cannot turn, else (the place not found in time) a line naming the width
-the held assembly needs; and the search stops. Its cost to a scene that has a plan is at
-most ``end - begin``, and only when the search is slow to find a path; once the exact
-relaxation has joined a scene's start and goal (nothing to prove), later plans of the scene
-in the process do not run it again (:func:`~pivot_ompl.scene.shared.keep_shared`).
+answers at once (a solvable one: only the held poses are left to try; an unsolvable one:
+only the place is looked for, until ``explain_end``). When no plan exists the reason is the
+passage that blocks every plan (:func:`~pivot_ompl.analysis.passage.blocking_passage`) if
+there is one, else the place where the held box cannot turn, else (the place not found in
+time) a line naming the width the held assembly needs; and the search stops. Where that
+relaxation joins start and goal, or where the exact polygons are estimated to need more
+than the whole late window (``begin`` to ``held_end``: a large map, where only the framed
+raster runs and may prove nothing), the held poses' relaxation is tried
+(:func:`held_pose_proof`: it needs no other relaxation's word), behind a gate that spares
+it scenes whose poses valid at every yaw join start and goal
+(:meth:`LateProof._held_poses`). Its cost to a scene that has a plan
+is at most ``end - begin`` and the held poses' window, and only when the search is slow to
+find a path; once the exact relaxation has joined a scene's start and goal (nothing to
+prove), later plans of the scene in the process do not run it again
+(:func:`~pivot_ompl.scene.shared.keep_shared`).
 """
 
 from __future__ import annotations
@@ -77,6 +84,11 @@ class NoPlan:
 #: What :func:`~pivot_ompl.scene.shared.keep_shared` keeps for a scene whose held poses'
 #: relaxation was run to its end: its :class:`NoPlan`, or ``False`` (nothing proven).
 HELD_POSES = ("late proof: the held poses' relaxation",)
+#: Share of the held poses' window the gate may take (seconds of CPU):
+#: :func:`~pivot_ompl.analysis.pose_inner.joined_at_every_yaw` stopped then tells nothing and
+#: lets the proof run (a gate dearer than that saves the proof little: it took 9.3 s of CPU
+#: on the 1506 boxes of the lab, whose proof takes 8-9 s).
+GATE_SHARE = 0.25
 
 
 def generic(scene: Scene) -> NoPlan:
@@ -99,19 +111,19 @@ class LateProof:
         clock: the clock of those times (``time.monotonic``).
         passages: the scene's passage search, shared with the check before the search
             (:class:`~pivot_ompl.analysis.passage.PassageOnce`); default: its own.
-        held_begin: clock time from which the held poses' relaxation is tried, where the
-            poses' relaxation joins start and goal (default ``begin``; asked before, it is
-            tried when asked again after it: a search that plans by then never pays it).
+        held_begin: clock time from which the held poses' relaxation is tried, whether or
+            not the poses' relaxation joins start and goal (default ``begin``; asked before,
+            it is tried when asked again after it: a search that plans by then never pays it).
         work_begin: the process's CPU time (``work``) before which the proof is not tried
             either, but from ``held_begin`` on: "slow to find a path" is then the search's
             own work, not the clock's seconds other processes took on a loaded machine
             (``None``: the clock alone; an OMPL planner's solve asks only once).
         work: the clock of ``work_begin`` (``time.process_time``).
-        held_end: clock time by which the held poses' relaxation is stopped where its
-            estimate does not fit before ``explain_end`` but half of it fits before
-            ``held_end``, and no chain of poses valid at every yaw joins start and goal
-            (:func:`~pivot_ompl.analysis.pose_inner.joined_at_every_yaw`: the proof could
-            not end apart); default ``explain_end``.
+        held_end: clock time by which the held poses' relaxation is stopped (tried where
+            half its estimate fits before it, and no chain of poses valid at every yaw joins
+            start and goal: :func:`~pivot_ompl.analysis.pose_inner.joined_at_every_yaw`, the
+            proof could not end apart); ``None``: tried where its estimate fits before
+            ``explain_end``, stopped there.
 
     Attributes:
         proof: the proof, once found; ``None`` before, or when nothing was proven.
@@ -155,7 +167,8 @@ class LateProof:
         if known is None and shared_value(self.scene, NOTHING_TO_PROVE):
             return self._held_later(now)
         stop = self._stop(self.end if known is None else self.explain_end)
-        exact = exhaustive_estimate(self.scene) <= self.end - now
+        polygons = exhaustive_estimate(self.scene)
+        exact = polygons <= self.end - now
         if exact:  # proof and place at once (its polygons kept for the bound: joined)
             place = turning_place(self.scene, should_stop=stop, keep=True)
         else:
@@ -164,6 +177,9 @@ class LateProof:
             if exact and not stop():  # run to its end: the relaxation joins start and goal
                 keep_shared(self.scene, NOTHING_TO_PROVE, True)
                 return self._held_later(now)
+            held = self.explain_end if self.held_end is None else self.held_end
+            if polygons > held - self.begin:  # a map too large for the exact polygons
+                return self._held_later(now)  # the held poses need no other relaxation's word
             log.debug("late proof: nothing proven in %.2f s", self.clock() - now)
             return False
         # the proof holds: the passage (milliseconds) gets its window even past explain_end,
@@ -187,26 +203,31 @@ class LateProof:
         return False
 
     def _held_poses(self, now: float) -> bool:
-        """The held poses' relaxation, where the poses' relaxation joins start and goal.
+        """The held poses' relaxation, whatever the turning place's relaxation said.
 
         Not tried where a chain of poses valid at every yaw joins start and goal
-        (:func:`~pivot_ompl.analysis.pose_inner.joined_at_every_yaw`: it could not prove);
-        else tried when its estimate (:func:`~pivot_ompl.analysis.pose_proof.proof_estimate`)
-        fits before ``explain_end``, or half of it before ``held_end`` (then stopped at
-        ``held_end`` once it has had as many seconds of ``work`` as the clock's from now to
-        then, as a loaded machine's clock runs ahead of the work, and at twice that window at
-        the latest). Its answer is kept for the scene's geometry (a later plan of the scene
-        reads it, and does not try again what found nothing).
+        (:func:`~pivot_ompl.analysis.pose_inner.joined_at_every_yaw`, the gate: it could not
+        prove; asked with at most :data:`GATE_SHARE` of the proof's window in seconds of
+        ``work``: a gate dearer than that saves the proof little); else tried when half its
+        estimate (:func:`~pivot_ompl.analysis.pose_proof.proof_estimate`) fits before
+        ``held_end`` (then stopped at ``held_end`` once it has had as many seconds of ``work``
+        as the clock's from now to then, as a loaded machine's clock runs ahead of the work,
+        and at twice that window at the latest), or without ``held_end`` when the estimate
+        fits before ``explain_end`` (stopped there). Its answer is kept for the scene's
+        geometry (a later plan of the scene reads it, and does not try again what found
+        nothing).
         """
         kept = shared_value(self.scene, HELD_POSES)
         if kept is None:
-            guess, end = proof_estimate(self.scene), self.explain_end
-            stop = self._stop(end)
-            if guess > end - self.clock():
-                if self.held_end is None or 0.5 * guess > self.held_end - self.clock():
-                    return False
-                stop = self._held_stop(self.held_end)
-            if joined_at_every_yaw(self.scene, should_stop=stop):
+            stop, window = self._held_window(proof_estimate(self.scene))
+            if stop is None:
+                return False
+            spent = self.work() + GATE_SHARE * window
+            joined = joined_at_every_yaw(
+                self.scene, should_stop=lambda: stop() or self.work() >= spent)
+            log.debug("late proof: joined at every yaw: %s (%.2f s)", joined,
+                      self.clock() - now)
+            if joined:
                 keep_shared(self.scene, HELD_POSES, False)  # nothing it could prove
                 return False
             proof = held_pose_proof(self.scene, should_stop=stop)
@@ -219,6 +240,21 @@ class LateProof:
         self.proof = kept
         log.info("no plan exists (proven in %.2f s): %s", self.clock() - now, kept.reason)
         return True
+
+    def _held_window(self, guess: float) -> tuple[Callable[[], bool] | None, float]:
+        """The held poses' stop for a proof estimated at ``guess`` s, and its window (s).
+
+        With ``held_end``: its stop (:meth:`_held_stop`) where half of ``guess`` fits before
+        it (the estimate only admits: the bins a proof computes vary fourfold between maps
+        of one cost a bin); else the stop at ``explain_end`` where ``guess`` fits before it.
+        ``None`` and 0: no window fits it.
+        """
+        now = self.clock()
+        if self.held_end is not None and self.held_end > now + 0.5 * guess:
+            return self._held_stop(self.held_end), self.held_end - now
+        if self.held_end is None and guess <= self.explain_end - now:
+            return self._stop(self.explain_end), self.explain_end - now
+        return None, 0.0
 
     def _held_stop(self, at: float) -> Callable[[], bool]:
         """A stop at clock time ``at``, once the work has had the clock's seconds till then.

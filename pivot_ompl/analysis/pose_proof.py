@@ -78,14 +78,14 @@ MAX_BINS = 1024
 #: Narrowest bin (rad) halved again (the TurtleBot3 arena's proof needs 0.7 degrees).
 FINEST = 2.0 * math.pi / 512
 
-#: Bins a proof computes, for :func:`proof_estimate` (the TurtleBot3 arena's: about 300,
-#: those of its last round and the halved ones).
-ESTIMATED_BINS = 300
-#: Time (s) of one obstacle piece's sums and union, per bin and grasp (the arena's 157
-#: pieces: 9 s of CPU for its proof's 296 bins computed one by one; a shared 2-core machine).
-#: Kept though bins built from parents and twins take about half: at 2.4e-5 the feasible
-#: 16- and 32-room corridor rows fit the window and pay it for nothing (32 rooms: 13.7 s ->
-#: 21.0 s at --time 60, tried from 2 %).
+#: Bins a proof computes, for :func:`proof_estimate` (the regions computed, a twin's not
+#: counted: 40 on the 1506 boxes of the lab door, 156 on the TurtleBot3 arena, 36-122 on the
+#: feasible 4- to 32-room corridor rows).
+ESTIMATED_BINS = 64
+#: Time (s) of one obstacle piece's sums and union, per bin computed and grasp (whole
+#: proofs, their set-up and chain searches included: 3.8e-5 on the lab door, 4.8e-5 on
+#: the arena; the corridor rows' long walls cost more, 3.9e-4 for the 16 rooms' 57: the
+#: every-yaw gate, not this estimate, spares them the proof).
 SECONDS_PER_PIECE = 5e-5
 
 

@@ -16,7 +16,7 @@ from hypothesis import strategies as st
 from pivot_ompl.analysis.late_proof import HELD_POSES, NOTHING_TO_PROVE, LateProof
 from pivot_ompl.analysis.pose_cells import free_region
 from pivot_ompl.analysis.pose_inner import EveryYawRegions, joined_at_every_yaw, swept_hull
-from pivot_ompl.analysis.pose_proof import HeldParts, prove_no_plan
+from pivot_ompl.analysis.pose_proof import HeldParts, proof_estimate, prove_no_plan
 from pivot_ompl.scene import Scene
 from pivot_ompl.scene.shared import keep_shared, shared_value
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
@@ -113,12 +113,14 @@ def test_a_stopped_search_answers_nothing():
 
 
 def test_past_its_estimate_the_held_proof_runs_to_held_end_where_it_may_prove():
-    scene = corner_slot(0.90, 0.92)  # the held poses' proof's estimate: 0.36 s
+    scene = corner_slot(0.90, 0.92)
+    guess = proof_estimate(scene)  # the held poses' proof's estimate
     keep_shared(scene, NOTHING_TO_PROVE, True)  # as where the poses' relaxation joins
-    shut = LateProof(scene, begin=0.0, end=100.0, explain_end=1.1, clock=lambda: 1.0)
+    end = 1.0 + 0.9 * guess
+    shut = LateProof(scene, begin=0.0, end=100.0, explain_end=end, clock=lambda: 1.0)
     assert shut() is False and shared_value(scene, HELD_POSES) is None  # does not fit
-    late = LateProof(scene, begin=0.0, end=100.0, explain_end=1.1, clock=lambda: 1.0,
-                     held_end=2.0)  # half the estimate fits before held_end
+    late = LateProof(scene, begin=0.0, end=100.0, explain_end=end, clock=lambda: 1.0,
+                     held_end=1.0 + guess)  # half the estimate fits before held_end
     assert late() is True
     assert "held poses" in late.proof.reason and "0.92 m" in late.proof.reason
 
