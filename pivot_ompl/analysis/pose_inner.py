@@ -47,13 +47,19 @@ def _turned(points: np.ndarray, angle: float) -> np.ndarray:
     return points @ np.array([[c, s], [-s, c]])
 
 
+#: Coordinates smaller than this (m) are zero in :func:`swept_hull` (far below any check).
+TINY = 1e-100
+
+
 def swept_hull(body: np.ndarray, half: float, steps: int = SWEEP_STEPS) -> np.ndarray:
     """A convex polygon (counter-clockwise) holding ``body`` turned by all of ``[-half, half]``.
 
     ``half`` in rad, the turns about the origin. The body's vertices turned by ``steps``
     angles, and between two neighbours the point where the arc's tangents at both meet (the
-    arc lies in that triangle).
+    arc lies in that triangle). Coordinates under :data:`TINY` m are taken as zero: GEOS's
+    orientation products of such numbers underflow and make a wrong hull.
     """
+    body = np.where(np.abs(body) < TINY, 0.0, body)
     angles = np.linspace(-half, half, max(steps, 2))
     step = float(angles[1] - angles[0])
     points = [_turned(body, t) for t in angles]

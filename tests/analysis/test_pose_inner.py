@@ -27,6 +27,7 @@ points = st.lists(st.tuples(st.floats(-2.0, 2.0), st.floats(-2.0, 2.0)), min_siz
 
 @settings(max_examples=60, deadline=None)
 @given(body=points, half=st.floats(0.0, 0.6))
+@example(body=[(0.0, 1.0), (1.0, 1.0), (2.3774398992331143e-183, 0.0)], half=0.5)
 def test_the_swept_hull_holds_the_body_turned_by_every_yaw_of_its_bin(body, half):
     pts = np.array(body)
     hull = shapely.orient_polygons(shapely.MultiPoint(pts).convex_hull)
