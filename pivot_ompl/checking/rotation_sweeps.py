@@ -3,8 +3,11 @@
 The kernel of :class:`~pivot_ompl.checking.transfer_check.TransferCheck`. Rotation by
 rotation, the box and the robot must stay inside the bounds (their farthest points bulge out
 by ``r (1 - cos(alpha/2))`` mid-rotation) and their swept volumes must be certified free
-(:func:`~pivot_ompl.validity.certify.certify`: a point moves at most ``r |alpha|``, ``r`` the
-body's reach from the pivot corner).
+(:func:`~pivot_ompl.validity.certify.certify` with ``exact=True``: a point moves at most
+``r |alpha|``, ``r`` the body's reach from the pivot corner, and a sweep passes only where the
+clearances prove it free at every angle, never by the tolerance alone: the plan writes
+consecutive rotations about one corner as one, and any sampling of a sweep proved free so,
+whole or in parts, finds it free).
 
 Clearances are measured lazily (:class:`Clearance`): a rotation whose start clearance ``d0``
 exceeds the farthest any point moves (``r |alpha|``) is free with no query, and its end keeps
@@ -166,10 +169,9 @@ class RotationSweeps:
             return dist(rotate_about(base, rot.pivot, s * rot.angle), grasp)
 
         d0, d1 = c0.value, dist(rot.car, grasp)
-        if c0.at is not None and d1 > 0.0 and d0 + d1 <= lipschitz and \
-                lipschitz > 2.0 * self.tolerance:
+        if c0.at is not None and d1 > 0.0 and d0 + d1 <= lipschitz:
             d0 = dist(c0.at, grasp)  # the bound does not certify the sweep: measured
-        ok = certify(at, lipschitz, tolerance=self.tolerance, d0=d0, d1=d1).valid
+        ok = certify(at, lipschitz, tolerance=self.tolerance, d0=d0, d1=d1, exact=True).valid
         return Clearance(d1) if ok else None
 
     def rotations(self, prev: Pose, rots: tuple[Rotation, ...], grasp: int, with_robot: bool,

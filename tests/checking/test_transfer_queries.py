@@ -31,7 +31,7 @@ def _sweep_free(ck: PivotChecker, base, rot, grasp: int, tol: float) -> bool:
         def at(s: float, dist=dist) -> float:  # noqa: ANN001
             return dist(rotate_about(base, rot.pivot, s * rot.angle))
 
-        if not certify(at, reach * abs(rot.angle), tolerance=tol).valid:
+        if not certify(at, reach * abs(rot.angle), tolerance=tol, exact=True).valid:
             return False
     return True
 
