@@ -20,7 +20,8 @@ from pivot_ompl.validity.plan_check import check_plan
 pytestmark = pytest.mark.timed  # a time budget: run alone
 
 DATA = Path(__file__).parent.parent / "data" / "replan"
-#: A generated walls scene and a plan of it (seed 0) whose box passes a gap 0.63 m wide in
+#: A generated walls scene and a plan of it (seed 0, `plan(scene, time_limit=30, seed=0)`; made
+#: again when the planner's checks change) whose box passes a gap 0.63 m wide in
 #: the middle wall narrow side first, pushed with grasp 2, to the regrasp pose in the gap.
 SCENE, PLAN = DATA / "walls_1.yaml", DATA / "walls_1_plan.json"
 #: The step of the first transfer phase (grasp 2) where the box is in the gap.
