@@ -13,8 +13,9 @@ planner keeps (1 cm from the obstacles, the walk planner's ``box_margin`` from t
 box, none from the floor's edge) down to ``2 * tolerance / finer`` of motion: a segment's
 clearance is Lipschitz in its parameter with the walk's sweep bound, so an interval whose
 ends' clearances leave no room for a smaller value is not sampled further (branch and bound).
-Prints per scene the least clearance found at a sample and the plans checked; a negative
-figure is a walk dipping into the kept margin between the planner's samples.
+Prints per scene the least clearance found at a sample, the plans checked and the plans'
+median cost and walking length; a negative clearance is a walk dipping into the kept margin
+between the planner's samples.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ import argparse
 import inspect
 import logging
 import math
+import statistics
 import sys
 from pathlib import Path
 from typing import Any
@@ -85,6 +87,11 @@ def walk_clearances(plan: Any, scene: Any, step: float, box_margin: float  # noq
     return static, boxed, segments
 
 
+def _median(values: list[Any]) -> float:  # noqa: ANN401
+    known = [v for v in values if v is not None]
+    return statistics.median(known) if known else math.nan
+
+
 def main() -> None:
     """Plan, search the walks' clearances, print the table."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -110,7 +117,7 @@ def main() -> None:
     step = 2.0 * SWEEP_TOLERANCE / args.finer
     rows: list[dict[str, Any]] = []
     print(f"{'scene':28s} {'plans':>5s} {'segs':>5s} {'obstacles (mm)':>15s} "
-          f"{'box (mm)':>9s} {'check':>6s} {'finer':>6s}")
+          f"{'box (mm)':>9s} {'check':>6s} {'finer':>6s} {'cost s':>8s} {'walk m':>7s}")
     for name in scene_names(args.scenes):
         scene = variant(name)
         got = []
@@ -124,7 +131,10 @@ def main() -> None:
                 continue
             p = res.plan
             static, boxed, segs = walk_clearances(p, scene, step, box_margin)
+            q = p.extra.get("quality") or {}
             row = {"scene": name, "seed": seed, "segments": segs, "static": static,
+                   "cost": q.get("cost"), "pivots": p.pivots, "regrasps": p.regrasps,
+                   "walking": sum(ph.length for ph in p.phases if ph.type == "transit"),
                    "box": boxed, "check": check_plan(p, scene).ok,
                    "check_finer": check_plan(p, scene,
                                              tolerance=SWEEP_TOLERANCE / args.finer).ok}
@@ -134,7 +144,9 @@ def main() -> None:
             print(f"{name:28s} {len(got):5d} {sum(r['segments'] for r in got):5d} "
                   f"{1e3 * min(r['static'] for r in got):15.4f} "
                   f"{1e3 * min(r['box'] for r in got):9.3f} "
-                  f"{sum(r['check'] for r in got):6d} {sum(r['check_finer'] for r in got):6d}",
+                  f"{sum(r['check'] for r in got):6d} {sum(r['check_finer'] for r in got):6d} "
+                  f"{_median([r['cost'] for r in got]):8.1f} "
+                  f"{_median([r['walking'] for r in got]):7.2f}",
                   flush=True)
         else:
             print(f"{name:28s} no plan", flush=True)
