@@ -29,8 +29,6 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from common import write_json
-
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
@@ -103,6 +101,7 @@ def main() -> None:
     ap.add_argument("--out", default="results/walk_clearance.json")
     args = ap.parse_args()
     logging.basicConfig(level=logging.WARNING)
+    from common import write_json
     from ompl import util as ou
     from plan_quality import scene_names, variant
 
