@@ -9,9 +9,15 @@ disk's where it is clear (one query per grid position for every heading), the ro
 own distance otherwise.
 
 A straight motion ``a -> b`` with linear yaw moves no point of the walking body farther than
-``hypot(b - a) + radius * |yaw change|`` (:meth:`WalkClearance.sweep`): the ends' clearances
-certify it when they exceed that, bisection (:func:`~pivot_ompl.validity.certify.certify`)
-does otherwise.
+``hypot(b - a) + radius * |yaw change|`` (:meth:`WalkClearance.sweep`: the pose's translation
+plus the yaw about the pose, ``radius`` the body's farthest point from it), so each
+clearance is Lipschitz in the motion's parameter with that bound. A motion is certified only
+where the clearances prove it free at every point, never by the tolerance alone
+(:func:`~pivot_ompl.validity.certify.certify` with ``exact=True``): the ends' clearances
+certify it when their sum exceeds the sweep by ``2 EXACT_MARGIN`` (:meth:`WalkClearance.proves`),
+bisection does otherwise, and an interval that reaches the tolerance unproven refuses the
+motion. A walk certified so keeps every margin at every pose along it, so no sampling of it
+(finer than the planner's, or of a part of it) finds it closer.
 """
 
 from __future__ import annotations
@@ -23,7 +29,7 @@ from pivot_ompl.cache import BoundedCache
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.se2 import Pose, wrap_angle
 from pivot_ompl.transit.lattice import HEADING_YAWS
-from pivot_ompl.validity.certify import certify
+from pivot_ompl.validity.certify import EXACT_MARGIN, certify
 from pivot_ompl.validity.collision import CollisionWorld
 
 State = tuple[int, int, int]  # (grid x, grid y, heading)
@@ -61,6 +67,14 @@ class WalkClearance:
     def sweep(self, a: Pose, b: Pose) -> float:
         """Farthest (m) any point of the walking body moves along ``a -> b`` (linear yaw)."""
         return math.hypot(b[0] - a[0], b[1] - a[1]) + self.radius * abs(wrap_angle(b[2] - a[2]))
+
+    def proves(self, da: float, db: float, a: Pose, b: Pose) -> bool:
+        """End clearances ``da`` and ``db`` alone prove ``a -> b`` free at every point.
+
+        Their sum exceeds the :meth:`sweep` by ``2 EXACT_MARGIN`` (the exact test of
+        :func:`~pivot_ompl.validity.certify.certify`).
+        """
+        return da > 0.0 and db > 0.0 and da + db > self.sweep(a, b) + 2.0 * EXACT_MARGIN
 
     def with_box(self, obj: Pose) -> BoxedClearance:
         """The clearances with the box resting at ``obj`` (kept for the last poses asked)."""
@@ -113,22 +127,23 @@ class WalkClearance:
 
     def certified(self, a: Pose, b: Pose, clearance: Callable[[Pose], float], da: float,
                   db: float) -> bool:
-        """The straight motion ``a -> b`` (linear yaw) keeps ``clearance`` positive.
+        """The straight motion ``a -> b`` (linear yaw) keeps ``clearance`` positive all along.
 
-        ``da``/``db``: lower bounds of ``clearance`` at the ends.
+        ``da``/``db``: lower bounds of ``clearance`` at the ends. Proven at every point
+        (:func:`~pivot_ompl.validity.certify.certify` with ``exact=True``), or refused.
         """
         if da <= 0.0 or db <= 0.0:
             return False
+        if self.proves(da, db, a, b):
+            return True
         dyaw = wrap_angle(b[2] - a[2])
         lip = self.sweep(a, b)
-        if da + db > lip:
-            return True
 
         def at(s: float) -> float:
             return clearance((a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]),
                               a[2] + s * dyaw))
 
-        return certify(at, lip, tolerance=self.tolerance, d0=da, d1=db).valid
+        return certify(at, lip, tolerance=self.tolerance, d0=da, d1=db, exact=True).valid
 
     # -- the resting box ----------------------------------------------------------------
     def box_lower_bound(self, p: Pose, obj: Pose) -> float:
@@ -174,9 +189,9 @@ class WalkClearance:
             return False
         if a == b:
             return True
-        sweep = self.sweep(a, b)
-        if min(ca) + min(cb) > sweep:
+        if self.proves(min(ca), min(cb), a, b):
             return True  # the ends' clearances alone certify it
+        sweep = self.sweep(a, b)
         if not self.certified(a, b, self.static_exact, ca[0], cb[0]):
             return False
         return self.certified(a, b, lambda p: self.box_clear(p, obj, sweep), ca[1], cb[1])
@@ -192,7 +207,7 @@ class WalkClearance:
             return False
         if a == b:
             return (da if da is not None else self.exact(a, obj)) > 0.0
-        if da is not None and db is not None and db > 0.0 and da + db > self.sweep(a, b):
+        if da is not None and db is not None and self.proves(da, db, a, b):
             return True  # the ends' clearances alone certify it
         sa = da if da is not None else self.static_exact(a)
         sb = db if db is not None and db > 0.0 else self.static_exact(b)
