@@ -80,10 +80,13 @@ def made_real(evaluate: Evaluator, route: list[Pose], grasp: int, should_stop: S
               leads: bool = False) -> Found[tuple[list[Pose], float]]:
     """The route's cheapest chain of certified transfers, its end turns split if need be.
 
-    :func:`shortened` over the route's :func:`corners`; if no chain passes, again over them
-    with every pose of the turns in place it starts or ends with (the first try's checks
-    are cached: only the new transfers are checked). A route whose first try is
-    :data:`TOO_DEAR` or stopped is not tried again.
+    :func:`shortened` over the route's :func:`corners`, then again over them with every pose
+    of the turns in place it starts or ends with (the first try's checks are cached: only
+    the new transfers are checked), below the first chain's cost: the cheaper chain is
+    kept. A turn in place joined as one transfer is a Reeds-Shepp manoeuvre that may cost
+    much more than the turn (a 1.65 rad end turn: 120 s as one transfer, 78 s as five).
+    A route whose first try is stopped is not tried again; one whose first try is
+    :data:`TOO_DEAR` is answered by the second only with a chain.
 
     ``cache``: the answers found before, by route, grasp and spacing (e.g. the lattice's
     :attr:`~.lattice.TransferLattice.chains`; ``None`` for a route with no chain at all):
@@ -98,12 +101,14 @@ def made_real(evaluate: Evaluator, route: list[Pose], grasp: int, should_stop: S
         if hit is None:
             return Found(Status.INVALID)
         return Found(Status.VALID, hit) if hit[1] < ceiling + 1e-6 else TOO_DEAR
-    found = shortened(evaluate, corners(route, spacing=spacing), grasp, should_stop,
-                      ceiling=ceiling)
-    if found.path is None and found is not TOO_DEAR and found.status is not Status.STOPPED:
-        fine = corners(route, spacing=spacing, end_turns=True, leads=leads)
-        if len(fine) > len(corners(route, spacing=spacing)):
-            found = shortened(evaluate, fine, grasp, should_stop, ceiling=ceiling)
+    coarse = corners(route, spacing=spacing)
+    found = shortened(evaluate, coarse, grasp, should_stop, ceiling=ceiling)
+    fine = corners(route, spacing=spacing, end_turns=True, leads=leads)
+    if found.status is not Status.STOPPED and len(fine) > len(coarse):
+        below = min(ceiling, found.path[1]) if found.path is not None else ceiling
+        finer = shortened(evaluate, fine, grasp, should_stop, ceiling=below)
+        if finer.path is not None or (found.path is None and found is not TOO_DEAR):
+            found = finer
     if cache is not None and found is not TOO_DEAR and found.status is not Status.STOPPED:
         cache[key] = found.path  # a chain, or None: none at all
     return found
