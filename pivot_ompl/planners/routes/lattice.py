@@ -28,15 +28,15 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
-import shapely
 from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.routes.guide import graph_distances, move_graph
-from pivot_ompl.planners.routes.lattice_components import chunked_labels
+from pivot_ompl.planners.routes.lattice_components import lattice_labels, turn_room
 from pivot_ompl.planners.routes.lattice_ends import end_joins
+from pivot_ompl.planners.routes.lattice_region import within_distance
 from pivot_ompl.planners.routes.lattice_search import TIGHT_PUSH, lattice_astar, route_cost
 from pivot_ompl.planners.routes.shared_fields import (
     ROUTES_KEPT,
@@ -56,39 +56,6 @@ MAX_CELLS = 250_000
 State = tuple[int, int, int]
 _START: State = (-1, -1, -1)
 _GOAL: State = (-2, -2, -2)
-
-
-def within_distance(region: BaseGeometry, xs: np.ndarray, ys: np.ndarray,
-                    distance: float) -> np.ndarray:
-    """Grid points ``(xs[i], ys[j])`` within ``distance`` of ``region`` (``(nx, ny)`` booleans).
-
-    Those inside it, and those within ``distance`` of one of its boundary's segments (a
-    tree of the segments): exact, where buffering a region of thousands of vertices took
-    seconds on an office's floor and its chords left out points within the distance.
-    """
-    result = np.zeros((len(xs), len(ys)), dtype=bool)
-    if region.is_empty:
-        return result
-    x0, y0, x1, y1 = region.bounds  # only the points within its box grown by the distance
-    i = slice(int(np.searchsorted(xs, x0 - distance)), int(np.searchsorted(xs, x1 + distance,
-                                                                           side="right")))
-    j = slice(int(np.searchsorted(ys, y0 - distance)), int(np.searchsorted(ys, y1 + distance,
-                                                                           side="right")))
-    xs, ys = xs[i], ys[j]
-    inside = shapely.contains_xy(region, xs[:, None], ys[None, :])
-    lines = shapely.get_parts(shapely.boundary(region))
-    segments = [np.stack([c[:-1], c[1:]], axis=1) for c in map(shapely.get_coordinates, lines)
-                if len(c) > 1]
-    if segments:
-        tree = shapely.STRtree(shapely.linestrings(np.concatenate(segments)))
-        out = np.flatnonzero(~inside.ravel())
-        px, py = np.divmod(out, len(ys))
-        hit, _ = tree.query(shapely.points(xs[px], ys[py]), predicate="dwithin",
-                            distance=distance)
-        flat = inside.ravel()
-        flat[out[np.unique(hit)]] = True
-    result[i, j] = inside
-    return result
 
 
 class TransferLattice:
@@ -145,6 +112,7 @@ class TransferLattice:
         #: (a route and its :meth:`way_bound` ask the same)
         self._ways: dict[int, tuple[frozenset[int], np.ndarray]] = {}
         self._grids: dict[tuple[int, int], bytes] = {}
+        self._rooms: dict[tuple[int, int], np.ndarray] = {}
         #: routes made real (:func:`~.chain.made_real`'s ``cache``), shared by the callers
         self.chains: dict[tuple, tuple[list[Pose], float] | None] = {}
 
@@ -303,6 +271,24 @@ class TransferLattice:
         fits = self.field.fits(parity, k, should_stop=should_stop)
         return fits if self.region is None else fits & self.in_region()
 
+    def turn_room(self, parity: int, h: int,
+                  should_stop: Callable[[], bool] | None = None) -> np.ndarray:
+        """Where the lattice turns between heading ``h`` and the next at ``parity`` (kept).
+
+        ``(nx, ny)`` booleans (:func:`.turn_room` over the lattice's grids): the turn moves
+        of the lattice's components, and the room an end between headings joins
+        (:func:`.end_joins`).
+
+        Raises:
+            Interrupted: ``should_stop()`` said stop while a yaw's grid was computed.
+        """
+        key = (parity, h % N_HEADINGS)
+        room = self._rooms.get(key)
+        if room is None:
+            room = self._rooms[key] = turn_room(
+                lambda k: self._fits(parity, k, should_stop), key[1])
+        return room
+
     def in_region(self) -> np.ndarray:
         """The grid positions the lattice holds (``(nx, ny)`` booleans, kept)."""
         return self._mask_over(self.field)
@@ -341,21 +327,9 @@ class TransferLattice:
 
     def _labelled(self, parity: int,
                   should_stop: Callable[[], bool] | None) -> tuple[np.ndarray, np.ndarray]:
-        """:meth:`_components` computed."""
-        f = self.field
-        nx, ny, nh = f.nx, f.ny, N_HEADINGS
-        fits = [self._fits(parity, k, should_stop).reshape(-1) for k in range(2 * nh)]
-        any_free = np.zeros(nx * ny, dtype=bool)
-        for h in range(nh):
-            any_free |= fits[2 * h]
-        cells = np.flatnonzero(any_free)
-        cell_ids = np.full(nx * ny, -1, dtype=np.int32)  # < MAX_CELLS * 16 states
-        cell_ids[cells] = np.arange(len(cells), dtype=np.int32)
-        state = [fits[2 * h][cells] for h in range(nh)]  # free at heading h, per free cell
-        turn = [state[h] & state[(h + 1) % nh] & fits[2 * h + 1][cells] for h in range(nh)]
-        labels = chunked_labels(cells, cell_ids, state, turn, (nx, ny), should_stop)
-        labels[~np.stack(state, axis=1).reshape(-1)] = -1
-        return cell_ids, labels
+        """:meth:`_components` computed (:func:`.lattice_labels`)."""
+        return lattice_labels(lambda k: self._fits(parity, k, should_stop),
+                              (self.field.nx, self.field.ny), should_stop)
 
     def _floor_distances(self, parity: int, goals: dict[State, float],
                          should_stop: Callable[[], bool] | None) -> np.ndarray:
@@ -394,4 +368,5 @@ class TransferLattice:
                ) -> tuple[dict[State, float], dict[State, Pose]]:
         """:func:`.end_joins` of ``car``: the states, their costs and their leads' cars."""
         return end_joins(self.field, car, parity, push=self._push[grasp], spin=self._spin,
-                         region=self.in_region(), leads=leads, should_stop=should_stop)
+                         region=self.in_region(), leads=leads, should_stop=should_stop,
+                         turns=lambda h: self.turn_room(parity, h, should_stop))
