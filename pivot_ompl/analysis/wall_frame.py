@@ -103,13 +103,16 @@ class WallFrame:
 
 
 def wall_frame(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
-               should_stop: Callable[[], bool] | None = None) -> WallFrame | None:
+               should_stop: Callable[[], bool] | None = None, worth: float = WORTH,
+               cell: float | None = None) -> WallFrame | None:
     """The scene turned to its walls and cut to its free floor, when that is worth it.
 
     ``None`` when the walls run along the axes, when the turned scene's bounds are not
-    smaller than :data:`WORTH` of the scene's, when the scene has over :data:`MAX_PIECES`
-    obstacle pieces, or when ``should_stop`` said stop. ``clearance``: what the checkers
-    keep every body from the obstacles (m; the old bounds' walls stand that far out).
+    smaller than ``worth`` (default :data:`WORTH`) of the scene's, when the scene has over
+    :data:`MAX_PIECES` obstacle pieces, or when ``should_stop`` said stop. ``clearance``:
+    what the checkers keep every body from the obstacles (m; the old bounds' walls stand
+    that far out). ``cell``: the grid spacing (m) the turned bounds' lower corner is aligned
+    to (most wall edges on grid lines); default the raster's first level's cell.
     """
     yaw = wall_yaw(scene.obstacles)
     if yaw == 0.0:
@@ -127,10 +130,11 @@ def wall_frame(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     bounds = (float(tx.min()) - reach, float(ty.min()) - reach,
               float(tx.max()) + reach, float(ty.max()) + reach)
     area = (bounds[2] - bounds[0]) * (bounds[3] - bounds[1])
-    if area > WORTH * (x1 - x0) * (y1 - y0):
+    if area > worth * (x1 - x0) * (y1 - y0):
         return None
     obstacles = tuple(turned_obstacle(o, -yaw, centre) for o in scene.obstacles)
-    bounds = _aligned(bounds, obstacles, floor_raster(bounds, CELLS[0]).cell)
+    bounds = _aligned(bounds, obstacles, floor_raster(bounds, CELLS[0]).cell if cell is None
+                      else cell)
     t, k = BOUND_WALL, clearance
     w, h = x1 - x0, y1 - y0
     walls = [BoxObstacle((centre[0], y0 - k - 0.5 * t), (w + 2 * (t + k), t), 0.0, 2.0),

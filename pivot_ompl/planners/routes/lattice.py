@@ -36,6 +36,7 @@ from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.routes.guide import graph_distances, move_graph
 from pivot_ompl.planners.routes.lattice_components import lattice_labels, turn_room
 from pivot_ompl.planners.routes.lattice_ends import end_joins
+from pivot_ompl.planners.routes.lattice_frame import LatticeFrame, lattice_frame
 from pivot_ompl.planners.routes.lattice_region import within_distance
 from pivot_ompl.planners.routes.lattice_search import TIGHT_PUSH, lattice_astar, route_cost
 from pivot_ompl.planners.routes.shared_fields import (
@@ -76,21 +77,31 @@ class TransferLattice:
             resolution over those states; the rest of the bounds' rectangle (e.g. the open
             corners round a turned building, which grow with the square of its length)
             costs nothing.
+        turned: lay the lattice in the walls' frame (:mod:`.lattice_frame`); ``False``: in
+            the scene's own frame whatever its walls' direction.
+
+    Attributes:
+        frame: where the lattice lies (its grid, :attr:`field` and headings): the scene's
+            walls' frame, or its own (:meth:`~.lattice_frame.LatticeFrame.car_in`). Routes,
+            poses and ``region`` are the scene's.
     """
 
     def __init__(self, checker: PivotChecker, costs: CostModel, *, resolution: float = 0.1,
                  max_expansions: int = 200_000, weight: float = 1.0,
-                 region: BaseGeometry | None = None) -> None:
+                 region: BaseGeometry | None = None, turned: bool = True) -> None:
         """A lattice over the checker's floor (within reach of ``region``)."""
         self.checker, self.costs = checker, costs
         self.region = region
         self._mask: np.ndarray | None = None
-        x0, y0, x1, y1 = checker.world.bounds
+        self.frame = lattice_frame(checker, resolution=resolution) if turned else LatticeFrame()
+        world = checker.world if self.frame.world is None else self.frame.world
+        x0, y0, x1, y1 = world.bounds
         resolution = max(resolution, math.sqrt((x1 - x0) * (y1 - y0) / MAX_CELLS))
         self.resolution, self.max_expansions, self.weight = resolution, max_expansions, weight
         # the scene's field, shared with its later plans; within a region, paying for the
         # pieces round the region alone
-        self.field = assembly_field(checker, resolution, region=region, area=self._mask_over)
+        self.field = assembly_field(checker, resolution, region=region, area=self._mask_over,
+                                    frame=self.frame)
         alpha = checker.scene.alpha_max
         m = checker.model
         self._push = {g: costs.push_rate(m.edge_half_length(g), alpha) for g in range(4)}
@@ -117,9 +128,9 @@ class TransferLattice:
         self.chains: dict[tuple, tuple[list[Pose], float] | None] = {}
 
     def car(self, s: State) -> Pose:
-        """The car pose of lattice state ``s``."""
+        """The car pose of lattice state ``s`` (in the scene)."""
         x, y = self.field.position(s[0], s[1])
-        return (x, y, HEADING_YAWS[s[2]])
+        return self.frame.car_out((x, y, HEADING_YAWS[s[2]]))
 
     def route(self, start: Pose, goal: Pose, grasp: int, *,
               should_stop: Callable[[], bool] | None = None,
@@ -163,9 +174,9 @@ class TransferLattice:
         Raises:
             Interrupted: ``should_stop()`` became true.
         """
-        m, parity, f = self.checker.model, grasp % 2, self.field
-        starts = self._attach(m.car_pose(start, grasp), parity, grasp, should_stop)
-        goals = self._attach(m.car_pose(goal, grasp), parity, grasp, should_stop)
+        m, parity, f, car_in = self.checker.model, grasp % 2, self.field, self.frame.car_in
+        starts = self._attach(car_in(m.car_pose(start, grasp)), parity, grasp, should_stop)
+        goals = self._attach(car_in(m.car_pose(goal, grasp)), parity, grasp, should_stop)
         if not starts or not goals:
             return math.inf
         cell_ids, _ = self._components(parity, should_stop)
@@ -188,8 +199,8 @@ class TransferLattice:
     def _route(self, start: Pose, goal: Pose, grasp: int,
                should_stop: Callable[[], bool] | None,
                weight: float, leads: bool) -> tuple[list[Pose], float]:
-        m = self.checker.model
-        ca, cb = m.car_pose(start, grasp), m.car_pose(goal, grasp)
+        m, car_in = self.checker.model, self.frame.car_in
+        ca, cb = car_in(m.car_pose(start, grasp)), car_in(m.car_pose(goal, grasp))
         parity = grasp % 2
         starts, lead_a = self._joins(ca, parity, grasp, should_stop, leads)
         goals, lead_b = self._joins(cb, parity, grasp, should_stop, leads)
@@ -227,8 +238,9 @@ class TransferLattice:
         self.expansions += expanded
         if not states:
             return [], math.inf
-        head = [lead_a[states[1]]] if states[1] in lead_a else []
-        tail = [lead_b[states[-2]]] if states[-2] in lead_b else []
+        out = self.frame.car_out
+        head = [out(lead_a[states[1]])] if states[1] in lead_a else []
+        tail = [out(lead_b[states[-2]])] if states[-2] in lead_b else []
         cars = [*head, *map(self.car, states[1:-1]), *tail]
         poses = [start, *(m.object_from_car(c, grasp) for c in cars), goal]
         return poses, route_cost(states, starts, goals, grids=grids, ny=ny, push=push, turn=turn)
@@ -250,7 +262,8 @@ class TransferLattice:
         parity, ny, m = grasp % 2, self.field.ny, self.checker.model
         cell_ids, labels = self._components(parity, should_stop)
         out = set()
-        for ix, iy, h in self._attach(m.car_pose(obj, grasp), parity, grasp, should_stop):
+        car = self.frame.car_in(m.car_pose(obj, grasp))
+        for ix, iy, h in self._attach(car, parity, grasp, should_stop):
             cid = int(cell_ids[ix * ny + iy])
             if cid >= 0 and labels[cid * N_HEADINGS + h] >= 0:
                 out.add(int(labels[cid * N_HEADINGS + h]))
@@ -304,7 +317,7 @@ class TransferLattice:
                 x0, y0 = f.position(0, 0)
                 xs = x0 + self.resolution * np.arange(f.nx)
                 ys = y0 + self.resolution * np.arange(f.ny)
-                self._mask = within_distance(self.region, xs, ys, reach)
+                self._mask = within_distance(self.frame.region_in(self.region), xs, ys, reach)
         return self._mask
 
     def _components(self, parity: int,
@@ -360,13 +373,13 @@ class TransferLattice:
 
     def _attach(self, car: Pose, parity: int, grasp: int,
                 should_stop: Callable[[], bool] | None) -> dict[State, float]:
-        """Free lattice states near ``car`` (the two nearest headings), with a cost guess."""
+        """Free lattice states near ``car`` (in the frame; the two nearest headings), costed."""
         return self._joins(car, parity, grasp, should_stop, False)[0]
 
     def _joins(self, car: Pose, parity: int, grasp: int,
                should_stop: Callable[[], bool] | None, leads: bool
                ) -> tuple[dict[State, float], dict[State, Pose]]:
-        """:func:`.end_joins` of ``car``: the states, their costs and their leads' cars."""
+        """:func:`.end_joins` of ``car`` (in the frame): the states, costs and leads' cars."""
         return end_joins(self.field, car, parity, push=self._push[grasp], spin=self._spin,
                          region=self.in_region(), leads=leads, should_stop=should_stop,
                          turns=lambda h: self.turn_room(parity, h, should_stop))
