@@ -103,7 +103,7 @@ class WallFrame:
 
 
 def wall_frame(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
-               should_stop: Callable[[], bool] | None = None, worth: float = WORTH,
+               should_stop: Callable[[], bool] | None = None, worth: float | None = None,
                cell: float | None = None) -> WallFrame | None:
     """The scene turned to its walls and cut to its free floor, when that is worth it.
 
@@ -130,7 +130,7 @@ def wall_frame(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     bounds = (float(tx.min()) - reach, float(ty.min()) - reach,
               float(tx.max()) + reach, float(ty.max()) + reach)
     area = (bounds[2] - bounds[0]) * (bounds[3] - bounds[1])
-    if area > worth * (x1 - x0) * (y1 - y0):
+    if area > (WORTH if worth is None else worth) * (x1 - x0) * (y1 - y0):
         return None
     obstacles = tuple(turned_obstacle(o, -yaw, centre) for o in scene.obstacles)
     bounds = _aligned(bounds, obstacles, floor_raster(bounds, CELLS[0]).cell if cell is None
