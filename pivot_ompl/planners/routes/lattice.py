@@ -19,6 +19,9 @@ not move the car), inflated by ``weight``; a push beside a wall is priced higher
 search (:data:`~.lattice_search.TIGHT_PUSH`): a guide the pivot checker certifies. A query
 whose ends lie in different connected components of the lattice (computed once per grasp
 parity, scipy) has no route and costs nothing.
+
+The grid and its headings lie in the scene's walls' frame (:mod:`.lattice_frame`), so that a
+turned copy of a scene gets the original's lattice; poses and routes are the scene's.
 """
 
 from __future__ import annotations
