@@ -6,8 +6,9 @@ turned or reflected building, a map read at a yaw) has its corridors between two
 a route along a wall zigzags, and its ends, poses along the walls, join the lattice by turns
 that graze them. So the lattice is laid in the walls' frame
 (:func:`~pivot_ompl.analysis.wall_frame.wall_frame`: the scene turned by its walls' direction
-about its bounds' centre, cut to its free floor, the grid's lines on most wall edges): a
-turned copy of a scene gets the lattice of the original. Turning is a rigid motion, so a
+about its bounds' centre and cut to its free floor, the grid's lines through the free
+floor's corner, where a floor drawn in its walls' frame has its bounds' corner and so its own
+grid's): a turned copy of a scene gets the lattice of the original. Turning is a rigid motion, so a
 route of the turned floor is one of the floor; poses go in and out by
 :meth:`LatticeFrame.car_in` and :meth:`LatticeFrame.car_out`, and the route's ends stay the
 exact poses asked for (the lattice's routes join them as it joins any end). A floor whose walls
@@ -81,13 +82,14 @@ class LatticeFrame:
 def lattice_frame(checker: PivotChecker, *, resolution: float) -> LatticeFrame:
     """The frame of a lattice over ``checker``'s scene at ``resolution`` (m), shared by scene.
 
-    The walls' frame (module docstring) with its grid aligned to ``resolution``, whatever its
-    bounds' area; the scene's own frame where there is none.
+    The walls' frame (module docstring), whatever its bounds' area, its grid's lines at
+    ``resolution`` through the free floor's corner; the scene's own frame where there is none.
     """
     clearance = checker.world.clearance
 
     def made() -> LatticeFrame:
-        f = wall_frame(checker.scene, clearance=clearance, worth=math.inf, cell=resolution)
+        f = wall_frame(checker.scene, clearance=clearance, worth=math.inf,
+                       floor_grid=resolution)
         if f is None:
             return LatticeFrame()
         return LatticeFrame(f.yaw, f.centre,
