@@ -291,9 +291,9 @@ class TransferLattice:
                   should_stop: Callable[[], bool] | None = None) -> np.ndarray:
         """Where the lattice turns between heading ``h`` and the next at ``parity`` (kept).
 
-        ``(nx, ny)`` booleans (:func:`.turn_room` over the lattice's grids): the turn moves
-        of the lattice's components, and the room an end between headings joins
-        (:func:`.end_joins`).
+        ``(nx, ny)`` booleans (:func:`~.lattice_components.turn_room` over the lattice's
+        grids): the turn moves of the lattice's components, and the room an end between
+        headings joins (:func:`.end_joins`).
 
         Raises:
             Interrupted: ``should_stop()`` said stop while a yaw's grid was computed.

@@ -82,8 +82,9 @@ def end_joins(field: AssemblyField, car: Pose, parity: int, *, push: float, spin
             near states, a turn wherever it is.
         should_stop: polled while a yaw's grid is computed.
         turns: ``turns(h)``, the grid positions where the lattice turns between heading
-            ``h`` and the next within ``region`` (:func:`.turn_room`, e.g. the lattice's
-            kept :meth:`~.lattice.TransferLattice.turn_room`); default: computed here.
+            ``h`` and the next within ``region`` (:func:`~.lattice_components.turn_room`,
+            e.g. the lattice's kept :meth:`~.lattice.TransferLattice.turn_room`); default:
+            computed here.
 
     Returns:
         ``(joins, leads)``: the states and their join costs, and for the states joined
