@@ -35,7 +35,8 @@ Run timing figures under ``flock /tmp/pivot-bench.lock``.
 
 ``mirror:SPEC`` plans any of these scenes reflected as ``mirror`` is (``mirror:door``,
 ``mirror:gen:walls:1``, ``mirror:map:aws_small_house``): a scene and its reflection side by
-side.
+side. ``rot:ANGLE:SPEC`` plans any of them turned by ``ANGLE`` rad about its floor's centre
+(``rot:0.6:fig10``, ``rot:0.6:mirror:door``), the old floor kept as walls as ``rot30`` is.
 """
 
 from __future__ import annotations
@@ -107,7 +108,8 @@ def variant(name: str):  # noqa: ANN201 (a Scene of whichever package version ru
     The copies are :mod:`pivot_ompl.generate`'s: the old floor kept as walls round it,
     ``mirror`` reflected in the line at :data:`MIRROR_AXIS` through the room's centre, and
     ``mirror:SPEC`` any scene of the other specs reflected alike (``mirror:door``,
-    ``mirror:gen:walls:1``, ``mirror:map:aws_small_house``).
+    ``mirror:gen:walls:1``, ``mirror:map:aws_small_house``), ``rot:ANGLE:SPEC`` turned by
+    ``ANGLE`` rad about its floor's centre (``rot:0.6:fig10``).
     """
     from common import scene_from_spec
 
@@ -117,6 +119,10 @@ def variant(name: str):  # noqa: ANN201 (a Scene of whichever package version ru
     if name.startswith("mirror:"):  # any scene of these specs, reflected as ``mirror`` is
         inner = variant(name[7:])
         return mirror_scene(inner, MIRROR_AXIS, name=f"{inner.name}_mirror")
+    if name.startswith("rot:"):  # rot:ANGLE:SPEC, any scene turned by ANGLE rad
+        _, angle, rest = name.split(":", 2)
+        inner = variant(rest)
+        return rotate_scene(inner, float(angle), name=f"{inner.name}_rot{angle}")
     if (LAYOUTS / f"{name}.yaml").is_file():
         return load_scene(LAYOUTS / f"{name}.yaml")
     if name.startswith("map:"):

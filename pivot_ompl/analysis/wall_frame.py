@@ -103,13 +103,18 @@ class WallFrame:
 
 
 def wall_frame(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
-               should_stop: Callable[[], bool] | None = None) -> WallFrame | None:
+               should_stop: Callable[[], bool] | None = None, worth: float | None = None,
+               floor_grid: float | None = None) -> WallFrame | None:
     """The scene turned to its walls and cut to its free floor, when that is worth it.
 
     ``None`` when the walls run along the axes, when the turned scene's bounds are not
-    smaller than :data:`WORTH` of the scene's, when the scene has over :data:`MAX_PIECES`
-    obstacle pieces, or when ``should_stop`` said stop. ``clearance``: what the checkers
-    keep every body from the obstacles (m; the old bounds' walls stand that far out).
+    smaller than ``worth`` (default :data:`WORTH`) of the scene's, when the scene has over
+    :data:`MAX_PIECES` obstacle pieces, or when ``should_stop`` said stop. ``clearance``:
+    what the checkers keep every body from the obstacles (m; the old bounds' walls stand
+    that far out). ``floor_grid``: a grid spacing (m); the turned bounds' lower corner then
+    lies a whole number of it below the free floor's (a floor drawn in the walls' frame has
+    its bounds' corner there: a grid from it is the one the floor's own would be); default:
+    the corner aligned to the raster's cells (most wall edges on cell edges).
     """
     yaw = wall_yaw(scene.obstacles)
     if yaw == 0.0:
@@ -124,13 +129,16 @@ def wall_frame(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     c, s = math.cos(-yaw), math.sin(-yaw)
     dx, dy = pts[:, 0] - centre[0], pts[:, 1] - centre[1]
     tx, ty = centre[0] + c * dx - s * dy, centre[1] + s * dx + c * dy
+    if floor_grid is not None:  # the grid's lines through the free floor's corner
+        reach = floor_grid * math.ceil(reach / floor_grid)
     bounds = (float(tx.min()) - reach, float(ty.min()) - reach,
               float(tx.max()) + reach, float(ty.max()) + reach)
     area = (bounds[2] - bounds[0]) * (bounds[3] - bounds[1])
-    if area > WORTH * (x1 - x0) * (y1 - y0):
+    if area > (WORTH if worth is None else worth) * (x1 - x0) * (y1 - y0):
         return None
     obstacles = tuple(turned_obstacle(o, -yaw, centre) for o in scene.obstacles)
-    bounds = _aligned(bounds, obstacles, floor_raster(bounds, CELLS[0]).cell)
+    if floor_grid is None:
+        bounds = _aligned(bounds, obstacles, floor_raster(bounds, CELLS[0]).cell)
     t, k = BOUND_WALL, clearance
     w, h = x1 - x0, y1 - y0
     walls = [BoxObstacle((centre[0], y0 - k - 0.5 * t), (w + 2 * (t + k), t), 0.0, 2.0),
