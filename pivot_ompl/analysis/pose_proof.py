@@ -119,7 +119,7 @@ class HeldParts:
             room (:class:`~pivot_ompl.analysis.pose_bins.BinRegions` or a subclass).
         floor: the scene's :class:`~pivot_ompl.analysis.pose_floor.HeldFloor` to read (its
             pieces, room and walks), shared with other relaxations of the scene; built here
-            when ``None`` or kept at another clearance than ``clearance``.
+            when ``None``, of another scene, or kept at another clearance than ``clearance``.
     """
 
     def __init__(self, scene: Scene, clearance: float,
@@ -127,7 +127,7 @@ class HeldParts:
                  parts_clearance: float | None = None,
                  regions: type[BinRegions] = BinRegions,
                  floor: HeldFloor | None = None) -> None:
-        if floor is None or floor.clearance != clearance:
+        if floor is None or floor.scene is not scene or floor.clearance != clearance:
             floor = HeldFloor(scene, clearance, should_stop)
         self.floor = floor
         self.bodies = floor.bodies

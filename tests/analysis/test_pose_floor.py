@@ -88,3 +88,13 @@ def test_the_gates_poses_keep_the_checkers_clearance_on_the_proofs_floor():
     proof = HeldParts(scene, MOTION_CLEARANCE, None, floor=floor)
     assert all(proof.bins.regions(a, b)[g].area > r.area + 1e-4
                for g, r in enumerate(gate.bins.regions(a, b)))
+
+
+def test_a_floor_of_another_scene_or_clearance_is_not_read():
+    scene, other = corner_slot(0.90, 0.92), corner_slot(3.0, 0.95)
+    floor = HeldFloor(other, MOTION_CLEARANCE, None)
+    assert HeldParts(scene, MOTION_CLEARANCE, None, floor=floor).floor is not floor
+    assert HeldParts(other, KEEP_CLEARANCE, None, floor=floor).floor is not floor
+    assert HeldParts(other, MOTION_CLEARANCE, None, floor=floor).floor is floor
+    # the proof on the other scene's floor answers for its own scene: no plan there
+    assert prove_no_plan(scene, floor=floor).apart is True
