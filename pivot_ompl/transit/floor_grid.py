@@ -11,7 +11,9 @@ of vertex differences (:func:`~pivot_ompl.validity.minkowski.meeting_edges`, the
 as shapely's :func:`~pivot_ompl.validity.footprints.meeting_hulls`; rasterised together by
 :func:`~pivot_ompl.validity.rasters.grid_union`), computed for polygons *inside* the true
 shapes (a cylinder's inscribed polygon, the clearance's rounded corners by chords), so a
-position is never closed where the exact checks would let the body stand.
+position is never closed where the exact checks would let the body stand. A centrally
+symmetric piece's sum at a yaw pi from an earlier one is that sum point-reflected
+(:data:`OPPOSITE_YAWS`; the same region to rounding).
 
 The resting box's part is computed per query, in the window it can close: the positions whose
 inscribed disk comes within ``box_margin`` of the box (:meth:`FloorGrid.box_closes`, the floor
@@ -44,6 +46,15 @@ OPEN_YAWS: tuple[float, ...] = tuple(sorted(
     {*HEADING_YAWS, *(a + 0.5 * ((b - a + math.pi) % (2 * math.pi) - math.pi)
                       for a, b in zip(HEADING_YAWS, HEADING_YAWS[1:] + HEADING_YAWS[:1],
                                       strict=True))}))
+
+
+#: Per yaw of :data:`OPEN_YAWS`, the earlier one opposite it (pi apart), or ``None``: a body
+#: turned by pi is its point reflection, so a wall box's sum there is reflected, not summed
+#: (:class:`~.floor_sums.PieceSums`).
+OPPOSITE_YAWS: tuple[int | None, ...] = tuple(
+    next((j for j in range(k) if abs(math.remainder(OPEN_YAWS[k] - OPEN_YAWS[j] - math.pi,
+                                                    2 * math.pi)) < 1e-9), None)
+    for k in range(len(OPEN_YAWS)))
 
 
 #: Yaws whose obstacle sums are computed together (all 32 at once ran slower on a floor of
@@ -121,7 +132,7 @@ class FloorGrid:
         #: every (piece, yaw) sum with the grown body, summed once when first asked (shared
         #: by :meth:`fits_range` and :meth:`open_block`)
         self.sums = PieceSums(self.pieces, [_turned(self.grown_outline, yaw)
-                                            for yaw in OPEN_YAWS])
+                                            for yaw in OPEN_YAWS], opposite=list(OPPOSITE_YAWS))
         #: farthest a point of the grown body lies from the robot pose (m)
         self._body_reach = float(np.hypot(self.grown_outline[:, 0],
                                           self.grown_outline[:, 1]).max())
