@@ -7,8 +7,9 @@ the bounds and clear of the obstacles grown by the kept clearance.
 
 The obstacles' part is vectorised (numpy), a block of yaws at a time: at each yaw, the
 positions where the body (grown by the kept clearance) meets an obstacle are the convex hulls
-of vertex differences (:func:`~pivot_ompl.validity.minkowski.meeting_edges`, the same hulls
-as shapely's :func:`~pivot_ompl.validity.footprints.meeting_hulls`; rasterised together by
+of vertex differences (:func:`~pivot_ompl.validity.minkowski.meeting_edges` without its
+certificate: the regions of shapely's :func:`~pivot_ompl.validity.footprints.meeting_hulls`
+to rounding, for a floor that guides the walk search; rasterised together by
 :func:`~pivot_ompl.validity.rasters.grid_union`), computed for polygons *inside* the true
 shapes (a cylinder's inscribed polygon, the clearance's rounded corners by chords), so a
 position is never closed where the exact checks would let the body stand. A centrally
@@ -36,7 +37,7 @@ from pivot_ompl.transit.floor_sums import PieceSums
 from pivot_ompl.transit.lattice import HEADING_YAWS
 from pivot_ompl.validity.collision import CollisionWorld
 from pivot_ompl.validity.footprints import obstacle_pieces, piece_bounds
-from pivot_ompl.validity.minkowski import meeting_edges
+from pivot_ompl.validity.minkowski import EdgeSet, meeting_edges
 from pivot_ompl.validity.rasters import grid_union
 
 #: Yaws at which a grid position may hold the walking body: the 16 lattice headings and the
@@ -74,6 +75,16 @@ class GridStats:
 
     yaws_summed: int = 0
     pairs_summed: int = 0
+
+
+def _guide_sums(pieces: list[np.ndarray], bodies: list[np.ndarray], *,
+                should_stop: Callable[[], bool] | None = None) -> EdgeSet:
+    """:func:`~pivot_ompl.validity.minkowski.meeting_edges` without the certificate.
+
+    The same regions to rounding, about four times cheaper: the floor guides the walk
+    search (its heuristic), every walk is certified by the clearance checks.
+    """
+    return meeting_edges(pieces, bodies, should_stop=should_stop, certify=False)
 
 
 def _turned(points: np.ndarray, yaw: float) -> np.ndarray:
@@ -221,7 +232,7 @@ class FloorGrid:
         In one call of :func:`~pivot_ompl.validity.minkowski.meeting_edges` (which polls the
         stop); the sums are kept (:class:`~.floor_sums.PieceSums`).
         """
-        self.stats.pairs_summed += self.sums.fill(pieces, yaws, meeting_edges, should_stop)
+        self.stats.pairs_summed += self.sums.fill(pieces, yaws, _guide_sums, should_stop)
         self.stats.yaws_summed = self.sums.yaws_complete()
 
     def box_reach(self) -> float:

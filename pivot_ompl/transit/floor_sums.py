@@ -1,7 +1,8 @@
 """The obstacle pieces' sums with the walking body, per piece and yaw, each computed once.
 
 Where the grown walking body at a yaw meets an obstacle piece is the convex hull of their
-vertex differences (:func:`~pivot_ompl.validity.minkowski.meeting_edges`, certified). The
+vertex differences (the caller's summing, :func:`~pivot_ompl.validity.minkowski.meeting_edges`
+or its uncertified form). The
 floor grid rasterises them two ways: every piece at a block of yaws (the whole floor's
 layers) and, for a tile, the pieces near it at every yaw. :class:`PieceSums` keeps each
 (piece, yaw) sum once computed, so either way asks only for the pairs it has not summed yet:
@@ -63,8 +64,10 @@ class PieceSums:
         if len(self.opposite) != k or any(
                 j is not None and self.opposite[j] is not None for j in self.opposite):
             raise PivotError(f"a reflected yaw's source must be summed itself: {self.opposite}")
-        self._centres, self._symmetric = symmetric_centres(pieces) if n else \
-            (np.zeros((0, 2)), np.zeros(0, dtype=bool))
+        self._centres: np.ndarray = np.zeros((0, 2))
+        self._symmetric: np.ndarray = np.zeros(0, dtype=bool)
+        if n:
+            self._centres, self._symmetric = symmetric_centres(pieces)
         self.reflected = 0
         self.done = np.zeros((n, k), dtype=bool)
         width = max([1, *(len(p) for p in pieces)]) + max(len(b) for b in bodies)
