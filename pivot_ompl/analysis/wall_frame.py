@@ -63,9 +63,12 @@ WORTH = 0.5
 MAX_PIECES = 4000
 #: A box is square to the frame's axes when ``|sin 2 yaw|`` is below this.
 AXIS = 1e-6
-#: Obstacles are shrunk by this much (m) before the free floor's pieces are found (pieces
-#: touching at a point never part two regions a box passes between).
-SHRINK = 1e-6
+#: Obstacles are grown by this much (m; at most a tenth of the box's short side) before the
+#: free floor's pieces are found: walls that touch edge to edge or at a corner close the floor
+#: between them even where rounding (a turned scene's) leaves them a hair apart. Sound: the
+#: box's centre stays half the box's short side from every obstacle, farther than this (and
+#: than the mitred corners, at most five times this).
+GROW = 1e-3
 
 
 @dataclass(frozen=True)
@@ -119,7 +122,8 @@ def wall_frame(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     floor = _free_floor(scene, should_stop)
     if floor is None:
         return None
-    reach = max(p.reach for g in (0, 1) for p in held_bodies(scene, g)) + MARGIN
+    # the floor lies GROW inside the obstacles' faces: its box grown back by that
+    reach = max(p.reach for g in (0, 1) for p in held_bodies(scene, g)) + MARGIN + _grow(scene)
     pts = shapely.get_coordinates(floor)
     c, s = math.cos(-yaw), math.sin(-yaw)
     dx, dy = pts[:, 0] - centre[0], pts[:, 1] - centre[1]
@@ -191,8 +195,8 @@ def _free_floor(scene: Scene, should_stop: Callable[[], bool] | None
         return None
     if len(pieces) > MAX_PIECES or (should_stop is not None and should_stop()):
         return None
-    solid = shapely.union_all(shapely.buffer([shapely.Polygon(p) for p in pieces], -SHRINK,
-                                             join_style="mitre"))
+    solid = shapely.union_all(shapely.buffer([shapely.Polygon(p) for p in pieces],
+                                             _grow(scene), join_style="mitre"))
     if should_stop is not None and should_stop():
         return None
     free = shapely.box(*scene.bounds).difference(solid)
@@ -200,3 +204,8 @@ def _free_floor(scene: Scene, should_stop: Callable[[], bool] | None
     kept = [g for g in getattr(free, "geoms", [free])
             if not g.is_empty and shapely.intersects(g, ends).any()]
     return shapely.MultiPolygon(kept) if kept else None
+
+
+def _grow(scene: Scene) -> float:
+    """How much (m) the obstacles are grown when the free floor is found (:data:`GROW`)."""
+    return min(GROW, 0.1 * min(scene.model.object_size[0], scene.model.object_size[1]))
