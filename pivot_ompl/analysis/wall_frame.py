@@ -15,10 +15,12 @@ scene's bounds cannot be the old rectangle (it is turned too), so:
 * the old bounds become four walls just outside them (:data:`BOUND_WALL` thick, the checkers'
   clearance away: a body inside the bounds keeps that clearance from them), turned;
 * the new bounds hold every body of every plan: in every state of a plan the box's centre lies
-  outside every obstacle and inside the bounds, and moves continuously, so it stays in the
-  connected piece of the free floor (the bounds less the obstacles' pieces, subsets of the
-  obstacles) holding the start (or the goal), and every body lies within the assembly's reach
-  of it. The new bounds are the turned pieces' box grown by that reach and :data:`MARGIN`.
+  inside the bounds and at least half the box's short side from every obstacle (the box
+  around it overlaps none), so outside every obstacle grown by :data:`GROW`, and moves
+  continuously, so it stays in the connected piece of the free floor (the bounds less the
+  obstacles' pieces, subsets of the obstacles, grown by :data:`GROW`) holding the start (or
+  the goal), and every body lies within the assembly's reach of it. The new bounds are the
+  turned pieces' box grown by that reach, :data:`MARGIN` and :data:`GROW`.
 
 Nothing a plan does is cut, so every bound computed there is one of the scene's (the route
 length and the regrasps are the same in any frame), and a place found there (where the held
