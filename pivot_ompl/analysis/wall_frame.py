@@ -129,16 +129,17 @@ def wall_frame(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     floor = _free_floor(scene, should_stop)
     if floor is None:
         return None
-    # the floor lies GROW inside the obstacles' faces: its box grown back by that
-    reach = max(p.reach for g in (0, 1) for p in held_bodies(scene, g)) + MARGIN + _grow(scene)
+    reach = max(p.reach for g in (0, 1) for p in held_bodies(scene, g)) + MARGIN
     pts = shapely.get_coordinates(floor)
     c, s = math.cos(-yaw), math.sin(-yaw)
     dx, dy = pts[:, 0] - centre[0], pts[:, 1] - centre[1]
     tx, ty = centre[0] + c * dx - s * dy, centre[1] + s * dx + c * dy
     if floor_grid is not None:  # the grid's lines through the free floor's corner
         reach = floor_grid * math.ceil(reach / floor_grid)
-    bounds = (float(tx.min()) - reach, float(ty.min()) - reach,
-              float(tx.max()) + reach, float(ty.max()) + reach)
+    # the floor found lies GROW inside the obstacles' faces: its box grown back by that
+    g = _grow(scene)
+    bounds = (float(tx.min()) - g - reach, float(ty.min()) - g - reach,
+              float(tx.max()) + g + reach, float(ty.max()) + g + reach)
     area = (bounds[2] - bounds[0]) * (bounds[3] - bounds[1])
     if area > (WORTH if worth is None else worth) * (x1 - x0) * (y1 - y0):
         return None
