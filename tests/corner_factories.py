@@ -1,4 +1,5 @@
-"""A closed L-shaped corridor whose corner the held box cannot turn (no plan exists)."""
+"""L-shaped corridors: closed ones whose corner the held box cannot turn (no plan exists), and
+an open L whose far leg the box ends across."""
 
 from __future__ import annotations
 
@@ -7,6 +8,8 @@ import math
 import numpy as np
 from factories import make_scene, rotated_scene_doc
 
+from pivot_ompl.generate.layout import free_complement
+from pivot_ompl.generate.layout import make_scene as layout_scene
 from pivot_ompl.scene import Scene, scene_from_dict
 
 
@@ -78,3 +81,12 @@ def ragged_slot(seed: int, angle: float = 0.0, *, strip: float = 0.90, slot: flo
            "object": {"size": [1.2, 0.3, 1.0]}, "start": [1.5, 0.5 * strip, 0.0],
            "goal": [4.0, 4.5, 0.0], "obstacles": walls}
     return scene_from_dict(rotated_scene_doc(doc, angle, (4.0, 3.0)), source="<test>")
+
+
+def open_corner(width: float = 1.6) -> Scene:
+    """An L of corridors ``width`` m wide; the box ends across the far leg, held at its side."""
+    bounds = (0.0, -1.5, 8.0, 8.0)
+    free = [(0.3, -0.5 * width, 5.0 + 0.5 * width, 0.5 * width),
+            (5.0 - 0.5 * width, -0.5 * width, 5.0 + 0.5 * width, 7.5)]
+    return layout_scene("corner", bounds, free_complement(bounds, free), (1.5, 0.0, 0.0),
+                        (5.0, 6.0, 0.0))

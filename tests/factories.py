@@ -221,3 +221,17 @@ def floor_with_clear_lane(boxes) -> Scene:  # noqa: ANN001
             "size": [w, h], "yaw": yaw, "height": 1.0}
            for x, d, up, w, h, yaw in boxes]
     return make_scene(obstacles=doc)
+
+
+#: fig10's middle phase: its regrasp poses (box) and the grasp held between them
+FIG10_MIDDLE = ((3.55, 1.5, 0.0), (8.95, 5.5, math.pi), 2)
+
+
+def about_centre(scene: Scene, angle: float, *, reflect: bool):  # noqa: ANN201
+    """The rigid map of a copy of ``scene`` turned (or reflected in the line at ``angle``)
+    about its bounds' centre, as :func:`pivot_ompl.generate.rotate_scene` and
+    :func:`~pivot_ompl.generate.mirror_scene` make it."""
+    from pivot_ompl.generate import RigidMap
+
+    b = scene.bounds
+    return RigidMap(angle, (0.5 * (b[0] + b[2]), 0.5 * (b[1] + b[3])), reflect)

@@ -11,13 +11,14 @@ from __future__ import annotations
 import math
 
 import pytest
+from factories import FIG10_MIDDLE, about_centre
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from pivot_ompl import plan
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
-from pivot_ompl.generate import RigidMap, mirror_scene
+from pivot_ompl.generate import mirror_scene
 from pivot_ompl.planners.config import OptimiserConfig
 from pivot_ompl.planners.evaluation import Evaluator, Status
 from pivot_ompl.planners.routes.chain import corners, made_real
@@ -29,8 +30,6 @@ from pivot_ompl.transit.lattice import HEADING_YAWS
 from pivot_ompl.validity.assembly_field import FIELD_YAWS
 
 AXIS = 0.3
-#: fig10's middle phase: its regrasp poses and grasp (a reflection maps grasp k to -k mod 4)
-MIDDLE = ((3.55, 1.5, 0.0), (8.95, 5.5, math.pi), 2)
 SPACING = OptimiserConfig().run_spacing
 
 
@@ -44,14 +43,10 @@ def mirrored(fig10):
     return mirror_scene(fig10, AXIS)
 
 
-def _reflect(fig10) -> RigidMap:
-    b = fig10.bounds
-    return RigidMap(AXIS, (0.5 * (b[0] + b[2]), 0.5 * (b[1] + b[3])), True)
-
 
 def test_the_mirrored_middle_phase_s_lattice_route_is_made_real(fig10, mirrored):
-    f = _reflect(fig10)
-    a, b, g = f.pose(MIDDLE[0]), f.pose(MIDDLE[1]), f.grasp(MIDDLE[2])
+    f = about_centre(fig10, AXIS, reflect=True)
+    a, b, g = f.pose(FIG10_MIDDLE[0]), f.pose(FIG10_MIDDLE[1]), f.grasp(FIG10_MIDDLE[2])
     checker = PivotChecker(mirrored)
     costs = CostModel()
     lattice = TransferLattice(checker, costs, turned=False)  # walls between its headings
@@ -66,12 +61,12 @@ def test_the_mirrored_middle_phase_s_lattice_route_is_made_real(fig10, mirrored)
 
 
 def test_an_end_between_headings_joins_states_that_can_turn_across_it(fig10, mirrored):
-    f = _reflect(fig10)
+    f = about_centre(fig10, AXIS, reflect=True)
     checker = PivotChecker(mirrored)
     lattice = TransferLattice(checker, CostModel(), turned=False)  # walls between headings
     field, m = lattice.field, checker.model
-    for obj in (f.pose(MIDDLE[0]), f.pose(MIDDLE[1])):
-        car = m.car_pose(obj, MIDDLE[2])
+    for obj in (f.pose(FIG10_MIDDLE[0]), f.pose(FIG10_MIDDLE[1])):
+        car = m.car_pose(obj, FIG10_MIDDLE[2])
         joins, leads = end_joins(field, car, 0, push=1.0, spin=1.0,
                                  region=lattice.in_region())
         assert joins and leads  # a wall beside it: some joins go through a lead
@@ -95,7 +90,7 @@ def test_an_end_between_headings_joins_states_that_can_turn_across_it(fig10, mir
 def test_an_end_on_a_lattice_heading_joins_as_without_leads(fig10):
     checker = PivotChecker(fig10)
     lattice = TransferLattice(checker, CostModel())
-    car = checker.model.car_pose(MIDDLE[0], MIDDLE[2])
+    car = checker.model.car_pose(FIG10_MIDDLE[0], FIG10_MIDDLE[2])
     assert not between_headings(car[2])
     joins, leads = end_joins(lattice.field, car, 0, push=1.0, spin=1.0,
                              region=lattice.in_region())

@@ -11,15 +11,15 @@ import math
 
 import numpy as np
 import pytest
+from corner_factories import open_corner
+from factories import FIG10_MIDDLE, about_centre
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from pivot_ompl import plan
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
-from pivot_ompl.generate import RigidMap, rotate_scene
-from pivot_ompl.generate.layout import free_complement
-from pivot_ompl.generate.layout import make_scene as layout_scene
+from pivot_ompl.generate import rotate_scene
 from pivot_ompl.planners.config import OptimiserConfig
 from pivot_ompl.planners.evaluation import Evaluator, Status
 from pivot_ompl.planners.routes.chain import made_real
@@ -32,8 +32,6 @@ from pivot_ompl.se2 import wrap_angle
 from pivot_ompl.transit.lattice import N_HEADINGS
 
 TURN = 0.6
-#: fig10's middle phase: its regrasp poses and grasp
-MIDDLE = ((3.55, 1.5, 0.0), (8.95, 5.5, math.pi), 2)
 SPACING = OptimiserConfig().run_spacing
 
 
@@ -46,10 +44,6 @@ def fig10():
 def turned(fig10):
     return rotate_scene(fig10, TURN)
 
-
-def _turn(scene) -> RigidMap:
-    b = scene.bounds
-    return RigidMap(TURN, (0.5 * (b[0] + b[2]), 0.5 * (b[1] + b[3])), False)
 
 
 def test_the_public_names_of_the_split_lattice_are_where_they_were():
@@ -66,15 +60,15 @@ def test_an_axis_aligned_scene_keeps_its_own_frame_and_field(fig10):
 
 
 def test_a_turned_scene_s_lattice_runs_along_its_walls(fig10, turned):
-    f = _turn(fig10)
+    f = about_centre(fig10, TURN, reflect=False)
     checker = PivotChecker(turned)
     lattice = TransferLattice(checker, CostModel())
     assert lattice.frame.yaw == pytest.approx(TURN, abs=1e-9)
-    a, b, g = f.pose(MIDDLE[0]), f.pose(MIDDLE[1]), f.grasp(MIDDLE[2])
+    a, b, g = f.pose(FIG10_MIDDLE[0]), f.pose(FIG10_MIDDLE[1]), f.grasp(FIG10_MIDDLE[2])
     route, cost = lattice.route(a, b, g)
     assert route[0] == a and route[-1] == b  # the exact ends
     original = TransferLattice(PivotChecker(fig10), CostModel())
-    _, cost0 = original.route(MIDDLE[0], MIDDLE[1], MIDDLE[2])
+    _, cost0 = original.route(FIG10_MIDDLE[0], FIG10_MIDDLE[1], FIG10_MIDDLE[2])
     assert cost == pytest.approx(cost0, rel=1e-6)  # the original's lattice: its route
     cars = [checker.model.car_pose(p, g) for p in route[1:-1]]
     assert any(abs(wrap_angle(c[2] - TURN)) < 1e-9 for c in cars)  # along the walls
@@ -112,26 +106,18 @@ def test_the_ends_joins_and_the_components_share_one_turn_test(fig10):
         ids = cell_ids[ix * ny + iy]
         assert np.array_equal(labels[ids * N_HEADINGS + h],
                               labels[ids * N_HEADINGS + (h + 1) % N_HEADINGS])
-    f = _turn(fig10)
-    for obj in (f.pose(MIDDLE[0]), f.pose(MIDDLE[1])):
-        car = checker.model.car_pose(obj, f.grasp(MIDDLE[2]))
+    f = about_centre(fig10, TURN, reflect=False)
+    for obj in (f.pose(FIG10_MIDDLE[0]), f.pose(FIG10_MIDDLE[1])):
+        car = checker.model.car_pose(obj, f.grasp(FIG10_MIDDLE[2]))
         kept = end_joins(lattice.field, car, 0, push=1.0, spin=1.0, region=lattice.in_region(),
                          turns=lambda h: lattice.turn_room(0, h))
         assert kept[0] and kept == end_joins(lattice.field, car, 0, push=1.0, spin=1.0,
                                              region=lattice.in_region())
 
 
-def _corner(width: float = 1.6):
-    """An L of corridors ``width`` m wide; the box ends across the far leg, held at its side."""
-    bounds = (0.0, -1.5, 8.0, 8.0)
-    free = [(0.3, -0.5 * width, 5.0 + 0.5 * width, 0.5 * width),
-            (5.0 - 0.5 * width, -0.5 * width, 5.0 + 0.5 * width, 7.5)]
-    return layout_scene("corner", bounds, free_complement(bounds, free), (1.5, 0.0, 0.0),
-                        (5.0, 6.0, 0.0))
-
 
 def test_a_turned_corner_s_regrasps_are_read_from_the_turned_lattice():
-    scene = rotate_scene(_corner(), TURN)
+    scene = rotate_scene(open_corner(), TURN)
     ck = PivotChecker(scene, seed=0)
     lattice = TransferLattice(ck, CostModel())
     assert lattice.frame.yaw == pytest.approx(TURN, abs=1e-9)

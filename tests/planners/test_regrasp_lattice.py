@@ -5,11 +5,10 @@ from __future__ import annotations
 import math
 
 import pytest
+from corner_factories import open_corner
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
-from pivot_ompl.generate.layout import free_complement
-from pivot_ompl.generate.layout import make_scene as layout_scene
 from pivot_ompl.planners.evaluation import Evaluator, Status
 from pivot_ompl.planners.routes.lattice import TransferLattice
 from pivot_ompl.planners.routes.regrasp_lattice import (
@@ -19,22 +18,13 @@ from pivot_ompl.planners.routes.regrasp_lattice import (
 )
 
 
-def _corner(width: float = 1.6):
-    """An L of corridors ``width`` m wide; the box ends across the far leg, held at its side."""
-    bounds = (0.0, -1.5, 8.0, 8.0)
-    free = [(0.3, -0.5 * width, 5.0 + 0.5 * width, 0.5 * width),
-            (5.0 - 0.5 * width, -0.5 * width, 5.0 + 0.5 * width, 7.5)]
-    return layout_scene("corner", bounds, free_complement(bounds, free), (1.5, 0.0, 0.0),
-                        (5.0, 6.0, 0.0))
-
-
 def _valid_grasps(ck: PivotChecker, pose) -> list[int]:
     return [g for g in range(4) if ck.state_valid(pose, g)]
 
 
 @pytest.fixture(scope="module")
 def corner():
-    scene = _corner()
+    scene = open_corner()
     ck = PivotChecker(scene, seed=0)
     return scene, ck, TransferLattice(ck, CostModel())
 
@@ -90,7 +80,7 @@ def test_a_stop_is_reported_as_such(corner):
 def test_the_regrasp_planner_takes_it_before_any_roadmap_where_the_band_applies():
     from pivot_ompl.api import plan
 
-    scene = _corner()
+    scene = open_corner()
     spec = ("regrasp[sampling.band_area=0;sampling.band_boxes=0;"
             "single_grasp.lattice_area=0]")
     result = plan(scene, planner=spec, time_limit=30.0, seed=0)
