@@ -40,6 +40,9 @@ log = logging.getLogger(__name__)
 
 #: Half-thickness (m) of the segment that closes a gap (it must seal it, nothing more).
 SEAL = 1e-6
+#: Gaps narrower than this (m) are walls touching up to round-off (a floor turned or mirrored
+#: moves touching edges apart by ~1e-16 m): sealed like every gap, but joining no regions.
+TOUCH = 2.0 * SEAL
 #: Most gaps the search closes (their union is not interruptible and grows faster than their
 #: number: 2837 gaps of a 30 x 15 m SLAM map took 17 s); beyond, no passage is reported.
 MAX_GAPS = 1000
@@ -217,7 +220,9 @@ def _blocking_passage(scene: Scene, clearance: float,
     if should_stop is not None and should_stop():
         raise Interrupted("the passage search")
     x0, y0, x1, y1 = scene.bounds
-    solid = shapely.union_all(list(walls) + list(shapely.buffer(lines, SEAL)))
+    # walls grown by SEAL: edges that touch up to round-off leave no crack between them
+    solid = shapely.union_all(list(shapely.buffer(walls, SEAL, join_style="mitre"))
+                              + list(shapely.buffer(lines, SEAL)))
     free = shapely.box(x0, y0, x1, y1).difference(solid)
     regions = [g for g in getattr(free, "geoms", [free]) if not g.is_empty]
     if should_stop is not None and should_stop():
@@ -240,6 +245,8 @@ def _blocking_passage(scene: Scene, clearance: float,
         return i
 
     for g in sorted(joins, key=lambda g: -widths[g]):  # widest gaps first (maximin path)
+        if widths[g] <= TOUCH:  # the rest are touching walls: no opening at all
+            break
         rs = joins[g]
         for r in rs[1:]:
             parent[find(r)] = find(rs[0])
