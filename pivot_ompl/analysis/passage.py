@@ -12,7 +12,9 @@ gap, the *passage* reported: no route of the held box avoids a passage at most t
 
 The passage is an explanation, not the proof (the relaxation is): the widths are exact
 (distances between the walls' floor shadows), the held assembly's width is the width of its
-convex outline, which an assembly turning inside a slot might beat by a little.
+convex outline, which an assembly turning inside a slot might beat by a little. Where no
+opening joins the two regions at all, the floor itself is cut: that is a proof
+(:func:`explain_no_plan`).
 """
 
 from __future__ import annotations
@@ -331,12 +333,19 @@ def explain_no_plan(scene: Scene, *, should_stop: Callable[[], bool] | None = No
     answer is ``None``. Otherwise the regrasp bound's relaxation runs: when it joins no path
     no plan exists, and the answer is the passage's reason (one line) and the passage;
     ``None`` when it joins one or ``should_stop`` stopped it (nothing is proven then).
+    A passage with no opening at all (``center`` ``None``) is its own proof: the box's
+    centre cannot leave the floor less the obstacles' footprints (every obstacle stands on
+    the floor, as the box does), and that floor holds no way from start to goal (walls
+    closer than :data:`TOUCH` count as touching: no box passes them), so the relaxation
+    is not run.
     ``passages``: the scene's passage search to share (:class:`PassageOnce`), if any.
     """
     search = passages if passages is not None else PassageOnce(scene)
     passage = search(should_stop=should_stop)
     if passage is None:
         return None
+    if passage.center is None:  # the floor itself is cut between start and goal: proven
+        return passage.reason, passage
     bound = lower_bound(scene, should_stop=should_stop)
     if bound.solvable is not False:
         return None

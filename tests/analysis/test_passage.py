@@ -68,6 +68,14 @@ def test_a_closed_room_turned_or_mirrored_still_has_no_opening(angle, mirrored):
     assert p is not None and p.center is None and "no opening" in p.reason, p
 
 
+def test_a_mirrored_closed_room_is_answered_before_the_search():
+    # the floor is cut between start and goal: proven without the relaxation
+    scene = mirror_scene(shipped("enclosed"), 0.3)
+    res = plan(scene, time_limit=2.0, seed=0)
+    assert res.status == "INFEASIBLE" and "no opening" in (res.infeasible_reason or "")
+    assert res.timings["solve"] == 0.0
+
+
 def test_a_feasible_scene_is_not_explained_away():
     assert explain_no_plan(shipped("slot")) is None  # one regrasp: a plan exists
 
