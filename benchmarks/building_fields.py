@@ -1,10 +1,11 @@
 """The whole-building fields of a plan on a real map, versions side by side: CPU seconds.
 
 A plan on a building map builds two fields over the whole floor: the walking floor's open
-positions, tile by tile (``FloorTiles``: each obstacle piece's certified Minkowski sums with
-the walking body at 32 yaws, rasterised; a regrasp walk that goes round the building floods
-them all), and the held assembly's field (``AssemblyField``: 32 yaws x 2 grasp parities of
-uncertified sums, rasterised). For each version (``--before DIR``, a package tree put on
+positions, tile by tile (``FloorTiles``: each obstacle piece's uncertified Minkowski sums with
+the walking body at 32 yaws, a wall box's at the 16 yaws opposite others reflected,
+rasterised; a regrasp walk that goes round the building floods them all), and the held
+assembly's field (``AssemblyField``: 32 yaws x 2 grasp parities of uncertified sums,
+rasterised). For each version (``--before DIR``, a package tree put on
 ``PYTHONPATH``, repeatable; then this checkout) a fresh interpreter builds both from the
 scene, ``--repeat`` times, versions alternating; the table gives the best CPU seconds
 (``time.process_time``: other load on the machine counts less than in wall time) and a

@@ -137,20 +137,26 @@ def import_corpus_map(m: CorpusMap, out: Path) -> dict[str, Any]:
 
 
 def plan_once(scene: str, seed: int, limit: float, out: Path, *,
-              prove: bool = False) -> dict[str, Any]:
-    """One ``pivot-ompl plan`` in a fresh process: exit code, wall time, peak memory, plan.
+              prove: bool = False, fresh: bool = False) -> dict[str, Any]:
+    """One ``pivot-ompl plan`` in a fresh process: exit code, wall and CPU time, peak memory, plan.
 
     ``prove``: ``plan --prove`` (the guided bound refined inside the plan whatever its
     estimate; by default ``plan`` refines it where the estimate fits the limit).
+    ``fresh``: the plan's own empty cache folder (``XDG_CACHE_HOME``; no bound cached by
+    an earlier plan).
     """
     plan_path = out / f"{Path(scene).stem}.seed{seed}.json"
     plan_path.unlink(missing_ok=True)
     cmd = [sys.executable, "-m", "pivot_ompl.cli", "plan", scene, "--time", str(limit),
            "--seed", str(seed), "--out", str(plan_path)] + (["--prove"] if prove else [])
-    with machine_lock():
+    env = dict(os.environ)
+    with machine_lock(), tempfile.TemporaryDirectory() as cache:
+        if fresh:
+            env["XDG_CACHE_HOME"] = cache
         t0 = time.perf_counter()
         with tempfile.TemporaryFile("w+") as stdout:  # a file: wait4 reaps the process
-            proc = subprocess.Popen(cmd, stdout=stdout, stderr=subprocess.PIPE, text=True)
+            proc = subprocess.Popen(cmd, stdout=stdout, stderr=subprocess.PIPE, text=True,
+                                    env=env)
             assert proc.stderr is not None
             err = proc.stderr.read()
             _, status, usage = os.wait4(proc.pid, 0)
@@ -159,6 +165,7 @@ def plan_once(scene: str, seed: int, limit: float, out: Path, *,
         wall = time.perf_counter() - t0
         proc.returncode = os.waitstatus_to_exitcode(status)
     run: dict[str, Any] = {"seed": seed, "code": proc.returncode, "wall": wall,
+                           "cpu": usage.ru_utime + usage.ru_stime,
                            "peak_mb": usage.ru_maxrss / 1024.0,
                            "outcome": outcome(proc.returncode, out_text),
                            "message": err.replace("\r", "\n").strip().splitlines()[-1:]}
@@ -250,6 +257,9 @@ def main() -> None:
     p.add_argument("--prove", action="store_true",
                    help="plan with --prove (the bound refined inside the plan whatever its "
                         "estimate; by default plan refines it where the estimate fits)")
+    p.add_argument("--fresh", action="store_true",
+                   help="each plan with its own empty cache folder (a first plan: no bound "
+                        "cached by an earlier seed)")
     p.add_argument("--table", metavar="JSON", help="only print the table of a run's "
                    "buildings.json")
     args = p.parse_args()
@@ -271,17 +281,18 @@ def main() -> None:
         info = import_corpus_map(m, out)
         runs = []
         for seed in range(args.seeds):
-            run = plan_once(info["scene"], seed, args.time, out, prove=args.prove)
+            run = plan_once(info["scene"], seed, args.time, out, prove=args.prove,
+                            fresh=args.fresh)
             runs.append(run)
             print(f"{m.name} seed {seed}: {run['outcome']} (code {run['code']}), "
-                  f"{run['wall']:.1f} s, "
+                  f"{run['wall']:.1f} s ({run['cpu']:.1f} s CPU), "
                   f"{run.get('regrasps')} regrasps (bound {run.get('bound')}), "
                   f"{run['peak_mb']:.0f} MB", file=sys.stderr, flush=True)
         record[m.name] = {"map": m.map, "start": m.start, "goal": m.goal, "clean": m.clean,
                           **info, "runs": runs}
     command = (f"python benchmarks/buildings.py --seeds {args.seeds} --time {args.time:g}"
                + (f" --maps {args.maps}" if args.maps else "")
-               + (" --prove" if args.prove else ""))
+               + (" --prove" if args.prove else "") + (" --fresh" if args.fresh else ""))
     text = table(record, command)
     (out / "buildings.md").write_text(text)
     (out / "buildings.json").write_text(json.dumps(

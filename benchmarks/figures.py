@@ -253,15 +253,41 @@ def run(out: Path, only: set[str] | None, *, reuse: bool = False) -> str:
     return "\n".join(lines) + "\n"
 
 
+def made_from(tree: Path = TREE.parent) -> str:
+    """The commit ``tree`` is at (short hash), with " and changes not committed" if any.
+
+    ``"a tree without git"`` where ``git`` cannot tell (an export, no ``git`` installed).
+    """
+    def git(*args: str) -> str | None:
+        try:
+            out = subprocess.run(["git", *args], cwd=tree, capture_output=True, text=True,
+                                 check=False, timeout=30)
+        except (OSError, subprocess.SubprocessError):
+            return None
+        return out.stdout.strip() if out.returncode == 0 else None
+
+    rev = git("rev-parse", "--short", "HEAD")
+    if not rev:
+        return "a tree without git"
+    dirty = git("status", "--porcelain", "--untracked-files=no")
+    return f"commit {rev}" + (" and changes not committed" if dirty else "")
+
+
 def page(table: str, *, minutes: float, partial: bool,
-         load: tuple[float, float] | None = None) -> str:
-    """The figures page: what the table is, how long ``make figures`` took, the table.
+         load: tuple[float, float] | None = None, made: str | None = None) -> str:
+    """The figures page: what the table is, when and from what it was made, how long ``make
+    figures`` took, the table.
 
     ``load``: the machine's 1-minute load average at the run's start and end (a figure well
     above the cores' number means other work shared the machine and slowed the timings).
+    ``made``: when and from what the run was made (``"2026-12-07 13:00 UTC from commit
+    abc1234"``: :func:`made_from`), stated at the page's top.
     """
     took = (f"This run took {minutes:.0f} min" + (" (some steps only: `--only`)" if partial
                                                   else "") + ".")
+    if made is not None:
+        took = (f"Made on {made}: figures of that code, not of a later one (a change since "
+                f"is not measured here until `make figures` runs again). {took}")
     if load is not None:
         took += (f" The 1-minute load average was {load[0]:.1f} at its start and {load[1]:.1f}"
                  f" at its end, on {os.cpu_count()} cores.")
@@ -292,12 +318,14 @@ def main() -> None:
     args = ap.parse_args()
     only = {s for s in args.only.split(",") if s} or None
     t0 = time.perf_counter()
+    made = f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} from {made_from()}"
     with machine_lock():
         load0 = os.getloadavg()[0]
         table = run(args.out, only, reuse=args.reuse)
         load1 = os.getloadavg()[0]
     took = time.perf_counter() - t0
-    text = page(table, minutes=took / 60, partial=only is not None, load=(load0, load1))
+    text = page(table, minutes=took / 60, partial=only is not None, load=(load0, load1),
+                made=made)
     args.page.parent.mkdir(parents=True, exist_ok=True)
     tmp = args.page.with_name(args.page.name + ".part")
     tmp.write_text(text, encoding="utf-8")

@@ -10,7 +10,9 @@ finest bins join start and goal, ``-``: nothing), the last round's bins, the rou
 bins whose regions were computed, and the medians of the proof's CPU seconds (``cpu s``),
 of those spent in the bins' regions (``regions``), in GEOS unions (``unions``, all of the
 proof's), in the chain search (``chain``) and in the regrasp walks (``walks``); ``ratio`` is
-``cpu s`` over the first version's. ``--gate`` times the proof's gate instead,
+``cpu s`` over the first version's. ``--both`` times what the late proof's held try runs:
+the gate, then the proof where the gate did not join (``joined``: the gate joined). ``--gate``
+times the proof's gate instead,
 :func:`pivot_ompl.analysis.pose_inner.joined_at_every_yaw` (answer ``joined``: held poses
 valid at every yaw join start and goal, ``no``: they do not, ``-``: stopped or out of
 searches; its 32 bins, no rounds).
@@ -68,8 +70,8 @@ def _timed(owner: Any, name: str, bucket: dict[str, float], column: str) -> None
     setattr(owner, name, wrapper)
 
 
-def worker(scene_spec: str, gate: bool = False) -> None:
-    """One proof (or its gate) of one scene in this process; prints its figures as JSON."""
+def worker(scene_spec: str, gate: bool = False, both: bool = False) -> None:
+    """One proof (its gate, or both) of one scene in this process; prints its figures as JSON."""
     import importlib
 
     sys.path.insert(0, str(HERE.parent))
@@ -105,6 +107,21 @@ def worker(scene_spec: str, gate: bool = False) -> None:
         cpu = time.process_time() - t0
         row: dict[str, Any] = {"answer": {True: "joined", False: "no", None: "-"}[joined],
                                "bins": proof.FIRST_BINS}
+    elif both:  # the late proof's held try: the gate, then the proof where it did not join
+        inner = importlib.import_module("pivot_ompl.analysis.pose_inner")
+        shared: dict[str, Any] = {}
+        try:  # a version whose gate and proof read one floor
+            floor = importlib.import_module("pivot_ompl.analysis.pose_floor")
+            shared["floor"] = floor.HeldFloor(scene, proof.MOTION_CLEARANCE, None)
+        except ModuleNotFoundError:
+            pass
+        joined = inner.joined_at_every_yaw(scene, **shared)
+        res = None if joined else proof.prove_no_plan(scene, **shared)
+        cpu = time.process_time() - t0
+        row = {"answer": "joined" if res is None else
+               {True: "apart", False: "joined", None: "-"}[res.apart],
+               "bins": proof.FIRST_BINS if res is None else res.bins,
+               "rounds": 0 if res is None else res.rounds}
     else:
         res = proof.prove_no_plan(scene)
         cpu = time.process_time() - t0
@@ -115,10 +132,11 @@ def worker(scene_spec: str, gate: bool = False) -> None:
     print(json.dumps(row))
 
 
-def run(version: Path, scene: str, gate: bool = False) -> dict[str, Any]:
-    """One proof (or its gate) in a fresh interpreter with ``version`` first on ``PYTHONPATH``."""
+def run(version: Path, scene: str, gate: bool = False, both: bool = False) -> dict[str, Any]:
+    """One proof (its gate, or both) in a fresh interpreter with ``version`` first on the path."""
     env = dict(os.environ, PYTHONPATH=str(version), XDG_CACHE_HOME=tempfile.mkdtemp())
-    cmd = [sys.executable, str(HERE), "--worker", scene, *(["--gate"] if gate else [])]
+    cmd = [sys.executable, str(HERE), "--worker", scene, *(["--gate"] if gate else []),
+           *(["--both"] if both else [])]
     sys.path.insert(0, str(HERE.parent))
     from common import machine_lock
 
@@ -153,11 +171,14 @@ def main() -> None:
     ap.add_argument("--runs", type=int, default=1, help="proofs per scene and version")
     ap.add_argument("--gate", action="store_true",
                     help="time the gate (pose_inner.joined_at_every_yaw), not the proof")
+    ap.add_argument("--both", action="store_true",
+                    help="time the late proof's held try: the gate, then the proof where the "
+                         "gate did not join (on one floor where the version shares it)")
     ap.add_argument("--out", default=None, help="JSON of every run")
     ap.add_argument("--worker", default=None, help=argparse.SUPPRESS)
     a = ap.parse_args()
     if a.worker:
-        worker(a.worker, a.gate)
+        worker(a.worker, a.gate, a.both)
         return
     versions = [*(v.resolve() for v in a.before), ROOT]
     table: dict[str, dict[str, list[dict[str, Any]]]] = {}
@@ -170,7 +191,7 @@ def main() -> None:
         rows: dict[str, list[dict[str, Any]]] = {str(v): [] for v in versions}
         for i in range(a.runs):
             for v in versions if i % 2 == 0 else versions[::-1]:
-                rows[str(v)].append(run(v, scene, a.gate))
+                rows[str(v)].append(run(v, scene, a.gate, a.both))
         table[spec] = rows
         first: float | None = None
         for v in versions:

@@ -35,7 +35,8 @@ Run timing figures under ``flock /tmp/pivot-bench.lock``.
 
 ``mirror:SPEC`` plans any of these scenes reflected as ``mirror`` is (``mirror:door``,
 ``mirror:gen:walls:1``, ``mirror:map:aws_small_house``): a scene and its reflection side by
-side.
+side. ``rot:ANGLE:SPEC`` plans any of them turned by ``ANGLE`` rad about its floor's centre
+(``rot:0.6:fig10``, ``rot:0.6:mirror:door``), the old floor kept as walls as ``rot30`` is.
 """
 
 from __future__ import annotations
@@ -44,9 +45,11 @@ import argparse
 import json
 import math
 import os
+import shutil
 import statistics
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -105,7 +108,8 @@ def variant(name: str):  # noqa: ANN201 (a Scene of whichever package version ru
     The copies are :mod:`pivot_ompl.generate`'s: the old floor kept as walls round it,
     ``mirror`` reflected in the line at :data:`MIRROR_AXIS` through the room's centre, and
     ``mirror:SPEC`` any scene of the other specs reflected alike (``mirror:door``,
-    ``mirror:gen:walls:1``, ``mirror:map:aws_small_house``).
+    ``mirror:gen:walls:1``, ``mirror:map:aws_small_house``), ``rot:ANGLE:SPEC`` turned by
+    ``ANGLE`` rad about its floor's centre (``rot:0.6:fig10``).
     """
     from common import scene_from_spec
 
@@ -115,6 +119,10 @@ def variant(name: str):  # noqa: ANN201 (a Scene of whichever package version ru
     if name.startswith("mirror:"):  # any scene of these specs, reflected as ``mirror`` is
         inner = variant(name[7:])
         return mirror_scene(inner, MIRROR_AXIS, name=f"{inner.name}_mirror")
+    if name.startswith("rot:"):  # rot:ANGLE:SPEC, any scene turned by ANGLE rad
+        _, angle, rest = name.split(":", 2)
+        inner = variant(rest)
+        return rotate_scene(inner, float(angle), name=f"{inner.name}_rot{angle}")
     if (LAYOUTS / f"{name}.yaml").is_file():
         return load_scene(LAYOUTS / f"{name}.yaml")
     if name.startswith("map:"):
@@ -136,17 +144,18 @@ def worker() -> None:
 
     from pivot_ompl.api import plan
     from pivot_ompl.errors import PivotError
+    from pivot_ompl.scene import load_scene
     from pivot_ompl.validity.plan_check import check_plan
 
     ou.setLogLevel(ou.LOG_WARN)
     scenes: dict[str, Any] = {}
     for line in sys.stdin:
-        name, seed_s, limit_s, *spec = line.split()
-        if name not in scenes:
-            scenes[name] = variant(name)
+        name, seed_s, limit_s, spec, path = line.split()
+        if name not in scenes:  # the file the parent wrote: one scene for every version
+            scenes[name] = load_scene(path)
         scene = scenes[name]
         try:
-            res = plan(scene, planner=spec[0] if spec else "regrasp",
+            res = plan(scene, planner=spec,
                        time_limit=float(limit_s), seed=int(seed_s))
         except PivotError as e:  # e.g. a path the conversion refuses: counted, not fatal
             print(json.dumps({"scene": name, "seed": int(seed_s), "solved": False,
@@ -288,13 +297,19 @@ def main() -> None:
     sys.path[:0] = [str(HERE.parent), str(ROOT)]  # this checkout's package and common.py
     from common import write_json
 
+    from pivot_ompl.generate.sceneio import write_scene
+
     versions = {"after": ROOT}
     if args.before:
         versions = {"before": Path(args.before).resolve(), "after": ROOT}
     procs = {} if args.fresh else {k: _start(v) for k, v in versions.items()}
     rows: dict[tuple[str, str], list[dict[str, Any]]] = {}
+    files = Path(tempfile.mkdtemp(prefix="plan_quality_"))
     try:
-        for name in scene_names(args.scenes):
+        for i, name in enumerate(scene_names(args.scenes)):
+            # made once by this checkout: a generated scene depends on the version's checks
+            # (its witness plan), so each version made its own, they could differ
+            scene_file = write_scene(variant(name), files / f"{i}.yaml")
             n = args.seeds if name == "fig10" else (args.seeds_variants or args.seeds)
             if name.startswith("gen:") or name not in ("fig10", "rot30", "mirror"):
                 n = args.seeds
@@ -303,7 +318,7 @@ def main() -> None:
                     spec = args.after_planner if ver == "after" else "regrasp"
                     proc = procs.get(ver) or _start(path)
                     try:
-                        r = _ask(proc, f"{name} {seed} {args.time} {spec}")
+                        r = _ask(proc, f"{name} {seed} {args.time} {spec} {scene_file}")
                     finally:
                         if args.fresh:
                             _close(proc)
@@ -315,6 +330,7 @@ def main() -> None:
     finally:
         for proc in procs.values():
             _close(proc)
+        shutil.rmtree(files, ignore_errors=True)
     table = {f"{name}/{ver}": _summary(rs) for (name, ver), rs in rows.items()}
     print(f"\n{'scene/version':18s} {'runs':>4} {'ok':>5} {'pivots':>7} {'range':>10} "
           f"{'regr':>5} {'range':>6} {'piv/m':>6} {'walk m':>7} {'solve s':>8} "

@@ -28,7 +28,11 @@ reaches it sooner and pays it more often; ``-`` for a version without it), the p
 (``proc s``: the interpreter, the imports and the plan; what one ``pivot-ompl plan`` costs),
 cost, pivots and regrasps.
 
-    flock /tmp/pivot-bench.lock python benchmarks/solve_time.py \
+Each worker process holds ``$PIVOT_BENCH_LOCK`` (``flock``) while it runs, when that is set:
+one timing process on the machine at a time, the lock free between them (set it, or run the
+whole script under ``flock`` of the same file, not both: the script would wait for itself).
+
+    PIVOT_BENCH_LOCK=/tmp/pivot-bench.lock python benchmarks/solve_time.py \
         --before /tmp/base [--seeds 5] [--time 15] [--first]
         [--scenes fig10,slot,door,...] [--out results/solve_time.json]
 """
@@ -49,7 +53,7 @@ HERE = Path(__file__).resolve()
 ROOT = HERE.parents[1]
 sys.path.insert(0, str(HERE.parent))
 
-from common import fmt, median_of  # noqa: E402
+from common import fmt, machine_lock, median_of  # noqa: E402
 
 #: the shipped scenes (``scenes/``) and public layouts (``benchmarks/layouts``) timed
 SCENES = ("fig10", "slot", "door", "t_junction", "open", "open_fig7", "corridor",
@@ -146,7 +150,7 @@ def first_worker(scene_name: str, seed: int, limit: float) -> None:
 
 def run_first(path: Path, scene: str, seed: int, limit: float) -> dict[str, Any]:
     """The row of one fresh worker, with an empty cache folder, planning ``scene`` once."""
-    with tempfile.TemporaryDirectory(prefix="solve_time_cache_") as cache:
+    with tempfile.TemporaryDirectory(prefix="solve_time_cache_") as cache, machine_lock():
         env = dict(os.environ, PYTHONPATH=str(path), XDG_CACHE_HOME=cache)
         out = subprocess.run([sys.executable, str(HERE), "--first-worker", scene, "--seed",
                               str(seed), "--time", str(limit)], env=env, cwd=str(path),
@@ -161,9 +165,10 @@ def run(path: Path, scene: str, seeds: int, limit: float) -> list[dict[str, Any]
     """Rows of one fresh worker with the package at ``path`` (the first row's ``first``: the
     warm-up plan's CPU seconds)."""
     env = dict(os.environ, PYTHONPATH=str(path))
-    out = subprocess.run([sys.executable, str(HERE), "--worker", scene, "--seeds", str(seeds),
-                          "--time", str(limit)], env=env, cwd=str(path), text=True,
-                         capture_output=True, check=False)
+    with machine_lock():
+        out = subprocess.run([sys.executable, str(HERE), "--worker", scene, "--seeds",
+                              str(seeds), "--time", str(limit)], env=env, cwd=str(path),
+                             text=True, capture_output=True, check=False)
     rows = [json.loads(line[4:]) for line in out.stdout.splitlines() if line.startswith("ROW ")]
     first = [json.loads(line[6:]) for line in out.stdout.splitlines() if line.startswith("FIRST ")]
     if out.returncode != 0 or len(rows) != seeds or not first:

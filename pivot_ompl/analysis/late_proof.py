@@ -42,11 +42,13 @@ from pivot_ompl.analysis.bound_cache import cached_bound
 from pivot_ompl.analysis.bound_levels import CELLS, exhaustive_estimate
 from pivot_ompl.analysis.passage import Passage, PassageOnce, assembly_width
 from pivot_ompl.analysis.pose_explain import explained
+from pivot_ompl.analysis.pose_floor import HeldFloor
 from pivot_ompl.analysis.pose_inner import joined_at_every_yaw
-from pivot_ompl.analysis.pose_proof import proof_estimate, prove_no_plan
+from pivot_ompl.analysis.pose_proof import MOTION_CLEARANCE, proof_estimate, prove_no_plan
 from pivot_ompl.analysis.turning import TurningPlace, turning_place, widest_circle
 from pivot_ompl.analysis.turning_raster import raster_turning_place
 from pivot_ompl.analysis.wall_frame import wall_frame
+from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
 from pivot_ompl.scene.shared import keep_shared, shared_value
 
@@ -223,14 +225,18 @@ class LateProof:
             if stop is None:
                 return False
             spent = self.work() + GATE_SHARE * window
+            try:  # one floor for the gate and the proof
+                floor = HeldFloor(self.scene, MOTION_CLEARANCE, stop)
+            except Interrupted:
+                return False  # stopped: nothing known, may be tried again with more time
             joined = joined_at_every_yaw(
-                self.scene, should_stop=lambda: stop() or self.work() >= spent)
+                self.scene, should_stop=lambda: stop() or self.work() >= spent, floor=floor)
             log.debug("late proof: joined at every yaw: %s (%.2f s)", joined,
                       self.clock() - now)
             if joined:
                 keep_shared(self.scene, HELD_POSES, False)  # nothing it could prove
                 return False
-            proof = held_pose_proof(self.scene, should_stop=stop)
+            proof = held_pose_proof(self.scene, should_stop=stop, floor=floor)
             if proof is None and stop():
                 return False  # stopped: nothing known, may be tried again with more time
             kept = proof if proof is not None else False
@@ -274,14 +280,15 @@ class LateProof:
         return lambda: self.clock() >= at
 
 
-def held_pose_proof(scene: Scene, *,
-                    should_stop: Callable[[], bool] | None = None) -> NoPlan | None:
+def held_pose_proof(scene: Scene, *, should_stop: Callable[[], bool] | None = None,
+                    floor: HeldFloor | None = None) -> NoPlan | None:
     """The held poses' relaxation's proof (:func:`~pivot_ompl.analysis.pose_proof.prove_no_plan`).
 
     Tried where the poses' relaxation joins start and goal: it refines the yaw where that
     relaxation's rooms join. ``None`` when it proves nothing before ``should_stop``.
+    ``floor``: the scene's floor at the proof's clearance, shared with its gate.
     """
-    proof = prove_no_plan(scene, should_stop=should_stop)
+    proof = prove_no_plan(scene, should_stop=should_stop, floor=floor)
     if not proof.apart:
         return None
     line, passage = explained(scene, proof, should_stop=should_stop)

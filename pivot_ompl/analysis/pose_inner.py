@@ -31,7 +31,8 @@ import shapely
 
 from pivot_ompl.analysis.pose_bins import SAME_YAW, BinRegions
 from pivot_ompl.analysis.pose_chain import Node, Searches, walked_chain
-from pivot_ompl.analysis.pose_proof import FIRST_BINS, HeldParts, PoseGraph
+from pivot_ompl.analysis.pose_floor import HeldFloor
+from pivot_ompl.analysis.pose_proof import FIRST_BINS, MOTION_CLEARANCE, HeldParts, PoseGraph
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
@@ -113,20 +114,22 @@ def _towards(graph: PoseGraph, goal: shapely.Point, links: dict[Node, list[Node]
 
 
 def joined_at_every_yaw(scene: Scene, *, bins: int = FIRST_BINS,
-                        should_stop: Callable[[], bool] | None = None) -> bool | None:
+                        should_stop: Callable[[], bool] | None = None,
+                        floor: HeldFloor | None = None) -> bool | None:
     """Whether a chain of held poses valid at every yaw of its bins joins start and goal.
 
     ``True``: the held poses' proof cannot end apart (the module docstring); ``False``: no
     such chain at ``bins`` bins (the proof may prove); ``None``: stopped, or
     :data:`MOST_SEARCHES` searches found only chains the walks refuse and one more found a
-    chain still.
+    chain still. The poses keep the checkers' clearance; the box centre's room is the
+    proof's (:data:`~pivot_ompl.analysis.pose_proof.MOTION_CLEARANCE`), read from ``floor``
+    when given (the proof's, built once for both).
     """
     try:
-        parts = HeldParts(scene, KEEP_CLEARANCE, should_stop)
+        parts = HeldParts(scene, MOTION_CLEARANCE, should_stop, parts_clearance=KEEP_CLEARANCE,
+                          regions=EveryYawRegions, floor=floor)
         if parts.room is None:
             return False
-        old = parts.bins
-        parts.bins = EveryYawRegions(old.grown, parts.bodies, old.area)
         edges = [2.0 * math.pi * i / bins for i in range(bins + 1)]
         graph = PoseGraph(parts, edges, should_stop, lazy=True)
         starts, goals = graph.nodes_at(edges, scene.start), graph.nodes_at(edges, scene.goal)

@@ -44,26 +44,15 @@ import shapely
 from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.analysis.pose_bins import BinRegions
-from pivot_ompl.analysis.pose_cells import (
-    ROUND_OFF,
-    bound_slabs,
-    by_size,
-    centre_room,
-    grown_pieces,
-    held_bodies,
-    near,
-)
 from pivot_ompl.analysis.pose_chain import Node
+from pivot_ompl.analysis.pose_floor import HeldFloor
 from pivot_ompl.analysis.pose_graph import PoseGraph
 from pivot_ompl.analysis.pose_split import spanning_bins
-from pivot_ompl.analysis.pose_walk import RegraspWalks
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import GRASPS
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Scene
 from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
-from pivot_ompl.validity.footprints import obstacle_pieces
-from pivot_ompl.validity.merge import merge_boxes
 
 log = logging.getLogger(__name__)
 
@@ -126,28 +115,30 @@ class HeldParts:
             (:class:`~pivot_ompl.errors.Interrupted` when true).
         parts_clearance: kept by the parts' poses (m), within the room; ``None``:
             ``clearance``.
+        regions: what builds each bin's regions from the grown pieces, the bodies and the
+            room (:class:`~pivot_ompl.analysis.pose_bins.BinRegions` or a subclass).
+        floor: the scene's :class:`~pivot_ompl.analysis.pose_floor.HeldFloor` to read (its
+            pieces, room and walks), shared with other relaxations of the scene; built here
+            when ``None``, of another scene, or kept at another clearance than ``clearance``.
     """
 
     def __init__(self, scene: Scene, clearance: float,
                  should_stop: Callable[[], bool] | None, *,
-                 parts_clearance: float | None = None) -> None:
-        pieces = obstacle_pieces(merge_boxes(scene.obstacles, should_stop=should_stop))
-        self.bodies = held_bodies(scene.model)
-        reach = max(float(np.abs(b).max()) for bodies in self.bodies for b in bodies)
-        slabs = bound_slabs(scene.bounds, 2.0 * reach + 1.0)
-        grown = by_size(grown_pieces(pieces, clearance) + slabs)
-        if should_stop is not None and should_stop():
-            raise Interrupted("the held poses' relaxation")
+                 parts_clearance: float | None = None,
+                 regions: type[BinRegions] = BinRegions,
+                 floor: HeldFloor | None = None) -> None:
+        if floor is None or floor.scene is not scene or floor.clearance != clearance:
+            floor = HeldFloor(scene, clearance, should_stop)
+        self.floor = floor
+        self.bodies = floor.bodies
         #: where the box centre may go at all (``None``: not even the start is in it)
-        self.room = centre_room(grown, 0.5 * min(scene.model.object_size[:2]) - ROUND_OFF,
-                                shapely.box(*scene.bounds), scene.start[:2])
-        self.area = self.room if self.room is not None else shapely.Polygon()
-        if parts_clearance is not None and parts_clearance != clearance:
-            grown = by_size(grown_pieces(pieces, parts_clearance) + slabs)
-        self.bins = BinRegions(near(grown, self.area, reach + 1e-3), self.bodies, self.area)
+        self.room = floor.room
+        self.area = floor.area
+        grown = floor.near_room(clearance if parts_clearance is None else parts_clearance)
+        self.bins = regions(grown, self.bodies, self.area)
         self.known: dict[tuple[float, float], list[list[BaseGeometry]]] = {}
         self.met: dict[tuple[float, ...], tuple[Partners, Partners]] = {}
-        self.walks = RegraspWalks(scene, tolerance=SWEEP_TOLERANCE, clearance=KEEP_CLEARANCE)
+        self.walks = floor.walks
         self.walked: dict[tuple[float, float], dict[tuple[int, int, int, int], bool]] = {}
 
     def of(self, a: float, b: float) -> list[list[BaseGeometry]]:
@@ -262,10 +253,12 @@ MOTION_CLEARANCE = KEEP_CLEARANCE - SWEEP_TOLERANCE
 def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
                   first_bins: int = FIRST_BINS, max_bins: int = MAX_BINS,
                   finest: float = FINEST,
-                  should_stop: Callable[[], bool] | None = None) -> PoseProof:
+                  should_stop: Callable[[], bool] | None = None,
+                  floor: HeldFloor | None = None) -> PoseProof:
     """Whether the held poses' relaxation separates start and goal (the module docstring).
 
-    Never raises on a stop: the answer is then ``apart=None``.
+    ``floor``: the scene's floor built at ``clearance``, shared with other relaxations (by
+    default its own). Never raises on a stop: the answer is then ``apart=None``.
     """
     t0 = time.perf_counter()
     edges = [2.0 * math.pi * i / first_bins for i in range(first_bins + 1)]
@@ -278,7 +271,7 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
                          time.perf_counter() - t0, reach, refused)
 
     try:
-        parts = HeldParts(scene, clearance, should_stop)
+        parts = HeldParts(scene, clearance, should_stop, floor=floor)
         if parts.room is None:
             return result(None)
         if not parts.room.covers(shapely.Point(scene.goal[:2])):  # the box alone cannot go

@@ -15,10 +15,12 @@ scene's bounds cannot be the old rectangle (it is turned too), so:
 * the old bounds become four walls just outside them (:data:`BOUND_WALL` thick, the checkers'
   clearance away: a body inside the bounds keeps that clearance from them), turned;
 * the new bounds hold every body of every plan: in every state of a plan the box's centre lies
-  outside every obstacle and inside the bounds, and moves continuously, so it stays in the
-  connected piece of the free floor (the bounds less the obstacles' pieces, subsets of the
-  obstacles) holding the start (or the goal), and every body lies within the assembly's reach
-  of it. The new bounds are the turned pieces' box grown by that reach and :data:`MARGIN`.
+  inside the bounds and at least half the box's short side from every obstacle (the box
+  around it overlaps none), so outside every obstacle grown by :data:`GROW`, and moves
+  continuously, so it stays in the connected piece of the free floor (the bounds less the
+  obstacles' pieces, subsets of the obstacles, grown by :data:`GROW`) holding the start (or
+  the goal), and every body lies within the assembly's reach of it. The new bounds are the
+  turned pieces' box grown by that reach, :data:`MARGIN` and :data:`GROW`.
 
 Nothing a plan does is cut, so every bound computed there is one of the scene's (the route
 length and the regrasps are the same in any frame), and a place found there (where the held
@@ -63,9 +65,12 @@ WORTH = 0.5
 MAX_PIECES = 4000
 #: A box is square to the frame's axes when ``|sin 2 yaw|`` is below this.
 AXIS = 1e-6
-#: Obstacles are shrunk by this much (m) before the free floor's pieces are found (pieces
-#: touching at a point never part two regions a box passes between).
-SHRINK = 1e-6
+#: Obstacles are grown by this much (m; at most a tenth of the box's short side) before the
+#: free floor's pieces are found: walls that touch edge to edge or at a corner close the floor
+#: between them even where rounding (a turned scene's) leaves them a hair apart. Sound: the
+#: box's centre stays half the box's short side from every obstacle, farther than this (and
+#: than the mitred corners, at most five times this).
+GROW = 1e-3
 
 
 @dataclass(frozen=True)
@@ -103,13 +108,18 @@ class WallFrame:
 
 
 def wall_frame(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
-               should_stop: Callable[[], bool] | None = None) -> WallFrame | None:
+               should_stop: Callable[[], bool] | None = None, worth: float | None = None,
+               floor_grid: float | None = None) -> WallFrame | None:
     """The scene turned to its walls and cut to its free floor, when that is worth it.
 
     ``None`` when the walls run along the axes, when the turned scene's bounds are not
-    smaller than :data:`WORTH` of the scene's, when the scene has over :data:`MAX_PIECES`
-    obstacle pieces, or when ``should_stop`` said stop. ``clearance``: what the checkers
-    keep every body from the obstacles (m; the old bounds' walls stand that far out).
+    smaller than ``worth`` (default :data:`WORTH`) of the scene's, when the scene has over
+    :data:`MAX_PIECES` obstacle pieces, or when ``should_stop`` said stop. ``clearance``:
+    what the checkers keep every body from the obstacles (m; the old bounds' walls stand
+    that far out). ``floor_grid``: a grid spacing (m); the turned bounds' lower corner then
+    lies a whole number of it below the free floor's (a floor drawn in the walls' frame has
+    its bounds' corner there: a grid from it is the one the floor's own would be); default:
+    the corner aligned to the raster's cells (most wall edges on cell edges).
     """
     yaw = wall_yaw(scene.obstacles)
     if yaw == 0.0:
@@ -119,18 +129,22 @@ def wall_frame(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     floor = _free_floor(scene, should_stop)
     if floor is None:
         return None
-    reach = max(p.reach for g in (0, 1) for p in held_bodies(scene, g)) + MARGIN
+    # the floor lies GROW inside the obstacles' faces: its box grown back by that
+    reach = max(p.reach for g in (0, 1) for p in held_bodies(scene, g)) + MARGIN + _grow(scene)
     pts = shapely.get_coordinates(floor)
     c, s = math.cos(-yaw), math.sin(-yaw)
     dx, dy = pts[:, 0] - centre[0], pts[:, 1] - centre[1]
     tx, ty = centre[0] + c * dx - s * dy, centre[1] + s * dx + c * dy
+    if floor_grid is not None:  # the grid's lines through the free floor's corner
+        reach = floor_grid * math.ceil(reach / floor_grid)
     bounds = (float(tx.min()) - reach, float(ty.min()) - reach,
               float(tx.max()) + reach, float(ty.max()) + reach)
     area = (bounds[2] - bounds[0]) * (bounds[3] - bounds[1])
-    if area > WORTH * (x1 - x0) * (y1 - y0):
+    if area > (WORTH if worth is None else worth) * (x1 - x0) * (y1 - y0):
         return None
     obstacles = tuple(turned_obstacle(o, -yaw, centre) for o in scene.obstacles)
-    bounds = _aligned(bounds, obstacles, floor_raster(bounds, CELLS[0]).cell)
+    if floor_grid is None:
+        bounds = _aligned(bounds, obstacles, floor_raster(bounds, CELLS[0]).cell)
     t, k = BOUND_WALL, clearance
     w, h = x1 - x0, y1 - y0
     walls = [BoxObstacle((centre[0], y0 - k - 0.5 * t), (w + 2 * (t + k), t), 0.0, 2.0),
@@ -191,8 +205,8 @@ def _free_floor(scene: Scene, should_stop: Callable[[], bool] | None
         return None
     if len(pieces) > MAX_PIECES or (should_stop is not None and should_stop()):
         return None
-    solid = shapely.union_all(shapely.buffer([shapely.Polygon(p) for p in pieces], -SHRINK,
-                                             join_style="mitre"))
+    solid = shapely.union_all(shapely.buffer([shapely.Polygon(p) for p in pieces],
+                                             _grow(scene), join_style="mitre"))
     if should_stop is not None and should_stop():
         return None
     free = shapely.box(*scene.bounds).difference(solid)
@@ -200,3 +214,8 @@ def _free_floor(scene: Scene, should_stop: Callable[[], bool] | None
     kept = [g for g in getattr(free, "geoms", [free])
             if not g.is_empty and shapely.intersects(g, ends).any()]
     return shapely.MultiPolygon(kept) if kept else None
+
+
+def _grow(scene: Scene) -> float:
+    """How much (m) the obstacles are grown when the free floor is found (:data:`GROW`)."""
+    return min(GROW, 0.1 * min(scene.model.object_size[0], scene.model.object_size[1]))

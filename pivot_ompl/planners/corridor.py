@@ -7,7 +7,7 @@ reach, and on a building of hundreds of wall pieces that field, its components a
 distances were most of a one-grasp plan (the small warehouse: 0.25 of 0.58 s of CPU). Both
 uses ask routes from the start to the goal, and the route they find runs along the floor's
 shortest way between them: the shortest path of the box's centre through the route bound's
-free cells (:func:`~.follow_route.free_route`, the disk relaxation's, which the followed
+free cells (:func:`~.route_field.free_route`, the disk relaxation's, which the followed
 route computes anyway and the scene's plans share).
 
 :func:`corridor_lattice` is a lattice whose region is the band of ``width`` m either side of
@@ -28,7 +28,7 @@ from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
-from pivot_ompl.planners.follow_route import free_route
+from pivot_ompl.planners.route_field import free_route
 from pivot_ompl.planners.routes.lattice import TransferLattice
 from pivot_ompl.se2 import Pose
 

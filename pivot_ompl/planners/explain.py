@@ -7,8 +7,9 @@ the fields a user asks about first (documented in ``docs/quality.md``):
     pivots per metre over the ideal rate (``pivots_per_m / ideal_pivots_per_m``; 1 is a
     plan of full alternating rotations, ``null`` when the plan does not move the box).
 ``regrasps_unforced``
-    how many regrasps no passage forces (below), plus, when the scene's proven lower bound
-    is known, at least the regrasps beyond it (``max(regrasps - bound, that count)``).
+    how many regrasps neither a passage (below) nor the scene's proven lower bound forces:
+    of the regrasps no passage forces, those the bound does not account for
+    (:func:`unforced_regrasps`).
 ``regrasp_reasons``
     one entry per regrasp, in plan order: ``{"pose": [x, y, yaw], "from_grasp": g,
     "to_grasp": h, "forced": bool, "passage": {"pose": [x, y, yaw], "obstacles": [i, ...]}
@@ -105,12 +106,26 @@ def explain_plan(plan: Plan, scene: Scene, quality: dict[str, Any], *,
     reasons: list[dict[str, Any]] = []
     if plan.regrasps:
         reasons = regrasp_reasons(plan, checker or PivotChecker(scene))
-    unforced = sum(not r["forced"] for r in reasons)
-    bound = quality.get("regrasps_lower_bound")
-    if bound is not None:
-        unforced = max(unforced, len(reasons) - bound)
     return {"pivot_rate_ratio": quality["pivots_per_m"] / ideal if ideal > 0 else None,
-            "regrasps_unforced": unforced, "regrasp_reasons": reasons}
+            "regrasps_unforced": unforced_regrasps(
+                reasons, lower_bound=quality.get("regrasps_lower_bound")),
+            "regrasp_reasons": reasons}
+
+
+def unforced_regrasps(reasons: list[dict[str, Any]], *, lower_bound: int | None) -> int:
+    """How many of a plan's regrasps nothing known forces.
+
+    A regrasp is forced when its reason names a passage (``reasons``: :func:`regrasp_reasons`'
+    entries, one per regrasp of the plan), and the scene's proven ``lower_bound`` (fewest
+    regrasps any plan needs; ``None``: unknown) forces as many as it exceeds the passages'
+    count by: of the ``u`` regrasps no passage forces, ``min(u, regrasps - lower_bound)``
+    (never below 0) are unforced. A bound the passages already meet (a coarse 0 included)
+    makes no forced regrasp unforced.
+    """
+    unforced = sum(not r["forced"] for r in reasons)
+    if lower_bound is None:
+        return unforced
+    return max(0, min(unforced, len(reasons) - lower_bound))
 
 
 def explain_lines(quality: dict[str, Any]) -> list[str]:

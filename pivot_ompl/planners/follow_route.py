@@ -29,6 +29,10 @@ the cheapest mix (a variant's legs, the phase's own, shortcuts between them) by 
 checks as every transfer. The result is valid, has the same ends, grasps and regrasp
 poses, and is never costlier. ``should_stop`` is polled between the steps and passed to the
 checks; stopped, the best path so far is returned.
+
+The field and its routes (kept per scene) are :mod:`~pivot_ompl.planners.route_field`'s;
+the merge of the poses into the optimiser's waypoints is
+:mod:`~pivot_ompl.planners.route_waypoints`'.
 """
 
 from __future__ import annotations
@@ -38,21 +42,20 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from pivot_ompl.analysis.plan_bounds import disk_cells
-from pivot_ompl.analysis.route_path import FreeField, Route, route_polyline
-from pivot_ompl.analysis.wall_frame import WallFrame, wall_frame
+from pivot_ompl.analysis.route_path import Route
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.evaluation import Evaluator
 from pivot_ompl.planners.optimiser import optimise_over
+from pivot_ompl.planners.route_field import RouteField, free_route, route_field
 from pivot_ompl.planners.route_poses import (
     NO_MOVE,
     car_corner_poses,
     route_poses,
     turns_and_legs,
 )
-from pivot_ompl.scene.shared import scene_shared
+from pivot_ompl.planners.route_waypoints import merged
 from pivot_ompl.se2 import Pose, wrap_angle
 
 __all__ = ["MARGINS", "FollowStats", "follow_route", "free_route"]
@@ -66,8 +69,6 @@ Stop = Callable[[], bool]
 #: shares of the room a turn in place needs beyond the relaxation's disk (:func:`_excess`):
 #: each gives a variant, the cost chooses (0: the bound's own shortest route).
 MARGINS = (0.0, 0.25, 0.5, 0.75, 1.0, 1.25)
-#: Most raster cells of the route's field (a coarser raster than the bound's: a guide).
-MAX_CELLS = 50_000
 #: Most share of a variant's corner poses that may collide for it to be offered (a route
 #: whose every corner hugs a wall is not one the assembly can follow).
 INVALID_SHARE = 0.3
@@ -81,36 +82,6 @@ FOLLOW_REACH = 4.0
 MIN_SAVING = 2.0
 
 
-
-@dataclass
-class _Known:
-    """A scene's free field and the routes found on it (at most :data:`ROUTES_KEPT`).
-
-    ``routes`` by ``(start, goal, first margin, margin)`` (the later margins' routes pass
-    by the first's: :func:`route_polyline`'s ``via``), ``None`` where there is none.
-    """
-
-    field: FreeField
-    routes: dict[tuple[float, ...], Route | None]
-    frame: WallFrame | None = None
-
-    def route(self, a: tuple[float, float], b: tuple[float, float], *, margin: float,
-              via: Route | None, poll: Callable[[], None]) -> Route | None:
-        """:func:`route_polyline` from ``a`` to ``b`` (m, in the scene), its points too.
-
-        The field lies in ``frame`` when there is one (its cells, and ``via``'s, are the
-        frame's); the points go in and out of it by a rigid motion.
-        """
-        f = self.frame
-        if f is None:
-            return route_polyline(self.field, a, b, margin=margin, via=via, poll=poll)
-        r = route_polyline(self.field, f.point_in(a), f.point_in(b), margin=margin, via=via,
-                           poll=poll)
-        return None if r is None else r._replace(points=[f.point_out(p) for p in r.points])
-
-
-#: Most routes kept per scene (then forgotten all at once: a later plan finds them again).
-ROUTES_KEPT = 512
 
 
 @dataclass
@@ -148,7 +119,7 @@ def follow_route(checker: PivotChecker, states: list[State], *, costs: CostModel
         A valid path with the same ends, grasps and regrasp poses, never costlier.
     """
     st = stats if stats is not None else FollowStats()
-    field = _field(checker, should_stop)
+    field = route_field(checker, should_stop)
     if field is None:
         return list(states)
     evaluate = Evaluator(checker, costs)
@@ -166,52 +137,6 @@ def follow_route(checker: PivotChecker, states: list[State], *, costs: CostModel
     return path
 
 
-def _field(checker: PivotChecker, should_stop: Stop) -> _Known | None:
-    """The free field of the disk relaxation of ``checker``'s scene; ``None`` if stopped.
-
-    Laid in the walls' frame (:func:`~pivot_ompl.analysis.wall_frame.wall_frame`) where
-    the scene has one: the raster then covers the floor's own area, not the axis-aligned
-    box round a turned floor (which grows with the square of a turned row's length, and
-    whose cells, :data:`MAX_CELLS` at most, came out wider than the box there: no cell
-    was blocked). Kept, with the routes found on it, per scene geometry
-    (:func:`~pivot_ompl.scene.shared.scene_shared`): a later plan of the same scene,
-    with a checker of its own, finds it made.
-    """
-    def made() -> _Known | None:
-        frame = wall_frame(checker.scene, should_stop=should_stop)
-        cells = disk_cells(checker.scene if frame is None else frame.scene,
-                           should_stop=should_stop, max_cells=MAX_CELLS)
-        if cells is None or should_stop():
-            return None
-        return _Known(FreeField.of(*cells), {}, frame)
-
-    return scene_shared(checker.scene, ("free field", MAX_CELLS), made)
-
-
-def free_route(checker: PivotChecker, a: tuple[float, float], b: tuple[float, float], *,
-               should_stop: Stop) -> list[tuple[float, float]] | None:
-    """The shortest route of the box's centre from ``a`` to ``b`` through the free field.
-
-    The route :func:`follow_route` follows first (margin 0), kept with the field's routes
-    (a later follow of a phase between the same points finds it); ``None`` if there is
-    none or stopped.
-    """
-    known = _field(checker, should_stop)
-    if known is None:
-        return None
-    key = (a[0], a[1], b[0], b[1], 0.0, 0.0)
-    if key not in known.routes:
-        if len(known.routes) >= ROUTES_KEPT:
-            known.routes.clear()
-        try:
-            known.routes[key] = known.route(a, b, margin=0.0, via=None,
-                                            poll=lambda: _poll(should_stop))
-        except Interrupted:
-            return None
-    route = known.routes[key]
-    return None if route is None else list(route.points)
-
-
 def _phases(path: list[State]) -> list[tuple[int, int]]:
     """``(first, last)`` state indices of each run of one grasp with two poses or more."""
     out, s = [], 0
@@ -223,7 +148,7 @@ def _phases(path: list[State]) -> list[tuple[int, int]]:
     return out
 
 
-def _best(evaluate: Evaluator, known: _Known, phase: list[State],
+def _best(evaluate: Evaluator, known: RouteField, phase: list[State],
           margins: tuple[float, ...], should_stop: Stop, st: FollowStats
           ) -> list[State] | None:
     """The cheapest path over the phase's and its variants' poses if cheaper; else ``None``."""
@@ -235,22 +160,15 @@ def _best(evaluate: Evaluator, known: _Known, phase: list[State],
     spins: list[tuple[float, tuple[Pose, ...]]] = []
     excess = _excess(evaluate.checker, g)
     guide: list[tuple[float, float]] | None = None
-    first = None
+    first: Route | None = None
     for share in margins:  # each margin's cheapest estimated variant that mostly holds
         if should_stop():
             return None
-        key = (a[0], a[1], b[0], b[1], margins[0] * excess, share * excess)
-        if key in known.routes:
-            route = known.routes[key]
-        else:
-            if len(known.routes) >= ROUTES_KEPT:
-                known.routes.clear()
-            try:
-                route = known.routes[key] = known.route(
-                    (a[0], a[1]), (b[0], b[1]), margin=share * excess, via=first,
-                    poll=lambda: _poll(should_stop))
-            except Interrupted:
-                return None
+        try:
+            route = known.found((a[0], a[1]), (b[0], b[1]), first=margins[0] * excess,
+                                margin=share * excess, via=first, should_stop=should_stop)
+        except Interrupted:
+            return None
         if route is None:
             return None
         poly = route.points
@@ -285,7 +203,7 @@ def _offered(evaluate: Evaluator, guide: list[tuple[float, float]], phase: list[
         return None
     g = phase[0][1]
     st.tried += len(variants)
-    poses, path, links = _merged(guide, [p for p, _ in phase], variants, g)
+    poses, path, links = merged(guide, [p for p, _ in phase], variants, g)
     out = optimise_over(evaluate.checker, poses, path, should_stop=should_stop,
                         costs=evaluate.costs, grasps=(g,), reach=FOLLOW_REACH,
                         start_grasp=g, end_grasp=g, links=links)
@@ -301,49 +219,6 @@ def _mostly_valid(checker: PivotChecker, poses: tuple[Pose, ...], grasp: int) ->
     """Whether at most :data:`INVALID_SHARE` of the variant's corner poses collide."""
     bad = sum(not checker.state_valid(q, grasp) for q in poses[1:-1])
     return bad <= INVALID_SHARE * max(1, len(poses) - 2)
-
-
-def _merged(guide: list[tuple[float, float]], old: list[Pose],
-            variants: list[tuple[Pose, ...]], grasp: int
-            ) -> tuple[list[Pose], list[tuple[int, int]], tuple[tuple[int, int], ...]]:
-    """The phase's and the variants' poses in one order along ``guide``.
-
-    Each sequence keeps its own order (a pose's place along the guide, never behind the
-    sequence's previous pose); the ends are shared. ``(poses, path, links)``: the waypoints,
-    the phase as ``(waypoint, grasp)`` nodes and the variants' legs as waypoint pairs.
-    """
-    keyed: list[tuple[float, int, int, Pose]] = []
-    for s, seq in enumerate([old, *variants]):
-        at = 0.0
-        for k, q in enumerate(seq[1:-1], start=1):
-            at = max(at, _along(guide, q))
-            keyed.append((at, s, k, q))
-    keyed.sort(key=lambda e: e[:3])
-    poses = [old[0], *(e[3] for e in keyed), old[-1]]
-    index = {(s, k): n for n, (_, s, k, _) in enumerate(keyed, start=1)}
-    last = len(poses) - 1
-
-    def place(s: int, k: int, n: int) -> int:
-        return 0 if k == 0 else last if k == n - 1 else index[(s, k)]
-
-    path = [(place(0, k, len(old)), grasp) for k in range(len(old))]
-    links = tuple((place(s, k, len(v)), place(s, k + 1, len(v)))
-                  for s, v in enumerate(variants, start=1) for k in range(len(v) - 1))
-    return poses, path, links
-
-
-def _along(guide: list[tuple[float, float]], q: Pose) -> float:
-    """Where along ``guide`` (m from its start) the point nearest to ``q``'s position lies."""
-    best, at, done = math.inf, 0.0, 0.0
-    for (x0, y0), (x1, y1) in zip(guide, guide[1:], strict=False):
-        dx, dy = x1 - x0, y1 - y0
-        n = math.hypot(dx, dy)
-        t = 0.0 if n == 0 else min(1.0, max(0.0, ((q[0] - x0) * dx + (q[1] - y0) * dy) / n**2))
-        d = math.hypot(x0 + t * dx - q[0], y0 + t * dy - q[1])
-        if d < best:
-            best, at = d, done + t * n
-        done += n
-    return at
 
 
 def _excess(checker: PivotChecker, grasp: int) -> float:
@@ -362,11 +237,6 @@ def _excess(checker: PivotChecker, grasp: int) -> float:
     reach = max(math.hypot(ahead, m.edge_half_length(grasp)),
                 math.hypot(behind + 0.5 * depth, 0.5 * width))
     return max(0.0, reach - 0.5 * min(m.object_size[0], m.object_size[1]))
-
-
-def _poll(should_stop: Stop) -> None:
-    if should_stop():
-        raise Interrupted("the followed route")
 
 
 def _estimate(evaluate: Evaluator, poses: tuple[Pose, ...], grasp: int) -> float:

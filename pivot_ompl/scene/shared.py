@@ -6,7 +6,7 @@ depends only on the scene (its geometry, pivoting, walking, start and goal:
 such a value for later plans of the scene in the process: the motion checks
 (:mod:`pivot_ompl.checking.shared_results`), the assembly fields
 (:mod:`pivot_ompl.planners.routes.shared_fields`), the route bound's free field
-(:mod:`pivot_ompl.planners.follow_route`), the disk route bound
+(:mod:`pivot_ompl.planners.route_field`), the disk route bound
 (:func:`pivot_ompl.analysis.plan_bounds.plan_bounds`) and whether the late proof has nothing
 to prove (:mod:`pivot_ompl.analysis.late_proof`), and its relaxations until the plan's
 bound takes them (:mod:`pivot_ompl.analysis.relaxation_handoff`): one memo for all, the

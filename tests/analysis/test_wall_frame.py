@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import pytest
 import shapely
 from corner_factories import tight_corner
-from factories import shipped
-from hypothesis import example, given, settings
+from factories import shipped, sliced
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 
 from pivot_ompl.analysis import wall_frame as wall_frame_module
@@ -101,3 +102,44 @@ def test_the_place_found_in_the_walls_frame_is_turned_back(seed, monkeypatch):
         # the same arc of yaws as the exact polygons', to a bin
         mid = 0.5 * (framed[0] + framed[1]) - 0.5 * (polygons[0] + polygons[1])
         assert abs((mid + 180.0) % 360.0 - 180.0) < 10.0
+
+
+def _touching_hall(pieces: int):
+    """A 30 x 3 m hall in 40 x 40 m bounds, its 0.2 m walls cut in ``pieces`` that touch end
+    to end, the end walls touching the long walls' faces: closed only where they touch."""
+    length, width, t, c = 30.0, 3.0, 0.2, 20.0
+    walls = [{"type": "box", "center": [c, c + s * 0.5 * (width + t)], "size": [length + 2 * t, t],
+              "yaw": 0.0, "height": 2.0} for s in (-1, 1)]
+    walls += [{"type": "box", "center": [c + s * 0.5 * (length + t), c], "size": [t, width],
+               "yaw": 0.0, "height": 2.0} for s in (-1, 1)]
+    doc = {"name": "touching", "bounds": [0.0, 0.0, 40.0, 40.0],
+           "object": {"size": [0.8, 0.6, 1.3]}, "start": [7.0, c, 0.0], "goal": [33.0, c, 0.0],
+           "obstacles": walls}
+    scene = scene_from_dict(doc, source="<test>")
+    return dataclasses.replace(scene, obstacles=tuple(sliced(scene.obstacles, pieces)))
+
+
+@settings(max_examples=25, deadline=None)
+@example(pieces=1, angle=0.3)
+@example(pieces=4, angle=-2.3)
+@given(pieces=st.integers(1, 5), angle=st.floats(-math.pi, math.pi))
+def test_walls_that_touch_edge_to_edge_give_the_frame_of_the_angle_they_are_turned_by(pieces,
+                                                                                    angle):
+    quarter = 0.5 * math.pi
+    off_axes = (angle + 0.25 * math.pi) % quarter - 0.25 * math.pi  # in [-pi/4, pi/4)
+    assume(abs(off_axes) > 1e-3)
+    scene = rotate_scene(_touching_hall(pieces), angle)
+    frame = wall_frame(scene)
+    assert frame is not None
+    assert (frame.yaw - off_axes + 0.25 * math.pi) % quarter - 0.25 * math.pi == \
+        pytest.approx(0.0, abs=1e-6)
+    # the floor is the hall's, not the bounds' round it: the turned bounds hold the hall and
+    # the assembly's reach round it, no more
+    u0, v0, u1, v1 = frame.scene.bounds
+    reach = max(p.reach for g in (0, 1) for p in held_bodies(scene, g))
+    longest, shortest = max(u1 - u0, v1 - v0), min(u1 - u0, v1 - v0)
+    assert longest < 30.0 + 2.0 * (reach + 1.0) + 1.0
+    assert shortest < 3.0 + 2.0 * (reach + 1.0) + 1.0
+    box = shapely.box(u0, v0, u1, v1)
+    for pose in (frame.scene.start, frame.scene.goal):
+        assert box.contains(shapely.Point(pose[:2]))

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import subprocess
+
 from factories import ROOT, benchmark_script
 
 
@@ -31,6 +33,18 @@ def test_the_figures_page_holds_the_table_and_how_long_its_run_took():
     assert page.startswith("# Figures\n") and page.endswith(table)
     assert "This run took 7 min." in page and "`--only`" not in page
     assert "`--only`" in _figures().page(table, minutes=1, partial=True)
+
+
+def test_the_figures_page_says_when_and_from_which_commit_it_was_made(tmp_path):
+    table = "| what | measured | command |\n|---|---|---|\n| a | b | `c` |\n"
+    made = "2026-12-07 13:00 UTC from commit abc1234"
+    page = _figures().page(table, minutes=7.4, partial=False, made=made)
+    assert f"Made on {made}:" in page.split(table)[0]  # above the table
+    head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, text=True,
+                          capture_output=True, check=False).stdout.strip()
+    if head:  # a clone: its commit, said to have changes when it has
+        assert _figures().made_from(ROOT).startswith(f"commit {head}")
+    assert _figures().made_from(tmp_path) == "a tree without git"
 
 
 def _run(seed: int, solved: bool, wall: float, regrasps: int | None = None,

@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 import pytest
+from corner_factories import corner_slot
 from factories import benchmark_script
+
+from pivot_ompl.generate.sceneio import write_scene
 
 
 def test_a_proof_runs_in_its_own_process_and_reports_its_stages():
@@ -35,3 +38,15 @@ def test_the_gate_runs_in_its_own_process_with_its_answer_and_stages():
     assert row["answer"] == "joined" and row["bins"] == 32 and "rounds" not in row
     assert row["computed"] > 0
     assert 0.0 < row["regions"] <= row["cpu"] and 0.0 < row["chain"] <= row["cpu"]
+
+
+def test_the_held_try_runs_the_gate_then_the_proof_where_the_gate_does_not_join(tmp_path):
+    hp = benchmark_script("held_proof")
+    row = hp.run(hp.ROOT, "slot", both=True)
+    # the slot's poses valid at every yaw join start and goal: the gate answers, no proof
+    assert row["answer"] == "joined" and row["bins"] == 32 and row["rounds"] == 0
+    assert 0.0 < row["regions"] <= row["cpu"] and 0.0 < row["chain"] <= row["cpu"]
+    write_scene(corner_slot(0.90, 0.92), tmp_path / "corner_slot.yaml")
+    row = hp.run(hp.ROOT, str(tmp_path / "corner_slot.yaml"), both=True)
+    # no chain at every yaw; the proof runs on the gate's floor and proves
+    assert row["answer"] == "apart" and row["rounds"] >= 1

@@ -54,7 +54,7 @@ def test_the_mirrored_middle_phase_s_lattice_route_is_made_real(fig10, mirrored)
     a, b, g = f.pose(MIDDLE[0]), f.pose(MIDDLE[1]), f.grasp(MIDDLE[2])
     checker = PivotChecker(mirrored)
     costs = CostModel()
-    lattice = TransferLattice(checker, costs)
+    lattice = TransferLattice(checker, costs, turned=False)  # walls between its headings
     evaluate = Evaluator(checker, costs)
     near = lattice.route(a, b, g)[0]  # the ends joined by turns wherever they are
     assert made_real(evaluate, near, g, lambda: False, spacing=SPACING).path is None
@@ -68,7 +68,7 @@ def test_the_mirrored_middle_phase_s_lattice_route_is_made_real(fig10, mirrored)
 def test_an_end_between_headings_joins_states_that_can_turn_across_it(fig10, mirrored):
     f = _reflect(fig10)
     checker = PivotChecker(mirrored)
-    lattice = TransferLattice(checker, CostModel())
+    lattice = TransferLattice(checker, CostModel(), turned=False)  # walls between headings
     field, m = lattice.field, checker.model
     for obj in (f.pose(MIDDLE[0]), f.pose(MIDDLE[1])):
         car = m.car_pose(obj, MIDDLE[2])

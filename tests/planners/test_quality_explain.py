@@ -6,12 +6,19 @@ import json
 
 import pytest
 from factories import make_scene, shipped
+from hypothesis import given, settings
+from hypothesis import strategies as hs
 
 from pivot_ompl.api import plan
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.base.problem import make_problem
 from pivot_ompl.planfile import load_plan
-from pivot_ompl.planners.explain import explain_lines, explain_plan, regrasp_reasons
+from pivot_ompl.planners.explain import (
+    explain_lines,
+    explain_plan,
+    regrasp_reasons,
+    unforced_regrasps,
+)
 from pivot_ompl.quality import plan_quality
 
 START, MID, GOAL = (1.5, 3.0, 0.0), (3.5, 3.4, 0.2), (6.0, 3.0, 0.0)
@@ -53,6 +60,25 @@ def test_the_slot_regrasp_is_forced_by_the_wall_and_written_to_the_file(tmp_path
     back = load_plan(path).extra["quality"]
     assert back["regrasp_reasons"] == json.loads(json.dumps(q["regrasp_reasons"]))
     assert any("forced by the passage" in line for line in explain_lines(back))
+    # a bound cut short (0, as a large map's coarse bound) refutes no passage: still forced
+    coarse = explain_plan(res.plan, scene, {**q, "regrasps_lower_bound": 0})
+    assert coarse["regrasps_unforced"] == 0
+
+
+@settings(max_examples=200, deadline=None)
+@given(forced=hs.lists(hs.booleans(), max_size=8), data=hs.data())
+def test_a_regrasp_is_unforced_only_without_a_passage_and_beyond_the_bound(forced, data):
+    reasons = [{"forced": f} for f in forced]
+    n, without = len(forced), forced.count(False)
+    bound = data.draw(hs.none() | hs.integers(0, n))
+    got = unforced_regrasps(reasons, lower_bound=bound)
+    assert 0 <= got <= without  # a regrasp its passage forces is never counted
+    if bound is None:
+        assert got == without
+    else:
+        assert got <= n - bound  # the bound forces that many at least
+        # each regrasp the bound forces beyond the passages' count leaves the count by one
+        assert got == without - max(0, bound - (n - without))
 
 
 def test_a_plan_without_regrasps_explains_no_regrasp():

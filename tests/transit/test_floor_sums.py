@@ -9,12 +9,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.generate import GeneratorParams, generate
-from pivot_ompl.transit.floor_grid import OPEN_YAWS
+from pivot_ompl.transit.floor_grid import OPEN_YAWS, OPPOSITE_YAWS
 from pivot_ompl.transit.floor_sums import PieceSums
 from pivot_ompl.validity.minkowski import meeting_edges
 
@@ -100,3 +101,56 @@ def test_kept_sums_give_back_every_end_whatever_the_slot_order(grid):
     assert np.array_equal(got.start[:, :w], want.start)
     assert np.array_equal(got.end[:, :w], want.end)
     assert np.array_equal(got.used[:, :w], want.used)
+
+
+def _region(edges, row):
+    start, _, _ = _used_edges(edges, row)
+    return shapely.Polygon(start)
+
+
+@settings(max_examples=15, deadline=None)
+@given(data=st.data())
+def test_a_wall_box_turned_by_pi_is_its_opposite_sum_reflected(grid, data):
+    # the floor's sums at a yaw pi from an earlier one are reflected, not summed; each
+    # must be the region summed directly (to rounding), whatever pairs were asked together
+    n, k = len(grid.pieces), len(OPEN_YAWS)
+    sums = PieceSums(grid.pieces, grid.sums.bodies, opposite=list(OPPOSITE_YAWS))
+    for _ in range(data.draw(st.integers(1, 3))):
+        pieces = np.array(sorted(data.draw(st.sets(st.integers(0, n - 1), min_size=1,
+                                                   max_size=8))))
+        yaws = sorted(data.draw(st.sets(st.integers(0, k - 1), min_size=1, max_size=4)))
+        sums.fill(pieces, yaws, meeting_edges)
+        assert sums.done[np.ix_(pieces, yaws)].all()
+    pieces = np.flatnonzero(sums.done.any(axis=1))
+    high = [j for j in range(k // 2, k) if sums.done[pieces, j].all()]
+    if not high:
+        return
+    got, _ = sums.edges(pieces, high)
+    want = meeting_edges([grid.pieces[i] for i in pieces for _ in high],
+                         [sums.bodies[j] for _ in pieces for j in high])
+    assert sums.reflected > 0
+    for row in range(len(got.used)):
+        a, b = _region(got, row), _region(want, row)
+        # turned as the summed one is (a point reflection keeps a ring's turning; the kept
+        # slots' order is the summing's, counter-clockwise or not)
+        assert a.is_valid and shapely.is_ccw(a.exterior) == shapely.is_ccw(b.exterior)
+        assert a.symmetric_difference(b).area <= 1e-9 * max(b.area, 1.0)
+        assert np.allclose(got.bounds[row], want.bounds[row], atol=1e-9)
+    again = PieceSums(grid.pieces, grid.sums.bodies, opposite=list(OPPOSITE_YAWS))
+    again.fill(pieces, high, meeting_edges)  # all at once: the same floats
+    once, _ = again.edges(pieces, high)
+    for row in range(len(got.used)):
+        for x, y in zip(_used_edges(got, row), _used_edges(once, row), strict=True):
+            assert np.array_equal(x, y)
+
+
+def test_the_open_floor_is_that_of_the_sums_all_summed():
+    # the reflected sums rasterise to the open positions of the sums all summed
+    scene = generate("building", 2, params=GeneratorParams(rooms=4)).scene
+    g = PivotChecker(scene).walker.field.grid
+    reflected = g.open_block(slice(0, g.nx), slice(0, g.ny))
+    assert g.sums.reflected > 0
+    g.sums = PieceSums(g.pieces, g.sums.bodies)  # no opposite yaws: every pair summed
+    summed = g.open_block(slice(0, g.nx), slice(0, g.ny))
+    assert g.sums.reflected == 0
+    assert np.array_equal(reflected, summed)

@@ -19,6 +19,9 @@ not move the car), inflated by ``weight``; a push beside a wall is priced higher
 search (:data:`~.lattice_search.TIGHT_PUSH`): a guide the pivot checker certifies. A query
 whose ends lie in different connected components of the lattice (computed once per grasp
 parity, scipy) has no route and costs nothing.
+
+The grid and its headings lie in the scene's walls' frame (:mod:`.lattice_frame`), so that a
+turned copy of a scene gets the original's lattice; poses and routes are the scene's.
 """
 
 from __future__ import annotations
@@ -28,15 +31,16 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
-import shapely
 from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.planners.routes.guide import graph_distances, move_graph
-from pivot_ompl.planners.routes.lattice_components import chunked_labels
+from pivot_ompl.planners.routes.lattice_components import lattice_labels, turn_room
 from pivot_ompl.planners.routes.lattice_ends import end_joins
+from pivot_ompl.planners.routes.lattice_frame import LatticeFrame, lattice_frame
+from pivot_ompl.planners.routes.lattice_region import within_distance
 from pivot_ompl.planners.routes.lattice_search import TIGHT_PUSH, lattice_astar, route_cost
 from pivot_ompl.planners.routes.shared_fields import (
     ROUTES_KEPT,
@@ -58,39 +62,6 @@ _START: State = (-1, -1, -1)
 _GOAL: State = (-2, -2, -2)
 
 
-def within_distance(region: BaseGeometry, xs: np.ndarray, ys: np.ndarray,
-                    distance: float) -> np.ndarray:
-    """Grid points ``(xs[i], ys[j])`` within ``distance`` of ``region`` (``(nx, ny)`` booleans).
-
-    Those inside it, and those within ``distance`` of one of its boundary's segments (a
-    tree of the segments): exact, where buffering a region of thousands of vertices took
-    seconds on an office's floor and its chords left out points within the distance.
-    """
-    result = np.zeros((len(xs), len(ys)), dtype=bool)
-    if region.is_empty:
-        return result
-    x0, y0, x1, y1 = region.bounds  # only the points within its box grown by the distance
-    i = slice(int(np.searchsorted(xs, x0 - distance)), int(np.searchsorted(xs, x1 + distance,
-                                                                           side="right")))
-    j = slice(int(np.searchsorted(ys, y0 - distance)), int(np.searchsorted(ys, y1 + distance,
-                                                                           side="right")))
-    xs, ys = xs[i], ys[j]
-    inside = shapely.contains_xy(region, xs[:, None], ys[None, :])
-    lines = shapely.get_parts(shapely.boundary(region))
-    segments = [np.stack([c[:-1], c[1:]], axis=1) for c in map(shapely.get_coordinates, lines)
-                if len(c) > 1]
-    if segments:
-        tree = shapely.STRtree(shapely.linestrings(np.concatenate(segments)))
-        out = np.flatnonzero(~inside.ravel())
-        px, py = np.divmod(out, len(ys))
-        hit, _ = tree.query(shapely.points(xs[px], ys[py]), predicate="dwithin",
-                            distance=distance)
-        flat = inside.ravel()
-        flat[out[np.unique(hit)]] = True
-    result[i, j] = inside
-    return result
-
-
 class TransferLattice:
     """Routes of the held assembly over the lattice (see the module docstring).
 
@@ -109,21 +80,31 @@ class TransferLattice:
             resolution over those states; the rest of the bounds' rectangle (e.g. the open
             corners round a turned building, which grow with the square of its length)
             costs nothing.
+        turned: lay the lattice in the walls' frame (:mod:`.lattice_frame`); ``False``: in
+            the scene's own frame whatever its walls' direction.
+
+    Attributes:
+        frame: where the lattice lies (its grid, :attr:`field` and headings): the scene's
+            walls' frame, or its own (:meth:`~.lattice_frame.LatticeFrame.car_in`). Routes,
+            poses and ``region`` are the scene's.
     """
 
     def __init__(self, checker: PivotChecker, costs: CostModel, *, resolution: float = 0.1,
                  max_expansions: int = 200_000, weight: float = 1.0,
-                 region: BaseGeometry | None = None) -> None:
+                 region: BaseGeometry | None = None, turned: bool = True) -> None:
         """A lattice over the checker's floor (within reach of ``region``)."""
         self.checker, self.costs = checker, costs
         self.region = region
         self._mask: np.ndarray | None = None
-        x0, y0, x1, y1 = checker.world.bounds
+        self.frame = lattice_frame(checker, resolution=resolution) if turned else LatticeFrame()
+        world = checker.world if self.frame.world is None else self.frame.world
+        x0, y0, x1, y1 = world.bounds
         resolution = max(resolution, math.sqrt((x1 - x0) * (y1 - y0) / MAX_CELLS))
         self.resolution, self.max_expansions, self.weight = resolution, max_expansions, weight
         # the scene's field, shared with its later plans; within a region, paying for the
         # pieces round the region alone
-        self.field = assembly_field(checker, resolution, region=region, area=self._mask_over)
+        self.field = assembly_field(checker, resolution, region=region, area=self._mask_over,
+                                    frame=self.frame)
         alpha = checker.scene.alpha_max
         m = checker.model
         self._push = {g: costs.push_rate(m.edge_half_length(g), alpha) for g in range(4)}
@@ -145,13 +126,14 @@ class TransferLattice:
         #: (a route and its :meth:`way_bound` ask the same)
         self._ways: dict[int, tuple[frozenset[int], np.ndarray]] = {}
         self._grids: dict[tuple[int, int], bytes] = {}
+        self._rooms: dict[tuple[int, int], np.ndarray] = {}
         #: routes made real (:func:`~.chain.made_real`'s ``cache``), shared by the callers
         self.chains: dict[tuple, tuple[list[Pose], float] | None] = {}
 
     def car(self, s: State) -> Pose:
-        """The car pose of lattice state ``s``."""
+        """The car pose of lattice state ``s`` (in the scene)."""
         x, y = self.field.position(s[0], s[1])
-        return (x, y, HEADING_YAWS[s[2]])
+        return self.frame.car_out((x, y, HEADING_YAWS[s[2]]))
 
     def route(self, start: Pose, goal: Pose, grasp: int, *,
               should_stop: Callable[[], bool] | None = None,
@@ -195,9 +177,9 @@ class TransferLattice:
         Raises:
             Interrupted: ``should_stop()`` became true.
         """
-        m, parity, f = self.checker.model, grasp % 2, self.field
-        starts = self._attach(m.car_pose(start, grasp), parity, grasp, should_stop)
-        goals = self._attach(m.car_pose(goal, grasp), parity, grasp, should_stop)
+        m, parity, f, car_in = self.checker.model, grasp % 2, self.field, self.frame.car_in
+        starts = self._attach(car_in(m.car_pose(start, grasp)), parity, grasp, should_stop)
+        goals = self._attach(car_in(m.car_pose(goal, grasp)), parity, grasp, should_stop)
         if not starts or not goals:
             return math.inf
         cell_ids, _ = self._components(parity, should_stop)
@@ -220,8 +202,8 @@ class TransferLattice:
     def _route(self, start: Pose, goal: Pose, grasp: int,
                should_stop: Callable[[], bool] | None,
                weight: float, leads: bool) -> tuple[list[Pose], float]:
-        m = self.checker.model
-        ca, cb = m.car_pose(start, grasp), m.car_pose(goal, grasp)
+        m, car_in = self.checker.model, self.frame.car_in
+        ca, cb = car_in(m.car_pose(start, grasp)), car_in(m.car_pose(goal, grasp))
         parity = grasp % 2
         starts, lead_a = self._joins(ca, parity, grasp, should_stop, leads)
         goals, lead_b = self._joins(cb, parity, grasp, should_stop, leads)
@@ -259,8 +241,9 @@ class TransferLattice:
         self.expansions += expanded
         if not states:
             return [], math.inf
-        head = [lead_a[states[1]]] if states[1] in lead_a else []
-        tail = [lead_b[states[-2]]] if states[-2] in lead_b else []
+        out = self.frame.car_out
+        head = [out(lead_a[states[1]])] if states[1] in lead_a else []
+        tail = [out(lead_b[states[-2]])] if states[-2] in lead_b else []
         cars = [*head, *map(self.car, states[1:-1]), *tail]
         poses = [start, *(m.object_from_car(c, grasp) for c in cars), goal]
         return poses, route_cost(states, starts, goals, grids=grids, ny=ny, push=push, turn=turn)
@@ -282,7 +265,8 @@ class TransferLattice:
         parity, ny, m = grasp % 2, self.field.ny, self.checker.model
         cell_ids, labels = self._components(parity, should_stop)
         out = set()
-        for ix, iy, h in self._attach(m.car_pose(obj, grasp), parity, grasp, should_stop):
+        car = self.frame.car_in(m.car_pose(obj, grasp))
+        for ix, iy, h in self._attach(car, parity, grasp, should_stop):
             cid = int(cell_ids[ix * ny + iy])
             if cid >= 0 and labels[cid * N_HEADINGS + h] >= 0:
                 out.add(int(labels[cid * N_HEADINGS + h]))
@@ -303,6 +287,24 @@ class TransferLattice:
         fits = self.field.fits(parity, k, should_stop=should_stop)
         return fits if self.region is None else fits & self.in_region()
 
+    def turn_room(self, parity: int, h: int,
+                  should_stop: Callable[[], bool] | None = None) -> np.ndarray:
+        """Where the lattice turns between heading ``h`` and the next at ``parity`` (kept).
+
+        ``(nx, ny)`` booleans (:func:`~.lattice_components.turn_room` over the lattice's
+        grids): the turn moves of the lattice's components, and the room an end between
+        headings joins (:func:`.end_joins`).
+
+        Raises:
+            Interrupted: ``should_stop()`` said stop while a yaw's grid was computed.
+        """
+        key = (parity, h % N_HEADINGS)
+        room = self._rooms.get(key)
+        if room is None:
+            room = self._rooms[key] = turn_room(
+                lambda k: self._fits(parity, k, should_stop), key[1])
+        return room
+
     def in_region(self) -> np.ndarray:
         """The grid positions the lattice holds (``(nx, ny)`` booleans, kept)."""
         return self._mask_over(self.field)
@@ -318,7 +320,7 @@ class TransferLattice:
                 x0, y0 = f.position(0, 0)
                 xs = x0 + self.resolution * np.arange(f.nx)
                 ys = y0 + self.resolution * np.arange(f.ny)
-                self._mask = within_distance(self.region, xs, ys, reach)
+                self._mask = within_distance(self.frame.region_in(self.region), xs, ys, reach)
         return self._mask
 
     def _components(self, parity: int,
@@ -341,21 +343,9 @@ class TransferLattice:
 
     def _labelled(self, parity: int,
                   should_stop: Callable[[], bool] | None) -> tuple[np.ndarray, np.ndarray]:
-        """:meth:`_components` computed."""
-        f = self.field
-        nx, ny, nh = f.nx, f.ny, N_HEADINGS
-        fits = [self._fits(parity, k, should_stop).reshape(-1) for k in range(2 * nh)]
-        any_free = np.zeros(nx * ny, dtype=bool)
-        for h in range(nh):
-            any_free |= fits[2 * h]
-        cells = np.flatnonzero(any_free)
-        cell_ids = np.full(nx * ny, -1, dtype=np.int32)  # < MAX_CELLS * 16 states
-        cell_ids[cells] = np.arange(len(cells), dtype=np.int32)
-        state = [fits[2 * h][cells] for h in range(nh)]  # free at heading h, per free cell
-        turn = [state[h] & state[(h + 1) % nh] & fits[2 * h + 1][cells] for h in range(nh)]
-        labels = chunked_labels(cells, cell_ids, state, turn, (nx, ny), should_stop)
-        labels[~np.stack(state, axis=1).reshape(-1)] = -1
-        return cell_ids, labels
+        """:meth:`_components` computed (:func:`.lattice_labels`)."""
+        return lattice_labels(lambda k: self._fits(parity, k, should_stop),
+                              (self.field.nx, self.field.ny), should_stop)
 
     def _floor_distances(self, parity: int, goals: dict[State, float],
                          should_stop: Callable[[], bool] | None) -> np.ndarray:
@@ -386,12 +376,13 @@ class TransferLattice:
 
     def _attach(self, car: Pose, parity: int, grasp: int,
                 should_stop: Callable[[], bool] | None) -> dict[State, float]:
-        """Free lattice states near ``car`` (the two nearest headings), with a cost guess."""
+        """Free lattice states near ``car`` (in the frame; the two nearest headings), costed."""
         return self._joins(car, parity, grasp, should_stop, False)[0]
 
     def _joins(self, car: Pose, parity: int, grasp: int,
                should_stop: Callable[[], bool] | None, leads: bool
                ) -> tuple[dict[State, float], dict[State, Pose]]:
-        """:func:`.end_joins` of ``car``: the states, their costs and their leads' cars."""
+        """:func:`.end_joins` of ``car`` (in the frame): the states, costs and leads' cars."""
         return end_joins(self.field, car, parity, push=self._push[grasp], spin=self._spin,
-                         region=self.in_region(), leads=leads, should_stop=should_stop)
+                         region=self.in_region(), leads=leads, should_stop=should_stop,
+                         turns=lambda h: self.turn_room(parity, h, should_stop))

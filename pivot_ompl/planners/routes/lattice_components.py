@@ -1,4 +1,10 @@
-"""The held assembly's lattice components, computed in chunks that poll the stop."""
+"""The held assembly's lattice components, computed in chunks that poll the stop.
+
+The lattice's moves (:mod:`.lattice`) are pushes along a state's heading and turns in place
+to the next heading; :func:`turn_room` is the one test of where a turn is free, which the
+components (:func:`lattice_labels`) and the joins of a route's ends (:mod:`.lattice_ends`)
+both use.
+"""
 
 from __future__ import annotations
 
@@ -11,9 +17,48 @@ from scipy.sparse.csgraph import connected_components
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.transit.lattice import HEADING_VECTORS, N_HEADINGS
 
+__all__ = ["CHUNK_CELLS", "chunked_labels", "lattice_labels", "turn_room"]
+
 #: Free cells per ``connected_components`` call of the lattice's components (a few
 #: hundredths of a second each, the stop polled between them).
 CHUNK_CELLS = 16_384
+
+
+def turn_room(fits: Callable[[int], np.ndarray], h: int) -> np.ndarray:
+    """Where the lattice may turn in place between heading ``h`` and the next (booleans).
+
+    Free at both headings and at the yaw half-way between them (field yaws ``2 h``, ``2 h + 1``
+    and ``2 h + 2``: ``fits(k)`` is the grid of field yaw ``k``, any shape): a turn either way.
+    """
+    return fits(2 * h) & fits(2 * h + 1) & fits(2 * ((h + 1) % N_HEADINGS))
+
+
+def lattice_labels(fits: Callable[[int], np.ndarray], shape: tuple[int, int],
+                   should_stop: Callable[[], bool] | None) -> tuple[np.ndarray, np.ndarray]:
+    """The components of the lattice's states, where ``fits(k)`` is field yaw ``k``'s grid.
+
+    ``fits(k)``: the ``(nx, ny)`` positions free at field yaw ``k`` (``shape`` is
+    ``(nx, ny)``). Returned as ``(cell_ids, labels)``: ``cell_ids[ix * ny + iy]`` numbers the
+    cells free at some heading (``-1`` elsewhere), and ``labels[cell_id * N_HEADINGS + h]``
+    is the component of state ``(ix, iy, h)``, ``-1`` where it is not free. Every array but
+    ``cell_ids`` follows the free floor, not the grid's rectangle.
+
+    Raises:
+        Interrupted: ``should_stop()`` became true.
+    """
+    nx, ny, nh = shape[0], shape[1], N_HEADINGS
+    flat = [fits(k).reshape(-1) for k in range(2 * nh)]
+    any_free = np.zeros(nx * ny, dtype=bool)
+    for h in range(nh):
+        any_free |= flat[2 * h]
+    cells = np.flatnonzero(any_free)
+    cell_ids = np.full(nx * ny, -1, dtype=np.int32)  # < MAX_CELLS * 16 states
+    cell_ids[cells] = np.arange(len(cells), dtype=np.int32)
+    state = [flat[2 * h][cells] for h in range(nh)]  # free at heading h, per free cell
+    turn = [turn_room(lambda k: flat[k][cells], h) for h in range(nh)]
+    labels = chunked_labels(cells, cell_ids, state, turn, (nx, ny), should_stop)
+    labels[~np.stack(state, axis=1).reshape(-1)] = -1
+    return cell_ids, labels
 
 
 def chunked_labels(cells: np.ndarray, cell_ids: np.ndarray, state: list[np.ndarray],

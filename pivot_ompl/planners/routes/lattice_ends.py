@@ -12,7 +12,7 @@ refused, the plan 1.31 times the shortest route against the original's 1.14).
 
 So an end between headings joins only states where the lattice could turn across its
 heading (free at both headings either side and at the yaw half-way: the lattice's own test
-of a turn, :meth:`~.lattice.TransferLattice.components`), and it may first be pushed or
+of a turn, :func:`~.lattice_components.turn_room`), and it may first be pushed or
 pulled straight along its own heading, up to :data:`LEAD_REACH`, to reach such a state (a
 *lead*: the car's heading kept, the floor along it free at the field yaw nearest to it).
 The lead's pose then becomes the route's second (or last but one) pose, and the chain made
@@ -27,6 +27,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from pivot_ompl.planners.routes.lattice_components import turn_room
 from pivot_ompl.se2 import Pose, wrap_angle
 from pivot_ompl.transit.lattice import HEADING_YAWS, N_HEADINGS
 from pivot_ompl.validity.assembly_field import FIELD_YAWS, AssemblyField
@@ -65,7 +66,8 @@ def between_headings(yaw: float) -> bool:
 
 
 def end_joins(field: AssemblyField, car: Pose, parity: int, *, push: float, spin: float,
-              region: np.ndarray, leads: bool = True, should_stop: Stop | None = None
+              region: np.ndarray, leads: bool = True, should_stop: Stop | None = None,
+              turns: Callable[[int], np.ndarray] | None = None
               ) -> tuple[dict[State, float], dict[State, Pose]]:
     """The lattice states a car pose joins, with the joins' costs (s), and their leads.
 
@@ -79,6 +81,10 @@ def end_joins(field: AssemblyField, car: Pose, parity: int, *, push: float, spin
         leads: join an end between headings as the module docstring says; ``False``: the
             near states, a turn wherever it is.
         should_stop: polled while a yaw's grid is computed.
+        turns: ``turns(h)``, the grid positions where the lattice turns between heading
+            ``h`` and the next within ``region`` (:func:`~.lattice_components.turn_room`,
+            e.g. the lattice's kept :meth:`~.lattice.TransferLattice.turn_room`); default:
+            computed here.
 
     Returns:
         ``(joins, leads)``: the states and their join costs, and for the states joined
@@ -103,6 +109,10 @@ def end_joins(field: AssemblyField, car: Pose, parity: int, *, push: float, spin
     low = near[0] if wrap_angle(yaw - HEADING_YAWS[near[0]]) > 0 else near[1]
     high = (low + 1) % N_HEADINGS  # the end's heading lies between these two
     k_own = min(range(len(FIELD_YAWS)), key=lambda k: abs(wrap_angle(FIELD_YAWS[k] - yaw)))
+    if turns is None:
+        room = turn_room(lambda k: field.fits(parity, k, should_stop=should_stop) & region, low)
+    else:
+        room = turns(low)
     joins: dict[State, float] = {}
     through: dict[State, Pose] = {}  # the leads' cars
     step = field.resolution
@@ -117,8 +127,7 @@ def end_joins(field: AssemblyField, car: Pose, parity: int, *, push: float, spin
                 if not fits(round(fx), round(fy), k_own):
                     break  # the lead runs into a wall
             for ix, iy, d in _near(field, x, y):
-                if not (fits(ix, iy, 2 * low) and fits(ix, iy, 2 * low + 1)
-                        and fits(ix, iy, 2 * high)):
+                if not (0 <= ix < field.nx and 0 <= iy < field.ny and room[ix, iy]):
                     continue  # no room to turn across the end's heading here
                 for h in (low, high):
                     c = (abs(t) + d) * push + off[h] * spin

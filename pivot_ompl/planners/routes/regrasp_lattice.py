@@ -60,7 +60,10 @@ class ComponentSteps:
 
 def _box_poses(lattice: TransferLattice, parity: int, should_stop: Stop | None
                ) -> tuple[np.ndarray, np.ndarray]:
-    """Every free lattice state's box pose at grasp ``parity`` (``(n, 3)``) and its component."""
+    """Every free lattice state's box pose at grasp ``parity`` (``(n, 3)``) and its component.
+
+    In the scene (the lattice's frame turned out: :attr:`~.lattice.TransferLattice.frame`).
+    """
     f, m = lattice.field, lattice.checker.model
     cell_ids, labels = lattice.components(parity, should_stop)
     cells = np.flatnonzero(cell_ids >= 0)  # cell id i is cells[i]
@@ -77,7 +80,7 @@ def _box_poses(lattice: TransferLattice, parity: int, should_stop: Stop | None
         poses.append(np.column_stack([cx[ok] + r * math.cos(yaw), cy[ok] + r * math.sin(yaw),
                                       np.full(int(ok.sum()), wrap_angle(yaw + turn))]))
         comps.append(lab[ok, h])
-    return np.concatenate(poses), np.concatenate(comps)
+    return lattice.frame.poses_out(np.concatenate(poses)), np.concatenate(comps)
 
 
 def component_steps(lattice: TransferLattice, start: Pose, goal: Pose, *,

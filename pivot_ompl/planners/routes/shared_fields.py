@@ -23,6 +23,7 @@ import shapely
 from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.planners.routes.lattice_frame import LatticeFrame
 from pivot_ompl.scene.shared import scene_shared
 from pivot_ompl.validity.assembly_field import AssemblyField
 
@@ -41,18 +42,22 @@ _routes: weakref.WeakKeyDictionary[AssemblyField, dict[tuple, dict]] = \
 
 def assembly_field(checker: PivotChecker, resolution: float, *,
                    region: BaseGeometry | None = None,
-                   area: Callable[[AssemblyField], np.ndarray] | None = None) -> AssemblyField:
+                   area: Callable[[AssemblyField], np.ndarray] | None = None,
+                   frame: LatticeFrame | None = None) -> AssemblyField:
     """The assembly field of ``checker``'s scene at ``resolution`` (m), shared by scene.
 
     With a ``region``, the field restricted to ``area(field)`` (the grid positions an
     assembly in the region may take, :meth:`AssemblyField.restrict`), shared by scene and
-    region.
+    region. In ``frame`` where given (:mod:`.lattice_frame`: the field of the turned floor),
+    shared by frame too.
     """
+    world = checker.world if frame is None or frame.world is None else frame.world
     what = ("assembly field", float(resolution), float(checker.world.clearance),
-            None if region is None else shapely.to_wkb(region))
+            None if region is None else shapely.to_wkb(region),
+            0.0 if frame is None else frame.yaw)
 
     def made() -> AssemblyField:
-        field = AssemblyField(checker.model, checker.world, resolution)
+        field = AssemblyField(checker.model, world, resolution)
         if region is not None and area is not None:
             field.restrict(area(field))
         return field
