@@ -12,7 +12,9 @@ gap, the *passage* reported: no route of the held box avoids a passage at most t
 
 The passage is an explanation, not the proof (the relaxation is): the widths are exact
 (distances between the walls' floor shadows), the held assembly's width is the width of its
-convex outline, which an assembly turning inside a slot might beat by a little.
+convex outline, which an assembly turning inside a slot might beat by a little. Where no
+opening joins the two regions at all, the floor itself is cut: that is a proof
+(:func:`explain_no_plan`).
 """
 
 from __future__ import annotations
@@ -40,6 +42,9 @@ log = logging.getLogger(__name__)
 
 #: Half-thickness (m) of the segment that closes a gap (it must seal it, nothing more).
 SEAL = 1e-6
+#: Gaps narrower than this (m) are walls touching up to round-off (a floor turned or mirrored
+#: moves touching edges apart by ~1e-16 m): sealed like every gap, but joining no regions.
+TOUCH = 2.0 * SEAL
 #: Most gaps the search closes (their union is not interruptible and grows faster than their
 #: number: 2837 gaps of a 30 x 15 m SLAM map took 17 s); beyond, no passage is reported.
 MAX_GAPS = 1000
@@ -217,7 +222,9 @@ def _blocking_passage(scene: Scene, clearance: float,
     if should_stop is not None and should_stop():
         raise Interrupted("the passage search")
     x0, y0, x1, y1 = scene.bounds
-    solid = shapely.union_all(list(walls) + list(shapely.buffer(lines, SEAL)))
+    # walls grown by SEAL: edges that touch up to round-off leave no crack between them
+    solid = shapely.union_all(list(shapely.buffer(walls, SEAL, join_style="mitre"))
+                              + list(shapely.buffer(lines, SEAL)))
     free = shapely.box(x0, y0, x1, y1).difference(solid)
     regions = [g for g in getattr(free, "geoms", [free]) if not g.is_empty]
     if should_stop is not None and should_stop():
@@ -240,6 +247,8 @@ def _blocking_passage(scene: Scene, clearance: float,
         return i
 
     for g in sorted(joins, key=lambda g: -widths[g]):  # widest gaps first (maximin path)
+        if widths[g] <= TOUCH:  # the rest are touching walls: no opening at all
+            break
         rs = joins[g]
         for r in rs[1:]:
             parent[find(r)] = find(rs[0])
@@ -324,12 +333,19 @@ def explain_no_plan(scene: Scene, *, should_stop: Callable[[], bool] | None = No
     answer is ``None``. Otherwise the regrasp bound's relaxation runs: when it joins no path
     no plan exists, and the answer is the passage's reason (one line) and the passage;
     ``None`` when it joins one or ``should_stop`` stopped it (nothing is proven then).
+    A passage with no opening at all (``center`` ``None``) is its own proof: the box's
+    centre cannot leave the floor less the obstacles' footprints (every obstacle stands on
+    the floor, as the box does), and that floor holds no way from start to goal (walls
+    closer than :data:`TOUCH` count as touching: no box passes them), so the relaxation
+    is not run.
     ``passages``: the scene's passage search to share (:class:`PassageOnce`), if any.
     """
     search = passages if passages is not None else PassageOnce(scene)
     passage = search(should_stop=should_stop)
     if passage is None:
         return None
+    if passage.center is None:  # the floor itself is cut between start and goal: proven
+        return passage.reason, passage
     bound = lower_bound(scene, should_stop=should_stop)
     if bound.solvable is not False:
         return None

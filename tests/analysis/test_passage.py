@@ -13,6 +13,7 @@ from hypothesis import strategies as st
 from pivot_ompl.analysis.passage import assembly_width, blocking_passage, explain_no_plan
 from pivot_ompl.api import PROOF_SHARE, plan
 from pivot_ompl.cli.main import main
+from pivot_ompl.generate import mirror_scene, rotate_scene
 from pivot_ompl.scene import load_scene, obstacles_from_list
 
 pytestmark = pytest.mark.timed  # a time budget or a clock stop: run alone
@@ -55,6 +56,24 @@ def test_a_wide_door_blocks_nothing():
 def test_a_closed_room_has_no_opening():
     p = blocking_passage(shipped("enclosed"))
     assert p is not None and p.center is None and "no opening" in p.reason
+
+
+@settings(max_examples=12, deadline=None)
+@given(angle=st.floats(-3.1, 3.1), mirrored=st.booleans())
+def test_a_closed_room_turned_or_mirrored_still_has_no_opening(angle, mirrored):
+    # its walls touch edge to edge; turned, round-off moves the edges ~1e-16 m apart
+    room = shipped("enclosed")
+    scene = mirror_scene(room, angle) if mirrored else rotate_scene(room, angle)
+    p = blocking_passage(scene)
+    assert p is not None and p.center is None and "no opening" in p.reason, p
+
+
+def test_a_mirrored_closed_room_is_answered_before_the_search():
+    # the floor is cut between start and goal: proven without the relaxation
+    scene = mirror_scene(shipped("enclosed"), 0.3)
+    res = plan(scene, time_limit=2.0, seed=0)
+    assert res.status == "INFEASIBLE" and "no opening" in (res.infeasible_reason or "")
+    assert res.timings["solve"] == 0.0
 
 
 def test_a_feasible_scene_is_not_explained_away():
