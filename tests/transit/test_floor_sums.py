@@ -131,9 +131,9 @@ def test_a_wall_box_turned_by_pi_is_its_opposite_sum_reflected(grid, data):
     assert sums.reflected > 0
     for row in range(len(got.used)):
         a, b = _region(got, row), _region(want, row)
-        # turned as the summed one is (a point reflection keeps a ring's turning; the kept
-        # slots' order is the summing's, counter-clockwise or not)
-        assert a.is_valid and shapely.is_ccw(a.exterior) == shapely.is_ccw(b.exterior)
+        # the region, not the slots' order (the kept slots need not run round the ring: what
+        # reads them is the raster, held equal below)
+        assert a.is_valid
         assert a.symmetric_difference(b).area <= 1e-9 * max(b.area, 1.0)
         assert np.allclose(got.bounds[row], want.bounds[row], atol=1e-9)
     again = PieceSums(grid.pieces, grid.sums.bodies, opposite=list(OPPOSITE_YAWS))
