@@ -7,11 +7,14 @@ thin diagonal band of that rectangle: the cells grow with the square of the row'
 coarser cells a large floor gets lose the row's narrow passages. So the relaxations run on the
 scene turned to its walls (:func:`~pivot_ompl.scene.walls.wall_yaw`, as the walk lattice is:
 :mod:`pivot_ompl.transit.frame`) and cut to where its box can be (:func:`relaxed_scene`).
-The walls' direction is that of the faces that look onto the free floor (the floor's pieces
-holding the start or the goal), weighed by their length there: the outer faces of walls round
-the floor, and walls shut off from it, do not count. So a turned or reflected copy of a floor
-(which keeps its old floor as four long walls round it) takes the direction the floor's own
-walls give the original, up to a quarter turn: the walls that shape its routes.
+For the transfer lattice (``facing``), the walls' direction is that of the faces that look
+onto the free floor (the floor's pieces holding the start or the goal), weighed by their
+length there: the outer faces of walls round the floor, and walls shut off from it, do not
+count. So a turned or reflected copy of a floor (which keeps its old floor as four long walls
+round it) takes the direction the floor's own walls give the original, up to a quarter turn:
+the walls that shape its routes. The relaxations keep every edge's direction (their bounds
+on such copies are as strong in the old floor's frame: ``gen:walls:3``'s copies prove 3
+regrasps there, 1 in the inner walls').
 
 **Still a relaxation of every plan.** Turning the floor, its obstacles, start and goal together
 is a rigid motion: every plan of the scene turned is a plan of the turned scene. The turned
@@ -117,12 +120,12 @@ class WallFrame:
 
 def wall_frame(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
                should_stop: Callable[[], bool] | None = None, worth: float | None = None,
-               floor_grid: float | None = None) -> WallFrame | None:
+               floor_grid: float | None = None, facing: bool = False) -> WallFrame | None:
     """The scene turned to its walls and cut to its free floor, when that is worth it.
 
-    The direction: the walls' (:func:`~pivot_ompl.scene.walls.wall_yaw`) counting each edge's
-    share that borders the free floor (module docstring). ``None`` when the walls (all their
-    edges, or those facing the free floor) run along the axes, when the turned scene's
+    The direction: the walls' (:func:`~pivot_ompl.scene.walls.wall_yaw`); with ``facing``,
+    counting each edge's share that borders the free floor (module docstring). ``None`` when
+    the walls (all their edges, or those counted) run along the axes, when the turned scene's
     bounds are not smaller than ``worth`` (default :data:`WORTH`) of the scene's, when the
     scene has over :data:`MAX_PIECES` obstacle pieces, or when ``should_stop`` said stop.
     ``clearance``: what the checkers keep every body from the obstacles (m; the old bounds'
@@ -138,7 +141,8 @@ def wall_frame(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     floor = _free_floor(scene, should_stop)
     if floor is None:
         return None
-    yaw = wall_yaw(scene.obstacles, facing=_facing(floor, 2.0 * _grow(scene)))
+    yaw = (wall_yaw(scene.obstacles, facing=_facing(floor, 2.0 * _grow(scene))) if facing
+           else wall_yaw(scene.obstacles))
     if yaw == 0.0:
         return None
     reach = max(p.reach for g in (0, 1) for p in held_bodies(scene, g)) + MARGIN

@@ -89,7 +89,7 @@ def lattice_frame(checker: PivotChecker, *, resolution: float) -> LatticeFrame:
 
     def made() -> LatticeFrame:
         f = wall_frame(checker.scene, clearance=clearance, worth=math.inf,
-                       floor_grid=resolution)
+                       floor_grid=resolution, facing=True)
         if f is None:
             return LatticeFrame()
         return LatticeFrame(f.yaw, f.centre,
