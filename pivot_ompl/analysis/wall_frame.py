@@ -7,6 +7,14 @@ thin diagonal band of that rectangle: the cells grow with the square of the row'
 coarser cells a large floor gets lose the row's narrow passages. So the relaxations run on the
 scene turned to its walls (:func:`~pivot_ompl.scene.walls.wall_yaw`, as the walk lattice is:
 :mod:`pivot_ompl.transit.frame`) and cut to where its box can be (:func:`relaxed_scene`).
+For the transfer lattice (``facing``), the walls' direction is that of the faces that look
+onto the free floor (the floor's pieces holding the start or the goal), weighed by their
+length there: the outer faces of walls round the floor, and walls shut off from it, do not
+count. So a turned or reflected copy of a floor (which keeps its old floor as four long walls
+round it) takes the direction the floor's own walls give the original, up to a quarter turn:
+the walls that shape its routes. The relaxations keep every edge's direction (their bounds
+on such copies are as strong in the old floor's frame: ``gen:walls:3``'s copies prove 3
+regrasps there, 1 in the inner walls').
 
 **Still a relaxation of every plan.** Turning the floor, its obstacles, start and goal together
 is a rigid motion: every plan of the scene turned is a plan of the turned scene. The turned
@@ -38,6 +46,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
+import numpy as np
 import shapely
 
 from pivot_ompl.analysis.bound_levels import CELLS
@@ -71,6 +80,8 @@ AXIS = 1e-6
 #: box's centre stays half the box's short side from every obstacle, farther than this (and
 #: than the mitred corners, at most five times this).
 GROW = 1e-3
+#: Points along each wall edge at which :func:`wall_frame` asks whether it borders the free floor.
+FACE_SAMPLES = 8
 
 
 @dataclass(frozen=True)
@@ -109,25 +120,30 @@ class WallFrame:
 
 def wall_frame(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
                should_stop: Callable[[], bool] | None = None, worth: float | None = None,
-               floor_grid: float | None = None) -> WallFrame | None:
+               floor_grid: float | None = None, facing: bool = False) -> WallFrame | None:
     """The scene turned to its walls and cut to its free floor, when that is worth it.
 
-    ``None`` when the walls run along the axes, when the turned scene's bounds are not
-    smaller than ``worth`` (default :data:`WORTH`) of the scene's, when the scene has over
-    :data:`MAX_PIECES` obstacle pieces, or when ``should_stop`` said stop. ``clearance``:
-    what the checkers keep every body from the obstacles (m; the old bounds' walls stand
-    that far out). ``floor_grid``: a grid spacing (m); the turned bounds' lower corner then
-    lies a whole number of it below the free floor's (a floor drawn in the walls' frame has
-    its bounds' corner there: a grid from it is the one the floor's own would be); default:
-    the corner aligned to the raster's cells (most wall edges on cell edges).
+    The direction: the walls' (:func:`~pivot_ompl.scene.walls.wall_yaw`); with ``facing``,
+    counting each edge's share that borders the free floor (module docstring). ``None`` when
+    the walls (all their edges, or those counted) run along the axes, when the turned scene's
+    bounds are not smaller than ``worth`` (default :data:`WORTH`) of the scene's, when the
+    scene has over :data:`MAX_PIECES` obstacle pieces, or when ``should_stop`` said stop.
+    ``clearance``: what the checkers keep every body from the obstacles (m; the old bounds'
+    walls stand that far out). ``floor_grid``: a grid spacing (m); the turned bounds' lower
+    corner then lies a whole number of it below the free floor's (a floor drawn in the walls'
+    frame has its bounds' corner there: a grid from it is the one the floor's own would be);
+    default: the corner aligned to the raster's cells (most wall edges on cell edges).
     """
-    yaw = wall_yaw(scene.obstacles)
-    if yaw == 0.0:
+    if wall_yaw(scene.obstacles) == 0.0:
         return None
     x0, y0, x1, y1 = scene.bounds
     centre = (0.5 * (x0 + x1), 0.5 * (y0 + y1))
     floor = _free_floor(scene, should_stop)
     if floor is None:
+        return None
+    yaw = (wall_yaw(scene.obstacles, facing=_facing(floor, 2.0 * _grow(scene))) if facing
+           else wall_yaw(scene.obstacles))
+    if yaw == 0.0:
         return None
     reach = max(p.reach for g in (0, 1) for p in held_bodies(scene, g)) + MARGIN
     pts = shapely.get_coordinates(floor)
@@ -215,6 +231,30 @@ def _free_floor(scene: Scene, should_stop: Callable[[], bool] | None
     kept = [g for g in getattr(free, "geoms", [free])
             if not g.is_empty and shapely.intersects(g, ends).any()]
     return shapely.MultiPolygon(kept) if kept else None
+
+
+def _facing(floor: shapely.Geometry, off: float) -> Callable[[np.ndarray], np.ndarray]:
+    """The share of each edge ``(n, 4)`` that borders ``floor`` (:func:`wall_frame`'s weights).
+
+    Sampled at :data:`FACE_SAMPLES` points along the edge, each ``off`` (m) to either side:
+    a point counts where either lies on the floor. The faces of a wall that look onto the
+    free floor count, not those outside it (the far faces of a turned copy's old bounds).
+    """
+    shapely.prepare(floor)
+
+    def share(e: np.ndarray) -> np.ndarray:
+        d = e[:, 2:4] - e[:, 0:2]
+        length = np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-12)
+        normal = np.column_stack([-d[:, 1], d[:, 0]]) / length[:, None]
+        t = (np.arange(FACE_SAMPLES) + 0.5) / FACE_SAMPLES
+        pts = e[:, None, 0:2] + t[None, :, None] * d[:, None, :]  # (n, k, 2)
+        seen = np.zeros(pts.shape[:2], dtype=bool)
+        for side in (-1.0, 1.0):
+            q = pts + side * off * normal[:, None, :]
+            seen |= shapely.contains_xy(floor, q[..., 0], q[..., 1])
+        return seen.mean(axis=1)
+
+    return share
 
 
 def _grow(scene: Scene) -> float:

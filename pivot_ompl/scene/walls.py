@@ -10,7 +10,7 @@ its corridors lie along their axes.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 
 import numpy as np
 
@@ -21,6 +21,28 @@ from pivot_ompl.se2 import rotate_about
 BIN = math.radians(0.5)
 #: A dominant direction closer than this (rad) to the world's axes is taken as 0.
 AXIS_TOLERANCE = 1e-9
+
+
+def wall_edges(o: Obstacle) -> list[tuple[float, float, float, float, float]]:
+    """The obstacle's straight edges ``(ax, ay, bx, by, direction)`` (m, rad; none for a cylinder).
+
+    A box's edges run along its yaw and a quarter turn from it (exactly those directions).
+    """
+    if isinstance(o, BoxObstacle):
+        c, s = math.cos(o.yaw), math.sin(o.yaw)
+        hx, hy = 0.5 * o.size[0], 0.5 * o.size[1]
+        pts = [(o.center[0] + c * u - s * v, o.center[1] + s * u + c * v)
+               for u, v in ((-hx, -hy), (hx, -hy), (hx, hy), (-hx, hy))]
+        dirs = [o.yaw, o.yaw + 0.5 * math.pi] * 2
+        return [(*a, *b, d) for a, b, d in zip(pts, pts[1:] + pts[:1], dirs, strict=True)]
+    if isinstance(o, PolygonObstacle):
+        pts = list(o.points)
+        return [(ax, ay, bx, by, math.atan2(by - ay, bx - ax))
+                for (ax, ay), (bx, by) in zip(pts, pts[1:] + pts[:1], strict=True)
+                if (ax, ay) != (bx, by)]
+    return []
+
+
 def _edges(o: Obstacle) -> Iterable[tuple[float, float]]:
     """``(direction, length)`` of the obstacle's straight edges (none for a cylinder)."""
     if isinstance(o, BoxObstacle):
@@ -34,24 +56,34 @@ def _edges(o: Obstacle) -> Iterable[tuple[float, float]]:
                 yield math.atan2(by - ay, bx - ax), length
 
 
-def wall_yaw(obstacles: Iterable[Obstacle]) -> float:
+def wall_yaw(obstacles: Iterable[Obstacle],
+             facing: Callable[[np.ndarray], np.ndarray] | None = None) -> float:
     """The walls' direction modulo a quarter turn, in ``[-pi/4, pi/4)`` (rad).
 
     Edge directions (modulo pi/2) are summed by length in bins of :data:`BIN`; of the edges
     in the heaviest bin and its neighbours, the direction most length takes (to 1e-6 rad:
-    parallel walls, to rounding) is the answer.
+    parallel walls, to rounding) is the answer. ``facing``: given the edges ``(n, 4)``
+    (``ax, ay, bx, by``, m, :func:`wall_edges`), the share (0 to 1) of each that counts;
+    default: all of every edge.
     Exactly 0.0 when that is within :data:`AXIS_TOLERANCE` of the axes, and for a floor
-    without straight edges.
+    without straight edges (or none that counts).
     """
     quarter = 0.5 * math.pi
-    dirs, weights = [], []
-    for o in obstacles:
-        for d, w in _edges(o):
-            dirs.append(d % quarter)
-            weights.append(w)
-    if not dirs:
+    if facing is None:
+        dirs, weights = [], []
+        for o in obstacles:
+            for d, w in _edges(o):
+                dirs.append(d % quarter)
+                weights.append(w)
+        a, wt = np.asarray(dirs), np.asarray(weights)
+    else:
+        e = np.asarray([seg for o in obstacles for seg in wall_edges(o)], dtype=float)
+        e = e.reshape(-1, 5)
+        a = e[:, 4] % quarter
+        wt = np.hypot(e[:, 2] - e[:, 0], e[:, 3] - e[:, 1]) * np.asarray(facing(e[:, :4]),
+                                                                         dtype=float)
+    if not np.any(wt > 0.0):
         return 0.0
-    a, wt = np.asarray(dirs), np.asarray(weights)
     n = round(quarter / BIN)
     bins = np.minimum((a / BIN).astype(int), n - 1)
     hist = np.bincount(bins, weights=wt, minlength=n)

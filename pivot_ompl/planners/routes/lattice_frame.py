@@ -8,8 +8,11 @@ that graze them. So the lattice is laid in the walls' frame
 (:func:`~pivot_ompl.analysis.wall_frame.wall_frame`: the scene turned by its walls' direction
 about its bounds' centre and cut to its free floor, the grid's lines through the free
 floor's corner, where a floor drawn in its walls' frame has its bounds' corner and so its own
-grid's): a turned copy of a scene gets the lattice of the original. Turning is a rigid motion, so a
-route of the turned floor is one of the floor; poses go in and out by
+grid's): a turned copy of a scene gets the lattice of the original. The direction is that of
+the wall faces that look onto the free floor (``facing=True``): the old floor a turned or
+reflected copy keeps as walls round it counts by its inner faces only, so on a floor whose
+walls run at several angles the copy's direction is still the original's. Turning is a
+rigid motion, so a route of the turned floor is one of the floor; poses go in and out by
 :meth:`LatticeFrame.car_in` and :meth:`LatticeFrame.car_out`, and the route's ends stay the
 exact poses asked for (the lattice's routes join them as it joins any end). A floor whose walls
 run along the axes (or with too many pieces for the walls' frame) keeps its own frame: the
@@ -89,7 +92,7 @@ def lattice_frame(checker: PivotChecker, *, resolution: float) -> LatticeFrame:
 
     def made() -> LatticeFrame:
         f = wall_frame(checker.scene, clearance=clearance, worth=math.inf,
-                       floor_grid=resolution)
+                       floor_grid=resolution, facing=True)
         if f is None:
             return LatticeFrame()
         return LatticeFrame(f.yaw, f.centre,
