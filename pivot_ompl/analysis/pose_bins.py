@@ -95,6 +95,9 @@ class BinRegions:
 
     #: whether a halved bin's regions are built from its parent's (see the module docstring)
     from_parents = True
+    #: whether the regions may be built from pieces holding the obstacles' (an
+    #: under-approximation of the free set: :mod:`~pivot_ompl.analysis.pose_coarse`)
+    coarse = False
 
     def __init__(self, grown: dict[int, np.ndarray], bodies: list[list[np.ndarray]],
                  area: BaseGeometry) -> None:
