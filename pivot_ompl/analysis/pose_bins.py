@@ -82,8 +82,10 @@ def _key(a: float, b: float) -> Key:
 class BinRegions:
     """Per yaw bin ``[a, b]`` (``0 <= a < b <= 2 pi``), each grasp's free region, kept.
 
-    A subclass may take other bodies per bin (:meth:`_cores`) and, where a half's region is
-    not inside its parent's, none from a parent (:attr:`from_parents`).
+    A subclass may take other bodies per bin (:meth:`_cores`), where a half's region is not
+    inside its parent's, none from a parent (:attr:`from_parents`), and where its regions
+    may lose positions, the floor's coarse pieces (:attr:`coarse`, read by
+    :class:`~pivot_ompl.analysis.pose_proof.HeldParts`).
 
     Args:
         grown: the grown obstacle pieces stacked by vertex count
