@@ -23,7 +23,8 @@ import shapely
 from pivot_ompl.errors import Interrupted
 
 #: Area a merge's hull may add (m²) per metre of its outline: the added slivers' mean width.
-#: One centimetre keeps every corpus map's and shipped scene's every-yaw answer.
+#: One centimetre keeps the every-yaw answers of the shipped scenes, the corridor rows and the
+#: corpus maps measured (docs/buildings.md).
 TOLERANCE = 0.01
 #: Pieces closer than this (m) touch (grid-aligned boxes' shared edges carry round-off).
 TOUCH = 1e-9
