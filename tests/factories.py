@@ -8,6 +8,8 @@ import sys
 from pathlib import Path
 from types import ModuleType
 
+import numpy as np
+
 from pivot_ompl.resources import data_root
 from pivot_ompl.scene import Scene, load_scene, scene_from_dict
 
@@ -235,3 +237,17 @@ def about_centre(scene: Scene, angle: float, *, reflect: bool):  # noqa: ANN201
 
     b = scene.bounds
     return RigidMap(angle, (0.5 * (b[0] + b[2]), 0.5 * (b[1] + b[3])), reflect)
+
+
+def ragged_wall(door: float, seed: int = 0) -> Scene:
+    """The default floor cut at x = 4 by a wall of 5 cm strips, each 0.2-0.4 m thick at random
+    (a mapped wall: no two strips merge), with a door ``door`` m wide round y = 3."""
+    rng = np.random.default_rng(seed)
+    walls = []
+    for k in range(120):
+        y = 0.05 * k + 0.025
+        lo, hi = 4.0 - rng.uniform(0.1, 0.2), 4.0 + rng.uniform(0.1, 0.2)
+        if abs(y - 3.0) >= 0.5 * door:
+            walls.append({"type": "box", "center": [0.5 * (lo + hi), y], "size": [hi - lo, 0.05],
+                          "yaw": 0.0, "height": 2.0})
+    return make_scene(obstacles=walls)

@@ -82,8 +82,10 @@ def _key(a: float, b: float) -> Key:
 class BinRegions:
     """Per yaw bin ``[a, b]`` (``0 <= a < b <= 2 pi``), each grasp's free region, kept.
 
-    A subclass may take other bodies per bin (:meth:`_cores`) and, where a half's region is
-    not inside its parent's, none from a parent (:attr:`from_parents`).
+    A subclass may take other bodies per bin (:meth:`_cores`), where a half's region is not
+    inside its parent's, none from a parent (:attr:`from_parents`), and where its regions
+    may lose positions, the floor's coarse pieces (:attr:`coarse`, read by
+    :class:`~pivot_ompl.analysis.pose_proof.HeldParts`).
 
     Args:
         grown: the grown obstacle pieces stacked by vertex count
@@ -95,6 +97,9 @@ class BinRegions:
 
     #: whether a halved bin's regions are built from its parent's (see the module docstring)
     from_parents = True
+    #: whether the regions may be built from pieces holding the obstacles' (an
+    #: under-approximation of the free set: :mod:`~pivot_ompl.analysis.pose_coarse`)
+    coarse = False
 
     def __init__(self, grown: dict[int, np.ndarray], bodies: list[list[np.ndarray]],
                  area: BaseGeometry) -> None:

@@ -24,6 +24,7 @@ from pivot_ompl.analysis.pose_cells import (
     held_bodies,
     near,
 )
+from pivot_ompl.analysis.pose_coarse import coarse_pieces
 from pivot_ompl.analysis.pose_walk import RegraspWalks
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
@@ -61,6 +62,8 @@ class HeldFloor:
         self.slabs = bound_slabs(scene.bounds, 2.0 * self.reach + 1.0)
         self._grown: dict[float, dict[int, np.ndarray]] = {}
         self._near: dict[float, dict[int, np.ndarray]] = {}
+        self._coarse: dict[float, dict[int, np.ndarray]] = {}
+        self._coarse_pieces: list[np.ndarray] | None = None
         grown = self.grown(clearance)
         if should_stop is not None and should_stop():
             raise Interrupted("the held poses' relaxation")
@@ -81,3 +84,18 @@ class HeldFloor:
         if clearance not in self._near:
             self._near[clearance] = near(self.grown(clearance), self.area, self.reach + 1e-3)
         return self._near[clearance]
+
+    def coarse_near_room(self, clearance: float,
+                         should_stop: Callable[[], bool] | None = None) -> dict[int, np.ndarray]:
+        """:meth:`near_room` of :func:`~pivot_ompl.analysis.pose_coarse.coarse_pieces` (kept).
+
+        Fewer pieces, each holding some of :meth:`near_room`'s: for under-approximations of
+        the free set only. ``should_stop`` is polled while the pieces are merged
+        (:class:`~pivot_ompl.errors.Interrupted` when true).
+        """
+        if clearance not in self._coarse:
+            if self._coarse_pieces is None:
+                self._coarse_pieces = coarse_pieces(self.pieces, should_stop=should_stop)
+            grown = by_size(grown_pieces(self._coarse_pieces, clearance) + self.slabs)
+            self._coarse[clearance] = near(grown, self.area, self.reach + 1e-3)
+        return self._coarse[clearance]

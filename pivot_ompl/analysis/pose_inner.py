@@ -76,10 +76,13 @@ class EveryYawRegions(BinRegions):
     per bin for every grasp, only the sums near a region summed and joined, a bin half a turn
     from a known one taken with the grasps swapped), but from the bodies' :func:`swept_hull`
     instead of their rotation cores, and never from a parent bin (a half's positions valid at
-    every yaw are more than its parent's).
+    every yaw are more than its parent's), and from the floor's coarse pieces
+    (:func:`~pivot_ompl.analysis.pose_coarse.coarse_pieces`: obstacles that only grow, so the
+    positions found are still valid at every yaw).
     """
 
     from_parents = False
+    coarse = True
 
     def _cores(self, which: int, bodies: list[np.ndarray], half: float) -> list[np.ndarray]:
         """The bodies' swept hulls for bins ``2 half`` wide (kept: bins share widths)."""

@@ -134,7 +134,9 @@ class HeldParts:
         #: where the box centre may go at all (``None``: not even the start is in it)
         self.room = floor.room
         self.area = floor.area
-        grown = floor.near_room(clearance if parts_clearance is None else parts_clearance)
+        kept = clearance if parts_clearance is None else parts_clearance
+        grown = (floor.coarse_near_room(kept, should_stop) if regions.coarse
+                 else floor.near_room(kept))
         self.bins = regions(grown, self.bodies, self.area)
         self.known: dict[tuple[float, float], list[list[BaseGeometry]]] = {}
         self.met: dict[tuple[float, ...], tuple[Partners, Partners]] = {}

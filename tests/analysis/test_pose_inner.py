@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import shapely
 from corner_factories import corner_slot
-from factories import clear_lane_boxes, floor_with_clear_lane, make_scene
+from factories import clear_lane_boxes, floor_with_clear_lane, make_scene, ragged_wall
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
@@ -17,7 +17,6 @@ from pivot_ompl.analysis.late_proof import HELD_POSES, NOTHING_TO_PROVE, LatePro
 from pivot_ompl.analysis.pose_cells import free_region
 from pivot_ompl.analysis.pose_inner import EveryYawRegions, joined_at_every_yaw, swept_hull
 from pivot_ompl.analysis.pose_proof import HeldParts, proof_estimate, prove_no_plan
-from pivot_ompl.scene import Scene
 from pivot_ompl.scene.shared import keep_shared, shared_value
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
 from pivot_ompl.validity.merge import merge_boxes
@@ -40,20 +39,6 @@ def test_the_swept_hull_holds_the_body_turned_by_every_yaw_of_its_bin(body, half
         c, s = math.cos(t), math.sin(t)
         assert swept.contains(shapely.Polygon(ccw @ np.array([[c, s], [-s, c]])))
 
-
-
-def ragged_wall(door: float, seed: int = 0) -> Scene:
-    """The default floor cut at x = 4 by a wall of 5 cm strips, each 0.2-0.4 m thick at random
-    (a mapped wall: no two strips merge), with a door ``door`` m wide round y = 3."""
-    rng = np.random.default_rng(seed)
-    walls = []
-    for k in range(120):
-        y = 0.05 * k + 0.025
-        lo, hi = 4.0 - rng.uniform(0.1, 0.2), 4.0 + rng.uniform(0.1, 0.2)
-        if abs(y - 3.0) >= 0.5 * door:
-            walls.append({"type": "box", "center": [0.5 * (lo + hi), y], "size": [hi - lo, 0.05],
-                          "yaw": 0.0, "height": 2.0})
-    return make_scene(obstacles=walls)
 
 
 @pytest.mark.parametrize(("door", "joined"), [(1.2, True), (0.9, False)])
