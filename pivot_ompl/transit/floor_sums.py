@@ -35,7 +35,7 @@ import numpy as np
 
 from pivot_ompl.errors import PivotError
 from pivot_ompl.validity.footprints import symmetric_centres
-from pivot_ompl.validity.minkowski import EdgeSet
+from pivot_ompl.validity.minkowski import EdgeSet, reflected_bounds
 
 Stop = Callable[[], bool] | None
 
@@ -138,16 +138,11 @@ class PieceSums:
         """
         if not len(pieces):
             return
-        c = 2.0 * self._centres[pieces]
-        self._start[pieces, k] = c[:, None, :] - self._start[pieces, source]
+        centres = self._centres[pieces]
+        self._start[pieces, k] = 2.0 * centres[:, None, :] - self._start[pieces, source]
         self._next[pieces, k] = self._next[pieces, source]
         self._used[pieces, k] = self._used[pieces, source]
-        b = self._bounds[pieces, source]
-        bounds = np.column_stack([c[:, 0] - b[:, 2], c[:, 1] - b[:, 3],
-                                  c[:, 0] - b[:, 0], c[:, 1] - b[:, 1]])
-        empty = ~np.isfinite(b[:, 0])
-        bounds[empty] = b[empty]
-        self._bounds[pieces, k] = bounds
+        self._bounds[pieces, k] = reflected_bounds(self._bounds[pieces, source], centres)
         self.done[pieces, k] = True
 
     def _widen(self, width: int) -> None:

@@ -44,7 +44,7 @@ from pivot_ompl.se2 import Pose
 from pivot_ompl.validity.collision import CollisionWorld
 from pivot_ompl.validity.footprints import obstacle_pieces, piece_bounds
 from pivot_ompl.validity.footprints import symmetric_centres as symmetric_centres
-from pivot_ompl.validity.minkowski import EdgeSet, meeting_edges
+from pivot_ompl.validity.minkowski import EdgeSet, meeting_edges, reflected_bounds
 from pivot_ompl.validity.rasters import grid_union
 
 #: The field's yaws: the 16 headings and the 16 half-way yaws, in that order interleaved
@@ -66,13 +66,9 @@ def reflected(edges: EdgeSet, centres: np.ndarray) -> EdgeSet:
     A point reflection is a rotation by pi: counter-clockwise edges stay counter-clockwise.
     """
     c = 2.0 * centres[:, None, :]
-    b = edges.bounds
-    cx, cy = 2.0 * centres[:, 0], 2.0 * centres[:, 1]
-    bounds = np.column_stack([cx - b[:, 2], cy - b[:, 3], cx - b[:, 0], cy - b[:, 1]])
-    empty = ~np.isfinite(b[:, 0])
-    bounds[empty] = b[empty]
     return EdgeSet(np.where(edges.used[..., None], c - edges.start, 0.0),
-                   np.where(edges.used[..., None], c - edges.end, 0.0), edges.used, bounds)
+                   np.where(edges.used[..., None], c - edges.end, 0.0), edges.used,
+                   reflected_bounds(edges.bounds, centres))
 
 
 def assembly_bodies(model: BoxGraspModel, grasp: int, clearance: float) -> list[np.ndarray]:

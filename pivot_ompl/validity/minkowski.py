@@ -47,6 +47,20 @@ class EdgeSet:
     bounds: np.ndarray
 
 
+def reflected_bounds(bounds: np.ndarray, centres: np.ndarray) -> np.ndarray:
+    """Bounding boxes ``(n, 4)`` of polygons reflected through their ``centres`` (``(n, 2)``).
+
+    The box ``x0, y0, x1, y1`` of a polygon point-reflected about ``c`` is ``2 c - (x1, y1)``
+    to ``2 c - (x0, y0)``; an empty polygon's (``inf, inf, -inf, -inf``) stays as it is.
+    """
+    cx, cy = 2.0 * centres[:, 0], 2.0 * centres[:, 1]
+    out = np.column_stack([cx - bounds[:, 2], cy - bounds[:, 3],
+                           cx - bounds[:, 0], cy - bounds[:, 1]])
+    empty = ~np.isfinite(bounds[:, 0])
+    out[empty] = bounds[empty]
+    return out
+
+
 def _dots(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     """``(g, s, k)`` dot products of directions ``u`` ``(g, s, 2)`` and points ``(g, k, 2)``.
 
