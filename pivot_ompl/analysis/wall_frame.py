@@ -134,17 +134,18 @@ def wall_frame(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     frame has its bounds' corner there: a grid from it is the one the floor's own would be);
     default: the corner aligned to the raster's cells (most wall edges on cell edges).
     """
-    if wall_yaw(scene.obstacles) == 0.0:
+    yaw = wall_yaw(scene.obstacles)
+    if yaw == 0.0:
         return None
     x0, y0, x1, y1 = scene.bounds
     centre = (0.5 * (x0 + x1), 0.5 * (y0 + y1))
     floor = _free_floor(scene, should_stop)
     if floor is None:
         return None
-    yaw = (wall_yaw(scene.obstacles, facing=_facing(floor, 2.0 * _grow(scene))) if facing
-           else wall_yaw(scene.obstacles))
-    if yaw == 0.0:
-        return None
+    if facing:
+        yaw = wall_yaw(scene.obstacles, facing=_facing(floor, 2.0 * _grow(scene)))
+        if yaw == 0.0:
+            return None
     reach = max(p.reach for g in (0, 1) for p in held_bodies(scene, g)) + MARGIN
     pts = shapely.get_coordinates(floor)
     c, s = math.cos(-yaw), math.sin(-yaw)
