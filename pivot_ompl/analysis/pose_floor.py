@@ -76,13 +76,13 @@ class HeldFloor:
     def grown(self, clearance: float) -> dict[int, np.ndarray]:
         """The pieces grown by ``clearance`` (m) and the bounds' slabs, stacked by size (kept)."""
         if clearance not in self._grown:
-            self._grown[clearance] = by_size(grown_pieces(self.pieces, clearance) + self.slabs)
+            self._grown[clearance] = self._stacked(self.pieces, clearance)
         return self._grown[clearance]
 
     def near_room(self, clearance: float) -> dict[int, np.ndarray]:
         """:meth:`grown` less the pieces no body in the room can meet (kept)."""
         if clearance not in self._near:
-            self._near[clearance] = near(self.grown(clearance), self.area, self.reach + 1e-3)
+            self._near[clearance] = self._near_room(self.grown(clearance))
         return self._near[clearance]
 
     def coarse_near_room(self, clearance: float,
@@ -96,6 +96,14 @@ class HeldFloor:
         if clearance not in self._coarse:
             if self._coarse_pieces is None:
                 self._coarse_pieces = coarse_pieces(self.pieces, should_stop=should_stop)
-            grown = by_size(grown_pieces(self._coarse_pieces, clearance) + self.slabs)
-            self._coarse[clearance] = near(grown, self.area, self.reach + 1e-3)
+            self._coarse[clearance] = self._near_room(
+                self._stacked(self._coarse_pieces, clearance))
         return self._coarse[clearance]
+
+    def _stacked(self, pieces: list[np.ndarray], clearance: float) -> dict[int, np.ndarray]:
+        """``pieces`` grown by ``clearance`` (m) and the bounds' slabs, stacked by size."""
+        return by_size(grown_pieces(pieces, clearance) + self.slabs)
+
+    def _near_room(self, grown: dict[int, np.ndarray]) -> dict[int, np.ndarray]:
+        """``grown`` less the pieces no body in the room can meet."""
+        return near(grown, self.area, self.reach + 1e-3)
