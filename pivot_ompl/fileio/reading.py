@@ -22,11 +22,15 @@ def input_path(path: Any, *, error: type[InputError] = InputError,
     """``path`` as a :class:`~pathlib.Path` when it is a ``str`` or ``os.PathLike``.
 
     Raises:
-        error: any other type (naming ``field`` and the type).
+        error: any other type (naming ``field`` and the type), or a path holding a NUL
+            character (no file can be named so: the system refuses it before any lookup).
     """
     if not isinstance(path, str | os.PathLike) or isinstance(path, bytes):
         raise error(field, type(path).__name__, "must be a file path (str or os.PathLike)")
-    return Path(path)
+    p = Path(path)
+    if "\0" in str(p):
+        raise error(field, str(p), "is not a file path (it holds a NUL character)")
+    return p
 
 
 def regular_file(path: Any, *, error: type[InputError] = InputError,

@@ -21,6 +21,7 @@ import pivot_ompl.generate
 from pivot_ompl.analysis.bound_cache import lower_bound
 from pivot_ompl.errors import InputError, PivotError
 from pivot_ompl.generate.transform import mirror_scene, rotate_scene
+from pivot_ompl.motionfile import load_motion
 from pivot_ompl.planfile import load_plan
 from pivot_ompl.session import PlanningSession
 from pivot_ompl.viz.samples import sample_plan
@@ -324,3 +325,16 @@ def test_the_generators_entry_points_name_their_wrong_argument(call, field, tmp_
         call(tmp_path)
     assert e.value.field == field
     assert not list(tmp_path.iterdir())  # nothing written
+
+
+@pytest.mark.parametrize("read", [
+    lambda p: pivot_ompl.simulate(p, p),
+    lambda p: load_plan(p),
+    lambda p: load_motion(p),
+    lambda p: pivot_ompl.load_scene(p),
+], ids=["simulate", "load_plan", "load_motion", "load_scene"])
+def test_a_path_holding_a_nul_character_is_refused_as_a_path(read):
+    """Found by the entry-point test: ``simulate("\\x00", ...)`` raised the system's
+    ValueError (embedded null byte) from the file's stat, not the project's error."""
+    with pytest.raises(InputError, match="NUL"):
+        read("plan\x00.json")
