@@ -22,6 +22,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="scene file or shipped scene's name (default: the plan's own scene)")
     p.add_argument("plan", help="pivot-plan/1 JSON file")
     p.add_argument("--no-collisions", action="store_true", help="skip collision checks")
+    p.add_argument("--exact", action="store_true",
+                   help="pass a motion only if proven clear at every instant (the planner's "
+                        "certificate), not to the sweep tolerance between samples")
     p.set_defaults(func=run)
 
 
@@ -30,7 +33,7 @@ def run(args: argparse.Namespace) -> int:
     given = load_scene(args.scene) if args.scene else None  # its errors first, as before
     plan = load_plan(args.plan)
     scene = require_scene(SceneRecord.of(plan), given, field="plan.scene")
-    rep = check_plan(plan, scene, collisions=not args.no_collisions)
+    rep = check_plan(plan, scene, collisions=not args.no_collisions, exact=args.exact)
     for prob in rep.problems[:50]:
         print(f"  {prob}", file=sys.stderr)
     if rep.ok:

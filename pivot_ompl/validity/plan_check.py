@@ -56,7 +56,7 @@ def _close(a: Pose, b: Pose, tol: float = POSE_TOL) -> bool:
 
 
 def check_plan(plan: Plan, scene: Scene | None = None, *, collisions: bool = True,
-               tolerance: float = SWEEP_TOLERANCE) -> PlanCheckReport:
+               tolerance: float = SWEEP_TOLERANCE, exact: bool = False) -> PlanCheckReport:
     """Validate ``plan`` (optionally against ``scene``); see the module docstring.
 
     The poses checked are computed, never read: from the scene's start (the plan's without
@@ -64,6 +64,12 @@ def check_plan(plan: Plan, scene: Scene | None = None, *, collisions: bool = Tru
     the written pivot by the written angle. A written pose is only compared with the computed
     one (within :data:`POSE_TOL`), so errors within the tolerance cannot add up along a plan;
     the goal is compared with the computed end.
+
+    Every sweep accepts a motion whose bodies may come within ``tolerance`` of an obstacle
+    between two checked samples; with ``exact`` a motion passes only if it is proven to keep
+    the clearance at every parameter (:func:`~pivot_ompl.validity.certify.certify` with
+    ``exact=True``, the planner's own certificate): a plan that dips by less than the
+    tolerance between samples is then refused.
     """
     rep = PlanCheckReport()
     world = CollisionWorld.from_scene(scene) if scene is not None else None
@@ -106,22 +112,23 @@ def check_plan(plan: Plan, scene: Scene | None = None, *, collisions: bool = Tru
                                         "supporting edge")
                     sweep = False  # its sweep could span the whole floor: not swept
                 new_car = rotate_about(car, pivot, st.angle)
-                exact = model.object_from_car(new_car, g)
-                if not _close(st.object, exact):
+                computed = model.object_from_car(new_car, g)
+                if not _close(st.object, computed):
                     rep.problems.append(f"{w}: object {st.object} is not the rotation's result "
-                                        f"{exact}")
-                if not _close(st.robot, model.robot_pose(exact, g)):
+                                        f"{computed}")
+                if not _close(st.robot, model.robot_pose(computed, g)):
                     rep.problems.append(f"{w}: robot {st.robot} is not rigidly at grasp {g}")
                 if sweep and world is not None:
-                    _check_rotation(rep, w, world, model, car, pivot, st.angle, g, tolerance)
-                car, obj = new_car, exact  # the chain goes on from the computed pose
+                    _check_rotation(rep, w, world, model, car, pivot, st.angle, g, tolerance,
+                                    exact)
+                car, obj = new_car, computed  # the chain goes on from the computed pose
                 if len(rep.problems) > MAX_PROBLEMS:
                     return rep
             robot = model.robot_pose(obj, g)
         elif isinstance(ph, TransitPhase):
             rep.transits += 1
             robot = _check_transit(rep, where, ph, world if sweep_all else None, model, obj,
-                                   robot, tolerance)
+                                   robot, tolerance, exact)
         if len(rep.problems) > MAX_PROBLEMS:
             return rep
     if scene is not None and not _close(obj, scene.goal):
@@ -132,7 +139,7 @@ def check_plan(plan: Plan, scene: Scene | None = None, *, collisions: bool = Tru
 
 def _check_transit(rep: PlanCheckReport, where: str, ph: TransitPhase,
                    world: CollisionWorld | None, model: BoxGraspModel, obj: Pose,
-                   robot: Pose | None, tolerance: float) -> Pose:
+                   robot: Pose | None, tolerance: float, exact: bool) -> Pose:
     """Check a walk round the resting box at ``obj``; return where it leaves the robot."""
     path = ph.robot_path
     if not _close(ph.object_pose, obj):
@@ -152,7 +159,8 @@ def _check_transit(rep: PlanCheckReport, where: str, ph: TransitPhase,
                                 "the bounds")
             return path[-1]
         for k, (a, b) in enumerate(zip(path, path[1:], strict=False)):
-            _check_walk(rep, f"{where}.robot_path[{k}]", world, model, a, b, obj, tolerance)
+            _check_walk(rep, f"{where}.robot_path[{k}]", world, model, a, b, obj, tolerance,
+                        exact)
     return path[-1]
 
 
@@ -179,7 +187,7 @@ def _check_scene_match(rep: PlanCheckReport, plan: Plan, scene: Scene) -> None:
 
 def _check_rotation(rep: PlanCheckReport, where: str, world: CollisionWorld,
                     model: BoxGraspModel, car: Pose, pivot: tuple[float, float], angle: float,
-                    g: int, tol: float) -> None:
+                    g: int, tol: float, exact: bool) -> None:
     """Sweep the box and the holding robot along a rotation: obstacles and the floor's edge.
 
     Both are one clearance (the smaller of the distance to the obstacles and of the corners'
@@ -204,16 +212,17 @@ def _check_rotation(rep: PlanCheckReport, where: str, world: CollisionWorld,
             return (world.bounds_margin(corners(p)) + EDGE_SLACK,
                     dist(p) if world.has_obstacles else math.inf)
 
-        res = certify(lambda s: min(at(s)), reach * abs(angle), tolerance=tol)
+        res = certify(lambda s: min(at(s)), reach * abs(angle), tolerance=tol, exact=exact)
         if not res.valid:
-            edge, _ = at(res.first_collision)
-            what = "leaves the bounds" if edge <= 0 else "collides"
+            edge, hit = at(res.first_collision)
+            what = ("leaves the bounds" if edge <= 0 else "collides" if hit <= 0
+                    else "is not proven clear")
             rep.problems.append(f"{where}: {body} {what} (rotation fraction "
                                 f"{res.first_collision:.3f})")
 
 
 def _check_walk(rep: PlanCheckReport, where: str, world: CollisionWorld, model: BoxGraspModel,
-                a: Pose, b: Pose, obj: Pose, tol: float) -> None:
+                a: Pose, b: Pose, obj: Pose, tol: float, exact: bool) -> None:
     """Sweep a walk's segment (a turn in place included): obstacles, the box, the floor's edge.
 
     The clearance certified is the smaller of the distances to the obstacles and the resting
@@ -232,9 +241,10 @@ def _check_walk(rep: PlanCheckReport, where: str, world: CollisionWorld, model: 
                    world.robot_distance(p),
                    world.robot_box_distance(p, obj))
 
-    res = certify(clearance, max(lip, 1e-12), tolerance=tol)
+    res = certify(clearance, max(lip, 1e-12), tolerance=tol, exact=exact)
     if not res.valid:
         edge = world.bounds_margin(model.robot_corners(pose(res.first_collision))) + EDGE_SLACK
-        what = "leaves the bounds" if edge <= 0 else "collides"
+        what = ("leaves the bounds" if edge <= 0 else "collides"
+                if clearance(res.first_collision) <= 0 else "is not proven clear")
         rep.problems.append(f"{where}: the walking robot {what} (fraction "
                             f"{res.first_collision:.3f})")
