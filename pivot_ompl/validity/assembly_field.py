@@ -41,6 +41,7 @@ from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.se2 import GRID_HEADING_YAWS as HEADING_YAWS
 from pivot_ompl.se2 import Pose
+from pivot_ompl.validity.cell_stencil import aligned_boxes, cell_prefix, stencil, stencil_hits
 from pivot_ompl.validity.collision import CollisionWorld
 from pivot_ompl.validity.footprints import obstacle_pieces, piece_bounds
 from pivot_ompl.validity.footprints import symmetric_centres as symmetric_centres
@@ -97,6 +98,10 @@ class AssemblyField:
         resolution: grid spacing (m).
         reflect: the second yaw of an opposite pair reflects the first's sums for the
             centrally symmetric pieces (module docstring); ``False`` sums every one.
+        cells: the pieces that are axis-aligned boxes on the grid's lines (a floor imported
+            from an occupancy map at the field's resolution) are met by a stencil's dilation
+            of their cells (:mod:`~pivot_ompl.validity.cell_stencil`), the others summed;
+            ``False`` sums every one.
 
     Attributes:
         nx, ny: grid size; grid position ``(ix, iy)`` is the point
@@ -107,7 +112,7 @@ class AssemblyField:
     ny: int
 
     def __init__(self, model: BoxGraspModel, world: CollisionWorld, resolution: float, *,
-                 reflect: bool = True) -> None:
+                 reflect: bool = True, cells: bool = True) -> None:
         """Nothing rasterised yet."""
         self.model, self.world, self.resolution = model, world, resolution
         self.reflect = reflect
@@ -120,13 +125,27 @@ class AssemblyField:
         self._bodies = {p: assembly_bodies(model, p, world.clearance) for p in (0, 1)}
         self._corners = {p: np.concatenate(assembly_bodies(model, p, 0.0)) for p in (0, 1)}
         self._fits: dict[tuple[int, int], np.ndarray] = {}
+        self._prefix: np.ndarray | None = None  # the aligned boxes' cells (cell_stencil)
+        self._margin = 0
+        if cells:
+            aligned, occupied = aligned_boxes(self._pieces, (b[0], b[1]), resolution,
+                                              (self.nx, self.ny))
+            if aligned.any():
+                reach = max(float(np.hypot(*np.concatenate(self._bodies[p]).T).max())
+                            for p in (0, 1))
+                self._margin = int(math.ceil(reach / resolution)) + 3
+                self._prefix = cell_prefix(occupied, self._margin)
+                self._pieces = [q for q, a in zip(self._pieces, aligned, strict=True) if not a]
         self._centres, self._symmetric = symmetric_centres(self._pieces)
         self.sums_reflected = 0  #: pieces' sums reflected rather than summed (a figure)
         self._area: np.ndarray | None = None
 
     @property
     def pieces(self) -> list[np.ndarray]:
-        """The obstacle pieces the sums cover (all, or those near :meth:`restrict`'s area)."""
+        """The obstacle pieces the sums cover (all, or those near :meth:`restrict`'s area).
+
+        Not the boxes met by their cells' dilation (the ``cells`` argument).
+        """
         return self._pieces
 
     def restrict(self, area: np.ndarray) -> None:
@@ -221,6 +240,10 @@ class AssemblyField:
                 & ((ys + corners[:, 1].min() > b[1]) & (ys + corners[:, 1].max() < b[3]))[None, :]
             if self._area is not None:
                 ok &= self._area
+            if self._prefix is not None:
+                for body in self._bodies[parity]:
+                    ok &= ~stencil_hits(self._prefix, self._margin,
+                                        stencil(body @ rot, self.resolution), ok.shape)
             out.append(ok)
         n = len(self._pieces)
         if n and ks:
