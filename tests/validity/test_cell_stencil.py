@@ -1,0 +1,49 @@
+"""Boxes on the grid's lines met by a stencil's dilation of their cells: the same assembly
+field as their Minkowski sums rasterised (an imported occupancy map's walls at the field's
+resolution)."""
+
+from __future__ import annotations
+
+import numpy as np
+from factories import make_scene
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.validity.assembly_field import CELL_BOXES, FIELD_YAWS, AssemblyField
+
+RES = 0.1
+
+
+def _box(ix: int, iy: int, w: int, h: int) -> dict:
+    """A box of ``w x h`` cells whose lower-left corner is grid position ``(ix, iy)``."""
+    return {"type": "box", "center": [(ix + 0.5 * w) * RES, (iy + 0.5 * h) * RES],
+            "size": [w * RES, h * RES], "height": 1.0}
+
+
+@settings(max_examples=4, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(0, 2**32 - 1))
+def test_boxes_on_the_grid_lines_dilated_are_the_boxes_summed(seed):
+    rng = np.random.default_rng(seed)
+    boxes: list[dict] = []
+    while len(boxes) < CELL_BOXES + 10:  # clear of the start (1.5, 3) and goal (6, 3)
+        b = _box(int(rng.integers(0, 78)), int(rng.integers(0, 58)),
+                 int(rng.integers(1, 4)), int(rng.integers(1, 4)))
+        if all(abs(b["center"][0] - x) > 0.9 or abs(b["center"][1] - 3.0) > 0.9
+               for x in (1.5, 6.0)):
+            boxes.append(b)
+    # and a few pieces that are not: off the lines, turned
+    boxes += [{"type": "box", "center": [4.03, 1.17], "size": [0.33, 0.21], "height": 1.0},
+              {"type": "box", "center": [5.5, 4.5], "size": [0.4, 0.2], "yaw": 0.3,
+               "height": 1.0}]
+    checker = PivotChecker(make_scene(obstacles=boxes))
+    dilated = AssemblyField(checker.model, checker.world, RES)
+    summed = AssemblyField(checker.model, checker.world, RES, cells=False)
+    assert len(dilated.pieces) <= 2 < len(summed.pieces)  # only those two summed
+    opened = 0
+    for parity in (0, 1):
+        for k in range(len(FIELD_YAWS)):
+            a, b = dilated.fits(parity, k), summed.fits(parity, k)
+            assert np.array_equal(a, b), (parity, k, int((a != b).sum()))
+            opened += int(a.sum())
+    assert 0 < opened < 2 * len(FIELD_YAWS) * dilated.nx * dilated.ny  # some closed, some open
