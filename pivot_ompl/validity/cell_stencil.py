@@ -42,23 +42,26 @@ def aligned_boxes(pieces: list[np.ndarray], origin: tuple[float, float], resolut
     nx, ny = shape
     cells = np.zeros((max(nx - 1, 0), max(ny - 1, 0)), dtype=bool)
     aligned = np.zeros(len(pieces), dtype=bool)
-    for n, p in enumerate(pieces):
-        if len(p) != 4:
-            continue
-        u = (p[:, 0] - origin[0]) / resolution
-        v = (p[:, 1] - origin[1]) / resolution
-        iu, iv = np.round(u), np.round(v)
-        if np.abs(u - iu).max() > ALIGN_TOL or np.abs(v - iv).max() > ALIGN_TOL:
-            continue
-        a0, a1, b0, b1 = int(iu.min()), int(iu.max()), int(iv.min()), int(iv.max())
-        if len(np.unique(iu)) != 2 or len(np.unique(iv)) != 2:
-            continue
-        if a0 < 0 or b0 < 0 or a1 > nx - 1 or b1 > ny - 1:
-            continue  # partly outside the grid's cells: summed
-        # four corners of a box: each vertex on two of its sides
-        if not np.all(((iu == a0) | (iu == a1)) & ((iv == b0) | (iv == b1))):
-            continue
-        aligned[n] = True
+    quads = np.flatnonzero(np.fromiter(map(len, pieces), dtype=np.int64,
+                                       count=len(pieces)) == 4)
+    if not len(quads):
+        return aligned, cells
+    pts = np.stack([pieces[i] for i in quads])  # (n, 4, 2)
+    uv = (pts - np.asarray(origin)) / resolution
+    iuv = np.round(uv)
+    lo, hi = iuv.min(axis=1), iuv.max(axis=1)  # (n, 2) cells' corners
+    ok = np.abs(uv - iuv).max(axis=(1, 2)) <= ALIGN_TOL
+    ok &= np.all(hi > lo, axis=1) & np.all(lo >= 0, axis=1)
+    ok &= (hi[:, 0] <= nx - 1) & (hi[:, 1] <= ny - 1)  # else partly outside the cells: summed
+    # a box: every vertex on two of its sides, and all four corners among the vertices
+    on = ((iuv[..., 0] == lo[:, None, 0]) | (iuv[..., 0] == hi[:, None, 0])) \
+        & ((iuv[..., 1] == lo[:, None, 1]) | (iuv[..., 1] == hi[:, None, 1]))
+    code = (iuv[..., 0] == hi[:, None, 0]).astype(int) + 2 * (iuv[..., 1] == hi[:, None, 1])
+    corners = np.zeros((len(quads), 4), dtype=bool)
+    np.put_along_axis(corners, code, True, axis=1)
+    ok &= on.all(axis=1) & corners.all(axis=1)
+    aligned[quads[ok]] = True
+    for a0, b0, a1, b1 in np.column_stack([lo[ok], hi[ok]]).astype(int):
         cells[a0:a1, b0:b1] = True
     return aligned, cells
 
