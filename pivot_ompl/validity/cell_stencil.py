@@ -22,6 +22,66 @@ import numpy as np
 PENETRATION = 1e-9
 #: How far (in cells) a box's side may lie from the grid's line and still be on it.
 ALIGN_TOL = 1e-6
+#: Least share of a floor's axis-aligned boxes on a grid's lines for :func:`grid_cell`.
+GRID_SHARE = 0.9
+#: Most cells of a map's grid over the bounds met by a stencil (:func:`map_cell`: 16 MB of
+#: running counts); a larger floor's boxes are summed.
+STENCIL_CELLS = 1 << 22
+
+
+def _rectangles(pieces: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """The pieces that are axis-aligned rectangles: their indices and ``(n, 4)`` bounds.
+
+    Four vertices, each on two of the bounds' sides (to :data:`ALIGN_TOL` of the piece's
+    size), all four corners among them.
+    """
+    quads = np.flatnonzero(np.fromiter(map(len, pieces), dtype=np.int64,
+                                       count=len(pieces)) == 4)
+    if not len(quads):
+        return quads, np.zeros((0, 4))
+    pts = np.stack([pieces[i] for i in quads])  # (n, 4, 2)
+    lo, hi = pts.min(axis=1), pts.max(axis=1)
+    tol = ALIGN_TOL * (hi - lo).max(axis=1)[:, None, None]
+    at_hi = np.abs(pts - hi[:, None, :]) <= tol
+    at_lo = np.abs(pts - lo[:, None, :]) <= tol
+    code = at_hi[..., 0].astype(int) + 2 * at_hi[..., 1]
+    corners = np.zeros((len(quads), 4), dtype=bool)
+    np.put_along_axis(corners, code, True, axis=1)
+    ok = (at_hi | at_lo).all(axis=(1, 2)) & corners.all(axis=1) & np.all(hi > lo, axis=1)
+    return quads[ok], np.column_stack([lo[ok], hi[ok]])
+
+
+def grid_cell(pieces: list[np.ndarray], origin: tuple[float, float], *,
+              least: int) -> float | None:
+    """The spacing of the grid through ``origin`` whose lines carry the axis-aligned boxes.
+
+    A floor imported from an occupancy map is boxes of merged map cells, every side on a
+    line of the map's grid: the spacing is the boxes' shortest side (to 12 digits) where at least
+    ``least`` boxes, and :data:`GRID_SHARE` of the axis-aligned ones, have every side on
+    the lines of that spacing through ``origin`` (m); ``None`` otherwise.
+    """
+    _, rect = _rectangles(pieces)
+    if len(rect) < max(least, 1):
+        return None
+    cell = float(f"{np.min(rect[:, 2:] - rect[:, :2]):.12g}")  # the map's, not its rounding
+    uv = (rect - np.tile(np.asarray(origin, dtype=float), 2)) / cell
+    on = int(np.count_nonzero(np.abs(uv - np.round(uv)).max(axis=1) <= ALIGN_TOL))
+    return cell if on >= least and on >= GRID_SHARE * len(rect) else None
+
+
+def map_cell(pieces: list[np.ndarray], bounds: tuple[float, float, float, float], *,
+             least: int) -> float | None:
+    """The cell of the map grid whose boxes a field over ``bounds`` meets by a stencil (m).
+
+    :func:`grid_cell` through the bounds' corner (at least ``least`` boxes on it), its
+    cells over the bounds at most :data:`STENCIL_CELLS`; ``None`` where there is none. A
+    field whose spacing is a whole multiple of it may dilate the boxes' cells.
+    """
+    cell = grid_cell(pieces, (bounds[0], bounds[1]), least=least)
+    area = (bounds[2] - bounds[0]) * (bounds[3] - bounds[1])
+    if cell is None or area > STENCIL_CELLS * cell * cell:
+        return None
+    return cell
 
 
 def aligned_boxes(pieces: list[np.ndarray], origin: tuple[float, float], resolution: float,
@@ -42,26 +102,17 @@ def aligned_boxes(pieces: list[np.ndarray], origin: tuple[float, float], resolut
     nx, ny = shape
     cells = np.zeros((max(nx - 1, 0), max(ny - 1, 0)), dtype=bool)
     aligned = np.zeros(len(pieces), dtype=bool)
-    quads = np.flatnonzero(np.fromiter(map(len, pieces), dtype=np.int64,
-                                       count=len(pieces)) == 4)
-    if not len(quads):
+    index, rect = _rectangles(pieces)
+    if not len(index):
         return aligned, cells
-    pts = np.stack([pieces[i] for i in quads])  # (n, 4, 2)
-    uv = (pts - np.asarray(origin)) / resolution
+    uv = (rect - np.tile(np.asarray(origin, dtype=float), 2)) / resolution
     iuv = np.round(uv)
-    lo, hi = iuv.min(axis=1), iuv.max(axis=1)  # (n, 2) cells' corners
-    ok = np.abs(uv - iuv).max(axis=(1, 2)) <= ALIGN_TOL
+    lo, hi = iuv[:, :2], iuv[:, 2:]  # (n, 2) cells' corners
+    ok = np.abs(uv - iuv).max(axis=1) <= ALIGN_TOL
     ok &= np.all(hi > lo, axis=1) & np.all(lo >= 0, axis=1)
     ok &= (hi[:, 0] <= nx - 1) & (hi[:, 1] <= ny - 1)  # else partly outside the cells: summed
-    # a box: every vertex on two of its sides, and all four corners among the vertices
-    on = ((iuv[..., 0] == lo[:, None, 0]) | (iuv[..., 0] == hi[:, None, 0])) \
-        & ((iuv[..., 1] == lo[:, None, 1]) | (iuv[..., 1] == hi[:, None, 1]))
-    code = (iuv[..., 0] == hi[:, None, 0]).astype(int) + 2 * (iuv[..., 1] == hi[:, None, 1])
-    corners = np.zeros((len(quads), 4), dtype=bool)
-    np.put_along_axis(corners, code, True, axis=1)
-    ok &= on.all(axis=1) & corners.all(axis=1)
-    aligned[quads[ok]] = True
-    for a0, b0, a1, b1 in np.column_stack([lo[ok], hi[ok]]).astype(int):
+    aligned[index[ok]] = True
+    for a0, b0, a1, b1 in iuv[ok].astype(int):
         cells[a0:a1, b0:b1] = True
     return aligned, cells
 
@@ -113,18 +164,20 @@ def cell_prefix(cells: np.ndarray, margin: int) -> np.ndarray:
 
 
 def stencil_hits(prefix: np.ndarray, margin: int, runs: list[tuple[int, int, int]],
-                 shape: tuple[int, int]) -> np.ndarray:
+                 shape: tuple[int, int], *, stride: int = 1) -> np.ndarray:
     """The grid positions where a body of stencil ``runs`` meets an occupied cell.
 
     ``prefix``: :func:`cell_prefix` of :func:`aligned_boxes`' cells, its ``margin`` above
     every offset of ``runs`` (the caller's to choose: more than the body's reach in cells).
-    Returns ``(nx, ny)`` booleans: position ``(i, j)`` is hit when some run's cells
-    ``(i + di, j + dj0..dj1)`` hold an occupied one.
+    ``stride``: the positions asked are every ``stride``-th of the cells' grid (a grid whose
+    spacing is that many cells). Returns ``shape`` booleans: position ``(i, j)`` is hit when
+    some run's cells ``(stride * i + di, stride * j + dj0..dj1)`` hold an occupied one.
     """
     nx, ny = shape
-    m = margin
+    m, k = margin, stride
     out = np.zeros((nx, ny), dtype=bool)
     for a, j0, j1 in runs:
-        rows = prefix[a + m:a + m + nx]
-        out |= rows[:, j1 + m + 1:j1 + m + 1 + ny] > rows[:, j0 + m:j0 + m + ny]
+        rows = prefix[a + m:a + m + k * (nx - 1) + 1:k]
+        out |= rows[:, j1 + m + 1:j1 + m + 2 + k * (ny - 1):k] \
+            > rows[:, j0 + m:j0 + m + 1 + k * (ny - 1):k]
     return out

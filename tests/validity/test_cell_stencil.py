@@ -5,12 +5,15 @@ resolution)."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from factories import make_scene
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.validity.assembly_field import CELL_BOXES, FIELD_YAWS, AssemblyField
+from pivot_ompl.validity.cell_stencil import grid_cell, map_cell
+from pivot_ompl.validity.footprints import obstacle_pieces
 
 RES = 0.1
 
@@ -49,3 +52,40 @@ def test_boxes_on_the_grid_lines_dilated_are_the_boxes_summed(seed):
             assert np.array_equal(a, b), (parity, k, int((a != b).sum()))
             opened += int(a.sum())
     assert 0 < opened < 2 * len(FIELD_YAWS) * dilated.nx * dilated.ny  # some closed, some open
+
+
+@settings(max_examples=2, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(0, 2**32 - 1))
+def test_boxes_on_a_map_grid_of_half_the_field_s_spacing_dilated_are_the_boxes_summed(seed):
+    rng = np.random.default_rng(seed)
+    half = RES / 2
+    boxes: list[dict] = []
+    while len(boxes) < 4 * CELL_BOXES + 60:  # the map's cells: every second line the field's
+        ix, iy = int(rng.integers(0, 152)), int(rng.integers(0, 112))
+        w, h = int(rng.integers(1, 6)), int(rng.integers(1, 6))
+        b = {"type": "box", "center": [(ix + 0.5 * w) * half, (iy + 0.5 * h) * half],
+             "size": [w * half, h * half], "height": 1.0}
+        if all(abs(b["center"][0] - x) > 0.9 or abs(b["center"][1] - 3.0) > 0.9
+               for x in (1.5, 6.0)):
+            boxes.append(b)
+    checker = PivotChecker(make_scene(obstacles=boxes))
+    assert map_cell(obstacle_pieces(checker.world.obstacles), checker.world.bounds,
+                    least=CELL_BOXES) == pytest.approx(half)
+    dilated = AssemblyField(checker.model, checker.world, RES)
+    summed = AssemblyField(checker.model, checker.world, RES, cells=False)
+    assert not dilated.pieces and len(summed.pieces) >= 4 * CELL_BOXES  # none summed
+    opened = 0
+    for parity in (0, 1):
+        for k in range(len(FIELD_YAWS)):
+            a, b = dilated.fits(parity, k), summed.fits(parity, k)
+            assert np.array_equal(a, b), (parity, k, int((a != b).sum()))
+            opened += int(a.sum())
+    assert 0 < opened < 2 * len(FIELD_YAWS) * dilated.nx * dilated.ny
+
+
+def test_a_map_grid_is_found_only_through_the_bounds_corner():
+    boxes = [_box(3 * i % 70, 2 * i % 50, 1 + i % 3, 1 + i % 2) for i in range(CELL_BOXES)]
+    pieces = obstacle_pieces(PivotChecker(make_scene(obstacles=boxes)).world.obstacles)
+    assert grid_cell(pieces, (0.0, 0.0), least=CELL_BOXES) == pytest.approx(RES)
+    assert grid_cell(pieces, (0.03, 0.0), least=CELL_BOXES) is None  # lines off the corner
+    assert grid_cell(pieces, (0.0, 0.0), least=CELL_BOXES + 1) is None  # too few boxes
