@@ -4,6 +4,8 @@ resolution)."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 from factories import make_scene
@@ -12,7 +14,7 @@ from hypothesis import strategies as st
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.validity.assembly_field import CELL_BOXES, FIELD_YAWS, AssemblyField
-from pivot_ompl.validity.cell_stencil import grid_cell, map_cell
+from pivot_ompl.validity.cell_stencil import STENCIL_CELLS, grid_cell, map_cell
 from pivot_ompl.validity.footprints import obstacle_pieces
 
 RES = 0.1
@@ -89,3 +91,11 @@ def test_a_map_grid_is_found_only_through_the_bounds_corner():
     assert grid_cell(pieces, (0.0, 0.0), least=CELL_BOXES) == pytest.approx(RES)
     assert grid_cell(pieces, (0.03, 0.0), least=CELL_BOXES) is None  # lines off the corner
     assert grid_cell(pieces, (0.0, 0.0), least=CELL_BOXES + 1) is None  # too few boxes
+
+
+def test_a_map_grid_of_more_cells_than_the_stencil_reads_is_not_dilated():
+    boxes = [_box(3 * i % 70, 2 * i % 50, 1 + i % 3, 1 + i % 2) for i in range(CELL_BOXES)]
+    pieces = obstacle_pieces(PivotChecker(make_scene(obstacles=boxes)).world.obstacles)
+    side = RES * math.sqrt(STENCIL_CELLS)  # as many cells as the stencil reads at most
+    assert map_cell(pieces, (0.0, 0.0, side - 1.0, side), least=CELL_BOXES) == pytest.approx(RES)
+    assert map_cell(pieces, (0.0, 0.0, side + 1.0, side), least=CELL_BOXES) is None
