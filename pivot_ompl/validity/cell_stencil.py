@@ -7,7 +7,10 @@ points on the boxes' corners), a body placed at grid point ``(i, j)`` meets the 
 the origin: one *stencil* per body and yaw, whatever the point. The positions where the body
 meets any box are the occupied cells dilated by the stencil (:func:`stencil_hits`): a few
 array operations per column of the stencil, for every box of the floor at once, instead of
-one Minkowski sum per box rasterised.
+one Minkowski sum per box rasterised. A field whose grid is every ``k``-th line of the map's
+(a map finer than the field) places point ``(i, j)`` on cell corner ``(k i, k j)``: the same
+stencil, read every ``k``-th row and column (:func:`stencil_hits`' ``stride``). The map's grid
+is found from the boxes (:func:`grid_cell`, :func:`map_cell`).
 
 The body meets a cell when their interiors overlap by more than :data:`PENETRATION` on every
 separating axis (a body that only touches a cell's side, to rounding, does not meet it): the
