@@ -1,0 +1,101 @@
+"""Boxes on the grid's lines met by a stencil's dilation of their cells: the same assembly
+field as their Minkowski sums rasterised (an imported occupancy map's walls at the field's
+resolution)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from factories import make_scene
+from hypothesis import HealthCheck, example, given, settings
+from hypothesis import strategies as st
+
+from pivot_ompl.checking.pivot_checker import PivotChecker
+from pivot_ompl.validity.assembly_field import CELL_BOXES, FIELD_YAWS, AssemblyField
+from pivot_ompl.validity.cell_stencil import STENCIL_CELLS, grid_cell, map_cell
+from pivot_ompl.validity.footprints import obstacle_pieces
+
+RES = 0.1
+
+
+def _box(ix: int, iy: int, w: int, h: int) -> dict:
+    """A box of ``w x h`` cells whose lower-left corner is grid position ``(ix, iy)``."""
+    return {"type": "box", "center": [(ix + 0.5 * w) * RES, (iy + 0.5 * h) * RES],
+            "size": [w * RES, h * RES], "height": 1.0}
+
+
+@settings(max_examples=4, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@example(206)  # a seed whose boxes once reached past the grid's last line
+@example(661)  # a seed whose overlapping boxes were once fewer than CELL_BOXES pieces
+@given(st.integers(0, 2**32 - 1))
+def test_boxes_on_the_grid_lines_dilated_are_the_boxes_summed(seed):
+    rng = np.random.default_rng(seed)
+    boxes: list[dict] = []
+    while len(boxes) < CELL_BOXES + 60:  # inside the grid, clear of the start and goal
+        b = _box(int(rng.integers(0, 76)), int(rng.integers(0, 56)),
+                 int(rng.integers(1, 4)), int(rng.integers(1, 4)))
+        if all(abs(b["center"][0] - x) > 0.9 or abs(b["center"][1] - 3.0) > 0.9
+               for x in (1.5, 6.0)):
+            boxes.append(b)
+    # and a few pieces that are not: off the lines, turned
+    boxes += [{"type": "box", "center": [4.03, 1.17], "size": [0.33, 0.21], "height": 1.0},
+              {"type": "box", "center": [5.5, 4.5], "size": [0.4, 0.2], "yaw": 0.3,
+               "height": 1.0}]
+    checker = PivotChecker(make_scene(obstacles=boxes))
+    dilated = AssemblyField(checker.model, checker.world, RES)
+    summed = AssemblyField(checker.model, checker.world, RES, cells=False)
+    assert len(dilated.pieces) <= 2 < len(summed.pieces)  # only those two summed
+    opened = 0
+    for parity in (0, 1):
+        for k in range(len(FIELD_YAWS)):
+            a, b = dilated.fits(parity, k), summed.fits(parity, k)
+            assert np.array_equal(a, b), (parity, k, int((a != b).sum()))
+            opened += int(a.sum())
+    assert 0 < opened < 2 * len(FIELD_YAWS) * dilated.nx * dilated.ny  # some closed, some open
+
+
+@settings(max_examples=2, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(0, 2**32 - 1))
+def test_boxes_on_a_map_grid_of_half_the_field_s_spacing_dilated_are_the_boxes_summed(seed):
+    rng = np.random.default_rng(seed)
+    half = RES / 2
+    boxes: list[dict] = []
+    while len(boxes) < 4 * CELL_BOXES + 60:  # the map's cells: every second line the field's
+        ix, iy = int(rng.integers(0, 152)), int(rng.integers(0, 112))
+        w, h = int(rng.integers(1, 6)), int(rng.integers(1, 6))
+        b = {"type": "box", "center": [(ix + 0.5 * w) * half, (iy + 0.5 * h) * half],
+             "size": [w * half, h * half], "height": 1.0}
+        if all(abs(b["center"][0] - x) > 0.9 or abs(b["center"][1] - 3.0) > 0.9
+               for x in (1.5, 6.0)):
+            boxes.append(b)
+    checker = PivotChecker(make_scene(obstacles=boxes))
+    assert map_cell(obstacle_pieces(checker.world.obstacles), checker.world.bounds,
+                    least=CELL_BOXES) == pytest.approx(half)
+    dilated = AssemblyField(checker.model, checker.world, RES)
+    summed = AssemblyField(checker.model, checker.world, RES, cells=False)
+    assert not dilated.pieces and len(summed.pieces) >= 4 * CELL_BOXES  # none summed
+    opened = 0
+    for parity in (0, 1):
+        for k in range(len(FIELD_YAWS)):
+            a, b = dilated.fits(parity, k), summed.fits(parity, k)
+            assert np.array_equal(a, b), (parity, k, int((a != b).sum()))
+            opened += int(a.sum())
+    assert 0 < opened < 2 * len(FIELD_YAWS) * dilated.nx * dilated.ny
+
+
+def test_a_map_grid_is_found_only_through_the_bounds_corner():
+    boxes = [_box(3 * i % 70, 2 * i % 50, 1 + i % 3, 1 + i % 2) for i in range(CELL_BOXES)]
+    pieces = obstacle_pieces(PivotChecker(make_scene(obstacles=boxes)).world.obstacles)
+    assert grid_cell(pieces, (0.0, 0.0), least=CELL_BOXES) == pytest.approx(RES)
+    assert grid_cell(pieces, (0.03, 0.0), least=CELL_BOXES) is None  # lines off the corner
+    assert grid_cell(pieces, (0.0, 0.0), least=CELL_BOXES + 1) is None  # too few boxes
+
+
+def test_a_map_grid_of_more_cells_than_the_stencil_reads_is_not_dilated():
+    boxes = [_box(3 * i % 70, 2 * i % 50, 1 + i % 3, 1 + i % 2) for i in range(CELL_BOXES)]
+    pieces = obstacle_pieces(PivotChecker(make_scene(obstacles=boxes)).world.obstacles)
+    side = RES * math.sqrt(STENCIL_CELLS)  # as many cells as the stencil reads at most
+    assert map_cell(pieces, (0.0, 0.0, side - 1.0, side), least=CELL_BOXES) == pytest.approx(RES)
+    assert map_cell(pieces, (0.0, 0.0, side + 1.0, side), least=CELL_BOXES) is None
