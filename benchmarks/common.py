@@ -9,6 +9,7 @@ import math
 import os
 import statistics
 import sys
+import time
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -100,6 +101,29 @@ def scene_file(spec: str, folder: Path, stem: str) -> str:
         return str(Path(spec).resolve())  # versions run in their own folders
     this_checkout()
     return str(written_scene(scene_from_spec(spec), folder, stem))
+
+
+def cpu_timed(owner: Any, name: str, bucket: dict[str, float], key: str | None = None) -> None:
+    """Wrap ``owner.name`` (if the version has it) to sum its CPU seconds into ``bucket[key]``.
+
+    ``key`` defaults to ``name``; the entry is 0 from the start (the version has that stage),
+    left out when the version has no ``owner.name`` (a caller may clear the bucket between
+    runs).
+    """
+    fn = getattr(owner, name, None)
+    if fn is None:
+        return
+    column = key or name
+    bucket.setdefault(column, 0.0)
+
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        t0 = time.process_time()
+        try:
+            return fn(*args, **kwargs)
+        finally:
+            bucket[column] = bucket.get(column, 0.0) + time.process_time() - t0
+
+    setattr(owner, name, wrapper)
 
 
 @contextlib.contextmanager

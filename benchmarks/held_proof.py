@@ -45,7 +45,7 @@ HERE = Path(__file__).resolve()
 ROOT = HERE.parents[1]
 sys.path.insert(0, str(HERE.parent))
 
-from common import fmt, median_of  # noqa: E402
+from common import cpu_timed, fmt, median_of  # noqa: E402
 
 #: what each run's figures are summed from: (column, module, function)
 STAGES = (("regions", "pivot_ompl.analysis.pose_bins", "BinRegions.regions"),
@@ -54,23 +54,6 @@ STAGES = (("regions", "pivot_ompl.analysis.pose_bins", "BinRegions.regions"),
           ("chain", "pivot_ompl.analysis.pose_graph", "walked_chain"),
           ("chain", "pivot_ompl.analysis.pose_inner", "walked_chain"),  # the gate's
           ("walks", "pivot_ompl.analysis.pose_proof", "HeldParts.may_regrasp"))
-
-
-def _timed(owner: Any, name: str, bucket: dict[str, float], column: str) -> None:
-    """Wrap ``owner.name`` (if the version has it) to sum its CPU seconds into ``bucket``."""
-    fn = getattr(owner, name, None)
-    if fn is None:
-        return
-    bucket[column] = 0.0
-
-    def wrapper(*args: Any, **kwargs: Any) -> Any:
-        t0 = time.process_time()
-        try:
-            return fn(*args, **kwargs)
-        finally:
-            bucket[column] += time.process_time() - t0
-
-    setattr(owner, name, wrapper)
 
 
 def worker(scene_spec: str, gate: bool = False, both: bool = False) -> None:
@@ -90,7 +73,7 @@ def worker(scene_spec: str, gate: bool = False, both: bool = False) -> None:
         for part in path:
             owner = getattr(owner, part, None)
         if owner is not None:
-            _timed(owner, name, bucket, column)
+            cpu_timed(owner, name, bucket, column)
     proof = importlib.import_module("pivot_ompl.analysis.pose_proof")
     kept: list[Any] = []  # the proof's regions, for the bins computed (not a twin's)
     regions = getattr(proof, "BinRegions", None)

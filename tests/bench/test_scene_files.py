@@ -1,4 +1,5 @@
-"""benchmarks/common.py's scene files: each scene made once, by this checkout, for every version."""
+"""benchmarks/common.py: each compared scene made once, by this checkout, for every version;
+stages timed alike (CPU seconds summed per stage)."""
 
 from __future__ import annotations
 
@@ -65,3 +66,25 @@ def test_every_version_of_the_held_proof_reads_one_scene_file(monkeypatch, tmp_p
         want = common.scene_from_spec(spec)
         assert all(scene == want for _, scene in seen[path])
     assert not any(Path(f).exists() for f in files)  # the folder is removed at the end
+
+
+def test_a_timed_stage_sums_its_cpu_seconds_and_a_missing_one_is_left_out():
+    common = benchmark_script("common")
+
+    class Stage:
+        @staticmethod
+        def work(n):
+            return sum(i * i for i in range(n))
+
+    bucket: dict[str, float] = {}
+    common.cpu_timed(Stage, "work", bucket, "w")
+    common.cpu_timed(Stage, "absent", bucket)
+    assert bucket == {"w": 0.0}  # the version has the stage: 0 until it runs
+    assert Stage.work(200_000) == sum(i * i for i in range(200_000))
+    first = bucket["w"]
+    assert first > 0.0
+    Stage.work(200_000)
+    assert bucket["w"] > first  # summed over calls
+    bucket.clear()  # between runs
+    Stage.work(10)
+    assert set(bucket) == {"w"}
