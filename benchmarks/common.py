@@ -8,9 +8,14 @@ import json
 import math
 import os
 import statistics
+import sys
+import time
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
+
+#: this checkout: the package a benchmark's own process makes its scenes with
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def _finite(x: Any) -> Any:
@@ -56,6 +61,69 @@ def scene_from_spec(spec: str):  # noqa: ANN201 (a Scene of whichever package ve
         values[key] = value if key == "layout" else (
             int(value) if key in ("walls", "rooms") else float(value))
     return generate(family, int(seed), params=GeneratorParams(**values)).scene
+
+
+def this_checkout() -> None:
+    """Put this checkout's package first on ``sys.path``; exit if another one is imported.
+
+    A benchmark comparing versions runs each in its own process; its own process (the one
+    that makes the scenes they share) must use this checkout's.
+    """
+    if sys.path[0] != str(ROOT):
+        sys.path.insert(0, str(ROOT))
+    import pivot_ompl
+
+    where = Path(pivot_ompl.__file__).resolve().parents[1]
+    if where != ROOT:
+        raise SystemExit(f"pivot_ompl was imported from {where}, not from this checkout {ROOT}")
+
+
+def written_scene(scene: Any, folder: Path, stem: str) -> Path:
+    """``scene`` written by this checkout's package to ``folder/stem.yaml`` (exact floats).
+
+    The file every version of a comparison loads: a generated scene depends on the version
+    that makes it (its witness plan runs that version's checks) and a shipped one may differ
+    between versions, so versions that each made their own could plan different layouts
+    under one name.
+    """
+    this_checkout()
+    from pivot_ompl.generate.sceneio import write_scene
+
+    folder.mkdir(parents=True, exist_ok=True)
+    return write_scene(scene, folder / f"{stem}.yaml")
+
+
+def scene_file(spec: str, folder: Path, stem: str) -> str:
+    """The scene of ``spec`` as one file for every version: an existing file as is (its
+    absolute path), any other spec (:func:`scene_from_spec`) made once by this checkout
+    (:func:`written_scene`)."""
+    if Path(spec).is_file():
+        return str(Path(spec).resolve())  # versions run in their own folders
+    this_checkout()
+    return str(written_scene(scene_from_spec(spec), folder, stem))
+
+
+def cpu_timed(owner: Any, name: str, bucket: dict[str, float], key: str | None = None) -> None:
+    """Wrap ``owner.name`` (if the version has it) to sum its CPU seconds into ``bucket[key]``.
+
+    ``key`` defaults to ``name``; the entry is 0 from the start (the version has that stage),
+    left out when the version has no ``owner.name`` (a caller may clear the bucket between
+    runs).
+    """
+    fn = getattr(owner, name, None)
+    if fn is None:
+        return
+    column = key or name
+    bucket.setdefault(column, 0.0)
+
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        t0 = time.process_time()
+        try:
+            return fn(*args, **kwargs)
+        finally:
+            bucket[column] = bucket.get(column, 0.0) + time.process_time() - t0
+
+    setattr(owner, name, wrapper)
 
 
 @contextlib.contextmanager

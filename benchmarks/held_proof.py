@@ -17,9 +17,11 @@ times the proof's gate instead,
 valid at every yaw join start and goal, ``no``: they do not, ``-``: stopped or out of
 searches; its 32 bins, no rounds).
 
-A scene is a scene file or shipped scene's name (``common.scene_from_spec``), or
-``corpus:NAME``, a map of ``buildings.py``'s corpus imported once (by this checkout) into a
-temporary folder so that every version reads the same file:
+A scene is a scene file, a shipped scene's name or a generated scene's spec
+(``common.scene_from_spec``: ``gen:FAMILY:SEED[:NAME=VALUE...]``), or ``corpus:NAME``, a map of
+``buildings.py``'s corpus. Every version reads the same file: a name, a spec or a corpus map is
+made once, by this checkout, into a temporary folder (``common.scene_file``; a generated
+scene depends on the checks of the version that makes it).
 
     PIVOT_BENCH_LOCK=/tmp/pivot-bench.lock python benchmarks/held_proof.py \\
         --before /path/to/base --scenes corpus:brsu_c069,corpus:turtlebot3_world [--runs 2]
@@ -31,6 +33,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -42,7 +45,7 @@ HERE = Path(__file__).resolve()
 ROOT = HERE.parents[1]
 sys.path.insert(0, str(HERE.parent))
 
-from common import fmt, median_of  # noqa: E402
+from common import cpu_timed, fmt, median_of  # noqa: E402
 
 #: what each run's figures are summed from: (column, module, function)
 STAGES = (("regions", "pivot_ompl.analysis.pose_bins", "BinRegions.regions"),
@@ -51,23 +54,6 @@ STAGES = (("regions", "pivot_ompl.analysis.pose_bins", "BinRegions.regions"),
           ("chain", "pivot_ompl.analysis.pose_graph", "walked_chain"),
           ("chain", "pivot_ompl.analysis.pose_inner", "walked_chain"),  # the gate's
           ("walks", "pivot_ompl.analysis.pose_proof", "HeldParts.may_regrasp"))
-
-
-def _timed(owner: Any, name: str, bucket: dict[str, float], column: str) -> None:
-    """Wrap ``owner.name`` (if the version has it) to sum its CPU seconds into ``bucket``."""
-    fn = getattr(owner, name, None)
-    if fn is None:
-        return
-    bucket[column] = 0.0
-
-    def wrapper(*args: Any, **kwargs: Any) -> Any:
-        t0 = time.process_time()
-        try:
-            return fn(*args, **kwargs)
-        finally:
-            bucket[column] += time.process_time() - t0
-
-    setattr(owner, name, wrapper)
 
 
 def worker(scene_spec: str, gate: bool = False, both: bool = False) -> None:
@@ -87,7 +73,7 @@ def worker(scene_spec: str, gate: bool = False, both: bool = False) -> None:
         for part in path:
             owner = getattr(owner, part, None)
         if owner is not None:
-            _timed(owner, name, bucket, column)
+            cpu_timed(owner, name, bucket, column)
     proof = importlib.import_module("pivot_ompl.analysis.pose_proof")
     kept: list[Any] = []  # the proof's regions, for the bins computed (not a twin's)
     regions = getattr(proof, "BinRegions", None)
@@ -149,11 +135,18 @@ def run(version: Path, scene: str, gate: bool = False, both: bool = False) -> di
     return dict(json.loads(lines[-1]))
 
 
-def _corpus(spec: str, folder: Path) -> str:
-    """``corpus:NAME`` imported into ``folder`` (its scene file), any other spec as given."""
-    if not spec.startswith("corpus:"):
-        return spec
+def scene_path(spec: str, folder: Path, stem: str) -> str:
+    """The one scene file of ``spec`` every version reads, made by this checkout.
+
+    ``corpus:NAME`` imported into ``folder`` (its scene file); any other spec as
+    :func:`common.scene_file` gives it (a file as is, else ``folder/stem.yaml``).
+    """
     sys.path.insert(0, str(HERE.parent))
+    from common import scene_file, this_checkout
+
+    this_checkout()
+    if not spec.startswith("corpus:"):
+        return scene_file(spec, folder, stem)
     from buildings import CORPUS, import_corpus_map
 
     name = spec.split(":", 1)[1]
@@ -161,6 +154,23 @@ def _corpus(spec: str, folder: Path) -> str:
     if m is None:
         raise SystemExit(f"{spec}: no such map in buildings.py's corpus")
     return str(import_corpus_map(m, folder)["scene"])
+
+
+def _print_rows(spec: str, versions: list[Path], rows: dict[str, list[dict[str, Any]]]
+                ) -> None:
+    """One line per version of ``spec``: the medians of its runs, ``ratio`` the first's."""
+    first: float | None = None
+    for v in versions:
+        r = rows[str(v)]
+        cpu = median_of(r, "cpu")
+        first = cpu if first is None else first
+        ratio = cpu / first if cpu is not None and first else None
+        print(f"{spec[-22:]:22} {str(v)[-28:]:28} {r[0]['answer'][:7]:>7} "
+              f"{fmt(median_of(r, 'bins'), '5.0f')} {fmt(median_of(r, 'rounds'), '6.0f')} "
+              f"{fmt(median_of(r, 'computed'), '8.0f')} {fmt(cpu, '7.2f')} "
+              f"{fmt(ratio, '6.2f')} {fmt(median_of(r, 'regions'), '7.2f')} "
+              f"{fmt(median_of(r, 'unions'), '7.2f')} {fmt(median_of(r, 'chain'), '6.2f')} "
+              f"{fmt(median_of(r, 'walks'), '6.2f')}", flush=True)
 
 
 def main() -> None:
@@ -182,29 +192,21 @@ def main() -> None:
         return
     versions = [*(v.resolve() for v in a.before), ROOT]
     table: dict[str, dict[str, list[dict[str, Any]]]] = {}
-    folder = Path(tempfile.mkdtemp())
-    print(f"{'scene':22} {'version':28} {'answer':>7} {'bins':>5} {'rounds':>6} "
-          f"{'computed':>8} {'cpu s':>7} {'ratio':>6} {'regions':>7} {'unions':>7} "
-          f"{'chain':>6} {'walks':>6}")
-    for spec in filter(None, a.scenes.split(",")):
-        scene = _corpus(spec, folder)
-        rows: dict[str, list[dict[str, Any]]] = {str(v): [] for v in versions}
-        for i in range(a.runs):
-            for v in versions if i % 2 == 0 else versions[::-1]:
-                rows[str(v)].append(run(v, scene, a.gate, a.both))
-        table[spec] = rows
-        first: float | None = None
-        for v in versions:
-            r = rows[str(v)]
-            cpu = median_of(r, "cpu")
-            first = cpu if first is None else first
-            ratio = cpu / first if cpu is not None and first else None
-            print(f"{spec[-22:]:22} {str(v)[-28:]:28} {r[0]['answer'][:7]:>7} "
-                  f"{fmt(median_of(r, 'bins'), '5.0f')} {fmt(median_of(r, 'rounds'), '6.0f')} "
-                  f"{fmt(median_of(r, 'computed'), '8.0f')} {fmt(cpu, '7.2f')} "
-                  f"{fmt(ratio, '6.2f')} {fmt(median_of(r, 'regions'), '7.2f')} "
-                  f"{fmt(median_of(r, 'unions'), '7.2f')} {fmt(median_of(r, 'chain'), '6.2f')} "
-                  f"{fmt(median_of(r, 'walks'), '6.2f')}", flush=True)
+    folder = Path(tempfile.mkdtemp(prefix="held_proof_"))
+    try:
+        print(f"{'scene':22} {'version':28} {'answer':>7} {'bins':>5} {'rounds':>6} "
+              f"{'computed':>8} {'cpu s':>7} {'ratio':>6} {'regions':>7} {'unions':>7} "
+              f"{'chain':>6} {'walks':>6}")
+        for k, spec in enumerate(filter(None, a.scenes.split(","))):
+            scene = scene_path(spec, folder, str(k))
+            rows: dict[str, list[dict[str, Any]]] = {str(v): [] for v in versions}
+            for i in range(a.runs):
+                for v in versions if i % 2 == 0 else versions[::-1]:
+                    rows[str(v)].append(run(v, scene, a.gate, a.both))
+            table[spec] = rows
+            _print_rows(spec, versions, rows)
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
     if a.out:
         sys.path.insert(0, str(HERE.parent))
         from common import write_json

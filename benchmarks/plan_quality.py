@@ -294,10 +294,10 @@ def main() -> None:
     if args.worker:
         worker()
         return
-    sys.path[:0] = [str(HERE.parent), str(ROOT)]  # this checkout's package and common.py
-    from common import write_json
+    sys.path.insert(0, str(HERE.parent))
+    from common import this_checkout, write_json, written_scene
 
-    from pivot_ompl.generate.sceneio import write_scene
+    this_checkout()  # the scenes are made by this checkout's package
 
     versions = {"after": ROOT}
     if args.before:
@@ -307,9 +307,8 @@ def main() -> None:
     files = Path(tempfile.mkdtemp(prefix="plan_quality_"))
     try:
         for i, name in enumerate(scene_names(args.scenes)):
-            # made once by this checkout: a generated scene depends on the version's checks
-            # (its witness plan), so each version made its own, they could differ
-            scene_file = write_scene(variant(name), files / f"{i}.yaml")
+            # made once by this checkout, one file for both versions (common.written_scene)
+            scene_file = written_scene(variant(name), files, str(i))
             n = args.seeds if name == "fig10" else (args.seeds_variants or args.seeds)
             if name.startswith("gen:") or name not in ("fig10", "rot30", "mirror"):
                 n = args.seeds

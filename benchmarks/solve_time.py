@@ -53,31 +53,11 @@ HERE = Path(__file__).resolve()
 ROOT = HERE.parents[1]
 sys.path.insert(0, str(HERE.parent))
 
-from common import fmt, machine_lock, median_of  # noqa: E402
+from common import cpu_timed, fmt, machine_lock, median_of  # noqa: E402
 
 #: the shipped scenes (``scenes/``) and public layouts (``benchmarks/layouts``) timed
 SCENES = ("fig10", "slot", "door", "t_junction", "open", "open_fig7", "corridor",
           "cluttered_room", "hall", "bugtrap")
-
-
-def _timed(module: Any, name: str, bucket: dict[str, float], key: str | None = None) -> None:
-    """Wrap ``module.name`` (if the version has it) to sum its CPU seconds into ``bucket``.
-
-    ``key``: the bucket's entry (default ``name``).
-    """
-    fn = getattr(module, name, None)
-    if fn is None:
-        return
-    key = key or name
-
-    def wrapper(*args: Any, **kwargs: Any) -> Any:
-        t0 = time.process_time()
-        try:
-            return fn(*args, **kwargs)
-        finally:
-            bucket[key] = bucket.get(key, 0.0) + time.process_time() - t0
-
-    setattr(module, name, wrapper)
 
 
 def worker(scene_name: str, seeds: int, limit: float) -> None:
@@ -93,8 +73,8 @@ def worker(scene_name: str, seeds: int, limit: float) -> None:
     bucket: dict[str, float] = {}
     try:
         from pivot_ompl.planners import improve
-        _timed(improve, "refine", bucket)
-        _timed(improve, "follow_route", bucket)
+        cpu_timed(improve, "refine", bucket)
+        cpu_timed(improve, "follow_route", bucket)
     except ImportError:  # an older version without the stage
         pass
     t0 = time.process_time()
@@ -126,12 +106,12 @@ def first_worker(scene_name: str, seed: int, limit: float) -> None:
     bucket: dict[str, float] = {}
     try:  # the regrasp search with its improvement, in CPU seconds (every version has it)
         from pivot_ompl.planners.regrasp_search import RegraspSearch
-        _timed(RegraspSearch, "run", bucket)
+        cpu_timed(RegraspSearch, "run", bucket)
     except ImportError:
         pass
     try:  # the late proof, polled by the search while it has no path (newer versions)
         from pivot_ompl.analysis.late_proof import LateProof
-        _timed(LateProof, "__call__", bucket, "proof")
+        cpu_timed(LateProof, "__call__", bucket, "proof")
     except ImportError:
         pass
     t0 = time.process_time()

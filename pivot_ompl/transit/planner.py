@@ -45,7 +45,6 @@ from collections.abc import Callable
 
 import numpy as np
 
-from pivot_ompl.cache import BoundedCache
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.graph import astar
 from pivot_ompl.grasp import BoxGraspModel
@@ -54,6 +53,7 @@ from pivot_ompl.se2 import Pose, wrap_angle
 from pivot_ompl.transit.clearance import BoxedClearance, State, WalkClearance
 from pivot_ompl.transit.field import FloorField, FloorWindow
 from pivot_ompl.transit.frame import LatticeFrame, frame_of
+from pivot_ompl.transit.guides import DISTANCE_BYTES, WalkGuides
 from pivot_ompl.transit.lattice import (
     HEADING_YAWS,
     N_HEADINGS,
@@ -67,10 +67,8 @@ from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import CollisionWorld
 
 log = logging.getLogger(__name__)
-#: Bytes the cached floor distances (a float per grid position each) may hold at most.
-DISTANCE_BYTES = 256 * 2**20
 
-__all__ = ["INVALID_WALK", "WalkPlanner", "WalkResult"]
+__all__ = ["DISTANCE_BYTES", "INVALID_WALK", "WalkPlanner", "WalkResult"]
 
 Stop = Callable[[], bool] | None
 _START: State = (-1, -1, -1)
@@ -114,6 +112,7 @@ class WalkPlanner:
         clearance: the walking robot's clearances and certified motions.
         smoother: the walks' shortcuts.
         field: the floor's fields (distances, lattice costs).
+        guides: the searches' heuristics' fields per query, cached (:mod:`~.guides`).
         expansions: lattice states expanded so far, over every query.
     """
 
@@ -122,6 +121,7 @@ class WalkPlanner:
     clearance: WalkClearance
     smoother: WalkSmoother
     field: FloorField
+    guides: WalkGuides
     expansions: int
 
     def __init__(self, model: BoxGraspModel, world: CollisionWorld,
@@ -158,15 +158,13 @@ class WalkPlanner:
         self.smoother = WalkSmoother(self.clearance, self.walk, resolution=resolution)
         self.field = FloorField(model, world, resolution, box_margin,
                                 window_from=max_field_states // N_HEADINGS + 1)
-        self._distances: BoundedCache[tuple, tuple[float, np.ndarray | FloorWindow]] = \
-            BoundedCache(max(2, min(4 * box_cache,
-                                    DISTANCE_BYTES // (8 * self._nx * self._ny))))
-        #: a float per lattice state each, rarely asked again
-        self._lattice: BoundedCache[tuple, np.ndarray] = BoundedCache(4)
+        self.guides = WalkGuides(self.field, self._prims, resolution=resolution,
+                                 floor_inflation=floor_inflation,
+                                 positions=self._nx * self._ny, box_cache=box_cache)
 
     def cached_fields(self) -> tuple[int, int]:
-        """Floor-distance fields and lattice cost-to-go fields held in the caches."""
-        return len(self._distances), len(self._lattice)
+        """:meth:`.WalkGuides.cached_fields`."""
+        return self.guides.cached_fields()
 
     # -- query -----------------------------------------------------------------------------
     def plan(self, obj: Pose, from_grasp: int, to_grasp: int, *,
@@ -243,33 +241,37 @@ class WalkPlanner:
             return eps * math.hypot(float(dist[u[0], u[1]]),
                                     tc * abs(wrap_angle(HEADING_YAWS[u[2]] - goal_yaw)))
 
-        if all(floor_closed(*s) for s in starts):
+        found = self._guided(starts, goals, boxed, floor_closed, floor_h,
+                             self.quick_expansions if lattice else self.max_expansions,
+                             should_stop)
+        if found is None and lattice:
+            costs = self.lattice_costs(obj, goals, should_stop=should_stop)
+            weight = self.inflation
+
+            def closed(ix: int, iy: int, h: int) -> bool:
+                return math.isinf(costs[ix, iy, h])
+
+            def heuristic(u: State) -> float:
+                return 0.0 if u[0] < 0 else weight * float(costs[u])
+
+            found = self._guided(starts, goals, boxed, closed, heuristic, self.max_expansions,
+                                 should_stop)
+        if found is None:
+            log.debug("walk search gave up after %d expansions", self.max_expansions)
             return []
-        try:
-            return self._search(starts, goals, boxed, floor_closed, floor_h,
-                                self.quick_expansions if lattice else self.max_expansions,
-                                should_stop)
-        except _GiveUp:
-            if not lattice:
-                log.debug("walk search gave up after %d expansions", self.max_expansions)
-                return []
-        costs = self.lattice_costs(obj, goals, should_stop=should_stop)
-        weight = self.inflation
+        return found
 
-        def closed(ix: int, iy: int, h: int) -> bool:
-            return math.isinf(costs[ix, iy, h])
-
-        def heuristic(u: State) -> float:
-            return 0.0 if u[0] < 0 else weight * float(costs[u])
-
+    def _guided(self, starts: dict[State, float], goals: dict[State, float],
+                boxed: BoxedClearance, closed: Callable[[int, int, int], bool],
+                heuristic: Callable[[State], float], cap: int, should_stop: Stop
+                ) -> list[State] | None:
+        """:meth:`_search`, ``[]`` at once if every start is ``closed``; ``None``: gave up."""
         if all(closed(*s) for s in starts):
             return []
         try:
-            return self._search(starts, goals, boxed, closed, heuristic, self.max_expansions,
-                                should_stop)
+            return self._search(starts, goals, boxed, closed, heuristic, cap, should_stop)
         except _GiveUp:
-            log.debug("walk search gave up after %d expansions", self.max_expansions)
-            return []
+            return None
 
     def _search(self, starts: dict[State, float], goals: dict[State, float],
                 boxed: BoxedClearance, closed: Callable[[int, int, int], bool],
@@ -309,60 +311,21 @@ class WalkPlanner:
     def floor_distances(self, obj: Pose, goals: dict[State, float], *,
                         starts: dict[State, float] | None = None,
                         should_stop: Stop = None) -> np.ndarray | FloorWindow:
-        """:meth:`FloorField.distances` to the goal states' positions (cached).
-
-        Without ``starts``: over the whole floor (exact everywhere, ``inf`` where no walk
-        exists). With them: within a limit that grows until it is at least
-        ``floor_inflation`` times the nearest start's distance (exact there), first
-        ``floor_inflation`` times the straight distance between the ends plus half a circle
-        round the box (:meth:`FloorField.box_reach`), then doubled while no start is
-        settled: a walk round the box pays for the floor near it, not for the whole floor.
-        Farther positions hold the limit, a lower bound; ``inf`` still means no walk.
-        """
-        cells = tuple(sorted({(s[0], s[1]) for s in goals}))
-        key = (obj, cells)
-        hit = self._distances.get(key)
-        limit = math.inf if starts is None else self.first_limit(starts, goals)
-        if hit is not None:
-            limit = max(limit, hit[0])
-        while True:
-            if hit is None or hit[0] < limit:
-                if should_stop is not None and should_stop():  # tens of ms in C
-                    raise Interrupted("walk planning")
-                hit = self._distances.put(key, (limit, self.field.distances(
-                    obj, list(cells), should_stop, limit=limit)))
-            limit, dist = hit
-            if starts is None or math.isinf(limit):
-                return dist
-            near = min(float(dist[s[0], s[1]]) for s in starts)
-            if math.isinf(near) or self.floor_inflation * near <= limit:
-                return dist
-            limit = self.floor_inflation * near if near < limit else 2.0 * limit
+        """:meth:`.WalkGuides.floor_distances`."""
+        return self.guides.floor_distances(obj, goals, starts=starts, should_stop=should_stop)
 
     def cached_limit(self, obj: Pose, goals: dict[State, float]) -> float | None:
-        """The limit of the cached :meth:`floor_distances` to ``goals``' positions, if any.
-
-        The box resting at ``obj``; ``None`` when none is cached, ``inf`` when the whole
-        floor's are.
-        """
-        hit = self._distances.get((obj, tuple(sorted({(s[0], s[1]) for s in goals}))))
-        return None if hit is None else hit[0]
+        """:meth:`.WalkGuides.cached_limit`."""
+        return self.guides.cached_limit(obj, goals)
 
     def first_limit(self, starts: dict[State, float], goals: dict[State, float]) -> float:
-        """``floor_inflation`` times (the straight distance + half a circle round the box)."""
-        res = self.resolution
-        straight = min(math.hypot(a[0] - b[0], a[1] - b[1]) for a in starts for b in goals)
-        return self.floor_inflation * (res * straight + math.pi * self.field.box_reach())
+        """:meth:`.WalkGuides.first_limit`."""
+        return self.guides.first_limit(starts, goals)
 
     def lattice_costs(self, obj: Pose, goals: dict[State, float], *,
                       should_stop: Stop = None) -> np.ndarray:
-        """:meth:`FloorField.lattice_costs` to the goal states (cached)."""
-        def compute() -> np.ndarray:
-            if should_stop is not None and should_stop():
-                raise Interrupted("walk planning")
-            return self.field.lattice_costs(obj, list(goals), self._prims, should_stop)
-
-        return self._lattice.get_or_compute((obj, tuple(sorted(goals))), compute)
+        """:meth:`.WalkGuides.lattice_costs`."""
+        return self.guides.lattice_costs(obj, goals, should_stop=should_stop)
 
     def attach(self, pose: Pose, obj: Pose, *, leaving: bool) -> dict[State, float]:
         """Lattice states joined to ``pose`` by a certified straight motion, with its cost.

@@ -7,6 +7,7 @@
 * :mod:`.pivot_walk` -- pivot steps walked continuously (footsteps chained, rotation timing);
 * :mod:`.timeline`, :mod:`.recording` -- segment durations, profiles, the recorded samples;
 * :mod:`.generator` -- plan -> :class:`Motion` (timeline of reach, tilt, pivots, release, walks);
+* :mod:`.segments` -- the generator's standing and walking segments of solver ticks, recorded;
 * :mod:`.durations` -- a motion's seconds per plan element and the duration model they fit;
 * :mod:`.motion_checks` -- the checks of a motion (:mod:`.checks_robot`, :mod:`.checks_box`
   over a :mod:`.check_context`), computed from the motion's own configurations;

@@ -37,8 +37,6 @@ import logging
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -47,12 +45,7 @@ from pivot_ompl.humanoids import profile_of
 from pivot_ompl.motionfile import Motion
 from pivot_ompl.planfile import Plan, TransferPhase, TransferStep, TransitPhase
 from pivot_ompl.se2 import Pose, rotate_about, wrap_angle
-from pivot_ompl.wholebody.box import (
-    DEFAULT_TILT,
-    BoxHold,
-    rotation_about_vertical,
-)
-from pivot_ompl.wholebody.footsteps import chunks
+from pivot_ompl.wholebody.box import DEFAULT_TILT, BoxHold, rotation_about_vertical
 from pivot_ompl.wholebody.pivot_walk import (
     chain_pivot_footsteps,
     check_pivot_steps,
@@ -61,41 +54,18 @@ from pivot_ompl.wholebody.pivot_walk import (
     turn_progress,
 )
 from pivot_ompl.wholebody.plan_start import observed_robot
-from pivot_ompl.wholebody.recording import GenerationStats, Recorder, Sample
+from pivot_ompl.wholebody.recording import GenerationStats, Recorder
+from pivot_ompl.wholebody.segments import HeldBox, Progress, TickedSegments, ticks
 from pivot_ompl.wholebody.settings import WalkSettings
 from pivot_ompl.wholebody.timeline import Timing, interpolate_frame, min_jerk
-from pivot_ompl.wholebody.walk_windows import WindowedWalk
-from pivot_ompl.wholebody.walker import PlacoWalker, SolverFailure
+from pivot_ompl.wholebody.walker import PlacoWalker
 
-if TYPE_CHECKING:
-    pass
+__all__ = ["GenerationStats", "Progress", "Timing", "WholeBodyGenerator"]
 
 log = logging.getLogger(__name__)
 
-#: progress(fraction done in [0, 1], label)
-Progress = Callable[[float, str], None]
 
-
-@dataclass
-class _HeldBox:
-    """The box while the hands hold it: its grasp frame ``G`` and tilt give its pose."""
-
-    hold: BoxHold
-    grasp: int
-    G: np.ndarray
-    tilt: float = 0.0
-
-    def T_world_box(self) -> np.ndarray:
-        """The box frame."""
-        return self.hold.T_world_box(self.G, self.grasp, self.tilt)
-
-
-def _ticks(duration: float, dt: float) -> int:
-    """Solver ticks of ``duration`` (s) at ``dt`` (s) a tick, at least one."""
-    return max(1, int(round(duration / dt)))
-
-
-class WholeBodyGenerator:
+class WholeBodyGenerator(TickedSegments):
     """Turns a plan into a :class:`Motion` (see the module docstring).
 
     Args:
@@ -173,100 +143,6 @@ class WholeBodyGenerator:
         self.stats.duration = float(motion.t[-1] - motion.t[0])
         return motion
 
-    # -- bookkeeping --------------------------------------------------------------------
-    def _report(self, fraction: float, label: str) -> None:
-        if self.progress is not None:
-            self.progress(min(1.0, fraction), label)
-
-    def _unit_done(self, label: str) -> None:
-        self._units_done += 1
-        self._report(self._units_done / self._units_total, label)
-
-    def _fail(self, reason: str) -> WholeBodyError:
-        return WholeBodyError(self._phase, self._step, reason)
-
-    # -- hands --------------------------------------------------------------------------
-    def _rest_hands(self) -> tuple[np.ndarray, np.ndarray]:
-        T = self.walker.trunk_frame()
-        return T @ self.walker.rest_hands[0], T @ self.walker.rest_hands[1]
-
-    def _move_box(self, held: _HeldBox, *, G: np.ndarray | None = None,
-                  tilt: float | None = None) -> None:
-        """Set the held box's grasp frame and/or tilt; the recorded box follows."""
-        if G is not None:
-            held.G = G
-        if tilt is not None:
-            held.tilt = tilt
-        self._box_T = held.T_world_box()
-
-    # -- one tick -----------------------------------------------------------------------
-    def _tick(self, walk: WindowedWalk | None, hands: tuple[np.ndarray, np.ndarray], *,
-              holding: bool, grasp: int, tilt: float) -> None:
-        try:
-            support, zmp = self.walker.tick(self._t, walk, hands[0], hands[1])
-        except SolverFailure as e:
-            raise self._fail(f"infeasible QP at t = {self._t:.3f} s ({e})") from e
-        if holding:
-            err = self.stats.note_hands(self.walker.hand_frames(), hands)
-            if err > self.timing.max_hand_error:
-                raise self._fail(f"unreachable grip: a hand is {100 * err:.1f} cm from its "
-                                 f"grip point at t = {self._t:.3f} s")
-        self.recorder.record(self._t, self.walker.q(), self._box_T, self.walker.com(),
-                             Sample(support, zmp, self._phase, self._step if holding else -1,
-                                    holding, grasp if holding else -1, tilt))
-        self._t += self.settings.solver_dt
-
-    def _stand(self, duration: float, each: Callable[[float], None], *, holding: bool = False,
-               grasp: int = -1, tilt_of: Callable[[float], float] | None = None,
-               hands_of: Callable[[float], tuple[np.ndarray, np.ndarray]] | None = None
-               ) -> None:
-        """Stand still for ``duration``; ``each(s)`` updates the box for progress s in [0, 1]."""
-        self.walker.stand()
-        n = _ticks(duration, self.settings.solver_dt)
-        for i in range(n):
-            s = (i + 1) / n
-            each(s)
-            hands = hands_of(s) if hands_of is not None else self._rest_hands()
-            self._tick(None, hands, holding=holding, grasp=grasp,
-                       tilt=tilt_of(s) if tilt_of is not None else 0.0)
-
-    # -- phases -------------------------------------------------------------------------
-    def _walk_to(self, targets: list[Pose], *, holding: bool = False, grasp: int = -1,
-                 tilt: float = 0.0,
-                 each: Callable[[float], None] | None = None,
-                 hands_of: Callable[[], tuple[np.ndarray, np.ndarray]] | None = None,
-                 follow_path: bool = False) -> None:
-        """Walk through ``targets``; ``each(s)`` (s in [0, 1] over the segment) moves the box.
-
-        With ``follow_path`` the footsteps follow the straight lines between the targets
-        (transits: the plan's path is what was checked against the obstacles); otherwise
-        PlaCo's naive planner walks to each target.
-        """
-        if follow_path:
-            footsteps = self.walker.path_footsteps(targets)
-        else:
-            footsteps = self.walker.plan_footsteps(targets)
-        if not footsteps:
-            if each is not None:
-                self._stand(self.timing.min_rotate, each, holding=holding, grasp=grasp,
-                            tilt_of=lambda s: tilt,
-                            hands_of=(lambda s: hands_of()) if hands_of else None)
-            return
-        # a walk moving the box is planned in one piece (its rotation spans it); a transit is
-        # cut into walks of at most max_steps steps, each coming to rest
-        size = len(footsteps) if each is not None else self.timing.max_steps
-        for chunk in chunks(footsteps, size):
-            traj = self.walker.plan_walk(chunk, self._t)
-            t0, t1 = traj.t_start, traj.t_end
-            m = self.timing.rotate_margin
-            n = _ticks(t1 - t0, self.settings.solver_dt)
-            for _ in range(n):
-                if each is not None:
-                    each(((self._t - t0) - m) / max(t1 - t0 - 2 * m, 1e-6))
-                hands = hands_of() if hands_of is not None else self._rest_hands()
-                self._tick(traj, hands, holding=holding, grasp=grasp, tilt=tilt)
-            self.walker.stand()
-
     def _transfer(self, i: int, phase: TransferPhase) -> Pose:
         hold, tm = self.hold, self.timing
         k = phase.grasp
@@ -278,7 +154,7 @@ class WholeBodyGenerator:
             self._walk_to([phase.robot_start])
         G = hold.T_world_G(obj, k)
         theta = hold.tilt
-        held = _HeldBox(hold, k, G)
+        held = HeldBox(hold, k, G)
         self._move_box(held)
         # reach
         start_hands = self._rest_hands()  # the current targets: no jump in the tasks
@@ -288,12 +164,7 @@ class WholeBodyGenerator:
             interpolate_frame(start_hands[1], goal[1], min_jerk(s))))
         self._unit_done(f"phase {i}: reach")
 
-        # tilt
-        def tilt_each(s: float) -> None:
-            self._move_box(held, tilt=theta * min_jerk(s))
-
-        self._stand(tm.tilt, tilt_each, holding=True, grasp=k, tilt_of=lambda s: theta *
-                    min_jerk(s), hands_of=lambda s: self.hold.T_world_hands(held.G, k, held.tilt))
+        self._incline(held, lambda s: theta * min_jerk(s))  # tilt
         # pivot steps: the plan is checked first, then walked in continuous walks
         check_pivot_steps(hold, phase, i)
         robots = [phase.robot_start, *(st.robot for st in phase.steps)]
@@ -308,13 +179,7 @@ class WholeBodyGenerator:
         obj = phase.steps[-1].object if phase.steps else obj
         self._step = -1
 
-        # set down, release
-        def untilt_each(s: float) -> None:
-            self._move_box(held, tilt=theta * (1.0 - min_jerk(s)))
-
-        self._stand(tm.tilt, untilt_each, holding=True, grasp=k,
-                    tilt_of=lambda s: theta * (1.0 - min_jerk(s)),
-                    hands_of=lambda s: self.hold.T_world_hands(held.G, k, held.tilt))
+        self._incline(held, lambda s: theta * (1.0 - min_jerk(s)))  # set down, release
         grip = self.hold.T_world_hands(held.G, k, 0.0)
         self._stand(tm.release, lambda s: None, hands_of=lambda s: (
             interpolate_frame(grip[0], self._rest_hands()[0], min_jerk(s)),
@@ -322,8 +187,15 @@ class WholeBodyGenerator:
         self._unit_done(f"phase {i}: release")
         return obj
 
+    def _incline(self, held: HeldBox, tilt_of: Callable[[float], float]) -> None:
+        """Stand for :attr:`Timing.tilt` while the held box's tilt follows ``tilt_of(s)``."""
+        k = held.grasp
+        self._stand(self.timing.tilt, lambda s: self._move_box(held, tilt=tilt_of(s)),
+                    holding=True, grasp=k, tilt_of=tilt_of,
+                    hands_of=lambda s: self.hold.T_world_hands(held.G, k, held.tilt))
+
     def _rotation(self, step: TransferStep, G0: np.ndarray,
-                  held: _HeldBox) -> Callable[[float], None]:
+                  held: HeldBox) -> Callable[[float], None]:
         """``each(s)``: the box turned by the step's angle times min_jerk(s) from ``G0``."""
         def each(s: float) -> None:
             self._move_box(held, G=rotation_about_vertical(step.pivot,
@@ -331,7 +203,7 @@ class WholeBodyGenerator:
         return each
 
     def _pivot_alone(self, i: int, phase: TransferPhase, j: int, before: Pose,
-                     held: _HeldBox) -> None:
+                     held: HeldBox) -> None:
         """Pivot step ``j`` as a walk of its own along its arc (or standing, if no step)."""
         k, theta = phase.grasp, self.hold.tilt
         step = phase.steps[j]
@@ -345,7 +217,7 @@ class WholeBodyGenerator:
         self._unit_done(f"phase {i}: pivot {j + 1}/{len(phase.steps)}")
 
     def _pivot_walk(self, i: int, phase: TransferPhase, j0: int, robots: list[Pose],
-                    held: _HeldBox) -> int:
+                    held: HeldBox) -> int:
         """Pivot steps ``j0, j0 + 1, ...`` in one continuous walk; return how many.
 
         The footsteps of each pivot come from :func:`.footsteps.pivot_footsteps` (two or
@@ -366,7 +238,7 @@ class WholeBodyGenerator:
         t0 = self._t
         traj = walker.plan_walk(footsteps, t0)
         starts, ends = rotation_windows(traj, last, t0, self.settings.solver_dt)
-        total = _ticks(traj.t_end - t0, self.settings.solver_dt)
+        total = ticks(traj.t_end - t0, self.settings.solver_dt)
         G0: np.ndarray | None = None
         p, u = 0, 0.0
         for tick in range(total):

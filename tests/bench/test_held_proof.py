@@ -24,11 +24,11 @@ def test_a_proof_runs_in_its_own_process_and_reports_its_stages():
 
 def test_a_corpus_map_is_imported_once_and_an_unknown_one_refused(tmp_path):
     hp = benchmark_script("held_proof")
-    assert hp._corpus("slot", tmp_path) == "slot"  # any other spec as given
-    path = hp._corpus("corpus:turtlebot3_world", tmp_path)
+    assert hp.scene_path("slot", tmp_path, "0") == str(tmp_path / "0.yaml")  # made here
+    path = hp.scene_path("corpus:turtlebot3_world", tmp_path, "1")
     assert path.endswith("turtlebot3_world.yaml") and (tmp_path / "turtlebot3_world.yaml").exists()
     with pytest.raises(SystemExit, match="no such map"):
-        hp._corpus("corpus:nowhere", tmp_path)
+        hp.scene_path("corpus:nowhere", tmp_path, "2")
 
 
 def test_the_gate_runs_in_its_own_process_with_its_answer_and_stages():

@@ -95,12 +95,12 @@ def test_the_cached_floor_distances_hold_at_most_their_byte_budget(monkeypatch):
     (at least two kept), so a large floor does not keep 64 of them."""
     import numpy as np
 
-    from pivot_ompl.transit import planner
+    from pivot_ompl.transit import guides
 
     scene = shipped("fig10")
     probe = PivotChecker(scene).walker
     per_field = 8 * probe.field.grid.nx * probe.field.grid.ny
-    monkeypatch.setattr(planner, "DISTANCE_BYTES", 3 * per_field)
+    monkeypatch.setattr(guides, "DISTANCE_BYTES", 3 * per_field)
     ck = PivotChecker(scene)
     rng = np.random.default_rng(0)
     x0, y0, x1, y1 = scene.bounds

@@ -1,13 +1,13 @@
 """The multiplexed graph: manipulation roadmaps per grasp joined by the regrasping roadmap.
 
 Nodes are ``(object node, grasp)``: the box at an object-roadmap pose held with a grasp. Two
-kinds of edge join them (:func:`is_transfer`):
+kinds of edge join them (:func:`~.edges.is_transfer`):
 
 * a **transfer** ``(i, g) - (j, h)`` between two object nodes: box and robot pivot together
   with one grasp. The box is symmetric under a half turn, so neighbours are found with yaw
   modulo pi and the grasp ``h`` of node ``j`` is ``g`` or ``g + 2``, whichever describes the
   same car; an edge with ``h = g + 2`` turns the path's *frame* by a half turn
-  (:func:`frame_flip`);
+  (:func:`~.edges.frame_flip`);
 * a **regrasp** ``(i, g) - (i, h)`` at one object node: the robot walks round the resting box.
 
 A **turn** is a transfer too: from ``(i, g)`` to the pose the box reaches when the car spins
@@ -16,7 +16,8 @@ of its own (kind ``"turn"``) added wherever the disk the assembly sweeps is free
 
 Edges are candidates until a search uses them. A transfer's cheap test (box and robot free at
 three poses of its Reeds-Shepp path, :meth:`MultiplexedGraph.plausible`) runs when a search or
-the reachable set meets it; an edge that fails it, or a full check, is removed for good.
+the reachable set (:mod:`~.reach`) meets it; an edge that fails it, or a full check, is
+removed for good.
 
 Searches run over *states* ``(node, parity)``: the parity of the half turns taken so far, so
 that a path reaches the goal exactly as given (not its half turn, which a checker comparing
@@ -27,48 +28,30 @@ a path in the start's frame (:meth:`MultiplexedGraph.express`).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.cost import CostModel
 from pivot_ompl.graph import UnionFind
-from pivot_ompl.grasp import BoxGraspModel
+from pivot_ompl.planners.multiplex.edges import (
+    Node,
+    State,
+    Stop,
+    frame_flip,
+    is_transfer,
+    successor,
+    undirected,
+    walk_estimate,
+)
+from pivot_ompl.planners.multiplex.reach import ReachableSet
 from pivot_ompl.planners.objects.roadmap import PoseIndex, Roadmap, canonical_yaw, half_turn
 from pivot_ompl.se2 import Pose, wrap_angle
-
-Node = tuple[int, int]  # (object roadmap index, grasp)
-State = tuple[Node, int]  # (node, frame parity)
-Stop = Callable[[], bool]
 
 #: Fractions of a transfer's Reeds-Shepp path where its cheap test places box and robot.
 PLAUSIBILITY_FRACTIONS = (0.25, 0.5, 0.75)
 
-
-def is_transfer(a: Node, b: Node) -> bool:
-    """Whether the edge ``a - b`` moves the box (else it is a regrasp at one pose)."""
-    return a[0] != b[0]
-
-
-def frame_flip(a: Node, b: Node) -> int:
-    """1 if the edge ``a - b`` turns the path's frame by a half turn, else 0.
-
-    That is a transfer whose grasps differ: the same car written from the other side.
-    """
-    return int(a[0] != b[0] and a[1] != b[1])
-
-
-def walk_estimate(model: BoxGraspModel, a: int, b: int) -> float:
-    """Estimated length (m) of the walk from grasp ``a`` to ``b``.
-
-    Quarter circles round the box at the robot's distance.
-    """
-    quarters = min((b - a) % 4, (a - b) % 4)
-    return model.robot_offset(a) * 0.5 * math.pi * quarters
-
-
-def undirected(a: Node, b: Node) -> tuple[Node, Node]:
-    """The key of the edge ``a - b`` whichever way it is taken."""
-    return (a, b) if a <= b else (b, a)
+__all__ = ["PLAUSIBILITY_FRACTIONS", "MultiplexedGraph", "Node", "State", "Stop", "frame_flip",
+           "is_transfer", "undirected", "walk_estimate"]
 
 
 class MultiplexedGraph:
@@ -139,18 +122,13 @@ class MultiplexedGraph:
         self._parity = (PoseIndex(self.roadmap), PoseIndex(self.roadmap))
         self._removed: set[tuple[Node, Node]] = set()
         self._plausible: dict[tuple[Node, Node], bool] = {}
-        #: states reachable from a start over edges that passed the cheap test (a superset
-        #: of the truth once full checks remove edges), grown until it holds a goal state
-        #: (:meth:`_grow_reach`); ``None`` before the ends are set, or after the termination
-        #: condition stopped its growth
-        self._reach: set[State] | None = None
-        self._goal_states: set[State] = set()
-        self._reached = False  # a goal state is in the reachable set: it grows no more
+        #: the states a search may reach (:mod:`~.reach`), computed once the ends are set
+        self._reach = ReachableSet(self.adj, self.plausible)
 
     # -- structure ---------------------------------------------------------------------
     def successor(self, state: State, node: Node) -> State:
         """The state reached from ``state`` along the edge to ``node`` (parity carried on)."""
-        return node, state[1] ^ frame_flip(state[0], node)
+        return successor(state, node)
 
     def successors(self, state: State) -> Iterator[tuple[State, float]]:
         """The states one candidate edge away, with the edges' costs."""
@@ -263,19 +241,7 @@ class MultiplexedGraph:
         self.adj[b][a] = cost
         self.links += 1
         self._components.union(a, b)
-        reach = self._reach
-        if reach is None or self._reached:
-            return
-        flip = frame_flip(a, b)
-        for parity in (0, 1):
-            sa, sb = (a, parity), (b, parity ^ flip)
-            if (sa in reach) == (sb in reach):
-                continue
-            if is_transfer(a, b) and not self.plausible(a, b):
-                return
-            self._grow_reach(sb if sa in reach else sa, should_stop)
-            if self._reach is None or self._reached:
-                return
+        self._reach.joined(a, b, should_stop)
 
     def set_ends(self, start: int, goal: int, should_stop: Stop, *,
                  start_grasp: int | None = None) -> None:
@@ -322,50 +288,9 @@ class MultiplexedGraph:
     def compute_reach(self, should_stop: Stop) -> None:
         """The states connected to a start over edges that pass the cheap test.
 
-        Grown until it holds a goal state (:meth:`_grow_reach`).
+        Grown until it holds a goal state (:meth:`.ReachableSet.grow`).
         """
-        self._reach = set()
-        self._goal_states = {(g, 0) for g in self.goal_nodes}
-        self._reached = False
-        for s in self.start_nodes:
-            if self._reach is None or self._reached:  # stopped, or a goal state reached
-                return
-            if (s, 0) not in self._reach:
-                self._grow_reach((s, 0), should_stop)
-
-    def _grow_reach(self, state: State, should_stop: Stop) -> None:
-        """Add ``state`` and the states joined to it by plausible edges to the reachable set.
-
-        Each transfer that would add a state is tested first (cached): the set is the start's
-        component over the edges that survive the test. Stopped, the set is forgotten. The
-        growth ends at the first goal state added: the set then answers
-        :meth:`maybe_connected` (edges linked later only add states), and testing the rest of
-        the component would test, eagerly, transfers the search may never take (on a
-        cluttered floor most of the graph's). A search that finds no path computes it anew.
-        """
-        reach = self._reach
-        assert reach is not None
-        stack = [state]
-        reach.add(state)
-        if state in self._goal_states:
-            self._reached = True
-            return
-        steps = 0
-        while stack:
-            steps += 1
-            if steps % 64 == 1 and should_stop():
-                self._reach = None  # incomplete: computed again after a failed search
-                return
-            u = stack.pop()
-            for v in list(self.adj[u[0]]):
-                sv = self.successor(u, v)
-                if sv in reach or (is_transfer(u[0], v) and not self.plausible(u[0], v)):
-                    continue
-                reach.add(sv)
-                if sv in self._goal_states:
-                    self._reached = True
-                    return
-                stack.append(sv)
+        self._reach.compute(self.start_nodes, self.goal_nodes, should_stop)
 
     def maybe_connected(self) -> bool:
         """Whether the goal (in the start's frame) may be reached from the start.
@@ -374,8 +299,7 @@ class MultiplexedGraph:
         reachable set (edges refused later by full checks only shrink the truth, so a failed
         search computes it again). A search that cannot succeed is skipped.
         """
-        r = self._reach
-        if r is not None and not any((g, 0) in r for g in self.goal_nodes):
+        if self._reach.excludes_goal(self.goal_nodes):
             return False
         goals = {self._components.find(g) for g in self.goal_nodes}
         return any(self._components.find(s) in goals for s in self.start_nodes)

@@ -34,7 +34,8 @@ from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.graph import astar, distances
 from pivot_ompl.planners.evaluation import Evaluator, Found, Status, lazy_search
-from pivot_ompl.planners.multiplex.graph import MultiplexedGraph, Node, State, is_transfer
+from pivot_ompl.planners.multiplex.edges import Node, State, is_transfer
+from pivot_ompl.planners.multiplex.graph import MultiplexedGraph
 from pivot_ompl.se2 import Pose
 
 Stop = Callable[[], bool]
