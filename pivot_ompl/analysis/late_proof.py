@@ -221,7 +221,10 @@ class LateProof:
         """
         kept = shared_value(self.scene, HELD_POSES)
         if kept is None:
-            stop, window = self._held_window(proof_estimate(self.scene))
+            guess = proof_estimate(self.scene)
+            stop, window = self._held_window(guess)
+            log.debug("late proof: held poses estimated at %.2f s, window %.2f s%s", guess,
+                      window, "" if stop is not None else ": not tried")
             if stop is None:
                 return False
             spent = self.work() + GATE_SHARE * window

@@ -9,8 +9,16 @@ from factories import shipped
 from pivot_ompl.analysis import late_proof
 from pivot_ompl.analysis.bound_levels import exhaustive_estimate
 from pivot_ompl.analysis.late_proof import GATE_SHARE, HELD_POSES, NOTHING_TO_PROVE, LateProof
-from pivot_ompl.analysis.pose_proof import proof_estimate
-from pivot_ompl.api import LATE_PROOF_BEGIN, LATE_PROOF_END, plan
+from pivot_ompl.analysis.pose_proof import ESTIMATED_BINS, SECONDS_PER_PIECE, proof_estimate
+from pivot_ompl.api import (
+    EXPLAIN_END,
+    HELD_PROOF_BEGIN,
+    HELD_PROOF_END,
+    LATE_PROOF_BEGIN,
+    LATE_PROOF_END,
+    plan,
+)
+from pivot_ompl.grasp import GRASPS
 from pivot_ompl.scene.shared import keep_shared, shared_value
 
 pytestmark = pytest.mark.timed  # plans whose answer must come within the limit's windows
@@ -103,3 +111,23 @@ def test_a_small_scene_whose_turning_place_was_cut_short_is_left_to_its_search(m
     assert 0.5 < exhaustive_estimate(scene) < 100.0
     assert late() is False and calls == []
     assert shared_value(scene, HELD_POSES) is None
+
+
+#: The lab door's proof estimate (1506 boxes and the floor's 4 edges): what plan must admit.
+LAB_DOOR_ESTIMATE = ESTIMATED_BINS * len(GRASPS) * (1506 + 4) * SECONDS_PER_PIECE
+
+
+def test_a_proof_estimated_as_the_lab_doors_is_tried_at_sixty_seconds(monkeypatch):
+    # regression: the lab door (brsu_c069, 1506 boxes) ended TIMEOUT at --time 60: tried
+    # once the late raster's window ended, its held poses' proof was never let in
+    scene = ragged_slot(4)  # a geometry no other test keeps a held answer for
+    keep_shared(scene, NOTHING_TO_PROVE, True)  # the held poses are all that is left to try
+    calls = _spy_proof(monkeypatch)
+    monkeypatch.setattr(late_proof, "proof_estimate", lambda s: LAB_DOOR_ESTIMATE)
+    limit = 60.0
+    late = LateProof(scene, begin=LATE_PROOF_BEGIN * limit, end=LATE_PROOF_END * limit,
+                     explain_end=EXPLAIN_END * limit,
+                     held_begin=HELD_PROOF_BEGIN * limit, held_end=HELD_PROOF_END * limit,
+                     clock=lambda: LATE_PROOF_END * limit, work=lambda: 0.0)
+    assert late() is True and late.proof is not None and calls == [1]
+    assert "0.90 m" in late.proof.reason
