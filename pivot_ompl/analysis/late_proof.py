@@ -132,8 +132,10 @@ class LateProof:
         held_end: clock time by which the held poses' relaxation is stopped (tried where
             half its estimate fits before it, and no chain of poses valid at every yaw joins
             start and goal: :func:`~pivot_ompl.analysis.pose_inner.joined_at_every_yaw`, the
-            proof could not end apart); ``None``: tried where its estimate fits before
-            ``explain_end``, stopped there.
+            proof could not end apart); where ``passages`` found the start's and the
+            goal's regions joined clear of every gap narrower than the held assembly, the
+            held window ends at :data:`CLEAR_SHARE` of the way from ``held_begin`` to it;
+            ``None``: tried where its estimate fits before ``explain_end``, stopped there.
 
     Attributes:
         proof: the proof, once found; ``None`` before, or when nothing was proven.
