@@ -115,7 +115,7 @@ CORPUS = (
               "--held-poses`); `plan` tries it where half its estimate (19 s) fits between 4 "
               "and 25 % of --time (every way passes the door, narrower than the held "
               "assembly; a floor with room all the way keeps 4 to 14.5 %): INFEASIBLE at "
-              "--time 60 (15.9-16.3 s, 10.5-11.0 s of CPU); at --time 30 its estimate's half "
+              "--time 60 (10.8-11.8 s, 10.9-11.3 s of CPU); at --time 30 its estimate's half "
               "does not fit (TIMEOUT)",
               feasible=False),
     CorpusMap("brsu_c069_room", "benchmarks/maps/brsu_c069/map.yaml",
