@@ -57,7 +57,7 @@ PROOF_SHARE = 0.08
 #: the relaxation is stopped, and by which the explanation of a proof is stopped.
 LATE_PROOF_BEGIN, LATE_PROOF_END, EXPLAIN_END = 0.02, 0.08, 0.095
 #: Shares of the limit from which the held poses' relaxation may be tried, and its own end.
-HELD_PROOF_BEGIN, HELD_PROOF_END = 0.04, 0.15
+HELD_PROOF_BEGIN, HELD_PROOF_END = 0.04, 0.25
 #: Share of the time limit (at most ``FINISH_MAX`` s) kept from the search for the steps after
 #: it: converting the path, the lower bounds, and the caller writing the plan. A limit ``T``
 #: then ends within ``T`` in :func:`plan`, and within ``T + 5 %`` once the plan is written.

@@ -93,6 +93,14 @@ HELD_POSES = ("late proof: the held poses' relaxation",)
 GATE_SHARE = 0.25
 
 
+#: Share of the held window (``held_begin`` to ``held_end``) a scene gets whose start and goal
+#: the passage search found joined clear of every gap narrower than the held assembly
+#: (:attr:`~pivot_ompl.analysis.passage.PassageOnce.clear`: room all the way, most often a
+#: plan); the others, where every way passes such a gap (the lab's door, 0.85 m for 0.88 m),
+#: get the whole window. At :func:`pivot_ompl.api.plan`'s 4 % to 25 % of the limit: to 14.5 %.
+CLEAR_SHARE = 0.5
+
+
 def generic(scene: Scene) -> NoPlan:
     """The line of a proof whose place was not found in time: what the held assembly needs."""
     need = assembly_width(scene.model)
@@ -124,8 +132,10 @@ class LateProof:
         held_end: clock time by which the held poses' relaxation is stopped (tried where
             half its estimate fits before it, and no chain of poses valid at every yaw joins
             start and goal: :func:`~pivot_ompl.analysis.pose_inner.joined_at_every_yaw`, the
-            proof could not end apart); ``None``: tried where its estimate fits before
-            ``explain_end``, stopped there.
+            proof could not end apart); where ``passages`` found the start's and the
+            goal's regions joined clear of every gap narrower than the held assembly, the
+            held window ends at :data:`CLEAR_SHARE` of the way from ``held_begin`` to it;
+            ``None``: tried where its estimate fits before ``explain_end``, stopped there.
 
     Attributes:
         proof: the proof, once found; ``None`` before, or when nothing was proven.
@@ -221,7 +231,10 @@ class LateProof:
         """
         kept = shared_value(self.scene, HELD_POSES)
         if kept is None:
-            stop, window = self._held_window(proof_estimate(self.scene))
+            guess = proof_estimate(self.scene)
+            stop, window = self._held_window(guess)
+            log.debug("late proof: held poses estimated at %.2f s, window %.2f s%s", guess,
+                      window, "" if stop is not None else ": not tried")
             if stop is None:
                 return False
             spent = self.work() + GATE_SHARE * window
@@ -252,12 +265,18 @@ class LateProof:
 
         With ``held_end``: its stop (:meth:`_held_stop`) where half of ``guess`` fits before
         it (the estimate only admits: the bins a proof computes vary fourfold between maps
-        of one cost a bin); else the stop at ``explain_end`` where ``guess`` fits before it.
+        of one cost a bin), or before :data:`CLEAR_SHARE` of the held window where the
+        scene's passage search found the start's and the goal's regions joined clear of
+        every gap narrower than the held assembly (``passages.clear``); else the stop at
+        ``explain_end`` where ``guess`` fits before it.
         ``None`` and 0: no window fits it.
         """
         now = self.clock()
-        if self.held_end is not None and self.held_end > now + 0.5 * guess:
-            return self._held_stop(self.held_end), self.held_end - now
+        end = self.held_end
+        if end is not None and self.passages.clear:  # room all the way: most often a plan
+            end = self.held_begin + CLEAR_SHARE * (end - self.held_begin)
+        if end is not None and end > now + 0.5 * guess:
+            return self._held_stop(end), end - now
         if self.held_end is None and guess <= self.explain_end - now:
             return self._stop(self.explain_end), self.explain_end - now
         return None, 0.0

@@ -184,15 +184,29 @@ def blocking_passage(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     than this (m) instead of the held assembly's width (a proof that the assembly cannot
     turn through wider gaps names the widest one).
     """
+    return passage_search(scene, clearance=clearance, should_stop=should_stop,
+                          gaps_below=gaps_below)[0]
+
+
+def passage_search(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
+                   should_stop: Callable[[], bool] | None = None,
+                   gaps_below: float | None = None) -> tuple[Passage | None, bool | None]:
+    """:func:`blocking_passage`'s answer, and whether the way is clear.
+
+    The way is clear (``True``) when the start's and the goal's regions are joined clear of
+    every gap closed (narrower than the held assembly, or than ``gaps_below``); ``False``
+    when every way passes such a gap (whether a passage is named or the gaps were too many
+    to search); ``None`` when ``should_stop`` said stop.
+    """
     try:
         return _blocking_passage(scene, clearance, should_stop, gaps_below)
     except Interrupted:
-        return None
+        return None, None
 
 
 def _blocking_passage(scene: Scene, clearance: float,
                       should_stop: Callable[[], bool] | None,
-                      gaps_below: float | None = None) -> Passage | None:
+                      gaps_below: float | None = None) -> tuple[Passage | None, bool]:
     model = scene.model
     need = assembly_width(model, clearance=clearance)
     shut = need if gaps_below is None else gaps_below
@@ -210,7 +224,7 @@ def _blocking_passage(scene: Scene, clearance: float,
     s_xy, g_xy = (scene.start[0], scene.start[1]), (scene.goal[0], scene.goal[1])
     if share_region(walls, lines, scene.bounds, s_xy, g_xy, cell=raster_cell(shut), seal=SEAL,
                     max_cells=cell_budget(len(walls) + len(lines)), should_stop=should_stop):
-        return None  # one region (clear of every gap, so of those kept below): no union needed
+        return None, True  # one region (clear of every gap, so of those kept below)
     # a gap whose segment meets a third wall is not needed: that wall's gaps to both ends are
     # shorter, so closed too, and seal the same way (on cluttered maps most gaps are such)
     hits = np.bincount(tree.query(lines, predicate="intersects")[0], minlength=len(lines))
@@ -218,7 +232,7 @@ def _blocking_passage(scene: Scene, clearance: float,
     a, b, lines, widths = a[gaps], b[gaps], lines[gaps], widths[gaps]
     if len(lines) > MAX_GAPS:
         log.debug("passage search skipped: %d gaps (> %d)", len(lines), MAX_GAPS)
-        return None
+        return None, False
     if should_stop is not None and should_stop():
         raise Interrupted("the passage search")
     x0, y0, x1, y1 = scene.bounds
@@ -232,7 +246,7 @@ def _blocking_passage(scene: Scene, clearance: float,
     rtree = shapely.STRtree(regions)
     start, goal = _region_of(regions, rtree, s_xy), _region_of(regions, rtree, g_xy)
     if start is None or goal is None or start == goal:
-        return None
+        return None, start is not None and start == goal
     touch_gap, touch_region = rtree.query(shapely.buffer(lines, 4.0 * SEAL),
                                           predicate="intersects")
     joins: dict[int, list[int]] = {}
@@ -257,8 +271,8 @@ def _blocking_passage(scene: Scene, clearance: float,
             mid = _gap_centre(walls[a[g]], walls[b[g]], float(widths[g]))
             log.debug("blocking passage: %.3f m at (%.2f, %.2f)", widths[g], *mid)
             return Passage(mid, ((float(p[0]), float(p[1])), (float(q[0]), float(q[1]))),
-                           float(widths[g]), box_need, need)
-    return Passage(None, None, 0.0, box_need, need)
+                           float(widths[g]), box_need, need), False
+    return Passage(None, None, 0.0, box_need, need), False
 
 
 def gap_at(scene: Scene, place: tuple[float, float], *, reach: float, widest: float,
@@ -305,6 +319,11 @@ class PassageOnce:
 
     Args:
         scene: the scene whose passage is searched.
+
+    Attributes:
+        clear: once searched, whether the start's and the goal's regions are joined clear of
+            every gap narrower than the held assembly (:func:`passage_search`); ``None``
+            before, or when the search was stopped.
     """
 
     def __init__(self, scene: Scene) -> None:
@@ -312,14 +331,15 @@ class PassageOnce:
         self.scene = scene
         self._known = False
         self._passage: Passage | None = None
+        self.clear: bool | None = None
 
     def __call__(self, *, should_stop: Callable[[], bool] | None = None) -> Passage | None:
         """The passage (as :func:`blocking_passage`), searched the first time only."""
         if self._known:
             return self._passage
-        passage = blocking_passage(self.scene, should_stop=should_stop)
+        passage, clear = passage_search(self.scene, should_stop=should_stop)
         if passage is not None or should_stop is None or not should_stop():
-            self._known, self._passage = True, passage
+            self._known, self._passage, self.clear = True, passage, clear
         return passage
 
 

@@ -9,8 +9,17 @@ from factories import shipped
 from pivot_ompl.analysis import late_proof
 from pivot_ompl.analysis.bound_levels import exhaustive_estimate
 from pivot_ompl.analysis.late_proof import GATE_SHARE, HELD_POSES, NOTHING_TO_PROVE, LateProof
-from pivot_ompl.analysis.pose_proof import proof_estimate
-from pivot_ompl.api import LATE_PROOF_BEGIN, LATE_PROOF_END, plan
+from pivot_ompl.analysis.passage import PassageOnce
+from pivot_ompl.analysis.pose_proof import ESTIMATED_BINS, SECONDS_PER_PIECE, proof_estimate
+from pivot_ompl.api import (
+    EXPLAIN_END,
+    HELD_PROOF_BEGIN,
+    HELD_PROOF_END,
+    LATE_PROOF_BEGIN,
+    LATE_PROOF_END,
+    plan,
+)
+from pivot_ompl.grasp import GRASPS
 from pivot_ompl.scene.shared import keep_shared, shared_value
 
 pytestmark = pytest.mark.timed  # plans whose answer must come within the limit's windows
@@ -103,3 +112,43 @@ def test_a_small_scene_whose_turning_place_was_cut_short_is_left_to_its_search(m
     assert 0.5 < exhaustive_estimate(scene) < 100.0
     assert late() is False and calls == []
     assert shared_value(scene, HELD_POSES) is None
+
+
+#: The lab door's proof estimate (1506 boxes and the floor's 4 edges): what plan must admit.
+LAB_DOOR_ESTIMATE = ESTIMATED_BINS * len(GRASPS) * (1506 + 4) * SECONDS_PER_PIECE
+
+
+def _at_sixty_seconds(scene, monkeypatch):  # noqa: ANN001, ANN202
+    """The late proof as plan builds it at --time 60, asked once the late raster's window
+    ended, its passages searched; the held proof estimated as the lab door's."""
+    keep_shared(scene, NOTHING_TO_PROVE, True)  # the held poses are all that is left to try
+    monkeypatch.setattr(late_proof, "proof_estimate", lambda s: LAB_DOOR_ESTIMATE)
+    passages = PassageOnce(scene)
+    passages()
+    limit = 60.0
+    late = LateProof(scene, begin=LATE_PROOF_BEGIN * limit, end=LATE_PROOF_END * limit,
+                     explain_end=EXPLAIN_END * limit, passages=passages,
+                     held_begin=HELD_PROOF_BEGIN * limit, held_end=HELD_PROOF_END * limit,
+                     clock=lambda: LATE_PROOF_END * limit, work=lambda: 0.0)
+    return late, passages
+
+
+def test_where_every_way_passes_a_gap_too_narrow_a_lab_sized_proof_is_tried_at_60_s(
+        monkeypatch):
+    # regression: the lab door (brsu_c069, 1506 boxes; its door 0.85 m, the held assembly
+    # needs 0.88 m) ended TIMEOUT at --time 60: its held poses' proof was never let in
+    scene = ragged_slot(4, slot=0.86)  # a geometry no other test keeps a held answer for
+    calls = _spy_proof(monkeypatch)
+    late, passages = _at_sixty_seconds(scene, monkeypatch)
+    assert passages.clear is False  # every way passes the 0.86 m slot
+    assert late() is True and late.proof is not None and calls == [1]
+
+
+def test_where_the_held_assembly_has_room_all_the_way_the_window_stays_short(monkeypatch):
+    # the lab room (the lab's 1506 boxes, a plan): its gate would cost it about 1 s of CPU
+    scene = ragged_slot(5)  # its 0.92 m slot and 0.90 m strip: no gap under 0.88 m
+    calls = _spy_proof(monkeypatch)
+    late, passages = _at_sixty_seconds(scene, monkeypatch)
+    assert passages.clear is True
+    assert late() is False and calls == []
+    assert shared_value(scene, HELD_POSES) is None  # not tried: the gate not paid either
