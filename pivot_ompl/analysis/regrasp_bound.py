@@ -54,17 +54,19 @@ from __future__ import annotations
 import logging
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Hashable
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.analysis.free_pieces import HULL_PAIRS, free_region, meeting_per_yaw
-from pivot_ompl.analysis.piece_graph import PieceGraph
+from pivot_ompl.analysis.piece_graph import PieceGraph, Regrasp
 from pivot_ompl.analysis.regrasp_walk import WalkRelaxation
 from pivot_ompl.analysis.route_bound import shortest_route
+from pivot_ompl.analysis.route_layers import layered_route
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose, rectangle_corners, wrap_angle
@@ -316,6 +318,28 @@ def cover_graph(scene: Scene, cover: FreeCover, *, tolerance: float = SWEEP_TOLE
     return CoverGraph(graph, ids, nodes, allowed, holding, walk)
 
 
+def _layered(scene: Scene, cover: FreeCover, joined: CoverGraph, reached: set[int],
+             should_stop: Callable[[], bool] | None) -> float | None:
+    """The route bound layered by transfer component, ``None`` if not computed.
+
+    :mod:`~pivot_ompl.analysis.route_layers`; the regrasps asked of the walk relaxation
+    near each layer change.
+    """
+    nodes = joined.nodes
+    edges = [(u, v, e) for u in range(len(nodes)) for v, e in joined.graph.one[u] if u < v]
+
+    def allowed(name: Hashable, region: BaseGeometry) -> bool:
+        edge = cast(Regrasp, name)
+        return joined.walk is None or joined.walk.may_regrasp(
+            region, -math.pi + (edge[0] + 0.5) * cover.width, edge[1], edge[3])
+
+    found = layered_route([cover.pieces(b, k)[c] for b, k, c in nodes], joined.graph.zero,
+                          edges, allowed, reached=reached, starts=joined.holding(scene.start),
+                          goals=joined.holding(scene.goal), start=scene.start,
+                          goal=scene.goal, bounds=scene.bounds, should_stop=should_stop)
+    return None if found is None else found.route
+
+
 def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
                         tolerance: float = SWEEP_TOLERANCE, clearance: float = KEEP_CLEARANCE,
                         walks: bool = True, should_stop: Callable[[], bool] | None = None,
@@ -359,6 +383,8 @@ def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
                                    should_stop=should_stop)
         except Interrupted:
             complete = False
+        if route is not None and best > 0:
+            route = max(route, _layered(scene, cover, joined, reached, should_stop) or 0.0)
     seconds = time.perf_counter() - t0
     log.debug("regrasp bound %s over %d yaw bins, %d pieces, %d walk queries, %.2f s", best, n,
               len(ids), walk.queries if walk else 0, seconds)
