@@ -342,7 +342,8 @@ class _Layers:
             while todo and spent < budget:
                 di, dj = todo.pop(0)
                 cx, cy = x + 2.0 * CHECK_HALF * di, y + 2.0 * CHECK_HALF * dj
-                box = (cx - CHECK_HALF, cy - CHECK_HALF, cx + CHECK_HALF, cy + CHECK_HALF)
+                half = CHECK_HALF + ROUND_OFF  # asked and cut alike: no sliver left between
+                box = (cx - half, cy - half, cx + half, cy + half)
                 square = shapely.box(*box)
                 may = met = False
                 for e in pair.near(self.pieces, box):
