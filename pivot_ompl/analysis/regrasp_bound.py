@@ -66,7 +66,7 @@ from pivot_ompl.analysis.free_pieces import HULL_PAIRS, free_region, meeting_per
 from pivot_ompl.analysis.piece_graph import PieceGraph, Regrasp
 from pivot_ompl.analysis.regrasp_walk import WalkRelaxation
 from pivot_ompl.analysis.route_bound import shortest_route
-from pivot_ompl.analysis.route_layers import layered_route
+from pivot_ompl.analysis.route_layers import Components, layered_route, transfer_components
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose, rectangle_corners, wrap_angle
@@ -319,7 +319,7 @@ def cover_graph(scene: Scene, cover: FreeCover, *, tolerance: float = SWEEP_TOLE
 
 
 def _layered(scene: Scene, cover: FreeCover, joined: CoverGraph, reached: set[int],
-             should_stop: Callable[[], bool] | None) -> float | None:
+             comps: Components, should_stop: Callable[[], bool] | None) -> float | None:
     """The route bound layered by transfer component, ``None`` if not computed.
 
     :mod:`~pivot_ompl.analysis.route_layers`; the regrasps asked of the walk relaxation
@@ -336,8 +336,10 @@ def _layered(scene: Scene, cover: FreeCover, joined: CoverGraph, reached: set[in
     found = layered_route([cover.pieces(b, k)[c] for b, k, c in nodes], joined.graph.zero,
                           edges, allowed, reached=reached, starts=joined.holding(scene.start),
                           goals=joined.holding(scene.goal), start=scene.start,
-                          goal=scene.goal, bounds=scene.bounds, should_stop=should_stop)
+                          goal=scene.goal, bounds=scene.bounds, should_stop=should_stop,
+                          components=comps)
     return None if found is None else found.route
+
 
 
 def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
@@ -377,14 +379,16 @@ def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
         return RegraspBound(None, None, n, len(ids), time.perf_counter() - t0)
     route, complete = None, True
     if best is not None:
-        try:
-            route = shortest_route([cover.pieces(nodes[u][0], nodes[u][1])[nodes[u][2]]
-                                    for u in reached], scene.bounds, scene.start, scene.goal,
+        pieces = [cover.pieces(b, k)[c] for b, k, c in nodes]
+        try:  # the transfer components' footprints: their union is the plain bound's
+            comps = transfer_components(pieces, joined.graph.zero, reached,
+                                        should_stop=should_stop)
+            route = shortest_route(comps[1], scene.bounds, scene.start, scene.goal,
                                    should_stop=should_stop)
         except Interrupted:
             complete = False
         if route is not None and best > 0:
-            route = max(route, _layered(scene, cover, joined, reached, should_stop) or 0.0)
+            route = max(route, _layered(scene, cover, joined, reached, comps, should_stop) or 0.0)
     seconds = time.perf_counter() - t0
     log.debug("regrasp bound %s over %d yaw bins, %d pieces, %d walk queries, %.2f s", best, n,
               len(ids), walk.queries if walk else 0, seconds)
