@@ -37,6 +37,7 @@ computed (``None``: the caller keeps the plain route bound).
 
 from __future__ import annotations
 
+import logging
 import time
 from collections.abc import Callable, Hashable, Sequence
 
@@ -64,6 +65,8 @@ from pivot_ompl.se2 import Pose
 
 __all__ = ["CHECK_HALF", "GROW", "MAX_CELL", "MAX_CHECKS", "MAX_NODES", "MAX_ROUNDS", "MIN_CELL",
            "Components", "LayeredRoute", "layered_route", "transfer_components"]
+
+log = logging.getLogger(__name__)
 
 
 def layered_route(pieces: Sequence[BaseGeometry], transfers: Sequence[Sequence[int]],
@@ -112,6 +115,7 @@ def layered_route(pieces: Sequence[BaseGeometry], transfers: Sequence[Sequence[i
         return layers.search(allowed, starts, goals, start, goal, poll, max_rounds, max_checks,
                              t0)
     except Interrupted:
+        log.debug("layered route bound stopped after %.2f s", time.perf_counter() - t0)
         return None
 
 
