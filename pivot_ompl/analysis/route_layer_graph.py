@@ -32,7 +32,7 @@ log = logging.getLogger(__name__)
 #: Cells (over all layers together) at most.
 MAX_NODES = 400_000
 #: Smallest cell side (m): finer cells cost more than the grid's slack they save.
-MIN_CELL = 0.05
+MIN_CELL = 0.08
 #: Largest cell side (m); a floor that would need larger ones is left to the plain bound.
 MAX_CELL = 0.15
 #: Rounds (graph searches) at most (where the route does not lengthen in the first few, the
