@@ -62,11 +62,11 @@ import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
+from pivot_ompl.analysis import route_layers
 from pivot_ompl.analysis.free_pieces import HULL_PAIRS, free_region, meeting_per_yaw
 from pivot_ompl.analysis.piece_graph import PieceGraph, Regrasp
 from pivot_ompl.analysis.regrasp_walk import WalkRelaxation
 from pivot_ompl.analysis.route_bound import shortest_route
-from pivot_ompl.analysis.route_layers import Components, layered_route, transfer_components
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose, rectangle_corners, wrap_angle
@@ -319,12 +319,9 @@ def cover_graph(scene: Scene, cover: FreeCover, *, tolerance: float = SWEEP_TOLE
 
 
 def _layered(scene: Scene, cover: FreeCover, joined: CoverGraph, reached: set[int],
-             comps: Components, should_stop: Callable[[], bool] | None) -> float | None:
-    """The route bound layered by transfer component, ``None`` if not computed.
-
-    :mod:`~pivot_ompl.analysis.route_layers`; the regrasps asked of the walk relaxation
-    near each layer change.
-    """
+             comps: route_layers.Components, should_stop: Callable[[], bool] | None
+             ) -> route_layers.LayeredRoute | None:
+    """:mod:`~pivot_ompl.analysis.route_layers`' bound, regrasps asked of the walk relaxation."""
     nodes = joined.nodes
     edges = [(u, v, e) for u in range(len(nodes)) for v, e in joined.graph.one[u] if u < v]
 
@@ -333,13 +330,11 @@ def _layered(scene: Scene, cover: FreeCover, joined: CoverGraph, reached: set[in
         return joined.walk is None or joined.walk.may_regrasp(
             region, -math.pi + (edge[0] + 0.5) * cover.width, edge[1], edge[3])
 
-    found = layered_route([cover.pieces(b, k)[c] for b, k, c in nodes], joined.graph.zero,
-                          edges, allowed, reached=reached, starts=joined.holding(scene.start),
-                          goals=joined.holding(scene.goal), start=scene.start,
-                          goal=scene.goal, bounds=scene.bounds, should_stop=should_stop,
-                          components=comps)
-    return None if found is None else found.route
-
+    return route_layers.layered_route(
+        [cover.pieces(b, k)[c] for b, k, c in nodes], joined.graph.zero, edges, allowed,
+        reached=reached, starts=joined.holding(scene.start), goals=joined.holding(scene.goal),
+        start=scene.start, goal=scene.goal, bounds=scene.bounds, should_stop=should_stop,
+        components=comps)
 
 
 def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
@@ -381,14 +376,19 @@ def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
     if best is not None:
         pieces = [cover.pieces(b, k)[c] for b, k, c in nodes]
         try:  # the transfer components' footprints: their union is the plain bound's
-            comps = transfer_components(pieces, joined.graph.zero, reached,
+            comps = route_layers.transfer_components(pieces, joined.graph.zero, reached,
                                         should_stop=should_stop)
             route = shortest_route(comps[1], scene.bounds, scene.start, scene.goal,
                                    should_stop=should_stop)
         except Interrupted:
             complete = False
         if route is not None and best > 0:
-            route = max(route, _layered(scene, cover, joined, reached, comps, should_stop) or 0.0)
+            try:  # stopped partway: a proof, but not kept (more rounds might raise it)
+                found = _layered(scene, cover, joined, reached, comps, should_stop)
+                if found is not None:
+                    route, complete = max(route, found.route or 0.0), not found.stopped
+            except Interrupted:
+                complete = False
     seconds = time.perf_counter() - t0
     log.debug("regrasp bound %s over %d yaw bins, %d pieces, %d walk queries, %.2f s", best, n,
               len(ids), walk.queries if walk else 0, seconds)

@@ -22,6 +22,7 @@ from shapely.geometry.base import BaseGeometry
 
 from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.analysis.route_bound import grid_bound, neighbour_edges
+from pivot_ompl.errors import Interrupted
 from pivot_ompl.se2 import Pose
 
 __all__ = ["CHECK_HALF", "GROW", "MAX_CELL", "MAX_CHECKS", "MAX_NODES", "MAX_ROUNDS", "MIN_CELL",
@@ -67,6 +68,7 @@ class LayeredRoute:
         checked: regrasp edges checked by ``allowed`` here.
         complete: every layer change of the last route is at an allowed regrasp.
         seconds: wall-clock time (s).
+        stopped: the stop ended the rounds (the route is a proof, maybe a weaker one).
     """
 
     route: float | None
@@ -76,6 +78,7 @@ class LayeredRoute:
     checked: int
     complete: bool
     seconds: float
+    stopped: bool = False
 
 
 @dataclass
@@ -180,30 +183,37 @@ class LayerGraph:
         best: float | None = None
         rounds = checked = 0
         complete = False
+        stopped = False
         while rounds < max_rounds:
-            poll()
-            dist, pred, _ = dijkstra(self._graph(), directed=False, indices=src,
-                                     min_only=True, return_predecessors=True)
-            rounds += 1
-            end = int(dst[np.argmin(dist[dst])])
-            if not math.isfinite(dist[end]):
-                break
-            found = grid_bound(float(dist[end]), self.raster.cell)
-            best = found if best is None else max(best, found)
-            refuted = False
-            for a, b, cell in self._changes(pred, end, cells):
-                ok, spent = self._check((min(a, b), max(a, b)), cell, allowed, poll,
-                                        max_checks - checked)
-                checked += spent
-                refuted |= not ok
-            if not refuted or checked >= max_checks:
-                complete = True
+            try:
+                poll()
+                dist, pred, _ = dijkstra(self._graph(), directed=False, indices=src,
+                                         min_only=True, return_predecessors=True)
+                rounds += 1
+                end = int(dst[np.argmin(dist[dst])])
+                if not math.isfinite(dist[end]):
+                    break
+                found = grid_bound(float(dist[end]), self.raster.cell)
+                best = found if best is None else max(best, found)
+                refuted = False
+                for a, b, cell in self._changes(pred, end, cells):
+                    ok, spent = self._check((min(a, b), max(a, b)), cell, allowed, poll,
+                                            max_checks - checked)
+                    checked += spent
+                    refuted |= not ok
+                if not refuted or checked >= max_checks:
+                    complete = True
+                    break
+            except Interrupted:
+                if best is None:
+                    raise
+                stopped = True
                 break
         seconds = time.perf_counter() - t0
         log.debug("layered route %s m: %d layers, cell %.3f m, %d rounds, %d regrasps checked, "
                   "%.2f s", best, self.count, self.raster.cell, rounds, checked, seconds)
         return LayeredRoute(best, self.count, self.raster.cell, rounds, checked, complete,
-                            seconds)
+                            seconds, stopped)
 
     def _graph(self) -> csr_matrix:
         """The layers' moves and the zero-cost joins of every pair.

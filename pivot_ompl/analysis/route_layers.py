@@ -37,7 +37,6 @@ computed (``None``: the caller keeps the plain route bound).
 
 from __future__ import annotations
 
-import logging
 import time
 from collections.abc import Callable, Hashable, Sequence
 
@@ -65,8 +64,6 @@ from pivot_ompl.se2 import Pose
 
 __all__ = ["CHECK_HALF", "GROW", "MAX_CELL", "MAX_CHECKS", "MAX_NODES", "MAX_ROUNDS", "MIN_CELL",
            "Components", "LayeredRoute", "layered_route", "transfer_components"]
-
-log = logging.getLogger(__name__)
 
 
 def layered_route(pieces: Sequence[BaseGeometry], transfers: Sequence[Sequence[int]],
@@ -96,8 +93,12 @@ def layered_route(pieces: Sequence[BaseGeometry], transfers: Sequence[Sequence[i
         components: :func:`transfer_components` of these arguments when already made.
 
     Returns:
-        The bound, or ``None`` when the raster would need cells over :data:`MAX_CELL` or when
-        stopped before the first route.
+        The bound, or ``None`` when the raster would need cells over :data:`MAX_CELL`. Stopped
+        after a first route, the last route found (``stopped``: a proof, but one that more
+        rounds might have raised).
+
+    Raises:
+        Interrupted: ``should_stop()`` said stop before a first route.
     """
     t0 = time.perf_counter()
 
@@ -105,18 +106,12 @@ def layered_route(pieces: Sequence[BaseGeometry], transfers: Sequence[Sequence[i
         if should_stop is not None and should_stop():
             raise Interrupted("the layered route bound")
 
-    try:
-        if components is None:
-            components = transfer_components(pieces, transfers, reached,
-                                             should_stop=should_stop)
-        layers = LayerGraph.build(pieces, regrasps, bounds, poll, components)
-        if layers is None:
-            return None
-        return layers.search(allowed, starts, goals, start, goal, poll, max_rounds, max_checks,
-                             t0)
-    except Interrupted:
-        log.debug("layered route bound stopped after %.2f s", time.perf_counter() - t0)
+    if components is None:
+        components = transfer_components(pieces, transfers, reached, should_stop=should_stop)
+    layers = LayerGraph.build(pieces, regrasps, bounds, poll, components)
+    if layers is None:
         return None
+    return layers.search(allowed, starts, goals, start, goal, poll, max_rounds, max_checks, t0)
 
 
 def transfer_components(pieces: Sequence[BaseGeometry], transfers: Sequence[Sequence[int]],
