@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 import shapely
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from pivot_ompl.analysis.route_layers import layered_route
@@ -42,6 +42,7 @@ def _via(start, goal, y: float) -> float:
 
 
 @settings(max_examples=15, deadline=None)
+@example(low=1.0, high=5.0, ys=1.0, yg=1.0)
 @given(low=st.floats(0.6, 2.0), high=st.floats(4.0, 5.4), ys=st.floats(0.5, 2.0),
        yg=st.floats(0.5, 2.0))
 def test_the_route_passes_where_a_regrasp_may_happen(low, high, ys, yg):
@@ -57,7 +58,8 @@ def test_the_route_passes_where_a_regrasp_may_happen(low, high, ys, yg):
     through_high = _via(start[:2], goal[:2], high)
     through_low = _via(start[:2], goal[:2], low)
     assert found.route <= through_high + 1e-9
-    assert found.route > through_low + 0.5  # the plain bound would be through the low one
+    if through_high > through_low + 1.5:  # beyond the grid's slack and growth
+        assert found.route > through_low + 0.5  # the plain bound: through the low one
     assert found.route >= 0.9 * through_high - 0.6  # the grid's slack and growth only
 
 
