@@ -54,15 +54,17 @@ from __future__ import annotations
 import logging
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Hashable
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 import shapely
 from shapely.geometry.base import BaseGeometry
 
+from pivot_ompl.analysis import route_layers
 from pivot_ompl.analysis.free_pieces import HULL_PAIRS, free_region, meeting_per_yaw
-from pivot_ompl.analysis.piece_graph import PieceGraph
+from pivot_ompl.analysis.piece_graph import PieceGraph, Regrasp
 from pivot_ompl.analysis.regrasp_walk import WalkRelaxation
 from pivot_ompl.analysis.route_bound import shortest_route
 from pivot_ompl.errors import Interrupted
@@ -316,6 +318,25 @@ def cover_graph(scene: Scene, cover: FreeCover, *, tolerance: float = SWEEP_TOLE
     return CoverGraph(graph, ids, nodes, allowed, holding, walk)
 
 
+def _layered(scene: Scene, cover: FreeCover, joined: CoverGraph, reached: set[int],
+             comps: route_layers.Components, should_stop: Callable[[], bool] | None
+             ) -> route_layers.LayeredRoute | None:
+    """:mod:`~pivot_ompl.analysis.route_layers`' bound, regrasps asked of the walk relaxation."""
+    nodes = joined.nodes
+    edges = [(u, v, e) for u in range(len(nodes)) for v, e in joined.graph.one[u] if u < v]
+
+    def allowed(name: Hashable, region: BaseGeometry) -> bool:
+        edge = cast(Regrasp, name)
+        return joined.walk is None or joined.walk.may_regrasp(
+            region, -math.pi + (edge[0] + 0.5) * cover.width, edge[1], edge[3])
+
+    return route_layers.layered_route(
+        [cover.pieces(b, k)[c] for b, k, c in nodes], joined.graph.zero, edges, allowed,
+        reached=reached, starts=joined.holding(scene.start), goals=joined.holding(scene.goal),
+        start=scene.start, goal=scene.goal, bounds=scene.bounds, should_stop=should_stop,
+        components=comps)
+
+
 def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
                         tolerance: float = SWEEP_TOLERANCE, clearance: float = KEEP_CLEARANCE,
                         walks: bool = True, should_stop: Callable[[], bool] | None = None,
@@ -353,12 +374,21 @@ def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
         return RegraspBound(None, None, n, len(ids), time.perf_counter() - t0)
     route, complete = None, True
     if best is not None:
-        try:
-            route = shortest_route([cover.pieces(nodes[u][0], nodes[u][1])[nodes[u][2]]
-                                    for u in reached], scene.bounds, scene.start, scene.goal,
+        pieces = [cover.pieces(b, k)[c] for b, k, c in nodes]
+        try:  # the transfer components' footprints: their union is the plain bound's
+            comps = route_layers.transfer_components(pieces, joined.graph.zero, reached,
+                                        should_stop=should_stop)
+            route = shortest_route(comps[1], scene.bounds, scene.start, scene.goal,
                                    should_stop=should_stop)
         except Interrupted:
             complete = False
+        if route is not None and best > 0:
+            try:  # stopped partway: a proof, but not kept (more rounds might raise it)
+                found = _layered(scene, cover, joined, reached, comps, should_stop)
+                if found is not None:
+                    route, complete = max(route, found.route or 0.0), not found.stopped
+            except Interrupted:
+                complete = False
     seconds = time.perf_counter() - t0
     log.debug("regrasp bound %s over %d yaw bins, %d pieces, %d walk queries, %.2f s", best, n,
               len(ids), walk.queries if walk else 0, seconds)

@@ -3,11 +3,26 @@
 A regrasp from grasp ``k`` to ``j`` with the box resting at ``q`` is a walk of the robot from
 its grasp-``k`` pose to its grasp-``j`` pose, the walking body clear of the obstacles (by the
 checkers' clearance), inside the bounds and clear of the box (the swept checks' tolerance
-aside). :class:`WalkRelaxation` keeps of the walking body only its inscribed disk (radius
-``r``, :meth:`~pivot_ompl.grasp.BoxGraspModel.robot_inradius`: inside the body at any
-heading) and of the box only a *core* that lies inside the box wherever the box may be, and
+aside). :class:`WalkRelaxation` keeps of the walking body only a disk inside it at any
+heading (below) and of the box only a *core* that lies inside the box wherever the box may be, and
 asks whether the disk's centre can get from one pose to the other. Every real walk is a walk
 of the relaxation, so "no" proves that no regrasp from ``k`` to ``j`` happens there.
+
+**The disk.** The walking body is a rectangle
+(:meth:`~pivot_ompl.grasp.BoxGraspModel.walking_extent`: ``ahead``, ``behind``, ``side``
+from the robot pose); the largest disk round its own centre (``(ahead - behind) / 2`` ahead
+of the robot pose) has radius ``min(side, (ahead + behind) / 2)`` and lies inside the body
+at any heading.
+
+**The tolerance.** A walk is accepted by certified swept checks
+(:func:`~pivot_ompl.validity.certify.certify`): its samples keep the full ``clearance``, and
+between two samples either the clearance test proves every pose clear, or no point of the
+body moves more than twice the tolerance, so every pose lies within the tolerance (of
+motion of any body point, the disk's centre included) of a sample that keeps the full
+clearance. The disk centre's free set is therefore taken with the full clearance and
+grown by the tolerance: a narrow passage the body passes only by coming within the
+tolerance all along it (longer than twice the tolerance) is closed, where the clearance
+less the tolerance would leave it open.
 
 The question is asked of a *region* of box positions in one yaw bin (where the bound's free
 pieces of the two grasps meet). The region is covered by disks of radius ``rho`` round
@@ -73,15 +88,21 @@ class WalkRelaxation:
                  clearance: float) -> None:
         """Rasterise the disk centre's free space (obstacles and bounds only)."""
         m = self.model = scene.model
-        self.radius = m.robot_inradius()
+        ahead, behind, side = m.walking_extent()
+        self.radius = min(side, 0.5 * (ahead + behind))
+        self.centre = 0.5 * (ahead - behind)  # the body's centre, ahead of the robot pose
         self.turn = 2.0 * math.sin(0.25 * width)  # displacement per metre from the centre
         box_reach = 0.5 * math.hypot(*m.object_size[:2])
         self.box_erosion = box_reach * self.turn + tolerance + ROUND_OFF
         self.box_gap = self.radius - tolerance - ROUND_OFF
         self.raster = FloorRaster(scene.bounds, min_cell=CELL, max_cells=MAX_CELLS)
         free = disk_clear(scene.bounds, merge_boxes(scene.obstacles), radius=self.radius,
-                          clearance=clearance - tolerance - ROUND_OFF)
-        self.free = self.raster.meeting(free)
+                          clearance=clearance - ROUND_OFF)
+        # cells within the tolerance of the full-clearance set (module docstring)
+        centres = shapely.points(self.raster.gx.ravel(), self.raster.gy.ravel())
+        shapely.prepare(free)
+        self.free = shapely.dwithin(free, centres, self.raster.half_diag + tolerance
+                                    + ROUND_OFF).reshape(self.raster.shape)
         self.labels, _ = ndimage.label(self.free, structure=_EIGHT)
         self.queries = 0
         self._answers: dict[tuple[bytes, float, int, int], bool] = {}
@@ -120,10 +141,10 @@ class WalkRelaxation:
         if len(samples) > MAX_SAMPLES:
             return True
         m = self.model
-        reach = {g: math.hypot(*m.robot_pose((0.0, 0.0, 0.0), g)[:2]) for g in (k, j)}
+        reach = {g: math.hypot(*self._body_centre((0.0, 0.0, 0.0), g)) for g in (k, j)}
         for x, y in samples:
             q = (x, y, yaw)
-            rk, rj = m.robot_pose(q, k), m.robot_pose(q, j)
+            rk, rj = self._body_centre(q, k), self._body_centre(q, j)
             a = self._cells(rk[0], rk[1], rho + reach[k] * self.turn)
             b = self._cells(rj[0], rj[1], rho + reach[j] * self.turn)
             if not len(a[0]) or not len(b[0]):
@@ -138,6 +159,11 @@ class WalkRelaxation:
             if blocked.is_empty or self._joined(blocked, a, b):
                 return True
         return False
+
+    def _body_centre(self, q: tuple[float, float, float], grasp: int) -> tuple[float, float]:
+        """The walking body's centre (the disk's) when the robot holds the box at ``q``."""
+        x, y, heading = self.model.robot_pose(q, grasp)
+        return x + self.centre * math.cos(heading), y + self.centre * math.sin(heading)
 
     def _joined(self, blocked: BaseGeometry, a: tuple[np.ndarray, np.ndarray],
                 b: tuple[np.ndarray, np.ndarray]) -> bool:
