@@ -196,8 +196,7 @@ def raster_graph(scene: Scene, cover: RasterCover, *, tolerance: float = SWEEP_T
         ii, jj = _shared_cells(cover, layer(b, k), i, layer(b, j), c)
         if len(ii) * raster.cell * raster.cell > WALK_AREA:
             return True
-        return walk().may_regrasp(cells_region(raster, ii, jj), -math.pi + (b + 0.5) * width,
-                                  k, j)
+        return may_regrasp_cells(walk(), raster, ii, jj, -math.pi + (b + 0.5) * width, k, j)
 
     def holding(pose: Pose) -> list[int]:
         b = cover.bin_of(pose[2])
@@ -223,8 +222,22 @@ def _shared(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The pairs of labels ``(i, j)`` of two layers that share a cell (any shape, the same)."""
     both = (a > 0) & (b > 0)
     m = int(b.max()) + 1
-    keys = np.unique(a[both].astype(np.int64) * m + b[both])
+    keys = a[both].astype(np.int64) * m + b[both]
+    if len(keys) > 1:  # neighbouring cells mostly repeat a pair: sort each run's pair once
+        keys = keys[np.concatenate(([True], keys[1:] != keys[:-1]))]
+    keys = np.unique(keys)
     return keys // m, keys % m
+
+
+def may_regrasp_cells(walk: WalkRelaxation, raster: FloorRaster, ii: np.ndarray,
+                      jj: np.ndarray, yaw: float, k: int, j: int) -> bool:
+    """The walk relaxation's answer for the cells ``(ii, jj)`` of ``raster`` (in raster order).
+
+    Their polygon is built only the first time these cells are asked (a graph's regrasp
+    edges, and the guided bound's rounds, ask the same shared cells again and again).
+    """
+    key = (raster.origin, raster.cell, raster.shape, ii.tobytes(), jj.tobytes())
+    return walk.may_regrasp_cells(key, lambda: cells_region(raster, ii, jj), yaw, k, j)
 
 
 def cells_region(raster: FloorRaster, ii: np.ndarray, jj: np.ndarray) -> shapely.Geometry:

@@ -38,7 +38,12 @@ import numpy as np
 from scipy import ndimage
 
 from pivot_ompl.analysis.piece_graph import PieceGraph
-from pivot_ompl.analysis.raster_bound import WALK_AREA, RasterGraph, cells_region, raster_graph
+from pivot_ompl.analysis.raster_bound import (
+    WALK_AREA,
+    RasterGraph,
+    may_regrasp_cells,
+    raster_graph,
+)
 from pivot_ompl.analysis.raster_cover import RasterCover
 from pivot_ompl.analysis.raster_refine import FineVoxels, neck_window, refine_cover
 from pivot_ompl.analysis.regrasp_bound import RegraspBound
@@ -137,8 +142,8 @@ def refined_graph(scene: Scene, cover: RasterCover, *, tolerance: float, clearan
             return True
         ii, jj = np.divmod(cells, f.shape[1])
         big = box_bin // split
-        return coarse.walk().may_regrasp(cells_region(f, ii, jj),
-                                         -math.pi + (big + 0.5) * width, k, j)
+        return may_regrasp_cells(coarse.walk(), f, ii, jj, -math.pi + (big + 0.5) * width,
+                                 k, j)
 
     return RefinedGraph(coarse, outside, fine, fine_base, allowed)
 

@@ -46,6 +46,7 @@ At most :data:`MAX_SAMPLES` samples are tried; when more would be needed the ans
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Hashable
 
 import numpy as np
 import shapely
@@ -106,6 +107,7 @@ class WalkRelaxation:
         self.labels, _ = ndimage.label(self.free, structure=_EIGHT)
         self.queries = 0
         self._answers: dict[tuple[bytes, float, int, int], bool] = {}
+        self._by_cells: dict[tuple[Hashable, float, int, int], bool] = {}
 
     # -- raster helpers ------------------------------------------------------------------
     def _cells(self, x: float, y: float, r: float) -> tuple[np.ndarray, np.ndarray]:
@@ -135,6 +137,20 @@ class WalkRelaxation:
         if key not in self._answers:
             self._answers[key] = self._may_regrasp(region, yaw, k, j)
         return self._answers[key]
+
+    def may_regrasp_cells(self, cells: Hashable, region: Callable[[], BaseGeometry],
+                          yaw: float, k: int, j: int) -> bool:
+        """:meth:`may_regrasp` of ``region()``, built only the first time ``cells`` is asked.
+
+        ``cells``: a key that fixes the region (the same key, the same region: e.g. the
+        raster and its cells' indices), so that a question asked again costs a lookup.
+        """
+        key = (cells, yaw, k, j)
+        if key not in self._by_cells:
+            self._by_cells[key] = self.may_regrasp(region(), yaw, k, j)
+        else:
+            self.queries += 1
+        return self._by_cells[key]
 
     def _may_regrasp(self, region: BaseGeometry, yaw: float, k: int, j: int) -> bool:
         samples, rho = self._samples(region)
