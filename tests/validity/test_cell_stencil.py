@@ -26,6 +26,17 @@ def _box(ix: int, iy: int, w: int, h: int) -> dict:
             "size": [w * RES, h * RES], "height": 1.0}
 
 
+
+def _same_fields(dilated: AssemblyField, summed: AssemblyField) -> int:
+    """Assert the two fields equal at every parity and yaw; the open positions counted."""
+    opened = 0
+    for parity in (0, 1):
+        for k in range(len(FIELD_YAWS)):
+            a, b = dilated.fits(parity, k), summed.fits(parity, k)
+            assert np.array_equal(a, b), (parity, k, int((a != b).sum()))
+            opened += int(a.sum())
+    return opened
+
 @settings(max_examples=4, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @example(206)  # a seed whose boxes once reached past the grid's last line
 @example(661)  # a seed whose overlapping boxes were once fewer than CELL_BOXES pieces
@@ -47,12 +58,7 @@ def test_boxes_on_the_grid_lines_dilated_are_the_boxes_summed(seed):
     dilated = AssemblyField(checker.model, checker.world, RES)
     summed = AssemblyField(checker.model, checker.world, RES, cells=False)
     assert len(dilated.pieces) <= 2 < len(summed.pieces)  # only those two summed
-    opened = 0
-    for parity in (0, 1):
-        for k in range(len(FIELD_YAWS)):
-            a, b = dilated.fits(parity, k), summed.fits(parity, k)
-            assert np.array_equal(a, b), (parity, k, int((a != b).sum()))
-            opened += int(a.sum())
+    opened = _same_fields(dilated, summed)
     assert 0 < opened < 2 * len(FIELD_YAWS) * dilated.nx * dilated.ny  # some closed, some open
 
 
@@ -76,12 +82,7 @@ def test_boxes_on_a_map_grid_of_half_the_field_s_spacing_dilated_are_the_boxes_s
     dilated = AssemblyField(checker.model, checker.world, RES)
     summed = AssemblyField(checker.model, checker.world, RES, cells=False)
     assert not dilated.pieces and len(summed.pieces) >= 4 * CELL_BOXES  # none summed
-    opened = 0
-    for parity in (0, 1):
-        for k in range(len(FIELD_YAWS)):
-            a, b = dilated.fits(parity, k), summed.fits(parity, k)
-            assert np.array_equal(a, b), (parity, k, int((a != b).sum()))
-            opened += int(a.sum())
+    opened = _same_fields(dilated, summed)
     assert 0 < opened < 2 * len(FIELD_YAWS) * dilated.nx * dilated.ny
 
 
