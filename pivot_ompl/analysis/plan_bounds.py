@@ -26,6 +26,8 @@ slow on large floors; :func:`plan_bounds` asks it only where the answer depends 
   bound_levels.may_pose`): the refinement proved 0 there, the count proves 2. Either way
   once per scene: a scene's bound once refined (by a plan or ``pivot-ompl bound
   --guided``) is read from the cache by every later plan.
+* a plan with regrasps whose box route is over 1.3 times its route bound: the layered
+  route on finer cells where the time left allows (:mod:`~pivot_ompl.analysis.route_refine`).
 
 Every result comes from the bound cache when it holds it
 (:mod:`~pivot_ompl.analysis.bound_cache`).
