@@ -51,10 +51,10 @@ def finer_route(scene: Scene, route: float | None, *, route_length: float | None
     known = shared_value(scene, ("finer route", FINE_CELL))
     if known is not None:
         return float(known)
+    if time_left is not None and COST_FACTOR * exhaustive_estimate(scene) > time_left():
+        return None  # the scene's estimate: the turned one's four more walls change it little
     frame = wall_frame(scene, should_stop=should_stop)
     turned = scene if frame is None else frame.scene
-    if time_left is not None and COST_FACTOR * exhaustive_estimate(turned) > time_left():
-        return None
     found = regrasp_lower_bound(turned, should_stop=should_stop, route_cell=FINE_CELL)
     if found.solvable is not True or not found.complete or found.shortest_route is None:
         return None
