@@ -1,4 +1,4 @@
-"""The layered route bound on finer cells: asked where a plan's route ratio is high, longer there."""
+"""The layered route bound on finer cells: asked where a plan's route ratio is high."""
 
 from __future__ import annotations
 
