@@ -33,17 +33,17 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
+from pivot_ompl.analysis.bound_frames import framed_lower_bound
 from pivot_ompl.analysis.bound_levels import (
     REFINE_SECONDS,
     may_guide,
     may_pose,
     may_refine,
-    scaled_lower_bound,
 )
 from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.analysis.regrasp_bound import RESOLUTION, RegraspBound
 from pivot_ompl.analysis.route_bound import GRID_SLACK, MAX_CELLS, MIN_CELL
-from pivot_ompl.analysis.wall_frame import relaxed_scene, wall_frame
+from pivot_ompl.analysis.wall_frame import relaxed_scene
 from pivot_ompl.cache import BoundedCache, CacheEntryError, read_json_entry
 from pivot_ompl.errors import InputError, printable, require_type
 from pivot_ompl.fileio import atomic_output
@@ -52,7 +52,7 @@ from pivot_ompl.scene import Scene, scene_digest
 log = logging.getLogger(__name__)
 
 #: Version of the relaxation: part of every key (a new relaxation never reads old results).
-BOUND_VERSION = 9
+BOUND_VERSION = 10
 #: Scenes whose bound is kept in memory.
 MEMORY_ENTRIES = 64
 #: Environment variable that turns the disk cache off when ``0``.
@@ -239,7 +239,9 @@ def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RES
     """:func:`~pivot_ompl.analysis.bound_levels.scaled_lower_bound` of ``scene``, cached.
 
     Computed in the walls' frame (:func:`~pivot_ompl.analysis.wall_frame.relaxed_scene`: a
-    floor turned in the world costs what a square one does), kept under ``scene``'s key.
+    floor turned in the world costs what a square one does) and, while below ``target``, in
+    the other frames (:func:`~pivot_ompl.analysis.bound_frames.framed_lower_bound`: the
+    largest count kept), kept under ``scene``'s key.
 
     Args:
         scene: the scene.
@@ -271,13 +273,9 @@ def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RES
         if hit is not None and not _refinable(hit, scene, resolution, target,
                                               refine_seconds, guided_seconds):
             return hit
-    frame = wall_frame(scene, should_stop=should_stop)
-    bound = scaled_lower_bound(scene if frame is None else frame.scene,
-                               resolution=resolution, target=target,
+    bound = framed_lower_bound(scene, resolution=resolution, target=target,
                                refine_seconds=refine_seconds, should_stop=should_stop,
-                               guided_seconds=guided_seconds,
-                               places=places if frame is None else
-                               tuple(frame.point_in(p) for p in places))
+                               guided_seconds=guided_seconds, places=places)
     if bound.solvable is None or not bound.complete:  # stopped: returned, never kept
         return bound
     problem = bound_problem(bound, scene)

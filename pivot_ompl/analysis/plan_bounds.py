@@ -26,6 +26,8 @@ slow on large floors; :func:`plan_bounds` asks it only where the answer depends 
   bound_levels.may_pose`): the refinement proved 0 there, the count proves 2. Either way
   once per scene: a scene's bound once refined (by a plan or ``pivot-ompl bound
   --guided``) is read from the cache by every later plan.
+* a plan with regrasps whose box route is over 1.3 times its route bound: the layered
+  route on finer cells where the time left allows (:mod:`~pivot_ompl.analysis.route_refine`).
 
 Every result comes from the bound cache when it holds it
 (:mod:`~pivot_ompl.analysis.bound_cache`).
@@ -68,6 +70,7 @@ from pivot_ompl.analysis.relaxation_handoff import forget_kept
 from pivot_ompl.analysis.route_bound import MAX_CELLS, MIN_CELL, route_on
 from pivot_ompl.analysis.route_cache import forget_route, keep_route, kept_route
 from pivot_ompl.analysis.route_gaps import GapRoute, gap_closed_route
+from pivot_ompl.analysis.route_refine import finer_route
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
 from pivot_ompl.scene.shared import keep_shared, shared_value
@@ -236,8 +239,10 @@ def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = Non
         if not _refuted(known, scene, regrasps, route_length) and (
                 regrasps == 0 or known.exhaustive or (known.regrasps or 0) >= regrasps):
             forget_kept(scene)  # the late proof's relaxations: not needed
-            return known.regrasps, _longer(known.shortest_route, _shared_held_route(
-                scene, route_length, should_stop, time_left))
+            return known.regrasps, _finer(scene, regrasps, _longer(
+                known.shortest_route, _shared_held_route(
+                    scene, route_length, should_stop, time_left)),
+                route_length, should_stop, time_left)
     if regrasps == 0:  # the disk route: one per scene in the process (a later plan's is it)
         forget_kept(scene)
         return 0, _shared_held_route(scene, route_length, should_stop, time_left)
@@ -247,8 +252,9 @@ def plan_bounds(scene: Scene, regrasps: int, *, route_length: float | None = Non
                        else time_left(), places=places)
     if full.solvable is None or _refuted(full, scene, regrasps, route_length):
         return None, None
-    return full.regrasps, _longer(full.shortest_route, _shared_held_route(
-        scene, route_length, should_stop, time_left))
+    return full.regrasps, _finer(scene, regrasps, _longer(
+        full.shortest_route, _shared_held_route(scene, route_length, should_stop, time_left)),
+        route_length, should_stop, time_left)
 
 
 def route_bound(scene: Scene, *, should_stop: Callable[[], bool] | None = None,
@@ -288,6 +294,24 @@ def _shared_held_route(scene: Scene, route_length: float | None,
         forget_route(scene)
         return None
     return route
+
+
+def _finer(scene: Scene, regrasps: int, route: float | None, route_length: float | None,
+           should_stop: Callable[[], bool] | None,
+           time_left: Callable[[], float] | None) -> float | None:
+    """``route``, or the layered route on finer cells where that is longer.
+
+    (:mod:`~pivot_ompl.analysis.route_refine`: only where the plan's route ratio is high.)
+    A finer route the plan refutes is dropped with a warning.
+    """
+    finer = finer_route(scene, route, route_length=route_length, regrasps=regrasps,
+                        should_stop=should_stop, time_left=time_left)
+    if finer is not None and route_length is not None and \
+            finer > route_length * (1.0 + 1e-9) + 1e-6:
+        log.warning("finer route bound dropped: this plan refutes it (bound %.3f m, "
+                    "route %.3f m)", finer, route_length)
+        return route
+    return _longer(route, finer)
 
 
 def _longer(a: float | None, b: float | None) -> float | None:

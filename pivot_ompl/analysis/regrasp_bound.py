@@ -319,8 +319,8 @@ def cover_graph(scene: Scene, cover: FreeCover, *, tolerance: float = SWEEP_TOLE
 
 
 def _layered(scene: Scene, cover: FreeCover, joined: CoverGraph, reached: set[int],
-             comps: route_layers.Components, should_stop: Callable[[], bool] | None
-             ) -> route_layers.LayeredRoute | None:
+             comps: route_layers.Components, should_stop: Callable[[], bool] | None,
+             cell: float) -> route_layers.LayeredRoute | None:
     """:mod:`~pivot_ompl.analysis.route_layers`' bound, regrasps asked of the walk relaxation."""
     nodes = joined.nodes
     edges = [(u, v, e) for u in range(len(nodes)) for v, e in joined.graph.one[u] if u < v]
@@ -334,13 +334,14 @@ def _layered(scene: Scene, cover: FreeCover, joined: CoverGraph, reached: set[in
         [cover.pieces(b, k)[c] for b, k, c in nodes], joined.graph.zero, edges, allowed,
         reached=reached, starts=joined.holding(scene.start), goals=joined.holding(scene.goal),
         start=scene.start, goal=scene.goal, bounds=scene.bounds, should_stop=should_stop,
-        components=comps)
+        components=comps, min_cell=cell)
 
 
 def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
                         tolerance: float = SWEEP_TOLERANCE, clearance: float = KEEP_CLEARANCE,
                         walks: bool = True, should_stop: Callable[[], bool] | None = None,
-                        built: tuple[FreeCover, CoverGraph] | None = None) -> RegraspBound:
+                        built: tuple[FreeCover, CoverGraph] | None = None,
+                        route_cell: float = route_layers.MIN_CELL) -> RegraspBound:
     """Fewest regrasps any plan of ``scene`` needs (see the module docstring: sound).
 
     Args:
@@ -353,6 +354,7 @@ def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
         should_stop: polled once per yaw bin and per regrasp checked; when it returns
             ``True`` the result is unknown.
         built: :func:`free_cover` and its :func:`cover_graph` of these arguments when built.
+        route_cell: the layered route bound's smallest cell side (m).
     """
     t0 = time.perf_counter()
     cover = built[0] if built else free_cover(scene, resolution=resolution, tolerance=tolerance,
@@ -384,7 +386,7 @@ def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
             complete = False
         if route is not None and best > 0:
             try:  # stopped partway: a proof, but not kept (more rounds might raise it)
-                found = _layered(scene, cover, joined, reached, comps, should_stop)
+                found = _layered(scene, cover, joined, reached, comps, should_stop, route_cell)
                 if found is not None:
                     route, complete = max(route, found.route or 0.0), not found.stopped
             except Interrupted:

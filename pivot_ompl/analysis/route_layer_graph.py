@@ -123,15 +123,17 @@ class LayerGraph:
     @classmethod
     def build(cls, pieces: Sequence[BaseGeometry], regrasps: Sequence[Edge],
               bounds: tuple[float, float, float, float], poll: Callable[[], None],
-              components: Components) -> LayerGraph | None:
+              components: Components, min_cell: float = MIN_CELL) -> LayerGraph | None:
         """The layers of the components reached, joined where their footprints meet.
+
+        ``min_cell``: the raster's smallest cell side (m; larger where the layers need it).
 
         A pair's joins start as every cell of both layers (a superset of its regrasps'
         cells, no region computed) and are narrowed as its regrasps are refused.
         """
         layer_of, unions = components
         count = len(unions)
-        raster = FloorRaster(bounds, min_cell=MIN_CELL, max_cells=MAX_NODES // max(1, count))
+        raster = FloorRaster(bounds, min_cell=min_cell, max_cells=MAX_NODES // max(1, count))
         if raster.cell > MAX_CELL:
             log.debug("layered route bound skipped: %d layers need cells of %.3f m", count,
                       raster.cell)

@@ -72,7 +72,8 @@ def layered_route(pieces: Sequence[BaseGeometry], transfers: Sequence[Sequence[i
                   start: Pose, goal: Pose, bounds: tuple[float, float, float, float],
                   should_stop: Callable[[], bool] | None = None,
                   max_rounds: int = MAX_ROUNDS, max_checks: int = MAX_CHECKS,
-                  components: Components | None = None) -> LayeredRoute | None:
+                  components: Components | None = None, min_cell: float = MIN_CELL
+                  ) -> LayeredRoute | None:
     """The layered route bound (module docstring) over the relaxation's pieces.
 
     Args:
@@ -91,6 +92,7 @@ def layered_route(pieces: Sequence[BaseGeometry], transfers: Sequence[Sequence[i
         max_rounds: most graph searches.
         max_checks: most regrasp parts asked about.
         components: :func:`transfer_components` of these arguments when already made.
+        min_cell: the raster's smallest cell side (m; larger where :data:`MAX_NODES` needs).
 
     Returns:
         The bound, or ``None`` when the raster would need cells over :data:`MAX_CELL`. Stopped
@@ -108,7 +110,7 @@ def layered_route(pieces: Sequence[BaseGeometry], transfers: Sequence[Sequence[i
 
     if components is None:
         components = transfer_components(pieces, transfers, reached, should_stop=should_stop)
-    layers = LayerGraph.build(pieces, regrasps, bounds, poll, components)
+    layers = LayerGraph.build(pieces, regrasps, bounds, poll, components, min_cell)
     if layers is None:
         return None
     return layers.search(allowed, starts, goals, start, goal, poll, max_rounds, max_checks, t0)

@@ -8,7 +8,7 @@ import math
 import pytest
 from factories import make_scene, scene_file, shipped
 
-from pivot_ompl.analysis import bound_cache
+from pivot_ompl.analysis import bound_cache, bound_frames
 from pivot_ompl.analysis.bound_cache import cache_dir, lower_bound, scene_key
 from pivot_ompl.analysis.regrasp_bound import regrasp_lower_bound
 from pivot_ompl.cli.main import main
@@ -38,7 +38,7 @@ def test_computed_once_then_read(fresh, monkeypatch):
     assert first.regrasps == 0
     assert (cache_dir() / f"{scene_key(scene)}.json").is_file()
     calls = []
-    monkeypatch.setattr(bound_cache, "scaled_lower_bound",
+    monkeypatch.setattr(bound_frames, "scaled_lower_bound",
                         lambda *a, **k: calls.append(1) or first)
     assert lower_bound(scene) == first  # memory
     bound_cache.clear_memory()

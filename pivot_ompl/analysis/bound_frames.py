@@ -1,0 +1,113 @@
+"""The regrasp relaxation in more than one frame, where the plan's count is not yet proven.
+
+The relaxations lay raster cells and yaw bins along the axes of the frame they run in, so
+their bound depends on it: a turned copy of a floor (``rot:2.0:gen:walls:3``, which keeps
+its old floor as four long walls round it) proves 3 regrasps relaxed in the world's frame
+and only 1 in the frame its inner walls give (:func:`~pivot_ompl.analysis.wall_frame.
+wall_frame` with ``facing``). Turning the scene is a rigid motion: a plan of the scene is
+one of the turned scene, so every frame's bound is a proof for the scene, and the largest
+of them is one too.
+
+:func:`framed_lower_bound` relaxes in the walls' frame first (all edges counted:
+:func:`~pivot_ompl.analysis.wall_frame.wall_frame`'s default; the scene itself where it
+gives none) and, only while the bound is below the plan's regrasps (``target``), in the
+other frames: the world's, then the facing walls' (each once, a frame equal to one tried
+skipped), ``should_stop`` polled between them and by each. A stopped or unsolvable result
+of another frame is dropped (the first frame's stands). The kept result is the frame's whose
+count is the largest (its counts of bins and pieces with it), with the longest route any
+frame proved.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import math
+import time
+from collections.abc import Callable
+
+from pivot_ompl.analysis.bound_levels import scaled_lower_bound
+from pivot_ompl.analysis.regrasp_bound import RegraspBound
+from pivot_ompl.analysis.wall_frame import WallFrame, wall_frame
+from pivot_ompl.scene import Scene
+
+log = logging.getLogger(__name__)
+
+#: Two frames whose directions differ by less than this (rad, modulo a quarter turn) are one.
+SAME_YAW = 1e-6
+
+
+def framed_lower_bound(scene: Scene, *, resolution: float, target: int | None,
+                       refine_seconds: float, should_stop: Callable[[], bool] | None,
+                       guided_seconds: float,
+                       places: tuple[tuple[float, float], ...]) -> RegraspBound:
+    """:func:`~pivot_ompl.analysis.bound_levels.scaled_lower_bound` over frames (module docstring).
+
+    The arguments are ``scaled_lower_bound``'s (``places`` in ``scene``'s frame, turned into
+    each frame's); ``guided_seconds`` is shared: each later frame gets what the earlier
+    ones left of it.
+    """
+    t0 = time.perf_counter()
+    first = wall_frame(scene, should_stop=should_stop)
+    best = _in_frame(scene, first, resolution=resolution, target=target,
+                     refine_seconds=refine_seconds, should_stop=should_stop,
+                     guided_seconds=guided_seconds, places=places)
+    tried = [None if first is None else first.yaw]
+    for facing in (False, True):  # the world's frame, then the facing walls'
+        if not _wanted(best, target) or (should_stop is not None and should_stop()):
+            break
+        frame = wall_frame(scene, should_stop=should_stop, facing=True) if facing else None
+        if (facing and frame is None) or _seen(None if frame is None else frame.yaw, tried):
+            continue
+        tried.append(None if frame is None else frame.yaw)
+        left = max(0.0, guided_seconds - (time.perf_counter() - t0))
+        other = _in_frame(scene, frame, resolution=resolution, target=target,
+                          refine_seconds=refine_seconds, should_stop=should_stop,
+                          guided_seconds=left, places=places)
+        if other.solvable is not True or not other.complete:
+            continue  # stopped (or a relaxation that a plan refutes): the first stands
+        log.debug("regrasp bound in another frame (%s): %s, before %s",
+                  "world" if frame is None else f"{math.degrees(frame.yaw):.1f} deg",
+                  other.regrasps, best.regrasps)
+        best = _stronger(best, other)
+    return dataclasses.replace(best, seconds=time.perf_counter() - t0)
+
+
+def _in_frame(scene: Scene, frame: WallFrame | None, *, resolution: float,
+              target: int | None, refine_seconds: float,
+              should_stop: Callable[[], bool] | None, guided_seconds: float,
+              places: tuple[tuple[float, float], ...]) -> RegraspBound:
+    """The relaxation of ``scene`` turned into ``frame`` (``None``: as it is)."""
+    return scaled_lower_bound(scene if frame is None else frame.scene,
+                              resolution=resolution, target=target,
+                              refine_seconds=refine_seconds, should_stop=should_stop,
+                              guided_seconds=guided_seconds,
+                              places=places if frame is None else
+                              tuple(frame.point_in(p) for p in places))
+
+
+def _seen(yaw: float | None, tried: list[float | None]) -> bool:
+    """Whether a frame of direction ``yaw`` (``None``: the world's) was tried already."""
+    for t in tried:
+        if t is None or yaw is None:
+            if t is None and yaw is None:
+                return True
+            continue
+        d = (yaw - t) % (0.5 * math.pi)
+        if min(d, 0.5 * math.pi - d) < SAME_YAW:
+            return True
+    return False
+
+
+def _wanted(bound: RegraspBound, target: int | None) -> bool:
+    """Whether another frame may still raise ``bound`` to the plan's ``target``."""
+    return (target is not None and bound.solvable is True and bound.complete
+            and bound.regrasps is not None and bound.regrasps < target)
+
+
+def _stronger(a: RegraspBound, b: RegraspBound) -> RegraspBound:
+    """The bound of the larger count (``a`` on ties), with the longer of both routes."""
+    best = b if (b.regrasps or 0) > (a.regrasps or 0) else a
+    routes = [r for r in (a.shortest_route, b.shortest_route) if r is not None]
+    return dataclasses.replace(best, shortest_route=max(routes) if routes else None,
+                               guided=a.guided or b.guided, held=a.held or b.held)
