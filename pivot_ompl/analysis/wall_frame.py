@@ -54,6 +54,7 @@ from pivot_ompl.analysis.raster_cover import floor_raster
 from pivot_ompl.analysis.regrasp_bound import held_bodies
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import BoxObstacle, Obstacle, Scene
+from pivot_ompl.scene.shared import scene_shared
 from pivot_ompl.scene.walls import turned_obstacle, wall_yaw
 from pivot_ompl.se2 import rotate_about
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
@@ -176,6 +177,27 @@ def wall_frame(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     log.debug("walls' frame: turned %.2f deg, bounds %.0f -> %.0f m2", math.degrees(yaw),
               w * h, area)
     return WallFrame(yaw, centre, turned)
+
+
+def facing_yaw(scene: Scene, *, should_stop: Callable[[], bool] | None = None) -> float | None:
+    """The direction of the walls that face the free floor, as :func:`wall_frame` takes it.
+
+    Exactly 0.0 where all the walls' edges run along the axes (nothing computed); ``None``
+    where the free floor is not found (over :data:`MAX_PIECES` pieces, or stopped): the
+    caller keeps the direction of all the edges.
+    """
+    if wall_yaw(scene.obstacles) == 0.0:
+        return 0.0
+    floor = _free_floor(scene, should_stop)
+    if floor is None:
+        return None
+    return wall_yaw(scene.obstacles, facing=_facing(floor, 2.0 * _grow(scene)))
+
+
+def walls_facing(scene: Scene, should_stop: Callable[[], bool] | None = None) -> float | None:
+    """:func:`facing_yaw` of ``scene``, computed once per scene geometry in the process."""
+    return scene_shared(scene, ("walls facing",),
+                        lambda: facing_yaw(scene, should_stop=should_stop))
 
 
 def relaxed_scene(scene: Scene, *, should_stop: Callable[[], bool] | None = None) -> Scene:

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any
 
+from pivot_ompl.analysis.wall_frame import walls_facing
 from pivot_ompl.checking.path_poses import POLL_POSES as POLL_POSES
 from pivot_ompl.checking.path_poses import PathPoses
 from pivot_ompl.checking.shared_results import SharedResults, shared_results
@@ -95,7 +96,7 @@ class PivotChecker:
         self.steering = PivotSteering(turning_radius=scene.turning_radius,
                                       alpha_max=scene.alpha_max)
         self.walker = WalkPlanner(scene.model, self.world, scene.walk, tolerance=tolerance,
-                                  should_stop=should_stop)
+                                  should_stop=should_stop, yaw=walls_facing(scene, should_stop))
         self.counters = MotionCounters()
         self._edges: dict[tuple, EdgeResult] = {}
         self._walks: dict[tuple, WalkResult] = {}

@@ -92,7 +92,13 @@ class LatticeFrame:
         return out
 
 
-def frame_of(world: CollisionWorld) -> LatticeFrame:
-    """The lattice frame of ``world``: turned to its walls, about its bounds' centre."""
+def frame_of(world: CollisionWorld, *, yaw: float | None = None) -> LatticeFrame:
+    """The lattice frame of ``world``: turned to its walls, about its bounds' centre.
+
+    ``yaw``: the walls' direction when the caller knows it better (the walls facing the free
+    floor: :func:`~pivot_ompl.analysis.wall_frame.facing_yaw`); default: that of all their
+    edges (:func:`~pivot_ompl.scene.walls.wall_yaw`).
+    """
     b = world.bounds
-    return LatticeFrame(wall_yaw(world.obstacles), (0.5 * (b[0] + b[2]), 0.5 * (b[1] + b[3])))
+    return LatticeFrame(wall_yaw(world.obstacles) if yaw is None else yaw,
+                        (0.5 * (b[0] + b[2]), 0.5 * (b[1] + b[3])))

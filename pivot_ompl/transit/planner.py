@@ -129,14 +129,18 @@ class WalkPlanner:
                  box_margin: float = 0.08, tolerance: float = SWEEP_TOLERANCE,
                  max_expansions: int = 60_000, box_cache: int = 16, inflation: float = 1.5,
                  floor_inflation: float = 3.0, max_field_states: int = 1_000_000,
-                 quick_expansions: int = 1500, should_stop: Stop = None) -> None:
+                 quick_expansions: int = 1500, should_stop: Stop = None,
+                 yaw: float | None = None) -> None:
         """The frame, lattice size, primitives, the parts and the caches.
+
+        ``yaw``: the direction the lattice's frame is turned to (:func:`~pivot_ompl.
+        transit.frame.frame_of`'s); default: that of all the walls' edges.
 
         Raises:
             Interrupted: ``should_stop()`` became true while the floor was turned to the
                 lattice's frame.
         """
-        scene_world, self.frame = world, frame_of(world)
+        scene_world, self.frame = world, frame_of(world, yaw=yaw)
         world = world if self.frame.identity else self.frame.world(world, should_stop)
         self.model, self.world = model, world
         self.walk = walk if walk is not None else WalkParameters()
