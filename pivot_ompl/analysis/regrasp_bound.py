@@ -318,12 +318,15 @@ def cover_graph(scene: Scene, cover: FreeCover, *, tolerance: float = SWEEP_TOLE
     return CoverGraph(graph, ids, nodes, allowed, holding, walk)
 
 
-def _layered(scene: Scene, cover: FreeCover, joined: CoverGraph, reached: set[int],
-             comps: route_layers.Components, should_stop: Callable[[], bool] | None,
+def _layered(scene: Scene, cover: FreeCover, joined: CoverGraph, pieces: list[BaseGeometry],
+             reached: set[int], comps: route_layers.Components,
+             should_stop: Callable[[], bool] | None,
              cell: float) -> route_layers.LayeredRoute | None:
-    """:mod:`~pivot_ompl.analysis.route_layers`' bound, regrasps asked of the walk relaxation."""
-    nodes = joined.nodes
-    edges = [(u, v, e) for u in range(len(nodes)) for v, e in joined.graph.one[u] if u < v]
+    """:mod:`~pivot_ompl.analysis.route_layers`' bound, regrasps asked of the walk relaxation.
+
+    ``pieces``: each node's free positions, in ``joined.nodes``' order.
+    """
+    edges = [(u, v, e) for u in range(len(pieces)) for v, e in joined.graph.one[u] if u < v]
 
     def allowed(name: Hashable, region: BaseGeometry) -> bool:
         edge = cast(Regrasp, name)
@@ -331,7 +334,7 @@ def _layered(scene: Scene, cover: FreeCover, joined: CoverGraph, reached: set[in
             region, -math.pi + (edge[0] + 0.5) * cover.width, edge[1], edge[3])
 
     return route_layers.layered_route(
-        [cover.pieces(b, k)[c] for b, k, c in nodes], joined.graph.zero, edges, allowed,
+        pieces, joined.graph.zero, edges, allowed,
         reached=reached, starts=joined.holding(scene.start), goals=joined.holding(scene.goal),
         start=scene.start, goal=scene.goal, bounds=scene.bounds, should_stop=should_stop,
         components=comps, min_cell=cell)
@@ -386,7 +389,8 @@ def regrasp_lower_bound(scene: Scene, *, resolution: float = RESOLUTION,
             complete = False
         if route is not None and best > 0:
             try:  # stopped partway: a proof, but not kept (more rounds might raise it)
-                found = _layered(scene, cover, joined, reached, comps, should_stop, route_cell)
+                found = _layered(scene, cover, joined, pieces, reached, comps, should_stop,
+                                 route_cell)
                 if found is not None:
                     route, complete = max(route, found.route or 0.0), not found.stopped
             except Interrupted:
