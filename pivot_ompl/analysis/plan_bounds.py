@@ -287,8 +287,7 @@ def _shared_held_route(scene: Scene, route_length: float | None,
         if found is not None and route is not None and not found.stopped:
             keep_shared(scene, ("disk route",), route)  # a stopped one may be weaker
             keep_route(scene, route)
-    if route is not None and route_length is not None and \
-            route > route_length * (1.0 + 1e-9) + 1e-6:
+    if _refutes(route_length, route):
         log.warning("route bound dropped: this plan refutes it (bound %.3f m, route %.3f m)",
                     route, route_length)
         forget_route(scene)
@@ -306,12 +305,17 @@ def _finer(scene: Scene, regrasps: int, route: float | None, route_length: float
     """
     finer = finer_route(scene, route, route_length=route_length, regrasps=regrasps,
                         should_stop=should_stop, time_left=time_left)
-    if finer is not None and route_length is not None and \
-            finer > route_length * (1.0 + 1e-9) + 1e-6:
+    if _refutes(route_length, finer):
         log.warning("finer route bound dropped: this plan refutes it (bound %.3f m, "
                     "route %.3f m)", finer, route_length)
         return route
     return _longer(route, finer)
+
+
+def _refutes(route_length: float | None, bound: float | None) -> bool:
+    """Whether a plan whose box route is ``route_length`` m refutes the route ``bound`` (m)."""
+    return (bound is not None and route_length is not None
+            and bound > route_length * (1.0 + 1e-9) + 1e-6)
 
 
 def _longer(a: float | None, b: float | None) -> float | None:
