@@ -8,7 +8,7 @@ make it longer where the regrasps' places are narrow (``gen:walls:2``: 7.83 m on
 :data:`REFINE_RATIO` times the bound it carries, when the exact relaxation's estimated time
 (:func:`~pivot_ompl.analysis.bound_levels.exhaustive_estimate`, times :data:`COST_FACTOR` for
 the finer layers) fits the time left; the relaxation runs in the walls' frame
-(:func:`~pivot_ompl.analysis.wall_frame.wall_frame`: a rigid motion, the route's length the
+(:func:`~pivot_ompl.analysis.wall_frame.relaxed_scene`: a rigid motion, the route's length the
 same). Every route it gives is a proof (the layered argument holds on any cells); the larger of
 it and the route the plan had is kept, once per scene in the process.
 """
@@ -20,7 +20,7 @@ from collections.abc import Callable
 
 from pivot_ompl.analysis.bound_levels import exhaustive_estimate
 from pivot_ompl.analysis.regrasp_bound import regrasp_lower_bound
-from pivot_ompl.analysis.wall_frame import wall_frame
+from pivot_ompl.analysis.wall_frame import relaxed_scene
 from pivot_ompl.scene import Scene
 from pivot_ompl.scene.shared import keep_shared, shared_value
 
@@ -53,9 +53,8 @@ def finer_route(scene: Scene, route: float | None, *, route_length: float | None
         return float(known)
     if time_left is not None and COST_FACTOR * exhaustive_estimate(scene) > time_left():
         return None  # the scene's estimate: the turned one's four more walls change it little
-    frame = wall_frame(scene, should_stop=should_stop)
-    turned = scene if frame is None else frame.scene
-    found = regrasp_lower_bound(turned, should_stop=should_stop, route_cell=FINE_CELL)
+    found = regrasp_lower_bound(relaxed_scene(scene, should_stop=should_stop),
+                                should_stop=should_stop, route_cell=FINE_CELL)
     if found.solvable is not True or not found.complete or found.shortest_route is None:
         return None
     log.debug("route bound on %.3f m cells: %.3f m (before %.3f m)", FINE_CELL,
