@@ -144,7 +144,7 @@ def wall_frame(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     if floor is None:
         return None
     if facing:
-        yaw = wall_yaw(scene.obstacles, facing=_facing(floor, 2.0 * _grow(scene)))
+        yaw = _facing_yaw(scene, floor)
         if yaw == 0.0:
             return None
     reach = max(p.reach for g in (0, 1) for p in held_bodies(scene, g)) + MARGIN
@@ -189,9 +189,7 @@ def facing_yaw(scene: Scene, *, should_stop: Callable[[], bool] | None = None) -
     if wall_yaw(scene.obstacles) == 0.0:
         return 0.0
     floor = _free_floor(scene, should_stop)
-    if floor is None:
-        return None
-    return wall_yaw(scene.obstacles, facing=_facing(floor, 2.0 * _grow(scene)))
+    return None if floor is None else _facing_yaw(scene, floor)
 
 
 def walls_facing(scene: Scene, should_stop: Callable[[], bool] | None = None) -> float | None:
@@ -254,6 +252,11 @@ def _free_floor(scene: Scene, should_stop: Callable[[], bool] | None
     kept = [g for g in getattr(free, "geoms", [free])
             if not g.is_empty and shapely.intersects(g, ends).any()]
     return shapely.MultiPolygon(kept) if kept else None
+
+
+def _facing_yaw(scene: Scene, floor: shapely.Geometry) -> float:
+    """The walls' direction counting each edge's share that borders ``floor``."""
+    return wall_yaw(scene.obstacles, facing=_facing(floor, 2.0 * _grow(scene)))
 
 
 def _facing(floor: shapely.Geometry, off: float) -> Callable[[np.ndarray], np.ndarray]:
