@@ -13,6 +13,7 @@ from ompl import util as ou
 from pivot_ompl.analysis.late_proof import LateProof, NoPlan
 from pivot_ompl.analysis.passage import PassageOnce, explain_no_plan
 from pivot_ompl.analysis.plan_bounds import plan_bounds
+from pivot_ompl.analysis.prover import Prover, wanted
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.base.problem import make_setup
 from pivot_ompl.base.staged_solve import MIN_SOLVE_TIME as MIN_SOLVE_TIME
@@ -71,7 +72,7 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
          config: RegraspConfig | None = None, bound: bool = True,
          checker: PivotChecker | None = None, resume: RegraspSearch | None = None,
          start_grasp: int | None = None, late_proof: bool | None = None,
-         prove: bool | None = None) -> PlanResult:
+         prove: bool | None = None, parallel: bool | None = None) -> PlanResult:
     """Plan a pivoting path (with regrasps where needed) for ``scene``.
 
     Args:
@@ -115,13 +116,19 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
             its estimate (:func:`~pivot_ompl.analysis.bound_levels.guided_estimate`) fits
             what the limit leaves; ``True``: whatever the estimate, stopped at the limit
             (rounds done stand); ``False``: never (a refined bound is still read from cache).
+        parallel: with ``bound`` and the regrasp planner, prove "no plan" and the lower
+            bounds in a process of their own beside the search, from its start
+            (:mod:`pivot_ompl.analysis.prover`: the same proofs, on a second core); ``None``
+            (default): on two cores or more where they are estimated to take a second or
+            more (:func:`~pivot_ompl.analysis.prover.wanted`); ``False``: in the search's
+            process, the late proof in windows of the limit (``late_proof``).
 
     Raises:
         PlanningError: ``INVALID_START``/``INVALID_GOAL`` (no grasp there, or not ``start_grasp``).
         InputError: bad parameters (wrong type or value), naming the parameter.
     """
     time_limit = check_plan_arguments(scene, planner, time_limit, seed, simplify, bound,
-                                      start_grasp, late_proof, prove)
+                                      start_grasp, late_proof, prove, parallel)
     config = check_config(config, regrasp_cost)
     started, cpu = time.monotonic(), time.process_time()  # the limit counts from here (loading too)
     t0 = time.perf_counter()
@@ -147,40 +154,47 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
                                      {"setup": time.perf_counter() - t0, "solve": 0.0})
     p, config = _planner_for(problem, planner, seed=seed, config=config,
                              resume=Resume(start_grasp, resume))
-    late = None
-    if bound if late_proof is None else late_proof:  # a search slow to find a path asks once
-        late = LateProof(scene, begin=started + LATE_PROOF_BEGIN * time_limit,
-                         end=started + LATE_PROOF_END * time_limit,
-                         explain_end=started + EXPLAIN_END * time_limit, passages=passages,
-                         held_begin=started + HELD_PROOF_BEGIN * time_limit,
-                         held_end=started + HELD_PROOF_END * time_limit, work_begin=cpu +
-                         LATE_PROOF_BEGIN * time_limit if isinstance(p, RegraspPlanner) else None)
-    if isinstance(p, RegraspPlanner):  # its quality share is one of the solve's limit
-        p.solve_limit = time_limit - (time.monotonic() - started)
-        p.proof = late  # polled by its search; other planners are stopped to ask it
-    t1 = time.perf_counter()
-    name = solve_staged(problem.setup, time_limit - _share(time_limit, FINISH_SHARE, FINISH_MAX),
-                        started, proof=None if isinstance(p, RegraspPlanner) else late,
-                        ask_at=started + LATE_PROOF_BEGIN * time_limit)
-    t2 = time.perf_counter()
-    if late is not None and late.proof is not None and name != "EXACT_SOLUTION":
-        return infeasible_result(scene, planner, seed, time_limit, late.proof,
-                                 {"setup": t1 - t0, "solve": t2 - t1})
-    if name in ("INVALID_START", "INVALID_GOAL"):
-        pose = scene.start if name == "INVALID_START" else scene.goal
-        raise PlanningError(name, problem.checker.explain(pose))
-    extra = {"planner": planner, "seed": seed, "time_limit": time_limit, **scene_record(scene)}
+    regrasp = isinstance(p, RegraspPlanner)
     end = deadline - _share(time_limit, WRITE_SHARE, WRITE_MAX)
-    result_plan = path_plan(scene, problem, name, extra, simplify=simplify and base in
-                               OMPL_PLANNERS, end=end)
-    t3 = time.perf_counter()
-    timings = {"setup": t1 - t0, "solve": t2 - t1, "convert": t3 - t2}
-    result_plan.extra["timings"] = timings
-    stats = dict(getattr(p, "stats", {}) or {})
-    result_plan.extra["roadmap"] = stats
-    if result_plan.phases:
-        result_plan.extra["quality"] = _quality(result_plan, scene, config, bound, timings,
-                                                end, prove=prove)
+    late = _late_proof(scene, regrasp=regrasp, bound=bound, late_proof=late_proof,
+                       parallel=parallel, prove=prove, passages=passages, started=started,
+                       cpu=cpu, time_limit=time_limit, end=end)
+    prover = late if isinstance(late, Prover) else None
+    try:
+        if regrasp:  # its quality share is one of the solve's limit
+            p.solve_limit = time_limit - (time.monotonic() - started)
+            p.proof = late  # polled by its search; other planners are stopped to ask it
+        t1 = time.perf_counter()
+        name = solve_staged(problem.setup,
+                            time_limit - _share(time_limit, FINISH_SHARE, FINISH_MAX), started,
+                            proof=None if regrasp else late,
+                            ask_at=started + LATE_PROOF_BEGIN * time_limit)
+        t2 = time.perf_counter()
+        if late is not None and late.proof is not None and name != "EXACT_SOLUTION":
+            return infeasible_result(scene, planner, seed, time_limit, late.proof,
+                                     {"setup": t1 - t0, "solve": t2 - t1})
+        if name in ("INVALID_START", "INVALID_GOAL"):
+            pose = scene.start if name == "INVALID_START" else scene.goal
+            raise PlanningError(name, problem.checker.explain(pose))
+        extra = {"planner": planner, "seed": seed, "time_limit": time_limit,
+                 **scene_record(scene)}
+        result_plan = path_plan(scene, problem, name, extra, simplify=simplify and base in
+                                OMPL_PLANNERS, end=end)
+        t3 = time.perf_counter()
+        timings = {"setup": t1 - t0, "solve": t2 - t1, "convert": t3 - t2}
+        result_plan.extra["timings"] = timings
+        stats = dict(getattr(p, "stats", {}) or {})
+        result_plan.extra["roadmap"] = stats
+        if result_plan.phases:
+            if prover is not None:  # its bounds, kept as this process's own
+                prover.solved(result_plan.regrasps)
+                prover.wait_bounds(until=_bound_end(result_plan, end, prove),
+                                   regrasps=result_plan.regrasps)
+            result_plan.extra["quality"] = _quality(result_plan, scene, config, bound,
+                                                    timings, end, prove=prove)
+    finally:
+        if prover is not None:
+            prover.close()
     c = problem.checker.counters
     log.info("%s on %s: %s in %.2f s (%s, %s)", planner, scene.name, name, t2 - t1,
              counted(result_plan.pivots, "pivot"), counted(result_plan.regrasps, "regrasp"))
@@ -261,8 +275,8 @@ def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool
     regrasps, route = None, None
     if bound:
         t0 = time.perf_counter()
-        guided = prove is True or (prove is None and result_plan.regrasps > 0)
-        bound_end = end if guided else min(end, time.monotonic() + BOUND_TIME_LIMIT)
+        guided = _guided(result_plan, prove)
+        bound_end = _bound_end(result_plan, end, prove)
         route_length = plan_quality(result_plan)["route_length"]
         regrasps, route = plan_bounds(scene, result_plan.regrasps, route_length=route_length,
                                       should_stop=lambda: time.monotonic() > bound_end,
@@ -273,3 +287,37 @@ def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool
     q = plan_quality(result_plan, regrasps_lower_bound=regrasps, shortest_route=route,
                      costs=config.cost)
     return {**q, **explain_plan(result_plan, scene, q)}
+
+
+def _guided(result_plan: Plan, prove: bool | None) -> bool:
+    """Whether the guided refinement may run for ``result_plan``'s bound (``plan``'s ``prove``)."""
+    return prove is True or (prove is None and result_plan.regrasps > 0)
+
+
+def _bound_end(result_plan: Plan, end: float, prove: bool | None) -> float:
+    """Clock time by which ``result_plan``'s lower bounds stop."""
+    return end if _guided(result_plan, prove) else min(end, time.monotonic() + BOUND_TIME_LIMIT)
+
+
+def _late_proof(scene: Scene, *, regrasp: bool, bound: bool, late_proof: bool | None,
+                parallel: bool | None, prove: bool | None, passages: PassageOnce,
+                started: float, cpu: float, time_limit: float, end: float
+                ) -> LateProof | Prover | None:
+    """What the search asks whether no plan exists, if anything (``plan``'s arguments).
+
+    A :class:`~pivot_ompl.analysis.prover.Prover` where ``parallel`` (by default: where its
+    proofs are dear, :func:`~pivot_ompl.analysis.prover.wanted`) for the regrasp planner,
+    proving until ``end``; else the late proof in the search's own process, in windows of
+    the limit.
+    """
+    if not (bound if late_proof is None else late_proof):
+        return None
+    if regrasp and bound and wanted(scene, parallel):
+        return Prover(scene, end=end, passages=passages, prove=prove)
+    return LateProof(scene, begin=started + LATE_PROOF_BEGIN * time_limit,
+                     end=started + LATE_PROOF_END * time_limit,
+                     explain_end=started + EXPLAIN_END * time_limit, passages=passages,
+                     held_begin=started + HELD_PROOF_BEGIN * time_limit,
+                     held_end=started + HELD_PROOF_END * time_limit,
+                     work_begin=cpu + LATE_PROOF_BEGIN * time_limit if regrasp else None)
+

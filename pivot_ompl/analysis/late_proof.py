@@ -136,6 +136,8 @@ class LateProof:
             goal's regions joined clear of every gap narrower than the held assembly, the
             held window ends at :data:`CLEAR_SHARE` of the way from ``held_begin`` to it;
             ``None``: tried where its estimate fits before ``explain_end``, stopped there.
+        should_stop: polled by every relaxation besides its own end (a prover's parent
+            that has a plan, :mod:`~pivot_ompl.analysis.prover`).
 
     Attributes:
         proof: the proof, once found; ``None`` before, or when nothing was proven.
@@ -148,7 +150,8 @@ class LateProof:
                  passages: PassageOnce | None = None, held_begin: float | None = None,
                  work_begin: float | None = None,
                  work: Callable[[], float] = time.process_time,
-                 held_end: float | None = None) -> None:
+                 held_end: float | None = None,
+                 should_stop: Callable[[], bool] | None = None) -> None:
         """Nothing tried yet."""
         self.scene, self.begin, self.end = scene, begin, end
         self.held_end = held_end
@@ -158,6 +161,7 @@ class LateProof:
         self.passages = passages if passages is not None else PassageOnce(scene)
         self.explain_end = end if explain_end is None else explain_end
         self.clock = clock
+        self.should_stop = should_stop
         self.proof: NoPlan | None = None
         self.tried = False
 
@@ -291,12 +295,15 @@ class LateProof:
 
         def stop() -> bool:
             now = self.clock()
-            return now >= cap or (now >= at and self.work() >= spent)
+            return now >= cap or (now >= at and self.work() >= spent) or self._told()
 
         return stop
 
     def _stop(self, at: float) -> Callable[[], bool]:
-        return lambda: self.clock() >= at
+        return lambda: self.clock() >= at or self._told()
+
+    def _told(self) -> bool:
+        return self.should_stop is not None and self.should_stop()
 
 
 def held_pose_proof(scene: Scene, *, should_stop: Callable[[], bool] | None = None,

@@ -1,0 +1,26 @@
+"""``python -m pivot_ompl.analysis.prover_main FD``: a prover's process.
+
+:class:`~pivot_ompl.analysis.prover.Prover` starts it with one end of a socket pair as ``FD``
+and sends its job through it (:func:`~pivot_ompl.analysis.prover.serve`).
+"""
+
+from __future__ import annotations
+
+import sys
+from multiprocessing.connection import Connection
+
+from pivot_ompl.analysis.prover import serve
+
+
+def main(argv: list[str]) -> int:
+    """Serve the job sent through the socket whose descriptor is ``argv[1]``."""
+    conn = Connection(int(argv[1]))
+    try:
+        serve(conn)
+    finally:
+        conn.close()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
