@@ -8,8 +8,9 @@ Markdown table gives: the floor area and its boxes, runs solved, the median wall
 run (the whole ``plan`` command: import of the scene, bound, search, conversion), the
 regrasps against the proven bound the plan carries (``regrasps_lower_bound``; "-" when the
 bound was not proven within ``plan``'s share of the limit), the median route ratio (route
-length over the proven shortest route) and the peak memory of a run (``ru_maxrss`` of the
-child process, from ``os.wait4``).
+length over the proven shortest route) and the peak memory of a run (the plan's process and
+its prover process together, sampled from ``/proc``: ``common.TreeMemory``; at least the
+``ru_maxrss`` of ``os.wait4``).
 
 Usage::
 
@@ -40,7 +41,7 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from common import machine_lock  # noqa: E402
+from common import TreeMemory, machine_lock  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 HALF_PI = 0.5 * math.pi
@@ -161,16 +162,18 @@ def plan_once(scene: str, seed: int, limit: float, out: Path, *,
         with tempfile.TemporaryFile("w+") as stdout:  # a file: wait4 reaps the process
             proc = subprocess.Popen(cmd, stdout=stdout, stderr=subprocess.PIPE, text=True,
                                     env=env)
+            memory = TreeMemory(proc.pid)
             assert proc.stderr is not None
             err = proc.stderr.read()
             _, status, usage = os.wait4(proc.pid, 0)
+            together = memory.stop()
             stdout.seek(0)
             out_text = stdout.read()
         wall = time.perf_counter() - t0
         proc.returncode = os.waitstatus_to_exitcode(status)
     run: dict[str, Any] = {"seed": seed, "code": proc.returncode, "wall": wall,
                            "cpu": usage.ru_utime + usage.ru_stime,
-                           "peak_mb": usage.ru_maxrss / 1024.0,
+                           "peak_mb": max(usage.ru_maxrss / 1024.0, together),
                            "outcome": outcome(proc.returncode, out_text),
                            "message": err.replace("\r", "\n").strip().splitlines()[-1:]}
     if proc.returncode == 0 and plan_path.exists():
