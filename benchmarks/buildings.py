@@ -142,9 +142,11 @@ def import_corpus_map(m: CorpusMap, out: Path) -> dict[str, Any]:
 
 
 def plan_once(scene: str, seed: int, limit: float, out: Path, *,
-              prove: bool = False, fresh: bool = False) -> dict[str, Any]:
+              prove: bool = False, fresh: bool = False,
+              parallel: bool | None = None) -> dict[str, Any]:
     """One ``pivot-ompl plan`` in a fresh process: exit code, wall and CPU time, peak memory, plan.
 
+    ``parallel``: ``plan --parallel`` / ``--no-parallel`` (``None``: ``plan``'s default).
     ``prove``: ``plan --prove`` (the guided bound refined inside the plan whatever its
     estimate; by default ``plan`` refines it where the estimate fits the limit).
     ``fresh``: the plan's own empty cache folder (``XDG_CACHE_HOME``; no bound cached by
@@ -153,7 +155,8 @@ def plan_once(scene: str, seed: int, limit: float, out: Path, *,
     plan_path = out / f"{Path(scene).stem}.seed{seed}.json"
     plan_path.unlink(missing_ok=True)
     cmd = [sys.executable, "-m", "pivot_ompl.cli", "plan", scene, "--time", str(limit),
-           "--seed", str(seed), "--out", str(plan_path)] + (["--prove"] if prove else [])
+           "--seed", str(seed), "--out", str(plan_path)] + (["--prove"] if prove else []) \
+        + ([] if parallel is None else ["--parallel" if parallel else "--no-parallel"])
     env = dict(os.environ)
     with machine_lock(), tempfile.TemporaryDirectory() as cache:
         if fresh:
@@ -264,6 +267,8 @@ def main() -> None:
     p.add_argument("--prove", action="store_true",
                    help="plan with --prove (the bound refined inside the plan whatever its "
                         "estimate; by default plan refines it where the estimate fits)")
+    p.add_argument("--no-parallel", action="store_true",
+                   help="plan with --no-parallel (the proofs in the plan's own process)")
     p.add_argument("--fresh", action="store_true",
                    help="each plan with its own empty cache folder (a first plan: no bound "
                         "cached by an earlier seed)")
@@ -289,6 +294,7 @@ def main() -> None:
         runs = []
         for seed in range(args.seeds):
             run = plan_once(info["scene"], seed, args.time, out, prove=args.prove,
+                            parallel=False if args.no_parallel else None,
                             fresh=args.fresh)
             runs.append(run)
             print(f"{m.name} seed {seed}: {run['outcome']} (code {run['code']}), "
@@ -299,7 +305,8 @@ def main() -> None:
                           **info, "runs": runs}
     command = (f"python benchmarks/buildings.py --seeds {args.seeds} --time {args.time:g}"
                + (f" --maps {args.maps}" if args.maps else "")
-               + (" --prove" if args.prove else "") + (" --fresh" if args.fresh else ""))
+               + (" --prove" if args.prove else "") + (" --fresh" if args.fresh else "")
+               + (" --no-parallel" if args.no_parallel else ""))
     text = table(record, command)
     (out / "buildings.md").write_text(text)
     (out / "buildings.json").write_text(json.dumps(

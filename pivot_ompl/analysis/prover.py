@@ -9,9 +9,10 @@ process of its own, from the search's start, beside it:
 * **"no plan"**: :class:`~pivot_ompl.analysis.late_proof.LateProof` with its windows open at
   once (the relaxation that proves and places, then the held poses' relaxation behind its
   gate), to the end of the prover's time;
-* **the bounds**: :func:`~pivot_ompl.analysis.bound_cache.lower_bound` (no target, the
-  guided refinement given the prover's time) and the disk route
-  (:func:`~pivot_ompl.analysis.plan_bounds.route_bound`).
+* **the bounds**: the disk route every plan's quality block carries
+  (:func:`~pivot_ompl.analysis.plan_bounds.route_bound`), then the regrasp bound
+  (:func:`~pivot_ompl.analysis.bound_cache.lower_bound`, the guided refinement given the
+  prover's time), which only a plan with regrasps needs.
 
 The order is the scene's: "no plan" first where every way from start to goal passes a gap
 narrower than the held assembly (:attr:`~pivot_ompl.analysis.passage.PassageOnce.clear`
@@ -280,14 +281,12 @@ def _no_plan(scene: Scene, end: float, prove: bool | None, word: _ParentWord,
 
 def _bounds(scene: Scene, end: float, prove: bool | None, word: _ParentWord,
             conn: Connection) -> None:
-    """The regrasp bound (unless the plan has none to bound), then the disk route."""
-    word()  # the parent's "solved", if said already
-    if word.solved != 0:
-        guided = (0.0 if prove is False else math.inf if prove is True
-                  else max(0.0, end - time.monotonic()))
-        bound = lower_bound(scene, target=word.solved, should_stop=word,
-                            guided_seconds=guided)
-        if bound.solvable is not None and bound.complete:
-            conn.send(("bound", bound))
-    if not word():
-        conn.send(("route", route_bound(scene, should_stop=word)))
+    """The disk route (every plan's), then the regrasp bound unless the plan has no regrasp."""
+    conn.send(("route", route_bound(scene, should_stop=word)))
+    if word() or word.solved == 0:
+        return
+    guided = (0.0 if prove is False else math.inf if prove is True
+              else max(0.0, end - time.monotonic()))
+    bound = lower_bound(scene, target=word.solved, should_stop=word, guided_seconds=guided)
+    if bound.solvable is not None and bound.complete:
+        conn.send(("bound", bound))
