@@ -133,34 +133,42 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     started, cpu = time.monotonic(), time.process_time()  # the limit counts from here (loading too)
     t0 = time.perf_counter()
     deadline = started + time_limit
+    end = deadline - _share(time_limit, WRITE_SHARE, WRITE_MAX)  # the bounds' end
+    prover = None
     try:
         if not isinstance(scene, Scene):
             scene = load_scene(scene, deadline=deadline)
         base = parse_spec(planner)[0]
+        if base == "regrasp" and bound and late_proof is not False and wanted(scene, parallel):
+            prover = Prover(scene, end=end, prove=prove)  # beside setup and search
         if base in OMPL_PLANNERS:
             seed_ompl(seed)
         problem = make_setup(scene, seed=seed, checker=checker, start_grasp=start_grasp,
                              should_stop=lambda: time.monotonic() >= deadline)
     except Interrupted as e:
+        if prover is not None:
+            prover.close()
         return stopped_in_setup(scene, planner, seed, time_limit, e.what,
                                  time.perf_counter() - t0)
-    passages = PassageOnce(scene)  # searched once, for the check here and the late proof
-    if bound:
-        proof = explain_no_plan(scene, should_stop=lambda: time.monotonic() >= started +
-                                PROOF_SHARE * time_limit, passages=passages)
-        if proof is not None:
-            return infeasible_result(scene, planner, seed, time_limit,
-                                     NoPlan(proof[0], proof[1]),
-                                     {"setup": time.perf_counter() - t0, "solve": 0.0})
-    p, config = _planner_for(problem, planner, seed=seed, config=config,
-                             resume=Resume(start_grasp, resume))
-    regrasp = isinstance(p, RegraspPlanner)
-    end = deadline - _share(time_limit, WRITE_SHARE, WRITE_MAX)
-    late = _late_proof(scene, regrasp=regrasp, bound=bound, late_proof=late_proof,
-                       parallel=parallel, prove=prove, passages=passages, started=started,
-                       cpu=cpu, time_limit=time_limit, end=end)
-    prover = late if isinstance(late, Prover) else None
+    except BaseException:  # a bad scene or start, Ctrl-C: the prover goes with the plan
+        if prover is not None:
+            prover.close()
+        raise
     try:
+        passages = PassageOnce(scene)  # searched once, for the check here and the late proof
+        if bound:
+            proof = explain_no_plan(scene, should_stop=lambda: time.monotonic() >= started +
+                                    PROOF_SHARE * time_limit, passages=passages)
+            if proof is not None:
+                return infeasible_result(scene, planner, seed, time_limit,
+                                         NoPlan(proof[0], proof[1]),
+                                         {"setup": time.perf_counter() - t0, "solve": 0.0})
+        p, config = _planner_for(problem, planner, seed=seed, config=config,
+                                 resume=Resume(start_grasp, resume))
+        regrasp = isinstance(p, RegraspPlanner)
+        late = prover if prover is not None else _late_proof(
+            scene, regrasp=regrasp, bound=bound, late_proof=late_proof, passages=passages,
+            started=started, cpu=cpu, time_limit=time_limit)
         if regrasp:  # its quality share is one of the solve's limit
             p.solve_limit = time_limit - (time.monotonic() - started)
             p.proof = late  # polled by its search; other planners are stopped to ask it
@@ -300,24 +308,19 @@ def _bound_end(result_plan: Plan, end: float, prove: bool | None) -> float:
 
 
 def _late_proof(scene: Scene, *, regrasp: bool, bound: bool, late_proof: bool | None,
-                parallel: bool | None, prove: bool | None, passages: PassageOnce,
-                started: float, cpu: float, time_limit: float, end: float
-                ) -> LateProof | Prover | None:
-    """What the search asks whether no plan exists, if anything (``plan``'s arguments).
+                passages: PassageOnce, started: float, cpu: float, time_limit: float
+                ) -> LateProof | None:
+    """The late proof the search asks whether no plan exists, if any (``plan``'s arguments).
 
-    A :class:`~pivot_ompl.analysis.prover.Prover` where ``parallel`` (by default: where its
-    proofs are dear, :func:`~pivot_ompl.analysis.prover.wanted`) for the regrasp planner,
-    proving until ``end``; else the late proof in the search's own process, in windows of
-    the limit.
+    In the search's own process, in windows of the limit (a
+    :class:`~pivot_ompl.analysis.prover.Prover` beside it, where ``plan`` starts one, asks
+    instead).
     """
     if not (bound if late_proof is None else late_proof):
         return None
-    if regrasp and bound and wanted(scene, parallel):
-        return Prover(scene, end=end, passages=passages, prove=prove)
     return LateProof(scene, begin=started + LATE_PROOF_BEGIN * time_limit,
                      end=started + LATE_PROOF_END * time_limit,
                      explain_end=started + EXPLAIN_END * time_limit, passages=passages,
                      held_begin=started + HELD_PROOF_BEGIN * time_limit,
                      held_end=started + HELD_PROOF_END * time_limit,
                      work_begin=cpu + LATE_PROOF_BEGIN * time_limit if regrasp else None)
-

@@ -93,7 +93,6 @@ class Prover:
         scene: the scene planned.
         end: clock time (``time.monotonic``, shared by the processes) at which the prover
             stops.
-        passages: the scene's passage search, already run (its ``clear`` chooses the order).
         prove: :func:`pivot_ompl.api.plan`'s: the guided refinement of the regrasp bound
             given the prover's time (``None``: where its estimate fits it), until its end
             (``True``) or never (``False``).
@@ -104,8 +103,7 @@ class Prover:
         route: the disk route (m), once received (also kept for the plans' quality block).
     """
 
-    def __init__(self, scene: Scene, *, end: float, passages: PassageOnce,
-                 prove: bool | None = None) -> None:
+    def __init__(self, scene: Scene, *, end: float, prove: bool | None = None) -> None:
         """The process started."""
         self.scene = scene
         self._next = 0.0
@@ -121,11 +119,9 @@ class Prover:
             [sys.executable, "-m", "pivot_ompl.analysis.prover_main", str(theirs.fileno())],
             pass_fds=(theirs.fileno(),), stdin=subprocess.DEVNULL)
         theirs.close()
-        proof_first = passages.clear is False
-        self._send(("job", (scene, end, proof_first, prove,
+        self._send(("job", (scene, end, prove,
                             logging.getLogger().getEffectiveLevel())))
-        log.debug("prover started for %s (%s first)", scene.name,
-                  "no plan" if proof_first else "the bounds")
+        log.debug("prover started for %s", scene.name)
 
     @property
     def running(self) -> bool:
@@ -194,6 +190,7 @@ class Prover:
 
     def _take(self, kind: str, value: Any) -> None:
         if kind == "no plan":
+            log.debug("prover: no plan exists: %s", value.reason)
             self.proof = value
         elif kind == "bound" and keep_bound(self.scene, value):
             self.bound = value
@@ -246,17 +243,19 @@ def serve(conn: Connection) -> None:
     Each answer is sent as soon as found; :mod:`~pivot_ompl.analysis.prover_main` runs it.
     """
     try:
-        _, (scene, end, proof_first, prove, level) = conn.recv()
+        _, (scene, end, prove, level) = conn.recv()
     except (EOFError, OSError):  # the parent is gone
         return
     logging.basicConfig(level=level, format="%(levelname)s %(name)s (prover): %(message)s")
     word = _ParentWord(conn, end)
     try:
-        jobs = (_no_plan, _bounds) if proof_first else (_bounds, _no_plan)
+        passages = PassageOnce(scene)  # the order (module docstring), and the proof's passage
+        passages(should_stop=word)
+        jobs = (_no_plan, _bounds) if passages.clear is False else (_bounds, _no_plan)
         for job in jobs:
             if word():
                 break
-            job(scene, end, prove, word, conn)
+            job(scene, end, prove, passages, word, conn)
         conn.send(("done", None))
     except (BrokenPipeError, EOFError, OSError):  # the parent is gone
         pass
@@ -267,20 +266,20 @@ def serve(conn: Connection) -> None:
             pass
 
 
-def _no_plan(scene: Scene, end: float, prove: bool | None, word: _ParentWord,
-             conn: Connection) -> None:
+def _no_plan(scene: Scene, end: float, prove: bool | None, passages: PassageOnce,
+             word: _ParentWord, conn: Connection) -> None:
     """"No plan", tried at once to ``end`` unless the search has a plan."""
     if word.solved is not None:
         return
     now = time.monotonic()
     late = LateProof(scene, begin=now, end=end, explain_end=end, held_begin=now,
-                     should_stop=word.no_plan_wanted())
+                     passages=passages, should_stop=word.no_plan_wanted())
     if late():
         conn.send(("no plan", late.proof))
 
 
-def _bounds(scene: Scene, end: float, prove: bool | None, word: _ParentWord,
-            conn: Connection) -> None:
+def _bounds(scene: Scene, end: float, prove: bool | None, passages: PassageOnce,
+            word: _ParentWord, conn: Connection) -> None:
     """The disk route (every plan's), then the regrasp bound unless the plan has no regrasp."""
     conn.send(("route", route_bound(scene, should_stop=word)))
     if word() or word.solved == 0:

@@ -12,7 +12,6 @@ from factories import shipped
 
 from pivot_ompl.analysis import plan_bounds
 from pivot_ompl.analysis.bound_cache import CACHE_ENV
-from pivot_ompl.analysis.passage import PassageOnce
 from pivot_ompl.analysis.prover import Prover, wanted
 from pivot_ompl.api import plan
 from pivot_ompl.errors import InputError
@@ -60,7 +59,7 @@ def test_a_script_without_a_main_guard_plans_beside_a_prover(tmp_path):
 
 def test_the_process_ends_with_the_plan_and_when_its_parent_stops_listening():
     scene = shipped("fig10")
-    with Prover(scene, end=time.monotonic() + 60.0, passages=PassageOnce(scene)) as prover:
+    with Prover(scene, end=time.monotonic() + 60.0) as prover:
         assert prover.running
     t0 = time.monotonic()
     assert not prover.running and time.monotonic() - t0 < 1.0
