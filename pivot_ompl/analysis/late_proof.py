@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import dataclasses
 import logging
+import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -138,6 +139,9 @@ class LateProof:
             ``None``: tried where its estimate fits before ``explain_end``, stopped there.
         should_stop: polled by every relaxation besides its own end (a prover's parent
             that has a plan, :mod:`~pivot_ompl.analysis.prover`).
+        exact_seconds: the exact polygons run only where estimated at most this (s) too,
+            else the coarse raster, then the held poses whatever the windows (a prover's
+            choice: the cheaper proof first); ``None``: where they fit before ``end``.
 
     Attributes:
         proof: the proof, once found; ``None`` before, or when nothing was proven.
@@ -151,7 +155,8 @@ class LateProof:
                  work_begin: float | None = None,
                  work: Callable[[], float] = time.process_time,
                  held_end: float | None = None,
-                 should_stop: Callable[[], bool] | None = None) -> None:
+                 should_stop: Callable[[], bool] | None = None,
+                 exact_seconds: float | None = None) -> None:
         """Nothing tried yet."""
         self.scene, self.begin, self.end = scene, begin, end
         self.held_end = held_end
@@ -162,6 +167,7 @@ class LateProof:
         self.explain_end = end if explain_end is None else explain_end
         self.clock = clock
         self.should_stop = should_stop
+        self.exact_seconds = exact_seconds
         self.proof: NoPlan | None = None
         self.tried = False
 
@@ -184,7 +190,8 @@ class LateProof:
             return self._held_later(now)
         stop = self._stop(self.end if known is None else self.explain_end)
         polygons = exhaustive_estimate(self.scene)
-        exact = polygons <= self.end - now
+        exact = polygons <= min(self.end - now, math.inf if self.exact_seconds is None
+                                else self.exact_seconds)
         if exact:  # proof and place at once (its polygons kept for the bound: joined)
             place = turning_place(self.scene, should_stop=stop, keep=True)
         else:
@@ -194,7 +201,8 @@ class LateProof:
                 keep_shared(self.scene, NOTHING_TO_PROVE, True)
                 return self._held_later(now)
             held = self.explain_end if self.held_end is None else self.held_end
-            if polygons > held - self.begin:  # a map too large for the exact polygons
+            if polygons > held - self.begin or self.exact_seconds is not None:
+                # a map too large for the exact polygons, or a prover's cheaper proof next
                 return self._held_later(now)  # the held poses need no other relaxation's word
             log.debug("late proof: nothing proven in %.2f s", self.clock() - now)
             return False

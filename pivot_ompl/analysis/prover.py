@@ -7,8 +7,9 @@ bounds its quality block carries after the search, and tries the relaxations tha
 process of its own, from the search's start, beside it:
 
 * **"no plan"**: :class:`~pivot_ompl.analysis.late_proof.LateProof` with its windows open at
-  once (the relaxation that proves and places, then the held poses' relaxation behind its
-  gate), to the end of the prover's time;
+  once, to the end of the prover's time: the relaxation that proves and places (the exact
+  polygons only where estimated cheaper than the held poses' proof, else the coarse raster),
+  then the held poses' relaxation behind its gate;
 * **the bounds**: the disk route every plan's quality block carries
   (:func:`~pivot_ompl.analysis.plan_bounds.route_bound`), then the regrasp bound
   (:func:`~pivot_ompl.analysis.bound_cache.lower_bound`, the guided refinement given the
@@ -273,7 +274,8 @@ def _no_plan(scene: Scene, end: float, prove: bool | None, passages: PassageOnce
         return
     now = time.monotonic()
     late = LateProof(scene, begin=now, end=end, explain_end=end, held_begin=now,
-                     passages=passages, should_stop=word.no_plan_wanted())
+                     passages=passages, should_stop=word.no_plan_wanted(),
+                     exact_seconds=proof_estimate(scene))  # the cheaper proof first
     if late():
         conn.send(("no plan", late.proof))
 
