@@ -10,8 +10,11 @@ import pytest
 from corner_factories import ragged_slot
 from factories import shipped
 
-from pivot_ompl.analysis import plan_bounds
+from pivot_ompl.analysis import late_proof, plan_bounds
 from pivot_ompl.analysis.bound_cache import CACHE_ENV
+from pivot_ompl.analysis.bound_levels import exhaustive_estimate
+from pivot_ompl.analysis.late_proof import LateProof
+from pivot_ompl.analysis.pose_proof import proof_estimate
 from pivot_ompl.analysis.prover import Prover, wanted
 from pivot_ompl.api import plan
 from pivot_ompl.errors import InputError
@@ -71,3 +74,24 @@ def test_small_scenes_plan_in_one_process_and_bad_choices_are_named():
         plan(shipped("fig10"), parallel="yes")  # type: ignore[arg-type]
     with pytest.raises(InputError, match="parallel"):
         plan(shipped("fig10"), parallel=True, bound=False)
+
+
+@pytest.mark.parametrize("cheaper_first", [True, False])
+def test_the_prover_s_no_plan_tries_the_cheaper_proof_first(monkeypatch, cheaper_first):
+    scene = ragged_slot(1)
+    assert exhaustive_estimate(scene) > proof_estimate(scene)  # the held poses are cheaper
+    exact: list[int] = []
+    polygons = late_proof.turning_place
+
+    def spy(*args, **kwargs):  # noqa: ANN002, ANN003, ANN202
+        exact.append(1)
+        return polygons(*args, **kwargs)
+
+    monkeypatch.setattr(late_proof, "turning_place", spy)
+    late = LateProof(scene, begin=0.0, end=1000.0, clock=lambda: 1.0,
+                     exact_seconds=proof_estimate(scene) if cheaper_first else None)
+    if cheaper_first:
+        assert late() is True and late.proof is not None and not exact
+    else:  # in one process's windows the exact polygons run where they fit
+        late()
+        assert exact == [1]
