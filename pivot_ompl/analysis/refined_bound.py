@@ -44,7 +44,7 @@ from pivot_ompl.analysis.raster_bound import (
     may_regrasp_cells,
     raster_graph,
 )
-from pivot_ompl.analysis.raster_cover import RasterCover
+from pivot_ompl.analysis.raster_cover import RasterCover, piece_labels
 from pivot_ompl.analysis.raster_refine import FineVoxels, neck_window, refine_cover
 from pivot_ompl.analysis.regrasp_bound import RegraspBound
 from pivot_ompl.analysis.regrasp_walk import WalkRelaxation
@@ -112,7 +112,7 @@ def refined_graph(scene: Scene, cover: RasterCover, *, tolerance: float, clearan
         if should_stop is not None and should_stop():
             raise Interrupted("the refined raster graph")
         if count and (lab[wi, wj] > 0).any():
-            layers[key] = _relabel((lab > 0) & ~window)
+            layers[key] = piece_labels((lab > 0) & ~window)
         else:
             layers[key] = (lab, count)
     outside = RasterCover(cover.raster, cover.bins, layers, cover.pieces)
@@ -146,15 +146,6 @@ def refined_graph(scene: Scene, cover: RasterCover, *, tolerance: float, clearan
                                  k, j)
 
     return RefinedGraph(coarse, outside, fine, fine_base, allowed)
-
-
-def _relabel(free: np.ndarray) -> tuple[np.ndarray, int]:
-    """8-connected labels of ``free`` in the smallest integer type that holds them."""
-    try:  # half the memory of int32 for the usual few thousand pieces a layer
-        out, count = ndimage.label(free, structure=_EIGHT, output=np.int16)
-    except RuntimeError:  # more pieces than int16 holds
-        out, count = ndimage.label(free, structure=_EIGHT)
-    return out, int(count)
 
 
 def _join_borders(fine: FineVoxels, outside: RasterCover, coarse: RasterGraph,
