@@ -178,7 +178,9 @@ def fine_raster(coarse: FloorRaster) -> FloorRaster:
     fine.cell, fine.shape, fine.half_diag = 0.5 * h, (2 * nx, 2 * ny), 0.5 * coarse.half_diag
     xs = x0 + (np.arange(2 * nx) + 0.5) * fine.cell
     ys = y0 + (np.arange(2 * ny) + 0.5) * fine.cell
-    fine.gx, fine.gy = np.meshgrid(xs, ys, indexing="ij")
+    # read-only views of one row and one column: no floor-sized arrays kept for the centres
+    fine.gx = np.broadcast_to(xs[:, None], fine.shape)
+    fine.gy = np.broadcast_to(ys[None, :], fine.shape)
     return fine
 
 
