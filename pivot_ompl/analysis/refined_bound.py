@@ -56,6 +56,8 @@ from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
 
 _EIGHT = np.ones((3, 3), dtype=bool)
+#: Voxels read at a time where every voxel of a parity is read (bounds the temporaries).
+_CHUNK = 1 << 18
 #: The memo's key of the fine regrasp joins kept between rounds.
 _REGRASPS = "regrasp joins"
 
@@ -158,10 +160,12 @@ def _join_borders(fine: FineVoxels, outside: RasterCover, coarse: RasterGraph,
     border = window & ndimage.binary_dilation(~window, structure=_EIGHT)
     for g in (0, 1):
         keys = fine.keys[g]
-        cell = keys % fine.cells
-        a, b = cell // ny, cell % ny
-        near = border[a // 2, b // 2]
-        a, b, comp = a[near], b[near], fine.labels[g][near]
+        near = np.zeros(len(keys), dtype=bool)
+        for s in range(0, len(keys), _CHUNK):  # no voxel-sized temporaries but this mask
+            cell = keys[s:s + _CHUNK] % fine.cells
+            near[s:s + _CHUNK] = border[(cell // ny) // 2, (cell % ny) // 2]
+        cell = keys[near] % fine.cells
+        a, b, comp = cell // ny, cell % ny, fine.labels[g][near]
         big = (keys[near] // fine.cells) // fine.split  # sorted, as the keys
         cuts = np.searchsorted(big, np.arange(n + 1))
         top = 1 + max((int(outside.layers[(g, bb)][1]) for bb in range(n)), default=0)
