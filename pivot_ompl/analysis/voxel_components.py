@@ -77,9 +77,11 @@ def grown_components(old_keys: np.ndarray, old_labels: np.ndarray, old_count: in
     keys = np.empty(len(old_keys) + len(new), dtype=np.int64)
     keys[at_old], keys[at_new] = old_keys, new
 
+    index = _index_type(old_count + len(new))
+
     def joins() -> Iterator[tuple[np.ndarray, np.ndarray]]:
         for src, dst in _forward_joins(new, nx, ny, bins):  # among the new voxels
-            yield src + old_count, dst + old_count
+            yield src.astype(index) + index(old_count), dst.astype(index) + index(old_count)
         cells = nx * ny
         k = new % cells
         a, b = k // ny, k % ny
