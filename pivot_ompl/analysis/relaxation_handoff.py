@@ -38,8 +38,7 @@ __all__ = ["MAX_KEPT_CELLS", "MAX_KEPT_PIECES", "forget_kept", "keep_coarse", "k
            "take_coarse", "take_exact"]
 
 #: Largest raster cover kept (cells times layers: 1 to 4 bytes each in its labels, at most
-#: 16 MB; a
-#: shipped scene's is about 1.2 million).
+#: 16 MB; a shipped scene's is about 1.2 million).
 MAX_KEPT_CELLS = 4_000_000
 #: Largest polygon cover kept (its pieces, every bin and grasp).
 MAX_KEPT_PIECES = 50_000
