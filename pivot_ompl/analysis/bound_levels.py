@@ -149,7 +149,8 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
     else:
         cover = raster_cover(scene, cell=CELLS[0], should_stop=should_stop)
         graph = _graph(scene, cover, should_stop)
-    graphs = [graph]  # handed on to the guided refinement
+    graphs = [graph]  # handed on to the guided refinement, which frees it after round 0
+    del graph, kept  # so held by ``graphs`` alone
     best = raster_lower_bound(scene, cell=CELLS[0], should_stop=should_stop, cover=cover,
                               graph=graphs[0])
     if best.solvable is None or cover is None:

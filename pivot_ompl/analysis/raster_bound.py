@@ -193,7 +193,7 @@ def raster_graph(scene: Scene, cover: RasterCover, *, tolerance: float = SWEEP_T
         if not walks:
             return True
         b, k, i, j, c = edge
-        ii, jj = _shared_cells(cover, layer(b, k), i, layer(b, j), c)
+        ii, jj = shared_cells(cells, read[layer(b, k)], i, read[layer(b, j)], c, raster.shape)
         if len(ii) * raster.cell * raster.cell > WALK_AREA:
             return True
         return may_regrasp_cells(walk(), raster, ii, jj, -math.pi + (b + 0.5) * width, k, j)
@@ -205,13 +205,15 @@ def raster_graph(scene: Scene, cover: RasterCover, *, tolerance: float = SWEEP_T
     return RasterGraph(graph, base, layer, allowed, holding, total, walk)
 
 
-def _shared_cells(cover: RasterCover, la: tuple[int, int], i: int, lb: tuple[int, int],
-                  c: int) -> tuple[np.ndarray, np.ndarray]:
-    """The cells of piece ``i`` of layer ``la`` that are in piece ``c`` of layer ``lb``."""
-    box = cover.extent(la, i)
-    a, b = cover.layers[la][0][box], cover.layers[lb][0][box]
-    ii, jj = np.nonzero((a == i) & (b == c))
-    return ii + box[0].start, jj + box[1].start
+def shared_cells(cells: np.ndarray, a: np.ndarray, i: int, b: np.ndarray, c: int,
+                 shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """The cells of piece ``i`` of one layer that are in piece ``c`` of another, in raster order.
+
+    ``cells``: flat indices (ascending) of the cells free in some layer; ``a``, ``b``: the
+    two layers' labels at those cells (every shared cell is free in both, so among them).
+    """
+    flat = cells[(a == i) & (b == c)]
+    return flat // shape[1], flat % shape[1]
 
 
 def _timed(bound: RegraspBound, t0: float) -> RegraspBound:

@@ -178,7 +178,9 @@ def fine_raster(coarse: FloorRaster) -> FloorRaster:
     fine.cell, fine.shape, fine.half_diag = 0.5 * h, (2 * nx, 2 * ny), 0.5 * coarse.half_diag
     xs = x0 + (np.arange(2 * nx) + 0.5) * fine.cell
     ys = y0 + (np.arange(2 * ny) + 0.5) * fine.cell
-    fine.gx, fine.gy = np.meshgrid(xs, ys, indexing="ij")
+    # read-only views of one row and one column: no floor-sized arrays kept for the centres
+    fine.gx = np.broadcast_to(xs[:, None], fine.shape)
+    fine.gy = np.broadcast_to(ys[None, :], fine.shape)
     return fine
 
 
@@ -260,26 +262,32 @@ def refine_cover(scene: Scene, cover: RasterCover, window: np.ndarray, *,
 
 
 def _near_pieces(cover: RasterCover, window: np.ndarray, reach: float) -> list[np.ndarray]:
-    """The obstacle pieces whose box comes within ``reach`` of the window's cells."""
+    """The obstacle pieces whose box comes within ``reach`` of the window's cells.
+
+    Tested all at once: each piece's block of cells against the window grown by ``reach``
+    (its cells counted by prefix sums).
+    """
     if not cover.pieces or not window.any():
         return []
     (x0, y0), h = cover.raster.origin, cover.raster.cell
+    nx, ny = window.shape
     ii, jj = np.nonzero(window)
     lo = np.array([x0 + ii.min() * h - reach, y0 + jj.min() * h - reach])
     hi = np.array([x0 + (ii.max() + 1) * h + reach, y0 + (jj.max() + 1) * h + reach])
     grown = ndimage.binary_dilation(window, structure=_EIGHT,
                                     iterations=math.ceil(reach / h) + 1)
-    out = []
-    for p in cover.pieces:
-        pmin, pmax = p.min(axis=0), p.max(axis=0)
-        if np.any(pmax < lo) or np.any(pmin > hi):
-            continue
-        i0, j0 = (max(0, int((pmin[k] - o) // h)) for k, o in ((0, x0), (1, y0)))
-        i1 = min(window.shape[0], int((pmax[0] - x0) // h) + 1)
-        j1 = min(window.shape[1], int((pmax[1] - y0) // h) + 1)
-        if grown[i0:i1, j0:j1].any():
-            out.append(p)
-    return out
+    sums = np.zeros((nx + 1, ny + 1), dtype=np.int64)
+    sums[1:, 1:] = grown.cumsum(axis=0).cumsum(axis=1)
+    pmin = np.array([p.min(axis=0) for p in cover.pieces])
+    pmax = np.array([p.max(axis=0) for p in cover.pieces])
+    near = ~(np.any(pmax < lo, axis=1) | np.any(pmin > hi, axis=1))
+    i0 = np.clip(np.maximum(0, np.floor_divide(pmin[:, 0] - x0, h)), 0, nx).astype(np.int64)
+    j0 = np.clip(np.maximum(0, np.floor_divide(pmin[:, 1] - y0, h)), 0, ny).astype(np.int64)
+    i1 = np.clip(np.floor_divide(pmax[:, 0] - x0, h) + 1, 0, nx).astype(np.int64)
+    j1 = np.clip(np.floor_divide(pmax[:, 1] - y0, h) + 1, 0, ny).astype(np.int64)
+    i1, j1 = np.maximum(i0, i1), np.maximum(j0, j1)
+    near &= sums[i1, j1] - sums[i0, j1] - sums[i1, j0] + sums[i0, j0] > 0
+    return [cover.pieces[n] for n in np.flatnonzero(near)]
 
 
 def _deep(lab: np.ndarray, around: tuple[np.ndarray, np.ndarray]) -> np.ndarray:

@@ -44,7 +44,7 @@ from pivot_ompl.analysis.raster_bound import (
     may_regrasp_cells,
     raster_graph,
 )
-from pivot_ompl.analysis.raster_cover import RasterCover
+from pivot_ompl.analysis.raster_cover import RasterCover, piece_labels
 from pivot_ompl.analysis.raster_refine import FineVoxels, neck_window, refine_cover
 from pivot_ompl.analysis.regrasp_bound import RegraspBound
 from pivot_ompl.analysis.regrasp_walk import WalkRelaxation
@@ -56,6 +56,8 @@ from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import KEEP_CLEARANCE
 
 _EIGHT = np.ones((3, 3), dtype=bool)
+#: Voxels read at a time where every voxel of a parity is read (bounds the temporaries).
+_CHUNK = 1 << 18
 #: The memo's key of the fine regrasp joins kept between rounds.
 _REGRASPS = "regrasp joins"
 
@@ -112,7 +114,7 @@ def refined_graph(scene: Scene, cover: RasterCover, *, tolerance: float, clearan
         if should_stop is not None and should_stop():
             raise Interrupted("the refined raster graph")
         if count and (lab[wi, wj] > 0).any():
-            layers[key] = _relabel((lab > 0) & ~window)
+            layers[key] = piece_labels((lab > 0) & ~window)
         else:
             layers[key] = (lab, count)
     outside = RasterCover(cover.raster, cover.bins, layers, cover.pieces)
@@ -148,15 +150,6 @@ def refined_graph(scene: Scene, cover: RasterCover, *, tolerance: float, clearan
     return RefinedGraph(coarse, outside, fine, fine_base, allowed)
 
 
-def _relabel(free: np.ndarray) -> tuple[np.ndarray, int]:
-    """8-connected labels of ``free`` in the smallest integer type that holds them."""
-    try:  # half the memory of int32 for the usual few thousand pieces a layer
-        out, count = ndimage.label(free, structure=_EIGHT, output=np.int16)
-    except RuntimeError:  # more pieces than int16 holds
-        out, count = ndimage.label(free, structure=_EIGHT)
-    return out, int(count)
-
-
 def _join_borders(fine: FineVoxels, outside: RasterCover, coarse: RasterGraph,
                   fine_base: list[int]) -> None:
     """Transfers between fine components and the coarse pieces whose cells they touch."""
@@ -167,10 +160,12 @@ def _join_borders(fine: FineVoxels, outside: RasterCover, coarse: RasterGraph,
     border = window & ndimage.binary_dilation(~window, structure=_EIGHT)
     for g in (0, 1):
         keys = fine.keys[g]
-        cell = keys % fine.cells
-        a, b = cell // ny, cell % ny
-        near = border[a // 2, b // 2]
-        a, b, comp = a[near], b[near], fine.labels[g][near]
+        near = np.zeros(len(keys), dtype=bool)
+        for s in range(0, len(keys), _CHUNK):  # no voxel-sized temporaries but this mask
+            cell = keys[s:s + _CHUNK] % fine.cells
+            near[s:s + _CHUNK] = border[(cell // ny) // 2, (cell % ny) // 2]
+        cell = keys[near] % fine.cells
+        a, b, comp = cell // ny, cell % ny, fine.labels[g][near]
         big = (keys[near] // fine.cells) // fine.split  # sorted, as the keys
         cuts = np.searchsorted(big, np.arange(n + 1))
         top = 1 + max((int(outside.layers[(g, bb)][1]) for bb in range(n)), default=0)

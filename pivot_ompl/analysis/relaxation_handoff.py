@@ -37,8 +37,8 @@ from pivot_ompl.scene.shared import drop_shared, keep_shared, shared_value
 __all__ = ["MAX_KEPT_CELLS", "MAX_KEPT_PIECES", "forget_kept", "keep_coarse", "keep_exact",
            "take_coarse", "take_exact"]
 
-#: Largest raster cover kept (cells times layers: 4 bytes each in its labels, 16 MB; a
-#: shipped scene's is about 1.2 million).
+#: Largest raster cover kept (cells times layers: 1 to 4 bytes each in its labels, at most
+#: 16 MB; a shipped scene's is about 1.2 million).
 MAX_KEPT_CELLS = 4_000_000
 #: Largest polygon cover kept (its pieces, every bin and grasp).
 MAX_KEPT_PIECES = 50_000

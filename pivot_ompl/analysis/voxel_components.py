@@ -19,6 +19,7 @@ alike.
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -33,9 +34,7 @@ def voxel_components(keys: np.ndarray, nx: int, ny: int, bins: int) -> tuple[int
     """``(count, labels)`` of the sorted voxel ``keys`` (module docstring)."""
     if not len(keys):
         return 0, np.zeros(0, dtype=np.int64)
-    src, dst = _forward_joins(keys, nx, ny, bins)
-    count, labels = _label(len(keys), src, dst)
-    return count, labels
+    return _label(len(keys), _forward_joins(keys, nx, ny, bins))
 
 
 @dataclass
@@ -72,60 +71,63 @@ def grown_components(old_keys: np.ndarray, old_labels: np.ndarray, old_count: in
     if not len(old_keys):
         count, labels = voxel_components(new, nx, ny, bins)
         return Grown(count, new, labels, new, labels, np.zeros(0, dtype=np.int64))
-    both = np.concatenate([old_keys, new])
-    order = np.argsort(both, kind="stable")  # two sorted runs: merged in linear time
-    keys = both[order]
-    where = np.empty(len(both), dtype=np.int64)
-    where[order] = np.arange(len(both))
-    among = _forward_joins(new, nx, ny, bins)
+    # the two sorted runs merged by position (no voxel is in both: new cells)
+    at_old = np.searchsorted(new, old_keys) + np.arange(len(old_keys))
+    at_new = np.searchsorted(old_keys, new) + np.arange(len(new))
+    keys = np.empty(len(old_keys) + len(new), dtype=np.int64)
+    keys[at_old], keys[at_new] = old_keys, new
+
     index = _index_type(old_count + len(new))
-    src = [among[0].astype(index) + index(old_count)]
-    dst = [among[1].astype(index) + index(old_count)]
-    cells = nx * ny
-    k = new % cells
-    a, b = k // ny, k % ny
-    for da, db in _AROUND:  # joins to the old voxels, only next to their coarse cells
-        ta, tb = a + da, b + db
-        ok = (ta >= 0) & (ta < nx) & (tb >= 0) & (tb < ny)
-        ok[ok] = done[ta[ok] // 2, tb[ok] // 2]
-        idx = np.flatnonzero(ok)
-        if not len(idx):
-            continue
-        target = new[idx] + da * ny + db
-        pos = np.clip(np.searchsorted(old_keys, target), 0, len(old_keys) - 1)
-        hit = old_keys[pos] == target
-        src.append((old_count + idx[hit]).astype(index))
-        dst.append(old_labels[pos[hit]].astype(index))
-    count, node = _label(old_count + len(new), np.concatenate(src), np.concatenate(dst))
+
+    def joins() -> Iterator[tuple[np.ndarray, np.ndarray]]:
+        for src, dst in _forward_joins(new, nx, ny, bins):  # among the new voxels
+            yield src.astype(index) + index(old_count), dst.astype(index) + index(old_count)
+        cells = nx * ny
+        k = new % cells
+        a, b = k // ny, k % ny
+        del k
+        for da, db in _AROUND:  # to the old voxels, only next to their coarse cells
+            ta, tb = a + da, b + db
+            ok = (ta >= 0) & (ta < nx) & (tb >= 0) & (tb < ny)
+            ok[ok] = done[ta[ok] // 2, tb[ok] // 2]
+            idx = np.flatnonzero(ok)
+            if not len(idx):
+                continue
+            target = new[idx] + da * ny + db
+            pos = np.clip(np.searchsorted(old_keys, target), 0, len(old_keys) - 1)
+            hit = old_keys[pos] == target
+            yield old_count + idx[hit], old_labels[pos[hit]]
+
+    count, node = _label(old_count + len(new), joins())
     labels = np.empty(len(keys), dtype=np.int64)
-    labels[where[:len(old_keys)]] = node[old_labels]
-    labels[where[len(old_keys):]] = node[old_count:]
+    labels[at_old] = node[old_labels]
+    labels[at_new] = node[old_count:]
     return Grown(count, keys, labels, new, node[old_count:], node[:old_count])
 
 
 def _forward_joins(keys: np.ndarray, nx: int, ny: int, bins: int
-                   ) -> tuple[np.ndarray, np.ndarray]:
-    """The joins among the sorted ``keys`` (indices), each once: from the lower voxel."""
+                   ) -> Iterator[tuple[np.ndarray, np.ndarray]]:
+    """The joins among the sorted ``keys`` (indices), each once: from the lower voxel.
+
+    One batch ``(src, dst)`` per neighbour direction (so that only one is held at a time).
+    """
     cells = nx * ny
     k = keys % cells
     a, b = (k // ny).astype(np.int32), (k % ny).astype(np.int32)  # cell rows and columns
     del k
-    last = keys // cells == bins - 1
-    src: list[np.ndarray] = []
-    dst: list[np.ndarray] = []
     index = _index_type(len(keys))
 
-    def join(target: np.ndarray, ok: np.ndarray) -> None:
+    def join(target: np.ndarray, ok: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         pos = np.searchsorted(keys, target)
         np.minimum(pos, len(keys) - 1, out=pos)
         hit = ok & (keys[pos] == target)
-        src.append(np.flatnonzero(hit).astype(index))
-        dst.append(pos[hit].astype(index))
+        return np.flatnonzero(hit).astype(index), pos[hit].astype(index)
 
     for da, db in _FORWARD:
-        join(keys + da * ny + db, (a + da < nx) & (b + db >= 0) & (b + db < ny))
-    join(np.where(last, keys - (bins - 1) * cells, keys + cells), np.ones(len(keys), dtype=bool))
-    return np.concatenate(src), np.concatenate(dst)
+        yield join(keys + da * ny + db, (a + da < nx) & (b + db >= 0) & (b + db < ny))
+    last = keys // cells == bins - 1
+    yield join(np.where(last, keys - (bins - 1) * cells, keys + cells),
+               np.ones(len(keys), dtype=bool))
 
 
 def _index_type(n: int) -> type[np.signedinteger]:
@@ -133,29 +135,35 @@ def _index_type(n: int) -> type[np.signedinteger]:
     return np.int32 if n < 2**31 else np.int64
 
 
-def _label(nodes: int, src: np.ndarray, dst: np.ndarray) -> tuple[int, np.ndarray]:
-    """Connected components of ``nodes`` nodes joined by the edges ``src``-``dst``.
+def _label(nodes: int, joins: Iterable[tuple[np.ndarray, np.ndarray]]
+           ) -> tuple[int, np.ndarray]:
+    """Connected components of ``nodes`` nodes joined by the edges of ``joins``' batches.
 
     Numbered by their smallest node, in order (as a scan of the nodes meets them). Union by
-    the smaller root with full path compression, on arrays: each pass hooks every root with
-    an edge to another root onto the smallest such root, then points every node at its root,
-    and keeps only the edges still between two roots. No sparse matrix (its transpose and
-    float weights cost about 40 bytes a join), so a join costs its two indices.
+    the smaller root with full path compression, on arrays, one batch of ``(src, dst)``
+    edges at a time (the components of all edges do not depend on their order): each pass
+    hooks every root with an edge to another root onto the smallest such root, then points
+    every node at its root, and keeps only the edges still between two roots. No sparse
+    matrix (its transpose and float weights cost about 40 bytes a join), so a join costs
+    its two indices, and only one batch's are held.
     """
     index = _index_type(nodes)
     parent = np.arange(nodes, dtype=index)
-    u, v = src.astype(index, copy=False), dst.astype(index, copy=False)
-    pu, pv = u, v  # every node its own root: the first pass hooks the joins as they are
-    while len(u):
-        np.minimum.at(parent, np.maximum(pu, pv), np.minimum(pu, pv))  # roots only fall
-        while True:
-            up = parent[parent]
-            if np.array_equal(up, parent):
-                break
-            parent = up
-        pu, pv = parent[u], parent[v]  # roots: parent is compressed here
+    for src, dst in joins:
+        u, v = src.astype(index, copy=False), dst.astype(index, copy=False)
+        pu, pv = parent[u], parent[v]  # roots: parent is compressed between passes
         keep = pu != pv
         u, v, pu, pv = u[keep], v[keep], pu[keep], pv[keep]
+        while len(u):
+            np.minimum.at(parent, np.maximum(pu, pv), np.minimum(pu, pv))  # roots only fall
+            while True:
+                up = parent[parent]
+                if np.array_equal(up, parent):
+                    break
+                parent = up
+            pu, pv = parent[u], parent[v]
+            keep = pu != pv
+            u, v, pu, pv = u[keep], v[keep], pu[keep], pv[keep]
     roots = parent == np.arange(nodes, dtype=index)  # each component's smallest node
     rank = np.cumsum(roots, dtype=np.int64) - 1
     return int(roots.sum()), rank[parent]
