@@ -125,6 +125,11 @@ class Prover:
         log.debug("prover started for %s", scene.name)
 
     @property
+    def pid(self) -> int:
+        """The process's id."""
+        return self._process.pid
+
+    @property
     def running(self) -> bool:
         """Whether the process is still running."""
         return self._process.poll() is None

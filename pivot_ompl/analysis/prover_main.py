@@ -6,6 +6,7 @@ and sends its job through it (:func:`~pivot_ompl.analysis.prover.serve`).
 
 from __future__ import annotations
 
+import signal
 import sys
 from multiprocessing.connection import Connection
 
@@ -14,6 +15,7 @@ from pivot_ompl.analysis.prover import serve
 
 def main(argv: list[str]) -> int:
     """Serve the job sent through the socket whose descriptor is ``argv[1]``."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the plan's: it closes the socket
     conn = Connection(int(argv[1]))
     try:
         serve(conn)

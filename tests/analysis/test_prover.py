@@ -5,10 +5,12 @@ from __future__ import annotations
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import pytest
+import yaml
 from corner_factories import ragged_slot
-from factories import shipped
+from factories import benchmark_script, shipped
 
 from pivot_ompl.analysis import late_proof, plan_bounds
 from pivot_ompl.analysis.bound_cache import CACHE_ENV
@@ -66,6 +68,33 @@ def test_the_process_ends_with_the_plan_and_when_its_parent_stops_listening():
         assert prover.running
     t0 = time.monotonic()
     assert not prover.running and time.monotonic() - t0 < 1.0
+
+
+def test_the_process_ends_when_the_plan_s_process_is_gone(tmp_path):
+    hall = tmp_path / "hall.yaml"  # a floor whose bounds take the prover a long while
+    hall.write_text(yaml.safe_dump(benchmark_script("halls").hall(200.0, 60, 0)))
+    script = tmp_path / "gone.py"  # a plan's process killed: no close, no "stop"
+    script.write_text("import os, sys, time\n"
+                      "from pivot_ompl.analysis.prover import Prover\n"
+                      "from pivot_ompl.scene import load_scene\n"
+                      f"p = Prover(load_scene({str(hall)!r}), end=time.monotonic() + 600.0)\n"
+                      "print(p.pid, flush=True)\n"
+                      "time.sleep(3.0)\n"
+                      "os._exit(0)\n")
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
+                          timeout=120, check=False)
+    pid = int(done.stdout.split()[0])
+    deadline = time.monotonic() + 30.0
+    while Path(f"/proc/{pid}").exists() and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert not Path(f"/proc/{pid}").exists() or "zombie" in _state(pid)
+
+
+def _state(pid: int) -> str:
+    try:
+        return Path(f"/proc/{pid}/status").read_text().split("State:")[1].split("\n")[0]
+    except (OSError, IndexError):
+        return "zombie"
 
 
 def test_small_scenes_plan_in_one_process_and_bad_choices_are_named():
