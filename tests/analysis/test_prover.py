@@ -81,9 +81,11 @@ def test_the_process_ends_when_the_plan_s_process_is_gone(tmp_path):
                       "print(p.pid, flush=True)\n"
                       "time.sleep(3.0)\n"
                       "os._exit(0)\n")
-    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
-                          timeout=120, check=False)
-    pid = int(done.stdout.split()[0])
+    parent = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE,
+                              stderr=subprocess.DEVNULL, text=True)
+    assert parent.stdout is not None
+    pid = int(parent.stdout.readline())  # not waiting for the pipe to close: the prover has it
+    parent.wait(120)
     deadline = time.monotonic() + 30.0
     while Path(f"/proc/{pid}").exists() and time.monotonic() < deadline:
         time.sleep(0.1)
