@@ -34,9 +34,11 @@ from __future__ import annotations
 import logging
 import math
 import os
+import queue
 import socket
 import subprocess
 import sys
+import threading
 import time
 from collections.abc import Callable
 from multiprocessing.connection import Connection
@@ -120,8 +122,11 @@ class Prover:
             [sys.executable, "-m", "pivot_ompl.analysis.prover_main", str(theirs.fileno())],
             pass_fds=(theirs.fileno(),), stdin=subprocess.DEVNULL)
         theirs.close()
-        self._send(("job", (scene, end, prove,
-                            logging.getLogger().getEffectiveLevel())))
+        # sent in order by a thread of their own: the job (the scene, hundreds of kB on a
+        # large floor) waits for the process to start reading, the plan does not
+        self._outbox: queue.SimpleQueue[tuple[str, Any] | None] = queue.SimpleQueue()
+        self._outbox.put(("job", (scene, end, prove, logging.getLogger().getEffectiveLevel())))
+        threading.Thread(target=self._post, name="prover's outbox", daemon=True).start()
         log.debug("prover started for %s", scene.name)
 
     @property
@@ -144,7 +149,7 @@ class Prover:
 
     def solved(self, regrasps: int) -> None:
         """Tell the prover that the search has a plan of ``regrasps`` regrasps."""
-        self._send(("solved", regrasps))
+        self._outbox.put(("solved", regrasps))
 
     def wait_bounds(self, *, until: float, regrasps: int) -> None:
         """Receive until the bounds a plan of ``regrasps`` regrasps needs have come, or ``until``.
@@ -164,12 +169,13 @@ class Prover:
 
         Terminated after :data:`CLOSE_WAIT` s (still starting, or between two polls).
         """
-        self._send(("stop", None))
+        self._outbox.put(("stop", None))
         try:
             self._process.wait(CLOSE_WAIT)
         except subprocess.TimeoutExpired:
             self._process.terminate()
             self._process.wait()
+        self._outbox.put(None)  # the outbox's thread ends
         self._conn.close()
 
     def __enter__(self) -> Prover:
@@ -178,11 +184,13 @@ class Prover:
     def __exit__(self, *exc: object) -> None:
         self.close()
 
-    def _send(self, message: tuple[str, Any]) -> None:
-        try:
-            self._conn.send(message)
-        except (BrokenPipeError, OSError):  # the process has ended
-            self._done = True
+    def _post(self) -> None:
+        """The outbox's thread: every message sent in order, until ``None`` or a closed pipe."""
+        while (message := self._outbox.get()) is not None:
+            try:
+                self._conn.send(message)
+            except (BrokenPipeError, OSError):  # the process has ended, or the plan closed
+                return
 
     def _receive(self, wait: float) -> None:
         """Take every message that has arrived (waiting at most ``wait`` s for the first)."""
