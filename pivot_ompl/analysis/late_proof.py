@@ -142,6 +142,9 @@ class LateProof:
         exact_seconds: the exact polygons run only where estimated at most this (s) too,
             else the coarse raster, then the held poses whatever the windows (a prover's
             choice: the cheaper proof first); ``None``: where they fit before ``end``.
+        gate_share: share of the held poses' window the gate may take (0: no gate, the
+            proof at once: a prover's where every way passes a gap narrower than the held
+            assembly, most often no plan).
 
     Attributes:
         proof: the proof, once found; ``None`` before, or when nothing was proven.
@@ -156,7 +159,7 @@ class LateProof:
                  work: Callable[[], float] = time.process_time,
                  held_end: float | None = None,
                  should_stop: Callable[[], bool] | None = None,
-                 exact_seconds: float | None = None) -> None:
+                 exact_seconds: float | None = None, gate_share: float = GATE_SHARE) -> None:
         """Nothing tried yet."""
         self.scene, self.begin, self.end = scene, begin, end
         self.held_end = held_end
@@ -168,6 +171,7 @@ class LateProof:
         self.clock = clock
         self.should_stop = should_stop
         self.exact_seconds = exact_seconds
+        self.gate_share = gate_share
         self.proof: NoPlan | None = None
         self.tried = False
 
@@ -249,7 +253,7 @@ class LateProof:
                       window, "" if stop is not None else ": not tried")
             if stop is None:
                 return False
-            spent = self.work() + GATE_SHARE * window
+            spent = self.work() + self.gate_share * window
             try:  # one floor for the gate and the proof
                 floor = HeldFloor(self.scene, MOTION_CLEARANCE, stop)
             except Interrupted:

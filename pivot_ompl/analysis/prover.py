@@ -17,7 +17,8 @@ process of its own, from the search's start, beside it:
 
 The order is the scene's: "no plan" first where every way from start to goal passes a gap
 narrower than the held assembly (:attr:`~pivot_ompl.analysis.passage.PassageOnce.clear`
-``False``: the lab's door, most often no plan), the bounds first elsewhere (most often a plan,
+``False``: the lab's door, most often no plan; the held poses' proof then without its gate,
+which only spares a scene with a plan), the bounds first elsewhere (most often a plan,
 whose quality block waits for them). Once the search has a plan, the parent says so
 (:meth:`Prover.solved`): "no plan" is abandoned, the regrasp bound aims at the plan's count
 (none wanted for a plan without regrasps).
@@ -46,7 +47,7 @@ from typing import Any
 
 from pivot_ompl.analysis.bound_cache import keep_bound, lower_bound
 from pivot_ompl.analysis.bound_levels import guided_estimate
-from pivot_ompl.analysis.late_proof import LateProof, NoPlan
+from pivot_ompl.analysis.late_proof import GATE_SHARE, LateProof, NoPlan
 from pivot_ompl.analysis.passage import PassageOnce
 from pivot_ompl.analysis.plan_bounds import keep_route_bound, route_bound
 from pivot_ompl.analysis.pose_proof import proof_estimate
@@ -265,7 +266,7 @@ def serve(conn: Connection) -> None:
     try:
         passages = PassageOnce(scene)  # the order (module docstring), and the proof's passage
         passages(should_stop=word)
-        jobs = (_no_plan, _bounds) if passages.clear is False else (_bounds, _no_plan)
+        jobs = (_no_plan, _bounds) if _narrow(passages) else (_bounds, _no_plan)
         for job in jobs:
             if word():
                 break
@@ -288,9 +289,15 @@ def _no_plan(scene: Scene, end: float, prove: bool | None, passages: PassageOnce
     now = time.monotonic()
     late = LateProof(scene, begin=now, end=end, explain_end=end, held_begin=now,
                      passages=passages, should_stop=word.no_plan_wanted(),
-                     exact_seconds=proof_estimate(scene))  # the cheaper proof first
+                     exact_seconds=proof_estimate(scene),  # the cheaper proof first
+                     gate_share=0.0 if _narrow(passages) else GATE_SHARE)
     if late():
         conn.send(("no plan", late.proof))
+
+
+def _narrow(passages: PassageOnce) -> bool:
+    """Whether every way from start to goal passes a gap narrower than the held assembly."""
+    return passages.clear is False
 
 
 def _bounds(scene: Scene, end: float, prove: bool | None, passages: PassageOnce,
