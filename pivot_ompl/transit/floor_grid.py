@@ -14,7 +14,11 @@ to rounding, for a floor that guides the walk search; rasterised together by
 shapes (a cylinder's inscribed polygon, the clearance's rounded corners by chords), so a
 position is never closed where the exact checks would let the body stand. A centrally
 symmetric piece's sum at a yaw pi from an earlier one is that sum point-reflected
-(:data:`OPPOSITE_YAWS`; the same region to rounding).
+(:data:`OPPOSITE_YAWS`; the same region to rounding). On a floor imported from an
+occupancy map whose grid the walk grid's lines follow, the boxes on the map's lines are met
+instead by a stencil's dilation of their cells, per yaw
+(:func:`~pivot_ompl.validity.cell_stencil.cell_dilation`: the same positions as their sums
+rasterised, several times cheaper on thousands of boxes); the other pieces are summed.
 
 The resting box's part is computed per query, in the window it can close: the positions whose
 inscribed disk comes within ``box_margin`` of the box (:meth:`FloorGrid.box_closes`, the floor
