@@ -14,7 +14,11 @@ to rounding, for a floor that guides the walk search; rasterised together by
 shapes (a cylinder's inscribed polygon, the clearance's rounded corners by chords), so a
 position is never closed where the exact checks would let the body stand. A centrally
 symmetric piece's sum at a yaw pi from an earlier one is that sum point-reflected
-(:data:`OPPOSITE_YAWS`; the same region to rounding).
+(:data:`OPPOSITE_YAWS`; the same region to rounding). On a floor imported from an
+occupancy map whose grid the walk grid's lines follow, the boxes on the map's lines are met
+instead by a stencil's dilation of their cells, per yaw
+(:func:`~pivot_ompl.validity.cell_stencil.cell_dilation`: the same positions as their sums
+rasterised, several times cheaper on thousands of boxes); the other pieces are summed.
 
 The resting box's part is computed per query, in the window it can close: the positions whose
 inscribed disk comes within ``box_margin`` of the box (:meth:`FloorGrid.box_closes`, the floor
@@ -35,6 +39,8 @@ from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.se2 import Pose, rectangle_corners
 from pivot_ompl.transit.floor_sums import PieceSums
 from pivot_ompl.transit.lattice import HEADING_YAWS
+from pivot_ompl.validity.assembly_field import least_boxes
+from pivot_ompl.validity.cell_stencil import cell_dilation
 from pivot_ompl.validity.collision import CollisionWorld
 from pivot_ompl.validity.footprints import obstacle_pieces, piece_bounds
 from pivot_ompl.validity.minkowski import EdgeSet, meeting_edges
@@ -101,6 +107,10 @@ class FloorGrid:
         world: the static obstacles.
         resolution: grid spacing (m), the lattice's.
         box_margin: clearance kept from the resting box (m).
+        cells: where enough obstacle pieces are boxes on the lines of a map's grid whose
+            cell divides ``resolution`` (:func:`~pivot_ompl.validity.cell_stencil.
+            cell_dilation`), those are met by a stencil's dilation of their cells (the same
+            positions), the others summed; ``False`` sums every one.
 
     Attributes:
         nx, ny: grid size.
@@ -121,7 +131,7 @@ class FloorGrid:
     pieces: list[np.ndarray]
 
     def __init__(self, model: BoxGraspModel, world: CollisionWorld, resolution: float,
-                 box_margin: float) -> None:
+                 box_margin: float, *, cells: bool = True) -> None:
         """Grid size, the inscribed radius, the walking body's outlines, obstacle pieces."""
         self.model, self.world = model, world
         self.resolution, self.box_margin = resolution, box_margin
@@ -139,14 +149,22 @@ class FloorGrid:
             if world.clearance > 0 else shapely.Polygon(self.outline)
         self.grown_outline = np.asarray(grown.exterior.coords)[:-1]
         self.pieces = obstacle_pieces(world.obstacles)
-        self._piece_boxes = piece_bounds(self.pieces)
-        #: every (piece, yaw) sum with the grown body, summed once when first asked (shared
-        #: by :meth:`fits_range` and :meth:`open_block`)
-        self.sums = PieceSums(self.pieces, [_turned(self.grown_outline, yaw)
-                                            for yaw in OPEN_YAWS], opposite=list(OPPOSITE_YAWS))
         #: farthest a point of the grown body lies from the robot pose (m)
         self._body_reach = float(np.hypot(self.grown_outline[:, 0],
                                           self.grown_outline[:, 1]).max())
+        bodies = [_turned(self.grown_outline, yaw) for yaw in OPEN_YAWS]
+        #: the boxes on a map's grid, met by a stencil's dilation of their cells (the same
+        #: positions as their sums rasterised); the other pieces summed
+        self._cells = cell_dilation(self.pieces, b, resolution, (self.nx, self.ny),
+                                    reach=self._body_reach, least=least_boxes) \
+            if cells else None
+        summed = self.pieces if self._cells is None else \
+            [q for q, a in zip(self.pieces, self._cells.aligned, strict=True) if not a]
+        self._runs = [] if self._cells is None else [self._cells.stencil(d) for d in bodies]
+        self._piece_boxes = piece_bounds(summed)
+        #: every (summed piece, yaw) sum with the grown body, summed once when first asked
+        #: (shared by :meth:`fits_range` and :meth:`open_block`)
+        self.sums = PieceSums(summed, bodies, opposite=list(OPPOSITE_YAWS))
 
     @property
     def grid_x(self) -> np.ndarray:
@@ -175,12 +193,13 @@ class FloorGrid:
         """
         todo = [k for k in range(k0, k1) if k not in self._fits]
         if todo:
-            every = np.arange(len(self.pieces))
+            every = np.arange(len(self._piece_boxes))
             for b0 in range(0, len(todo), YAW_BLOCK):  # the stop polled between blocks
                 self._summed(every, todo[b0:b0 + YAW_BLOCK], should_stop)
             edges, groups = self.sums.edges(every, todo)
             meets = grid_union(edges, self.xs, self.ys, groups=groups, n_groups=len(todo)) \
                 if len(every) else np.zeros((len(todo), self.nx, self.ny), dtype=bool)
+            self._cell_hits(todo, meets, (0, 0))
             self._fits.update(zip(todo, self._inside(todo, self.xs, self.ys, meets),
                                   strict=True))
         return [self._fits[k] for k in range(k0, k1)]
@@ -207,7 +226,19 @@ class FloorGrid:
         edges, groups = self.sums.edges(near, list(range(k)))
         meets = grid_union(edges, xs, ys, groups=groups, n_groups=k) \
             if len(near) else np.zeros((k, len(xs), len(ys)), dtype=bool)
+        self._cell_hits(list(range(k)), meets, (wx.start, wy.start))
         return np.logical_or.reduce(self._inside(list(range(k)), xs, ys, meets), axis=0)
+
+    def _cell_hits(self, yaws: list[int], meets: np.ndarray, at: tuple[int, int]) -> None:
+        """Add to ``meets`` (per yaw, a block from grid position ``at``) the map's boxes hit.
+
+        Those met by a stencil's dilation of their cells (none where the floor is not a
+        map's grid at this spacing); in place.
+        """
+        if self._cells is None:
+            return
+        for k, hit in zip(yaws, meets, strict=True):
+            hit |= self._cells.hits(self._runs[k], hit.shape, at=at)
 
     def _inside(self, yaws: list[int], xs: np.ndarray, ys: np.ndarray, meets: np.ndarray
                 ) -> np.ndarray:

@@ -41,14 +41,7 @@ from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.se2 import GRID_HEADING_YAWS as HEADING_YAWS
 from pivot_ompl.se2 import Pose
-from pivot_ompl.validity.cell_stencil import (
-    ALIGN_TOL,
-    aligned_boxes,
-    cell_prefix,
-    map_cell,
-    stencil,
-    stencil_hits,
-)
+from pivot_ompl.validity.cell_stencil import CellDilation, cell_dilation
 from pivot_ompl.validity.collision import CollisionWorld
 from pivot_ompl.validity.footprints import obstacle_pieces, piece_bounds
 from pivot_ompl.validity.footprints import symmetric_centres as symmetric_centres
@@ -149,9 +142,7 @@ class AssemblyField:
         self._bodies = {p: assembly_bodies(model, p, world.clearance) for p in (0, 1)}
         self._corners = {p: np.concatenate(assembly_bodies(model, p, 0.0)) for p in (0, 1)}
         self._fits: dict[tuple[int, int], np.ndarray] = {}
-        self._prefix: np.ndarray | None = None  # the aligned boxes' cells (cell_stencil)
-        self._margin = 0
-        self._stride = 1  # grid positions are every stride-th line of the cells' grid
+        self._cells: CellDilation | None = None  # the boxes met by a stencil (cell_stencil)
         if cells:
             self._dilate_cells()
         self._centres, self._symmetric = symmetric_centres(self._pieces)
@@ -169,27 +160,15 @@ class AssemblyField:
     def _dilate_cells(self) -> None:
         """Take the boxes on the map's grid out of the sums, into a stencil's dilation.
 
-        The map's grid: :func:`~.cell_stencil.map_cell`, this grid's spacing a whole
+        The map's grid: :func:`~.cell_stencil.cell_dilation`, this grid's spacing a whole
         multiple ``k`` of its cell; at least :func:`least_boxes` boxes on it.
         """
-        b, res = self.world.bounds, self.resolution
-        cell = map_cell(self._pieces, b, least=CELL_BOXES)
-        if cell is None:
-            return
-        k = max(1, int(round(res / cell)))
-        if abs(res - k * cell) > ALIGN_TOL * cell:
-            return
-        fine = res / k  # the grid's positions on the cells' lines exactly
-        shape = (max((self.nx - 1) * k, int(math.floor((b[2] - b[0]) / fine))) + 1,
-                 max((self.ny - 1) * k, int(math.floor((b[3] - b[1]) / fine))) + 1)
-        aligned, occupied = aligned_boxes(self._pieces, (b[0], b[1]), fine, shape)
-        if aligned.sum() < least_boxes(k):
-            return
         reach = max(float(np.hypot(*np.concatenate(self._bodies[p]).T).max()) for p in (0, 1))
-        self._margin = int(math.ceil(reach / fine)) + 3
-        self._prefix = cell_prefix(occupied, self._margin)
-        self._stride = k
-        self._pieces = [q for q, a in zip(self._pieces, aligned, strict=True) if not a]
+        self._cells = cell_dilation(self._pieces, self.world.bounds, self.resolution,
+                                    (self.nx, self.ny), reach=reach, least=least_boxes)
+        if self._cells is not None:
+            self._pieces = [q for q, a in zip(self._pieces, self._cells.aligned, strict=True)
+                            if not a]
 
     def restrict(self, area: np.ndarray) -> None:
         """Answer only within ``area`` (``(nx, ny)`` booleans): elsewhere nothing fits.
@@ -283,13 +262,11 @@ class AssemblyField:
                 & ((ys + corners[:, 1].min() > b[1]) & (ys + corners[:, 1].max() < b[3]))[None, :]
             if self._area is not None:
                 ok &= self._area
-            if self._prefix is not None:
+            if self._cells is not None:
                 if should_stop is not None and should_stop():
                     raise Interrupted("assembly field")
-                fine = self.resolution / self._stride
                 for body in self._bodies[parity]:
-                    ok &= ~stencil_hits(self._prefix, self._margin, stencil(body @ rot, fine),
-                                        ok.shape, stride=self._stride)
+                    ok &= ~self._cells.hits(self._cells.stencil(body @ rot), ok.shape)
             out.append(ok)
         n = len(self._pieces)
         if n and ks:

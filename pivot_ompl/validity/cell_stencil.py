@@ -19,6 +19,10 @@ points strictly inside a box's Minkowski sum with the body, as the sums' rasters
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
 import numpy as np
 
 #: Overlap (m) along every separating axis beyond which a body meets a cell (rounding below).
@@ -167,20 +171,88 @@ def cell_prefix(cells: np.ndarray, margin: int) -> np.ndarray:
 
 
 def stencil_hits(prefix: np.ndarray, margin: int, runs: list[tuple[int, int, int]],
-                 shape: tuple[int, int], *, stride: int = 1) -> np.ndarray:
+                 shape: tuple[int, int], *, stride: int = 1,
+                 at: tuple[int, int] = (0, 0)) -> np.ndarray:
     """The grid positions where a body of stencil ``runs`` meets an occupied cell.
 
     ``prefix``: :func:`cell_prefix` of :func:`aligned_boxes`' cells, its ``margin`` above
     every offset of ``runs`` (the caller's to choose: more than the body's reach in cells).
     ``stride``: the positions asked are every ``stride``-th of the cells' grid (a grid whose
-    spacing is that many cells). Returns ``shape`` booleans: position ``(i, j)`` is hit when
-    some run's cells ``(stride * i + di, stride * j + dj0..dj1)`` hold an occupied one.
+    spacing is that many cells). ``at``: the first grid position of the block asked (a
+    block of ``shape`` positions inside the grid). Returns ``shape`` booleans: position
+    ``(i, j)`` of the block is hit when some run's cells
+    ``(stride * (at[0] + i) + di, stride * (at[1] + j) + dj0..dj1)`` hold an occupied one.
     """
     nx, ny = shape
-    m, k = margin, stride
+    k = stride
+    mx, my = margin + k * at[0], margin + k * at[1]
     out = np.zeros((nx, ny), dtype=bool)
     for a, j0, j1 in runs:
-        rows = prefix[a + m:a + m + k * (nx - 1) + 1:k]
-        out |= rows[:, j1 + m + 1:j1 + m + 2 + k * (ny - 1):k] \
-            > rows[:, j0 + m:j0 + m + 1 + k * (ny - 1):k]
+        rows = prefix[a + mx:a + mx + k * (nx - 1) + 1:k]
+        out |= rows[:, j1 + my + 1:j1 + my + 2 + k * (ny - 1):k] \
+            > rows[:, j0 + my:j0 + my + 1 + k * (ny - 1):k]
     return out
+
+
+@dataclass(frozen=True)
+class CellDilation:
+    """The boxes of a floor on a map's grid, met by a stencil's dilation of their cells.
+
+    For a field whose grid (positions from the bounds' corner, ``resolution`` apart) is every
+    ``stride``-th line of the map's (:func:`cell_dilation`).
+
+    Attributes:
+        aligned: per obstacle piece, whether it is one of those boxes (the others are the
+            caller's to sum).
+        prefix: :func:`cell_prefix` of the boxes' cells.
+        margin: the prefix's padding (cells), above the bodies' reach.
+        stride: the field's spacing in map cells.
+        cell: the map's cell (m).
+    """
+
+    aligned: np.ndarray
+    prefix: np.ndarray
+    margin: int
+    stride: int
+    cell: float
+
+    def stencil(self, body: np.ndarray) -> list[tuple[int, int, int]]:
+        """The map cells a convex ``body`` (vertices relative to its position) meets."""
+        return stencil(body, self.cell)
+
+    def hits(self, runs: list[tuple[int, int, int]], shape: tuple[int, int], *,
+             at: tuple[int, int] = (0, 0)) -> np.ndarray:
+        """Where a body of stencil ``runs`` (:meth:`stencil`) meets a box.
+
+        ``shape`` booleans over the block of grid positions from ``at``
+        (:func:`stencil_hits`).
+        """
+        return stencil_hits(self.prefix, self.margin, runs, shape, stride=self.stride, at=at)
+
+
+def cell_dilation(pieces: list[np.ndarray], bounds: tuple[float, float, float, float],
+                  resolution: float, shape: tuple[int, int], *, reach: float,
+                  least: Callable[[int], int]) -> CellDilation | None:
+    """The boxes a field over ``bounds`` may meet by a stencil, where there are enough.
+
+    The map's grid: :func:`map_cell` through the bounds' corner (at least ``least(1)`` boxes
+    on it), the field's spacing ``resolution`` a whole multiple ``k`` of its cell, at least
+    ``least(k)`` boxes on it (:func:`aligned_boxes`); ``shape``: the field's ``(nx, ny)``
+    positions; ``reach``: the farthest (m) a body's point lies from its position. ``None``
+    where the floor is no such grid (every piece is then summed).
+    """
+    cell = map_cell(pieces, bounds, least=least(1))
+    if cell is None:
+        return None
+    k = max(1, int(round(resolution / cell)))
+    if abs(resolution - k * cell) > ALIGN_TOL * cell:
+        return None
+    fine = resolution / k  # the grid's positions on the cells' lines exactly
+    b = bounds
+    cells_shape = (max((shape[0] - 1) * k, int(math.floor((b[2] - b[0]) / fine))) + 1,
+                   max((shape[1] - 1) * k, int(math.floor((b[3] - b[1]) / fine))) + 1)
+    aligned, occupied = aligned_boxes(pieces, (b[0], b[1]), fine, cells_shape)
+    if aligned.sum() < least(k):
+        return None
+    margin = int(math.ceil(reach / fine)) + 3
+    return CellDilation(aligned, cell_prefix(occupied, margin), margin, k, fine)

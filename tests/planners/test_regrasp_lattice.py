@@ -97,3 +97,42 @@ def test_the_regrasp_planner_takes_it_before_any_roadmap_where_the_band_applies(
     assert off.roadmap["object_nodes"] > 0
     assert off.roadmap["regrasp_lattice_solved"] is False
     assert off.roadmap["regrasp_lattice_changes"] == -1  # not tried
+
+
+class _RefusingLattice(TransferLattice):
+    """A lattice whose first meeting poses asked join no component; its routes recorded.
+
+    The plan's ends (``spare``) join as the lattice says.
+    """
+
+    def __init__(self, *args, refused: int, spare: tuple, **kwargs) -> None:
+        super().__init__(*args, **kwargs)
+        self.refused: list = []
+        self.routed: list = []
+        self._left, self._spare = refused, spare
+
+    def joined_components(self, obj, grasp, should_stop=None):
+        if obj not in self._spare and (obj in self.refused or self._left > 0):
+            if obj not in self.refused:
+                self.refused.append(obj)
+                self._left -= 1
+            return set()
+        return super().joined_components(obj, grasp, should_stop)
+
+    def route(self, start, goal, grasp, **kwargs):
+        self.routed.append(goal)
+        return super().route(start, goal, grasp, **kwargs)
+
+
+def test_a_meeting_pose_joining_no_next_component_costs_no_leg():
+    scene = open_corner()
+    ck = PivotChecker(scene, seed=0)
+    lattice = _RefusingLattice(ck, CostModel(), refused=1, spare=(scene.start, scene.goal))
+    stats = RegraspLatticeStats()
+    found = regrasp_lattice_path(ck, lattice, CostModel(), scene.start, scene.goal,
+                                 start_grasps=_valid_grasps(ck, scene.start),
+                                 goal_grasps=_valid_grasps(ck, scene.goal), grasps=(0, 1, 2, 3),
+                                 run_spacing=8, should_stop=lambda: False, stats=stats)
+    assert found.status is not Status.STOPPED and len(lattice.refused) == 1
+    assert not set(lattice.refused) & set(lattice.routed)  # no route to the refused pose
+    assert stats.legs >= 1 and lattice.routed  # the next pose was routed to instead

@@ -42,6 +42,8 @@ from pivot_ompl.planners.routes.lattice_ends import end_joins
 from pivot_ompl.planners.routes.lattice_frame import LatticeFrame, lattice_frame
 from pivot_ompl.planners.routes.lattice_region import within_distance
 from pivot_ompl.planners.routes.lattice_search import TIGHT_PUSH, lattice_astar, route_cost
+from pivot_ompl.planners.routes.lattice_spacing import MAX_CELLS as MAX_CELLS
+from pivot_ompl.planners.routes.lattice_spacing import lattice_spacing
 from pivot_ompl.planners.routes.shared_fields import (
     ROUTES_KEPT,
     assembly_field,
@@ -51,11 +53,6 @@ from pivot_ompl.planners.routes.shared_fields import (
 from pivot_ompl.se2 import Pose, wrap_angle
 from pivot_ompl.transit.lattice import HEADING_VECTORS, HEADING_YAWS, N_HEADINGS
 from pivot_ompl.validity.assembly_field import AssemblyField
-
-#: Most grid positions of the lattice (over the bounds' rectangle, as its field): a larger floor
-#: gets a coarser grid, so the field's grids and the components stay within a few hundred MB
-#: (a 200 x 200 m hall at 0.1 m took 9 GB).
-MAX_CELLS = 250_000
 
 State = tuple[int, int, int]
 _START: State = (-1, -1, -1)
@@ -69,7 +66,8 @@ class TransferLattice:
         checker: the scene's model and world.
         costs: the cost model (seconds).
         resolution: grid spacing (m); coarser on floors of more than :data:`MAX_CELLS`
-            grid positions (then the spacing that gives that many).
+            grid positions (:func:`~.lattice_spacing.lattice_spacing`: the spacing that
+            gives that many, or a whole multiple of an occupancy map's cell below it).
         max_expansions: states expanded before a query gives up.
         weight: inflation of the A* heuristic (a route costs at most this factor more than
             the lattice's cheapest).
@@ -98,8 +96,7 @@ class TransferLattice:
         self._mask: np.ndarray | None = None
         self.frame = lattice_frame(checker, resolution=resolution) if turned else LatticeFrame()
         world = checker.world if self.frame.world is None else self.frame.world
-        x0, y0, x1, y1 = world.bounds
-        resolution = max(resolution, math.sqrt((x1 - x0) * (y1 - y0) / MAX_CELLS))
+        resolution = lattice_spacing(world, resolution)
         self.resolution, self.max_expansions, self.weight = resolution, max_expansions, weight
         # the scene's field, shared with its later plans; within a region, paying for the
         # pieces round the region alone

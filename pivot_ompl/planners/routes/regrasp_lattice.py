@@ -260,15 +260,18 @@ def _legs(legs: _Legs, steps: ComponentSteps, start: Pose, goal: Pose, start_gra
             t = q if g < 2 else half_turn(q)  # the meeting's state at grasp g
             if not ck.state_valid(t, g):
                 continue
+            # the grasps the regrasp may take there, known before the leg is routed: a
+            # meeting pose none of them joins to the next component costs no leg
+            takes = [g2 for g2 in nxt if ck.state_valid(t, g2)
+                     and label in lattice.joined_components(t, g2, should_stop)]
+            if not takes:
+                continue
             leg = legs.leg(here, t, g)
             if leg.status is Status.STOPPED:
                 return Found(Status.STOPPED)
             if leg.path is None:
                 continue
-            for g2 in nxt:
-                if not ck.state_valid(t, g2) or \
-                        label not in lattice.joined_components(t, g2, should_stop):
-                    continue
+            for g2 in takes:
                 stats.walks += 1
                 if evaluate.walk(t, g, g2, should_stop=should_stop).valid:
                     found = (leg.path, t, g2)
