@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import math
 import time
@@ -135,26 +136,21 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     deadline = started + time_limit
     end = deadline - _share(time_limit, WRITE_SHARE, WRITE_MAX)  # the bounds' end
     prover = None
-    try:
-        if not isinstance(scene, Scene):
-            scene = load_scene(scene, deadline=deadline)
-        base = parse_spec(planner)[0]
-        if base == "regrasp" and bound and late_proof is not False and wanted(scene, parallel):
-            prover = Prover(scene, end=end, prove=prove)  # beside setup and search
-        if base in OMPL_PLANNERS:
-            seed_ompl(seed)
-        problem = make_setup(scene, seed=seed, checker=checker, start_grasp=start_grasp,
-                             should_stop=lambda: time.monotonic() >= deadline)
-    except Interrupted as e:
-        if prover is not None:
-            prover.close()
-        return stopped_in_setup(scene, planner, seed, time_limit, e.what,
-                                 time.perf_counter() - t0)
-    except BaseException:  # a bad scene or start, Ctrl-C: the prover goes with the plan
-        if prover is not None:
-            prover.close()
-        raise
-    try:
+    with contextlib.ExitStack() as closing:  # a prover ends with the plan, whatever ends it
+        try:
+            if not isinstance(scene, Scene):
+                scene = load_scene(scene, deadline=deadline)
+            base = parse_spec(planner)[0]
+            if base == "regrasp" and bound and late_proof is not False and \
+                    wanted(scene, parallel):
+                prover = closing.enter_context(Prover(scene, end=end, prove=prove))
+            if base in OMPL_PLANNERS:
+                seed_ompl(seed)
+            problem = make_setup(scene, seed=seed, checker=checker, start_grasp=start_grasp,
+                                 should_stop=lambda: time.monotonic() >= deadline)
+        except Interrupted as e:
+            return stopped_in_setup(scene, planner, seed, time_limit, e.what,
+                                     time.perf_counter() - t0)
         passages = PassageOnce(scene)  # searched once, for the check here and the late proof
         if bound:
             proof = explain_no_plan(scene, should_stop=lambda: time.monotonic() >= started +
@@ -200,9 +196,6 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
                                    regrasps=result_plan.regrasps)
             result_plan.extra["quality"] = _quality(result_plan, scene, config, bound,
                                                     timings, end, prove=prove)
-    finally:
-        if prover is not None:
-            prover.close()
     c = problem.checker.counters
     log.info("%s on %s: %s in %.2f s (%s, %s)", planner, scene.name, name, t2 - t1,
              counted(result_plan.pivots, "pivot"), counted(result_plan.regrasps, "regrasp"))
