@@ -65,11 +65,12 @@ FIRST_BINS = 32
 #: Most yaw bins (each costs the box's free region and four grasps' free parts, about 30 ms
 #: on a 5 m arena of 157 boxes): the memory and time bound.
 MAX_BINS = 1024
-#: Narrowest bin (rad) halved again (the TurtleBot3 arena's proof needs 0.7 degrees).
+#: Narrowest bin (rad) halved again (the lab door's and the TurtleBot3 arena's proofs end
+#: at 1.4 degrees).
 FINEST = 2.0 * math.pi / 512
 
 #: Bins a proof computes, for :func:`proof_estimate` (the regions computed, a twin's not
-#: counted: 40 on the 1506 boxes of the lab door, 156 on the TurtleBot3 arena, 36-122 on the
+#: counted: 40 on the 1506 boxes of the lab door and on the TurtleBot3 arena, 36-122 on the
 #: feasible 4- to 32-room corridor rows).
 ESTIMATED_BINS = 64
 #: Time (s) of one obstacle piece's sums and union, per bin computed and grasp (whole
