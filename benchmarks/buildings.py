@@ -82,7 +82,7 @@ CORPUS = (
     CorpusMap("turtlebot3_world", "benchmarks/maps/turtlebot3_world/map.yaml",
               "TurtleBot3 arena (simulated, SLAM map)", (0.0, -1.9, 0.0), (0.0, 1.9, 0.0),
               note="no plan exists: the held poses' relaxation "
-              "(pivot_ompl.analysis.pose_proof, about 4.5 s of CPU) separates start and "
+              "(pivot_ompl.analysis.pose_proof, about 1.4 s of CPU) separates start and "
               "goal; `plan` runs it from 4 % of --time where no poses valid at every yaw "
               "join start and goal (pivot_ompl.analysis.pose_inner), up to 25 % (every "
               "way passes a gap narrower than the held assembly) (--time 60: INFEASIBLE in "

@@ -18,7 +18,8 @@ A path of the plan visits joined parts only, so when no part holding the start i
 one holding the goal, no plan exists.
 
 The bins start coarse (:data:`FIRST_BINS`); while a chain of parts joins start and goal, the
-chain's bins whose part spans more floor than its neighbours on the chain
+chain's bins in which it regrasps (:func:`~pivot_ompl.analysis.pose_split.regrasp_bins`),
+else those whose part spans more floor than its neighbours on the chain
 (:func:`~pivot_ompl.analysis.pose_split.spanning_bins`), else its widest bins, are halved
 with the bins opposite them (a chain through too coarse bins is
 refined away, a true one stays; a grasp that is another's half turn has that grasp's parts at
@@ -47,7 +48,7 @@ from pivot_ompl.analysis.pose_bins import BinRegions
 from pivot_ompl.analysis.pose_chain import Node
 from pivot_ompl.analysis.pose_floor import HeldFloor
 from pivot_ompl.analysis.pose_graph import PoseGraph
-from pivot_ompl.analysis.pose_split import spanning_bins
+from pivot_ompl.analysis.pose_split import regrasp_bins, spanning_bins
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.grasp import GRASPS
 from pivot_ompl.scene import BoxObstacle, CylinderObstacle, Scene
@@ -64,11 +65,12 @@ FIRST_BINS = 32
 #: Most yaw bins (each costs the box's free region and four grasps' free parts, about 30 ms
 #: on a 5 m arena of 157 boxes): the memory and time bound.
 MAX_BINS = 1024
-#: Narrowest bin (rad) halved again (the TurtleBot3 arena's proof needs 0.7 degrees).
+#: Narrowest bin (rad) halved again (the lab door's and the TurtleBot3 arena's proofs end
+#: at 1.4 degrees).
 FINEST = 2.0 * math.pi / 512
 
 #: Bins a proof computes, for :func:`proof_estimate` (the regions computed, a twin's not
-#: counted: 40 on the 1506 boxes of the lab door, 156 on the TurtleBot3 arena, 36-122 on the
+#: counted: 40 on the 1506 boxes of the lab door and on the TurtleBot3 arena, 36-122 on the
 #: feasible 4- to 32-room corridor rows).
 ESTIMATED_BINS = 64
 #: Time (s) of one obstacle piece's sums and union, per bin computed and grasp (whole
@@ -290,10 +292,12 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
                 reach = shapely.union_all([graph.bin(i)[g][k] for i, g, k in found.reached])
                 return result(True, reach, tuple(graph.refused))
             split, widest = widest_bins(edges, path, finest)
-            spans = spanning_bins(path, [graph.bin(i)[g][k].area for i, g, k in path],
-                                  np.diff(edges).tolist(), finest)
-            if spans:  # a part spanning more than its neighbours: the likeliest false step
-                split = with_opposites(edges, spans)
+            widths = np.diff(edges).tolist()
+            first = (regrasp_bins(path, widths, finest)  # a coarse regrasp: likeliest false
+                     or spanning_bins(path, [graph.bin(i)[g][k].area for i, g, k in path],
+                                      widths, finest))  # then a part spanning more
+            if first:
+                split = with_opposites(edges, first)
             log.debug("held poses, round %d: %d bins, a chain of %d parts over %d bins; %d "
                       "halved (%.2f degrees); %d regrasps refused", rounds, len(edges) - 1,
                       len(path), len({i for i, _, _ in path}), len(split),

@@ -164,3 +164,20 @@ def test_a_lazy_pose_graph_has_the_eager_ones_links_and_chain(boxes, bins):
     assert any(eager.links.get(u) for u in nodes)
     for u in nodes:
         assert sorted(lazy.links[u]) == sorted(eager.links.get(u, [])), u
+
+
+def test_the_arenas_proof_halves_its_chains_coarse_regrasps_first(tmp_path):
+    # regression: the TurtleBot3 arena's false chains all regrasp in coarse bins (the two
+    # grasps valid at different yaws of one bin); halving their regrasps' bins first proves
+    # it in 4 rounds, where halving the parts spanning more floor first took 8
+    from factories import benchmark_script
+
+    from pivot_ompl.scene import load_scene
+
+    mod = benchmark_script("buildings")
+    m = next(m for m in mod.CORPUS if m.name == "turtlebot3_world")
+    scene = load_scene(mod.import_corpus_map(m, tmp_path)["scene"])
+    proof = prove_no_plan(scene)
+    assert proof.apart is True
+    assert not proof.start_reach.covers(shapely.Point(scene.goal[:2]))
+    assert proof.rounds <= 4

@@ -1,10 +1,10 @@
-"""Which bins of a chain of held-pose parts are halved first (pose_split.spanning_bins)."""
+"""Which bins of a chain of held-pose parts are halved first (pose_split)."""
 
 from __future__ import annotations
 
 import math
 
-from pivot_ompl.analysis.pose_split import SPANS, spanning_bins
+from pivot_ompl.analysis.pose_split import SPANS, regrasp_bins, spanning_bins
 
 WIDTHS = [2.0 * math.pi / 8] * 8
 FINEST = 2.0 * math.pi / 512
@@ -37,3 +37,17 @@ def test_the_chain_ends_and_bins_at_the_finest_width_are_never_chosen():
     areas = [40.0, 10.0, 30.0, 10.0, 40.0]
     assert spanning_bins(path, areas, widths, FINEST) == set()
     assert spanning_bins(path, areas, WIDTHS, FINEST) == {2}  # bin 2 coarser: chosen
+
+
+def test_the_bins_where_a_chain_changes_grasp_are_its_regrasps():
+    # turning through bins 0-2 at grasp 0, regrasping to 1 in bin 2, turning on, regrasping
+    # back to 0 in bin 4; moving at one grasp from a bin to the next is no regrasp
+    path = [(0, 0, 0), (1, 0, 0), (2, 0, 0), (2, 1, 3), (3, 1, 0), (4, 1, 2), (4, 0, 1)]
+    assert regrasp_bins(path, WIDTHS, FINEST) == {2, 4}
+    assert regrasp_bins(path[:3], WIDTHS, FINEST) == set()
+
+
+def test_a_regrasp_in_a_bin_at_the_finest_width_is_not_halved_again():
+    path = [(0, 0, 0), (1, 0, 0), (1, 2, 0), (2, 2, 0), (2, 3, 1)]
+    widths = [WIDTHS[0], FINEST, *WIDTHS[2:]]
+    assert regrasp_bins(path, widths, FINEST) == {2}
