@@ -120,9 +120,10 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
         parallel: with ``bound`` and the regrasp planner, prove "no plan" and the lower
             bounds in a process of their own beside the search, from its start
             (:mod:`pivot_ompl.analysis.prover`: the same proofs, on a second core); ``None``
-            (default): on two cores or more where they are estimated to take a second or
-            more (:func:`~pivot_ompl.analysis.prover.wanted`); ``False``: in the search's
-            process, the late proof in windows of the limit (``late_proof``).
+            (default): on two cores or more, with a limit of 5 s or more, where they are
+            estimated to take a second or more (:func:`~pivot_ompl.analysis.prover.wanted`);
+            ``False``: in the search's process, the late proof in windows of the limit
+            (``late_proof``).
 
     Raises:
         PlanningError: ``INVALID_START``/``INVALID_GOAL`` (no grasp there, or not ``start_grasp``).
@@ -142,7 +143,7 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
                 scene = load_scene(scene, deadline=deadline)
             base = parse_spec(planner)[0]
             if base == "regrasp" and bound and late_proof is not False and \
-                    wanted(scene, parallel):
+                    wanted(scene, parallel, time_limit=time_limit):
                 prover = closing.enter_context(Prover(scene, end=end, prove=prove))
             if base in OMPL_PLANNERS:
                 seed_ompl(seed)

@@ -59,6 +59,9 @@ log = logging.getLogger(__name__)
 #: A scene gets a prover where its held poses' proof or its guided bound is estimated at
 #: this many seconds or more (a process's start costs about a second of the other core).
 MIN_SECONDS = 1.0
+#: Shortest time limit (s) a prover is started for by default: its process takes about a
+#: second to start, a shorter plan would only pay for it.
+MIN_LIMIT = 5.0
 #: Seconds between two looks at the parent's messages by the prover's stop condition.
 POLL_PERIOD = 0.05
 #: Seconds :meth:`Prover.close` waits for the process to end before terminating it (a
@@ -74,15 +77,16 @@ def cores() -> int:
         return os.cpu_count() or 1
 
 
-def wanted(scene: Scene, choice: bool | None) -> bool:
-    """Whether a plan of ``scene`` runs a :class:`Prover`.
+def wanted(scene: Scene, choice: bool | None, *, time_limit: float = math.inf) -> bool:
+    """Whether a plan of ``scene`` within ``time_limit`` s runs a :class:`Prover`.
 
-    ``choice`` ``True``/``False``: as said; ``None``: on two cores or more, where the held
-    poses' proof or the guided bound is estimated at :data:`MIN_SECONDS` or more.
+    ``choice`` ``True``/``False``: as said; ``None``: on two cores or more, with a limit of
+    :data:`MIN_LIMIT` or more, where the held poses' proof or the guided bound is estimated
+    at :data:`MIN_SECONDS` or more.
     """
     if choice is not None:
         return choice
-    if cores() < 2:
+    if cores() < 2 or time_limit < MIN_LIMIT:
         return False
     return max(proof_estimate(scene), guided_estimate(scene)) >= MIN_SECONDS
 
@@ -115,6 +119,7 @@ class Prover:
         self.bound: RegraspBound | None = None
         self.route: float | None = None
         self._done = False
+        self._ready = False
         ours, theirs = socket.socketpair()
         self._conn = Connection(ours.detach())
         # a new interpreter (no fork of a process with OMPL's threads; unlike multiprocessing's
@@ -168,11 +173,13 @@ class Prover:
     def close(self) -> None:
         """Stop the process: told to (it polls the pipe), terminated if still running.
 
-        Terminated after :data:`CLOSE_WAIT` s (still starting, or between two polls).
+        Terminated after :data:`CLOSE_WAIT` s (between two polls), or at once while it is
+        still starting (it has not read its job).
         """
         self._outbox.put(("stop", None))
+        self._receive(0.0)  # its "ready", if sent
         try:
-            self._process.wait(CLOSE_WAIT)
+            self._process.wait(CLOSE_WAIT if self._ready else 0.0)  # still starting: at once
         except subprocess.TimeoutExpired:
             self._process.terminate()
             self._process.wait()
@@ -204,7 +211,9 @@ class Prover:
             self._done = True
 
     def _take(self, kind: str, value: Any) -> None:
-        if kind == "no plan":
+        if kind == "ready":
+            self._ready = True
+        elif kind == "no plan":
             log.debug("prover: no plan exists: %s", value.reason)
             self.proof = value
         elif kind == "bound" and keep_bound(self.scene, value):
@@ -264,6 +273,7 @@ def serve(conn: Connection) -> None:
     logging.basicConfig(level=level, format="%(levelname)s %(name)s (prover): %(message)s")
     word = _ParentWord(conn, end)
     try:
+        conn.send(("ready", None))
         passages = PassageOnce(scene)  # the order (module docstring), and the proof's passage
         passages(should_stop=word)
         jobs = (_no_plan, _bounds) if _narrow(passages) else (_bounds, _no_plan)
