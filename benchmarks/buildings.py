@@ -8,8 +8,9 @@ Markdown table gives: the floor area and its boxes, runs solved, the median wall
 run (the whole ``plan`` command: import of the scene, bound, search, conversion), the
 regrasps against the proven bound the plan carries (``regrasps_lower_bound``; "-" when the
 bound was not proven within ``plan``'s share of the limit), the median route ratio (route
-length over the proven shortest route) and the peak memory of a run (``ru_maxrss`` of the
-child process, from ``os.wait4``).
+length over the proven shortest route) and the peak memory of a run (the plan's process and
+its prover process together, sampled from ``/proc``: ``common.TreeMemory``; at least the
+``ru_maxrss`` of ``os.wait4``).
 
 Usage::
 
@@ -40,7 +41,7 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from common import machine_lock  # noqa: E402
+from common import TreeMemory, machine_lock  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 HALF_PI = 0.5 * math.pi
@@ -141,9 +142,11 @@ def import_corpus_map(m: CorpusMap, out: Path) -> dict[str, Any]:
 
 
 def plan_once(scene: str, seed: int, limit: float, out: Path, *,
-              prove: bool = False, fresh: bool = False) -> dict[str, Any]:
+              prove: bool = False, fresh: bool = False,
+              parallel: bool | None = None) -> dict[str, Any]:
     """One ``pivot-ompl plan`` in a fresh process: exit code, wall and CPU time, peak memory, plan.
 
+    ``parallel``: ``plan --parallel`` / ``--no-parallel`` (``None``: ``plan``'s default).
     ``prove``: ``plan --prove`` (the guided bound refined inside the plan whatever its
     estimate; by default ``plan`` refines it where the estimate fits the limit).
     ``fresh``: the plan's own empty cache folder (``XDG_CACHE_HOME``; no bound cached by
@@ -152,7 +155,8 @@ def plan_once(scene: str, seed: int, limit: float, out: Path, *,
     plan_path = out / f"{Path(scene).stem}.seed{seed}.json"
     plan_path.unlink(missing_ok=True)
     cmd = [sys.executable, "-m", "pivot_ompl.cli", "plan", scene, "--time", str(limit),
-           "--seed", str(seed), "--out", str(plan_path)] + (["--prove"] if prove else [])
+           "--seed", str(seed), "--out", str(plan_path)] + (["--prove"] if prove else []) \
+        + ([] if parallel is None else ["--parallel" if parallel else "--no-parallel"])
     env = dict(os.environ)
     with machine_lock(), tempfile.TemporaryDirectory() as cache:
         if fresh:
@@ -161,16 +165,18 @@ def plan_once(scene: str, seed: int, limit: float, out: Path, *,
         with tempfile.TemporaryFile("w+") as stdout:  # a file: wait4 reaps the process
             proc = subprocess.Popen(cmd, stdout=stdout, stderr=subprocess.PIPE, text=True,
                                     env=env)
+            memory = TreeMemory(proc.pid)
             assert proc.stderr is not None
             err = proc.stderr.read()
             _, status, usage = os.wait4(proc.pid, 0)
+            together = memory.stop()
             stdout.seek(0)
             out_text = stdout.read()
         wall = time.perf_counter() - t0
         proc.returncode = os.waitstatus_to_exitcode(status)
     run: dict[str, Any] = {"seed": seed, "code": proc.returncode, "wall": wall,
                            "cpu": usage.ru_utime + usage.ru_stime,
-                           "peak_mb": usage.ru_maxrss / 1024.0,
+                           "peak_mb": max(usage.ru_maxrss / 1024.0, together),
                            "outcome": outcome(proc.returncode, out_text),
                            "message": err.replace("\r", "\n").strip().splitlines()[-1:]}
     if proc.returncode == 0 and plan_path.exists():
@@ -261,6 +267,8 @@ def main() -> None:
     p.add_argument("--prove", action="store_true",
                    help="plan with --prove (the bound refined inside the plan whatever its "
                         "estimate; by default plan refines it where the estimate fits)")
+    p.add_argument("--no-parallel", action="store_true",
+                   help="plan with --no-parallel (the proofs in the plan's own process)")
     p.add_argument("--fresh", action="store_true",
                    help="each plan with its own empty cache folder (a first plan: no bound "
                         "cached by an earlier seed)")
@@ -286,6 +294,7 @@ def main() -> None:
         runs = []
         for seed in range(args.seeds):
             run = plan_once(info["scene"], seed, args.time, out, prove=args.prove,
+                            parallel=False if args.no_parallel else None,
                             fresh=args.fresh)
             runs.append(run)
             print(f"{m.name} seed {seed}: {run['outcome']} (code {run['code']}), "
@@ -296,7 +305,8 @@ def main() -> None:
                           **info, "runs": runs}
     command = (f"python benchmarks/buildings.py --seeds {args.seeds} --time {args.time:g}"
                + (f" --maps {args.maps}" if args.maps else "")
-               + (" --prove" if args.prove else "") + (" --fresh" if args.fresh else ""))
+               + (" --prove" if args.prove else "") + (" --fresh" if args.fresh else "")
+               + (" --no-parallel" if args.no_parallel else ""))
     text = table(record, command)
     (out / "buildings.md").write_text(text)
     (out / "buildings.json").write_text(json.dumps(

@@ -150,3 +150,47 @@ def median_of(rows: list[dict[str, Any]], key: str) -> float | None:
 def fmt(x: float | None, spec: str) -> str:
     """``x`` formatted with ``spec``, ``-`` for ``None``."""
     return "-" if x is None else format(x, spec)
+
+
+class TreeMemory:
+    """Peak resident memory (MB) of a process and its descendants together (Linux).
+
+    Sampled every ``period`` s in a thread from ``/proc``: a plan's prover process
+    (:mod:`pivot_ompl.analysis.prover`) counts with the plan's own, at the same time, which
+    ``ru_maxrss`` (the largest single process) does not. :meth:`stop` returns the peak.
+    """
+
+    def __init__(self, pid: int, period: float = 0.02) -> None:
+        import threading
+
+        self.pid, self.period, self.peak_mb = pid, period, 0.0
+        self._done = threading.Event()
+        self._page_mb = os.sysconf("SC_PAGE_SIZE") / 2**20
+        self._thread = threading.Thread(target=self._sample, daemon=True)
+        self._thread.start()
+
+    def _tree(self, pid: int) -> list[int]:
+        out, todo = [], [pid]
+        while todo:
+            p = todo.pop()
+            out.append(p)
+            for task in Path(f"/proc/{p}/task").glob("*/children"):
+                with contextlib.suppress(OSError):
+                    todo.extend(int(c) for c in task.read_text().split())
+        return out
+
+    def _sample(self) -> None:
+        while not self._done.is_set():
+            total = 0.0
+            for p in self._tree(self.pid):
+                with contextlib.suppress(OSError, ValueError, IndexError):
+                    total += int(Path(f"/proc/{p}/statm").read_text().split()[1]) * self._page_mb
+            self.peak_mb = max(self.peak_mb, total)
+            self._done.wait(self.period)
+
+    def stop(self) -> float:
+        """Stop sampling; the peak (MB)."""
+        self._done.set()
+        self._thread.join()
+        return self.peak_mb
+

@@ -4,7 +4,8 @@ Writes one hall per size: a square floor of S x S m with ``--boxes`` obstacle bo
 (0.5-2 m a side, any yaw) scattered by a seeded generator clear of the start (near one corner)
 and the goal (near the opposite one), so no regrasp is needed. Then, for each hall, runs
 ``pivot-ompl plan HALL --time T`` in a fresh process under ``/usr/bin/time`` and prints the
-floor size, status, wall seconds, peak resident memory and the plan's regrasps.
+floor size, status, wall seconds, peak resident memory (the plan's process and its prover
+process together: ``common.TreeMemory``) and the plan's regrasps.
 
     python benchmarks/halls.py [--sizes 50,100,200] [--boxes 60] [--time 10] [--seed 0]
         [--folder results/halls] [--python OTHER_VENV/bin/python]
@@ -25,6 +26,9 @@ from pathlib import Path
 
 import numpy as np
 import yaml
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from common import TreeMemory  # noqa: E402
 
 #: Clear radius (m) round the start and the goal.
 CLEAR = 4.0
@@ -56,15 +60,20 @@ def run(scene: Path, limit: float, seed: int, python: str = sys.executable) -> d
                "plan", str(scene), "--time", str(limit), "--seed", str(seed), "--out",
                str(out)]
         # run from elsewhere: ``-m`` would import the package of the working folder first
-        p = subprocess.run(cmd, capture_output=True, text=True, check=False, cwd=tmp)
-        m = re.search(r"TIME ([\d.]+) s (\d+) KB", p.stderr)
+        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                text=True, cwd=tmp)
+        memory = TreeMemory(proc.pid)  # the plan and its prover together
+        stdout, stderr = proc.communicate()
+        together = memory.stop()
+        m = re.search(r"TIME ([\d.]+) s (\d+) KB", stderr)
         regrasps = None
         if out.exists():
             regrasps = sum(1 for ph in json.loads(out.read_text())["phases"]
                            if ph.get("type") == "transit")
-        status = (p.stdout.split(":")[0] if p.stdout else "?").strip()
+        status = (stdout.split(":")[0] if stdout else "?").strip()
         return {"status": status, "seconds": float(m.group(1)) if m else math.nan,
-                "peak_mb": int(m.group(2)) / 1024 if m else math.nan, "regrasps": regrasps}
+                "peak_mb": max(int(m.group(2)) / 1024 if m else math.nan, together),
+                "regrasps": regrasps}
 
 
 def main(argv: list[str] | None = None) -> int:

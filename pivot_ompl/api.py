@@ -2,31 +2,32 @@
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import math
-import os
 import time
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from ompl import util as ou
 
 from pivot_ompl.analysis.late_proof import LateProof, NoPlan
-from pivot_ompl.analysis.passage import Passage, PassageOnce, explain_no_plan
+from pivot_ompl.analysis.passage import PassageOnce, explain_no_plan
 from pivot_ompl.analysis.plan_bounds import plan_bounds
-from pivot_ompl.analysis.turning import TurningPlace
+from pivot_ompl.analysis.prover import Prover, wanted
 from pivot_ompl.base.path_conversion import path_to_plan
 from pivot_ompl.base.problem import make_setup
 from pivot_ompl.base.staged_solve import MIN_SOLVE_TIME as MIN_SOLVE_TIME
 from pivot_ompl.base.staged_solve import solve_staged
-from pivot_ompl.base.state import read_state
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.errors import Interrupted, PlanningError, counted
 from pivot_ompl.plan_arguments import MAX_SEED as MAX_SEED
 from pivot_ompl.plan_arguments import MAX_TIME_LIMIT as MAX_TIME_LIMIT
 from pivot_ompl.plan_arguments import check_config, check_plan_arguments
 from pivot_ompl.plan_arguments import check_time_limit as check_time_limit
+from pivot_ompl.plan_result import PlanResult as PlanResult
+from pivot_ompl.plan_result import infeasible_result as infeasible_result
+from pivot_ompl.plan_result import path_plan, scene_record, stopped_in_setup
 from pivot_ompl.planfile import Plan
 from pivot_ompl.planners import (
     OMPL_PLANNERS,
@@ -40,7 +41,7 @@ from pivot_ompl.planners.explain import explain_plan, regrasp_places
 from pivot_ompl.planners.regrasp_search import RegraspSearch
 from pivot_ompl.planners.repair import State, stored_route
 from pivot_ompl.quality import plan_quality
-from pivot_ompl.scene import Scene, load_scene, scene_digest
+from pivot_ompl.scene import Scene, load_scene
 
 log = logging.getLogger(__name__)
 
@@ -67,79 +68,12 @@ FINISH_SHARE, FINISH_MAX = 0.2, 3.0
 WRITE_SHARE, WRITE_MAX = 0.1, 2.0
 
 
-@dataclass
-class PlanResult:
-    """The outcome of :func:`plan`.
-
-    Attributes:
-        status: OMPL's status name (``"EXACT_SOLUTION"``, ``"TIMEOUT"``, ...).
-        plan: the plan (``status "none"`` and no phases when nothing was found).
-        planner: planner name.
-        seed: seed used.
-        time_limit: time limit (s).
-        timings: seconds spent in ``setup``, ``solve``, ``convert`` and (solved plans)
-            ``bound``, fetching or computing the quality block's lower bounds (within the
-            time limit, see :func:`plan`; once per scene, then cached).
-        roadmap: planner figures (roadmap sizes, critical configurations...), if any.
-        motion_checks: counts of valid and invalid motions and cache hits.
-        search: the regrasp planner's roadmaps (for plotting), ``None`` for other planners.
-        scene: the scene planned (read from its file when :func:`plan` was given a path;
-            ``None`` when the time limit ran out while it was read).
-        infeasible_reason: with status ``INFEASIBLE`` (the regrasp bound's relaxation proves
-            that no plan exists), one line saying why: which passage, where, its width, what
-            needs what (:mod:`pivot_ompl.analysis.passage`); ``None`` otherwise.
-        passage: with ``INFEASIBLE``, the passage that blocks every plan, if one does.
-        turn: with ``INFEASIBLE``, the place where the held box cannot turn, if that is why
-            (:mod:`pivot_ompl.analysis.turning`).
-    """
-
-    status: str
-    plan: Plan
-    planner: str
-    seed: int
-    time_limit: float
-    timings: dict[str, float] = field(default_factory=dict)
-    roadmap: dict[str, Any] = field(default_factory=dict)
-    motion_checks: dict[str, int] = field(default_factory=dict)
-    search: RegraspSearch | None = field(default=None, repr=False)
-    scene: Scene | None = field(default=None, repr=False)
-    infeasible_reason: str | None = None
-    passage: Passage | None = field(default=None, repr=False)
-    turn: TurningPlace | None = field(default=None, repr=False)
-
-    @property
-    def solved(self) -> bool:
-        """Whether an exact solution was found."""
-        return self.status == "EXACT_SOLUTION"
-
-    @property
-    def pivots(self) -> int:
-        """Number of pivot rotations in the plan."""
-        return self.plan.pivots
-
-    @property
-    def regrasps(self) -> int:
-        """Number of regrasps (transit phases) in the plan."""
-        return self.plan.regrasps
-
-    def to_json(self, path: str | Path) -> Path:
-        """Write the plan as ``pivot-plan/1`` (with planner, seed, timings as extra fields).
-
-        Raises:
-            PlanningError: no path reaches the goal (``TIMEOUT``...): nothing is written.
-        """
-        if not self.solved:
-            raise PlanningError(self.status, "no plan reaches the goal, nothing written "
-                                "(an approximate path is not a plan)")
-        return self.plan.to_json(path)
-
-
 def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: float = 30.0,
          seed: int = 0, simplify: bool = False, regrasp_cost: float | None = None,
          config: RegraspConfig | None = None, bound: bool = True,
          checker: PivotChecker | None = None, resume: RegraspSearch | None = None,
          start_grasp: int | None = None, late_proof: bool | None = None,
-         prove: bool | None = None) -> PlanResult:
+         prove: bool | None = None, parallel: bool | None = None) -> PlanResult:
     """Plan a pivoting path (with regrasps where needed) for ``scene``.
 
     Args:
@@ -183,72 +117,86 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
             its estimate (:func:`~pivot_ompl.analysis.bound_levels.guided_estimate`) fits
             what the limit leaves; ``True``: whatever the estimate, stopped at the limit
             (rounds done stand); ``False``: never (a refined bound is still read from cache).
+        parallel: with ``bound`` and the regrasp planner, prove "no plan" and the lower
+            bounds in a process of their own beside the search, from its start
+            (:mod:`pivot_ompl.analysis.prover`: the same proofs, on a second core); ``None``
+            (default): on two cores or more, with a limit of 5 s or more, where they are
+            estimated to take a second or more (:func:`~pivot_ompl.analysis.prover.wanted`);
+            ``False``: in the search's process, the late proof in windows of the limit
+            (``late_proof``).
 
     Raises:
         PlanningError: ``INVALID_START``/``INVALID_GOAL`` (no grasp there, or not ``start_grasp``).
         InputError: bad parameters (wrong type or value), naming the parameter.
     """
     time_limit = check_plan_arguments(scene, planner, time_limit, seed, simplify, bound,
-                                      start_grasp, late_proof, prove)
+                                      start_grasp, late_proof, prove, parallel)
     config = check_config(config, regrasp_cost)
     started, cpu = time.monotonic(), time.process_time()  # the limit counts from here (loading too)
     t0 = time.perf_counter()
     deadline = started + time_limit
-    try:
-        if not isinstance(scene, Scene):
-            scene = load_scene(scene, deadline=deadline)
-        base = parse_spec(planner)[0]
-        if base in OMPL_PLANNERS:
-            seed_ompl(seed)
-        problem = make_setup(scene, seed=seed, checker=checker, start_grasp=start_grasp,
-                             should_stop=lambda: time.monotonic() >= deadline)
-    except Interrupted as e:
-        return _stopped_in_setup(scene, planner, seed, time_limit, e.what,
-                                 time.perf_counter() - t0)
-    passages = PassageOnce(scene)  # searched once, for the check here and the late proof
-    if bound:
-        proof = explain_no_plan(scene, should_stop=lambda: time.monotonic() >= started +
-                                PROOF_SHARE * time_limit, passages=passages)
-        if proof is not None:
-            return infeasible_result(scene, planner, seed, time_limit,
-                                     NoPlan(proof[0], proof[1]),
-                                     {"setup": time.perf_counter() - t0, "solve": 0.0})
-    p, config = _planner_for(problem, planner, seed=seed, config=config,
-                             resume=Resume(start_grasp, resume))
-    late = None
-    if bound if late_proof is None else late_proof:  # a search slow to find a path asks once
-        late = LateProof(scene, begin=started + LATE_PROOF_BEGIN * time_limit,
-                         end=started + LATE_PROOF_END * time_limit,
-                         explain_end=started + EXPLAIN_END * time_limit, passages=passages,
-                         held_begin=started + HELD_PROOF_BEGIN * time_limit,
-                         held_end=started + HELD_PROOF_END * time_limit, work_begin=cpu +
-                         LATE_PROOF_BEGIN * time_limit if isinstance(p, RegraspPlanner) else None)
-    if isinstance(p, RegraspPlanner):  # its quality share is one of the solve's limit
-        p.solve_limit = time_limit - (time.monotonic() - started)
-        p.proof = late  # polled by its search; other planners are stopped to ask it
-    t1 = time.perf_counter()
-    name = solve_staged(problem.setup, time_limit - _share(time_limit, FINISH_SHARE, FINISH_MAX),
-                        started, proof=None if isinstance(p, RegraspPlanner) else late,
-                        ask_at=started + LATE_PROOF_BEGIN * time_limit)
-    t2 = time.perf_counter()
-    if late is not None and late.proof is not None and name != "EXACT_SOLUTION":
-        return infeasible_result(scene, planner, seed, time_limit, late.proof,
-                                 {"setup": t1 - t0, "solve": t2 - t1})
-    if name in ("INVALID_START", "INVALID_GOAL"):
-        pose = scene.start if name == "INVALID_START" else scene.goal
-        raise PlanningError(name, problem.checker.explain(pose))
-    extra = {"planner": planner, "seed": seed, "time_limit": time_limit, **_scene_record(scene)}
-    end = deadline - _share(time_limit, WRITE_SHARE, WRITE_MAX)
-    result_plan = _result_plan(scene, problem, name, extra, simplify=simplify and base in
-                               OMPL_PLANNERS, end=end)
-    t3 = time.perf_counter()
-    timings = {"setup": t1 - t0, "solve": t2 - t1, "convert": t3 - t2}
-    result_plan.extra["timings"] = timings
-    stats = dict(getattr(p, "stats", {}) or {})
-    result_plan.extra["roadmap"] = stats
-    if result_plan.phases:
-        result_plan.extra["quality"] = _quality(result_plan, scene, config, bound, timings,
-                                                end, prove=prove)
+    end = deadline - _share(time_limit, WRITE_SHARE, WRITE_MAX)  # the bounds' end
+    prover = None
+    with contextlib.ExitStack() as closing:  # a prover ends with the plan, whatever ends it
+        try:
+            if not isinstance(scene, Scene):
+                scene = load_scene(scene, deadline=deadline)
+            base = parse_spec(planner)[0]
+            if base == "regrasp" and bound and late_proof is not False and \
+                    wanted(scene, parallel, time_limit=time_limit):
+                prover = closing.enter_context(Prover(scene, end=end, prove=prove))
+            if base in OMPL_PLANNERS:
+                seed_ompl(seed)
+            problem = make_setup(scene, seed=seed, checker=checker, start_grasp=start_grasp,
+                                 should_stop=lambda: time.monotonic() >= deadline)
+        except Interrupted as e:
+            return stopped_in_setup(scene, planner, seed, time_limit, e.what,
+                                     time.perf_counter() - t0)
+        passages = PassageOnce(scene)  # searched once, for the check here and the late proof
+        if bound:
+            proof = explain_no_plan(scene, should_stop=lambda: time.monotonic() >= started +
+                                    PROOF_SHARE * time_limit, passages=passages)
+            if proof is not None:
+                return infeasible_result(scene, planner, seed, time_limit,
+                                         NoPlan(proof[0], proof[1]),
+                                         {"setup": time.perf_counter() - t0, "solve": 0.0})
+        p, config = _planner_for(problem, planner, seed=seed, config=config,
+                                 resume=Resume(start_grasp, resume))
+        regrasp = isinstance(p, RegraspPlanner)
+        late = prover if prover is not None else _late_proof(
+            scene, regrasp=regrasp, bound=bound, late_proof=late_proof, passages=passages,
+            started=started, cpu=cpu, time_limit=time_limit)
+        if regrasp:  # its quality share is one of the solve's limit
+            p.solve_limit = time_limit - (time.monotonic() - started)
+            p.proof = late  # polled by its search; other planners are stopped to ask it
+        t1 = time.perf_counter()
+        name = solve_staged(problem.setup,
+                            time_limit - _share(time_limit, FINISH_SHARE, FINISH_MAX), started,
+                            proof=None if regrasp else late,
+                            ask_at=started + LATE_PROOF_BEGIN * time_limit)
+        t2 = time.perf_counter()
+        if late is not None and late.proof is not None and name != "EXACT_SOLUTION":
+            return infeasible_result(scene, planner, seed, time_limit, late.proof,
+                                     {"setup": t1 - t0, "solve": t2 - t1})
+        if name in ("INVALID_START", "INVALID_GOAL"):
+            pose = scene.start if name == "INVALID_START" else scene.goal
+            raise PlanningError(name, problem.checker.explain(pose))
+        extra = {"planner": planner, "seed": seed, "time_limit": time_limit,
+                 **scene_record(scene)}
+        result_plan = path_plan(scene, problem, name, extra, simplify=simplify and base in
+                                OMPL_PLANNERS, end=end)
+        t3 = time.perf_counter()
+        timings = {"setup": t1 - t0, "solve": t2 - t1, "convert": t3 - t2}
+        result_plan.extra["timings"] = timings
+        stats = dict(getattr(p, "stats", {}) or {})
+        result_plan.extra["roadmap"] = stats
+        if result_plan.phases:
+            if prover is not None:  # its bounds, kept as this process's own
+                prover.solved(result_plan.regrasps)
+                prover.wait_bounds(until=_bound_end(result_plan, end, prove),
+                                   regrasps=result_plan.regrasps)
+            result_plan.extra["quality"] = _quality(result_plan, scene, config, bound,
+                                                    timings, end, prove=prove)
     c = problem.checker.counters
     log.info("%s on %s: %s in %.2f s (%s, %s)", planner, scene.name, name, t2 - t1,
              counted(result_plan.pivots, "pivot"), counted(result_plan.regrasps, "regrasp"))
@@ -272,40 +220,6 @@ def _planner_for(problem: Any, planner: str, *, seed: int, config: RegraspConfig
     return p, config
 
 
-def _stopped_in_setup(scene: Scene | str | os.PathLike, planner: str, seed: int,
-                      time_limit: float, what: str, spent: float) -> PlanResult:
-    """The ``TIMEOUT`` result of a time limit reached before the search (``what`` stopped)."""
-    log.warning("the %.4g s limit ran out while %s: no search", time_limit, what)
-    extra = {"planner": planner, "seed": seed, "time_limit": time_limit, "stopped": what}
-    if isinstance(scene, Scene):
-        m = scene.model
-        empty = Plan(scene.name, "none", m.object_size, m.robot_footprint, m.standoff,
-                     scene.alpha_max, scene.start, [], extra, robot_model=scene.robot_model)
-    else:  # stopped while reading the scene: nothing of it is known
-        empty = Plan(Path(scene).stem, "none", (0.0, 0.0, 0.0), (0.0, 0.0), 0.0, 0.0,
-                     (0.0, 0.0, 0.0), [], extra)
-    timings = {"setup": spent, "solve": 0.0, "convert": 0.0}
-    return PlanResult("TIMEOUT", empty, planner, seed, time_limit, timings,
-                      scene=scene if isinstance(scene, Scene) else None)
-
-
-def infeasible_result(scene: Scene, planner: str, seed: int, time_limit: float, proof: NoPlan,
-                      timings: dict[str, float]) -> PlanResult:
-    """The ``INFEASIBLE`` result of a scene the relaxation proves has no plan (``proof``).
-
-    Its plan has no phases and records the proof's fields (``no_plan``, ``passage`` or
-    ``turn``); ``timings`` gets ``convert``.
-    """
-    timings = {**timings, "convert": 0.0}
-    log.info("%s: no plan exists (proven by the relaxation in %.2f s)", scene.name,
-             sum(timings.values()))
-    extra = {"planner": planner, "seed": seed, "time_limit": time_limit, **_scene_record(scene),
-             **proof.fields()}
-    empty = _result_plan(scene, None, "INFEASIBLE", extra, simplify=False)
-    return PlanResult("INFEASIBLE", empty, planner, seed, time_limit, timings, scene=scene,
-                      infeasible_reason=proof.reason, passage=proof.passage, turn=proof.turn)
-
-
 def plan_from_route(scene: Scene, checker: PivotChecker, states: list[State], *,
                     planner: str, seed: int, time_limit: float, timings: dict[str, float],
                     stats: dict[str, Any], config: RegraspConfig | None = None,
@@ -318,7 +232,7 @@ def plan_from_route(scene: Scene, checker: PivotChecker, states: list[State], *,
     """
     t0 = time.perf_counter()
     extra = {"planner": planner, "seed": seed, "time_limit": time_limit,
-             **_scene_record(scene), "route": stored_route(states)}
+             **scene_record(scene), "route": stored_route(states)}
     result_plan = path_to_plan(scene, checker, states, extra=extra)
     timings["convert"] = time.perf_counter() - t0
     result_plan.extra["timings"] = timings
@@ -347,32 +261,9 @@ def seed_ompl(seed: int) -> None:
         ou.setLogLevel(level)
 
 
-def _scene_record(scene: Scene) -> dict[str, Any]:
-    """What a plan records of its scene: its digest and, planned from a file, its path."""
-    out: dict[str, Any] = {"scene_sha256": scene_digest(scene)}
-    if scene.source and Path(scene.source).is_file():
-        out["scene_path"] = str(Path(scene.source).resolve())
-    return out
-
-
 def _share(time_limit: float, share: float, most: float) -> float:
     """``share`` of ``time_limit`` (s), at most ``most`` s."""
     return min(share * time_limit, most)
-
-
-def _result_plan(scene: Scene, problem: Any, status: str, extra: dict[str, Any], *,
-                 simplify: bool, end: float = math.inf) -> Plan:
-    """The solution path as a plan (``status "none"``, no phases: none), shortened to ``end``."""
-    if status == "EXACT_SOLUTION" and (ss := problem.setup).haveExactSolutionPath():
-        if simplify:
-            ss.simplifySolution()
-        path = ss.getSolutionPath()
-        states = [read_state(path.getState(i)) for i in range(path.getStateCount())]
-        return path_to_plan(scene, problem.checker, states, extra={
-            **extra, "route": stored_route(states)}, should_stop=lambda: time.monotonic() >= end)
-    return Plan(scene.name, "none", scene.model.object_size, scene.model.robot_footprint,
-                scene.model.standoff, scene.alpha_max, scene.start, [], extra,
-                robot_model=scene.robot_model)
 
 
 def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool,
@@ -386,8 +277,8 @@ def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool
     regrasps, route = None, None
     if bound:
         t0 = time.perf_counter()
-        guided = prove is True or (prove is None and result_plan.regrasps > 0)
-        bound_end = end if guided else min(end, time.monotonic() + BOUND_TIME_LIMIT)
+        guided = _guided(result_plan, prove)
+        bound_end = _bound_end(result_plan, end, prove)
         route_length = plan_quality(result_plan)["route_length"]
         regrasps, route = plan_bounds(scene, result_plan.regrasps, route_length=route_length,
                                       should_stop=lambda: time.monotonic() > bound_end,
@@ -398,3 +289,32 @@ def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool
     q = plan_quality(result_plan, regrasps_lower_bound=regrasps, shortest_route=route,
                      costs=config.cost)
     return {**q, **explain_plan(result_plan, scene, q)}
+
+
+def _guided(result_plan: Plan, prove: bool | None) -> bool:
+    """Whether the guided refinement may run for ``result_plan``'s bound (``plan``'s ``prove``)."""
+    return prove is True or (prove is None and result_plan.regrasps > 0)
+
+
+def _bound_end(result_plan: Plan, end: float, prove: bool | None) -> float:
+    """Clock time by which ``result_plan``'s lower bounds stop."""
+    return end if _guided(result_plan, prove) else min(end, time.monotonic() + BOUND_TIME_LIMIT)
+
+
+def _late_proof(scene: Scene, *, regrasp: bool, bound: bool, late_proof: bool | None,
+                passages: PassageOnce, started: float, cpu: float, time_limit: float
+                ) -> LateProof | None:
+    """The late proof the search asks whether no plan exists, if any (``plan``'s arguments).
+
+    In the search's own process, in windows of the limit (a
+    :class:`~pivot_ompl.analysis.prover.Prover` beside it, where ``plan`` starts one, asks
+    instead).
+    """
+    if not (bound if late_proof is None else late_proof):
+        return None
+    return LateProof(scene, begin=started + LATE_PROOF_BEGIN * time_limit,
+                     end=started + LATE_PROOF_END * time_limit,
+                     explain_end=started + EXPLAIN_END * time_limit, passages=passages,
+                     held_begin=started + HELD_PROOF_BEGIN * time_limit,
+                     held_end=started + HELD_PROOF_END * time_limit,
+                     work_begin=cpu + LATE_PROOF_BEGIN * time_limit if regrasp else None)

@@ -23,7 +23,7 @@ __all__ = ["MAX_SEED", "MAX_TIME_LIMIT", "check_config", "check_plan_arguments",
 
 def check_plan_arguments(scene: Any, planner: Any, time_limit: Any, seed: Any,
                      simplify: Any, bound: Any, start_grasp: Any,
-                     late_proof: Any = None, prove: Any = None) -> float:
+                     late_proof: Any = None, prove: Any = None, parallel: Any = None) -> float:
     """Validate :func:`plan`'s arguments; return the effective time limit (s)."""
     if not isinstance(scene, Scene | str | os.PathLike):
         raise InputError("scene", type(scene).__name__,
@@ -42,6 +42,10 @@ def check_plan_arguments(scene: Any, planner: Any, time_limit: Any, seed: Any,
         raise InputError("prove", prove, "must be True, False or None")
     if prove is True and not bound:
         raise InputError("prove", prove, "needs the bounds (bound=True, no --no-bound)")
+    if parallel is not None and not isinstance(parallel, bool):
+        raise InputError("parallel", parallel, "must be True, False or None")
+    if parallel is True and not bound:
+        raise InputError("parallel", parallel, "needs the bounds (bound=True, no --no-bound)")
     if late_proof is not None and not isinstance(late_proof, bool):
         raise InputError("late_proof", late_proof, "must be True, False or None")
     if start_grasp is not None:

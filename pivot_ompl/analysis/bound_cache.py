@@ -289,6 +289,21 @@ def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RES
     return bound
 
 
+def keep_bound(scene: Scene, bound: RegraspBound, *, resolution: float = RESOLUTION) -> bool:
+    """Keep in memory ``bound``, computed for ``scene`` by another process; whether kept.
+
+    Kept as :func:`lower_bound` keeps its own results: complete and passing
+    :func:`bound_problem` (the other process's :func:`lower_bound` wrote the disk).
+    """
+    if not isinstance(bound, RegraspBound) or bound.solvable is None or not bound.complete:
+        return False
+    if (problem := bound_problem(bound, scene)) is not None:
+        log.warning("regrasp bound not kept: %s", problem)
+        return False
+    _memory.put(scene_key(scene, resolution=resolution), bound)
+    return True
+
+
 def _refinable(hit: RegraspBound, scene: Scene, resolution: float, target: int | None,
                refine_seconds: float, guided_seconds: float = 0.0) -> bool:
     """Whether a finer level may now refine a kept result (then computed again)."""

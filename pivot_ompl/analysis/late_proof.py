@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import dataclasses
 import logging
+import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -136,6 +137,14 @@ class LateProof:
             goal's regions joined clear of every gap narrower than the held assembly, the
             held window ends at :data:`CLEAR_SHARE` of the way from ``held_begin`` to it;
             ``None``: tried where its estimate fits before ``explain_end``, stopped there.
+        should_stop: polled by every relaxation besides its own end (a prover's parent
+            that has a plan, :mod:`~pivot_ompl.analysis.prover`).
+        exact_seconds: the exact polygons run only where estimated at most this (s) too,
+            else the coarse raster, then the held poses whatever the windows (a prover's
+            choice: the cheaper proof first); ``None``: where they fit before ``end``.
+        gate_share: share of the held poses' window the gate may take (0: no gate, the
+            proof at once: a prover's where every way passes a gap narrower than the held
+            assembly, most often no plan).
 
     Attributes:
         proof: the proof, once found; ``None`` before, or when nothing was proven.
@@ -148,7 +157,9 @@ class LateProof:
                  passages: PassageOnce | None = None, held_begin: float | None = None,
                  work_begin: float | None = None,
                  work: Callable[[], float] = time.process_time,
-                 held_end: float | None = None) -> None:
+                 held_end: float | None = None,
+                 should_stop: Callable[[], bool] | None = None,
+                 exact_seconds: float | None = None, gate_share: float = GATE_SHARE) -> None:
         """Nothing tried yet."""
         self.scene, self.begin, self.end = scene, begin, end
         self.held_end = held_end
@@ -158,6 +169,9 @@ class LateProof:
         self.passages = passages if passages is not None else PassageOnce(scene)
         self.explain_end = end if explain_end is None else explain_end
         self.clock = clock
+        self.should_stop = should_stop
+        self.exact_seconds = exact_seconds
+        self.gate_share = gate_share
         self.proof: NoPlan | None = None
         self.tried = False
 
@@ -180,7 +194,8 @@ class LateProof:
             return self._held_later(now)
         stop = self._stop(self.end if known is None else self.explain_end)
         polygons = exhaustive_estimate(self.scene)
-        exact = polygons <= self.end - now
+        exact = polygons <= min(self.end - now, math.inf if self.exact_seconds is None
+                                else self.exact_seconds)
         if exact:  # proof and place at once (its polygons kept for the bound: joined)
             place = turning_place(self.scene, should_stop=stop, keep=True)
         else:
@@ -190,7 +205,8 @@ class LateProof:
                 keep_shared(self.scene, NOTHING_TO_PROVE, True)
                 return self._held_later(now)
             held = self.explain_end if self.held_end is None else self.held_end
-            if polygons > held - self.begin:  # a map too large for the exact polygons
+            if polygons > held - self.begin or self.exact_seconds is not None:
+                # a map too large for the exact polygons, or a prover's cheaper proof next
                 return self._held_later(now)  # the held poses need no other relaxation's word
             log.debug("late proof: nothing proven in %.2f s", self.clock() - now)
             return False
@@ -237,7 +253,7 @@ class LateProof:
                       window, "" if stop is not None else ": not tried")
             if stop is None:
                 return False
-            spent = self.work() + GATE_SHARE * window
+            spent = self.work() + self.gate_share * window
             try:  # one floor for the gate and the proof
                 floor = HeldFloor(self.scene, MOTION_CLEARANCE, stop)
             except Interrupted:
@@ -291,12 +307,15 @@ class LateProof:
 
         def stop() -> bool:
             now = self.clock()
-            return now >= cap or (now >= at and self.work() >= spent)
+            return now >= cap or (now >= at and self.work() >= spent) or self._told()
 
         return stop
 
     def _stop(self, at: float) -> Callable[[], bool]:
-        return lambda: self.clock() >= at
+        return lambda: self.clock() >= at or self._told()
+
+    def _told(self) -> bool:
+        return self.should_stop is not None and self.should_stop()
 
 
 def held_pose_proof(scene: Scene, *, should_stop: Callable[[], bool] | None = None,

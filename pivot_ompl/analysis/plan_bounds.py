@@ -62,7 +62,13 @@ from collections.abc import Callable
 import numpy as np
 import shapely
 
-from pivot_ompl.analysis.bound_cache import cached_bound, forget, lower_bound, refuted_by
+from pivot_ompl.analysis.bound_cache import (
+    cached_bound,
+    forget,
+    lower_bound,
+    refuted_by,
+    route_problem,
+)
 from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.analysis.rect_cells import axis_rectangles, near_rectangles
 from pivot_ompl.analysis.regrasp_bound import RegraspBound
@@ -267,6 +273,18 @@ def route_bound(scene: Scene, *, should_stop: Callable[[], bool] | None = None,
     if not use_cache:
         return disk_route(scene, should_stop=should_stop)
     return _shared_held_route(scene, None, should_stop, None)
+
+
+def keep_route_bound(scene: Scene, route: float) -> bool:
+    """Keep ``route`` (m), :func:`route_bound` computed by another process, for ``scene``'s plans.
+
+    Kept where it is a possible route bound of ``scene``
+    (:func:`~pivot_ompl.analysis.bound_cache.route_problem`); whether kept.
+    """
+    if route_problem(route, scene, name="route") is not None:
+        return False
+    keep_shared(scene, ("disk route",), route)
+    return True
 
 
 def _shared_held_route(scene: Scene, route_length: float | None,

@@ -91,9 +91,17 @@ def register(sub: argparse._SubParsersAction) -> None:
                          help="never refine the bound inside the plan (the quick bounds "
                               "only, at most 10 s; a refined bound is still read from the "
                               "cache)")
+    beside = p.add_mutually_exclusive_group()
+    beside.add_argument("--parallel", action="store_true", default=None,
+                        help="prove 'no plan' and the lower bounds in a second process "
+                             "beside the search, from its start. By default on 2 cores or "
+                             "more, with --time 5 s or more, where they are estimated at a second or more (a real "
+                             "building's floor)")
+    beside.add_argument("--no-parallel", action="store_false", dest="parallel",
+                        help="prove in the search's own process, in windows of --time")
     p.add_argument("--out", help="write the pivot-plan/1 JSON here")
     p.add_argument("--plot", help="write the plan figure here (.png, .svg, .pdf...)")
-    p.set_defaults(func=run, prove=None)
+    p.set_defaults(func=run, prove=None, parallel=None)
 
 
 def _progress(stop: threading.Event, limit: float) -> None:
@@ -150,7 +158,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         res = plan(source, planner=planner_with_share(args.planner, args.quality_share),
                    time_limit=args.time, seed=args.seed, regrasp_cost=args.regrasp_cost,
-                   bound=not args.no_bound, prove=args.prove)
+                   bound=not args.no_bound, prove=args.prove, parallel=args.parallel)
     except PlanningError as e:
         stop.set()
         print(f"\npivot-ompl plan: {e}", file=sys.stderr)

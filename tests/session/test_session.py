@@ -187,6 +187,7 @@ def test_a_new_process_replanning_a_plan_file_reuses_its_checked_walk(monkeypatc
     assert not planned  # the stored walk passed the checks: not planned again
 
 
+@pytest.mark.timed  # a 4 s limit: the passage's explanation window is clock seconds
 def test_a_change_that_leaves_no_plan_is_proved_within_the_time_limit():
     """Obstacles closing slot's slot and its door: the wall spans the floor, no plan exists."""
     s = PlanningSession(shipped("slot"), seed=0)

@@ -1,0 +1,323 @@
+"""The proofs a plan needs, on a second core while the search runs.
+
+On a floor where proving takes seconds (a building of hundreds of wall pieces) the search and
+the proofs compete for one core: :func:`pivot_ompl.api.plan` runs the regrasp and route
+bounds its quality block carries after the search, and tries the relaxations that may prove
+"no plan" in windows of the search's own time. A :class:`Prover` runs them instead in a
+process of its own, from the search's start, beside it:
+
+* **"no plan"**: :class:`~pivot_ompl.analysis.late_proof.LateProof` with its windows open at
+  once, to the end of the prover's time: the relaxation that proves and places (the exact
+  polygons only where estimated cheaper than the held poses' proof, else the coarse raster),
+  then the held poses' relaxation behind its gate;
+* **the bounds**: the disk route every plan's quality block carries
+  (:func:`~pivot_ompl.analysis.plan_bounds.route_bound`), then the regrasp bound
+  (:func:`~pivot_ompl.analysis.bound_cache.lower_bound`, the guided refinement given the
+  prover's time), which only a plan with regrasps needs.
+
+The order is the scene's: "no plan" first where every way from start to goal passes a gap
+narrower than the held assembly (:attr:`~pivot_ompl.analysis.passage.PassageOnce.clear`
+``False``: the lab's door, most often no plan; the held poses' proof then without its gate,
+which only spares a scene with a plan), the bounds first elsewhere (most often a plan,
+whose quality block waits for them). Once the search has a plan, the parent says so
+(:meth:`Prover.solved`): "no plan" is abandoned, the regrasp bound aims at the plan's count
+(none wanted for a plan without regrasps).
+
+Every answer is a proof computed by the same functions as in one process, sent back through
+a pipe and kept by the parent as its own (:func:`~pivot_ompl.analysis.bound_cache.keep_bound`,
+:func:`~pivot_ompl.analysis.plan_bounds.keep_route_bound`): the plan and its quality block are
+those of a plan made in one process; only the clock's seconds differ. The process is stopped
+when the plan ends (:meth:`Prover.close`), by its own end time, or when its parent is gone.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import os
+import queue
+import socket
+import subprocess
+import sys
+import threading
+import time
+from collections.abc import Callable
+from multiprocessing.connection import Connection
+from typing import Any
+
+from pivot_ompl.analysis.bound_cache import keep_bound, lower_bound
+from pivot_ompl.analysis.bound_levels import guided_estimate
+from pivot_ompl.analysis.late_proof import GATE_SHARE, LateProof, NoPlan
+from pivot_ompl.analysis.passage import PassageOnce
+from pivot_ompl.analysis.plan_bounds import keep_route_bound, route_bound
+from pivot_ompl.analysis.pose_proof import proof_estimate
+from pivot_ompl.analysis.regrasp_bound import RegraspBound
+from pivot_ompl.scene import Scene
+
+log = logging.getLogger(__name__)
+
+#: A scene gets a prover where its held poses' proof or its guided bound is estimated at
+#: this many seconds or more (a process's start costs about a second of the other core).
+MIN_SECONDS = 1.0
+#: Shortest time limit (s) a prover is started for by default: its process takes about a
+#: second to start, a shorter plan would only pay for it.
+MIN_LIMIT = 5.0
+#: Seconds between two looks at the parent's messages by the prover's stop condition.
+POLL_PERIOD = 0.05
+#: Seconds :meth:`Prover.close` waits for the process to end before terminating it (a
+#: stopped computation stands: nothing it kept is lost but its own cache writes, atomic).
+CLOSE_WAIT = 0.2
+
+
+def cores() -> int:
+    """Cores this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not Linux
+        return os.cpu_count() or 1
+
+
+def wanted(scene: Scene, choice: bool | None, *, time_limit: float = math.inf) -> bool:
+    """Whether a plan of ``scene`` within ``time_limit`` s runs a :class:`Prover`.
+
+    ``choice`` ``True``/``False``: as said; ``None``: on two cores or more, with a limit of
+    :data:`MIN_LIMIT` or more, where the held poses' proof or the guided bound is estimated
+    at :data:`MIN_SECONDS` or more.
+    """
+    if choice is not None:
+        return choice
+    if cores() < 2 or time_limit < MIN_LIMIT:
+        return False
+    return max(proof_estimate(scene), guided_estimate(scene)) >= MIN_SECONDS
+
+
+class Prover:
+    """A process proving "no plan" and the lower bounds of ``scene`` until ``end``.
+
+    Polled like :class:`~pivot_ompl.analysis.late_proof.LateProof` by the search: calling
+    it says whether "no plan" is proven (then :attr:`proof` holds it).
+
+    Args:
+        scene: the scene planned.
+        end: clock time (``time.monotonic``, shared by the processes) at which the prover
+            stops.
+        prove: :func:`pivot_ompl.api.plan`'s: the guided refinement of the regrasp bound
+            given the prover's time (``None``: where its estimate fits it), until its end
+            (``True``) or never (``False``).
+
+    Attributes:
+        proof: the proof that no plan exists, once received.
+        bound: the regrasp bound, once received (also kept in the bound cache).
+        route: the disk route (m), once received (also kept for the plans' quality block).
+    """
+
+    def __init__(self, scene: Scene, *, end: float, prove: bool | None = None) -> None:
+        """The process started."""
+        self.scene = scene
+        self._next = 0.0
+        self.proof: NoPlan | None = None
+        self.bound: RegraspBound | None = None
+        self.route: float | None = None
+        self._done = False
+        self._ready = False
+        ours, theirs = socket.socketpair()
+        self._conn = Connection(ours.detach())
+        # a new interpreter (no fork of a process with OMPL's threads; unlike multiprocessing's
+        # spawn, it never imports the caller's main script again)
+        self._process = subprocess.Popen(
+            [sys.executable, "-m", "pivot_ompl.analysis.prover_main", str(theirs.fileno())],
+            pass_fds=(theirs.fileno(),), stdin=subprocess.DEVNULL)
+        theirs.close()
+        # sent in order by a thread of their own: the job (the scene, hundreds of kB on a
+        # large floor) waits for the process to start reading, the plan does not
+        self._outbox: queue.SimpleQueue[tuple[str, Any] | None] = queue.SimpleQueue()
+        self._outbox.put(("job", (scene, end, prove, logging.getLogger().getEffectiveLevel())))
+        threading.Thread(target=self._post, name="prover's outbox", daemon=True).start()
+        log.debug("prover started for %s", scene.name)
+
+    @property
+    def pid(self) -> int:
+        """The process's id."""
+        return self._process.pid
+
+    @property
+    def running(self) -> bool:
+        """Whether the process is still running."""
+        return self._process.poll() is None
+
+    def __call__(self) -> bool:
+        """Whether no plan is proven (reads what has arrived, every :data:`POLL_PERIOD` s)."""
+        now = time.monotonic()
+        if now >= self._next:
+            self._next = now + POLL_PERIOD
+            self._receive(0.0)
+        return self.proof is not None
+
+    def solved(self, regrasps: int) -> None:
+        """Tell the prover that the search has a plan of ``regrasps`` regrasps."""
+        self._outbox.put(("solved", regrasps))
+
+    def wait_bounds(self, *, until: float, regrasps: int) -> None:
+        """Receive until the bounds a plan of ``regrasps`` regrasps needs have come, or ``until``.
+
+        A plan without regrasps waits for nothing (its regrasp bound is 0; the route is
+        taken if it has come).
+        """
+        while not self._done and (regrasps > 0 and self.bound is None or self.route is None):
+            left = until - time.monotonic()
+            if regrasps == 0 or left <= 0:
+                self._receive(0.0)
+                return
+            self._receive(min(left, POLL_PERIOD * 4))
+
+    def close(self) -> None:
+        """Stop the process: told to (it polls the pipe), terminated if still running.
+
+        Terminated after :data:`CLOSE_WAIT` s (between two polls), or at once while it is
+        still starting (it has not read its job).
+        """
+        self._outbox.put(("stop", None))
+        self._receive(0.0)  # its "ready", if sent
+        try:
+            self._process.wait(CLOSE_WAIT if self._ready else 0.0)  # still starting: at once
+        except subprocess.TimeoutExpired:
+            self._process.terminate()
+            self._process.wait()
+        self._outbox.put(None)  # the outbox's thread ends
+        self._conn.close()
+
+    def __enter__(self) -> Prover:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def _post(self) -> None:
+        """The outbox's thread: every message sent in order, until ``None`` or a closed pipe."""
+        while (message := self._outbox.get()) is not None:
+            try:
+                self._conn.send(message)
+            except (BrokenPipeError, OSError):  # the process has ended, or the plan closed
+                return
+
+    def _receive(self, wait: float) -> None:
+        """Take every message that has arrived (waiting at most ``wait`` s for the first)."""
+        try:
+            while not self._done and self._conn.poll(wait):
+                kind, value = self._conn.recv()
+                wait = 0.0
+                self._take(kind, value)
+        except (EOFError, OSError):  # the process ended without a word: nothing more comes
+            self._done = True
+
+    def _take(self, kind: str, value: Any) -> None:
+        if kind == "ready":
+            self._ready = True
+        elif kind == "no plan":
+            log.debug("prover: no plan exists: %s", value.reason)
+            self.proof = value
+        elif kind == "bound" and keep_bound(self.scene, value):
+            self.bound = value
+        elif kind == "route" and value is not None and keep_route_bound(self.scene, value):
+            self.route = value
+        elif kind == "done":
+            self._done = True
+        elif kind == "failed":
+            log.warning("the prover failed (the plan goes on without it): %s", value)
+            self._done = True
+
+
+class _ParentWord:
+    """The prover's stop condition: its end, the parent's "stop", or the parent gone.
+
+    Also records the parent's "solved" (:attr:`solved`: the plan's regrasps).
+    """
+
+    def __init__(self, conn: Connection, end: float) -> None:
+        self.conn, self.end = conn, end
+        self.solved: int | None = None
+        self.stopped = False
+        self._next = 0.0
+
+    def __call__(self) -> bool:
+        now = time.monotonic()
+        if self.stopped or now >= self.end:
+            return True
+        if now >= self._next:
+            self._next = now + POLL_PERIOD
+            try:
+                while self.conn.poll():
+                    kind, value = self.conn.recv()
+                    if kind == "solved":
+                        self.solved = value
+                    else:
+                        self.stopped = True
+            except (EOFError, OSError):  # the parent is gone
+                self.stopped = True
+        return self.stopped
+
+    def no_plan_wanted(self) -> Callable[[], bool]:
+        """A stop for the "no plan" proof: also once the search has a plan."""
+        return lambda: self() or self.solved is not None
+
+
+def serve(conn: Connection) -> None:
+    """The prover's process: its job read from ``conn``, then its proofs (module docstring).
+
+    Each answer is sent as soon as found; :mod:`~pivot_ompl.analysis.prover_main` runs it.
+    """
+    try:
+        _, (scene, end, prove, level) = conn.recv()
+    except (EOFError, OSError):  # the parent is gone
+        return
+    logging.basicConfig(level=level, format="%(levelname)s %(name)s (prover): %(message)s")
+    word = _ParentWord(conn, end)
+    try:
+        conn.send(("ready", None))
+        passages = PassageOnce(scene)  # the order (module docstring), and the proof's passage
+        passages(should_stop=word)
+        jobs = (_no_plan, _bounds) if _narrow(passages) else (_bounds, _no_plan)
+        for job in jobs:
+            if word():
+                break
+            job(scene, end, prove, passages, word, conn)
+        conn.send(("done", None))
+    except (BrokenPipeError, EOFError, OSError):  # the parent is gone
+        pass
+    except Exception as e:  # noqa: BLE001 - reported to the parent, which plans on without it
+        try:
+            conn.send(("failed", f"{type(e).__name__}: {e}"))
+        except OSError:
+            pass
+
+
+def _no_plan(scene: Scene, end: float, prove: bool | None, passages: PassageOnce,
+             word: _ParentWord, conn: Connection) -> None:
+    """"No plan", tried at once to ``end`` unless the search has a plan."""
+    if word.solved is not None:
+        return
+    now = time.monotonic()
+    late = LateProof(scene, begin=now, end=end, explain_end=end, held_begin=now,
+                     passages=passages, should_stop=word.no_plan_wanted(),
+                     exact_seconds=proof_estimate(scene),  # the cheaper proof first
+                     gate_share=0.0 if _narrow(passages) else GATE_SHARE)
+    if late():
+        conn.send(("no plan", late.proof))
+
+
+def _narrow(passages: PassageOnce) -> bool:
+    """Whether every way from start to goal passes a gap narrower than the held assembly."""
+    return passages.clear is False
+
+
+def _bounds(scene: Scene, end: float, prove: bool | None, passages: PassageOnce,
+            word: _ParentWord, conn: Connection) -> None:
+    """The disk route (every plan's), then the regrasp bound unless the plan has no regrasp."""
+    conn.send(("route", route_bound(scene, should_stop=word)))
+    if word() or word.solved == 0:
+        return
+    guided = (0.0 if prove is False else math.inf if prove is True
+              else max(0.0, end - time.monotonic()))
+    bound = lower_bound(scene, target=word.solved, should_stop=word, guided_seconds=guided)
+    if bound.solvable is not None and bound.complete:
+        conn.send(("bound", bound))
