@@ -95,8 +95,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     beside.add_argument("--parallel", action="store_true", default=None,
                         help="prove 'no plan' and the lower bounds in a second process "
                              "beside the search, from its start. By default on 2 cores or "
-                             "more, with --time 5 s or more, where they are estimated at a second or more (a real "
-                             "building's floor)")
+                             "more, with --time 5 s or more, where they are estimated at a "
+                             "second or more (a real building's floor)")
     beside.add_argument("--no-parallel", action="store_false", dest="parallel",
                         help="prove in the search's own process, in windows of --time")
     p.add_argument("--out", help="write the pivot-plan/1 JSON here")
