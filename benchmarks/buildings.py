@@ -83,10 +83,10 @@ CORPUS = (
               "TurtleBot3 arena (simulated, SLAM map)", (0.0, -1.9, 0.0), (0.0, 1.9, 0.0),
               note="no plan exists: the held poses' relaxation "
               "(pivot_ompl.analysis.pose_proof, about 1.4 s of CPU) separates start and "
-              "goal; `plan` runs it from 4 % of --time where no poses valid at every yaw "
-              "join start and goal (pivot_ompl.analysis.pose_inner), up to 25 % (every "
-              "way passes a gap narrower than the held assembly) (--time 60: INFEASIBLE in "
-              "7.5-11.4 s on a loaded 2-core machine)",
+              "goal; `plan` runs it in its prover beside the search from the start "
+              "(pivot_ompl.analysis.prover; every way passes a gap narrower than the held "
+              "assembly: no gate), --time 60: INFEASIBLE in 3.9 s on a quiet 2-core machine "
+              "(one process, --no-parallel: from 4 % of --time, 4.9-5.1 s)",
               feasible=False),
     CorpusMap("nav2_depot", "benchmarks/maps/nav2_depot/depot.yaml",
               "depot (simulated, SLAM map)", (-4.0, 0.0, 0.0), (20.0, 0.0, 0.0)),
@@ -103,8 +103,8 @@ CORPUS = (
               "lattice (pushes and turns in place) at every grasp: every plan regrasps; the "
               "coarse raster bound gives 0 (doors a few cm narrower than the held assembly, "
               "below its raster's cell); the first plan on a cold bound cache refines it to "
-              "2 (the guided bound, about 6-17 s inside that plan when the limit leaves the "
-              "time; `--no-prove`: not) and later plans read it"),
+              "2 (the guided bound, about 10 s of CPU, in the plan's prover beside the "
+              "search; `--no-prove`: not) and later plans read it"),
     CorpusMap("brsu_c069", "benchmarks/maps/brsu_c069/map.yaml",
               "home-robotics lab (real robot's SLAM map)", (3.7, 6.2, 0.0), (3.2, 0.9, 0.0),
               {"specks": 0.02},
@@ -112,12 +112,11 @@ CORPUS = (
               "between its jambs (x 2.55-3.40, y 3.55-3.95), the held assembly needs 0.88 m, "
               "and the robot alone cannot walk past the box resting in the door (0.45 m "
               "beside it at most); the held poses' relaxation, its regrasps walked round the "
-              "box, proves it and names the door (56 bins, about 7.5 s of CPU: `pivot-ompl bound "
-              "--held-poses`); `plan` tries it where half its estimate (19 s) fits between 4 "
-              "and 25 % of --time (every way passes the door, narrower than the held "
-              "assembly; a floor with room all the way keeps 4 to 14.5 %): INFEASIBLE at "
-              "--time 60 (10.8-11.8 s, 10.9-11.3 s of CPU); at --time 30 its estimate's half "
-              "does not fit (TIMEOUT)",
+              "box, proves it and names the door (56 bins, 7-9 s of CPU: `pivot-ompl bound "
+              "--held-poses`); `plan` runs it in its prover beside the search from the "
+              "start: INFEASIBLE in 9.9-10.4 s at --time 60, 10.8 s at --time 30 (one "
+              "process, --no-parallel: where half its estimate, 19 s, fits between 4 and "
+              "25 % of --time: 11.7-11.9 s at --time 60, TIMEOUT at --time 30)",
               feasible=False),
     CorpusMap("brsu_c069_room", "benchmarks/maps/brsu_c069/map.yaml",
               "home-robotics lab (real robot's SLAM map)", (4.2, 3.0, 0.0),
