@@ -86,6 +86,10 @@ from pivot_ompl.validity.footprints import obstacle_pieces, piece_bounds, piece_
 
 log = logging.getLogger(__name__)
 
+#: What :func:`~pivot_ompl.scene.shared.keep_shared` keeps a scene's disk route under (m,
+#: run to its end: one per scene in the process, a later plan's is it).
+DISK_ROUTE = ("disk route",)
+
 #: Added to the disk relaxation's erosions (m): keeps it on the safe side of round-off.
 ROUND_OFF = 1e-7
 #: Raster cells per STRtree query of the disk relaxation (the stop polled between them).
@@ -283,7 +287,7 @@ def keep_route_bound(scene: Scene, route: float) -> bool:
     """
     if route_problem(route, scene, name="route") is not None:
         return False
-    keep_shared(scene, ("disk route",), route)
+    keep_shared(scene, DISK_ROUTE, route)
     return True
 
 
@@ -296,14 +300,14 @@ def _shared_held_route(scene: Scene, route_length: float | None,
     ``None`` when stopped before a first route, and (with a warning) when the plan's
     ``route_length`` refutes it.
     """
-    route = shared_value(scene, ("disk route",))
+    route = shared_value(scene, DISK_ROUTE)
     if route is None and (route := kept_route(scene)) is not None:  # an earlier process's
-        keep_shared(scene, ("disk route",), route)
+        keep_shared(scene, DISK_ROUTE, route)
     if route is None:
         found = held_route(scene, should_stop=should_stop, time_left=time_left)
         route = None if found is None else found.route
         if found is not None and route is not None and not found.stopped:
-            keep_shared(scene, ("disk route",), route)  # a stopped one may be weaker
+            keep_shared(scene, DISK_ROUTE, route)  # a stopped one may be weaker
             keep_route(scene, route)
     if _refutes(route_length, route):
         log.warning("route bound dropped: this plan refutes it (bound %.3f m, route %.3f m)",

@@ -218,7 +218,7 @@ class Prover:
             self.proof = value
         elif kind == "bound" and keep_bound(self.scene, value):
             self.bound = value
-        elif kind == "route" and value is not None and keep_route_bound(self.scene, value):
+        elif kind == "route" and keep_route_bound(self.scene, value):
             self.route = value
         elif kind == "done":
             self._done = True
@@ -312,12 +312,19 @@ def _narrow(passages: PassageOnce) -> bool:
 
 def _bounds(scene: Scene, end: float, prove: bool | None, passages: PassageOnce,
             word: _ParentWord, conn: Connection) -> None:
-    """The disk route (every plan's), then the regrasp bound unless the plan has no regrasp."""
-    conn.send(("route", route_bound(scene, should_stop=word)))
-    if word() or word.solved == 0:
+    """The disk route (every plan's), then the regrasp bound unless the plan has no regrasp.
+
+    Only what ran to its end is sent (a stopped route may be weaker than the scene's, which
+    the parent would keep for its later plans); the parent keeps a bound only where
+    :func:`~pivot_ompl.analysis.bound_cache.keep_bound` would keep its own.
+    """
+    route = route_bound(scene, should_stop=word)
+    if word():
+        return
+    conn.send(("route", route))
+    if word.solved == 0:
         return
     guided = (0.0 if prove is False else math.inf if prove is True
               else max(0.0, end - time.monotonic()))
-    bound = lower_bound(scene, target=word.solved, should_stop=word, guided_seconds=guided)
-    if bound.solvable is not None and bound.complete:
-        conn.send(("bound", bound))
+    conn.send(("bound", lower_bound(scene, target=word.solved, should_stop=word,
+                                    guided_seconds=guided)))
