@@ -191,12 +191,8 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
         stats = dict(getattr(p, "stats", {}) or {})
         result_plan.extra["roadmap"] = stats
         if result_plan.phases:
-            if prover is not None:  # its bounds, kept as this process's own
-                prover.solved(result_plan.regrasps)
-                prover.wait_bounds(until=_bound_end(result_plan, end, prove),
-                                   regrasps=result_plan.regrasps)
             result_plan.extra["quality"] = _quality(result_plan, scene, config, bound,
-                                                    timings, end, prove=prove)
+                                                    timings, end, prove=prove, prover=prover)
     c = problem.checker.counters
     log.info("%s on %s: %s in %.2f s (%s, %s)", planner, scene.name, name, t2 - t1,
              counted(result_plan.pivots, "pivot"), counted(result_plan.regrasps, "regrasp"))
@@ -268,17 +264,22 @@ def _share(time_limit: float, share: float, most: float) -> float:
 
 def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool,
              timings: dict[str, float], end: float = math.inf, *,
-             prove: bool | None = None) -> dict[str, Any]:
+             prove: bool | None = None, prover: Prover | None = None) -> dict[str, Any]:
     """The quality block, with the scene's lower bounds (stopped at ``end``) when ``bound``.
 
     ``prove`` (:func:`plan`'s): for a plan with regrasps, unless ``False``, the guided
     refinement may run until ``end`` (else the bounds stop after :data:`BOUND_TIME_LIMIT` s).
+    ``prover``: the plan's prover, whose bounds are waited for within that time and kept as
+    this process's own (``timings["bound"]`` counts the wait).
     """
     regrasps, route = None, None
     if bound:
         t0 = time.perf_counter()
-        guided = _guided(result_plan, prove)
-        bound_end = _bound_end(result_plan, end, prove)
+        guided = prove is True or (prove is None and result_plan.regrasps > 0)
+        bound_end = end if guided else min(end, time.monotonic() + BOUND_TIME_LIMIT)
+        if prover is not None:
+            prover.solved(result_plan.regrasps)
+            prover.wait_bounds(until=bound_end, regrasps=result_plan.regrasps)
         route_length = plan_quality(result_plan)["route_length"]
         regrasps, route = plan_bounds(scene, result_plan.regrasps, route_length=route_length,
                                       should_stop=lambda: time.monotonic() > bound_end,
@@ -289,16 +290,6 @@ def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool
     q = plan_quality(result_plan, regrasps_lower_bound=regrasps, shortest_route=route,
                      costs=config.cost)
     return {**q, **explain_plan(result_plan, scene, q)}
-
-
-def _guided(result_plan: Plan, prove: bool | None) -> bool:
-    """Whether the guided refinement may run for ``result_plan``'s bound (``plan``'s ``prove``)."""
-    return prove is True or (prove is None and result_plan.regrasps > 0)
-
-
-def _bound_end(result_plan: Plan, end: float, prove: bool | None) -> float:
-    """Clock time by which ``result_plan``'s lower bounds stop."""
-    return end if _guided(result_plan, prove) else min(end, time.monotonic() + BOUND_TIME_LIMIT)
 
 
 def _late_proof(scene: Scene, *, regrasp: bool, bound: bool, late_proof: bool | None,
