@@ -153,6 +153,9 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
             return stopped_in_setup(scene, planner, seed, time_limit, e.what,
                                      time.perf_counter() - t0)
         passages = PassageOnce(scene)  # searched once, for the check here and the late proof
+        if prover is not None:  # its job as soon as the passage is known: it takes the answer
+            passages(should_stop=lambda: time.monotonic() >= started + PROOF_SHARE * time_limit)
+            prover.start(passages)
         if bound:
             proof = explain_no_plan(scene, should_stop=lambda: time.monotonic() >= started +
                                     PROOF_SHARE * time_limit, passages=passages)

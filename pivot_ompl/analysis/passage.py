@@ -342,6 +342,16 @@ class PassageOnce:
             self._known, self._passage, self.clear = True, passage, clear
         return passage
 
+    @property
+    def answer(self) -> tuple[Passage | None, bool | None] | None:
+        """The passage and :attr:`clear` once searched (to :meth:`share`), else ``None``."""
+        return (self._passage, self.clear) if self._known else None
+
+    def share(self, answer: tuple[Passage | None, bool | None] | None) -> None:
+        """Take the :attr:`answer` of the same scene's search made elsewhere (``None``: none)."""
+        if answer is not None:
+            self._known, (self._passage, self.clear) = True, answer
+
 
 def explain_no_plan(scene: Scene, *, should_stop: Callable[[], bool] | None = None,
                     passages: PassageOnce | None = None) -> tuple[str, Passage] | None:

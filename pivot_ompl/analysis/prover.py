@@ -15,6 +15,11 @@ process of its own, from the search's start, beside it:
   (:func:`~pivot_ompl.analysis.bound_cache.lower_bound`, the guided refinement given the
   prover's time), which only a plan with regrasps needs.
 
+The process starts with :class:`Prover` (its interpreter's imports overlap the plan's set-up)
+and gets its job from :meth:`Prover.start`, which ``plan`` calls once its own passage search
+(:class:`~pivot_ompl.analysis.passage.PassageOnce`) has answered: the prover takes that
+answer instead of searching again.
+
 The order is the scene's: "no plan" first where every way from start to goal passes a gap
 narrower than the held assembly (:attr:`~pivot_ompl.analysis.passage.PassageOnce.clear`
 ``False``: the lab's door, most often no plan; the held poses' proof then without its gate,
@@ -95,7 +100,8 @@ class Prover:
     """A process proving "no plan" and the lower bounds of ``scene`` until ``end``.
 
     Polled like :class:`~pivot_ompl.analysis.late_proof.LateProof` by the search: calling
-    it says whether "no plan" is proven (then :attr:`proof` holds it).
+    it says whether "no plan" is proven (then :attr:`proof` holds it). The process starts
+    here and waits for its job (:meth:`start`).
 
     Args:
         scene: the scene planned.
@@ -112,7 +118,7 @@ class Prover:
     """
 
     def __init__(self, scene: Scene, *, end: float, prove: bool | None = None) -> None:
-        """The process started."""
+        """The process started (its job: :meth:`start`)."""
         self.scene = scene
         self._next = 0.0
         self.proof: NoPlan | None = None
@@ -131,9 +137,17 @@ class Prover:
         # sent in order by a thread of their own: the job (the scene, hundreds of kB on a
         # large floor) waits for the process to start reading, the plan does not
         self._outbox: queue.SimpleQueue[tuple[str, Any] | None] = queue.SimpleQueue()
-        self._outbox.put(("job", (scene, end, prove, logging.getLogger().getEffectiveLevel())))
+        self._job = (scene, end, prove, logging.getLogger().getEffectiveLevel())
         threading.Thread(target=self._post, name="prover's outbox", daemon=True).start()
         log.debug("prover started for %s", scene.name)
+
+    def start(self, passages: PassageOnce | None = None) -> None:
+        """Send the job: prove from now on.
+
+        ``passages``: the scene's passage search, if made (its :attr:`~PassageOnce.answer`
+        is taken: the prover does not search again).
+        """
+        self._outbox.put(("job", (*self._job, None if passages is None else passages.answer)))
 
     @property
     def pid(self) -> int:
@@ -267,7 +281,7 @@ def serve(conn: Connection) -> None:
     Each answer is sent as soon as found; :mod:`~pivot_ompl.analysis.prover_main` runs it.
     """
     try:
-        _, (scene, end, prove, level) = conn.recv()
+        _, (scene, end, prove, level, answer) = conn.recv()
     except (EOFError, OSError):  # the parent is gone
         return
     logging.basicConfig(level=level, format="%(levelname)s %(name)s (prover): %(message)s")
@@ -275,7 +289,8 @@ def serve(conn: Connection) -> None:
     try:
         conn.send(("ready", None))
         passages = PassageOnce(scene)  # the order (module docstring), and the proof's passage
-        passages(should_stop=word)
+        passages.share(answer)
+        passages(should_stop=word)  # searched here if the plan did not
         jobs = (_no_plan, _bounds) if _narrow(passages) else (_bounds, _no_plan)
         for job in jobs:
             if word():
