@@ -227,7 +227,9 @@ def _blocking_passage(scene: Scene, clearance: float,
         return None, True  # one region (clear of every gap, so of those kept below)
     # a gap whose segment meets a third wall is not needed: that wall's gaps to both ends are
     # shorter, so closed too, and seal the same way (on cluttered maps most gaps are such)
-    hits = np.bincount(tree.query(lines, predicate="intersects")[0], minlength=len(lines))
+    # (the walls query a tree of the lines: GEOS prepares the walls, the costlier side)
+    hits = np.bincount(shapely.STRtree(lines).query(walls, predicate="intersects")[1],
+                       minlength=len(lines))
     gaps = hits <= 2
     a, b, lines, widths = a[gaps], b[gaps], lines[gaps], widths[gaps]
     if len(lines) > MAX_GAPS:
