@@ -115,6 +115,9 @@ class Prover:
         proof: the proof that no plan exists, once received.
         bound: the regrasp bound, once received (also kept in the bound cache).
         route: the disk route (m), once received (also kept for the plans' quality block).
+        fallback: the late proof polled instead, in the plan's own process, should the
+            prover fail or its process end before its work is done (an interpreter that
+            cannot import this package, a crash); ``None``: none.
     """
 
     def __init__(self, scene: Scene, *, end: float, prove: bool | None = None) -> None:
@@ -125,7 +128,9 @@ class Prover:
         self.bound: RegraspBound | None = None
         self.route: float | None = None
         self._done = False
+        self._failed = False
         self._ready = False
+        self.fallback: LateProof | None = None
         ours, theirs = socket.socketpair()
         self._conn = Connection(ours.detach())
         # a new interpreter (no fork of a process with OMPL's threads; unlike multiprocessing's
@@ -165,6 +170,9 @@ class Prover:
         if now >= self._next:
             self._next = now + POLL_PERIOD
             self._receive(0.0)
+        if self.proof is None and self._failed and self.fallback is not None \
+                and self.fallback():
+            self.proof = self.fallback.proof
         return self.proof is not None
 
     def solved(self, regrasps: int) -> None:
@@ -222,6 +230,7 @@ class Prover:
                 wait = 0.0
                 self._take(kind, value)
         except (EOFError, OSError):  # the process ended without a word: nothing more comes
+            self._failed = self._failed or not self._done
             self._done = True
 
     def _take(self, kind: str, value: Any) -> None:
@@ -238,7 +247,7 @@ class Prover:
             self._done = True
         elif kind == "failed":
             log.warning("the prover failed (the plan goes on without it): %s", value)
-            self._done = True
+            self._done = self._failed = True
 
 
 class _ParentWord:

@@ -102,6 +102,19 @@ def test_a_script_without_a_main_guard_plans_beside_a_prover(tmp_path):
     assert done.stdout.split() == ["EXACT_SOLUTION", "2"]
 
 
+@pytest.mark.parametrize("interpreter", ["exits at once", "missing"])
+def test_no_plan_is_still_proven_when_the_prover_s_process_fails(tmp_path, monkeypatch,
+                                                                 interpreter):
+    python = tmp_path / "python"  # an interpreter that cannot import the package, or none
+    if interpreter == "exits at once":
+        python.write_text("#!/bin/sh\nexit 1\n")
+        python.chmod(0o755)
+    monkeypatch.setattr(sys, "executable", str(python))
+    res = plan(ragged_slot(0), time_limit=20.0, parallel=True)
+    assert res.status == "INFEASIBLE"
+    assert res.infeasible_reason is not None and "0.90 m" in res.infeasible_reason
+
+
 def test_the_process_ends_with_the_plan_and_when_its_parent_stops_listening():
     scene = shipped("fig10")
     with Prover(scene, end=time.monotonic() + 60.0) as prover:
