@@ -144,7 +144,7 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
             base = parse_spec(planner)[0]
             if base == "regrasp" and bound and late_proof is not False and \
                     wanted(scene, parallel, time_limit=time_limit):
-                prover = closing.enter_context(Prover(scene, end=end, prove=prove))
+                prover = _prover(scene, closing, end=end, prove=prove)
             if base in OMPL_PLANNERS:
                 seed_ompl(seed)
             problem = make_setup(scene, seed=seed, checker=checker, start_grasp=start_grasp,
@@ -153,9 +153,15 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
             return stopped_in_setup(scene, planner, seed, time_limit, e.what,
                                      time.perf_counter() - t0)
         passages = PassageOnce(scene)  # searched once, for the check here and the late proof
+
+        def proof_over() -> bool:
+            return time.monotonic() >= started + PROOF_SHARE * time_limit
+
+        if prover is not None:  # its job as soon as the passage is known: it takes the answer
+            passages(should_stop=proof_over)
+            prover.start(passages)
         if bound:
-            proof = explain_no_plan(scene, should_stop=lambda: time.monotonic() >= started +
-                                    PROOF_SHARE * time_limit, passages=passages)
+            proof = explain_no_plan(scene, should_stop=proof_over, passages=passages)
             if proof is not None:
                 return infeasible_result(scene, planner, seed, time_limit,
                                          NoPlan(proof[0], proof[1]),
@@ -163,9 +169,11 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
         p, config = _planner_for(problem, planner, seed=seed, config=config,
                                  resume=Resume(start_grasp, resume))
         regrasp = isinstance(p, RegraspPlanner)
-        late = prover if prover is not None else _late_proof(
-            scene, regrasp=regrasp, bound=bound, late_proof=late_proof, passages=passages,
-            started=started, cpu=cpu, time_limit=time_limit)
+        own = _late_proof(scene, regrasp=regrasp, bound=bound, late_proof=late_proof,
+                          passages=passages, started=started, cpu=cpu, time_limit=time_limit)
+        if prover is not None:
+            prover.fallback = own
+        late = prover if prover is not None else own
         if regrasp:  # its quality share is one of the solve's limit
             p.solve_limit = time_limit - (time.monotonic() - started)
             p.proof = late  # polled by its search; other planners are stopped to ask it
@@ -290,6 +298,16 @@ def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool
     q = plan_quality(result_plan, regrasps_lower_bound=regrasps, shortest_route=route,
                      costs=config.cost)
     return {**q, **explain_plan(result_plan, scene, q)}
+
+
+def _prover(scene: Scene, closing: contextlib.ExitStack, *, end: float,
+            prove: bool | None) -> Prover | None:
+    """The plan's prover, closed with ``closing``; ``None`` where its process cannot start."""
+    try:
+        return closing.enter_context(Prover(scene, end=end, prove=prove))
+    except OSError as e:  # no interpreter to start: the proofs run in this process
+        log.warning("no prover (the proofs run in the plan's process): %s", e)
+        return None
 
 
 def _late_proof(scene: Scene, *, regrasp: bool, bound: bool, late_proof: bool | None,

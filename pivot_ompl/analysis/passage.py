@@ -227,7 +227,9 @@ def _blocking_passage(scene: Scene, clearance: float,
         return None, True  # one region (clear of every gap, so of those kept below)
     # a gap whose segment meets a third wall is not needed: that wall's gaps to both ends are
     # shorter, so closed too, and seal the same way (on cluttered maps most gaps are such)
-    hits = np.bincount(tree.query(lines, predicate="intersects")[0], minlength=len(lines))
+    # (the walls query a tree of the lines: GEOS prepares the walls, the costlier side)
+    hits = np.bincount(shapely.STRtree(lines).query(walls, predicate="intersects")[1],
+                       minlength=len(lines))
     gaps = hits <= 2
     a, b, lines, widths = a[gaps], b[gaps], lines[gaps], widths[gaps]
     if len(lines) > MAX_GAPS:
@@ -341,6 +343,16 @@ class PassageOnce:
         if passage is not None or should_stop is None or not should_stop():
             self._known, self._passage, self.clear = True, passage, clear
         return passage
+
+    @property
+    def answer(self) -> tuple[Passage | None, bool | None] | None:
+        """The passage and :attr:`clear` once searched (to :meth:`share`), else ``None``."""
+        return (self._passage, self.clear) if self._known else None
+
+    def share(self, answer: tuple[Passage | None, bool | None] | None) -> None:
+        """Take the :attr:`answer` of the same scene's search made elsewhere (``None``: none)."""
+        if answer is not None:
+            self._known, (self._passage, self.clear) = True, answer
 
 
 def explain_no_plan(scene: Scene, *, should_stop: Callable[[], bool] | None = None,

@@ -15,6 +15,11 @@ process of its own, from the search's start, beside it:
   (:func:`~pivot_ompl.analysis.bound_cache.lower_bound`, the guided refinement given the
   prover's time), which only a plan with regrasps needs.
 
+The process starts with :class:`Prover` (its interpreter's imports overlap the plan's set-up)
+and gets its job from :meth:`Prover.start`, which ``plan`` calls once its own passage search
+(:class:`~pivot_ompl.analysis.passage.PassageOnce`) has answered: the prover takes that
+answer instead of searching again.
+
 The order is the scene's: "no plan" first where every way from start to goal passes a gap
 narrower than the held assembly (:attr:`~pivot_ompl.analysis.passage.PassageOnce.clear`
 ``False``: the lab's door, most often no plan; the held poses' proof then without its gate,
@@ -95,7 +100,8 @@ class Prover:
     """A process proving "no plan" and the lower bounds of ``scene`` until ``end``.
 
     Polled like :class:`~pivot_ompl.analysis.late_proof.LateProof` by the search: calling
-    it says whether "no plan" is proven (then :attr:`proof` holds it).
+    it says whether "no plan" is proven (then :attr:`proof` holds it). The process starts
+    here and waits for its job (:meth:`start`).
 
     Args:
         scene: the scene planned.
@@ -109,17 +115,22 @@ class Prover:
         proof: the proof that no plan exists, once received.
         bound: the regrasp bound, once received (also kept in the bound cache).
         route: the disk route (m), once received (also kept for the plans' quality block).
+        fallback: the late proof polled instead, in the plan's own process, should the
+            prover fail or its process end before its work is done (an interpreter that
+            cannot import this package, a crash); ``None``: none.
     """
 
     def __init__(self, scene: Scene, *, end: float, prove: bool | None = None) -> None:
-        """The process started."""
+        """The process started (its job: :meth:`start`)."""
         self.scene = scene
         self._next = 0.0
         self.proof: NoPlan | None = None
         self.bound: RegraspBound | None = None
         self.route: float | None = None
         self._done = False
+        self._failed = False
         self._ready = False
+        self.fallback: LateProof | None = None
         ours, theirs = socket.socketpair()
         self._conn = Connection(ours.detach())
         # a new interpreter (no fork of a process with OMPL's threads; unlike multiprocessing's
@@ -131,9 +142,17 @@ class Prover:
         # sent in order by a thread of their own: the job (the scene, hundreds of kB on a
         # large floor) waits for the process to start reading, the plan does not
         self._outbox: queue.SimpleQueue[tuple[str, Any] | None] = queue.SimpleQueue()
-        self._outbox.put(("job", (scene, end, prove, logging.getLogger().getEffectiveLevel())))
+        self._job = (scene, end, prove, logging.getLogger().getEffectiveLevel())
         threading.Thread(target=self._post, name="prover's outbox", daemon=True).start()
         log.debug("prover started for %s", scene.name)
+
+    def start(self, passages: PassageOnce | None = None) -> None:
+        """Send the job: prove from now on.
+
+        ``passages``: the scene's passage search, if made (its :attr:`~PassageOnce.answer`
+        is taken: the prover does not search again).
+        """
+        self._outbox.put(("job", (*self._job, None if passages is None else passages.answer)))
 
     @property
     def pid(self) -> int:
@@ -151,6 +170,9 @@ class Prover:
         if now >= self._next:
             self._next = now + POLL_PERIOD
             self._receive(0.0)
+        if self.proof is None and self._failed and self.fallback is not None \
+                and self.fallback():
+            self.proof = self.fallback.proof
         return self.proof is not None
 
     def solved(self, regrasps: int) -> None:
@@ -208,6 +230,7 @@ class Prover:
                 wait = 0.0
                 self._take(kind, value)
         except (EOFError, OSError):  # the process ended without a word: nothing more comes
+            self._failed = self._failed or not self._done
             self._done = True
 
     def _take(self, kind: str, value: Any) -> None:
@@ -224,7 +247,7 @@ class Prover:
             self._done = True
         elif kind == "failed":
             log.warning("the prover failed (the plan goes on without it): %s", value)
-            self._done = True
+            self._done = self._failed = True
 
 
 class _ParentWord:
@@ -267,7 +290,7 @@ def serve(conn: Connection) -> None:
     Each answer is sent as soon as found; :mod:`~pivot_ompl.analysis.prover_main` runs it.
     """
     try:
-        _, (scene, end, prove, level) = conn.recv()
+        _, (scene, end, prove, level, answer) = conn.recv()
     except (EOFError, OSError):  # the parent is gone
         return
     logging.basicConfig(level=level, format="%(levelname)s %(name)s (prover): %(message)s")
@@ -275,7 +298,8 @@ def serve(conn: Connection) -> None:
     try:
         conn.send(("ready", None))
         passages = PassageOnce(scene)  # the order (module docstring), and the proof's passage
-        passages(should_stop=word)
+        passages.share(answer)
+        passages(should_stop=word)  # searched here if the plan did not
         jobs = (_no_plan, _bounds) if _narrow(passages) else (_bounds, _no_plan)
         for job in jobs:
             if word():

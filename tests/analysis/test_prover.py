@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+import logging
+import socket
 import subprocess
 import sys
+import threading
 import time
+from multiprocessing.connection import Connection
 from pathlib import Path
 
 import pytest
@@ -12,12 +16,13 @@ import yaml
 from corner_factories import ragged_slot
 from factories import benchmark_script, shipped
 
-from pivot_ompl.analysis import late_proof, plan_bounds
+from pivot_ompl.analysis import late_proof, passage, plan_bounds
 from pivot_ompl.analysis.bound_cache import CACHE_ENV
 from pivot_ompl.analysis.bound_levels import exhaustive_estimate
 from pivot_ompl.analysis.late_proof import LateProof
+from pivot_ompl.analysis.passage import PassageOnce
 from pivot_ompl.analysis.pose_proof import proof_estimate
-from pivot_ompl.analysis.prover import Prover, wanted
+from pivot_ompl.analysis.prover import Prover, serve, wanted
 from pivot_ompl.api import plan
 from pivot_ompl.errors import InputError
 from pivot_ompl.generate import rotate_scene
@@ -31,6 +36,41 @@ def test_no_plan_is_proven_beside_the_search_with_the_reason_a_person_acts_on():
     assert res.status == "INFEASIBLE"
     assert res.infeasible_reason is not None and "0.90 m" in res.infeasible_reason
     assert res.plan.extra["no_plan"] == res.infeasible_reason
+
+
+def _served(scene, answer) -> list[str]:  # noqa: ANN001
+    """The kinds of the messages a prover sends for ``scene`` given the passage ``answer``."""
+    ours, theirs = socket.socketpair()
+    conn, child = Connection(ours.detach()), Connection(theirs.detach())
+    conn.send(("job", (scene, time.monotonic() + 30.0, None, logging.WARNING, answer)))
+    worker = threading.Thread(target=serve, args=(child,))
+    worker.start()
+    kinds: list[str] = []
+    while not kinds or kinds[-1] not in ("done", "failed"):
+        kinds.append(conn.recv()[0])
+    conn.send(("stop", None))
+    worker.join(30.0)
+    conn.close()
+    child.close()
+    return kinds
+
+
+def test_the_prover_takes_the_plan_s_passage_instead_of_searching_again(monkeypatch):
+    scene = ragged_slot(0)
+    passages = PassageOnce(scene)
+    passages()
+    assert passages.answer is not None
+
+    search = passage.passage_search
+
+    def searched_again(*args, **kwargs):  # noqa: ANN002, ANN003, ANN202
+        if kwargs.get("gaps_below") is None:  # the scene's passage (not an explanation's)
+            raise AssertionError("the passage was searched again")
+        return search(*args, **kwargs)
+
+    monkeypatch.setattr(passage, "passage_search", searched_again)
+    assert _served(scene, passages.answer)[-2:] == ["no plan", "done"]
+    assert _served(scene, None)[-1] == "failed"  # the spy sees a search of its own
 
 
 def test_a_plan_made_beside_a_prover_carries_the_prover_s_bounds(monkeypatch):
@@ -62,9 +102,23 @@ def test_a_script_without_a_main_guard_plans_beside_a_prover(tmp_path):
     assert done.stdout.split() == ["EXACT_SOLUTION", "2"]
 
 
+@pytest.mark.parametrize("interpreter", ["exits at once", "missing"])
+def test_no_plan_is_still_proven_when_the_prover_s_process_fails(tmp_path, monkeypatch,
+                                                                 interpreter):
+    python = tmp_path / "python"  # an interpreter that cannot import the package, or none
+    if interpreter == "exits at once":
+        python.write_text("#!/bin/sh\nexit 1\n")
+        python.chmod(0o755)
+    monkeypatch.setattr(sys, "executable", str(python))
+    res = plan(ragged_slot(0), time_limit=20.0, parallel=True)
+    assert res.status == "INFEASIBLE"
+    assert res.infeasible_reason is not None and "0.90 m" in res.infeasible_reason
+
+
 def test_the_process_ends_with_the_plan_and_when_its_parent_stops_listening():
     scene = shipped("fig10")
     with Prover(scene, end=time.monotonic() + 60.0) as prover:
+        prover.start()
         assert prover.running
     t0 = time.monotonic()
     assert not prover.running and time.monotonic() - t0 < 1.0
@@ -78,6 +132,7 @@ def test_the_process_ends_when_the_plan_s_process_is_gone(tmp_path):
                       "from pivot_ompl.analysis.prover import Prover\n"
                       "from pivot_ompl.scene import load_scene\n"
                       f"p = Prover(load_scene({str(hall)!r}), end=time.monotonic() + 600.0)\n"
+                      "p.start()\n"
                       "print(p.pid, flush=True)\n"
                       "time.sleep(3.0)\n"
                       "os._exit(0)\n")
