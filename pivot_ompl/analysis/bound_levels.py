@@ -246,13 +246,18 @@ def held_poses_bound(scene: Scene, best: RegraspBound, target: int | None,
 
 
 def may_refine(scene: Scene, *, resolution: float = RESOLUTION,
-               refine_seconds: float = REFINE_SECONDS) -> bool:
-    """Whether a level finer than the coarsest raster fits ``refine_seconds`` on ``scene``."""
+               refine_seconds: float = REFINE_SECONDS, paid_seconds: float = 0.0) -> bool:
+    """Whether a level finer than the coarsest raster fits ``refine_seconds`` on ``scene``.
+
+    ``paid_seconds``: the refinement's time a plan's count may pay a finer raster from
+    (:func:`scaled_lower_bound`; at most :data:`LEVEL_SECONDS` a level).
+    """
     if exhaustive_estimate(scene, resolution=resolution) <= refine_seconds:
         return True
     coarse = floor_raster(scene.bounds, CELLS[0]).cell
+    most = max(refine_seconds, min(LEVEL_SECONDS, paid_seconds))
     return any(floor_raster(scene.bounds, c).cell < coarse
-               and raster_estimate(scene, c) <= refine_seconds for c in CELLS[1:])
+               and raster_estimate(scene, c) <= most for c in CELLS[1:])
 
 
 def _wanted(bound: RegraspBound, target: int | None) -> bool:
