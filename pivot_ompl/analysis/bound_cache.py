@@ -315,4 +315,5 @@ def _refinable(hit: RegraspBound, scene: Scene, resolution: float, target: int |
                            or may_guide(relaxed_scene(scene), guided_seconds)):
         return True
     return may_refine(relaxed_scene(scene), resolution=resolution,
-                      refine_seconds=refine_seconds)
+                      refine_seconds=refine_seconds,
+                      paid_seconds=0.0 if target is None else guided_seconds)

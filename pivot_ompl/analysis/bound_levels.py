@@ -12,8 +12,12 @@ second on a 1500 m² map of 2000 boxes), then a finer level only when both hold:
   one, from the floor's cells, the yaw bins and the body's rows of lattice offsets
   (:data:`SECONDS_PER_CELL_ROW`) or, for the polygons, from the bins and the obstacle pieces
   (:data:`SECONDS_PER_PIECE`, both measured), add up to at most ``refine_seconds`` (a small
-  scene's polygons take about a second; a 2000-box map's about four minutes). Estimates,
-  not clocks: the levels run are the same on a loaded machine.
+  scene's polygons take about a second; a 2000-box map's about four minutes), or, with
+  a plan's count to reach (``target``), a finer raster estimated at most
+  :data:`LEVEL_SECONDS` fits what ``guided_seconds`` allows (the refinement below gets
+  the rest: on a lab map whose 0.85 m door forces a regrasp, the 5 cm level proves it where
+  the refinement of the 10 cm one does not). Estimates, not clocks: the levels run are the
+  same on a loaded machine.
 
 The result is the strongest of the levels run (each is a proof), marked ``exhaustive`` when
 the polygons ran to the end. When the polygons fit they run straight after the coarsest
@@ -68,6 +72,9 @@ log = logging.getLogger(__name__)
 #: 30 degrees, with its old bounds as walls: the polygons estimated 1.9 s, run in 1.4 s), and
 #: at 2 s such copies of a small scene lost their exact bound to the raster's 0.
 REFINE_SECONDS = 2.5
+#: Largest estimated time (s) of a finer raster level paid from ``guided_seconds`` (beyond
+#: :data:`REFINE_SECONDS`): its layers hold every cell of the floor for every yaw bin.
+LEVEL_SECONDS = 10.0
 #: The raster levels' cell sides (m), coarse to fine (a floor over the raster's cell cap
 #: gets larger cells at every level).
 CELLS = (0.1, 0.05, 0.025)
@@ -168,17 +175,24 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
             return dataclasses.replace(best, seconds=time.perf_counter() - t0)
         return dataclasses.replace(best, seconds=time.perf_counter() - t0)
     done = floor_raster(scene.bounds, CELLS[0]).cell
+    paid = 0.0  # the finer levels' estimates paid from guided_seconds
     for cell in CELLS[1:]:
         if floor_raster(scene.bounds, cell).cell >= done:
             continue  # a floor too large for finer cells
-        if not _wanted(best, target) or spent + raster_estimate(scene, cell) > refine_seconds:
+        cost = raster_estimate(scene, cell)
+        if not _wanted(best, target):
             break
-        spent += raster_estimate(scene, cell)
+        if spent + cost > refine_seconds:  # a plan's count to reach: the refinement's time
+            if target is None or cost > LEVEL_SECONDS or spent + cost > guided_seconds:
+                break
+            paid += cost
+        spent += cost
         done = floor_raster(scene.bounds, cell).cell
         finer = raster_lower_bound(scene, cell=cell, should_stop=should_stop)
         if finer.solvable is None:
             break
         best = _better(finer, best)
+    guided_seconds -= paid
     if _wanted(best, target) and may_pose(scene, guided_seconds):
         best = held_poses_bound(scene, best, target, should_stop)
     elif _wanted(best, target) and may_guide(scene, guided_seconds):
@@ -232,13 +246,18 @@ def held_poses_bound(scene: Scene, best: RegraspBound, target: int | None,
 
 
 def may_refine(scene: Scene, *, resolution: float = RESOLUTION,
-               refine_seconds: float = REFINE_SECONDS) -> bool:
-    """Whether a level finer than the coarsest raster fits ``refine_seconds`` on ``scene``."""
+               refine_seconds: float = REFINE_SECONDS, paid_seconds: float = 0.0) -> bool:
+    """Whether a level finer than the coarsest raster fits ``refine_seconds`` on ``scene``.
+
+    ``paid_seconds``: the refinement's time a plan's count may pay a finer raster from
+    (:func:`scaled_lower_bound`; at most :data:`LEVEL_SECONDS` a level).
+    """
     if exhaustive_estimate(scene, resolution=resolution) <= refine_seconds:
         return True
     coarse = floor_raster(scene.bounds, CELLS[0]).cell
+    most = max(refine_seconds, min(LEVEL_SECONDS, paid_seconds))
     return any(floor_raster(scene.bounds, c).cell < coarse
-               and raster_estimate(scene, c) <= refine_seconds for c in CELLS[1:])
+               and raster_estimate(scene, c) <= most for c in CELLS[1:])
 
 
 def _wanted(bound: RegraspBound, target: int | None) -> bool:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import pytest
 from factories import shipped
 
@@ -10,6 +12,7 @@ from pivot_ompl.analysis.bound_cache import lower_bound
 from pivot_ompl.analysis.bound_levels import scaled_lower_bound
 from pivot_ompl.analysis.plan_bounds import plan_bounds
 from pivot_ompl.analysis.wall_frame import wall_frame
+from pivot_ompl.generate import rotate_scene
 
 
 @pytest.fixture
@@ -62,3 +65,34 @@ def test_other_frames_not_tried_once_the_plan_count_is_proven(fresh, frames, mon
     monkeypatch.setattr(bound_frames, "scaled_lower_bound", counted)
     assert lower_bound(scene, target=world.regrasps, use_cache=False).regrasps == world.regrasps
     assert calls == [1]
+
+
+def test_the_walls_frame_is_tried_where_the_first_call_found_it_not_worth_its_cost(fresh,
+                                                                                monkeypatch):
+    scene = rotate_scene(shipped("door"), 0.5)
+    turned = wall_frame(scene, worth=1.0)
+    assert wall_frame(scene) is None and turned is not None  # over half the bounds' area
+    seen = []
+    real = scaled_lower_bound
+
+    def spied(relaxed, **k):  # noqa: ANN001, ANN003, ANN202
+        seen.append(relaxed.bounds)
+        return real(relaxed, **k)
+
+    from pivot_ompl.analysis import bound_frames
+    monkeypatch.setattr(bound_frames, "scaled_lower_bound", spied)
+    lower_bound(scene, target=9, use_cache=False, refine_seconds=0.1)  # never reached
+    assert scene.bounds in seen and turned.scene.bounds in seen
+
+
+def test_a_plan_s_count_pays_a_finer_raster_from_the_refinement_s_time(fresh, monkeypatch):
+    from pivot_ompl.analysis import bound_levels
+
+    monkeypatch.setattr(bound_levels, "POSE_SECONDS", 0.0)  # the rasters, not the held poses
+    scene = shipped("slot")  # 0 on the coarsest cells, 1 (its exact count) on finer ones
+    assert scaled_lower_bound(scene, target=1, refine_seconds=0.0).regrasps == 0
+    finer = scaled_lower_bound(scene, target=1, refine_seconds=0.0, guided_seconds=math.inf)
+    assert finer.regrasps == 1 and not finer.guided  # a finer level, not the refinement
+    # no plan's count to reach: the refinement's time is not spent on a finer level
+    monkeypatch.setattr(bound_levels, "may_guide", lambda *a, **k: False)
+    assert scaled_lower_bound(scene, refine_seconds=0.0, guided_seconds=math.inf).regrasps == 0

@@ -84,6 +84,7 @@ def test_the_levels_hand_the_places_to_the_refinement(monkeypatch):
     monkeypatch.setattr(bound_levels, "guided_lower_bound", spy)
     # the refinement's path (a floor this small would get the held poses' count instead)
     monkeypatch.setattr(bound_levels, "may_pose", lambda *a, **k: False)
+    monkeypatch.setattr(bound_levels, "LEVEL_SECONDS", 0.0)  # nor the finer rasters
     places = ((1.0, 2.0), (3.0, -1.0))
     found = bound_levels.scaled_lower_bound(shipped("slot"), target=1, refine_seconds=0.0,
                                             guided_seconds=math.inf, places=places)

@@ -141,6 +141,7 @@ def test_plan_levels_refine_only_when_asked_and_below_the_target(monkeypatch, tm
 
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
     monkeypatch.setattr(bound_levels, "POSE_SECONDS", 0.0)
+    monkeypatch.setattr(bound_levels, "LEVEL_SECONDS", 0.0)  # nor the finer rasters
     bound_cache.clear_memory()
     scene = shipped("slot")
     plain = scaled_lower_bound(scene, target=1, refine_seconds=0.0)
