@@ -23,6 +23,8 @@ from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import sparse
+from scipy.sparse import csgraph
 
 #: The four forward neighbours of a voxel's cell within its bin ``(da, db)``.
 _FORWARD = ((1, 0), (0, 1), (1, 1), (1, -1))
@@ -139,31 +141,28 @@ def _label(nodes: int, joins: Iterable[tuple[np.ndarray, np.ndarray]]
            ) -> tuple[int, np.ndarray]:
     """Connected components of ``nodes`` nodes joined by the edges of ``joins``' batches.
 
-    Numbered by their smallest node, in order (as a scan of the nodes meets them). Union by
-    the smaller root with full path compression, on arrays, one batch of ``(src, dst)``
-    edges at a time (the components of all edges do not depend on their order): each pass
-    hooks every root with an edge to another root onto the smallest such root, then points
-    every node at its root, and keeps only the edges still between two roots. No sparse
-    matrix (its transpose and float weights cost about 40 bytes a join), so a join costs
-    its two indices, and only one batch's are held.
+    Numbered by their smallest node, in order (as a scan of the nodes meets them). One batch
+    of ``(src, dst)`` edges at a time (the components of all edges do not depend on their
+    order): the batch's edges between two components found so far are read as a sparse
+    graph over those components (:func:`scipy.sparse.csgraph.connected_components`, weakly
+    connected), whose components become the new ones. Only one batch's edges are held.
     """
     index = _index_type(nodes)
-    parent = np.arange(nodes, dtype=index)
+    comp = np.arange(nodes, dtype=index)  # each node's component so far (0..count - 1)
+    count = nodes
     for src, dst in joins:
-        u, v = src.astype(index, copy=False), dst.astype(index, copy=False)
-        pu, pv = parent[u], parent[v]  # roots: parent is compressed between passes
-        keep = pu != pv
-        u, v, pu, pv = u[keep], v[keep], pu[keep], pv[keep]
-        while len(u):
-            np.minimum.at(parent, np.maximum(pu, pv), np.minimum(pu, pv))  # roots only fall
-            while True:
-                up = parent[parent]
-                if np.array_equal(up, parent):
-                    break
-                parent = up
-            pu, pv = parent[u], parent[v]
-            keep = pu != pv
-            u, v, pu, pv = u[keep], v[keep], pu[keep], pv[keep]
-    roots = parent == np.arange(nodes, dtype=index)  # each component's smallest node
-    rank = np.cumsum(roots, dtype=np.int64) - 1
-    return int(roots.sum()), rank[parent]
+        u, v = comp[src], comp[dst]
+        keep = u != v
+        if not keep.any():
+            continue
+        u, v = u[keep], v[keep]
+        graph = sparse.csr_array((np.ones(len(u), dtype=bool), (u, v)), shape=(count, count))
+        del u, v
+        count, found = csgraph.connected_components(graph, directed=True, connection="weak")
+        del graph
+        comp = found.astype(index, copy=False)[comp]
+    first = np.full(count, nodes, dtype=index)  # each component's smallest node
+    np.minimum.at(first, comp, np.arange(nodes, dtype=index))
+    rank = np.empty(count, dtype=np.int64)
+    rank[np.argsort(first, kind="stable")] = np.arange(count)
+    return int(count), rank[comp]
