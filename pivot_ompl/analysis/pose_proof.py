@@ -39,6 +39,7 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 import shapely
@@ -68,6 +69,10 @@ MAX_BINS = 1024
 #: Narrowest bin (rad) halved again (the lab door's and the TurtleBot3 arena's proofs end
 #: at 1.4 degrees).
 FINEST = 2.0 * math.pi / 512
+
+#: Largest share of the pieces near the room that the passages' may be for a first proof
+#: with those only (:func:`prove_no_plan`): more would save little of a proof with all.
+PASSAGE_SHARE = 0.5
 
 #: Bins a proof computes, for :func:`proof_estimate` (the regions computed, a twin's not
 #: counted: 40 on the 1506 boxes of the lab door and on the TurtleBot3 arena, 36-122 on the
@@ -122,13 +127,17 @@ class HeldParts:
         floor: the scene's :class:`~pivot_ompl.analysis.pose_floor.HeldFloor` to read (its
             pieces, room and walks), shared with other relaxations of the scene; built here
             when ``None``, of another scene, or kept at another clearance than ``clearance``.
+        pieces: the grown pieces to sum, stacked by vertex count, some of the floor's near
+            the room (fewer pieces, larger free parts: still an over-approximation, unless
+            ``regions`` is coarse); ``None``: all of those the bins' regions read.
     """
 
     def __init__(self, scene: Scene, clearance: float,
                  should_stop: Callable[[], bool] | None, *,
                  parts_clearance: float | None = None,
                  regions: type[BinRegions] = BinRegions,
-                 floor: HeldFloor | None = None) -> None:
+                 floor: HeldFloor | None = None,
+                 pieces: dict[int, np.ndarray] | None = None) -> None:
         if floor is None or floor.scene is not scene or floor.clearance != clearance:
             floor = HeldFloor(scene, clearance, should_stop)
         self.floor = floor
@@ -137,7 +146,8 @@ class HeldParts:
         self.room = floor.room
         self.area = floor.area
         kept = clearance if parts_clearance is None else parts_clearance
-        grown = (floor.coarse_near_room(kept, should_stop) if regions.coarse
+        grown = (pieces if pieces is not None
+                 else floor.coarse_near_room(kept, should_stop) if regions.coarse
                  else floor.near_room(kept))
         self.bins = regions(grown, self.bodies, self.area)
         self.known: dict[tuple[float, float], list[list[BaseGeometry]]] = {}
@@ -261,10 +271,46 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
                   floor: HeldFloor | None = None) -> PoseProof:
     """Whether the held poses' relaxation separates start and goal (the module docstring).
 
-    ``floor``: the scene's floor built at ``clearance``, shared with other relaxations (by
-    default its own). Never raises on a stop: the answer is then ``apart=None``.
+    First with the pieces near the room's narrow passages only
+    (:meth:`~pivot_ompl.analysis.pose_floor.HeldFloor.passages_near_room`, where they are at
+    most :data:`PASSAGE_SHARE` of the pieces): fewer pieces to sum per bin, and free parts
+    that still over-approximate the valid poses, so start and goal apart there are apart.
+    Else, or where those parts join them, with every piece. ``floor``: the scene's floor
+    built at ``clearance``, shared with other relaxations (by default its own). Never raises
+    on a stop: the answer is then ``apart=None``.
     """
     t0 = time.perf_counter()
+    refine = partial(_refined, scene, first_bins=first_bins, max_bins=max_bins,
+                     finest=finest, should_stop=should_stop, t0=t0)
+    try:
+        parts = HeldParts(scene, clearance, should_stop, floor=floor)
+        if parts.room is None:
+            return PoseProof(None, first_bins, 2.0 * math.pi / first_bins, 0,
+                             time.perf_counter() - t0)
+        if not parts.room.covers(shapely.Point(scene.goal[:2])):  # the box alone cannot go
+            return PoseProof(True, first_bins, 2.0 * math.pi / first_bins, 0,
+                             time.perf_counter() - t0, parts.room)
+        narrow = parts.floor.passages_near_room(clearance)
+        if 0 < _count(narrow) <= PASSAGE_SHARE * _count(parts.floor.near_room(clearance)):
+            proof = refine(HeldParts(scene, clearance, should_stop, floor=parts.floor,
+                                     pieces=narrow))
+            if proof.apart or (should_stop is not None and should_stop()):
+                return proof
+            log.debug("held poses: the passages' %d pieces join start and goal (%.2f s); "
+                      "every piece next", _count(narrow), proof.seconds)
+        return refine(parts)
+    except Interrupted:
+        return PoseProof(None, first_bins, 2.0 * math.pi / first_bins, 0,
+                         time.perf_counter() - t0)
+
+
+def _count(pieces: dict[int, np.ndarray]) -> int:
+    return sum(len(stack) for stack in pieces.values())
+
+
+def _refined(scene: Scene, parts: HeldParts, *, first_bins: int, max_bins: int,
+             finest: float, should_stop: Callable[[], bool] | None, t0: float) -> PoseProof:
+    """The rounds of :func:`prove_no_plan` over ``parts`` (``seconds`` counted from ``t0``)."""
     edges = [2.0 * math.pi * i / first_bins for i in range(first_bins + 1)]
     rounds = 0
 
@@ -275,11 +321,6 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
                          time.perf_counter() - t0, reach, refused)
 
     try:
-        parts = HeldParts(scene, clearance, should_stop, floor=floor)
-        if parts.room is None:
-            return result(None)
-        if not parts.room.covers(shapely.Point(scene.goal[:2])):  # the box alone cannot go
-            return result(True, parts.room)
         while True:
             rounds += 1
             graph = PoseGraph(parts, edges, should_stop, lazy=True)
