@@ -39,7 +39,7 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
-from functools import partial
+from functools import cached_property, partial
 
 import numpy as np
 import shapely
@@ -97,7 +97,7 @@ class PoseProof:
         finest: the narrowest bin (rad).
         rounds: rounds of refinement.
         seconds: time taken (s).
-        start_reach: with ``apart``, the box positions the start's parts cover (m, world).
+        reached: with ``apart``, the start's parts (their union: :attr:`start_reach`).
         refused: with ``apart``, the box positions of the last round's regrasps on a chain
             from start to goal round whose resting box the robot cannot walk (m, world).
     """
@@ -107,8 +107,17 @@ class PoseProof:
     finest: float
     rounds: int
     seconds: float
-    start_reach: BaseGeometry | None = None
+    reached: tuple[BaseGeometry, ...] = ()
     refused: tuple[BaseGeometry, ...] = ()
+
+    @cached_property
+    def start_reach(self) -> BaseGeometry | None:
+        """With ``apart``, the box positions the start's parts cover (m, world).
+
+        Joined when first asked: the parts of every bin overlap, and their union costs as
+        much as a bin's parts.
+        """
+        return shapely.union_all(self.reached) if self.reached else None
 
 
 class HeldParts:
@@ -289,7 +298,7 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
                              time.perf_counter() - t0)
         if not parts.room.covers(shapely.Point(scene.goal[:2])):  # the box alone cannot go
             return PoseProof(True, first_bins, 2.0 * math.pi / first_bins, 0,
-                             time.perf_counter() - t0, parts.room)
+                             time.perf_counter() - t0, (parts.room,))
         narrow = parts.floor.passages_near_room(clearance)
         if 0 < _count(narrow) <= PASSAGE_SHARE * _count(parts.floor.near_room(clearance)):
             proof = refine(HeldParts(scene, clearance, should_stop, floor=parts.floor,
@@ -314,7 +323,7 @@ def _refined(scene: Scene, parts: HeldParts, *, first_bins: int, max_bins: int,
     edges = [2.0 * math.pi * i / first_bins for i in range(first_bins + 1)]
     rounds = 0
 
-    def result(apart: bool | None, reach: BaseGeometry | None = None,
+    def result(apart: bool | None, reach: tuple[BaseGeometry, ...] = (),
                refused: tuple[BaseGeometry, ...] = ()) -> PoseProof:
         widths = np.diff(edges)
         return PoseProof(apart, len(edges) - 1, float(widths.min()), rounds,
@@ -330,7 +339,7 @@ def _refined(scene: Scene, parts: HeldParts, *, first_bins: int, max_bins: int,
             found = graph.walked(parts, edges, starts, goals, should_stop=should_stop)
             path = found.nodes
             if found.price is None:
-                reach = shapely.union_all([graph.bin(i)[g][k] for i, g, k in found.reached])
+                reach = tuple(graph.bin(i)[g][k] for i, g, k in found.reached)
                 return result(True, reach, tuple(graph.refused))
             split, widest = widest_bins(edges, path, finest)
             widths = np.diff(edges).tolist()
