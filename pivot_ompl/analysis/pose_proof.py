@@ -21,7 +21,7 @@ An obstacle piece left out of the sums only enlarges the parts, so the parts of 
 still over-approximate the poses. The proof first sums only the pieces near the room's narrow
 passages between start and goal (:mod:`~pivot_ompl.analysis.pose_passages`: on a large floor
 a small share of them, the open floor's walls left out); where those parts still join start
-and goal, or take more than :data:`PASSAGE_BINS` bins, the proof starts again with every
+and goal, or compute the regions of :data:`PASSAGE_BINS` bins, the proof starts again with every
 piece.
 
 The bins start coarse (:data:`FIRST_BINS`); while a chain of parts joins start and goal, the
@@ -82,8 +82,8 @@ FINEST = 2.0 * math.pi / 512
 PASSAGE_SHARE = 0.5
 #: Most bins whose regions the passages' proof computes (:func:`prove_no_plan`) before it
 #: gives way to the proof with every piece (40 on the lab door's 1506 boxes): where its
-#: looser parts join start and goal at fine bins, the proof with every piece is the answer.
-PASSAGE_BINS = 64
+#: looser parts still join start and goal by then, the proof with every piece is the answer.
+PASSAGE_BINS = 48
 
 #: Bins a proof computes, for :func:`proof_estimate` (the regions computed, a twin's not
 #: counted: 40 on the 1506 boxes of the lab door and on the TurtleBot3 arena, 36-122 on the
@@ -312,8 +312,13 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
                              time.perf_counter() - t0, (parts.room,))
         narrow = parts.floor.passages_near_room(clearance)
         if 0 < _count(narrow) <= PASSAGE_SHARE * _count(parts.floor.near_room(clearance)):
-            proof = refine(HeldParts(scene, clearance, should_stop, floor=parts.floor,
-                                     pieces=narrow), computed=PASSAGE_BINS)
+            tried = HeldParts(scene, clearance, should_stop, floor=parts.floor, pieces=narrow)
+
+            def enough() -> bool:  # polled before every bin's regions and chain search
+                return tried.bins.computed >= PASSAGE_BINS or (
+                    should_stop is not None and should_stop())
+
+            proof = refine(tried, should_stop=enough)
             if proof.apart or (should_stop is not None and should_stop()):
                 return proof
             log.debug("held poses: the passages' %d pieces join start and goal (%.2f s); "
@@ -329,13 +334,8 @@ def _count(pieces: dict[int, np.ndarray]) -> int:
 
 
 def _refined(scene: Scene, parts: HeldParts, *, first_bins: int, max_bins: int,
-             finest: float, should_stop: Callable[[], bool] | None, t0: float,
-             computed: int | None = None) -> PoseProof:
-    """The rounds of :func:`prove_no_plan` over ``parts`` (``seconds`` counted from ``t0``).
-
-    ``computed``: the most bins whose regions are computed (checked after each round; more:
-    ``apart=None``).
-    """
+             finest: float, should_stop: Callable[[], bool] | None, t0: float) -> PoseProof:
+    """The rounds of :func:`prove_no_plan` over ``parts`` (``seconds`` counted from ``t0``)."""
     edges = [2.0 * math.pi * i / first_bins for i in range(first_bins + 1)]
     rounds = 0
 
@@ -370,8 +370,7 @@ def _refined(scene: Scene, parts: HeldParts, *, first_bins: int, max_bins: int,
                       math.degrees(widest), len(graph.refused))
             if not split:
                 return result(False)
-            if (len(edges) - 1 + len(split) > max_bins
-                    or (computed is not None and parts.bins.computed > computed)):
+            if len(edges) - 1 + len(split) > max_bins:
                 return result(None)
             halve(parts, edges, split)
     except Interrupted:

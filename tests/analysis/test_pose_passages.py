@@ -132,3 +132,12 @@ def test_the_passages_first_change_no_answer(scene):
         m.setattr(pose_proof, "PASSAGE_SHARE", 0.0)  # every piece at once
         alone = prove_no_plan(scene).apart
     assert prove_no_plan(scene).apart is alone
+
+
+def test_the_passages_proof_gives_way_after_its_bins(monkeypatch):
+    scene = two_rooms(6, door=1.0)  # a plan passes the door: the passages' parts join
+    monkeypatch.setattr(pose_proof, "PASSAGE_BINS", 3)
+    built = _built(monkeypatch)
+    assert prove_no_plan(scene).apart is False
+    every, tried = built
+    assert tried.computed == 3 and every.computed > 3
