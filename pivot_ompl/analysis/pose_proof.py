@@ -80,6 +80,9 @@ FINEST = 2.0 * math.pi / 512
 #: Largest share of the pieces near the room that the passages' may be for a first proof
 #: with those only (:func:`prove_no_plan`): more would save little of a proof with all.
 PASSAGE_SHARE = 0.5
+#: Fewest pieces near the room for a first proof with the passages' (on fewer, as on the
+#: shipped scenes' 7-17, a bin's sums cost little next to its chain search).
+PASSAGE_FLOOR = 64
 #: Most bins whose regions the passages' proof computes (:func:`prove_no_plan`) before it
 #: gives way to the proof with every piece (40 on the lab door's 1506 boxes): where its
 #: looser parts still join start and goal by then, the proof with every piece is the answer.
@@ -293,8 +296,9 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
 
     First with the pieces near the room's narrow passages only
     (:meth:`~pivot_ompl.analysis.pose_floor.HeldFloor.passages_near_room`, where they are at
-    most :data:`PASSAGE_SHARE` of the pieces): fewer pieces to sum per bin, and free parts
-    that still over-approximate the valid poses, so start and goal apart there are apart.
+    most :data:`PASSAGE_SHARE` of :data:`PASSAGE_FLOOR` or more pieces): fewer pieces to sum
+    per bin, and free parts that still over-approximate the valid poses, so start and goal
+    apart there are apart.
     Else, or where those parts join them, with every piece. ``floor``: the scene's floor
     built at ``clearance``, shared with other relaxations (by default its own). Never raises
     on a stop: the answer is then ``apart=None``.
@@ -311,7 +315,8 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
             return PoseProof(True, first_bins, 2.0 * math.pi / first_bins, 0,
                              time.perf_counter() - t0, (parts.room,))
         narrow = parts.floor.passages_near_room(clearance)
-        if 0 < _count(narrow) <= PASSAGE_SHARE * _count(parts.floor.near_room(clearance)):
+        every = _count(parts.floor.near_room(clearance))
+        if every >= PASSAGE_FLOOR and 0 < _count(narrow) <= PASSAGE_SHARE * every:
             tried = HeldParts(scene, clearance, should_stop, floor=parts.floor, pieces=narrow)
 
             def enough() -> bool:  # polled before every bin's regions and chain search

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 import shapely
 from corner_factories import ragged_slot
+from factories import shipped
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
@@ -141,3 +142,9 @@ def test_the_passages_proof_gives_way_after_its_bins(monkeypatch):
     assert prove_no_plan(scene).apart is False
     every, tried = built
     assert tried.computed == 3 and every.computed > 3
+
+
+def test_a_small_floor_is_proven_with_every_piece_at_once(monkeypatch):
+    built = _built(monkeypatch)
+    prove_no_plan(shipped("door"))  # 14 pieces, 6 of them the passages'
+    assert len(built) == 1
