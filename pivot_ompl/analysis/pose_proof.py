@@ -314,9 +314,9 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
         if not parts.room.covers(shapely.Point(scene.goal[:2])):  # the box alone cannot go
             return PoseProof(True, first_bins, 2.0 * math.pi / first_bins, 0,
                              time.perf_counter() - t0, (parts.room,))
-        narrow = parts.floor.passages_near_room(clearance)
         every = _count(parts.floor.near_room(clearance))
-        if every >= PASSAGE_FLOOR and 0 < _count(narrow) <= PASSAGE_SHARE * every:
+        narrow = parts.floor.passages_near_room(clearance) if every >= PASSAGE_FLOOR else {}
+        if 0 < _count(narrow) <= PASSAGE_SHARE * every:
             tried = HeldParts(scene, clearance, should_stop, floor=parts.floor, pieces=narrow)
 
             def enough() -> bool:  # polled before every bin's regions and chain search
