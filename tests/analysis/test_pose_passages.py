@@ -150,3 +150,13 @@ def test_a_small_floor_is_proven_with_every_piece_at_once(monkeypatch):
                         lambda self, clearance: asked.append(clearance) or {})
     prove_no_plan(shipped("door"))  # 14 pieces near its room
     assert len(built) == 1 and not asked  # its passages not even sought
+
+
+def test_an_apart_proofs_reach_holds_the_start_and_not_the_goal():
+    scene = two_rooms(7)
+    proof = prove_no_plan(scene)
+    assert proof.apart is True and proof.reached
+    reach = proof.start_reach
+    assert reach is not None and reach.covers(shapely.Point(scene.start[:2]))
+    assert not reach.intersects(shapely.Point(scene.goal[:2]))
+    assert reach.symmetric_difference(shapely.union_all(proof.reached)).area < 1e-9
