@@ -77,7 +77,7 @@ MAX_BINS = 1024
 #: at 1.4 degrees).
 FINEST = 2.0 * math.pi / 512
 
-#: Largest share of the pieces near the room that the passages' may be for a first proof
+#: Largest share of the pieces near the room that lie near its passages for a first proof
 #: with those only (:func:`prove_no_plan`): more would save little of a proof with all.
 PASSAGE_SHARE = 0.5
 #: Fewest pieces near the room for a first proof with the passages' (on fewer, as on the
@@ -298,10 +298,10 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
     (:meth:`~pivot_ompl.analysis.pose_floor.HeldFloor.passages_near_room`, where they are at
     most :data:`PASSAGE_SHARE` of :data:`PASSAGE_FLOOR` or more pieces): fewer pieces to sum
     per bin, and free parts that still over-approximate the valid poses, so start and goal
-    apart there are apart.
-    Else, or where those parts join them, with every piece. ``floor``: the scene's floor
-    built at ``clearance``, shared with other relaxations (by default its own). Never raises
-    on a stop: the answer is then ``apart=None``.
+    apart there are apart. Else, or where those parts join them, with every piece.
+
+    ``floor``: the scene's floor built at ``clearance``, shared with other relaxations (by
+    default its own). Never raises on a stop: the answer is then ``apart=None``.
     """
     t0 = time.perf_counter()
     refine = partial(_refined, scene, first_bins=first_bins, max_bins=max_bins,
