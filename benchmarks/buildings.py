@@ -112,7 +112,7 @@ CORPUS = (
               "between its jambs (x 2.55-3.40, y 3.55-3.95), the held assembly needs 0.88 m, "
               "and the robot alone cannot walk past the box resting in the door (0.45 m "
               "beside it at most); the held poses' relaxation, its regrasps walked round the "
-              "box, proves it and names the door (56 bins, 7-9 s of CPU: `pivot-ompl bound "
+              "box, proves it and names the door (56 bins, 2.3 s of CPU: `pivot-ompl bound "
               "--held-poses`); `plan` runs it in its prover beside the search from the "
               "start: INFEASIBLE in 9.9-10.4 s at --time 60, 10.8 s at --time 30 (one "
               "process, --no-parallel: where half its estimate, 19 s, fits between 4 and "

@@ -4,7 +4,8 @@ The held poses' proof (:func:`~pivot_ompl.analysis.pose_proof.prove_no_plan`) an
 (:func:`~pivot_ompl.analysis.pose_inner.joined_at_every_yaw`) read the same floor: the
 obstacles merged into convex pieces, the held assembly's bodies, the box centre's room and
 the regrasp walks' floor. :class:`HeldFloor` builds each once; the pieces grown by a
-clearance, and those near the room, are built when first asked and kept per clearance.
+clearance, those near the room and those near its narrow passages, are built when first
+asked and kept per clearance.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from pivot_ompl.analysis.pose_cells import (
     near,
 )
 from pivot_ompl.analysis.pose_coarse import coarse_pieces
+from pivot_ompl.analysis.pose_passages import diameter, passage_pieces
 from pivot_ompl.analysis.pose_walk import RegraspWalks
 from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import Scene
@@ -47,6 +49,8 @@ class HeldFloor:
         bodies: per grasp, the held assembly's convex bodies
             (:func:`~pivot_ompl.analysis.pose_cells.held_bodies`).
         reach: the bodies' farthest point from the box centre (m).
+        radius: the disk inside the box at every yaw (m, about its centre) whose free
+            positions are the room.
         room: where the box centre may go at all (``None``: not even the start is in it).
         area: :attr:`room`, or an empty polygon.
         walks: the regrasp walks' questions (:class:`~pivot_ompl.analysis.pose_walk.RegraspWalks`).
@@ -63,13 +67,14 @@ class HeldFloor:
         self._grown: dict[float, dict[int, np.ndarray]] = {}
         self._near: dict[float, dict[int, np.ndarray]] = {}
         self._coarse: dict[float, dict[int, np.ndarray]] = {}
+        self._passages: dict[float, dict[int, np.ndarray]] = {}
+        self.radius = 0.5 * min(scene.model.object_size[:2]) - ROUND_OFF
         self._coarse_pieces: list[np.ndarray] | None = None
         grown = self.grown(clearance)
         if should_stop is not None and should_stop():
             raise Interrupted("the held poses' relaxation")
         self.room: BaseGeometry | None = centre_room(
-            grown, 0.5 * min(scene.model.object_size[:2]) - ROUND_OFF,
-            shapely.box(*scene.bounds), scene.start[:2])
+            grown, self.radius, shapely.box(*scene.bounds), scene.start[:2])
         self.area = self.room if self.room is not None else shapely.Polygon()
         self.walks = RegraspWalks(scene, tolerance=SWEEP_TOLERANCE, clearance=KEEP_CLEARANCE)
 
@@ -84,6 +89,23 @@ class HeldFloor:
         if clearance not in self._near:
             self._near[clearance] = self._near_room(self.grown(clearance))
         return self._near[clearance]
+
+    def passages_near_room(self, clearance: float) -> dict[int, np.ndarray]:
+        """:meth:`near_room`'s pieces near the room's narrow passages between start and goal.
+
+        :func:`~pivot_ompl.analysis.pose_passages.passage_pieces`: a passage is narrow where
+        the room is narrower than the held assembly's diameter (less the room's own disk), so
+        the yaw and grasp decide whether the assembly passes; the pieces within the bodies'
+        reach of one (kept). Fewer pieces than :meth:`near_room`'s: for over-approximations
+        of the free set only.
+        """
+        if clearance not in self._passages:
+            scene = self.scene
+            self._passages[clearance] = passage_pieces(
+                self.near_room(clearance), self.area,
+                half_width=0.5 * diameter(self.bodies) - self.radius, reach=self.reach,
+                ends=[(scene.start[0], scene.start[1]), (scene.goal[0], scene.goal[1])])
+        return self._passages[clearance]
 
     def coarse_near_room(self, clearance: float,
                          should_stop: Callable[[], bool] | None = None) -> dict[int, np.ndarray]:

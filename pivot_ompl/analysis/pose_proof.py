@@ -17,6 +17,13 @@ dropped and the chain sought again, :func:`~pivot_ompl.analysis.pose_chain.walke
 A path of the plan visits joined parts only, so when no part holding the start is joined to
 one holding the goal, no plan exists.
 
+An obstacle piece left out of the sums only enlarges the parts, so the parts of fewer pieces
+still over-approximate the poses. The proof first sums only the pieces near the room's narrow
+passages between start and goal (:mod:`~pivot_ompl.analysis.pose_passages`: on a large floor
+a small share of them, the open floor's walls left out); where those parts still join start
+and goal, or compute the regions of :data:`PASSAGE_BINS` bins, the proof starts again with every
+piece.
+
 The bins start coarse (:data:`FIRST_BINS`); while a chain of parts joins start and goal, the
 chain's bins in which it regrasps (:func:`~pivot_ompl.analysis.pose_split.regrasp_bins`),
 else those whose part spans more floor than its neighbours on the chain
@@ -39,6 +46,7 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import cached_property, partial
 
 import numpy as np
 import shapely
@@ -69,6 +77,17 @@ MAX_BINS = 1024
 #: at 1.4 degrees).
 FINEST = 2.0 * math.pi / 512
 
+#: Largest share of the pieces near the room that lie near its passages for a first proof
+#: with those only (:func:`prove_no_plan`): more would save little of a proof with all.
+PASSAGE_SHARE = 0.5
+#: Fewest pieces near the room for a first proof with the passages' (on fewer, as on the
+#: shipped scenes' 7-17, a bin's sums cost little next to its chain search).
+PASSAGE_FLOOR = 64
+#: Most bins whose regions the passages' proof computes (:func:`prove_no_plan`) before it
+#: gives way to the proof with every piece (40 on the lab door's 1506 boxes): where its
+#: looser parts still join start and goal by then, the proof with every piece is the answer.
+PASSAGE_BINS = 48
+
 #: Bins a proof computes, for :func:`proof_estimate` (the regions computed, a twin's not
 #: counted: 40 on the 1506 boxes of the lab door and on the TurtleBot3 arena, 36-122 on the
 #: feasible 4- to 32-room corridor rows).
@@ -92,7 +111,7 @@ class PoseProof:
         finest: the narrowest bin (rad).
         rounds: rounds of refinement.
         seconds: time taken (s).
-        start_reach: with ``apart``, the box positions the start's parts cover (m, world).
+        reached: with ``apart``, the start's parts (their union: :attr:`start_reach`).
         refused: with ``apart``, the box positions of the last round's regrasps on a chain
             from start to goal round whose resting box the robot cannot walk (m, world).
     """
@@ -102,8 +121,17 @@ class PoseProof:
     finest: float
     rounds: int
     seconds: float
-    start_reach: BaseGeometry | None = None
+    reached: tuple[BaseGeometry, ...] = ()
     refused: tuple[BaseGeometry, ...] = ()
+
+    @cached_property
+    def start_reach(self) -> BaseGeometry | None:
+        """With ``apart``, the box positions the start's parts cover (m, world).
+
+        Joined when first asked: the parts of every bin overlap, and their union costs as
+        much as a bin's parts.
+        """
+        return shapely.union_all(self.reached) if self.reached else None
 
 
 class HeldParts:
@@ -122,13 +150,17 @@ class HeldParts:
         floor: the scene's :class:`~pivot_ompl.analysis.pose_floor.HeldFloor` to read (its
             pieces, room and walks), shared with other relaxations of the scene; built here
             when ``None``, of another scene, or kept at another clearance than ``clearance``.
+        pieces: the grown pieces to sum, stacked by vertex count, some of the floor's near
+            the room (fewer pieces, larger free parts: still an over-approximation, unless
+            ``regions`` is coarse); ``None``: all of those the bins' regions read.
     """
 
     def __init__(self, scene: Scene, clearance: float,
                  should_stop: Callable[[], bool] | None, *,
                  parts_clearance: float | None = None,
                  regions: type[BinRegions] = BinRegions,
-                 floor: HeldFloor | None = None) -> None:
+                 floor: HeldFloor | None = None,
+                 pieces: dict[int, np.ndarray] | None = None) -> None:
         if floor is None or floor.scene is not scene or floor.clearance != clearance:
             floor = HeldFloor(scene, clearance, should_stop)
         self.floor = floor
@@ -137,7 +169,8 @@ class HeldParts:
         self.room = floor.room
         self.area = floor.area
         kept = clearance if parts_clearance is None else parts_clearance
-        grown = (floor.coarse_near_room(kept, should_stop) if regions.coarse
+        grown = (pieces if pieces is not None
+                 else floor.coarse_near_room(kept, should_stop) if regions.coarse
                  else floor.near_room(kept))
         self.bins = regions(grown, self.bodies, self.area)
         self.known: dict[tuple[float, float], list[list[BaseGeometry]]] = {}
@@ -261,25 +294,63 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
                   floor: HeldFloor | None = None) -> PoseProof:
     """Whether the held poses' relaxation separates start and goal (the module docstring).
 
+    First with the pieces near the room's narrow passages only
+    (:meth:`~pivot_ompl.analysis.pose_floor.HeldFloor.passages_near_room`, where they are at
+    most :data:`PASSAGE_SHARE` of :data:`PASSAGE_FLOOR` or more pieces): fewer pieces to sum
+    per bin, and free parts that still over-approximate the valid poses, so start and goal
+    apart there are apart. Else, or where those parts join them, with every piece.
+
     ``floor``: the scene's floor built at ``clearance``, shared with other relaxations (by
     default its own). Never raises on a stop: the answer is then ``apart=None``.
     """
     t0 = time.perf_counter()
+    refine = partial(_refined, scene, first_bins=first_bins, max_bins=max_bins,
+                     finest=finest, should_stop=should_stop, t0=t0)
+    try:
+        parts = HeldParts(scene, clearance, should_stop, floor=floor)
+        if parts.room is None:
+            return PoseProof(None, first_bins, 2.0 * math.pi / first_bins, 0,
+                             time.perf_counter() - t0)
+        if not parts.room.covers(shapely.Point(scene.goal[:2])):  # the box alone cannot go
+            return PoseProof(True, first_bins, 2.0 * math.pi / first_bins, 0,
+                             time.perf_counter() - t0, (parts.room,))
+        every = _count(parts.floor.near_room(clearance))
+        narrow = parts.floor.passages_near_room(clearance) if every >= PASSAGE_FLOOR else {}
+        if 0 < _count(narrow) <= PASSAGE_SHARE * every:
+            tried = HeldParts(scene, clearance, should_stop, floor=parts.floor, pieces=narrow)
+
+            def enough() -> bool:  # polled before every bin's regions and chain search
+                return tried.bins.computed >= PASSAGE_BINS or (
+                    should_stop is not None and should_stop())
+
+            proof = refine(tried, should_stop=enough)
+            if proof.apart or (should_stop is not None and should_stop()):
+                return proof
+            log.debug("held poses: the passages' %d pieces join start and goal (%.2f s); "
+                      "every piece next", _count(narrow), proof.seconds)
+        return refine(parts)
+    except Interrupted:
+        return PoseProof(None, first_bins, 2.0 * math.pi / first_bins, 0,
+                         time.perf_counter() - t0)
+
+
+def _count(pieces: dict[int, np.ndarray]) -> int:
+    return sum(len(stack) for stack in pieces.values())
+
+
+def _refined(scene: Scene, parts: HeldParts, *, first_bins: int, max_bins: int,
+             finest: float, should_stop: Callable[[], bool] | None, t0: float) -> PoseProof:
+    """The rounds of :func:`prove_no_plan` over ``parts`` (``seconds`` counted from ``t0``)."""
     edges = [2.0 * math.pi * i / first_bins for i in range(first_bins + 1)]
     rounds = 0
 
-    def result(apart: bool | None, reach: BaseGeometry | None = None,
+    def result(apart: bool | None, reach: tuple[BaseGeometry, ...] = (),
                refused: tuple[BaseGeometry, ...] = ()) -> PoseProof:
         widths = np.diff(edges)
         return PoseProof(apart, len(edges) - 1, float(widths.min()), rounds,
                          time.perf_counter() - t0, reach, refused)
 
     try:
-        parts = HeldParts(scene, clearance, should_stop, floor=floor)
-        if parts.room is None:
-            return result(None)
-        if not parts.room.covers(shapely.Point(scene.goal[:2])):  # the box alone cannot go
-            return result(True, parts.room)
         while True:
             rounds += 1
             graph = PoseGraph(parts, edges, should_stop, lazy=True)
@@ -289,7 +360,7 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
             found = graph.walked(parts, edges, starts, goals, should_stop=should_stop)
             path = found.nodes
             if found.price is None:
-                reach = shapely.union_all([graph.bin(i)[g][k] for i, g, k in found.reached])
+                reach = tuple(graph.bin(i)[g][k] for i, g, k in found.reached)
                 return result(True, reach, tuple(graph.refused))
             split, widest = widest_bins(edges, path, finest)
             widths = np.diff(edges).tolist()
