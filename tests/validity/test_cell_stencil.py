@@ -100,3 +100,29 @@ def test_a_map_grid_of_more_cells_than_the_stencil_reads_is_not_dilated():
     side = RES * math.sqrt(STENCIL_CELLS)  # as many cells as the stencil reads at most
     assert map_cell(pieces, (0.0, 0.0, side - 1.0, side), least=CELL_BOXES) == pytest.approx(RES)
     assert map_cell(pieces, (0.0, 0.0, side + 1.0, side), least=CELL_BOXES) is None
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 2**16), resolution=st.sampled_from([0.025, 0.05, 0.1]))
+def test_a_stencils_runs_are_the_cells_a_body_overlaps(seed, resolution):
+    """Each column's maximal runs of cells whose interior the body's interior overlaps."""
+    import shapely
+
+    from pivot_ompl.validity.cell_stencil import stencil
+
+    rng = np.random.default_rng(seed)
+    hull = shapely.convex_hull(shapely.MultiPoint(rng.uniform(-0.6, 0.6, (6, 2))))
+    if hull.area < 1e-4:
+        return
+    body = shapely.orient_polygons(hull)
+    runs = stencil(np.asarray(body.exterior.coords)[:-1], resolution)
+    got = {(a, j) for a, j0, j1 in runs for j in range(j0, j1 + 1)}
+    lo = np.floor(np.asarray(body.bounds[:2]) / resolution).astype(int) - 2
+    hi = np.ceil(np.asarray(body.bounds[2:]) / resolution).astype(int) + 2
+    want = {(a, j) for a in range(lo[0], hi[0] + 1) for j in range(lo[1], hi[1] + 1)
+            if body.intersection(shapely.box(a * resolution, j * resolution, (a + 1) * resolution,
+                                             (j + 1) * resolution)).area > 1e-12}
+    assert got == want
+    assert runs == sorted(runs)  # column by column, each column's runs upwards
+    ends = {(a, j1 + 1) for a, _, j1 in runs}
+    assert not any((a, j0) in ends for a, j0, _ in runs)  # maximal: no run joins the next
