@@ -126,3 +126,26 @@ def test_a_stencils_runs_are_the_cells_a_body_overlaps(seed, resolution):
     assert runs == sorted(runs)  # column by column, each column's runs upwards
     ends = {(a, j1 + 1) for a, _, j1 in runs}
     assert not any((a, j0) in ends for a, j0, _ in runs)  # maximal: no run joins the next
+
+
+@settings(max_examples=4, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(seed=st.integers(0, 2**32 - 1), parity=st.sampled_from([0, 1]))
+def test_a_restricted_field_dilated_is_the_whole_fields_within_its_area(seed, parity):
+    """The stencil read only over the area's rows and columns: the same grids there."""
+    rng = np.random.default_rng(seed)
+    boxes = [_box(int(rng.integers(0, 76)), int(rng.integers(0, 56)), int(rng.integers(1, 4)),
+                  int(rng.integers(1, 4))) for _ in range(CELL_BOXES + 40)]
+    boxes = [b for b in boxes if all(abs(b["center"][0] - x) > 0.9
+                                     or abs(b["center"][1] - 3.0) > 0.9 for x in (1.5, 6.0))]
+    checker = PivotChecker(make_scene(obstacles=boxes))
+    whole = AssemblyField(checker.model, checker.world, RES)
+    area = np.zeros((whole.nx, whole.ny), dtype=bool)
+    for _ in range(3):  # an area of three blocks, apart or not
+        x0, y0 = int(rng.integers(0, whole.nx)), int(rng.integers(0, whole.ny))
+        area[x0:x0 + int(rng.integers(1, 30)), y0:y0 + int(rng.integers(1, 30))] = True
+    for part_area in (area, np.zeros_like(area)):
+        part = AssemblyField(checker.model, checker.world, RES)
+        part.restrict(part_area)
+        assert not part.pieces  # every box dilated: the stencil alone decides
+        for k in range(0, len(FIELD_YAWS), 5):
+            assert np.array_equal(part.fits(parity, k), whole.fits(parity, k) & part_area)
