@@ -37,7 +37,7 @@ from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planfile import Plan, TransferPhase, TransitPhase
 from pivot_ompl.scene import Scene
 from pivot_ompl.se2 import Pose
-from pivot_ompl.validity.footprints import obstacle_footprint
+from pivot_ompl.validity.footprints import obstacle_footprint, obstacle_footprints
 
 log = logging.getLogger(__name__)
 
@@ -58,15 +58,31 @@ def _rectangle(pose: Pose, length: float, width: float) -> Polygon:
                                  (length / 2, width / 2), (-length / 2, width / 2))])
 
 
-def _obstacles_near(checker: PivotChecker, pose: Pose, grasp: int) -> list[int]:
-    """Indices of the scene's obstacles within :data:`NEAR` of box or robot at ``pose``."""
+def _obstacles_near(checker: PivotChecker, pose: Pose, grasp: int,
+                    tree: shapely.STRtree) -> list[int]:
+    """Indices of the scene's obstacles within :data:`NEAR` of box or robot at ``pose``.
+
+    ``tree``: the obstacles' footprints (:func:`_footprint_tree`), which pick the few to
+    measure.
+    """
     model, scene = checker.model, checker.scene
     depth, width = model.robot_footprint
     body = shapely.union_all([
         _rectangle(pose, model.object_size[0], model.object_size[1]),
         _rectangle(model.robot_pose(pose, grasp), depth, width)])
-    return [i for i, o in enumerate(scene.obstacles)
-            if body.distance(obstacle_footprint(o)) <= NEAR]
+    near = tree.query(body, predicate="dwithin", distance=NEAR + TREE_SLACK)
+    return [i for i in sorted(int(k) for k in near)
+            if body.distance(obstacle_footprint(scene.obstacles[i])) <= NEAR]
+
+
+#: How much farther (m) than :data:`NEAR` the footprints' tree looks: its footprints, built
+#: together, may differ from :func:`~.footprints.obstacle_footprint`'s in their last bits.
+TREE_SLACK = 1e-6
+
+
+def _footprint_tree(scene: Scene) -> shapely.STRtree:
+    """A tree of the scene's obstacles' footprints, numbered as ``scene.obstacles``."""
+    return shapely.STRtree(obstacle_footprints(scene.obstacles))
 
 
 def regrasp_places(plan: Plan) -> tuple[tuple[float, float], ...]:
@@ -79,6 +95,7 @@ def regrasp_reasons(plan: Plan, checker: PivotChecker) -> list[dict[str, Any]]:
     """One entry per regrasp of ``plan`` (see the module docstring), in plan order."""
     out: list[dict[str, Any]] = []
     phases = list(plan.phases)
+    tree: shapely.STRtree | None = None  # built for the first passage
     for i, ph in enumerate(phases):
         if not isinstance(ph, TransitPhase) or ph.from_grasp == ph.to_grasp:
             continue
@@ -87,8 +104,10 @@ def regrasp_reasons(plan: Plan, checker: PivotChecker) -> list[dict[str, Any]]:
         if nxt is not None:
             for q in _poses(nxt)[1:]:
                 if not checker.state_valid(q, ph.from_grasp):
+                    if tree is None:
+                        tree = _footprint_tree(checker.scene)
                     passage = {"pose": list(q),
-                               "obstacles": _obstacles_near(checker, q, ph.from_grasp)}
+                               "obstacles": _obstacles_near(checker, q, ph.from_grasp, tree)}
                     break
         out.append({"pose": list(ph.object_pose), "from_grasp": ph.from_grasp,
                     "to_grasp": ph.to_grasp, "forced": passage is not None,

@@ -229,9 +229,9 @@ class RegraspSearch:
         ends = [[g for g in cfg.grasps if ck.state_valid(q, g)
                  and (q is q1 or self.start_grasp in (None, g))] for q in (q0, q1)]
         t0, figures, s = time.perf_counter(), RegraspLatticeStats(), self.stats
-        found = regrasp_lattice_path(ck, self._lattice(), cfg.cost, q0, q1, start_grasps=ends[0],
-                                     goal_grasps=ends[1], grasps=cfg.grasps,
-                                     run_spacing=cfg.optimiser.run_spacing,
+        found = regrasp_lattice_path(ck, lat := self._lattice(), cfg.cost, q0, q1,
+                                     start_grasps=ends[0], goal_grasps=ends[1], grasps=cfg.grasps,
+                                     run_spacing=cfg.optimiser.run_spacing, weight=lat.weight,
                                      should_stop=should_stop, stats=figures)
         s.regrasp_lattice_solved, s.regrasp_lattice_changes = bool(found.path), figures.changes
         s.time_regrasp_lattice += time.perf_counter() - t0

@@ -71,7 +71,9 @@ class WalkGuides:
         ``floor_inflation`` times the straight distance between the ends plus half a circle
         round the box (:meth:`FloorField.box_reach`), then doubled while no start is
         settled: a walk round the box pays for the floor near it, not for the whole floor.
-        Farther positions hold the limit, a lower bound; ``inf`` still means no walk.
+        Farther positions hold the limit, a lower bound; ``inf`` still means no walk. A
+        window whose Dijkstra settled every position its goals reach is kept as the whole
+        floor's (limit ``inf``: :meth:`cached_limit`).
         """
         cells = tuple(sorted({(s[0], s[1]) for s in goals}))
         key = (obj, cells)
@@ -83,8 +85,11 @@ class WalkGuides:
             if hit is None or hit[0] < limit:
                 if should_stop is not None and should_stop():  # tens of ms in C
                     raise Interrupted("walk planning")
-                hit = self._distances.put(key, (limit, self.field.distances(
-                    obj, list(cells), should_stop, limit=limit)))
+                dist = self.field.distances(obj, list(cells), should_stop, limit=limit)
+                # a window whose Dijkstra settled every position it reaches: the whole
+                # floor's distances, exact at any limit (no query again with a larger one)
+                done = isinstance(dist, FloorWindow) and math.isinf(dist.outside)
+                hit = self._distances.put(key, (math.inf if done else limit, dist))
             limit, dist = hit
             if starts is None or math.isinf(limit):
                 return dist

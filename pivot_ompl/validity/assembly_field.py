@@ -196,6 +196,15 @@ class AssemblyField:
         self._area = np.asarray(area, dtype=bool)
         self._fits.clear()
 
+    def _within(self) -> tuple[slice, slice]:
+        """The grid rows and columns of :meth:`restrict`'s area's positions (all without)."""
+        if self._area is None:
+            return slice(0, self.nx), slice(0, self.ny)
+        ix, iy = np.flatnonzero(self._area.any(axis=1)), np.flatnonzero(self._area.any(axis=0))
+        if not len(ix):
+            return slice(0, 0), slice(0, 0)
+        return slice(int(ix[0]), int(ix[-1]) + 1), slice(int(iy[0]), int(iy[-1]) + 1)
+
     def position(self, ix: int, iy: int) -> tuple[float, float]:
         """The floor point of grid position ``(ix, iy)`` (m)."""
         b = self.world.bounds
@@ -252,6 +261,7 @@ class AssemblyField:
         xs, ys = self._xs, self._ys
         b = self.world.bounds
         out, rots = [], []
+        rows, cols = self._within()
         for k in ks:
             yaw = FIELD_YAWS[k]
             c, s = math.cos(yaw), math.sin(yaw)
@@ -265,8 +275,10 @@ class AssemblyField:
             if self._cells is not None:
                 if should_stop is not None and should_stop():
                     raise Interrupted("assembly field")
-                for body in self._bodies[parity]:
-                    ok &= ~self._cells.hits(self._cells.stencil(body @ rot), ok.shape)
+                inner = ok[rows, cols]  # a view: the positions outside the area fit nowhere
+                for body in self._bodies[parity] if inner.size else ():
+                    inner &= ~self._cells.hits(self._cells.stencil(body @ rot), inner.shape,
+                                               at=(rows.start, cols.start))
             out.append(ok)
         n = len(self._pieces)
         if n and ks:

@@ -147,15 +147,11 @@ def stencil(body: np.ndarray, resolution: float) -> list[tuple[int, int, int]]:
     overlap = np.minimum(bp.max(axis=0), cp.max(axis=-2)) \
         - np.maximum(bp.min(axis=0), cp.min(axis=-2))
     meets = np.all(overlap > PENETRATION, axis=-1)
-    runs = []
-    for a in range(meets.shape[0]):
-        js = np.flatnonzero(meets[a])
-        if not len(js):
-            continue
-        breaks = np.flatnonzero(np.diff(js) > 1)
-        for s, e in zip(np.r_[0, breaks + 1], np.r_[breaks, len(js) - 1], strict=True):
-            runs.append((int(di[a, 0]), int(dj[a, js[s]]), int(dj[a, js[e]])))
-    return runs
+    # each column's runs at once: where a run starts (+1) and past where it ends (-1)
+    step = np.diff(np.pad(meets, ((0, 0), (1, 1))).astype(np.int8), axis=1)
+    starts, ends = np.argwhere(step == 1), np.argwhere(step == -1)  # column-major, in order
+    return [(int(di[a, 0]), int(dj[a, j0]), int(dj[a, j1 - 1]))
+            for (a, j0), (_, j1) in zip(starts.tolist(), ends.tolist(), strict=True)]
 
 
 def cell_prefix(cells: np.ndarray, margin: int) -> np.ndarray:

@@ -86,3 +86,42 @@ def test_a_plan_without_regrasps_explains_no_regrasp():
     res = plan(scene, planner="regrasp", time_limit=30.0, seed=0)
     q = res.plan.extra["quality"]
     assert res.regrasps == 0 and q["regrasp_reasons"] == [] and q["regrasps_unforced"] == 0
+
+
+def test_a_passages_obstacles_are_every_obstacle_within_near_of_the_assembly():
+    """Among hundreds of obstacles round the passage: exactly those within NEAR, ascending."""
+    import dataclasses
+
+    import numpy as np
+    import shapely
+
+    from pivot_ompl.checking.pivot_checker import PivotChecker
+    from pivot_ompl.planners.explain import NEAR
+    from pivot_ompl.scene.model import BoxObstacle, CylinderObstacle
+    from pivot_ompl.se2 import rectangle_corners
+    from pivot_ompl.validity.footprints import obstacle_footprint
+
+    scene = shipped("slot")
+    res = plan(scene, planner="regrasp", time_limit=60.0, seed=0)
+    (r,) = res.plan.extra["quality"]["regrasp_reasons"]
+    px, py, _ = r["passage"]["pose"]
+    rng = np.random.default_rng(0)
+    extra = [BoxObstacle(center=(px + dx, py + dy), size=(0.05, 0.05), yaw=float(a), height=1.0)
+             for dx, dy, a in rng.uniform([-2.0, -2.0, 0.0], [2.0, 2.0, 3.0], (300, 3))]
+    extra += [CylinderObstacle(center=(px + dx, py + dy), radius=0.03, height=1.0)
+              for dx, dy in rng.uniform(-2.0, 2.0, (100, 2))]
+    crowded = dataclasses.replace(scene, obstacles=[*scene.obstacles, *extra])
+    ck = PivotChecker(crowded)
+    reasons = regrasp_reasons(res.plan, ck)
+    assert reasons[0]["forced"]
+    q = reasons[0]["passage"]["pose"]
+    g = reasons[0]["from_grasp"]
+    m = crowded.model
+    body = shapely.union_all([shapely.Polygon(rectangle_corners(tuple(q), *m.object_size[:2])),
+                              shapely.Polygon(rectangle_corners(m.robot_pose(tuple(q), g),
+                                                                *m.robot_footprint))])
+    want = [i for i, o in enumerate(crowded.obstacles)
+            if body.distance(obstacle_footprint(o)) <= NEAR]
+    added = [i for i in want if i >= len(scene.obstacles)]
+    assert len(added) >= 5 and len(want) < len(crowded.obstacles) // 4, (len(added), len(want))
+    assert reasons[0]["passage"]["obstacles"] == want

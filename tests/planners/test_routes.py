@@ -157,3 +157,39 @@ def test_within_distance_of_a_small_region_anywhere_over_the_grid(cx, cy, r, dis
     sure = np.abs(gap - distance) > 1e-9
     assert got.shape == (len(xs), len(ys))
     assert np.array_equal(got[sure], (gap <= distance)[sure])
+
+
+def test_within_distance_takes_the_points_at_the_distance_itself():
+    """Points exactly ``distance`` from the region are within it (``dwithin``: ``<=``)."""
+    import shapely
+
+    from pivot_ompl.planners.routes.lattice import within_distance
+
+    xs = ys = np.arange(-1.0, 2.01, 0.25)  # exact in binary: the gaps are exactly 0.5
+    got = within_distance(shapely.box(0.0, 0.0, 1.0, 1.0), xs, ys, 0.5)
+    on_edge = {(float(x), float(y)) for x in xs for y in ys
+               if (x in (-0.5, 1.5) and 0.0 <= y <= 1.0) or (y in (-0.5, 1.5) and 0.0 <= x <= 1.0)}
+    assert len(on_edge) == 20
+    for x, y in on_edge:
+        assert got[list(xs).index(x), list(ys).index(y)]
+    assert not got[0, 0] and not got[list(xs).index(1.5), list(ys).index(1.5)]  # corners: 0.71
+
+
+@settings(max_examples=10, deadline=None)
+@given(seed=st.integers(0, 2**16), pairs=st.integers(1, 500))
+def test_within_distance_is_the_same_measured_in_any_batches(seed, pairs):
+    import shapely
+
+    import pivot_ompl.planners.routes.lattice_region as lattice_region
+
+    rng = np.random.default_rng(seed)
+    region = shapely.union_all([shapely.Point(*rng.uniform(0.0, 6.0, 2)).buffer(
+        rng.uniform(0.2, 1.0), quad_segs=4) for _ in range(5)])
+    xs, ys = np.linspace(-1.0, 7.0, 41), np.linspace(-1.0, 7.0, 37)
+    whole = lattice_region.within_distance(region, xs, ys, 0.4)
+    saved = lattice_region.PAIRS
+    lattice_region.PAIRS = pairs
+    try:
+        assert np.array_equal(lattice_region.within_distance(region, xs, ys, 0.4), whole)
+    finally:
+        lattice_region.PAIRS = saved

@@ -172,3 +172,32 @@ def test_a_limit_beyond_the_floor_floods_only_the_tiles_its_walks_reach(corridor
     assert field.tiles.tiles_built < tiles
     want = _whole(field, obj, goals, math.inf)
     assert np.array_equal(got.dense(field.grid.nx, field.grid.ny), want)
+
+
+def test_a_window_that_settled_every_position_it_reaches_is_kept_as_the_whole_floors(corridor):
+    # a walk whose limit doubled until its window's Dijkstra ran out of positions asked the
+    # floor again with a larger limit, to the same distances (the Willow Garage office's
+    # regrasp walks: a fifth Dijkstra over the 59 000 positions the fourth had settled)
+    scene, ck = corridor
+    obj = ck.walker.frame.into(scene.start)
+    goal = _cell(ck.walker, scene.model.robot_pose(scene.start, 1))
+    want = _whole(ck.walker.field, obj, [goal], math.inf)
+    wp = PivotChecker(scene).walker  # its own floor: no whole floor's graph built
+    field = wp.field
+    field.window_from = 0
+    reach = np.where(np.isfinite(want), want, -1.0)
+    far = np.unravel_index(int(np.argmax(reach)), reach.shape)  # the farthest walk's start
+    starts = {(int(far[0]), int(far[1]), 0): 0.0}
+    goals = {(goal[0], goal[1], 0): 0.0}
+    got = wp.floor_distances(obj, goals, starts=starts)
+    assert isinstance(got, FloorWindow) and math.isinf(got.outside)
+    assert np.array_equal(got.dense(field.grid.nx, field.grid.ny), want)
+    assert wp.cached_limit(obj, goals) == math.inf
+    asked = []
+    distances = field.distances
+    field.distances = lambda *a, **k: asked.append(k) or distances(*a, **k)
+    try:
+        again = wp.floor_distances(obj, goals)  # the whole floor's: kept
+    finally:
+        del field.distances
+    assert again is got and not asked

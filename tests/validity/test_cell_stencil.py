@@ -100,3 +100,52 @@ def test_a_map_grid_of_more_cells_than_the_stencil_reads_is_not_dilated():
     side = RES * math.sqrt(STENCIL_CELLS)  # as many cells as the stencil reads at most
     assert map_cell(pieces, (0.0, 0.0, side - 1.0, side), least=CELL_BOXES) == pytest.approx(RES)
     assert map_cell(pieces, (0.0, 0.0, side + 1.0, side), least=CELL_BOXES) is None
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 2**16), resolution=st.sampled_from([0.025, 0.05, 0.1]))
+def test_a_stencils_runs_are_the_cells_a_body_overlaps(seed, resolution):
+    """Each column's maximal runs of cells whose interior the body's interior overlaps."""
+    import shapely
+
+    from pivot_ompl.validity.cell_stencil import stencil
+
+    rng = np.random.default_rng(seed)
+    hull = shapely.convex_hull(shapely.MultiPoint(rng.uniform(-0.6, 0.6, (6, 2))))
+    if hull.area < 1e-4:
+        return
+    body = shapely.orient_polygons(hull)
+    runs = stencil(np.asarray(body.exterior.coords)[:-1], resolution)
+    got = {(a, j) for a, j0, j1 in runs for j in range(j0, j1 + 1)}
+    lo = np.floor(np.asarray(body.bounds[:2]) / resolution).astype(int) - 2
+    hi = np.ceil(np.asarray(body.bounds[2:]) / resolution).astype(int) + 2
+    want = {(a, j) for a in range(lo[0], hi[0] + 1) for j in range(lo[1], hi[1] + 1)
+            if body.intersection(shapely.box(a * resolution, j * resolution, (a + 1) * resolution,
+                                             (j + 1) * resolution)).area > 1e-12}
+    assert got == want
+    assert runs == sorted(runs)  # column by column, each column's runs upwards
+    ends = {(a, j1 + 1) for a, _, j1 in runs}
+    assert not any((a, j0) in ends for a, j0, _ in runs)  # maximal: no run joins the next
+
+
+@settings(max_examples=4, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(seed=st.integers(0, 2**32 - 1), parity=st.sampled_from([0, 1]))
+def test_a_restricted_field_dilated_is_the_whole_fields_within_its_area(seed, parity):
+    """The stencil read only over the area's rows and columns: the same grids there."""
+    rng = np.random.default_rng(seed)
+    boxes = [_box(int(rng.integers(0, 76)), int(rng.integers(0, 56)), int(rng.integers(1, 4)),
+                  int(rng.integers(1, 4))) for _ in range(CELL_BOXES + 40)]
+    boxes = [b for b in boxes if all(abs(b["center"][0] - x) > 0.9
+                                     or abs(b["center"][1] - 3.0) > 0.9 for x in (1.5, 6.0))]
+    checker = PivotChecker(make_scene(obstacles=boxes))
+    whole = AssemblyField(checker.model, checker.world, RES)
+    area = np.zeros((whole.nx, whole.ny), dtype=bool)
+    for _ in range(3):  # an area of three blocks, apart or not
+        x0, y0 = int(rng.integers(0, whole.nx)), int(rng.integers(0, whole.ny))
+        area[x0:x0 + int(rng.integers(1, 30)), y0:y0 + int(rng.integers(1, 30))] = True
+    for part_area in (area, np.zeros_like(area)):
+        part = AssemblyField(checker.model, checker.world, RES)
+        part.restrict(part_area)
+        assert not part.pieces  # every box dilated: the stencil alone decides
+        for k in range(0, len(FIELD_YAWS), 5):
+            assert np.array_equal(part.fits(parity, k), whole.fits(parity, k) & part_area)

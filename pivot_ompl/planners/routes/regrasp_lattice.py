@@ -196,8 +196,10 @@ def regrasp_lattice_path(checker: PivotChecker, lattice: TransferLattice, costs:
     ``start_grasps``, ``goal_grasps``: the grasps valid (and allowed) at the ends; ``grasps``:
     those the robot may use. ``tries``: meeting poses tried per change (nearest the leg's
     start and the goal first, one per bin before a second of one). ``weight``: the lattice
-    routes' heuristic inflation. ``VALID`` with the states (a regrasp: two states at one pose),
-    ``INVALID``, ``STOPPED``.
+    routes' heuristic inflation (the search passes its lattice's, the re-routing's
+    (:mod:`.refine`): a leg's route is then searched once, not again by the re-routing); a
+    leg whose route at ``weight`` fails its checks is routed again at weight 1.
+    ``VALID`` with the states (a regrasp: two states at one pose), ``INVALID``, ``STOPPED``.
     """
     stats = stats if stats is not None else RegraspLatticeStats()
     if should_stop():  # the bins cost about a second on a large floor: not when stopped
@@ -227,9 +229,21 @@ class _Legs:
     should_stop: Stop
 
     def leg(self, a: Pose, b: Pose, grasp: int) -> Found[list[State]]:
-        """The lattice route from ``a`` to ``b`` at ``grasp``, made real."""
+        """The lattice route from ``a`` to ``b`` at ``grasp``, made real.
+
+        At :attr:`weight`, then, where that route's chain fails, at the cheapest routes'
+        weight 1.
+        """
+        found: Found[list[State]] = Found(Status.INVALID)
+        for weight in dict.fromkeys((self.weight, 1.0)):
+            found = self._leg(a, b, grasp, weight)
+            if found.status is not Status.INVALID:
+                break
+        return found
+
+    def _leg(self, a: Pose, b: Pose, grasp: int, weight: float) -> Found[list[State]]:
         poses, cost = self.lattice.route(a, b, grasp, should_stop=self.should_stop,
-                                         weight=self.weight)
+                                         weight=weight)
         if len(poses) < 2 or not math.isfinite(cost):
             return Found(Status.INVALID)
         found = shortened(self.evaluate, corners(poses, spacing=self.run_spacing), grasp,
