@@ -200,7 +200,8 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
         result_plan.extra["roadmap"] = stats
         if result_plan.phases:
             result_plan.extra["quality"] = _quality(result_plan, scene, config, bound,
-                                                    timings, end, prove=prove, prover=prover)
+                                                    timings, end, prove=prove, prover=prover,
+                                                    checker=problem.checker)
     c = problem.checker.counters
     log.info("%s on %s: %s in %.2f s (%s, %s)", planner, scene.name, name, t2 - t1,
              counted(result_plan.pivots, "pivot"), counted(result_plan.regrasps, "regrasp"))
@@ -242,7 +243,7 @@ def plan_from_route(scene: Scene, checker: PivotChecker, states: list[State], *,
     result_plan.extra["timings"] = timings
     result_plan.extra["roadmap"] = stats
     result_plan.extra["quality"] = _quality(result_plan, scene, config or RegraspConfig(),
-                                            bound, timings)
+                                            bound, timings, checker=checker)
     c = checker.counters
     return PlanResult("EXACT_SOLUTION", result_plan, planner, seed, time_limit, timings, stats,
                       {"valid": c.valid, "invalid": c.invalid, "cache_hits": c.cache_hits},
@@ -272,13 +273,15 @@ def _share(time_limit: float, share: float, most: float) -> float:
 
 def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool,
              timings: dict[str, float], end: float = math.inf, *,
-             prove: bool | None = None, prover: Prover | None = None) -> dict[str, Any]:
+             prove: bool | None = None, prover: Prover | None = None,
+             checker: PivotChecker | None = None) -> dict[str, Any]:
     """The quality block, with the scene's lower bounds (stopped at ``end``) when ``bound``.
 
     ``prove`` (:func:`plan`'s): for a plan with regrasps, unless ``False``, the guided
     refinement may run until ``end`` (else the bounds stop after :data:`BOUND_TIME_LIMIT` s).
     ``prover``: the plan's prover, whose bounds are waited for within that time and kept as
-    this process's own (``timings["bound"]`` counts the wait).
+    this process's own (``timings["bound"]`` counts the wait). ``checker``: the plan's, which
+    names what forces each regrasp (one is made if none is given).
     """
     regrasps, route = None, None
     if bound:
@@ -297,7 +300,7 @@ def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool
         timings["bound"] = time.perf_counter() - t0
     q = plan_quality(result_plan, regrasps_lower_bound=regrasps, shortest_route=route,
                      costs=config.cost)
-    return {**q, **explain_plan(result_plan, scene, q)}
+    return {**q, **explain_plan(result_plan, scene, q, checker=checker)}
 
 
 def _prover(scene: Scene, closing: contextlib.ExitStack, *, end: float,
