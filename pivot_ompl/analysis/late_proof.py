@@ -42,6 +42,7 @@ import shapely
 from pivot_ompl.analysis.bound_cache import cached_bound
 from pivot_ompl.analysis.bound_levels import CELLS, exhaustive_estimate
 from pivot_ompl.analysis.passage import Passage, PassageOnce, assembly_width
+from pivot_ompl.analysis.pose_estimate import held_estimate
 from pivot_ompl.analysis.pose_explain import explained
 from pivot_ompl.analysis.pose_floor import HeldFloor
 from pivot_ompl.analysis.pose_inner import joined_at_every_yaw
@@ -247,15 +248,23 @@ class LateProof:
         """
         kept = shared_value(self.scene, HELD_POSES)
         if kept is None:
+            floor: HeldFloor | None = None
             guess = proof_estimate(self.scene)
+            if self.passages.clear is False and self._held_window(0.0)[0] is not None:
+                try:  # most often no plan: the passages' try most often ends the proof
+                    floor = HeldFloor(self.scene, MOTION_CLEARANCE, self._floor_stop())
+                except Interrupted:
+                    return False  # stopped: nothing known, may be tried again with more time
+                guess = held_estimate(floor)
             stop, window = self._held_window(guess)
             log.debug("late proof: held poses estimated at %.2f s, window %.2f s%s", guess,
                       window, "" if stop is not None else ": not tried")
             if stop is None:
                 return False
             spent = self.work() + self.gate_share * window
-            try:  # one floor for the gate and the proof
-                floor = HeldFloor(self.scene, MOTION_CLEARANCE, stop)
+            try:  # one floor for the estimate, the gate and the proof
+                if floor is None:
+                    floor = HeldFloor(self.scene, MOTION_CLEARANCE, stop)
             except Interrupted:
                 return False  # stopped: nothing known, may be tried again with more time
             joined = joined_at_every_yaw(
@@ -310,6 +319,10 @@ class LateProof:
             return now >= cap or (now >= at and self.work() >= spent) or self._told()
 
         return stop
+
+    def _floor_stop(self) -> Callable[[], bool]:
+        """The stop of the floor built for the estimate: where no window is left for it."""
+        return lambda: self._held_window(0.0)[0] is None or self._told()
 
     def _stop(self, at: float) -> Callable[[], bool]:
         return lambda: self.clock() >= at or self._told()
