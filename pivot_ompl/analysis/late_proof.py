@@ -136,8 +136,11 @@ class LateProof:
             start and goal: :func:`~pivot_ompl.analysis.pose_inner.joined_at_every_yaw`, the
             proof could not end apart); where ``passages`` found the start's and the
             goal's regions joined clear of every gap narrower than the held assembly, the
-            held window ends at :data:`CLEAR_SHARE` of the way from ``held_begin`` to it;
-            ``None``: tried where its estimate fits before ``explain_end``, stopped there.
+            held window ends at :data:`CLEAR_SHARE` of the way from ``held_begin`` to it,
+            and where they found every way passing such a gap, the proof's estimate is
+            its passages' try's (:func:`~pivot_ompl.analysis.pose_estimate.held_estimate`);
+            ``None``: tried where its every-piece estimate fits before ``explain_end``,
+            stopped there.
         should_stop: polled by every relaxation besides its own end (a prover's parent
             that has a plan, :mod:`~pivot_ompl.analysis.prover`).
         exact_seconds: the exact polygons run only where estimated at most this (s) too,
@@ -238,19 +241,26 @@ class LateProof:
         (:func:`~pivot_ompl.analysis.pose_inner.joined_at_every_yaw`, the gate: it could not
         prove; asked with at most :data:`GATE_SHARE` of the proof's window in seconds of
         ``work``: a gate dearer than that saves the proof little); else tried when half its
-        estimate (:func:`~pivot_ompl.analysis.pose_proof.proof_estimate`) fits before
-        ``held_end`` (then stopped at ``held_end`` once it has had as many seconds of ``work``
-        as the clock's from now to then, as a loaded machine's clock runs ahead of the work,
-        and at twice that window at the latest), or without ``held_end`` when the estimate
-        fits before ``explain_end`` (stopped there). Its answer is kept for the scene's
-        geometry (a later plan of the scene reads it, and does not try again what found
-        nothing).
+        estimate fits before ``held_end`` (then stopped at ``held_end`` once it has had as
+        many seconds of ``work`` as the clock's from now to then, as a loaded machine's
+        clock runs ahead of the work, and at twice that window at the latest), or without
+        ``held_end`` when the estimate fits before ``explain_end`` (stopped there). The
+        estimate: with ``held_end``, where
+        every way from start to goal passes a gap narrower than the held assembly (most
+        often no plan: the proof's passages' try most often ends it), its try's
+        (:func:`~pivot_ompl.analysis.pose_estimate.held_estimate`, on the floor then built
+        for the gate and the proof); else every piece's
+        (:func:`~pivot_ompl.analysis.pose_proof.proof_estimate`: a feasible scene's try
+        joins start and goal and the proof goes on with every piece). Its answer is kept
+        for the scene's geometry (a later plan of the scene reads it, and does not try
+        again what found nothing).
         """
         kept = shared_value(self.scene, HELD_POSES)
         if kept is None:
             floor: HeldFloor | None = None
             guess = proof_estimate(self.scene)
-            if self.passages.clear is False and self._held_window(0.0)[0] is not None:
+            if (self.held_end is not None and self.passages.clear is False
+                    and self._held_window(0.0)[0] is not None):
                 try:  # most often no plan: the passages' try most often ends the proof
                     floor = HeldFloor(self.scene, MOTION_CLEARANCE, self._floor_stop())
                 except Interrupted:
