@@ -9,7 +9,9 @@ pieces, its proof 2.3 s of CPU against the 19.3 s estimated from every piece.
 :func:`held_estimate` counts the pieces of that first try on a built
 :class:`~pivot_ompl.analysis.pose_floor.HeldFloor` (its pieces near the room and near the
 passages, kept by the floor for the proof that follows: about 0.1 s on the lab's floor) and
-prices them at the same cost per piece, bin and grasp.
+prices them at the same cost per piece, bin and grasp, with a cost per bin
+(:data:`SECONDS_PER_BIN`) that a few pieces' proof does not hide: 2.8 s for the lab door's
+2.3 s.
 
 Where the passages' try runs, the estimate is the try's: the cost of an answer "apart"
 there. Joined there, the proof starts again with every piece and costs the try's and
@@ -29,6 +31,7 @@ from pivot_ompl.analysis.pose_proof import (
     PASSAGE_FLOOR,
     PASSAGE_SHARE,
     SECONDS_PER_PIECE,
+    proof_estimate,
 )
 from pivot_ompl.grasp import GRASPS
 
@@ -37,9 +40,15 @@ def _count(pieces: dict[int, np.ndarray]) -> int:
     return sum(len(stack) for stack in pieces.values())
 
 
+#: Time (s) of one bin's regions and chain search besides its pieces' sums, every grasp
+#: together (about 10 ms: proofs of a few pieces on 0.05 m map floors took 9-16 ms a bin;
+#: the lab door's 167 pieces 41 ms a bin, 11 ms of it this).
+SECONDS_PER_BIN = 0.01
+
+
 def pieces_seconds(pieces: int) -> float:
     """Estimated time (s) of a proof summing ``pieces`` pieces (:data:`ESTIMATED_BINS` bins)."""
-    return ESTIMATED_BINS * len(GRASPS) * pieces * SECONDS_PER_PIECE
+    return ESTIMATED_BINS * (SECONDS_PER_BIN + len(GRASPS) * pieces * SECONDS_PER_PIECE)
 
 
 def held_estimate(floor: HeldFloor) -> float:
@@ -47,10 +56,12 @@ def held_estimate(floor: HeldFloor) -> float:
 
     ``floor``: the scene's floor at the proof's clearance (its pieces near the room and near
     the passages are counted, and kept for the proof). Where the proof's passages' try runs,
-    the try's pieces (an answer "apart" there ends the proof: the module docstring); else
-    every piece near the room.
+    the try's (:func:`pieces_seconds` of its pieces: an answer "apart" there ends the proof,
+    the module docstring); else :func:`~pivot_ompl.analysis.pose_proof.proof_estimate`.
     """
     every = _count(floor.near_room(floor.clearance))
     narrow = (_count(floor.passages_near_room(floor.clearance)) if every >= PASSAGE_FLOOR
               else 0)
-    return pieces_seconds(narrow if 0 < narrow <= PASSAGE_SHARE * every else every)
+    if 0 < narrow <= PASSAGE_SHARE * every:
+        return pieces_seconds(narrow)
+    return proof_estimate(floor.scene)
