@@ -40,6 +40,12 @@ def _count(pieces: dict[int, np.ndarray]) -> int:
     return sum(len(stack) for stack in pieces.values())
 
 
+#: Largest share of the pieces near the room held by the passages' try for its estimate to
+#: stand for the proof's (:func:`held_estimate`): the lab door's try holds 14 % of them and
+#: ends its proof; the office's (every way passing gaps narrower than the held assembly, a
+#: plan with two regrasps) 41 %, and joins start and goal: a proof admitted by the try's
+#: estimate there would cost its search the held window for nothing.
+TRY_SHARE = 0.25
 #: Time (s) of one bin's regions and chain search besides its pieces' sums, every grasp
 #: together (about 10 ms: proofs of a few pieces on 0.05 m map floors took 9-16 ms a bin;
 #: the lab door's 167 pieces 41 ms a bin, 11 ms of it this).
@@ -55,13 +61,14 @@ def held_estimate(floor: HeldFloor) -> float:
     """Estimated time (s) of :func:`~pivot_ompl.analysis.pose_proof.prove_no_plan` on ``floor``.
 
     ``floor``: the scene's floor at the proof's clearance (its pieces near the room and near
-    the passages are counted, and kept for the proof). Where the proof's passages' try runs,
-    the try's (:func:`pieces_seconds` of its pieces: an answer "apart" there ends the proof,
-    the module docstring); else :func:`~pivot_ompl.analysis.pose_proof.proof_estimate`.
+    the passages are counted, and kept for the proof). Where the proof's passages' try runs
+    on at most :data:`TRY_SHARE` of the pieces, the try's (:func:`pieces_seconds` of its
+    pieces: an answer "apart" there ends the proof, the module docstring); else
+    :func:`~pivot_ompl.analysis.pose_proof.proof_estimate`.
     """
     every = _count(floor.near_room(floor.clearance))
     narrow = (_count(floor.passages_near_room(floor.clearance)) if every >= PASSAGE_FLOOR
               else 0)
-    if 0 < narrow <= PASSAGE_SHARE * every:
+    if 0 < narrow <= min(PASSAGE_SHARE, TRY_SHARE) * every:
         return pieces_seconds(narrow)
     return proof_estimate(floor.scene)
