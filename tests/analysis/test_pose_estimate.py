@@ -8,6 +8,7 @@ import pytest
 from factories import shipped
 from map_factories import lab_door
 
+from pivot_ompl.analysis import pose_estimate
 from pivot_ompl.analysis.pose_estimate import held_estimate
 from pivot_ompl.analysis.pose_floor import HeldFloor
 from pivot_ompl.analysis.pose_proof import MOTION_CLEARANCE, proof_estimate, prove_no_plan
@@ -36,3 +37,12 @@ def test_the_estimate_follows_the_proof_where_the_passages_try_ends_it(tmp_path,
 def test_without_a_passages_try_the_estimate_is_every_pieces(name):
     scene = shipped(name)  # fewer pieces than a passages' try is worth
     assert held_estimate(HeldFloor(scene, MOTION_CLEARANCE, None)) == proof_estimate(scene)
+
+
+def test_a_try_over_more_than_its_share_of_the_pieces_is_estimated_as_every_piece(
+        tmp_path, monkeypatch):
+    scene = lab_door(tmp_path, 0)  # its try holds under a tenth of the pieces near the room
+    floor = HeldFloor(scene, MOTION_CLEARANCE, None)
+    assert held_estimate(floor) < proof_estimate(scene)
+    monkeypatch.setattr(pose_estimate, "TRY_SHARE", 0.05)  # as the office's 41 % against 25 %
+    assert held_estimate(floor) == proof_estimate(scene)
