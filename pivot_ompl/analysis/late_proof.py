@@ -42,6 +42,7 @@ import shapely
 from pivot_ompl.analysis.bound_cache import cached_bound
 from pivot_ompl.analysis.bound_levels import CELLS, exhaustive_estimate
 from pivot_ompl.analysis.passage import Passage, PassageOnce, assembly_width
+from pivot_ompl.analysis.pose_estimate import held_estimate
 from pivot_ompl.analysis.pose_explain import explained
 from pivot_ompl.analysis.pose_floor import HeldFloor
 from pivot_ompl.analysis.pose_inner import joined_at_every_yaw
@@ -135,8 +136,11 @@ class LateProof:
             start and goal: :func:`~pivot_ompl.analysis.pose_inner.joined_at_every_yaw`, the
             proof could not end apart); where ``passages`` found the start's and the
             goal's regions joined clear of every gap narrower than the held assembly, the
-            held window ends at :data:`CLEAR_SHARE` of the way from ``held_begin`` to it;
-            ``None``: tried where its estimate fits before ``explain_end``, stopped there.
+            held window ends at :data:`CLEAR_SHARE` of the way from ``held_begin`` to it,
+            and where they found every way passing such a gap, the proof's estimate is
+            its passages' try's (:func:`~pivot_ompl.analysis.pose_estimate.held_estimate`);
+            ``None``: tried where its every-piece estimate fits before ``explain_end``,
+            stopped there.
         should_stop: polled by every relaxation besides its own end (a prover's parent
             that has a plan, :mod:`~pivot_ompl.analysis.prover`).
         exact_seconds: the exact polygons run only where estimated at most this (s) too,
@@ -237,25 +241,40 @@ class LateProof:
         (:func:`~pivot_ompl.analysis.pose_inner.joined_at_every_yaw`, the gate: it could not
         prove; asked with at most :data:`GATE_SHARE` of the proof's window in seconds of
         ``work``: a gate dearer than that saves the proof little); else tried when half its
-        estimate (:func:`~pivot_ompl.analysis.pose_proof.proof_estimate`) fits before
-        ``held_end`` (then stopped at ``held_end`` once it has had as many seconds of ``work``
-        as the clock's from now to then, as a loaded machine's clock runs ahead of the work,
-        and at twice that window at the latest), or without ``held_end`` when the estimate
-        fits before ``explain_end`` (stopped there). Its answer is kept for the scene's
-        geometry (a later plan of the scene reads it, and does not try again what found
-        nothing).
+        estimate fits before ``held_end`` (then stopped at ``held_end`` once it has had as
+        many seconds of ``work`` as the clock's from now to then, as a loaded machine's
+        clock runs ahead of the work, and at twice that window at the latest), or without
+        ``held_end`` when the estimate fits before ``explain_end`` (stopped there). The
+        estimate: with ``held_end``, where
+        every way from start to goal passes a gap narrower than the held assembly (most
+        often no plan: the proof's passages' try most often ends it), its try's
+        (:func:`~pivot_ompl.analysis.pose_estimate.held_estimate`, on the floor then built
+        for the gate and the proof); else every piece's
+        (:func:`~pivot_ompl.analysis.pose_proof.proof_estimate`: a feasible scene's try
+        joins start and goal and the proof goes on with every piece). Its answer is kept
+        for the scene's geometry (a later plan of the scene reads it, and does not try
+        again what found nothing).
         """
         kept = shared_value(self.scene, HELD_POSES)
         if kept is None:
+            floor: HeldFloor | None = None
             guess = proof_estimate(self.scene)
+            if (self.held_end is not None and self.passages.clear is False
+                    and self._held_window(0.0)[0] is not None):
+                try:  # most often no plan: the passages' try most often ends the proof
+                    floor = HeldFloor(self.scene, MOTION_CLEARANCE, self._floor_stop())
+                except Interrupted:
+                    return False  # stopped: nothing known, may be tried again with more time
+                guess = held_estimate(floor)
             stop, window = self._held_window(guess)
             log.debug("late proof: held poses estimated at %.2f s, window %.2f s%s", guess,
                       window, "" if stop is not None else ": not tried")
             if stop is None:
                 return False
             spent = self.work() + self.gate_share * window
-            try:  # one floor for the gate and the proof
-                floor = HeldFloor(self.scene, MOTION_CLEARANCE, stop)
+            try:  # one floor for the estimate, the gate and the proof
+                if floor is None:
+                    floor = HeldFloor(self.scene, MOTION_CLEARANCE, stop)
             except Interrupted:
                 return False  # stopped: nothing known, may be tried again with more time
             joined = joined_at_every_yaw(
@@ -310,6 +329,10 @@ class LateProof:
             return now >= cap or (now >= at and self.work() >= spent) or self._told()
 
         return stop
+
+    def _floor_stop(self) -> Callable[[], bool]:
+        """The stop of the floor built for the estimate: where no window is left for it."""
+        return lambda: self._held_window(0.0)[0] is None or self._told()
 
     def _stop(self, at: float) -> Callable[[], bool]:
         return lambda: self.clock() >= at or self._told()

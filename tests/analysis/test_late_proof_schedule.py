@@ -5,6 +5,7 @@ from __future__ import annotations
 import pytest
 from corner_factories import ragged_slot
 from factories import shipped
+from map_factories import lab_door
 
 from pivot_ompl.analysis import late_proof
 from pivot_ompl.analysis.bound_levels import exhaustive_estimate
@@ -152,3 +153,23 @@ def test_where_the_held_assembly_has_room_all_the_way_the_window_stays_short(mon
     assert passages.clear is True
     assert late() is False and calls == []
     assert shared_value(scene, HELD_POSES) is None  # not tried: the gate not paid either
+
+
+def test_one_process_at_ten_seconds_admits_a_lab_door_proof_by_its_passages_estimate(
+        tmp_path):
+    # regression: the lab door (brsu_c069) at --time 30 --no-parallel ended TIMEOUT: its held
+    # poses' proof, estimated from every piece (19.3 s), never fitted the held window, though
+    # its passages' try proves in 2.3 s of CPU. Here the same at --time 10 on a smaller lab.
+    scene = lab_door(tmp_path, 3)
+    keep_shared(scene, NOTHING_TO_PROVE, True)  # the held poses are all that is left to try
+    passages = PassageOnce(scene)
+    passages()
+    assert passages.clear is False  # every way passes the 0.85 m doorway
+    limit, asked = 10.0, LATE_PROOF_END * 10.0
+    window = HELD_PROOF_END * limit - asked
+    assert 0.5 * proof_estimate(scene) > window  # every piece's estimate does not fit
+    late = LateProof(scene, begin=LATE_PROOF_BEGIN * limit, end=asked,
+                     explain_end=EXPLAIN_END * limit, passages=passages,
+                     held_begin=HELD_PROOF_BEGIN * limit, held_end=HELD_PROOF_END * limit,
+                     clock=lambda: asked, work=lambda: 0.0)
+    assert late() is True and late.proof is not None and "0.85 m" in late.proof.reason
