@@ -136,9 +136,13 @@ def test_the_yaml_parse_polls(big_file):
 
 
 def _in_construction() -> bool:
-    """True when called from within PyYAML's building of the document (not its parse)."""
+    """True when called from within the building of the document (not its parse).
+
+    PyYAML's constructor (``construct_document``) or the lean one of plain documents.
+    """
     frame = inspect.currentframe()
-    while frame is not None and frame.f_code.co_name != "construct_document":
+    while frame is not None and frame.f_code.co_name not in ("construct_document",
+                                                               "build_plain"):
         frame = frame.f_back
     return frame is not None
 

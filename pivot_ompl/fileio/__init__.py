@@ -18,7 +18,8 @@ any work, a target that is a directory, that is one of the run's input files, wh
 too long for its file system, or whose folder is a file.
 
 Modules: :mod:`~pivot_ompl.fileio.reading` (paths, text, JSON),
-:mod:`~pivot_ompl.fileio.yaml_strict` (YAML), :mod:`~pivot_ompl.fileio.outputs` (writing).
+:mod:`~pivot_ompl.fileio.yaml_strict` (YAML; plain documents built by
+:mod:`~pivot_ompl.fileio.yaml_plain`), :mod:`~pivot_ompl.fileio.outputs` (writing).
 """
 
 from pivot_ompl.fileio.outputs import (

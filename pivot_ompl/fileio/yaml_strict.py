@@ -16,6 +16,7 @@ import yaml
 
 from pivot_ompl.errors import InputError, Interrupted
 from pivot_ompl.fileio.reading import read_text, short_error
+from pivot_ompl.fileio.yaml_plain import NotPlain, build_plain
 
 #: Largest number of YAML nodes after alias expansion (a 64 MB file of plain data holds fewer;
 #: the largest documented scene, 100 000 obstacles, about 1.6 M).
@@ -55,20 +56,28 @@ def _loader(text: str, should_stop: Callable[[], bool] | None) -> _StrictLoader:
     libyaml composes the nodes in C and calls :meth:`resolve` once per node (there is no
     other way in), the constructor calls ``construct_mapping`` and ``construct_sequence`` once
     per mapping and list: all poll every :data:`POLL_NODES` calls, so a time limit stops a
-    100 000-obstacle scene's parse, and a 10 000-point polygon's.
+    100 000-obstacle scene's parse, and a 10 000-point polygon's. A scalar's tag depends only
+    on its text and style (the safe loader has no path resolvers): each is resolved once.
     """
-    if should_stop is None:
-        return _StrictLoader(text)
     calls = itertools.count(1)
+    resolved: dict[tuple[str, Any], str] = {}
+    base_resolve = _StrictLoader.resolve
+    scalar = yaml.ScalarNode
 
     def poll() -> None:
-        if next(calls) % POLL_NODES == 0 and should_stop():
+        if should_stop is not None and next(calls) % POLL_NODES == 0 and should_stop():
             raise Interrupted("reading the scene")
 
     class _PollingLoader(_StrictLoader):
         def resolve(self, kind: Any, value: Any, implicit: Any) -> Any:
             poll()
-            return super().resolve(kind, value, implicit)
+            if kind is not scalar:
+                return base_resolve(self, kind, value, implicit)
+            key = (value, implicit)
+            tag = resolved.get(key)
+            if tag is None:
+                tag = resolved[key] = base_resolve(self, kind, value, implicit)
+            return tag
 
         def construct_mapping(self, node: yaml.MappingNode, deep: bool = False) -> dict:
             poll()
@@ -179,6 +188,11 @@ def _parse(loader: _StrictLoader, src: str, error: type[InputError],
         node = loader.get_single_node()
         if node is None:
             return None
+        try:
+            return build_plain(node, loader, max_nodes=MAX_NODES, poll_nodes=POLL_NODES,
+                               should_stop=should_stop)
+        except NotPlain:
+            pass  # PyYAML's constructor builds it, with its own checks and messages
         if _expanded_size(node, {}, should_stop) > MAX_NODES:
             raise error("<document>", src, f"expands to more than {MAX_NODES} YAML nodes "
                         "(aliases expanded)", source=src)

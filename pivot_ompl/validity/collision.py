@@ -191,6 +191,7 @@ class CollisionWorld:
         self._manager = coal.DynamicAABBTreeCollisionManager()
         self._near: NearPieces | None = None  # made at the first query (many pieces)
         self._dcb = coal.DistanceCallBackDefault()
+        self._dresult = self._dcb.data.result  # one wrapper of the callback's result, kept
         self._ccb = coal.CollisionCallBackDefault()
         self._req = coal.DistanceRequest()
         self._res = coal.DistanceResult()
@@ -258,10 +259,10 @@ class CollisionWorld:
             if self._near is None:
                 self._near = NearPieces(self._objects)
             return self._near.distance(obj, self._manager, x, y, radius) - self.clearance
-        cb = self._dcb
-        cb.data.result.clear()
-        self._manager.distance(obj, cb)
-        return cb.data.result.min_distance - self.clearance
+        result = self._dresult
+        result.clear()
+        self._manager.distance(obj, self._dcb)
+        return result.min_distance - self.clearance
 
     def box_distance(self, obj: Pose) -> float:
         """Distance (m) from the box at object pose ``obj`` to the nearest obstacle (<= 0: hit)."""

@@ -63,6 +63,9 @@ class NearPieces:
         self._boxes = boxes
         self._trees: dict[tuple[int, int], coal.DynamicAABBTreeCollisionManager] = {}
         self._cb = coal.DistanceCallBackDefault()
+        #: the callback's result (each ``cb.data.result`` builds a new wrapper of it: a
+        #: microsecond, twice per query)
+        self._result = self._cb.data.result
         self.local = 0
         self.fallback = 0
 
@@ -77,21 +80,21 @@ class NearPieces:
         s = self.cell
         i, j = math.floor(x / s), math.floor(y / s)
         overhang = max(i * s - x, x - (i + 1) * s, j * s - y, y - (j + 1) * s, -s) + radius
-        cb = self._cb
+        cb, result = self._cb, self._result
         if overhang < self.margin:
             tree = self._trees.get((i, j))
             if tree is None:
                 tree = self._trees[(i, j)] = self._tree(i, j)
-            cb.data.result.clear()
+            result.clear()
             tree.distance(obj, cb)
-            d = cb.data.result.min_distance
+            d = result.min_distance
             if d < self.margin - overhang:
                 self.local += 1
                 return d
         self.fallback += 1
-        cb.data.result.clear()
+        result.clear()
         whole.distance(obj, cb)
-        return cb.data.result.min_distance
+        return result.min_distance
 
     def _tree(self, i: int, j: int) -> coal.DynamicAABBTreeCollisionManager:
         """The tree of the objects whose boxes come within the margin of cell ``(i, j)``."""
