@@ -146,8 +146,8 @@ def wall_frame(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     if floor is None:
         return None
     if facing:
-        yaw = _facing_yaw(scene, floor)
-        if yaw == 0.0:
+        yaw = walls_facing(scene, should_stop)
+        if not yaw:  # along the axes, or stopped
             return None
     reach = max(p.reach for g in (0, 1) for p in held_bodies(scene, g)) + MARGIN
     pts = shapely.get_coordinates(floor)
@@ -238,7 +238,16 @@ def _aligned(bounds: tuple[float, float, float, float], obstacles: tuple[Obstacl
 
 def _free_floor(scene: Scene, should_stop: Callable[[], bool] | None
                 ) -> shapely.Geometry | None:
-    """The pieces of the free floor holding the start or the goal (``None``: none, or stopped)."""
+    """The pieces of the free floor holding the start or the goal (``None``: none, or stopped).
+
+    Computed once per scene geometry in the process (the checker's walls, the lattice's
+    frame and the route field's frame ask it of the same scene).
+    """
+    return scene_shared(scene, ("free floor",), lambda: _floor(scene, should_stop))
+
+
+def _floor(scene: Scene, should_stop: Callable[[], bool] | None) -> shapely.Geometry | None:
+    """:func:`_free_floor`, computed."""
     try:
         pieces = obstacle_pieces(merge_boxes(scene.obstacles, should_stop=should_stop))
     except Interrupted:

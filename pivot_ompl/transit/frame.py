@@ -24,7 +24,10 @@ from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import BoxObstacle, Obstacle
 from pivot_ompl.scene.walls import turned_obstacle, wall_yaw
 from pivot_ompl.se2 import Pose
+from pivot_ompl.validity.assembly_field import least_boxes
+from pivot_ompl.validity.cell_stencil import grid_cell, grid_origin
 from pivot_ompl.validity.collision import CollisionWorld
+from pivot_ompl.validity.footprints import obstacle_pieces
 
 #: Thickness (m) of the walls that stand for the scene's bounds in the turned frame.
 BOUND_WALL = 0.5
@@ -83,13 +86,37 @@ class LatticeFrame:
         corners = [self.into((x, y, 0.0)) for x in (x0 - t - k, x1 + t + k)
                    for y in (y0 - t - k, y1 + t + k)]
         xs, ys = [c[0] for c in corners], [c[1] for c in corners]
-        out = CollisionWorld(world.model, (min(xs), min(ys), max(xs), max(ys)), world.clearance)
+        turned = []
         for o in [*world.obstacles, *walls]:
             if should_stop is not None and should_stop():
                 raise Interrupted("turning the floor to the walk lattice's frame")
-            out.add_obstacle(self.obstacle(o), should_stop)
+            turned.append(self.obstacle(o))
+        low = _on_grid((min(xs), min(ys)), turned)
+        out = CollisionWorld(world.model, (*low, max(xs), max(ys)), world.clearance)
+        for o in turned:
+            if should_stop is not None and should_stop():
+                raise Interrupted("turning the floor to the walk lattice's frame")
+            out.add_obstacle(o, should_stop)
         out.setup()
         return out
+
+
+def _on_grid(low: tuple[float, float], obstacles: list[Obstacle]) -> tuple[float, float]:
+    """``low`` moved down onto the lines of the map grid the turned boxes lie on, if any.
+
+    A map turned by its own angle has its boxes on a grid in this frame, but not through
+    the frame's corner: a floor grid from a corner on its lines meets them by a stencil's
+    dilation (:func:`~pivot_ompl.validity.cell_stencil.cell_dilation`) instead of a sum
+    per box. The bounds only grow (by less than a cell).
+    """
+    pieces = obstacle_pieces(obstacles)
+    origin = grid_origin(pieces, least=least_boxes(1))
+    if origin is None:
+        return low
+    cell = grid_cell(pieces, origin, least=least_boxes(1))
+    assert cell is not None
+    return (origin[0] + cell * math.floor((low[0] - origin[0]) / cell),
+            origin[1] + cell * math.floor((low[1] - origin[1]) / cell))
 
 
 def frame_of(world: CollisionWorld, *, yaw: float | None = None) -> LatticeFrame:
