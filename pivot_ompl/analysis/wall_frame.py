@@ -149,17 +149,10 @@ def wall_frame(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
         yaw = walls_facing(scene, should_stop)
         if not yaw:  # along the axes, or stopped
             return None
-    reach = max(p.reach for g in (0, 1) for p in held_bodies(scene, g)) + MARGIN
-    pts = shapely.get_coordinates(floor)
-    c, s = math.cos(-yaw), math.sin(-yaw)
-    dx, dy = pts[:, 0] - centre[0], pts[:, 1] - centre[1]
-    tx, ty = centre[0] + c * dx - s * dy, centre[1] + s * dx + c * dy
+    reach = _reach(scene)
     if floor_grid is not None:  # the grid's lines through the free floor's corner
         reach = floor_grid * math.ceil(reach / floor_grid)
-    # the floor found lies GROW inside the obstacles' faces: its box grown back by that
-    g = _grow(scene)
-    bounds = (float(tx.min()) - g - reach, float(ty.min()) - g - reach,
-              float(tx.max()) + g + reach, float(ty.max()) + g + reach)
+    bounds = _turned_box(scene, floor, yaw, centre, reach)
     area = (bounds[2] - bounds[0]) * (bounds[3] - bounds[1])
     if area > (WORTH if worth is None else worth) * (x1 - x0) * (y1 - y0):
         return None
@@ -179,6 +172,36 @@ def wall_frame(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     log.debug("walls' frame: turned %.2f deg, bounds %.0f -> %.0f m2", math.degrees(yaw),
               w * h, area)
     return WallFrame(yaw, centre, turned)
+
+
+def floor_bounds(scene: Scene, yaw: float, centre: tuple[float, float], *,
+                 should_stop: Callable[[], bool] | None = None
+                 ) -> tuple[float, float, float, float] | None:
+    """Where every body of a plan lies in the scene turned by ``-yaw`` about ``centre`` (m).
+
+    The box round the free floor's pieces holding the start or the goal, turned, grown by
+    the held assembly's reach and :data:`MARGIN` (the new bounds of :func:`wall_frame`,
+    whatever their area); ``None`` where the free floor is not found (or stopped).
+    """
+    floor = _free_floor(scene, should_stop)
+    return None if floor is None else _turned_box(scene, floor, yaw, centre, _reach(scene))
+
+
+def _reach(scene: Scene) -> float:
+    """The held assembly's reach round the box's centre, and :data:`MARGIN` (m)."""
+    return max(p.reach for g in (0, 1) for p in held_bodies(scene, g)) + MARGIN
+
+
+def _turned_box(scene: Scene, floor: shapely.Geometry, yaw: float, centre: tuple[float, float],
+                reach: float) -> tuple[float, float, float, float]:
+    """The box round ``floor`` turned by ``-yaw`` about ``centre``, grown by ``reach`` (m)."""
+    pts = shapely.get_coordinates(floor)
+    c, s = math.cos(-yaw), math.sin(-yaw)
+    dx, dy = pts[:, 0] - centre[0], pts[:, 1] - centre[1]
+    tx, ty = centre[0] + c * dx - s * dy, centre[1] + s * dx + c * dy
+    # the floor found lies GROW inside the obstacles' faces: its box grown back by that
+    g = _grow(scene) + reach
+    return (float(tx.min()) - g, float(ty.min()) - g, float(tx.max()) + g, float(ty.max()) + g)
 
 
 def facing_yaw(scene: Scene, *, should_stop: Callable[[], bool] | None = None) -> float | None:

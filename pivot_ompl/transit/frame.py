@@ -65,13 +65,15 @@ class LatticeFrame:
         """``o`` in the lattice's frame."""
         return turned_obstacle(o, -self.yaw, self.centre)
 
-    def world(self, world: CollisionWorld, should_stop: Callable[[], bool] | None = None
-              ) -> CollisionWorld:
+    def world(self, world: CollisionWorld, should_stop: Callable[[], bool] | None = None, *,
+              within: tuple[float, float, float, float] | None = None) -> CollisionWorld:
         """``world`` in the lattice's frame: its obstacles turned, its bounds four walls.
 
         The walls stand just outside the bounds (as far out as the world's kept clearance),
         so the walking body keeps from them what it keeps from the bounds; the frame's
-        bounds hold them.
+        bounds hold them, cut to ``within`` (m, in this frame) where given: where the
+        walking body may be (walks are certified in the scene, so the cut only narrows
+        what is searched).
 
         Raises:
             Interrupted: ``should_stop()`` became true (polled before every obstacle).
@@ -91,8 +93,12 @@ class LatticeFrame:
             if should_stop is not None and should_stop():
                 raise Interrupted("turning the floor to the walk lattice's frame")
             turned.append(self.obstacle(o))
-        low = _on_grid((min(xs), min(ys)), turned)
-        out = CollisionWorld(world.model, (*low, max(xs), max(ys)), world.clearance)
+        box = (min(xs), min(ys), max(xs), max(ys))
+        if within is not None:
+            box = (max(box[0], within[0]), max(box[1], within[1]),
+                   min(box[2], within[2]), min(box[3], within[3]))
+        low = _on_grid((box[0], box[1]), turned)
+        out = CollisionWorld(world.model, (*low, box[2], box[3]), world.clearance)
         for o in turned:
             if should_stop is not None and should_stop():
                 raise Interrupted("turning the floor to the walk lattice's frame")

@@ -54,3 +54,11 @@ def test_a_turned_map_s_boxes_are_dilated_and_give_the_sums_positions(angle, see
     for k in range(0, len(OPEN_YAWS), 3):
         a, b = dilated.fits_index(k), summed.fits_index(k)
         assert np.array_equal(a, b), (k, int((a != b).sum()))
+
+
+def test_a_turned_map_walks_on_a_grid_round_its_floor_not_round_its_turned_bounds():
+    scene = rotate_scene(_map_scene(0), 0.7)
+    b = PivotChecker(scene).walker.world.bounds
+    # the 8 x 6 m floor and the held assembly's reach (about 2 m) round it: 12 x 10 m at
+    # most; the turned bounds turned back are about 16 x 16 m
+    assert (b[2] - b[0]) * (b[3] - b[1]) <= (8.0 + 4.0) * (6.0 + 4.0)
