@@ -146,9 +146,10 @@ def wall_frame(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     if floor is None:
         return None
     if facing:
-        yaw = walls_facing(scene, should_stop)
-        if not yaw:  # along the axes, or stopped
+        faced = walls_facing(scene, should_stop)
+        if not faced:  # along the axes, or stopped
             return None
+        yaw = faced
     reach = _reach(scene)
     if floor_grid is not None:  # the grid's lines through the free floor's corner
         reach = floor_grid * math.ceil(reach / floor_grid)
