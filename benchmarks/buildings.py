@@ -17,6 +17,13 @@ Usage::
     python benchmarks/buildings.py                      # 20 seeds, --time 60
     python benchmarks/buildings.py --seeds 3 --maps aws_small_house,nav2_depot
     python benchmarks/buildings.py --table results/buildings/buildings.json
+    python benchmarks/buildings.py --seeds 2 --turn 0.5 --mirror   # rigid copies of the maps
+
+``--turn RAD`` plans on each map's scene turned by ``RAD`` about its bounds' centre
+(``pivot_ompl.generate.rotate_scene``: the old bounds become walls round the turned floor);
+``--mirror`` on its mirror image across the horizontal line through that centre
+(``mirror_scene``), before any turn. A rigid copy has the same plans as the map itself, so
+its table should match the map's.
 
 Set ``PIVOT_BENCH_LOCK`` to a file (``/tmp/pivot-bench.lock``) to hold it (``flock``) during
 each planning run, so that two measuring scripts never share the cores. Outputs go to
@@ -127,14 +134,27 @@ CORPUS = (
 )
 
 
-def import_corpus_map(m: CorpusMap, out: Path) -> dict[str, Any]:
-    """Import ``m`` as ``out/<name>.yaml``; its size and boxes."""
+def import_corpus_map(m: CorpusMap, out: Path, *, turn: float = 0.0,
+                     mirror: bool = False) -> dict[str, Any]:
+    """Import ``m`` as ``out/<name>.yaml``; its size and boxes (those of the map's floor).
+
+    ``mirror``: the scene mirrored across the horizontal line through its bounds' centre;
+    ``turn``: then turned by that angle (rad) about that centre (the file named after it).
+    """
     from pivot_ompl import MapCleaning, import_map
+    from pivot_ompl.generate import mirror_scene, rotate_scene
     from pivot_ompl.generate.sceneio import write_scene
 
     result = import_map(ROOT / m.map, start=m.start, goal=m.goal, name=m.name,
                         cleaning=MapCleaning(**m.clean))
-    path = write_scene(result.scene, out / f"{m.name}.yaml", comment=result.header)
+    scene, name = result.scene, m.name
+    if mirror:
+        name = f"{name}_mirror"
+        scene = mirror_scene(scene, 0.0, name=name)
+    if turn:
+        name = f"{name}_turn{turn:g}"
+        scene = rotate_scene(scene, turn, name=name)
+    path = write_scene(scene, out / f"{name}.yaml", comment=result.header)
     b = result.scene.bounds
     return {"scene": str(path), "width": b[2] - b[0], "depth": b[3] - b[1],
             "boxes": len(result.scene.obstacles), "resolution": result.map.resolution}
@@ -271,6 +291,11 @@ def main() -> None:
     p.add_argument("--fresh", action="store_true",
                    help="each plan with its own empty cache folder (a first plan: no bound "
                         "cached by an earlier seed)")
+    p.add_argument("--turn", type=float, default=0.0, metavar="RAD",
+                   help="plan on each scene turned by RAD (rad) about its bounds' centre")
+    p.add_argument("--mirror", action="store_true",
+                   help="plan on each scene mirrored across its centre's horizontal line "
+                        "(before --turn)")
     p.add_argument("--table", metavar="JSON", help="only print the table of a run's "
                    "buildings.json")
     args = p.parse_args()
@@ -289,7 +314,7 @@ def main() -> None:
     out.mkdir(parents=True, exist_ok=True)
     record = {}
     for m in chosen:
-        info = import_corpus_map(m, out)
+        info = import_corpus_map(m, out, turn=args.turn, mirror=args.mirror)
         runs = []
         for seed in range(args.seeds):
             run = plan_once(info["scene"], seed, args.time, out, prove=args.prove,
@@ -305,7 +330,9 @@ def main() -> None:
     command = (f"python benchmarks/buildings.py --seeds {args.seeds} --time {args.time:g}"
                + (f" --maps {args.maps}" if args.maps else "")
                + (" --prove" if args.prove else "") + (" --fresh" if args.fresh else "")
-               + (" --no-parallel" if args.no_parallel else ""))
+               + (" --no-parallel" if args.no_parallel else "")
+               + (f" --turn {args.turn:g}" if args.turn else "")
+               + (" --mirror" if args.mirror else ""))
     text = table(record, command)
     (out / "buildings.md").write_text(text)
     (out / "buildings.json").write_text(json.dumps(

@@ -70,9 +70,11 @@ MARGIN = 0.5
 #: The turned scene is relaxed when its bounds' area is at most this share of the scene's (a
 #: smaller floor gets finer levels within the same estimated time: not worth it for a little).
 WORTH = 0.5
-#: Obstacle pieces beyond which no frame is tried (the free floor's union is one GEOS call,
-#: not polled: about 0.1 s per thousand pieces).
-MAX_PIECES = 4000
+#: Obstacle pieces beyond which no frame is tried (the free floor's union costs about 0.1 s
+#: per thousand pieces: at most about 2 s, the stop asked every :data:`UNION_CHUNK` pieces).
+MAX_PIECES = 20_000
+#: Obstacle pieces united by one GEOS call (not polled: about 0.1 s) when the free floor is found.
+UNION_CHUNK = 1000
 #: A box is square to the frame's axes when ``|sin 2 yaw|`` is below this.
 AXIS = 1e-6
 #: Obstacles are grown by this much (m; at most a tenth of the box's short side) before the
@@ -144,20 +146,14 @@ def wall_frame(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     if floor is None:
         return None
     if facing:
-        yaw = _facing_yaw(scene, floor)
-        if yaw == 0.0:
+        faced = walls_facing(scene, should_stop)
+        if not faced:  # along the axes, or stopped
             return None
-    reach = max(p.reach for g in (0, 1) for p in held_bodies(scene, g)) + MARGIN
-    pts = shapely.get_coordinates(floor)
-    c, s = math.cos(-yaw), math.sin(-yaw)
-    dx, dy = pts[:, 0] - centre[0], pts[:, 1] - centre[1]
-    tx, ty = centre[0] + c * dx - s * dy, centre[1] + s * dx + c * dy
+        yaw = faced
+    reach = _reach(scene)
     if floor_grid is not None:  # the grid's lines through the free floor's corner
         reach = floor_grid * math.ceil(reach / floor_grid)
-    # the floor found lies GROW inside the obstacles' faces: its box grown back by that
-    g = _grow(scene)
-    bounds = (float(tx.min()) - g - reach, float(ty.min()) - g - reach,
-              float(tx.max()) + g + reach, float(ty.max()) + g + reach)
+    bounds = _turned_box(scene, floor, yaw, centre, reach)
     area = (bounds[2] - bounds[0]) * (bounds[3] - bounds[1])
     if area > (WORTH if worth is None else worth) * (x1 - x0) * (y1 - y0):
         return None
@@ -177,6 +173,36 @@ def wall_frame(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
     log.debug("walls' frame: turned %.2f deg, bounds %.0f -> %.0f m2", math.degrees(yaw),
               w * h, area)
     return WallFrame(yaw, centre, turned)
+
+
+def floor_bounds(scene: Scene, yaw: float, centre: tuple[float, float], *,
+                 should_stop: Callable[[], bool] | None = None
+                 ) -> tuple[float, float, float, float] | None:
+    """Where every body of a plan lies in the scene turned by ``-yaw`` about ``centre`` (m).
+
+    The box round the free floor's pieces holding the start or the goal, turned, grown by
+    the held assembly's reach and :data:`MARGIN` (the new bounds of :func:`wall_frame`,
+    whatever their area); ``None`` where the free floor is not found (or stopped).
+    """
+    floor = _free_floor(scene, should_stop)
+    return None if floor is None else _turned_box(scene, floor, yaw, centre, _reach(scene))
+
+
+def _reach(scene: Scene) -> float:
+    """The held assembly's reach round the box's centre, and :data:`MARGIN` (m)."""
+    return max(p.reach for g in (0, 1) for p in held_bodies(scene, g)) + MARGIN
+
+
+def _turned_box(scene: Scene, floor: shapely.Geometry, yaw: float, centre: tuple[float, float],
+                reach: float) -> tuple[float, float, float, float]:
+    """The box round ``floor`` turned by ``-yaw`` about ``centre``, grown by ``reach`` (m)."""
+    pts = shapely.get_coordinates(floor)
+    c, s = math.cos(-yaw), math.sin(-yaw)
+    dx, dy = pts[:, 0] - centre[0], pts[:, 1] - centre[1]
+    tx, ty = centre[0] + c * dx - s * dy, centre[1] + s * dx + c * dy
+    # the floor found lies GROW inside the obstacles' faces: its box grown back by that
+    g = _grow(scene) + reach
+    return (float(tx.min()) - g, float(ty.min()) - g, float(tx.max()) + g, float(ty.max()) + g)
 
 
 def facing_yaw(scene: Scene, *, should_stop: Callable[[], bool] | None = None) -> float | None:
@@ -236,17 +262,30 @@ def _aligned(bounds: tuple[float, float, float, float], obstacles: tuple[Obstacl
 
 def _free_floor(scene: Scene, should_stop: Callable[[], bool] | None
                 ) -> shapely.Geometry | None:
-    """The pieces of the free floor holding the start or the goal (``None``: none, or stopped)."""
+    """The pieces of the free floor holding the start or the goal (``None``: none, or stopped).
+
+    Computed once per scene geometry in the process (the checker's walls, the lattice's
+    frame and the route field's frame ask it of the same scene).
+    """
+    return scene_shared(scene, ("free floor",), lambda: _floor(scene, should_stop))
+
+
+def _floor(scene: Scene, should_stop: Callable[[], bool] | None) -> shapely.Geometry | None:
+    """:func:`_free_floor`, computed."""
     try:
         pieces = obstacle_pieces(merge_boxes(scene.obstacles, should_stop=should_stop))
     except Interrupted:
         return None
     if len(pieces) > MAX_PIECES or (should_stop is not None and should_stop()):
         return None
-    solid = shapely.union_all(shapely.buffer([shapely.Polygon(p) for p in pieces],
-                                             _grow(scene), join_style="mitre"))
-    if should_stop is not None and should_stop():
-        return None
+    grown = shapely.buffer([shapely.Polygon(p) for p in pieces], _grow(scene),
+                           join_style="mitre")
+    parts = []
+    for i in range(0, len(grown), UNION_CHUNK):
+        parts.append(shapely.union_all(grown[i:i + UNION_CHUNK]))
+        if should_stop is not None and should_stop():
+            return None
+    solid = shapely.union_all(parts)
     free = shapely.box(*scene.bounds).difference(solid)
     ends = shapely.points([scene.start[:2], scene.goal[:2]])
     kept = [g for g in getattr(free, "geoms", [free])

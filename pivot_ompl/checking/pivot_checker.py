@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any
 
-from pivot_ompl.analysis.wall_frame import walls_facing
+from pivot_ompl.analysis.wall_frame import floor_bounds, walls_facing
 from pivot_ompl.checking.path_poses import POLL_POSES as POLL_POSES
 from pivot_ompl.checking.path_poses import PathPoses
 from pivot_ompl.checking.shared_results import SharedResults, shared_results
@@ -95,8 +95,12 @@ class PivotChecker:
         self.world = CollisionWorld.from_scene(scene, should_stop=should_stop)
         self.steering = PivotSteering(turning_radius=scene.turning_radius,
                                       alpha_max=scene.alpha_max)
+        yaw = walls_facing(scene, should_stop)
+        b = scene.bounds
+        within = floor_bounds(scene, yaw, (0.5 * (b[0] + b[2]), 0.5 * (b[1] + b[3])),
+                              should_stop=should_stop) if yaw else None
         self.walker = WalkPlanner(scene.model, self.world, scene.walk, tolerance=tolerance,
-                                  should_stop=should_stop, yaw=walls_facing(scene, should_stop))
+                                  should_stop=should_stop, yaw=yaw, within=within)
         self.counters = MotionCounters()
         self._edges: dict[tuple, EdgeResult] = {}
         self._walks: dict[tuple, WalkResult] = {}

@@ -24,7 +24,10 @@ from pivot_ompl.errors import Interrupted
 from pivot_ompl.scene import BoxObstacle, Obstacle
 from pivot_ompl.scene.walls import turned_obstacle, wall_yaw
 from pivot_ompl.se2 import Pose
+from pivot_ompl.validity.assembly_field import least_boxes
+from pivot_ompl.validity.cell_stencil import grid_cell, grid_origin
 from pivot_ompl.validity.collision import CollisionWorld
+from pivot_ompl.validity.footprints import obstacle_pieces
 
 #: Thickness (m) of the walls that stand for the scene's bounds in the turned frame.
 BOUND_WALL = 0.5
@@ -62,13 +65,15 @@ class LatticeFrame:
         """``o`` in the lattice's frame."""
         return turned_obstacle(o, -self.yaw, self.centre)
 
-    def world(self, world: CollisionWorld, should_stop: Callable[[], bool] | None = None
-              ) -> CollisionWorld:
+    def world(self, world: CollisionWorld, should_stop: Callable[[], bool] | None = None, *,
+              within: tuple[float, float, float, float] | None = None) -> CollisionWorld:
         """``world`` in the lattice's frame: its obstacles turned, its bounds four walls.
 
         The walls stand just outside the bounds (as far out as the world's kept clearance),
         so the walking body keeps from them what it keeps from the bounds; the frame's
-        bounds hold them.
+        bounds hold them, cut to ``within`` (m, in this frame) where given: where the
+        walking body may be (walks are certified in the scene, so the cut only narrows
+        what is searched).
 
         Raises:
             Interrupted: ``should_stop()`` became true (polled before every obstacle).
@@ -83,13 +88,41 @@ class LatticeFrame:
         corners = [self.into((x, y, 0.0)) for x in (x0 - t - k, x1 + t + k)
                    for y in (y0 - t - k, y1 + t + k)]
         xs, ys = [c[0] for c in corners], [c[1] for c in corners]
-        out = CollisionWorld(world.model, (min(xs), min(ys), max(xs), max(ys)), world.clearance)
+        turned = []
         for o in [*world.obstacles, *walls]:
             if should_stop is not None and should_stop():
                 raise Interrupted("turning the floor to the walk lattice's frame")
-            out.add_obstacle(self.obstacle(o), should_stop)
+            turned.append(self.obstacle(o))
+        box = (min(xs), min(ys), max(xs), max(ys))
+        if within is not None:
+            box = (max(box[0], within[0]), max(box[1], within[1]),
+                   min(box[2], within[2]), min(box[3], within[3]))
+        low = _on_grid((box[0], box[1]), turned)
+        out = CollisionWorld(world.model, (*low, box[2], box[3]), world.clearance)
+        for o in turned:
+            if should_stop is not None and should_stop():
+                raise Interrupted("turning the floor to the walk lattice's frame")
+            out.add_obstacle(o, should_stop)
         out.setup()
         return out
+
+
+def _on_grid(low: tuple[float, float], obstacles: list[Obstacle]) -> tuple[float, float]:
+    """``low`` moved down onto the lines of the map grid the turned boxes lie on, if any.
+
+    A map turned by its own angle has its boxes on a grid in this frame, but not through
+    the frame's corner: a floor grid from a corner on its lines meets them by a stencil's
+    dilation (:func:`~pivot_ompl.validity.cell_stencil.cell_dilation`) instead of a sum
+    per box. The bounds only grow (by less than a cell).
+    """
+    pieces = obstacle_pieces(obstacles)
+    origin = grid_origin(pieces, least=least_boxes(1))
+    if origin is None:
+        return low
+    cell = grid_cell(pieces, origin, least=least_boxes(1))
+    assert cell is not None
+    return (origin[0] + cell * math.floor((low[0] - origin[0]) / cell),
+            origin[1] + cell * math.floor((low[1] - origin[1]) / cell))
 
 
 def frame_of(world: CollisionWorld, *, yaw: float | None = None) -> LatticeFrame:

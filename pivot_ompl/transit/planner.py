@@ -130,18 +130,23 @@ class WalkPlanner:
                  max_expansions: int = 60_000, box_cache: int = 16, inflation: float = 1.5,
                  floor_inflation: float = 3.0, max_field_states: int = 1_000_000,
                  quick_expansions: int = 1500, should_stop: Stop = None,
-                 yaw: float | None = None) -> None:
+                 yaw: float | None = None,
+                 within: tuple[float, float, float, float] | None = None) -> None:
         """The frame, lattice size, primitives, the parts and the caches.
 
         ``yaw``: the direction the lattice's frame is turned to (:func:`~pivot_ompl.
-        transit.frame.frame_of`'s); default: that of all the walls' edges.
+        transit.frame.frame_of`'s); default: that of all the walls' edges. ``within``:
+        where in that frame the walking body may be (m: ``(x0, y0, x1, y1)``, e.g. round
+        the free floor, :func:`~pivot_ompl.analysis.wall_frame.floor_bounds`); the frame's
+        grid covers no more (default: the scene's bounds turned).
 
         Raises:
             Interrupted: ``should_stop()`` became true while the floor was turned to the
                 lattice's frame.
         """
         scene_world, self.frame = world, frame_of(world, yaw=yaw)
-        world = world if self.frame.identity else self.frame.world(world, should_stop)
+        world = world if self.frame.identity else self.frame.world(world, should_stop,
+                                                                    within=within)
         self.model, self.world = model, world
         self.walk = walk if walk is not None else WalkParameters()
         self.resolution, self.box_margin, self.tolerance = resolution, box_margin, tolerance

@@ -34,6 +34,8 @@ GRID_SHARE = 0.9
 #: Most cells of a map's grid over the bounds met by a stencil (:func:`map_cell`: 16 MB of
 #: running counts); a larger floor's boxes are summed.
 STENCIL_CELLS = 1 << 22
+#: Largest boxes whose lower corner :func:`grid_origin` tries as the map grid's origin.
+ORIGIN_TRIES = 4
 
 
 def _rectangles(pieces: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
@@ -74,6 +76,25 @@ def grid_cell(pieces: list[np.ndarray], origin: tuple[float, float], *,
     uv = (rect - np.tile(np.asarray(origin, dtype=float), 2)) / cell
     on = int(np.count_nonzero(np.abs(uv - np.round(uv)).max(axis=1) <= ALIGN_TOL))
     return cell if on >= least and on >= GRID_SHARE * len(rect) else None
+
+
+def grid_origin(pieces: list[np.ndarray], *, least: int) -> tuple[float, float] | None:
+    """A point on the lines of the map grid that carries the axis-aligned boxes (m).
+
+    A floor turned by a map's own angle (its boxes axis-aligned in the turned frame) has
+    its grid's lines anywhere: the lower corners of its largest axis-aligned boxes are
+    tried as the grid's origin (:func:`grid_cell`, at least ``least`` boxes on it); the
+    first that carries the grid, else ``None``.
+    """
+    _, rect = _rectangles(pieces)
+    if len(rect) < max(least, 1):
+        return None
+    area = np.prod(rect[:, 2:] - rect[:, :2], axis=1)
+    for i in np.argsort(-area)[:ORIGIN_TRIES]:
+        origin = (float(rect[i, 0]), float(rect[i, 1]))
+        if grid_cell(pieces, origin, least=least) is not None:
+            return origin
+    return None
 
 
 def map_cell(pieces: list[np.ndarray], bounds: tuple[float, float, float, float], *,

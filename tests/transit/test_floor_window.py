@@ -16,9 +16,11 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from pivot_ompl.analysis.wall_frame import walls_facing
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.generate import GeneratorParams, generate
 from pivot_ompl.transit.floor_window import TILE, FloorTiles, FloorWindow
+from pivot_ompl.transit.planner import WalkPlanner
 
 
 @pytest.fixture(scope="module")
@@ -26,6 +28,13 @@ def corridor():
     """A turned row of four rooms joined by a corridor, and its walk planner."""
     scene = generate("building", 0, params=GeneratorParams(rooms=4, layout="corridor")).scene
     return scene, PivotChecker(scene)
+
+
+def _uncut(scene):
+    """A walk planner of ``scene`` whose grid covers its bounds turned to the walls (not cut
+    to the free floor as the checker's is): tiles round the turned building no walk reaches."""
+    return WalkPlanner(scene.model, PivotChecker(scene).world, scene.walk,
+                       yaw=walls_facing(scene))
 
 
 def _cell(walker, pose):
@@ -80,8 +89,7 @@ def test_windowed_distances_are_the_whole_floors(corridor, tile, t, grasp, limit
 
 def test_a_windowed_query_loads_only_the_tiles_it_reaches(corridor):
     scene, _ = corridor
-    ck = PivotChecker(scene)  # fresh: no tile loaded yet
-    wp = ck.walker
+    wp = _uncut(scene)  # fresh: no tile loaded yet
     field = wp.field
     obj = scene.start
     goals = [_cell(wp, scene.model.robot_pose(obj, 1))]
@@ -160,8 +168,8 @@ def test_a_limit_beyond_the_floor_floods_only_the_tiles_its_walks_reach(corridor
     # tiles (the bounds' corners round the turned building too); the Willow Garage office's
     # regrasp walk, whose limit doubles past the floor, built 90 tiles where it reaches 80
     scene, _ = corridor
-    ck = PivotChecker(scene)
-    wp, field = ck.walker, ck.walker.field
+    wp = _uncut(scene)
+    field = wp.field
     field.window_from = 0
     obj = wp.frame.into(scene.start)
     goals = [_cell(wp, scene.model.robot_pose(scene.start, 1))]
