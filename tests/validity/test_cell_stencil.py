@@ -133,10 +133,13 @@ def test_a_stencils_runs_are_the_cells_a_body_overlaps(seed, resolution):
 def test_a_restricted_field_dilated_is_the_whole_fields_within_its_area(seed, parity):
     """The stencil read only over the area's rows and columns: the same grids there."""
     rng = np.random.default_rng(seed)
-    boxes = [_box(int(rng.integers(0, 76)), int(rng.integers(0, 56)), int(rng.integers(1, 4)),
-                  int(rng.integers(1, 4))) for _ in range(CELL_BOXES + 40)]
-    boxes = [b for b in boxes if all(abs(b["center"][0] - x) > 0.9
-                                     or abs(b["center"][1] - 3.0) > 0.9 for x in (1.5, 6.0))]
+    # boxes of 1-3 cells in slots 4 cells apart (none touches another: none merged), clear of
+    # the start and the goal, enough of them for the stencil
+    slots = [(i, j) for i in range(0, 76, 4) for j in range(0, 56, 4)
+             if all(abs(0.1 * i + 0.2 - x) > 1.1 or abs(0.1 * j + 0.2 - 3.0) > 1.1
+                    for x in (1.5, 6.0))]
+    boxes = [_box(*slots[k], int(rng.integers(1, 4)), int(rng.integers(1, 4)))
+             for k in rng.permutation(len(slots))[:CELL_BOXES + 10]]
     checker = PivotChecker(make_scene(obstacles=boxes))
     whole = AssemblyField(checker.model, checker.world, RES)
     area = np.zeros((whole.nx, whole.ny), dtype=bool)
