@@ -145,8 +145,9 @@ def grown_pieces(pieces: list[np.ndarray], clearance: float) -> list[np.ndarray]
     ccw = np.split(coords, ends[:-1])
     out: list[np.ndarray] = [c[:-1] for c in ccw]  # rings closed: the last vertex repeated
     if r > 0.0:
+        sizes = [len(c) for c in out]  # before any is grown (a grown piece has more vertices)
         for k, stack in by_size(out).items():
-            at = [i for i, c in enumerate(out) if len(c) == k]
+            at = [i for i, n in enumerate(sizes) if n == k]
             for i, grown in zip(at, convex_sums(stack, disk), strict=True):
                 out[i] = grown
     return out

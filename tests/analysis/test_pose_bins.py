@@ -36,6 +36,11 @@ def _rect(x: float, y: float, w: float, h: float, yaw: float) -> np.ndarray:
                                 min_size=3, max_size=7), min_size=1, max_size=8),
        clearance=st.sampled_from([0.0, 0.008, 0.05]))
 @example(pieces=[[(0.0, 0.0), (0.0, 0.25), (1.5, -2.0), (-0.5, 1.0)]], clearance=0.0)
+# a square and a 20-gon: the square grown has 4 + 16 vertices, the 20-gon's count (a turned
+# map's coarse pieces crashed the held poses' gate so)
+@example(pieces=[[(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)],
+                 [(3.0 + math.cos(t), math.sin(t)) for t in np.linspace(0.0, 6.0, 20)]],
+         clearance=0.05)
 def test_pieces_grown_at_once_are_each_its_hull_summed_with_the_clearance_polygon(pieces,
                                                                                   clearance):
     # the pieces' vertex counts mixed (3 to 7 points, fewer on their hulls): each grown
