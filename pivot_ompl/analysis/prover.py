@@ -116,8 +116,9 @@ class Prover:
         bound: the regrasp bound, once received (also kept in the bound cache).
         route: the disk route (m), once received (also kept for the plans' quality block).
         fallback: the late proof polled instead, in the plan's own process, should the
-            prover fail or its process end before its work is done (an interpreter that
-            cannot import this package, a crash); ``None``: none.
+            prover's process end without a word before its work is done (an interpreter
+            that cannot import this package, a crash); ``None``: none. Not where the
+            prover reports an error of the proofs themselves (they would meet it again).
     """
 
     def __init__(self, scene: Scene, *, end: float, prove: bool | None = None) -> None:
@@ -246,8 +247,9 @@ class Prover:
         elif kind == "done":
             self._done = True
         elif kind == "failed":
+            # an error of the proofs' own code: the fallback would meet it again
             log.warning("the prover failed (the plan goes on without it): %s", value)
-            self._done = self._failed = True
+            self._done = True
 
 
 class _ParentWord:

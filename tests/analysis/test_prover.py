@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import os
 import socket
 import subprocess
 import sys
@@ -113,6 +114,22 @@ def test_no_plan_is_still_proven_when_the_prover_s_process_fails(tmp_path, monke
     res = plan(ragged_slot(0), time_limit=20.0, parallel=True)
     assert res.status == "INFEASIBLE"
     assert res.infeasible_reason is not None and "0.90 m" in res.infeasible_reason
+
+
+def test_an_error_of_the_prover_s_proofs_is_not_met_again_in_the_plan(tmp_path, monkeypatch):
+    (tmp_path / "sitecustomize.py").write_text(  # the prover's interpreter: its proofs broken
+        "import pivot_ompl.analysis.prover as prover\n"
+        "def broken(*args, **kwargs):\n"
+        "    raise RuntimeError('a broken proof')\n"
+        "prover._no_plan = prover._bounds = broken\n")
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join([str(tmp_path), *sys.path]))
+
+    def met_again(self):  # noqa: ANN001, ANN202
+        raise RuntimeError("the prover's error met again in the plan's process")
+
+    monkeypatch.setattr(LateProof, "__call__", met_again)
+    res = plan(ragged_slot(0), time_limit=5.0, parallel=True)
+    assert res.status == "TIMEOUT"  # the plan went on without the proofs, as one would
 
 
 def test_the_process_ends_with_the_plan_and_when_its_parent_stops_listening():
