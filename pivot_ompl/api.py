@@ -137,6 +137,10 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
     deadline = started + time_limit
     end = deadline - _share(time_limit, WRITE_SHARE, WRITE_MAX)  # the bounds' end
     prover = None
+
+    def proof_over() -> bool:
+        return time.monotonic() >= started + PROOF_SHARE * time_limit
+
     with contextlib.ExitStack() as closing:  # a prover ends with the plan, whatever ends it
         try:
             if not isinstance(scene, Scene):
@@ -145,6 +149,10 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
             if base == "regrasp" and bound and late_proof is not False and \
                     wanted(scene, parallel, time_limit=time_limit):
                 prover = _prover(scene, closing, end=end, prove=prove)
+            passages = PassageOnce(scene)  # searched once, for the checks here and the proofs
+            if prover is not None:  # its job once the passage is known (before the set-up)
+                passages(should_stop=proof_over)
+                prover.start(passages)
             if base in OMPL_PLANNERS:
                 seed_ompl(seed)
             problem = make_setup(scene, seed=seed, checker=checker, start_grasp=start_grasp,
@@ -152,14 +160,6 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
         except Interrupted as e:
             return stopped_in_setup(scene, planner, seed, time_limit, e.what,
                                      time.perf_counter() - t0)
-        passages = PassageOnce(scene)  # searched once, for the check here and the late proof
-
-        def proof_over() -> bool:
-            return time.monotonic() >= started + PROOF_SHARE * time_limit
-
-        if prover is not None:  # its job as soon as the passage is known: it takes the answer
-            passages(should_stop=proof_over)
-            prover.start(passages)
         if bound:
             proof = explain_no_plan(scene, should_stop=proof_over, passages=passages)
             if proof is not None:
