@@ -73,3 +73,18 @@ def lab_door(folder: Path, seed: int, *, door: float = 0.85) -> Scene:
     goal either side of the doorway: no plan exists (the held box cannot pass it)."""
     path = write_map(folder, lab_floor(seed, door=door), name=f"lab_{seed}", resolution=0.05)
     return scene_from_map(path, start=(3.0, 3.5, 0.0), goal=(13.0, 3.5, 0.0))
+
+
+def grid_boxes(seed: int, count: int, *, cell: float = 0.1) -> list[dict]:
+    """``count`` boxes of 1-3 whole cells on an 8 x 6 m floor's ``cell`` grid (a map's),
+    clear of the small scenes' start (1.5, 3) and goal (6, 3)."""
+    rng = np.random.default_rng(seed)
+    boxes: list[dict] = []
+    while len(boxes) < count:
+        ix, iy = int(rng.integers(0, 76)), int(rng.integers(0, 56))
+        w, h = int(rng.integers(1, 4)), int(rng.integers(1, 4))
+        cx, cy = (ix + 0.5 * w) * cell, (iy + 0.5 * h) * cell
+        if all(abs(cx - x) > 0.9 or abs(cy - 3.0) > 0.9 for x in (1.5, 6.0)):
+            boxes.append({"type": "box", "center": [cx, cy], "size": [w * cell, h * cell],
+                          "height": 1.0})
+    return boxes

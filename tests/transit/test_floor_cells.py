@@ -8,6 +8,7 @@ import pytest
 from factories import make_scene
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from map_factories import grid_boxes
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.transit.floor_grid import OPEN_YAWS, FloorGrid
@@ -18,15 +19,7 @@ RES = 0.1
 
 def _map_floor(seed: int) -> PivotChecker:
     """An 8 x 6 m floor of boxes of whole 0.1 m cells, and two pieces off the grid."""
-    rng = np.random.default_rng(seed)
-    boxes: list[dict] = []
-    while len(boxes) < CELL_BOXES + 60:  # clear of the start and goal
-        ix, iy = int(rng.integers(0, 76)), int(rng.integers(0, 56))
-        w, h = int(rng.integers(1, 4)), int(rng.integers(1, 4))
-        cx, cy = (ix + 0.5 * w) * RES, (iy + 0.5 * h) * RES
-        if all(abs(cx - x) > 0.9 or abs(cy - 3.0) > 0.9 for x in (1.5, 6.0)):
-            boxes.append({"type": "box", "center": [cx, cy], "size": [w * RES, h * RES],
-                          "height": 1.0})
+    boxes = grid_boxes(seed, CELL_BOXES + 60, cell=RES)
     boxes += [{"type": "box", "center": [4.03, 1.17], "size": [0.33, 0.21], "height": 1.0},
               {"type": "box", "center": [5.5, 4.5], "size": [0.4, 0.2], "yaw": 0.3,
                "height": 1.0}]

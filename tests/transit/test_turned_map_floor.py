@@ -14,6 +14,7 @@ import numpy as np
 from factories import make_scene
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from map_factories import grid_boxes
 
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.generate import rotate_scene
@@ -26,15 +27,7 @@ RES = 0.1
 
 def _map_scene(seed: int) -> Scene:
     """An 8 x 6 m floor of boxes of whole 0.1 m cells (a map's), clear of start and goal."""
-    rng = np.random.default_rng(seed)
-    boxes: list[dict] = []
-    while len(boxes) < CELL_BOXES + 40:
-        ix, iy = int(rng.integers(0, 76)), int(rng.integers(0, 56))
-        w, h = int(rng.integers(1, 4)), int(rng.integers(1, 4))
-        cx, cy = (ix + 0.5 * w) * RES, (iy + 0.5 * h) * RES
-        if all(abs(cx - x) > 0.9 or abs(cy - 3.0) > 0.9 for x in (1.5, 6.0)):
-            boxes.append({"type": "box", "center": [cx, cy], "size": [w * RES, h * RES],
-                          "height": 1.0})
+    boxes = grid_boxes(seed, CELL_BOXES + 40, cell=RES)
     return make_scene(obstacles=boxes)
 
 
