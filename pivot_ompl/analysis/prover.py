@@ -15,10 +15,10 @@ process of its own, from the search's start, beside it:
   (:func:`~pivot_ompl.analysis.bound_cache.lower_bound`, the guided refinement given the
   prover's time), which only a plan with regrasps needs.
 
-The process starts with :class:`Prover` (its interpreter's imports overlap the plan's set-up)
-and gets its job from :meth:`Prover.start`, which ``plan`` calls once its own passage search
-(:class:`~pivot_ompl.analysis.passage.PassageOnce`) has answered: the prover takes that
-answer instead of searching again.
+The process starts with :class:`Prover` (its interpreter's imports overlap the plan's passage
+search) and gets its job from :meth:`Prover.start`, which ``plan`` calls once that search
+(:class:`~pivot_ompl.analysis.passage.PassageOnce`) has answered, before its own set-up: the
+prover takes the answer instead of searching again.
 
 The order is the scene's: "no plan" first where every way from start to goal passes a gap
 narrower than the held assembly (:attr:`~pivot_ompl.analysis.passage.PassageOnce.clear`
