@@ -23,22 +23,15 @@ one elsewhere.
 
 from __future__ import annotations
 
-import numpy as np
-
 from pivot_ompl.analysis.pose_floor import HeldFloor
 from pivot_ompl.analysis.pose_proof import (
     ESTIMATED_BINS,
-    PASSAGE_FLOOR,
-    PASSAGE_SHARE,
     SECONDS_PER_PIECE,
+    count_pieces,
+    passages_try,
     proof_estimate,
 )
 from pivot_ompl.grasp import GRASPS
-
-
-def _count(pieces: dict[int, np.ndarray]) -> int:
-    return sum(len(stack) for stack in pieces.values())
-
 
 #: Largest share of the pieces near the room held by the passages' try for its estimate to
 #: stand for the proof's (:func:`held_estimate`): the lab door's try holds 14 % of them and
@@ -66,9 +59,8 @@ def held_estimate(floor: HeldFloor) -> float:
     pieces: an answer "apart" there ends the proof, the module docstring); else
     :func:`~pivot_ompl.analysis.pose_proof.proof_estimate`.
     """
-    every = _count(floor.near_room(floor.clearance))
-    narrow = (_count(floor.passages_near_room(floor.clearance)) if every >= PASSAGE_FLOOR
-              else 0)
-    if 0 < narrow <= min(PASSAGE_SHARE, TRY_SHARE) * every:
-        return pieces_seconds(narrow)
+    tried = passages_try(floor, floor.clearance)
+    if tried is not None and (
+            count_pieces(tried) <= TRY_SHARE * count_pieces(floor.near_room(floor.clearance))):
+        return pieces_seconds(count_pieces(tried))
     return proof_estimate(floor.scene)

@@ -314,9 +314,8 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
         if not parts.room.covers(shapely.Point(scene.goal[:2])):  # the box alone cannot go
             return PoseProof(True, first_bins, 2.0 * math.pi / first_bins, 0,
                              time.perf_counter() - t0, (parts.room,))
-        every = _count(parts.floor.near_room(clearance))
-        narrow = parts.floor.passages_near_room(clearance) if every >= PASSAGE_FLOOR else {}
-        if 0 < _count(narrow) <= PASSAGE_SHARE * every:
+        narrow = passages_try(parts.floor, clearance)
+        if narrow is not None:
             tried = HeldParts(scene, clearance, should_stop, floor=parts.floor, pieces=narrow)
 
             def enough() -> bool:  # polled before every bin's regions and chain search
@@ -327,15 +326,29 @@ def prove_no_plan(scene: Scene, *, clearance: float = MOTION_CLEARANCE,
             if proof.apart or (should_stop is not None and should_stop()):
                 return proof
             log.debug("held poses: the passages' %d pieces join start and goal (%.2f s); "
-                      "every piece next", _count(narrow), proof.seconds)
+                      "every piece next", count_pieces(narrow), proof.seconds)
         return refine(parts)
     except Interrupted:
         return PoseProof(None, first_bins, 2.0 * math.pi / first_bins, 0,
                          time.perf_counter() - t0)
 
 
-def _count(pieces: dict[int, np.ndarray]) -> int:
+def count_pieces(pieces: dict[int, np.ndarray]) -> int:
+    """Pieces of a stack by vertex count."""
     return sum(len(stack) for stack in pieces.values())
+
+
+def passages_try(floor: HeldFloor, clearance: float) -> dict[int, np.ndarray] | None:
+    """The pieces :func:`prove_no_plan` sums first (those near the passages), ``None``: none.
+
+    Tried where :data:`PASSAGE_FLOOR` or more pieces lie near the room and at most
+    :data:`PASSAGE_SHARE` of them near its passages.
+    """
+    every = count_pieces(floor.near_room(clearance))
+    if every < PASSAGE_FLOOR:
+        return None
+    narrow = floor.passages_near_room(clearance)
+    return narrow if 0 < count_pieces(narrow) <= PASSAGE_SHARE * every else None
 
 
 def _refined(scene: Scene, parts: HeldParts, *, first_bins: int, max_bins: int,
