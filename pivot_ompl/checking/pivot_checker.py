@@ -24,6 +24,7 @@ from pivot_ompl.grasp import BoxGraspModel
 from pivot_ompl.pivoting.steering import PivotSteering
 from pivot_ompl.scene import Obstacle, Scene
 from pivot_ompl.se2 import Pose
+from pivot_ompl.transit.frame import frame_of
 from pivot_ompl.transit.planner import WalkPlanner, WalkResult
 from pivot_ompl.validity.certify import SWEEP_TOLERANCE
 from pivot_ompl.validity.collision import CollisionWorld
@@ -96,8 +97,7 @@ class PivotChecker:
         self.steering = PivotSteering(turning_radius=scene.turning_radius,
                                       alpha_max=scene.alpha_max)
         yaw = walls_facing(scene, should_stop)
-        b = scene.bounds
-        within = floor_bounds(scene, yaw, (0.5 * (b[0] + b[2]), 0.5 * (b[1] + b[3])),
+        within = floor_bounds(scene, yaw, frame_of(self.world, yaw=yaw).centre,
                               should_stop=should_stop) if yaw else None
         self.walker = WalkPlanner(scene.model, self.world, scene.walk, tolerance=tolerance,
                                   should_stop=should_stop, yaw=yaw, within=within)
