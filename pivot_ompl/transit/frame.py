@@ -25,7 +25,7 @@ from pivot_ompl.scene import BoxObstacle, Obstacle
 from pivot_ompl.scene.walls import turned_obstacle, wall_yaw
 from pivot_ompl.se2 import Pose
 from pivot_ompl.validity.assembly_field import least_boxes
-from pivot_ompl.validity.cell_stencil import grid_cell, grid_origin
+from pivot_ompl.validity.cell_stencil import grid_origin
 from pivot_ompl.validity.collision import CollisionWorld
 from pivot_ompl.validity.footprints import obstacle_pieces
 
@@ -115,12 +115,10 @@ def _on_grid(low: tuple[float, float], obstacles: list[Obstacle]) -> tuple[float
     dilation (:func:`~pivot_ompl.validity.cell_stencil.cell_dilation`) instead of a sum
     per box. The bounds only grow (by less than a cell).
     """
-    pieces = obstacle_pieces(obstacles)
-    origin = grid_origin(pieces, least=least_boxes(1))
-    if origin is None:
+    grid = grid_origin(obstacle_pieces(obstacles), least=least_boxes(1))
+    if grid is None:
         return low
-    cell = grid_cell(pieces, origin, least=least_boxes(1))
-    assert cell is not None
+    origin, cell = grid
     return (origin[0] + cell * math.floor((low[0] - origin[0]) / cell),
             origin[1] + cell * math.floor((low[1] - origin[1]) / cell))
 

@@ -78,13 +78,14 @@ def grid_cell(pieces: list[np.ndarray], origin: tuple[float, float], *,
     return cell if on >= least and on >= GRID_SHARE * len(rect) else None
 
 
-def grid_origin(pieces: list[np.ndarray], *, least: int) -> tuple[float, float] | None:
-    """A point on the lines of the map grid that carries the axis-aligned boxes (m).
+def grid_origin(pieces: list[np.ndarray], *, least: int
+                ) -> tuple[tuple[float, float], float] | None:
+    """A point on the lines of the map grid that carries the axis-aligned boxes, and its cell (m).
 
     A floor turned by a map's own angle (its boxes axis-aligned in the turned frame) has
     its grid's lines anywhere: the lower corners of its largest axis-aligned boxes are
     tried as the grid's origin (:func:`grid_cell`, at least ``least`` boxes on it); the
-    first that carries the grid, else ``None``.
+    first that carries the grid, with that grid's cell, else ``None``.
     """
     _, rect = _rectangles(pieces)
     if len(rect) < max(least, 1):
@@ -92,8 +93,8 @@ def grid_origin(pieces: list[np.ndarray], *, least: int) -> tuple[float, float] 
     area = np.prod(rect[:, 2:] - rect[:, :2], axis=1)
     for i in np.argsort(-area)[:ORIGIN_TRIES]:
         origin = (float(rect[i, 0]), float(rect[i, 1]))
-        if grid_cell(pieces, origin, least=least) is not None:
-            return origin
+        if (cell := grid_cell(pieces, origin, least=least)) is not None:
+            return origin, cell
     return None
 
 
