@@ -177,6 +177,7 @@ def plan(scene: Scene | str | Path, *, planner: str = "regrasp", time_limit: flo
         if regrasp:  # its quality share is one of the solve's limit
             p.solve_limit = time_limit - (time.monotonic() - started)
             p.proof = late  # polled by its search; other planners are stopped to ask it
+            p.expect = None if prover is None else prover.expect  # what it will regrasp
         t1 = time.perf_counter()
         name = solve_staged(problem.setup,
                             time_limit - _share(time_limit, FINISH_SHARE, FINISH_MAX), started,
@@ -288,15 +289,16 @@ def _quality(result_plan: Plan, scene: Scene, config: RegraspConfig, bound: bool
         t0 = time.perf_counter()
         guided = prove is True or (prove is None and result_plan.regrasps > 0)
         bound_end = end if guided else min(end, time.monotonic() + BOUND_TIME_LIMIT)
+        places = regrasp_places(result_plan)
         if prover is not None:
-            prover.solved(result_plan.regrasps)
+            prover.solved(result_plan.regrasps, places)
             prover.wait_bounds(until=bound_end, regrasps=result_plan.regrasps)
         route_length = plan_quality(result_plan)["route_length"]
         regrasps, route = plan_bounds(scene, result_plan.regrasps, route_length=route_length,
                                       should_stop=lambda: time.monotonic() > bound_end,
                                       time_left=lambda: bound_end - time.monotonic(),
                                       guided=guided, guided_by_estimate=prove is None,
-                                      places=regrasp_places(result_plan))
+                                      places=places)
         timings["bound"] = time.perf_counter() - t0
     q = plan_quality(result_plan, regrasps_lower_bound=regrasps, shortest_route=route,
                      costs=config.cost)

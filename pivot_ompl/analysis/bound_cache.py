@@ -40,6 +40,7 @@ from pivot_ompl.analysis.bound_levels import (
     may_pose,
     may_refine,
 )
+from pivot_ompl.analysis.guided_refine import Hint
 from pivot_ompl.analysis.raster import FloorRaster
 from pivot_ompl.analysis.regrasp_bound import RESOLUTION, RegraspBound
 from pivot_ompl.analysis.route_bound import GRID_SLACK, MAX_CELLS, MIN_CELL
@@ -235,7 +236,8 @@ def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RES
                 target: int | None = None, refine_seconds: float = REFINE_SECONDS,
                 should_stop: Callable[[], bool] | None = None,
                 guided_seconds: float = 0.0,
-                places: tuple[tuple[float, float], ...] = ()) -> RegraspBound:
+                places: tuple[tuple[float, float], ...] = (),
+                hint: Hint | None = None) -> RegraspBound:
     """:func:`~pivot_ompl.analysis.bound_levels.scaled_lower_bound` of ``scene``, cached.
 
     Computed in the walls' frame (:func:`~pivot_ompl.analysis.wall_frame.relaxed_scene`: a
@@ -256,6 +258,9 @@ def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RES
             result not so refined is computed again when it now fits).
         places: where the plan of ``target`` regrasps (m, in ``scene``): the guided
             refinement's first window (cost only; not part of the key).
+        hint: what a search beside expects so far (regrasps, places in ``scene``), asked by
+            the guided refinement every round
+            (:func:`~pivot_ompl.analysis.guided_refine.guided_lower_bound`; cost only).
 
     Returns:
         The :class:`~pivot_ompl.analysis.regrasp_bound.RegraspBound` (``seconds`` is the time
@@ -275,7 +280,7 @@ def lower_bound(scene: Scene, *, use_cache: bool = True, resolution: float = RES
             return hit
     bound = framed_lower_bound(scene, resolution=resolution, target=target,
                                refine_seconds=refine_seconds, should_stop=should_stop,
-                               guided_seconds=guided_seconds, places=places)
+                               guided_seconds=guided_seconds, places=places, hint=hint)
     if bound.solvable is None or not bound.complete:  # stopped: returned, never kept
         return bound
     problem = bound_problem(bound, scene)

@@ -27,6 +27,7 @@ import time
 from collections.abc import Callable
 
 from pivot_ompl.analysis.bound_levels import scaled_lower_bound
+from pivot_ompl.analysis.guided_refine import Hint
 from pivot_ompl.analysis.regrasp_bound import RegraspBound
 from pivot_ompl.analysis.wall_frame import WallFrame, wall_frame
 from pivot_ompl.scene import Scene
@@ -45,18 +46,19 @@ WORTH_ANY = 1.0
 def framed_lower_bound(scene: Scene, *, resolution: float, target: int | None,
                        refine_seconds: float, should_stop: Callable[[], bool] | None,
                        guided_seconds: float,
-                       places: tuple[tuple[float, float], ...]) -> RegraspBound:
+                       places: tuple[tuple[float, float], ...],
+                       hint: Hint | None = None) -> RegraspBound:
     """:func:`~pivot_ompl.analysis.bound_levels.scaled_lower_bound` over frames (module docstring).
 
-    The arguments are ``scaled_lower_bound``'s (``places`` in ``scene``'s frame, turned into
-    each frame's); ``guided_seconds`` is shared: each later frame gets what the earlier
-    ones left of it.
+    The arguments are ``scaled_lower_bound``'s (``places`` and ``hint``'s places in
+    ``scene``'s frame, turned into each frame's); ``guided_seconds`` is shared: each later
+    frame gets what the earlier ones left of it.
     """
     t0 = time.perf_counter()
     first = wall_frame(scene, should_stop=should_stop)
     best = _in_frame(scene, first, resolution=resolution, target=target,
                      refine_seconds=refine_seconds, should_stop=should_stop,
-                     guided_seconds=guided_seconds, places=places)
+                     guided_seconds=guided_seconds, places=places, hint=hint)
     tried = [None if first is None else first.yaw]
     for kind in ("world", "walls", "facing"):
         if not _wanted(best, target) or (should_stop is not None and should_stop()):
@@ -71,7 +73,7 @@ def framed_lower_bound(scene: Scene, *, resolution: float, target: int | None,
         left = max(0.0, guided_seconds - (time.perf_counter() - t0))
         other = _in_frame(scene, frame, resolution=resolution, target=target,
                           refine_seconds=refine_seconds, should_stop=should_stop,
-                          guided_seconds=left, places=places)
+                          guided_seconds=left, places=places, hint=hint)
         if other.solvable is not True or not other.complete:
             continue  # stopped (or a relaxation that a plan refutes): the first stands
         log.debug("regrasp bound in another frame (%s): %s, before %s",
@@ -84,14 +86,22 @@ def framed_lower_bound(scene: Scene, *, resolution: float, target: int | None,
 def _in_frame(scene: Scene, frame: WallFrame | None, *, resolution: float,
               target: int | None, refine_seconds: float,
               should_stop: Callable[[], bool] | None, guided_seconds: float,
-              places: tuple[tuple[float, float], ...]) -> RegraspBound:
+              places: tuple[tuple[float, float], ...], hint: Hint | None) -> RegraspBound:
     """The relaxation of ``scene`` turned into ``frame`` (``None``: as it is)."""
-    return scaled_lower_bound(scene if frame is None else frame.scene,
-                              resolution=resolution, target=target,
+    if frame is None:
+        return scaled_lower_bound(scene, resolution=resolution, target=target,
+                                  refine_seconds=refine_seconds, should_stop=should_stop,
+                                  guided_seconds=guided_seconds, places=places, hint=hint)
+
+    def turned() -> tuple[int | None, tuple[tuple[float, float], ...]]:
+        aim, told = hint()  # type: ignore[misc]
+        return aim, tuple(frame.point_in(p) for p in told)
+
+    return scaled_lower_bound(frame.scene, resolution=resolution, target=target,
                               refine_seconds=refine_seconds, should_stop=should_stop,
                               guided_seconds=guided_seconds,
-                              places=places if frame is None else
-                              tuple(frame.point_in(p) for p in places))
+                              places=tuple(frame.point_in(p) for p in places),
+                              hint=None if hint is None else turned)
 
 
 def _seen(yaw: float | None, tried: list[float | None]) -> bool:

@@ -49,7 +49,7 @@ import logging
 import time
 from collections.abc import Callable
 
-from pivot_ompl.analysis.guided_refine import guided_lower_bound
+from pivot_ompl.analysis.guided_refine import Hint, guided_lower_bound
 from pivot_ompl.analysis.pose_regrasps import pose_estimate, pose_regrasp_bound
 from pivot_ompl.analysis.raster_bound import RasterGraph, raster_graph, raster_lower_bound
 from pivot_ompl.analysis.raster_cover import RasterCover, floor_raster, raster_cover
@@ -129,7 +129,8 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
                        refine_seconds: float = REFINE_SECONDS,
                        should_stop: Callable[[], bool] | None = None,
                        guided_seconds: float = 0.0,
-                       places: tuple[tuple[float, float], ...] = ()) -> RegraspBound:
+                       places: tuple[tuple[float, float], ...] = (),
+                       hint: Hint | None = None) -> RegraspBound:
     """The fewest regrasps any plan of ``scene`` needs, coarse to fine (module docstring).
 
     Args:
@@ -146,6 +147,8 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
             whenever the bound is still wanted).
         places: where a plan of ``target`` regrasps (m, ``scene``'s frame): refined first
             by the guided refinement (its ``places``; cost only).
+        hint: what a search beside expects so far, asked by the guided refinement every
+            round (its ``hint``; cost only).
     """
     t0 = time.perf_counter()
     kept = take_coarse(scene, cell=CELLS[0], clearance=KEEP_CLEARANCE)  # the late proof's
@@ -198,7 +201,7 @@ def scaled_lower_bound(scene: Scene, *, target: int | None = None,
     elif _wanted(best, target) and may_guide(scene, guided_seconds):
         found = guided_lower_bound(scene, cover=cover, target=target, should_stop=should_stop,
                                    coarse=graphs.pop(),  # not held here: freed after round 0
-                                   places=places)
+                                   places=places, hint=hint)
         if found is not None:
             best = dataclasses.replace(_better(found, best), guided=found.guided)
     log.debug("regrasp bound %s from the raster (polygons estimated %.1f s)", best.regrasps,

@@ -43,7 +43,10 @@ must: its regrasp places (``places``) are where the relaxation's paths are likel
 The cells within :data:`PLACE_RADIUS` of them join the first refined window
 (:func:`place_window`), while the window stays within :data:`MAX_WINDOW` cells: on the Willow
 Garage office its 2 comes in two refined rounds instead of five (about 40 % of the
-refinement's CPU). Like any window choice this is cost only.
+refinement's CPU). Like any window choice this is cost only. Beside the search (a plan's
+prover) the plan is not made yet: a ``hint``, asked every round, gives what the search
+expects so far (its coarse plan's regrasps and places, then the plan's), its places joining
+the next window and its count aimed at where no ``target`` is given.
 """
 
 from __future__ import annotations
@@ -98,6 +101,9 @@ PLACE_RADIUS = 1.0
 MAX_WINDOW = 6_000
 
 _EIGHT = np.ones((3, 3), dtype=bool)
+
+#: What a search expects so far: a plan's regrasps (``None``: unknown) and where (m).
+Hint = Callable[[], tuple[int | None, tuple[tuple[float, float], ...]]]
 
 
 @dataclass
@@ -245,7 +251,8 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
                        walks: bool = True, coarse: RasterGraph | None = None,
                        should_stop: Callable[[], bool] | None = None,
                        trace: list[GuidedRound] | None = None,
-                       places: tuple[tuple[float, float], ...] = ()) -> RegraspBound | None:
+                       places: tuple[tuple[float, float], ...] = (),
+                       hint: Hint | None = None) -> RegraspBound | None:
     """The fewest regrasps on the relaxation refined where its best path cheats.
 
     Args:
@@ -270,6 +277,8 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
         places: positions (m, in ``scene``'s frame) where a plan regrasps: the cells within
             :data:`PLACE_RADIUS` of them join the first refined window (:func:`place_window`;
             cost only: any window gives a lower bound).
+        hint: asked every round (module docstring): places not seen before join the next
+            window as ``places`` do, and its count is aimed at when ``target`` is ``None``.
 
     Returns:
         A :class:`~pivot_ompl.analysis.regrasp_bound.RegraspBound` (``exhaustive`` False, no
@@ -287,6 +296,7 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
         return None
     window = np.zeros(cover.raster.shape, dtype=bool)
     placed = place_window(cover, places)
+    seen = set(places)
     walk = None if not walks else coarse.walk() if coarse is not None else WalkRelaxation(
         scene, width=2.0 * math.pi / cover.bins, tolerance=tolerance, clearance=clearance)
     memo: dict = {}
@@ -312,9 +322,14 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
         stale = 0 if best is None or count > best else stale + 1
         best = count if best is None else max(best, count)
         first = count if first is None else first
-        if (target is not None and best >= target) or stale >= patience or (
+        aim, told = (target, ()) if hint is None else hint()
+        aim = target if target is not None else aim
+        if (aim is not None and best >= aim) or stale >= patience or (
                 best == first and stale >= min(patience, FIRST_PATIENCE)):
             break
+        if new := tuple(p for p in told if p not in seen):
+            seen.update(new)
+            placed |= place_window(cover, new)
         if placed.any():  # the plan's places, once, while the window stays in its budget
             if (window | add | placed).sum() <= max_window:
                 add = add | placed

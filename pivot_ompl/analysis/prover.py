@@ -24,9 +24,14 @@ The order is the scene's: "no plan" first where every way from start to goal pas
 narrower than the held assembly (:attr:`~pivot_ompl.analysis.passage.PassageOnce.clear`
 ``False``: the lab's door, most often no plan; the held poses' proof then without its gate,
 which only spares a scene with a plan), the bounds first elsewhere (most often a plan,
-whose quality block waits for them). Once the search has a plan, the parent says so
-(:meth:`Prover.solved`): "no plan" is abandoned, the regrasp bound aims at the plan's count
-(none wanted for a plan without regrasps).
+whose quality block waits for them). The regrasp bound waits for the search's expectation
+(:meth:`Prover.expect`: the regrasps and places of its lattice's coarse plan, told once its
+regrasp-free tries have ended, seconds before its plan is made real): it aims at that count
+and refines those places first (cost only: the bound is a proof whatever it is told), and is
+not computed at all where the search found a plan without regrasps. Told while the bound
+runs, its guided refinement takes it from its next round on (its ``hint``). Once the search
+has a plan, the parent says so (:meth:`Prover.solved`): "no plan" is abandoned, and the
+regrasp bound aims at the plan's count (a bound aiming higher is stopped and aims again).
 
 Every answer is a proof computed by the same functions as in one process, sent back through
 a pipe and kept by the parent as its own (:func:`~pivot_ompl.analysis.bound_cache.keep_bound`,
@@ -176,9 +181,16 @@ class Prover:
             self.proof = self.fallback.proof
         return self.proof is not None
 
-    def solved(self, regrasps: int) -> None:
-        """Tell the prover that the search has a plan of ``regrasps`` regrasps."""
-        self._outbox.put(("solved", regrasps))
+    def expect(self, regrasps: int | None, places: tuple[tuple[float, float], ...]) -> None:
+        """Tell the prover the regrasps the search expects (``None``: unknown) and where.
+
+        The search's :class:`~pivot_ompl.planners.expectation.Expectation` listener.
+        """
+        self._outbox.put(("expect", (regrasps, tuple(places))))
+
+    def solved(self, regrasps: int, places: tuple[tuple[float, float], ...] = ()) -> None:
+        """Tell the prover that the search has a plan of ``regrasps`` regrasps, at ``places``."""
+        self._outbox.put(("solved", (regrasps, tuple(places))))
 
     def wait_bounds(self, *, until: float, regrasps: int) -> None:
         """Receive until the bounds a plan of ``regrasps`` regrasps needs have come, or ``until``.
@@ -255,12 +267,16 @@ class Prover:
 class _ParentWord:
     """The prover's stop condition: its end, the parent's "stop", or the parent gone.
 
-    Also records the parent's "solved" (:attr:`solved`: the plan's regrasps).
+    Also records the parent's "solved" (:attr:`solved`: the plan's regrasps; :attr:`places`:
+    where it regrasps) and the search's "expect" (:attr:`expected`: ``(regrasps, places)``).
     """
 
     def __init__(self, conn: Connection, end: float) -> None:
         self.conn, self.end = conn, end
         self.solved: int | None = None
+        self.places: tuple[tuple[float, float], ...] = ()
+        self.expected: tuple[int | None, tuple[tuple[float, float], ...]] | None = None
+        self.aim: int | None = None  # the regrasp bound's target while it runs
         self.stopped = False
         self._next = 0.0
 
@@ -269,17 +285,38 @@ class _ParentWord:
         if self.stopped or now >= self.end:
             return True
         if now >= self._next:
-            self._next = now + POLL_PERIOD
-            try:
-                while self.conn.poll():
-                    kind, value = self.conn.recv()
-                    if kind == "solved":
-                        self.solved = value
-                    else:
-                        self.stopped = True
-            except (EOFError, OSError):  # the parent is gone
-                self.stopped = True
+            self._read(now)
         return self.stopped
+
+    def _read(self, now: float) -> None:
+        """Take every message that has come."""
+        self._next = now + POLL_PERIOD
+        try:
+            while self.conn.poll():
+                kind, value = self.conn.recv()
+                if kind == "solved":
+                    self.solved, self.places = value
+                elif kind == "expect":
+                    self.expected = value
+                else:
+                    self.stopped = True
+        except (EOFError, OSError):  # the parent is gone
+            self.stopped = True
+
+    def aims_too_high(self) -> bool:
+        """Whether the regrasp bound running aims above the plan's count, now known."""
+        return self.aim is not None and self.solved is not None and self.solved < self.aim
+
+    def bound_wanted(self) -> Callable[[], bool]:
+        """A stop for the regrasp bound: also once it aims above the plan's count."""
+        return lambda: self() or self.aims_too_high()
+
+    def hint(self) -> tuple[int | None, tuple[tuple[float, float], ...]]:
+        """The plan's regrasps and places if made, else the search's expectation, if told."""
+        self._read(time.monotonic())
+        if self.solved is not None:
+            return self.solved, self.places or (self.expected or (None, ()))[1]
+        return self.expected or (None, ())
 
     def no_plan_wanted(self) -> Callable[[], bool]:
         """A stop for the "no plan" proof: also once the search has a plan."""
@@ -348,9 +385,17 @@ def _bounds(scene: Scene, end: float, prove: bool | None, passages: PassageOnce,
     if word():
         return
     conn.send(("route", route))
-    if word.solved == 0:
-        return
-    guided = (0.0 if prove is False else math.inf if prove is True
-              else max(0.0, end - time.monotonic()))
-    conn.send(("bound", lower_bound(scene, target=word.solved, should_stop=word,
-                                    guided_seconds=guided)))
+    while not word():
+        word.aim, places = word.hint()
+        if word.aim == 0:
+            return  # a plan without regrasps needs no regrasp bound
+        guided = (0.0 if prove is False else math.inf if prove is True
+                  else max(0.0, end - time.monotonic()))
+        log.debug("regrasp bound aiming at %s, %d places first", word.aim, len(places))
+        bound = lower_bound(scene, target=word.aim, should_stop=word.bound_wanted(),
+                            guided_seconds=guided, places=places, hint=word.hint)
+        if not word.aims_too_high():
+            conn.send(("bound", bound))
+            return
+        log.debug("regrasp bound aimed at %s, the plan has %s: aimed again", word.aim,
+                  word.solved)

@@ -14,6 +14,7 @@ from ompl import base as ob
 from pivot_ompl.base.state import read_state
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.planners.config import RegraspConfig
+from pivot_ompl.planners.expectation import Listener
 from pivot_ompl.planners.guarded import GuardedPlanner, states_to_path
 from pivot_ompl.planners.regrasp_search import RegraspSearch
 
@@ -63,6 +64,9 @@ class RegraspPlanner(GuardedPlanner):
             (:func:`pivot_ompl.api.plan` sets it): improving the path found then takes at
             most ``optimiser.quality_share`` of it; ``None``: only the termination
             condition stops the improvement.
+        proof: polled by the search: whether "no plan" is proven (it then stops).
+        expect: told the search's expected regrasps and their places once, as soon as known
+            (:mod:`.expectation`; a plan's prover).
     """
 
     def __init__(self, si: ob.SpaceInformation, checker: PivotChecker, *, seed: int = 0,
@@ -79,6 +83,7 @@ class RegraspPlanner(GuardedPlanner):
         self.stats: dict[str, Any] = {}
         self.solve_limit: float | None = None
         self.proof: Callable[[], bool] | None = None
+        self.expect: Listener | None = None
 
     def clear(self) -> None:  # noqa: D102
         super().clear()
@@ -105,6 +110,10 @@ class RegraspPlanner(GuardedPlanner):
             # a new start: the roadmaps grown so far serve again
             search.restart(s_pose, lambda: bool(ptc()), start_grasp=held)
         # else: solving again continues with the same roadmaps and caches (OMPL semantics)
+        if self.expect is not None:  # a search resumed has told its expectation before
+            search.expected.listener = self.expect
+            if search.expected.told:
+                self.expect(None, ())
         proof = self.proof
         searching = None if proof is None else (lambda: bool(ptc()) or proof())
         states = search.run(lambda: bool(ptc()), limit=self.solve_limit, searching=searching)

@@ -36,6 +36,7 @@ from pivot_ompl.planners.corridor import band_first, corridor_lattice
 from pivot_ompl.planners.direct import DirectStats, direct_path, route_weight
 from pivot_ompl.planners.eliminate import EliminationReport, eliminate_regrasps, lattice_router
 from pivot_ompl.planners.evaluation import Found, Status
+from pivot_ompl.planners.expectation import Expectation
 from pivot_ompl.planners.grasp_choice import choose_grasps
 from pivot_ompl.planners.improve import Budget, ImproveStats, improve, time_share
 from pivot_ompl.planners.multiplex.graph import MultiplexedGraph, Node
@@ -82,6 +83,8 @@ class RegraspSearch:
         graph: the multiplexed graph.
         paths: its search.
         stats: figures of the runs so far.
+        expected: tells its listener the plan's regrasps and places once the regrasp-free
+            tries have ended (:mod:`.expectation`).
     """
 
     roadmap: Roadmap
@@ -127,6 +130,7 @@ class RegraspSearch:
         self.direct = DirectStats()  #: the regrasp-free tries' figures (:mod:`.direct`)
         self._started = self._tried_direct = False
         self._goal_node = -1
+        self.expected = Expectation()
         self._since = 0  # object nodes multiplexed since the last search
 
     def _near_guards(self, q: Pose, guards: list[int]) -> Iterator[int]:
@@ -232,7 +236,8 @@ class RegraspSearch:
         found = regrasp_lattice_path(ck, lat := self._lattice(), cfg.cost, q0, q1,
                                      start_grasps=ends[0], goal_grasps=ends[1], grasps=cfg.grasps,
                                      run_spacing=cfg.optimiser.run_spacing, weight=lat.weight,
-                                     should_stop=should_stop, stats=figures)
+                                     should_stop=should_stop, stats=figures,
+                                     on_steps=self.expected.steps)
         s.regrasp_lattice_solved, s.regrasp_lattice_changes = bool(found.path), figures.changes
         s.time_regrasp_lattice += time.perf_counter() - t0
         return found.path or []
@@ -299,6 +304,8 @@ class RegraspSearch:
         if not self._started and not self._tried_direct:
             self._tried_direct = True  # before the passages are seeded: they are not needed
             single = self._single_grasp(stop)
+            if single:
+                self.expected.tell(0)
             direct = single or self._regrasp_lattice(stop)
             if direct:  # re-routed in a short band if the whole lattice is not made
                 band = self._corridor(stop) if single and self.lattice is None \
@@ -307,6 +314,7 @@ class RegraspSearch:
                 direct = self._optimised(direct, should_stop, band=band)
                 self._fill_stats()
                 return direct
+        self.expected.tell(None)  # no coarse plan: the count comes with the plan
         self.prepare(stop)
         found = self.paths.find(stop)
         n = 0
@@ -383,18 +391,4 @@ class RegraspSearch:
         return states
 
     def _fill_stats(self) -> None:
-        s, kinds = self.stats, self.roadmap.kinds
-        s.object_nodes = len(self.roadmap)
-        s.guards = kinds.count("guard") + 2
-        s.connectors = kinds.count("connector")
-        s.critical = kinds.count("critical")
-        s.manipulation_nodes = {g: len(v) for g, v in self.graph.by_grasp.items()}
-        s.regrasp_edges = self.graph.regrasp_edges
-        s.turn_edges = self.graph.turn_edges
-        s.plausibility_tests = self.graph.plausibility_tests
-        s.searches = self.paths.searches
-        s.edges_checked = self.paths.edges_checked
-        s.edges_invalid = self.paths.edges_invalid
-        s.time_search = self.paths.seconds
-        s.refined = self.improved.refine.applied
-        s.regrasps_turned = self.improved.refine.regrasps_removed
+        self.stats.count(self.roadmap, self.graph, self.paths, self.improved)

@@ -7,6 +7,13 @@ Serialised as they are (``dataclasses.asdict``) into a plan's ``roadmap`` and a 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from pivot_ompl.planners.improve import ImproveStats
+    from pivot_ompl.planners.multiplex.graph import MultiplexedGraph
+    from pivot_ompl.planners.multiplex.search import PathSearch
+    from pivot_ompl.planners.objects.roadmap import Roadmap
 
 
 @dataclass
@@ -55,3 +62,22 @@ class RegraspStats:
     regrasp_lattice_solved: bool = False
     regrasp_lattice_changes: int = -1
     time_regrasp_lattice: float = 0.0
+
+    def count(self, roadmap: Roadmap, graph: MultiplexedGraph, paths: PathSearch,
+              improved: ImproveStats) -> None:
+        """Take the roadmap's, graph's, search's and improvement's figures as they are now."""
+        kinds = roadmap.kinds
+        self.object_nodes = len(roadmap)
+        self.guards = kinds.count("guard") + 2
+        self.connectors = kinds.count("connector")
+        self.critical = kinds.count("critical")
+        self.manipulation_nodes = {g: len(v) for g, v in graph.by_grasp.items()}
+        self.regrasp_edges = graph.regrasp_edges
+        self.turn_edges = graph.turn_edges
+        self.plausibility_tests = graph.plausibility_tests
+        self.searches = paths.searches
+        self.edges_checked = paths.edges_checked
+        self.edges_invalid = paths.edges_invalid
+        self.time_search = paths.seconds
+        self.refined = improved.refine.applied
+        self.regrasps_turned = improved.refine.regrasps_removed

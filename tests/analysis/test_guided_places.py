@@ -89,3 +89,24 @@ def test_the_levels_hand_the_places_to_the_refinement(monkeypatch):
     found = bound_levels.scaled_lower_bound(shipped("slot"), target=1, refine_seconds=0.0,
                                             guided_seconds=math.inf, places=places)
     assert seen == [places] and found.regrasps == 1
+
+
+def test_places_told_between_rounds_join_the_next_window_and_a_told_count_ends_them():
+    scene = shipped("fig10")
+    cover = raster_cover(scene, cell=CELL)
+    x0, y0, x1, y1 = scene.bounds
+    places = ((0.5 * (x0 + x1), 0.5 * (y0 + y1)),)
+    asked: list[int] = []
+
+    def hint() -> tuple[int | None, tuple[tuple[float, float], ...]]:
+        asked.append(1)
+        return None, places  # told from the first round on: refined in the second
+
+    trace: list[GuidedRound] = []
+    told = guided_lower_bound(scene, cover=cover, trace=trace, hint=hint)
+    assert told is not None and asked and len(trace) >= 2
+    assert trace[1].window >= int(place_window(cover, places).sum())
+    assert raster_lower_bound(scene).regrasps <= told.regrasps <= EXACT["fig10"]
+    trace.clear()  # a count told is aimed at: reached by the coarse graph, no refined round
+    guided_lower_bound(scene, cover=cover, trace=trace, hint=lambda: (0, ()))
+    assert len(trace) == 1

@@ -170,6 +170,12 @@ def component_steps(lattice: TransferLattice, start: Pose, goal: Pose, *,
     return steps
 
 
+def meeting_places(steps: ComponentSteps) -> tuple[tuple[float, float], ...]:
+    """The positions (m) of every change's first poses, one of each bin it may happen in."""
+    return tuple((q[0], q[1]) for meeting, n in zip(steps.meetings, steps.bins, strict=True)
+                 for q in meeting[:n])
+
+
 @dataclass
 class RegraspLatticeStats:
     """Figures of the try.
@@ -190,7 +196,9 @@ def regrasp_lattice_path(checker: PivotChecker, lattice: TransferLattice, costs:
                          goal_grasps: list[int], grasps: tuple[int, ...], run_spacing: int,
                          max_changes: int = 4, tries: int = 6, cell: float = 0.2,
                          yaw_bins: int = 8, weight: float = 1.0, should_stop: Stop,
-                         stats: RegraspLatticeStats | None = None) -> Found[list[State]]:
+                         stats: RegraspLatticeStats | None = None,
+                         on_steps: Callable[[ComponentSteps], None] | None = None
+                         ) -> Found[list[State]]:
     """A certified path regrasping where the lattice's components meet (module docstring).
 
     ``start_grasps``, ``goal_grasps``: the grasps valid (and allowed) at the ends; ``grasps``:
@@ -199,6 +207,8 @@ def regrasp_lattice_path(checker: PivotChecker, lattice: TransferLattice, costs:
     routes' heuristic inflation (the search passes its lattice's, the re-routing's
     (:mod:`.refine`): a leg's route is then searched once, not again by the re-routing); a
     leg whose route at ``weight`` fails its checks is routed again at weight 1.
+    ``on_steps``: told the coarse plan (:func:`component_steps`) as soon as it is found,
+    before its legs are made real (a plan's prover refines its bound there first).
     ``VALID`` with the states (a regrasp: two states at one pose), ``INVALID``, ``STOPPED``.
     """
     stats = stats if stats is not None else RegraspLatticeStats()
@@ -211,6 +221,8 @@ def regrasp_lattice_path(checker: PivotChecker, lattice: TransferLattice, costs:
         if steps is None:
             return Found(Status.INVALID)
         stats.changes = len(steps.meetings)
+        if on_steps is not None:
+            on_steps(steps)
         evaluate = Evaluator(checker, costs)
         legs = _Legs(evaluate, lattice, run_spacing, weight, should_stop)
         return _legs(legs, steps, start, goal, start_grasps, goal_grasps, grasps, tries, stats)
