@@ -9,11 +9,14 @@ one of the turned scene, so every frame's bound is a proof for the scene, and th
 of them is one too.
 
 :func:`framed_lower_bound` relaxes in the walls' frame first (all edges counted:
-:func:`~pivot_ompl.analysis.wall_frame.wall_frame`'s default; the scene itself where it
-gives none) and, only while the bound is below the plan's regrasps (``target``), in the
-other frames: the world's, the walls' where the first call found it not worth its cost,
-then the facing walls' (each once, a frame equal to one tried skipped), ``should_stop``
-polled between them and by each. A stopped or unsolvable result of another frame is dropped
+:func:`~pivot_ompl.analysis.wall_frame.wall_frame`'s default; also where its bounds are
+larger than that default allows but its coarsest raster's cells are finer than the world's:
+a large floor turned in the world, whose world-frame raster gets coarser cells across its
+walls for the same estimated time; the scene itself where it gives none) and, only while
+the bound is below the plan's regrasps (``target``), in the other frames: the world's, the
+walls' where the first call found it not worth its cost, then the facing walls' (each once,
+a frame equal to one tried skipped), ``should_stop`` polled between them and by each. A
+stopped or unsolvable result of another frame is dropped
 (the first frame's stands). The kept result is the frame's whose count is the largest (its
 counts of bins and pieces with it), with the longest route any frame proved.
 """
@@ -26,8 +29,9 @@ import math
 import time
 from collections.abc import Callable
 
-from pivot_ompl.analysis.bound_levels import scaled_lower_bound
+from pivot_ompl.analysis.bound_levels import CELLS, scaled_lower_bound
 from pivot_ompl.analysis.guided_refine import Hint
+from pivot_ompl.analysis.raster_cover import floor_raster
 from pivot_ompl.analysis.regrasp_bound import RegraspBound
 from pivot_ompl.analysis.wall_frame import WallFrame, wall_frame
 from pivot_ompl.scene import Scene
@@ -56,6 +60,10 @@ def framed_lower_bound(scene: Scene, *, resolution: float, target: int | None,
     """
     t0 = time.perf_counter()
     first = wall_frame(scene, should_stop=should_stop)
+    walls = None if first is not None else wall_frame(scene, should_stop=should_stop,
+                                                      worth=WORTH_ANY)
+    if walls is not None and _cell(walls.scene) < _cell(scene):
+        first = walls
     best = _in_frame(scene, first, resolution=resolution, target=target,
                      refine_seconds=refine_seconds, should_stop=should_stop,
                      guided_seconds=guided_seconds, places=places, hint=hint)
@@ -63,9 +71,8 @@ def framed_lower_bound(scene: Scene, *, resolution: float, target: int | None,
     for kind in ("world", "walls", "facing"):
         if not _wanted(best, target) or (should_stop is not None and should_stop()):
             break
-        frame = None if kind == "world" else wall_frame(
-            scene, should_stop=should_stop, facing=kind == "facing",
-            worth=WORTH_ANY if kind == "walls" else None)
+        frame = None if kind == "world" else walls if kind == "walls" else wall_frame(
+            scene, should_stop=should_stop, facing=True)
         if (kind != "world" and frame is None) or \
                 _seen(None if frame is None else frame.yaw, tried):
             continue
@@ -102,6 +109,11 @@ def _in_frame(scene: Scene, frame: WallFrame | None, *, resolution: float,
                               guided_seconds=guided_seconds,
                               places=tuple(frame.point_in(p) for p in places),
                               hint=None if hint is None else turned)
+
+
+def _cell(scene: Scene) -> float:
+    """The coarsest raster's cell (m) on ``scene``'s bounds."""
+    return floor_raster(scene.bounds, CELLS[0]).cell
 
 
 def _seen(yaw: float | None, tried: list[float | None]) -> bool:

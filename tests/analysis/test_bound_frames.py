@@ -96,3 +96,31 @@ def test_a_plan_s_count_pays_a_finer_raster_from_the_refinement_s_time(fresh, mo
     # no plan's count to reach: the refinement's time is not spent on a finer level
     monkeypatch.setattr(bound_levels, "may_guide", lambda *a, **k: False)
     assert scaled_lower_bound(scene, refine_seconds=0.0, guided_seconds=math.inf).regrasps == 0
+
+
+def test_a_large_floor_turned_in_the_world_is_relaxed_in_its_walls_frame_first(fresh,
+                                                                              monkeypatch):
+    from pivot_ompl.analysis import bound_frames
+    from pivot_ompl.analysis.raster_cover import floor_raster
+    from pivot_ompl.generate.layout import free_complement
+    from pivot_ompl.generate.layout import make_scene as layout_scene
+
+    bounds = (0.0, 0.0, 60.0, 60.0)  # a square hall: turned, its bounds hold 6600 m^2
+    free = [(0.5, 0.5, 59.5, 29.0), (0.5, 31.0, 59.5, 59.5), (20.0, 28.0, 22.0, 32.0)]
+    hall = layout_scene("square_hall", bounds, free_complement(bounds, free),
+                        (10.0, 10.0, 0.0), (50.0, 50.0, 0.0))
+    scene = rotate_scene(hall, 0.5)
+    walls = wall_frame(scene, worth=1.0)
+    assert wall_frame(scene) is None and walls is not None  # not worth it by area alone...
+    cell = floor_raster(scene.bounds, 0.1).cell
+    assert floor_raster(walls.scene.bounds, 0.1).cell < cell  # ...but finer cells there
+    seen = []
+    real = scaled_lower_bound
+
+    def spied(relaxed, **k):  # noqa: ANN001, ANN003, ANN202
+        seen.append(relaxed.bounds)
+        return real(relaxed, **k)
+
+    monkeypatch.setattr(bound_frames, "scaled_lower_bound", spied)
+    got = lower_bound(scene, use_cache=False)
+    assert seen == [walls.scene.bounds] and got.solvable
