@@ -39,9 +39,11 @@ box's centre is at least ``b / 2 + clearance - tolerance`` from every obstacle p
 of the obstacles) and ``b / 2 - tolerance`` inside the bounds. The raster cells
 (:class:`~pivot_ompl.analysis.raster.FloorRaster`) whose centres are within half a cell
 diagonal of such positions hold every box centre of every plan; the cells kept are those
-whose centre is that much less far from the pieces (no polygon is grown: an axis-aligned
-rectangle's distance by arithmetic, :func:`~pivot_ompl.analysis.rect_cells.near_rectangles`,
-an STRtree query for other pieces and within round-off of the distance), a superset. The
+whose centre is that much less far from the pieces (no polygon is grown: a rectangle's
+distance by arithmetic, axis-aligned or turned,
+:func:`~pivot_ompl.analysis.rect_cells.near_rectangles` and
+:func:`~pivot_ompl.analysis.rect_cells.near_turned_rectangles`, an STRtree query for other
+pieces and within round-off of the distance), a superset. The
 shortest path through them (:func:`~pivot_ompl.analysis.route_bound.route_on`), and the
 straight line from start to goal, are lower bounds of every plan's box route, however the
 held assembly turns. Cells no held pose of the box fits (the disk passes, the held assembly
@@ -70,7 +72,12 @@ from pivot_ompl.analysis.bound_cache import (
     route_problem,
 )
 from pivot_ompl.analysis.raster import FloorRaster
-from pivot_ompl.analysis.rect_cells import axis_rectangles, near_rectangles
+from pivot_ompl.analysis.rect_cells import (
+    axis_rectangles,
+    near_rectangles,
+    near_turned_rectangles,
+    turned_rectangles,
+)
 from pivot_ompl.analysis.regrasp_bound import RegraspBound
 from pivot_ompl.analysis.relaxation_handoff import forget_kept
 from pivot_ompl.analysis.route_bound import MAX_CELLS, MIN_CELL, route_on
@@ -183,8 +190,13 @@ def disk_cells(scene: Scene, *, clearance: float = KEEP_CLEARANCE,
         # asked only within round-off of ``grow`` (and for cells near other pieces)
         rect = axis_rectangles(raw)
         surely, maybe = near_rectangles(raster, boxes[rect], idx, grow)
+        turned = turned_rectangles(raw) & ~rect  # a turned map's: in their own axes
+        if turned.any():
+            corners = np.array([raw[n] for n in np.flatnonzero(turned)], dtype=float)
+            more, also = near_turned_rectangles(raster, corners, idx, grow)
+            surely, maybe = surely | more, maybe | also
         flat[idx[surely]] = False
-        idx = idx[maybe & ~surely] if rect.all() else idx[~surely]
+        idx = idx[maybe & ~surely] if (rect | turned).all() else idx[~surely]
         tree = shapely.STRtree(pieces) if len(idx) else None
         for a in range(0, len(idx), QUERY_CHUNK):  # the stop polled between the chunks
             if should_stop is not None and should_stop():

@@ -1,4 +1,4 @@
-"""The raster cells wholly inside axis-aligned rectangles, all rectangles at once.
+"""Raster cells inside axis-aligned rectangles and near rectangles, all rectangles at once.
 
 A map's obstacles are boxes on its pixels, and their convex pieces
 (:func:`~pivot_ompl.validity.footprints.obstacle_pieces`) are axis-aligned rectangles. For
@@ -12,9 +12,15 @@ slack of the piece's side. :func:`rect_cells` evaluates the same floating-point 
 as the per-piece test at those outer corners only, for every rectangle at once, and marks
 the blocks by a summed difference array: the same cells, bit for bit, without a Python loop
 per piece.
+
+:func:`near_rectangles` and :func:`near_turned_rectangles` bracket each cell centre's distance
+to the nearest rectangle (axis-aligned, or of any direction: a turned map's), leaving GEOS only
+the centres within round-off of the distance asked.
 """
 
 from __future__ import annotations
+
+from collections.abc import Callable
 
 import numpy as np
 
@@ -107,9 +113,66 @@ def near_rectangles(raster: FloorRaster, boxes: np.ndarray, cells: np.ndarray,
     every box; one in ``maybe`` alone is for an exact test to decide. Each box's cells are
     read in the block round it (no floor-sized temporary but an index of ``cells``).
     """
+    boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
+
+    def away(box: np.ndarray, cx: np.ndarray, cy: np.ndarray) -> np.ndarray:
+        dx = np.maximum(np.maximum(boxes[box, 0] - cx, cx - boxes[box, 2]), 0.0)
+        dy = np.maximum(np.maximum(boxes[box, 1] - cy, cy - boxes[box, 3]), 0.0)
+        return np.hypot(dx, dy)
+
+    return _near(raster, boxes, cells, distance, away)
+
+
+def turned_rectangles(pieces: list[np.ndarray]) -> np.ndarray:
+    """Which ``pieces`` are rectangles (four corners, right angles) of any direction."""
+    out = np.zeros(len(pieces), dtype=bool)
+    four = [n for n, piece in enumerate(pieces) if np.shape(piece) == (4, 2)]
+    if four:
+        p = np.array([pieces[n] for n in four], dtype=float)
+        e = np.roll(p, -1, axis=1) - p
+        nxt = np.roll(e, -1, axis=1)
+        dot = np.abs(np.sum(e * nxt, axis=2))
+        size = np.hypot(e[:, :, 0], e[:, :, 1])
+        out[four] = np.all(dot <= 1e-9 * size * np.roll(size, -1, axis=1), axis=1) & \
+            np.all(size > 0.0, axis=1)
+    return out
+
+
+def near_turned_rectangles(raster: FloorRaster, corners: np.ndarray, cells: np.ndarray,
+                           distance: float) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`near_rectangles` of rectangles of any direction (``(n, 4, 2)`` corners in turn).
+
+    Each centre's distance is taken in the rectangle's own axes (its offset from the
+    rectangle's centre projected on its two sides' directions, less their half lengths),
+    its round-off far below :data:`NEAR_MARGIN`: ``(surely, maybe)`` as there.
+    """
+    p = np.asarray(corners, dtype=float).reshape(-1, 4, 2)
+    centre = p.mean(axis=1)
+    e1, e2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 1]
+    l1, l2 = np.hypot(e1[:, 0], e1[:, 1]), np.hypot(e2[:, 0], e2[:, 1])
+    u, v = e1 / l1[:, None], e2 / l2[:, None]
+    boxes = np.column_stack([p[:, :, 0].min(axis=1), p[:, :, 1].min(axis=1),
+                             p[:, :, 0].max(axis=1), p[:, :, 1].max(axis=1)])
+
+    def away(box: np.ndarray, cx: np.ndarray, cy: np.ndarray) -> np.ndarray:
+        ox, oy = cx - centre[box, 0], cy - centre[box, 1]
+        da = np.maximum(np.abs(ox * u[box, 0] + oy * u[box, 1]) - 0.5 * l1[box], 0.0)
+        db = np.maximum(np.abs(ox * v[box, 0] + oy * v[box, 1]) - 0.5 * l2[box], 0.0)
+        return np.hypot(da, db)
+
+    return _near(raster, boxes, cells, distance, away)
+
+
+def _near(raster: FloorRaster, boxes: np.ndarray, cells: np.ndarray, distance: float,
+          away: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
+          ) -> tuple[np.ndarray, np.ndarray]:
+    """``(surely, maybe)`` of :func:`near_rectangles`, each piece's distance by ``away``.
+
+    ``boxes``: the pieces' bounding boxes (``(n, 4)``), whose blocks grown by ``distance``
+    hold every cell ``away`` may find near; ``away(piece indices, centres' x, y)``.
+    """
     surely = np.zeros(len(cells), dtype=bool)
     maybe = np.zeros(len(cells), dtype=bool)
-    boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
     if not len(boxes) or not len(cells):
         return surely, maybe
     (x0, y0), h = raster.origin, raster.cell
@@ -139,10 +202,7 @@ def near_rectangles(raster: FloorRaster, boxes: np.ndarray, cells: np.ndarray,
         pos = where[flat]
         keep = pos >= 0
         flat, pos, box = flat[keep], pos[keep], box[keep]
-        cx, cy = gx[flat], gy[flat]
-        dx = np.maximum(np.maximum(boxes[box, 0] - cx, cx - boxes[box, 2]), 0.0)
-        dy = np.maximum(np.maximum(boxes[box, 1] - cy, cy - boxes[box, 3]), 0.0)
-        d = np.hypot(dx, dy)
+        d = away(box, gx[flat], gy[flat])
         surely[pos[d < distance - NEAR_MARGIN]] = True
         maybe[pos[d <= reach]] = True
     return surely, maybe

@@ -11,7 +11,13 @@ from factories import make_scene
 
 from pivot_ompl.analysis import plan_bounds, raster_cover
 from pivot_ompl.analysis.raster import FloorRaster
-from pivot_ompl.analysis.rect_cells import axis_rectangles, near_rectangles, rect_cells
+from pivot_ompl.analysis.rect_cells import (
+    axis_rectangles,
+    near_rectangles,
+    near_turned_rectangles,
+    rect_cells,
+    turned_rectangles,
+)
 from pivot_ompl.analysis.regrasp_walk import WalkRelaxation
 
 
@@ -97,6 +103,46 @@ def test_near_rectangles_bracket_the_exact_distance(seed, distance):
         assert (maybe & ~surely).sum() <= 0.01 * len(cells)
 
 
+def test_rectangles_of_any_direction_are_told_from_other_pieces():
+    a = math.radians(20.0)
+    turned = np.array([(0.0, 0.0), (math.cos(a), math.sin(a)),
+                       (math.cos(a) - 2 * math.sin(a), math.sin(a) + 2 * math.cos(a)),
+                       (-2 * math.sin(a), 2 * math.cos(a))]) + 1.0
+    rhombus = np.array([(0.0, 0.0), (1.0, 0.0), (1.5, 1.0), (0.5, 1.0)])
+    triangle = np.array([(3.0, 3.0), (4.5, 3.0), (3.0, 4.5)])
+    square = np.array([(0.5, 3.0), (1.5, 3.0), (1.5, 4.0), (0.5, 4.0)])
+    flat = np.array([(0.5, 3.0), (1.5, 3.0), (1.5, 3.0), (0.5, 3.0)])
+    pieces = [turned, rhombus, triangle, square, flat, turned[::-1]]
+    assert turned_rectangles(pieces).tolist() == [True, False, False, True, False, True]
+
+
+@pytest.mark.parametrize("seed", range(4))
+@pytest.mark.parametrize("distance", [0.0, 0.07, 0.1375])
+def test_near_turned_rectangles_bracket_the_exact_distance(seed, distance):
+    rng = np.random.default_rng(seed)
+    raster = FloorRaster((0.0, 0.0, 6.0, 5.0), min_cell=0.05, max_cells=20_000)
+    pieces = []
+    for _ in range(25):  # rectangles of any size and direction, corners in either turn
+        a, (w, h) = rng.uniform(0.0, math.pi), rng.uniform(0.01, 1.5, size=2)
+        c, u, v = rng.uniform(0.0, 6.0, size=2), np.array([math.cos(a), math.sin(a)]), \
+            np.array([-math.sin(a), math.cos(a)])
+        p = np.array([c - w * u - h * v, c + w * u - h * v, c + w * u + h * v,
+                      c - w * u + h * v]) * 0.5 + 0.5 * c
+        pieces.append(np.roll(p[::int(rng.choice([-1, 1]))], int(rng.integers(0, 4)), axis=0))
+    assert turned_rectangles(pieces).all()
+    cells = np.flatnonzero(rng.uniform(size=raster.shape).ravel() < 0.8)
+    surely, maybe = near_turned_rectangles(raster, np.array(pieces), cells, distance)
+    points = shapely.points(raster.gx.ravel()[cells], raster.gy.ravel()[cells])
+    within = np.zeros(len(cells), dtype=bool)
+    for p in pieces:
+        within |= shapely.dwithin(points, shapely.Polygon(p), distance)
+    assert within.any() and not within.all()
+    assert not (surely & ~within).any()  # surely: within by GEOS too
+    assert not (within & ~maybe).any()  # every cell within is a maybe
+    if distance > 0:
+        assert (maybe & ~surely).sum() <= 0.01 * len(cells)
+
+
 def test_disk_cells_with_turned_pieces_are_the_exact_query(monkeypatch):
     """Rectangles and a turned box and cylinder: the same cells as GEOS asked of every cell."""
     scene = make_scene(obstacles=[
@@ -107,8 +153,9 @@ def test_disk_cells_with_turned_pieces_are_the_exact_query(monkeypatch):
     for cells in (5_000, 50_000):
         raster, mask = plan_bounds.disk_cells(scene, max_cells=cells)
         with monkeypatch.context() as m:
-            m.setattr(plan_bounds, "near_rectangles", lambda raster, boxes, idx, distance: (
-                np.zeros(len(idx), dtype=bool), np.ones(len(idx), dtype=bool)))
+            for name in ("near_rectangles", "near_turned_rectangles"):  # GEOS for every cell
+                m.setattr(plan_bounds, name, lambda raster, boxes, idx, distance: (
+                    np.zeros(len(idx), dtype=bool), np.ones(len(idx), dtype=bool)))
             _, every = plan_bounds.disk_cells(scene, max_cells=cells)
         assert mask.any() and not mask.all()
         assert np.array_equal(mask, every)
