@@ -174,7 +174,8 @@ def component_steps(lattice: TransferLattice, start: Pose, goal: Pose, *,
     for a, b in zip(chain, chain[1:], strict=False):
         both = np.intersect1d(key[pairs[comp[pairs] == a]], key[pairs[comp[pairs] == b]])
         rows = sel[(comp[sel] == a) & np.isin(key[sel], both)]  # a's, ascending
-        first = np.diff(key[rows], prepend=-1) != 0  # the first of each bin
+        first = np.ones(len(rows), dtype=bool)  # the first of each bin
+        first[1:] = key[rows[1:]] != key[rows[:-1]]
         steps.meetings.append([(float(q[0]), float(q[1]), float(q[2]))
                                for q in pose[order[np.concatenate([rows[first], rows[~first]])]]])
         steps.bins.append(int(first.sum()))
