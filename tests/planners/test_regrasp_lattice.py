@@ -44,6 +44,26 @@ def test_ends_held_at_grasps_of_either_parity_need_one_change(corner):
                            goal_grasps=goals, cell=0.2, yaw_bins=8, max_changes=0) is None
 
 
+def test_each_meeting_offers_one_pose_per_bin_before_a_second_of_one(corner):
+    scene, ck, lattice = corner
+    cell, yaw_bins = 0.2, 8
+    steps = component_steps(lattice, scene.start, scene.goal,
+                            start_grasps=_valid_grasps(ck, scene.start),
+                            goal_grasps=_valid_grasps(ck, scene.goal), cell=cell,
+                            yaw_bins=yaw_bins, max_changes=4)
+    assert steps is not None
+    x0, y0 = ck.world.bounds[:2]
+
+    def bin_of(q):
+        yaw = math.floor(math.fmod(q[2] % math.pi, math.pi) / math.pi * yaw_bins) % yaw_bins
+        return math.floor((q[0] - x0) / cell), math.floor((q[1] - y0) / cell), yaw
+
+    for meeting, n in zip(steps.meetings, steps.bins, strict=True):
+        bins = [bin_of(q) for q in meeting]
+        assert n >= 1 and len(set(bins[:n])) == n  # the first n: one per bin
+        assert set(bins) == set(bins[:n])  # and every bin the meeting holds among them
+
+
 def test_one_grasp_that_suffices_gives_no_coarse_plan(corner):
     scene, ck, lattice = corner
     assert component_steps(lattice, scene.start, scene.start, start_grasps=[0],

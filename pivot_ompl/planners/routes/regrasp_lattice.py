@@ -83,6 +83,31 @@ def _box_poses(lattice: TransferLattice, parity: int, should_stop: Stop | None
     return lattice.frame.poses_out(np.concatenate(poses)), np.concatenate(comps)
 
 
+def _meeting(bin_keys: np.ndarray, components: np.ndarray) -> dict[int, dict[int, None]]:
+    """The components meeting each one, in the order of the first bin they share.
+
+    ``bin_keys`` (non-decreasing) and ``components``: one row per component a bin holds, each
+    bin's in ascending order. The pairs ``(a, b)`` are met bin by bin, ``a`` then ``b`` in
+    the bin's order; each pair is kept where first met.
+    """
+    n = len(bin_keys)
+    if n == 0:
+        return {}
+    starts = np.flatnonzero(np.diff(bin_keys, prepend=bin_keys[0] - 1) != 0)
+    sizes = np.diff(np.append(starts, n))
+    size_of, start_of = np.repeat(sizes, sizes), np.repeat(starts, sizes)  # per row
+    a_rows = np.repeat(np.arange(n), size_of)
+    b_rows = np.arange(len(a_rows)) - np.repeat(np.cumsum(size_of) - size_of, size_of) \
+        + np.repeat(start_of, size_of)
+    other = a_rows != b_rows
+    a, b = components[a_rows[other]], components[b_rows[other]]
+    _, first = np.unique(a * (int(components.max()) + 1) + b, return_index=True)
+    adjacent: dict[int, dict[int, None]] = {}
+    for i in np.sort(first).tolist():
+        adjacent.setdefault(int(a[i]), {}).setdefault(int(b[i]))
+    return adjacent
+
+
 def component_steps(lattice: TransferLattice, start: Pose, goal: Pose, *,
                     start_grasps: list[int], goal_grasps: list[int], cell: float,
                     yaw_bins: int, max_changes: int, should_stop: Stop | None = None
@@ -108,24 +133,14 @@ def component_steps(lattice: TransferLattice, start: Pose, goal: Pose, *,
         poses.append(p)
     key, comp, pose = np.concatenate(keys), np.concatenate(comps), np.concatenate(poses)
     order = np.lexsort((comp, key))
-    key, comp, pose = key[order], comp[order], pose[order]
+    key, comp = key[order], comp[order]  # the poses read through order, where wanted
     # the bins holding two components or more
     pair_starts = np.flatnonzero((np.diff(key, prepend=-1) != 0) | (np.diff(comp, prepend=-1) != 0))
     bins, count = np.unique(key[pair_starts], return_counts=True)
     shared = bins[count > 1]
     sel = np.flatnonzero(np.isin(key, shared))  # rows in shared bins, by (bin, component)
     pairs = sel[(np.diff(key[sel], prepend=-1) != 0) | (np.diff(comp[sel], prepend=-1) != 0)]
-    cuts = [0, *(np.flatnonzero(np.diff(key[pairs]) != 0) + 1).tolist(), len(pairs)]
-    pair_comps = comp[pairs].tolist()
-    #: the components meeting each one, in the order of the first bin they share
-    adjacent: dict[int, dict[int, None]] = {}
-    for i0, i1 in zip(cuts, cuts[1:], strict=False):
-        here = pair_comps[i0:i1]
-        for a in here:
-            near = adjacent.setdefault(a, {})
-            for b in here:
-                if b != a:
-                    near.setdefault(b)
+    adjacent = _meeting(key[pairs], comp[pairs])
 
     def code(c: Component) -> int:
         return c[1] * 2 + c[0]
@@ -158,15 +173,12 @@ def component_steps(lattice: TransferLattice, start: Pose, goal: Pose, *,
     steps = ComponentSteps([(c % 2, c // 2) for c in chain])
     for a, b in zip(chain, chain[1:], strict=False):
         both = np.intersect1d(key[pairs[comp[pairs] == a]], key[pairs[comp[pairs] == b]])
-        rows = sel[(comp[sel] == a) & np.isin(key[sel], both)].tolist()  # a's, ascending
-        first_of: dict[int, int] = {}
-        for k in rows:
-            first_of.setdefault(int(key[k]), k)
-        firsts = list(first_of.values())
-        rest = sorted(set(rows) - set(firsts))
-        steps.meetings.append([(float(pose[k, 0]), float(pose[k, 1]), float(pose[k, 2]))
-                               for k in firsts + rest])
-        steps.bins.append(len(firsts))
+        rows = sel[(comp[sel] == a) & np.isin(key[sel], both)]  # a's, ascending
+        first = np.ones(len(rows), dtype=bool)  # the first of each bin
+        first[1:] = key[rows[1:]] != key[rows[:-1]]
+        steps.meetings.append([(float(q[0]), float(q[1]), float(q[2]))
+                               for q in pose[order[np.concatenate([rows[first], rows[~first]])]]])
+        steps.bins.append(int(first.sum()))
     return steps
 
 
