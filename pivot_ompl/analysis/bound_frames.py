@@ -100,9 +100,9 @@ def _in_frame(scene: Scene, frame: WallFrame | None, *, resolution: float,
                                   refine_seconds=refine_seconds, should_stop=should_stop,
                                   guided_seconds=guided_seconds, places=places, hint=hint)
 
-    def turned() -> tuple[int | None, tuple[tuple[float, float], ...]]:
-        aim, told = hint()  # type: ignore[misc]
-        return aim, tuple(frame.point_in(p) for p in told)
+    def turned() -> tuple[int | None, tuple[tuple[float, float], ...]] | None:
+        said = hint()  # type: ignore[misc]
+        return None if said is None else (said[0], tuple(frame.point_in(p) for p in said[1]))
 
     return scaled_lower_bound(frame.scene, resolution=resolution, target=target,
                               refine_seconds=refine_seconds, should_stop=should_stop,

@@ -46,7 +46,11 @@ Garage office its 2 comes in two refined rounds instead of five (about 40 % of t
 refinement's CPU). Like any window choice this is cost only. Beside the search (a plan's
 prover) the plan is not made yet: a ``hint``, asked every round, gives what the search
 expects so far (its coarse plan's regrasps and places, then the plan's), its places joining
-the next window and its count aimed at where no ``target`` is given.
+the next window and its count aimed at where no ``target`` is given. Where the search has
+told nothing yet when the coarse round ends, the refinement waits for its word up to
+:data:`HINT_WAIT` seconds (the search tells it within a second or two of its start, once its
+regrasp-free tries have ended; a round refined without the places is seconds of work that
+the places would mostly make needless).
 """
 
 from __future__ import annotations
@@ -102,8 +106,14 @@ MAX_WINDOW = 6_000
 
 _EIGHT = np.ones((3, 3), dtype=bool)
 
-#: What a search expects so far: a plan's regrasps (``None``: unknown) and where (m).
-Hint = Callable[[], tuple[int | None, tuple[tuple[float, float], ...]]]
+#: What a search expects so far: a plan's regrasps (``None``: unknown) and where (m);
+#: ``None``: it has told nothing yet.
+Hint = Callable[[], tuple[int | None, tuple[tuple[float, float], ...]] | None]
+#: Seconds the refinement waits after its coarse round for a ``hint`` that has told nothing
+#: yet (cost only).
+HINT_WAIT = 2.0
+#: Seconds between two looks at a ``hint`` while waiting.
+HINT_POLL = 0.05
 
 
 @dataclass
@@ -322,7 +332,7 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
         stale = 0 if best is None or count > best else stale + 1
         best = count if best is None else max(best, count)
         first = count if first is None else first
-        aim, told = (target, ()) if hint is None else hint()
+        aim, told = (target, ()) if hint is None else _told(hint, not window.any(), should_stop)
         aim = target if target is not None else aim
         if (aim is not None and best >= aim) or stale >= patience or (
                 best == first and stale >= min(patience, FIRST_PATIENCE)):
@@ -343,6 +353,21 @@ def guided_lower_bound(scene: Scene, *, cover: RasterCover | None = None,
               time.perf_counter() - t0)
     return RegraspBound(best, True, cover.bins, pieces, time.perf_counter() - t0, None,
                         complete=not stopped, exhaustive=False, guided=not stopped)
+
+
+def _told(hint: Hint, coarse: bool, should_stop: Callable[[], bool] | None
+          ) -> tuple[int | None, tuple[tuple[float, float], ...]]:
+    """What ``hint`` tells now (``(None, ())``: nothing).
+
+    After the coarse round (``coarse``) it is waited for up to :data:`HINT_WAIT` s if it has
+    told nothing yet.
+    """
+    said = hint()
+    end = time.monotonic() + (HINT_WAIT if coarse else 0.0)
+    while said is None and time.monotonic() < end and not (should_stop and should_stop()):
+        time.sleep(HINT_POLL)
+        said = hint()
+    return said if said is not None else (None, ())
 
 
 def place_window(cover: RasterCover, places: tuple[tuple[float, float], ...], *,

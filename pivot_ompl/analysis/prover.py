@@ -311,12 +311,12 @@ class _ParentWord:
         """A stop for the regrasp bound: also once it aims above the plan's count."""
         return lambda: self() or self.aims_too_high()
 
-    def hint(self) -> tuple[int | None, tuple[tuple[float, float], ...]]:
+    def hint(self) -> tuple[int | None, tuple[tuple[float, float], ...]] | None:
         """The plan's regrasps and places if made, else the search's expectation, if told."""
         self._read(time.monotonic())
         if self.solved is not None:
             return self.solved, self.places or (self.expected or (None, ()))[1]
-        return self.expected or (None, ())
+        return self.expected
 
     def no_plan_wanted(self) -> Callable[[], bool]:
         """A stop for the "no plan" proof: also once the search has a plan."""
@@ -386,7 +386,7 @@ def _bounds(scene: Scene, end: float, prove: bool | None, passages: PassageOnce,
         return
     conn.send(("route", route))
     while not word():
-        word.aim, places = word.hint()
+        word.aim, places = word.hint() or (None, ())
         if word.aim == 0:
             return  # a plan without regrasps needs no regrasp bound
         guided = (0.0 if prove is False else math.inf if prove is True

@@ -93,7 +93,7 @@ def test_what_is_told_while_the_bound_runs_reaches_its_rounds(monkeypatch):
     spy = _Spy(until_hint=(2, PLACES))  # nothing told yet: the bound runs, asking every round
     _, values = _serve(shipped("fig10"), spy, monkeypatch, ("running", ("expect", (2, PLACES))),
                        ("bound", ("solved", (2, ()))))
-    assert spy.calls == [(None, ())] and spy.hints[0] == (None, ())
+    assert spy.calls == [(None, ())] and spy.hints[0] is None
     assert spy.hints[-1] == (2, PLACES) and values["bound"].regrasps == 2
     spy = _Spy(until_hint=(1, PLACES[:1]))  # then the plan's count and places
     _serve(shipped("fig10"), spy, monkeypatch, ("running", ("expect", (2, PLACES))),
@@ -112,3 +112,28 @@ def test_a_bound_aiming_above_the_plan_s_count_aims_again(monkeypatch, plan_coun
     else:
         assert spy.calls[1] == (plan_count, PLACES)
         assert values["bound"].regrasps == plan_count and values["bound"].complete
+
+
+def test_the_refinement_waits_a_little_after_its_coarse_round_for_the_search_s_word(
+        monkeypatch):
+    from pivot_ompl.analysis import guided_refine
+    from pivot_ompl.analysis.guided_refine import GuidedRound, guided_lower_bound, place_window
+    from pivot_ompl.analysis.raster_bound import CELL
+    from pivot_ompl.analysis.raster_cover import raster_cover
+
+    scene = shipped("fig10")
+    cover = raster_cover(scene, cell=CELL)
+    x0, y0, x1, y1 = scene.bounds
+    places = ((0.5 * (x0 + x1), 0.5 * (y0 + y1)),)
+    told_at = time.monotonic() + 0.3
+
+    def later():  # noqa: ANN202 - the search's word comes 0.3 s after the start
+        return (None, places) if time.monotonic() >= told_at else None
+
+    trace: list[GuidedRound] = []
+    guided_lower_bound(scene, cover=cover, trace=trace, hint=later)
+    assert len(trace) >= 2 and trace[1].window >= int(place_window(cover, places).sum())
+    monkeypatch.setattr(guided_refine, "HINT_WAIT", 0.2)  # a word that never comes
+    begun, trace = time.monotonic(), []
+    found = guided_lower_bound(scene, cover=cover, trace=trace, hint=lambda: None)
+    assert found is not None and found.solvable and time.monotonic() - begun >= 0.2
