@@ -71,6 +71,8 @@ MAX_CELLS = 600_000
 MARGINS = (0, 8, 32, 96)
 #: Added to every erosion (m): keeps the relaxation on the safe side of round-off.
 ROUND_OFF = 1e-7
+#: Side (cells) of the blocks :func:`centres_within` decides at once where it can.
+BLOCK = 8
 
 _EIGHT = np.ones((3, 3), dtype=bool)
 
@@ -100,10 +102,9 @@ class WalkRelaxation:
         free = disk_clear(scene.bounds, merge_boxes(scene.obstacles), radius=self.radius,
                           clearance=clearance - ROUND_OFF)
         # cells within the tolerance of the full-clearance set (module docstring)
-        centres = shapely.points(self.raster.gx.ravel(), self.raster.gy.ravel())
         shapely.prepare(free)
-        self.free = shapely.dwithin(free, centres, self.raster.half_diag + tolerance
-                                    + ROUND_OFF).reshape(self.raster.shape)
+        self.free = centres_within(self.raster, free, self.raster.half_diag + tolerance
+                                   + ROUND_OFF)
         self.labels, _ = ndimage.label(self.free, structure=_EIGHT)
         self.queries = 0
         self._answers: dict[tuple[bytes, float, int, int], bool] = {}
@@ -255,6 +256,35 @@ class WalkRelaxation:
         gx, gy = np.meshgrid(xs, ys, indexing="ij")
         near = shapely.contains_xy(region.buffer(rho, quad_segs=2), gx, gy)
         return list(zip(gx[near].tolist(), gy[near].tolist(), strict=True)), rho
+
+
+def centres_within(raster: FloorRaster, region: BaseGeometry, distance: float, *,
+                   block: int = BLOCK) -> np.ndarray:
+    """Whether each cell's centre lies within ``distance`` (m) of ``region`` (prepared).
+
+    Decided by blocks of ``block x block`` cells first: the box round a block's centres
+    (widened by :data:`ROUND_OFF`) farther than ``distance`` from the region has none of
+    them within it, and one inside the region has all; the other blocks' centres are asked
+    one by one.
+    """
+    nx, ny = raster.shape
+    out = np.zeros((nx, ny), dtype=bool)
+    i0, j0 = np.arange(0, nx, block), np.arange(0, ny, block)
+    i1, j1 = np.minimum(i0 + block, nx) - 1, np.minimum(j0 + block, ny) - 1
+    gx, gy = raster.gx[:, 0], raster.gy[0, :]
+    xl, yl = np.meshgrid(gx[i0] - ROUND_OFF, gy[j0] - ROUND_OFF, indexing="ij")
+    xh, yh = np.meshgrid(gx[i1] + ROUND_OFF, gy[j1] + ROUND_OFF, indexing="ij")
+    boxes = shapely.box(xl, yl, xh, yh)
+    near = shapely.dwithin(region, boxes, distance)
+    inside = near & shapely.contains(region, boxes)
+    for a, b in zip(*np.nonzero(near), strict=True):
+        cells = (slice(i0[a], i1[a] + 1), slice(j0[b], j1[b] + 1))
+        if inside[a, b]:
+            out[cells] = True
+        else:
+            out[cells] = shapely.dwithin(region, shapely.points(raster.gx[cells],
+                                                                raster.gy[cells]), distance)
+    return out
 
 
 def _eroded_box(q: tuple[float, float, float], length: float, width: float,
