@@ -63,8 +63,6 @@ _REGRASPS = "regrasp joins"
 #: The memo's key of the coarse layers' shared pieces kept between rounds (the layers a
 #: window misses are the cover's own arrays every round).
 _PAIRS = "layer pairs"
-#: The memo's key of the coarse layers cut by the last window (kept between rounds).
-_OUTSIDE = "cut layers"
 
 
 @dataclass
@@ -113,8 +111,16 @@ def refined_graph(scene: Scene, cover: RasterCover, *, tolerance: float, clearan
         return None
     fine = refine_cover(scene, cover, window, tolerance=tolerance, clearance=clearance,
                         should_stop=should_stop, memo=memo)
-    outside = RasterCover(cover.raster, cover.bins, _outside_layers(cover, window, memo,
-                                                                    should_stop), cover.pieces)
+    layers = {}
+    wi, wj = np.nonzero(window)
+    for key, (lab, count) in cover.layers.items():
+        if should_stop is not None and should_stop():
+            raise Interrupted("the refined raster graph")
+        if count and (lab[wi, wj] > 0).any():
+            layers[key] = piece_labels((lab > 0) & ~window)
+        else:
+            layers[key] = (lab, count)
+    outside = RasterCover(cover.raster, cover.bins, layers, cover.pieces)
     coarse = raster_graph(scene, outside, tolerance=tolerance, clearance=clearance,
                           walks=walks, should_stop=should_stop, relaxation=relaxation,
                           pairs=None if memo is None else memo.setdefault(_PAIRS, {}))
@@ -146,42 +152,6 @@ def refined_graph(scene: Scene, cover: RasterCover, *, tolerance: float, clearan
                                  k, j)
 
     return RefinedGraph(coarse, outside, fine, fine_base, allowed)
-
-
-def _outside_layers(cover: RasterCover, window: np.ndarray, memo: dict | None,
-                    should_stop: Callable[[], bool] | None
-                    ) -> dict[tuple[int, int], tuple[np.ndarray, int]]:
-    """The cover's layers without the window's cells, labelled again where the window cuts them.
-
-    ``memo``: as :func:`refined_graph`'s. A layer the window held earlier and whose free
-    cells miss the cells added since keeps its earlier labels (the same cells, the same
-    labels); every other cut layer is labelled afresh. The earlier layers are let go one by
-    one, so that at most one layer more than the round's is held.
-    """
-    kept = None if memo is None else memo.pop(_OUTSIDE, None)
-    earlier: dict = {}
-    if kept is not None and kept[0].shape == window.shape and not (kept[0] & ~window).any():
-        earlier = kept[1]
-        ai, aj = np.nonzero(window & ~kept[0])
-    del kept
-    layers = {}
-    wi, wj = np.nonzero(window)
-    for key, (lab, count) in cover.layers.items():
-        if should_stop is not None and should_stop():
-            raise Interrupted("the refined raster graph")
-        if count and (lab[wi, wj] > 0).any():
-            old = earlier.pop(key, None)
-            if old is not None and not (lab[ai, aj] > 0).any():
-                layers[key] = old
-            else:
-                del old
-                layers[key] = piece_labels((lab > 0) & ~window)
-        else:
-            layers[key] = (lab, count)
-    if memo is not None:
-        memo[_OUTSIDE] = window.copy(), {key: layers[key] for key, (lab, _) in
-                                          cover.layers.items() if layers[key][0] is not lab}
-    return layers
 
 
 def _join_borders(fine: FineVoxels, outside: RasterCover, coarse: RasterGraph,
