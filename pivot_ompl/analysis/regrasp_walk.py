@@ -67,8 +67,9 @@ SAMPLE = 0.1
 MAX_SAMPLES = 64
 #: Raster cells at most (a larger floor gets larger cells).
 MAX_CELLS = 600_000
-#: Cells a walk's window is widened by, in turn, before the whole raster is labelled.
-MARGINS = (0, 8, 32, 96)
+#: Cells a walk's window is widened by, in turn, before the whole raster is labelled (any
+#: widths give the same answers; one label of a wide window costs less than several narrow).
+MARGINS = (32, 96)
 #: Added to every erosion (m): keeps the relaxation on the safe side of round-off.
 ROUND_OFF = 1e-7
 #: Side (cells) of the blocks :func:`centres_within` decides at once where it can.
@@ -157,9 +158,9 @@ class WalkRelaxation:
         samples, rho = self._samples(region)
         if len(samples) > MAX_SAMPLES:
             return True
-        m = self.model
         reach = {g: math.hypot(*self._body_centre((0.0, 0.0, 0.0), g)) for g in (k, j)}
-        for x, y in samples:
+        blocks: list[BaseGeometry] = []
+        for n, (x, y) in enumerate(samples):
             q = (x, y, yaw)
             rk, rj = self._body_centre(q, k), self._body_centre(q, j)
             a = self._cells(rk[0], rk[1], rho + reach[k] * self.turn)
@@ -169,13 +170,32 @@ class WalkRelaxation:
             common = set(self.labels[a].tolist()) & set(self.labels[b].tolist())
             if not common:
                 continue  # not even round the obstacles alone
-            core = _eroded_box(q, m.object_size[0], m.object_size[1], self.box_erosion + rho)
-            if core is None:
+            if not blocks:  # the rest of the samples' blocked boxes, in one call
+                blocks = [None] * n + self._blocked(samples[n:], yaw, rho)
+            blocked = blocks[n]
+            if blocked is None:
                 return True  # nothing of the box is certain: it may not block
-            blocked = core.buffer(self.box_gap - self.raster.half_diag, quad_segs=4)
             if blocked.is_empty or self._joined(blocked, a, b):
                 return True
         return False
+
+    def _blocked(self, samples: list[tuple[float, float]], yaw: float, rho: float
+                 ) -> list[BaseGeometry | None]:
+        """Per sample, the box core grown by the walking disk's gap (``None``: no core).
+
+        The core: the box at the sample, eroded by ``rho`` and the bin's rotation
+        displacement (module docstring); grown by the disk's radius less the tolerance and
+        half a raster cell (its centres' cells then are the cells the disk cannot reach).
+        """
+        m = self.model
+        d = self.box_erosion + rho
+        hx, hy = 0.5 * m.object_size[0] - d, 0.5 * m.object_size[1] - d
+        if hx <= 0 or hy <= 0:
+            return [None] * len(samples)
+        corners = np.array([rectangle_corners((x, y, yaw), 2 * hx, 2 * hy)
+                            for x, y in samples], dtype=float)
+        return list(shapely.buffer(shapely.polygons(corners),
+                                   self.box_gap - self.raster.half_diag, quad_segs=4))
 
     def _body_centre(self, q: tuple[float, float, float], grasp: int) -> tuple[float, float]:
         """The walking body's centre (the disk's) when the robot holds the box at ``q``."""
@@ -285,11 +305,3 @@ def centres_within(raster: FloorRaster, region: BaseGeometry, distance: float, *
             out[cells] = shapely.dwithin(region, shapely.points(raster.gx[cells],
                                                                 raster.gy[cells]), distance)
     return out
-
-
-def _eroded_box(q: tuple[float, float, float], length: float, width: float,
-                d: float) -> BaseGeometry | None:
-    hx, hy = 0.5 * length - d, 0.5 * width - d
-    if hx <= 0 or hy <= 0:
-        return None
-    return shapely.Polygon(rectangle_corners(q, 2 * hx, 2 * hy))
