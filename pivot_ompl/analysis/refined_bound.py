@@ -242,16 +242,24 @@ def _regrasp_regions(fine: FineVoxels, keys: dict[int, np.ndarray],
     pairs: list[tuple[int, int, int, int]] = []
     half = fine.bins // 2
 
-    def box_keys(k: int) -> np.ndarray:
+    def box_keys(k: int) -> tuple[np.ndarray, np.ndarray]:
+        """Grasp ``k``'s voxels keyed by the box's bin, sorted, and their indices in ``keys``.
+
+        The parity's keys are sorted; grasp ``k + 2`` moves the bins by half a turn, so its
+        keys are the two runs below and from the half turn, swapped.
+        """
         own = keys[k % 2]
-        f = own // fine.cells
-        return ((f - half * (k // 2)) % fine.bins) * fine.cells + own % fine.cells
+        if k < 2:
+            return own, np.arange(len(own))
+        at = int(np.searchsorted(own, half * fine.cells))
+        order = np.concatenate([np.arange(at, len(own)), np.arange(at)])
+        f = own[order] // fine.cells
+        return ((f - half) % fine.bins) * fine.cells + own[order] % fine.cells, order
 
     per_grasp = [box_keys(k) for k in range(4)]
     for k in range(4):
         for j in range(k + 1, 4):
-            shared, ia, ib = np.intersect1d(per_grasp[k], per_grasp[j], assume_unique=True,
-                                            return_indices=True)
+            shared, ia, ib = _intersect(per_grasp[k], per_grasp[j])
             if not len(shared):
                 continue
             ck, cj = labels[k % 2][ia], labels[j % 2][ib]
@@ -269,6 +277,21 @@ def _regrasp_regions(fine: FineVoxels, keys: dict[int, np.ndarray],
                 pairs.append((k, j, a, b))
     table = np.array(pairs, dtype=np.int64).reshape(-1, 4)
     return regions, table[:, :2], table[:, 2:]
+
+
+def _intersect(a: tuple[np.ndarray, np.ndarray], b: tuple[np.ndarray, np.ndarray]
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``numpy.intersect1d(..., assume_unique=True, return_indices=True)`` of sorted keys.
+
+    ``a``, ``b``: sorted unique keys and their indices in the arrays they were taken from
+    (the indices returned are those).
+    """
+    (ka, ia), (kb, ib) = a, b
+    if not len(ka) or not len(kb):
+        return np.zeros(0, dtype=ka.dtype), np.zeros(0, dtype=np.int64), np.zeros(0, np.int64)
+    pos = np.minimum(np.searchsorted(kb, ka), len(kb) - 1)
+    hit = np.flatnonzero(kb[pos] == ka)
+    return ka[hit], ia[hit], ib[pos[hit]]
 
 
 def refined_lower_bound(scene: Scene, cover: RasterCover, *,
