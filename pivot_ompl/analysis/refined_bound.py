@@ -240,26 +240,10 @@ def _regrasp_regions(fine: FineVoxels, keys: dict[int, np.ndarray],
     """
     regions: list[tuple[np.ndarray, int, int, int]] = []
     pairs: list[tuple[int, int, int, int]] = []
-    half = fine.bins // 2
-
-    def box_keys(k: int) -> tuple[np.ndarray, np.ndarray]:
-        """Grasp ``k``'s voxels keyed by the box's bin, sorted, and their indices in ``keys``.
-
-        The parity's keys are sorted; grasp ``k + 2`` moves the bins by half a turn, so its
-        keys are the two runs below and from the half turn, swapped.
-        """
-        own = keys[k % 2]
-        if k < 2:
-            return own, np.arange(len(own))
-        at = int(np.searchsorted(own, half * fine.cells))
-        order = np.concatenate([np.arange(at, len(own)), np.arange(at)])
-        f = own[order] // fine.cells
-        return ((f - half) % fine.bins) * fine.cells + own[order] % fine.cells, order
-
-    per_grasp = [box_keys(k) for k in range(4)]
+    per_grasp = [box_keys(keys[k % 2], k, fine.bins, fine.cells) for k in range(4)]
     for k in range(4):
         for j in range(k + 1, 4):
-            shared, ia, ib = _intersect(per_grasp[k], per_grasp[j])
+            shared, ia, ib = sorted_intersection(per_grasp[k], per_grasp[j])
             if not len(shared):
                 continue
             ck, cj = labels[k % 2][ia], labels[j % 2][ib]
@@ -279,16 +263,37 @@ def _regrasp_regions(fine: FineVoxels, keys: dict[int, np.ndarray],
     return regions, table[:, :2], table[:, 2:]
 
 
-def _intersect(a: tuple[np.ndarray, np.ndarray], b: tuple[np.ndarray, np.ndarray]
-               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``numpy.intersect1d(..., assume_unique=True, return_indices=True)`` of sorted keys.
+def box_keys(keys: np.ndarray, grasp: int, bins: int, cells: int
+             ) -> tuple[np.ndarray, np.ndarray]:
+    """A parity's voxels keyed by the box's fine bin for ``grasp``, sorted, and their order.
 
-    ``a``, ``b``: sorted unique keys and their indices in the arrays they were taken from
-    (the indices returned are those).
+    ``keys``: the parity's sorted voxel keys ``f * cells + cell`` (:class:`~pivot_ompl.
+    analysis.raster_refine.FineVoxels`); grasp ``k + 2`` holds the box half a turn from
+    grasp ``k`` (its box bin is ``f - bins / 2``). Returns the box keys sorted and, for
+    each, its index in ``keys``: for the half-turn grasps, the two runs below and from the
+    half turn, swapped (no sort).
+    """
+    if grasp < 2:
+        return keys, np.arange(len(keys))
+    half = bins // 2
+    at = int(np.searchsorted(keys, half * cells))
+    order = np.concatenate([np.arange(at, len(keys)), np.arange(at)])
+    own = keys[order]
+    return ((own // cells - half) % bins) * cells + own % cells, order
+
+
+def sorted_intersection(a: tuple[np.ndarray, np.ndarray], b: tuple[np.ndarray, np.ndarray]
+                        ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The keys in both ``a`` and ``b``, with their indices in each (as :func:`box_keys`).
+
+    ``a``, ``b``: sorted unique keys and, per key, an index. The answer of
+    ``numpy.intersect1d(ka, kb, assume_unique=True, return_indices=True)`` with the indices
+    mapped through ``a``'s and ``b``'s, found by a search of ``b`` (no sort).
     """
     (ka, ia), (kb, ib) = a, b
     if not len(ka) or not len(kb):
-        return np.zeros(0, dtype=ka.dtype), np.zeros(0, dtype=np.int64), np.zeros(0, np.int64)
+        return (np.zeros(0, dtype=ka.dtype), np.zeros(0, dtype=np.int64),
+                np.zeros(0, dtype=np.int64))
     pos = np.minimum(np.searchsorted(kb, ka), len(kb) - 1)
     hit = np.flatnonzero(kb[pos] == ka)
     return ka[hit], ia[hit], ib[pos[hit]]

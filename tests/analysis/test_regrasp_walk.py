@@ -8,9 +8,12 @@ import numpy as np
 import pytest
 import shapely
 from factories import shipped
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from pivot_ompl.analysis import regrasp_walk
-from pivot_ompl.analysis.regrasp_walk import WalkRelaxation
+from pivot_ompl.analysis.raster import FloorRaster
+from pivot_ompl.analysis.regrasp_walk import WalkRelaxation, centres_within
 from pivot_ompl.generate import generate
 
 
@@ -41,3 +44,21 @@ def test_widened_windows_answer_as_the_whole_raster(name, monkeypatch):
     monkeypatch.setattr(regrasp_walk, "MARGINS", ())
     assert widened == answers()
     assert any(widened) and not all(widened)
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), block=st.integers(1, 20),
+       distance=st.floats(0.0, 0.6), boxes=st.integers(1, 12))
+def test_the_centres_within_reach_are_those_asked_one_by_one(seed, block, distance, boxes):
+    """Blocks decided at once (far from the region, or inside it) give the answers of every
+    cell's centre asked alone."""
+    rng = np.random.default_rng(seed)
+    raster = FloorRaster((0.0, 0.0, 6.3, 4.1), min_cell=0.1, max_cells=10_000)
+    lo = rng.uniform(0.0, 5.0, (boxes, 2))
+    parts = shapely.box(lo[:, 0], lo[:, 1], lo[:, 0] + rng.uniform(0.05, 3.0, boxes),
+                        lo[:, 1] + rng.uniform(0.05, 3.0, boxes))
+    region = shapely.union_all(parts).difference(shapely.Point(3.0, 2.0).buffer(0.7))
+    shapely.prepare(region)
+    centres = shapely.points(raster.gx.ravel(), raster.gy.ravel())
+    alone = shapely.dwithin(region, centres, distance).reshape(raster.shape)
+    assert np.array_equal(centres_within(raster, region, distance, block=block), alone)
