@@ -259,7 +259,9 @@ def _shared(a: np.ndarray, b: np.ndarray, count_a: int, count_b: int
     """
     m = count_b + 1
     if (count_a + 1) * m <= max(len(a), 1 << 16):
-        seen = np.bincount(a.astype(np.int64) * m + b, minlength=(count_a + 1) * m)
+        keys = np.multiply(a, m, dtype=np.intp)
+        keys += b
+        seen = np.bincount(keys, minlength=(count_a + 1) * m)
         ia, ib = np.nonzero(seen.reshape(count_a + 1, m)[1:, 1:])
         return ia + 1, ib + 1
     both = (a > 0) & (b > 0)
