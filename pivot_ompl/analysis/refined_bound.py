@@ -188,13 +188,13 @@ def _join_borders(fine: FineVoxels, outside: RasterCover, coarse: RasterGraph,
                 hit = ok & (lab > 0)
                 found.append((comp[hit] * n + big[hit]) * top + lab[hit])
         rest, lab_ = np.divmod(np.unique(np.concatenate(found)), top)
-        c, bb = np.divmod(rest, n)
+        comps, bins = np.divmod(rest, n)
         us, vs = [], []
         for k in (g, g + 2):  # per join, grasp g's then grasp g + 2's
             first = np.array([coarse.base[((b2 - half * (k // 2)) % n, k)] for b2 in range(n)],
                              dtype=np.int64)
-            us.append(fine_base[k] + c)
-            vs.append(first[bb] + lab_ - 1)
+            us.append(fine_base[k] + comps)
+            vs.append(first[bins] + lab_ - 1)
         coarse.graph.add_transfers(np.stack(us, axis=1).ravel().tolist(),
                                    np.stack(vs, axis=1).ravel().tolist())
 
