@@ -159,7 +159,7 @@ class WalkRelaxation:
         if len(samples) > MAX_SAMPLES:
             return True
         reach = {g: math.hypot(*self._body_centre((0.0, 0.0, 0.0), g)) for g in (k, j)}
-        blocks: list[BaseGeometry] = []
+        blocks: list[BaseGeometry | None] = []
         for n, (x, y) in enumerate(samples):
             q = (x, y, yaw)
             rk, rj = self._body_centre(q, k), self._body_centre(q, j)
@@ -285,10 +285,9 @@ def centres_within(raster: FloorRaster, region: BaseGeometry, distance: float, *
     Decided by blocks of ``block x block`` cells first: the box round a block's centres
     (widened by :data:`ROUND_OFF`) farther than ``distance`` from the region has none of
     them within it, and one inside the region has all; the other blocks' centres are asked
-    one by one.
+    each (in one call).
     """
     nx, ny = raster.shape
-    out = np.zeros((nx, ny), dtype=bool)
     i0, j0 = np.arange(0, nx, block), np.arange(0, ny, block)
     i1, j1 = np.minimum(i0 + block, nx) - 1, np.minimum(j0 + block, ny) - 1
     gx, gy = raster.gx[:, 0], raster.gy[0, :]
@@ -297,11 +296,12 @@ def centres_within(raster: FloorRaster, region: BaseGeometry, distance: float, *
     boxes = shapely.box(xl, yl, xh, yh)
     near = shapely.dwithin(region, boxes, distance)
     inside = near & shapely.contains(region, boxes)
-    for a, b in zip(*np.nonzero(near), strict=True):
-        cells = (slice(i0[a], i1[a] + 1), slice(j0[b], j1[b] + 1))
-        if inside[a, b]:
-            out[cells] = True
-        else:
-            out[cells] = shapely.dwithin(region, shapely.points(raster.gx[cells],
-                                                                raster.gy[cells]), distance)
+
+    def cells_of(blocks: np.ndarray) -> np.ndarray:
+        return np.repeat(np.repeat(blocks, block, axis=0), block, axis=1)[:nx, :ny]
+
+    out = np.ascontiguousarray(cells_of(inside))
+    ask = cells_of(near & ~inside)
+    out[ask] = shapely.dwithin(region, shapely.points(raster.gx[ask], raster.gy[ask]),
+                               distance)
     return out
