@@ -253,15 +253,16 @@ def _regrasp_regions(fine: FineVoxels, keys: dict[int, np.ndarray],
             ck, cj = labels[k % 2][ia], labels[j % 2][ib]
             big = (shared // fine.cells) // fine.split
             nb, nc = fine.bins // fine.split, fine.count[j % 2]
-            group = (ck * nc + cj) * nb + big
-            order = np.argsort(group, kind="stable")
-            found, bounds = np.unique(group[order], return_index=True)
-            bounds = np.append(bounds, len(order))
+            group = (ck.astype(np.int64) * nc + cj) * nb + big
+            # each group's cells, sorted and once: one sort of (group, cell) for all groups
+            both = np.unique(group * fine.cells + shared % fine.cells)
+            found, bounds = np.unique(both // fine.cells, return_index=True)
+            bounds = np.append(bounds, len(both))
+            cells = both % fine.cells
             for g, key in enumerate(found.tolist()):
                 rest, bb = divmod(key, nb)
                 a, b = divmod(rest, nc)
-                cells = shared[order[bounds[g]:bounds[g + 1]]] % fine.cells
-                regions.append((np.unique(cells), bb * fine.split, k, j))
+                regions.append((cells[bounds[g]:bounds[g + 1]], bb * fine.split, k, j))
                 pairs.append((k, j, a, b))
     table = np.array(pairs, dtype=np.int64).reshape(-1, 4)
     return regions, table[:, :2], table[:, 2:]
