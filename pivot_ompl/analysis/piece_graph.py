@@ -38,6 +38,20 @@ class PieceGraph:
             self.one[u].append((v, regrasp))
             self.one[v].append((u, regrasp))
 
+    def add_transfers(self, us: list[int], vs: list[int]) -> None:
+        """:meth:`add` of the transfers ``(us[i], vs[i])``, in turn."""
+        zero = self.zero
+        for u, v in zip(us, vs, strict=True):
+            zero[u].append(v)
+            zero[v].append(u)
+
+    def add_regrasps(self, us: list[int], vs: list[int], regrasps: list[Regrasp]) -> None:
+        """:meth:`add` of the regrasps ``(us[i], vs[i], regrasps[i])``, in turn."""
+        one = self.one
+        for u, v, e in zip(us, vs, regrasps, strict=True):
+            one[u].append((v, e))
+            one[v].append((u, e))
+
     def fewest_regrasps(self, starts: list[int], goals: set[int],
                         allowed: Callable[[Regrasp], bool],
                         should_stop: Callable[[], bool] | None, *,

@@ -18,6 +18,7 @@ import dataclasses
 import logging
 import math
 import time
+import weakref
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -133,12 +134,16 @@ class RasterGraph:
 def raster_graph(scene: Scene, cover: RasterCover, *, tolerance: float = SWEEP_TOLERANCE,
                  clearance: float = KEEP_CLEARANCE, walks: bool = True,
                  should_stop: Callable[[], bool] | None = None,
-                 relaxation: WalkRelaxation | None = None) -> RasterGraph:
+                 relaxation: WalkRelaxation | None = None,
+                 pairs: dict | None = None) -> RasterGraph:
     """The pieces of ``cover`` joined as :func:`raster_lower_bound` joins them.
 
     ``should_stop`` is polled once per bin and raises :class:`~pivot_ompl.errors.Interrupted`.
     ``relaxation``: the walk relaxation to check regrasps by (built at its first use when ``None``;
     one of the same scene, bin width, tolerance and clearance may be shared by graphs).
+    ``pairs``: a dict kept between graphs of covers sharing layers (the guided rounds'
+    covers share every layer their window misses): the pieces two layers share are found
+    once per pair of label arrays (:func:`shared_pairs`).
     """
     raster, n, layers = cover.raster, cover.bins, cover.layers
     half = n // 2
@@ -153,25 +158,28 @@ def raster_graph(scene: Scene, cover: RasterCover, *, tolerance: float = SWEEP_T
             base[(b, k)] = total
             total += layers[layer(b, k)][1]
     graph = PieceGraph(np.ones(total).tolist())
-    memo: dict[tuple[tuple[int, int], tuple[int, int]], tuple[np.ndarray, np.ndarray]] = {}
     some = np.zeros(raster.shape[0] * raster.shape[1], dtype=bool)
     for lab, count in layers.values():
         if count:
             some |= lab.ravel() > 0
     cells = np.flatnonzero(some)  # free in some layer: the only cells two layers may share
     read: dict[tuple[int, int], np.ndarray] = {}
+    pairs = {} if pairs is None else pairs
+
+    def labels_at(lay: tuple[int, int]) -> np.ndarray:
+        if lay not in read:
+            read[lay] = layers[lay][0].ravel()[cells]
+        return read[lay]
 
     def link(b1: int, k1: int, b2: int, k2: int, regrasp: bool) -> None:
         la, lb = layer(b1, k1), layer(b2, k2)
-        if (la, lb) not in memo:
-            for lay in (la, lb):
-                if lay not in read:
-                    read[lay] = layers[lay][0].ravel()[cells]
-            memo[(la, lb)] = _shared(read[la], read[lb])
-        ia, ib = memo[(la, lb)]
-        for i, j in zip(ia.tolist(), ib.tolist(), strict=True):
-            graph.add(base[(b1, k1)] + i - 1, base[(b2, k2)] + j - 1,
-                      (b1, k1, i, k2, j) if regrasp else None)
+        ia, ib = shared_pairs(pairs, layers, la, lb, lambda: (labels_at(la), labels_at(lb)))
+        us, vs = (ia + (base[(b1, k1)] - 1)).tolist(), (ib + (base[(b2, k2)] - 1)).tolist()
+        if regrasp:
+            graph.add_regrasps(us, vs, [(b1, k1, i, k2, j) for i, j in
+                                        zip(ia.tolist(), ib.tolist(), strict=True)])
+        else:
+            graph.add_transfers(us, vs)
 
     for b in range(n):
         if should_stop is not None and should_stop():
@@ -193,7 +201,8 @@ def raster_graph(scene: Scene, cover: RasterCover, *, tolerance: float = SWEEP_T
         if not walks:
             return True
         b, k, i, j, c = edge
-        ii, jj = shared_cells(cells, read[layer(b, k)], i, read[layer(b, j)], c, raster.shape)
+        ii, jj = shared_cells(cells, labels_at(layer(b, k)), i, labels_at(layer(b, j)), c,
+                              raster.shape)
         if len(ii) * raster.cell * raster.cell > WALK_AREA:
             return True
         return may_regrasp_cells(walk(), raster, ii, jj, -math.pi + (b + 0.5) * width, k, j)
@@ -220,10 +229,42 @@ def _timed(bound: RegraspBound, t0: float) -> RegraspBound:
     return dataclasses.replace(bound, seconds=time.perf_counter() - t0)
 
 
-def _shared(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The pairs of labels ``(i, j)`` of two layers that share a cell (any shape, the same)."""
+def shared_pairs(pairs: dict, layers: dict[tuple[int, int], tuple[np.ndarray, int]],
+                 la: tuple[int, int], lb: tuple[int, int],
+                 read: Callable[[], tuple[np.ndarray, np.ndarray]]
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """The labels ``(i, j)`` of layers ``la`` and ``lb`` that share a cell (:func:`_shared`).
+
+    ``pairs``: the answers kept by layer pair, each with weak references to the two label
+    arrays it was read from: kept while both are still the layers' arrays (the same arrays,
+    the same answer), read again (``read()``: the two layers' labels at the same cells, as
+    :func:`_shared` takes them) otherwise.
+    """
+    a, b = layers[la][0], layers[lb][0]
+    kept = pairs.get((la, lb))
+    if kept is not None and kept[0]() is a and kept[1]() is b:
+        return kept[2], kept[3]
+    ia, ib = _shared(*read(), layers[la][1], layers[lb][1])
+    pairs[(la, lb)] = weakref.ref(a), weakref.ref(b), ia, ib
+    return ia, ib
+
+
+def _shared(a: np.ndarray, b: np.ndarray, count_a: int, count_b: int
+            ) -> tuple[np.ndarray, np.ndarray]:
+    """The pairs of labels ``(i, j)`` of two layers that share a cell (any shape, the same).
+
+    ``count_a``, ``count_b``: the layers' piece counts. Sorted by ``i`` then ``j``. Counted
+    in a table of every pair where it is no larger than the cells (the usual few hundred
+    pieces a layer), else the cells' pairs are sorted.
+    """
+    m = count_b + 1
+    if (count_a + 1) * m <= max(len(a), 1 << 16):
+        keys = np.multiply(a, m, dtype=np.intp)
+        keys += b
+        seen = np.bincount(keys, minlength=(count_a + 1) * m)
+        ia, ib = np.nonzero(seen.reshape(count_a + 1, m)[1:, 1:])
+        return ia + 1, ib + 1
     both = (a > 0) & (b > 0)
-    m = int(b.max()) + 1
     keys = a[both].astype(np.int64) * m + b[both]
     if len(keys) > 1:  # neighbouring cells mostly repeat a pair: sort each run's pair once
         keys = keys[np.concatenate(([True], keys[1:] != keys[:-1]))]

@@ -60,6 +60,9 @@ _EIGHT = np.ones((3, 3), dtype=bool)
 _CHUNK = 1 << 18
 #: The memo's key of the fine regrasp joins kept between rounds.
 _REGRASPS = "regrasp joins"
+#: The memo's key of the coarse layers' shared pieces kept between rounds (the layers a
+#: window misses are the cover's own arrays every round).
+_PAIRS = "layer pairs"
 
 
 @dataclass
@@ -119,7 +122,8 @@ def refined_graph(scene: Scene, cover: RasterCover, *, tolerance: float, clearan
             layers[key] = (lab, count)
     outside = RasterCover(cover.raster, cover.bins, layers, cover.pieces)
     coarse = raster_graph(scene, outside, tolerance=tolerance, clearance=clearance,
-                          walks=walks, should_stop=should_stop, relaxation=relaxation)
+                          walks=walks, should_stop=should_stop, relaxation=relaxation,
+                          pairs=None if memo is None else memo.setdefault(_PAIRS, {}))
     graph = coarse.graph
     fine_base, total = [], coarse.total
     for k in range(4):
@@ -183,12 +187,16 @@ def _join_borders(fine: FineVoxels, outside: RasterCover, coarse: RasterGraph,
                         lab[part] = outside.layers[(g, bb)][0][ci[part], cj[part]]
                 hit = ok & (lab > 0)
                 found.append((comp[hit] * n + big[hit]) * top + lab[hit])
-        for key in np.unique(np.concatenate(found)).tolist():
-            rest, lab_ = divmod(key, top)
-            c, bb = divmod(rest, n)
-            for k in (g, g + 2):
-                node = coarse.base[((bb - half * (k // 2)) % n, k)] + lab_ - 1
-                coarse.graph.add(fine_base[k] + c, node, None)
+        rest, lab_ = np.divmod(np.unique(np.concatenate(found)), top)
+        comps, bins = np.divmod(rest, n)
+        us, vs = [], []
+        for k in (g, g + 2):  # per join, grasp g's then grasp g + 2's
+            first = np.array([coarse.base[((b2 - half * (k // 2)) % n, k)] for b2 in range(n)],
+                             dtype=np.int64)
+            us.append(fine_base[k] + comps)
+            vs.append(first[bins] + lab_ - 1)
+        coarse.graph.add_transfers(np.stack(us, axis=1).ravel().tolist(),
+                                   np.stack(vs, axis=1).ravel().tolist())
 
 
 def _join_regrasps(fine: FineVoxels, graph: PieceGraph, fine_base: list[int],
@@ -236,35 +244,64 @@ def _regrasp_regions(fine: FineVoxels, keys: dict[int, np.ndarray],
     """
     regions: list[tuple[np.ndarray, int, int, int]] = []
     pairs: list[tuple[int, int, int, int]] = []
-    half = fine.bins // 2
-
-    def box_keys(k: int) -> np.ndarray:
-        own = keys[k % 2]
-        f = own // fine.cells
-        return ((f - half * (k // 2)) % fine.bins) * fine.cells + own % fine.cells
-
-    per_grasp = [box_keys(k) for k in range(4)]
+    per_grasp = [box_keys(keys[k % 2], k, fine.bins, fine.cells) for k in range(4)]
     for k in range(4):
         for j in range(k + 1, 4):
-            shared, ia, ib = np.intersect1d(per_grasp[k], per_grasp[j], assume_unique=True,
-                                            return_indices=True)
+            shared, ia, ib = sorted_intersection(per_grasp[k], per_grasp[j])
             if not len(shared):
                 continue
             ck, cj = labels[k % 2][ia], labels[j % 2][ib]
             big = (shared // fine.cells) // fine.split
             nb, nc = fine.bins // fine.split, fine.count[j % 2]
-            group = (ck * nc + cj) * nb + big
-            order = np.argsort(group, kind="stable")
-            found, bounds = np.unique(group[order], return_index=True)
-            bounds = np.append(bounds, len(order))
+            group = (ck.astype(np.int64) * nc + cj) * nb + big
+            # each group's cells, sorted and once: one sort of (group, cell) for all groups
+            both = np.unique(group * fine.cells + shared % fine.cells)
+            found, bounds = np.unique(both // fine.cells, return_index=True)
+            bounds = np.append(bounds, len(both))
+            cells = both % fine.cells
             for g, key in enumerate(found.tolist()):
                 rest, bb = divmod(key, nb)
                 a, b = divmod(rest, nc)
-                cells = shared[order[bounds[g]:bounds[g + 1]]] % fine.cells
-                regions.append((np.unique(cells), bb * fine.split, k, j))
+                regions.append((cells[bounds[g]:bounds[g + 1]], bb * fine.split, k, j))
                 pairs.append((k, j, a, b))
     table = np.array(pairs, dtype=np.int64).reshape(-1, 4)
     return regions, table[:, :2], table[:, 2:]
+
+
+def box_keys(keys: np.ndarray, grasp: int, bins: int, cells: int
+             ) -> tuple[np.ndarray, np.ndarray]:
+    """A parity's voxels keyed by the box's fine bin for ``grasp``, sorted, and their order.
+
+    ``keys``: the parity's sorted voxel keys ``f * cells + cell`` (:class:`~pivot_ompl.
+    analysis.raster_refine.FineVoxels`); grasp ``k + 2`` holds the box half a turn from
+    grasp ``k`` (its box bin is ``f - bins / 2``). Returns the box keys sorted and, for
+    each, its index in ``keys``: for the half-turn grasps, the two runs below and from the
+    half turn, swapped (no sort).
+    """
+    if grasp < 2:
+        return keys, np.arange(len(keys))
+    half = bins // 2
+    at = int(np.searchsorted(keys, half * cells))
+    order = np.concatenate([np.arange(at, len(keys)), np.arange(at)])
+    own = keys[order]
+    return ((own // cells - half) % bins) * cells + own % cells, order
+
+
+def sorted_intersection(a: tuple[np.ndarray, np.ndarray], b: tuple[np.ndarray, np.ndarray]
+                        ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The keys in both ``a`` and ``b``, with their indices in each (as :func:`box_keys`).
+
+    ``a``, ``b``: sorted unique keys and, per key, an index. The answer of
+    ``numpy.intersect1d(ka, kb, assume_unique=True, return_indices=True)`` with the indices
+    mapped through ``a``'s and ``b``'s, found by a search of ``b`` (no sort).
+    """
+    (ka, ia), (kb, ib) = a, b
+    if not len(ka) or not len(kb):
+        return (np.zeros(0, dtype=ka.dtype), np.zeros(0, dtype=np.int64),
+                np.zeros(0, dtype=np.int64))
+    pos = np.minimum(np.searchsorted(kb, ka), len(kb) - 1)
+    hit = np.flatnonzero(kb[pos] == ka)
+    return ka[hit], ia[hit], ib[pos[hit]]
 
 
 def refined_lower_bound(scene: Scene, cover: RasterCover, *,

@@ -67,10 +67,13 @@ SAMPLE = 0.1
 MAX_SAMPLES = 64
 #: Raster cells at most (a larger floor gets larger cells).
 MAX_CELLS = 600_000
-#: Cells a walk's window is widened by, in turn, before the whole raster is labelled.
-MARGINS = (0, 8, 32, 96)
+#: Cells a walk's window is widened by, in turn, before the whole raster is labelled (any
+#: widths give the same answers; one label of a wide window costs less than several narrow).
+MARGINS = (32, 96)
 #: Added to every erosion (m): keeps the relaxation on the safe side of round-off.
 ROUND_OFF = 1e-7
+#: Side (cells) of the blocks :func:`centres_within` decides at once where it can.
+BLOCK = 8
 
 _EIGHT = np.ones((3, 3), dtype=bool)
 
@@ -100,10 +103,9 @@ class WalkRelaxation:
         free = disk_clear(scene.bounds, merge_boxes(scene.obstacles), radius=self.radius,
                           clearance=clearance - ROUND_OFF)
         # cells within the tolerance of the full-clearance set (module docstring)
-        centres = shapely.points(self.raster.gx.ravel(), self.raster.gy.ravel())
         shapely.prepare(free)
-        self.free = shapely.dwithin(free, centres, self.raster.half_diag + tolerance
-                                    + ROUND_OFF).reshape(self.raster.shape)
+        self.free = centres_within(self.raster, free, self.raster.half_diag + tolerance
+                                   + ROUND_OFF)
         self.labels, _ = ndimage.label(self.free, structure=_EIGHT)
         self.queries = 0
         self._answers: dict[tuple[bytes, float, int, int], bool] = {}
@@ -156,9 +158,9 @@ class WalkRelaxation:
         samples, rho = self._samples(region)
         if len(samples) > MAX_SAMPLES:
             return True
-        m = self.model
         reach = {g: math.hypot(*self._body_centre((0.0, 0.0, 0.0), g)) for g in (k, j)}
-        for x, y in samples:
+        blocks: list[BaseGeometry | None] = []
+        for n, (x, y) in enumerate(samples):
             q = (x, y, yaw)
             rk, rj = self._body_centre(q, k), self._body_centre(q, j)
             a = self._cells(rk[0], rk[1], rho + reach[k] * self.turn)
@@ -168,13 +170,32 @@ class WalkRelaxation:
             common = set(self.labels[a].tolist()) & set(self.labels[b].tolist())
             if not common:
                 continue  # not even round the obstacles alone
-            core = _eroded_box(q, m.object_size[0], m.object_size[1], self.box_erosion + rho)
-            if core is None:
+            if not blocks:  # the rest of the samples' blocked boxes, in one call
+                blocks = [None] * n + self._blocked(samples[n:], yaw, rho)
+            blocked = blocks[n]
+            if blocked is None:
                 return True  # nothing of the box is certain: it may not block
-            blocked = core.buffer(self.box_gap - self.raster.half_diag, quad_segs=4)
             if blocked.is_empty or self._joined(blocked, a, b):
                 return True
         return False
+
+    def _blocked(self, samples: list[tuple[float, float]], yaw: float, rho: float
+                 ) -> list[BaseGeometry | None]:
+        """Per sample, the box core grown by the walking disk's gap (``None``: no core).
+
+        The core: the box at the sample, eroded by ``rho`` and the bin's rotation
+        displacement (module docstring); grown by the disk's radius less the tolerance and
+        half a raster cell (its centres' cells then are the cells the disk cannot reach).
+        """
+        m = self.model
+        d = self.box_erosion + rho
+        hx, hy = 0.5 * m.object_size[0] - d, 0.5 * m.object_size[1] - d
+        if hx <= 0 or hy <= 0:
+            return [None] * len(samples)
+        corners = np.array([rectangle_corners((x, y, yaw), 2 * hx, 2 * hy)
+                            for x, y in samples], dtype=float)
+        return list(shapely.buffer(shapely.polygons(corners),
+                                   self.box_gap - self.raster.half_diag, quad_segs=4))
 
     def _body_centre(self, q: tuple[float, float, float], grasp: int) -> tuple[float, float]:
         """The walking body's centre (the disk's) when the robot holds the box at ``q``."""
@@ -257,9 +278,30 @@ class WalkRelaxation:
         return list(zip(gx[near].tolist(), gy[near].tolist(), strict=True)), rho
 
 
-def _eroded_box(q: tuple[float, float, float], length: float, width: float,
-                d: float) -> BaseGeometry | None:
-    hx, hy = 0.5 * length - d, 0.5 * width - d
-    if hx <= 0 or hy <= 0:
-        return None
-    return shapely.Polygon(rectangle_corners(q, 2 * hx, 2 * hy))
+def centres_within(raster: FloorRaster, region: BaseGeometry, distance: float, *,
+                   block: int = BLOCK) -> np.ndarray:
+    """Whether each cell's centre lies within ``distance`` (m) of ``region`` (prepared).
+
+    Decided by blocks of ``block x block`` cells first: the box round a block's centres
+    (widened by :data:`ROUND_OFF`) farther than ``distance`` from the region has none of
+    them within it, and one inside the region has all; the other blocks' centres are asked
+    each (in one call).
+    """
+    nx, ny = raster.shape
+    i0, j0 = np.arange(0, nx, block), np.arange(0, ny, block)
+    i1, j1 = np.minimum(i0 + block, nx) - 1, np.minimum(j0 + block, ny) - 1
+    gx, gy = raster.gx[:, 0], raster.gy[0, :]
+    xl, yl = np.meshgrid(gx[i0] - ROUND_OFF, gy[j0] - ROUND_OFF, indexing="ij")
+    xh, yh = np.meshgrid(gx[i1] + ROUND_OFF, gy[j1] + ROUND_OFF, indexing="ij")
+    boxes = shapely.box(xl, yl, xh, yh)
+    near = shapely.dwithin(region, boxes, distance)
+    inside = near & shapely.contains(region, boxes)
+
+    def cells_of(blocks: np.ndarray) -> np.ndarray:
+        return np.repeat(np.repeat(blocks, block, axis=0), block, axis=1)[:nx, :ny]
+
+    out = np.ascontiguousarray(cells_of(inside))
+    ask = cells_of(near & ~inside)
+    out[ask] = shapely.dwithin(region, shapely.points(raster.gx[ask], raster.gy[ask]),
+                               distance)
+    return out

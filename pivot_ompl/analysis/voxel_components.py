@@ -23,7 +23,7 @@ from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import sparse
+from scipy import ndimage, sparse
 from scipy.sparse import csgraph
 
 #: The four forward neighbours of a voxel's cell within its bin ``(da, db)``.
@@ -88,11 +88,15 @@ def grown_components(old_keys: np.ndarray, old_labels: np.ndarray, old_count: in
         k = new % cells
         a, b = k // ny, k % ny
         del k
+        # only a voxel whose coarse cell touches a done one may have an old neighbour
+        touching = ndimage.binary_dilation(done, structure=np.ones((3, 3), dtype=bool))
+        some = np.flatnonzero(touching[a // 2, b // 2])
+        a, b = a[some], b[some]
         for da, db in _AROUND:  # to the old voxels, only next to their coarse cells
             ta, tb = a + da, b + db
             ok = (ta >= 0) & (ta < nx) & (tb >= 0) & (tb < ny)
             ok[ok] = done[ta[ok] // 2, tb[ok] // 2]
-            idx = np.flatnonzero(ok)
+            idx = some[ok]
             if not len(idx):
                 continue
             target = new[idx] + da * ny + db
@@ -126,6 +130,10 @@ def _forward_joins(keys: np.ndarray, nx: int, ny: int, bins: int
         return np.flatnonzero(hit).astype(index), pos[hit].astype(index)
 
     for da, db in _FORWARD:
+        if (da, db) == (0, 1):  # the next cell of a row is the next key when it is a voxel
+            src = np.flatnonzero((b[:-1] + 1 < ny) & (keys[1:] == keys[:-1] + 1))
+            yield src.astype(index), (src + 1).astype(index)
+            continue
         yield join(keys + da * ny + db, (a + da < nx) & (b + db >= 0) & (b + db < ny))
     last = keys // cells == bins - 1
     yield join(np.where(last, keys - (bins - 1) * cells, keys + cells),

@@ -8,11 +8,18 @@ import math
 import numpy as np
 import pytest
 from factories import shipped, turned_generated
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from pivot_ompl.analysis.raster_bound import raster_lower_bound
 from pivot_ompl.analysis.raster_cover import raster_cover
 from pivot_ompl.analysis.raster_refine import neck_window, refine_cover, turn_neck_window
-from pivot_ompl.analysis.refined_bound import refined_graph, refined_lower_bound
+from pivot_ompl.analysis.refined_bound import (
+    box_keys,
+    refined_graph,
+    refined_lower_bound,
+    sorted_intersection,
+)
 from pivot_ompl.analysis.regrasp_bound import regrasp_lower_bound
 from pivot_ompl.checking.pivot_checker import PivotChecker
 from pivot_ompl.generate import rotate_scene
@@ -130,3 +137,28 @@ def test_a_grown_window_joins_the_same_fine_components_as_a_fresh_one(name):
                                                  set(fresh.holding(scene.goal)), fresh.allowed,
                                                  None)
     assert count == want
+
+
+@settings(max_examples=150, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), half=st.integers(1, 12), cells=st.integers(1, 60),
+       sizes=st.tuples(st.integers(0, 400), st.integers(0, 400)))
+def test_the_grasps_shared_voxels_are_numpy_s_intersection(seed, half, cells, sizes):
+    """Per pair of grasps, the voxels keyed by the box's bin that both hold, with their
+    indices in the parities' keys: as ``numpy.intersect1d`` of the unsorted box keys."""
+    rng = np.random.default_rng(seed)
+    bins = 2 * half
+    keys = [np.unique(rng.integers(0, bins * cells, n)) for n in sizes]
+
+    def unsorted(k: int) -> np.ndarray:
+        own = keys[k % 2]
+        return ((own // cells - half * (k // 2)) % bins) * cells + own % cells
+
+    for k in range(4):
+        got = box_keys(keys[k % 2], k, bins, cells)
+        assert np.all(np.diff(got[0]) > 0)
+        assert np.array_equal(got[0], unsorted(k)[got[1]])
+        for j in range(k + 1, 4):
+            found = sorted_intersection(got, box_keys(keys[j % 2], j, bins, cells))
+            expected = np.intersect1d(unsorted(k), unsorted(j), assume_unique=True,
+                                      return_indices=True)
+            assert all(np.array_equal(x, y) for x, y in zip(found, expected, strict=True))
