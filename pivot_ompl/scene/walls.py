@@ -21,6 +21,9 @@ from pivot_ompl.se2 import rotate_about
 BIN = math.radians(0.5)
 #: A dominant direction closer than this (rad) to the world's axes is taken as 0.
 AXIS_TOLERANCE = 1e-9
+#: An edge within this (rad) of a direction or square to it runs along it
+#: (:func:`aligned_share`).
+ALIGNED_TOLERANCE = math.radians(1.0)
 
 
 def wall_edges(o: Obstacle) -> list[tuple[float, float, float, float, float]]:
@@ -100,6 +103,22 @@ def wall_yaw(obstacles: Iterable[Obstacle],
     yaw = float(np.angle(z)) / 4.0
     yaw = (yaw + 0.25 * math.pi) % quarter - 0.25 * math.pi
     return 0.0 if abs(yaw) < AXIS_TOLERANCE else yaw
+
+
+def aligned_share(obstacles: Iterable[Obstacle], yaw: float, *,
+                  tolerance: float = ALIGNED_TOLERANCE) -> float:
+    """The share (0 to 1) of the straight edges' length that runs along ``yaw`` or square to it.
+
+    Within ``tolerance`` (rad); 0.0 for a floor without straight edges.
+    """
+    quarter = 0.5 * math.pi
+    total = along = 0.0
+    for o in obstacles:
+        for d, w in _edges(o):
+            off = (d - yaw) % quarter
+            total += w
+            along += w if min(off, quarter - off) <= tolerance else 0.0
+    return along / total if total > 0.0 else 0.0
 
 
 def turned_obstacle(o: Obstacle, angle: float, about: tuple[float, float]) -> Obstacle:

@@ -124,3 +124,29 @@ def test_a_large_floor_turned_in_the_world_is_relaxed_in_its_walls_frame_first(f
     monkeypatch.setattr(bound_frames, "scaled_lower_bound", spied)
     got = lower_bound(scene, use_cache=False)
     assert seen == [walls.scene.bounds] and got.solvable
+
+
+def test_a_floor_drawn_square_to_its_walls_and_turned_is_relaxed_in_their_frame_first(
+        fresh, monkeypatch):
+    from pivot_ompl.analysis import bound_frames
+    from pivot_ompl.scene.walls import aligned_share
+
+    scene = rotate_scene(shipped("door"), 0.5)  # every wall turned alike
+    walls = wall_frame(scene, worth=1.0)
+    assert wall_frame(scene) is None and walls is not None
+    assert aligned_share(scene.obstacles, walls.yaw) >= bound_frames.ALIGNED
+    seen = []
+    real = scaled_lower_bound
+
+    def spied(relaxed, **k):  # noqa: ANN001, ANN003, ANN202
+        seen.append(relaxed.bounds)
+        return real(relaxed, **k)
+
+    monkeypatch.setattr(bound_frames, "scaled_lower_bound", spied)
+    lower_bound(scene, use_cache=False)
+    assert seen == [walls.scene.bounds]
+    seen.clear()  # walls running in several directions: the world's frame first, as before
+    layout = shipped("walls_3_turned")
+    assert aligned_share(layout.obstacles, wall_frame(layout, worth=1.0).yaw) < 0.9
+    lower_bound(layout, use_cache=False)
+    assert seen == [layout.bounds]

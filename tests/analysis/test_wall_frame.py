@@ -143,3 +143,18 @@ def test_walls_that_touch_edge_to_edge_give_the_frame_of_the_angle_they_are_turn
     box = shapely.box(u0, v0, u1, v1)
     for pose in (frame.scene.start, frame.scene.goal):
         assert box.contains(shapely.Point(pose[:2]))
+
+
+@settings(max_examples=30, deadline=None)
+@given(yaw=st.floats(-3.0, 3.0), extra=st.floats(0.05, 0.7))
+def test_the_aligned_share_is_the_length_along_a_direction(yaw, extra):
+    from pivot_ompl.scene import BoxObstacle, CylinderObstacle
+    from pivot_ompl.scene.walls import aligned_share
+
+    along = [BoxObstacle((0.0, 0.0), (4.0, 1.0), yaw, 1.0),
+             BoxObstacle((5.0, 5.0), (2.0, 2.0), yaw + 0.5 * math.pi, 1.0)]
+    off = BoxObstacle((9.0, 0.0), (3.0, 3.0), yaw + extra, 1.0)  # 12 m of 30 off the axes
+    disk = CylinderObstacle((0.0, 9.0), 1.0, 1.0)
+    assert aligned_share(along + [disk], yaw) == pytest.approx(1.0)
+    assert aligned_share(along + [off], yaw) == pytest.approx(18.0 / 30.0)
+    assert aligned_share([disk], yaw) == 0.0
