@@ -102,11 +102,12 @@ def made_real(evaluate: Evaluator, route: list[Pose], grasp: int, should_stop: S
             return Found(Status.INVALID)
         return Found(Status.VALID, hit) if hit[1] < ceiling + 1e-6 else TOO_DEAR
     coarse = corners(route, spacing=spacing)
-    found = shortened(evaluate, coarse, grasp, should_stop, ceiling=ceiling)
+    tested: dict[tuple[Pose, Pose], bool] = {}  # the cheap tests, shared by both tries
+    found = shortened(evaluate, coarse, grasp, should_stop, ceiling=ceiling, tested=tested)
     fine = corners(route, spacing=spacing, end_turns=True, leads=leads)
     if found.status is not Status.STOPPED and len(fine) > len(coarse):
         below = min(ceiling, found.path[1]) if found.path is not None else ceiling
-        finer = shortened(evaluate, fine, grasp, should_stop, ceiling=below)
+        finer = shortened(evaluate, fine, grasp, should_stop, ceiling=below, tested=tested)
         if finer.path is not None or (found.path is None and found is not TOO_DEAR):
             found = finer
     if cache is not None and found is not TOO_DEAR and found.status is not Status.STOPPED:
@@ -115,7 +116,8 @@ def made_real(evaluate: Evaluator, route: list[Pose], grasp: int, should_stop: S
 
 
 def shortened(evaluate: Evaluator, route: list[Pose], grasp: int,
-              should_stop: Stop, *, ceiling: float = math.inf
+              should_stop: Stop, *, ceiling: float = math.inf,
+              tested: dict[tuple[Pose, Pose], bool] | None = None
               ) -> Found[tuple[list[Pose], float]]:
     """The cheapest chain of certified transfers along the route, with its cost (s).
 
@@ -131,9 +133,19 @@ def shortened(evaluate: Evaluator, route: list[Pose], grasp: int,
     ``should_stop`` is polled before every check. ``ceiling`` (s): :data:`TOO_DEAR` as
     soon as no chain can cost less (checked transfers at their cost, the others at the
     admissible :meth:`~pivot_ompl.cost.CostModel.transfer_bound`): a chain the caller would
-    refuse for its cost is not checked to the end.
+    refuse for its cost is not checked to the end. ``tested``: the cheap tests' answers by
+    pair of poses (at ``grasp``), read and filled: calls over routes sharing poses (the
+    corners with and without their end turns) test each pair once.
     """
     checker, costs = evaluate.checker, evaluate.costs
+    tested = {} if tested is None else tested
+
+    def cheap_free(a: Pose, b: Pose) -> bool:
+        free = tested.get((a, b))
+        if free is None:
+            free = tested[(a, b)] = checker.path_free(a, b, grasp)
+        return free
+
     n = len(route)
     m, alpha = checker.model, checker.scene.alpha_max
     ell = m.edge_half_length(grasp)
@@ -207,7 +219,7 @@ def shortened(evaluate: Evaluator, route: list[Pose], grasp: int,
             return Status.STOPPED
         # the cheap tests first: the hospital's one-grasp route, 95 full checks -> 50
         refused = [(i, j) for i, j in pending
-                   if j != i + 1 and not checker.path_free(route[i], route[j], grasp)]
+                   if j != i + 1 and not cheap_free(route[i], route[j])]
         for key in refused:
             checked[key] = math.inf
         if refused:
