@@ -30,15 +30,21 @@ from pivot_ompl.analysis.raster import FloorRaster
 SLACK = 1e-6
 
 
-def axis_rectangles(pieces: list[np.ndarray]) -> np.ndarray:
-    """Which ``pieces`` are four-cornered with every edge parallel to an axis (boolean)."""
+def _four_cornered(pieces: list[np.ndarray],
+                   test: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
+    """``test`` of the four-cornered ``pieces``' edges (``(m, 4, 2)``), ``False`` for others."""
     out = np.zeros(len(pieces), dtype=bool)
     four = [n for n, piece in enumerate(pieces) if np.shape(piece) == (4, 2)]
     if four:
         p = np.array([pieces[n] for n in four], dtype=float)
-        e = np.roll(p, -1, axis=1) - p
-        out[four] = np.all((e[:, :, 0] == 0.0) | (e[:, :, 1] == 0.0), axis=1)
+        out[four] = test(np.roll(p, -1, axis=1) - p)
     return out
+
+
+def axis_rectangles(pieces: list[np.ndarray]) -> np.ndarray:
+    """Which ``pieces`` are four-cornered with every edge parallel to an axis (boolean)."""
+    return _four_cornered(pieces, lambda e: np.all((e[:, :, 0] == 0.0) | (e[:, :, 1] == 0.0),
+                                                   axis=1))
 
 
 def rect_cells(raster: FloorRaster, rects: np.ndarray, eps: float) -> np.ndarray:
@@ -125,17 +131,14 @@ def near_rectangles(raster: FloorRaster, boxes: np.ndarray, cells: np.ndarray,
 
 def turned_rectangles(pieces: list[np.ndarray]) -> np.ndarray:
     """Which ``pieces`` are rectangles (four corners, right angles) of any direction."""
-    out = np.zeros(len(pieces), dtype=bool)
-    four = [n for n, piece in enumerate(pieces) if np.shape(piece) == (4, 2)]
-    if four:
-        p = np.array([pieces[n] for n in four], dtype=float)
-        e = np.roll(p, -1, axis=1) - p
-        nxt = np.roll(e, -1, axis=1)
-        dot = np.abs(np.sum(e * nxt, axis=2))
+
+    def square(e: np.ndarray) -> np.ndarray:
+        dot = np.abs(np.sum(e * np.roll(e, -1, axis=1), axis=2))
         size = np.hypot(e[:, :, 0], e[:, :, 1])
-        out[four] = np.all(dot <= 1e-9 * size * np.roll(size, -1, axis=1), axis=1) & \
+        return np.all(dot <= 1e-9 * size * np.roll(size, -1, axis=1), axis=1) & \
             np.all(size > 0.0, axis=1)
-    return out
+
+    return _four_cornered(pieces, square)
 
 
 def near_turned_rectangles(raster: FloorRaster, corners: np.ndarray, cells: np.ndarray,

@@ -15,6 +15,20 @@ from pivot_ompl.analysis.wall_frame import wall_frame
 from pivot_ompl.generate import rotate_scene
 
 
+def _framed_bounds(monkeypatch) -> list:  # noqa: ANN001
+    """The bounds of every frame's scene the relaxation runs on, in order (a spy)."""
+    from pivot_ompl.analysis import bound_frames
+
+    seen: list = []
+
+    def spied(relaxed, **k):  # noqa: ANN001, ANN003, ANN202
+        seen.append(relaxed.bounds)
+        return scaled_lower_bound(relaxed, **k)
+
+    monkeypatch.setattr(bound_frames, "scaled_lower_bound", spied)
+    return seen
+
+
 @pytest.fixture
 def fresh(monkeypatch, tmp_path):
     """An empty memory cache and disk cache folder."""
@@ -72,15 +86,7 @@ def test_the_walls_frame_is_tried_where_the_first_call_found_it_not_worth_its_co
     scene = rotate_scene(shipped("door"), 0.5)
     turned = wall_frame(scene, worth=1.0)
     assert wall_frame(scene) is None and turned is not None  # over half the bounds' area
-    seen = []
-    real = scaled_lower_bound
-
-    def spied(relaxed, **k):  # noqa: ANN001, ANN003, ANN202
-        seen.append(relaxed.bounds)
-        return real(relaxed, **k)
-
-    from pivot_ompl.analysis import bound_frames
-    monkeypatch.setattr(bound_frames, "scaled_lower_bound", spied)
+    seen = _framed_bounds(monkeypatch)
     lower_bound(scene, target=9, use_cache=False, refine_seconds=0.1)  # never reached
     assert scene.bounds in seen and turned.scene.bounds in seen
 
@@ -100,7 +106,6 @@ def test_a_plan_s_count_pays_a_finer_raster_from_the_refinement_s_time(fresh, mo
 
 def test_a_large_floor_turned_in_the_world_is_relaxed_in_its_walls_frame_first(fresh,
                                                                               monkeypatch):
-    from pivot_ompl.analysis import bound_frames
     from pivot_ompl.analysis.raster_cover import floor_raster
     from pivot_ompl.generate.layout import free_complement
     from pivot_ompl.generate.layout import make_scene as layout_scene
@@ -114,14 +119,7 @@ def test_a_large_floor_turned_in_the_world_is_relaxed_in_its_walls_frame_first(f
     assert wall_frame(scene) is None and walls is not None  # not worth it by area alone...
     cell = floor_raster(scene.bounds, 0.1).cell
     assert floor_raster(walls.scene.bounds, 0.1).cell < cell  # ...but finer cells there
-    seen = []
-    real = scaled_lower_bound
-
-    def spied(relaxed, **k):  # noqa: ANN001, ANN003, ANN202
-        seen.append(relaxed.bounds)
-        return real(relaxed, **k)
-
-    monkeypatch.setattr(bound_frames, "scaled_lower_bound", spied)
+    seen = _framed_bounds(monkeypatch)
     got = lower_bound(scene, use_cache=False)
     assert seen == [walls.scene.bounds] and got.solvable
 
@@ -135,14 +133,7 @@ def test_a_floor_drawn_square_to_its_walls_and_turned_is_relaxed_in_their_frame_
     walls = wall_frame(scene, worth=1.0)
     assert wall_frame(scene) is None and walls is not None
     assert aligned_share(scene.obstacles, walls.yaw) >= bound_frames.ALIGNED
-    seen = []
-    real = scaled_lower_bound
-
-    def spied(relaxed, **k):  # noqa: ANN001, ANN003, ANN202
-        seen.append(relaxed.bounds)
-        return real(relaxed, **k)
-
-    monkeypatch.setattr(bound_frames, "scaled_lower_bound", spied)
+    seen = _framed_bounds(monkeypatch)
     lower_bound(scene, use_cache=False)
     assert seen == [walls.scene.bounds]
     seen.clear()  # walls running in several directions: the world's frame first, as before
