@@ -12,7 +12,8 @@ the window, coarse pieces outside), and repeats while the path still needs fewer
 rounds, :data:`PATIENCE` rounds in a row without a rise, :data:`FIRST_PATIENCE` before the
 first, :data:`MAX_WINDOW` cells: counts,
 not clocks, so that a result is the same on any load and may be kept by the bound cache;
-``should_stop`` ends it sooner, its rounds done standing).
+``should_stop`` ends it sooner, its rounds done standing; a ``hint``, below, makes the windows
+depend on when its words come, its result a proof all the same).
 
 **Soundness.** Every round's count is the fewest regrasps on the mixed graph of *some* window,
 and :mod:`~pivot_ompl.analysis.refined_bound` proves that every plan's path is a path of that

@@ -24,14 +24,15 @@ The order is the scene's: "no plan" first where every way from start to goal pas
 narrower than the held assembly (:attr:`~pivot_ompl.analysis.passage.PassageOnce.clear`
 ``False``: the lab's door, most often no plan; the held poses' proof then without its gate,
 which only spares a scene with a plan), the bounds first elsewhere (most often a plan,
-whose quality block waits for them). The regrasp bound waits for the search's expectation
+whose quality block waits for them). The regrasp bound takes the search's expectation
 (:meth:`Prover.expect`: the regrasps and places of its lattice's coarse plan, told once its
 regrasp-free tries have ended, seconds before its plan is made real): it aims at that count
 and refines those places first (cost only: the bound is a proof whatever it is told), and is
 not computed at all where the search found a plan without regrasps. Told while the bound
-runs, its guided refinement takes it from its next round on (its ``hint``). Once the search
-has a plan, the parent says so (:meth:`Prover.solved`): "no plan" is abandoned, and the
-regrasp bound aims at the plan's count (a bound aiming higher is stopped and aims again).
+runs, its guided refinement takes it from its next round on (its ``hint``; after its coarse
+round it waits a little for a word not yet come). Once the search has a plan, the parent
+says so (:meth:`Prover.solved`): "no plan" is abandoned, and the regrasp bound aims at the
+plan's count (a bound aiming higher is stopped and aims again).
 
 Every answer is a proof computed by the same functions as in one process, sent back through
 a pipe and kept by the parent as its own (:func:`~pivot_ompl.analysis.bound_cache.keep_bound`,
