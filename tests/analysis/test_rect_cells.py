@@ -82,6 +82,20 @@ def test_turned_pieces_are_not_taken_for_rectangles(monkeypatch):
         assert cells[raster.index(*piece.mean(axis=0))]
 
 
+def _assert_brackets(raster: FloorRaster, pieces: list[np.ndarray], cells: np.ndarray,
+                     distance: float, surely: np.ndarray, maybe: np.ndarray) -> None:
+    """``(surely, maybe)`` bracket GEOS's answer: within ``distance`` of some piece or not."""
+    points = shapely.points(raster.gx.ravel()[cells], raster.gy.ravel()[cells])
+    within = np.zeros(len(cells), dtype=bool)
+    for p in pieces:
+        within |= shapely.dwithin(points, shapely.Polygon(p), distance)
+    assert within.any() and not within.all()
+    assert not (surely & ~within).any()  # surely: within by GEOS too
+    assert not (within & ~maybe).any()  # every cell within is a maybe
+    if distance > 0:  # few left to GEOS (at 0 every cell inside a piece is)
+        assert (maybe & ~surely).sum() <= 0.01 * len(cells)
+
+
 @pytest.mark.parametrize("seed", range(4))
 @pytest.mark.parametrize("distance", [0.0, 0.07, 0.1375])
 def test_near_rectangles_bracket_the_exact_distance(seed, distance):
@@ -92,15 +106,7 @@ def test_near_rectangles_bracket_the_exact_distance(seed, distance):
                       for p in pieces])
     cells = np.flatnonzero(rng.uniform(size=raster.shape).ravel() < 0.8)
     surely, maybe = near_rectangles(raster, boxes, cells, distance)
-    points = shapely.points(raster.gx.ravel()[cells], raster.gy.ravel()[cells])
-    within = np.zeros(len(cells), dtype=bool)
-    for p in pieces:
-        within |= shapely.dwithin(points, shapely.Polygon(p), distance)
-    assert within.any() and not within.all()
-    assert not (surely & ~within).any()  # surely: within by GEOS too
-    assert not (within & ~maybe).any()  # every cell within is a maybe
-    if distance > 0:  # few left to GEOS (at 0 every cell inside a box is)
-        assert (maybe & ~surely).sum() <= 0.01 * len(cells)
+    _assert_brackets(raster, pieces, cells, distance, surely, maybe)
 
 
 def test_rectangles_of_any_direction_are_told_from_other_pieces():
@@ -132,15 +138,7 @@ def test_near_turned_rectangles_bracket_the_exact_distance(seed, distance):
     assert turned_rectangles(pieces).all()
     cells = np.flatnonzero(rng.uniform(size=raster.shape).ravel() < 0.8)
     surely, maybe = near_turned_rectangles(raster, np.array(pieces), cells, distance)
-    points = shapely.points(raster.gx.ravel()[cells], raster.gy.ravel()[cells])
-    within = np.zeros(len(cells), dtype=bool)
-    for p in pieces:
-        within |= shapely.dwithin(points, shapely.Polygon(p), distance)
-    assert within.any() and not within.all()
-    assert not (surely & ~within).any()  # surely: within by GEOS too
-    assert not (within & ~maybe).any()  # every cell within is a maybe
-    if distance > 0:
-        assert (maybe & ~surely).sum() <= 0.01 * len(cells)
+    _assert_brackets(raster, pieces, cells, distance, surely, maybe)
 
 
 def test_disk_cells_with_turned_pieces_are_the_exact_query(monkeypatch):
